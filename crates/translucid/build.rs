@@ -1,0 +1,84 @@
+//! Compiles every GLSL entry point under `shaders/` to SPIR-V with `glslc`.
+//!
+//! `shaders/<folder>/<name>.<stage>` becomes `$OUT_DIR/shaders/<folder>/<name>.<stage>.spv`,
+//! loaded with `include_bytes!`. Files under `shaders/common/` are includes, not entry points.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+const STAGES: &[&str] = &["comp", "vert", "frag"];
+
+fn main() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shaders");
+    let root = root
+        .canonicalize()
+        .unwrap_or_else(|e| panic!("shader folder {} is missing: {e}", root.display()));
+    let out = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets OUT_DIR")).join("shaders");
+    println!("cargo:rerun-if-changed={}", root.display());
+
+    let glslc = std::env::var("GLSLC").unwrap_or_else(|_| "glslc".into());
+    if Command::new(&glslc).arg("--version").output().is_err() {
+        panic!(
+            "`{glslc}` (the GLSL to SPIR-V compiler) was not found. Install it \
+             (Debian/Ubuntu: `apt-get install glslc`, or the Vulkan SDK), or set GLSLC to its path. \
+             `make test` and `make demo` install it for you."
+        );
+    }
+
+    let mut failures = Vec::new();
+    for folder in sorted_entries(&root) {
+        if !folder.is_dir() {
+            continue;
+        }
+        println!("cargo:rerun-if-changed={}", folder.display());
+        let name = folder.file_name().expect("folder name").to_owned();
+        if name == "common" {
+            for inc in sorted_entries(&folder) {
+                println!("cargo:rerun-if-changed={}", inc.display());
+            }
+            continue;
+        }
+        let target_dir = out.join(&name);
+        std::fs::create_dir_all(&target_dir).expect("create shader output folder");
+        for src in sorted_entries(&folder) {
+            let ext = src.extension().and_then(|e| e.to_str()).unwrap_or("");
+            if !STAGES.contains(&ext) {
+                continue;
+            }
+            println!("cargo:rerun-if-changed={}", src.display());
+            let file = src
+                .file_name()
+                .expect("file name")
+                .to_string_lossy()
+                .into_owned();
+            let spv = target_dir.join(format!("{file}.spv"));
+            let result = Command::new(&glslc)
+                .args(["--target-env=vulkan1.2", "-O", "-Werror"])
+                .arg(format!("-I{}", root.join("common").display()))
+                .arg(&src)
+                .arg("-o")
+                .arg(&spv)
+                .output()
+                .expect("run glslc");
+            if !result.status.success() {
+                failures.push(format!(
+                    "{}:\n{}",
+                    src.display(),
+                    String::from_utf8_lossy(&result.stderr)
+                ));
+            }
+        }
+    }
+    if !failures.is_empty() {
+        panic!("shader compilation failed:\n{}", failures.join("\n"));
+    }
+}
+
+fn sorted_entries(dir: &Path) -> Vec<PathBuf> {
+    let mut v: Vec<PathBuf> = std::fs::read_dir(dir)
+        .unwrap_or_else(|e| panic!("read {}: {e}", dir.display()))
+        .map(|e| e.expect("dir entry").path())
+        .collect();
+    v.sort();
+    v
+}

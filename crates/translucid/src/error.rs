@@ -1,0 +1,61 @@
+//! One error type for the whole crate.
+
+use std::path::PathBuf;
+
+/// Everything that can go wrong in translucid, each variant naming the problem.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// A scene file could not be read from disk.
+    #[error("cannot read scene {path}: {source}")]
+    SceneIo {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    /// A scene file is not valid glTF, or uses it in a way we cannot load.
+    #[error("invalid glTF {path}: {reason}")]
+    InvalidGltf { path: PathBuf, reason: String },
+    /// A glTF file requires an extension translucid does not implement.
+    #[error("{path} requires unsupported glTF extension {extension}")]
+    UnsupportedExtension { path: PathBuf, extension: String },
+    /// Scene data that cannot be rendered (bad index, NaN position, missing texture...).
+    #[error("invalid scene: {0}")]
+    InvalidScene(String),
+    /// A name that is neither a generated scene nor a file path.
+    #[error("unknown scene {0:?}: not a file and not one of the generated scenes ({1})")]
+    UnknownScene(String, String),
+    /// A viewport of zero size or over the device's limit.
+    #[error("invalid viewport {width}x{height}: {reason}")]
+    InvalidViewport {
+        width: u32,
+        height: u32,
+        reason: String,
+    },
+    /// A method name translucid does not know.
+    #[error("unknown method {0:?} (known: {1})")]
+    UnknownMethod(String, String),
+    /// No Vulkan loader, no suitable device, or the requested device does not exist.
+    #[error("no Vulkan device: {0}")]
+    NoDevice(String),
+    /// A Vulkan call failed.
+    #[error("Vulkan call {call} failed: {result}")]
+    Vulkan {
+        call: &'static str,
+        result: ash::vk::Result,
+    },
+    /// The Khronos validation layer reported errors (only with `TRANSLUCID_VALIDATION=1`).
+    #[error("Vulkan validation errors:\n{0}")]
+    Validation(String),
+    /// GPU memory allocation failed.
+    #[error("GPU memory allocation failed: {0}")]
+    Allocation(#[from] gpu_allocator::AllocationError),
+    /// An image could not be decoded or written.
+    #[error("image error: {0}")]
+    Image(#[from] ::image::ImageError),
+    /// Other I/O failure.
+    #[error("I/O error: {0}")]
+    Io(#[from] std::io::Error),
+}
+
+/// `Result` with translucid's [`Error`].
+pub type Result<T, E = Error> = std::result::Result<T, E>;

@@ -1,0 +1,106 @@
+//! A linear-light RGBA float image, the currency between methods, the reference and metrics.
+
+#![deny(unsafe_code)]
+
+use glam::{Vec3, Vec4};
+
+/// Linear-light RGBA, row-major, top row first.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Image {
+    pub width: u32,
+    pub height: u32,
+    pub pixels: Vec<Vec4>,
+}
+
+impl Image {
+    /// An image filled with one colour.
+    pub fn filled(width: u32, height: u32, colour: Vec4) -> Self {
+        Self {
+            width,
+            height,
+            pixels: vec![colour; width as usize * height as usize],
+        }
+    }
+
+    pub fn get(&self, x: u32, y: u32) -> Vec4 {
+        self.pixels[(y * self.width + x) as usize]
+    }
+
+    pub fn set(&mut self, x: u32, y: u32, value: Vec4) {
+        self.pixels[(y * self.width + x) as usize] = value;
+    }
+
+    /// The display-encoded (sRGB) value of one pixel's RGB, in 0..=1, not quantised.
+    pub fn srgb(&self, x: u32, y: u32) -> Vec3 {
+        let p = self.get(x, y);
+        Vec3::new(
+            linear_to_srgb(p.x),
+            linear_to_srgb(p.y),
+            linear_to_srgb(p.z),
+        )
+    }
+
+    /// 8-bit sRGB RGBA bytes (alpha forced opaque), for PNG output.
+    pub fn to_srgb8(&self) -> Vec<u8> {
+        let mut out = Vec::with_capacity(self.pixels.len() * 4);
+        for p in &self.pixels {
+            for c in [p.x, p.y, p.z] {
+                out.push(quantize(linear_to_srgb(c)));
+            }
+            out.push(255);
+        }
+        out
+    }
+
+    /// Writes the image as an 8-bit sRGB PNG.
+    pub fn save_png(&self, path: &std::path::Path) -> crate::Result<()> {
+        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir)?;
+        }
+        ::image::save_buffer(
+            path,
+            &self.to_srgb8(),
+            self.width,
+            self.height,
+            ::image::ExtendedColorType::Rgba8,
+        )?;
+        Ok(())
+    }
+}
+
+/// Rounds a 0..=1 value to a byte, clamping out-of-range values.
+pub fn quantize(v: f32) -> u8 {
+    (v.clamp(0.0, 1.0) * 255.0 + 0.5) as u8
+}
+
+/// The sRGB transfer function (IEC 61966-2-1), linear light to display encoding.
+pub fn linear_to_srgb(v: f32) -> f32 {
+    let v = v.clamp(0.0, 1.0);
+    if v <= 0.003_130_8 {
+        v * 12.92
+    } else {
+        1.055 * v.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+/// The inverse sRGB transfer function, display encoding to linear light.
+pub fn srgb_to_linear(v: f32) -> f32 {
+    if v <= 0.040_45 {
+        v / 12.92
+    } else {
+        ((v + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn srgb_round_trips() {
+        for i in 0..=255u8 {
+            let e = i as f32 / 255.0;
+            assert_eq!(quantize(linear_to_srgb(srgb_to_linear(e))), i);
+        }
+    }
+}

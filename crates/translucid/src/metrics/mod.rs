@@ -1,0 +1,1 @@
+//! Image error measures (filled in by the reference work).

@@ -1,0 +1,1 @@
+//! Rasterization rules (filled in by the reference work).

@@ -1,0 +1,1 @@
+//! CPU exact renderer (filled in by the reference work).

@@ -1,0 +1,1 @@
+//! Generated scenes (filled in by the scene work).

@@ -1,0 +1,1 @@
+//! glTF import (filled in by the scene work).

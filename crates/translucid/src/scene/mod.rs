@@ -1,0 +1,131 @@
+//! The scene model: what every method and the CPU reference render.
+//!
+//! A [`Scene`] holds meshes (quads, as the bin rasterizer wants them), materials, textures,
+//! an opaque layer of draws, the transparent draws in submission order, a camera and a light.
+//! Scenes come from glTF files ([`gltf`]) or are generated ([`generated`]).
+
+#![deny(unsafe_code)]
+
+mod camera;
+pub mod generated;
+pub mod gltf;
+mod material;
+mod mesh;
+mod texture;
+
+pub use camera::Camera;
+pub use material::Material;
+pub use mesh::{pair_triangles, Mesh};
+pub use texture::Texture;
+
+use glam::{Mat4, Vec3};
+
+/// One instance of a mesh with a material and a model-to-world transform.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Draw {
+    pub mesh: usize,
+    pub material: usize,
+    pub transform: Mat4,
+}
+
+/// Ambient light plus one directional light, used by lit materials.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Light {
+    /// Direction the light travels *towards* the surface is `-direction`; i.e. this points at
+    /// the light. Normalised when the scene is validated.
+    pub direction: Vec3,
+    pub colour: Vec3,
+    pub ambient: Vec3,
+}
+
+impl Default for Light {
+    fn default() -> Self {
+        Self {
+            direction: Vec3::new(0.3, 0.8, 0.5).normalize(),
+            colour: Vec3::splat(0.8),
+            ambient: Vec3::splat(0.35),
+        }
+    }
+}
+
+/// Everything needed to render one frame.
+#[derive(Clone, Debug, Default)]
+pub struct Scene {
+    pub name: String,
+    pub meshes: Vec<Mesh>,
+    pub materials: Vec<Material>,
+    pub textures: Vec<Texture>,
+    /// Depth-tested, depth-writing draws rendered first into colour and depth.
+    pub opaque: Vec<Draw>,
+    /// Transparent draws in submission order (the order unsorted blending uses).
+    pub transparent: Vec<Draw>,
+    pub camera: Camera,
+    pub light: Light,
+    /// Linear-light colour behind everything.
+    pub background: Vec3,
+}
+
+impl Scene {
+    /// Checks every cross-reference and value a renderer relies on, so that no method has to:
+    /// indices in range, finite positions and transforms, textures present.
+    pub fn validate(&self) -> crate::Result<()> {
+        let bad = |msg: String| Err(crate::Error::InvalidScene(msg));
+        for (i, mesh) in self.meshes.iter().enumerate() {
+            mesh.validate().map_err(|e| {
+                crate::Error::InvalidScene(format!("mesh {i} ({}): {e}", mesh.name))
+            })?;
+        }
+        for (i, m) in self.materials.iter().enumerate() {
+            if let Some(t) = m.texture {
+                if t >= self.textures.len() {
+                    return bad(format!(
+                        "material {i} uses texture {t}, scene has {}",
+                        self.textures.len()
+                    ));
+                }
+            }
+            m.validate()
+                .map_err(|e| crate::Error::InvalidScene(format!("material {i}: {e}")))?;
+        }
+        for (i, t) in self.textures.iter().enumerate() {
+            t.validate()
+                .map_err(|e| crate::Error::InvalidScene(format!("texture {i}: {e}")))?;
+        }
+        for (layer, draws) in [("opaque", &self.opaque), ("transparent", &self.transparent)] {
+            for (i, d) in draws.iter().enumerate() {
+                if d.mesh >= self.meshes.len() {
+                    return bad(format!(
+                        "{layer} draw {i} uses mesh {}, scene has {}",
+                        d.mesh,
+                        self.meshes.len()
+                    ));
+                }
+                if d.material >= self.materials.len() {
+                    return bad(format!(
+                        "{layer} draw {i} uses material {}, scene has {}",
+                        d.material,
+                        self.materials.len()
+                    ));
+                }
+                if !d.transform.is_finite() {
+                    return bad(format!("{layer} draw {i} has a non-finite transform"));
+                }
+            }
+        }
+        self.camera
+            .validate()
+            .map_err(|e| crate::Error::InvalidScene(format!("camera: {e}")))?;
+        if !self.light.direction.is_finite() || self.light.direction.length_squared() == 0.0 {
+            return bad("light direction must be finite and non-zero".into());
+        }
+        Ok(())
+    }
+
+    /// Number of quads drawn in the transparent layer.
+    pub fn transparent_quads(&self) -> usize {
+        self.transparent
+            .iter()
+            .map(|d| self.meshes[d.mesh].quads.len())
+            .sum()
+    }
+}

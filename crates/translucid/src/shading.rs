@@ -1,0 +1,139 @@
+//! The shading function shared by every method and the CPU reference.
+//!
+//! `shaders/common/shading.glsl` implements the same mapping on the GPU; a test runs both on
+//! the same inputs and requires them to agree. Change one, change the other.
+//!
+//! A fragment's base colour is `material.base_colour × vertex colour × texel`; its alpha is
+//! coverage `a`. Lit materials see `ambient + light × |n·l|` (two-sided Lambert: thin
+//! transparent surfaces are lit from either side). Then, with transmission `t`, reflectance `r`
+//! and tint `k`:
+//!
+//! ```text
+//! L = a · ((1 − t) · rgb · lighting + t · r · lighting)
+//! T = (1 − a) + a · t · (1 − r) · k · rgb          (per channel)
+//! ```
+//!
+//! Plain alpha (`t = 0`) gives the classic `L = a·c`, `T = 1 − a` on every channel.
+
+#![deny(unsafe_code)]
+
+use crate::scene::{Light, Material};
+use glam::{Vec3, Vec4};
+
+/// A transparent fragment in the fragment model: premultiplied radiance and per-channel
+/// transmittance.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Fragment {
+    pub radiance: Vec3,
+    pub transmittance: Vec3,
+}
+
+/// Light arriving at a surface with normal `normal` (any length; zero means unlit by the
+/// directional light).
+pub fn lighting(material: &Material, light: &Light, normal: Vec3) -> Vec3 {
+    if !material.lit {
+        return Vec3::ONE;
+    }
+    let n = normal.normalize_or_zero();
+    let l = light.direction.normalize_or_zero();
+    light.ambient + light.colour * n.dot(l).abs()
+}
+
+/// Base colour and alpha of a fragment before lighting.
+pub fn base_colour(material: &Material, vertex_colour: Vec4, texel: Vec4) -> Vec4 {
+    material.base_colour * vertex_colour * texel
+}
+
+/// Maps a transparent fragment to (L, T).
+pub fn shade_transparent(
+    material: &Material,
+    light: &Light,
+    vertex_colour: Vec4,
+    texel: Vec4,
+    normal: Vec3,
+) -> Fragment {
+    let base = base_colour(material, vertex_colour, texel);
+    let a = base.w.clamp(0.0, 1.0);
+    let rgb = base.truncate();
+    let lit = lighting(material, light, normal);
+    let t = material.transmission;
+    let r = material.reflectance;
+    let radiance = a * ((1.0 - t) * rgb * lit + t * r * lit);
+    let transmittance = Vec3::splat(1.0 - a) + a * t * (1.0 - r) * material.transmission_tint * rgb;
+    Fragment {
+        radiance,
+        transmittance: transmittance.clamp(Vec3::ZERO, Vec3::ONE),
+    }
+}
+
+/// Colour of an opaque fragment, or `None` when an alpha cutoff discards it.
+pub fn shade_opaque(
+    material: &Material,
+    light: &Light,
+    vertex_colour: Vec4,
+    texel: Vec4,
+    normal: Vec3,
+) -> Option<Vec3> {
+    let base = base_colour(material, vertex_colour, texel);
+    if material.alpha_cutoff.is_some_and(|cut| base.w < cut) {
+        return None;
+    }
+    Some(base.truncate() * lighting(material, light, normal))
+}
+
+/// Composites fragments sorted front to back over an opaque colour:
+/// `L_acc += T_acc · L_i; T_acc *= T_i; final = L_acc + T_acc · opaque`.
+pub fn composite_front_to_back(
+    fragments: impl IntoIterator<Item = Fragment>,
+    opaque: Vec3,
+) -> Vec3 {
+    let mut radiance = Vec3::ZERO;
+    let mut transmittance = Vec3::ONE;
+    for f in fragments {
+        radiance += transmittance * f.radiance;
+        transmittance *= f.transmittance;
+    }
+    radiance + transmittance * opaque
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn plain_alpha_is_premultiplied_over() {
+        let m = Material::alpha(Vec3::new(1.0, 0.5, 0.0), 0.25);
+        let f = shade_transparent(&m, &Light::default(), Vec4::ONE, Vec4::ONE, Vec3::Z);
+        assert_eq!(f.radiance, Vec3::new(0.25, 0.125, 0.0));
+        assert_eq!(f.transmittance, Vec3::splat(0.75));
+    }
+
+    #[test]
+    fn full_transmission_filters_per_channel() {
+        let m = Material {
+            base_colour: Vec4::new(1.0, 1.0, 1.0, 1.0),
+            transmission: 1.0,
+            transmission_tint: Vec3::new(1.0, 0.5, 0.25),
+            ..Material::default()
+        };
+        let f = shade_transparent(&m, &Light::default(), Vec4::ONE, Vec4::ONE, Vec3::Z);
+        assert_eq!(f.radiance, Vec3::ZERO);
+        assert_eq!(f.transmittance, Vec3::new(1.0, 0.5, 0.25));
+    }
+
+    #[test]
+    fn two_layers_composite_by_hand() {
+        // Red at alpha 0.5 in front of blue at alpha 0.5 over white:
+        // L = 0.5*red + 0.5*(0.5*blue); T = 0.25; final = (0.5, 0, 0.25) + 0.25.
+        let red = Fragment {
+            radiance: Vec3::new(0.5, 0.0, 0.0),
+            transmittance: Vec3::splat(0.5),
+        };
+        let blue = Fragment {
+            radiance: Vec3::new(0.0, 0.0, 0.5),
+            transmittance: Vec3::splat(0.5),
+        };
+        let c = composite_front_to_back([red, blue], Vec3::ONE);
+        assert_eq!(c, Vec3::new(0.75, 0.25, 0.5));
+    }
+}
