@@ -104,3 +104,37 @@ mod tests {
         }
     }
 }
+
+/// The engine's opaque layer: what every transparency method composites onto and depth-tests
+/// against. Depth is the Vulkan depth-buffer value (0 near, 1 far; a transparent fragment is
+/// visible where its depth is *less* than this).
+#[derive(Clone, Debug, PartialEq)]
+pub struct OpaqueLayer {
+    pub width: u32,
+    pub height: u32,
+    /// Linear-light RGB per pixel, row-major, top row first.
+    pub colour: Vec<Vec3>,
+    pub depth: Vec<f32>,
+}
+
+impl OpaqueLayer {
+    /// A layer of one colour at the far plane (nothing opaque in the way).
+    pub fn clear(width: u32, height: u32, colour: Vec3) -> Self {
+        let n = width as usize * height as usize;
+        Self {
+            width,
+            height,
+            colour: vec![colour; n],
+            depth: vec![1.0; n],
+        }
+    }
+
+    /// The colour alone, as an image.
+    pub fn to_image(&self) -> Image {
+        Image {
+            width: self.width,
+            height: self.height,
+            pixels: self.colour.iter().map(|c| c.extend(1.0)).collect(),
+        }
+    }
+}

@@ -23,4 +23,4 @@ pub mod scene;
 pub mod shading;
 
 pub use error::{Error, Result};
-pub use image::Image;
+pub use image::{Image, OpaqueLayer};
