@@ -20,6 +20,7 @@ pub mod raster;
 pub mod reference;
 pub mod renderer;
 pub mod scene;
+pub mod shader_types;
 pub mod shading;
 
 pub use error::{Error, Result};

@@ -1,1 +1,41 @@
-//! Vulkan through ash.
+//! Vulkan through `ash`: the only module that talks to the driver.
+//!
+//! - [`Gpu`] (`device.rs`) owns the instance, the device, one queue, the allocator and a
+//!   command pool; it picks discrete > integrated > CPU devices unless `TRANSLUCID_DEVICE`
+//!   names one, and with `TRANSLUCID_VALIDATION=1` turns on the Khronos validation layer and
+//!   fails every submission that produced a validation error (`validation.rs`).
+//! - `memory.rs`: buffers and images from `gpu-allocator`, with a running count of live bytes
+//!   and its peak so a frame can report its GPU memory.
+//! - `commands.rs`: one-shot command buffers (record, submit, wait) and barrier helpers.
+//! - `pipeline.rs`: shader modules from build.rs's SPIR-V, descriptor layouts, pipelines.
+//! - `timestamps.rs`: GPU timestamps around every stage.
+//!
+//! Synchronisation is deliberately simple: every frame is recorded into one command buffer,
+//! submitted, and waited for with a fence. Readback copies into host-visible buffers.
+
+mod commands;
+mod device;
+mod error;
+mod memory;
+mod pipeline;
+mod timestamps;
+mod validation;
+
+pub use ash::vk;
+pub use commands::{image_barrier, memory_barrier};
+pub use device::{list_devices, DeviceInfo, Gpu, GpuOptions, Shared};
+pub use memory::{Buffer, GpuImage, MemoryStats};
+pub use memory::MemoryLocation;
+pub use pipeline::{
+    BindingKind, Blend, ComputePipeline, DescriptorLayout, DescriptorSet, GraphicsPipeline,
+    GraphicsPipelineDesc, RenderTarget, RenderTargetDesc, Resource, Sampler,
+};
+pub use timestamps::Timestamps;
+
+/// SPIR-V bytes compiled by build.rs from `shaders/<folder>/<file>`.
+#[macro_export]
+macro_rules! spirv {
+    ($path:literal) => {
+        include_bytes!(concat!(env!("OUT_DIR"), "/shaders/", $path, ".spv"))
+    };
+}

@@ -1,0 +1,117 @@
+//! One-shot command buffers and barrier helpers.
+
+use super::error::vk_err;
+use super::{Buffer, Gpu, GpuImage};
+use crate::Result;
+use ash::vk;
+
+impl Gpu {
+    /// Records `record` into a fresh command buffer, submits it, waits for it, and then fails
+    /// on any validation error the work produced.
+    pub fn submit_and_wait<T>(&self, record: impl FnOnce(vk::CommandBuffer) -> Result<T>) -> Result<T> {
+        let alloc = vk::CommandBufferAllocateInfo::default()
+            .command_pool(self.command_pool)
+            .level(vk::CommandBufferLevel::PRIMARY)
+            .command_buffer_count(1);
+        // SAFETY: the pool belongs to this device and is only used from &Gpu calls that wait
+        // for their work before returning (one submission at a time per call).
+        let cmd = unsafe { self.device.allocate_command_buffers(&alloc) }
+            .map_err(vk_err("vkAllocateCommandBuffers"))?[0];
+        let result = self.record_and_submit(cmd, record);
+        // SAFETY: the submission (if any) was waited for; the buffer is idle.
+        unsafe { self.device.free_command_buffers(self.command_pool, &[cmd]) };
+        let value = result?;
+        self.check_validation()?;
+        Ok(value)
+    }
+
+    fn record_and_submit<T>(&self, cmd: vk::CommandBuffer, record: impl FnOnce(vk::CommandBuffer) -> Result<T>) -> Result<T> {
+        let begin = vk::CommandBufferBeginInfo::default().flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
+        // SAFETY: cmd is a freshly allocated primary command buffer.
+        unsafe { self.device.begin_command_buffer(cmd, &begin) }.map_err(vk_err("vkBeginCommandBuffer"))?;
+        let value = record(cmd)?;
+        // SAFETY: cmd is in the recording state.
+        unsafe { self.device.end_command_buffer(cmd) }.map_err(vk_err("vkEndCommandBuffer"))?;
+        // SAFETY: valid device; the fence is destroyed below after the wait.
+        let fence = unsafe { self.device.create_fence(&vk::FenceCreateInfo::default(), None) }
+            .map_err(vk_err("vkCreateFence"))?;
+        let cmds = [cmd];
+        let submit = [vk::SubmitInfo::default().command_buffers(&cmds)];
+        // SAFETY: the command buffer is executable, the queue is ours and externally
+        // synchronised by &self usage being one submission per call.
+        let waited = unsafe {
+            self.device
+                .queue_submit(self.queue, &submit, fence)
+                .map_err(vk_err("vkQueueSubmit"))
+                .and_then(|_| {
+                    self.device
+                        .wait_for_fences(&[fence], true, u64::MAX)
+                        .map_err(vk_err("vkWaitForFences"))
+                })
+        };
+        // SAFETY: the fence is signalled or the submit failed; either way it is unused now.
+        unsafe { self.device.destroy_fence(fence, None) };
+        waited?;
+        Ok(value)
+    }
+
+    /// Copies a whole single-mip 2D image (in TRANSFER_SRC_OPTIMAL) into a buffer.
+    pub fn cmd_copy_image_to_buffer(&self, cmd: vk::CommandBuffer, image: &GpuImage, buffer: &Buffer) {
+        let region = vk::BufferImageCopy::default()
+            .image_subresource(vk::ImageSubresourceLayers {
+                aspect_mask: image.aspect,
+                mip_level: 0,
+                base_array_layer: 0,
+                layer_count: 1,
+            })
+            .image_extent(vk::Extent3D { width: image.extent.width, height: image.extent.height, depth: 1 });
+        // SAFETY: caller guarantees the image layout and that the buffer is large enough.
+        unsafe {
+            self.device.cmd_copy_image_to_buffer(
+                cmd,
+                image.raw,
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                buffer.raw,
+                &[region],
+            )
+        };
+    }
+}
+
+/// A layout transition (and execution/memory dependency) on every mip of `image`.
+#[allow(clippy::too_many_arguments)]
+pub fn image_barrier(
+    gpu: &Gpu,
+    cmd: vk::CommandBuffer,
+    image: &GpuImage,
+    old: vk::ImageLayout,
+    new: vk::ImageLayout,
+    src: (vk::PipelineStageFlags, vk::AccessFlags),
+    dst: (vk::PipelineStageFlags, vk::AccessFlags),
+) {
+    let barrier = vk::ImageMemoryBarrier::default()
+        .old_layout(old)
+        .new_layout(new)
+        .src_access_mask(src.1)
+        .dst_access_mask(dst.1)
+        .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+        .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+        .image(image.raw)
+        .subresource_range(image.full_range());
+    // SAFETY: cmd is recording; the barrier names a live image of this device.
+    unsafe {
+        gpu.device.cmd_pipeline_barrier(cmd, src.0, dst.0, vk::DependencyFlags::empty(), &[], &[], &[barrier])
+    };
+}
+
+/// A global memory dependency between two pipeline stages.
+pub fn memory_barrier(
+    gpu: &Gpu,
+    cmd: vk::CommandBuffer,
+    src: (vk::PipelineStageFlags, vk::AccessFlags),
+    dst: (vk::PipelineStageFlags, vk::AccessFlags),
+) {
+    let barrier = vk::MemoryBarrier::default().src_access_mask(src.1).dst_access_mask(dst.1);
+    // SAFETY: cmd is recording.
+    unsafe { gpu.device.cmd_pipeline_barrier(cmd, src.0, dst.0, vk::DependencyFlags::empty(), &[barrier], &[], &[]) };
+}

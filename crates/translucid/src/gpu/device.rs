@@ -1,0 +1,434 @@
+//! Instance, physical-device choice, logical device, queue, allocator and command pool.
+
+use super::error::vk_err;
+use super::memory::MemoryStats;
+use super::validation::{self, ValidationLog};
+use crate::{Error, Result};
+use ash::vk;
+use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
+use std::mem::ManuallyDrop;
+use std::sync::{Arc, Mutex};
+
+/// How to create a [`Gpu`].
+#[derive(Clone, Debug, Default)]
+pub struct GpuOptions {
+    /// Device index (as listed by `translucid info`) or a case-insensitive substring of its
+    /// name. `None` picks discrete > integrated > virtual > CPU.
+    pub device: Option<String>,
+    /// Turn on the Khronos validation layer; every validation error fails the call that
+    /// submitted the offending work.
+    pub validation: bool,
+}
+
+impl GpuOptions {
+    /// Options from `TRANSLUCID_DEVICE` and `TRANSLUCID_VALIDATION=1`.
+    pub fn from_env() -> Self {
+        Self {
+            device: std::env::var("TRANSLUCID_DEVICE").ok().filter(|s| !s.is_empty()),
+            validation: std::env::var("TRANSLUCID_VALIDATION").is_ok_and(|v| v == "1"),
+        }
+    }
+}
+
+/// What `translucid info` shows of a device, and the limits methods size themselves by.
+#[derive(Clone, Debug)]
+pub struct DeviceInfo {
+    pub index: usize,
+    pub name: String,
+    pub kind: &'static str,
+    pub api_version: String,
+    pub driver: String,
+    pub subgroup_size: u32,
+    pub max_shared_memory: u32,
+    pub max_storage_buffer_range: u32,
+    pub max_image_dimension_2d: u32,
+    pub max_compute_workgroup_invocations: u32,
+    /// Nanoseconds per timestamp tick.
+    pub timestamp_period_ns: f32,
+    pub dual_source_blend: bool,
+}
+
+/// A headless Vulkan device with one graphics+compute queue. Cheap to clone: every resource
+/// holds a clone, so the device outlives everything created from it and resources free
+/// themselves on drop.
+#[derive(Clone)]
+pub struct Gpu(Arc<Shared>);
+
+impl std::ops::Deref for Gpu {
+    type Target = Shared;
+    fn deref(&self) -> &Shared {
+        &self.0
+    }
+}
+
+/// The device and what is shared by everything created from it.
+pub struct Shared {
+    _entry: ash::Entry,
+    instance: ash::Instance,
+    messenger: Option<(ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
+    /// Boxed so its address, handed to the messenger, never moves.
+    validation: Box<ValidationLog>,
+    pub(crate) device: ash::Device,
+    pub(crate) queue: vk::Queue,
+    pub(crate) allocator: ManuallyDrop<Mutex<Allocator>>,
+    pub(crate) memory: MemoryStats,
+    pub(crate) command_pool: vk::CommandPool,
+    info: DeviceInfo,
+}
+
+fn load_entry() -> Result<ash::Entry> {
+    // SAFETY: loading the system Vulkan loader runs its initialisers; this is the documented
+    // way to use ash and nothing else in the process depends on the library's state.
+    unsafe { ash::Entry::load() }.map_err(|e| {
+        Error::NoDevice(format!(
+            "cannot load the Vulkan loader ({e}); install libvulkan1 and a driver \
+             (Debian: mesa-vulkan-drivers)"
+        ))
+    })
+}
+
+fn create_instance(entry: &ash::Entry, validation: bool) -> Result<ash::Instance> {
+    let app = vk::ApplicationInfo::default()
+        .application_name(c"translucid")
+        .engine_name(c"translucid")
+        .api_version(vk::API_VERSION_1_2);
+    let mut layers = Vec::new();
+    let mut extensions = Vec::new();
+    if validation {
+        // SAFETY: plain enumeration call on a loaded entry.
+        let available = unsafe { entry.enumerate_instance_layer_properties() }
+            .map_err(vk_err("vkEnumerateInstanceLayerProperties"))?;
+        let found = available
+            .iter()
+            .any(|l| l.layer_name_as_c_str().ok() == Some(validation::LAYER_NAME));
+        if !found {
+            return Err(Error::NoDevice(
+                "TRANSLUCID_VALIDATION=1 but the Khronos validation layer is not installed \
+                 (Debian: vulkan-validationlayers)"
+                    .into(),
+            ));
+        }
+        layers.push(validation::LAYER_NAME.as_ptr());
+        extensions.push(ash::ext::debug_utils::NAME.as_ptr());
+    }
+    let info = vk::InstanceCreateInfo::default()
+        .application_info(&app)
+        .enabled_layer_names(&layers)
+        .enabled_extension_names(&extensions);
+    // SAFETY: the create info and everything it points to live until the call returns.
+    unsafe { entry.create_instance(&info, None) }.map_err(vk_err("vkCreateInstance"))
+}
+
+fn device_kind(t: vk::PhysicalDeviceType) -> (&'static str, u32) {
+    match t {
+        vk::PhysicalDeviceType::DISCRETE_GPU => ("discrete", 0),
+        vk::PhysicalDeviceType::INTEGRATED_GPU => ("integrated", 1),
+        vk::PhysicalDeviceType::VIRTUAL_GPU => ("virtual", 2),
+        vk::PhysicalDeviceType::CPU => ("cpu", 3),
+        _ => ("other", 4),
+    }
+}
+
+fn describe(instance: &ash::Instance, index: usize, pd: vk::PhysicalDevice) -> DeviceInfo {
+    let mut subgroup = vk::PhysicalDeviceSubgroupProperties::default();
+    let mut driver = vk::PhysicalDeviceDriverProperties::default();
+    let mut props2 = vk::PhysicalDeviceProperties2::default()
+        .push_next(&mut subgroup)
+        .push_next(&mut driver);
+    // SAFETY: pd came from this instance; the chained structs outlive the call.
+    let features = unsafe {
+        instance.get_physical_device_properties2(pd, &mut props2);
+        instance.get_physical_device_features(pd)
+    };
+    let p = props2.properties;
+    let limits = p.limits;
+    let v = p.api_version;
+    DeviceInfo {
+        index,
+        name: p
+            .device_name_as_c_str()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default(),
+        kind: device_kind(p.device_type).0,
+        api_version: format!(
+            "{}.{}.{}",
+            vk::api_version_major(v),
+            vk::api_version_minor(v),
+            vk::api_version_patch(v)
+        ),
+        driver: driver
+            .driver_info_as_c_str()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default(),
+        subgroup_size: subgroup.subgroup_size,
+        max_shared_memory: limits.max_compute_shared_memory_size,
+        max_storage_buffer_range: limits.max_storage_buffer_range,
+        max_image_dimension_2d: limits.max_image_dimension2_d,
+        max_compute_workgroup_invocations: limits.max_compute_work_group_invocations,
+        timestamp_period_ns: limits.timestamp_period,
+        dual_source_blend: features.dual_src_blend == vk::TRUE,
+    }
+}
+
+fn usable_devices(instance: &ash::Instance) -> Result<Vec<(vk::PhysicalDevice, DeviceInfo)>> {
+    // SAFETY: plain enumeration on a live instance.
+    let devices = unsafe { instance.enumerate_physical_devices() }
+        .map_err(vk_err("vkEnumeratePhysicalDevices"))?;
+    Ok(devices
+        .into_iter()
+        .enumerate()
+        .map(|(i, pd)| (pd, describe(instance, i, pd)))
+        .filter(|(_, info)| {
+            let (major, minor) = {
+                let mut it = info.api_version.split('.').map(|s| s.parse::<u32>().unwrap_or(0));
+                (it.next().unwrap_or(0), it.next().unwrap_or(0))
+            };
+            (major, minor) >= (1, 2)
+        })
+        .collect())
+}
+
+/// Every Vulkan 1.2+ device on this machine.
+pub fn list_devices() -> Result<Vec<DeviceInfo>> {
+    let entry = load_entry()?;
+    let instance = create_instance(&entry, false)?;
+    let result = usable_devices(&instance).map(|d| d.into_iter().map(|(_, i)| i).collect());
+    // SAFETY: nothing created from this instance is alive.
+    unsafe { instance.destroy_instance(None) };
+    result
+}
+
+fn choose(
+    devices: Vec<(vk::PhysicalDevice, DeviceInfo)>,
+    wanted: Option<&str>,
+) -> Result<(vk::PhysicalDevice, DeviceInfo)> {
+    let names = || {
+        devices
+            .iter()
+            .map(|(_, d)| format!("{}: {} ({})", d.index, d.name, d.kind))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    if devices.is_empty() {
+        return Err(Error::NoDevice(
+            "no Vulkan 1.2 device found (install a driver; Debian: mesa-vulkan-drivers)".into(),
+        ));
+    }
+    let found = match wanted {
+        Some(w) => {
+            let lower = w.to_lowercase();
+            let by_index = w.parse::<usize>().ok();
+            devices
+                .iter()
+                .position(|(_, d)| Some(d.index) == by_index || d.name.to_lowercase().contains(&lower))
+                .ok_or_else(|| {
+                    Error::NoDevice(format!("TRANSLUCID_DEVICE={w:?} matches none of: {}", names()))
+                })?
+        }
+        None => devices
+            .iter()
+            .enumerate()
+            .min_by_key(|(i, (_, d))| {
+                let rank = ["discrete", "integrated", "virtual", "cpu"]
+                    .iter()
+                    .position(|k| *k == d.kind)
+                    .unwrap_or(4);
+                (rank, *i)
+            })
+            .map(|(i, _)| i)
+            .unwrap_or(0),
+    };
+    Ok(devices.into_iter().nth(found).expect("index from the same list"))
+}
+
+impl Gpu {
+    /// Creates the device described by `options`.
+    pub fn new(options: &GpuOptions) -> Result<Self> {
+        let entry = load_entry()?;
+        let instance = create_instance(&entry, options.validation)?;
+        let validation = Box::<ValidationLog>::default();
+        // From here on, a failure must destroy what exists: build in a guard-free way by
+        // finishing creation in a helper and cleaning up the instance on error.
+        let messenger = if options.validation {
+            match create_messenger(&entry, &instance, &validation) {
+                Ok(m) => Some(m),
+                Err(e) => {
+                    // SAFETY: nothing else was created from the instance.
+                    unsafe { instance.destroy_instance(None) };
+                    return Err(e);
+                }
+            }
+        } else {
+            None
+        };
+        let chosen = usable_devices(&instance).and_then(|d| choose(d, options.device.as_deref()));
+        let (physical, info) = match chosen {
+            Ok(c) => c,
+            Err(e) => {
+                destroy_instance(&instance, &messenger);
+                return Err(e);
+            }
+        };
+        match create_device(&instance, physical, &info) {
+            Ok((device, queue, allocator, command_pool)) => Ok(Self(Arc::new(Shared {
+                _entry: entry,
+                instance,
+                messenger,
+                validation,
+                device,
+                queue,
+                allocator: ManuallyDrop::new(Mutex::new(allocator)),
+                memory: MemoryStats::default(),
+                command_pool,
+                info,
+            }))),
+            Err(e) => {
+                destroy_instance(&instance, &messenger);
+                Err(e)
+            }
+        }
+    }
+
+}
+
+impl Shared {
+    /// Limits and identity of the chosen device.
+    pub fn info(&self) -> &DeviceInfo {
+        &self.info
+    }
+
+    /// Fails with every validation error reported since the last check.
+    pub fn check_validation(&self) -> Result<()> {
+        let errors = self.validation.take();
+        if errors.is_empty() {
+            Ok(())
+        } else {
+            Err(Error::Validation(errors.join("\n")))
+        }
+    }
+
+    /// Bytes of GPU memory currently allocated through this device, and the peak since the
+    /// last [`Gpu::reset_peak_memory`].
+    pub fn memory_in_use(&self) -> (u64, u64) {
+        self.memory.current_and_peak()
+    }
+
+    pub fn reset_peak_memory(&self) {
+        self.memory.reset_peak();
+    }
+}
+
+fn create_messenger(
+    entry: &ash::Entry,
+    instance: &ash::Instance,
+    log: &ValidationLog,
+) -> Result<(ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)> {
+    let loader = ash::ext::debug_utils::Instance::new(entry, instance);
+    let info = vk::DebugUtilsMessengerCreateInfoEXT::default()
+        .message_severity(
+            vk::DebugUtilsMessageSeverityFlagsEXT::ERROR | vk::DebugUtilsMessageSeverityFlagsEXT::WARNING,
+        )
+        .message_type(
+            vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION
+                | vk::DebugUtilsMessageTypeFlagsEXT::GENERAL
+                | vk::DebugUtilsMessageTypeFlagsEXT::PERFORMANCE,
+        )
+        .pfn_user_callback(Some(validation::callback))
+        .user_data(log as *const ValidationLog as *mut _);
+    // SAFETY: the log outlives the messenger (Gpu drops the messenger before the box).
+    let messenger = unsafe { loader.create_debug_utils_messenger(&info, None) }
+        .map_err(vk_err("vkCreateDebugUtilsMessengerEXT"))?;
+    Ok((loader, messenger))
+}
+
+fn destroy_instance(
+    instance: &ash::Instance,
+    messenger: &Option<(ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
+) {
+    // SAFETY: called only on creation failure, when no device exists.
+    unsafe {
+        if let Some((loader, m)) = messenger {
+            loader.destroy_debug_utils_messenger(*m, None);
+        }
+        instance.destroy_instance(None);
+    }
+}
+
+type DeviceParts = (ash::Device, vk::Queue, Allocator, vk::CommandPool);
+
+fn create_device(instance: &ash::Instance, physical: vk::PhysicalDevice, info: &DeviceInfo) -> Result<DeviceParts> {
+    // SAFETY: physical came from this instance.
+    let families = unsafe { instance.get_physical_device_queue_family_properties(physical) };
+    let wanted = vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE;
+    let family = families
+        .iter()
+        .position(|f| f.queue_flags.contains(wanted) && f.timestamp_valid_bits > 0)
+        .or_else(|| families.iter().position(|f| f.queue_flags.contains(wanted)))
+        .ok_or_else(|| Error::NoDevice(format!("{} has no graphics+compute queue", info.name)))?
+        as u32;
+    let priorities = [1.0f32];
+    let queues = [vk::DeviceQueueCreateInfo::default()
+        .queue_family_index(family)
+        .queue_priorities(&priorities)];
+    let features = vk::PhysicalDeviceFeatures::default().dual_src_blend(info.dual_source_blend);
+    let create = vk::DeviceCreateInfo::default()
+        .queue_create_infos(&queues)
+        .enabled_features(&features);
+    // SAFETY: create info and its pointees live until the call returns.
+    let device = unsafe { instance.create_device(physical, &create, None) }
+        .map_err(vk_err("vkCreateDevice"))?;
+    // SAFETY: family/index 0 were requested above.
+    let queue = unsafe { device.get_device_queue(family, 0) };
+    let allocator = Allocator::new(&AllocatorCreateDesc {
+        instance: instance.clone(),
+        device: device.clone(),
+        physical_device: physical,
+        debug_settings: Default::default(),
+        buffer_device_address: false,
+        allocation_sizes: Default::default(),
+    });
+    let allocator = match allocator {
+        Ok(a) => a,
+        Err(e) => {
+            // SAFETY: nothing was created from the device yet.
+            unsafe { device.destroy_device(None) };
+            return Err(e.into());
+        }
+    };
+    let pool_info = vk::CommandPoolCreateInfo::default()
+        .queue_family_index(family)
+        .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
+    // SAFETY: valid device and create info.
+    let pool = match unsafe { device.create_command_pool(&pool_info, None) } {
+        Ok(p) => p,
+        Err(e) => {
+            drop(allocator);
+            // SAFETY: the allocator holding device memory is gone; nothing else exists.
+            unsafe { device.destroy_device(None) };
+            return Err(vk_err("vkCreateCommandPool")(e));
+        }
+    };
+    Ok((device, queue, allocator, pool))
+}
+
+impl Drop for Shared {
+    fn drop(&mut self) {
+        let (live, _) = self.memory.current_and_peak();
+        if live != 0 {
+            log::warn!("device destroyed with {live} bytes of GPU memory still allocated");
+        }
+        // SAFETY: we own every object below; waiting for idle first means none is in use, and
+        // they are destroyed in reverse creation order. The allocator is dropped exactly once.
+        unsafe {
+            let _ = self.device.device_wait_idle();
+            self.device.destroy_command_pool(self.command_pool, None);
+            ManuallyDrop::drop(&mut self.allocator);
+            self.device.destroy_device(None);
+            if let Some((loader, m)) = self.messenger.take() {
+                loader.destroy_debug_utils_messenger(m, None);
+            }
+            self.instance.destroy_instance(None);
+        }
+    }
+}
+

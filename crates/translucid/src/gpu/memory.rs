@@ -1,0 +1,236 @@
+//! Buffers and images with memory from `gpu-allocator`. Each resource holds a [`Gpu`] clone
+//! and frees itself on drop, so error paths cannot leak.
+
+use super::error::vk_err;
+use super::Gpu;
+use crate::Result;
+use ash::vk;
+use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
+pub use gpu_allocator::MemoryLocation;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// Live bytes allocated through one device, and their peak.
+#[derive(Default)]
+pub struct MemoryStats {
+    current: AtomicU64,
+    peak: AtomicU64,
+}
+
+impl MemoryStats {
+    fn add(&self, bytes: u64) {
+        let now = self.current.fetch_add(bytes, Ordering::Relaxed) + bytes;
+        self.peak.fetch_max(now, Ordering::Relaxed);
+    }
+
+    fn sub(&self, bytes: u64) {
+        self.current.fetch_sub(bytes, Ordering::Relaxed);
+    }
+
+    pub(crate) fn current_and_peak(&self) -> (u64, u64) {
+        (self.current.load(Ordering::Relaxed), self.peak.load(Ordering::Relaxed))
+    }
+
+    pub(crate) fn reset_peak(&self) {
+        self.peak.store(self.current.load(Ordering::Relaxed), Ordering::Relaxed);
+    }
+}
+
+impl Gpu {
+    fn allocate(&self, name: &str, requirements: vk::MemoryRequirements, location: MemoryLocation, linear: bool) -> Result<Allocation> {
+        let allocation = self
+            .allocator
+            .lock()
+            .map_err(|_| crate::Error::NoDevice("allocator lock poisoned by an earlier panic".into()))?
+            .allocate(&AllocationCreateDesc {
+                name,
+                requirements,
+                location,
+                linear,
+                allocation_scheme: AllocationScheme::GpuAllocatorManaged,
+            })?;
+        self.memory.add(allocation.size());
+        Ok(allocation)
+    }
+
+    fn free(&self, allocation: Allocation) {
+        self.memory.sub(allocation.size());
+        if let Ok(mut a) = self.allocator.lock() {
+            if let Err(e) = a.free(allocation) {
+                log::warn!("freeing GPU memory failed: {e}");
+            }
+        }
+    }
+
+    /// A buffer of `size` bytes (at least 4, so empty data still binds).
+    pub fn create_buffer(&self, name: &str, size: u64, usage: vk::BufferUsageFlags, location: MemoryLocation) -> Result<Buffer> {
+        let size = size.max(4);
+        let info = vk::BufferCreateInfo::default()
+            .size(size)
+            .usage(usage)
+            .sharing_mode(vk::SharingMode::EXCLUSIVE);
+        // SAFETY: valid device and create info.
+        let raw = unsafe { self.device.create_buffer(&info, None) }.map_err(vk_err("vkCreateBuffer"))?;
+        let mut buffer = Buffer {
+            gpu: self.clone(),
+            raw,
+            size,
+            allocation: None,
+        };
+        // SAFETY: raw is a live buffer of this device.
+        let requirements = unsafe { self.device.get_buffer_memory_requirements(raw) };
+        let allocation = self.allocate(name, requirements, location, true)?;
+        // SAFETY: the allocation satisfies the buffer's requirements and is not bound elsewhere.
+        unsafe { self.device.bind_buffer_memory(raw, allocation.memory(), allocation.offset()) }
+            .map_err(vk_err("vkBindBufferMemory"))?;
+        buffer.allocation = Some(allocation);
+        Ok(buffer)
+    }
+
+    /// A host-visible buffer holding `data`. On CPU and integrated devices this is as fast as
+    /// device-local memory; discrete GPUs read it over the bus, which is fine for the scene
+    /// sizes this crate uploads once.
+    pub fn create_buffer_with_data(&self, name: &str, usage: vk::BufferUsageFlags, data: &[u8]) -> Result<Buffer> {
+        let mut buffer = self.create_buffer(name, data.len() as u64, usage, MemoryLocation::CpuToGpu)?;
+        buffer.write(0, data)?;
+        Ok(buffer)
+    }
+
+    /// A 2D image with a view covering all its mips.
+    pub fn create_image(
+        &self,
+        name: &str,
+        extent: vk::Extent2D,
+        format: vk::Format,
+        usage: vk::ImageUsageFlags,
+        mip_levels: u32,
+    ) -> Result<GpuImage> {
+        let aspect = if format == vk::Format::D32_SFLOAT {
+            vk::ImageAspectFlags::DEPTH
+        } else {
+            vk::ImageAspectFlags::COLOR
+        };
+        let info = vk::ImageCreateInfo::default()
+            .image_type(vk::ImageType::TYPE_2D)
+            .format(format)
+            .extent(vk::Extent3D { width: extent.width, height: extent.height, depth: 1 })
+            .mip_levels(mip_levels)
+            .array_layers(1)
+            .samples(vk::SampleCountFlags::TYPE_1)
+            .tiling(vk::ImageTiling::OPTIMAL)
+            .usage(usage)
+            .initial_layout(vk::ImageLayout::UNDEFINED);
+        // SAFETY: valid device and create info.
+        let raw = unsafe { self.device.create_image(&info, None) }.map_err(vk_err("vkCreateImage"))?;
+        let mut image = GpuImage {
+            gpu: self.clone(),
+            raw,
+            view: vk::ImageView::null(),
+            allocation: None,
+            extent,
+            format,
+            aspect,
+            mip_levels,
+        };
+        // SAFETY: raw is a live image of this device.
+        let requirements = unsafe { self.device.get_image_memory_requirements(raw) };
+        let allocation = self.allocate(name, requirements, MemoryLocation::GpuOnly, false)?;
+        // SAFETY: the allocation satisfies the image's requirements and is not bound elsewhere.
+        unsafe { self.device.bind_image_memory(raw, allocation.memory(), allocation.offset()) }
+            .map_err(vk_err("vkBindImageMemory"))?;
+        image.allocation = Some(allocation);
+        let view_info = vk::ImageViewCreateInfo::default()
+            .image(raw)
+            .view_type(vk::ImageViewType::TYPE_2D)
+            .format(format)
+            .subresource_range(image.full_range());
+        // SAFETY: the image is bound to memory; the range is within it.
+        image.view = unsafe { self.device.create_image_view(&view_info, None) }
+            .map_err(vk_err("vkCreateImageView"))?;
+        Ok(image)
+    }
+}
+
+/// A buffer and its memory.
+pub struct Buffer {
+    gpu: Gpu,
+    pub raw: vk::Buffer,
+    pub size: u64,
+    allocation: Option<Allocation>,
+}
+
+impl Buffer {
+    /// Copies `data` into a host-visible buffer at `offset`.
+    pub fn write(&mut self, offset: u64, data: &[u8]) -> Result<()> {
+        let mapped = self
+            .allocation
+            .as_mut()
+            .and_then(|a| a.mapped_slice_mut())
+            .ok_or_else(|| crate::Error::InvalidScene("write to a buffer that is not host-visible".into()))?;
+        let start = offset as usize;
+        let end = start + data.len();
+        mapped
+            .get_mut(start..end)
+            .ok_or_else(|| crate::Error::InvalidScene(format!("write of {end} bytes past a {}-byte buffer", self.size)))?
+            .copy_from_slice(data);
+        Ok(())
+    }
+
+    /// The contents of a host-visible buffer.
+    pub fn read(&self) -> Result<&[u8]> {
+        self.allocation
+            .as_ref()
+            .and_then(|a| a.mapped_slice())
+            .map(|s| &s[..self.size as usize])
+            .ok_or_else(|| crate::Error::InvalidScene("read of a buffer that is not host-visible".into()))
+    }
+}
+
+impl Drop for Buffer {
+    fn drop(&mut self) {
+        // SAFETY: every submission is waited for before its resources can be dropped, so the
+        // buffer is not in use.
+        unsafe { self.gpu.device.destroy_buffer(self.raw, None) };
+        if let Some(a) = self.allocation.take() {
+            self.gpu.free(a);
+        }
+    }
+}
+
+/// A 2D image, its memory and a view of all its mips.
+pub struct GpuImage {
+    gpu: Gpu,
+    pub raw: vk::Image,
+    pub view: vk::ImageView,
+    pub extent: vk::Extent2D,
+    pub format: vk::Format,
+    pub aspect: vk::ImageAspectFlags,
+    pub mip_levels: u32,
+    allocation: Option<Allocation>,
+}
+
+impl GpuImage {
+    pub fn full_range(&self) -> vk::ImageSubresourceRange {
+        vk::ImageSubresourceRange {
+            aspect_mask: self.aspect,
+            base_mip_level: 0,
+            level_count: self.mip_levels,
+            base_array_layer: 0,
+            layer_count: 1,
+        }
+    }
+}
+
+impl Drop for GpuImage {
+    fn drop(&mut self) {
+        // SAFETY: as for Buffer: no submission using the image is pending.
+        unsafe {
+            if self.view != vk::ImageView::null() {
+                self.gpu.device.destroy_image_view(self.view, None);
+            }
+            self.gpu.device.destroy_image(self.raw, None);
+        }
+        if let Some(a) = self.allocation.take() {
+            self.gpu.free(a);
+        }
+    }
+}

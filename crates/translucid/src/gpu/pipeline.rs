@@ -1,0 +1,557 @@
+//! Shader modules, descriptor layouts and sets, samplers, render passes and pipelines.
+
+use super::error::vk_err;
+use super::{Buffer, Gpu};
+use crate::Result;
+use ash::vk;
+
+/// What a descriptor binding holds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BindingKind {
+    StorageBuffer,
+    UniformBuffer,
+    /// An array of this many combined image samplers.
+    SampledImages(u32),
+    StorageImage,
+}
+
+impl BindingKind {
+    fn descriptor_type(self) -> (vk::DescriptorType, u32) {
+        match self {
+            Self::StorageBuffer => (vk::DescriptorType::STORAGE_BUFFER, 1),
+            Self::UniformBuffer => (vk::DescriptorType::UNIFORM_BUFFER, 1),
+            Self::SampledImages(n) => (vk::DescriptorType::COMBINED_IMAGE_SAMPLER, n),
+            Self::StorageImage => (vk::DescriptorType::STORAGE_IMAGE, 1),
+        }
+    }
+}
+
+/// A descriptor set layout; binding `i` is `kinds[i]`.
+pub struct DescriptorLayout {
+    gpu: Gpu,
+    pub raw: vk::DescriptorSetLayout,
+    kinds: Vec<BindingKind>,
+}
+
+/// What to bind at one binding of a [`DescriptorSet`].
+pub enum Resource<'a> {
+    Buffer(&'a Buffer),
+    /// Image views (in SHADER_READ_ONLY_OPTIMAL) with one sampler.
+    Images(&'a [vk::ImageView], vk::Sampler),
+    StorageImage(vk::ImageView),
+}
+
+/// A descriptor set with its own small pool, freed on drop.
+pub struct DescriptorSet {
+    gpu: Gpu,
+    pool: vk::DescriptorPool,
+    pub raw: vk::DescriptorSet,
+}
+
+impl DescriptorLayout {
+    pub fn new(gpu: &Gpu, kinds: &[BindingKind], stages: vk::ShaderStageFlags) -> Result<Self> {
+        let bindings: Vec<_> = kinds
+            .iter()
+            .enumerate()
+            .map(|(i, k)| {
+                let (ty, count) = k.descriptor_type();
+                vk::DescriptorSetLayoutBinding::default()
+                    .binding(i as u32)
+                    .descriptor_type(ty)
+                    .descriptor_count(count)
+                    .stage_flags(stages)
+            })
+            .collect();
+        let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
+        // SAFETY: valid device and create info.
+        let raw = unsafe { gpu.device.create_descriptor_set_layout(&info, None) }
+            .map_err(vk_err("vkCreateDescriptorSetLayout"))?;
+        Ok(Self { gpu: gpu.clone(), raw, kinds: kinds.to_vec() })
+    }
+
+    /// Allocates a set and writes `resources[i]` to binding `i`.
+    pub fn create_set(&self, resources: &[Resource<'_>]) -> Result<DescriptorSet> {
+        assert_eq!(resources.len(), self.kinds.len(), "one resource per binding");
+        let sizes: Vec<_> = self
+            .kinds
+            .iter()
+            .map(|k| {
+                let (ty, count) = k.descriptor_type();
+                vk::DescriptorPoolSize { ty, descriptor_count: count }
+            })
+            .collect();
+        let pool_info = vk::DescriptorPoolCreateInfo::default().max_sets(1).pool_sizes(&sizes);
+        // SAFETY: valid device and create info.
+        let pool = unsafe { self.gpu.device.create_descriptor_pool(&pool_info, None) }
+            .map_err(vk_err("vkCreateDescriptorPool"))?;
+        let mut set = DescriptorSet { gpu: self.gpu.clone(), pool, raw: vk::DescriptorSet::null() };
+        let layouts = [self.raw];
+        let alloc = vk::DescriptorSetAllocateInfo::default().descriptor_pool(pool).set_layouts(&layouts);
+        // SAFETY: the pool has room for exactly this set.
+        set.raw = unsafe { self.gpu.device.allocate_descriptor_sets(&alloc) }
+            .map_err(vk_err("vkAllocateDescriptorSets"))?[0];
+
+        let buffer_infos: Vec<Vec<vk::DescriptorBufferInfo>> = resources
+            .iter()
+            .map(|r| match r {
+                Resource::Buffer(b) => vec![vk::DescriptorBufferInfo { buffer: b.raw, offset: 0, range: vk::WHOLE_SIZE }],
+                _ => Vec::new(),
+            })
+            .collect();
+        let image_infos: Vec<Vec<vk::DescriptorImageInfo>> = resources
+            .iter()
+            .map(|r| match r {
+                Resource::Images(views, sampler) => views
+                    .iter()
+                    .map(|&v| vk::DescriptorImageInfo {
+                        sampler: *sampler,
+                        image_view: v,
+                        image_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+                    })
+                    .collect(),
+                Resource::StorageImage(v) => vec![vk::DescriptorImageInfo {
+                    sampler: vk::Sampler::null(),
+                    image_view: *v,
+                    image_layout: vk::ImageLayout::GENERAL,
+                }],
+                Resource::Buffer(_) => Vec::new(),
+            })
+            .collect();
+        let writes: Vec<_> = self
+            .kinds
+            .iter()
+            .enumerate()
+            .map(|(i, k)| {
+                let w = vk::WriteDescriptorSet::default()
+                    .dst_set(set.raw)
+                    .dst_binding(i as u32)
+                    .descriptor_type(k.descriptor_type().0);
+                if buffer_infos[i].is_empty() {
+                    w.image_info(&image_infos[i])
+                } else {
+                    w.buffer_info(&buffer_infos[i])
+                }
+            })
+            .collect();
+        for (i, (k, w)) in self.kinds.iter().zip(&writes).enumerate() {
+            assert_eq!(
+                w.descriptor_count,
+                k.descriptor_type().1,
+                "binding {i}: resource does not match its layout"
+            );
+        }
+        // SAFETY: every write targets a binding of this set's layout with matching type/count.
+        unsafe { self.gpu.device.update_descriptor_sets(&writes, &[]) };
+        Ok(set)
+    }
+}
+
+impl Drop for DescriptorLayout {
+    fn drop(&mut self) {
+        // SAFETY: pipelines using the layout keep their own copy of it; no pending work.
+        unsafe { self.gpu.device.destroy_descriptor_set_layout(self.raw, None) };
+    }
+}
+
+impl Drop for DescriptorSet {
+    fn drop(&mut self) {
+        // SAFETY: no pending submission uses the set once its owner drops it.
+        unsafe { self.gpu.device.destroy_descriptor_pool(self.pool, None) };
+    }
+}
+
+fn shader_module(gpu: &Gpu, spirv: &[u8]) -> Result<vk::ShaderModule> {
+    let words = ash::util::read_spv(&mut std::io::Cursor::new(spirv))?;
+    let info = vk::ShaderModuleCreateInfo::default().code(&words);
+    // SAFETY: the words are SPIR-V produced by glslc at build time.
+    unsafe { gpu.device.create_shader_module(&info, None) }.map_err(vk_err("vkCreateShaderModule"))
+}
+
+fn pipeline_layout(gpu: &Gpu, sets: &[&DescriptorLayout], push_bytes: u32, stages: vk::ShaderStageFlags) -> Result<vk::PipelineLayout> {
+    let raw_sets: Vec<_> = sets.iter().map(|s| s.raw).collect();
+    let ranges = [vk::PushConstantRange { stage_flags: stages, offset: 0, size: push_bytes }];
+    let info = vk::PipelineLayoutCreateInfo::default()
+        .set_layouts(&raw_sets)
+        .push_constant_ranges(if push_bytes > 0 { &ranges } else { &[] });
+    // SAFETY: valid device and create info.
+    unsafe { gpu.device.create_pipeline_layout(&info, None) }.map_err(vk_err("vkCreatePipelineLayout"))
+}
+
+/// A compute pipeline and its layout.
+pub struct ComputePipeline {
+    gpu: Gpu,
+    pub raw: vk::Pipeline,
+    pub layout: vk::PipelineLayout,
+}
+
+impl ComputePipeline {
+    pub fn new(gpu: &Gpu, spirv: &[u8], sets: &[&DescriptorLayout], push_bytes: u32) -> Result<Self> {
+        let layout = pipeline_layout(gpu, sets, push_bytes, vk::ShaderStageFlags::COMPUTE)?;
+        let module = match shader_module(gpu, spirv) {
+            Ok(m) => m,
+            Err(e) => {
+                // SAFETY: the layout was just created and is unused.
+                unsafe { gpu.device.destroy_pipeline_layout(layout, None) };
+                return Err(e);
+            }
+        };
+        let stage = vk::PipelineShaderStageCreateInfo::default()
+            .stage(vk::ShaderStageFlags::COMPUTE)
+            .module(module)
+            .name(c"main");
+        let info = [vk::ComputePipelineCreateInfo::default().stage(stage).layout(layout)];
+        // SAFETY: valid module and layout.
+        let created = unsafe { gpu.device.create_compute_pipelines(vk::PipelineCache::null(), &info, None) };
+        // SAFETY: the module is no longer needed once the pipeline exists (or failed).
+        unsafe { gpu.device.destroy_shader_module(module, None) };
+        match created {
+            Ok(p) => Ok(Self { gpu: gpu.clone(), raw: p[0], layout }),
+            Err((_, e)) => {
+                // SAFETY: unused layout.
+                unsafe { gpu.device.destroy_pipeline_layout(layout, None) };
+                Err(vk_err("vkCreateComputePipelines")(e))
+            }
+        }
+    }
+
+    /// Binds the pipeline and its sets, pushes constants and dispatches.
+    pub fn dispatch(&self, cmd: vk::CommandBuffer, sets: &[vk::DescriptorSet], push: &[u8], groups: [u32; 3]) {
+        // SAFETY: cmd is recording outside a render pass; sets match the layout.
+        unsafe {
+            let d = &self.gpu.device;
+            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.raw);
+            if !sets.is_empty() {
+                d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, self.layout, 0, sets, &[]);
+            }
+            if !push.is_empty() {
+                d.cmd_push_constants(cmd, self.layout, vk::ShaderStageFlags::COMPUTE, 0, push);
+            }
+            d.cmd_dispatch(cmd, groups[0], groups[1], groups[2]);
+        }
+    }
+}
+
+impl Drop for ComputePipeline {
+    fn drop(&mut self) {
+        // SAFETY: no pending work uses the pipeline.
+        unsafe {
+            self.gpu.device.destroy_pipeline(self.raw, None);
+            self.gpu.device.destroy_pipeline_layout(self.layout, None);
+        }
+    }
+}
+
+/// How a graphics pipeline blends into its single colour attachment.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Blend {
+    /// Overwrite.
+    None,
+    /// `dst = src0 + src1 ⊙ dst` per channel: back-to-front compositing of premultiplied
+    /// radiance (output 0) with per-channel transmittance (output 1, dual-source).
+    PremultipliedTransmittance,
+}
+
+/// Everything a graphics pipeline of this crate varies in.
+pub struct GraphicsPipelineDesc<'a> {
+    pub vertex: &'a [u8],
+    pub fragment: &'a [u8],
+    /// Bytes per vertex, and (location, format, offset) of each attribute.
+    pub vertex_stride: u32,
+    pub attributes: &'a [(u32, vk::Format, u32)],
+    pub cull_back: bool,
+    pub depth_write: bool,
+    pub blend: Blend,
+    pub render_pass: vk::RenderPass,
+    pub sets: &'a [&'a DescriptorLayout],
+    pub push_bytes: u32,
+}
+
+/// A graphics pipeline (dynamic viewport and scissor) and its layout.
+pub struct GraphicsPipeline {
+    gpu: Gpu,
+    pub raw: vk::Pipeline,
+    pub layout: vk::PipelineLayout,
+}
+
+impl GraphicsPipeline {
+    pub fn new(gpu: &Gpu, desc: &GraphicsPipelineDesc<'_>) -> Result<Self> {
+        let stages_flags = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
+        let layout = pipeline_layout(gpu, desc.sets, desc.push_bytes, stages_flags)?;
+        let modules = shader_module(gpu, desc.vertex).and_then(|v| match shader_module(gpu, desc.fragment) {
+            Ok(f) => Ok((v, f)),
+            Err(e) => {
+                // SAFETY: unused module.
+                unsafe { gpu.device.destroy_shader_module(v, None) };
+                Err(e)
+            }
+        });
+        let (vs, fs) = match modules {
+            Ok(m) => m,
+            Err(e) => {
+                // SAFETY: unused layout.
+                unsafe { gpu.device.destroy_pipeline_layout(layout, None) };
+                return Err(e);
+            }
+        };
+        let stages = [
+            vk::PipelineShaderStageCreateInfo::default().stage(vk::ShaderStageFlags::VERTEX).module(vs).name(c"main"),
+            vk::PipelineShaderStageCreateInfo::default().stage(vk::ShaderStageFlags::FRAGMENT).module(fs).name(c"main"),
+        ];
+        let bindings = [vk::VertexInputBindingDescription {
+            binding: 0,
+            stride: desc.vertex_stride,
+            input_rate: vk::VertexInputRate::VERTEX,
+        }];
+        let attributes: Vec<_> = desc
+            .attributes
+            .iter()
+            .map(|&(location, format, offset)| vk::VertexInputAttributeDescription { location, binding: 0, format, offset })
+            .collect();
+        let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
+            .vertex_binding_descriptions(&bindings)
+            .vertex_attribute_descriptions(&attributes);
+        let assembly = vk::PipelineInputAssemblyStateCreateInfo::default().topology(vk::PrimitiveTopology::TRIANGLE_LIST);
+        let viewport = vk::PipelineViewportStateCreateInfo::default().viewport_count(1).scissor_count(1);
+        let raster = vk::PipelineRasterizationStateCreateInfo::default()
+            .polygon_mode(vk::PolygonMode::FILL)
+            .cull_mode(if desc.cull_back { vk::CullModeFlags::BACK } else { vk::CullModeFlags::NONE })
+            .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
+            .line_width(1.0);
+        let multisample = vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(vk::SampleCountFlags::TYPE_1);
+        let depth = vk::PipelineDepthStencilStateCreateInfo::default()
+            .depth_test_enable(true)
+            .depth_write_enable(desc.depth_write)
+            .depth_compare_op(vk::CompareOp::LESS);
+        let attachment = match desc.blend {
+            Blend::None => vk::PipelineColorBlendAttachmentState::default().color_write_mask(vk::ColorComponentFlags::RGBA),
+            Blend::PremultipliedTransmittance => vk::PipelineColorBlendAttachmentState::default()
+                .blend_enable(true)
+                .src_color_blend_factor(vk::BlendFactor::ONE)
+                .dst_color_blend_factor(vk::BlendFactor::SRC1_COLOR)
+                .color_blend_op(vk::BlendOp::ADD)
+                .src_alpha_blend_factor(vk::BlendFactor::ZERO)
+                .dst_alpha_blend_factor(vk::BlendFactor::ONE)
+                .alpha_blend_op(vk::BlendOp::ADD)
+                .color_write_mask(vk::ColorComponentFlags::RGBA),
+        };
+        let attachments = [attachment];
+        let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&attachments);
+        let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
+        let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
+        let info = [vk::GraphicsPipelineCreateInfo::default()
+            .stages(&stages)
+            .vertex_input_state(&vertex_input)
+            .input_assembly_state(&assembly)
+            .viewport_state(&viewport)
+            .rasterization_state(&raster)
+            .multisample_state(&multisample)
+            .depth_stencil_state(&depth)
+            .color_blend_state(&blend)
+            .dynamic_state(&dynamic)
+            .layout(layout)
+            .render_pass(desc.render_pass)
+            .subpass(0)];
+        // SAFETY: every pointee lives until the call returns.
+        let created = unsafe { gpu.device.create_graphics_pipelines(vk::PipelineCache::null(), &info, None) };
+        // SAFETY: modules are not needed after pipeline creation.
+        unsafe {
+            gpu.device.destroy_shader_module(vs, None);
+            gpu.device.destroy_shader_module(fs, None);
+        }
+        match created {
+            Ok(p) => Ok(Self { gpu: gpu.clone(), raw: p[0], layout }),
+            Err((_, e)) => {
+                // SAFETY: unused layout.
+                unsafe { gpu.device.destroy_pipeline_layout(layout, None) };
+                Err(vk_err("vkCreateGraphicsPipelines")(e))
+            }
+        }
+    }
+}
+
+impl Drop for GraphicsPipeline {
+    fn drop(&mut self) {
+        // SAFETY: no pending work uses the pipeline.
+        unsafe {
+            self.gpu.device.destroy_pipeline(self.raw, None);
+            self.gpu.device.destroy_pipeline_layout(self.layout, None);
+        }
+    }
+}
+
+/// A trilinear, repeating sampler.
+pub struct Sampler {
+    gpu: Gpu,
+    pub raw: vk::Sampler,
+}
+
+impl Sampler {
+    pub fn trilinear_repeat(gpu: &Gpu) -> Result<Self> {
+        let info = vk::SamplerCreateInfo::default()
+            .mag_filter(vk::Filter::LINEAR)
+            .min_filter(vk::Filter::LINEAR)
+            .mipmap_mode(vk::SamplerMipmapMode::LINEAR)
+            .address_mode_u(vk::SamplerAddressMode::REPEAT)
+            .address_mode_v(vk::SamplerAddressMode::REPEAT)
+            .address_mode_w(vk::SamplerAddressMode::REPEAT)
+            .max_lod(vk::LOD_CLAMP_NONE);
+        // SAFETY: valid device and create info.
+        let raw = unsafe { gpu.device.create_sampler(&info, None) }.map_err(vk_err("vkCreateSampler"))?;
+        Ok(Self { gpu: gpu.clone(), raw })
+    }
+}
+
+impl Drop for Sampler {
+    fn drop(&mut self) {
+        // SAFETY: no pending work uses the sampler.
+        unsafe { self.gpu.device.destroy_sampler(self.raw, None) };
+    }
+}
+
+/// A render pass with one colour and one depth attachment, and a framebuffer for it.
+pub struct RenderTarget {
+    gpu: Gpu,
+    pub render_pass: vk::RenderPass,
+    pub framebuffer: vk::Framebuffer,
+    pub extent: vk::Extent2D,
+}
+
+/// How a [`RenderTarget`] treats its attachments.
+pub struct RenderTargetDesc {
+    pub colour_format: vk::Format,
+    pub depth_format: vk::Format,
+    /// Clear (true) or load (false) the attachments at the start.
+    pub clear: bool,
+    pub store_depth: bool,
+    /// Layouts the attachments are in before (when loading) and after the pass.
+    pub colour_layouts: (vk::ImageLayout, vk::ImageLayout),
+    pub depth_layouts: (vk::ImageLayout, vk::ImageLayout),
+}
+
+impl RenderTarget {
+    pub fn new(gpu: &Gpu, desc: &RenderTargetDesc, colour: &super::GpuImage, depth: &super::GpuImage) -> Result<Self> {
+        let (load, initial_c, initial_d) = if desc.clear {
+            (vk::AttachmentLoadOp::CLEAR, vk::ImageLayout::UNDEFINED, vk::ImageLayout::UNDEFINED)
+        } else {
+            (vk::AttachmentLoadOp::LOAD, desc.colour_layouts.0, desc.depth_layouts.0)
+        };
+        let attachments = [
+            vk::AttachmentDescription::default()
+                .format(desc.colour_format)
+                .samples(vk::SampleCountFlags::TYPE_1)
+                .load_op(load)
+                .store_op(vk::AttachmentStoreOp::STORE)
+                .initial_layout(initial_c)
+                .final_layout(desc.colour_layouts.1),
+            vk::AttachmentDescription::default()
+                .format(desc.depth_format)
+                .samples(vk::SampleCountFlags::TYPE_1)
+                .load_op(load)
+                .store_op(if desc.store_depth { vk::AttachmentStoreOp::STORE } else { vk::AttachmentStoreOp::DONT_CARE })
+                .stencil_load_op(vk::AttachmentLoadOp::DONT_CARE)
+                .stencil_store_op(vk::AttachmentStoreOp::DONT_CARE)
+                .initial_layout(initial_d)
+                .final_layout(desc.depth_layouts.1),
+        ];
+        let colour_ref = [vk::AttachmentReference { attachment: 0, layout: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL }];
+        let depth_layout = if desc.store_depth {
+            vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL
+        } else {
+            vk::ImageLayout::DEPTH_STENCIL_READ_ONLY_OPTIMAL
+        };
+        let depth_ref = vk::AttachmentReference { attachment: 1, layout: depth_layout };
+        let subpass = [vk::SubpassDescription::default()
+            .pipeline_bind_point(vk::PipelineBindPoint::GRAPHICS)
+            .color_attachments(&colour_ref)
+            .depth_stencil_attachment(&depth_ref)];
+        // Order the pass after whatever wrote or read the attachments before it, and make
+        // its writes visible to later transfers and shaders.
+        let all = vk::PipelineStageFlags::ALL_COMMANDS;
+        let graphics = vk::PipelineStageFlags::ALL_GRAPHICS;
+        let rw = vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE;
+        let dependencies = [
+            vk::SubpassDependency::default()
+                .src_subpass(vk::SUBPASS_EXTERNAL)
+                .dst_subpass(0)
+                .src_stage_mask(all)
+                .dst_stage_mask(graphics)
+                .src_access_mask(rw)
+                .dst_access_mask(rw),
+            vk::SubpassDependency::default()
+                .src_subpass(0)
+                .dst_subpass(vk::SUBPASS_EXTERNAL)
+                .src_stage_mask(graphics)
+                .dst_stage_mask(all)
+                .src_access_mask(rw)
+                .dst_access_mask(rw),
+        ];
+        let info = vk::RenderPassCreateInfo::default()
+            .attachments(&attachments)
+            .subpasses(&subpass)
+            .dependencies(&dependencies);
+        // SAFETY: valid device; pointees live for the call.
+        let render_pass = unsafe { gpu.device.create_render_pass(&info, None) }.map_err(vk_err("vkCreateRenderPass"))?;
+        let views = [colour.view, depth.view];
+        let fb_info = vk::FramebufferCreateInfo::default()
+            .render_pass(render_pass)
+            .attachments(&views)
+            .width(colour.extent.width)
+            .height(colour.extent.height)
+            .layers(1);
+        // SAFETY: the views are live and match the pass's formats.
+        let framebuffer = match unsafe { gpu.device.create_framebuffer(&fb_info, None) } {
+            Ok(f) => f,
+            Err(e) => {
+                // SAFETY: unused render pass.
+                unsafe { gpu.device.destroy_render_pass(render_pass, None) };
+                return Err(vk_err("vkCreateFramebuffer")(e));
+            }
+        };
+        Ok(Self { gpu: gpu.clone(), render_pass, framebuffer, extent: colour.extent })
+    }
+
+    /// Begins the pass (clearing to `clear_colour` and depth 1 when it clears) and sets the
+    /// full-target viewport and scissor.
+    pub fn begin(&self, cmd: vk::CommandBuffer, clear_colour: [f32; 4]) {
+        let clears = [
+            vk::ClearValue { color: vk::ClearColorValue { float32: clear_colour } },
+            vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 } },
+        ];
+        let area = vk::Rect2D { offset: vk::Offset2D::default(), extent: self.extent };
+        let begin = vk::RenderPassBeginInfo::default()
+            .render_pass(self.render_pass)
+            .framebuffer(self.framebuffer)
+            .render_area(area)
+            .clear_values(&clears);
+        let viewport = vk::Viewport {
+            x: 0.0,
+            y: 0.0,
+            width: self.extent.width as f32,
+            height: self.extent.height as f32,
+            min_depth: 0.0,
+            max_depth: 1.0,
+        };
+        // SAFETY: cmd is recording outside any render pass.
+        unsafe {
+            let d = &self.gpu.device;
+            d.cmd_begin_render_pass(cmd, &begin, vk::SubpassContents::INLINE);
+            d.cmd_set_viewport(cmd, 0, &[viewport]);
+            d.cmd_set_scissor(cmd, 0, &[area]);
+        }
+    }
+
+    pub fn end(&self, cmd: vk::CommandBuffer) {
+        // SAFETY: cmd is inside this render pass.
+        unsafe { self.gpu.device.cmd_end_render_pass(cmd) };
+    }
+}
+
+impl Drop for RenderTarget {
+    fn drop(&mut self) {
+        // SAFETY: no pending work uses them.
+        unsafe {
+            self.gpu.device.destroy_framebuffer(self.framebuffer, None);
+            self.gpu.device.destroy_render_pass(self.render_pass, None);
+        }
+    }
+}

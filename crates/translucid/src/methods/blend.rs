@@ -1,0 +1,76 @@
+//! `blend`: unsorted hardware alpha blending, the baseline every speed ratio is measured
+//! against. Depth test on, depth write off, submission order; polychrome transmittance through
+//! dual-source blending (`dst = L + T ⊙ dst`). Correct only when the submission happens to be
+//! sorted back to front and nothing interpenetrates.
+
+use super::{Method, RecordContext};
+use crate::gpu::{vk, Gpu, GraphicsPipeline, GraphicsPipelineDesc, RenderTarget, RenderTargetDesc};
+use crate::renderer::{FrameTargets, GpuScene, COLOUR_FORMAT, DEPTH_FORMAT, VERTEX_ATTRIBUTES, VERTEX_STRIDE};
+use crate::{Error, Result};
+
+pub struct Blend {
+    target: RenderTarget,
+    /// (back faces kept, back faces culled)
+    pipelines: (GraphicsPipeline, GraphicsPipeline),
+}
+
+impl Blend {
+    pub fn new(gpu: &Gpu, scene: &GpuScene, targets: &FrameTargets) -> Result<Self> {
+        if !gpu.info().dual_source_blend {
+            return Err(Error::NoDevice(format!(
+                "{} lacks dual-source blending, which the blend method needs for coloured transmittance",
+                gpu.info().name
+            )));
+        }
+        let target = RenderTarget::new(
+            gpu,
+            &RenderTargetDesc {
+                colour_format: COLOUR_FORMAT,
+                depth_format: DEPTH_FORMAT,
+                clear: false,
+                store_depth: false,
+                colour_layouts: (vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL, vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL),
+                depth_layouts: (
+                    vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+                    vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+                ),
+            },
+            &targets.colour,
+            &targets.depth,
+        )?;
+        let pipeline = |cull_back| {
+            GraphicsPipeline::new(
+                gpu,
+                &GraphicsPipelineDesc {
+                    vertex: crate::spirv!("scene/mesh.vert"),
+                    fragment: crate::spirv!("blend/blend.frag"),
+                    vertex_stride: VERTEX_STRIDE,
+                    attributes: &VERTEX_ATTRIBUTES,
+                    cull_back,
+                    depth_write: false,
+                    blend: crate::gpu::Blend::PremultipliedTransmittance,
+                    render_pass: target.render_pass,
+                    sets: &[&scene.layout, &scene.texture_layout],
+                    push_bytes: 4,
+                },
+            )
+        };
+        let pipelines = (pipeline(false)?, pipeline(true)?);
+        Ok(Self { target, pipelines })
+    }
+}
+
+impl Method for Blend {
+    fn name(&self) -> &'static str {
+        "blend"
+    }
+
+    fn record(&mut self, ctx: &mut RecordContext<'_>) -> Result<()> {
+        self.target.begin(ctx.cmd, [0.0; 4]);
+        ctx.scene
+            .draw(ctx.gpu, ctx.cmd, &ctx.scene.transparent_calls, (&self.pipelines.0, &self.pipelines.1));
+        self.target.end(ctx.cmd);
+        ctx.timestamps.mark(ctx.cmd, "blend");
+        Ok(())
+    }
+}

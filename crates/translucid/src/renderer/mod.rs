@@ -1,0 +1,142 @@
+//! One frame, end to end: upload the scene, render the opaque layer, run a transparency method
+//! over it, read the result back, and time every stage on the GPU.
+//!
+//! ```no_run
+//! use translucid::{gpu::{Gpu, GpuOptions}, renderer::Renderer, scene};
+//! let gpu = Gpu::new(&GpuOptions::from_env())?;
+//! let scene = scene::load("spheres")?;
+//! let mut renderer = Renderer::new(&gpu, &scene, "blend", 640, 360)?;
+//! let frame = renderer.render(false)?;
+//! frame.image.save_png("out/spheres.png".as_ref())?;
+//! for (stage, ms) in &frame.stages { println!("{stage}: {ms:.3} ms"); }
+//! # Ok::<(), translucid::Error>(())
+//! ```
+
+mod targets;
+mod upload;
+
+pub use targets::{FrameTargets, Readback, COLOUR_FORMAT, DEPTH_FORMAT, VERTEX_ATTRIBUTES, VERTEX_STRIDE};
+pub use upload::{DrawCall, GpuScene, MeshRange};
+
+use crate::gpu::{Gpu, Timestamps};
+use crate::image::{Image, OpaqueLayer};
+use crate::methods::{self, Method, RecordContext};
+use crate::scene::Scene;
+use crate::{Error, Result};
+use glam::Vec3;
+use targets::OpaquePass;
+
+/// What one rendered frame produced.
+pub struct Frame {
+    /// The final image: the transparent layer over the opaque layer.
+    pub image: Image,
+    /// The opaque layer alone (colour and depth), when asked for.
+    pub opaque: Option<OpaqueLayer>,
+    /// GPU time of each stage in milliseconds, in order.
+    pub stages: Vec<(&'static str, f64)>,
+    /// Peak bytes of GPU memory allocated while the frame was rendered (scene, targets,
+    /// method buffers and readback included).
+    pub peak_gpu_bytes: u64,
+}
+
+impl Frame {
+    /// GPU time of the transparency method alone (every stage but the opaque layer and
+    /// readback), in milliseconds.
+    pub fn method_ms(&self) -> f64 {
+        self.stages
+            .iter()
+            .filter(|(s, _)| !matches!(*s, "opaque" | "readback"))
+            .map(|(_, ms)| ms)
+            .sum()
+    }
+}
+
+/// Renders frames of one scene with one method at one size.
+pub struct Renderer {
+    gpu: Gpu,
+    scene: GpuScene,
+    targets: FrameTargets,
+    opaque_pass: OpaquePass,
+    readback: Readback,
+    method: Box<dyn Method>,
+    timestamps: Timestamps,
+    background: Vec3,
+}
+
+/// Checks a viewport against the device's limits.
+pub fn check_viewport(gpu: &Gpu, width: u32, height: u32) -> Result<()> {
+    let bad = |reason: String| Err(Error::InvalidViewport { width, height, reason });
+    let max = gpu.info().max_image_dimension_2d;
+    if width == 0 || height == 0 {
+        return bad("width and height must be at least 1".into());
+    }
+    if width > max || height > max {
+        return bad(format!("the device's largest image is {max}x{max}"));
+    }
+    Ok(())
+}
+
+impl Renderer {
+    pub fn new(gpu: &Gpu, scene: &Scene, method: &str, width: u32, height: u32) -> Result<Self> {
+        check_viewport(gpu, width, height)?;
+        if !methods::NAMES.contains(&method) {
+            return Err(Error::UnknownMethod(method.to_string(), methods::NAMES.join(", ")));
+        }
+        let uploaded = GpuScene::new(gpu, scene, width, height)?;
+        let targets = FrameTargets::new(gpu, width, height)?;
+        let opaque_pass = OpaquePass::new(gpu, &targets, &uploaded)?;
+        let readback = Readback::new(gpu, &targets)?;
+        let method = methods::create(method, gpu, &uploaded, &targets)?;
+        let timestamps = Timestamps::new(gpu, 32)?;
+        gpu.check_validation()?;
+        Ok(Self {
+            gpu: gpu.clone(),
+            scene: uploaded,
+            targets,
+            opaque_pass,
+            readback,
+            method,
+            timestamps,
+            background: scene.background,
+        })
+    }
+
+    pub fn method_name(&self) -> &'static str {
+        self.method.name()
+    }
+
+    /// Renders one frame. With `with_opaque`, the opaque layer is read back too (for the CPU
+    /// reference), timed as its own "readback" stage.
+    pub fn render(&mut self, with_opaque: bool) -> Result<Frame> {
+        self.gpu.reset_peak_memory();
+        let gpu = self.gpu.clone();
+        let opaque_readback = if with_opaque { Some(Readback::new(&gpu, &self.targets)?) } else { None };
+        gpu.submit_and_wait(|cmd| {
+            self.timestamps.begin(cmd);
+            self.opaque_pass.record(&gpu, cmd, &self.scene, self.background);
+            self.timestamps.mark(cmd, "opaque");
+            if let Some(r) = &opaque_readback {
+                r.record(&gpu, cmd, &self.targets, true);
+                self.timestamps.mark(cmd, "readback");
+            }
+            let mut ctx = RecordContext {
+                gpu: &gpu,
+                cmd,
+                scene: &self.scene,
+                targets: &self.targets,
+                timestamps: &mut self.timestamps,
+            };
+            self.method.record(&mut ctx)?;
+            self.readback.record(&gpu, cmd, &self.targets, false);
+            Ok(())
+        })?;
+        let stages = self.timestamps.read()?;
+        let opaque = opaque_readback.as_ref().map(Readback::opaque_layer).transpose()?;
+        Ok(Frame {
+            image: self.readback.colour()?,
+            opaque,
+            stages,
+            peak_gpu_bytes: gpu.memory_in_use().1,
+        })
+    }
+}

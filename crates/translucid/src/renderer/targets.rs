@@ -1,0 +1,184 @@
+//! The frame's colour and depth images, the opaque-layer pass that fills them, and readback.
+
+use super::upload::GpuScene;
+use crate::gpu::{
+    image_barrier, vk, Blend, Buffer, Gpu, GpuImage, GraphicsPipeline, GraphicsPipelineDesc, MemoryLocation,
+    RenderTarget, RenderTargetDesc,
+};
+use crate::image::{Image, OpaqueLayer};
+use crate::shader_types::GpuVertex;
+use crate::Result;
+use glam::{Vec3, Vec4};
+
+/// Colour is linear RGBA16F: blending into 8 bits would pile rounding up per layer.
+pub const COLOUR_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
+pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
+
+/// Vertex attributes of [`GpuVertex`]: (location, format, offset).
+pub const VERTEX_ATTRIBUTES: [(u32, vk::Format, u32); 4] = [
+    (0, vk::Format::R32G32B32_SFLOAT, 0),
+    (1, vk::Format::R32G32B32_SFLOAT, 12),
+    (2, vk::Format::R32G32_SFLOAT, 24),
+    (3, vk::Format::R32G32B32A32_SFLOAT, 32),
+];
+pub const VERTEX_STRIDE: u32 = std::mem::size_of::<GpuVertex>() as u32;
+
+/// Colour and depth of one frame. Between passes the colour image is in
+/// COLOR_ATTACHMENT_OPTIMAL and depth in DEPTH_STENCIL_ATTACHMENT_OPTIMAL: every method
+/// receives and returns them so.
+pub struct FrameTargets {
+    pub colour: GpuImage,
+    pub depth: GpuImage,
+    pub extent: vk::Extent2D,
+}
+
+impl FrameTargets {
+    pub fn new(gpu: &Gpu, width: u32, height: u32) -> Result<Self> {
+        let extent = vk::Extent2D { width, height };
+        let colour = gpu.create_image(
+            "frame colour",
+            extent,
+            COLOUR_FORMAT,
+            vk::ImageUsageFlags::COLOR_ATTACHMENT
+                | vk::ImageUsageFlags::TRANSFER_SRC
+                | vk::ImageUsageFlags::STORAGE
+                | vk::ImageUsageFlags::SAMPLED,
+            1,
+        )?;
+        let depth = gpu.create_image(
+            "frame depth",
+            extent,
+            DEPTH_FORMAT,
+            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC | vk::ImageUsageFlags::SAMPLED,
+            1,
+        )?;
+        Ok(Self { colour, depth, extent })
+    }
+
+    pub fn pixel_count(&self) -> u64 {
+        u64::from(self.extent.width) * u64::from(self.extent.height)
+    }
+}
+
+/// Renders the opaque draws into cleared colour and depth.
+pub struct OpaquePass {
+    target: RenderTarget,
+    pipelines: (GraphicsPipeline, GraphicsPipeline),
+}
+
+impl OpaquePass {
+    pub fn new(gpu: &Gpu, targets: &FrameTargets, scene: &GpuScene) -> Result<Self> {
+        let target = RenderTarget::new(
+            gpu,
+            &RenderTargetDesc {
+                colour_format: COLOUR_FORMAT,
+                depth_format: DEPTH_FORMAT,
+                clear: true,
+                store_depth: true,
+                colour_layouts: (vk::ImageLayout::UNDEFINED, vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL),
+                depth_layouts: (vk::ImageLayout::UNDEFINED, vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL),
+            },
+            &targets.colour,
+            &targets.depth,
+        )?;
+        let pipeline = |cull_back| {
+            GraphicsPipeline::new(
+                gpu,
+                &GraphicsPipelineDesc {
+                    vertex: crate::spirv!("scene/mesh.vert"),
+                    fragment: crate::spirv!("scene/opaque.frag"),
+                    vertex_stride: VERTEX_STRIDE,
+                    attributes: &VERTEX_ATTRIBUTES,
+                    cull_back,
+                    depth_write: true,
+                    blend: Blend::None,
+                    render_pass: target.render_pass,
+                    sets: &[&scene.layout, &scene.texture_layout],
+                    push_bytes: 4,
+                },
+            )
+        };
+        let pipelines = (pipeline(false)?, pipeline(true)?);
+        Ok(Self { target, pipelines })
+    }
+
+    pub fn record(&self, gpu: &Gpu, cmd: vk::CommandBuffer, scene: &GpuScene, background: Vec3) {
+        self.target.begin(cmd, background.extend(1.0).to_array());
+        scene.draw(gpu, cmd, &scene.opaque_calls, (&self.pipelines.0, &self.pipelines.1));
+        self.target.end(cmd);
+    }
+}
+
+/// Host-visible copies of the frame's colour (and optionally depth).
+pub struct Readback {
+    colour: Buffer,
+    depth: Buffer,
+    extent: vk::Extent2D,
+}
+
+impl Readback {
+    pub fn new(gpu: &Gpu, targets: &FrameTargets) -> Result<Self> {
+        let pixels = targets.pixel_count();
+        let dst = vk::BufferUsageFlags::TRANSFER_DST;
+        Ok(Self {
+            colour: gpu.create_buffer("readback colour", pixels * 8, dst, MemoryLocation::GpuToCpu)?,
+            depth: gpu.create_buffer("readback depth", pixels * 4, dst, MemoryLocation::GpuToCpu)?,
+            extent: targets.extent,
+        })
+    }
+
+    /// Records copies of colour (and depth when `with_depth`) into the readback buffers,
+    /// returning the targets to their between-pass layouts.
+    pub fn record(&self, gpu: &Gpu, cmd: vk::CommandBuffer, targets: &FrameTargets, with_depth: bool) {
+        let attachment_write = (
+            vk::PipelineStageFlags::ALL_COMMANDS,
+            vk::AccessFlags::MEMORY_WRITE | vk::AccessFlags::MEMORY_READ,
+        );
+        let transfer_read = (vk::PipelineStageFlags::TRANSFER, vk::AccessFlags::TRANSFER_READ);
+        let mut images = vec![(&targets.colour, &self.colour, vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)];
+        if with_depth {
+            images.push((&targets.depth, &self.depth, vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL));
+        }
+        for (image, buffer, layout) in images {
+            image_barrier(gpu, cmd, image, layout, vk::ImageLayout::TRANSFER_SRC_OPTIMAL, attachment_write, transfer_read);
+            gpu.cmd_copy_image_to_buffer(cmd, image, buffer);
+            image_barrier(gpu, cmd, image, vk::ImageLayout::TRANSFER_SRC_OPTIMAL, layout, transfer_read, attachment_write);
+        }
+        crate::gpu::memory_barrier(
+            gpu,
+            cmd,
+            (vk::PipelineStageFlags::TRANSFER, vk::AccessFlags::TRANSFER_WRITE),
+            (vk::PipelineStageFlags::HOST, vk::AccessFlags::HOST_READ),
+        );
+    }
+
+    /// The colour copy as a linear image (alpha forced to 1).
+    pub fn colour(&self) -> Result<Image> {
+        let bytes = self.colour.read()?;
+        let pixels = bytes
+            .chunks_exact(8)
+            .map(|p| {
+                let c = |i: usize| half::f16::from_le_bytes([p[2 * i], p[2 * i + 1]]).to_f32();
+                Vec4::new(c(0), c(1), c(2), 1.0)
+            })
+            .collect();
+        Ok(Image { width: self.extent.width, height: self.extent.height, pixels })
+    }
+
+    /// The colour and depth copies as an opaque layer.
+    pub fn opaque_layer(&self) -> Result<OpaqueLayer> {
+        let colour = self.colour()?;
+        let depth = self
+            .depth
+            .read()?
+            .chunks_exact(4)
+            .map(|d| f32::from_le_bytes([d[0], d[1], d[2], d[3]]))
+            .collect();
+        Ok(OpaqueLayer {
+            width: colour.width,
+            height: colour.height,
+            colour: colour.pixels.iter().map(|p| p.truncate()).collect(),
+            depth,
+        })
+    }
+}

@@ -1,0 +1,251 @@
+//! The scene on the GPU: vertices, triangle indices, draws, materials, textures, and the
+//! descriptor set every mesh pipeline binds as set 0.
+
+use crate::gpu::{vk, BindingKind, Buffer, DescriptorLayout, DescriptorSet, Gpu, GpuImage, Resource, Sampler};
+use crate::scene::{Mesh, Scene, Texture};
+use crate::shader_types::{GpuDrawInfo, GpuFrameInfo, GpuMaterial, GpuVertex};
+use crate::Result;
+use glam::{Vec2, Vec3, Vec4};
+
+/// Where one mesh's triangles start in the index buffer.
+#[derive(Clone, Copy, Debug)]
+pub struct MeshRange {
+    pub first_index: u32,
+    pub index_count: u32,
+    pub vertex_offset: i32,
+}
+
+/// One draw as the mesh pipelines issue it.
+#[derive(Clone, Copy, Debug)]
+pub struct DrawCall {
+    /// Index into the draw-info buffer (pushed as a constant).
+    pub draw_index: u32,
+    pub range: MeshRange,
+    pub cull_back: bool,
+    /// Index into `GpuScene::texture_sets` (the last one is a white texture).
+    pub texture_set: usize,
+}
+
+pub struct GpuScene {
+    pub vertices: Buffer,
+    pub indices: Buffer,
+    pub draws: Buffer,
+    pub materials: Buffer,
+    pub frame: Buffer,
+    _textures: Vec<GpuImage>,
+    _sampler: Sampler,
+    /// Set 0: frame, draws, materials.
+    pub layout: DescriptorLayout,
+    pub set: DescriptorSet,
+    /// Set 1: one base-colour texture.
+    pub texture_layout: DescriptorLayout,
+    pub texture_sets: Vec<DescriptorSet>,
+    pub opaque_calls: Vec<DrawCall>,
+    pub transparent_calls: Vec<DrawCall>,
+}
+
+fn vertices_of(mesh: &Mesh) -> impl Iterator<Item = GpuVertex> + '_ {
+    (0..mesh.positions.len()).map(move |i| GpuVertex {
+        position: mesh.positions[i].to_array(),
+        normal: mesh.normals.as_ref().map_or(Vec3::ZERO, |n| n[i]).to_array(),
+        uv: mesh.uvs.as_ref().map_or(Vec2::ZERO, |u| u[i]).to_array(),
+        colour: mesh.colours.as_ref().map_or(Vec4::ONE, |c| c[i]).to_array(),
+    })
+}
+
+impl GpuScene {
+    /// Uploads `scene` (validated first) for frames of `width`×`height`.
+    pub fn new(gpu: &Gpu, scene: &Scene, width: u32, height: u32) -> Result<Self> {
+        scene.validate()?;
+        let mut vertices = Vec::new();
+        let mut indices: Vec<u32> = Vec::new();
+        let mut ranges = Vec::with_capacity(scene.meshes.len());
+        let mut first_quads = Vec::with_capacity(scene.meshes.len());
+        let mut quad_total = 0u32;
+        for mesh in &scene.meshes {
+            let first_index = indices.len() as u32;
+            let vertex_offset = vertices.len() as i32;
+            vertices.extend(vertices_of(mesh));
+            for &q in &mesh.quads {
+                indices.extend(Mesh::quad_triangles(q).into_iter().flatten().flatten());
+            }
+            ranges.push(MeshRange { first_index, index_count: indices.len() as u32 - first_index, vertex_offset });
+            first_quads.push(quad_total);
+            quad_total += mesh.quads.len() as u32;
+        }
+
+        let all_draws = scene.opaque.iter().chain(&scene.transparent);
+        let draw_infos: Vec<GpuDrawInfo> = all_draws
+            .clone()
+            .map(|d| GpuDrawInfo::new(d, &scene.meshes[d.mesh], first_quads[d.mesh]))
+            .collect();
+        let calls: Vec<DrawCall> = all_draws
+            .enumerate()
+            .map(|(i, d)| DrawCall {
+                draw_index: i as u32,
+                range: ranges[d.mesh],
+                cull_back: !scene.materials[d.material].double_sided,
+                texture_set: scene.materials[d.material].texture.unwrap_or(scene.textures.len()),
+            })
+            .collect();
+        let (opaque_calls, transparent_calls) = calls.split_at(scene.opaque.len());
+        let materials: Vec<GpuMaterial> = scene.materials.iter().map(GpuMaterial::new).collect();
+
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let vertices = gpu.create_buffer_with_data(
+            "scene vertices",
+            vk::BufferUsageFlags::VERTEX_BUFFER | storage,
+            bytemuck::cast_slice(&vertices),
+        )?;
+        let indices = gpu.create_buffer_with_data(
+            "scene indices",
+            vk::BufferUsageFlags::INDEX_BUFFER | storage,
+            bytemuck::cast_slice(&indices),
+        )?;
+        let draws = gpu.create_buffer_with_data("scene draws", storage, bytemuck::cast_slice(&draw_infos))?;
+        let materials = gpu.create_buffer_with_data("scene materials", storage, bytemuck::cast_slice(&materials))?;
+        let aspect = width as f32 / height as f32;
+        let frame_info = GpuFrameInfo::new(scene.camera.view_projection(aspect), &scene.light, width, height);
+        let frame = gpu.create_buffer_with_data(
+            "frame info",
+            vk::BufferUsageFlags::UNIFORM_BUFFER,
+            bytemuck::bytes_of(&frame_info),
+        )?;
+
+        let white = Texture::new("white", 1, 1, vec![[255; 4]], false);
+        let textures = upload_textures(gpu, scene.textures.iter().chain(std::iter::once(&white)))?;
+        let sampler = Sampler::trilinear_repeat(gpu)?;
+        let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT | vk::ShaderStageFlags::COMPUTE;
+        let layout = DescriptorLayout::new(
+            gpu,
+            &[BindingKind::UniformBuffer, BindingKind::StorageBuffer, BindingKind::StorageBuffer],
+            stages,
+        )?;
+        let set = layout.create_set(&[
+            Resource::Buffer(&frame),
+            Resource::Buffer(&draws),
+            Resource::Buffer(&materials),
+        ])?;
+        let texture_layout = DescriptorLayout::new(gpu, &[BindingKind::SampledImages(1)], stages)?;
+        let texture_sets = textures
+            .iter()
+            .map(|t| texture_layout.create_set(&[Resource::Images(&[t.view], sampler.raw)]))
+            .collect::<Result<Vec<_>>>()?;
+        Ok(Self {
+            vertices,
+            indices,
+            draws,
+            materials,
+            frame,
+            _textures: textures,
+            _sampler: sampler,
+            layout,
+            set,
+            texture_layout,
+            texture_sets,
+            opaque_calls: opaque_calls.to_vec(),
+            transparent_calls: transparent_calls.to_vec(),
+        })
+    }
+
+    /// Binds vertex and index buffers and issues `calls` with `pipelines.0` (back faces
+    /// kept) or `pipelines.1` (back faces culled).
+    pub fn draw(&self, gpu: &Gpu, cmd: vk::CommandBuffer, calls: &[DrawCall], pipelines: (&crate::gpu::GraphicsPipeline, &crate::gpu::GraphicsPipeline)) {
+        // SAFETY: cmd is recording inside a render pass compatible with both pipelines, whose
+        // layouts take this scene's sets 0 and 1 and a 4-byte push constant.
+        unsafe {
+            let d = &gpu.device;
+            d.cmd_bind_vertex_buffers(cmd, 0, &[self.vertices.raw], &[0]);
+            d.cmd_bind_index_buffer(cmd, self.indices.raw, 0, vk::IndexType::UINT32);
+            let mut bound: Option<bool> = None;
+            let mut bound_texture: Option<usize> = None;
+            for call in calls {
+                let pipeline = if call.cull_back { pipelines.1 } else { pipelines.0 };
+                if bound != Some(call.cull_back) {
+                    d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.raw);
+                    d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.layout, 0, &[self.set.raw], &[]);
+                    bound = Some(call.cull_back);
+                    bound_texture = None;
+                }
+                if bound_texture != Some(call.texture_set) {
+                    let set = self.texture_sets[call.texture_set].raw;
+                    d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.layout, 1, &[set], &[]);
+                    bound_texture = Some(call.texture_set);
+                }
+                d.cmd_push_constants(
+                    cmd,
+                    pipeline.layout,
+                    vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
+                    0,
+                    &call.draw_index.to_ne_bytes(),
+                );
+                if call.range.index_count > 0 {
+                    d.cmd_draw_indexed(cmd, call.range.index_count, 1, call.range.first_index, call.range.vertex_offset, 0);
+                }
+            }
+        }
+    }
+}
+
+/// Uploads textures (all mips) and leaves them in SHADER_READ_ONLY_OPTIMAL.
+fn upload_textures<'a>(gpu: &Gpu, textures: impl Iterator<Item = &'a Texture>) -> Result<Vec<GpuImage>> {
+    let mut images = Vec::new();
+    let mut staging = Vec::new();
+    for t in textures {
+        let format = if t.srgb { vk::Format::R8G8B8A8_SRGB } else { vk::Format::R8G8B8A8_UNORM };
+        let image = gpu.create_image(
+            &t.name,
+            vk::Extent2D { width: t.width(), height: t.height() },
+            format,
+            vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST,
+            t.levels.len() as u32,
+        )?;
+        let bytes: Vec<u8> = t.levels.iter().flat_map(|l| l.texels.iter().flatten().copied()).collect();
+        staging.push(gpu.create_buffer_with_data("texture staging", vk::BufferUsageFlags::TRANSFER_SRC, &bytes)?);
+        images.push(image);
+    }
+    gpu.submit_and_wait(|cmd| {
+        for (image, buffer) in images.iter().zip(&staging) {
+            let top = (vk::PipelineStageFlags::TOP_OF_PIPE, vk::AccessFlags::empty());
+            let transfer = (vk::PipelineStageFlags::TRANSFER, vk::AccessFlags::TRANSFER_WRITE);
+            crate::gpu::image_barrier(gpu, cmd, image, vk::ImageLayout::UNDEFINED, vk::ImageLayout::TRANSFER_DST_OPTIMAL, top, transfer);
+            let mut offset = 0u64;
+            let mut regions = Vec::new();
+            for level in 0..image.mip_levels {
+                let w = (image.extent.width >> level).max(1);
+                let h = (image.extent.height >> level).max(1);
+                regions.push(
+                    vk::BufferImageCopy::default()
+                        .buffer_offset(offset)
+                        .image_subresource(vk::ImageSubresourceLayers {
+                            aspect_mask: vk::ImageAspectFlags::COLOR,
+                            mip_level: level,
+                            base_array_layer: 0,
+                            layer_count: 1,
+                        })
+                        .image_extent(vk::Extent3D { width: w, height: h, depth: 1 }),
+                );
+                offset += u64::from(w * h * 4);
+            }
+            // SAFETY: the image is in TRANSFER_DST_OPTIMAL and the buffer holds every level.
+            unsafe {
+                gpu.device.cmd_copy_buffer_to_image(cmd, buffer.raw, image.raw, vk::ImageLayout::TRANSFER_DST_OPTIMAL, &regions)
+            };
+            let read = (
+                vk::PipelineStageFlags::FRAGMENT_SHADER | vk::PipelineStageFlags::COMPUTE_SHADER,
+                vk::AccessFlags::SHADER_READ,
+            );
+            crate::gpu::image_barrier(
+                gpu,
+                cmd,
+                image,
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+                transfer,
+                read,
+            );
+        }
+        Ok(())
+    })?;
+    Ok(images)
+}

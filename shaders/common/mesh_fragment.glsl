@@ -1,0 +1,25 @@
+// Fragment-stage inputs of the mesh pipelines, and the per-fragment values shading needs.
+#ifndef TRANSLUCID_MESH_FRAGMENT_GLSL
+#define TRANSLUCID_MESH_FRAGMENT_GLSL
+
+#include "scene_bindings.glsl"
+
+layout(location = 0) in vec3 v_worldPos;
+layout(location = 1) in vec3 v_normal;
+layout(location = 2) in vec2 v_uv;
+layout(location = 3) in vec4 v_colour;
+
+vec4 sampleBaseTexture(Material m) {
+    return m.textureIndex < 0 ? vec4(1.0) : texture(u_baseTexture, v_uv);
+}
+
+// The interpolated normal, or the geometric face normal when the mesh has none (its sign
+// does not matter: lighting is two-sided).
+vec3 fragmentNormal(DrawInfo d) {
+    if ((d.flags & DRAW_HAS_NORMALS) != 0u) {
+        return v_normal;
+    }
+    return cross(dFdx(v_worldPos), dFdy(v_worldPos));
+}
+
+#endif

@@ -1,0 +1,17 @@
+// Descriptor sets of the mesh pipelines (opaque layer and blend). Set 0: frame constants,
+// draws and materials. Set 1: the draw's base-colour texture, bound per draw (lavapipe, like
+// many Vulkan 1.2 devices, cannot index sampler arrays dynamically). Push constant: the draw
+// index.
+#ifndef TRANSLUCID_SCENE_BINDINGS_GLSL
+#define TRANSLUCID_SCENE_BINDINGS_GLSL
+
+#include "layout.glsl"
+
+layout(set = 0, binding = 0, std140) uniform FrameBlock { FrameInfo u_frame; };
+layout(set = 0, binding = 1, std430) readonly buffer DrawBlock { DrawInfo g_draws[]; };
+layout(set = 0, binding = 2, std430) readonly buffer MaterialBlock { Material g_materials[]; };
+layout(set = 1, binding = 0) uniform sampler2D u_baseTexture;
+
+layout(push_constant) uniform PushBlock { uint drawIndex; } u_push;
+
+#endif
