@@ -9,7 +9,8 @@ use std::process::Command;
 const STAGES: &[&str] = &["comp", "vert", "frag"];
 
 fn main() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shaders");
+    let manifest = std::env::var("CARGO_MANIFEST_DIR").expect("cargo sets CARGO_MANIFEST_DIR");
+    let root = Path::new(&manifest).join("../../shaders");
     let root = root
         .canonicalize()
         .unwrap_or_else(|e| panic!("shader folder {} is missing: {e}", root.display()));
