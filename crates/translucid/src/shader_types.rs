@@ -110,7 +110,7 @@ mod tests {
     fn glsl_offsets(src: &str, name: &str) -> Vec<(String, usize)> {
         let start = src.find(&format!("struct {name} {{")).expect("struct in layout.glsl");
         let body = &src[start..src[start..].find("};").expect("struct end") + start];
-        let mut offset = 0;
+        let mut offset: usize = 0;
         let mut out = Vec::new();
         for line in body.lines().skip(1) {
             let code = line.split("//").next().unwrap_or("").trim();

@@ -1,1 +1,866 @@
-//! glTF import (filled in by the scene work).
+//! glTF 2.0 import: the node hierarchy flattened into draws, primitives into quad meshes,
+//! materials mapped onto the fragment model (alpha, transmission, volume tint, ior).
+//!
+//! A malformed file is an [`Error`], never a panic. The gltf crate indexes, asserts and
+//! `unreachable!`s on some inputs that its validation lets through (accessor types, ranges), so
+//! every accessor is checked here before the crate reads it, and buffers and images are loaded
+//! here rather than by `gltf::import`.
+
+use super::{Camera, Draw, Material, Mesh, Scene, Texture};
+use crate::{Error, Result};
+use glam::{Mat4, Vec2, Vec3, Vec4};
+use gltf::accessor::{DataType, Dimensions};
+use gltf::mesh::Mode;
+use std::collections::HashMap;
+use std::path::Path;
+
+/// glTF extensions whose meaning translucid implements: a file may *require* only these.
+/// Files that merely *use* others (clearcoat, sheen...) load, ignoring them.
+pub const IMPLEMENTED_EXTENSIONS: &[&str] = &[
+    "KHR_materials_transmission",
+    "KHR_materials_volume",
+    "KHR_materials_ior",
+    "KHR_materials_unlit",
+];
+
+/// Node instances (nodes reached through the hierarchy, with reuse) beyond which a file is
+/// refused: a small file reusing nodes in a doubling chain could otherwise expand without end.
+const MAX_NODE_INSTANCES: usize = 1 << 22;
+
+/// Field of view used to frame files without a camera.
+const DEFAULT_FOV_Y: f32 = 0.8;
+
+/// Loads a `.gltf` or `.glb` file into a validated [`Scene`].
+///
+/// The default scene (or the first) is flattened: every mesh primitive becomes a [`Mesh`]
+/// drawn with its node's world transform; OPAQUE and MASK materials go to `scene.opaque`,
+/// BLEND and transmissive ones to `scene.transparent`, in node traversal order. The camera is
+/// the first perspective camera found, else one framing everything.
+pub fn load(path: &Path) -> Result<Scene> {
+    let bytes = std::fs::read(path).map_err(|source| Error::SceneIo {
+        path: path.into(),
+        source,
+    })?;
+    let gltf::Gltf { document, blob } = parse(path, &bytes)?;
+    let base = path.parent().unwrap_or(Path::new("."));
+    let buffers = load_buffers(&document, base, blob);
+    let mut importer = Importer {
+        path,
+        base,
+        buffers,
+        scene: Scene {
+            name: scene_name(path),
+            background: Vec3::splat(0.6),
+            ..Scene::default()
+        },
+        meshes: HashMap::new(),
+        materials: HashMap::new(),
+        textures: HashMap::new(),
+        skipped_primitives: 0,
+        camera: None,
+    };
+    importer.import(&document)?;
+    let scene = importer.scene;
+    scene.validate()?;
+    Ok(scene)
+}
+
+fn scene_name(path: &Path) -> String {
+    path.file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| path.display().to_string())
+}
+
+fn invalid(path: &Path, reason: impl Into<String>) -> Error {
+    Error::InvalidGltf {
+        path: path.into(),
+        reason: reason.into(),
+    }
+}
+
+/// Parses JSON or GLB, refuses unimplemented required extensions, then validates.
+fn parse(path: &Path, bytes: &[u8]) -> Result<gltf::Gltf> {
+    let gltf = gltf::Gltf::from_slice_without_validation(bytes)
+        .map_err(|e| invalid(path, e.to_string()))?;
+    // Checked before validation so that the error names the extension, not a JSON path.
+    if let Some(ext) = gltf
+        .extensions_required()
+        .find(|e| !IMPLEMENTED_EXTENSIONS.contains(e))
+    {
+        return Err(Error::UnsupportedExtension {
+            path: path.into(),
+            extension: ext.to_string(),
+        });
+    }
+    validate(gltf.document.as_json()).map_err(|reason| invalid(path, reason))?;
+    Ok(gltf)
+}
+
+/// The gltf crate's structural validation (index references, required fields, enums).
+fn validate(root: &gltf::json::Root) -> std::result::Result<(), String> {
+    use gltf::json::validation::{Error as V, Validate};
+    let mut problems = Vec::new();
+    root.validate(root, gltf::json::Path::new, &mut |path, error| {
+        let path = path();
+        // gltf-json does not list KHR_materials_volume among the extensions it enables, but
+        // it parses it and we implement it; required extensions were checked by `parse`.
+        let required = path.as_str().starts_with("extensionsRequired");
+        if !(required && matches!(error, V::Unsupported)) {
+            problems.push(format!("{path}: {error}"));
+        }
+    });
+    if problems.is_empty() {
+        return Ok(());
+    }
+    let shown = problems.len().min(5);
+    let more = problems.len() - shown;
+    let mut reason = problems[..shown].join("; ");
+    if more > 0 {
+        reason.push_str(&format!(" (and {more} more)"));
+    }
+    Err(reason)
+}
+
+/// Each buffer's bytes, or why they could not be read. A broken buffer is only an error when
+/// a primitive or image actually reads it, so that the error can name what needed it.
+type Buffers = Vec<std::result::Result<Vec<u8>, String>>;
+
+fn load_buffers(document: &gltf::Document, base: &Path, mut blob: Option<Vec<u8>>) -> Buffers {
+    document
+        .buffers()
+        .map(|buffer| {
+            let data = match buffer.source() {
+                gltf::buffer::Source::Bin => blob
+                    .take()
+                    .ok_or_else(|| "the GLB file has no BIN chunk".to_string()),
+                gltf::buffer::Source::Uri(uri) => read_uri(base, uri),
+            }?;
+            if data.len() < buffer.length() {
+                return Err(format!(
+                    "has {} bytes, byteLength says {}",
+                    data.len(),
+                    buffer.length()
+                ));
+            }
+            Ok(data)
+        })
+        .collect()
+}
+
+/// Reads a `data:` URI or a file relative to the glTF file.
+fn read_uri(base: &Path, uri: &str) -> std::result::Result<Vec<u8>, String> {
+    if uri.starts_with("data:") {
+        // The gltf crate decodes base64 data URIs (without touching the file system).
+        return gltf::buffer::Data::from_source(gltf::buffer::Source::Uri(uri), None)
+            .map(|d| d.0)
+            .map_err(|e| format!("bad data URI: {e}"));
+    }
+    let relative = uri.strip_prefix("file://").unwrap_or(uri);
+    if relative.contains(':') && !cfg!(windows) {
+        return Err(format!("unsupported URI scheme in {uri:?}"));
+    }
+    let file = base.join(percent_decode(relative)?);
+    std::fs::read(&file).map_err(|e| format!("cannot read {}: {e}", file.display()))
+}
+
+/// Decodes `%XX` escapes in a relative URI (glTF URIs are RFC 3986).
+fn percent_decode(uri: &str) -> std::result::Result<String, String> {
+    let bytes = uri.as_bytes();
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut i = 0;
+    while i < bytes.len() {
+        let hex = bytes
+            .get(i + 1..i + 3)
+            .and_then(|h| std::str::from_utf8(h).ok())
+            .and_then(|h| u8::from_str_radix(h, 16).ok());
+        match (bytes[i], hex) {
+            (b'%', Some(byte)) => {
+                out.push(byte);
+                i += 3;
+            }
+            (b, _) => {
+                out.push(b);
+                i += 1;
+            }
+        }
+    }
+    String::from_utf8(out).map_err(|_| format!("URI {uri:?} is not UTF-8 once decoded"))
+}
+
+/// Flattening state: what has been converted so far, keyed by glTF indices so that reused
+/// meshes, materials and textures are converted once.
+struct Importer<'p> {
+    path: &'p Path,
+    base: &'p Path,
+    buffers: Buffers,
+    scene: Scene,
+    /// (glTF mesh, primitive) -> scene mesh, or `None` for skipped point/line primitives.
+    meshes: HashMap<(usize, usize), Option<usize>>,
+    /// (glTF material or default, node scale bits) -> scene material.
+    materials: HashMap<(Option<usize>, u32), usize>,
+    /// glTF texture -> scene texture.
+    textures: HashMap<usize, usize>,
+    skipped_primitives: usize,
+    /// The first perspective camera met: its glTF data and the node's world transform.
+    camera: Option<(gltf::Camera<'p>, Mat4)>,
+}
+
+impl<'p> Importer<'p> {
+    fn import(&mut self, document: &'p gltf::Document) -> Result<()> {
+        let Some(root) = document
+            .default_scene()
+            .or_else(|| document.scenes().next())
+        else {
+            return Err(invalid(self.path, "the file has no scene"));
+        };
+        self.traverse(document, root)?;
+        if self.skipped_primitives > 0 {
+            log::warn!(
+                "{}: skipped {} point/line primitives (only triangles are rendered)",
+                self.path.display(),
+                self.skipped_primitives
+            );
+        }
+        if self.scene.opaque.is_empty() && self.scene.transparent.is_empty() {
+            return Err(invalid(self.path, "the scene draws no triangles"));
+        }
+        self.scene.camera = self.camera()?;
+        Ok(())
+    }
+
+    /// Depth-first, in document order, with an explicit stack so that a deep hierarchy cannot
+    /// overflow ours. A node reached along two paths is drawn twice, as viewers do; a node
+    /// that is its own ancestor, or a hierarchy that expands without bound, is an error.
+    fn traverse(&mut self, document: &gltf::Document, root: gltf::Scene<'p>) -> Result<()> {
+        enum Step<'p> {
+            Enter(gltf::Node<'p>, Mat4),
+            Leave(usize),
+        }
+        let mut on_path = vec![false; document.nodes().len()];
+        let mut stack: Vec<Step<'p>> = root
+            .nodes()
+            .map(|n| Step::Enter(n, Mat4::IDENTITY))
+            .collect();
+        stack.reverse();
+        let mut visits = 0usize;
+        while let Some(step) = stack.pop() {
+            let (node, parent) = match step {
+                Step::Leave(index) => {
+                    on_path[index] = false;
+                    continue;
+                }
+                Step::Enter(node, parent) => (node, parent),
+            };
+            let index = node.index();
+            visits += 1;
+            if visits > MAX_NODE_INSTANCES {
+                return Err(invalid(self.path, format!("the node hierarchy expands to more than {MAX_NODE_INSTANCES} node instances")));
+            }
+            if std::mem::replace(&mut on_path[index], true) {
+                return Err(invalid(
+                    self.path,
+                    format!("node {index} is its own ancestor"),
+                ));
+            }
+            let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
+            if !world.is_finite() {
+                return Err(invalid(
+                    self.path,
+                    format!("node {index} has a non-finite transform"),
+                ));
+            }
+            if let Some(camera) = node.camera() {
+                self.note_camera(camera, world);
+            }
+            if let Some(mesh) = node.mesh() {
+                self.add_mesh(&mesh, world)?;
+            }
+            stack.push(Step::Leave(index));
+            let children: Vec<_> = node.children().collect();
+            stack.extend(children.into_iter().rev().map(|c| Step::Enter(c, world)));
+        }
+        Ok(())
+    }
+
+    fn note_camera(&mut self, camera: gltf::Camera<'p>, world: Mat4) {
+        if self.camera.is_some() {
+            return;
+        }
+        match camera.projection() {
+            gltf::camera::Projection::Perspective(_) => self.camera = Some((camera, world)),
+            gltf::camera::Projection::Orthographic(_) => log::warn!(
+                "{}: orthographic camera {} ignored",
+                self.path.display(),
+                camera.index()
+            ),
+        }
+    }
+
+    /// One draw per triangle primitive of `mesh`, in primitive order.
+    fn add_mesh(&mut self, mesh: &gltf::Mesh<'p>, world: Mat4) -> Result<()> {
+        for primitive in mesh.primitives() {
+            let Some(mesh_index) = self.convert_primitive(mesh, &primitive)? else {
+                continue;
+            };
+            let (material, transparent) = self.convert_material(primitive.material(), world)?;
+            let draw = Draw {
+                mesh: mesh_index,
+                material,
+                transform: world,
+            };
+            if transparent {
+                self.scene.transparent.push(draw);
+            } else {
+                self.scene.opaque.push(draw);
+            }
+        }
+        Ok(())
+    }
+
+    fn convert_primitive(
+        &mut self,
+        mesh: &gltf::Mesh<'p>,
+        primitive: &gltf::Primitive<'p>,
+    ) -> Result<Option<usize>> {
+        let key = (mesh.index(), primitive.index());
+        if let Some(&done) = self.meshes.get(&key) {
+            return Ok(done);
+        }
+        let name = match mesh.name() {
+            Some(n) => format!("{n}/{}", primitive.index()),
+            None => format!("mesh {}/{}", mesh.index(), primitive.index()),
+        };
+        let converted = if is_triangles(primitive.mode()) {
+            let uv_set = primitive
+                .material()
+                .pbr_metallic_roughness()
+                .base_color_texture()
+                .map_or(0, |t| t.tex_coord());
+            let m = read_primitive(primitive, &self.buffers, &name, uv_set).map_err(|e| {
+                let label = mesh.name().map(|n| format!(" ({n})")).unwrap_or_default();
+                Error::InvalidScene(format!(
+                    "{}: mesh {}{label} primitive {}: {e}",
+                    self.path.display(),
+                    mesh.index(),
+                    primitive.index()
+                ))
+            })?;
+            self.scene.meshes.push(m);
+            Some(self.scene.meshes.len() - 1)
+        } else {
+            self.skipped_primitives += 1;
+            None
+        };
+        self.meshes.insert(key, converted);
+        Ok(converted)
+    }
+
+    /// The scene material for a glTF material seen through a node of world transform `world`,
+    /// and whether it belongs to the transparent layer.
+    fn convert_material(
+        &mut self,
+        material: gltf::Material<'p>,
+        world: Mat4,
+    ) -> Result<(usize, bool)> {
+        let transparent = is_transparent(&material);
+        // Volume thickness is in mesh space: a scaled node sees a thicker (darker) volume,
+        // so such materials are converted once per scale.
+        let scale = if material.volume().is_some() {
+            node_scale(world)
+        } else {
+            1.0
+        };
+        let key = (material.index(), scale.to_bits());
+        if let Some(&done) = self.materials.get(&key) {
+            return Ok((done, transparent));
+        }
+        let texture = match material.pbr_metallic_roughness().base_color_texture() {
+            Some(info) => Some(self.convert_texture(info.texture())?),
+            None => None,
+        };
+        let converted = Material {
+            texture,
+            ..material_parameters(&material, scale)
+        };
+        self.scene.materials.push(converted);
+        let index = self.scene.materials.len() - 1;
+        self.materials.insert(key, index);
+        Ok((index, transparent))
+    }
+
+    fn convert_texture(&mut self, texture: gltf::Texture<'p>) -> Result<usize> {
+        if let Some(&done) = self.textures.get(&texture.index()) {
+            return Ok(done);
+        }
+        let image = texture.source();
+        let label = match image.name().or(texture.name()) {
+            Some(n) => format!("texture {} ({n})", texture.index()),
+            None => format!("texture {} (image {})", texture.index(), image.index()),
+        };
+        let decoded = self
+            .decode_image(&image)
+            .map_err(|e| invalid(self.path, format!("{label}: {e}")))?;
+        let (width, height) = decoded.dimensions();
+        let texels = decoded.pixels().map(|p| p.0).collect();
+        self.scene
+            .textures
+            .push(Texture::new(label, width, height, texels, true));
+        let index = self.scene.textures.len() - 1;
+        self.textures.insert(texture.index(), index);
+        Ok(index)
+    }
+
+    fn decode_image(
+        &self,
+        image: &gltf::Image<'p>,
+    ) -> std::result::Result<::image::RgbaImage, String> {
+        let encoded = match image.source() {
+            gltf::image::Source::View { view, .. } => view_bytes(&view, &self.buffers)?.to_vec(),
+            gltf::image::Source::Uri { uri, .. } => read_uri(self.base, uri)?,
+        };
+        ::image::load_from_memory(&encoded)
+            .map(|i| i.to_rgba8())
+            .map_err(|e| format!("cannot decode image: {e}"))
+    }
+
+    /// The file's first perspective camera, else a camera framing every draw.
+    fn camera(&self) -> Result<Camera> {
+        let bounds = self.world_bounds();
+        let framing = || {
+            let (min, max) = bounds.unwrap_or((Vec3::splat(-1.0), Vec3::ONE));
+            Ok(Camera::framing(min, max, DEFAULT_FOV_Y))
+        };
+        let Some((gltf_camera, world)) = &self.camera else {
+            return framing();
+        };
+        let gltf::camera::Projection::Perspective(p) = gltf_camera.projection() else {
+            return framing();
+        };
+        let index = gltf_camera.index();
+        // The view is the inverse of the camera node's rigid transform; scale is dropped
+        // because glTF cameras are defined unscaled.
+        let (_, rotation, translation) = world.to_scale_rotation_translation();
+        let camera_to_world = Mat4::from_rotation_translation(rotation.normalize(), translation);
+        let near = p.znear();
+        let far = match p.zfar() {
+            Some(far) => far,
+            None => far_plane_for(translation, near, bounds),
+        };
+        let camera = Camera {
+            view: camera_to_world.inverse(),
+            fov_y: p.yfov(),
+            near,
+            far,
+        };
+        camera
+            .validate()
+            .map_err(|e| invalid(self.path, format!("camera {index}: {e}")))?;
+        Ok(camera)
+    }
+
+    /// World-space bounds of every draw's vertices.
+    fn world_bounds(&self) -> Option<(Vec3, Vec3)> {
+        let mut bounds: Option<(Vec3, Vec3)> = None;
+        for draw in self.scene.opaque.iter().chain(&self.scene.transparent) {
+            for &p in &self.scene.meshes[draw.mesh].positions {
+                let w = draw.transform.transform_point3(p);
+                bounds = Some(match bounds {
+                    Some((lo, hi)) => (lo.min(w), hi.max(w)),
+                    None => (w, w),
+                });
+            }
+        }
+        bounds
+    }
+}
+
+/// A far plane beyond everything in the scene, for cameras without `zfar`.
+fn far_plane_for(eye: Vec3, near: f32, bounds: Option<(Vec3, Vec3)>) -> f32 {
+    // Per axis, the farther of the two box faces gives the farthest corner.
+    let farthest = bounds.map_or(0.0, |(lo, hi)| {
+        (eye - lo).abs().max((eye - hi).abs()).length()
+    });
+    (farthest * 1.5).max(near * 1000.0)
+}
+
+fn is_triangles(mode: Mode) -> bool {
+    matches!(
+        mode,
+        Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan
+    )
+}
+
+fn is_transparent(material: &gltf::Material<'_>) -> bool {
+    material.transmission().is_some() || material.alpha_mode() == gltf::material::AlphaMode::Blend
+}
+
+/// Geometric mean of a transform's axis scales: how much a mesh-space length grows.
+/// Rounded to 4 decimals so that rounding noise in rotations does not split materials.
+fn node_scale(world: Mat4) -> f32 {
+    let s = glam::Mat3::from_mat4(world).determinant().abs().cbrt();
+    if s.is_finite() && s > 0.0 {
+        ((s * 1e4).round() / 1e4).max(1e-4)
+    } else {
+        1.0
+    }
+}
+
+/// Every material field but the texture, from glTF's factors and extensions.
+fn material_parameters(material: &gltf::Material<'_>, scale: f32) -> Material {
+    let pbr = material.pbr_metallic_roughness();
+    let [r, g, b, a] = pbr.base_color_factor();
+    let base = Vec4::new(r.max(0.0), g.max(0.0), b.max(0.0), a.clamp(0.0, 1.0));
+    let transmission = material
+        .transmission()
+        .map_or(0.0, |t| t.transmission_factor().clamp(0.0, 1.0));
+    let transmissive = material.transmission().is_some();
+    let reflectance = match material.ior() {
+        Some(ior) => fresnel_reflectance(ior),
+        None if transmissive => 0.04,
+        None => 0.0,
+    };
+    let transmission_tint = match material.volume() {
+        Some(v) if transmissive => volume_tint(
+            Vec3::from(v.attenuation_color()),
+            v.thickness_factor() * scale,
+            v.attenuation_distance(),
+        ),
+        _ => Vec3::ONE,
+    };
+    let alpha_cutoff = match material.alpha_mode() {
+        gltf::material::AlphaMode::Mask => Some(material.alpha_cutoff().unwrap_or(0.5)),
+        _ => None,
+    };
+    Material {
+        name: material
+            .name()
+            .map_or_else(|| material_label(material), str::to_string),
+        base_colour: base,
+        texture: None,
+        transmission,
+        transmission_tint,
+        reflectance,
+        lit: !material.unlit(),
+        double_sided: material.double_sided(),
+        alpha_cutoff,
+    }
+}
+
+fn material_label(material: &gltf::Material<'_>) -> String {
+    match material.index() {
+        Some(i) => format!("material {i}"),
+        None => "default material".to_string(),
+    }
+}
+
+/// Normal-incidence Fresnel reflectance `((ior - 1) / (ior + 1))^2`.
+fn fresnel_reflectance(ior: f32) -> f32 {
+    let r = ((ior - 1.0) / (ior + 1.0)).powi(2);
+    if r.is_finite() {
+        r.clamp(0.0, 1.0)
+    } else {
+        0.04
+    }
+}
+
+/// Beer–Lambert transmittance through `thickness` of a medium that turns white light into
+/// `colour` after `distance`: `colour ^ (thickness / distance)` per channel.
+fn volume_tint(colour: Vec3, thickness: f32, distance: f32) -> Vec3 {
+    let exponent = thickness / distance;
+    if !exponent.is_finite() || exponent <= 0.0 {
+        return Vec3::ONE;
+    }
+    let c = colour.clamp(Vec3::ZERO, Vec3::ONE);
+    Vec3::new(c.x.powf(exponent), c.y.powf(exponent), c.z.powf(exponent))
+}
+
+/// Converts one triangle primitive, checking everything the gltf reader would trip over.
+fn read_primitive(
+    primitive: &gltf::Primitive<'_>,
+    buffers: &Buffers,
+    name: &str,
+    uv_set: u32,
+) -> std::result::Result<Mesh, String> {
+    let reader = primitive.reader(|b| buffers.get(b.index()).and_then(|r| r.as_deref().ok()));
+    let attr = |semantic: gltf::Semantic| primitive.get(&semantic);
+
+    let pos_accessor = attr(gltf::Semantic::Positions).ok_or("no POSITION attribute")?;
+    check_accessor(
+        "POSITION",
+        &pos_accessor,
+        buffers,
+        &[(DataType::F32, Dimensions::Vec3)],
+    )?;
+    let positions: Vec<Vec3> = reader
+        .read_positions()
+        .ok_or("POSITION data missing")?
+        .map(Vec3::from)
+        .collect();
+    if let Some(i) = positions.iter().position(|p| !p.is_finite()) {
+        return Err(format!("POSITION {i} is not finite: {:?}", positions[i]));
+    }
+    let n = positions.len();
+
+    let normals = match attr(gltf::Semantic::Normals) {
+        Some(a) => {
+            check_accessor("NORMAL", &a, buffers, &[(DataType::F32, Dimensions::Vec3)])?;
+            Some(
+                reader
+                    .read_normals()
+                    .ok_or("NORMAL data missing")?
+                    .map(Vec3::from)
+                    .collect(),
+            )
+        }
+        None => None,
+    };
+    let colours = match attr(gltf::Semantic::Colors(0)) {
+        Some(a) => {
+            check_accessor("COLOR_0", &a, buffers, COLOUR_TYPES)?;
+            let read = reader.read_colors(0).ok_or("COLOR_0 data missing")?;
+            Some(read.into_rgba_f32().map(Vec4::from).collect())
+        }
+        None => None,
+    };
+    let uvs = match attr(gltf::Semantic::TexCoords(uv_set)) {
+        Some(a) => {
+            check_accessor("TEXCOORD", &a, buffers, UV_TYPES)?;
+            let read = reader
+                .read_tex_coords(uv_set)
+                .ok_or("TEXCOORD data missing")?;
+            Some(read.into_f32().map(Vec2::from).collect())
+        }
+        None => None,
+    };
+
+    let indices: Vec<u32> = match primitive.indices() {
+        Some(a) => {
+            check_accessor("indices", &a, buffers, INDEX_TYPES)?;
+            reader
+                .read_indices()
+                .ok_or("index data missing")?
+                .into_u32()
+                .collect()
+        }
+        None => (0..n as u32).collect(),
+    };
+    if let Some(i) = indices.iter().position(|&v| v as usize >= n) {
+        return Err(format!(
+            "index {i} is {}, out of range for {n} vertices",
+            indices[i]
+        ));
+    }
+    let triangles = assemble_triangles(primitive.mode(), &indices);
+    let mut mesh = Mesh::from_triangles(name, positions, &triangles);
+    mesh.normals = normals;
+    mesh.colours = colours;
+    mesh.uvs = uvs;
+    mesh.validate()?;
+    Ok(mesh)
+}
+
+const COLOUR_TYPES: &[(DataType, Dimensions)] = &[
+    (DataType::U8, Dimensions::Vec3),
+    (DataType::U16, Dimensions::Vec3),
+    (DataType::F32, Dimensions::Vec3),
+    (DataType::U8, Dimensions::Vec4),
+    (DataType::U16, Dimensions::Vec4),
+    (DataType::F32, Dimensions::Vec4),
+];
+const UV_TYPES: &[(DataType, Dimensions)] = &[
+    (DataType::U8, Dimensions::Vec2),
+    (DataType::U16, Dimensions::Vec2),
+    (DataType::F32, Dimensions::Vec2),
+];
+const INDEX_TYPES: &[(DataType, Dimensions)] = &[
+    (DataType::U8, Dimensions::Scalar),
+    (DataType::U16, Dimensions::Scalar),
+    (DataType::U32, Dimensions::Scalar),
+];
+
+/// Checks an accessor's type and that every byte it reads lies inside its buffer view and
+/// buffer, so that the gltf reader neither asserts nor silently returns nothing.
+fn check_accessor(
+    what: &str,
+    accessor: &gltf::Accessor<'_>,
+    buffers: &Buffers,
+    types: &[(DataType, Dimensions)],
+) -> std::result::Result<(), String> {
+    let ty = (accessor.data_type(), accessor.dimensions());
+    if !types.contains(&ty) {
+        return Err(format!(
+            "{what} accessor {} has unsupported type {ty:?}",
+            accessor.index()
+        ));
+    }
+    let fail = |e: String| format!("{what} accessor {}: {e}", accessor.index());
+    if accessor.count() == 0 {
+        return Err(fail("it is empty".into()));
+    }
+    if let Some(view) = accessor.view() {
+        check_range(
+            &view,
+            accessor.offset(),
+            accessor.count(),
+            accessor.size(),
+            buffers,
+        )
+        .map_err(fail)?;
+    }
+    if let Some(sparse) = accessor.sparse() {
+        let indices = sparse.indices();
+        let index_size = match indices.index_type() {
+            gltf::accessor::sparse::IndexType::U8 => 1,
+            gltf::accessor::sparse::IndexType::U16 => 2,
+            gltf::accessor::sparse::IndexType::U32 => 4,
+        };
+        let (count, values) = (sparse.count(), sparse.values());
+        if count == 0 {
+            return Err(fail("sparse with no entries".into()));
+        }
+        check_range(
+            &indices.view(),
+            indices.offset(),
+            count,
+            index_size,
+            buffers,
+        )
+        .map_err(|e| fail(format!("sparse indices: {e}")))?;
+        check_range(
+            &values.view(),
+            values.offset(),
+            count,
+            accessor.size(),
+            buffers,
+        )
+        .map_err(|e| fail(format!("sparse values: {e}")))?;
+    } else if accessor.view().is_none() {
+        return Err(fail("no bufferView and no sparse data".into()));
+    }
+    Ok(())
+}
+
+/// `count` elements of `size` bytes at `offset` (with the view's stride) fit in the view,
+/// and the view fits in its loaded buffer.
+fn check_range(
+    view: &gltf::buffer::View<'_>,
+    offset: usize,
+    count: usize,
+    size: usize,
+    buffers: &Buffers,
+) -> std::result::Result<(), String> {
+    let stride = view.stride().unwrap_or(size);
+    if stride < size {
+        return Err(format!(
+            "byteStride {stride} is smaller than an element ({size} bytes)"
+        ));
+    }
+    let end = count
+        .checked_sub(1)
+        .and_then(|last| last.checked_mul(stride))
+        .and_then(|b| b.checked_add(offset))
+        .and_then(|b| b.checked_add(size));
+    match end {
+        Some(end) if end <= view.length() => {}
+        _ => {
+            return Err(format!(
+                "{count} elements at offset {offset} overrun bufferView {} ({} bytes)",
+                view.index(),
+                view.length()
+            ))
+        }
+    }
+    view_bytes(view, buffers).map(|_| ())
+}
+
+/// The bytes of a buffer view, or why they are unavailable.
+fn view_bytes<'b>(
+    view: &gltf::buffer::View<'_>,
+    buffers: &'b Buffers,
+) -> std::result::Result<&'b [u8], String> {
+    let buffer = view.buffer();
+    let data = match buffers.get(buffer.index()) {
+        Some(Ok(data)) => data,
+        Some(Err(e)) => return Err(format!("buffer {} {e}", buffer_label(&buffer))),
+        None => return Err(format!("buffer {} does not exist", buffer.index())),
+    };
+    view.offset()
+        .checked_add(view.length())
+        .and_then(|end| data.get(view.offset()..end))
+        .ok_or_else(|| {
+            format!(
+                "bufferView {} overruns buffer {} ({} bytes)",
+                view.index(),
+                buffer_label(&buffer),
+                data.len()
+            )
+        })
+}
+
+fn buffer_label(buffer: &gltf::Buffer<'_>) -> String {
+    match buffer.source() {
+        gltf::buffer::Source::Uri(uri) if !uri.starts_with("data:") => {
+            format!("{} ({uri})", buffer.index())
+        }
+        _ => buffer.index().to_string(),
+    }
+}
+
+/// Triangle lists from triangles, strips and fans (glTF 2.0 §3.7.2.1), dropping degenerate
+/// triangles (strips use them as restarts).
+fn assemble_triangles(mode: Mode, indices: &[u32]) -> Vec<[u32; 3]> {
+    let tris: Vec<[u32; 3]> = match mode {
+        Mode::TriangleStrip => (0..indices.len().saturating_sub(2))
+            .map(|i| {
+                let odd = i % 2;
+                [indices[i], indices[i + 1 + odd], indices[i + 2 - odd]]
+            })
+            .collect(),
+        Mode::TriangleFan => (1..indices.len().saturating_sub(1))
+            .map(|i| [indices[i], indices[i + 1], indices[0]])
+            .collect(),
+        _ => indices
+            .chunks_exact(3)
+            .map(|t| [t[0], t[1], t[2]])
+            .collect(),
+    };
+    tris.into_iter()
+        .filter(|t| t[0] != t[1] && t[1] != t[2] && t[2] != t[0])
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn strips_and_fans_keep_winding() {
+        let strip = assemble_triangles(Mode::TriangleStrip, &[0, 1, 2, 3]);
+        assert_eq!(strip, vec![[0, 1, 2], [1, 3, 2]]);
+        let fan = assemble_triangles(Mode::TriangleFan, &[0, 1, 2, 3]);
+        assert_eq!(fan, vec![[1, 2, 0], [2, 3, 0]]);
+        let list = assemble_triangles(Mode::Triangles, &[0, 1, 2, 2, 2, 3]);
+        assert_eq!(list, vec![[0, 1, 2]]);
+    }
+
+    #[test]
+    fn volume_tint_follows_beer_lambert() {
+        let t = volume_tint(Vec3::new(0.25, 0.5, 1.0), 2.0, 1.0);
+        assert!((t - Vec3::new(0.0625, 0.25, 1.0)).abs().max_element() < 1e-6);
+        assert_eq!(volume_tint(Vec3::ZERO, 1.0, f32::INFINITY), Vec3::ONE);
+        assert_eq!(volume_tint(Vec3::ZERO, 0.0, 1.0), Vec3::ONE);
+    }
+
+    #[test]
+    fn ior_gives_fresnel_reflectance() {
+        assert!((fresnel_reflectance(1.5) - 0.04).abs() < 1e-6);
+        assert_eq!(fresnel_reflectance(1.0), 0.0);
+    }
+
+    #[test]
+    fn percent_escapes_decode() {
+        assert_eq!(percent_decode("a%20b.bin").as_deref(), Ok("a b.bin"));
+        assert_eq!(percent_decode("100%").as_deref(), Ok("100%"));
+        assert!(percent_decode("%FF").is_err());
+    }
+}

@@ -230,9 +230,9 @@ mod tests {
     #[test]
     fn validate_rejects_out_of_range_index_and_nan() {
         let mut m = Mesh::from_quads("q", vec![Vec3::ZERO; 3], vec![[0, 1, 2, 3]]);
-        assert!(m.validate().unwrap_err().contains("vertex 3"));
+        assert!(m.validate().expect_err("invalid mesh").contains("vertex 3"));
         m.quads = vec![[0, 1, 2, 2]];
         m.positions[1].x = f32::NAN;
-        assert!(m.validate().unwrap_err().contains("not finite"));
+        assert!(m.validate().expect_err("invalid mesh").contains("not finite"));
     }
 }

@@ -129,3 +129,25 @@ impl Scene {
             .sum()
     }
 }
+
+/// A scene by name: one of the [`generated::NAMES`], else a path to a `.gltf`/`.glb` file.
+///
+/// A spec that names an existing file, or ends in `.gltf`/`.glb`, is loaded as glTF (so a
+/// mistyped path reports the missing file); anything else gives
+/// [`crate::Error::UnknownScene`] listing the generated names.
+pub fn load(spec: &str) -> crate::Result<Scene> {
+    if let Some(scene) = generated::generate(spec) {
+        return Ok(scene);
+    }
+    let path = std::path::Path::new(spec);
+    let gltf_extension = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("gltf") || e.eq_ignore_ascii_case("glb"));
+    if path.exists() || gltf_extension {
+        return gltf::load(path);
+    }
+    Err(crate::Error::UnknownScene(
+        spec.to_string(),
+        generated::NAMES.join(", "),
+    ))
+}

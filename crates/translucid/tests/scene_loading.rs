@@ -1,0 +1,443 @@
+//! glTF import of the vendored scenes, scene specs, and clear errors (never panics) on bad
+//! input. Bad files are written to the system temp directory under unique names.
+
+use std::path::{Path, PathBuf};
+use translucid::scene::{self, Scene};
+use translucid::Error;
+
+fn asset(relative: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../assets/scenes")
+        .join(relative)
+}
+
+fn load_asset(relative: &str) -> Scene {
+    scene::gltf::load(&asset(relative)).unwrap_or_else(|e| panic!("{relative}: {e}"))
+}
+
+#[test]
+fn glass_vase_flowers_has_blend_transmission_and_a_texture() {
+    let s = load_asset("GlassVaseFlowers/GlassVaseFlowers.glb");
+    assert!(!s.transparent.is_empty() && s.transparent_quads() > 0);
+    assert!(!s.opaque.is_empty(), "the flowers are MASK, so opaque");
+    let transparent_materials: Vec<_> = s
+        .transparent
+        .iter()
+        .map(|d| &s.materials[d.material])
+        .collect();
+    assert!(
+        transparent_materials.iter().any(|m| m.transmission > 0.0),
+        "transmission glass"
+    );
+    assert!(
+        transparent_materials
+            .iter()
+            .any(|m| m.transmission == 0.0 && m.base_colour.w < 1.0),
+        "BLEND glass"
+    );
+    assert!(s
+        .opaque
+        .iter()
+        .any(|d| s.materials[d.material].alpha_cutoff.is_some()));
+    assert!(!s.textures.is_empty(), "flower texture");
+    assert!(s.textures.iter().all(|t| t.srgb && t.width() > 1));
+}
+
+#[test]
+fn attenuation_test_has_polychrome_transmittance() {
+    let s = load_asset("AttenuationTest/AttenuationTest.glb");
+    assert!(s.transparent_quads() > 0);
+    let tinted = s.transparent.iter().any(|d| {
+        let m = &s.materials[d.material];
+        let tint = m.transmission_tint;
+        m.transmission > 0.0 && tint.max_element() - tint.min_element() > 0.3
+    });
+    assert!(tinted, "no coloured transmission tint");
+    assert!(!s.textures.is_empty(), "labels and backdrop are textured");
+}
+
+#[test]
+fn utah_teapot_blend_loads_with_external_buffer() {
+    let s = load_asset("utah_teapot/utah_teapot_blend.gltf");
+    assert_eq!(s.transparent.len(), 1);
+    assert_eq!(s.meshes[0].triangle_count(), 6320);
+    let m = &s.materials[s.transparent[0].material];
+    assert!((m.base_colour.w - 0.4).abs() < 1e-6 && m.double_sided && m.lit);
+    assert_eq!(m.reflectance, 0.0, "plain BLEND has no reflectance");
+    assert!(s.meshes[0].normals.is_some());
+}
+
+#[test]
+fn spec_picks_generated_scene_or_file() {
+    assert_eq!(scene::load("layers").expect("generated").name, "layers");
+    let path = asset("utah_teapot/utah_teapot_blend.gltf");
+    let s = scene::load(path.to_str().expect("utf-8 path")).expect("file");
+    assert_eq!(s.name, "utah_teapot_blend");
+    match scene::load("no-such-scene") {
+        Err(Error::UnknownScene(name, known)) => {
+            assert_eq!(name, "no-such-scene");
+            assert!(known.contains("particles") && known.contains("polychrome"));
+        }
+        other => panic!("expected UnknownScene, got {other:?}"),
+    }
+}
+
+#[test]
+fn missing_file_is_a_scene_io_error() {
+    let path = temp_path("does-not-exist.glb");
+    let err = scene::gltf::load(&path).expect_err("missing file");
+    assert!(matches!(err, Error::SceneIo { .. }), "{err:?}");
+    assert!(err.to_string().contains("does-not-exist.glb"), "{err}");
+    // Through a spec too: a .glb path is a file, not an unknown name.
+    let spec = scene::load(path.to_str().expect("utf-8 path"));
+    assert!(matches!(spec, Err(Error::SceneIo { .. })), "{spec:?}");
+}
+
+#[test]
+fn malformed_json_and_binary_are_invalid_gltf() {
+    for (name, bytes) in [
+        ("broken.gltf", b"{ \"asset\": { \"version\": " as &[u8]),
+        ("truncated.glb", b"glTF\x02\x00\x00\x00\xff\x00\x00\x00JSON"),
+        ("empty.gltf", b""),
+        ("no-asset.gltf", b"{}"),
+    ] {
+        let err = load_bytes(name, bytes).expect_err(name);
+        assert!(matches!(err, Error::InvalidGltf { .. }), "{name}: {err:?}");
+        assert!(err.to_string().contains(name), "{name}: {err}");
+    }
+}
+
+#[test]
+fn required_unsupported_extension_is_refused_by_name() {
+    let json = Tiny::triangle()
+        .top(r#""extensionsUsed": ["KHR_draco_mesh_compression"], "extensionsRequired": ["KHR_draco_mesh_compression"]"#)
+        .json();
+    let err = load_bytes("draco.gltf", json.as_bytes()).expect_err("draco required");
+    match &err {
+        Error::UnsupportedExtension { extension, .. } => {
+            assert_eq!(extension, "KHR_draco_mesh_compression")
+        }
+        other => panic!("expected UnsupportedExtension, got {other:?}"),
+    }
+    assert!(err.to_string().contains("KHR_draco_mesh_compression"));
+}
+
+#[test]
+fn required_implemented_extensions_load() {
+    let material = r#"{"extensions": {
+        "KHR_materials_transmission": {"transmissionFactor": 1.0},
+        "KHR_materials_volume": {"thicknessFactor": 2.0, "attenuationDistance": 1.0, "attenuationColor": [0.5, 1.0, 0.25]},
+        "KHR_materials_ior": {"ior": 1.0}}}"#;
+    let json = Tiny::triangle()
+        .material(material)
+        .top(r#""extensionsUsed": ["KHR_materials_transmission", "KHR_materials_volume", "KHR_materials_ior"],
+                "extensionsRequired": ["KHR_materials_transmission", "KHR_materials_volume"]"#)
+        .json();
+    let s = load_bytes("volume.gltf", json.as_bytes()).expect("volume loads");
+    assert_eq!(
+        s.transparent.len(),
+        1,
+        "transmission goes to the transparent layer"
+    );
+    let m = &s.materials[0];
+    assert_eq!(m.transmission, 1.0);
+    assert_eq!(m.reflectance, 0.0, "ior 1 reflects nothing");
+    let expected = glam::Vec3::new(0.25, 1.0, 0.0625);
+    assert!(
+        (m.transmission_tint - expected).abs().max_element() < 1e-6,
+        "{:?}",
+        m.transmission_tint
+    );
+}
+
+#[test]
+fn used_but_unsupported_extension_loads() {
+    let material = r#"{"alphaMode": "BLEND",
+        "pbrMetallicRoughness": {"baseColorFactor": [1.0, 0.5, 0.25, 0.5]},
+        "extensions": {"KHR_materials_clearcoat": {"clearcoatFactor": 1.0},
+                       "KHR_materials_sheen": {"sheenColorFactor": [1.0, 1.0, 1.0]}}}"#;
+    let json = Tiny::triangle()
+        .material(material)
+        .top(r#""extensionsUsed": ["KHR_materials_clearcoat", "KHR_materials_sheen"]"#)
+        .json();
+    let s = load_bytes("clearcoat.gltf", json.as_bytes()).expect("clearcoat is optional");
+    assert_eq!(s.transparent.len(), 1);
+    assert_eq!(
+        s.materials[0].base_colour,
+        glam::Vec4::new(1.0, 0.5, 0.25, 0.5)
+    );
+    assert_eq!(s.materials[0].transmission, 0.0);
+}
+
+#[test]
+fn nan_position_is_refused_naming_the_primitive() {
+    let mut tiny = Tiny::triangle();
+    tiny.positions[1][2] = f32::NAN;
+    let err = load_bytes("nan.gltf", tiny.json().as_bytes()).expect_err("NaN");
+    assert!(matches!(err, Error::InvalidScene(_)), "{err:?}");
+    let msg = err.to_string();
+    assert!(
+        msg.contains("not finite") && msg.contains("primitive 0") && msg.contains("tri"),
+        "{msg}"
+    );
+}
+
+#[test]
+fn out_of_range_index_is_refused() {
+    let mut tiny = Tiny::triangle();
+    tiny.indices[2] = 7;
+    let err = load_bytes("index.gltf", tiny.json().as_bytes()).expect_err("index 7 of 3");
+    assert!(matches!(err, Error::InvalidScene(_)), "{err:?}");
+    let msg = err.to_string();
+    assert!(
+        msg.contains("out of range") && msg.contains("mesh 0"),
+        "{msg}"
+    );
+}
+
+#[test]
+fn missing_buffer_file_names_the_buffer_and_primitive() {
+    let json = Tiny::triangle().buffer_uri("\"gone-missing.bin\"").json();
+    let err = load_bytes("nobuffer.gltf", json.as_bytes()).expect_err("missing buffer");
+    let msg = err.to_string();
+    assert!(
+        msg.contains("gone-missing.bin") && msg.contains("primitive 0"),
+        "{msg}"
+    );
+}
+
+#[test]
+fn accessor_overrunning_its_buffer_is_refused() {
+    let json = Tiny::triangle().position_count(1000).json();
+    let err = load_bytes("overrun.gltf", json.as_bytes()).expect_err("overrun");
+    assert!(matches!(err, Error::InvalidScene(_)), "{err:?}");
+    assert!(err.to_string().contains("POSITION"), "{err}");
+}
+
+#[test]
+fn strips_are_converted_and_points_skipped() {
+    let mut tiny = Tiny::triangle();
+    tiny.positions.push([1.0, 1.0, 0.0]);
+    tiny.indices = vec![0, 1, 2, 3];
+    let strip = Tiny {
+        mode: 5,
+        ..tiny.clone()
+    };
+    let s = load_bytes("strip.gltf", strip.json().as_bytes()).expect("strip");
+    assert_eq!(s.meshes[0].triangle_count(), 2);
+    assert_eq!(
+        s.meshes[0].quads.len(),
+        1,
+        "the strip's two triangles pair into a quad"
+    );
+
+    // A file of points only draws nothing: an error, not an empty scene.
+    let points = Tiny { mode: 0, ..tiny };
+    let err = load_bytes("points.gltf", points.json().as_bytes()).expect_err("points only");
+    assert!(err.to_string().contains("no triangles"), "{err}");
+}
+
+#[test]
+fn camera_node_gives_the_view() {
+    let json = Tiny::triangle()
+        .top(r#""cameras": [{"type": "perspective", "perspective": {"yfov": 0.7, "znear": 0.1}}]"#)
+        .nodes(
+            r#"{"mesh": 0}, {"camera": 0, "translation": [0.0, 0.0, 4.0]}"#,
+            "[0, 1]",
+        )
+        .json();
+    let s = load_bytes("camera.gltf", json.as_bytes()).expect("camera");
+    assert_eq!(s.camera.fov_y, 0.7);
+    assert_eq!(s.camera.near, 0.1);
+    assert!(
+        s.camera.far > 4.0 && s.camera.far.is_finite(),
+        "far from bounds: {}",
+        s.camera.far
+    );
+    let eye = s.camera.view.inverse().transform_point3(glam::Vec3::ZERO);
+    assert!(
+        (eye - glam::Vec3::new(0.0, 0.0, 4.0)).length() < 1e-5,
+        "{eye}"
+    );
+}
+
+#[test]
+fn node_cycle_is_refused() {
+    let json = Tiny::triangle()
+        .nodes(r#"{"mesh": 0, "children": [1]}, {"children": [0]}"#, "[0]")
+        .json();
+    let err = load_bytes("cycle.gltf", json.as_bytes()).expect_err("cycle");
+    assert!(matches!(err, Error::InvalidGltf { .. }), "{err:?}");
+    assert!(err.to_string().contains("own ancestor"), "{err}");
+}
+
+#[test]
+fn reused_mesh_is_converted_once_and_drawn_per_node() {
+    let json = Tiny::triangle()
+        .nodes(
+            r#"{"mesh": 0}, {"mesh": 0, "translation": [2.0, 0.0, 0.0]}"#,
+            "[0, 1]",
+        )
+        .json();
+    let s = load_bytes("reuse.gltf", json.as_bytes()).expect("reuse");
+    assert_eq!((s.meshes.len(), s.opaque.len()), (1, 2));
+    assert_eq!(s.opaque[1].transform.w_axis.x, 2.0);
+}
+
+// --- helpers ------------------------------------------------------------------------------
+
+fn temp_path(name: &str) -> PathBuf {
+    std::env::temp_dir().join(format!("translucid-{}-{name}", std::process::id()))
+}
+
+/// Writes `bytes` to a fresh temp file and loads it.
+fn load_bytes(name: &str, bytes: &[u8]) -> translucid::Result<Scene> {
+    let path = temp_path(name);
+    std::fs::write(&path, bytes).expect("write temp file");
+    let result = scene::gltf::load(&path);
+    let _ = std::fs::remove_file(&path);
+    result
+}
+
+/// A one-primitive glTF JSON with an embedded base64 buffer, and knobs to break it.
+#[derive(Clone)]
+struct Tiny {
+    positions: Vec<[f32; 3]>,
+    indices: Vec<u32>,
+    mode: u32,
+    material: String,
+    top: String,
+    buffer_uri: Option<String>,
+    position_count: Option<usize>,
+    nodes: String,
+    scene_nodes: String,
+}
+
+impl Tiny {
+    fn triangle() -> Self {
+        Self {
+            positions: vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+            indices: vec![0, 1, 2],
+            mode: 4,
+            material: "{}".into(),
+            top: String::new(),
+            buffer_uri: None,
+            position_count: None,
+            nodes: r#"{"mesh": 0}"#.into(),
+            scene_nodes: "[0]".into(),
+        }
+    }
+
+    fn material(mut self, json: &str) -> Self {
+        self.material = json.into();
+        self
+    }
+
+    fn top(mut self, json: &str) -> Self {
+        self.top = format!("{json},");
+        self
+    }
+
+    fn buffer_uri(mut self, json: &str) -> Self {
+        self.buffer_uri = Some(json.into());
+        self
+    }
+
+    fn position_count(mut self, count: usize) -> Self {
+        self.position_count = Some(count);
+        self
+    }
+
+    /// Replaces the node array and the scene's root nodes.
+    fn nodes(mut self, nodes: &str, scene_nodes: &str) -> Self {
+        self.nodes = nodes.into();
+        self.scene_nodes = scene_nodes.into();
+        self
+    }
+
+    fn json(&self) -> String {
+        let mut bytes: Vec<u8> = self
+            .positions
+            .iter()
+            .flatten()
+            .flat_map(|f| f.to_le_bytes())
+            .collect();
+        let positions_len = bytes.len();
+        bytes.extend(self.indices.iter().flat_map(|i| i.to_le_bytes()));
+        // min/max must be finite JSON numbers even when a test plants a NaN.
+        let finite = |f: f32| if f.is_finite() { f } else { 0.0 };
+        let min: Vec<f32> = (0..3)
+            .map(|c| {
+                self.positions
+                    .iter()
+                    .map(|p| finite(p[c]))
+                    .fold(f32::MAX, f32::min)
+            })
+            .collect();
+        let max: Vec<f32> = (0..3)
+            .map(|c| {
+                self.positions
+                    .iter()
+                    .map(|p| finite(p[c]))
+                    .fold(f32::MIN, f32::max)
+            })
+            .collect();
+        let uri = self.buffer_uri.clone().unwrap_or_else(|| {
+            format!(
+                "\"data:application/octet-stream;base64,{}\"",
+                base64(&bytes)
+            )
+        });
+        format!(
+            r#"{{
+  "asset": {{"version": "2.0"}},
+  {top}
+  "scene": 0,
+  "scenes": [{{"nodes": {scene_nodes}}}],
+  "nodes": [{nodes}],
+  "meshes": [{{"name": "tri", "primitives": [{{"attributes": {{"POSITION": 0}}, "indices": 1, "material": 0, "mode": {mode}}}]}}],
+  "materials": [{material}],
+  "accessors": [
+    {{"bufferView": 0, "componentType": 5126, "count": {pcount}, "type": "VEC3", "min": {min:?}, "max": {max:?}}},
+    {{"bufferView": 1, "componentType": 5125, "count": {icount}, "type": "SCALAR"}}
+  ],
+  "bufferViews": [
+    {{"buffer": 0, "byteOffset": 0, "byteLength": {positions_len}}},
+    {{"buffer": 0, "byteOffset": {positions_len}, "byteLength": {indices_len}}}
+  ],
+  "buffers": [{{"uri": {uri}, "byteLength": {total}}}]
+}}"#,
+            top = self.top,
+            nodes = self.nodes,
+            scene_nodes = self.scene_nodes,
+            mode = self.mode,
+            material = self.material,
+            pcount = self.position_count.unwrap_or(self.positions.len()),
+            icount = self.indices.len(),
+            indices_len = bytes.len() - positions_len,
+            total = bytes.len(),
+        )
+    }
+}
+
+/// Standard base64 with padding (RFC 4648), enough for embedded test buffers.
+fn base64(bytes: &[u8]) -> String {
+    const ALPHABET: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut out = String::new();
+    for chunk in bytes.chunks(3) {
+        let b = [
+            chunk[0],
+            *chunk.get(1).unwrap_or(&0),
+            *chunk.get(2).unwrap_or(&0),
+        ];
+        let n = (b[0] as u32) << 16 | (b[1] as u32) << 8 | b[2] as u32;
+        for i in 0..4 {
+            if i <= chunk.len() {
+                out.push(ALPHABET[(n >> (18 - 6 * i) & 63) as usize] as char);
+            } else {
+                out.push('=');
+            }
+        }
+    }
+    out
+}
