@@ -1,1 +1,122 @@
-fn main() {}
+//! `translucid`: render, compare against the CPU reference, benchmark, and list devices.
+
+mod commands;
+
+use clap::{Parser, Subcommand};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(
+    name = "translucid",
+    version,
+    about = "Exact order-independent transparency on Vulkan"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+/// A frame size written WIDTHxHEIGHT.
+#[derive(Clone, Copy, Debug)]
+pub struct Size {
+    pub width: u32,
+    pub height: u32,
+}
+
+impl std::str::FromStr for Size {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        let (w, h) = s
+            .split_once(['x', 'X'])
+            .ok_or_else(|| format!("size {s:?} is not WIDTHxHEIGHT"))?;
+        let parse = |v: &str| {
+            v.trim()
+                .parse::<u32>()
+                .map_err(|e| format!("size {s:?}: {e}"))
+        };
+        Ok(Self {
+            width: parse(w)?,
+            height: parse(h)?,
+        })
+    }
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// List Vulkan devices with the limits translucid sizes itself by.
+    Info,
+    /// Render a scene with one method and write a PNG.
+    Render {
+        /// A glTF path or a generated scene's name (boxes, spheres, particles, planes, ...).
+        scene: String,
+        #[arg(long, short, default_value = "blend")]
+        method: String,
+        #[arg(long, default_value = "1280x720")]
+        size: Size,
+        #[arg(short, long, default_value = "out/render.png")]
+        output: PathBuf,
+    },
+    /// Render with a method and with the CPU reference, and measure the difference.
+    Compare {
+        scene: String,
+        #[arg(long, short, default_value = "blend")]
+        method: String,
+        #[arg(long, default_value = "640x360")]
+        size: Size,
+        /// Write method | reference | error heat map side by side.
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+        /// Print one JSON object instead of text.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Median GPU time per stage over N frames, with the ratio to `blend` from the same run.
+    Bench {
+        #[arg(required = true)]
+        scenes: Vec<String>,
+        #[arg(long = "method", short, default_value = "blend")]
+        methods: Vec<String>,
+        #[arg(long, default_value = "1280x720")]
+        size: Size,
+        #[arg(long, default_value_t = 20)]
+        frames: u32,
+        /// Print one JSON object per (scene, method) line instead of a table.
+        #[arg(long)]
+        json: bool,
+    },
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Info => commands::info::run(),
+        Command::Render {
+            scene,
+            method,
+            size,
+            output,
+        } => commands::render::run(&scene, &method, size, &output),
+        Command::Compare {
+            scene,
+            method,
+            size,
+            output,
+            json,
+        } => commands::compare::run(&scene, &method, size, output.as_deref(), json),
+        Command::Bench {
+            scenes,
+            methods,
+            size,
+            frames,
+            json,
+        } => commands::bench::run(&scenes, &methods, size, frames, json),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("translucid: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -75,12 +75,17 @@ impl GpuMaterial {
 
 impl GpuDrawInfo {
     pub fn new(draw: &Draw, mesh: &Mesh, first_quad: u32) -> Self {
-        let normal_matrix = Mat4::from_mat3(glam::Mat3::from_mat4(draw.transform).inverse().transpose());
+        let normal_matrix =
+            Mat4::from_mat3(glam::Mat3::from_mat4(draw.transform).inverse().transpose());
         Self {
             model: draw.transform.to_cols_array(),
             normal_matrix: normal_matrix.to_cols_array(),
             material_index: draw.material as u32,
-            flags: if mesh.normals.is_some() { DRAW_HAS_NORMALS } else { 0 },
+            flags: if mesh.normals.is_some() {
+                DRAW_HAS_NORMALS
+            } else {
+                0
+            },
             first_quad,
             quad_count: mesh.quads.len() as u32,
         }
@@ -108,13 +113,17 @@ mod tests {
     /// std430/std140 offsets of the scalar, vec4 and mat4 members used in layout.glsl
     /// (both rules agree for these types).
     fn glsl_offsets(src: &str, name: &str) -> Vec<(String, usize)> {
-        let start = src.find(&format!("struct {name} {{")).expect("struct in layout.glsl");
+        let start = src
+            .find(&format!("struct {name} {{"))
+            .expect("struct in layout.glsl");
         let body = &src[start..src[start..].find("};").expect("struct end") + start];
         let mut offset: usize = 0;
         let mut out = Vec::new();
         for line in body.lines().skip(1) {
             let code = line.split("//").next().unwrap_or("").trim();
-            let Some(decl) = code.strip_suffix(';') else { continue };
+            let Some(decl) = code.strip_suffix(';') else {
+                continue;
+            };
             let mut parts = decl.split_whitespace();
             let (ty, field) = (parts.next().expect("type"), parts.next().expect("name"));
             let (size, align) = match ty {
@@ -133,11 +142,20 @@ mod tests {
     fn check(name: &str, host: &[(&str, usize)], host_size: usize) {
         let src = include_str!("../../../shaders/common/layout.glsl");
         let glsl = glsl_offsets(src, name);
-        let host: Vec<_> = host.iter().map(|(n, o)| (n.replace('_', "").to_lowercase(), *o)).collect();
+        let host: Vec<_> = host
+            .iter()
+            .map(|(n, o)| (n.replace('_', "").to_lowercase(), *o))
+            .collect();
         let glsl_norm: Vec<_> = glsl.iter().map(|(n, o)| (n.to_lowercase(), *o)).collect();
-        assert_eq!(glsl_norm, host, "{name}: shader_types.rs and layout.glsl disagree; update both");
+        assert_eq!(
+            glsl_norm, host,
+            "{name}: shader_types.rs and layout.glsl disagree; update both"
+        );
         let end = glsl.last().map(|(_, o)| *o).unwrap_or(0);
-        assert!(host_size > end && host_size % 16 == 0, "{name}: size {host_size} not a multiple of 16");
+        assert!(
+            host_size > end && host_size % 16 == 0,
+            "{name}: size {host_size} not a multiple of 16"
+        );
     }
 
     #[test]
@@ -146,7 +164,10 @@ mod tests {
             "Material",
             &[
                 ("base_colour", offset_of!(GpuMaterial, base_colour)),
-                ("tint_transmission", offset_of!(GpuMaterial, tint_transmission)),
+                (
+                    "tint_transmission",
+                    offset_of!(GpuMaterial, tint_transmission),
+                ),
                 ("reflectance", offset_of!(GpuMaterial, reflectance)),
                 ("alpha_cutoff", offset_of!(GpuMaterial, alpha_cutoff)),
                 ("texture_index", offset_of!(GpuMaterial, texture_index)),
@@ -183,7 +204,9 @@ mod tests {
     fn flags_match_glsl() {
         let src = include_str!("../../../shaders/common/layout.glsl");
         assert!(src.contains(&format!("#define MATERIAL_LIT {MATERIAL_LIT}u")));
-        assert!(src.contains(&format!("#define MATERIAL_DOUBLE_SIDED {MATERIAL_DOUBLE_SIDED}u")));
+        assert!(src.contains(&format!(
+            "#define MATERIAL_DOUBLE_SIDED {MATERIAL_DOUBLE_SIDED}u"
+        )));
         assert!(src.contains(&format!("#define DRAW_HAS_NORMALS {DRAW_HAS_NORMALS}u")));
     }
 }

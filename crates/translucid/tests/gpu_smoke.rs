@@ -6,15 +6,23 @@ use translucid::renderer::Renderer;
 use translucid::scene::{Camera, Draw, Material, Mesh, Scene};
 
 fn gpu() -> Gpu {
-    Gpu::new(&GpuOptions { device: std::env::var("TRANSLUCID_DEVICE").ok(), validation: true })
-        .expect("a Vulkan device with the validation layer (run `make test`, which installs both)")
+    Gpu::new(&GpuOptions {
+        device: std::env::var("TRANSLUCID_DEVICE").ok(),
+        validation: true,
+    })
+    .expect("a Vulkan device with the validation layer (run `make test`, which installs both)")
 }
 
 /// A unit square in the XY plane at depth z, facing +Z.
 fn square(z: f32) -> Mesh {
     Mesh::from_quads(
         "square",
-        vec![Vec3::new(-1.0, -1.0, z), Vec3::new(1.0, -1.0, z), Vec3::new(1.0, 1.0, z), Vec3::new(-1.0, 1.0, z)],
+        vec![
+            Vec3::new(-1.0, -1.0, z),
+            Vec3::new(1.0, -1.0, z),
+            Vec3::new(1.0, 1.0, z),
+            Vec3::new(-1.0, 1.0, z),
+        ],
         vec![[0, 1, 2, 3]],
     )
 }
@@ -27,8 +35,16 @@ fn two_layer_scene() -> Scene {
             Material::alpha(Vec3::new(0.0, 0.0, 1.0), 1.0),
             Material::alpha(Vec3::new(1.0, 0.0, 0.0), 0.5),
         ],
-        opaque: vec![Draw { mesh: 0, material: 0, transform: Mat4::IDENTITY }],
-        transparent: vec![Draw { mesh: 1, material: 1, transform: Mat4::IDENTITY }],
+        opaque: vec![Draw {
+            mesh: 0,
+            material: 0,
+            transform: Mat4::IDENTITY,
+        }],
+        transparent: vec![Draw {
+            mesh: 1,
+            material: 1,
+            transform: Mat4::IDENTITY,
+        }],
         camera: Camera::look_at(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, 1.0, 0.1, 10.0),
         background: Vec3::new(0.0, 1.0, 0.0),
         ..Scene::default()
@@ -41,13 +57,28 @@ fn blend_composites_over_the_opaque_layer() {
     let mut renderer = Renderer::new(&gpu, &two_layer_scene(), "blend", 64, 48).expect("renderer");
     let frame = renderer.render(true).expect("frame");
     let centre = frame.image.get(32, 24);
-    assert!((centre - Vec4::new(0.5, 0.0, 0.5, 1.0)).abs().max_element() < 1e-3, "centre {centre}");
+    assert!(
+        (centre - Vec4::new(0.5, 0.0, 0.5, 1.0)).abs().max_element() < 1e-3,
+        "centre {centre}"
+    );
     let corner = frame.image.get(0, 0);
-    assert!((corner - Vec4::new(0.0, 1.0, 0.0, 1.0)).abs().max_element() < 1e-3, "corner {corner}");
+    assert!(
+        (corner - Vec4::new(0.0, 1.0, 0.0, 1.0)).abs().max_element() < 1e-3,
+        "corner {corner}"
+    );
     let opaque = frame.opaque.expect("opaque layer");
-    assert!((opaque.colour[24 * 64 + 32] - Vec3::new(0.0, 0.0, 1.0)).abs().max_element() < 1e-3);
+    assert!(
+        (opaque.colour[24 * 64 + 32] - Vec3::new(0.0, 0.0, 1.0))
+            .abs()
+            .max_element()
+            < 1e-3
+    );
     assert!(opaque.depth[24 * 64 + 32] < 1.0 && opaque.depth[0] == 1.0);
-    assert!(frame.stages.iter().any(|(s, _)| *s == "blend"), "{:?}", frame.stages);
+    assert!(
+        frame.stages.iter().any(|(s, _)| *s == "blend"),
+        "{:?}",
+        frame.stages
+    );
     assert!(frame.peak_gpu_bytes > 0);
 }
 
@@ -56,14 +87,24 @@ fn zero_and_oversized_viewports_are_refused() {
     let gpu = gpu();
     let scene = two_layer_scene();
     for (w, h) in [(0, 10), (10, 0), (1 << 20, 10)] {
-        let err = Renderer::new(&gpu, &scene, "blend", w, h).err().expect("refused");
-        assert!(matches!(err, translucid::Error::InvalidViewport { .. }), "{err}");
+        let err = Renderer::new(&gpu, &scene, "blend", w, h)
+            .err()
+            .expect("refused");
+        assert!(
+            matches!(err, translucid::Error::InvalidViewport { .. }),
+            "{err}"
+        );
     }
 }
 
 #[test]
 fn unknown_method_is_named() {
     let gpu = gpu();
-    let err = Renderer::new(&gpu, &two_layer_scene(), "nope", 8, 8).err().expect("refused");
-    assert!(err.to_string().contains("nope") && err.to_string().contains("blend"), "{err}");
+    let err = Renderer::new(&gpu, &two_layer_scene(), "nope", 8, 8)
+        .err()
+        .expect("refused");
+    assert!(
+        err.to_string().contains("nope") && err.to_string().contains("blend"),
+        "{err}"
+    );
 }

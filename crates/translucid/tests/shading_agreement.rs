@@ -3,7 +3,9 @@
 
 use bytemuck::{Pod, Zeroable};
 use glam::{Vec3, Vec4};
-use translucid::gpu::{vk, BindingKind, ComputePipeline, DescriptorLayout, Gpu, GpuOptions, Resource};
+use translucid::gpu::{
+    vk, BindingKind, ComputePipeline, DescriptorLayout, Gpu, GpuOptions, Resource,
+};
 use translucid::scene::{Light, Material};
 use translucid::shader_types::{GpuFrameInfo, GpuMaterial};
 use translucid::shading;
@@ -29,7 +31,10 @@ struct Outcome {
 fn materials() -> Vec<Material> {
     vec![
         Material::alpha(Vec3::new(1.0, 0.5, 0.25), 0.5),
-        Material { lit: true, ..Material::alpha(Vec3::new(0.2, 0.7, 0.9), 0.3) },
+        Material {
+            lit: true,
+            ..Material::alpha(Vec3::new(0.2, 0.7, 0.9), 0.3)
+        },
         Material {
             transmission: 0.9,
             transmission_tint: Vec3::new(0.9, 0.4, 0.1),
@@ -37,13 +42,25 @@ fn materials() -> Vec<Material> {
             lit: true,
             ..Material::alpha(Vec3::new(0.8, 1.0, 0.6), 1.0)
         },
-        Material { alpha_cutoff: Some(0.5), lit: true, ..Material::alpha(Vec3::ONE, 0.4) },
-        Material { alpha_cutoff: Some(0.5), ..Material::alpha(Vec3::new(0.3, 0.3, 0.3), 0.6) },
+        Material {
+            alpha_cutoff: Some(0.5),
+            lit: true,
+            ..Material::alpha(Vec3::ONE, 0.4)
+        },
+        Material {
+            alpha_cutoff: Some(0.5),
+            ..Material::alpha(Vec3::new(0.3, 0.3, 0.3), 0.6)
+        },
     ]
 }
 
 fn cases(material_count: u32) -> Vec<Case> {
-    let normals = [Vec3::Z, Vec3::new(0.3, -0.8, 0.1), Vec3::new(-2.0, 0.5, 3.0), Vec3::ZERO];
+    let normals = [
+        Vec3::Z,
+        Vec3::new(0.3, -0.8, 0.1),
+        Vec3::new(-2.0, 0.5, 3.0),
+        Vec3::ZERO,
+    ];
     let colours = [Vec4::ONE, Vec4::new(0.5, 0.9, 0.2, 0.7)];
     let texels = [Vec4::ONE, Vec4::new(0.1, 0.6, 1.0, 0.25)];
     let mut out = Vec::new();
@@ -71,9 +88,15 @@ fn close(a: Vec3, b: Vec3) -> bool {
 
 #[test]
 fn glsl_and_rust_shading_agree() {
-    let gpu = Gpu::new(&GpuOptions { device: std::env::var("TRANSLUCID_DEVICE").ok(), validation: true })
-        .expect("a Vulkan device with the validation layer");
-    let light = Light { direction: Vec3::new(0.4, 0.7, -0.2).normalize(), ..Light::default() };
+    let gpu = Gpu::new(&GpuOptions {
+        device: std::env::var("TRANSLUCID_DEVICE").ok(),
+        validation: true,
+    })
+    .expect("a Vulkan device with the validation layer");
+    let light = Light {
+        direction: Vec3::new(0.4, 0.7, -0.2).normalize(),
+        ..Light::default()
+    };
     let materials = materials();
     let cases = cases(materials.len() as u32);
     let gpu_materials: Vec<GpuMaterial> = materials.iter().map(GpuMaterial::new).collect();
@@ -81,18 +104,36 @@ fn glsl_and_rust_shading_agree() {
 
     let usage = vk::BufferUsageFlags::STORAGE_BUFFER;
     let frame_buf = gpu
-        .create_buffer_with_data("frame", vk::BufferUsageFlags::UNIFORM_BUFFER, bytemuck::bytes_of(&frame))
+        .create_buffer_with_data(
+            "frame",
+            vk::BufferUsageFlags::UNIFORM_BUFFER,
+            bytemuck::bytes_of(&frame),
+        )
         .expect("buffer");
-    let material_buf = gpu.create_buffer_with_data("materials", usage, bytemuck::cast_slice(&gpu_materials)).expect("buffer");
-    let case_buf = gpu.create_buffer_with_data("cases", usage, bytemuck::cast_slice(&cases)).expect("buffer");
+    let material_buf = gpu
+        .create_buffer_with_data("materials", usage, bytemuck::cast_slice(&gpu_materials))
+        .expect("buffer");
+    let case_buf = gpu
+        .create_buffer_with_data("cases", usage, bytemuck::cast_slice(&cases))
+        .expect("buffer");
     let out_size = (cases.len() * std::mem::size_of::<Outcome>()) as u64;
     let out_buf = gpu
-        .create_buffer("outcomes", out_size, usage, translucid::gpu::MemoryLocation::GpuToCpu)
+        .create_buffer(
+            "outcomes",
+            out_size,
+            usage,
+            translucid::gpu::MemoryLocation::GpuToCpu,
+        )
         .expect("buffer");
 
     let layout = DescriptorLayout::new(
         &gpu,
-        &[BindingKind::UniformBuffer, BindingKind::StorageBuffer, BindingKind::StorageBuffer, BindingKind::StorageBuffer],
+        &[
+            BindingKind::UniformBuffer,
+            BindingKind::StorageBuffer,
+            BindingKind::StorageBuffer,
+            BindingKind::StorageBuffer,
+        ],
         vk::ShaderStageFlags::COMPUTE,
     )
     .expect("layout");
@@ -104,14 +145,24 @@ fn glsl_and_rust_shading_agree() {
             Resource::Buffer(&out_buf),
         ])
         .expect("set");
-    let pipeline = ComputePipeline::new(&gpu, translucid::spirv!("test/shading.comp"), &[&layout], 4).expect("pipeline");
+    let pipeline =
+        ComputePipeline::new(&gpu, translucid::spirv!("test/shading.comp"), &[&layout], 4)
+            .expect("pipeline");
     let count = cases.len() as u32;
     gpu.submit_and_wait(|cmd| {
-        pipeline.dispatch(cmd, &[set.raw], &count.to_ne_bytes(), [count.div_ceil(64), 1, 1]);
+        pipeline.dispatch(
+            cmd,
+            &[set.raw],
+            &count.to_ne_bytes(),
+            [count.div_ceil(64), 1, 1],
+        );
         translucid::gpu::memory_barrier(
             &gpu,
             cmd,
-            (vk::PipelineStageFlags::COMPUTE_SHADER, vk::AccessFlags::SHADER_WRITE),
+            (
+                vk::PipelineStageFlags::COMPUTE_SHADER,
+                vk::AccessFlags::SHADER_WRITE,
+            ),
             (vk::PipelineStageFlags::HOST, vk::AccessFlags::HOST_READ),
         );
         Ok(())
@@ -121,17 +172,35 @@ fn glsl_and_rust_shading_agree() {
 
     for (i, (c, got)) in cases.iter().zip(&outcomes).enumerate() {
         let m = &materials[c.material as usize];
-        let (vc, tx, n) = (Vec4::from(c.vertex_colour), Vec4::from(c.texel), Vec4::from(c.normal).truncate());
+        let (vc, tx, n) = (
+            Vec4::from(c.vertex_colour),
+            Vec4::from(c.texel),
+            Vec4::from(c.normal).truncate(),
+        );
         let want = shading::shade_transparent(m, &light, vc, tx, n);
         let got_l = Vec4::from(got.radiance).truncate();
         let got_t = Vec4::from(got.transmittance).truncate();
-        assert!(close(got_l, want.radiance), "case {i}: radiance GPU {got_l} vs Rust {}", want.radiance);
-        assert!(close(got_t, want.transmittance), "case {i}: transmittance GPU {got_t} vs Rust {}", want.transmittance);
+        assert!(
+            close(got_l, want.radiance),
+            "case {i}: radiance GPU {got_l} vs Rust {}",
+            want.radiance
+        );
+        assert!(
+            close(got_t, want.transmittance),
+            "case {i}: transmittance GPU {got_t} vs Rust {}",
+            want.transmittance
+        );
         let opaque = shading::shade_opaque(m, &light, vc, tx, n);
         let got_o = Vec4::from(got.opaque);
         match opaque {
-            Some(colour) => assert!(got_o.w == 1.0 && close(got_o.truncate(), colour), "case {i}: opaque {got_o} vs {colour}"),
-            None => assert_eq!(got_o.w, 0.0, "case {i}: the GPU kept a fragment the cutoff discards"),
+            Some(colour) => assert!(
+                got_o.w == 1.0 && close(got_o.truncate(), colour),
+                "case {i}: opaque {got_o} vs {colour}"
+            ),
+            None => assert_eq!(
+                got_o.w, 0.0,
+                "case {i}: the GPU kept a fragment the cutoff discards"
+            ),
         }
     }
 }

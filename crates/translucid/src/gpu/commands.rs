@@ -8,7 +8,10 @@ use ash::vk;
 impl Gpu {
     /// Records `record` into a fresh command buffer, submits it, waits for it, and then fails
     /// on any validation error the work produced.
-    pub fn submit_and_wait<T>(&self, record: impl FnOnce(vk::CommandBuffer) -> Result<T>) -> Result<T> {
+    pub fn submit_and_wait<T>(
+        &self,
+        record: impl FnOnce(vk::CommandBuffer) -> Result<T>,
+    ) -> Result<T> {
         let alloc = vk::CommandBufferAllocateInfo::default()
             .command_pool(self.command_pool)
             .level(vk::CommandBufferLevel::PRIMARY)
@@ -25,16 +28,25 @@ impl Gpu {
         Ok(value)
     }
 
-    fn record_and_submit<T>(&self, cmd: vk::CommandBuffer, record: impl FnOnce(vk::CommandBuffer) -> Result<T>) -> Result<T> {
-        let begin = vk::CommandBufferBeginInfo::default().flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
+    fn record_and_submit<T>(
+        &self,
+        cmd: vk::CommandBuffer,
+        record: impl FnOnce(vk::CommandBuffer) -> Result<T>,
+    ) -> Result<T> {
+        let begin = vk::CommandBufferBeginInfo::default()
+            .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
         // SAFETY: cmd is a freshly allocated primary command buffer.
-        unsafe { self.device.begin_command_buffer(cmd, &begin) }.map_err(vk_err("vkBeginCommandBuffer"))?;
+        unsafe { self.device.begin_command_buffer(cmd, &begin) }
+            .map_err(vk_err("vkBeginCommandBuffer"))?;
         let value = record(cmd)?;
         // SAFETY: cmd is in the recording state.
         unsafe { self.device.end_command_buffer(cmd) }.map_err(vk_err("vkEndCommandBuffer"))?;
         // SAFETY: valid device; the fence is destroyed below after the wait.
-        let fence = unsafe { self.device.create_fence(&vk::FenceCreateInfo::default(), None) }
-            .map_err(vk_err("vkCreateFence"))?;
+        let fence = unsafe {
+            self.device
+                .create_fence(&vk::FenceCreateInfo::default(), None)
+        }
+        .map_err(vk_err("vkCreateFence"))?;
         let cmds = [cmd];
         let submit = [vk::SubmitInfo::default().command_buffers(&cmds)];
         // SAFETY: the command buffer is executable, the queue is ours and externally
@@ -56,7 +68,12 @@ impl Gpu {
     }
 
     /// Copies a whole single-mip 2D image (in TRANSFER_SRC_OPTIMAL) into a buffer.
-    pub fn cmd_copy_image_to_buffer(&self, cmd: vk::CommandBuffer, image: &GpuImage, buffer: &Buffer) {
+    pub fn cmd_copy_image_to_buffer(
+        &self,
+        cmd: vk::CommandBuffer,
+        image: &GpuImage,
+        buffer: &Buffer,
+    ) {
         let region = vk::BufferImageCopy::default()
             .image_subresource(vk::ImageSubresourceLayers {
                 aspect_mask: image.aspect,
@@ -64,7 +81,11 @@ impl Gpu {
                 base_array_layer: 0,
                 layer_count: 1,
             })
-            .image_extent(vk::Extent3D { width: image.extent.width, height: image.extent.height, depth: 1 });
+            .image_extent(vk::Extent3D {
+                width: image.extent.width,
+                height: image.extent.height,
+                depth: 1,
+            });
         // SAFETY: caller guarantees the image layout and that the buffer is large enough.
         unsafe {
             self.device.cmd_copy_image_to_buffer(
@@ -100,7 +121,15 @@ pub fn image_barrier(
         .subresource_range(image.full_range());
     // SAFETY: cmd is recording; the barrier names a live image of this device.
     unsafe {
-        gpu.device.cmd_pipeline_barrier(cmd, src.0, dst.0, vk::DependencyFlags::empty(), &[], &[], &[barrier])
+        gpu.device.cmd_pipeline_barrier(
+            cmd,
+            src.0,
+            dst.0,
+            vk::DependencyFlags::empty(),
+            &[],
+            &[],
+            &[barrier],
+        )
     };
 }
 
@@ -111,7 +140,19 @@ pub fn memory_barrier(
     src: (vk::PipelineStageFlags, vk::AccessFlags),
     dst: (vk::PipelineStageFlags, vk::AccessFlags),
 ) {
-    let barrier = vk::MemoryBarrier::default().src_access_mask(src.1).dst_access_mask(dst.1);
+    let barrier = vk::MemoryBarrier::default()
+        .src_access_mask(src.1)
+        .dst_access_mask(dst.1);
     // SAFETY: cmd is recording.
-    unsafe { gpu.device.cmd_pipeline_barrier(cmd, src.0, dst.0, vk::DependencyFlags::empty(), &[barrier], &[], &[]) };
+    unsafe {
+        gpu.device.cmd_pipeline_barrier(
+            cmd,
+            src.0,
+            dst.0,
+            vk::DependencyFlags::empty(),
+            &[barrier],
+            &[],
+            &[],
+        )
+    };
 }

@@ -24,7 +24,9 @@ impl GpuOptions {
     /// Options from `TRANSLUCID_DEVICE` and `TRANSLUCID_VALIDATION=1`.
     pub fn from_env() -> Self {
         Self {
-            device: std::env::var("TRANSLUCID_DEVICE").ok().filter(|s| !s.is_empty()),
+            device: std::env::var("TRANSLUCID_DEVICE")
+                .ok()
+                .filter(|s| !s.is_empty()),
             validation: std::env::var("TRANSLUCID_VALIDATION").is_ok_and(|v| v == "1"),
         }
     }
@@ -180,7 +182,10 @@ fn usable_devices(instance: &ash::Instance) -> Result<Vec<(vk::PhysicalDevice, D
         .map(|(i, pd)| (pd, describe(instance, i, pd)))
         .filter(|(_, info)| {
             let (major, minor) = {
-                let mut it = info.api_version.split('.').map(|s| s.parse::<u32>().unwrap_or(0));
+                let mut it = info
+                    .api_version
+                    .split('.')
+                    .map(|s| s.parse::<u32>().unwrap_or(0));
                 (it.next().unwrap_or(0), it.next().unwrap_or(0))
             };
             (major, minor) >= (1, 2)
@@ -220,9 +225,14 @@ fn choose(
             let by_index = w.parse::<usize>().ok();
             devices
                 .iter()
-                .position(|(_, d)| Some(d.index) == by_index || d.name.to_lowercase().contains(&lower))
+                .position(|(_, d)| {
+                    Some(d.index) == by_index || d.name.to_lowercase().contains(&lower)
+                })
                 .ok_or_else(|| {
-                    Error::NoDevice(format!("TRANSLUCID_DEVICE={w:?} matches none of: {}", names()))
+                    Error::NoDevice(format!(
+                        "TRANSLUCID_DEVICE={w:?} matches none of: {}",
+                        names()
+                    ))
                 })?
         }
         None => devices
@@ -238,7 +248,10 @@ fn choose(
             .map(|(i, _)| i)
             .unwrap_or(0),
     };
-    Ok(devices.into_iter().nth(found).expect("index from the same list"))
+    Ok(devices
+        .into_iter()
+        .nth(found)
+        .expect("index from the same list"))
 }
 
 impl Gpu {
@@ -288,7 +301,6 @@ impl Gpu {
             }
         }
     }
-
 }
 
 impl Shared {
@@ -326,7 +338,8 @@ fn create_messenger(
     let loader = ash::ext::debug_utils::Instance::new(entry, instance);
     let info = vk::DebugUtilsMessengerCreateInfoEXT::default()
         .message_severity(
-            vk::DebugUtilsMessageSeverityFlagsEXT::ERROR | vk::DebugUtilsMessageSeverityFlagsEXT::WARNING,
+            vk::DebugUtilsMessageSeverityFlagsEXT::ERROR
+                | vk::DebugUtilsMessageSeverityFlagsEXT::WARNING,
         )
         .message_type(
             vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION
@@ -356,7 +369,11 @@ fn destroy_instance(
 
 type DeviceParts = (ash::Device, vk::Queue, Allocator, vk::CommandPool);
 
-fn create_device(instance: &ash::Instance, physical: vk::PhysicalDevice, info: &DeviceInfo) -> Result<DeviceParts> {
+fn create_device(
+    instance: &ash::Instance,
+    physical: vk::PhysicalDevice,
+    info: &DeviceInfo,
+) -> Result<DeviceParts> {
     // SAFETY: physical came from this instance.
     let families = unsafe { instance.get_physical_device_queue_family_properties(physical) };
     let wanted = vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE;
@@ -431,4 +448,3 @@ impl Drop for Shared {
         }
     }
 }
-

@@ -27,20 +27,32 @@ impl MemoryStats {
     }
 
     pub(crate) fn current_and_peak(&self) -> (u64, u64) {
-        (self.current.load(Ordering::Relaxed), self.peak.load(Ordering::Relaxed))
+        (
+            self.current.load(Ordering::Relaxed),
+            self.peak.load(Ordering::Relaxed),
+        )
     }
 
     pub(crate) fn reset_peak(&self) {
-        self.peak.store(self.current.load(Ordering::Relaxed), Ordering::Relaxed);
+        self.peak
+            .store(self.current.load(Ordering::Relaxed), Ordering::Relaxed);
     }
 }
 
 impl Gpu {
-    fn allocate(&self, name: &str, requirements: vk::MemoryRequirements, location: MemoryLocation, linear: bool) -> Result<Allocation> {
+    fn allocate(
+        &self,
+        name: &str,
+        requirements: vk::MemoryRequirements,
+        location: MemoryLocation,
+        linear: bool,
+    ) -> Result<Allocation> {
         let allocation = self
             .allocator
             .lock()
-            .map_err(|_| crate::Error::NoDevice("allocator lock poisoned by an earlier panic".into()))?
+            .map_err(|_| {
+                crate::Error::NoDevice("allocator lock poisoned by an earlier panic".into())
+            })?
             .allocate(&AllocationCreateDesc {
                 name,
                 requirements,
@@ -62,14 +74,21 @@ impl Gpu {
     }
 
     /// A buffer of `size` bytes (at least 4, so empty data still binds).
-    pub fn create_buffer(&self, name: &str, size: u64, usage: vk::BufferUsageFlags, location: MemoryLocation) -> Result<Buffer> {
+    pub fn create_buffer(
+        &self,
+        name: &str,
+        size: u64,
+        usage: vk::BufferUsageFlags,
+        location: MemoryLocation,
+    ) -> Result<Buffer> {
         let size = size.max(4);
         let info = vk::BufferCreateInfo::default()
             .size(size)
             .usage(usage)
             .sharing_mode(vk::SharingMode::EXCLUSIVE);
         // SAFETY: valid device and create info.
-        let raw = unsafe { self.device.create_buffer(&info, None) }.map_err(vk_err("vkCreateBuffer"))?;
+        let raw =
+            unsafe { self.device.create_buffer(&info, None) }.map_err(vk_err("vkCreateBuffer"))?;
         let mut buffer = Buffer {
             gpu: self.clone(),
             raw,
@@ -80,8 +99,11 @@ impl Gpu {
         let requirements = unsafe { self.device.get_buffer_memory_requirements(raw) };
         let allocation = self.allocate(name, requirements, location, true)?;
         // SAFETY: the allocation satisfies the buffer's requirements and is not bound elsewhere.
-        unsafe { self.device.bind_buffer_memory(raw, allocation.memory(), allocation.offset()) }
-            .map_err(vk_err("vkBindBufferMemory"))?;
+        unsafe {
+            self.device
+                .bind_buffer_memory(raw, allocation.memory(), allocation.offset())
+        }
+        .map_err(vk_err("vkBindBufferMemory"))?;
         buffer.allocation = Some(allocation);
         Ok(buffer)
     }
@@ -89,8 +111,14 @@ impl Gpu {
     /// A host-visible buffer holding `data`. On CPU and integrated devices this is as fast as
     /// device-local memory; discrete GPUs read it over the bus, which is fine for the scene
     /// sizes this crate uploads once.
-    pub fn create_buffer_with_data(&self, name: &str, usage: vk::BufferUsageFlags, data: &[u8]) -> Result<Buffer> {
-        let mut buffer = self.create_buffer(name, data.len() as u64, usage, MemoryLocation::CpuToGpu)?;
+    pub fn create_buffer_with_data(
+        &self,
+        name: &str,
+        usage: vk::BufferUsageFlags,
+        data: &[u8],
+    ) -> Result<Buffer> {
+        let mut buffer =
+            self.create_buffer(name, data.len() as u64, usage, MemoryLocation::CpuToGpu)?;
         buffer.write(0, data)?;
         Ok(buffer)
     }
@@ -112,7 +140,11 @@ impl Gpu {
         let info = vk::ImageCreateInfo::default()
             .image_type(vk::ImageType::TYPE_2D)
             .format(format)
-            .extent(vk::Extent3D { width: extent.width, height: extent.height, depth: 1 })
+            .extent(vk::Extent3D {
+                width: extent.width,
+                height: extent.height,
+                depth: 1,
+            })
             .mip_levels(mip_levels)
             .array_layers(1)
             .samples(vk::SampleCountFlags::TYPE_1)
@@ -120,7 +152,8 @@ impl Gpu {
             .usage(usage)
             .initial_layout(vk::ImageLayout::UNDEFINED);
         // SAFETY: valid device and create info.
-        let raw = unsafe { self.device.create_image(&info, None) }.map_err(vk_err("vkCreateImage"))?;
+        let raw =
+            unsafe { self.device.create_image(&info, None) }.map_err(vk_err("vkCreateImage"))?;
         let mut image = GpuImage {
             gpu: self.clone(),
             raw,
@@ -135,8 +168,11 @@ impl Gpu {
         let requirements = unsafe { self.device.get_image_memory_requirements(raw) };
         let allocation = self.allocate(name, requirements, MemoryLocation::GpuOnly, false)?;
         // SAFETY: the allocation satisfies the image's requirements and is not bound elsewhere.
-        unsafe { self.device.bind_image_memory(raw, allocation.memory(), allocation.offset()) }
-            .map_err(vk_err("vkBindImageMemory"))?;
+        unsafe {
+            self.device
+                .bind_image_memory(raw, allocation.memory(), allocation.offset())
+        }
+        .map_err(vk_err("vkBindImageMemory"))?;
         image.allocation = Some(allocation);
         let view_info = vk::ImageViewCreateInfo::default()
             .image(raw)
@@ -165,12 +201,19 @@ impl Buffer {
             .allocation
             .as_mut()
             .and_then(|a| a.mapped_slice_mut())
-            .ok_or_else(|| crate::Error::InvalidScene("write to a buffer that is not host-visible".into()))?;
+            .ok_or_else(|| {
+                crate::Error::InvalidScene("write to a buffer that is not host-visible".into())
+            })?;
         let start = offset as usize;
         let end = start + data.len();
         mapped
             .get_mut(start..end)
-            .ok_or_else(|| crate::Error::InvalidScene(format!("write of {end} bytes past a {}-byte buffer", self.size)))?
+            .ok_or_else(|| {
+                crate::Error::InvalidScene(format!(
+                    "write of {end} bytes past a {}-byte buffer",
+                    self.size
+                ))
+            })?
             .copy_from_slice(data);
         Ok(())
     }
@@ -181,7 +224,9 @@ impl Buffer {
             .as_ref()
             .and_then(|a| a.mapped_slice())
             .map(|s| &s[..self.size as usize])
-            .ok_or_else(|| crate::Error::InvalidScene("read of a buffer that is not host-visible".into()))
+            .ok_or_else(|| {
+                crate::Error::InvalidScene("read of a buffer that is not host-visible".into())
+            })
     }
 }
 

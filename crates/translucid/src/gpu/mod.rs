@@ -24,8 +24,8 @@ mod validation;
 pub use ash::vk;
 pub use commands::{image_barrier, memory_barrier};
 pub use device::{list_devices, DeviceInfo, Gpu, GpuOptions, Shared};
-pub use memory::{Buffer, GpuImage, MemoryStats};
 pub use memory::MemoryLocation;
+pub use memory::{Buffer, GpuImage, MemoryStats};
 pub use pipeline::{
     BindingKind, Blend, ComputePipeline, DescriptorLayout, DescriptorSet, GraphicsPipeline,
     GraphicsPipelineDesc, RenderTarget, RenderTargetDesc, Resource, Sampler,

@@ -66,27 +66,46 @@ impl DescriptorLayout {
         // SAFETY: valid device and create info.
         let raw = unsafe { gpu.device.create_descriptor_set_layout(&info, None) }
             .map_err(vk_err("vkCreateDescriptorSetLayout"))?;
-        Ok(Self { gpu: gpu.clone(), raw, kinds: kinds.to_vec() })
+        Ok(Self {
+            gpu: gpu.clone(),
+            raw,
+            kinds: kinds.to_vec(),
+        })
     }
 
     /// Allocates a set and writes `resources[i]` to binding `i`.
     pub fn create_set(&self, resources: &[Resource<'_>]) -> Result<DescriptorSet> {
-        assert_eq!(resources.len(), self.kinds.len(), "one resource per binding");
+        assert_eq!(
+            resources.len(),
+            self.kinds.len(),
+            "one resource per binding"
+        );
         let sizes: Vec<_> = self
             .kinds
             .iter()
             .map(|k| {
                 let (ty, count) = k.descriptor_type();
-                vk::DescriptorPoolSize { ty, descriptor_count: count }
+                vk::DescriptorPoolSize {
+                    ty,
+                    descriptor_count: count,
+                }
             })
             .collect();
-        let pool_info = vk::DescriptorPoolCreateInfo::default().max_sets(1).pool_sizes(&sizes);
+        let pool_info = vk::DescriptorPoolCreateInfo::default()
+            .max_sets(1)
+            .pool_sizes(&sizes);
         // SAFETY: valid device and create info.
         let pool = unsafe { self.gpu.device.create_descriptor_pool(&pool_info, None) }
             .map_err(vk_err("vkCreateDescriptorPool"))?;
-        let mut set = DescriptorSet { gpu: self.gpu.clone(), pool, raw: vk::DescriptorSet::null() };
+        let mut set = DescriptorSet {
+            gpu: self.gpu.clone(),
+            pool,
+            raw: vk::DescriptorSet::null(),
+        };
         let layouts = [self.raw];
-        let alloc = vk::DescriptorSetAllocateInfo::default().descriptor_pool(pool).set_layouts(&layouts);
+        let alloc = vk::DescriptorSetAllocateInfo::default()
+            .descriptor_pool(pool)
+            .set_layouts(&layouts);
         // SAFETY: the pool has room for exactly this set.
         set.raw = unsafe { self.gpu.device.allocate_descriptor_sets(&alloc) }
             .map_err(vk_err("vkAllocateDescriptorSets"))?[0];
@@ -94,7 +113,11 @@ impl DescriptorLayout {
         let buffer_infos: Vec<Vec<vk::DescriptorBufferInfo>> = resources
             .iter()
             .map(|r| match r {
-                Resource::Buffer(b) => vec![vk::DescriptorBufferInfo { buffer: b.raw, offset: 0, range: vk::WHOLE_SIZE }],
+                Resource::Buffer(b) => vec![vk::DescriptorBufferInfo {
+                    buffer: b.raw,
+                    offset: 0,
+                    range: vk::WHOLE_SIZE,
+                }],
                 _ => Vec::new(),
             })
             .collect();
@@ -149,7 +172,11 @@ impl DescriptorLayout {
 impl Drop for DescriptorLayout {
     fn drop(&mut self) {
         // SAFETY: pipelines using the layout keep their own copy of it; no pending work.
-        unsafe { self.gpu.device.destroy_descriptor_set_layout(self.raw, None) };
+        unsafe {
+            self.gpu
+                .device
+                .destroy_descriptor_set_layout(self.raw, None)
+        };
     }
 }
 
@@ -167,14 +194,24 @@ fn shader_module(gpu: &Gpu, spirv: &[u8]) -> Result<vk::ShaderModule> {
     unsafe { gpu.device.create_shader_module(&info, None) }.map_err(vk_err("vkCreateShaderModule"))
 }
 
-fn pipeline_layout(gpu: &Gpu, sets: &[&DescriptorLayout], push_bytes: u32, stages: vk::ShaderStageFlags) -> Result<vk::PipelineLayout> {
+fn pipeline_layout(
+    gpu: &Gpu,
+    sets: &[&DescriptorLayout],
+    push_bytes: u32,
+    stages: vk::ShaderStageFlags,
+) -> Result<vk::PipelineLayout> {
     let raw_sets: Vec<_> = sets.iter().map(|s| s.raw).collect();
-    let ranges = [vk::PushConstantRange { stage_flags: stages, offset: 0, size: push_bytes }];
+    let ranges = [vk::PushConstantRange {
+        stage_flags: stages,
+        offset: 0,
+        size: push_bytes,
+    }];
     let info = vk::PipelineLayoutCreateInfo::default()
         .set_layouts(&raw_sets)
         .push_constant_ranges(if push_bytes > 0 { &ranges } else { &[] });
     // SAFETY: valid device and create info.
-    unsafe { gpu.device.create_pipeline_layout(&info, None) }.map_err(vk_err("vkCreatePipelineLayout"))
+    unsafe { gpu.device.create_pipeline_layout(&info, None) }
+        .map_err(vk_err("vkCreatePipelineLayout"))
 }
 
 /// A compute pipeline and its layout.
@@ -185,7 +222,12 @@ pub struct ComputePipeline {
 }
 
 impl ComputePipeline {
-    pub fn new(gpu: &Gpu, spirv: &[u8], sets: &[&DescriptorLayout], push_bytes: u32) -> Result<Self> {
+    pub fn new(
+        gpu: &Gpu,
+        spirv: &[u8],
+        sets: &[&DescriptorLayout],
+        push_bytes: u32,
+    ) -> Result<Self> {
         let layout = pipeline_layout(gpu, sets, push_bytes, vk::ShaderStageFlags::COMPUTE)?;
         let module = match shader_module(gpu, spirv) {
             Ok(m) => m,
@@ -199,13 +241,22 @@ impl ComputePipeline {
             .stage(vk::ShaderStageFlags::COMPUTE)
             .module(module)
             .name(c"main");
-        let info = [vk::ComputePipelineCreateInfo::default().stage(stage).layout(layout)];
+        let info = [vk::ComputePipelineCreateInfo::default()
+            .stage(stage)
+            .layout(layout)];
         // SAFETY: valid module and layout.
-        let created = unsafe { gpu.device.create_compute_pipelines(vk::PipelineCache::null(), &info, None) };
+        let created = unsafe {
+            gpu.device
+                .create_compute_pipelines(vk::PipelineCache::null(), &info, None)
+        };
         // SAFETY: the module is no longer needed once the pipeline exists (or failed).
         unsafe { gpu.device.destroy_shader_module(module, None) };
         match created {
-            Ok(p) => Ok(Self { gpu: gpu.clone(), raw: p[0], layout }),
+            Ok(p) => Ok(Self {
+                gpu: gpu.clone(),
+                raw: p[0],
+                layout,
+            }),
             Err((_, e)) => {
                 // SAFETY: unused layout.
                 unsafe { gpu.device.destroy_pipeline_layout(layout, None) };
@@ -215,13 +266,26 @@ impl ComputePipeline {
     }
 
     /// Binds the pipeline and its sets, pushes constants and dispatches.
-    pub fn dispatch(&self, cmd: vk::CommandBuffer, sets: &[vk::DescriptorSet], push: &[u8], groups: [u32; 3]) {
+    pub fn dispatch(
+        &self,
+        cmd: vk::CommandBuffer,
+        sets: &[vk::DescriptorSet],
+        push: &[u8],
+        groups: [u32; 3],
+    ) {
         // SAFETY: cmd is recording outside a render pass; sets match the layout.
         unsafe {
             let d = &self.gpu.device;
             d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.raw);
             if !sets.is_empty() {
-                d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, self.layout, 0, sets, &[]);
+                d.cmd_bind_descriptor_sets(
+                    cmd,
+                    vk::PipelineBindPoint::COMPUTE,
+                    self.layout,
+                    0,
+                    sets,
+                    &[],
+                );
             }
             if !push.is_empty() {
                 d.cmd_push_constants(cmd, self.layout, vk::ShaderStageFlags::COMPUTE, 0, push);
@@ -277,14 +341,15 @@ impl GraphicsPipeline {
     pub fn new(gpu: &Gpu, desc: &GraphicsPipelineDesc<'_>) -> Result<Self> {
         let stages_flags = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
         let layout = pipeline_layout(gpu, desc.sets, desc.push_bytes, stages_flags)?;
-        let modules = shader_module(gpu, desc.vertex).and_then(|v| match shader_module(gpu, desc.fragment) {
-            Ok(f) => Ok((v, f)),
-            Err(e) => {
-                // SAFETY: unused module.
-                unsafe { gpu.device.destroy_shader_module(v, None) };
-                Err(e)
-            }
-        });
+        let modules =
+            shader_module(gpu, desc.vertex).and_then(|v| match shader_module(gpu, desc.fragment) {
+                Ok(f) => Ok((v, f)),
+                Err(e) => {
+                    // SAFETY: unused module.
+                    unsafe { gpu.device.destroy_shader_module(v, None) };
+                    Err(e)
+                }
+            });
         let (vs, fs) = match modules {
             Ok(m) => m,
             Err(e) => {
@@ -294,8 +359,14 @@ impl GraphicsPipeline {
             }
         };
         let stages = [
-            vk::PipelineShaderStageCreateInfo::default().stage(vk::ShaderStageFlags::VERTEX).module(vs).name(c"main"),
-            vk::PipelineShaderStageCreateInfo::default().stage(vk::ShaderStageFlags::FRAGMENT).module(fs).name(c"main"),
+            vk::PipelineShaderStageCreateInfo::default()
+                .stage(vk::ShaderStageFlags::VERTEX)
+                .module(vs)
+                .name(c"main"),
+            vk::PipelineShaderStageCreateInfo::default()
+                .stage(vk::ShaderStageFlags::FRAGMENT)
+                .module(fs)
+                .name(c"main"),
         ];
         let bindings = [vk::VertexInputBindingDescription {
             binding: 0,
@@ -305,25 +376,41 @@ impl GraphicsPipeline {
         let attributes: Vec<_> = desc
             .attributes
             .iter()
-            .map(|&(location, format, offset)| vk::VertexInputAttributeDescription { location, binding: 0, format, offset })
+            .map(
+                |&(location, format, offset)| vk::VertexInputAttributeDescription {
+                    location,
+                    binding: 0,
+                    format,
+                    offset,
+                },
+            )
             .collect();
         let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
             .vertex_binding_descriptions(&bindings)
             .vertex_attribute_descriptions(&attributes);
-        let assembly = vk::PipelineInputAssemblyStateCreateInfo::default().topology(vk::PrimitiveTopology::TRIANGLE_LIST);
-        let viewport = vk::PipelineViewportStateCreateInfo::default().viewport_count(1).scissor_count(1);
+        let assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
+            .topology(vk::PrimitiveTopology::TRIANGLE_LIST);
+        let viewport = vk::PipelineViewportStateCreateInfo::default()
+            .viewport_count(1)
+            .scissor_count(1);
         let raster = vk::PipelineRasterizationStateCreateInfo::default()
             .polygon_mode(vk::PolygonMode::FILL)
-            .cull_mode(if desc.cull_back { vk::CullModeFlags::BACK } else { vk::CullModeFlags::NONE })
+            .cull_mode(if desc.cull_back {
+                vk::CullModeFlags::BACK
+            } else {
+                vk::CullModeFlags::NONE
+            })
             .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
             .line_width(1.0);
-        let multisample = vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(vk::SampleCountFlags::TYPE_1);
+        let multisample = vk::PipelineMultisampleStateCreateInfo::default()
+            .rasterization_samples(vk::SampleCountFlags::TYPE_1);
         let depth = vk::PipelineDepthStencilStateCreateInfo::default()
             .depth_test_enable(true)
             .depth_write_enable(desc.depth_write)
             .depth_compare_op(vk::CompareOp::LESS);
         let attachment = match desc.blend {
-            Blend::None => vk::PipelineColorBlendAttachmentState::default().color_write_mask(vk::ColorComponentFlags::RGBA),
+            Blend::None => vk::PipelineColorBlendAttachmentState::default()
+                .color_write_mask(vk::ColorComponentFlags::RGBA),
             Blend::PremultipliedTransmittance => vk::PipelineColorBlendAttachmentState::default()
                 .blend_enable(true)
                 .src_color_blend_factor(vk::BlendFactor::ONE)
@@ -352,14 +439,21 @@ impl GraphicsPipeline {
             .render_pass(desc.render_pass)
             .subpass(0)];
         // SAFETY: every pointee lives until the call returns.
-        let created = unsafe { gpu.device.create_graphics_pipelines(vk::PipelineCache::null(), &info, None) };
+        let created = unsafe {
+            gpu.device
+                .create_graphics_pipelines(vk::PipelineCache::null(), &info, None)
+        };
         // SAFETY: modules are not needed after pipeline creation.
         unsafe {
             gpu.device.destroy_shader_module(vs, None);
             gpu.device.destroy_shader_module(fs, None);
         }
         match created {
-            Ok(p) => Ok(Self { gpu: gpu.clone(), raw: p[0], layout }),
+            Ok(p) => Ok(Self {
+                gpu: gpu.clone(),
+                raw: p[0],
+                layout,
+            }),
             Err((_, e)) => {
                 // SAFETY: unused layout.
                 unsafe { gpu.device.destroy_pipeline_layout(layout, None) };
@@ -396,8 +490,12 @@ impl Sampler {
             .address_mode_w(vk::SamplerAddressMode::REPEAT)
             .max_lod(vk::LOD_CLAMP_NONE);
         // SAFETY: valid device and create info.
-        let raw = unsafe { gpu.device.create_sampler(&info, None) }.map_err(vk_err("vkCreateSampler"))?;
-        Ok(Self { gpu: gpu.clone(), raw })
+        let raw =
+            unsafe { gpu.device.create_sampler(&info, None) }.map_err(vk_err("vkCreateSampler"))?;
+        Ok(Self {
+            gpu: gpu.clone(),
+            raw,
+        })
     }
 }
 
@@ -429,11 +527,24 @@ pub struct RenderTargetDesc {
 }
 
 impl RenderTarget {
-    pub fn new(gpu: &Gpu, desc: &RenderTargetDesc, colour: &super::GpuImage, depth: &super::GpuImage) -> Result<Self> {
+    pub fn new(
+        gpu: &Gpu,
+        desc: &RenderTargetDesc,
+        colour: &super::GpuImage,
+        depth: &super::GpuImage,
+    ) -> Result<Self> {
         let (load, initial_c, initial_d) = if desc.clear {
-            (vk::AttachmentLoadOp::CLEAR, vk::ImageLayout::UNDEFINED, vk::ImageLayout::UNDEFINED)
+            (
+                vk::AttachmentLoadOp::CLEAR,
+                vk::ImageLayout::UNDEFINED,
+                vk::ImageLayout::UNDEFINED,
+            )
         } else {
-            (vk::AttachmentLoadOp::LOAD, desc.colour_layouts.0, desc.depth_layouts.0)
+            (
+                vk::AttachmentLoadOp::LOAD,
+                desc.colour_layouts.0,
+                desc.depth_layouts.0,
+            )
         };
         let attachments = [
             vk::AttachmentDescription::default()
@@ -447,19 +558,29 @@ impl RenderTarget {
                 .format(desc.depth_format)
                 .samples(vk::SampleCountFlags::TYPE_1)
                 .load_op(load)
-                .store_op(if desc.store_depth { vk::AttachmentStoreOp::STORE } else { vk::AttachmentStoreOp::DONT_CARE })
+                .store_op(if desc.store_depth {
+                    vk::AttachmentStoreOp::STORE
+                } else {
+                    vk::AttachmentStoreOp::DONT_CARE
+                })
                 .stencil_load_op(vk::AttachmentLoadOp::DONT_CARE)
                 .stencil_store_op(vk::AttachmentStoreOp::DONT_CARE)
                 .initial_layout(initial_d)
                 .final_layout(desc.depth_layouts.1),
         ];
-        let colour_ref = [vk::AttachmentReference { attachment: 0, layout: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL }];
+        let colour_ref = [vk::AttachmentReference {
+            attachment: 0,
+            layout: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+        }];
         let depth_layout = if desc.store_depth {
             vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL
         } else {
             vk::ImageLayout::DEPTH_STENCIL_READ_ONLY_OPTIMAL
         };
-        let depth_ref = vk::AttachmentReference { attachment: 1, layout: depth_layout };
+        let depth_ref = vk::AttachmentReference {
+            attachment: 1,
+            layout: depth_layout,
+        };
         let subpass = [vk::SubpassDescription::default()
             .pipeline_bind_point(vk::PipelineBindPoint::GRAPHICS)
             .color_attachments(&colour_ref)
@@ -490,7 +611,8 @@ impl RenderTarget {
             .subpasses(&subpass)
             .dependencies(&dependencies);
         // SAFETY: valid device; pointees live for the call.
-        let render_pass = unsafe { gpu.device.create_render_pass(&info, None) }.map_err(vk_err("vkCreateRenderPass"))?;
+        let render_pass = unsafe { gpu.device.create_render_pass(&info, None) }
+            .map_err(vk_err("vkCreateRenderPass"))?;
         let views = [colour.view, depth.view];
         let fb_info = vk::FramebufferCreateInfo::default()
             .render_pass(render_pass)
@@ -507,17 +629,34 @@ impl RenderTarget {
                 return Err(vk_err("vkCreateFramebuffer")(e));
             }
         };
-        Ok(Self { gpu: gpu.clone(), render_pass, framebuffer, extent: colour.extent })
+        Ok(Self {
+            gpu: gpu.clone(),
+            render_pass,
+            framebuffer,
+            extent: colour.extent,
+        })
     }
 
     /// Begins the pass (clearing to `clear_colour` and depth 1 when it clears) and sets the
     /// full-target viewport and scissor.
     pub fn begin(&self, cmd: vk::CommandBuffer, clear_colour: [f32; 4]) {
         let clears = [
-            vk::ClearValue { color: vk::ClearColorValue { float32: clear_colour } },
-            vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 } },
+            vk::ClearValue {
+                color: vk::ClearColorValue {
+                    float32: clear_colour,
+                },
+            },
+            vk::ClearValue {
+                depth_stencil: vk::ClearDepthStencilValue {
+                    depth: 1.0,
+                    stencil: 0,
+                },
+            },
         ];
-        let area = vk::Rect2D { offset: vk::Offset2D::default(), extent: self.extent };
+        let area = vk::Rect2D {
+            offset: vk::Offset2D::default(),
+            extent: self.extent,
+        };
         let begin = vk::RenderPassBeginInfo::default()
             .render_pass(self.render_pass)
             .framebuffer(self.framebuffer)

@@ -20,15 +20,25 @@ impl Timestamps {
             .query_type(vk::QueryType::TIMESTAMP)
             .query_count(capacity);
         // SAFETY: valid device and create info.
-        let pool = unsafe { gpu.device.create_query_pool(&info, None) }.map_err(vk_err("vkCreateQueryPool"))?;
-        Ok(Self { gpu: gpu.clone(), pool, capacity, names: Vec::new() })
+        let pool = unsafe { gpu.device.create_query_pool(&info, None) }
+            .map_err(vk_err("vkCreateQueryPool"))?;
+        Ok(Self {
+            gpu: gpu.clone(),
+            pool,
+            capacity,
+            names: Vec::new(),
+        })
     }
 
     /// Resets the pool and writes the starting timestamp.
     pub fn begin(&mut self, cmd: vk::CommandBuffer) {
         self.names.clear();
         // SAFETY: cmd is recording, outside a render pass; the range is within the pool.
-        unsafe { self.gpu.device.cmd_reset_query_pool(cmd, self.pool, 0, self.capacity) };
+        unsafe {
+            self.gpu
+                .device
+                .cmd_reset_query_pool(cmd, self.pool, 0, self.capacity)
+        };
         self.write(cmd, "");
     }
 
@@ -45,9 +55,12 @@ impl Timestamps {
         }
         // SAFETY: cmd is recording; the query was reset in begin().
         unsafe {
-            self.gpu
-                .device
-                .cmd_write_timestamp(cmd, vk::PipelineStageFlags::ALL_COMMANDS, self.pool, index)
+            self.gpu.device.cmd_write_timestamp(
+                cmd,
+                vk::PipelineStageFlags::ALL_COMMANDS,
+                self.pool,
+                index,
+            )
         };
         self.names.push(name);
     }
@@ -71,7 +84,12 @@ impl Timestamps {
         .map_err(vk_err("vkGetQueryPoolResults"))?;
         let ms_per_tick = self.gpu.info().timestamp_period_ns as f64 * 1e-6;
         Ok((1..n)
-            .map(|i| (self.names[i], ticks[i].saturating_sub(ticks[i - 1]) as f64 * ms_per_tick))
+            .map(|i| {
+                (
+                    self.names[i],
+                    ticks[i].saturating_sub(ticks[i - 1]) as f64 * ms_per_tick,
+                )
+            })
             .collect())
     }
 }

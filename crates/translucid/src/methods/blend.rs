@@ -5,7 +5,9 @@
 
 use super::{Method, RecordContext};
 use crate::gpu::{vk, Gpu, GraphicsPipeline, GraphicsPipelineDesc, RenderTarget, RenderTargetDesc};
-use crate::renderer::{FrameTargets, GpuScene, COLOUR_FORMAT, DEPTH_FORMAT, VERTEX_ATTRIBUTES, VERTEX_STRIDE};
+use crate::renderer::{
+    FrameTargets, GpuScene, COLOUR_FORMAT, DEPTH_FORMAT, VERTEX_ATTRIBUTES, VERTEX_STRIDE,
+};
 use crate::{Error, Result};
 
 pub struct Blend {
@@ -29,7 +31,10 @@ impl Blend {
                 depth_format: DEPTH_FORMAT,
                 clear: false,
                 store_depth: false,
-                colour_layouts: (vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL, vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL),
+                colour_layouts: (
+                    vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+                    vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+                ),
                 depth_layouts: (
                     vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
                     vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
@@ -67,8 +72,12 @@ impl Method for Blend {
 
     fn record(&mut self, ctx: &mut RecordContext<'_>) -> Result<()> {
         self.target.begin(ctx.cmd, [0.0; 4]);
-        ctx.scene
-            .draw(ctx.gpu, ctx.cmd, &ctx.scene.transparent_calls, (&self.pipelines.0, &self.pipelines.1));
+        ctx.scene.draw(
+            ctx.gpu,
+            ctx.cmd,
+            &ctx.scene.transparent_calls,
+            (&self.pipelines.0, &self.pipelines.1),
+        );
         self.target.end(ctx.cmd);
         ctx.timestamps.mark(ctx.cmd, "blend");
         Ok(())

@@ -31,7 +31,12 @@ pub trait Method {
 }
 
 /// Creates the method called `name` for `scene` and `targets`.
-pub fn create(name: &str, gpu: &Gpu, scene: &GpuScene, targets: &FrameTargets) -> Result<Box<dyn Method>> {
+pub fn create(
+    name: &str,
+    gpu: &Gpu,
+    scene: &GpuScene,
+    targets: &FrameTargets,
+) -> Result<Box<dyn Method>> {
     match name {
         "blend" => Ok(Box::new(blend::Blend::new(gpu, scene, targets)?)),
         other => Err(Error::UnknownMethod(other.to_string(), NAMES.join(", "))),

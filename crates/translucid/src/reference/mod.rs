@@ -1,1 +1,218 @@
-//! CPU exact renderer (filled in by the reference work).
+//! The CPU exact renderer: the definition of the right answer that every GPU method is
+//! measured against (see DESIGN.md, "What exact means").
+//!
+//! Per pixel: every transparent triangle covering the pixel centre under the rules of
+//! [`crate::raster`] (back faces culled for single-sided materials), with depth-buffer value
+//! below the opaque depth there, is shaded with [`crate::shading::shade_transparent`]; the
+//! fragments are sorted by view depth, ties broken by (draw index, quad index, triangle index
+//! within the quad), and composited front to back over the opaque colour.
+//!
+//! For speed: vertices are transformed once per draw, triangles are set up and binned to
+//! 32×32 tiles in parallel, and tiles render in parallel, each with its own fragment list.
+
+#![deny(unsafe_code)]
+
+mod prepare;
+mod shade;
+
+#[cfg(test)]
+mod tests;
+
+use crate::image::{Image, OpaqueLayer};
+use crate::raster::{PixelRect, MAX_VIEWPORT};
+use crate::scene::Scene;
+use crate::shading::{composite_front_to_back, Fragment};
+use glam::Vec3;
+use prepare::{DrawData, PrimRef};
+use rayon::prelude::*;
+use shade::TriangleShader;
+use std::cmp::Ordering;
+
+/// Renders the scene's transparent layer over `opaque`, at the opaque layer's size.
+pub fn render(scene: &Scene, opaque: &OpaqueLayer) -> crate::Result<Image> {
+    scene.validate()?;
+    let (width, height) = (opaque.width, opaque.height);
+    check_viewport(width, height)?;
+    let n = width as usize * height as usize;
+    if opaque.colour.len() != n || opaque.depth.len() != n {
+        return Err(crate::Error::InvalidViewport {
+            width,
+            height,
+            reason: "opaque layer colour or depth has the wrong number of pixels".into(),
+        });
+    }
+    check_order_keys(scene)?;
+
+    let view_projection = scene.camera.view_projection(width as f32 / height as f32);
+    let draws: Vec<DrawData<'_>> = scene
+        .transparent
+        .par_iter()
+        .map(|d| DrawData::new(scene, d, &view_projection))
+        .collect();
+    let bins = prepare::bin(scene, &draws, width, height);
+    let ctx = TileContext {
+        scene,
+        draws: &draws,
+        opaque,
+    };
+    let tiles: Vec<Vec<Vec3>> = bins
+        .tiles
+        .par_iter()
+        .zip(&bins.prims)
+        .map_init(Scratch::default, |scratch, (rect, prims)| {
+            ctx.render_tile(*rect, prims, scratch)
+        })
+        .collect();
+
+    let mut image = Image::filled(width, height, glam::Vec4::ONE);
+    for (rect, colours) in bins.tiles.iter().zip(tiles) {
+        let mut c = colours.into_iter();
+        for y in rect.y0..rect.y1 {
+            for x in rect.x0..rect.x1 {
+                let colour = c.next().unwrap_or(Vec3::ZERO);
+                image.set(x, y, colour.extend(1.0));
+            }
+        }
+    }
+    Ok(image)
+}
+
+fn check_viewport(width: u32, height: u32) -> crate::Result<()> {
+    let reason = if width == 0 || height == 0 {
+        "zero size"
+    } else if width > MAX_VIEWPORT || height > MAX_VIEWPORT {
+        "larger than the rasterizer supports"
+    } else {
+        return Ok(());
+    };
+    Err(crate::Error::InvalidViewport {
+        width,
+        height,
+        reason: reason.into(),
+    })
+}
+
+/// Order keys are `(draw: u32, quad: u32, sub)`; say so rather than wrap.
+fn check_order_keys(scene: &Scene) -> crate::Result<()> {
+    let too_many = u32::try_from(scene.transparent.len()).is_err()
+        || scene
+            .meshes
+            .iter()
+            .any(|m| u32::try_from(m.quads.len()).is_err());
+    if too_many {
+        return Err(crate::Error::InvalidScene(
+            "more than 2^32 transparent draws or quads in one mesh".into(),
+        ));
+    }
+    Ok(())
+}
+
+/// A fragment waiting to be sorted into its pixel's list.
+#[derive(Clone, Copy)]
+struct Record {
+    /// Pixel index within the tile.
+    pixel: u32,
+    view_depth: f32,
+    prim: PrimRef,
+    fragment: Fragment,
+}
+
+impl Record {
+    /// Front to back; equal depths in submission order.
+    fn order(&self, other: &Self) -> Ordering {
+        self.view_depth
+            .total_cmp(&other.view_depth)
+            .then(self.prim.cmp(&other.prim))
+    }
+}
+
+/// Per-thread buffers, reused from tile to tile.
+#[derive(Default)]
+struct Scratch {
+    /// Fragments in rasterization order.
+    frags: Vec<Record>,
+    /// The same, grouped by pixel (a counting sort), then sorted within each pixel.
+    by_pixel: Vec<Record>,
+    /// Start of each pixel's group in `by_pixel`, plus the end.
+    starts: Vec<usize>,
+}
+
+impl Scratch {
+    /// Groups `frags` by pixel and sorts each group: far cheaper than one big sort.
+    fn sort(&mut self, pixels: usize) {
+        self.starts.clear();
+        self.starts.resize(pixels + 1, 0);
+        for r in &self.frags {
+            self.starts[r.pixel as usize + 1] += 1;
+        }
+        for i in 0..pixels {
+            self.starts[i + 1] += self.starts[i];
+        }
+        let mut next = self.starts.clone();
+        self.by_pixel.clear();
+        self.by_pixel.extend_from_slice(&self.frags);
+        for r in &self.frags {
+            let slot = &mut next[r.pixel as usize];
+            self.by_pixel[*slot] = *r;
+            *slot += 1;
+        }
+        for i in 0..pixels {
+            self.by_pixel[self.starts[i]..self.starts[i + 1]].sort_unstable_by(Record::order);
+        }
+    }
+
+    fn pixel(&self, i: usize) -> impl Iterator<Item = Fragment> + '_ {
+        self.by_pixel[self.starts[i]..self.starts[i + 1]]
+            .iter()
+            .map(|r| r.fragment)
+    }
+}
+
+struct TileContext<'a, 's> {
+    scene: &'s Scene,
+    draws: &'a [DrawData<'s>],
+    opaque: &'a OpaqueLayer,
+}
+
+impl TileContext<'_, '_> {
+    /// Final colours of the tile's pixels, row by row.
+    fn render_tile(&self, rect: PixelRect, prims: &[PrimRef], scratch: &mut Scratch) -> Vec<Vec3> {
+        let (width, height) = (self.opaque.width, self.opaque.height);
+        let tile_width = rect.x1 - rect.x0;
+        let frags = &mut scratch.frags;
+        frags.clear();
+        for &prim in prims {
+            let data = &self.draws[prim.draw as usize];
+            let Some(vertices) = data.triangle(prim.quad, prim.sub) else {
+                continue;
+            };
+            let Some(tri) = data.setup(self.scene, vertices, width, height) else {
+                continue;
+            };
+            let shader = TriangleShader::new(self.scene, data, vertices);
+            tri.rasterize(rect, |x, y, s| {
+                let i = y as usize * width as usize + x as usize;
+                if s.z_ndc < self.opaque.depth[i] {
+                    frags.push(Record {
+                        pixel: (y - rect.y0) * tile_width + (x - rect.x0),
+                        view_depth: s.view_depth,
+                        prim,
+                        fragment: shader.shade(&tri, x, y, &s),
+                    });
+                }
+            });
+        }
+        let pixels = (tile_width * (rect.y1 - rect.y0)) as usize;
+        scratch.sort(pixels);
+
+        let mut out = Vec::with_capacity(pixels);
+        for y in rect.y0..rect.y1 {
+            for x in rect.x0..rect.x1 {
+                let pixel = ((y - rect.y0) * tile_width + (x - rect.x0)) as usize;
+                let opaque = self.opaque.colour[y as usize * width as usize + x as usize];
+                out.push(composite_front_to_back(scratch.pixel(pixel), opaque));
+            }
+        }
+        out
+    }
+}

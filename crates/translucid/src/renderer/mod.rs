@@ -15,7 +15,9 @@
 mod targets;
 mod upload;
 
-pub use targets::{FrameTargets, Readback, COLOUR_FORMAT, DEPTH_FORMAT, VERTEX_ATTRIBUTES, VERTEX_STRIDE};
+pub use targets::{
+    FrameTargets, Readback, COLOUR_FORMAT, DEPTH_FORMAT, VERTEX_ATTRIBUTES, VERTEX_STRIDE,
+};
 pub use upload::{DrawCall, GpuScene, MeshRange};
 
 use crate::gpu::{Gpu, Timestamps};
@@ -65,7 +67,13 @@ pub struct Renderer {
 
 /// Checks a viewport against the device's limits.
 pub fn check_viewport(gpu: &Gpu, width: u32, height: u32) -> Result<()> {
-    let bad = |reason: String| Err(Error::InvalidViewport { width, height, reason });
+    let bad = |reason: String| {
+        Err(Error::InvalidViewport {
+            width,
+            height,
+            reason,
+        })
+    };
     let max = gpu.info().max_image_dimension_2d;
     if width == 0 || height == 0 {
         return bad("width and height must be at least 1".into());
@@ -80,7 +88,10 @@ impl Renderer {
     pub fn new(gpu: &Gpu, scene: &Scene, method: &str, width: u32, height: u32) -> Result<Self> {
         check_viewport(gpu, width, height)?;
         if !methods::NAMES.contains(&method) {
-            return Err(Error::UnknownMethod(method.to_string(), methods::NAMES.join(", ")));
+            return Err(Error::UnknownMethod(
+                method.to_string(),
+                methods::NAMES.join(", "),
+            ));
         }
         let uploaded = GpuScene::new(gpu, scene, width, height)?;
         let targets = FrameTargets::new(gpu, width, height)?;
@@ -110,10 +121,15 @@ impl Renderer {
     pub fn render(&mut self, with_opaque: bool) -> Result<Frame> {
         self.gpu.reset_peak_memory();
         let gpu = self.gpu.clone();
-        let opaque_readback = if with_opaque { Some(Readback::new(&gpu, &self.targets)?) } else { None };
+        let opaque_readback = if with_opaque {
+            Some(Readback::new(&gpu, &self.targets)?)
+        } else {
+            None
+        };
         gpu.submit_and_wait(|cmd| {
             self.timestamps.begin(cmd);
-            self.opaque_pass.record(&gpu, cmd, &self.scene, self.background);
+            self.opaque_pass
+                .record(&gpu, cmd, &self.scene, self.background);
             self.timestamps.mark(cmd, "opaque");
             if let Some(r) = &opaque_readback {
                 r.record(&gpu, cmd, &self.targets, true);
@@ -131,7 +147,10 @@ impl Renderer {
             Ok(())
         })?;
         let stages = self.timestamps.read()?;
-        let opaque = opaque_readback.as_ref().map(Readback::opaque_layer).transpose()?;
+        let opaque = opaque_readback
+            .as_ref()
+            .map(Readback::opaque_layer)
+            .transpose()?;
         Ok(Frame {
             image: self.readback.colour()?,
             opaque,

@@ -2,8 +2,8 @@
 
 use super::upload::GpuScene;
 use crate::gpu::{
-    image_barrier, vk, Blend, Buffer, Gpu, GpuImage, GraphicsPipeline, GraphicsPipelineDesc, MemoryLocation,
-    RenderTarget, RenderTargetDesc,
+    image_barrier, vk, Blend, Buffer, Gpu, GpuImage, GraphicsPipeline, GraphicsPipelineDesc,
+    MemoryLocation, RenderTarget, RenderTargetDesc,
 };
 use crate::image::{Image, OpaqueLayer};
 use crate::shader_types::GpuVertex;
@@ -49,10 +49,16 @@ impl FrameTargets {
             "frame depth",
             extent,
             DEPTH_FORMAT,
-            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC | vk::ImageUsageFlags::SAMPLED,
+            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT
+                | vk::ImageUsageFlags::TRANSFER_SRC
+                | vk::ImageUsageFlags::SAMPLED,
             1,
         )?;
-        Ok(Self { colour, depth, extent })
+        Ok(Self {
+            colour,
+            depth,
+            extent,
+        })
     }
 
     pub fn pixel_count(&self) -> u64 {
@@ -75,8 +81,14 @@ impl OpaquePass {
                 depth_format: DEPTH_FORMAT,
                 clear: true,
                 store_depth: true,
-                colour_layouts: (vk::ImageLayout::UNDEFINED, vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL),
-                depth_layouts: (vk::ImageLayout::UNDEFINED, vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL),
+                colour_layouts: (
+                    vk::ImageLayout::UNDEFINED,
+                    vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+                ),
+                depth_layouts: (
+                    vk::ImageLayout::UNDEFINED,
+                    vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+                ),
             },
             &targets.colour,
             &targets.depth,
@@ -104,7 +116,12 @@ impl OpaquePass {
 
     pub fn record(&self, gpu: &Gpu, cmd: vk::CommandBuffer, scene: &GpuScene, background: Vec3) {
         self.target.begin(cmd, background.extend(1.0).to_array());
-        scene.draw(gpu, cmd, &scene.opaque_calls, (&self.pipelines.0, &self.pipelines.1));
+        scene.draw(
+            gpu,
+            cmd,
+            &scene.opaque_calls,
+            (&self.pipelines.0, &self.pipelines.1),
+        );
         self.target.end(cmd);
     }
 }
@@ -121,33 +138,79 @@ impl Readback {
         let pixels = targets.pixel_count();
         let dst = vk::BufferUsageFlags::TRANSFER_DST;
         Ok(Self {
-            colour: gpu.create_buffer("readback colour", pixels * 8, dst, MemoryLocation::GpuToCpu)?,
-            depth: gpu.create_buffer("readback depth", pixels * 4, dst, MemoryLocation::GpuToCpu)?,
+            colour: gpu.create_buffer(
+                "readback colour",
+                pixels * 8,
+                dst,
+                MemoryLocation::GpuToCpu,
+            )?,
+            depth: gpu.create_buffer(
+                "readback depth",
+                pixels * 4,
+                dst,
+                MemoryLocation::GpuToCpu,
+            )?,
             extent: targets.extent,
         })
     }
 
     /// Records copies of colour (and depth when `with_depth`) into the readback buffers,
     /// returning the targets to their between-pass layouts.
-    pub fn record(&self, gpu: &Gpu, cmd: vk::CommandBuffer, targets: &FrameTargets, with_depth: bool) {
+    pub fn record(
+        &self,
+        gpu: &Gpu,
+        cmd: vk::CommandBuffer,
+        targets: &FrameTargets,
+        with_depth: bool,
+    ) {
         let attachment_write = (
             vk::PipelineStageFlags::ALL_COMMANDS,
             vk::AccessFlags::MEMORY_WRITE | vk::AccessFlags::MEMORY_READ,
         );
-        let transfer_read = (vk::PipelineStageFlags::TRANSFER, vk::AccessFlags::TRANSFER_READ);
-        let mut images = vec![(&targets.colour, &self.colour, vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)];
+        let transfer_read = (
+            vk::PipelineStageFlags::TRANSFER,
+            vk::AccessFlags::TRANSFER_READ,
+        );
+        let mut images = vec![(
+            &targets.colour,
+            &self.colour,
+            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+        )];
         if with_depth {
-            images.push((&targets.depth, &self.depth, vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL));
+            images.push((
+                &targets.depth,
+                &self.depth,
+                vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+            ));
         }
         for (image, buffer, layout) in images {
-            image_barrier(gpu, cmd, image, layout, vk::ImageLayout::TRANSFER_SRC_OPTIMAL, attachment_write, transfer_read);
+            image_barrier(
+                gpu,
+                cmd,
+                image,
+                layout,
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                attachment_write,
+                transfer_read,
+            );
             gpu.cmd_copy_image_to_buffer(cmd, image, buffer);
-            image_barrier(gpu, cmd, image, vk::ImageLayout::TRANSFER_SRC_OPTIMAL, layout, transfer_read, attachment_write);
+            image_barrier(
+                gpu,
+                cmd,
+                image,
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                layout,
+                transfer_read,
+                attachment_write,
+            );
         }
         crate::gpu::memory_barrier(
             gpu,
             cmd,
-            (vk::PipelineStageFlags::TRANSFER, vk::AccessFlags::TRANSFER_WRITE),
+            (
+                vk::PipelineStageFlags::TRANSFER,
+                vk::AccessFlags::TRANSFER_WRITE,
+            ),
             (vk::PipelineStageFlags::HOST, vk::AccessFlags::HOST_READ),
         );
     }
@@ -162,7 +225,11 @@ impl Readback {
                 Vec4::new(c(0), c(1), c(2), 1.0)
             })
             .collect();
-        Ok(Image { width: self.extent.width, height: self.extent.height, pixels })
+        Ok(Image {
+            width: self.extent.width,
+            height: self.extent.height,
+            pixels,
+        })
     }
 
     /// The colour and depth copies as an opaque layer.

@@ -1,7 +1,9 @@
 //! The scene on the GPU: vertices, triangle indices, draws, materials, textures, and the
 //! descriptor set every mesh pipeline binds as set 0.
 
-use crate::gpu::{vk, BindingKind, Buffer, DescriptorLayout, DescriptorSet, Gpu, GpuImage, Resource, Sampler};
+use crate::gpu::{
+    vk, BindingKind, Buffer, DescriptorLayout, DescriptorSet, Gpu, GpuImage, Resource, Sampler,
+};
 use crate::scene::{Mesh, Scene, Texture};
 use crate::shader_types::{GpuDrawInfo, GpuFrameInfo, GpuMaterial, GpuVertex};
 use crate::Result;
@@ -47,7 +49,11 @@ pub struct GpuScene {
 fn vertices_of(mesh: &Mesh) -> impl Iterator<Item = GpuVertex> + '_ {
     (0..mesh.positions.len()).map(move |i| GpuVertex {
         position: mesh.positions[i].to_array(),
-        normal: mesh.normals.as_ref().map_or(Vec3::ZERO, |n| n[i]).to_array(),
+        normal: mesh
+            .normals
+            .as_ref()
+            .map_or(Vec3::ZERO, |n| n[i])
+            .to_array(),
         uv: mesh.uvs.as_ref().map_or(Vec2::ZERO, |u| u[i]).to_array(),
         colour: mesh.colours.as_ref().map_or(Vec4::ONE, |c| c[i]).to_array(),
     })
@@ -69,7 +75,11 @@ impl GpuScene {
             for &q in &mesh.quads {
                 indices.extend(Mesh::quad_triangles(q).into_iter().flatten().flatten());
             }
-            ranges.push(MeshRange { first_index, index_count: indices.len() as u32 - first_index, vertex_offset });
+            ranges.push(MeshRange {
+                first_index,
+                index_count: indices.len() as u32 - first_index,
+                vertex_offset,
+            });
             first_quads.push(quad_total);
             quad_total += mesh.quads.len() as u32;
         }
@@ -85,7 +95,9 @@ impl GpuScene {
                 draw_index: i as u32,
                 range: ranges[d.mesh],
                 cull_back: !scene.materials[d.material].double_sided,
-                texture_set: scene.materials[d.material].texture.unwrap_or(scene.textures.len()),
+                texture_set: scene.materials[d.material]
+                    .texture
+                    .unwrap_or(scene.textures.len()),
             })
             .collect();
         let (opaque_calls, transparent_calls) = calls.split_at(scene.opaque.len());
@@ -102,10 +114,20 @@ impl GpuScene {
             vk::BufferUsageFlags::INDEX_BUFFER | storage,
             bytemuck::cast_slice(&indices),
         )?;
-        let draws = gpu.create_buffer_with_data("scene draws", storage, bytemuck::cast_slice(&draw_infos))?;
-        let materials = gpu.create_buffer_with_data("scene materials", storage, bytemuck::cast_slice(&materials))?;
+        let draws =
+            gpu.create_buffer_with_data("scene draws", storage, bytemuck::cast_slice(&draw_infos))?;
+        let materials = gpu.create_buffer_with_data(
+            "scene materials",
+            storage,
+            bytemuck::cast_slice(&materials),
+        )?;
         let aspect = width as f32 / height as f32;
-        let frame_info = GpuFrameInfo::new(scene.camera.view_projection(aspect), &scene.light, width, height);
+        let frame_info = GpuFrameInfo::new(
+            scene.camera.view_projection(aspect),
+            &scene.light,
+            width,
+            height,
+        );
         let frame = gpu.create_buffer_with_data(
             "frame info",
             vk::BufferUsageFlags::UNIFORM_BUFFER,
@@ -115,10 +137,16 @@ impl GpuScene {
         let white = Texture::new("white", 1, 1, vec![[255; 4]], false);
         let textures = upload_textures(gpu, scene.textures.iter().chain(std::iter::once(&white)))?;
         let sampler = Sampler::trilinear_repeat(gpu)?;
-        let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT | vk::ShaderStageFlags::COMPUTE;
+        let stages = vk::ShaderStageFlags::VERTEX
+            | vk::ShaderStageFlags::FRAGMENT
+            | vk::ShaderStageFlags::COMPUTE;
         let layout = DescriptorLayout::new(
             gpu,
-            &[BindingKind::UniformBuffer, BindingKind::StorageBuffer, BindingKind::StorageBuffer],
+            &[
+                BindingKind::UniformBuffer,
+                BindingKind::StorageBuffer,
+                BindingKind::StorageBuffer,
+            ],
             stages,
         )?;
         let set = layout.create_set(&[
@@ -150,7 +178,13 @@ impl GpuScene {
 
     /// Binds vertex and index buffers and issues `calls` with `pipelines.0` (back faces
     /// kept) or `pipelines.1` (back faces culled).
-    pub fn draw(&self, gpu: &Gpu, cmd: vk::CommandBuffer, calls: &[DrawCall], pipelines: (&crate::gpu::GraphicsPipeline, &crate::gpu::GraphicsPipeline)) {
+    pub fn draw(
+        &self,
+        gpu: &Gpu,
+        cmd: vk::CommandBuffer,
+        calls: &[DrawCall],
+        pipelines: (&crate::gpu::GraphicsPipeline, &crate::gpu::GraphicsPipeline),
+    ) {
         // SAFETY: cmd is recording inside a render pass compatible with both pipelines, whose
         // layouts take this scene's sets 0 and 1 and a 4-byte push constant.
         unsafe {
@@ -160,16 +194,34 @@ impl GpuScene {
             let mut bound: Option<bool> = None;
             let mut bound_texture: Option<usize> = None;
             for call in calls {
-                let pipeline = if call.cull_back { pipelines.1 } else { pipelines.0 };
+                let pipeline = if call.cull_back {
+                    pipelines.1
+                } else {
+                    pipelines.0
+                };
                 if bound != Some(call.cull_back) {
                     d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.raw);
-                    d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.layout, 0, &[self.set.raw], &[]);
+                    d.cmd_bind_descriptor_sets(
+                        cmd,
+                        vk::PipelineBindPoint::GRAPHICS,
+                        pipeline.layout,
+                        0,
+                        &[self.set.raw],
+                        &[],
+                    );
                     bound = Some(call.cull_back);
                     bound_texture = None;
                 }
                 if bound_texture != Some(call.texture_set) {
                     let set = self.texture_sets[call.texture_set].raw;
-                    d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.layout, 1, &[set], &[]);
+                    d.cmd_bind_descriptor_sets(
+                        cmd,
+                        vk::PipelineBindPoint::GRAPHICS,
+                        pipeline.layout,
+                        1,
+                        &[set],
+                        &[],
+                    );
                     bound_texture = Some(call.texture_set);
                 }
                 d.cmd_push_constants(
@@ -180,7 +232,14 @@ impl GpuScene {
                     &call.draw_index.to_ne_bytes(),
                 );
                 if call.range.index_count > 0 {
-                    d.cmd_draw_indexed(cmd, call.range.index_count, 1, call.range.first_index, call.range.vertex_offset, 0);
+                    d.cmd_draw_indexed(
+                        cmd,
+                        call.range.index_count,
+                        1,
+                        call.range.first_index,
+                        call.range.vertex_offset,
+                        0,
+                    );
                 }
             }
         }
@@ -188,27 +247,59 @@ impl GpuScene {
 }
 
 /// Uploads textures (all mips) and leaves them in SHADER_READ_ONLY_OPTIMAL.
-fn upload_textures<'a>(gpu: &Gpu, textures: impl Iterator<Item = &'a Texture>) -> Result<Vec<GpuImage>> {
+fn upload_textures<'a>(
+    gpu: &Gpu,
+    textures: impl Iterator<Item = &'a Texture>,
+) -> Result<Vec<GpuImage>> {
     let mut images = Vec::new();
     let mut staging = Vec::new();
     for t in textures {
-        let format = if t.srgb { vk::Format::R8G8B8A8_SRGB } else { vk::Format::R8G8B8A8_UNORM };
+        let format = if t.srgb {
+            vk::Format::R8G8B8A8_SRGB
+        } else {
+            vk::Format::R8G8B8A8_UNORM
+        };
         let image = gpu.create_image(
             &t.name,
-            vk::Extent2D { width: t.width(), height: t.height() },
+            vk::Extent2D {
+                width: t.width(),
+                height: t.height(),
+            },
             format,
             vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST,
             t.levels.len() as u32,
         )?;
-        let bytes: Vec<u8> = t.levels.iter().flat_map(|l| l.texels.iter().flatten().copied()).collect();
-        staging.push(gpu.create_buffer_with_data("texture staging", vk::BufferUsageFlags::TRANSFER_SRC, &bytes)?);
+        let bytes: Vec<u8> = t
+            .levels
+            .iter()
+            .flat_map(|l| l.texels.iter().flatten().copied())
+            .collect();
+        staging.push(gpu.create_buffer_with_data(
+            "texture staging",
+            vk::BufferUsageFlags::TRANSFER_SRC,
+            &bytes,
+        )?);
         images.push(image);
     }
     gpu.submit_and_wait(|cmd| {
         for (image, buffer) in images.iter().zip(&staging) {
-            let top = (vk::PipelineStageFlags::TOP_OF_PIPE, vk::AccessFlags::empty());
-            let transfer = (vk::PipelineStageFlags::TRANSFER, vk::AccessFlags::TRANSFER_WRITE);
-            crate::gpu::image_barrier(gpu, cmd, image, vk::ImageLayout::UNDEFINED, vk::ImageLayout::TRANSFER_DST_OPTIMAL, top, transfer);
+            let top = (
+                vk::PipelineStageFlags::TOP_OF_PIPE,
+                vk::AccessFlags::empty(),
+            );
+            let transfer = (
+                vk::PipelineStageFlags::TRANSFER,
+                vk::AccessFlags::TRANSFER_WRITE,
+            );
+            crate::gpu::image_barrier(
+                gpu,
+                cmd,
+                image,
+                vk::ImageLayout::UNDEFINED,
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                top,
+                transfer,
+            );
             let mut offset = 0u64;
             let mut regions = Vec::new();
             for level in 0..image.mip_levels {
@@ -223,13 +314,23 @@ fn upload_textures<'a>(gpu: &Gpu, textures: impl Iterator<Item = &'a Texture>) -
                             base_array_layer: 0,
                             layer_count: 1,
                         })
-                        .image_extent(vk::Extent3D { width: w, height: h, depth: 1 }),
+                        .image_extent(vk::Extent3D {
+                            width: w,
+                            height: h,
+                            depth: 1,
+                        }),
                 );
                 offset += u64::from(w * h * 4);
             }
             // SAFETY: the image is in TRANSFER_DST_OPTIMAL and the buffer holds every level.
             unsafe {
-                gpu.device.cmd_copy_buffer_to_image(cmd, buffer.raw, image.raw, vk::ImageLayout::TRANSFER_DST_OPTIMAL, &regions)
+                gpu.device.cmd_copy_buffer_to_image(
+                    cmd,
+                    buffer.raw,
+                    image.raw,
+                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                    &regions,
+                )
             };
             let read = (
                 vk::PipelineStageFlags::FRAGMENT_SHADER | vk::PipelineStageFlags::COMPUTE_SHADER,

@@ -233,6 +233,9 @@ mod tests {
         assert!(m.validate().expect_err("invalid mesh").contains("vertex 3"));
         m.quads = vec![[0, 1, 2, 2]];
         m.positions[1].x = f32::NAN;
-        assert!(m.validate().expect_err("invalid mesh").contains("not finite"));
+        assert!(m
+            .validate()
+            .expect_err("invalid mesh")
+            .contains("not finite"));
     }
 }

@@ -1,0 +1,125 @@
+use super::open_gpu;
+use crate::Size;
+use indicatif::{ProgressBar, ProgressStyle};
+use std::collections::BTreeMap;
+use translucid::renderer::Renderer;
+
+/// Median of the values (upper median for an even count).
+fn median(mut v: Vec<f64>) -> f64 {
+    if v.is_empty() {
+        return 0.0;
+    }
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+struct Result {
+    scene: String,
+    method: String,
+    frames: u32,
+    total_ms: f64,
+    method_ms: f64,
+    stages: Vec<(&'static str, f64)>,
+    peak_gpu_bytes: u64,
+}
+
+pub fn run(
+    scenes: &[String],
+    methods: &[String],
+    size: Size,
+    frames: u32,
+    json: bool,
+) -> translucid::Result<()> {
+    let frames = frames.max(1);
+    let gpu = open_gpu()?;
+    // blend is always measured: every ratio is against it, from this same run.
+    let mut order: Vec<&str> = vec!["blend"];
+    order.extend(methods.iter().map(String::as_str).filter(|m| *m != "blend"));
+    let warmup = 2;
+    let bar = ProgressBar::new(u64::from(frames + warmup) * (scenes.len() * order.len()) as u64);
+    bar.set_style(
+        ProgressStyle::with_template("{bar:40} {pos}/{len} frames  {msg}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    let mut results = Vec::new();
+    for spec in scenes {
+        let scene = translucid::scene::load(spec)?;
+        for method in &order {
+            bar.set_message(format!("{spec} / {method}"));
+            let mut renderer = Renderer::new(&gpu, &scene, method, size.width, size.height)?;
+            // Lavapipe compiles pipelines on first use: warm up before timing.
+            for _ in 0..warmup {
+                renderer.render(false)?;
+                bar.inc(1);
+            }
+            let mut per_stage: BTreeMap<&'static str, Vec<f64>> = BTreeMap::new();
+            let mut stage_order = Vec::new();
+            let (mut totals, mut method_totals, mut peak) = (Vec::new(), Vec::new(), 0);
+            for _ in 0..frames {
+                let frame = renderer.render(false)?;
+                for (name, ms) in &frame.stages {
+                    if !stage_order.contains(name) {
+                        stage_order.push(*name);
+                    }
+                    per_stage.entry(name).or_default().push(*ms);
+                }
+                totals.push(frame.stages.iter().map(|(_, ms)| ms).sum());
+                method_totals.push(frame.method_ms());
+                peak = peak.max(frame.peak_gpu_bytes);
+                bar.inc(1);
+            }
+            results.push(Result {
+                scene: spec.clone(),
+                method: method.to_string(),
+                frames,
+                total_ms: median(totals),
+                method_ms: median(method_totals),
+                stages: stage_order
+                    .iter()
+                    .map(|s| (*s, median(per_stage.remove(s).unwrap_or_default())))
+                    .collect(),
+                peak_gpu_bytes: peak,
+            });
+        }
+    }
+    bar.finish_and_clear();
+    for r in results.iter().filter(|r| methods.contains(&r.method)) {
+        let blend_ms = results
+            .iter()
+            .find(|b| b.scene == r.scene && b.method == "blend")
+            .map_or(f64::NAN, |b| b.method_ms);
+        let ratio = r.method_ms / blend_ms;
+        if json {
+            let stages: serde_json::Map<String, serde_json::Value> = r
+                .stages
+                .iter()
+                .map(|(n, ms)| (n.to_string(), serde_json::json!(ms)))
+                .collect();
+            let line = serde_json::json!({
+                "scene": r.scene,
+                "method": r.method,
+                "width": size.width,
+                "height": size.height,
+                "frames": r.frames,
+                "median_ms": r.total_ms,
+                "method_ms": r.method_ms,
+                "stages": stages,
+                "ratio_to_blend": ratio,
+                "peak_gpu_bytes": r.peak_gpu_bytes,
+            });
+            println!("{line}");
+        } else {
+            println!(
+                "{:<40} {:<8} total {:>9.3} ms  method {:>9.3} ms  x{:.2} blend  peak {:.1} MB",
+                r.scene,
+                r.method,
+                r.total_ms,
+                r.method_ms,
+                ratio,
+                r.peak_gpu_bytes as f64 / (1 << 20) as f64
+            );
+            println!("{:<40} {}", "", super::stage_text(&r.stages));
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,24 @@
+//! One module per subcommand.
+
+pub mod bench;
+pub mod compare;
+pub mod info;
+pub mod render;
+
+use translucid::gpu::{Gpu, GpuOptions};
+
+/// The device chosen by `TRANSLUCID_DEVICE` / `TRANSLUCID_VALIDATION`, named on stderr.
+pub fn open_gpu() -> translucid::Result<Gpu> {
+    let gpu = Gpu::new(&GpuOptions::from_env())?;
+    eprintln!("device: {} ({})", gpu.info().name, gpu.info().kind);
+    Ok(gpu)
+}
+
+/// Stage timings as "name 1.234 ms, ..." text.
+pub fn stage_text(stages: &[(&str, f64)]) -> String {
+    stages
+        .iter()
+        .map(|(name, ms)| format!("{name} {ms:.3} ms"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}

@@ -1,0 +1,58 @@
+//! Shared helpers of the end-to-end tests.
+
+use std::path::PathBuf;
+use translucid::gpu::{Gpu, GpuOptions};
+use translucid::metrics::{self, Metrics};
+use translucid::renderer::{Frame, Renderer};
+use translucid::scene::Scene;
+use translucid::Image;
+
+/// The device under test, with the validation layer on: any validation error fails the test.
+pub fn gpu() -> Gpu {
+    Gpu::new(&GpuOptions {
+        device: std::env::var("TRANSLUCID_DEVICE").ok(),
+        validation: true,
+    })
+    .expect("a Vulkan device with the Khronos validation layer (`make test` installs both)")
+}
+
+/// A vendored scene under assets/scenes.
+pub fn asset(relative: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../assets/scenes")
+        .join(relative)
+}
+
+/// One frame of `scene` with `method`, its opaque layer read back too.
+pub fn render(gpu: &Gpu, scene: &Scene, method: &str, width: u32, height: u32) -> Frame {
+    let mut renderer = Renderer::new(gpu, scene, method, width, height)
+        .unwrap_or_else(|e| panic!("{method} on {}: {e}", scene.name));
+    renderer
+        .render(true)
+        .unwrap_or_else(|e| panic!("{method} on {}: {e}", scene.name))
+}
+
+/// The method's frame and the CPU reference rendered over the same opaque layer, compared.
+pub fn against_reference(
+    gpu: &Gpu,
+    scene: &Scene,
+    method: &str,
+    width: u32,
+    height: u32,
+) -> (Metrics, Image, Image) {
+    let frame = render(gpu, scene, method, width, height);
+    let opaque = frame.opaque.as_ref().expect("opaque layer read back");
+    let expected = translucid::reference::render(scene, opaque).expect("reference");
+    let m = metrics::compare(&frame.image, &expected).expect("same size");
+    (m, frame.image, expected)
+}
+
+/// Where a failing test leaves its pictures for a person to look at.
+pub fn save_failure(name: &str, got: &Image, expected: &Image) -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../target/test-failures");
+    let path = dir.join(format!("{name}.png"));
+    if let Ok(heat) = metrics::heat_map(got, expected) {
+        let _ = metrics::side_by_side(&[got, expected, &heat]).save_png(&path);
+    }
+    path
+}
