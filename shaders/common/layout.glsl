@@ -17,6 +17,7 @@ struct Material {
 };
 
 #define DRAW_HAS_NORMALS 1u
+#define DRAW_HAS_UVS 2u
 
 // One draw (std430, 144 bytes).
 struct DrawInfo {

@@ -12,6 +12,8 @@
 //! - [`renderer`]: ties a device, an uploaded scene, the opaque layer and a method into a frame.
 
 pub mod error;
+#[cfg(test)]
+mod glsl_layout;
 pub mod gpu;
 pub mod image;
 pub mod methods;

@@ -10,6 +10,7 @@ use glam::{Mat4, Vec4};
 pub const MATERIAL_LIT: u32 = 1;
 pub const MATERIAL_DOUBLE_SIDED: u32 = 2;
 pub const DRAW_HAS_NORMALS: u32 = 1;
+pub const DRAW_HAS_UVS: u32 = 2;
 
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
@@ -110,38 +111,9 @@ mod tests {
     use super::*;
     use std::mem::{offset_of, size_of};
 
-    /// std430/std140 offsets of the scalar, vec4 and mat4 members used in layout.glsl
-    /// (both rules agree for these types).
-    fn glsl_offsets(src: &str, name: &str) -> Vec<(String, usize)> {
-        let start = src
-            .find(&format!("struct {name} {{"))
-            .expect("struct in layout.glsl");
-        let body = &src[start..src[start..].find("};").expect("struct end") + start];
-        let mut offset: usize = 0;
-        let mut out = Vec::new();
-        for line in body.lines().skip(1) {
-            let code = line.split("//").next().unwrap_or("").trim();
-            let Some(decl) = code.strip_suffix(';') else {
-                continue;
-            };
-            let mut parts = decl.split_whitespace();
-            let (ty, field) = (parts.next().expect("type"), parts.next().expect("name"));
-            let (size, align) = match ty {
-                "float" | "int" | "uint" => (4, 4),
-                "vec4" => (16, 16),
-                "mat4" => (64, 16),
-                other => panic!("layout.glsl uses {other}; teach this test its std430 layout"),
-            };
-            offset = offset.next_multiple_of(align);
-            out.push((field.to_string(), offset));
-            offset += size;
-        }
-        out
-    }
-
     fn check(name: &str, host: &[(&str, usize)], host_size: usize) {
         let src = include_str!("../../../shaders/common/layout.glsl");
-        let glsl = glsl_offsets(src, name);
+        let (glsl, _) = crate::glsl_layout::std430_offsets(src, name);
         let host: Vec<_> = host
             .iter()
             .map(|(n, o)| (n.replace('_', "").to_lowercase(), *o))
@@ -208,5 +180,6 @@ mod tests {
             "#define MATERIAL_DOUBLE_SIDED {MATERIAL_DOUBLE_SIDED}u"
         )));
         assert!(src.contains(&format!("#define DRAW_HAS_NORMALS {DRAW_HAS_NORMALS}u")));
+        assert!(src.contains(&format!("#define DRAW_HAS_UVS {DRAW_HAS_UVS}u")));
     }
 }

@@ -48,6 +48,9 @@ pub struct DeviceInfo {
     /// Nanoseconds per timestamp tick.
     pub timestamp_period_ns: f32,
     pub dual_source_blend: bool,
+    /// 64-bit integers and floats in shaders (the exact method's edge functions need them).
+    pub shader_int64: bool,
+    pub shader_float64: bool,
 }
 
 /// A headless Vulkan device with one graphics+compute queue. Cheap to clone: every resource
@@ -169,6 +172,8 @@ fn describe(instance: &ash::Instance, index: usize, pd: vk::PhysicalDevice) -> D
         max_compute_workgroup_invocations: limits.max_compute_work_group_invocations,
         timestamp_period_ns: limits.timestamp_period,
         dual_source_blend: features.dual_src_blend == vk::TRUE,
+        shader_int64: features.shader_int64 == vk::TRUE,
+        shader_float64: features.shader_float64 == vk::TRUE,
     }
 }
 
@@ -387,7 +392,11 @@ fn create_device(
     let queues = [vk::DeviceQueueCreateInfo::default()
         .queue_family_index(family)
         .queue_priorities(&priorities)];
-    let features = vk::PhysicalDeviceFeatures::default().dual_src_blend(info.dual_source_blend);
+    // Optional features, enabled where present; methods that need one check DeviceInfo.
+    let features = vk::PhysicalDeviceFeatures::default()
+        .dual_src_blend(info.dual_source_blend)
+        .shader_int64(info.shader_int64)
+        .shader_float64(info.shader_float64);
     let create = vk::DeviceCreateInfo::default()
         .queue_create_infos(&queues)
         .enabled_features(&features);

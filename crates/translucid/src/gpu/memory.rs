@@ -195,6 +195,11 @@ pub struct Buffer {
 }
 
 impl Buffer {
+    /// The device the buffer belongs to.
+    pub fn gpu(&self) -> &Gpu {
+        &self.gpu
+    }
+
     /// Copies `data` into a host-visible buffer at `offset`.
     pub fn write(&mut self, offset: u64, data: &[u8]) -> Result<()> {
         let mapped = self

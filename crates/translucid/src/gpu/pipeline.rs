@@ -499,6 +499,26 @@ impl Sampler {
     }
 }
 
+impl Sampler {
+    /// Nearest filtering, clamped: for `texelFetch`-style reads of depth and colour.
+    pub fn nearest_clamp(gpu: &Gpu) -> Result<Self> {
+        let info = vk::SamplerCreateInfo::default()
+            .mag_filter(vk::Filter::NEAREST)
+            .min_filter(vk::Filter::NEAREST)
+            .mipmap_mode(vk::SamplerMipmapMode::NEAREST)
+            .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE);
+        // SAFETY: valid device and create info.
+        let raw =
+            unsafe { gpu.device.create_sampler(&info, None) }.map_err(vk_err("vkCreateSampler"))?;
+        Ok(Self {
+            gpu: gpu.clone(),
+            raw,
+        })
+    }
+}
+
 impl Drop for Sampler {
     fn drop(&mut self) {
         // SAFETY: no pending work uses the sampler.

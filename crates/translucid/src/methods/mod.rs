@@ -4,16 +4,41 @@
 //! passes into the frame's command buffer: it receives the opaque layer in the frame targets
 //! (colour in COLOR_ATTACHMENT_OPTIMAL, depth in DEPTH_STENCIL_ATTACHMENT_OPTIMAL), depth-tests
 //! against it, composites the transparent layer over the colour, and returns the targets in
-//! the same layouts. It marks a timestamp after each of its stages.
+//! the same layouts. It marks a timestamp after each of its stages. After the frame completes
+//! it may ask for the frame to be rendered again (a buffer overflowed and was grown).
 
 mod blend;
+pub mod exact;
 
 use crate::gpu::{vk, Gpu, Timestamps};
 use crate::renderer::{FrameTargets, GpuScene};
+use crate::scene::Scene;
 use crate::{Error, Result};
 
 /// Every method's name, as the CLI and the C API spell it.
-pub const NAMES: &[&str] = &["blend"];
+pub const NAMES: &[&str] = &["blend", "exact"];
+
+/// Settings that some methods use; the rest ignore them.
+#[derive(Clone, Debug, Default)]
+pub struct MethodOptions {
+    /// `exact`: stop compositing a pixel once every channel of its transmittance is below
+    /// this. 0 (the default) composites every fragment: the exact result.
+    pub threshold: f32,
+    /// `exact`: first capacity of the per-bin triangle lists, in entries. `None` sizes it from
+    /// the frame. Small values force the overflow path (for tests).
+    pub initial_bin_entries: Option<u32>,
+    /// `exact`: first capacity of the homogeneous (near-plane) triangle records.
+    pub initial_homogeneous: Option<u32>,
+}
+
+/// What a method reports once its frame has completed.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct FrameCheck {
+    /// The frame is incomplete (a buffer overflowed and has been grown): render it again.
+    pub rerender: bool,
+    /// Fragments composited, where the method counts them.
+    pub fragments: u64,
+}
 
 /// What a method records into.
 pub struct RecordContext<'a> {
@@ -28,17 +53,26 @@ pub trait Method {
     fn name(&self) -> &'static str;
     /// Records the transparent pass of one frame.
     fn record(&mut self, ctx: &mut RecordContext<'_>) -> Result<()>;
+    /// Called after the frame's submission completed.
+    fn frame_done(&mut self, _scene: &GpuScene, _targets: &FrameTargets) -> Result<FrameCheck> {
+        Ok(FrameCheck::default())
+    }
 }
 
-/// Creates the method called `name` for `scene` and `targets`.
+/// Creates the method called `name` for `scene` (uploaded as `uploaded`) and `targets`.
 pub fn create(
     name: &str,
     gpu: &Gpu,
-    scene: &GpuScene,
+    scene: &Scene,
+    uploaded: &GpuScene,
     targets: &FrameTargets,
+    options: &MethodOptions,
 ) -> Result<Box<dyn Method>> {
     match name {
-        "blend" => Ok(Box::new(blend::Blend::new(gpu, scene, targets)?)),
+        "blend" => Ok(Box::new(blend::Blend::new(gpu, uploaded, targets)?)),
+        "exact" => Ok(Box::new(exact::Exact::new(
+            gpu, scene, uploaded, targets, options,
+        )?)),
         other => Err(Error::UnknownMethod(other.to_string(), NAMES.join(", "))),
     }
 }

@@ -22,7 +22,7 @@ pub use upload::{DrawCall, GpuScene, MeshRange};
 
 use crate::gpu::{Gpu, Timestamps};
 use crate::image::{Image, OpaqueLayer};
-use crate::methods::{self, Method, RecordContext};
+use crate::methods::{self, Method, MethodOptions, RecordContext};
 use crate::scene::Scene;
 use crate::{Error, Result};
 use glam::Vec3;
@@ -39,6 +39,10 @@ pub struct Frame {
     /// Peak bytes of GPU memory allocated while the frame was rendered (scene, targets,
     /// method buffers and readback included).
     pub peak_gpu_bytes: u64,
+    /// Times the frame was rendered again because a buffer overflowed (and was grown).
+    pub rerenders: u32,
+    /// Fragments composited, for methods that count them (0 otherwise).
+    pub fragments: u64,
 }
 
 impl Frame {
@@ -84,8 +88,23 @@ pub fn check_viewport(gpu: &Gpu, width: u32, height: u32) -> Result<()> {
     Ok(())
 }
 
+/// Renders again at most this many times when buffers overflow; each time they grow to at
+/// least what the GPU counted, so one re-render normally suffices.
+const MAX_RERENDERS: u32 = 4;
+
 impl Renderer {
     pub fn new(gpu: &Gpu, scene: &Scene, method: &str, width: u32, height: u32) -> Result<Self> {
+        Self::with_options(gpu, scene, method, width, height, &MethodOptions::default())
+    }
+
+    pub fn with_options(
+        gpu: &Gpu,
+        scene: &Scene,
+        method: &str,
+        width: u32,
+        height: u32,
+        options: &MethodOptions,
+    ) -> Result<Self> {
         check_viewport(gpu, width, height)?;
         if !methods::NAMES.contains(&method) {
             return Err(Error::UnknownMethod(
@@ -97,7 +116,7 @@ impl Renderer {
         let targets = FrameTargets::new(gpu, width, height)?;
         let opaque_pass = OpaquePass::new(gpu, &targets, &uploaded)?;
         let readback = Readback::new(gpu, &targets)?;
-        let method = methods::create(method, gpu, &uploaded, &targets)?;
+        let method = methods::create(method, gpu, scene, &uploaded, &targets, options)?;
         let timestamps = Timestamps::new(gpu, 32)?;
         gpu.check_validation()?;
         Ok(Self {
@@ -126,26 +145,40 @@ impl Renderer {
         } else {
             None
         };
-        gpu.submit_and_wait(|cmd| {
-            self.timestamps.begin(cmd);
-            self.opaque_pass
-                .record(&gpu, cmd, &self.scene, self.background);
-            self.timestamps.mark(cmd, "opaque");
-            if let Some(r) = &opaque_readback {
-                r.record(&gpu, cmd, &self.targets, true);
-                self.timestamps.mark(cmd, "readback");
+        let mut rerenders = 0;
+        let check = loop {
+            gpu.submit_and_wait(|cmd| {
+                self.timestamps.begin(cmd);
+                self.opaque_pass
+                    .record(&gpu, cmd, &self.scene, self.background);
+                self.timestamps.mark(cmd, "opaque");
+                if let Some(r) = &opaque_readback {
+                    r.record(&gpu, cmd, &self.targets, true);
+                    self.timestamps.mark(cmd, "readback");
+                }
+                let mut ctx = RecordContext {
+                    gpu: &gpu,
+                    cmd,
+                    scene: &self.scene,
+                    targets: &self.targets,
+                    timestamps: &mut self.timestamps,
+                };
+                self.method.record(&mut ctx)?;
+                self.readback.record(&gpu, cmd, &self.targets, false);
+                Ok(())
+            })?;
+            let check = self.method.frame_done(&self.scene, &self.targets)?;
+            if !check.rerender {
+                break check;
             }
-            let mut ctx = RecordContext {
-                gpu: &gpu,
-                cmd,
-                scene: &self.scene,
-                targets: &self.targets,
-                timestamps: &mut self.timestamps,
-            };
-            self.method.record(&mut ctx)?;
-            self.readback.record(&gpu, cmd, &self.targets, false);
-            Ok(())
-        })?;
+            rerenders += 1;
+            if rerenders > MAX_RERENDERS {
+                return Err(Error::InvalidScene(format!(
+                    "{}: buffers still overflow after {MAX_RERENDERS} re-renders",
+                    self.method.name()
+                )));
+            }
+        };
         let stages = self.timestamps.read()?;
         let opaque = opaque_readback
             .as_ref()
@@ -156,6 +189,8 @@ impl Renderer {
             opaque,
             stages,
             peak_gpu_bytes: gpu.memory_in_use().1,
+            rerenders,
+            fragments: check.fragments,
         })
     }
 }

@@ -31,6 +31,10 @@ pub struct DrawCall {
 pub struct GpuScene {
     pub vertices: Buffer,
     pub indices: Buffer,
+    /// Every mesh's quads with absolute vertex indices (`DrawInfo::first_quad` points here).
+    pub quads: Buffer,
+    /// Total quads of the transparent draws.
+    pub transparent_quads: u32,
     pub draws: Buffer,
     pub materials: Buffer,
     pub frame: Buffer,
@@ -65,6 +69,7 @@ impl GpuScene {
         scene.validate()?;
         let mut vertices = Vec::new();
         let mut indices: Vec<u32> = Vec::new();
+        let mut quads: Vec<[u32; 4]> = Vec::new();
         let mut ranges = Vec::with_capacity(scene.meshes.len());
         let mut first_quads = Vec::with_capacity(scene.meshes.len());
         let mut quad_total = 0u32;
@@ -74,6 +79,7 @@ impl GpuScene {
             vertices.extend(vertices_of(mesh));
             for &q in &mesh.quads {
                 indices.extend(Mesh::quad_triangles(q).into_iter().flatten().flatten());
+                quads.push(q.map(|i| i + vertex_offset as u32));
             }
             ranges.push(MeshRange {
                 first_index,
@@ -102,6 +108,8 @@ impl GpuScene {
             .collect();
         let (opaque_calls, transparent_calls) = calls.split_at(scene.opaque.len());
         let materials: Vec<GpuMaterial> = scene.materials.iter().map(GpuMaterial::new).collect();
+        let transparent_quads = u32::try_from(scene.transparent_quads())
+            .map_err(|_| crate::Error::InvalidScene("more than 2^32 transparent quads".into()))?;
 
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
         let vertices = gpu.create_buffer_with_data(
@@ -114,6 +122,8 @@ impl GpuScene {
             vk::BufferUsageFlags::INDEX_BUFFER | storage,
             bytemuck::cast_slice(&indices),
         )?;
+        let quads =
+            gpu.create_buffer_with_data("scene quads", storage, bytemuck::cast_slice(&quads))?;
         let draws =
             gpu.create_buffer_with_data("scene draws", storage, bytemuck::cast_slice(&draw_infos))?;
         let materials = gpu.create_buffer_with_data(
@@ -162,6 +172,8 @@ impl GpuScene {
         Ok(Self {
             vertices,
             indices,
+            quads,
+            transparent_quads,
             draws,
             materials,
             frame,

@@ -16,7 +16,7 @@ mod texture;
 pub use camera::Camera;
 pub use material::Material;
 pub use mesh::{pair_triangles, Mesh};
-pub use texture::Texture;
+pub use texture::{srgb_lut, Texture};
 
 use glam::{Mat4, Vec3};
 

@@ -117,8 +117,9 @@ impl Texture {
     }
 }
 
-/// `srgb_to_linear(i / 255)` for every byte, computed once.
-fn srgb_lut() -> &'static [f32; 256] {
+/// `srgb_to_linear(i / 255)` for every byte: the decode table the sampler (and the GPU's
+/// software sampler, which uploads it) uses.
+pub fn srgb_lut() -> &'static [f32; 256] {
     static LUT: OnceLock<[f32; 256]> = OnceLock::new();
     LUT.get_or_init(|| std::array::from_fn(|i| srgb_to_linear(i as f32 / 255.0)))
 }

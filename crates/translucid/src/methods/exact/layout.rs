@@ -1,0 +1,155 @@
+//! Host mirrors of `shaders/common/exact_layout.glsl`; `tests::layouts_match_glsl` checks them.
+
+#![deny(unsafe_code)]
+
+use bytemuck::{Pod, Zeroable};
+
+pub const BIN_SHIFT: u32 = 4;
+pub const BIN_SIZE: u32 = 1 << BIN_SHIFT;
+pub const OVERFLOW_HOMOGENEOUS: u32 = 1;
+pub const OVERFLOW_BIN_ENTRIES: u32 = 2;
+/// Bytes of one `ExactTriangle` and one `ExactHomogeneous`.
+pub const TRIANGLE_BYTES: u64 = 128;
+pub const HOMOGENEOUS_BYTES: u64 = 176;
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct ExactDraw {
+    pub mvp: [f32; 16],
+    pub draw_index: u32,
+    pub first_item: u32,
+    pub quad_count: u32,
+    pub first_quad: u32,
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq, Eq)]
+pub struct ExactCounters {
+    pub triangle_count: u32,
+    pub homogeneous_count: u32,
+    pub bin_entry_count: u32,
+    pub overflow: u32,
+    pub triangle_capacity: u32,
+    pub homogeneous_capacity: u32,
+    pub bin_entry_capacity: u32,
+    pub fragment_count: u32,
+    pub pass_count: u32,
+    pub pad: [u32; 3],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct ExactTexture {
+    pub first_texel: u32,
+    pub width: u32,
+    pub height: u32,
+    pub levels: u32,
+    pub srgb: u32,
+    pub pad: [u32; 3],
+}
+
+/// The push constants of every exact stage.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct ExactPush {
+    pub item_count: u32,
+    pub draw_count: u32,
+    pub width: u32,
+    pub height: u32,
+    pub bins_x: u32,
+    pub bins_y: u32,
+    pub threshold: f32,
+    pub pad: u32,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::glsl_layout::std430_offsets;
+    use std::mem::{offset_of, size_of};
+
+    const SRC: &str = include_str!("../../../../../shaders/common/exact_layout.glsl");
+
+    fn define(name: &str) -> u32 {
+        let line = SRC
+            .lines()
+            .find(|l| l.starts_with(&format!("#define {name} ")))
+            .unwrap_or_else(|| panic!("{name} missing from exact_layout.glsl"));
+        let value = line.split_whitespace().nth(2).expect("value");
+        value.trim_end_matches('u').parse().expect("number")
+    }
+
+    fn offsets(name: &str) -> Vec<usize> {
+        std430_offsets(SRC, name)
+            .0
+            .into_iter()
+            .map(|(_, o)| o)
+            .collect()
+    }
+
+    #[test]
+    fn constants_match_glsl() {
+        assert_eq!(define("BIN_SHIFT"), BIN_SHIFT);
+        assert_eq!(define("BIN_SIZE"), BIN_SIZE);
+        assert_eq!(define("OVERFLOW_HOMOGENEOUS"), OVERFLOW_HOMOGENEOUS);
+        assert_eq!(define("OVERFLOW_BIN_ENTRIES"), OVERFLOW_BIN_ENTRIES);
+    }
+
+    #[test]
+    fn layouts_match_glsl() {
+        let msg = "methods/exact/layout.rs and exact_layout.glsl disagree; update both";
+        assert_eq!(
+            std430_offsets(SRC, "ExactTriangle").1 as u64,
+            TRIANGLE_BYTES,
+            "{msg}"
+        );
+        assert_eq!(
+            std430_offsets(SRC, "ExactHomogeneous").1 as u64,
+            HOMOGENEOUS_BYTES,
+            "{msg}"
+        );
+        assert_eq!(
+            offsets("ExactDraw"),
+            [
+                offset_of!(ExactDraw, mvp),
+                offset_of!(ExactDraw, draw_index),
+                offset_of!(ExactDraw, first_item),
+                offset_of!(ExactDraw, quad_count),
+                offset_of!(ExactDraw, first_quad)
+            ],
+            "{msg}"
+        );
+        assert_eq!(
+            std430_offsets(SRC, "ExactDraw").1,
+            size_of::<ExactDraw>(),
+            "{msg}"
+        );
+        let counters = [
+            offset_of!(ExactCounters, triangle_count),
+            offset_of!(ExactCounters, homogeneous_count),
+            offset_of!(ExactCounters, bin_entry_count),
+            offset_of!(ExactCounters, overflow),
+            offset_of!(ExactCounters, triangle_capacity),
+            offset_of!(ExactCounters, homogeneous_capacity),
+            offset_of!(ExactCounters, bin_entry_capacity),
+            offset_of!(ExactCounters, fragment_count),
+            offset_of!(ExactCounters, pass_count),
+        ];
+        assert_eq!(offsets("ExactCounters")[..9], counters, "{msg}");
+        assert_eq!(
+            std430_offsets(SRC, "ExactCounters").1,
+            size_of::<ExactCounters>(),
+            "{msg}"
+        );
+        assert_eq!(
+            std430_offsets(SRC, "ExactTexture").1,
+            size_of::<ExactTexture>(),
+            "{msg}"
+        );
+        assert_eq!(
+            offsets("ExactTexture")[4],
+            offset_of!(ExactTexture, srgb),
+            "{msg}"
+        );
+    }
+}

@@ -1,0 +1,225 @@
+//! `exact`: the compute bin rasterizer. Every pixel composites exactly the fragments the CPU
+//! reference does, in the same order, under the same raster rules.
+//!
+//! Stages (one compute shader each, `shaders/exact/`):
+//! 1. `setup`: per transparent quad, transform, set up its triangles (fixed-point or
+//!    homogeneous), cull, append visible triangles.
+//! 2. `bin_count`, `bin_scan`, `bin_fill`: per 16×16-pixel bin, count the triangles whose
+//!    bounds touch it, prefix-sum the counts, fill the per-bin triangle lists.
+//! 3. `raster`: one workgroup per bin, one invocation per pixel; each pixel selects its nearest
+//!    remaining fragments in registers, composites them front to back over the opaque colour,
+//!    and repeats until none is left (or transmittance is under the threshold).
+//!
+//! Why this shape: on lavapipe (subgroups of 8, 32 KB shared memory) barrier-heavy
+//! shared-memory phases cost more than blending itself, while fixed-size register work is
+//! cheap (measurements in DESIGN.md). Selection by key (view depth, draw, quad, triangle) is
+//! exact by construction, so no pixel can come out of order and no fallback path is needed.
+//!
+//! Memory is sized from the frame: two triangle records per quad at most, bin lists grown to
+//! what the GPU counted. Counters come back every frame; an overflow renders the frame again
+//! with larger buffers, so an image is never drawn from truncated lists.
+
+#![deny(clippy::unwrap_used)]
+
+pub mod layout;
+mod resources;
+
+use super::{FrameCheck, Method, MethodOptions, RecordContext};
+use crate::gpu::{image_barrier, memory_barrier, vk, ComputePipeline, DescriptorSet, Gpu};
+use crate::renderer::{FrameTargets, GpuScene};
+use crate::scene::Scene;
+use crate::Result;
+use layout::{ExactCounters, ExactPush, BIN_SIZE};
+use resources::{Capacities, Resources};
+
+const STAGES: [(&str, &[u8]); 5] = [
+    ("setup", crate::spirv!("exact/setup.comp")),
+    ("bin_count", crate::spirv!("exact/bin_count.comp")),
+    ("bin_scan", crate::spirv!("exact/bin_scan.comp")),
+    ("bin_fill", crate::spirv!("exact/bin_fill.comp")),
+    ("raster", crate::spirv!("exact/raster.comp")),
+];
+
+pub struct Exact {
+    gpu: Gpu,
+    resources: Resources,
+    set: DescriptorSet,
+    pipelines: Vec<ComputePipeline>,
+    push: ExactPush,
+    last: ExactCounters,
+}
+
+impl Exact {
+    pub fn new(
+        gpu: &Gpu,
+        scene: &Scene,
+        uploaded: &GpuScene,
+        targets: &FrameTargets,
+        options: &MethodOptions,
+    ) -> Result<Self> {
+        let info = gpu.info();
+        if !(info.shader_int64 && info.shader_float64) {
+            return Err(crate::Error::NoDevice(format!(
+                "{} lacks 64-bit shader integers or floats, which the exact method's edge functions need",
+                info.name
+            )));
+        }
+        let width = targets.extent.width;
+        let height = targets.extent.height;
+        let bins_x = width.div_ceil(BIN_SIZE);
+        let bins_y = height.div_ceil(BIN_SIZE);
+        let capacities = Capacities::initial(uploaded.transparent_quads, bins_x * bins_y, options);
+        let resources = Resources::new(gpu, scene, width, height, capacities)?;
+        let set = resources.descriptor_set(uploaded, targets)?;
+        let pipelines = STAGES
+            .iter()
+            .map(|(_, spirv)| {
+                ComputePipeline::new(
+                    gpu,
+                    spirv,
+                    &[&uploaded.layout, &resources.layout],
+                    std::mem::size_of::<ExactPush>() as u32,
+                )
+            })
+            .collect::<Result<Vec<_>>>()?;
+        let push = ExactPush {
+            item_count: uploaded.transparent_quads,
+            draw_count: scene.transparent.len() as u32,
+            width,
+            height,
+            bins_x,
+            bins_y,
+            threshold: options.threshold,
+            pad: 0,
+        };
+        Ok(Self {
+            gpu: gpu.clone(),
+            resources,
+            set,
+            pipelines,
+            push,
+            last: ExactCounters::default(),
+        })
+    }
+
+    fn dispatch(&self, ctx: &RecordContext<'_>, stage: usize, groups: [u32; 3]) {
+        self.pipelines[stage].dispatch(
+            ctx.cmd,
+            &[ctx.scene.set.raw, self.set.raw],
+            bytemuck::bytes_of(&self.push),
+            groups,
+        );
+    }
+
+    fn compute_to_compute(&self, cmd: vk::CommandBuffer) {
+        let stage = vk::PipelineStageFlags::COMPUTE_SHADER;
+        let rw = vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE;
+        memory_barrier(&self.gpu, cmd, (stage, rw), (stage, rw));
+    }
+}
+
+impl Method for Exact {
+    fn name(&self) -> &'static str {
+        "exact"
+    }
+
+    fn record(&mut self, ctx: &mut RecordContext<'_>) -> Result<()> {
+        let cmd = ctx.cmd;
+        self.resources.record_reset(cmd);
+        let items = self.push.item_count;
+        if items > 0 {
+            self.dispatch(ctx, 0, [items.div_ceil(64), 1, 1]);
+        }
+        self.compute_to_compute(cmd);
+        ctx.timestamps.mark(cmd, "setup");
+
+        let triangle_groups = self.resources.capacities.triangles.div_ceil(64).max(1);
+        self.dispatch(ctx, 1, [triangle_groups, 1, 1]);
+        self.compute_to_compute(cmd);
+        self.dispatch(ctx, 2, [1, 1, 1]);
+        self.compute_to_compute(cmd);
+        self.dispatch(ctx, 3, [triangle_groups, 1, 1]);
+        self.compute_to_compute(cmd);
+        ctx.timestamps.mark(cmd, "binning");
+
+        let attachment = (
+            vk::PipelineStageFlags::ALL_GRAPHICS,
+            vk::AccessFlags::COLOR_ATTACHMENT_WRITE
+                | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE,
+        );
+        let shader = (
+            vk::PipelineStageFlags::COMPUTE_SHADER,
+            vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
+        );
+        let (colour, depth) = (&ctx.targets.colour, &ctx.targets.depth);
+        image_barrier(
+            &self.gpu,
+            cmd,
+            colour,
+            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+            vk::ImageLayout::GENERAL,
+            attachment,
+            shader,
+        );
+        image_barrier(
+            &self.gpu,
+            cmd,
+            depth,
+            vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+            attachment,
+            shader,
+        );
+        self.dispatch(ctx, 4, [self.push.bins_x, self.push.bins_y, 1]);
+        let after = (
+            vk::PipelineStageFlags::ALL_COMMANDS,
+            vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE,
+        );
+        image_barrier(
+            &self.gpu,
+            cmd,
+            colour,
+            vk::ImageLayout::GENERAL,
+            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+            shader,
+            after,
+        );
+        image_barrier(
+            &self.gpu,
+            cmd,
+            depth,
+            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+            vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+            shader,
+            after,
+        );
+        memory_barrier(
+            &self.gpu,
+            cmd,
+            shader,
+            (vk::PipelineStageFlags::HOST, vk::AccessFlags::HOST_READ),
+        );
+        ctx.timestamps.mark(cmd, "raster");
+        Ok(())
+    }
+
+    fn frame_done(&mut self, uploaded: &GpuScene, targets: &FrameTargets) -> Result<FrameCheck> {
+        let counters = self.resources.counters()?;
+        self.last = counters;
+        let Some(grown) = self.resources.capacities.grown_for(&counters) else {
+            return Ok(FrameCheck {
+                rerender: false,
+                fragments: u64::from(counters.fragment_count),
+            });
+        };
+        log::info!(
+            "exact: buffers too small ({counters:?}); growing to {grown:?} and rendering again"
+        );
+        self.resources.grow(&self.gpu, grown)?;
+        self.set = self.resources.descriptor_set(uploaded, targets)?;
+        Ok(FrameCheck {
+            rerender: true,
+            fragments: 0,
+        })
+    }
+}

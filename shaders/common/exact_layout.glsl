@@ -1,0 +1,76 @@
+// Buffers of the exact bin rasterizer (host mirror: crates/translucid/src/methods/exact/layout.rs).
+#ifndef TRANSLUCID_EXACT_LAYOUT_GLSL
+#define TRANSLUCID_EXACT_LAYOUT_GLSL
+
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+
+// Bins are BIN_SIZE x BIN_SIZE pixels; one workgroup rasterizes one bin.
+#define BIN_SHIFT 4
+#define BIN_SIZE 16
+
+// Overflow bits in ExactCounters.overflow: the frame must be rendered again with more room.
+#define OVERFLOW_HOMOGENEOUS 1u
+#define OVERFLOW_BIN_ENTRIES 2u
+
+// One transparent draw as the exact method sees it (std430, 80 bytes).
+struct ExactDraw {
+    mat4 mvp;               // view-projection x model, computed on the host like the reference
+    uint drawIndex;         // into the scene's DrawInfo array
+    uint firstItem;         // global index of the draw's first quad, in submission order
+    uint quadCount;
+    uint firstQuad;         // into the scene's quad buffer
+};
+
+// A visible triangle after setup (std430, 128 bytes). Fixed-point edges E = a*px + b*py + c
+// are positive inside; on the homogeneous path the lines live in ExactHomogeneous.
+struct ExactTriangle {
+    i64vec4 edgeC;          // xyz: c of edges 0..2
+    ivec4 edgeA;            // xyz: a of edges 0..2, w: tie bits (bit k: edge k owns ties)
+    ivec4 edgeB;            // xyz: b of edges 0..2, w: index into the homogeneous array or -1
+    ivec4 bounds;           // half-open pixel rectangle x0, y0, x1, y1
+    vec4 zNdc;              // xyz: depth-buffer value of each vertex, w: 1 / |double area|
+    vec4 invW;              // xyz: 1 / clip w of each vertex
+    uvec4 ids;              // x: exact draw slot, y: quad within the mesh, z: sub-triangle,
+                            // w: order key (global quad index * 2 + sub)
+};
+
+// Extra data of a triangle on the homogeneous path (std430, 176 bytes).
+struct ExactHomogeneous {
+    dvec4 line0;            // a, b, c of edge 0 (positive inside)
+    dvec4 line1;
+    dvec4 line2;
+    dvec4 zInvDet;          // xyz: clip z of each vertex, w: 1 / |det|
+    i64vec4 fixedC;         // fixed-point replacement edges where both ends allow it
+    ivec4 fixedA;           // xyz: a, w: bit k set when edge k uses the fixed replacement
+    ivec4 fixedB;           // xyz: b, w: tie bits of the replacement edges
+};
+
+// Counters the host reads back after every frame and checks (std430, 48 bytes).
+struct ExactCounters {
+    uint triangleCount;
+    uint homogeneousCount;
+    uint binEntryCount;     // entries the bins need (counted even when they do not fit)
+    uint overflow;          // OVERFLOW_* bits
+    uint triangleCapacity;
+    uint homogeneousCapacity;
+    uint binEntryCapacity;
+    uint fragmentCount;     // fragments composited (statistics)
+    uint passCount;         // largest number of selection passes any pixel needed
+    uint pad0;
+    uint pad1;
+    uint pad2;
+};
+
+// A texture for the software sampler (std430, 32 bytes).
+struct ExactTexture {
+    uint firstTexel;        // index of level 0's first texel in the texel buffer
+    uint width;
+    uint height;
+    uint levels;
+    uint srgb;
+    uint pad0;
+    uint pad1;
+    uint pad2;
+};
+
+#endif

@@ -1,0 +1,29 @@
+#version 450
+// Binning, pass 3: every triangle writes its index into the list of each bin it touches.
+// Entries past the capacity are dropped and flagged: the host renders the frame again with a
+// list as large as the count says.
+
+#include "exact_bindings.glsl"
+#include "exact_bins.glsl"
+
+layout(local_size_x = 64) in;
+
+void main() {
+    uint ti = gl_GlobalInvocationID.x;
+    if (ti >= g_counters.triangleCount) {
+        return;
+    }
+    ivec4 r = binRect(g_triangles[ti].bounds);
+    uint capacity = g_counters.binEntryCapacity;
+    for (int by = r.y; by <= r.w; by++) {
+        for (int bx = r.x; bx <= r.z; bx++) {
+            uint b = uint(by) * u_push.binsX + uint(bx);
+            uint slot = g_binOffsets[b] + atomicAdd(g_binCursors[b], 1u);
+            if (slot < capacity) {
+                g_binEntries[slot] = ti;
+            } else {
+                atomicOr(g_counters.overflow, OVERFLOW_BIN_ENTRIES);
+            }
+        }
+    }
+}

@@ -1,0 +1,38 @@
+#version 450
+// Binning, pass 2: exclusive prefix sum of the bin counts into bin offsets, by one workgroup:
+// each invocation sums a contiguous run of bins, the runs' sums are scanned in shared memory,
+// then each invocation writes its run's offsets.
+
+#include "exact_bindings.glsl"
+
+#define SCAN_SIZE 256
+layout(local_size_x = SCAN_SIZE) in;
+
+shared uint s_runTotals[SCAN_SIZE];
+
+void main() {
+    uint bins = u_push.binsX * u_push.binsY;
+    uint run = (bins + SCAN_SIZE - 1u) / SCAN_SIZE;
+    uint first = gl_LocalInvocationID.x * run;
+    uint last = min(first + run, bins);
+    uint sum = 0u;
+    for (uint b = first; b < last; b++) {
+        sum += g_binCounts[b];
+    }
+    s_runTotals[gl_LocalInvocationID.x] = sum;
+    barrier();
+    if (gl_LocalInvocationID.x == 0u) {
+        uint total = 0u;
+        for (uint i = 0u; i < SCAN_SIZE; i++) {
+            uint t = s_runTotals[i];
+            s_runTotals[i] = total;
+            total += t;
+        }
+    }
+    barrier();
+    uint offset = s_runTotals[gl_LocalInvocationID.x];
+    for (uint b = first; b < last; b++) {
+        g_binOffsets[b] = offset;
+        offset += g_binCounts[b];
+    }
+}

@@ -1,0 +1,238 @@
+#version 450
+// Setup: one invocation per transparent quad. Transforms its vertices, sets up its one or two
+// triangles under the shared raster rules, culls what can cover nothing (degenerate, back
+// facing for single-sided materials, outside the viewport or the depth range), and appends
+// the rest to the triangle array for binning.
+
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+
+#include "scene_bindings_compute.glsl"
+#include "exact_bindings.glsl"
+#include "raster.glsl"
+
+layout(local_size_x = 64) in;
+
+// The transparent draw holding global quad `item` (draws are sorted by firstItem).
+uint findDraw(uint item) {
+    uint lo = 0u;
+    uint hi = u_push.drawCount - 1u;
+    while (lo < hi) {
+        uint mid = (lo + hi + 1u) >> 1;
+        if (g_exactDraws[mid].firstItem <= item) {
+            lo = mid;
+        } else {
+            hi = mid - 1u;
+        }
+    }
+    return lo;
+}
+
+bool inBand(float v) {
+    return abs(v) <= GUARD_BAND; // false for NaN
+}
+
+int clampPixel(int64_t v, uint size) {
+    return int(clamp(v, int64_t(0), int64_t(size)));
+}
+
+// Bounds on the homogeneous path: the triangle clipped to the near plane (z >= 0), projected,
+// padded by a pixel; the whole viewport when a clipped vertex is not in front of the eye.
+// A superset of the reference's bounds: coverage itself is decided by the edges.
+bool homogeneousBounds(vec4 c[3], out ivec4 bounds) {
+    dvec4 poly[4];
+    int n = 0;
+    for (int i = 0; i < 3; i++) {
+        dvec4 a = dvec4(c[i]);
+        dvec4 b = dvec4(c[(i + 1) % 3]);
+        bool aIn = a.z >= 0.0;
+        bool bIn = b.z >= 0.0;
+        if (aIn) {
+            poly[n++] = a;
+        }
+        if (aIn != bIn) {
+            double t = a.z / (a.z - b.z);
+            poly[n++] = a + (b - a) * t;
+        }
+    }
+    if (n == 0) {
+        return false;
+    }
+    dvec2 lo = dvec2(1e300);
+    dvec2 hi = dvec2(-1e300);
+    dvec2 size = dvec2(u_push.width, u_push.height);
+    for (int i = 0; i < n; i++) {
+        if (!(poly[i].w > 0.0)) {
+            bounds = ivec4(0, 0, u_push.width, u_push.height);
+            return true;
+        }
+        dvec2 p = (poly[i].xy / poly[i].w * 0.5 + 0.5) * size;
+        lo = min(lo, p);
+        hi = max(hi, p);
+    }
+    dvec2 first = clamp(ceil(lo - 0.5) - 1.0, dvec2(0.0), size);
+    dvec2 end = clamp(floor(hi - 0.5) + 2.0, dvec2(0.0), size);
+    bounds = ivec4(int(first.x), int(first.y), int(end.x), int(end.y));
+    return true;
+}
+
+dvec3 crossD(dvec3 p, dvec3 q) {
+    precise dvec3 r = dvec3(p.y * q.z - p.z * q.y, p.z * q.x - p.x * q.z, p.x * q.y - p.y * q.x);
+    return r;
+}
+
+void fixedEdge(i64vec2 p, i64vec2 q, int64_t s, out int64_t a, out int64_t b, out int64_t c) {
+    a = s * (p.y - q.y);
+    b = s * (q.x - p.x);
+    c = s * (p.x * q.y - p.y * q.x);
+}
+
+// Sets up one triangle; false when it covers no sample. `front` tells its facing.
+bool setupTriangle(vec4 c[3], out ExactTriangle t, out ExactHomogeneous h, out bool homogeneous,
+                   out bool front) {
+    homogeneous = false;
+    front = false;
+    for (int i = 0; i < 3; i++) {
+        if (any(isnan(c[i])) || any(isinf(c[i]))) {
+            return false;
+        }
+    }
+    vec2 size = vec2(u_push.width, u_push.height);
+    vec3 fb[3];
+    i64vec2 p[3];
+    bool snapped[3];   // w > 0 and inside the guard band
+    bool allFixed = true;
+    for (int i = 0; i < 3; i++) {
+        fb[i] = viewportTransform(c[i], size);
+        snapped[i] = c[i].w > 0.0 && inBand(fb[i].x) && inBand(fb[i].y);
+        p[i] = snapped[i] ? i64vec2(snapCoord(fb[i].x), snapCoord(fb[i].y)) : i64vec2(0);
+        allFixed = allFixed && snapped[i] && c[i].z >= 0.0;
+    }
+    if (allFixed) {
+        int64_t area2 = (p[0].x * p[1].y - p[1].x * p[0].y) + (p[1].x * p[2].y - p[2].x * p[1].y) +
+                        (p[2].x * p[0].y - p[0].x * p[2].y);
+        if (area2 == 0) {
+            return false;
+        }
+        int64_t s = area2 > 0 ? int64_t(1) : int64_t(-1);
+        int ties = 0;
+        for (int k = 0; k < 3; k++) {
+            int64_t a, b, cc;
+            fixedEdge(p[(k + 1) % 3], p[(k + 2) % 3], s, a, b, cc);
+            t.edgeA[k] = int(a);
+            t.edgeB[k] = int(b);
+            t.edgeC[k] = cc;
+            ties |= ownsTies(a, b) ? (1 << k) : 0;
+        }
+        t.edgeA.w = ties;
+        t.edgeB.w = -1;
+        t.edgeC.w = 0;
+        int64_t minX = min(min(p[0].x, p[1].x), p[2].x);
+        int64_t minY = min(min(p[0].y, p[1].y), p[2].y);
+        int64_t maxX = max(max(p[0].x, p[1].x), p[2].x);
+        int64_t maxY = max(max(p[0].y, p[1].y), p[2].y);
+        t.bounds = ivec4(clampPixel((minX - HALF_PIXEL + 255) >> 8, u_push.width),
+                         clampPixel((minY - HALF_PIXEL + 255) >> 8, u_push.height),
+                         clampPixel(((maxX - HALF_PIXEL) >> 8) + 1, u_push.width),
+                         clampPixel(((maxY - HALF_PIXEL) >> 8) + 1, u_push.height));
+        precise float invArea = 1.0 / float(abs(area2));
+        t.zNdc = vec4(fb[0].z, fb[1].z, fb[2].z, invArea);
+        precise vec4 invW = vec4(1.0 / c[0].w, 1.0 / c[1].w, 1.0 / c[2].w, 0.0);
+        t.invW = invW;
+        front = area2 < 0;
+    } else {
+        homogeneous = true;
+        dvec2 dsize = dvec2(size);
+        dvec3 v[3];
+        for (int i = 0; i < 3; i++) {
+            precise double x = (double(c[i].x) * 0.5 + double(c[i].w) * 0.5) * dsize.x;
+            precise double y = (double(c[i].y) * 0.5 + double(c[i].w) * 0.5) * dsize.y;
+            v[i] = dvec3(x, y, double(c[i].w));
+        }
+        dvec3 raw0 = crossD(v[1], v[2]);
+        dvec3 raw1 = crossD(v[2], v[0]);
+        dvec3 raw2 = crossD(v[0], v[1]);
+        precise double det = (raw0.x * v[0].x + raw0.y * v[0].y) + raw0.z * v[0].z;
+        if (det == 0.0 || isnan(det) || isinf(det)) {
+            return false;
+        }
+        double s = det > 0.0 ? 1.0 : -1.0;
+        if (!homogeneousBounds(c, t.bounds)) {
+            return false;
+        }
+        h.line0 = dvec4(raw0 * s, 0.0);
+        h.line1 = dvec4(raw1 * s, 0.0);
+        h.line2 = dvec4(raw2 * s, 0.0);
+        h.zInvDet = dvec4(double(c[0].z), double(c[1].z), double(c[2].z), 1.0 / abs(det));
+        int mask = 0;
+        int ties = 0;
+        for (int k = 0; k < 3; k++) {
+            int j = (k + 1) % 3;
+            int l = (k + 2) % 3;
+            if (snapped[j] && snapped[l] && p[j] != p[l]) {
+                int64_t a, b, cc;
+                fixedEdge(p[j], p[l], int64_t(s), a, b, cc);
+                h.fixedA[k] = int(a);
+                h.fixedB[k] = int(b);
+                h.fixedC[k] = cc;
+                mask |= 1 << k;
+                ties |= ownsTies(a, b) ? (1 << k) : 0;
+            } else {
+                h.fixedA[k] = 0;
+                h.fixedB[k] = 0;
+                h.fixedC[k] = 0;
+            }
+        }
+        h.fixedA.w = mask;
+        h.fixedB.w = ties;
+        h.fixedC.w = 0;
+        t.edgeA = ivec4(0);
+        t.edgeB = ivec4(0, 0, 0, -1);
+        t.edgeC = i64vec4(0);
+        t.zNdc = vec4(0.0);
+        t.invW = vec4(0.0);
+        front = det < 0.0;
+    }
+    return t.bounds.x < t.bounds.z && t.bounds.y < t.bounds.w;
+}
+
+void main() {
+    uint item = gl_GlobalInvocationID.x;
+    if (item >= u_push.itemCount) {
+        return;
+    }
+    uint slot = findDraw(item);
+    ExactDraw d = g_exactDraws[slot];
+    uint quadIndex = item - d.firstItem;
+    uvec4 q = g_quads[d.firstQuad + quadIndex];
+    Material m = g_materials[g_draws[d.drawIndex].materialIndex];
+    bool cullBack = (m.flags & MATERIAL_DOUBLE_SIDED) == 0u;
+    // A quad whose last index repeats a corner is a lone triangle.
+    uint subCount = (q.w != q.z && q.w != q.x) ? 2u : 1u;
+    for (uint sub = 0u; sub < subCount; sub++) {
+        uvec3 vi = quadTriangle(q, sub);
+        vec4 c[3];
+        c[0] = clipPosition(d.mvp, vertexPosition(vi.x));
+        c[1] = clipPosition(d.mvp, vertexPosition(vi.y));
+        c[2] = clipPosition(d.mvp, vertexPosition(vi.z));
+        ExactTriangle t;
+        ExactHomogeneous h;
+        bool homogeneous;
+        bool front;
+        if (!setupTriangle(c, t, h, homogeneous, front) || (cullBack && !front)) {
+            continue;
+        }
+        if (homogeneous) {
+            uint hi = atomicAdd(g_counters.homogeneousCount, 1u);
+            if (hi >= g_counters.homogeneousCapacity) {
+                atomicOr(g_counters.overflow, OVERFLOW_HOMOGENEOUS);
+                continue;
+            }
+            g_homogeneous[hi] = h;
+            t.edgeB.w = int(hi);
+        }
+        t.ids = uvec4(slot, quadIndex, sub, item * 2u + sub);
+        // Capacity is two triangles per quad: this cannot overflow.
+        uint ti = atomicAdd(g_counters.triangleCount, 1u);
+        g_triangles[ti] = t;
+    }
+}

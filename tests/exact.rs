@@ -1,0 +1,177 @@
+//! The exact method against the CPU reference: every pixel within 2/255, on every test scene,
+//! at sizes that are not multiples of the bin size, including the overflow paths.
+
+use glam::{Mat4, Vec3};
+use translucid::methods::MethodOptions;
+use translucid::metrics;
+use translucid::renderer::Renderer;
+use translucid::scene::{self, Camera, Draw, Material, Mesh, Scene};
+use translucid_tests::{against_reference, asset, gpu, save_failure};
+
+const TOLERANCE: f32 = 2.0 / 255.0;
+
+fn check(
+    scene: &Scene,
+    label: &str,
+    width: u32,
+    height: u32,
+    options: &MethodOptions,
+) -> translucid::renderer::Frame {
+    let gpu = gpu();
+    let mut renderer = Renderer::with_options(&gpu, scene, "exact", width, height, options)
+        .unwrap_or_else(|e| panic!("exact on {label}: {e}"));
+    let frame = renderer
+        .render(true)
+        .unwrap_or_else(|e| panic!("exact on {label}: {e}"));
+    let opaque = frame.opaque.as_ref().expect("opaque layer");
+    let expected = translucid::reference::render(scene, opaque).expect("reference");
+    let m = metrics::compare(&frame.image, &expected).expect("same size");
+    assert!(
+        m.max_error <= TOLERANCE,
+        "exact on {label} off by {:.1}/255 on {} pixels; see {}",
+        m.max_error * 255.0,
+        m.pixels_over,
+        save_failure(&format!("exact_{label}"), &frame.image, &expected).display()
+    );
+    frame
+}
+
+#[test]
+fn exact_matches_reference_on_generated_scenes() {
+    for name in scene::generated::NAMES {
+        let scene = scene::load(name).expect("generated scene");
+        check(&scene, name, 213, 131, &MethodOptions::default());
+    }
+}
+
+#[test]
+fn exact_matches_reference_on_vendored_gltf() {
+    for path in [
+        "GlassVaseFlowers/GlassVaseFlowers.glb",
+        "AttenuationTest/AttenuationTest.glb",
+        "utah_teapot/utah_teapot_blend.gltf",
+    ] {
+        let file = asset(path);
+        let scene = scene::load(file.to_str().expect("utf-8 path")).expect("vendored scene");
+        check(
+            &scene,
+            path.split('/').next().unwrap_or(path),
+            301,
+            177,
+            &MethodOptions::default(),
+        );
+    }
+}
+
+/// A quad that passes through the camera plane: rasterized homogeneously, clipped by depth.
+fn near_plane_scene() -> Scene {
+    let positions = vec![
+        Vec3::new(-3.0, -1.0, 6.0),
+        Vec3::new(3.0, -1.0, 6.0),
+        Vec3::new(3.0, 0.5, -6.0),
+        Vec3::new(-3.0, 0.5, -6.0),
+    ];
+    let tilted = Mesh::from_quads("through the eye", positions, vec![[0, 1, 2, 3]]);
+    let back = Mesh::from_quads(
+        "back",
+        vec![
+            Vec3::new(-2.0, -2.0, -1.0),
+            Vec3::new(2.0, -2.0, -1.0),
+            Vec3::new(2.0, 2.0, -1.0),
+            Vec3::new(-2.0, 2.0, -1.0),
+        ],
+        vec![[0, 1, 2, 3]],
+    );
+    Scene {
+        name: "near plane".into(),
+        meshes: vec![tilted, back],
+        materials: vec![
+            Material::alpha(Vec3::new(0.9, 0.3, 0.1), 0.6),
+            Material::alpha(Vec3::new(0.1, 0.4, 0.9), 0.5),
+        ],
+        transparent: vec![
+            Draw {
+                mesh: 1,
+                material: 1,
+                transform: Mat4::IDENTITY,
+            },
+            Draw {
+                mesh: 0,
+                material: 0,
+                transform: Mat4::IDENTITY,
+            },
+        ],
+        camera: Camera::look_at(Vec3::new(0.0, 0.0, 2.0), Vec3::ZERO, 1.0, 0.1, 50.0),
+        background: Vec3::splat(0.8),
+        ..Scene::default()
+    }
+}
+
+#[test]
+fn exact_matches_reference_across_the_near_plane() {
+    check(
+        &near_plane_scene(),
+        "near_plane",
+        157,
+        119,
+        &MethodOptions::default(),
+    );
+}
+
+/// Tiny first capacities force every overflow path; the frame is rendered again with grown
+/// buffers and must still match.
+#[test]
+fn exact_recovers_from_every_overflow() {
+    let options = MethodOptions {
+        initial_bin_entries: Some(1),
+        initial_homogeneous: Some(1),
+        ..Default::default()
+    };
+    let frame = check(
+        &near_plane_scene(),
+        "overflow_near_plane",
+        157,
+        119,
+        &options,
+    );
+    assert!(frame.rerenders >= 1, "the overflow path was not taken");
+    let frame = check(
+        &scene::load("hairball").expect("hairball"),
+        "overflow_hairball",
+        199,
+        143,
+        &options,
+    );
+    assert!(frame.rerenders >= 1, "the overflow path was not taken");
+}
+
+/// With the threshold on, pixels stop early: not exact, but close where little light is left.
+#[test]
+fn exact_threshold_stops_early_but_stays_close() {
+    let gpu = gpu();
+    let scene = scene::load("particles").expect("particles");
+    let options = MethodOptions {
+        threshold: 0.02,
+        ..Default::default()
+    };
+    let mut with =
+        Renderer::with_options(&gpu, &scene, "exact", 160, 120, &options).expect("renderer");
+    let early = with.render(false).expect("frame");
+    let (m, exact, _) = against_reference(&gpu, &scene, "exact", 160, 120);
+    assert!(m.max_error <= TOLERANCE);
+    let diff = metrics::compare(&early.image, &exact).expect("same size");
+    assert!(
+        early.fragments < exact_fragments(&gpu, &scene),
+        "the threshold composited as many fragments"
+    );
+    assert!(
+        diff.max_error <= 0.05,
+        "threshold 0.02 changed a pixel by {:.3}",
+        diff.max_error
+    );
+}
+
+fn exact_fragments(gpu: &translucid::gpu::Gpu, scene: &Scene) -> u64 {
+    let mut r = Renderer::new(gpu, scene, "exact", 160, 120).expect("renderer");
+    r.render(false).expect("frame").fragments
+}
