@@ -4,7 +4,7 @@
 CARGO ?= cargo
 DEMO_SCENE ?= assets/scenes/GlassVaseFlowers/GlassVaseFlowers.glb
 DEMO_SIZE ?= 1280x720
-DEMO_METHOD ?= blend
+DEMO_METHOD ?= exact
 
 .PHONY: all deps demo test lint
 

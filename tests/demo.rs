@@ -1,4 +1,5 @@
-//! The demo picture is right: a real scene's transparent layer drawn over its opaque layer.
+//! The demo picture is right: a real scene's transparent layer, drawn by the default method
+//! (exact), over its opaque layer.
 
 use translucid_tests::{asset, gpu, render};
 
@@ -12,7 +13,7 @@ fn demo_scene_shows_its_transparent_layer() {
     )
     .expect("the vendored demo scene loads");
     assert!(!scene.transparent.is_empty() && !scene.opaque.is_empty());
-    let frame = render(&gpu, &scene, "blend", 320, 180);
+    let frame = render(&gpu, &scene, "exact", 320, 180);
     let opaque = frame.opaque.expect("opaque layer").to_image();
 
     let first = frame.image.pixels[0];

@@ -5,8 +5,8 @@
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 
 // Bins are BIN_SIZE x BIN_SIZE pixels; one workgroup rasterizes one bin.
-#define BIN_SHIFT 4
-#define BIN_SIZE 16
+#define BIN_SHIFT 3
+#define BIN_SIZE 8
 
 // Overflow bits in ExactCounters.overflow: the frame must be rendered again with more room.
 #define OVERFLOW_HOMOGENEOUS 1u
@@ -34,7 +34,7 @@ struct ExactTriangle {
                             // w: order key (global quad index * 2 + sub)
 };
 
-// Extra data of a triangle on the homogeneous path (std430, 176 bytes).
+// Extra data of a triangle on the homogeneous path (std430, 192 bytes: 176 padded to 32).
 struct ExactHomogeneous {
     dvec4 line0;            // a, b, c of edge 0 (positive inside)
     dvec4 line1;

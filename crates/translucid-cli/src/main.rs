@@ -50,8 +50,11 @@ enum Command {
     Render {
         /// A glTF path or a generated scene's name (boxes, spheres, particles, planes, ...).
         scene: String,
-        #[arg(long, short, default_value = "blend")]
+        #[arg(long, short, default_value = "exact")]
         method: String,
+        /// exact: stop a pixel once its transmittance is under T in every channel (0: exact).
+        #[arg(long, default_value_t = 0.0)]
+        threshold: f32,
         #[arg(long, default_value = "1280x720")]
         size: Size,
         #[arg(short, long, default_value = "out/render.png")]
@@ -60,8 +63,11 @@ enum Command {
     /// Render with a method and with the CPU reference, and measure the difference.
     Compare {
         scene: String,
-        #[arg(long, short, default_value = "blend")]
+        #[arg(long, short, default_value = "exact")]
         method: String,
+        /// exact: stop a pixel once its transmittance is under T in every channel (0: exact).
+        #[arg(long, default_value_t = 0.0)]
+        threshold: f32,
         #[arg(long, default_value = "640x360")]
         size: Size,
         /// Write method | reference | error heat map side by side.
@@ -75,8 +81,11 @@ enum Command {
     Bench {
         #[arg(required = true)]
         scenes: Vec<String>,
-        #[arg(long = "method", short, default_value = "blend")]
+        #[arg(long = "method", short, default_value = "exact")]
         methods: Vec<String>,
+        /// exact: stop a pixel once its transmittance is under T in every channel (0: exact).
+        #[arg(long, default_value_t = 0.0)]
+        threshold: f32,
         #[arg(long, default_value = "1280x720")]
         size: Size,
         #[arg(long, default_value_t = 20)]
@@ -94,23 +103,26 @@ fn main() -> ExitCode {
         Command::Render {
             scene,
             method,
+            threshold,
             size,
             output,
-        } => commands::render::run(&scene, &method, size, &output),
+        } => commands::render::run(&scene, &method, threshold, size, &output),
         Command::Compare {
             scene,
             method,
+            threshold,
             size,
             output,
             json,
-        } => commands::compare::run(&scene, &method, size, output.as_deref(), json),
+        } => commands::compare::run(&scene, &method, threshold, size, output.as_deref(), json),
         Command::Bench {
             scenes,
             methods,
+            threshold,
             size,
             frames,
             json,
-        } => commands::bench::run(&scenes, &methods, size, frames, json),
+        } => commands::bench::run(&scenes, &methods, threshold, size, frames, json),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

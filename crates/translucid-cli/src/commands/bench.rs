@@ -21,15 +21,19 @@ struct Result {
     method_ms: f64,
     stages: Vec<(&'static str, f64)>,
     peak_gpu_bytes: u64,
+    fragments: u64,
+    rerenders: u32,
 }
 
 pub fn run(
     scenes: &[String],
     methods: &[String],
+    threshold: f32,
     size: Size,
     frames: u32,
     json: bool,
 ) -> translucid::Result<()> {
+    let options = super::options(threshold)?;
     let frames = frames.max(1);
     let gpu = open_gpu()?;
     // blend is always measured: every ratio is against it, from this same run.
@@ -46,7 +50,8 @@ pub fn run(
         let scene = translucid::scene::load(spec)?;
         for method in &order {
             bar.set_message(format!("{spec} / {method}"));
-            let mut renderer = Renderer::new(&gpu, &scene, method, size.width, size.height)?;
+            let mut renderer =
+                Renderer::with_options(&gpu, &scene, method, size.width, size.height, &options)?;
             // Lavapipe compiles pipelines on first use: warm up before timing.
             for _ in 0..warmup {
                 renderer.render(false)?;
@@ -55,6 +60,7 @@ pub fn run(
             let mut per_stage: BTreeMap<&'static str, Vec<f64>> = BTreeMap::new();
             let mut stage_order = Vec::new();
             let (mut totals, mut method_totals, mut peak) = (Vec::new(), Vec::new(), 0);
+            let (mut fragments, mut rerenders) = (0, 0);
             for _ in 0..frames {
                 let frame = renderer.render(false)?;
                 for (name, ms) in &frame.stages {
@@ -66,6 +72,8 @@ pub fn run(
                 totals.push(frame.stages.iter().map(|(_, ms)| ms).sum());
                 method_totals.push(frame.method_ms());
                 peak = peak.max(frame.peak_gpu_bytes);
+                fragments = frame.fragments;
+                rerenders += frame.rerenders;
                 bar.inc(1);
             }
             results.push(Result {
@@ -79,6 +87,8 @@ pub fn run(
                     .map(|s| (*s, median(per_stage.remove(s).unwrap_or_default())))
                     .collect(),
                 peak_gpu_bytes: peak,
+                fragments,
+                rerenders,
             });
         }
     }
@@ -98,6 +108,9 @@ pub fn run(
             let line = serde_json::json!({
                 "scene": r.scene,
                 "method": r.method,
+                "threshold": threshold,
+                "fragments": r.fragments,
+                "rerenders": r.rerenders,
                 "width": size.width,
                 "height": size.height,
                 "frames": r.frames,

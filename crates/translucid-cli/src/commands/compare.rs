@@ -6,13 +6,21 @@ use translucid::{metrics, reference, renderer::Renderer};
 pub fn run(
     scene_spec: &str,
     method: &str,
+    threshold: f32,
     size: Size,
     output: Option<&Path>,
     json: bool,
 ) -> translucid::Result<()> {
     let scene = translucid::scene::load(scene_spec)?;
     let gpu = open_gpu()?;
-    let mut renderer = Renderer::new(&gpu, &scene, method, size.width, size.height)?;
+    let mut renderer = Renderer::with_options(
+        &gpu,
+        &scene,
+        method,
+        size.width,
+        size.height,
+        &super::options(threshold)?,
+    )?;
     let frame = renderer.render(true)?;
     let opaque = frame
         .opaque
@@ -30,6 +38,7 @@ pub fn run(
         let value = serde_json::json!({
             "scene": scene_spec,
             "method": method,
+            "threshold": threshold,
             "width": size.width,
             "height": size.height,
             "max_error": m.max_error,

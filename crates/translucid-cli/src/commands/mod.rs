@@ -22,3 +22,16 @@ pub fn stage_text(stages: &[(&str, f64)]) -> String {
         .collect::<Vec<_>>()
         .join(", ")
 }
+
+/// Method options from the command line, checked.
+pub fn options(threshold: f32) -> translucid::Result<translucid::methods::MethodOptions> {
+    if !(0.0..=1.0).contains(&threshold) {
+        return Err(translucid::Error::InvalidScene(format!(
+            "--threshold {threshold} is not in [0, 1]"
+        )));
+    }
+    Ok(translucid::methods::MethodOptions {
+        threshold,
+        ..Default::default()
+    })
+}

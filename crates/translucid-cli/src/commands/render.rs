@@ -3,10 +3,23 @@ use crate::Size;
 use std::path::Path;
 use translucid::renderer::Renderer;
 
-pub fn run(scene: &str, method: &str, size: Size, output: &Path) -> translucid::Result<()> {
+pub fn run(
+    scene: &str,
+    method: &str,
+    threshold: f32,
+    size: Size,
+    output: &Path,
+) -> translucid::Result<()> {
     let scene = translucid::scene::load(scene)?;
     let gpu = open_gpu()?;
-    let mut renderer = Renderer::new(&gpu, &scene, method, size.width, size.height)?;
+    let mut renderer = Renderer::with_options(
+        &gpu,
+        &scene,
+        method,
+        size.width,
+        size.height,
+        &super::options(threshold)?,
+    )?;
     let frame = renderer.render(false)?;
     frame.image.save_png(output)?;
     println!("wrote {}", output.display());

@@ -4,13 +4,13 @@
 
 use bytemuck::{Pod, Zeroable};
 
-pub const BIN_SHIFT: u32 = 4;
+pub const BIN_SHIFT: u32 = 3;
 pub const BIN_SIZE: u32 = 1 << BIN_SHIFT;
 pub const OVERFLOW_HOMOGENEOUS: u32 = 1;
 pub const OVERFLOW_BIN_ENTRIES: u32 = 2;
 /// Bytes of one `ExactTriangle` and one `ExactHomogeneous`.
 pub const TRIANGLE_BYTES: u64 = 128;
-pub const HOMOGENEOUS_BYTES: u64 = 176;
+pub const HOMOGENEOUS_BYTES: u64 = 192;
 
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
