@@ -4,7 +4,7 @@
 # is no GPU), the GLSL compiler and the Khronos validation layer the tests run under.
 set -euo pipefail
 
-packages=(mesa-vulkan-drivers libvulkan-dev glslc vulkan-validationlayers)
+packages=(mesa-vulkan-drivers libvulkan-dev glslc vulkan-validationlayers gcc g++)
 missing=()
 for p in "${packages[@]}"; do
     dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p")

@@ -12,6 +12,7 @@
 //! # Ok::<(), translucid::Error>(())
 //! ```
 
+mod host_opaque;
 mod targets;
 mod upload;
 

@@ -41,6 +41,7 @@ impl FrameTargets {
             COLOUR_FORMAT,
             vk::ImageUsageFlags::COLOR_ATTACHMENT
                 | vk::ImageUsageFlags::TRANSFER_SRC
+                | vk::ImageUsageFlags::TRANSFER_DST
                 | vk::ImageUsageFlags::STORAGE
                 | vk::ImageUsageFlags::SAMPLED,
             1,
@@ -51,6 +52,7 @@ impl FrameTargets {
             DEPTH_FORMAT,
             vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT
                 | vk::ImageUsageFlags::TRANSFER_SRC
+                | vk::ImageUsageFlags::TRANSFER_DST
                 | vk::ImageUsageFlags::SAMPLED,
             1,
         )?;

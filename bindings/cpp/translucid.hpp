@@ -1,0 +1,221 @@
+// translucid.hpp: a header-only C++17 RAII wrapper over the C API in translucid.h.
+//
+// Errors are reported by exceptions: every failing call throws translucid::Error, which carries
+// the result code and the context's last-error message. (An expected-style result would make
+// every call site check; exceptions keep the happy path a straight line, and engines that
+// build without exceptions can use the C API directly.) Status codes that are not errors
+// (TRANSLUCID_RESULT_INCOMPLETE) are handled inside the wrapper.
+//
+// Ownership: Context, Mesh, Texture, Material and Frame are move-only. Each object keeps its
+// context alive (a shared reference to the C context), so destruction order does not matter:
+// the C context is destroyed when the last wrapper using it is gone. As with the C API, one
+// context and its objects must be used by one thread at a time.
+//
+//   translucid::Context context;                       // standalone mode, own device
+//   translucid::Mesh quad = context.create_mesh(mesh_info);
+//   translucid::Frame frame = context.render(frame_info);
+//   frame.write_png("out/frame.png");
+#ifndef TRANSLUCID_HPP
+#define TRANSLUCID_HPP
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "translucid.h"
+
+namespace translucid {
+
+/// A failed call: the code (negative, a TRANSLUCID_RESULT_ERROR_*) and the message.
+class Error : public std::runtime_error {
+public:
+    Error(translucid_result code, const std::string &message)
+        : std::runtime_error(message), code_(code) {}
+    translucid_result code() const noexcept { return code_; }
+
+private:
+    translucid_result code_;
+};
+
+namespace detail {
+
+using ContextPtr = std::shared_ptr<translucid_context>;
+
+inline void check(translucid_result result, const translucid_context *context, const char *call) {
+    if (result < 0) {
+        throw Error(result, std::string(call) + ": " + translucid_result_string(result) + ": " +
+                                translucid_context_last_error(context));
+    }
+}
+
+// A move-only handle that destroys its object when it goes out of scope.
+template <typename Handle, translucid_result (*Destroy)(translucid_context *, Handle)>
+class Object {
+public:
+    Object() noexcept : handle_{0} {}
+    Object(ContextPtr context, Handle handle) noexcept
+        : context_(std::move(context)), handle_(handle) {}
+    Object(const Object &) = delete;
+    Object &operator=(const Object &) = delete;
+    Object(Object &&other) noexcept
+        : context_(std::move(other.context_)), handle_(std::exchange(other.handle_, Handle{0})) {}
+    Object &operator=(Object &&other) noexcept {
+        if (this != &other) {
+            reset();
+            context_ = std::move(other.context_);
+            handle_ = std::exchange(other.handle_, Handle{0});
+        }
+        return *this;
+    }
+    ~Object() { reset(); }
+
+    /// The C handle, for use with the C API (still owned by this object).
+    Handle handle() const noexcept { return handle_; }
+    explicit operator bool() const noexcept { return handle_.id != 0; }
+
+    /// Destroys the object now. Errors are ignored: destroying can only fail for a handle the
+    /// wrapper never hands out.
+    void reset() noexcept {
+        if (context_ && handle_.id != 0) {
+            Destroy(context_.get(), handle_);
+        }
+        handle_ = Handle{0};
+        context_.reset();
+    }
+
+protected:
+    translucid_context *context() const noexcept { return context_.get(); }
+
+private:
+    ContextPtr context_;
+    Handle handle_;
+};
+
+}  // namespace detail
+
+using Mesh = detail::Object<translucid_mesh, translucid_mesh_destroy>;
+using Texture = detail::Object<translucid_texture, translucid_texture_destroy>;
+using Material = detail::Object<translucid_material, translucid_material_destroy>;
+
+/// A rendered frame: its pixels, a PNG writer and its statistics.
+class Frame : public detail::Object<translucid_frame, translucid_frame_destroy> {
+public:
+    using Object::Object;
+
+    /// sRGB RGBA8, rows top first.
+    std::vector<std::uint8_t> read_rgba8() const {
+        return read<std::uint8_t>(TRANSLUCID_PIXEL_FORMAT_RGBA8_SRGB, 4);
+    }
+    /// Linear RGBA floats, rows top first.
+    std::vector<float> read_rgba32f() const {
+        return read<float>(TRANSLUCID_PIXEL_FORMAT_RGBA32F_LINEAR, 4);
+    }
+    void write_png(const std::string &path) const {
+        detail::check(translucid_frame_write_png(context(), handle(), path.c_str()), context(),
+                      "translucid_frame_write_png");
+    }
+    translucid_frame_statistics statistics() const {
+        translucid_frame_statistics stats{};
+        stats.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_STATISTICS;
+        detail::check(translucid_frame_get_statistics(context(), handle(), &stats), context(),
+                      "translucid_frame_get_statistics");
+        return stats;
+    }
+
+private:
+    template <typename T>
+    std::vector<T> read(std::uint32_t format, std::size_t per_pixel) const {
+        const translucid_frame_statistics stats = statistics();
+        std::vector<T> pixels(std::size_t(stats.width) * stats.height * per_pixel);
+        detail::check(translucid_frame_read(context(), handle(), format, pixels.data(),
+                                            pixels.size() * sizeof(T)),
+                      context(), "translucid_frame_read");
+        return pixels;
+    }
+};
+
+/// Options for a standalone context.
+struct ContextOptions {
+    /// Device index or name substring; empty uses TRANSLUCID_DEVICE or the best device.
+    std::string device;
+    /// Khronos validation layer on (TRANSLUCID_VALIDATION=1 also turns it on).
+    bool validation = false;
+};
+
+/// A standalone context: translucid's own headless device.
+class Context {
+public:
+    explicit Context(const ContextOptions &options = ContextOptions()) {
+        translucid_context_create_info info{};
+        info.s_type = TRANSLUCID_STRUCTURE_TYPE_CONTEXT_CREATE_INFO;
+        info.header_version = TRANSLUCID_HEADER_VERSION;
+        info.mode = TRANSLUCID_CONTEXT_MODE_STANDALONE;
+        info.flags = options.validation ? TRANSLUCID_CONTEXT_CREATE_VALIDATION : 0u;
+        info.device = options.device.empty() ? nullptr : options.device.c_str();
+        translucid_context *raw = nullptr;
+        detail::check(translucid_context_create(&info, &raw), nullptr,
+                      "translucid_context_create");
+        context_ = detail::ContextPtr(raw, translucid_context_destroy);
+    }
+    Context(const Context &) = delete;
+    Context &operator=(const Context &) = delete;
+    Context(Context &&) noexcept = default;
+    Context &operator=(Context &&) noexcept = default;
+
+    /// The C context (owned by this wrapper and the objects made from it).
+    translucid_context *get() const noexcept { return context_.get(); }
+    std::string device_name() const { return translucid_context_device_name(context_.get()); }
+
+    /// Creates objects from C create-infos; `s_type` is filled in for you.
+    Mesh create_mesh(translucid_mesh_create_info info) {
+        info.s_type = TRANSLUCID_STRUCTURE_TYPE_MESH_CREATE_INFO;
+        translucid_mesh mesh{0};
+        detail::check(translucid_mesh_create(get(), &info, &mesh), get(),
+                      "translucid_mesh_create");
+        return Mesh(context_, mesh);
+    }
+    Texture create_texture(translucid_texture_create_info info) {
+        info.s_type = TRANSLUCID_STRUCTURE_TYPE_TEXTURE_CREATE_INFO;
+        translucid_texture texture{0};
+        detail::check(translucid_texture_create(get(), &info, &texture), get(),
+                      "translucid_texture_create");
+        return Texture(context_, texture);
+    }
+    Material create_material(translucid_material_create_info info) {
+        info.s_type = TRANSLUCID_STRUCTURE_TYPE_MATERIAL_CREATE_INFO;
+        translucid_material material{0};
+        detail::check(translucid_material_create(get(), &info, &material), get(),
+                      "translucid_material_create");
+        return Material(context_, material);
+    }
+    Frame render(translucid_frame_info info) {
+        info.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_INFO;
+        translucid_frame frame{0};
+        detail::check(translucid_frame_render(get(), &info, &frame), get(),
+                      "translucid_frame_render");
+        return Frame(context_, frame);
+    }
+
+    /// The methods this build has (translucid_method values).
+    static std::vector<std::uint32_t> available_methods() {
+        std::size_t count = 0;
+        translucid_result r = translucid_methods_available(nullptr, 0, &count);
+        detail::check(r, nullptr, "translucid_methods_available");
+        std::vector<std::uint32_t> methods(count);
+        r = translucid_methods_available(methods.data(), methods.size(), &count);
+        detail::check(r, nullptr, "translucid_methods_available");
+        methods.resize(count < methods.size() ? count : methods.size());
+        return methods;
+    }
+
+private:
+    detail::ContextPtr context_;
+};
+
+}  // namespace translucid
+
+#endif  // TRANSLUCID_HPP

@@ -1,0 +1,171 @@
+//! The one place where raw pointers from C become Rust references.
+//!
+//! Every export reaches its arguments through these helpers, which reject NULL and misaligned
+//! pointers with an error instead of crashing. What they cannot check is the C side of the
+//! contract, stated once in the header: every non-NULL pointer points to live memory of the
+//! documented extent for the duration of the call, and nothing else mutates it meanwhile.
+//! Each `unsafe` block below relies on exactly that.
+
+use crate::context::Context;
+use crate::result::{translucid_result, Failure, FfiResult};
+use crate::structure::translucid_structure_type;
+use std::ffi::{c_char, c_void, CStr};
+use std::mem::MaybeUninit;
+
+/// The context as C sees it: opaque, only ever behind a pointer.
+#[allow(non_camel_case_types)]
+pub struct translucid_context {
+    _private: [u8; 0],
+}
+
+/// A reference to the `T` at `ptr`.
+pub(crate) fn try_ref<'a, T>(ptr: *const T, what: &str) -> FfiResult<&'a T> {
+    check_pointer(ptr, what)?;
+    // SAFETY: non-NULL and aligned (checked above); valid for reads of a T by the C contract.
+    Ok(unsafe { &*ptr })
+}
+
+/// A slice of `len` values at `ptr`; NULL is accepted when `len` is 0.
+pub(crate) fn try_slice<'a, T>(ptr: *const T, len: usize, what: &str) -> FfiResult<&'a [T]> {
+    if len == 0 {
+        return Ok(&[]);
+    }
+    check_pointer(ptr, what)?;
+    check_extent::<T>(len, what)?;
+    // SAFETY: non-NULL, aligned, extent fits in isize (checked above); valid for reads of
+    // `len` values by the C contract.
+    Ok(unsafe { std::slice::from_raw_parts(ptr, len) })
+}
+
+/// An output array of `len` values at `ptr`, to be written (never read).
+pub(crate) fn try_out_slice<'a, T>(
+    ptr: *mut T,
+    len: usize,
+    what: &str,
+) -> FfiResult<&'a mut [MaybeUninit<T>]> {
+    check_pointer(ptr, what)?;
+    check_extent::<T>(len, what)?;
+    // SAFETY: non-NULL, aligned, extent fits in isize; valid for writes of `len` values by the
+    // C contract. MaybeUninit means nothing is read from it.
+    Ok(unsafe { std::slice::from_raw_parts_mut(ptr.cast::<MaybeUninit<T>>(), len) })
+}
+
+/// An out-parameter, checked before the work starts and written only once it succeeded.
+pub(crate) fn try_out<'a, T>(ptr: *mut T, what: &str) -> FfiResult<&'a mut MaybeUninit<T>> {
+    check_pointer(ptr, what)?;
+    // SAFETY: non-NULL and aligned; valid for writes of a T by the C contract. MaybeUninit
+    // means nothing is read from it.
+    Ok(unsafe { &mut *ptr.cast::<MaybeUninit<T>>() })
+}
+
+/// An optional NUL-terminated UTF-8 string; NULL gives `None`.
+pub(crate) fn try_str<'a>(ptr: *const c_char, what: &str) -> FfiResult<Option<&'a str>> {
+    if ptr.is_null() {
+        return Ok(None);
+    }
+    // SAFETY: non-NULL; NUL-terminated and live for the call by the C contract.
+    let s = unsafe { CStr::from_ptr(ptr) };
+    s.to_str()
+        .map(Some)
+        .map_err(|_| Failure::argument(format!("{what} is not valid UTF-8")))
+}
+
+/// The header every extensible struct starts with; used to read `next` chains.
+#[allow(non_camel_case_types)]
+#[repr(C)]
+pub struct translucid_base_in_structure {
+    /// A `translucid_structure_type` value.
+    pub s_type: u32,
+    /// The next structure in the chain, or NULL.
+    pub next: *const translucid_base_in_structure,
+}
+
+/// Checks a struct's `s_type` and its `next` chain. No extension structures exist yet, so any
+/// structure in the chain is reported: as not supported if the API reserves it for a feature
+/// still to come, else as unknown to this library.
+pub(crate) fn check_header(
+    s_type: u32,
+    next: *const c_void,
+    expected: translucid_structure_type,
+    what: &str,
+) -> FfiResult {
+    if s_type != expected as u32 {
+        let found = translucid_structure_type::from_raw(s_type).map_or_else(
+            || format!("{s_type} (no such structure)"),
+            |t| format!("{t:?}"),
+        );
+        return Err(Failure::new(
+            translucid_result::ErrorInvalidStructureType,
+            format!(
+                "{what}.s_type is {found}; set it to {expected:?} ({})",
+                expected as u32
+            ),
+        ));
+    }
+    if next.is_null() {
+        return Ok(());
+    }
+    let link = try_ref(next.cast::<translucid_base_in_structure>(), "next")?;
+    match translucid_structure_type::from_raw(link.s_type) {
+        Some(t) if t.is_reserved() => Err(Failure::new(
+            translucid_result::ErrorNotSupported,
+            format!("{what}.next holds {t:?}, which this build does not implement yet"),
+        )),
+        _ => Err(Failure::new(
+            translucid_result::ErrorInvalidStructureType,
+            format!(
+                "{what}.next holds structure type {}, which {what} does not accept in this \
+                 version; set next to NULL",
+                link.s_type
+            ),
+        )),
+    }
+}
+
+/// Moves a context to C.
+pub(crate) fn context_into_raw(context: Box<Context>) -> *mut translucid_context {
+    Box::into_raw(context).cast()
+}
+
+/// Takes a context back from C to drop it; NULL gives `None`.
+pub(crate) fn context_from_raw(ptr: *mut translucid_context) -> Option<Box<Context>> {
+    // SAFETY: a non-NULL pointer came from `context_into_raw` and is not used after
+    // `translucid_context_destroy` (C contract).
+    (!ptr.is_null()).then(|| unsafe { Box::from_raw(ptr.cast::<Context>()) })
+}
+
+/// The context behind a pointer from `translucid_context_create`.
+pub(crate) fn context_mut<'a>(ptr: *mut translucid_context) -> FfiResult<&'a mut Context> {
+    let ptr = ptr.cast::<Context>();
+    check_pointer(ptr, "context")?;
+    // SAFETY: came from `context_into_raw`; the caller synchronises calls on one context
+    // (documented), so this is the only reference for the call's duration.
+    Ok(unsafe { &mut *ptr })
+}
+
+/// Read-only access for the `const translucid_context *` queries.
+pub(crate) fn context_ref<'a>(ptr: *const translucid_context) -> Option<&'a Context> {
+    let ptr = ptr.cast::<Context>();
+    // SAFETY: as `context_mut`; shared access only.
+    (!ptr.is_null() && ptr.is_aligned()).then(|| unsafe { &*ptr })
+}
+
+fn check_pointer<T>(ptr: *const T, what: &str) -> FfiResult {
+    if ptr.is_null() {
+        return Err(Failure::null(what));
+    }
+    if !ptr.is_aligned() {
+        return Err(Failure::argument(format!(
+            "{what} is not aligned to {} bytes",
+            std::mem::align_of::<T>()
+        )));
+    }
+    Ok(())
+}
+
+fn check_extent<T>(len: usize, what: &str) -> FfiResult {
+    match len.checked_mul(std::mem::size_of::<T>()) {
+        Some(bytes) if bytes <= isize::MAX.unsigned_abs() => Ok(()),
+        _ => Err(Failure::size(format!("{what}: {len} elements is too many"))),
+    }
+}

@@ -1,0 +1,172 @@
+//! The context: one device and every object created on it. Exports `translucid_context_*`.
+
+use crate::cast::{self, check_header, translucid_context, try_out, try_ref, try_str};
+use crate::frame::FrameRecord;
+use crate::handle::{next_context_tag, Kind, Slots};
+use crate::material::MaterialRecord;
+use crate::panic::{self, CallState};
+use crate::result::{translucid_result, Failure, FfiResult};
+use crate::structure::translucid_structure_type;
+use crate::version;
+use std::ffi::{c_char, c_void, CString};
+use translucid::gpu::{Gpu, GpuOptions};
+use translucid::scene::{Mesh, Texture};
+
+/// How the context gets its device.
+#[allow(non_camel_case_types)]
+#[repr(u32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum translucid_context_mode {
+    /// translucid creates its own headless device, renders offscreen and reads pixels back.
+    Standalone = 0,
+    /// Reserved: the engine's device, recording into the engine's command buffers. This build
+    /// returns `TRANSLUCID_RESULT_ERROR_NOT_SUPPORTED`.
+    HostDevice = 1,
+}
+
+/// Turn on the Khronos validation layer; every validation error then fails the call that
+/// caused it with `TRANSLUCID_RESULT_ERROR_VALIDATION`. (`TRANSLUCID_VALIDATION=1` in the
+/// environment does the same.)
+pub const TRANSLUCID_CONTEXT_CREATE_VALIDATION: u32 = 1;
+const CONTEXT_CREATE_FLAGS: u32 = TRANSLUCID_CONTEXT_CREATE_VALIDATION;
+
+/// How to create a context. Zero-initialise it, then set `s_type`, `header_version` and what
+/// you need; zero everywhere else means the default.
+#[allow(non_camel_case_types)]
+#[repr(C)]
+pub struct translucid_context_create_info {
+    /// `TRANSLUCID_STRUCTURE_TYPE_CONTEXT_CREATE_INFO`.
+    pub s_type: u32,
+    /// NULL. (Host-device mode will chain its device description here.)
+    pub next: *const c_void,
+    /// `TRANSLUCID_HEADER_VERSION`: lets the library refuse a header it is not compatible with.
+    pub header_version: u32,
+    /// A `translucid_context_mode`; 0 is standalone.
+    pub mode: u32,
+    /// `TRANSLUCID_CONTEXT_CREATE_*` bits; other bits must be 0.
+    pub flags: u32,
+    /// Optional: the device's index or a case-insensitive substring of its name. NULL uses
+    /// `TRANSLUCID_DEVICE` from the environment, else the best device (discrete, integrated,
+    /// then CPU).
+    pub device: *const c_char,
+}
+
+/// What the boundary guards: everything a call can touch.
+pub struct Objects {
+    pub gpu: Gpu,
+    pub device_name: CString,
+    pub meshes: Slots<Mesh>,
+    pub textures: Slots<Texture>,
+    pub materials: Slots<MaterialRecord>,
+    pub frames: Slots<FrameRecord>,
+}
+
+/// The object behind `translucid_context *`.
+pub struct Context {
+    pub state: CallState,
+    pub objects: Objects,
+}
+
+impl Context {
+    fn create(info: &translucid_context_create_info) -> FfiResult<Self> {
+        check_header(
+            info.s_type,
+            info.next,
+            translucid_structure_type::ContextCreateInfo,
+            "translucid_context_create_info",
+        )?;
+        version::check_header_version(info.header_version)?;
+        match info.mode {
+            m if m == translucid_context_mode::Standalone as u32 => {}
+            m if m == translucid_context_mode::HostDevice as u32 => {
+                return Err(Failure::new(
+                    translucid_result::ErrorNotSupported,
+                    "host-device mode is not implemented in this build; use standalone mode",
+                ))
+            }
+            m => return Err(Failure::enumeration("translucid_context_mode", m)),
+        }
+        if info.flags & !CONTEXT_CREATE_FLAGS != 0 {
+            return Err(Failure::argument(format!(
+                "unknown context flags {:#x}",
+                info.flags & !CONTEXT_CREATE_FLAGS
+            )));
+        }
+        let from_env = GpuOptions::from_env();
+        let options = GpuOptions {
+            device: try_str(info.device, "device")?
+                .map(str::to_string)
+                .or(from_env.device),
+            validation: info.flags & TRANSLUCID_CONTEXT_CREATE_VALIDATION != 0
+                || from_env.validation,
+        };
+        let gpu = Gpu::new(&options)?;
+        let tag = next_context_tag();
+        let device_name = CString::new(gpu.info().name.replace('\0', "")).unwrap_or_default();
+        Ok(Self {
+            state: CallState::default(),
+            objects: Objects {
+                gpu,
+                device_name,
+                meshes: Slots::new(Kind::Mesh, tag),
+                textures: Slots::new(Kind::Texture, tag),
+                materials: Slots::new(Kind::Material, tag),
+                frames: Slots::new(Kind::Frame, tag),
+            },
+        })
+    }
+}
+
+impl translucid_context {
+    /// Creates a context. On success writes it to `*out_context`; on failure leaves
+    /// `*out_context` untouched and `translucid_context_last_error(NULL)` says why.
+    #[no_mangle]
+    #[must_use]
+    pub extern "C" fn translucid_context_create(
+        info: *const translucid_context_create_info,
+        out_context: *mut *mut translucid_context,
+    ) -> translucid_result {
+        panic::without_context(|| {
+            let info = try_ref(info, "info")?;
+            let out = try_out(out_context, "out_context")?;
+            let context = Context::create(info)?;
+            out.write(cast::context_into_raw(Box::new(context)));
+            Ok(translucid_result::Success)
+        })
+    }
+
+    /// Destroys a context and everything created with it (meshes, textures, materials,
+    /// frames): their handles become invalid. Waits for the device to be idle. NULL is
+    /// allowed and does nothing.
+    #[no_mangle]
+    pub extern "C" fn translucid_context_destroy(context: *mut translucid_context) {
+        // A panic while dropping leaks the rest of the context rather than unwinding into C.
+        panic::or_fallback((), || drop(cast::context_from_raw(context)));
+    }
+
+    /// The message of the last failed call on `context`, or of the last failed call without a
+    /// context on this thread (`translucid_context_create`, calls given a NULL context) when
+    /// `context` is NULL. Never NULL; "" when nothing failed. Valid until the next call on the
+    /// same context (or, for NULL, the next failing context-less call on this thread).
+    #[no_mangle]
+    pub extern "C" fn translucid_context_last_error(
+        context: *const translucid_context,
+    ) -> *const c_char {
+        panic::or_fallback(c"".as_ptr(), || match cast::context_ref(context) {
+            Some(context) => context.state.last_error(),
+            None => panic::thread_last_error(),
+        })
+    }
+
+    /// The name of the context's Vulkan device; "" for a NULL context. Valid as long as the
+    /// context.
+    #[no_mangle]
+    pub extern "C" fn translucid_context_device_name(
+        context: *const translucid_context,
+    ) -> *const c_char {
+        panic::or_fallback(c"".as_ptr(), || match cast::context_ref(context) {
+            Some(context) => context.objects.device_name.as_ptr(),
+            None => c"".as_ptr(),
+        })
+    }
+}

@@ -1,0 +1,425 @@
+//! Frames: render a list of draws with one method, then read the pixels, write a PNG or look
+//! at the statistics. Exports `translucid_frame_*`.
+
+use crate::cast::{
+    check_header, translucid_context, try_out, try_out_slice, try_ref, try_slice, try_str,
+};
+use crate::context::Objects;
+use crate::frame_input::{build_scene, opaque_layer_from};
+use crate::material::translucid_material;
+use crate::mesh::translucid_mesh;
+use crate::method::translucid_method;
+use crate::panic;
+use crate::result::{translucid_result, Failure, FfiResult};
+use crate::structure::translucid_structure_type;
+use std::ffi::{c_char, c_void};
+use translucid::renderer::{check_viewport, Renderer};
+use translucid::Image;
+
+/// Most draws in one frame.
+pub const TRANSLUCID_MAX_DRAWS: u32 = 1 << 20;
+/// Most stages `translucid_frame_statistics` reports.
+pub const TRANSLUCID_MAX_STAGES: usize = 16;
+/// Size of a stage name, NUL included.
+pub const TRANSLUCID_STAGE_NAME_SIZE: usize = 32;
+
+/// A perspective camera with Vulkan conventions: right-handed view space looking down -Z,
+/// framebuffer Y down, depth 0 at the near plane and 1 at the far plane.
+#[allow(non_camel_case_types)]
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct translucid_camera {
+    /// World-to-view matrix, column-major (as GLM, glam and most engines store it).
+    pub view: [f32; 16],
+    /// Vertical field of view in radians, in (0, pi).
+    pub fov_y: f32,
+    /// Near plane distance, > 0.
+    pub z_near: f32,
+    /// Far plane distance, > `z_near` and finite.
+    pub z_far: f32,
+}
+
+/// Ambient light plus one directional light, for lit materials.
+#[allow(non_camel_case_types)]
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct translucid_light {
+    /// Points towards the light; finite and non-zero (normalised by translucid).
+    pub direction: [f32; 3],
+    /// Linear RGB, non-negative.
+    pub colour: [f32; 3],
+    /// Linear RGB, non-negative.
+    pub ambient: [f32; 3],
+}
+
+/// Which layer a draw belongs to.
+#[allow(non_camel_case_types)]
+#[repr(u32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum translucid_layer {
+    /// Blended by the frame's method, in submission order where order matters.
+    Transparent = 0,
+    /// Depth-tested and depth-writing, drawn first.
+    Opaque = 1,
+}
+
+/// One instance of a mesh.
+#[allow(non_camel_case_types)]
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct translucid_draw {
+    pub mesh: translucid_mesh,
+    pub material: translucid_material,
+    /// Model-to-world matrix, column-major, finite.
+    pub transform: [f32; 16],
+    /// A `translucid_layer`; 0 is transparent.
+    pub layer: u32,
+}
+
+/// Pixel layouts for reading frames and passing opaque layers. Rows top first, tightly
+/// packed.
+#[allow(non_camel_case_types)]
+#[repr(u32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum translucid_pixel_format {
+    /// 4 bytes per pixel, sRGB-encoded RGB, alpha 255.
+    Rgba8Srgb = 0,
+    /// 16 bytes per pixel, four native-endian floats of linear RGB, alpha 1.
+    Rgba32fLinear = 1,
+}
+
+impl translucid_pixel_format {
+    pub fn from_raw(value: u32) -> FfiResult<Self> {
+        [Self::Rgba8Srgb, Self::Rgba32fLinear]
+            .into_iter()
+            .find(|f| *f as u32 == value)
+            .ok_or_else(|| Failure::enumeration("pixel format", value))
+    }
+
+    pub fn bytes_per_pixel(self) -> usize {
+        match self {
+            Self::Rgba8Srgb => 4,
+            Self::Rgba32fLinear => 16,
+        }
+    }
+}
+
+/// The engine's own opaque layer, which the transparent draws are depth-tested against and
+/// composited over (instead of a background colour and opaque draws).
+#[allow(non_camel_case_types)]
+#[repr(C)]
+pub struct translucid_opaque_layer {
+    /// `TRANSLUCID_STRUCTURE_TYPE_OPAQUE_LAYER`.
+    pub s_type: u32,
+    /// NULL.
+    pub next: *const c_void,
+    /// A `translucid_pixel_format` for `colour`.
+    pub colour_format: u32,
+    /// Required: width x height pixels in `colour_format` (alpha ignored); linear colour must
+    /// be finite and non-negative.
+    pub colour: *const c_void,
+    /// Required: width x height floats, the Vulkan depth buffer (0 near, 1 far), each in
+    /// [0, 1].
+    pub depth: *const f32,
+}
+
+/// Everything one frame needs. Zero-initialise, then set `s_type`, `width`, `height`, the
+/// camera and the draws.
+#[allow(non_camel_case_types)]
+#[repr(C)]
+pub struct translucid_frame_info {
+    /// `TRANSLUCID_STRUCTURE_TYPE_FRAME_INFO`.
+    pub s_type: u32,
+    /// NULL.
+    pub next: *const c_void,
+    /// A `translucid_method`; see `translucid_methods_available`.
+    pub method: u32,
+    /// 1 to the device's largest image size.
+    pub width: u32,
+    /// 1 to the device's largest image size.
+    pub height: u32,
+    pub camera: translucid_camera,
+    /// Optional: NULL uses a default light.
+    pub light: *const translucid_light,
+    /// `draw_count` draws (NULL allowed when 0), at most `TRANSLUCID_MAX_DRAWS`.
+    pub draws: *const translucid_draw,
+    pub draw_count: u32,
+    /// Linear RGB behind everything when there is no `opaque_layer`.
+    pub background: [f32; 3],
+    /// Optional: the engine's opaque colour and depth, replacing `background`; then no draw
+    /// may be in the opaque layer.
+    pub opaque_layer: *const translucid_opaque_layer,
+}
+
+/// GPU time of one stage.
+#[allow(non_camel_case_types)]
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct translucid_stage_time {
+    /// NUL-terminated stage name ("opaque", then the method's stages...).
+    pub name: [c_char; TRANSLUCID_STAGE_NAME_SIZE],
+    pub milliseconds: f64,
+}
+
+/// What a frame cost. The caller sets `s_type` (and `next` to NULL); translucid fills the
+/// rest.
+#[allow(non_camel_case_types)]
+#[repr(C)]
+pub struct translucid_frame_statistics {
+    /// `TRANSLUCID_STRUCTURE_TYPE_FRAME_STATISTICS`, set by the caller.
+    pub s_type: u32,
+    /// NULL, set by the caller.
+    pub next: *mut c_void,
+    /// The `translucid_method` that rendered the frame.
+    pub method: u32,
+    pub width: u32,
+    pub height: u32,
+    /// Number of valid entries in `stages`.
+    pub stage_count: u32,
+    /// GPU time per stage, in order; the first `stage_count` are valid.
+    pub stages: [translucid_stage_time; TRANSLUCID_MAX_STAGES],
+    /// GPU time of all stages.
+    pub gpu_milliseconds: f64,
+    /// GPU time of the method's stages alone (not the opaque layer).
+    pub method_milliseconds: f64,
+    /// Peak GPU memory allocated while the frame was rendered.
+    pub peak_gpu_bytes: u64,
+    /// Transparent fragments composited, for methods that count them (exact); 0 otherwise.
+    pub fragments: u64,
+    /// Times the frame was rendered again because a method's buffer overflowed (and was
+    /// grown); 0 for methods without such buffers.
+    pub overflow_rerenders: u32,
+}
+
+/// A rendered frame's handle. `{0}` is the NULL handle.
+#[allow(non_camel_case_types)]
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct translucid_frame {
+    pub id: u64,
+}
+
+/// A rendered frame as the context keeps it: pixels in host memory and what it cost.
+pub struct FrameRecord {
+    method: translucid_method,
+    image: Image,
+    stages: Vec<(&'static str, f64)>,
+    method_ms: f64,
+    peak_gpu_bytes: u64,
+    fragments: u64,
+    rerenders: u32,
+}
+
+fn render(objects: &Objects, info: &translucid_frame_info) -> FfiResult<FrameRecord> {
+    check_header(
+        info.s_type,
+        info.next,
+        translucid_structure_type::FrameInfo,
+        "translucid_frame_info",
+    )?;
+    let method = translucid_method::from_raw(info.method)?;
+    check_viewport(&objects.gpu, info.width, info.height)?;
+    if info.draw_count > TRANSLUCID_MAX_DRAWS {
+        return Err(Failure::size(format!(
+            "draw_count {} is over TRANSLUCID_MAX_DRAWS ({TRANSLUCID_MAX_DRAWS})",
+            info.draw_count
+        )));
+    }
+    let count = usize::try_from(info.draw_count).map_err(|_| Failure::size("too many draws"))?;
+    let draws = try_slice(info.draws, count, "draws")?;
+    let light = if info.light.is_null() {
+        None
+    } else {
+        Some(try_ref(info.light, "light")?)
+    };
+    let scene = build_scene(objects, info, light, draws)?;
+    let layer = if info.opaque_layer.is_null() {
+        None
+    } else {
+        let layer = try_ref(info.opaque_layer, "opaque_layer")?;
+        if let Some(i) = draws
+            .iter()
+            .position(|d| d.layer == translucid_layer::Opaque as u32)
+        {
+            return Err(Failure::argument(format!(
+                "draw {i} is opaque, but the frame has the host's opaque_layer: draw opaque \
+                 geometry into that layer, or leave opaque_layer NULL"
+            )));
+        }
+        Some(opaque_layer_from(layer, info.width, info.height)?)
+    };
+    let mut renderer = Renderer::new(&objects.gpu, &scene, method.name(), info.width, info.height)?;
+    let frame = match &layer {
+        Some(layer) => renderer.render_over(layer)?,
+        None => renderer.render(false)?,
+    };
+    Ok(FrameRecord {
+        method,
+        method_ms: frame.method_ms(),
+        image: frame.image,
+        stages: frame.stages,
+        peak_gpu_bytes: frame.peak_gpu_bytes,
+        fragments: frame.fragments,
+        rerenders: frame.rerenders,
+    })
+}
+
+fn statistics_of(record: &FrameRecord, header: (u32, *mut c_void)) -> translucid_frame_statistics {
+    let empty = translucid_stage_time {
+        name: [0; TRANSLUCID_STAGE_NAME_SIZE],
+        milliseconds: 0.0,
+    };
+    let mut stages = [empty; TRANSLUCID_MAX_STAGES];
+    for (slot, (name, ms)) in stages.iter_mut().zip(&record.stages) {
+        // Names are short ASCII; cut to fit and keep the final NUL.
+        for (c, b) in slot
+            .name
+            .iter_mut()
+            .zip(name.bytes().take(TRANSLUCID_STAGE_NAME_SIZE - 1))
+        {
+            *c = c_char::from_ne_bytes([b]);
+        }
+        slot.milliseconds = *ms;
+    }
+    let stage_count = record.stages.len().min(TRANSLUCID_MAX_STAGES);
+    translucid_frame_statistics {
+        s_type: header.0,
+        next: header.1,
+        method: record.method as u32,
+        width: record.image.width,
+        height: record.image.height,
+        stage_count: u32::try_from(stage_count).unwrap_or(0),
+        stages,
+        gpu_milliseconds: record.stages.iter().map(|(_, ms)| ms).sum(),
+        method_milliseconds: record.method_ms,
+        peak_gpu_bytes: record.peak_gpu_bytes,
+        fragments: record.fragments,
+        overflow_rerenders: record.rerenders,
+    }
+}
+
+fn write_pixels(
+    image: &Image,
+    format: translucid_pixel_format,
+    out: &mut [std::mem::MaybeUninit<u8>],
+) {
+    let bytes: Vec<u8> = match format {
+        translucid_pixel_format::Rgba8Srgb => image.to_srgb8(),
+        translucid_pixel_format::Rgba32fLinear => image
+            .pixels
+            .iter()
+            .flat_map(|p| p.to_array())
+            .flat_map(f32::to_ne_bytes)
+            .collect(),
+    };
+    for (slot, b) in out.iter_mut().zip(bytes) {
+        slot.write(b);
+    }
+}
+
+impl translucid_frame {
+    /// Renders a frame and waits for it; writes its handle to `*out_frame`. The frame keeps
+    /// its pixels and statistics until `translucid_frame_destroy` (or the context's).
+    #[no_mangle]
+    #[must_use]
+    pub extern "C" fn translucid_frame_render(
+        context: *mut translucid_context,
+        info: *const translucid_frame_info,
+        out_frame: *mut translucid_frame,
+    ) -> translucid_result {
+        panic::with_context(context, |objects| {
+            let info = try_ref(info, "info")?;
+            let out = try_out(out_frame, "out_frame")?;
+            let record = render(objects, info)?;
+            let id = objects.frames.insert(record)?;
+            out.write(translucid_frame { id });
+            Ok(translucid_result::Success)
+        })
+    }
+
+    /// Copies the frame's pixels into `pixels`, which holds `size` bytes: at least width x
+    /// height x 4 for `TRANSLUCID_PIXEL_FORMAT_RGBA8_SRGB`, x 16 for
+    /// `TRANSLUCID_PIXEL_FORMAT_RGBA32F_LINEAR`.
+    #[no_mangle]
+    #[must_use]
+    pub extern "C" fn translucid_frame_read(
+        context: *mut translucid_context,
+        frame: translucid_frame,
+        format: u32,
+        pixels: *mut c_void,
+        size: usize,
+    ) -> translucid_result {
+        panic::with_context(context, |objects| {
+            let record = objects.frames.get(frame.id)?;
+            let format = translucid_pixel_format::from_raw(format)?;
+            let needed = record.image.pixels.len() * format.bytes_per_pixel();
+            if size < needed {
+                return Err(Failure::size(format!(
+                    "the {}x{} frame needs {needed} bytes in {format:?}, the buffer has {size}",
+                    record.image.width, record.image.height
+                )));
+            }
+            let out = try_out_slice(pixels.cast::<u8>(), needed, "pixels")?;
+            write_pixels(&record.image, format, out);
+            Ok(translucid_result::Success)
+        })
+    }
+
+    /// Writes the frame as an 8-bit sRGB PNG at `path` (UTF-8), creating missing directories.
+    #[no_mangle]
+    #[must_use]
+    pub extern "C" fn translucid_frame_write_png(
+        context: *mut translucid_context,
+        frame: translucid_frame,
+        path: *const c_char,
+    ) -> translucid_result {
+        panic::with_context(context, |objects| {
+            let record = objects.frames.get(frame.id)?;
+            let path = try_str(path, "path")?.ok_or_else(|| Failure::null("path"))?;
+            if path.is_empty() {
+                return Err(Failure::argument("path is empty"));
+            }
+            record.image.save_png(path.as_ref())?;
+            Ok(translucid_result::Success)
+        })
+    }
+
+    /// Fills `*out_statistics`, whose `s_type` the caller set to
+    /// `TRANSLUCID_STRUCTURE_TYPE_FRAME_STATISTICS` (and `next` to NULL).
+    #[no_mangle]
+    #[must_use]
+    pub extern "C" fn translucid_frame_get_statistics(
+        context: *mut translucid_context,
+        frame: translucid_frame,
+        out_statistics: *mut translucid_frame_statistics,
+    ) -> translucid_result {
+        panic::with_context(context, |objects| {
+            let record = objects.frames.get(frame.id)?;
+            let header = {
+                let s = try_ref(out_statistics.cast_const(), "out_statistics")?;
+                check_header(
+                    s.s_type,
+                    s.next.cast_const(),
+                    translucid_structure_type::FrameStatistics,
+                    "translucid_frame_statistics",
+                )?;
+                (s.s_type, s.next)
+            };
+            let out = try_out(out_statistics, "out_statistics")?;
+            out.write(statistics_of(record, header));
+            Ok(translucid_result::Success)
+        })
+    }
+
+    /// Frees a frame's pixels; its handle becomes stale.
+    #[no_mangle]
+    pub extern "C" fn translucid_frame_destroy(
+        context: *mut translucid_context,
+        frame: translucid_frame,
+    ) -> translucid_result {
+        panic::with_context(context, |objects| {
+            objects.frames.remove(frame.id)?;
+            Ok(translucid_result::Success)
+        })
+    }
+}

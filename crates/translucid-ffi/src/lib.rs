@@ -1,0 +1,40 @@
+//! The C API of translucid, in standalone mode: the library makes its own headless Vulkan
+//! device, renders offscreen and hands pixels back. The header is `include/translucid.h`,
+//! generated from this crate by cbindgen (see `cbindgen.toml`) and checked fresh by
+//! `tests/header.rs`.
+//!
+//! Conventions, the same for every export:
+//! - An opaque `translucid_context` owns a device and every object made on it. One context
+//!   must be used by one thread at a time (externally synchronised); different contexts may
+//!   be used from different threads at once.
+//! - Create-info structs are zero-initialised by the caller and start with `s_type` and
+//!   `next`; zero fields mean the default. Enums cross as `uint32_t`: an unknown value is an
+//!   error, never undefined behaviour.
+//! - Every fallible call returns a `translucid_result` (0 success, > 0 a status, < 0 an
+//!   error), keeps a message for `translucid_context_last_error`, and writes its
+//!   out-parameters only on success.
+//! - Objects are named by generational handles: a destroyed or another context's handle is
+//!   an error, not a crash.
+//! - No panic crosses into C: it becomes `TRANSLUCID_RESULT_ERROR_PANIC`, and the context
+//!   refuses further work.
+//!
+//! Module map: [`cast`] (the only place raw pointers become references), [`panic`] (the
+//! boundary), [`result`], [`handle`], [`structure`], [`version`], then one module per object
+//! with its exports: [`context`], [`method`], [`mesh`], [`texture`], [`material`], [`frame`]
+//! (with [`frame_input`] building the core scene).
+
+pub mod cast;
+pub mod context;
+pub mod frame;
+pub mod frame_input;
+pub mod handle;
+pub mod material;
+pub mod mesh;
+pub mod method;
+pub mod panic;
+pub mod result;
+pub mod structure;
+pub mod texture;
+pub mod version;
+
+pub use result::translucid_result;

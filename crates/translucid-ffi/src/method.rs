@@ -1,0 +1,113 @@
+//! Methods as the C API numbers them. The numbers are fixed now, before every method exists,
+//! so that a host built today keeps working when a later library adds the method.
+
+use crate::cast::{try_out, try_out_slice};
+use crate::panic;
+use crate::result::{translucid_result, Failure, FfiResult};
+use std::ffi::c_char;
+
+/// A transparency method.
+#[allow(non_camel_case_types)]
+#[repr(u32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum translucid_method {
+    /// Unsorted alpha blending in submission order: the fast, wrong baseline.
+    Blend = 0,
+    /// Exact order-independent transparency (the compute bin rasterizer).
+    Exact = 1,
+    /// Wavelet OIT: approximate, bounded memory.
+    Wavelet = 2,
+    /// Weighted blended OIT: approximate, cheapest.
+    Wboit = 3,
+}
+
+impl translucid_method {
+    const ALL: [Self; 4] = [Self::Blend, Self::Exact, Self::Wavelet, Self::Wboit];
+
+    /// The name the core library (and the CLI) uses.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Blend => "blend",
+            Self::Exact => "exact",
+            Self::Wavelet => "wavelet",
+            Self::Wboit => "wboit",
+        }
+    }
+
+    fn c_name(self) -> *const c_char {
+        match self {
+            Self::Blend => c"blend",
+            Self::Exact => c"exact",
+            Self::Wavelet => c"wavelet",
+            Self::Wboit => c"wboit",
+        }
+        .as_ptr()
+    }
+
+    /// Whether this build has the method.
+    pub fn available(self) -> bool {
+        translucid::methods::NAMES.contains(&self.name())
+    }
+
+    /// The method for a value from C: unknown values and methods this build lacks are errors.
+    pub fn from_raw(value: u32) -> FfiResult<Self> {
+        let method = Self::ALL
+            .into_iter()
+            .find(|m| *m as u32 == value)
+            .ok_or_else(|| Failure::enumeration("method", value))?;
+        if !method.available() {
+            return Err(Failure::new(
+                translucid_result::ErrorMethodUnavailable,
+                format!(
+                    "method {value} ({}) is not in this build (available: {})",
+                    method.name(),
+                    translucid::methods::NAMES.join(", ")
+                ),
+            ));
+        }
+        Ok(method)
+    }
+
+    /// The method's name ("blend", "exact", ...) as a static string, or NULL for a value no
+    /// version defines. Works for methods this build lacks too.
+    #[no_mangle]
+    pub extern "C" fn translucid_method_name(method: u32) -> *const c_char {
+        Self::ALL
+            .into_iter()
+            .find(|m| *m as u32 == method)
+            .map_or(std::ptr::null(), Self::c_name)
+    }
+
+    /// Lists the methods this build has, in enum order. Writes up to `capacity` values to
+    /// `methods` (which may be NULL when `capacity` is 0) and the number available to
+    /// `*out_count`. Returns `TRANSLUCID_RESULT_INCOMPLETE` when `capacity` was too small.
+    #[no_mangle]
+    #[must_use]
+    pub extern "C" fn translucid_methods_available(
+        methods: *mut u32,
+        capacity: usize,
+        out_count: *mut usize,
+    ) -> translucid_result {
+        panic::without_context(|| {
+            let out_count = try_out(out_count, "out_count")?;
+            let available: Vec<u32> = Self::ALL
+                .into_iter()
+                .filter(|m| m.available())
+                .map(|m| m as u32)
+                .collect();
+            let written = available.len().min(capacity);
+            if written > 0 {
+                let out = try_out_slice(methods, written, "methods")?;
+                for (slot, m) in out.iter_mut().zip(&available) {
+                    slot.write(*m);
+                }
+            }
+            out_count.write(available.len());
+            Ok(if written < available.len() {
+                translucid_result::Incomplete
+            } else {
+                translucid_result::Success
+            })
+        })
+    }
+}

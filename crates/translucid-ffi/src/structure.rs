@@ -1,0 +1,50 @@
+//! Structure types: the `s_type` every extensible struct starts with, so that a zeroed, garbage
+//! or wrong struct is caught instead of misread, and so that later versions can chain new
+//! structures through `next` without changing any existing layout.
+
+/// Values of the `s_type` field. 0 is never valid, so a zeroed struct is always rejected.
+#[allow(non_camel_case_types)]
+#[repr(u32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum translucid_structure_type {
+    ContextCreateInfo = 1,
+    MeshCreateInfo = 2,
+    TextureCreateInfo = 3,
+    MaterialCreateInfo = 4,
+    FrameInfo = 5,
+    OpaqueLayer = 6,
+    FrameStatistics = 7,
+    /// Reserved for host-device mode (chained to the context create-info: the engine's
+    /// VkInstance, VkPhysicalDevice, VkDevice, queue family, vkGetInstanceProcAddr and enabled
+    /// features). Passing it today gives `TRANSLUCID_RESULT_ERROR_NOT_SUPPORTED`.
+    HostDeviceCreateInfo = 100,
+    /// Reserved for host-device mode: the features and extensions the engine must enable.
+    HostDeviceRequirements = 101,
+    /// Reserved for host-device mode: the engine's colour and depth images and their layouts,
+    /// chained to the frame info.
+    HostFrameTargets = 102,
+}
+
+impl translucid_structure_type {
+    const ALL: [Self; 10] = [
+        Self::ContextCreateInfo,
+        Self::MeshCreateInfo,
+        Self::TextureCreateInfo,
+        Self::MaterialCreateInfo,
+        Self::FrameInfo,
+        Self::OpaqueLayer,
+        Self::FrameStatistics,
+        Self::HostDeviceCreateInfo,
+        Self::HostDeviceRequirements,
+        Self::HostFrameTargets,
+    ];
+
+    pub fn from_raw(value: u32) -> Option<Self> {
+        Self::ALL.into_iter().find(|t| *t as u32 == value)
+    }
+
+    /// Defined for a feature this build does not implement yet.
+    pub fn is_reserved(self) -> bool {
+        (self as u32) >= 100
+    }
+}

@@ -1,0 +1,489 @@
+/*
+ * Bad input from C: every call below is wrong in one way and must return its documented
+ * error code with a message, write no out-parameter, and never crash.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "translucid.h"
+
+static int g_passed = 0, g_failed = 0;
+
+/* Checks one call's code, and that a failed call left a message behind. */
+static void expect(translucid_result got, translucid_result want, const translucid_context *ctx,
+                   const char *call, int line) {
+    const char *message = translucid_context_last_error(ctx);
+    if (got != want) {
+        printf("FAIL line %d: %s\n  returned %s (%d), expected %s (%d)\n  last error: %s\n", line,
+               call, translucid_result_string(got), (int)got, translucid_result_string(want),
+               (int)want, message);
+        g_failed++;
+    } else if (want < 0 && (message == NULL || message[0] == '\0')) {
+        printf("FAIL line %d: %s\n  returned the right code but no message\n", line, call);
+        g_failed++;
+    } else {
+        g_passed++;
+    }
+}
+#define EXPECT(ctx, call, want) expect((call), (want), (ctx), #call, __LINE__)
+#define TRUE_OR_FAIL(cond)                                                                     \
+    do {                                                                                       \
+        if (cond) {                                                                            \
+            g_passed++;                                                                        \
+        } else {                                                                               \
+            printf("FAIL line %d: %s\n", __LINE__, #cond);                                     \
+            g_failed++;                                                                        \
+        }                                                                                      \
+    } while (0)
+
+static translucid_context_create_info context_info(void) {
+    translucid_context_create_info info;
+    memset(&info, 0, sizeof info);
+    info.s_type = TRANSLUCID_STRUCTURE_TYPE_CONTEXT_CREATE_INFO;
+    info.header_version = TRANSLUCID_HEADER_VERSION;
+    return info;
+}
+
+static const float k_positions[] = {-1, -1, -2, 1, -1, -2, 1, 1, -2, -1, 1, -2};
+static const uint32_t k_quad[] = {0, 1, 2, 3};
+
+static translucid_mesh_create_info mesh_info(void) {
+    translucid_mesh_create_info info;
+    memset(&info, 0, sizeof info);
+    info.s_type = TRANSLUCID_STRUCTURE_TYPE_MESH_CREATE_INFO;
+    info.primitive = TRANSLUCID_PRIMITIVE_QUADS;
+    info.vertex_count = 4;
+    info.positions = k_positions;
+    info.index_count = 4;
+    info.indices = k_quad;
+    return info;
+}
+
+static translucid_material_create_info material_info(void) {
+    translucid_material_create_info info;
+    memset(&info, 0, sizeof info);
+    info.s_type = TRANSLUCID_STRUCTURE_TYPE_MATERIAL_CREATE_INFO;
+    info.base_colour[0] = 1.0f;
+    info.base_colour[3] = 0.5f;
+    return info;
+}
+
+static translucid_frame_info frame_info(translucid_draw *draw) {
+    translucid_frame_info info;
+    memset(&info, 0, sizeof info);
+    info.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_INFO;
+    info.method = TRANSLUCID_METHOD_BLEND;
+    info.width = 8;
+    info.height = 8;
+    info.camera.view[0] = info.camera.view[5] = info.camera.view[10] = info.camera.view[15] = 1;
+    info.camera.fov_y = 0.8f;
+    info.camera.z_near = 0.1f;
+    info.camera.z_far = 10.0f;
+    info.draws = draw;
+    info.draw_count = draw ? 1 : 0;
+    return info;
+}
+
+static void context_creation(void) {
+    translucid_context *const sentinel = (translucid_context *)&g_passed;
+    translucid_context *ctx = sentinel;
+    translucid_context_create_info info = context_info();
+    translucid_base_in_structure link;
+
+    EXPECT(NULL, translucid_context_create(NULL, &ctx), TRANSLUCID_RESULT_ERROR_NULL_POINTER);
+    EXPECT(NULL, translucid_context_create(&info, NULL), TRANSLUCID_RESULT_ERROR_NULL_POINTER);
+    memset(&info, 0, sizeof info);
+    EXPECT(NULL, translucid_context_create(&info, &ctx),
+           TRANSLUCID_RESULT_ERROR_INVALID_STRUCTURE_TYPE);
+    info = context_info();
+    info.s_type = 0xdeadbeefu;
+    EXPECT(NULL, translucid_context_create(&info, &ctx),
+           TRANSLUCID_RESULT_ERROR_INVALID_STRUCTURE_TYPE);
+    info.s_type = TRANSLUCID_STRUCTURE_TYPE_MESH_CREATE_INFO;
+    EXPECT(NULL, translucid_context_create(&info, &ctx),
+           TRANSLUCID_RESULT_ERROR_INVALID_STRUCTURE_TYPE);
+    info = context_info();
+    info.header_version = TRANSLUCID_HEADER_VERSION + (1u << 12);
+    EXPECT(NULL, translucid_context_create(&info, &ctx),
+           TRANSLUCID_RESULT_ERROR_HEADER_VERSION_MISMATCH);
+    TRUE_OR_FAIL(strstr(translucid_context_last_error(NULL), "header") != NULL);
+    info.header_version = TRANSLUCID_HEADER_VERSION + (1u << 22);
+    EXPECT(NULL, translucid_context_create(&info, &ctx),
+           TRANSLUCID_RESULT_ERROR_HEADER_VERSION_MISMATCH);
+    info = context_info();
+    info.mode = TRANSLUCID_CONTEXT_MODE_HOST_DEVICE;
+    EXPECT(NULL, translucid_context_create(&info, &ctx), TRANSLUCID_RESULT_ERROR_NOT_SUPPORTED);
+    info.mode = 77;
+    EXPECT(NULL, translucid_context_create(&info, &ctx), TRANSLUCID_RESULT_ERROR_INVALID_ENUM);
+    info = context_info();
+    info.flags = 0x80;
+    EXPECT(NULL, translucid_context_create(&info, &ctx),
+           TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    info = context_info();
+    memset(&link, 0, sizeof link);
+    link.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_CREATE_INFO;
+    info.next = &link;
+    EXPECT(NULL, translucid_context_create(&info, &ctx), TRANSLUCID_RESULT_ERROR_NOT_SUPPORTED);
+    link.s_type = 4242;
+    EXPECT(NULL, translucid_context_create(&info, &ctx),
+           TRANSLUCID_RESULT_ERROR_INVALID_STRUCTURE_TYPE);
+    info = context_info();
+    info.device = "no device is called this";
+    EXPECT(NULL, translucid_context_create(&info, &ctx), TRANSLUCID_RESULT_ERROR_NO_DEVICE);
+    info.device = "\xff\xfe not UTF-8";
+    EXPECT(NULL, translucid_context_create(&info, &ctx),
+           TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    TRUE_OR_FAIL(ctx == sentinel); /* never written on failure */
+    translucid_context_destroy(NULL);
+}
+
+static void queries(void) {
+    uint32_t methods[1];
+    size_t count = 12345;
+    TRUE_OR_FAIL(translucid_version() == TRANSLUCID_HEADER_VERSION);
+    TRUE_OR_FAIL(strcmp(translucid_result_string(-999999), "unknown result code") == 0);
+    TRUE_OR_FAIL(strcmp(translucid_result_string(TRANSLUCID_RESULT_SUCCESS), "success") == 0);
+    TRUE_OR_FAIL(translucid_method_name(99) == NULL);
+    TRUE_OR_FAIL(strcmp(translucid_method_name(TRANSLUCID_METHOD_BLEND), "blend") == 0);
+    TRUE_OR_FAIL(translucid_context_device_name(NULL)[0] == '\0');
+    EXPECT(NULL, translucid_methods_available(NULL, 0, NULL),
+           TRANSLUCID_RESULT_ERROR_NULL_POINTER);
+    EXPECT(NULL, translucid_methods_available(NULL, 5, &count),
+           TRANSLUCID_RESULT_ERROR_NULL_POINTER);
+    TRUE_OR_FAIL(count == 12345);
+    EXPECT(NULL, translucid_methods_available(NULL, 0, &count), TRANSLUCID_RESULT_INCOMPLETE);
+    TRUE_OR_FAIL(count >= 1);
+    EXPECT(NULL, translucid_methods_available(methods, 1, &count),
+           count > 1 ? TRANSLUCID_RESULT_INCOMPLETE : TRANSLUCID_RESULT_SUCCESS);
+    TRUE_OR_FAIL(methods[0] == TRANSLUCID_METHOD_BLEND);
+}
+
+static void meshes(translucid_context *ctx) {
+    const translucid_mesh sentinel = {42};
+    translucid_mesh mesh = sentinel;
+    translucid_mesh_create_info info = mesh_info();
+    float nan_positions[12];
+    uint32_t bad_quad[4] = {0, 1, 2, 4};
+    float nan_normals[12];
+
+    EXPECT(NULL, translucid_mesh_create(NULL, &info, &mesh), TRANSLUCID_RESULT_ERROR_NULL_POINTER);
+    EXPECT(ctx, translucid_mesh_create(ctx, NULL, &mesh), TRANSLUCID_RESULT_ERROR_NULL_POINTER);
+    EXPECT(ctx, translucid_mesh_create(ctx, &info, NULL), TRANSLUCID_RESULT_ERROR_NULL_POINTER);
+    memset(&info, 0, sizeof info);
+    EXPECT(ctx, translucid_mesh_create(ctx, &info, &mesh),
+           TRANSLUCID_RESULT_ERROR_INVALID_STRUCTURE_TYPE);
+    info = mesh_info();
+    info.s_type = TRANSLUCID_STRUCTURE_TYPE_TEXTURE_CREATE_INFO;
+    EXPECT(ctx, translucid_mesh_create(ctx, &info, &mesh),
+           TRANSLUCID_RESULT_ERROR_INVALID_STRUCTURE_TYPE);
+    info = mesh_info();
+    info.primitive = 9;
+    EXPECT(ctx, translucid_mesh_create(ctx, &info, &mesh), TRANSLUCID_RESULT_ERROR_INVALID_ENUM);
+    info = mesh_info();
+    info.vertex_count = 0;
+    EXPECT(ctx, translucid_mesh_create(ctx, &info, &mesh), TRANSLUCID_RESULT_ERROR_INVALID_SIZE);
+    info.vertex_count = TRANSLUCID_MAX_VERTICES + 1;
+    EXPECT(ctx, translucid_mesh_create(ctx, &info, &mesh), TRANSLUCID_RESULT_ERROR_INVALID_SIZE);
+    info.vertex_count = 0xffffffffu;
+    EXPECT(ctx, translucid_mesh_create(ctx, &info, &mesh), TRANSLUCID_RESULT_ERROR_INVALID_SIZE);
+    info = mesh_info();
+    info.index_count = 0;
+    EXPECT(ctx, translucid_mesh_create(ctx, &info, &mesh), TRANSLUCID_RESULT_ERROR_INVALID_SIZE);
+    info.index_count = 3; /* not a multiple of 4 for quads */
+    EXPECT(ctx, translucid_mesh_create(ctx, &info, &mesh), TRANSLUCID_RESULT_ERROR_INVALID_SIZE);
+    info = mesh_info();
+    info.positions = NULL;
+    EXPECT(ctx, translucid_mesh_create(ctx, &info, &mesh), TRANSLUCID_RESULT_ERROR_NULL_POINTER);
+    info = mesh_info();
+    info.indices = NULL;
+    EXPECT(ctx, translucid_mesh_create(ctx, &info, &mesh), TRANSLUCID_RESULT_ERROR_NULL_POINTER);
+    info = mesh_info();
+    info.indices = bad_quad;
+    EXPECT(ctx, translucid_mesh_create(ctx, &info, &mesh),
+           TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    TRUE_OR_FAIL(strstr(translucid_context_last_error(ctx), "vertex 4") != NULL);
+    info = mesh_info();
+    memcpy(nan_positions, k_positions, sizeof nan_positions);
+    nan_positions[4] = (float)NAN;
+    info.positions = nan_positions;
+    EXPECT(ctx, translucid_mesh_create(ctx, &info, &mesh),
+           TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    TRUE_OR_FAIL(strstr(translucid_context_last_error(ctx), "not finite") != NULL);
+    nan_positions[4] = (float)INFINITY;
+    EXPECT(ctx, translucid_mesh_create(ctx, &info, &mesh),
+           TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    info = mesh_info();
+    memset(nan_normals, 0, sizeof nan_normals);
+    nan_normals[0] = (float)NAN;
+    info.normals = nan_normals;
+    EXPECT(ctx, translucid_mesh_create(ctx, &info, &mesh),
+           TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    info = mesh_info();
+    info.name = "\xc3\x28";
+    EXPECT(ctx, translucid_mesh_create(ctx, &info, &mesh),
+           TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    TRUE_OR_FAIL(mesh.id == sentinel.id); /* never written on failure */
+
+    info = mesh_info();
+    EXPECT(ctx, translucid_mesh_create(ctx, &info, &mesh), TRANSLUCID_RESULT_SUCCESS);
+    TRUE_OR_FAIL(mesh.id != 0 && mesh.id != sentinel.id);
+    EXPECT(ctx, translucid_mesh_destroy(ctx, mesh), TRANSLUCID_RESULT_SUCCESS);
+    EXPECT(ctx, translucid_mesh_destroy(ctx, mesh), TRANSLUCID_RESULT_ERROR_STALE_HANDLE);
+    EXPECT(ctx, translucid_mesh_destroy(ctx, sentinel), TRANSLUCID_RESULT_ERROR_INVALID_HANDLE);
+    {
+        const translucid_mesh null_mesh = {0};
+        EXPECT(ctx, translucid_mesh_destroy(ctx, null_mesh), TRANSLUCID_RESULT_ERROR_INVALID_HANDLE);
+    }
+}
+
+static void textures_and_materials(translucid_context *ctx, translucid_context *other) {
+    uint8_t texels[4 * 4 * 4];
+    translucid_texture_create_info tinfo;
+    translucid_texture texture, foreign_texture;
+    translucid_material_create_info minfo = material_info();
+    translucid_material material = {7};
+    translucid_mesh mesh;
+    translucid_mesh_create_info mesh_desc = mesh_info();
+
+    memset(texels, 200, sizeof texels);
+    memset(&tinfo, 0, sizeof tinfo);
+    tinfo.s_type = TRANSLUCID_STRUCTURE_TYPE_TEXTURE_CREATE_INFO;
+    tinfo.texels = texels;
+    EXPECT(ctx, translucid_texture_create(ctx, &tinfo, &texture),
+           TRANSLUCID_RESULT_ERROR_INVALID_SIZE); /* 0 x 0 */
+    tinfo.width = 100000;
+    tinfo.height = 4;
+    EXPECT(ctx, translucid_texture_create(ctx, &tinfo, &texture),
+           TRANSLUCID_RESULT_ERROR_INVALID_SIZE);
+    tinfo.width = 4;
+    tinfo.texels = NULL;
+    EXPECT(ctx, translucid_texture_create(ctx, &tinfo, &texture),
+           TRANSLUCID_RESULT_ERROR_NULL_POINTER);
+    tinfo.texels = texels;
+    tinfo.flags = 0x10;
+    EXPECT(ctx, translucid_texture_create(ctx, &tinfo, &texture),
+           TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    tinfo.flags = TRANSLUCID_TEXTURE_SRGB;
+    EXPECT(ctx, translucid_texture_create(ctx, &tinfo, &texture), TRANSLUCID_RESULT_SUCCESS);
+    EXPECT(other, translucid_texture_create(other, &tinfo, &foreign_texture),
+           TRANSLUCID_RESULT_SUCCESS);
+
+    minfo.base_colour[3] = 2.0f;
+    EXPECT(ctx, translucid_material_create(ctx, &minfo, &material),
+           TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    minfo = material_info();
+    minfo.base_colour[1] = (float)NAN;
+    EXPECT(ctx, translucid_material_create(ctx, &minfo, &material),
+           TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    minfo = material_info();
+    minfo.transmission = -1.0f;
+    EXPECT(ctx, translucid_material_create(ctx, &minfo, &material),
+           TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    minfo = material_info();
+    minfo.flags = 0x100;
+    EXPECT(ctx, translucid_material_create(ctx, &minfo, &material),
+           TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    minfo = material_info();
+    minfo.texture = foreign_texture;
+    EXPECT(ctx, translucid_material_create(ctx, &minfo, &material),
+           TRANSLUCID_RESULT_ERROR_FOREIGN_HANDLE);
+    minfo.texture.id = 0x123456789abcull;
+    EXPECT(ctx, translucid_material_create(ctx, &minfo, &material),
+           TRANSLUCID_RESULT_ERROR_INVALID_HANDLE);
+    EXPECT(ctx, translucid_mesh_create(ctx, &mesh_desc, &mesh), TRANSLUCID_RESULT_SUCCESS);
+    minfo.texture.id = mesh.id; /* a mesh handle where a texture belongs */
+    EXPECT(ctx, translucid_material_create(ctx, &minfo, &material),
+           TRANSLUCID_RESULT_ERROR_INVALID_HANDLE);
+    minfo.texture = texture;
+    EXPECT(ctx, translucid_texture_destroy(ctx, texture), TRANSLUCID_RESULT_SUCCESS);
+    EXPECT(ctx, translucid_material_create(ctx, &minfo, &material),
+           TRANSLUCID_RESULT_ERROR_STALE_HANDLE);
+    TRUE_OR_FAIL(material.id == 7);
+    EXPECT(ctx, translucid_mesh_destroy(ctx, mesh), TRANSLUCID_RESULT_SUCCESS);
+}
+
+static void frames(translucid_context *ctx, translucid_context *other) {
+    translucid_mesh_create_info mesh_desc = mesh_info();
+    translucid_material_create_info material_desc = material_info();
+    translucid_mesh mesh, stale_mesh, foreign_mesh;
+    translucid_material material;
+    translucid_draw draw;
+    translucid_frame_info info;
+    translucid_frame frame = {99};
+    translucid_light light;
+    translucid_opaque_layer layer;
+    translucid_frame_statistics stats;
+    float colour[8 * 8 * 4], depth[8 * 8];
+    uint8_t pixels[8 * 8 * 4];
+    size_t i, count = 0;
+    uint32_t methods[16];
+
+    EXPECT(ctx, translucid_mesh_create(ctx, &mesh_desc, &mesh), TRANSLUCID_RESULT_SUCCESS);
+    EXPECT(ctx, translucid_mesh_create(ctx, &mesh_desc, &stale_mesh), TRANSLUCID_RESULT_SUCCESS);
+    EXPECT(ctx, translucid_mesh_destroy(ctx, stale_mesh), TRANSLUCID_RESULT_SUCCESS);
+    EXPECT(other, translucid_mesh_create(other, &mesh_desc, &foreign_mesh),
+           TRANSLUCID_RESULT_SUCCESS);
+    EXPECT(ctx, translucid_material_create(ctx, &material_desc, &material),
+           TRANSLUCID_RESULT_SUCCESS);
+    memset(&draw, 0, sizeof draw);
+    draw.mesh = mesh;
+    draw.material = material;
+    draw.transform[0] = draw.transform[5] = draw.transform[10] = draw.transform[15] = 1.0f;
+
+    info = frame_info(&draw);
+    EXPECT(ctx, translucid_frame_render(ctx, NULL, &frame), TRANSLUCID_RESULT_ERROR_NULL_POINTER);
+    EXPECT(ctx, translucid_frame_render(ctx, &info, NULL), TRANSLUCID_RESULT_ERROR_NULL_POINTER);
+    memset(&info, 0, sizeof info);
+    EXPECT(ctx, translucid_frame_render(ctx, &info, &frame),
+           TRANSLUCID_RESULT_ERROR_INVALID_STRUCTURE_TYPE);
+    info = frame_info(&draw);
+    info.method = 99;
+    EXPECT(ctx, translucid_frame_render(ctx, &info, &frame), TRANSLUCID_RESULT_ERROR_INVALID_ENUM);
+    EXPECT(NULL, translucid_methods_available(methods, 16, &count), TRANSLUCID_RESULT_SUCCESS);
+    for (info.method = TRANSLUCID_METHOD_BLEND; info.method <= TRANSLUCID_METHOD_WBOIT;
+         info.method++) {
+        int available = 0;
+        for (i = 0; i < count; i++) available |= methods[i] == info.method;
+        if (!available) {
+            EXPECT(ctx, translucid_frame_render(ctx, &info, &frame),
+                   TRANSLUCID_RESULT_ERROR_METHOD_UNAVAILABLE);
+        }
+    }
+    info = frame_info(&draw);
+    info.width = 0;
+    EXPECT(ctx, translucid_frame_render(ctx, &info, &frame), TRANSLUCID_RESULT_ERROR_INVALID_SIZE);
+    info.width = 1u << 20;
+    EXPECT(ctx, translucid_frame_render(ctx, &info, &frame), TRANSLUCID_RESULT_ERROR_INVALID_SIZE);
+    info = frame_info(&draw);
+    info.draw_count = TRANSLUCID_MAX_DRAWS + 1;
+    EXPECT(ctx, translucid_frame_render(ctx, &info, &frame), TRANSLUCID_RESULT_ERROR_INVALID_SIZE);
+    info = frame_info(&draw);
+    info.draws = NULL;
+    EXPECT(ctx, translucid_frame_render(ctx, &info, &frame), TRANSLUCID_RESULT_ERROR_NULL_POINTER);
+    info = frame_info(&draw);
+    info.camera.fov_y = 0.0f;
+    EXPECT(ctx, translucid_frame_render(ctx, &info, &frame),
+           TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    info = frame_info(&draw);
+    info.camera.view[3] = (float)NAN;
+    EXPECT(ctx, translucid_frame_render(ctx, &info, &frame),
+           TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    info = frame_info(&draw);
+    memset(&light, 0, sizeof light);
+    info.light = &light;
+    EXPECT(ctx, translucid_frame_render(ctx, &info, &frame),
+           TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    info = frame_info(&draw);
+    info.background[0] = -1.0f;
+    EXPECT(ctx, translucid_frame_render(ctx, &info, &frame),
+           TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+
+    info = frame_info(&draw);
+    draw.mesh = stale_mesh;
+    EXPECT(ctx, translucid_frame_render(ctx, &info, &frame), TRANSLUCID_RESULT_ERROR_STALE_HANDLE);
+    TRUE_OR_FAIL(strstr(translucid_context_last_error(ctx), "draw 0") != NULL);
+    draw.mesh = foreign_mesh;
+    EXPECT(ctx, translucid_frame_render(ctx, &info, &frame),
+           TRANSLUCID_RESULT_ERROR_FOREIGN_HANDLE);
+    draw.mesh.id = 0;
+    EXPECT(ctx, translucid_frame_render(ctx, &info, &frame),
+           TRANSLUCID_RESULT_ERROR_INVALID_HANDLE);
+    draw.mesh = mesh;
+    draw.material.id = mesh.id;
+    EXPECT(ctx, translucid_frame_render(ctx, &info, &frame),
+           TRANSLUCID_RESULT_ERROR_INVALID_HANDLE);
+    draw.material = material;
+    draw.layer = 5;
+    EXPECT(ctx, translucid_frame_render(ctx, &info, &frame), TRANSLUCID_RESULT_ERROR_INVALID_ENUM);
+    draw.layer = TRANSLUCID_LAYER_TRANSPARENT;
+    draw.transform[13] = (float)INFINITY;
+    EXPECT(ctx, translucid_frame_render(ctx, &info, &frame),
+           TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    draw.transform[13] = 0.0f;
+
+    /* The host's opaque layer. */
+    for (i = 0; i < 64; i++) {
+        colour[i * 4 + 0] = colour[i * 4 + 1] = colour[i * 4 + 2] = 0.5f;
+        colour[i * 4 + 3] = 1.0f;
+        depth[i] = 1.0f;
+    }
+    memset(&layer, 0, sizeof layer);
+    info.opaque_layer = &layer;
+    EXPECT(ctx, translucid_frame_render(ctx, &info, &frame),
+           TRANSLUCID_RESULT_ERROR_INVALID_STRUCTURE_TYPE);
+    layer.s_type = TRANSLUCID_STRUCTURE_TYPE_OPAQUE_LAYER;
+    layer.colour_format = TRANSLUCID_PIXEL_FORMAT_RGBA32F_LINEAR;
+    layer.depth = depth;
+    EXPECT(ctx, translucid_frame_render(ctx, &info, &frame), TRANSLUCID_RESULT_ERROR_NULL_POINTER);
+    layer.colour = colour;
+    layer.colour_format = 3;
+    EXPECT(ctx, translucid_frame_render(ctx, &info, &frame), TRANSLUCID_RESULT_ERROR_INVALID_ENUM);
+    layer.colour_format = TRANSLUCID_PIXEL_FORMAT_RGBA32F_LINEAR;
+    depth[5] = (float)NAN;
+    EXPECT(ctx, translucid_frame_render(ctx, &info, &frame),
+           TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    depth[5] = 2.0f;
+    EXPECT(ctx, translucid_frame_render(ctx, &info, &frame),
+           TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    depth[5] = 1.0f;
+    draw.layer = TRANSLUCID_LAYER_OPAQUE;
+    EXPECT(ctx, translucid_frame_render(ctx, &info, &frame),
+           TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    draw.layer = TRANSLUCID_LAYER_TRANSPARENT;
+    TRUE_OR_FAIL(frame.id == 99); /* never written on failure */
+    EXPECT(ctx, translucid_frame_render(ctx, &info, &frame), TRANSLUCID_RESULT_SUCCESS);
+
+    /* Reading frames back. */
+    EXPECT(ctx, translucid_frame_read(ctx, frame, TRANSLUCID_PIXEL_FORMAT_RGBA8_SRGB, pixels,
+                                      sizeof pixels - 1),
+           TRANSLUCID_RESULT_ERROR_INVALID_SIZE);
+    EXPECT(ctx, translucid_frame_read(ctx, frame, TRANSLUCID_PIXEL_FORMAT_RGBA32F_LINEAR, pixels,
+                                      sizeof pixels),
+           TRANSLUCID_RESULT_ERROR_INVALID_SIZE);
+    EXPECT(ctx, translucid_frame_read(ctx, frame, TRANSLUCID_PIXEL_FORMAT_RGBA8_SRGB, NULL,
+                                      sizeof pixels),
+           TRANSLUCID_RESULT_ERROR_NULL_POINTER);
+    EXPECT(ctx, translucid_frame_read(ctx, frame, 17, pixels, sizeof pixels),
+           TRANSLUCID_RESULT_ERROR_INVALID_ENUM);
+    EXPECT(ctx, translucid_frame_read(ctx, frame, TRANSLUCID_PIXEL_FORMAT_RGBA8_SRGB, pixels,
+                                      sizeof pixels),
+           TRANSLUCID_RESULT_SUCCESS);
+    memset(&stats, 0, sizeof stats);
+    EXPECT(ctx, translucid_frame_get_statistics(ctx, frame, &stats),
+           TRANSLUCID_RESULT_ERROR_INVALID_STRUCTURE_TYPE);
+    EXPECT(ctx, translucid_frame_get_statistics(ctx, frame, NULL),
+           TRANSLUCID_RESULT_ERROR_NULL_POINTER);
+    EXPECT(ctx, translucid_frame_write_png(ctx, frame, NULL), TRANSLUCID_RESULT_ERROR_NULL_POINTER);
+    EXPECT(ctx, translucid_frame_write_png(ctx, frame, ""), TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    EXPECT(ctx, translucid_frame_write_png(ctx, frame, "/dev/null/not-a-directory/x.png"),
+           TRANSLUCID_RESULT_ERROR_IO);
+    EXPECT(other, translucid_frame_destroy(other, frame), TRANSLUCID_RESULT_ERROR_FOREIGN_HANDLE);
+    EXPECT(ctx, translucid_frame_destroy(ctx, frame), TRANSLUCID_RESULT_SUCCESS);
+    EXPECT(ctx, translucid_frame_read(ctx, frame, TRANSLUCID_PIXEL_FORMAT_RGBA8_SRGB, pixels,
+                                      sizeof pixels),
+           TRANSLUCID_RESULT_ERROR_STALE_HANDLE);
+    EXPECT(ctx, translucid_frame_destroy(ctx, frame), TRANSLUCID_RESULT_ERROR_STALE_HANDLE);
+    EXPECT(ctx, translucid_material_destroy(ctx, material), TRANSLUCID_RESULT_SUCCESS);
+    /* Objects left alive are freed with their context. */
+}
+
+int main(void) {
+    translucid_context *ctx = NULL, *other = NULL;
+    translucid_context_create_info info = context_info();
+
+    context_creation();
+    queries();
+    if (translucid_context_create(&info, &ctx) < 0 ||
+        translucid_context_create(&info, &other) < 0) {
+        printf("FAIL: cannot create contexts: %s\n", translucid_context_last_error(NULL));
+        return 1;
+    }
+    meshes(ctx);
+    textures_and_materials(ctx, other);
+    frames(ctx, other);
+    translucid_context_destroy(other);
+    translucid_context_destroy(ctx);
+    printf("misuse: %d passed, %d failed\n", g_passed, g_failed);
+    return g_failed == 0 ? 0 : 1;
+}

@@ -1,0 +1,218 @@
+/*
+ * Frames from C with known answers, for every available method:
+ * - over the host's opaque layer: where the host's depth is nearer than the transparent quad
+ *   the host's colour stays; elsewhere the quad is blended over it;
+ * - over a background colour with no draws at all;
+ * - both pixel formats agree; statistics are filled in; frames outlive their meshes.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "translucid.h"
+
+#define W 16
+#define H 8
+
+static int g_failed = 0, g_passed = 0;
+static translucid_context *g_ctx = NULL;
+
+static void check(translucid_result result, const char *call, int line) {
+    if (result != TRANSLUCID_RESULT_SUCCESS) {
+        printf("FAIL line %d: %s returned %s: %s\n", line, call, translucid_result_string(result),
+               translucid_context_last_error(g_ctx));
+        exit(1);
+    }
+}
+#define CHECK(call) check((call), #call, __LINE__)
+
+static void near_or_fail(float got, float want, float tolerance, const char *what, size_t pixel) {
+    if (fabsf(got - want) > tolerance) {
+        if (g_failed < 20) {
+            printf("FAIL %s at pixel %u: got %f, expected %f\n", what, (unsigned)pixel, got, want);
+        }
+        g_failed++;
+    } else {
+        g_passed++;
+    }
+}
+
+static float srgb(float v) {
+    v = v < 0.0f ? 0.0f : v > 1.0f ? 1.0f : v;
+    return v <= 0.0031308f ? v * 12.92f : 1.055f * powf(v, 1.0f / 2.4f) - 0.055f;
+}
+
+static translucid_frame_info base_frame(uint32_t method) {
+    translucid_frame_info info;
+    memset(&info, 0, sizeof info);
+    info.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_INFO;
+    info.method = method;
+    info.width = W;
+    info.height = H;
+    /* Identity view: the camera at the origin looks down -Z. */
+    info.camera.view[0] = info.camera.view[5] = info.camera.view[10] = info.camera.view[15] = 1;
+    info.camera.fov_y = 0.8f;
+    info.camera.z_near = 1.0f;
+    info.camera.z_far = 3.0f;
+    return info;
+}
+
+/* Both formats of one frame must agree; returns the linear pixels (caller frees). */
+static float *read_both(translucid_frame frame) {
+    float *linear = malloc(W * H * 16);
+    uint8_t *bytes = malloc(W * H * 4);
+    size_t i;
+    CHECK(translucid_frame_read(g_ctx, frame, TRANSLUCID_PIXEL_FORMAT_RGBA32F_LINEAR, linear,
+                                W * H * 16));
+    CHECK(translucid_frame_read(g_ctx, frame, TRANSLUCID_PIXEL_FORMAT_RGBA8_SRGB, bytes, W * H * 4));
+    for (i = 0; i < W * H * 4; i++) {
+        float want = (i % 4 == 3) ? 1.0f : srgb(linear[i]);
+        near_or_fail((float)bytes[i] / 255.0f, want, 0.6f / 255.0f, "RGBA8 vs RGBA32F", i / 4);
+    }
+    free(bytes);
+    return linear;
+}
+
+static void over_host_layer(uint32_t method, translucid_mesh quad, translucid_material red) {
+    const float host[3] = {0.2f, 0.4f, 0.6f};
+    float colour[W * H * 4], depth[W * H];
+    translucid_draw draw;
+    translucid_opaque_layer layer;
+    translucid_frame_info info = base_frame(method);
+    translucid_frame frame;
+    translucid_frame_statistics stats;
+    float *pixels;
+    size_t i, c;
+
+    /* Left half: host depth 0 (in front of everything); right half: 1 (far plane). */
+    for (i = 0; i < W * H; i++) {
+        for (c = 0; c < 3; c++) colour[i * 4 + c] = host[c];
+        colour[i * 4 + 3] = 1.0f;
+        depth[i] = (i % W) < W / 2 ? 0.0f : 1.0f;
+    }
+    memset(&layer, 0, sizeof layer);
+    layer.s_type = TRANSLUCID_STRUCTURE_TYPE_OPAQUE_LAYER;
+    layer.colour_format = TRANSLUCID_PIXEL_FORMAT_RGBA32F_LINEAR;
+    layer.colour = colour;
+    layer.depth = depth;
+    memset(&draw, 0, sizeof draw);
+    draw.mesh = quad;
+    draw.material = red;
+    draw.layer = TRANSLUCID_LAYER_TRANSPARENT;
+    draw.transform[0] = draw.transform[5] = draw.transform[10] = draw.transform[15] = 1.0f;
+    info.draws = &draw;
+    info.draw_count = 1;
+    info.opaque_layer = &layer;
+    CHECK(translucid_frame_render(g_ctx, &info, &frame));
+
+    pixels = read_both(frame);
+    for (i = 0; i < W * H; i++) {
+        int hidden = (i % W) < W / 2;
+        for (c = 0; c < 3; c++) {
+            float quad_colour = c == 0 ? 1.0f : 0.0f;
+            float want = hidden ? host[c] : 0.5f * quad_colour + 0.5f * host[c];
+            near_or_fail(pixels[i * 4 + c], want, 2e-3f, "over the host layer", i);
+        }
+    }
+    free(pixels);
+
+    memset(&stats, 0, sizeof stats);
+    stats.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_STATISTICS;
+    CHECK(translucid_frame_get_statistics(g_ctx, frame, &stats));
+    near_or_fail((float)stats.method, (float)method, 0.0f, "statistics: method", 0);
+    near_or_fail((float)stats.width, W, 0.0f, "statistics: width", 0);
+    near_or_fail((float)stats.stage_count >= 2.0f, 1.0f, 0.0f, "statistics: at least 2 stages", 0);
+    near_or_fail(strcmp(stats.stages[0].name, "opaque") == 0, 1.0f, 0.0f,
+                 "statistics: first stage is the opaque layer", 0);
+    near_or_fail(stats.peak_gpu_bytes > 0, 1.0f, 0.0f, "statistics: peak memory", 0);
+    near_or_fail(stats.gpu_milliseconds >= stats.method_milliseconds, 1.0f, 0.0f,
+                 "statistics: total time covers the method", 0);
+    CHECK(translucid_frame_destroy(g_ctx, frame));
+}
+
+static void background_only(uint32_t method) {
+    translucid_frame_info info = base_frame(method);
+    translucid_frame frame;
+    float *pixels;
+    size_t i;
+    info.background[0] = 0.0f;
+    info.background[1] = 0.25f;
+    info.background[2] = 1.0f;
+    CHECK(translucid_frame_render(g_ctx, &info, &frame));
+    pixels = read_both(frame);
+    for (i = 0; i < W * H; i++) {
+        near_or_fail(pixels[i * 4 + 1], 0.25f, 1e-3f, "background green", i);
+        near_or_fail(pixels[i * 4 + 2], 1.0f, 1e-3f, "background blue", i);
+    }
+    free(pixels);
+    CHECK(translucid_frame_destroy(g_ctx, frame));
+}
+
+int main(int argc, char **argv) {
+    static const float positions[] = {-5, -5, -2, 5, -5, -2, 5, 5, -2, -5, 5, -2};
+    static const uint32_t triangles[] = {0, 1, 2, 0, 2, 3};
+    translucid_context_create_info context_info;
+    translucid_mesh_create_info mesh_info;
+    translucid_material_create_info material_info;
+    translucid_mesh quad;
+    translucid_material red;
+    uint32_t methods[8];
+    size_t count = 0, m;
+    const char *out_dir = argc > 1 ? argv[1] : NULL;
+
+    memset(&context_info, 0, sizeof context_info);
+    context_info.s_type = TRANSLUCID_STRUCTURE_TYPE_CONTEXT_CREATE_INFO;
+    context_info.header_version = TRANSLUCID_HEADER_VERSION;
+    context_info.flags = TRANSLUCID_CONTEXT_CREATE_VALIDATION;
+    CHECK(translucid_context_create(&context_info, &g_ctx));
+
+    memset(&mesh_info, 0, sizeof mesh_info);
+    mesh_info.s_type = TRANSLUCID_STRUCTURE_TYPE_MESH_CREATE_INFO;
+    mesh_info.primitive = TRANSLUCID_PRIMITIVE_TRIANGLES;
+    mesh_info.vertex_count = 4;
+    mesh_info.positions = positions;
+    mesh_info.index_count = 6;
+    mesh_info.indices = triangles;
+    CHECK(translucid_mesh_create(g_ctx, &mesh_info, &quad));
+    memset(&material_info, 0, sizeof material_info);
+    material_info.s_type = TRANSLUCID_STRUCTURE_TYPE_MATERIAL_CREATE_INFO;
+    material_info.base_colour[0] = 1.0f;
+    material_info.base_colour[3] = 0.5f;
+    CHECK(translucid_material_create(g_ctx, &material_info, &red));
+
+    CHECK(translucid_methods_available(methods, 8, &count));
+    for (m = 0; m < count; m++) {
+        over_host_layer(methods[m], quad, red);
+        background_only(methods[m]);
+    }
+
+    /* A frame keeps its pixels after the objects it drew are gone. */
+    {
+        translucid_frame_info info = base_frame(TRANSLUCID_METHOD_BLEND);
+        translucid_draw draw;
+        translucid_frame frame;
+        uint8_t pixel[W * H * 4];
+        memset(&draw, 0, sizeof draw);
+        draw.mesh = quad;
+        draw.material = red;
+        draw.transform[0] = draw.transform[5] = draw.transform[10] = draw.transform[15] = 1.0f;
+        info.draws = &draw;
+        info.draw_count = 1;
+        CHECK(translucid_frame_render(g_ctx, &info, &frame));
+        CHECK(translucid_mesh_destroy(g_ctx, quad));
+        CHECK(translucid_material_destroy(g_ctx, red));
+        CHECK(translucid_frame_read(g_ctx, frame, TRANSLUCID_PIXEL_FORMAT_RGBA8_SRGB, pixel,
+                                    sizeof pixel));
+        near_or_fail(pixel[0], 188.0f, 1.0f, "red over black, sRGB", 0);
+        if (out_dir != NULL) {
+            char path[1024];
+            snprintf(path, sizeof path, "%s/render-test.png", out_dir);
+            CHECK(translucid_frame_write_png(g_ctx, frame, path));
+        }
+    }
+
+    translucid_context_destroy(g_ctx);
+    printf("render: %d passed, %d failed\n", g_passed, g_failed);
+    return g_failed == 0 ? 0 : 1;
+}

@@ -1,0 +1,202 @@
+//! The C API from C and C++: compiles the example host, the C tests and the C++ wrapper test
+//! with strict warnings against the library cargo just built, runs them on the Vulkan device
+//! with validation on, then runs the C programs again under AddressSanitizer and UBSan.
+//!
+//! Needs `cc` and `g++` (Debian: gcc, g++; `scripts/install-deps.sh` installs them).
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+const C_FLAGS: &[&str] = &["-std=c99", "-Wall", "-Wextra", "-Werror", "-pedantic"];
+const CXX_FLAGS: &[&str] = &["-std=c++17", "-Wall", "-Wextra", "-Werror", "-pedantic"];
+const SANITIZE: &[&str] = &[
+    "-g",
+    "-fsanitize=address,undefined",
+    "-fno-sanitize-recover=all",
+    "-fno-omit-frame-pointer",
+];
+
+fn repo() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+/// The directory holding the `libtranslucid_ffi.so` built with this test binary.
+fn library_dir() -> PathBuf {
+    let exe = std::env::current_exe().expect("test executable path");
+    let deps = exe
+        .parent()
+        .expect("test executable directory")
+        .to_path_buf();
+    for dir in [deps.clone(), deps.join("..")] {
+        if dir.join("libtranslucid_ffi.so").exists() {
+            return dir;
+        }
+    }
+    panic!(
+        "libtranslucid_ffi.so not found next to {}: is crate-type still cdylib in \
+         crates/translucid-ffi/Cargo.toml?",
+        exe.display()
+    );
+}
+
+fn out_dir(name: &str) -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
+        .join("c_api")
+        .join(name);
+    std::fs::create_dir_all(&dir).expect("create the test's output directory");
+    dir
+}
+
+/// Compiles `sources` into `output` with `compiler` and `flags`, linking the library.
+fn compile(compiler: &str, flags: &[&str], sources: &[PathBuf], output: &Path) {
+    let lib = library_dir();
+    let result = Command::new(compiler)
+        .args(flags)
+        .arg(format!("-I{}", repo().join("include").display()))
+        .arg(format!("-I{}", repo().join("bindings/cpp").display()))
+        .args(sources)
+        .arg("-o")
+        .arg(output)
+        .arg(format!("-L{}", lib.display()))
+        .arg("-ltranslucid_ffi")
+        .arg(format!("-Wl,-rpath,{}", lib.display()))
+        .arg("-lm")
+        .output()
+        .unwrap_or_else(|e| {
+            panic!("cannot run {compiler} ({e}): install gcc and g++ (scripts/install-deps.sh)")
+        });
+    assert!(
+        result.status.success(),
+        "{compiler} {} failed:\n{}",
+        sources[0].display(),
+        String::from_utf8_lossy(&result.stderr)
+    );
+}
+
+/// Runs a compiled program with validation on; fails the test with its output otherwise.
+fn run(program: &Path, args: &[&Path], sanitized: bool) -> String {
+    let mut command = Command::new(program);
+    // cargo's LD_LIBRARY_PATH also lists target/<profile>, where an older
+    // libtranslucid_ffi.so from `cargo build` may sit; it would win over the rpath.
+    command.env("LD_LIBRARY_PATH", library_dir());
+    command.args(args).env("TRANSLUCID_VALIDATION", "1");
+    if sanitized {
+        command
+            .env(
+                "ASAN_OPTIONS",
+                "detect_leaks=1:abort_on_error=0:exitcode=23",
+            )
+            .env("UBSAN_OPTIONS", "print_stacktrace=1:halt_on_error=1");
+    }
+    let result = command.output().expect("run the compiled program");
+    let output = format!(
+        "{}{}",
+        String::from_utf8_lossy(&result.stdout),
+        String::from_utf8_lossy(&result.stderr)
+    );
+    assert!(
+        result.status.success(),
+        "{} {}failed ({}):\n{output}",
+        program.display(),
+        if sanitized { "under ASan/UBSan " } else { "" },
+        result.status
+    );
+    output
+}
+
+struct Program {
+    name: &'static str,
+    source: PathBuf,
+}
+
+fn c_programs() -> Vec<Program> {
+    let tests = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/c");
+    vec![
+        Program {
+            name: "example",
+            source: repo().join("examples-c/example.c"),
+        },
+        Program {
+            name: "misuse",
+            source: tests.join("misuse.c"),
+        },
+        Program {
+            name: "render",
+            source: tests.join("render.c"),
+        },
+    ]
+}
+
+#[test]
+fn c_programs_pass_with_validation() {
+    for program in c_programs() {
+        let dir = out_dir(program.name);
+        let binary = dir.join(program.name);
+        compile(
+            "cc",
+            C_FLAGS,
+            std::slice::from_ref(&program.source),
+            &binary,
+        );
+        let output = run(&binary, &[&dir], false);
+        if program.name == "example" {
+            for method in ["blend", "exact"] {
+                let png = dir.join(format!("example-{method}.png"));
+                assert!(
+                    png.exists() || !output.contains(method),
+                    "the example did not write {}:\n{output}",
+                    png.display()
+                );
+            }
+            assert!(dir.join("example-blend.png").exists(), "{output}");
+        }
+    }
+}
+
+#[test]
+fn c_programs_pass_under_address_sanitizer() {
+    let keep_modules = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/c/keep_modules.c");
+    for program in c_programs() {
+        let dir = out_dir(&format!("{}-asan", program.name));
+        let binary = dir.join(program.name);
+        let flags: Vec<&str> = C_FLAGS.iter().chain(SANITIZE).copied().collect();
+        compile(
+            "cc",
+            &flags,
+            &[program.source.clone(), keep_modules.clone()],
+            &binary,
+        );
+        run(&binary, &[&dir], true);
+    }
+}
+
+#[test]
+fn cpp_wrapper_compiles_and_works() {
+    let dir = out_dir("cpp");
+    let binary = dir.join("wrapper");
+    let source = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/cpp/wrapper.cpp");
+    compile("g++", CXX_FLAGS, &[source], &binary);
+    run(&binary, &[], false);
+}
+
+#[test]
+fn header_compiles_alone_as_c_and_cpp() {
+    let dir = out_dir("header");
+    let source = dir.join("header_only.c");
+    std::fs::write(
+        &source,
+        "#include \"translucid.h\"\n#include \"translucid.h\"\n\
+         int main(void) { return translucid_version() == TRANSLUCID_HEADER_VERSION ? 0 : 1; }\n",
+    )
+    .expect("write the header test");
+    compile(
+        "cc",
+        C_FLAGS,
+        std::slice::from_ref(&source),
+        &dir.join("header_c"),
+    );
+    let cpp = dir.join("header_only.cpp");
+    std::fs::copy(&source, &cpp).expect("copy the header test");
+    compile("g++", CXX_FLAGS, &[cpp], &dir.join("header_cpp"));
+    run(&dir.join("header_c"), &[], false);
+}

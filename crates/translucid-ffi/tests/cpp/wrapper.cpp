@@ -1,0 +1,95 @@
+// The C++ wrapper in use: RAII objects, exceptions with codes, every available method.
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <type_traits>
+
+#include "translucid.hpp"
+
+static_assert(!std::is_copy_constructible<translucid::Mesh>::value, "handles are move-only");
+static_assert(std::is_nothrow_move_constructible<translucid::Frame>::value, "handles move");
+
+static int failures = 0;
+#define EXPECT(cond)                                                   \
+    do {                                                               \
+        if (!(cond)) {                                                 \
+            std::printf("FAIL line %d: %s\n", __LINE__, #cond);        \
+            failures++;                                                \
+        }                                                              \
+    } while (0)
+
+int main() {
+    static const float positions[] = {-5, -5, -2, 5, -5, -2, 5, 5, -2, -5, 5, -2};
+    static const std::uint32_t quad[] = {0, 1, 2, 3};
+    translucid::Frame kept;
+    try {
+        translucid::Context context;
+        std::printf("device: %s\n", context.device_name().c_str());
+
+        translucid_mesh_create_info mesh_info{};
+        mesh_info.primitive = TRANSLUCID_PRIMITIVE_QUADS;
+        mesh_info.vertex_count = 4;
+        mesh_info.positions = positions;
+        mesh_info.index_count = 4;
+        mesh_info.indices = quad;
+        translucid::Mesh mesh = context.create_mesh(mesh_info);
+        translucid::Mesh moved = std::move(mesh);
+        EXPECT(!mesh && moved);
+
+        translucid_material_create_info material_info{};
+        material_info.base_colour[2] = 1.0f;
+        material_info.base_colour[3] = 0.5f;
+        translucid::Material blue = context.create_material(material_info);
+
+        translucid_draw draw{};
+        draw.mesh = moved.handle();
+        draw.material = blue.handle();
+        draw.transform[0] = draw.transform[5] = draw.transform[10] = draw.transform[15] = 1.0f;
+        translucid_frame_info frame_info{};
+        frame_info.width = 8;
+        frame_info.height = 4;
+        frame_info.camera.view[0] = frame_info.camera.view[5] = 1.0f;
+        frame_info.camera.view[10] = frame_info.camera.view[15] = 1.0f;
+        frame_info.camera.fov_y = 0.8f;
+        frame_info.camera.z_near = 0.5f;
+        frame_info.camera.z_far = 10.0f;
+        frame_info.draws = &draw;
+        frame_info.draw_count = 1;
+        for (std::uint32_t method : translucid::Context::available_methods()) {
+            frame_info.method = method;
+            translucid::Frame frame = context.render(frame_info);
+            std::vector<float> linear = frame.read_rgba32f();
+            EXPECT(linear.size() == 8 * 4 * 4);
+            EXPECT(std::fabs(linear[2] - 0.5f) < 2e-3f);
+            EXPECT(frame.read_rgba8().size() == 8 * 4 * 4);
+            EXPECT(frame.statistics().method == method);
+            kept = std::move(frame);  // outlives the Context wrapper below
+        }
+
+        // Errors arrive as exceptions carrying the code and the message.
+        mesh_info.vertex_count = 0;
+        try {
+            translucid::Mesh bad = context.create_mesh(mesh_info);
+            EXPECT(false);
+        } catch (const translucid::Error &e) {
+            EXPECT(e.code() == TRANSLUCID_RESULT_ERROR_INVALID_SIZE);
+            EXPECT(std::strstr(e.what(), "vertex_count") != nullptr);
+        }
+        frame_info.method = 1000;
+        try {
+            translucid::Frame bad = context.render(frame_info);
+            EXPECT(false);
+        } catch (const translucid::Error &e) {
+            EXPECT(e.code() == TRANSLUCID_RESULT_ERROR_INVALID_ENUM);
+        }
+    } catch (const translucid::Error &e) {
+        std::printf("FAIL: unexpected error %d: %s\n", static_cast<int>(e.code()), e.what());
+        return 1;
+    }
+    // The frame still works: it keeps the C context alive.
+    EXPECT(kept && kept.read_rgba8().size() == 8 * 4 * 4);
+    kept.reset();
+    EXPECT(!kept);
+    std::printf("wrapper: %d failed\n", failures);
+    return failures == 0 ? 0 : 1;
+}

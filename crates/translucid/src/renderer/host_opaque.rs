@@ -1,0 +1,176 @@
+//! Frames over the host's own opaque layer: instead of drawing `Scene::opaque`, the frame
+//! starts from colour and depth the engine already rendered, copied into the frame targets.
+//!
+//! This is what the C API's standalone mode does with a host opaque layer in host memory; the
+//! host-device mode will read the engine's images in place instead.
+
+use super::{Frame, Renderer, COLOUR_FORMAT, MAX_RERENDERS};
+use crate::gpu::{image_barrier, vk, Buffer, Gpu, GpuImage};
+use crate::image::OpaqueLayer;
+use crate::methods::RecordContext;
+use crate::{Error, Result};
+
+impl OpaqueLayer {
+    /// Checks sizes and values: colour finite and non-negative, depth in [0, 1] (a Vulkan
+    /// depth buffer without unrestricted depth range holds nothing else).
+    pub fn validate(&self, width: u32, height: u32) -> Result<()> {
+        let bad = |msg: String| Err(Error::InvalidScene(format!("opaque layer: {msg}")));
+        if (self.width, self.height) != (width, height) {
+            return bad(format!(
+                "is {}x{}, the frame is {width}x{height}",
+                self.width, self.height
+            ));
+        }
+        let n = width as usize * height as usize;
+        if self.colour.len() != n || self.depth.len() != n {
+            return bad(format!(
+                "has {} colours and {} depths for {n} pixels",
+                self.colour.len(),
+                self.depth.len()
+            ));
+        }
+        if let Some(i) = self
+            .colour
+            .iter()
+            .position(|c| !c.is_finite() || c.min_element() < 0.0)
+        {
+            return bad(format!(
+                "colour of pixel {i} is {:?}: must be finite and non-negative",
+                self.colour[i]
+            ));
+        }
+        if let Some(i) = self.depth.iter().position(|d| !(0.0..=1.0).contains(d)) {
+            return bad(format!(
+                "depth of pixel {i} is {}: must be in [0, 1]",
+                self.depth[i]
+            ));
+        }
+        Ok(())
+    }
+}
+
+impl Renderer {
+    /// Renders one frame over `layer` instead of the scene's opaque draws (which are not
+    /// drawn), re-rendering like [`Renderer::render`] when the method asks. The upload is timed
+    /// as the "opaque" stage, so [`Frame::method_ms`] still measures the method alone.
+    pub fn render_over(&mut self, layer: &OpaqueLayer) -> Result<Frame> {
+        let extent = self.targets.extent;
+        layer.validate(extent.width, extent.height)?;
+        self.gpu.reset_peak_memory();
+        let gpu = self.gpu.clone();
+        debug_assert_eq!(COLOUR_FORMAT, vk::Format::R16G16B16A16_SFLOAT);
+        let colour: Vec<u8> = layer
+            .colour
+            .iter()
+            .flat_map(|c| [c.x, c.y, c.z, 1.0])
+            .flat_map(|v| half::f16::from_f32(v).to_le_bytes())
+            .collect();
+        let depth: Vec<u8> = layer.depth.iter().flat_map(|d| d.to_le_bytes()).collect();
+        let src = vk::BufferUsageFlags::TRANSFER_SRC;
+        let colour = gpu.create_buffer_with_data("host opaque colour", src, &colour)?;
+        let depth = gpu.create_buffer_with_data("host opaque depth", src, &depth)?;
+        let mut rerenders = 0;
+        let check = loop {
+            gpu.submit_and_wait(|cmd| {
+                self.timestamps.begin(cmd);
+                let attachment = vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL;
+                upload(&gpu, cmd, &self.targets.colour, &colour, attachment);
+                let depth_attachment = vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
+                upload(&gpu, cmd, &self.targets.depth, &depth, depth_attachment);
+                self.timestamps.mark(cmd, "opaque");
+                let mut ctx = RecordContext {
+                    gpu: &gpu,
+                    cmd,
+                    scene: &self.scene,
+                    targets: &self.targets,
+                    timestamps: &mut self.timestamps,
+                };
+                self.method.record(&mut ctx)?;
+                self.readback.record(&gpu, cmd, &self.targets, false);
+                Ok(())
+            })?;
+            let check = self.method.frame_done(&self.scene, &self.targets)?;
+            if !check.rerender {
+                break check;
+            }
+            rerenders += 1;
+            if rerenders > MAX_RERENDERS {
+                return Err(Error::InvalidScene(format!(
+                    "{}: buffers still overflow after {MAX_RERENDERS} re-renders",
+                    self.method.name()
+                )));
+            }
+        };
+        let stages = self.timestamps.read()?;
+        Ok(Frame {
+            image: self.readback.colour()?,
+            opaque: None,
+            stages,
+            peak_gpu_bytes: gpu.memory_in_use().1,
+            rerenders,
+            fragments: check.fragments,
+        })
+    }
+}
+
+/// Records a whole-image copy from `buffer` (tightly packed texels of the image's format),
+/// leaving the image in `layout` for the passes that follow.
+fn upload(
+    gpu: &Gpu,
+    cmd: vk::CommandBuffer,
+    image: &GpuImage,
+    buffer: &Buffer,
+    layout: vk::ImageLayout,
+) {
+    let transfer_write = (
+        vk::PipelineStageFlags::TRANSFER,
+        vk::AccessFlags::TRANSFER_WRITE,
+    );
+    image_barrier(
+        gpu,
+        cmd,
+        image,
+        vk::ImageLayout::UNDEFINED,
+        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+        (
+            vk::PipelineStageFlags::TOP_OF_PIPE,
+            vk::AccessFlags::empty(),
+        ),
+        transfer_write,
+    );
+    let region = vk::BufferImageCopy::default()
+        .image_subresource(vk::ImageSubresourceLayers {
+            aspect_mask: image.aspect,
+            mip_level: 0,
+            base_array_layer: 0,
+            layer_count: 1,
+        })
+        .image_extent(vk::Extent3D {
+            width: image.extent.width,
+            height: image.extent.height,
+            depth: 1,
+        });
+    // SAFETY: the image was just moved to TRANSFER_DST_OPTIMAL, and the caller made the buffer
+    // from exactly width×height texels of the image's format.
+    unsafe {
+        gpu.device.cmd_copy_buffer_to_image(
+            cmd,
+            buffer.raw,
+            image.raw,
+            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+            &[region],
+        )
+    };
+    image_barrier(
+        gpu,
+        cmd,
+        image,
+        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+        layout,
+        transfer_write,
+        (
+            vk::PipelineStageFlags::ALL_COMMANDS,
+            vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE,
+        ),
+    );
+}
