@@ -228,6 +228,18 @@ impl ComputePipeline {
         sets: &[&DescriptorLayout],
         push_bytes: u32,
     ) -> Result<Self> {
+        Self::specialized(gpu, spirv, sets, push_bytes, &[])
+    }
+
+    /// A pipeline whose specialization constants `constant_id = i` take `constants[i]`
+    /// (32-bit values; booleans are 0 or 1).
+    pub fn specialized(
+        gpu: &Gpu,
+        spirv: &[u8],
+        sets: &[&DescriptorLayout],
+        push_bytes: u32,
+        constants: &[u32],
+    ) -> Result<Self> {
         let layout = pipeline_layout(gpu, sets, push_bytes, vk::ShaderStageFlags::COMPUTE)?;
         let module = match shader_module(gpu, spirv) {
             Ok(m) => m,
@@ -237,10 +249,22 @@ impl ComputePipeline {
                 return Err(e);
             }
         };
+        let entries: Vec<vk::SpecializationMapEntry> = (0..constants.len() as u32)
+            .map(|i| vk::SpecializationMapEntry {
+                constant_id: i,
+                offset: i * 4,
+                size: 4,
+            })
+            .collect();
+        let data: Vec<u8> = constants.iter().flat_map(|c| c.to_ne_bytes()).collect();
+        let specialization = vk::SpecializationInfo::default()
+            .map_entries(&entries)
+            .data(&data);
         let stage = vk::PipelineShaderStageCreateInfo::default()
             .stage(vk::ShaderStageFlags::COMPUTE)
             .module(module)
-            .name(c"main");
+            .name(c"main")
+            .specialization_info(&specialization);
         let info = [vk::ComputePipelineCreateInfo::default()
             .stage(stage)
             .layout(layout)];

@@ -21,6 +21,7 @@
 
 #![deny(clippy::unwrap_used)]
 
+mod features;
 pub mod layout;
 mod resources;
 
@@ -29,7 +30,8 @@ use crate::gpu::{image_barrier, memory_barrier, vk, ComputePipeline, DescriptorS
 use crate::renderer::{FrameTargets, GpuScene};
 use crate::scene::Scene;
 use crate::Result;
-use layout::{ExactCounters, ExactPush, BIN_SIZE};
+use features::RasterFeatures;
+use layout::{ExactPush, BIN_SIZE};
 use resources::{Capacities, Resources};
 
 const STAGES: [(&str, &[u8]); 5] = [
@@ -46,8 +48,11 @@ pub struct Exact {
     set: DescriptorSet,
     pipelines: Vec<ComputePipeline>,
     push: ExactPush,
-    last: ExactCounters,
+    /// The constants the raster pipeline was made with.
+    features: RasterFeatures,
 }
+
+const RASTER: usize = 4;
 
 impl Exact {
     pub fn new(
@@ -71,14 +76,22 @@ impl Exact {
         let capacities = Capacities::initial(uploaded.transparent_quads, bins_x * bins_y, options);
         let resources = Resources::new(gpu, scene, width, height, capacities)?;
         let set = resources.descriptor_set(uploaded, targets)?;
+        let features = RasterFeatures::of(scene, width, height);
         let pipelines = STAGES
             .iter()
-            .map(|(_, spirv)| {
-                ComputePipeline::new(
+            .enumerate()
+            .map(|(i, (_, spirv))| {
+                let constants = if i == RASTER {
+                    features.constants().to_vec()
+                } else {
+                    Vec::new()
+                };
+                ComputePipeline::specialized(
                     gpu,
                     spirv,
                     &[&uploaded.layout, &resources.layout],
                     std::mem::size_of::<ExactPush>() as u32,
+                    &constants,
                 )
             })
             .collect::<Result<Vec<_>>>()?;
@@ -98,7 +111,7 @@ impl Exact {
             set,
             pipelines,
             push,
-            last: ExactCounters::default(),
+            features,
         })
     }
 
@@ -205,7 +218,25 @@ impl Method for Exact {
 
     fn frame_done(&mut self, uploaded: &GpuScene, targets: &FrameTargets) -> Result<FrameCheck> {
         let counters = self.resources.counters()?;
-        self.last = counters;
+        if counters.homogeneous_count > 0 && !self.features.homogeneous {
+            // The host's estimate missed a near-plane triangle: use the full raster shader.
+            self.features = RasterFeatures {
+                homogeneous: true,
+                ..self.features
+            };
+            let layouts = [&uploaded.layout, &self.resources.layout];
+            self.pipelines[RASTER] = ComputePipeline::specialized(
+                &self.gpu,
+                STAGES[RASTER].1,
+                &layouts,
+                std::mem::size_of::<ExactPush>() as u32,
+                &self.features.constants(),
+            )?;
+            return Ok(FrameCheck {
+                rerender: true,
+                fragments: 0,
+            });
+        }
         let Some(grown) = self.resources.capacities.grown_for(&counters) else {
             return Ok(FrameCheck {
                 rerender: false,

@@ -1,0 +1,93 @@
+//! What a scene needs of the raster shader, decided on the host so that code it cannot reach
+//! is compiled away (specialization constants of `shaders/exact/raster.comp`).
+
+#![deny(unsafe_code)]
+
+use crate::raster::{clip_position, viewport_transform, GUARD_BAND};
+use crate::scene::Scene;
+use glam::{Mat4, Vec3};
+
+/// Specialization constants of the raster stage, in `constant_id` order.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RasterFeatures {
+    /// Some triangle may need the homogeneous path (near plane, behind the eye, guard band).
+    pub homogeneous: bool,
+    pub textures: bool,
+    pub vertex_normals: bool,
+    pub face_normals: bool,
+}
+
+impl RasterFeatures {
+    pub fn of(scene: &Scene, width: u32, height: u32) -> Self {
+        let draws = || scene.transparent.iter();
+        let view_projection = scene.camera.view_projection(width as f32 / height as f32);
+        Self {
+            homogeneous: draws().any(|d| {
+                let mvp = view_projection * d.transform;
+                !bounds_on_fixed_path(&mvp, &scene.meshes[d.mesh].positions, width, height)
+            }),
+            textures: draws().any(|d| scene.materials[d.material].texture.is_some()),
+            vertex_normals: draws().any(|d| scene.meshes[d.mesh].normals.is_some()),
+            face_normals: draws().any(|d| scene.meshes[d.mesh].normals.is_none()),
+        }
+    }
+
+    pub fn constants(&self) -> [u32; 4] {
+        [
+            self.homogeneous,
+            self.textures,
+            self.vertex_normals,
+            self.face_normals,
+        ]
+        .map(u32::from)
+    }
+}
+
+/// Whether every vertex inside the positions' bounding box lands on the fixed-point path:
+/// in front of the near plane and well inside the guard band. The conditions are linear in
+/// clip space, so checking the box's corners (with a margin for rounding) covers its inside.
+fn bounds_on_fixed_path(mvp: &Mat4, positions: &[Vec3], width: u32, height: u32) -> bool {
+    let Some(first) = positions.first() else {
+        return true;
+    };
+    let (lo, hi) = positions
+        .iter()
+        .fold((*first, *first), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
+    (0..8).all(|corner| {
+        let pick = |bit: u32, a: f32, b: f32| if corner & bit == 0 { a } else { b };
+        let p = Vec3::new(
+            pick(1, lo.x, hi.x),
+            pick(2, lo.y, hi.y),
+            pick(4, lo.z, hi.z),
+        );
+        let clip = clip_position(mvp, p);
+        let fb = viewport_transform(clip, width, height);
+        clip.w > 0.0
+            && clip.z > 1e-6 * clip.w
+            && fb.x.abs() < GUARD_BAND * 0.5
+            && fb.y.abs() < GUARD_BAND * 0.5
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn generated_scenes_need_only_the_fixed_path_and_no_textures() {
+        for name in ["layers", "spheres", "planes"] {
+            let scene = crate::scene::generated::generate(name).expect("scene");
+            let f = RasterFeatures::of(&scene, 640, 360);
+            assert!(!f.homogeneous && !f.textures, "{name}: {f:?}");
+        }
+    }
+
+    #[test]
+    fn a_mesh_around_the_camera_needs_the_homogeneous_path() {
+        let mvp = crate::scene::Camera::default().view_projection(1.0);
+        let around = [Vec3::new(-1.0, -1.0, 4.0), Vec3::new(1.0, 1.0, 6.0)];
+        assert!(!bounds_on_fixed_path(&mvp, &around, 64, 64));
+        let ahead = [Vec3::new(-1.0, -1.0, -1.0), Vec3::new(1.0, 1.0, 1.0)];
+        assert!(bounds_on_fixed_path(&mvp, &ahead, 64, 64));
+    }
+}
