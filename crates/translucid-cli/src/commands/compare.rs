@@ -1,7 +1,7 @@
-use super::{open_gpu, stage_text};
+use super::{open_renderer, stage_text};
 use crate::Size;
 use std::path::Path;
-use translucid::{metrics, reference, renderer::Renderer};
+use translucid::{metrics, reference};
 
 pub fn run(
     scene_spec: &str,
@@ -12,15 +12,7 @@ pub fn run(
     json: bool,
 ) -> translucid::Result<()> {
     let scene = translucid::scene::load(scene_spec)?;
-    let gpu = open_gpu()?;
-    let mut renderer = Renderer::with_options(
-        &gpu,
-        &scene,
-        method,
-        size.width,
-        size.height,
-        &super::options(threshold)?,
-    )?;
+    let mut renderer = open_renderer(&scene, method, threshold, size)?;
     let frame = renderer.render(true)?;
     let opaque = frame
         .opaque

@@ -14,6 +14,25 @@ pub fn open_gpu() -> translucid::Result<Gpu> {
     Ok(gpu)
 }
 
+/// A renderer for one scene on the chosen device.
+pub fn open_renderer(
+    scene: &translucid::scene::Scene,
+    method: &str,
+    threshold: f32,
+    size: crate::Size,
+) -> translucid::Result<translucid::renderer::Renderer> {
+    let options = options(threshold)?;
+    let gpu = open_gpu()?;
+    translucid::renderer::Renderer::with_options(
+        &gpu,
+        scene,
+        method,
+        size.width,
+        size.height,
+        &options,
+    )
+}
+
 /// Stage timings as "name 1.234 ms, ..." text.
 pub fn stage_text(stages: &[(&str, f64)]) -> String {
     stages

@@ -1,7 +1,6 @@
-use super::{open_gpu, stage_text};
+use super::{open_renderer, stage_text};
 use crate::Size;
 use std::path::Path;
-use translucid::renderer::Renderer;
 
 pub fn run(
     scene: &str,
@@ -11,15 +10,7 @@ pub fn run(
     output: &Path,
 ) -> translucid::Result<()> {
     let scene = translucid::scene::load(scene)?;
-    let gpu = open_gpu()?;
-    let mut renderer = Renderer::with_options(
-        &gpu,
-        &scene,
-        method,
-        size.width,
-        size.height,
-        &super::options(threshold)?,
-    )?;
+    let mut renderer = open_renderer(&scene, method, threshold, size)?;
     let frame = renderer.render(false)?;
     frame.image.save_png(output)?;
     println!("wrote {}", output.display());

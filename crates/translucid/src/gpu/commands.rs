@@ -74,18 +74,7 @@ impl Gpu {
         image: &GpuImage,
         buffer: &Buffer,
     ) {
-        let region = vk::BufferImageCopy::default()
-            .image_subresource(vk::ImageSubresourceLayers {
-                aspect_mask: image.aspect,
-                mip_level: 0,
-                base_array_layer: 0,
-                layer_count: 1,
-            })
-            .image_extent(vk::Extent3D {
-                width: image.extent.width,
-                height: image.extent.height,
-                depth: 1,
-            });
+        let region = whole_image_region(image);
         // SAFETY: caller guarantees the image layout and that the buffer is large enough.
         unsafe {
             self.device.cmd_copy_image_to_buffer(
@@ -97,6 +86,22 @@ impl Gpu {
             )
         };
     }
+}
+
+/// A copy region covering mip 0 of `image`, tightly packed in the buffer.
+pub fn whole_image_region(image: &GpuImage) -> vk::BufferImageCopy {
+    vk::BufferImageCopy::default()
+        .image_subresource(vk::ImageSubresourceLayers {
+            aspect_mask: image.aspect,
+            mip_level: 0,
+            base_array_layer: 0,
+            layer_count: 1,
+        })
+        .image_extent(vk::Extent3D {
+            width: image.extent.width,
+            height: image.extent.height,
+            depth: 1,
+        })
 }
 
 /// A layout transition (and execution/memory dependency) on every mip of `image`.

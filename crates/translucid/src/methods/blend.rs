@@ -4,10 +4,8 @@
 //! sorted back to front and nothing interpenetrates.
 
 use super::{Method, RecordContext};
-use crate::gpu::{vk, Gpu, GraphicsPipeline, GraphicsPipelineDesc, RenderTarget, RenderTargetDesc};
-use crate::renderer::{
-    FrameTargets, GpuScene, COLOUR_FORMAT, DEPTH_FORMAT, VERTEX_ATTRIBUTES, VERTEX_STRIDE,
-};
+use crate::gpu::{vk, Gpu, GraphicsPipeline, RenderTarget, RenderTargetDesc};
+use crate::renderer::{FrameTargets, GpuScene, COLOUR_FORMAT, DEPTH_FORMAT};
 use crate::{Error, Result};
 
 pub struct Blend {
@@ -43,24 +41,13 @@ impl Blend {
             &targets.colour,
             &targets.depth,
         )?;
-        let pipeline = |cull_back| {
-            GraphicsPipeline::new(
-                gpu,
-                &GraphicsPipelineDesc {
-                    vertex: crate::spirv!("scene/mesh.vert"),
-                    fragment: crate::spirv!("blend/blend.frag"),
-                    vertex_stride: VERTEX_STRIDE,
-                    attributes: &VERTEX_ATTRIBUTES,
-                    cull_back,
-                    depth_write: false,
-                    blend: crate::gpu::Blend::PremultipliedTransmittance,
-                    render_pass: target.render_pass,
-                    sets: &[&scene.layout, &scene.texture_layout],
-                    push_bytes: 4,
-                },
-            )
-        };
-        let pipelines = (pipeline(false)?, pipeline(true)?);
+        let pipelines = scene.mesh_pipelines(
+            gpu,
+            target.render_pass,
+            crate::spirv!("blend/blend.frag"),
+            false,
+            crate::gpu::Blend::PremultipliedTransmittance,
+        )?;
         Ok(Self { target, pipelines })
     }
 }

@@ -4,10 +4,9 @@
 //! This is what the C API's standalone mode does with a host opaque layer in host memory; the
 //! host-device mode will read the engine's images in place instead.
 
-use super::{Frame, Renderer, COLOUR_FORMAT, MAX_RERENDERS};
+use super::{Frame, FrameTargets, Renderer, COLOUR_FORMAT};
 use crate::gpu::{image_barrier, vk, Buffer, Gpu, GpuImage};
 use crate::image::OpaqueLayer;
-use crate::methods::RecordContext;
 use crate::{Error, Result};
 
 impl OpaqueLayer {
@@ -69,48 +68,31 @@ impl Renderer {
         let src = vk::BufferUsageFlags::TRANSFER_SRC;
         let colour = gpu.create_buffer_with_data("host opaque colour", src, &colour)?;
         let depth = gpu.create_buffer_with_data("host opaque depth", src, &depth)?;
-        let mut rerenders = 0;
-        let check = loop {
-            gpu.submit_and_wait(|cmd| {
-                self.timestamps.begin(cmd);
-                let attachment = vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL;
-                upload(&gpu, cmd, &self.targets.colour, &colour, attachment);
-                let depth_attachment = vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
-                upload(&gpu, cmd, &self.targets.depth, &depth, depth_attachment);
-                self.timestamps.mark(cmd, "opaque");
-                let mut ctx = RecordContext {
-                    gpu: &gpu,
-                    cmd,
-                    scene: &self.scene,
-                    targets: &self.targets,
-                    timestamps: &mut self.timestamps,
-                };
-                self.method.record(&mut ctx)?;
-                self.readback.record(&gpu, cmd, &self.targets, false);
-                Ok(())
-            })?;
-            let check = self.method.frame_done(&self.scene, &self.targets)?;
-            if !check.rerender {
-                break check;
-            }
-            rerenders += 1;
-            if rerenders > MAX_RERENDERS {
-                return Err(Error::InvalidScene(format!(
-                    "{}: buffers still overflow after {MAX_RERENDERS} re-renders",
-                    self.method.name()
-                )));
-            }
-        };
-        let stages = self.timestamps.read()?;
-        Ok(Frame {
-            image: self.readback.colour()?,
-            opaque: None,
-            stages,
-            peak_gpu_bytes: gpu.memory_in_use().1,
-            rerenders,
-            fragments: check.fragments,
+        self.run(super::OpaqueSource::Host {
+            colour: &colour,
+            depth: &depth,
         })
     }
+}
+
+/// Records the copies of the host's colour and depth into the frame targets, leaving them in
+/// the layouts every method expects.
+pub(super) fn record_upload(
+    gpu: &Gpu,
+    cmd: vk::CommandBuffer,
+    targets: &FrameTargets,
+    colour: &Buffer,
+    depth: &Buffer,
+) {
+    upload(
+        gpu,
+        cmd,
+        &targets.colour,
+        colour,
+        vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+    );
+    let depth_layout = vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
+    upload(gpu, cmd, &targets.depth, depth, depth_layout);
 }
 
 /// Records a whole-image copy from `buffer` (tightly packed texels of the image's format),
@@ -138,18 +120,7 @@ fn upload(
         ),
         transfer_write,
     );
-    let region = vk::BufferImageCopy::default()
-        .image_subresource(vk::ImageSubresourceLayers {
-            aspect_mask: image.aspect,
-            mip_level: 0,
-            base_array_layer: 0,
-            layer_count: 1,
-        })
-        .image_extent(vk::Extent3D {
-            width: image.extent.width,
-            height: image.extent.height,
-            depth: 1,
-        });
+    let region = crate::gpu::whole_image_region(image);
     // SAFETY: the image was just moved to TRANSFER_DST_OPTIMAL, and the caller made the buffer
     // from exactly width×height texels of the image's format.
     unsafe {

@@ -16,10 +16,8 @@ mod host_opaque;
 mod targets;
 mod upload;
 
-pub use targets::{
-    FrameTargets, Readback, COLOUR_FORMAT, DEPTH_FORMAT, VERTEX_ATTRIBUTES, VERTEX_STRIDE,
-};
-pub use upload::{DrawCall, GpuScene, MeshRange};
+pub use targets::{FrameTargets, Readback, COLOUR_FORMAT, DEPTH_FORMAT};
+pub use upload::{DrawCall, GpuScene, MeshRange, VERTEX_ATTRIBUTES, VERTEX_STRIDE};
 
 use crate::gpu::{Gpu, Timestamps};
 use crate::image::{Image, OpaqueLayer};
@@ -140,22 +138,43 @@ impl Renderer {
     /// reference), timed as its own "readback" stage.
     pub fn render(&mut self, with_opaque: bool) -> Result<Frame> {
         self.gpu.reset_peak_memory();
-        let gpu = self.gpu.clone();
         let opaque_readback = if with_opaque {
-            Some(Readback::new(&gpu, &self.targets)?)
+            Some(Readback::new(&self.gpu, &self.targets)?)
         } else {
             None
         };
+        let mut frame = self.run(OpaqueSource::Scene {
+            readback: opaque_readback.as_ref(),
+        })?;
+        frame.opaque = opaque_readback
+            .as_ref()
+            .map(Readback::opaque_layer)
+            .transpose()?;
+        Ok(frame)
+    }
+
+    /// Records and submits one frame, again while the method reports an overflow, and reads
+    /// the result back.
+    fn run(&mut self, source: OpaqueSource<'_>) -> Result<Frame> {
+        let gpu = self.gpu.clone();
         let mut rerenders = 0;
         let check = loop {
             gpu.submit_and_wait(|cmd| {
                 self.timestamps.begin(cmd);
-                self.opaque_pass
-                    .record(&gpu, cmd, &self.scene, self.background);
-                self.timestamps.mark(cmd, "opaque");
-                if let Some(r) = &opaque_readback {
-                    r.record(&gpu, cmd, &self.targets, true);
-                    self.timestamps.mark(cmd, "readback");
+                match &source {
+                    OpaqueSource::Scene { readback } => {
+                        self.opaque_pass
+                            .record(&gpu, cmd, &self.scene, self.background);
+                        self.timestamps.mark(cmd, "opaque");
+                        if let Some(r) = readback {
+                            r.record(&gpu, cmd, &self.targets, true);
+                            self.timestamps.mark(cmd, "readback");
+                        }
+                    }
+                    OpaqueSource::Host { colour, depth } => {
+                        host_opaque::record_upload(&gpu, cmd, &self.targets, colour, depth);
+                        self.timestamps.mark(cmd, "opaque");
+                    }
                 }
                 let mut ctx = RecordContext {
                     gpu: &gpu,
@@ -180,18 +199,24 @@ impl Renderer {
                 )));
             }
         };
-        let stages = self.timestamps.read()?;
-        let opaque = opaque_readback
-            .as_ref()
-            .map(Readback::opaque_layer)
-            .transpose()?;
         Ok(Frame {
             image: self.readback.colour()?,
-            opaque,
-            stages,
+            opaque: None,
+            stages: self.timestamps.read()?,
             peak_gpu_bytes: gpu.memory_in_use().1,
             rerenders,
             fragments: check.fragments,
         })
     }
+}
+
+/// Where a frame's opaque layer comes from.
+enum OpaqueSource<'a> {
+    /// The scene's opaque draws, optionally read back for the CPU reference.
+    Scene { readback: Option<&'a Readback> },
+    /// The host's colour (RGBA16F texels) and depth (D32 texels), copied in.
+    Host {
+        colour: &'a crate::gpu::Buffer,
+        depth: &'a crate::gpu::Buffer,
+    },
 }

@@ -2,26 +2,16 @@
 
 use super::upload::GpuScene;
 use crate::gpu::{
-    image_barrier, vk, Blend, Buffer, Gpu, GpuImage, GraphicsPipeline, GraphicsPipelineDesc,
-    MemoryLocation, RenderTarget, RenderTargetDesc,
+    image_barrier, vk, Blend, Buffer, Gpu, GpuImage, GraphicsPipeline, MemoryLocation,
+    RenderTarget, RenderTargetDesc,
 };
 use crate::image::{Image, OpaqueLayer};
-use crate::shader_types::GpuVertex;
 use crate::Result;
 use glam::{Vec3, Vec4};
 
 /// Colour is linear RGBA16F: blending into 8 bits would pile rounding up per layer.
 pub const COLOUR_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
 pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
-
-/// Vertex attributes of [`GpuVertex`]: (location, format, offset).
-pub const VERTEX_ATTRIBUTES: [(u32, vk::Format, u32); 4] = [
-    (0, vk::Format::R32G32B32_SFLOAT, 0),
-    (1, vk::Format::R32G32B32_SFLOAT, 12),
-    (2, vk::Format::R32G32_SFLOAT, 24),
-    (3, vk::Format::R32G32B32A32_SFLOAT, 32),
-];
-pub const VERTEX_STRIDE: u32 = std::mem::size_of::<GpuVertex>() as u32;
 
 /// Colour and depth of one frame. Between passes the colour image is in
 /// COLOR_ATTACHMENT_OPTIMAL and depth in DEPTH_STENCIL_ATTACHMENT_OPTIMAL: every method
@@ -95,24 +85,13 @@ impl OpaquePass {
             &targets.colour,
             &targets.depth,
         )?;
-        let pipeline = |cull_back| {
-            GraphicsPipeline::new(
-                gpu,
-                &GraphicsPipelineDesc {
-                    vertex: crate::spirv!("scene/mesh.vert"),
-                    fragment: crate::spirv!("scene/opaque.frag"),
-                    vertex_stride: VERTEX_STRIDE,
-                    attributes: &VERTEX_ATTRIBUTES,
-                    cull_back,
-                    depth_write: true,
-                    blend: Blend::None,
-                    render_pass: target.render_pass,
-                    sets: &[&scene.layout, &scene.texture_layout],
-                    push_bytes: 4,
-                },
-            )
-        };
-        let pipelines = (pipeline(false)?, pipeline(true)?);
+        let pipelines = scene.mesh_pipelines(
+            gpu,
+            target.render_pass,
+            crate::spirv!("scene/opaque.frag"),
+            true,
+            Blend::None,
+        )?;
         Ok(Self { target, pipelines })
     }
 

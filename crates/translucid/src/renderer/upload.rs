@@ -2,12 +2,22 @@
 //! descriptor set every mesh pipeline binds as set 0.
 
 use crate::gpu::{
-    vk, BindingKind, Buffer, DescriptorLayout, DescriptorSet, Gpu, GpuImage, Resource, Sampler,
+    vk, BindingKind, Buffer, DescriptorLayout, DescriptorSet, Gpu, GpuImage, GraphicsPipeline,
+    GraphicsPipelineDesc, Resource, Sampler,
 };
 use crate::scene::{Mesh, Scene, Texture};
 use crate::shader_types::{GpuDrawInfo, GpuFrameInfo, GpuMaterial, GpuVertex};
 use crate::Result;
 use glam::{Vec2, Vec3, Vec4};
+
+/// Vertex attributes of [`GpuVertex`]: (location, format, offset).
+pub const VERTEX_ATTRIBUTES: [(u32, vk::Format, u32); 4] = [
+    (0, vk::Format::R32G32B32_SFLOAT, 0),
+    (1, vk::Format::R32G32B32_SFLOAT, 12),
+    (2, vk::Format::R32G32_SFLOAT, 24),
+    (3, vk::Format::R32G32B32A32_SFLOAT, 32),
+];
+pub const VERTEX_STRIDE: u32 = std::mem::size_of::<GpuVertex>() as u32;
 
 /// Where one mesh's triangles start in the index buffer.
 #[derive(Clone, Copy, Debug)]
@@ -186,6 +196,36 @@ impl GpuScene {
             opaque_calls: opaque_calls.to_vec(),
             transparent_calls: transparent_calls.to_vec(),
         })
+    }
+
+    /// The pair of pipelines every scene draw goes through (back faces kept, back faces
+    /// culled), for the mesh vertex shader, `fragment`, and the given depth and blend state.
+    pub fn mesh_pipelines(
+        &self,
+        gpu: &Gpu,
+        render_pass: vk::RenderPass,
+        fragment: &[u8],
+        depth_write: bool,
+        blend: crate::gpu::Blend,
+    ) -> Result<(GraphicsPipeline, GraphicsPipeline)> {
+        let pipeline = |cull_back| {
+            GraphicsPipeline::new(
+                gpu,
+                &GraphicsPipelineDesc {
+                    vertex: crate::spirv!("scene/mesh.vert"),
+                    fragment,
+                    vertex_stride: VERTEX_STRIDE,
+                    attributes: &VERTEX_ATTRIBUTES,
+                    cull_back,
+                    depth_write,
+                    blend,
+                    render_pass,
+                    sets: &[&self.layout, &self.texture_layout],
+                    push_bytes: 4,
+                },
+            )
+        };
+        Ok((pipeline(false)?, pipeline(true)?))
     }
 
     /// Binds vertex and index buffers and issues `calls` with `pipelines.0` (back faces
