@@ -4,10 +4,35 @@
 
 #include "exact_layout.glsl"
 
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+
 // Inclusive bin rectangle (bx0, by0, bx1, by1) of a non-empty pixel rectangle.
 ivec4 binRect(ivec4 bounds) {
     return ivec4(bounds.x >> BIN_SHIFT, bounds.y >> BIN_SHIFT, (bounds.z - 1) >> BIN_SHIFT,
                  (bounds.w - 1) >> BIN_SHIFT);
+}
+
+// Whether edge (a, b, c) with tie bias excludes every pixel centre of [x0, x1) x [y0, y1):
+// a linear function is largest at a corner, so testing the best corner decides. (Edges are
+// passed one by one: indexing an i64vec4 with a loop variable miscompiled on lavapipe 22.3.)
+bool edgeExcludesRect(int a, int b, int64_t c, int bias, int x0, int y0, int x1, int y1) {
+    int64_t px = (int64_t(a > 0 ? x1 - 1 : x0) << 8) + 128;
+    int64_t py = (int64_t(b > 0 ? y1 - 1 : y0) << 8) + 128;
+    return int64_t(a) * px + int64_t(b) * py + c + int64_t(bias) <= 0;
+}
+
+// Whether a triangle may cover a pixel centre of the pixel rectangle [x0, x1) x [y0, y1):
+// false only when one fixed-point edge excludes every centre (its best corner is outside).
+// Homogeneous triangles are not refined. Counting and filling the bins both use this, so
+// the counts and the lists agree.
+bool mayCoverRect(ExactTriangle t, int x0, int y0, int x1, int y1) {
+    if (t.edgeB.w >= 0) {
+        return true;
+    }
+    int ties = t.edgeA.w;
+    return !edgeExcludesRect(t.edgeA.x, t.edgeB.x, t.edgeC.x, ties & 1, x0, y0, x1, y1) &&
+           !edgeExcludesRect(t.edgeA.y, t.edgeB.y, t.edgeC.y, (ties >> 1) & 1, x0, y0, x1, y1) &&
+           !edgeExcludesRect(t.edgeA.z, t.edgeB.z, t.edgeC.z, (ties >> 2) & 1, x0, y0, x1, y1);
 }
 
 #endif

@@ -49,19 +49,23 @@ bool depthClip(float z) {
     return z >= 0.0 && z <= 1.0;
 }
 
-// Coverage and interpolation of a fixed-point triangle at pixel (x, y).
-bool sampleFixed(ExactTriangle t, uint x, uint y, out RasterSample s) {
-    int64_t e0 = edgeAt(int64_t(t.edgeA.x), int64_t(t.edgeB.x), t.edgeC.x, x, y);
-    int64_t e1 = edgeAt(int64_t(t.edgeA.y), int64_t(t.edgeB.y), t.edgeC.y, x, y);
-    int64_t e2 = edgeAt(int64_t(t.edgeA.z), int64_t(t.edgeB.z), t.edgeC.z, x, y);
+// Coverage of a fixed-point triangle at pixel (x, y): the three edge values, and whether the
+// sample is inside under the tie rule.
+bool coversFixed(ExactTriangle t, uint x, uint y, out i64vec3 e) {
+    e.x = edgeAt(int64_t(t.edgeA.x), int64_t(t.edgeB.x), t.edgeC.x, x, y);
+    e.y = edgeAt(int64_t(t.edgeA.y), int64_t(t.edgeB.y), t.edgeC.y, x, y);
+    e.z = edgeAt(int64_t(t.edgeA.z), int64_t(t.edgeB.z), t.edgeC.z, x, y);
     int ties = t.edgeA.w;
-    if (e0 + int64_t(ties & 1) <= 0 || e1 + int64_t((ties >> 1) & 1) <= 0 ||
-        e2 + int64_t((ties >> 2) & 1) <= 0) {
-        return false;
-    }
-    precise float l0 = float(e0) * t.zNdc.w;
-    precise float l1 = float(e1) * t.zNdc.w;
-    precise float l2 = float(e2) * t.zNdc.w;
+    return e.x + int64_t(ties & 1) > 0 && e.y + int64_t((ties >> 1) & 1) > 0 &&
+           e.z + int64_t((ties >> 2) & 1) > 0;
+}
+
+// Interpolation of a covered fixed-point sample from its edge values; false when the depth
+// clip discards it.
+bool interpolateFixed(ExactTriangle t, i64vec3 e, out RasterSample s) {
+    precise float l0 = float(e.x) * t.zNdc.w;
+    precise float l1 = float(e.y) * t.zNdc.w;
+    precise float l2 = float(e.z) * t.zNdc.w;
     precise float z = (l0 * t.zNdc.x + l1 * t.zNdc.y) + l2 * t.zNdc.z;
     precise float q0 = l0 * t.invW.x;
     precise float q1 = l1 * t.invW.y;
@@ -72,6 +76,11 @@ bool sampleFixed(ExactTriangle t, uint x, uint y, out RasterSample s) {
     s.zNdc = z;
     s.viewDepth = depth;
     return depthClip(z);
+}
+
+bool sampleFixed(ExactTriangle t, uint x, uint y, out RasterSample s) {
+    i64vec3 e;
+    return coversFixed(t, x, y, e) && interpolateFixed(t, e, s);
 }
 
 double lineAt(dvec4 line, uint x, uint y) {

@@ -1,5 +1,5 @@
 #version 450
-// Binning, pass 1: every triangle adds one to the count of each bin its bounds touch.
+// Binning, pass 1: every triangle adds one to the count of each bin it may cover.
 
 #include "exact_bindings.glsl"
 #include "exact_bins.glsl"
@@ -11,11 +11,19 @@ void main() {
     if (ti >= g_counters.triangleCount) {
         return;
     }
-    ivec4 r = binRect(g_triangles[ti].bounds);
+    ExactTriangle t = g_triangles[ti];
+    ivec4 r = binRect(t.bounds);
+    uint touched = 0u;
     for (int by = r.y; by <= r.w; by++) {
         for (int bx = r.x; bx <= r.z; bx++) {
+            int x0 = bx << BIN_SHIFT;
+            int y0 = by << BIN_SHIFT;
+            if (!mayCoverRect(t, x0, y0, x0 + BIN_SIZE, y0 + BIN_SIZE)) {
+                continue;
+            }
             atomicAdd(g_binCounts[uint(by) * u_push.binsX + uint(bx)], 1u);
+            touched++;
         }
     }
-    atomicAdd(g_counters.binEntryCount, uint((r.z - r.x + 1) * (r.w - r.y + 1)));
+    atomicAdd(g_counters.binEntryCount, touched);
 }

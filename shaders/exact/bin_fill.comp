@@ -1,5 +1,5 @@
 #version 450
-// Binning, pass 3: every triangle writes its index into the list of each bin it touches.
+// Binning, pass 3: every triangle writes its index into the list of each bin it may cover.
 // Entries past the capacity are dropped and flagged: the host renders the frame again with a
 // list as large as the count says.
 
@@ -13,10 +13,16 @@ void main() {
     if (ti >= g_counters.triangleCount) {
         return;
     }
-    ivec4 r = binRect(g_triangles[ti].bounds);
+    ExactTriangle t = g_triangles[ti];
+    ivec4 r = binRect(t.bounds);
     uint capacity = g_counters.binEntryCapacity;
     for (int by = r.y; by <= r.w; by++) {
         for (int bx = r.x; bx <= r.z; bx++) {
+            int x0 = bx << BIN_SHIFT;
+            int y0 = by << BIN_SHIFT;
+            if (!mayCoverRect(t, x0, y0, x0 + BIN_SIZE, y0 + BIN_SIZE)) {
+                continue;
+            }
             uint b = uint(by) * u_push.binsX + uint(bx);
             uint slot = g_binOffsets[b] + atomicAdd(g_binCursors[b], 1u);
             if (slot < capacity) {

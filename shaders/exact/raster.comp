@@ -15,6 +15,7 @@
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_KHR_shader_subgroup_ballot : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
+#extension GL_KHR_shader_subgroup_vote : require
 #extension GL_EXT_control_flow_attributes : require
 
 #include "scene_bindings_compute.glsl"
@@ -180,33 +181,43 @@ void main() {
         for (uint e = first; e < end; e++) {
             uint ti = subgroupBroadcastFirst(g_binEntries[e]);
             ivec4 r = g_triangles[ti].bounds;
-            if (int(x) < r.x || int(x) >= r.z || int(y) < r.y || int(y) >= r.w) {
+            bool inBox = int(x) >= r.x && int(x) < r.z && int(y) >= r.y && int(y) < r.w;
+            // A uniform test skips the triangle for real when no pixel of the subgroup is in
+            // its box; a per-pixel `continue` alone would not on CPU drivers (masking).
+            if (!subgroupAny(inBox)) {
                 continue;
             }
             ExactTriangle t = g_triangles[ti];
             RasterSample s;
-            if (!sampleTriangle(t, x, y, s) || !(s.zNdc < opaqueDepth)) {
-                continue;
+            bool take;
+            if (HOMOGENEOUS_PATH && t.edgeB.w >= 0) {
+                take = inBox && sampleHomogeneous(g_homogeneous[t.edgeB.w], x, y, s);
+            } else {
+                i64vec3 edges;
+                bool covered = inBox && coversFixed(t, x, y, edges);
+                if (!subgroupAny(covered)) {
+                    continue;
+                }
+                take = covered && interpolateFixed(t, edges, s);
             }
             uint d = floatBitsToUint(s.viewDepth);
             uint o = t.ids.w;
-            if (started && !keyLess(doneDepth, doneOrder, d, o)) {
-                continue;
-            }
-            found++;
-            if (!keyLess(d, o, selDepth[SELECT_SIZE - 1], selOrder[SELECT_SIZE - 1])) {
+            take = take && s.zNdc < opaqueDepth && (!started || keyLess(doneDepth, doneOrder, d, o));
+            found += take ? 1u : 0u;
+            bool insert = take && keyLess(d, o, selDepth[SELECT_SIZE - 1], selOrder[SELECT_SIZE - 1]);
+            if (!subgroupAny(insert)) {
                 continue;
             }
             // Insert, dropping the last: each slot takes its left neighbour, the new key, or
             // keeps its own, walking right to left (left neighbours are still unchanged).
             [[unroll]] for (int k = SELECT_SIZE - 1; k > 0; k--) {
-                bool shift = keyLess(d, o, selDepth[k - 1], selOrder[k - 1]);
-                bool here = !shift && keyLess(d, o, selDepth[k], selOrder[k]);
+                bool shift = insert && keyLess(d, o, selDepth[k - 1], selOrder[k - 1]);
+                bool here = insert && !shift && keyLess(d, o, selDepth[k], selOrder[k]);
                 selDepth[k] = shift ? selDepth[k - 1] : (here ? d : selDepth[k]);
                 selOrder[k] = shift ? selOrder[k - 1] : (here ? o : selOrder[k]);
                 selTri[k] = shift ? selTri[k - 1] : (here ? ti : selTri[k]);
             }
-            if (keyLess(d, o, selDepth[0], selOrder[0])) {
+            if (insert && keyLess(d, o, selDepth[0], selOrder[0])) {
                 selDepth[0] = d;
                 selOrder[0] = o;
                 selTri[0] = ti;
