@@ -63,6 +63,8 @@ fn bench_json_has_one_line_per_scene_and_method() {
             "median_ms",
             "stages",
             "ratio_to_blend",
+            "wall_ms",
+            "wall_ratio_to_blend",
             "peak_gpu_bytes",
         ] {
             assert!(v.get(key).is_some(), "bench --json lacks {key}: {v}");

@@ -23,6 +23,7 @@ struct Result {
     peak_gpu_bytes: u64,
     fragments: u64,
     rerenders: u32,
+    wall_ms: f64,
 }
 
 pub fn run(
@@ -61,6 +62,7 @@ pub fn run(
             let mut stage_order = Vec::new();
             let (mut totals, mut method_totals, mut peak) = (Vec::new(), Vec::new(), 0);
             let (mut fragments, mut rerenders) = (0, 0);
+            let mut walls = Vec::new();
             for _ in 0..frames {
                 let frame = renderer.render(false)?;
                 for (name, ms) in &frame.stages {
@@ -74,6 +76,7 @@ pub fn run(
                 peak = peak.max(frame.peak_gpu_bytes);
                 fragments = frame.fragments;
                 rerenders += frame.rerenders;
+                walls.push(frame.wall_ms);
                 bar.inc(1);
             }
             results.push(Result {
@@ -89,16 +92,17 @@ pub fn run(
                 peak_gpu_bytes: peak,
                 fragments,
                 rerenders,
+                wall_ms: median(walls),
             });
         }
     }
     bar.finish_and_clear();
     for r in results.iter().filter(|r| methods.contains(&r.method)) {
-        let blend_ms = results
+        let blend = results
             .iter()
-            .find(|b| b.scene == r.scene && b.method == "blend")
-            .map_or(f64::NAN, |b| b.method_ms);
-        let ratio = r.method_ms / blend_ms;
+            .find(|b| b.scene == r.scene && b.method == "blend");
+        let ratio = r.method_ms / blend.map_or(f64::NAN, |b| b.method_ms);
+        let wall_ratio = r.wall_ms / blend.map_or(f64::NAN, |b| b.wall_ms);
         if json {
             let stages: serde_json::Map<String, serde_json::Value> = r
                 .stages
@@ -111,6 +115,8 @@ pub fn run(
                 "threshold": threshold,
                 "fragments": r.fragments,
                 "rerenders": r.rerenders,
+                "wall_ms": r.wall_ms,
+                "wall_ratio_to_blend": wall_ratio,
                 "width": size.width,
                 "height": size.height,
                 "frames": r.frames,
@@ -123,12 +129,15 @@ pub fn run(
             println!("{line}");
         } else {
             println!(
-                "{:<40} {:<8} total {:>9.3} ms  method {:>9.3} ms  x{:.2} blend  peak {:.1} MB",
+                "{:<40} {:<8} total {:>9.3} ms  method {:>9.3} ms  x{:.2} blend  \
+                 frame wall {:>9.3} ms  x{:.2} blend  peak {:.1} MB",
                 r.scene,
                 r.method,
                 r.total_ms,
                 r.method_ms,
                 ratio,
+                r.wall_ms,
+                wall_ratio,
                 r.peak_gpu_bytes as f64 / (1 << 20) as f64
             );
             println!("{:<40} {}", "", super::stage_text(&r.stages));

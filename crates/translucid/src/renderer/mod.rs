@@ -42,6 +42,10 @@ pub struct Frame {
     pub rerenders: u32,
     /// Fragments composited, for methods that count them (0 otherwise).
     pub fragments: u64,
+    /// Host wall-clock time from the last submission to its completion, in milliseconds. On
+    /// CPU devices GPU timestamps are written as commands are issued, not as asynchronous
+    /// raster work finishes, so this is the fairer measure of a whole frame there.
+    pub wall_ms: f64,
 }
 
 impl Frame {
@@ -158,7 +162,9 @@ impl Renderer {
     fn run(&mut self, source: OpaqueSource<'_>) -> Result<Frame> {
         let gpu = self.gpu.clone();
         let mut rerenders = 0;
+        let mut wall_ms;
         let check = loop {
+            let started = std::time::Instant::now();
             gpu.submit_and_wait(|cmd| {
                 self.timestamps.begin(cmd);
                 match &source {
@@ -187,6 +193,7 @@ impl Renderer {
                 self.readback.record(&gpu, cmd, &self.targets, false);
                 Ok(())
             })?;
+            wall_ms = started.elapsed().as_secs_f64() * 1e3;
             let check = self.method.frame_done(&self.scene, &self.targets)?;
             if !check.rerender {
                 break check;
@@ -206,6 +213,7 @@ impl Renderer {
             peak_gpu_bytes: gpu.memory_in_use().1,
             rerenders,
             fragments: check.fragments,
+            wall_ms,
         })
     }
 }
