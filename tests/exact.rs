@@ -145,6 +145,27 @@ fn exact_recovers_from_every_overflow() {
     assert!(frame.rerenders >= 1, "the overflow path was not taken");
 }
 
+/// When the host's estimate leaves the near-plane path out of the raster shader and setup
+/// meets such a triangle anyway, the shader is rebuilt and the frame rendered again.
+#[test]
+fn exact_rebuilds_the_raster_shader_for_unexpected_near_plane_triangles() {
+    let options = MethodOptions {
+        assume_fixed_path: true,
+        ..Default::default()
+    };
+    let frame = check(
+        &near_plane_scene(),
+        "assumed_fixed_near_plane",
+        157,
+        119,
+        &options,
+    );
+    assert_eq!(
+        frame.rerenders, 1,
+        "the fallback should render the frame exactly once more"
+    );
+}
+
 /// With the threshold on, pixels stop early: not exact, but close where little light is left.
 #[test]
 fn exact_threshold_stops_early_but_stays_close() {

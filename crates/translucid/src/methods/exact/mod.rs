@@ -76,7 +76,8 @@ impl Exact {
         let capacities = Capacities::initial(uploaded.transparent_quads, bins_x * bins_y, options);
         let resources = Resources::new(gpu, scene, width, height, capacities)?;
         let set = resources.descriptor_set(uploaded, targets)?;
-        let features = RasterFeatures::of(scene, width, height);
+        let mut features = RasterFeatures::of(scene, width, height);
+        features.homogeneous &= !options.assume_fixed_path;
         let pipelines = STAGES
             .iter()
             .enumerate()
@@ -218,7 +219,9 @@ impl Method for Exact {
 
     fn frame_done(&mut self, uploaded: &GpuScene, targets: &FrameTargets) -> Result<FrameCheck> {
         let counters = self.resources.counters()?;
-        if counters.homogeneous_count > 0 && !self.features.homogeneous {
+        // Both fixes, if both are needed, before the one re-render.
+        let rebuild = counters.homogeneous_count > 0 && !self.features.homogeneous;
+        if rebuild {
             // The host's estimate missed a near-plane triangle: use the full raster shader.
             self.features = RasterFeatures {
                 homogeneous: true,
@@ -232,25 +235,21 @@ impl Method for Exact {
                 std::mem::size_of::<ExactPush>() as u32,
                 &self.features.constants(),
             )?;
-            return Ok(FrameCheck {
-                rerender: true,
-                fragments: 0,
-            });
         }
-        let Some(grown) = self.resources.capacities.grown_for(&counters) else {
-            return Ok(FrameCheck {
-                rerender: false,
-                fragments: u64::from(counters.fragment_count),
-            });
-        };
-        log::info!(
-            "exact: buffers too small ({counters:?}); growing to {grown:?} and rendering again"
-        );
-        self.resources.grow(&self.gpu, grown)?;
-        self.set = self.resources.descriptor_set(uploaded, targets)?;
+        let grown = self.resources.capacities.grown_for(&counters);
+        if let Some(grown) = grown {
+            log::info!("exact: buffers too small ({counters:?}); growing to {grown:?}");
+            self.resources.grow(&self.gpu, grown)?;
+            self.set = self.resources.descriptor_set(uploaded, targets)?;
+        }
+        let rerender = rebuild || grown.is_some();
         Ok(FrameCheck {
-            rerender: true,
-            fragments: 0,
+            rerender,
+            fragments: if rerender {
+                0
+            } else {
+                u64::from(counters.fragment_count)
+            },
         })
     }
 }
