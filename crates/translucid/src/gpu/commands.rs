@@ -88,6 +88,68 @@ impl Gpu {
     }
 }
 
+impl Gpu {
+    /// Copies `buffer` (exactly mip 0's texels, tightly packed) into `image`, which must be in
+    /// TRANSFER_DST_OPTIMAL.
+    pub fn cmd_copy_buffer_to_image(
+        &self,
+        cmd: vk::CommandBuffer,
+        buffer: &Buffer,
+        image: &GpuImage,
+    ) {
+        let texel_bytes = match image.format {
+            vk::Format::R16G16B16A16_SFLOAT => 8,
+            _ => 4,
+        };
+        let needed = u64::from(image.extent.width) * u64::from(image.extent.height) * texel_bytes;
+        assert!(
+            buffer.size >= needed,
+            "buffer of {} bytes for a {needed}-byte image",
+            buffer.size
+        );
+        // SAFETY: cmd is recording outside a render pass, the buffer holds the whole level
+        // (checked above) and the caller put the image in TRANSFER_DST_OPTIMAL.
+        unsafe {
+            self.device.cmd_copy_buffer_to_image(
+                cmd,
+                buffer.raw,
+                image.raw,
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                &[whole_image_region(image)],
+            )
+        };
+    }
+
+    /// Fills the whole buffer with a repeated 32-bit value (it needs TRANSFER_DST usage).
+    pub fn cmd_fill_buffer(&self, cmd: vk::CommandBuffer, buffer: &Buffer, value: u32) {
+        // SAFETY: cmd is recording outside a render pass; WHOLE_SIZE stays inside the buffer.
+        unsafe {
+            self.device
+                .cmd_fill_buffer(cmd, buffer.raw, 0, vk::WHOLE_SIZE, value)
+        };
+    }
+
+    /// Writes `data` (a multiple of 4 bytes, at most 64 KiB) at `offset` from the command
+    /// buffer itself (the buffer needs TRANSFER_DST usage).
+    pub fn cmd_update_buffer(
+        &self,
+        cmd: vk::CommandBuffer,
+        buffer: &Buffer,
+        offset: u64,
+        data: &[u8],
+    ) {
+        let end = offset + data.len() as u64;
+        assert!(
+            offset % 4 == 0 && data.len() % 4 == 0 && data.len() <= 65536 && end <= buffer.size,
+            "update of {} bytes at {offset} into a {}-byte buffer",
+            data.len(),
+            buffer.size
+        );
+        // SAFETY: cmd is recording outside a render pass; the range was checked above.
+        unsafe { self.device.cmd_update_buffer(cmd, buffer.raw, offset, data) };
+    }
+}
+
 /// A copy region covering mip 0 of `image`, tightly packed in the buffer.
 pub fn whole_image_region(image: &GpuImage) -> vk::BufferImageCopy {
     vk::BufferImageCopy::default()

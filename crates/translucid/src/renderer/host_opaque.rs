@@ -120,18 +120,7 @@ fn upload(
         ),
         transfer_write,
     );
-    let region = crate::gpu::whole_image_region(image);
-    // SAFETY: the image was just moved to TRANSFER_DST_OPTIMAL, and the caller made the buffer
-    // from exactly width×height texels of the image's format.
-    unsafe {
-        gpu.device.cmd_copy_buffer_to_image(
-            cmd,
-            buffer.raw,
-            image.raw,
-            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-            &[region],
-        )
-    };
+    gpu.cmd_copy_buffer_to_image(cmd, buffer, image);
     image_barrier(
         gpu,
         cmd,

@@ -277,20 +277,10 @@ impl Resources {
             self.capacities.homogeneous,
             self.capacities.bin_entries,
         ];
-        // SAFETY: cmd is recording outside a render pass; the buffers allow transfer writes
-        // and the update (12 bytes at offset 16) lies inside the counters buffer.
-        unsafe {
-            let d = &gpu.device;
-            d.cmd_fill_buffer(cmd, self.counters.raw, 0, vk::WHOLE_SIZE, 0);
-            d.cmd_update_buffer(
-                cmd,
-                self.counters.raw,
-                16,
-                bytemuck::cast_slice(&capacities),
-            );
-            d.cmd_fill_buffer(cmd, self.bin_counts.raw, 0, vk::WHOLE_SIZE, 0);
-            d.cmd_fill_buffer(cmd, self.bin_cursors.raw, 0, vk::WHOLE_SIZE, 0);
-        }
+        gpu.cmd_fill_buffer(cmd, &self.counters, 0);
+        gpu.cmd_update_buffer(cmd, &self.counters, 16, bytemuck::cast_slice(&capacities));
+        gpu.cmd_fill_buffer(cmd, &self.bin_counts, 0);
+        gpu.cmd_fill_buffer(cmd, &self.bin_cursors, 0);
         memory_barrier(
             gpu,
             cmd,
