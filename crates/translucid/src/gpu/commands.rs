@@ -152,16 +152,22 @@ impl Gpu {
 
 /// A copy region covering mip 0 of `image`, tightly packed in the buffer.
 pub fn whole_image_region(image: &GpuImage) -> vk::BufferImageCopy {
+    mip_region(image, 0, 0)
+}
+
+/// A copy region covering mip `level` of `image`, tightly packed at `buffer_offset`.
+pub fn mip_region(image: &GpuImage, level: u32, buffer_offset: u64) -> vk::BufferImageCopy {
     vk::BufferImageCopy::default()
+        .buffer_offset(buffer_offset)
         .image_subresource(vk::ImageSubresourceLayers {
             aspect_mask: image.aspect,
-            mip_level: 0,
+            mip_level: level,
             base_array_layer: 0,
             layer_count: 1,
         })
         .image_extent(vk::Extent3D {
-            width: image.extent.width,
-            height: image.extent.height,
+            width: (image.extent.width >> level).max(1),
+            height: (image.extent.height >> level).max(1),
             depth: 1,
         })
 }

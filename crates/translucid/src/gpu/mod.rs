@@ -22,7 +22,7 @@ mod timestamps;
 mod validation;
 
 pub use ash::vk;
-pub use commands::{image_barrier, memory_barrier, whole_image_region};
+pub use commands::{image_barrier, memory_barrier, mip_region, whole_image_region};
 pub use device::{list_devices, DeviceInfo, Gpu, GpuOptions, Shared};
 pub use memory::MemoryLocation;
 pub use memory::{Buffer, GpuImage, MemoryStats};

@@ -4,8 +4,8 @@
 //! sorted back to front and nothing interpenetrates.
 
 use super::{Method, RecordContext};
-use crate::gpu::{vk, Gpu, GraphicsPipeline, RenderTarget, RenderTargetDesc};
-use crate::renderer::{FrameTargets, GpuScene, COLOUR_FORMAT, DEPTH_FORMAT};
+use crate::gpu::{Gpu, GraphicsPipeline, RenderTarget};
+use crate::renderer::{FrameTargets, GpuScene};
 use crate::{Error, Result};
 
 pub struct Blend {
@@ -22,25 +22,7 @@ impl Blend {
                 gpu.info().name
             )));
         }
-        let target = RenderTarget::new(
-            gpu,
-            &RenderTargetDesc {
-                colour_format: COLOUR_FORMAT,
-                depth_format: DEPTH_FORMAT,
-                clear: false,
-                store_depth: false,
-                colour_layouts: (
-                    vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-                    vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-                ),
-                depth_layouts: (
-                    vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
-                    vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
-                ),
-            },
-            &targets.colour,
-            &targets.depth,
-        )?;
+        let target = targets.render_target(gpu, false)?;
         let pipelines = scene.mesh_pipelines(
             gpu,
             target.render_pass,

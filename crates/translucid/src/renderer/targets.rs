@@ -53,6 +53,34 @@ impl FrameTargets {
         })
     }
 
+    /// A render pass and framebuffer over these targets that leaves them in the between-pass
+    /// layouts. With `clear` it starts from nothing (and stores depth: the opaque layer);
+    /// otherwise it loads both and only reads depth (a transparent pass).
+    pub fn render_target(&self, gpu: &Gpu, clear: bool) -> Result<RenderTarget> {
+        let colour = vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL;
+        let depth = vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
+        let before = |layout| {
+            if clear {
+                vk::ImageLayout::UNDEFINED
+            } else {
+                layout
+            }
+        };
+        RenderTarget::new(
+            gpu,
+            &RenderTargetDesc {
+                colour_format: COLOUR_FORMAT,
+                depth_format: DEPTH_FORMAT,
+                clear,
+                store_depth: clear,
+                colour_layouts: (before(colour), colour),
+                depth_layouts: (before(depth), depth),
+            },
+            &self.colour,
+            &self.depth,
+        )
+    }
+
     pub fn pixel_count(&self) -> u64 {
         u64::from(self.extent.width) * u64::from(self.extent.height)
     }
@@ -66,25 +94,7 @@ pub struct OpaquePass {
 
 impl OpaquePass {
     pub fn new(gpu: &Gpu, targets: &FrameTargets, scene: &GpuScene) -> Result<Self> {
-        let target = RenderTarget::new(
-            gpu,
-            &RenderTargetDesc {
-                colour_format: COLOUR_FORMAT,
-                depth_format: DEPTH_FORMAT,
-                clear: true,
-                store_depth: true,
-                colour_layouts: (
-                    vk::ImageLayout::UNDEFINED,
-                    vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-                ),
-                depth_layouts: (
-                    vk::ImageLayout::UNDEFINED,
-                    vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
-                ),
-            },
-            &targets.colour,
-            &targets.depth,
-        )?;
+        let target = targets.render_target(gpu, true)?;
         let pipelines = scene.mesh_pipelines(
             gpu,
             target.render_pass,

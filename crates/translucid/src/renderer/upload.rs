@@ -355,24 +355,9 @@ fn upload_textures<'a>(
             let mut offset = 0u64;
             let mut regions = Vec::new();
             for level in 0..image.mip_levels {
-                let w = (image.extent.width >> level).max(1);
-                let h = (image.extent.height >> level).max(1);
-                regions.push(
-                    vk::BufferImageCopy::default()
-                        .buffer_offset(offset)
-                        .image_subresource(vk::ImageSubresourceLayers {
-                            aspect_mask: vk::ImageAspectFlags::COLOR,
-                            mip_level: level,
-                            base_array_layer: 0,
-                            layer_count: 1,
-                        })
-                        .image_extent(vk::Extent3D {
-                            width: w,
-                            height: h,
-                            depth: 1,
-                        }),
-                );
-                offset += u64::from(w * h * 4);
+                let region = crate::gpu::mip_region(image, level, offset);
+                offset += u64::from(region.image_extent.width * region.image_extent.height * 4);
+                regions.push(region);
             }
             // SAFETY: the image is in TRANSFER_DST_OPTIMAL and the buffer holds every level.
             unsafe {
