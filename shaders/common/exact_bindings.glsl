@@ -2,6 +2,7 @@
 #ifndef TRANSLUCID_EXACT_BINDINGS_GLSL
 #define TRANSLUCID_EXACT_BINDINGS_GLSL
 
+#include "layout.glsl"
 #include "exact_layout.glsl"
 
 layout(set = 1, binding = 0, std430) readonly buffer VertexBlock { float g_vertexData[]; };
@@ -14,11 +15,22 @@ layout(set = 1, binding = 6, std430) buffer BinCountBlock { uint g_binCounts[]; 
 layout(set = 1, binding = 7, std430) buffer BinOffsetBlock { uint g_binOffsets[]; };
 layout(set = 1, binding = 8, std430) buffer BinCursorBlock { uint g_binCursors[]; };
 layout(set = 1, binding = 9, std430) buffer BinEntryBlock { uint g_binEntries[]; };
-layout(set = 1, binding = 10, std430) readonly buffer TextureBlock { ExactTexture g_textures[]; };
-layout(set = 1, binding = 11, std430) readonly buffer TexelBlock { uint g_texels[]; };
-layout(set = 1, binding = 12, std430) readonly buffer SrgbBlock { float g_srgbToLinear[256]; };
-layout(set = 1, binding = 13) uniform sampler2D u_opaqueDepth;
-layout(set = 1, binding = 14, rgba16f) uniform image2D u_colour;
+layout(set = 1, binding = 10, std430) buffer AttributeBlock { ExactAttributes g_attributes[]; };
+layout(set = 1, binding = 11) uniform sampler2D u_opaqueDepth;
+layout(set = 1, binding = 12, rgba16f) uniform image2D u_colour;
+
+// What the raster reads in its hot loops comes through texel buffers: CPU drivers such as
+// lavapipe fetch texels with straight-line vector loads, where a storage-buffer load inside
+// divergent control flow is a per-lane loop with a branch per component. Records are read
+// texel by texel in field order (the layout test checks every field starts a texel).
+layout(set = 1, binding = 13) uniform usamplerBuffer u_triangleTexels;   // g_triangles, 8 each
+layout(set = 1, binding = 14) uniform usamplerBuffer u_attributeTexels;  // g_attributes, 8 each
+layout(set = 1, binding = 15) uniform usamplerBuffer u_materialTexels;   // Material, 3 each
+layout(set = 1, binding = 16) uniform usamplerBuffer u_textureInfoTexels; // ExactTexture, 2 each
+layout(set = 1, binding = 17) uniform usamplerBuffer u_texels;           // packed RGBA8
+layout(set = 1, binding = 18) uniform samplerBuffer u_srgbToLinear;      // 256 entries
+layout(set = 1, binding = 19) uniform usamplerBuffer u_binEntryTexels;   // g_binEntries
+layout(set = 1, binding = 20) uniform usamplerBuffer u_homogeneousTexels; // g_homogeneous, 12 each
 
 layout(push_constant) uniform ExactPush {
     uint itemCount;         // transparent quads in all draws
@@ -50,6 +62,96 @@ vec2 vertexUv(uint v) {
 vec4 vertexColour(uint v) {
     uint o = v * 12u + 8u;
     return vec4(g_vertexData[o], g_vertexData[o + 1u], g_vertexData[o + 2u], g_vertexData[o + 3u]);
+}
+
+// Triangle record i, from u_triangleTexels.
+ExactTriangle loadTriangle(uint i) {
+    int base = int(i) * 8;
+    uvec4 c01 = texelFetch(u_triangleTexels, base);
+    uvec4 c2 = texelFetch(u_triangleTexels, base + 1);
+    ExactTriangle t;
+    t.edgeC = i64vec4(int64_t(packUint2x32(c01.xy)), int64_t(packUint2x32(c01.zw)),
+                      int64_t(packUint2x32(c2.xy)), int64_t(packUint2x32(c2.zw)));
+    t.edgeA = ivec4(texelFetch(u_triangleTexels, base + 2));
+    t.edgeB = ivec4(texelFetch(u_triangleTexels, base + 3));
+    t.bounds = ivec4(texelFetch(u_triangleTexels, base + 4));
+    t.zNdc = uintBitsToFloat(texelFetch(u_triangleTexels, base + 5));
+    t.invW = uintBitsToFloat(texelFetch(u_triangleTexels, base + 6));
+    t.ids = texelFetch(u_triangleTexels, base + 7);
+    return t;
+}
+
+// Just the pixel rectangle of triangle record i.
+ivec4 loadTriangleBounds(uint i) {
+    return ivec4(texelFetch(u_triangleTexels, int(i) * 8 + 4));
+}
+
+dvec4 fetchDvec4(int texel) {
+    uvec4 a = texelFetch(u_homogeneousTexels, texel);
+    uvec4 b = texelFetch(u_homogeneousTexels, texel + 1);
+    return dvec4(packDouble2x32(a.xy), packDouble2x32(a.zw), packDouble2x32(b.xy),
+                 packDouble2x32(b.zw));
+}
+
+ExactHomogeneous loadHomogeneous(int i) {
+    int base = i * 12;
+    ExactHomogeneous h;
+    h.line0 = fetchDvec4(base);
+    h.line1 = fetchDvec4(base + 2);
+    h.line2 = fetchDvec4(base + 4);
+    h.zInvDet = fetchDvec4(base + 6);
+    uvec4 c01 = texelFetch(u_homogeneousTexels, base + 8);
+    uvec4 c2 = texelFetch(u_homogeneousTexels, base + 9);
+    h.fixedC = i64vec4(int64_t(packUint2x32(c01.xy)), int64_t(packUint2x32(c01.zw)),
+                       int64_t(packUint2x32(c2.xy)), int64_t(packUint2x32(c2.zw)));
+    h.fixedA = ivec4(texelFetch(u_homogeneousTexels, base + 10));
+    h.fixedB = ivec4(texelFetch(u_homogeneousTexels, base + 11));
+    return h;
+}
+
+ExactAttributes loadAttributes(uint i) {
+    int base = int(i) * 8;
+    ExactAttributes a;
+    a.colour0 = uintBitsToFloat(texelFetch(u_attributeTexels, base));
+    a.colour1 = uintBitsToFloat(texelFetch(u_attributeTexels, base + 1));
+    a.colour2 = uintBitsToFloat(texelFetch(u_attributeTexels, base + 2));
+    a.normal0 = uintBitsToFloat(texelFetch(u_attributeTexels, base + 3));
+    a.normal1 = uintBitsToFloat(texelFetch(u_attributeTexels, base + 4));
+    a.normal2 = uintBitsToFloat(texelFetch(u_attributeTexels, base + 5));
+    a.uv01 = uintBitsToFloat(texelFetch(u_attributeTexels, base + 6));
+    uvec4 last = texelFetch(u_attributeTexels, base + 7);
+    a.uv2 = uintBitsToFloat(last.xy);
+    a.materialIndex = last.z;
+    a.flags = last.w;
+    return a;
+}
+
+Material loadMaterial(uint i) {
+    int base = int(i) * 3;
+    uvec4 last = texelFetch(u_materialTexels, base + 2);
+    Material m;
+    m.baseColour = uintBitsToFloat(texelFetch(u_materialTexels, base));
+    m.tintTransmission = uintBitsToFloat(texelFetch(u_materialTexels, base + 1));
+    m.reflectance = uintBitsToFloat(last.x);
+    m.alphaCutoff = uintBitsToFloat(last.y);
+    m.textureIndex = int(last.z);
+    m.flags = last.w;
+    return m;
+}
+
+ExactTexture loadTextureInfo(int i) {
+    uvec4 a = texelFetch(u_textureInfoTexels, i * 2);
+    uvec4 b = texelFetch(u_textureInfoTexels, i * 2 + 1);
+    ExactTexture t;
+    t.firstTexel = a.x;
+    t.width = a.y;
+    t.height = a.z;
+    t.levels = a.w;
+    t.srgb = b.x;
+    t.pad0 = 0u;
+    t.pad1 = 0u;
+    t.pad2 = 0u;
+    return t;
 }
 
 // The vertices of sub-triangle `sub` of quad q: (q0, q1, q2) or (q0, q2, q3).

@@ -34,6 +34,25 @@ struct ExactTriangle {
                             // w: order key (global quad index * 2 + sub)
 };
 
+#define ATTRIBUTES_FACE_NORMAL 1u   // normal0 is the face normal, used uninterpolated
+#define ATTRIBUTES_HAS_UVS 2u
+
+// What shading needs of a visible triangle, gathered by setup so that the raster reads one
+// record instead of following draw, quad and vertex indices per fragment (std430, 128 bytes,
+// read as texels: every field starts a 16-byte texel).
+struct ExactAttributes {
+    vec4 colour0;           // vertex colours
+    vec4 colour1;
+    vec4 colour2;
+    vec4 normal0;           // xyz: world-space normal of each vertex (normal matrix applied)
+    vec4 normal1;
+    vec4 normal2;
+    vec4 uv01;              // xy: uv of vertex 0, zw: of vertex 1
+    vec2 uv2;
+    uint materialIndex;
+    uint flags;             // ATTRIBUTES_*
+};
+
 // Extra data of a triangle on the homogeneous path (std430, 192 bytes: 176 padded to 32).
 struct ExactHomogeneous {
     dvec4 line0;            // a, b, c of edge 0 (positive inside)

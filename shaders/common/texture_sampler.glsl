@@ -1,7 +1,7 @@
 // Software texture sampling for compute stages, operation for operation like
 // Texture::sample in crates/translucid/src/scene/texture.rs: REPEAT addressing, texel centres
 // at +0.5, bilinear within a level, linear between levels, sRGB decoded by table before
-// filtering. Texels are packed RGBA8 in g_texels; g_srgbToLinear is the decode table.
+// filtering. Texels are packed RGBA8 in u_texels; u_srgbToLinear is the decode table.
 #ifndef TRANSLUCID_TEXTURE_SAMPLER_GLSL
 #define TRANSLUCID_TEXTURE_SAMPLER_GLSL
 
@@ -11,7 +11,8 @@ vec4 decodeTexel(uint packed, bool srgb) {
     uvec4 c = uvec4(packed & 0xFFu, (packed >> 8) & 0xFFu, (packed >> 16) & 0xFFu, packed >> 24);
     precise vec4 unorm = vec4(c) / 255.0;
     if (srgb) {
-        return vec4(g_srgbToLinear[c.x], g_srgbToLinear[c.y], g_srgbToLinear[c.z], unorm.w);
+        return vec4(texelFetch(u_srgbToLinear, int(c.x)).r, texelFetch(u_srgbToLinear, int(c.y)).r,
+                    texelFetch(u_srgbToLinear, int(c.z)).r, unorm.w);
     }
     return unorm;
 }
@@ -44,10 +45,10 @@ vec4 sampleLevel(ExactTexture t, uint level, vec2 uv) {
     uint i1 = (i0 + 1u) % w;
     uint j1 = (j0 + 1u) % h;
     bool srgb = t.srgb != 0u;
-    vec4 t00 = decodeTexel(g_texels[first + j0 * w + i0], srgb);
-    vec4 t10 = decodeTexel(g_texels[first + j0 * w + i1], srgb);
-    vec4 t01 = decodeTexel(g_texels[first + j1 * w + i0], srgb);
-    vec4 t11 = decodeTexel(g_texels[first + j1 * w + i1], srgb);
+    vec4 t00 = decodeTexel(texelFetch(u_texels, int(first + j0 * w + i0)).r, srgb);
+    vec4 t10 = decodeTexel(texelFetch(u_texels, int(first + j0 * w + i1)).r, srgb);
+    vec4 t01 = decodeTexel(texelFetch(u_texels, int(first + j1 * w + i0)).r, srgb);
+    vec4 t11 = decodeTexel(texelFetch(u_texels, int(first + j1 * w + i1)).r, srgb);
     precise vec4 r = (t00 * (1.0 - a) + t10 * a) * (1.0 - b) + (t01 * (1.0 - a) + t11 * a) * b;
     return r;
 }

@@ -46,7 +46,7 @@ bool sampleTriangle(ExactTriangle t, uint x, uint y, out RasterSample s) {
     if (!HOMOGENEOUS_PATH || t.edgeB.w < 0) {
         return sampleFixed(t, x, y, s);
     }
-    return sampleHomogeneous(g_homogeneous[t.edgeB.w], x, y, s);
+    return sampleHomogeneous(loadHomogeneous(t.edgeB.w), x, y, s);
 }
 
 // d(barycentric)/dx and /dy at the pixel, as Triangle::barycentric_gradients computes them.
@@ -66,7 +66,7 @@ void barycentricGradients(ExactTriangle t, uint x, uint y, out vec3 gx, out vec3
             dqy[k] = double(dy);
         }
     } else {
-        ExactHomogeneous h = g_homogeneous[t.edgeB.w];
+        ExactHomogeneous h = loadHomogeneous(t.edgeB.w);
         precise dvec3 qq = dvec3(lineAt(h.line0, x, y), lineAt(h.line1, x, y), lineAt(h.line2, x, y)) *
                            h.zInvDet.w;
         q = qq;
@@ -90,42 +90,32 @@ void barycentricGradients(ExactTriangle t, uint x, uint y, out vec3 gx, out vec3
     gy = vec3(ry);
 }
 
-// Shades the fragment of triangle t at pixel (x, y).
-void shadeFragment(ExactTriangle t, uint x, uint y, RasterSample s, out vec3 radiance,
-                   out vec3 transmittance) {
-    // Field by field: whole-struct copies of buffer data load every member on some drivers.
-    uint drawIndex = g_exactDraws[t.ids.x].drawIndex;
-    uint drawFlags = g_draws[drawIndex].flags;
-    Material m = g_materials[g_draws[drawIndex].materialIndex];
-    uvec3 vi = quadTriangle(g_quads[g_exactDraws[t.ids.x].firstQuad + t.ids.y], t.ids.z);
+// Shades the fragment of triangle t (with attributes a) at pixel (x, y).
+void shadeFragment(ExactTriangle t, ExactAttributes a, uint x, uint y, RasterSample s,
+                   FrameInfo frame, out vec3 radiance, out vec3 transmittance) {
+    Material m = loadMaterial(a.materialIndex);
     vec3 b = s.barycentric;
 
-    precise vec4 colour = (vertexColour(vi.x) * b.x + vertexColour(vi.y) * b.y) + vertexColour(vi.z) * b.z;
+    precise vec4 colour = (a.colour0 * b.x + a.colour1 * b.y) + a.colour2 * b.z;
 
     vec3 normal;
-    if (VERTEX_NORMALS && (!FACE_NORMALS || (drawFlags & DRAW_HAS_NORMALS) != 0u)) {
-        mat3 nm = mat3(g_draws[drawIndex].normalMatrix);
-        precise vec3 n = (nm * vertexNormal(vi.x)) * b.x + (nm * vertexNormal(vi.y)) * b.y +
-                         (nm * vertexNormal(vi.z)) * b.z;
-        normal = n;
+    if (FACE_NORMALS && (!VERTEX_NORMALS || (a.flags & ATTRIBUTES_FACE_NORMAL) != 0u)) {
+        normal = a.normal0.xyz;
     } else {
-        mat4 model = g_draws[drawIndex].model;
-        vec3 p0 = (model * vec4(vertexPosition(vi.x), 1.0)).xyz;
-        vec3 p1 = (model * vec4(vertexPosition(vi.y), 1.0)).xyz;
-        vec3 p2 = (model * vec4(vertexPosition(vi.z), 1.0)).xyz;
-        normal = cross(p1 - p0, p2 - p0);
+        precise vec3 n = (a.normal0.xyz * b.x + a.normal1.xyz * b.y) + a.normal2.xyz * b.z;
+        normal = n;
     }
 
     vec4 texel = vec4(1.0);
     if (TEXTURES && m.textureIndex >= 0) {
-        ExactTexture tex = g_textures[m.textureIndex];
+        ExactTexture tex = loadTextureInfo(m.textureIndex);
         // Meshes without UVs read (0, 0) everywhere: level 0 at the origin, like the reference.
-        vec2 uv0 = vertexUv(vi.x);
-        vec2 uv1 = vertexUv(vi.y);
-        vec2 uv2 = vertexUv(vi.z);
-        if ((drawFlags & DRAW_HAS_UVS) == 0u) {
+        if ((a.flags & ATTRIBUTES_HAS_UVS) == 0u) {
             texel = sampleTexture(tex, vec2(0.0), 0.0);
         } else {
+            vec2 uv0 = a.uv01.xy;
+            vec2 uv1 = a.uv01.zw;
+            vec2 uv2 = a.uv2;
             vec3 gx;
             vec3 gy;
             barycentricGradients(t, x, y, gx, gy);
@@ -137,7 +127,7 @@ void shadeFragment(ExactTriangle t, uint x, uint y, RasterSample s, out vec3 rad
             texel = sampleTexture(tex, uv, log2(rho));
         }
     }
-    shadeTransparent(m, u_frame, colour, texel, normal, radiance, transmittance);
+    shadeTransparent(m, frame, colour, texel, normal, radiance, transmittance);
 }
 
 // (depth, order) < (depth2, order2)
@@ -146,17 +136,19 @@ bool keyLess(uint d, uint o, uint d2, uint o2) {
 }
 
 void main() {
+    // Uniform loads first, outside all control flow: CPU drivers load them once for the
+    // subgroup there, but once per lane after a branch (an early return counts).
+    FrameInfo frame = u_frame;
+    uint bin = gl_WorkGroupID.y * u_push.binsX + gl_WorkGroupID.x;
+    uint first = g_binOffsets[bin];
+    uint end = first + g_binCounts[bin];
     uint x = gl_WorkGroupID.x * BIN_SIZE + gl_LocalInvocationID.x;
     uint y = gl_WorkGroupID.y * BIN_SIZE + gl_LocalInvocationID.y;
     if (x >= u_push.width || y >= u_push.height) {
         return;
     }
-    // Every invocation walks the same bin list. Broadcasting the list position makes the
-    // triangle reads uniform, so CPU drivers load each record once per subgroup instead of
-    // once per lane (any subgroup size: only "first active lane" is assumed).
-    uint bin = gl_WorkGroupID.y * u_push.binsX + gl_WorkGroupID.x;
-    uint first = subgroupBroadcastFirst(g_binOffsets[bin]);
-    uint end = first + subgroupBroadcastFirst(g_binCounts[bin]);
+    // Every invocation walks the same bin list in step, so each record is fetched once per
+    // subgroup (any subgroup size: only "first active lane" is assumed).
     float opaqueDepth = texelFetch(u_opaqueDepth, ivec2(x, y), 0).r;
 
     vec3 radiance = vec3(0.0);
@@ -179,19 +171,19 @@ void main() {
         }
         uint found = 0u;
         for (uint e = first; e < end; e++) {
-            uint ti = subgroupBroadcastFirst(g_binEntries[e]);
-            ivec4 r = g_triangles[ti].bounds;
+            uint ti = subgroupBroadcastFirst(texelFetch(u_binEntryTexels, int(e)).r);
+            ivec4 r = loadTriangleBounds(ti);
             bool inBox = int(x) >= r.x && int(x) < r.z && int(y) >= r.y && int(y) < r.w;
             // A uniform test skips the triangle for real when no pixel of the subgroup is in
             // its box; a per-pixel `continue` alone would not on CPU drivers (masking).
             if (!subgroupAny(inBox)) {
                 continue;
             }
-            ExactTriangle t = g_triangles[ti];
+            ExactTriangle t = loadTriangle(ti);
             RasterSample s;
             bool take;
             if (HOMOGENEOUS_PATH && t.edgeB.w >= 0) {
-                take = inBox && sampleHomogeneous(g_homogeneous[t.edgeB.w], x, y, s);
+                take = inBox && sampleHomogeneous(loadHomogeneous(t.edgeB.w), x, y, s);
             } else {
                 i64vec3 edges;
                 bool covered = inBox && coversFixed(t, x, y, edges);
@@ -227,12 +219,12 @@ void main() {
         uint count = min(found, uint(SELECT_SIZE));
         for (uint i = 0u; i < count; i++) {
             // Always shade slot 0, then shift the selection left: constant indices only.
-            ExactTriangle t = g_triangles[selTri[0]];
+            ExactTriangle t = loadTriangle(selTri[0]);
             RasterSample s;
             sampleTriangle(t, x, y, s);
             vec3 l;
             vec3 tr;
-            shadeFragment(t, x, y, s, l, tr);
+            shadeFragment(t, loadAttributes(selTri[0]), x, y, s, frame, l, tr);
             radiance += transmittance * l;
             transmittance *= tr;
             doneDepth = selDepth[0];

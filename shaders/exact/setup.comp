@@ -195,6 +195,44 @@ bool setupTriangle(vec4 c[3], out ExactTriangle t, out ExactHomogeneous h, out b
     return t.bounds.x < t.bounds.z && t.bounds.y < t.bounds.w;
 }
 
+// Everything shading needs of triangle `vi` of draw `d`, so that the raster reads one record.
+// Normals are transformed here exactly as the reference transforms them per fragment.
+ExactAttributes gatherAttributes(ExactDraw d, uvec3 vi) {
+    DrawInfo draw = g_draws[d.drawIndex];
+    ExactAttributes a;
+    a.colour0 = vertexColour(vi.x);
+    a.colour1 = vertexColour(vi.y);
+    a.colour2 = vertexColour(vi.z);
+    a.flags = 0u;
+    if ((draw.flags & DRAW_HAS_NORMALS) != 0u) {
+        mat3 nm = mat3(draw.normalMatrix);
+        precise vec3 n0 = nm * vertexNormal(vi.x);
+        precise vec3 n1 = nm * vertexNormal(vi.y);
+        precise vec3 n2 = nm * vertexNormal(vi.z);
+        a.normal0 = vec4(n0, 0.0);
+        a.normal1 = vec4(n1, 0.0);
+        a.normal2 = vec4(n2, 0.0);
+    } else {
+        vec3 p0 = (draw.model * vec4(vertexPosition(vi.x), 1.0)).xyz;
+        vec3 p1 = (draw.model * vec4(vertexPosition(vi.y), 1.0)).xyz;
+        vec3 p2 = (draw.model * vec4(vertexPosition(vi.z), 1.0)).xyz;
+        a.normal0 = vec4(cross(p1 - p0, p2 - p0), 0.0);
+        a.normal1 = vec4(0.0);
+        a.normal2 = vec4(0.0);
+        a.flags |= ATTRIBUTES_FACE_NORMAL;
+    }
+    if ((draw.flags & DRAW_HAS_UVS) != 0u) {
+        a.uv01 = vec4(vertexUv(vi.x), vertexUv(vi.y));
+        a.uv2 = vertexUv(vi.z);
+        a.flags |= ATTRIBUTES_HAS_UVS;
+    } else {
+        a.uv01 = vec4(0.0);
+        a.uv2 = vec2(0.0);
+    }
+    a.materialIndex = draw.materialIndex;
+    return a;
+}
+
 void main() {
     uint item = gl_GlobalInvocationID.x;
     if (item >= u_push.itemCount) {
@@ -234,5 +272,6 @@ void main() {
         // Capacity is two triangles per quad: this cannot overflow.
         uint ti = atomicAdd(g_counters.triangleCount, 1u);
         g_triangles[ti] = t;
+        g_attributes[ti] = gatherAttributes(d, vi);
     }
 }

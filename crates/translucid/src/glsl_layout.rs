@@ -20,6 +20,7 @@ pub fn std430_offsets(src: &str, name: &str) -> (Vec<(String, usize)>, usize) {
         let (ty, field) = (parts.next().expect("type"), parts.next().expect("name"));
         let (size, align) = match ty {
             "float" | "int" | "uint" => (4, 4),
+            "vec2" | "ivec2" | "uvec2" => (8, 8),
             "vec4" | "ivec4" | "uvec4" => (16, 16),
             "mat4" => (64, 16),
             "i64vec4" | "dvec4" => (32, 32),

@@ -43,6 +43,7 @@ pub struct DeviceInfo {
     pub subgroup_size: u32,
     pub max_shared_memory: u32,
     pub max_storage_buffer_range: u32,
+    pub max_texel_buffer_elements: u32,
     pub max_image_dimension_2d: u32,
     pub max_compute_workgroup_invocations: u32,
     /// Nanoseconds per timestamp tick.
@@ -168,6 +169,7 @@ fn describe(instance: &ash::Instance, index: usize, pd: vk::PhysicalDevice) -> D
         subgroup_size: subgroup.subgroup_size,
         max_shared_memory: limits.max_compute_shared_memory_size,
         max_storage_buffer_range: limits.max_storage_buffer_range,
+        max_texel_buffer_elements: limits.max_texel_buffer_elements,
         max_image_dimension_2d: limits.max_image_dimension2_d,
         max_compute_workgroup_invocations: limits.max_compute_work_group_invocations,
         timestamp_period_ns: limits.timestamp_period,

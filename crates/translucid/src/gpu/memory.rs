@@ -73,7 +73,8 @@ impl Gpu {
         }
     }
 
-    /// A buffer of `size` bytes (at least 4, so empty data still binds).
+    /// A buffer of `size` bytes (at least 16, so empty data still binds, as a buffer or as a
+    /// view of one RGBA32 texel).
     pub fn create_buffer(
         &self,
         name: &str,
@@ -81,7 +82,7 @@ impl Gpu {
         usage: vk::BufferUsageFlags,
         location: MemoryLocation,
     ) -> Result<Buffer> {
-        let size = size.max(4);
+        let size = size.max(16);
         let info = vk::BufferCreateInfo::default()
             .size(size)
             .usage(usage)
@@ -243,6 +244,57 @@ impl Drop for Buffer {
         if let Some(a) = self.allocation.take() {
             self.gpu.free(a);
         }
+    }
+}
+
+/// A typed view of a buffer, read in shaders as a texel buffer (`usamplerBuffer`).
+///
+/// CPU drivers such as lavapipe fetch texels with straight-line vector loads, while a
+/// storage-buffer load inside divergent control flow becomes a per-lane loop with a branch
+/// per component; hot read-only data goes through views for that reason.
+pub struct BufferView {
+    gpu: Gpu,
+    pub raw: vk::BufferView,
+}
+
+impl Gpu {
+    /// A view of all of `buffer` as texels of `format` (a 32-bit-per-channel format with one
+    /// or four channels). The buffer must have been made with UNIFORM_TEXEL_BUFFER usage.
+    pub fn create_buffer_view(&self, buffer: &Buffer, format: vk::Format) -> Result<BufferView> {
+        let texel_bytes = match format {
+            vk::Format::R32_UINT | vk::Format::R32_SINT | vk::Format::R32_SFLOAT => 4,
+            vk::Format::R32G32B32A32_UINT
+            | vk::Format::R32G32B32A32_SINT
+            | vk::Format::R32G32B32A32_SFLOAT => 16,
+            other => unreachable!("create_buffer_view: unsupported format {other:?}"),
+        };
+        let texels = buffer.size / texel_bytes;
+        let limit = u64::from(self.info().max_texel_buffer_elements);
+        if texels > limit {
+            return Err(crate::Error::InvalidScene(format!(
+                "a texel buffer of {texels} texels is over this device's limit of {limit}"
+            )));
+        }
+        let info = vk::BufferViewCreateInfo::default()
+            .buffer(buffer.raw)
+            .format(format)
+            .offset(0)
+            .range(texels * texel_bytes);
+        // SAFETY: valid device, a live buffer, and a range within it of whole texels.
+        let raw = unsafe { self.device.create_buffer_view(&info, None) }
+            .map_err(vk_err("vkCreateBufferView"))?;
+        Ok(BufferView {
+            gpu: self.clone(),
+            raw,
+        })
+    }
+}
+
+impl Drop for BufferView {
+    fn drop(&mut self) {
+        // SAFETY: as for Buffer: no submission using the view is pending. The owner keeps the
+        // view next to (and dropped before or with) its buffer.
+        unsafe { self.gpu.device.destroy_buffer_view(self.raw, None) };
     }
 }
 

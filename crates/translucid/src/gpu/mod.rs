@@ -25,7 +25,7 @@ pub use ash::vk;
 pub use commands::{image_barrier, memory_barrier, mip_region, whole_image_region};
 pub use device::{list_devices, DeviceInfo, Gpu, GpuOptions, Shared};
 pub use memory::MemoryLocation;
-pub use memory::{Buffer, GpuImage, MemoryStats};
+pub use memory::{Buffer, BufferView, GpuImage, MemoryStats};
 pub use pipeline::{
     BindingKind, Blend, ComputePipeline, DescriptorLayout, DescriptorSet, GraphicsPipeline,
     GraphicsPipelineDesc, RenderTarget, RenderTargetDesc, Resource, Sampler,

@@ -13,6 +13,8 @@ pub enum BindingKind {
     /// An array of this many combined image samplers.
     SampledImages(u32),
     StorageImage,
+    /// A uniform texel buffer (`usamplerBuffer` and the like).
+    TexelBuffer,
 }
 
 impl BindingKind {
@@ -22,6 +24,7 @@ impl BindingKind {
             Self::UniformBuffer => (vk::DescriptorType::UNIFORM_BUFFER, 1),
             Self::SampledImages(n) => (vk::DescriptorType::COMBINED_IMAGE_SAMPLER, n),
             Self::StorageImage => (vk::DescriptorType::STORAGE_IMAGE, 1),
+            Self::TexelBuffer => (vk::DescriptorType::UNIFORM_TEXEL_BUFFER, 1),
         }
     }
 }
@@ -39,6 +42,7 @@ pub enum Resource<'a> {
     /// Image views (in SHADER_READ_ONLY_OPTIMAL) with one sampler.
     Images(&'a [vk::ImageView], vk::Sampler),
     StorageImage(vk::ImageView),
+    TexelBuffer(vk::BufferView),
 }
 
 /// A descriptor set with its own small pool, freed on drop.
@@ -137,7 +141,14 @@ impl DescriptorLayout {
                     image_view: *v,
                     image_layout: vk::ImageLayout::GENERAL,
                 }],
-                Resource::Buffer(_) => Vec::new(),
+                Resource::Buffer(_) | Resource::TexelBuffer(_) => Vec::new(),
+            })
+            .collect();
+        let texel_views: Vec<[vk::BufferView; 1]> = resources
+            .iter()
+            .map(|r| match r {
+                Resource::TexelBuffer(v) => [*v],
+                _ => [vk::BufferView::null()],
             })
             .collect();
         let writes: Vec<_> = self
@@ -149,7 +160,9 @@ impl DescriptorLayout {
                     .dst_set(set.raw)
                     .dst_binding(i as u32)
                     .descriptor_type(k.descriptor_type().0);
-                if buffer_infos[i].is_empty() {
+                if *k == BindingKind::TexelBuffer {
+                    w.texel_buffer_view(&texel_views[i])
+                } else if buffer_infos[i].is_empty() {
                     w.image_info(&image_infos[i])
                 } else {
                     w.buffer_info(&buffer_infos[i])

@@ -11,6 +11,8 @@ pub const OVERFLOW_BIN_ENTRIES: u32 = 2;
 /// Bytes of one `ExactTriangle` and one `ExactHomogeneous`.
 pub const TRIANGLE_BYTES: u64 = 128;
 pub const HOMOGENEOUS_BYTES: u64 = 192;
+/// Bytes of one `ExactAttributes`.
+pub const ATTRIBUTES_BYTES: u64 = 128;
 
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
@@ -93,6 +95,42 @@ mod tests {
         assert_eq!(define("BIN_SIZE"), BIN_SIZE);
         assert_eq!(define("OVERFLOW_HOMOGENEOUS"), OVERFLOW_HOMOGENEOUS);
         assert_eq!(define("OVERFLOW_BIN_ENTRIES"), OVERFLOW_BIN_ENTRIES);
+    }
+
+    /// exact_bindings.glsl reads these records texel by texel (16 bytes each) in field order;
+    /// its loaders are right only while every field sits where they expect.
+    #[test]
+    fn texel_loaders_match_the_records() {
+        let msg = "a record changed: update its loader in exact_bindings.glsl and this test";
+        assert_eq!(
+            offsets("ExactTriangle"),
+            [0, 32, 48, 64, 80, 96, 112],
+            "{msg}"
+        );
+        assert_eq!(
+            offsets("ExactAttributes"),
+            [0, 16, 32, 48, 64, 80, 96, 112, 120, 124],
+            "{msg}"
+        );
+        assert_eq!(
+            std430_offsets(SRC, "ExactAttributes").1 as u64,
+            ATTRIBUTES_BYTES,
+            "{msg}"
+        );
+        assert_eq!(
+            offsets("ExactHomogeneous"),
+            [0, 32, 64, 96, 128, 160, 176],
+            "{msg}"
+        );
+        assert_eq!(offsets("ExactTexture")[..5], [0, 4, 8, 12, 16], "{msg}");
+        let scene = include_str!("../../../../../shaders/common/layout.glsl");
+        let material: Vec<usize> = std430_offsets(scene, "Material")
+            .0
+            .into_iter()
+            .map(|(_, o)| o)
+            .collect();
+        assert_eq!(material, [0, 16, 32, 36, 40, 44], "{msg}");
+        assert_eq!(std430_offsets(scene, "Material").1, 48, "{msg}");
     }
 
     #[test]

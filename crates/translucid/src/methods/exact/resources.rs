@@ -1,16 +1,17 @@
 //! The exact method's buffers: sized from the frame, grown when the GPU reports an overflow.
 
 use super::layout::{
-    ExactCounters, ExactDraw, ExactTexture, HOMOGENEOUS_BYTES, OVERFLOW_BIN_ENTRIES,
-    OVERFLOW_HOMOGENEOUS, TRIANGLE_BYTES,
+    ExactCounters, ExactDraw, ExactTexture, ATTRIBUTES_BYTES, HOMOGENEOUS_BYTES,
+    OVERFLOW_BIN_ENTRIES, OVERFLOW_HOMOGENEOUS, TRIANGLE_BYTES,
 };
 use crate::gpu::{
-    memory_barrier, vk, BindingKind, Buffer, DescriptorLayout, DescriptorSet, Gpu, MemoryLocation,
-    Resource, Sampler,
+    memory_barrier, vk, BindingKind, Buffer, BufferView, DescriptorLayout, DescriptorSet, Gpu,
+    MemoryLocation, Resource, Sampler,
 };
 use crate::methods::MethodOptions;
 use crate::renderer::{FrameTargets, GpuScene};
 use crate::scene::{srgb_lut, Scene};
+use crate::shader_types::GpuMaterial;
 use crate::{Error, Result};
 
 /// Entries the growable buffers hold.
@@ -58,11 +59,28 @@ impl Capacities {
     }
 }
 
-/// Buffers that grow.
+/// Buffers that grow, each with the texel view the raster reads it through.
 struct Growable {
-    triangles: Buffer,
-    homogeneous: Buffer,
-    bin_entries: Buffer,
+    triangles: Viewed,
+    attributes: Viewed,
+    homogeneous: Viewed,
+    bin_entries: Viewed,
+}
+
+/// A buffer and a texel view of it (see [`BufferView`] for why the raster reads views).
+struct Viewed {
+    // Declared first so that it is destroyed before its buffer.
+    view: BufferView,
+    buffer: Buffer,
+}
+
+impl Viewed {
+    fn new(gpu: &Gpu, buffer: Buffer, format: vk::Format) -> Result<Self> {
+        Ok(Self {
+            view: gpu.create_buffer_view(&buffer, format)?,
+            buffer,
+        })
+    }
 }
 
 pub struct Resources {
@@ -73,16 +91,20 @@ pub struct Resources {
     bin_counts: Buffer,
     bin_offsets: Buffer,
     bin_cursors: Buffer,
-    textures: Buffer,
-    texels: Buffer,
-    srgb: Buffer,
+    materials: Viewed,
+    textures: Viewed,
+    texels: Viewed,
+    srgb: Viewed,
     depth_sampler: Sampler,
     growable: Growable,
 }
 
 const STORAGE: vk::BufferUsageFlags = vk::BufferUsageFlags::STORAGE_BUFFER;
+const TEXELS: vk::BufferUsageFlags = vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER;
+const RGBA32UI: vk::Format = vk::Format::R32G32B32A32_UINT;
 
-fn storage_buffer(gpu: &Gpu, name: &str, bytes: u64) -> Result<Buffer> {
+/// A device-local buffer the stages write, with a view for the raster to read.
+fn storage_buffer(gpu: &Gpu, name: &str, bytes: u64, format: vk::Format) -> Result<Viewed> {
     let limit = u64::from(gpu.info().max_storage_buffer_range);
     if bytes > limit {
         return Err(Error::InvalidScene(format!(
@@ -91,27 +113,51 @@ fn storage_buffer(gpu: &Gpu, name: &str, bytes: u64) -> Result<Buffer> {
             limit >> 20
         )));
     }
-    gpu.create_buffer(
+    let buffer = gpu.create_buffer(
         name,
         bytes,
-        STORAGE | vk::BufferUsageFlags::TRANSFER_DST,
+        STORAGE | TEXELS | vk::BufferUsageFlags::TRANSFER_DST,
         MemoryLocation::GpuOnly,
+    )?;
+    Viewed::new(gpu, buffer, format)
+}
+
+/// Read-only data uploaded once, viewed as texels of `format`.
+fn texel_data(gpu: &Gpu, name: &str, data: &[u8], format: vk::Format) -> Result<Viewed> {
+    Viewed::new(
+        gpu,
+        gpu.create_buffer_with_data(name, TEXELS, data)?,
+        format,
     )
 }
 
 fn growable(gpu: &Gpu, c: Capacities) -> Result<Growable> {
+    let triangles = u64::from(c.triangles);
     Ok(Growable {
         triangles: storage_buffer(
             gpu,
             "triangle records",
-            u64::from(c.triangles) * TRIANGLE_BYTES,
+            triangles * TRIANGLE_BYTES,
+            RGBA32UI,
+        )?,
+        attributes: storage_buffer(
+            gpu,
+            "triangle attributes",
+            triangles * ATTRIBUTES_BYTES,
+            RGBA32UI,
         )?,
         homogeneous: storage_buffer(
             gpu,
             "homogeneous records",
             u64::from(c.homogeneous) * HOMOGENEOUS_BYTES,
+            RGBA32UI,
         )?,
-        bin_entries: storage_buffer(gpu, "bin lists", u64::from(c.bin_entries) * 4)?,
+        bin_entries: storage_buffer(
+            gpu,
+            "bin lists",
+            u64::from(c.bin_entries) * 4,
+            vk::Format::R32_UINT,
+        )?,
     })
 }
 
@@ -177,6 +223,7 @@ impl Resources {
             * u64::from(height.div_ceil(super::BIN_SIZE));
         let draws = exact_draws(scene, width, height);
         let (texture_infos, texels) = texture_data(scene);
+        let materials: Vec<GpuMaterial> = scene.materials.iter().map(GpuMaterial::new).collect();
         let texel_bytes = texels.len() as u64 * 4;
         if texel_bytes > u64::from(gpu.info().max_storage_buffer_range) {
             return Err(Error::InvalidScene(format!(
@@ -204,11 +251,17 @@ impl Resources {
                 BindingKind::StorageBuffer,    // 7 bin offsets
                 BindingKind::StorageBuffer,    // 8 bin cursors
                 BindingKind::StorageBuffer,    // 9 bin entries
-                BindingKind::StorageBuffer,    // 10 textures
-                BindingKind::StorageBuffer,    // 11 texels
-                BindingKind::StorageBuffer,    // 12 sRGB table
-                BindingKind::SampledImages(1), // 13 opaque depth
-                BindingKind::StorageImage,     // 14 colour
+                BindingKind::StorageBuffer,    // 10 attributes
+                BindingKind::SampledImages(1), // 11 opaque depth
+                BindingKind::StorageImage,     // 12 colour
+                BindingKind::TexelBuffer,      // 13 triangles
+                BindingKind::TexelBuffer,      // 14 attributes
+                BindingKind::TexelBuffer,      // 15 materials
+                BindingKind::TexelBuffer,      // 16 texture infos
+                BindingKind::TexelBuffer,      // 17 texels
+                BindingKind::TexelBuffer,      // 18 sRGB table
+                BindingKind::TexelBuffer,      // 19 bin entries
+                BindingKind::TexelBuffer,      // 20 homogeneous
             ],
             vk::ShaderStageFlags::COMPUTE,
         )?;
@@ -221,23 +274,32 @@ impl Resources {
                 bytemuck::cast_slice(&draws),
             )?,
             counters,
-            bin_counts: storage_buffer(gpu, "bin counts", bins * 4)?,
-            bin_offsets: storage_buffer(gpu, "bin offsets", bins * 4)?,
-            bin_cursors: storage_buffer(gpu, "bin cursors", bins * 4)?,
-            textures: gpu.create_buffer_with_data(
+            bin_counts: storage_buffer(gpu, "bin counts", bins * 4, vk::Format::R32_UINT)?.buffer,
+            bin_offsets: storage_buffer(gpu, "bin offsets", bins * 4, vk::Format::R32_UINT)?.buffer,
+            bin_cursors: storage_buffer(gpu, "bin cursors", bins * 4, vk::Format::R32_UINT)?.buffer,
+            materials: texel_data(
+                gpu,
+                "exact materials",
+                bytemuck::cast_slice(&materials),
+                RGBA32UI,
+            )?,
+            textures: texel_data(
+                gpu,
                 "exact textures",
-                STORAGE,
                 bytemuck::cast_slice(&texture_infos),
+                RGBA32UI,
             )?,
-            texels: gpu.create_buffer_with_data(
+            texels: texel_data(
+                gpu,
                 "exact texels",
-                STORAGE,
                 bytemuck::cast_slice(&texels),
+                vk::Format::R32_UINT,
             )?,
-            srgb: gpu.create_buffer_with_data(
+            srgb: texel_data(
+                gpu,
                 "sRGB table",
-                STORAGE,
                 bytemuck::cast_slice(srgb_lut()),
+                vk::Format::R32_SFLOAT,
             )?,
             depth_sampler: Sampler::nearest_clamp(gpu)?,
             growable: growable(gpu, capacities)?,
@@ -254,18 +316,24 @@ impl Resources {
             Resource::Buffer(&uploaded.vertices),
             Resource::Buffer(&uploaded.quads),
             Resource::Buffer(&self.draws),
-            Resource::Buffer(&g.triangles),
-            Resource::Buffer(&g.homogeneous),
+            Resource::Buffer(&g.triangles.buffer),
+            Resource::Buffer(&g.homogeneous.buffer),
             Resource::Buffer(&self.counters),
             Resource::Buffer(&self.bin_counts),
             Resource::Buffer(&self.bin_offsets),
             Resource::Buffer(&self.bin_cursors),
-            Resource::Buffer(&g.bin_entries),
-            Resource::Buffer(&self.textures),
-            Resource::Buffer(&self.texels),
-            Resource::Buffer(&self.srgb),
+            Resource::Buffer(&g.bin_entries.buffer),
+            Resource::Buffer(&g.attributes.buffer),
             Resource::Images(&[targets.depth.view], self.depth_sampler.raw),
             Resource::StorageImage(targets.colour.view),
+            Resource::TexelBuffer(g.triangles.view.raw),
+            Resource::TexelBuffer(g.attributes.view.raw),
+            Resource::TexelBuffer(self.materials.view.raw),
+            Resource::TexelBuffer(self.textures.view.raw),
+            Resource::TexelBuffer(self.texels.view.raw),
+            Resource::TexelBuffer(self.srgb.view.raw),
+            Resource::TexelBuffer(g.bin_entries.view.raw),
+            Resource::TexelBuffer(g.homogeneous.view.raw),
         ])
     }
 
