@@ -145,6 +145,68 @@ fn exact_recovers_from_every_overflow() {
     assert!(frame.rerenders >= 1, "the overflow path was not taken");
 }
 
+/// `layers` screen-facing quads stacked over one spot: pixels hundreds of fragments deep need
+/// more loop iterations than lavapipe allows one shader invocation (it ends loops silently
+/// after 65535), so their rows are suspended and finished by continuation dispatches.
+fn deep_stack_scene(layers: u32) -> Scene {
+    let mut positions = Vec::new();
+    let mut quads = Vec::new();
+    for i in 0..layers {
+        let z = -1.0 + i as f32 * 0.002;
+        let shift = (i % 7) as f32 * 0.02;
+        let first = positions.len() as u32;
+        positions.extend([
+            Vec3::new(-0.5 + shift, -0.4, z),
+            Vec3::new(0.5 + shift, -0.4, z),
+            Vec3::new(0.5 + shift, 0.4 - shift, z),
+            Vec3::new(-0.5 + shift, 0.4 - shift, z),
+        ]);
+        quads.push([first, first + 1, first + 2, first + 3]);
+    }
+    Scene {
+        name: "deep stack".into(),
+        meshes: vec![Mesh::from_quads("stack", positions, quads)],
+        materials: vec![Material::alpha(Vec3::new(0.9, 0.5, 0.2), 0.004)],
+        transparent: vec![Draw {
+            mesh: 0,
+            material: 0,
+            transform: Mat4::IDENTITY,
+        }],
+        camera: Camera::look_at(Vec3::new(0.0, 0.0, 3.0), Vec3::ZERO, 0.8, 0.1, 20.0),
+        background: Vec3::splat(0.2),
+        ..Scene::default()
+    }
+}
+
+#[test]
+fn exact_finishes_pixels_deeper_than_the_loop_limit() {
+    let frame = check(
+        &deep_stack_scene(700),
+        "deep_stack",
+        45,
+        37,
+        &MethodOptions::default(),
+    );
+    assert!(
+        frame.rerenders >= 1,
+        "one continuation should not have been enough for 700 layers"
+    );
+    // Resume lists of one row force their overflow path too (400 layers need one
+    // continuation, which the first frame has).
+    let options = MethodOptions {
+        initial_resume_rows: Some(1),
+        ..Default::default()
+    };
+    let frame = check(
+        &deep_stack_scene(400),
+        "deep_stack_small_lists",
+        45,
+        37,
+        &options,
+    );
+    assert!(frame.rerenders >= 1, "the resume lists did not overflow");
+}
+
 /// When the host's estimate leaves the near-plane path out of the raster shader and setup
 /// meets such a triangle anyway, the shader is rebuilt and the frame rendered again.
 #[test]

@@ -32,6 +32,16 @@ layout(set = 1, binding = 18) uniform samplerBuffer u_srgbToLinear;      // 256 
 layout(set = 1, binding = 19) uniform usamplerBuffer u_binEntryTexels;   // g_binEntries
 layout(set = 1, binding = 20) uniform usamplerBuffer u_homogeneousTexels; // g_homogeneous, 12 each
 
+// Two lists of subgroups a raster dispatch left unfinished. counts[4 * k] is list k's length,
+// laid out with counts[4k + 1] = counts[4k + 2] = 1 as an indirect dispatch of one workgroup
+// per item; items of list k start at k * g_counters.resumeCapacity, and item i's pixel states
+// at (k * resumeCapacity + i) * BIN_SIZE.
+layout(set = 1, binding = 21, std430) buffer ResumeBlock {
+    uint g_resumeCounts[8];
+    uint g_resumeItems[];
+};
+layout(set = 1, binding = 22, std430) buffer PixelStateBlock { ExactPixelState g_pixelStates[]; };
+
 layout(push_constant) uniform ExactPush {
     uint itemCount;         // transparent quads in all draws
     uint drawCount;         // transparent draws
@@ -40,7 +50,11 @@ layout(push_constant) uniform ExactPush {
     uint binsX;
     uint binsY;
     float threshold;        // stop once every channel's transmittance is below this; 0: exact
+    uint resumeList;        // raster: the list a continuation reads; it appends to the other
+    uint binRowsPerSlice;   // binning: bin rows one invocation covers (see exact_bins.glsl)
     uint pad0;
+    uint pad1;
+    uint pad2;
 } u_push;
 
 // Position of vertex v.

@@ -12,6 +12,15 @@ ivec4 binRect(ivec4 bounds) {
                  (bounds.w - 1) >> BIN_SHIFT);
 }
 
+// The bin rows of `r` this binning invocation covers. A triangle's bins are split into slices
+// of u_push.binRowsPerSlice rows, one invocation each (gl_GlobalInvocationID.y), so that no
+// invocation loops more than LOOP_BUDGET times however large the triangle and the frame.
+ivec2 sliceRows(ivec4 r) {
+    int rows = int(u_push.binRowsPerSlice);
+    int first = int(gl_GlobalInvocationID.y) * rows;
+    return ivec2(max(r.y, first), min(r.w, first + rows - 1));
+}
+
 // Whether edge (a, b, c) with tie bias excludes every pixel centre of [x0, x1) x [y0, y1):
 // a linear function is largest at a corner, so testing the best corner decides. (Edges are
 // passed one by one: indexing an i64vec4 with a loop variable miscompiled on lavapipe 22.3.)

@@ -11,6 +11,24 @@
 // Overflow bits in ExactCounters.overflow: the frame must be rendered again with more room.
 #define OVERFLOW_HOMOGENEOUS 1u
 #define OVERFLOW_BIN_ENTRIES 2u
+// A bin so crowded that one selection pass over it cannot fit the shader loop budget.
+#define OVERFLOW_CROWDED_BIN 4u
+#define OVERFLOW_RESUME 8u
+
+// Lavapipe (gallivm) stops every loop of a shader invocation once their iterations add up to
+// 65535, silently. The raster counts its iterations against this budget (with room for the
+// few it does not count) and, before it would run out, saves the pixel and leaves the rest to
+// a continuation dispatch. Subgroups resume from a list of (bin, row) items, each with the
+// states of its BIN_SIZE pixels.
+#define LOOP_BUDGET 60000u
+
+// One pixel's compositing state between raster dispatches (std430, 48 bytes).
+struct ExactPixelState {
+    vec4 radiance;          // xyz: radiance so far
+    vec4 transmittance;     // xyz: transmittance so far
+    uvec4 done;             // x, y: depth bits and order key of the last composited fragment,
+                            // z: 1 once the pixel has no fragment left (it waits for its row)
+};
 
 // One transparent draw as the exact method sees it (std430, 80 bytes).
 struct ExactDraw {
@@ -75,9 +93,9 @@ struct ExactCounters {
     uint binEntryCapacity;
     uint fragmentCount;     // fragments composited (statistics)
     uint passCount;         // largest number of selection passes any pixel needed
+    uint resumeCapacity;    // items each resume list holds
+    uint resumeNeeded;      // items a resume list needed (counted even when they do not fit)
     uint pad0;
-    uint pad1;
-    uint pad2;
 };
 
 // A texture for the software sampler (std430, 32 bytes).

@@ -15,8 +15,9 @@ void main() {
     }
     ExactTriangle t = g_triangles[ti];
     ivec4 r = binRect(t.bounds);
+    ivec2 rows = sliceRows(r);
     uint capacity = g_counters.binEntryCapacity;
-    for (int by = r.y; by <= r.w; by++) {
+    for (int by = rows.x; by <= rows.y; by++) {
         for (int bx = r.x; bx <= r.z; bx++) {
             int x0 = bx << BIN_SHIFT;
             int y0 = by << BIN_SHIFT;

@@ -1,16 +1,20 @@
 #version 450
-// Bin raster: one workgroup per 16x16 bin, one invocation per pixel, no shared memory and no
-// barriers (both are slow on CPU drivers such as lavapipe; see DESIGN.md).
+// Bin raster: one workgroup per 8x8 bin, one subgroup-sized row of invocations per row of
+// pixels, one invocation per pixel; no shared memory and no barriers.
 //
 // Each pixel selects, in one pass over its bin's triangles, the SELECT_SIZE nearest fragments
 // behind the last one it composited, keeping them sorted in registers with a fully unrolled
 // insertion (constant indices only); shades and composites them front to back; and repeats
 // until no fragment is left or transmittance is under the threshold. All invocations walk
-// the bin's list in step, so triangle records are read once per subgroup, not per pixel.
-// (Shading inside the walk, with shaded colours in the selection, measured 1.5-9x slower on
-// lavapipe: the larger selection spills registers.) Order is exact by construction:
-// fragments are ranked by (view depth, draw, quad, triangle) like the CPU reference, so no
-// pixel is ever left out of order and no fallback is needed.
+// the bin's list in step. Order is exact by construction: fragments are ranked by
+// (view depth, draw, quad, triangle) like the CPU reference, so no pixel is ever out of order.
+//
+// On CPU drivers such as lavapipe an `if` does not branch: both sides run under a mask, so
+// cost is the code inside each loop times its iterations, and only loop exits save work.
+// Shading therefore runs in its own loop of at most SELECT_SIZE iterations per pass instead
+// of inside the walk (measured 1.5-9x slower there). Those drivers also end a shader's loops
+// silently after 65535 iterations in all; the raster counts against LOOP_BUDGET and hands
+// what is left of a pixel to a continuation dispatch of this same shader (CONTINUATION).
 
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_KHR_shader_subgroup_ballot : require
@@ -31,7 +35,9 @@
 #define SELECT_SIZE 4
 #endif
 
-layout(local_size_x = BIN_SIZE, local_size_y = BIN_SIZE) in;
+// BIN_SIZE rows per workgroup for the first dispatch; one row (one resumed item) for
+// continuations.
+layout(local_size_x = BIN_SIZE, local_size_y_id = 5) in;
 
 // What the scene needs, fixed when the pipeline is made. CPU drivers such as lavapipe run
 // both sides of a divergent `if` under a mask, so code a scene cannot reach still costs on
@@ -41,6 +47,7 @@ layout(constant_id = 0) const bool HOMOGENEOUS_PATH = true;  // near-plane / gua
 layout(constant_id = 1) const bool TEXTURES = true;          // some material has a texture
 layout(constant_id = 2) const bool VERTEX_NORMALS = true;    // some draw has vertex normals
 layout(constant_id = 3) const bool FACE_NORMALS = true;      // some draw has none
+layout(constant_id = 4) const bool CONTINUATION = false;     // resume items of a resume list
 
 bool sampleTriangle(ExactTriangle t, uint x, uint y, out RasterSample s) {
     if (!HOMOGENEOUS_PATH || t.edgeB.w < 0) {
@@ -135,20 +142,34 @@ bool keyLess(uint d, uint o, uint d2, uint o2) {
     return d < d2 || (d == d2 && o < o2);
 }
 
+// Loop iterations one selection pass may take, counted generously: the walk, the shading
+// loop, and the software sampler's mip loops.
+uint passIterations(uint entries) {
+    return entries + 4u + uint(SELECT_SIZE) * (TEXTURES ? 40u : 2u);
+}
+
 void main() {
     // Uniform loads first, outside all control flow: CPU drivers load them once for the
     // subgroup there, but once per lane after a branch (an early return counts).
     FrameInfo frame = u_frame;
-    uint bin = gl_WorkGroupID.y * u_push.binsX + gl_WorkGroupID.x;
+    uint resumeCapacity = g_counters.resumeCapacity;
+    uint bin;
+    uint row;
+    if (CONTINUATION) {
+        uint item = g_resumeItems[u_push.resumeList * resumeCapacity + gl_WorkGroupID.x];
+        bin = item / BIN_SIZE;
+        row = item % BIN_SIZE;
+    } else {
+        bin = gl_WorkGroupID.y * u_push.binsX + gl_WorkGroupID.x;
+        row = gl_LocalInvocationID.y;
+    }
     uint first = g_binOffsets[bin];
     uint end = first + g_binCounts[bin];
-    uint x = gl_WorkGroupID.x * BIN_SIZE + gl_LocalInvocationID.x;
-    uint y = gl_WorkGroupID.y * BIN_SIZE + gl_LocalInvocationID.y;
+    uint x = (bin % u_push.binsX) * BIN_SIZE + gl_LocalInvocationID.x;
+    uint y = (bin / u_push.binsX) * BIN_SIZE + row;
     if (x >= u_push.width || y >= u_push.height) {
         return;
     }
-    // Every invocation walks the same bin list in step, so each record is fetched once per
-    // subgroup (any subgroup size: only "first active lane" is assumed).
     float opaqueDepth = texelFetch(u_opaqueDepth, ivec2(x, y), 0).r;
 
     vec3 radiance = vec3(0.0);
@@ -157,10 +178,59 @@ void main() {
     uint doneDepth = 0u;
     uint doneOrder = 0u;
     bool started = false;
+    // Finished pixels wait for the rest of their row, so that a row is suspended and resumed
+    // whole.
+    bool finished = false;
+    if (CONTINUATION) {
+        uint item = u_push.resumeList * resumeCapacity + gl_WorkGroupID.x;
+        ExactPixelState state = g_pixelStates[item * BIN_SIZE + gl_LocalInvocationID.x];
+        radiance = state.radiance.xyz;
+        transmittance = state.transmittance.xyz;
+        doneDepth = state.done.x;
+        doneOrder = state.done.y;
+        finished = state.done.z != 0u;
+        started = true;
+    }
     uint passes = 0u;
     uint fragments = 0u;
+    // Uniform across the subgroup: every pixel of a row walks the same list.
+    uint spent = 0u;
+    uint passCost = passIterations(end - first);
+    bool suspended = false;
 
-    while (true) {
+    while (subgroupAny(!finished)) {
+        if (spent + passCost > LOOP_BUDGET) {
+            if (spent == 0u) {
+                // Not even one pass fits a fresh budget: tell the host instead of drawing
+                // a wrong pixel.
+                atomicOr(g_counters.overflow, OVERFLOW_CROWDED_BIN);
+                break;
+            }
+            uint outList = u_push.resumeList ^ 1u;
+            uint slot = 0u;
+            if (subgroupElect()) {
+                slot = atomicAdd(g_resumeCounts[outList * 4u], 1u);
+                if (slot < resumeCapacity) {
+                    g_resumeItems[outList * resumeCapacity + slot] = bin * BIN_SIZE + row;
+                } else {
+                    // No room: take the item back; the host grows the lists and renders the
+                    // frame again.
+                    atomicAdd(g_resumeCounts[outList * 4u], 0xFFFFFFFFu);
+                    atomicOr(g_counters.overflow, OVERFLOW_RESUME);
+                    atomicMax(g_counters.resumeNeeded, slot + 1u);
+                }
+            }
+            slot = subgroupBroadcastFirst(slot);
+            if (slot < resumeCapacity) {
+                uint state = (outList * resumeCapacity + slot) * BIN_SIZE + gl_LocalInvocationID.x;
+                g_pixelStates[state] = ExactPixelState(
+                    vec4(radiance, 0.0), vec4(transmittance, 0.0),
+                    uvec4(doneDepth, doneOrder, finished ? 1u : 0u, 0u));
+            }
+            suspended = true;
+            break;
+        }
+        spent += passCost;
         uint selDepth[SELECT_SIZE];
         uint selOrder[SELECT_SIZE];
         uint selTri[SELECT_SIZE];
@@ -174,11 +244,6 @@ void main() {
             uint ti = subgroupBroadcastFirst(texelFetch(u_binEntryTexels, int(e)).r);
             ivec4 r = loadTriangleBounds(ti);
             bool inBox = int(x) >= r.x && int(x) < r.z && int(y) >= r.y && int(y) < r.w;
-            // A uniform test skips the triangle for real when no pixel of the subgroup is in
-            // its box; a per-pixel `continue` alone would not on CPU drivers (masking).
-            if (!subgroupAny(inBox)) {
-                continue;
-            }
             ExactTriangle t = loadTriangle(ti);
             RasterSample s;
             bool take;
@@ -187,19 +252,14 @@ void main() {
             } else {
                 i64vec3 edges;
                 bool covered = inBox && coversFixed(t, x, y, edges);
-                if (!subgroupAny(covered)) {
-                    continue;
-                }
                 take = covered && interpolateFixed(t, edges, s);
             }
             uint d = floatBitsToUint(s.viewDepth);
             uint o = t.ids.w;
-            take = take && s.zNdc < opaqueDepth && (!started || keyLess(doneDepth, doneOrder, d, o));
+            take = take && !finished && s.zNdc < opaqueDepth &&
+                   (!started || keyLess(doneDepth, doneOrder, d, o));
             found += take ? 1u : 0u;
             bool insert = take && keyLess(d, o, selDepth[SELECT_SIZE - 1], selOrder[SELECT_SIZE - 1]);
-            if (!subgroupAny(insert)) {
-                continue;
-            }
             // Insert, dropping the last: each slot takes its left neighbour, the new key, or
             // keeps its own, walking right to left (left neighbours are still unchanged).
             [[unroll]] for (int k = SELECT_SIZE - 1; k > 0; k--) {
@@ -215,7 +275,7 @@ void main() {
                 selTri[0] = ti;
             }
         }
-        passes++;
+        passes += finished ? 0u : 1u;
         uint count = min(found, uint(SELECT_SIZE));
         for (uint i = 0u; i < count; i++) {
             // Always shade slot 0, then shift the selection left: constant indices only.
@@ -238,11 +298,10 @@ void main() {
         fragments += count;
         started = true;
         bool opaqueEnough = u_push.threshold > 0.0 && all(lessThan(transmittance, vec3(u_push.threshold)));
-        if (found <= uint(SELECT_SIZE) || opaqueEnough) {
-            break;
-        }
+        finished = finished || found <= uint(SELECT_SIZE) || opaqueEnough;
     }
-    if (fragments > 0u) {
+    // A resumed pixel composites what earlier dispatches gathered too.
+    if ((fragments > 0u || CONTINUATION) && !suspended) {
         vec3 behind = imageLoad(u_colour, ivec2(x, y)).rgb;
         precise vec3 result = radiance + transmittance * behind;
         imageStore(u_colour, ivec2(x, y), vec4(result, 1.0));

@@ -310,6 +310,32 @@ impl ComputePipeline {
         push: &[u8],
         groups: [u32; 3],
     ) {
+        self.bind(cmd, sets, push);
+        // SAFETY: cmd is recording outside a render pass with this pipeline bound.
+        unsafe {
+            self.gpu
+                .device
+                .cmd_dispatch(cmd, groups[0], groups[1], groups[2])
+        };
+    }
+
+    /// Dispatches as many workgroups as the `VkDispatchIndirectCommand` at `offset` in `args`
+    /// says when the command runs.
+    pub fn dispatch_indirect(
+        &self,
+        cmd: vk::CommandBuffer,
+        sets: &[vk::DescriptorSet],
+        push: &[u8],
+        args: &Buffer,
+        offset: u64,
+    ) {
+        self.bind(cmd, sets, push);
+        // SAFETY: as for dispatch; args was made with INDIRECT_BUFFER usage and holds the
+        // command at offset (a multiple of 4).
+        unsafe { self.gpu.device.cmd_dispatch_indirect(cmd, args.raw, offset) };
+    }
+
+    fn bind(&self, cmd: vk::CommandBuffer, sets: &[vk::DescriptorSet], push: &[u8]) {
         // SAFETY: cmd is recording outside a render pass; sets match the layout.
         unsafe {
             let d = &self.gpu.device;
@@ -327,7 +353,6 @@ impl ComputePipeline {
             if !push.is_empty() {
                 d.cmd_push_constants(cmd, self.layout, vk::ShaderStageFlags::COMPUTE, 0, push);
             }
-            d.cmd_dispatch(cmd, groups[0], groups[1], groups[2]);
         }
     }
 }

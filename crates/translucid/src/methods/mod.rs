@@ -29,6 +29,9 @@ pub struct MethodOptions {
     pub initial_bin_entries: Option<u32>,
     /// `exact`: first capacity of the homogeneous (near-plane) triangle records.
     pub initial_homogeneous: Option<u32>,
+    /// `exact`: first capacity of the lists of pixel rows that continue in a later raster
+    /// dispatch (rows hundreds of fragments deep).
+    pub initial_resume_rows: Option<u32>,
     /// `exact`: start with the raster shader built without the near-plane path, whatever the
     /// scene looks like, so that tests can exercise the rebuild-and-render-again fallback.
     #[doc(hidden)]

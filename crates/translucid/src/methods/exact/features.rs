@@ -32,14 +32,18 @@ impl RasterFeatures {
         }
     }
 
-    pub fn constants(&self) -> [u32; 4] {
+    /// The constants for the first raster dispatch (a workgroup per bin) or for continuations
+    /// (a workgroup per resumed row: `continuation`).
+    pub fn constants(&self, continuation: bool) -> [u32; 6] {
+        let rows = if continuation { 1 } else { super::BIN_SIZE };
         [
-            self.homogeneous,
-            self.textures,
-            self.vertex_normals,
-            self.face_normals,
+            u32::from(self.homogeneous),
+            u32::from(self.textures),
+            u32::from(self.vertex_normals),
+            u32::from(self.face_normals),
+            u32::from(continuation),
+            rows,
         ]
-        .map(u32::from)
     }
 }
 

@@ -8,6 +8,14 @@ pub const BIN_SHIFT: u32 = 3;
 pub const BIN_SIZE: u32 = 1 << BIN_SHIFT;
 pub const OVERFLOW_HOMOGENEOUS: u32 = 1;
 pub const OVERFLOW_BIN_ENTRIES: u32 = 2;
+pub const OVERFLOW_CROWDED_BIN: u32 = 4;
+pub const OVERFLOW_RESUME: u32 = 8;
+/// `LOOP_BUDGET` of exact_layout.glsl: loop iterations one invocation may spend.
+pub const LOOP_BUDGET: u32 = 60_000;
+/// Bytes of one `ExactPixelState`.
+pub const PIXEL_STATE_BYTES: u64 = 48;
+/// Bytes of the resume lists' header: two indirect dispatch commands, each padded to 16.
+pub const RESUME_HEADER_BYTES: u64 = 32;
 /// Bytes of one `ExactTriangle` and one `ExactHomogeneous`.
 pub const TRIANGLE_BYTES: u64 = 128;
 pub const HOMOGENEOUS_BYTES: u64 = 192;
@@ -36,7 +44,9 @@ pub struct ExactCounters {
     pub bin_entry_capacity: u32,
     pub fragment_count: u32,
     pub pass_count: u32,
-    pub pad: [u32; 3],
+    pub resume_capacity: u32,
+    pub resume_needed: u32,
+    pub pad: u32,
 }
 
 #[repr(C)]
@@ -61,7 +71,9 @@ pub struct ExactPush {
     pub bins_x: u32,
     pub bins_y: u32,
     pub threshold: f32,
-    pub pad: u32,
+    pub resume_list: u32,
+    pub bin_rows_per_slice: u32,
+    pub pad: [u32; 3],
 }
 
 #[cfg(test)]
@@ -95,6 +107,9 @@ mod tests {
         assert_eq!(define("BIN_SIZE"), BIN_SIZE);
         assert_eq!(define("OVERFLOW_HOMOGENEOUS"), OVERFLOW_HOMOGENEOUS);
         assert_eq!(define("OVERFLOW_BIN_ENTRIES"), OVERFLOW_BIN_ENTRIES);
+        assert_eq!(define("OVERFLOW_CROWDED_BIN"), OVERFLOW_CROWDED_BIN);
+        assert_eq!(define("OVERFLOW_RESUME"), OVERFLOW_RESUME);
+        assert_eq!(define("LOOP_BUDGET"), LOOP_BUDGET);
     }
 
     /// exact_bindings.glsl reads these records texel by texel (16 bytes each) in field order;
@@ -172,8 +187,10 @@ mod tests {
             offset_of!(ExactCounters, bin_entry_capacity),
             offset_of!(ExactCounters, fragment_count),
             offset_of!(ExactCounters, pass_count),
+            offset_of!(ExactCounters, resume_capacity),
+            offset_of!(ExactCounters, resume_needed),
         ];
-        assert_eq!(offsets("ExactCounters")[..9], counters, "{msg}");
+        assert_eq!(offsets("ExactCounters")[..11], counters, "{msg}");
         assert_eq!(
             std430_offsets(SRC, "ExactCounters").1,
             size_of::<ExactCounters>(),
@@ -182,6 +199,11 @@ mod tests {
         assert_eq!(
             std430_offsets(SRC, "ExactTexture").1,
             size_of::<ExactTexture>(),
+            "{msg}"
+        );
+        assert_eq!(
+            std430_offsets(SRC, "ExactPixelState").1 as u64,
+            PIXEL_STATE_BYTES,
             "{msg}"
         );
         assert_eq!(

@@ -4,11 +4,13 @@
 //! Stages (one compute shader each, `shaders/exact/`):
 //! 1. `setup`: per transparent quad, transform, set up its triangles (fixed-point or
 //!    homogeneous), cull, append visible triangles.
-//! 2. `bin_count`, `bin_scan`, `bin_fill`: per 16×16-pixel bin, count the triangles whose
-//!    bounds touch it, prefix-sum the counts, fill the per-bin triangle lists.
+//! 2. `bin_count`, `bin_scan`, `bin_fill`: per 8×8-pixel bin, count the triangles that touch
+//!    it, prefix-sum the counts, fill the per-bin triangle lists.
 //! 3. `raster`: one workgroup per bin, one invocation per pixel; each pixel selects its nearest
 //!    remaining fragments in registers, composites them front to back over the opaque colour,
-//!    and repeats until none is left (or transmittance is under the threshold).
+//!    and repeats until none is left (or transmittance is under the threshold). Rows of
+//!    pixels that reach the driver's loop budget are saved and finished by continuation
+//!    dispatches of the same shader, sized on the GPU (indirect dispatch).
 //!
 //! Why this shape: on lavapipe (subgroups of 8, 32 KB shared memory) barrier-heavy
 //! shared-memory phases cost more than blending itself, while fixed-size register work is
@@ -17,7 +19,8 @@
 //!
 //! Memory is sized from the frame: two triangle records per quad at most, bin lists grown to
 //! what the GPU counted. Counters come back every frame; an overflow renders the frame again
-//! with larger buffers, so an image is never drawn from truncated lists.
+//! with larger buffers, and rows still unfinished after the last continuation render it
+//! again with twice as many continuations, so an image is never drawn from truncated work.
 
 #![deny(clippy::unwrap_used)]
 
@@ -31,7 +34,7 @@ use crate::renderer::{FrameTargets, GpuScene};
 use crate::scene::Scene;
 use crate::Result;
 use features::RasterFeatures;
-use layout::{ExactPush, BIN_SIZE};
+use layout::{ExactPush, BIN_SIZE, LOOP_BUDGET, OVERFLOW_CROWDED_BIN};
 use resources::{Capacities, Resources};
 
 const STAGES: [(&str, &[u8]); 5] = [
@@ -47,12 +50,35 @@ pub struct Exact {
     resources: Resources,
     set: DescriptorSet,
     pipelines: Vec<ComputePipeline>,
+    /// The raster shader again, specialized to resume suspended rows.
+    continuation: ComputePipeline,
+    /// Continuation dispatches recorded after the raster; doubled when some row was still
+    /// unfinished after the last one.
+    continuations: u32,
     push: ExactPush,
-    /// The constants the raster pipeline was made with.
+    /// The constants the raster pipelines were made with.
     features: RasterFeatures,
 }
 
 const RASTER: usize = 4;
+/// With about 60,000 loop iterations each, this many continuations finish any pixel this
+/// method can render in reasonable time; past it the frame fails with an error.
+const MAX_CONTINUATIONS: u32 = 64;
+
+fn raster_pipeline(
+    gpu: &Gpu,
+    layouts: &[&crate::gpu::DescriptorLayout],
+    features: &RasterFeatures,
+    continuation: bool,
+) -> Result<ComputePipeline> {
+    ComputePipeline::specialized(
+        gpu,
+        STAGES[RASTER].1,
+        layouts,
+        std::mem::size_of::<ExactPush>() as u32,
+        &features.constants(continuation),
+    )
+}
 
 impl Exact {
     pub fn new(
@@ -78,24 +104,25 @@ impl Exact {
         let set = resources.descriptor_set(uploaded, targets)?;
         let mut features = RasterFeatures::of(scene, width, height);
         features.homogeneous &= !options.assume_fixed_path;
+        let layouts = [&uploaded.layout, &resources.layout];
         let pipelines = STAGES
             .iter()
             .enumerate()
             .map(|(i, (_, spirv))| {
-                let constants = if i == RASTER {
-                    features.constants().to_vec()
+                if i == RASTER {
+                    raster_pipeline(gpu, &layouts, &features, false)
                 } else {
-                    Vec::new()
-                };
-                ComputePipeline::specialized(
-                    gpu,
-                    spirv,
-                    &[&uploaded.layout, &resources.layout],
-                    std::mem::size_of::<ExactPush>() as u32,
-                    &constants,
-                )
+                    ComputePipeline::specialized(
+                        gpu,
+                        spirv,
+                        &layouts,
+                        std::mem::size_of::<ExactPush>() as u32,
+                        &[],
+                    )
+                }
             })
             .collect::<Result<Vec<_>>>()?;
+        let continuation = raster_pipeline(gpu, &layouts, &features, true)?;
         let push = ExactPush {
             item_count: uploaded.transparent_quads,
             draw_count: scene.transparent.len() as u32,
@@ -104,13 +131,18 @@ impl Exact {
             bins_x,
             bins_y,
             threshold: options.threshold,
-            pad: 0,
+            resume_list: 0,
+            // A row of bins costs at most bins_x + 1 iterations.
+            bin_rows_per_slice: (LOOP_BUDGET / (bins_x + 1)).max(1),
+            pad: [0; 3],
         };
         Ok(Self {
             gpu: gpu.clone(),
             resources,
             set,
             pipelines,
+            continuation,
+            continuations: 1,
             push,
             features,
         })
@@ -123,6 +155,52 @@ impl Exact {
             bytemuck::bytes_of(&self.push),
             groups,
         );
+    }
+
+    /// The raster over every bin, then the continuations: continuation k resumes the rows
+    /// on list k % 2 (one workgroup each, counted on the GPU) and suspends rows onto the
+    /// other list, which the next continuation reads. The first raster fills list 0.
+    fn record_raster(&self, ctx: &RecordContext<'_>) {
+        let cmd = ctx.cmd;
+        let sets = [ctx.scene.set.raw, self.set.raw];
+        let push = ExactPush {
+            resume_list: 1,
+            ..self.push
+        };
+        self.pipelines[RASTER].dispatch(
+            cmd,
+            &sets,
+            bytemuck::bytes_of(&push),
+            [self.push.bins_x, self.push.bins_y, 1],
+        );
+        let compute = vk::PipelineStageFlags::COMPUTE_SHADER;
+        let rw = vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE;
+        let transfer = (
+            vk::PipelineStageFlags::TRANSFER,
+            vk::AccessFlags::TRANSFER_WRITE,
+        );
+        let to_next = (
+            compute | vk::PipelineStageFlags::DRAW_INDIRECT,
+            rw | vk::AccessFlags::INDIRECT_COMMAND_READ,
+        );
+        for k in 0..self.continuations {
+            let list = k % 2;
+            memory_barrier(&self.gpu, cmd, (compute, rw), to_next);
+            let push = ExactPush {
+                resume_list: list,
+                ..self.push
+            };
+            self.continuation.dispatch_indirect(
+                cmd,
+                &sets,
+                bytemuck::bytes_of(&push),
+                self.resources.resume_lists(),
+                u64::from(list) * 16,
+            );
+            memory_barrier(&self.gpu, cmd, (compute, rw), transfer);
+            self.resources.record_resume_list_reset(cmd, list);
+            memory_barrier(&self.gpu, cmd, transfer, to_next);
+        }
     }
 
     fn compute_to_compute(&self, cmd: vk::CommandBuffer) {
@@ -148,11 +226,12 @@ impl Method for Exact {
         ctx.timestamps.mark(cmd, "setup");
 
         let triangle_groups = self.resources.capacities.triangles.div_ceil(64).max(1);
-        self.dispatch(ctx, 1, [triangle_groups, 1, 1]);
+        let slices = self.push.bins_y.div_ceil(self.push.bin_rows_per_slice);
+        self.dispatch(ctx, 1, [triangle_groups, slices, 1]);
         self.compute_to_compute(cmd);
         self.dispatch(ctx, 2, [1, 1, 1]);
         self.compute_to_compute(cmd);
-        self.dispatch(ctx, 3, [triangle_groups, 1, 1]);
+        self.dispatch(ctx, 3, [triangle_groups, slices, 1]);
         self.compute_to_compute(cmd);
         ctx.timestamps.mark(cmd, "binning");
 
@@ -184,7 +263,7 @@ impl Method for Exact {
             attachment,
             shader,
         );
-        self.dispatch(ctx, 4, [self.push.bins_x, self.push.bins_y, 1]);
+        self.record_raster(ctx);
         let after = (
             vk::PipelineStageFlags::ALL_COMMANDS,
             vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE,
@@ -219,7 +298,15 @@ impl Method for Exact {
 
     fn frame_done(&mut self, uploaded: &GpuScene, targets: &FrameTargets) -> Result<FrameCheck> {
         let counters = self.resources.counters()?;
-        // Both fixes, if both are needed, before the one re-render.
+        if counters.overflow & OVERFLOW_CROWDED_BIN != 0 {
+            return Err(crate::Error::InvalidScene(format!(
+                "exact: one 8x8-pixel bin of this frame holds so many triangles that a single \
+                 pass over them exceeds {}'s shader loop limit; render at a larger size or \
+                 with fewer overlapping triangles",
+                self.gpu.info().name
+            )));
+        }
+        // Every fix the frame needs, before the one re-render.
         let rebuild = counters.homogeneous_count > 0 && !self.features.homogeneous;
         if rebuild {
             // The host's estimate missed a near-plane triangle: use the full raster shader.
@@ -228,13 +315,8 @@ impl Method for Exact {
                 ..self.features
             };
             let layouts = [&uploaded.layout, &self.resources.layout];
-            self.pipelines[RASTER] = ComputePipeline::specialized(
-                &self.gpu,
-                STAGES[RASTER].1,
-                &layouts,
-                std::mem::size_of::<ExactPush>() as u32,
-                &self.features.constants(),
-            )?;
+            self.pipelines[RASTER] = raster_pipeline(&self.gpu, &layouts, &self.features, false)?;
+            self.continuation = raster_pipeline(&self.gpu, &layouts, &self.features, true)?;
         }
         let grown = self.resources.capacities.grown_for(&counters);
         if let Some(grown) = grown {
@@ -242,7 +324,22 @@ impl Method for Exact {
             self.resources.grow(&self.gpu, grown)?;
             self.set = self.resources.descriptor_set(uploaded, targets)?;
         }
-        let rerender = rebuild || grown.is_some();
+        // The last dispatch appended to list `continuations % 2`; anything there is unfinished.
+        let unfinished = self.resources.resume_count(self.continuations % 2)?;
+        if unfinished > 0 {
+            if self.continuations >= MAX_CONTINUATIONS {
+                return Err(crate::Error::InvalidScene(format!(
+                    "exact: {unfinished} pixel rows still unfinished after {MAX_CONTINUATIONS} \
+                     continuation dispatches; the frame is too deep for this driver"
+                )));
+            }
+            self.continuations *= 2;
+            log::info!(
+                "exact: {unfinished} rows unfinished; {} continuations next",
+                self.continuations
+            );
+        }
+        let rerender = rebuild || grown.is_some() || unfinished > 0;
         Ok(FrameCheck {
             rerender,
             fragments: if rerender {

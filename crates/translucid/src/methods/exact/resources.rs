@@ -1,8 +1,9 @@
 //! The exact method's buffers: sized from the frame, grown when the GPU reports an overflow.
 
 use super::layout::{
-    ExactCounters, ExactDraw, ExactTexture, ATTRIBUTES_BYTES, HOMOGENEOUS_BYTES,
-    OVERFLOW_BIN_ENTRIES, OVERFLOW_HOMOGENEOUS, TRIANGLE_BYTES,
+    ExactCounters, ExactDraw, ExactTexture, ATTRIBUTES_BYTES, BIN_SIZE, HOMOGENEOUS_BYTES,
+    OVERFLOW_BIN_ENTRIES, OVERFLOW_HOMOGENEOUS, OVERFLOW_RESUME, PIXEL_STATE_BYTES,
+    RESUME_HEADER_BYTES, TRIANGLE_BYTES,
 };
 use crate::gpu::{
     memory_barrier, vk, BindingKind, Buffer, BufferView, DescriptorLayout, DescriptorSet, Gpu,
@@ -21,6 +22,8 @@ pub struct Capacities {
     pub triangles: u32,
     pub homogeneous: u32,
     pub bin_entries: u32,
+    /// Items each of the two resume lists holds (subgroup rows a raster dispatch suspends).
+    pub resume: u32,
 }
 
 impl Capacities {
@@ -28,7 +31,14 @@ impl Capacities {
     /// Overflow corrects it after one frame.
     pub fn initial(quads: u32, bins: u32, options: &MethodOptions) -> Self {
         let triangles = quads.saturating_mul(2).max(1);
+        let rows = bins.saturating_mul(BIN_SIZE);
         Self {
+            // Rows only suspend where pixels are hundreds of fragments deep: a sixteenth of
+            // the frame's rows to start with.
+            resume: options
+                .initial_resume_rows
+                .unwrap_or((rows / 16).max(64))
+                .clamp(1, rows.max(1)),
             triangles,
             homogeneous: options
                 .initial_homogeneous
@@ -43,7 +53,7 @@ impl Capacities {
 
     /// Larger capacities when the frame overflowed, from what the GPU counted.
     pub fn grown_for(&self, c: &ExactCounters) -> Option<Self> {
-        if c.overflow & (OVERFLOW_HOMOGENEOUS | OVERFLOW_BIN_ENTRIES) == 0 {
+        if c.overflow & (OVERFLOW_HOMOGENEOUS | OVERFLOW_BIN_ENTRIES | OVERFLOW_RESUME) == 0 {
             return None;
         }
         let with_headroom =
@@ -55,12 +65,20 @@ impl Capacities {
         if c.overflow & OVERFLOW_BIN_ENTRIES != 0 {
             next.bin_entries = with_headroom(c.bin_entry_count, self.bin_entries);
         }
+        if c.overflow & OVERFLOW_RESUME != 0 {
+            next.resume = with_headroom(c.resume_needed, self.resume);
+        }
         Some(next)
     }
 }
 
 /// Buffers that grow, each with the texel view the raster reads it through.
 struct Growable {
+    /// Resume lists of the raster's continuation dispatches (see `LOOP_BUDGET` in
+    /// exact_layout.glsl): a header of two indirect dispatch commands, then the items.
+    resume: Buffer,
+    /// Compositing state of the pixels of every item on the resume lists.
+    pixel_states: Buffer,
     triangles: Viewed,
     attributes: Viewed,
     homogeneous: Viewed,
@@ -102,9 +120,10 @@ pub struct Resources {
 const STORAGE: vk::BufferUsageFlags = vk::BufferUsageFlags::STORAGE_BUFFER;
 const TEXELS: vk::BufferUsageFlags = vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER;
 const RGBA32UI: vk::Format = vk::Format::R32G32B32A32_UINT;
+const EMPTY_RESUME_LISTS: [u32; 8] = [0, 1, 1, 0, 0, 1, 1, 0];
 
-/// A device-local buffer the stages write, with a view for the raster to read.
-fn storage_buffer(gpu: &Gpu, name: &str, bytes: u64, format: vk::Format) -> Result<Viewed> {
+/// A device-local buffer the stages write (and the raster may read through a view).
+fn storage_buffer(gpu: &Gpu, name: &str, bytes: u64) -> Result<Buffer> {
     let limit = u64::from(gpu.info().max_storage_buffer_range);
     if bytes > limit {
         return Err(Error::InvalidScene(format!(
@@ -113,13 +132,17 @@ fn storage_buffer(gpu: &Gpu, name: &str, bytes: u64, format: vk::Format) -> Resu
             limit >> 20
         )));
     }
-    let buffer = gpu.create_buffer(
+    gpu.create_buffer(
         name,
         bytes,
         STORAGE | TEXELS | vk::BufferUsageFlags::TRANSFER_DST,
         MemoryLocation::GpuOnly,
-    )?;
-    Viewed::new(gpu, buffer, format)
+    )
+}
+
+/// A storage buffer with a view for the raster to read it through.
+fn viewed_storage(gpu: &Gpu, name: &str, bytes: u64, format: vk::Format) -> Result<Viewed> {
+    Viewed::new(gpu, storage_buffer(gpu, name, bytes)?, format)
 }
 
 /// Read-only data uploaded once, viewed as texels of `format`.
@@ -133,26 +156,38 @@ fn texel_data(gpu: &Gpu, name: &str, data: &[u8], format: vk::Format) -> Result<
 
 fn growable(gpu: &Gpu, c: Capacities) -> Result<Growable> {
     let triangles = u64::from(c.triangles);
+    let resume_items = 2 * u64::from(c.resume);
     Ok(Growable {
-        triangles: storage_buffer(
+        resume: gpu.create_buffer(
+            "resume lists",
+            RESUME_HEADER_BYTES + resume_items * 4,
+            STORAGE | vk::BufferUsageFlags::INDIRECT_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuToCpu,
+        )?,
+        pixel_states: storage_buffer(
+            gpu,
+            "suspended pixel states",
+            resume_items * u64::from(BIN_SIZE) * PIXEL_STATE_BYTES,
+        )?,
+        triangles: viewed_storage(
             gpu,
             "triangle records",
             triangles * TRIANGLE_BYTES,
             RGBA32UI,
         )?,
-        attributes: storage_buffer(
+        attributes: viewed_storage(
             gpu,
             "triangle attributes",
             triangles * ATTRIBUTES_BYTES,
             RGBA32UI,
         )?,
-        homogeneous: storage_buffer(
+        homogeneous: viewed_storage(
             gpu,
             "homogeneous records",
             u64::from(c.homogeneous) * HOMOGENEOUS_BYTES,
             RGBA32UI,
         )?,
-        bin_entries: storage_buffer(
+        bin_entries: viewed_storage(
             gpu,
             "bin lists",
             u64::from(c.bin_entries) * 4,
@@ -262,6 +297,8 @@ impl Resources {
                 BindingKind::TexelBuffer,      // 18 sRGB table
                 BindingKind::TexelBuffer,      // 19 bin entries
                 BindingKind::TexelBuffer,      // 20 homogeneous
+                BindingKind::StorageBuffer,    // 21 resume lists
+                BindingKind::StorageBuffer,    // 22 pixel states
             ],
             vk::ShaderStageFlags::COMPUTE,
         )?;
@@ -274,9 +311,9 @@ impl Resources {
                 bytemuck::cast_slice(&draws),
             )?,
             counters,
-            bin_counts: storage_buffer(gpu, "bin counts", bins * 4, vk::Format::R32_UINT)?.buffer,
-            bin_offsets: storage_buffer(gpu, "bin offsets", bins * 4, vk::Format::R32_UINT)?.buffer,
-            bin_cursors: storage_buffer(gpu, "bin cursors", bins * 4, vk::Format::R32_UINT)?.buffer,
+            bin_counts: storage_buffer(gpu, "bin counts", bins * 4)?,
+            bin_offsets: storage_buffer(gpu, "bin offsets", bins * 4)?,
+            bin_cursors: storage_buffer(gpu, "bin cursors", bins * 4)?,
             materials: texel_data(
                 gpu,
                 "exact materials",
@@ -334,6 +371,8 @@ impl Resources {
             Resource::TexelBuffer(self.srgb.view.raw),
             Resource::TexelBuffer(g.bin_entries.view.raw),
             Resource::TexelBuffer(g.homogeneous.view.raw),
+            Resource::Buffer(&g.resume),
+            Resource::Buffer(&g.pixel_states),
         ])
     }
 
@@ -347,7 +386,21 @@ impl Resources {
         ];
         gpu.cmd_fill_buffer(cmd, &self.counters, 0);
         gpu.cmd_update_buffer(cmd, &self.counters, 16, bytemuck::cast_slice(&capacities));
+        let resume_at = std::mem::offset_of!(ExactCounters, resume_capacity) as u64;
+        gpu.cmd_update_buffer(
+            cmd,
+            &self.counters,
+            resume_at,
+            &self.capacities.resume.to_ne_bytes(),
+        );
         gpu.cmd_fill_buffer(cmd, &self.bin_counts, 0);
+        // Both resume lists empty: dispatch commands of (0, 1, 1) workgroups.
+        gpu.cmd_update_buffer(
+            cmd,
+            &self.growable.resume,
+            0,
+            bytemuck::cast_slice(&EMPTY_RESUME_LISTS),
+        );
         gpu.cmd_fill_buffer(cmd, &self.bin_cursors, 0);
         memory_barrier(
             gpu,
@@ -361,6 +414,28 @@ impl Resources {
                 vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
             ),
         );
+    }
+
+    /// Empties resume list `list` once a continuation has consumed it, so that the next
+    /// dispatch to append to it starts afresh.
+    pub fn record_resume_list_reset(&self, cmd: vk::CommandBuffer, list: u32) {
+        let resume = &self.growable.resume;
+        resume
+            .gpu()
+            .cmd_update_buffer(cmd, resume, u64::from(list) * 16, &0u32.to_ne_bytes());
+    }
+
+    /// Items on resume list `list` after the last completed frame.
+    pub fn resume_count(&self, list: u32) -> Result<u32> {
+        let at = list as usize * 16;
+        Ok(bytemuck::pod_read_unaligned(
+            &self.growable.resume.read()?[at..at + 4],
+        ))
+    }
+
+    /// The buffer holding the resume lists' indirect dispatch commands.
+    pub fn resume_lists(&self) -> &Buffer {
+        &self.growable.resume
     }
 
     /// The counters of the last completed frame.
