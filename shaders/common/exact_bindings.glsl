@@ -32,15 +32,19 @@ layout(set = 1, binding = 18) uniform samplerBuffer u_srgbToLinear;      // 256 
 layout(set = 1, binding = 19) uniform usamplerBuffer u_binEntryTexels;   // g_binEntries
 layout(set = 1, binding = 20) uniform usamplerBuffer u_homogeneousTexels; // g_homogeneous, 12 each
 
-// Two lists of subgroups a raster dispatch left unfinished. counts[4 * k] is list k's length,
-// laid out with counts[4k + 1] = counts[4k + 2] = 1 as an indirect dispatch of one workgroup
-// per item; items of list k start at k * g_counters.resumeCapacity, and item i's pixel states
-// at (k * resumeCapacity + i) * BIN_SIZE.
-layout(set = 1, binding = 21, std430) buffer ResumeBlock {
-    uint g_resumeCounts[8];
+// The raster's indirect dispatches, each a VkDispatchIndirectCommand padded to 16 bytes
+// (x = count, y = z = 1): RASTER_DISPATCH_BINS counts the non-empty bins (listed in
+// g_rasterBins) for the first raster dispatch, and k = 0, 1 count the items of resume list k,
+// the rows a raster dispatch left unfinished, one workgroup each. Items of list k start at
+// k * g_counters.resumeCapacity, and item i's pixel states at (k * resumeCapacity + i) *
+// BIN_SIZE.
+#define RASTER_DISPATCH_BINS 2u
+layout(set = 1, binding = 21, std430) buffer RasterWorkBlock {
+    uint g_rasterDispatch[12];
     uint g_resumeItems[];
 };
 layout(set = 1, binding = 22, std430) buffer PixelStateBlock { ExactPixelState g_pixelStates[]; };
+layout(set = 1, binding = 23, std430) buffer RasterBinBlock { uint g_rasterBins[]; };
 
 layout(push_constant) uniform ExactPush {
     uint itemCount;         // transparent quads in all draws

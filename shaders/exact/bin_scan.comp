@@ -1,7 +1,8 @@
 #version 450
 // Binning, pass 2: exclusive prefix sum of the bin counts into bin offsets, by one workgroup:
 // each invocation sums a contiguous run of bins, the runs' sums are scanned in shared memory,
-// then each invocation writes its run's offsets.
+// then each invocation writes its run's offsets. Non-empty bins are listed for the raster,
+// which runs one workgroup per listed bin.
 
 #include "exact_bindings.glsl"
 
@@ -32,7 +33,11 @@ void main() {
     barrier();
     uint offset = s_runTotals[gl_LocalInvocationID.x];
     for (uint b = first; b < last; b++) {
+        uint count = g_binCounts[b];
         g_binOffsets[b] = offset;
-        offset += g_binCounts[b];
+        offset += count;
+        if (count > 0u) {
+            g_rasterBins[atomicAdd(g_rasterDispatch[RASTER_DISPATCH_BINS * 4u], 1u)] = b;
+        }
     }
 }

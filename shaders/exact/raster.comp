@@ -35,8 +35,8 @@
 #define SELECT_SIZE 4
 #endif
 
-// BIN_SIZE rows per workgroup for the first dispatch; one row (one resumed item) for
-// continuations.
+// BIN_SIZE rows per workgroup for the first dispatch (one workgroup per non-empty bin; the
+// others keep the opaque colour); one row (one resumed item) for continuations.
 layout(local_size_x = BIN_SIZE, local_size_y_id = 5) in;
 
 // What the scene needs, fixed when the pipeline is made. CPU drivers such as lavapipe run
@@ -160,7 +160,7 @@ void main() {
         bin = item / BIN_SIZE;
         row = item % BIN_SIZE;
     } else {
-        bin = gl_WorkGroupID.y * u_push.binsX + gl_WorkGroupID.x;
+        bin = g_rasterBins[gl_WorkGroupID.x];
         row = gl_LocalInvocationID.y;
     }
     uint first = g_binOffsets[bin];
@@ -209,13 +209,13 @@ void main() {
             uint outList = u_push.resumeList ^ 1u;
             uint slot = 0u;
             if (subgroupElect()) {
-                slot = atomicAdd(g_resumeCounts[outList * 4u], 1u);
+                slot = atomicAdd(g_rasterDispatch[outList * 4u], 1u);
                 if (slot < resumeCapacity) {
                     g_resumeItems[outList * resumeCapacity + slot] = bin * BIN_SIZE + row;
                 } else {
                     // No room: take the item back; the host grows the lists and renders the
                     // frame again.
-                    atomicAdd(g_resumeCounts[outList * 4u], 0xFFFFFFFFu);
+                    atomicAdd(g_rasterDispatch[outList * 4u], 0xFFFFFFFFu);
                     atomicOr(g_counters.overflow, OVERFLOW_RESUME);
                     atomicMax(g_counters.resumeNeeded, slot + 1u);
                 }

@@ -14,8 +14,11 @@ pub const OVERFLOW_RESUME: u32 = 8;
 pub const LOOP_BUDGET: u32 = 60_000;
 /// Bytes of one `ExactPixelState`.
 pub const PIXEL_STATE_BYTES: u64 = 48;
-/// Bytes of the resume lists' header: two indirect dispatch commands, each padded to 16.
-pub const RESUME_HEADER_BYTES: u64 = 32;
+/// Bytes of the raster's indirect dispatch commands (each padded to 16) before the resume
+/// items: resume list 0, resume list 1, non-empty bins.
+pub const RASTER_DISPATCH_BYTES: u64 = 48;
+/// Byte offset of the non-empty bins' dispatch command (`RASTER_DISPATCH_BINS`).
+pub const RASTER_DISPATCH_BINS_OFFSET: u64 = 32;
 /// Bytes of one `ExactTriangle` and one `ExactHomogeneous`.
 pub const TRIANGLE_BYTES: u64 = 128;
 pub const HOMOGENEOUS_BYTES: u64 = 192;

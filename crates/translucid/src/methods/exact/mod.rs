@@ -34,7 +34,7 @@ use crate::renderer::{FrameTargets, GpuScene};
 use crate::scene::Scene;
 use crate::Result;
 use features::RasterFeatures;
-use layout::{ExactPush, BIN_SIZE, LOOP_BUDGET, OVERFLOW_CROWDED_BIN};
+use layout::{ExactPush, BIN_SIZE, LOOP_BUDGET, OVERFLOW_CROWDED_BIN, RASTER_DISPATCH_BINS_OFFSET};
 use resources::{Capacities, Resources};
 
 const STAGES: [(&str, &[u8]); 5] = [
@@ -157,7 +157,7 @@ impl Exact {
         );
     }
 
-    /// The raster over every bin, then the continuations: continuation k resumes the rows
+    /// The raster over every non-empty bin, then the continuations: continuation k resumes the rows
     /// on list k % 2 (one workgroup each, counted on the GPU) and suspends rows onto the
     /// other list, which the next continuation reads. The first raster fills list 0.
     fn record_raster(&self, ctx: &RecordContext<'_>) {
@@ -167,11 +167,12 @@ impl Exact {
             resume_list: 1,
             ..self.push
         };
-        self.pipelines[RASTER].dispatch(
+        self.pipelines[RASTER].dispatch_indirect(
             cmd,
             &sets,
             bytemuck::bytes_of(&push),
-            [self.push.bins_x, self.push.bins_y, 1],
+            self.resources.raster_dispatches(),
+            RASTER_DISPATCH_BINS_OFFSET,
         );
         let compute = vk::PipelineStageFlags::COMPUTE_SHADER;
         let rw = vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE;
@@ -185,7 +186,7 @@ impl Exact {
         );
         for k in 0..self.continuations {
             let list = k % 2;
-            memory_barrier(&self.gpu, cmd, (compute, rw), to_next);
+            self.compute_to_compute(cmd);
             let push = ExactPush {
                 resume_list: list,
                 ..self.push
@@ -194,7 +195,7 @@ impl Exact {
                 cmd,
                 &sets,
                 bytemuck::bytes_of(&push),
-                self.resources.resume_lists(),
+                self.resources.raster_dispatches(),
                 u64::from(list) * 16,
             );
             memory_barrier(&self.gpu, cmd, (compute, rw), transfer);
@@ -203,10 +204,16 @@ impl Exact {
         }
     }
 
+    /// Makes one stage's writes visible to the next, including the indirect dispatch
+    /// commands the scan and the raster write.
     fn compute_to_compute(&self, cmd: vk::CommandBuffer) {
         let stage = vk::PipelineStageFlags::COMPUTE_SHADER;
         let rw = vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE;
-        memory_barrier(&self.gpu, cmd, (stage, rw), (stage, rw));
+        let next = (
+            stage | vk::PipelineStageFlags::DRAW_INDIRECT,
+            rw | vk::AccessFlags::INDIRECT_COMMAND_READ,
+        );
+        memory_barrier(&self.gpu, cmd, (stage, rw), next);
     }
 }
 

@@ -3,7 +3,7 @@
 use super::layout::{
     ExactCounters, ExactDraw, ExactTexture, ATTRIBUTES_BYTES, BIN_SIZE, HOMOGENEOUS_BYTES,
     OVERFLOW_BIN_ENTRIES, OVERFLOW_HOMOGENEOUS, OVERFLOW_RESUME, PIXEL_STATE_BYTES,
-    RESUME_HEADER_BYTES, TRIANGLE_BYTES,
+    RASTER_DISPATCH_BYTES, TRIANGLE_BYTES,
 };
 use crate::gpu::{
     memory_barrier, vk, BindingKind, Buffer, BufferView, DescriptorLayout, DescriptorSet, Gpu,
@@ -109,6 +109,8 @@ pub struct Resources {
     bin_counts: Buffer,
     bin_offsets: Buffer,
     bin_cursors: Buffer,
+    /// The non-empty bins, listed by the scan for the raster.
+    raster_bins: Buffer,
     materials: Viewed,
     textures: Viewed,
     texels: Viewed,
@@ -120,7 +122,8 @@ pub struct Resources {
 const STORAGE: vk::BufferUsageFlags = vk::BufferUsageFlags::STORAGE_BUFFER;
 const TEXELS: vk::BufferUsageFlags = vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER;
 const RGBA32UI: vk::Format = vk::Format::R32G32B32A32_UINT;
-const EMPTY_RESUME_LISTS: [u32; 8] = [0, 1, 1, 0, 0, 1, 1, 0];
+/// Three dispatch commands of (0, 1, 1) workgroups: empty resume lists, no bins listed.
+const EMPTY_DISPATCHES: [u32; 12] = [0, 1, 1, 0, 0, 1, 1, 0, 0, 1, 1, 0];
 
 /// A device-local buffer the stages write (and the raster may read through a view).
 fn storage_buffer(gpu: &Gpu, name: &str, bytes: u64) -> Result<Buffer> {
@@ -160,7 +163,7 @@ fn growable(gpu: &Gpu, c: Capacities) -> Result<Growable> {
     Ok(Growable {
         resume: gpu.create_buffer(
             "resume lists",
-            RESUME_HEADER_BYTES + resume_items * 4,
+            RASTER_DISPATCH_BYTES + resume_items * 4,
             STORAGE | vk::BufferUsageFlags::INDIRECT_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuToCpu,
         )?,
@@ -299,6 +302,7 @@ impl Resources {
                 BindingKind::TexelBuffer,      // 20 homogeneous
                 BindingKind::StorageBuffer,    // 21 resume lists
                 BindingKind::StorageBuffer,    // 22 pixel states
+                BindingKind::StorageBuffer,    // 23 non-empty bins
             ],
             vk::ShaderStageFlags::COMPUTE,
         )?;
@@ -314,6 +318,7 @@ impl Resources {
             bin_counts: storage_buffer(gpu, "bin counts", bins * 4)?,
             bin_offsets: storage_buffer(gpu, "bin offsets", bins * 4)?,
             bin_cursors: storage_buffer(gpu, "bin cursors", bins * 4)?,
+            raster_bins: storage_buffer(gpu, "non-empty bins", bins * 4)?,
             materials: texel_data(
                 gpu,
                 "exact materials",
@@ -373,6 +378,7 @@ impl Resources {
             Resource::TexelBuffer(g.homogeneous.view.raw),
             Resource::Buffer(&g.resume),
             Resource::Buffer(&g.pixel_states),
+            Resource::Buffer(&self.raster_bins),
         ])
     }
 
@@ -394,12 +400,11 @@ impl Resources {
             &self.capacities.resume.to_ne_bytes(),
         );
         gpu.cmd_fill_buffer(cmd, &self.bin_counts, 0);
-        // Both resume lists empty: dispatch commands of (0, 1, 1) workgroups.
         gpu.cmd_update_buffer(
             cmd,
             &self.growable.resume,
             0,
-            bytemuck::cast_slice(&EMPTY_RESUME_LISTS),
+            bytemuck::cast_slice(&EMPTY_DISPATCHES),
         );
         gpu.cmd_fill_buffer(cmd, &self.bin_cursors, 0);
         memory_barrier(
@@ -433,8 +438,8 @@ impl Resources {
         ))
     }
 
-    /// The buffer holding the resume lists' indirect dispatch commands.
-    pub fn resume_lists(&self) -> &Buffer {
+    /// The buffer holding the raster's indirect dispatch commands.
+    pub fn raster_dispatches(&self) -> &Buffer {
         &self.growable.resume
     }
 
