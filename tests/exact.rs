@@ -191,14 +191,14 @@ fn exact_finishes_pixels_deeper_than_the_loop_limit() {
         frame.rerenders >= 1,
         "one continuation should not have been enough for 700 layers"
     );
-    // Resume lists of one row force their overflow path too (400 layers need one
+    // Resume lists of one row force their overflow path too (600 layers need one
     // continuation, which the first frame has).
     let options = MethodOptions {
         initial_resume_rows: Some(1),
         ..Default::default()
     };
     let frame = check(
-        &deep_stack_scene(400),
+        &deep_stack_scene(600),
         "deep_stack_small_lists",
         45,
         37,

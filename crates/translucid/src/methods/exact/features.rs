@@ -15,7 +15,13 @@ pub struct RasterFeatures {
     pub textures: bool,
     pub vertex_normals: bool,
     pub face_normals: bool,
+    /// Fragments each pixel selects per pass over its bin.
+    pub select_size: u32,
 }
+
+/// The selection size to start with, and the one deep scenes move to.
+pub const SELECT_SIZE: u32 = 8;
+pub const DEEP_SELECT_SIZE: u32 = 16;
 
 impl RasterFeatures {
     pub fn of(scene: &Scene, width: u32, height: u32) -> Self {
@@ -29,12 +35,13 @@ impl RasterFeatures {
             textures: draws().any(|d| scene.materials[d.material].texture.is_some()),
             vertex_normals: draws().any(|d| scene.meshes[d.mesh].normals.is_some()),
             face_normals: draws().any(|d| scene.meshes[d.mesh].normals.is_none()),
+            select_size: SELECT_SIZE,
         }
     }
 
     /// The constants for the first raster dispatch (a workgroup per bin) or for continuations
     /// (a workgroup per resumed row: `continuation`).
-    pub fn constants(&self, continuation: bool) -> [u32; 6] {
+    pub fn constants(&self, continuation: bool) -> [u32; 7] {
         let rows = if continuation { 1 } else { super::BIN_SIZE };
         [
             u32::from(self.homogeneous),
@@ -43,6 +50,7 @@ impl RasterFeatures {
             u32::from(self.face_normals),
             u32::from(continuation),
             rows,
+            self.select_size,
         ]
     }
 }

@@ -33,7 +33,7 @@ use crate::gpu::{image_barrier, memory_barrier, vk, ComputePipeline, DescriptorS
 use crate::renderer::{FrameTargets, GpuScene};
 use crate::scene::Scene;
 use crate::Result;
-use features::RasterFeatures;
+use features::{RasterFeatures, DEEP_SELECT_SIZE};
 use layout::{ExactPush, BIN_SIZE, LOOP_BUDGET, OVERFLOW_CROWDED_BIN, RASTER_DISPATCH_BINS_OFFSET};
 use resources::{Capacities, Resources};
 
@@ -314,16 +314,20 @@ impl Method for Exact {
             )));
         }
         // Every fix the frame needs, before the one re-render.
-        let rebuild = counters.homogeneous_count > 0 && !self.features.homogeneous;
-        if rebuild {
-            // The host's estimate missed a near-plane triangle: use the full raster shader.
-            self.features = RasterFeatures {
-                homogeneous: true,
-                ..self.features
-            };
+        let mut features = self.features;
+        // The host's estimate missed a near-plane triangle: the frame needs the full shader.
+        let rebuild = counters.homogeneous_count > 0 && !features.homogeneous;
+        features.homogeneous |= rebuild;
+        // Pixels needed several passes: select more fragments per pass from the next frame
+        // on (this one is right either way).
+        if counters.pass_count > 2 {
+            features.select_size = DEEP_SELECT_SIZE;
+        }
+        if features != self.features {
+            self.features = features;
             let layouts = [&uploaded.layout, &self.resources.layout];
-            self.pipelines[RASTER] = raster_pipeline(&self.gpu, &layouts, &self.features, false)?;
-            self.continuation = raster_pipeline(&self.gpu, &layouts, &self.features, true)?;
+            self.pipelines[RASTER] = raster_pipeline(&self.gpu, &layouts, &features, false)?;
+            self.continuation = raster_pipeline(&self.gpu, &layouts, &features, true)?;
         }
         let grown = self.resources.capacities.grown_for(&counters);
         if let Some(grown) = grown {
