@@ -5,9 +5,11 @@
 #include "layout.glsl"
 #include "exact_layout.glsl"
 
-layout(set = 1, binding = 0, std430) readonly buffer VertexBlock { float g_vertexData[]; };
-layout(set = 1, binding = 1, std430) readonly buffer QuadBlock { uvec4 g_quads[]; };
-layout(set = 1, binding = 2, std430) readonly buffer ExactDrawBlock { ExactDraw g_exactDraws[]; };
+// The scene's vertices (GpuVertex, 3 texels each: position and normal.x, normal.yz and uv,
+// colour), its quads, and the exact draws (5 texels each), read as texels (see below).
+layout(set = 1, binding = 0) uniform usamplerBuffer u_vertexTexels;
+layout(set = 1, binding = 1) uniform usamplerBuffer u_quadTexels;
+layout(set = 1, binding = 2) uniform usamplerBuffer u_exactDrawTexels;
 layout(set = 1, binding = 3, std430) buffer TriangleBlock { ExactTriangle g_triangles[]; };
 layout(set = 1, binding = 4, std430) buffer HomogeneousBlock { ExactHomogeneous g_homogeneous[]; };
 layout(set = 1, binding = 5, std430) buffer CounterBlock { ExactCounters g_counters; };
@@ -45,6 +47,7 @@ layout(set = 1, binding = 21, std430) buffer RasterWorkBlock {
 };
 layout(set = 1, binding = 22, std430) buffer PixelStateBlock { ExactPixelState g_pixelStates[]; };
 layout(set = 1, binding = 23, std430) buffer RasterBinBlock { uint g_rasterBins[]; };
+layout(set = 1, binding = 24) uniform usamplerBuffer u_drawTexels;        // DrawInfo, 9 each
 
 layout(push_constant) uniform ExactPush {
     uint itemCount;         // transparent quads in all draws
@@ -61,25 +64,60 @@ layout(push_constant) uniform ExactPush {
     uint pad2;
 } u_push;
 
-// Position of vertex v.
 vec3 vertexPosition(uint v) {
-    uint o = v * 12u;
-    return vec3(g_vertexData[o], g_vertexData[o + 1u], g_vertexData[o + 2u]);
+    return uintBitsToFloat(texelFetch(u_vertexTexels, int(v) * 3).xyz);
 }
 
 vec3 vertexNormal(uint v) {
-    uint o = v * 12u + 3u;
-    return vec3(g_vertexData[o], g_vertexData[o + 1u], g_vertexData[o + 2u]);
+    uvec4 a = texelFetch(u_vertexTexels, int(v) * 3);
+    uvec4 b = texelFetch(u_vertexTexels, int(v) * 3 + 1);
+    return uintBitsToFloat(uvec3(a.w, b.xy));
 }
 
 vec2 vertexUv(uint v) {
-    uint o = v * 12u + 6u;
-    return vec2(g_vertexData[o], g_vertexData[o + 1u]);
+    return uintBitsToFloat(texelFetch(u_vertexTexels, int(v) * 3 + 1).zw);
 }
 
 vec4 vertexColour(uint v) {
-    uint o = v * 12u + 8u;
-    return vec4(g_vertexData[o], g_vertexData[o + 1u], g_vertexData[o + 2u], g_vertexData[o + 3u]);
+    return uintBitsToFloat(texelFetch(u_vertexTexels, int(v) * 3 + 2));
+}
+
+uvec4 loadQuad(uint i) {
+    return texelFetch(u_quadTexels, int(i));
+}
+
+ExactDraw loadExactDraw(uint i) {
+    int base = int(i) * 5;
+    ExactDraw d;
+    d.mvp = mat4(uintBitsToFloat(texelFetch(u_exactDrawTexels, base)),
+                 uintBitsToFloat(texelFetch(u_exactDrawTexels, base + 1)),
+                 uintBitsToFloat(texelFetch(u_exactDrawTexels, base + 2)),
+                 uintBitsToFloat(texelFetch(u_exactDrawTexels, base + 3)));
+    uvec4 rest = texelFetch(u_exactDrawTexels, base + 4);
+    d.drawIndex = rest.x;
+    d.firstItem = rest.y;
+    d.quadCount = rest.z;
+    d.firstQuad = rest.w;
+    return d;
+}
+
+DrawInfo loadDrawInfo(uint i) {
+    int base = int(i) * 9;
+    DrawInfo d;
+    d.model = mat4(uintBitsToFloat(texelFetch(u_drawTexels, base)),
+                   uintBitsToFloat(texelFetch(u_drawTexels, base + 1)),
+                   uintBitsToFloat(texelFetch(u_drawTexels, base + 2)),
+                   uintBitsToFloat(texelFetch(u_drawTexels, base + 3)));
+    d.normalMatrix = mat4(uintBitsToFloat(texelFetch(u_drawTexels, base + 4)),
+                          uintBitsToFloat(texelFetch(u_drawTexels, base + 5)),
+                          uintBitsToFloat(texelFetch(u_drawTexels, base + 6)),
+                          uintBitsToFloat(texelFetch(u_drawTexels, base + 7)));
+    uvec4 rest = texelFetch(u_drawTexels, base + 8);
+    d.materialIndex = rest.x;
+    d.flags = rest.y;
+    d.firstQuad = rest.z;
+    d.quadCount = rest.w;
+    return d;
 }
 
 // Triangle record i, from u_triangleTexels.

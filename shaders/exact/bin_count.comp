@@ -11,7 +11,7 @@ void main() {
     if (ti >= g_counters.triangleCount) {
         return;
     }
-    ExactTriangle t = g_triangles[ti];
+    ExactTriangle t = loadTriangle(ti);
     ivec4 r = binRect(t.bounds);
     ivec2 rows = sliceRows(r);
     uint touched = 0u;

@@ -18,7 +18,7 @@ uint findDraw(uint item) {
     uint hi = u_push.drawCount - 1u;
     while (lo < hi) {
         uint mid = (lo + hi + 1u) >> 1;
-        if (g_exactDraws[mid].firstItem <= item) {
+        if (texelFetch(u_exactDrawTexels, int(mid) * 5 + 4).y <= item) {
             lo = mid;
         } else {
             hi = mid - 1u;
@@ -198,7 +198,7 @@ bool setupTriangle(vec4 c[3], out ExactTriangle t, out ExactHomogeneous h, out b
 // Everything shading needs of triangle `vi` of draw `d`, so that the raster reads one record.
 // Normals are transformed here exactly as the reference transforms them per fragment.
 ExactAttributes gatherAttributes(ExactDraw d, uvec3 vi) {
-    DrawInfo draw = g_draws[d.drawIndex];
+    DrawInfo draw = loadDrawInfo(d.drawIndex);
     ExactAttributes a;
     a.colour0 = vertexColour(vi.x);
     a.colour1 = vertexColour(vi.y);
@@ -239,10 +239,10 @@ void main() {
         return;
     }
     uint slot = findDraw(item);
-    ExactDraw d = g_exactDraws[slot];
+    ExactDraw d = loadExactDraw(slot);
     uint quadIndex = item - d.firstItem;
-    uvec4 q = g_quads[d.firstQuad + quadIndex];
-    Material m = g_materials[g_draws[d.drawIndex].materialIndex];
+    uvec4 q = loadQuad(d.firstQuad + quadIndex);
+    Material m = loadMaterial(texelFetch(u_drawTexels, int(d.drawIndex) * 9 + 8).x);
     bool cullBack = (m.flags & MATERIAL_DOUBLE_SIDED) == 0u;
     // A quad whose last index repeats a corner is a lone triangle.
     uint subCount = (q.w != q.z && q.w != q.x) ? 2u : 1u;

@@ -121,7 +121,9 @@ impl GpuScene {
         let transparent_quads = u32::try_from(scene.transparent_quads())
             .map_err(|_| crate::Error::InvalidScene("more than 2^32 transparent quads".into()))?;
 
-        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        // Compute methods read the scene through texel views as well.
+        let storage =
+            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER;
         let vertices = gpu.create_buffer_with_data(
             "scene vertices",
             vk::BufferUsageFlags::VERTEX_BUFFER | storage,

@@ -100,8 +100,8 @@ impl Exact {
         let bins_x = width.div_ceil(BIN_SIZE);
         let bins_y = height.div_ceil(BIN_SIZE);
         let capacities = Capacities::initial(uploaded.transparent_quads, bins_x * bins_y, options);
-        let resources = Resources::new(gpu, scene, width, height, capacities)?;
-        let set = resources.descriptor_set(uploaded, targets)?;
+        let resources = Resources::new(gpu, scene, uploaded, width, height, capacities)?;
+        let set = resources.descriptor_set(targets)?;
         let mut features = RasterFeatures::of(scene, width, height);
         features.homogeneous &= !options.assume_fixed_path;
         let layouts = [&uploaded.layout, &resources.layout];
@@ -333,7 +333,7 @@ impl Method for Exact {
         if let Some(grown) = grown {
             log::info!("exact: buffers too small ({counters:?}); growing to {grown:?}");
             self.resources.grow(&self.gpu, grown)?;
-            self.set = self.resources.descriptor_set(uploaded, targets)?;
+            self.set = self.resources.descriptor_set(targets)?;
         }
         // The last dispatch appended to list `continuations % 2`; anything there is unfinished.
         let unfinished = self.resources.resume_count(self.continuations % 2)?;

@@ -104,7 +104,9 @@ impl Viewed {
 pub struct Resources {
     pub capacities: Capacities,
     pub layout: DescriptorLayout,
-    draws: Buffer,
+    draws: Viewed,
+    /// Texel views of the uploaded scene's vertices, quads and draws.
+    scene_views: [BufferView; 3],
     counters: Buffer,
     bin_counts: Buffer,
     bin_offsets: Buffer,
@@ -253,6 +255,7 @@ impl Resources {
     pub fn new(
         gpu: &Gpu,
         scene: &Scene,
+        uploaded: &GpuScene,
         width: u32,
         height: u32,
         capacities: Capacities,
@@ -279,9 +282,9 @@ impl Resources {
         let layout = DescriptorLayout::new(
             gpu,
             &[
-                BindingKind::StorageBuffer,    // 0 vertices
-                BindingKind::StorageBuffer,    // 1 quads
-                BindingKind::StorageBuffer,    // 2 exact draws
+                BindingKind::TexelBuffer,      // 0 vertices
+                BindingKind::TexelBuffer,      // 1 quads
+                BindingKind::TexelBuffer,      // 2 exact draws
                 BindingKind::StorageBuffer,    // 3 triangles
                 BindingKind::StorageBuffer,    // 4 homogeneous
                 BindingKind::StorageBuffer,    // 5 counters
@@ -303,17 +306,19 @@ impl Resources {
                 BindingKind::StorageBuffer,    // 21 resume lists
                 BindingKind::StorageBuffer,    // 22 pixel states
                 BindingKind::StorageBuffer,    // 23 non-empty bins
+                BindingKind::TexelBuffer,      // 24 draws
             ],
             vk::ShaderStageFlags::COMPUTE,
         )?;
         Ok(Self {
             capacities,
             layout,
-            draws: gpu.create_buffer_with_data(
-                "exact draws",
-                STORAGE,
-                bytemuck::cast_slice(&draws),
-            )?,
+            draws: texel_data(gpu, "exact draws", bytemuck::cast_slice(&draws), RGBA32UI)?,
+            scene_views: [
+                gpu.create_buffer_view(&uploaded.vertices, RGBA32UI)?,
+                gpu.create_buffer_view(&uploaded.quads, RGBA32UI)?,
+                gpu.create_buffer_view(&uploaded.draws, RGBA32UI)?,
+            ],
             counters,
             bin_counts: storage_buffer(gpu, "bin counts", bins * 4)?,
             bin_offsets: storage_buffer(gpu, "bin offsets", bins * 4)?,
@@ -348,16 +353,12 @@ impl Resources {
         })
     }
 
-    pub fn descriptor_set(
-        &self,
-        uploaded: &GpuScene,
-        targets: &FrameTargets,
-    ) -> Result<DescriptorSet> {
+    pub fn descriptor_set(&self, targets: &FrameTargets) -> Result<DescriptorSet> {
         let g = &self.growable;
         self.layout.create_set(&[
-            Resource::Buffer(&uploaded.vertices),
-            Resource::Buffer(&uploaded.quads),
-            Resource::Buffer(&self.draws),
+            Resource::TexelBuffer(self.scene_views[0].raw),
+            Resource::TexelBuffer(self.scene_views[1].raw),
+            Resource::TexelBuffer(self.draws.view.raw),
             Resource::Buffer(&g.triangles.buffer),
             Resource::Buffer(&g.homogeneous.buffer),
             Resource::Buffer(&self.counters),
@@ -379,6 +380,7 @@ impl Resources {
             Resource::Buffer(&g.resume),
             Resource::Buffer(&g.pixel_states),
             Resource::Buffer(&self.raster_bins),
+            Resource::TexelBuffer(self.scene_views[2].raw),
         ])
     }
 
