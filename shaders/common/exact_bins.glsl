@@ -6,15 +6,21 @@
 
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 
-// Inclusive bin rectangle (bx0, by0, bx1, by1) of a non-empty pixel rectangle.
+// The bins a non-empty pixel rectangle touches: inclusive block columns (x, z) and pixel
+// rows (y, w).
 ivec4 binRect(ivec4 bounds) {
-    return ivec4(bounds.x >> BIN_SHIFT, bounds.y >> BIN_SHIFT, (bounds.z - 1) >> BIN_SHIFT,
-                 (bounds.w - 1) >> BIN_SHIFT);
+    return ivec4(bounds.x >> BIN_SHIFT, bounds.y, (bounds.z - 1) >> BIN_SHIFT, bounds.w - 1);
 }
 
-// The bin rows of `r` this binning invocation covers. A triangle's bins are split into slices
-// of u_push.binRowsPerSlice rows, one invocation each (gl_GlobalInvocationID.y), so that no
-// invocation loops more than LOOP_BUDGET times however large the triangle and the frame.
+// The bin of block column bx in pixel row y.
+uint binIndex(int bx, int y) {
+    uint block = uint(y >> BIN_SHIFT) * u_push.binsX + uint(bx);
+    return block * BIN_SIZE + uint(y & (BIN_SIZE - 1));
+}
+
+// The pixel rows of `r` this binning invocation covers. A triangle's bins are split into
+// slices of u_push.binRowsPerSlice rows, one invocation each (gl_GlobalInvocationID.y), so
+// that no invocation loops more than LOOP_BUDGET times however large the triangle and frame.
 ivec2 sliceRows(ivec4 r) {
     int rows = int(u_push.binRowsPerSlice);
     int first = int(gl_GlobalInvocationID.y) * rows;

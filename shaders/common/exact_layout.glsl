@@ -4,7 +4,10 @@
 
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 
-// Bins are BIN_SIZE x BIN_SIZE pixels; one workgroup rasterizes one bin.
+// Blocks are BIN_SIZE x BIN_SIZE pixels; one workgroup rasterizes one block, one subgroup-
+// sized row of invocations per row of pixels. Each row of a block is a bin of its own with
+// its own triangle list (bin = block * BIN_SIZE + row), so a row walks only the triangles
+// that touch it.
 #define BIN_SHIFT 3
 #define BIN_SIZE 8
 

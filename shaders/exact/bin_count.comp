@@ -18,11 +18,10 @@ void main() {
     for (int by = rows.x; by <= rows.y; by++) {
         for (int bx = r.x; bx <= r.z; bx++) {
             int x0 = bx << BIN_SHIFT;
-            int y0 = by << BIN_SHIFT;
-            if (!mayCoverRect(t, x0, y0, x0 + BIN_SIZE, y0 + BIN_SIZE)) {
+            if (!mayCoverRect(t, x0, by, x0 + BIN_SIZE, by + 1)) {
                 continue;
             }
-            atomicAdd(g_binCounts[uint(by) * u_push.binsX + uint(bx)], 1u);
+            atomicAdd(g_binCounts[binIndex(bx, by)], 1u);
             touched++;
         }
     }

@@ -1,8 +1,8 @@
 #version 450
 // Binning, pass 2: exclusive prefix sum of the bin counts into bin offsets, by one workgroup:
 // each invocation sums a contiguous run of bins, the runs' sums are scanned in shared memory,
-// then each invocation writes its run's offsets. Non-empty bins are listed for the raster,
-// which runs one workgroup per listed bin.
+// then each invocation writes its run's offsets. Blocks with a non-empty bin are listed for
+// the raster, which runs one workgroup per listed block (runs are whole blocks).
 
 #include "exact_bindings.glsl"
 
@@ -12,8 +12,9 @@ layout(local_size_x = SCAN_SIZE) in;
 shared uint s_runTotals[SCAN_SIZE];
 
 void main() {
-    uint bins = u_push.binsX * u_push.binsY;
-    uint run = (bins + SCAN_SIZE - 1u) / SCAN_SIZE;
+    uint blocks = u_push.binsX * u_push.binsY;
+    uint bins = blocks * BIN_SIZE;
+    uint run = (blocks + SCAN_SIZE - 1u) / SCAN_SIZE * BIN_SIZE;
     uint first = gl_LocalInvocationID.x * run;
     uint last = min(first + run, bins);
     uint sum = 0u;
@@ -32,12 +33,18 @@ void main() {
     }
     barrier();
     uint offset = s_runTotals[gl_LocalInvocationID.x];
+    uint blockEntries = 0u;
     for (uint b = first; b < last; b++) {
         uint count = g_binCounts[b];
         g_binOffsets[b] = offset;
         offset += count;
-        if (count > 0u) {
-            g_rasterBins[atomicAdd(g_rasterDispatch[RASTER_DISPATCH_BINS * 4u], 1u)] = b;
+        blockEntries += count;
+        if (b % BIN_SIZE == BIN_SIZE - 1u) {
+            if (blockEntries > 0u) {
+                uint slot = atomicAdd(g_rasterDispatch[RASTER_DISPATCH_BINS * 4u], 1u);
+                g_rasterBins[slot] = b / BIN_SIZE;
+            }
+            blockEntries = 0u;
         }
     }
 }

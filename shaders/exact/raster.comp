@@ -1,12 +1,13 @@
 #version 450
-// Bin raster: one workgroup per 8x8 bin, one subgroup-sized row of invocations per row of
-// pixels, one invocation per pixel; no shared memory and no barriers.
+// Bin raster: one workgroup per 8x8 block, one subgroup-sized row of invocations per row of
+// pixels, one invocation per pixel; no shared memory and no barriers. Each row has its own
+// bin: the list of triangles that may cover it.
 //
-// Each pixel selects, in one pass over its bin's triangles, the SELECT_SIZE nearest fragments
+// Each pixel selects, in one pass over its row's triangles, the SELECT_SIZE nearest fragments
 // behind the last one it composited, keeping them sorted in registers with a fully unrolled
 // insertion (constant indices only); shades and composites them front to back; and repeats
 // until no fragment is left or transmittance is under the threshold. All invocations walk
-// the bin's list in step. Order is exact by construction: fragments are ranked by
+// the row's list in step. Order is exact by construction: fragments are ranked by
 // (view depth, draw, quad, triangle) like the CPU reference, so no pixel is ever out of order.
 //
 // On CPU drivers such as lavapipe an `if` does not branch: both sides run under a mask, so
@@ -28,9 +29,9 @@
 #include "texture_sampler.glsl"
 #include "shading.glsl"
 
-
-// BIN_SIZE rows per workgroup for the first dispatch (one workgroup per non-empty bin; the
-// others keep the opaque colour); one row (one resumed item) for continuations.
+// BIN_SIZE rows per workgroup for the first dispatch (one workgroup per block with a
+// non-empty bin; the others keep the opaque colour); one row (one resumed item) for
+// continuations.
 layout(local_size_x = BIN_SIZE, local_size_y_id = 5) in;
 
 // What the scene needs, fixed when the pipeline is made. CPU drivers such as lavapipe run
@@ -42,10 +43,10 @@ layout(constant_id = 1) const bool TEXTURES = true;          // some material ha
 layout(constant_id = 2) const bool VERTEX_NORMALS = true;    // some draw has vertex normals
 layout(constant_id = 3) const bool FACE_NORMALS = true;      // some draw has none
 layout(constant_id = 4) const bool CONTINUATION = false;     // resume items of a resume list
-// Fragments selected per pass. Larger means fewer passes over the bin for deep pixels, but a
-// longer insertion for every triangle walked: the host starts at 8 and moves to 16 when
-// pixels needed several passes (at 1280x720 on lavapipe, 16 halves particles, 60 deep, and
-// costs spheres about 10 %).
+// Fragments selected per pass. Larger means fewer passes over the bin for deep pixels, but
+// a longer insertion for every triangle walked: the host starts at 8 and moves to 16 when
+// pixels needed several passes (at 640x360 on lavapipe, 16 makes particles, 60 deep,
+// 1.6x faster and costs spheres about 10 %).
 layout(constant_id = 6) const int SELECT_SIZE = 8;
 
 bool sampleTriangle(ExactTriangle t, uint x, uint y, out RasterSample s) {
@@ -152,20 +153,21 @@ void main() {
     // subgroup there, but once per lane after a branch (an early return counts).
     FrameInfo frame = u_frame;
     uint resumeCapacity = g_counters.resumeCapacity;
-    uint bin;
+    uint block;
     uint row;
     if (CONTINUATION) {
         uint item = g_resumeItems[u_push.resumeList * resumeCapacity + gl_WorkGroupID.x];
-        bin = item / BIN_SIZE;
+        block = item / BIN_SIZE;
         row = item % BIN_SIZE;
     } else {
-        bin = g_rasterBins[gl_WorkGroupID.x];
+        block = g_rasterBins[gl_WorkGroupID.x];
         row = gl_LocalInvocationID.y;
     }
-    uint first = g_binOffsets[bin];
-    uint end = first + g_binCounts[bin];
-    uint x = (bin % u_push.binsX) * BIN_SIZE + gl_LocalInvocationID.x;
-    uint y = (bin / u_push.binsX) * BIN_SIZE + row;
+    // The row's own bin.
+    uint first = g_binOffsets[block * BIN_SIZE + row];
+    uint end = first + g_binCounts[block * BIN_SIZE + row];
+    uint x = (block % u_push.binsX) * BIN_SIZE + gl_LocalInvocationID.x;
+    uint y = (block / u_push.binsX) * BIN_SIZE + row;
     if (x >= u_push.width || y >= u_push.height) {
         return;
     }
@@ -210,7 +212,7 @@ void main() {
             if (subgroupElect()) {
                 slot = atomicAdd(g_rasterDispatch[outList * 4u], 1u);
                 if (slot < resumeCapacity) {
-                    g_resumeItems[outList * resumeCapacity + slot] = bin * BIN_SIZE + row;
+                    g_resumeItems[outList * resumeCapacity + slot] = block * BIN_SIZE + row;
                 } else {
                     // No room: take the item back; the host grows the lists and renders the
                     // frame again.

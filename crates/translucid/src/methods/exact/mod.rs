@@ -4,9 +4,9 @@
 //! Stages (one compute shader each, `shaders/exact/`):
 //! 1. `setup`: per transparent quad, transform, set up its triangles (fixed-point or
 //!    homogeneous), cull, append visible triangles.
-//! 2. `bin_count`, `bin_scan`, `bin_fill`: per 8×8-pixel bin, count the triangles that touch
-//!    it, prefix-sum the counts, fill the per-bin triangle lists.
-//! 3. `raster`: one workgroup per bin, one invocation per pixel; each pixel selects its nearest
+//! 2. `bin_count`, `bin_scan`, `bin_fill`: per bin (one row of an 8×8-pixel block), count the
+//!    triangles that may cover it, prefix-sum the counts, fill the per-bin triangle lists.
+//! 3. `raster`: one workgroup per block with triangles, one invocation per pixel; each pixel selects its nearest
 //!    remaining fragments in registers, composites them front to back over the opaque colour,
 //!    and repeats until none is left (or transmittance is under the threshold). Rows of
 //!    pixels that reach the driver's loop budget are saved and finished by continuation
@@ -233,7 +233,7 @@ impl Method for Exact {
         ctx.timestamps.mark(cmd, "setup");
 
         let triangle_groups = self.resources.capacities.triangles.div_ceil(64).max(1);
-        let slices = self.push.bins_y.div_ceil(self.push.bin_rows_per_slice);
+        let slices = self.push.height.div_ceil(self.push.bin_rows_per_slice);
         self.dispatch(ctx, 1, [triangle_groups, slices, 1]);
         self.compute_to_compute(cmd);
         self.dispatch(ctx, 2, [1, 1, 1]);

@@ -27,11 +27,11 @@ pub struct Capacities {
 }
 
 impl Capacities {
-    /// A first guess from the frame: every quad's two triangles, each touching a few bins.
-    /// Overflow corrects it after one frame.
-    pub fn initial(quads: u32, bins: u32, options: &MethodOptions) -> Self {
+    /// A first guess from the frame: every quad's two triangles, each touching a few bins
+    /// (rows of blocks). Overflow corrects it after one frame.
+    pub fn initial(quads: u32, blocks: u32, options: &MethodOptions) -> Self {
         let triangles = quads.saturating_mul(2).max(1);
-        let rows = bins.saturating_mul(BIN_SIZE);
+        let rows = blocks.saturating_mul(BIN_SIZE);
         Self {
             // Rows only suspend where pixels are hundreds of fragments deep: a sixteenth of
             // the frame's rows to start with.
@@ -46,7 +46,7 @@ impl Capacities {
                 .max(1),
             bin_entries: options
                 .initial_bin_entries
-                .unwrap_or(triangles.saturating_mul(4).max(bins))
+                .unwrap_or(triangles.saturating_mul(8).max(rows))
                 .max(1),
         }
     }
@@ -111,7 +111,7 @@ pub struct Resources {
     bin_counts: Buffer,
     bin_offsets: Buffer,
     bin_cursors: Buffer,
-    /// The non-empty bins, listed by the scan for the raster.
+    /// The blocks with a non-empty bin, listed by the scan for the raster.
     raster_bins: Buffer,
     materials: Viewed,
     textures: Viewed,
@@ -260,8 +260,8 @@ impl Resources {
         height: u32,
         capacities: Capacities,
     ) -> Result<Self> {
-        let bins = u64::from(width.div_ceil(super::BIN_SIZE))
-            * u64::from(height.div_ceil(super::BIN_SIZE));
+        let blocks = u64::from(width.div_ceil(BIN_SIZE)) * u64::from(height.div_ceil(BIN_SIZE));
+        let bins = blocks * u64::from(BIN_SIZE);
         let draws = exact_draws(scene, width, height);
         let (texture_infos, texels) = texture_data(scene);
         let materials: Vec<GpuMaterial> = scene.materials.iter().map(GpuMaterial::new).collect();
@@ -323,7 +323,7 @@ impl Resources {
             bin_counts: storage_buffer(gpu, "bin counts", bins * 4)?,
             bin_offsets: storage_buffer(gpu, "bin offsets", bins * 4)?,
             bin_cursors: storage_buffer(gpu, "bin cursors", bins * 4)?,
-            raster_bins: storage_buffer(gpu, "non-empty bins", bins * 4)?,
+            raster_bins: storage_buffer(gpu, "non-empty blocks", blocks * 4)?,
             materials: texel_data(
                 gpu,
                 "exact materials",
