@@ -207,8 +207,8 @@ fn exact_finishes_pixels_deeper_than_the_loop_limit() {
     assert!(frame.rerenders >= 1, "the resume lists did not overflow");
 }
 
-/// When the host's estimate leaves the near-plane path out of the raster shader and setup
-/// meets such a triangle anyway, the shader is rebuilt and the frame rendered again.
+/// When the host's estimate leaves the near-plane path out of the setup and raster shaders
+/// and setup meets such a triangle anyway, they are rebuilt and the frame rendered again.
 #[test]
 fn exact_rebuilds_the_raster_shader_for_unexpected_near_plane_triangles() {
     let options = MethodOptions {
@@ -222,9 +222,12 @@ fn exact_rebuilds_the_raster_shader_for_unexpected_near_plane_triangles() {
         119,
         &options,
     );
-    assert_eq!(
-        frame.rerenders, 1,
-        "the fallback should render the frame exactly once more"
+    // Once to rebuild; setup skipped the near-plane triangle in the first frame, so the bin
+    // lists may only learn their size in the second.
+    assert!(
+        (1..=2).contains(&frame.rerenders),
+        "the fallback should render the frame once or twice more, not {} times",
+        frame.rerenders
     );
 }
 

@@ -12,6 +12,12 @@
 
 layout(local_size_x = 64) in;
 
+// Whether the homogeneous (near-plane, guard-band) path is compiled in. Both sides of an `if`
+// run on CPU drivers, so the host leaves it out when no mesh can need it; a triangle that
+// needs it anyway is only counted, and the host rebuilds this shader and the raster with
+// the path and renders the frame again.
+layout(constant_id = 0) const bool HOMOGENEOUS_PATH = true;
+
 // The transparent draw holding global quad `item` (draws are sorted by firstItem).
 uint findDraw(uint item) {
     uint lo = 0u;
@@ -139,6 +145,9 @@ bool setupTriangle(vec4 c[3], out ExactTriangle t, out ExactHomogeneous h, out b
         precise vec4 invW = vec4(1.0 / c[0].w, 1.0 / c[1].w, 1.0 / c[2].w, 0.0);
         t.invW = invW;
         front = area2 < 0;
+    } else if (!HOMOGENEOUS_PATH) {
+        atomicAdd(g_counters.homogeneousCount, 1u);
+        return false;
     } else {
         homogeneous = true;
         dvec2 dsize = dvec2(size);

@@ -60,10 +60,25 @@ pub struct Exact {
     features: RasterFeatures,
 }
 
+const SETUP: usize = 0;
 const RASTER: usize = 4;
 /// With about 60,000 loop iterations each, this many continuations finish any pixel this
 /// method can render in reasonable time; past it the frame fails with an error.
 const MAX_CONTINUATIONS: u32 = 64;
+
+fn setup_pipeline(
+    gpu: &Gpu,
+    layouts: &[&crate::gpu::DescriptorLayout],
+    features: &RasterFeatures,
+) -> Result<ComputePipeline> {
+    ComputePipeline::specialized(
+        gpu,
+        STAGES[SETUP].1,
+        layouts,
+        std::mem::size_of::<ExactPush>() as u32,
+        &[u32::from(features.homogeneous)],
+    )
+}
 
 fn raster_pipeline(
     gpu: &Gpu,
@@ -108,18 +123,16 @@ impl Exact {
         let pipelines = STAGES
             .iter()
             .enumerate()
-            .map(|(i, (_, spirv))| {
-                if i == RASTER {
-                    raster_pipeline(gpu, &layouts, &features, false)
-                } else {
-                    ComputePipeline::specialized(
-                        gpu,
-                        spirv,
-                        &layouts,
-                        std::mem::size_of::<ExactPush>() as u32,
-                        &[],
-                    )
-                }
+            .map(|(i, (_, spirv))| match i {
+                SETUP => setup_pipeline(gpu, &layouts, &features),
+                RASTER => raster_pipeline(gpu, &layouts, &features, false),
+                _ => ComputePipeline::specialized(
+                    gpu,
+                    spirv,
+                    &layouts,
+                    std::mem::size_of::<ExactPush>() as u32,
+                    &[],
+                ),
             })
             .collect::<Result<Vec<_>>>()?;
         let continuation = raster_pipeline(gpu, &layouts, &features, true)?;
@@ -315,7 +328,7 @@ impl Method for Exact {
         }
         // Every fix the frame needs, before the one re-render.
         let mut features = self.features;
-        // The host's estimate missed a near-plane triangle: the frame needs the full shader.
+        // The host's estimate missed a near-plane triangle: the frame needs the full shaders.
         let rebuild = counters.homogeneous_count > 0 && !features.homogeneous;
         features.homogeneous |= rebuild;
         // Pixels needed several passes: select more fragments per pass from the next frame
@@ -326,6 +339,9 @@ impl Method for Exact {
         if features != self.features {
             self.features = features;
             let layouts = [&uploaded.layout, &self.resources.layout];
+            if rebuild {
+                self.pipelines[SETUP] = setup_pipeline(&self.gpu, &layouts, &features)?;
+            }
             self.pipelines[RASTER] = raster_pipeline(&self.gpu, &layouts, &features, false)?;
             self.continuation = raster_pipeline(&self.gpu, &layouts, &features, true)?;
         }
