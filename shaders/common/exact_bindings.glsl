@@ -86,13 +86,18 @@ uvec4 loadQuad(uint i) {
     return texelFetch(u_quadTexels, int(i));
 }
 
+// The mat4 whose columns are texels first .. first + 3 of `texels`.
+mat4 fetchMat4(usamplerBuffer texels, int first) {
+    return mat4(uintBitsToFloat(texelFetch(texels, first)),
+                uintBitsToFloat(texelFetch(texels, first + 1)),
+                uintBitsToFloat(texelFetch(texels, first + 2)),
+                uintBitsToFloat(texelFetch(texels, first + 3)));
+}
+
 ExactDraw loadExactDraw(uint i) {
     int base = int(i) * 5;
     ExactDraw d;
-    d.mvp = mat4(uintBitsToFloat(texelFetch(u_exactDrawTexels, base)),
-                 uintBitsToFloat(texelFetch(u_exactDrawTexels, base + 1)),
-                 uintBitsToFloat(texelFetch(u_exactDrawTexels, base + 2)),
-                 uintBitsToFloat(texelFetch(u_exactDrawTexels, base + 3)));
+    d.mvp = fetchMat4(u_exactDrawTexels, base);
     uvec4 rest = texelFetch(u_exactDrawTexels, base + 4);
     d.drawIndex = rest.x;
     d.firstItem = rest.y;
@@ -104,14 +109,8 @@ ExactDraw loadExactDraw(uint i) {
 DrawInfo loadDrawInfo(uint i) {
     int base = int(i) * 9;
     DrawInfo d;
-    d.model = mat4(uintBitsToFloat(texelFetch(u_drawTexels, base)),
-                   uintBitsToFloat(texelFetch(u_drawTexels, base + 1)),
-                   uintBitsToFloat(texelFetch(u_drawTexels, base + 2)),
-                   uintBitsToFloat(texelFetch(u_drawTexels, base + 3)));
-    d.normalMatrix = mat4(uintBitsToFloat(texelFetch(u_drawTexels, base + 4)),
-                          uintBitsToFloat(texelFetch(u_drawTexels, base + 5)),
-                          uintBitsToFloat(texelFetch(u_drawTexels, base + 6)),
-                          uintBitsToFloat(texelFetch(u_drawTexels, base + 7)));
+    d.model = fetchMat4(u_drawTexels, base);
+    d.normalMatrix = fetchMat4(u_drawTexels, base + 4);
     uvec4 rest = texelFetch(u_drawTexels, base + 8);
     d.materialIndex = rest.x;
     d.flags = rest.y;

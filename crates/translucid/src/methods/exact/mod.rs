@@ -66,18 +66,28 @@ const RASTER: usize = 4;
 /// method can render in reasonable time; past it the frame fails with an error.
 const MAX_CONTINUATIONS: u32 = 64;
 
+/// Exact stage `stage` specialized with `constants` (constant_id i = constants[i]).
+fn stage_pipeline(
+    gpu: &Gpu,
+    layouts: &[&crate::gpu::DescriptorLayout],
+    stage: usize,
+    constants: &[u32],
+) -> Result<ComputePipeline> {
+    ComputePipeline::specialized(
+        gpu,
+        STAGES[stage].1,
+        layouts,
+        std::mem::size_of::<ExactPush>() as u32,
+        constants,
+    )
+}
+
 fn setup_pipeline(
     gpu: &Gpu,
     layouts: &[&crate::gpu::DescriptorLayout],
     features: &RasterFeatures,
 ) -> Result<ComputePipeline> {
-    ComputePipeline::specialized(
-        gpu,
-        STAGES[SETUP].1,
-        layouts,
-        std::mem::size_of::<ExactPush>() as u32,
-        &[u32::from(features.homogeneous)],
-    )
+    stage_pipeline(gpu, layouts, SETUP, &[u32::from(features.homogeneous)])
 }
 
 fn raster_pipeline(
@@ -86,13 +96,7 @@ fn raster_pipeline(
     features: &RasterFeatures,
     continuation: bool,
 ) -> Result<ComputePipeline> {
-    ComputePipeline::specialized(
-        gpu,
-        STAGES[RASTER].1,
-        layouts,
-        std::mem::size_of::<ExactPush>() as u32,
-        &features.constants(continuation),
-    )
+    stage_pipeline(gpu, layouts, RASTER, &features.constants(continuation))
 }
 
 impl Exact {
@@ -123,16 +127,10 @@ impl Exact {
         let pipelines = STAGES
             .iter()
             .enumerate()
-            .map(|(i, (_, spirv))| match i {
+            .map(|(i, _)| match i {
                 SETUP => setup_pipeline(gpu, &layouts, &features),
                 RASTER => raster_pipeline(gpu, &layouts, &features, false),
-                _ => ComputePipeline::specialized(
-                    gpu,
-                    spirv,
-                    &layouts,
-                    std::mem::size_of::<ExactPush>() as u32,
-                    &[],
-                ),
+                _ => stage_pipeline(gpu, &layouts, i, &[]),
             })
             .collect::<Result<Vec<_>>>()?;
         let continuation = raster_pipeline(gpu, &layouts, &features, true)?;
