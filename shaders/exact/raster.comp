@@ -137,10 +137,13 @@ void shadeFragment(ExactTriangle t, ExactAttributes a, uint x, uint y, RasterSam
     shadeTransparent(m, frame, colour, texel, normal, radiance, transmittance);
 }
 
-// (depth, order) < (depth2, order2)
-bool keyLess(uint d, uint o, uint d2, uint o2) {
-    return d < d2 || (d == d2 && o < o2);
+// A fragment's rank as one number: view depth bits (positive floats order like their bits),
+// then the order key. One 64-bit compare instead of three 32-bit ones in the insertion.
+uint64_t fragmentKey(uint depthBits, uint order) {
+    return (uint64_t(depthBits) << 32) | uint64_t(order);
 }
+
+const uint64_t NO_KEY = 0xFFFFFFFFFFFFFFFFul;
 
 // Loop iterations one selection pass may take, counted generously: the walk, the shading
 // loop, and the software sampler's mip loops.
@@ -175,10 +178,9 @@ void main() {
 
     vec3 radiance = vec3(0.0);
     vec3 transmittance = vec3(1.0);
-    // Fragments up to and including (doneDepth, doneOrder) are composited.
-    uint doneDepth = 0u;
-    uint doneOrder = 0u;
-    bool started = false;
+    // Fragments up to and including doneKey are composited (0: none yet; no fragment has
+    // depth 0).
+    uint64_t doneKey = 0ul;
     // Finished pixels wait for the rest of their row, so that a row is suspended and resumed
     // whole.
     bool finished = false;
@@ -187,10 +189,8 @@ void main() {
         ExactPixelState state = g_pixelStates[item * BIN_SIZE + gl_LocalInvocationID.x];
         radiance = state.radiance.xyz;
         transmittance = state.transmittance.xyz;
-        doneDepth = state.done.x;
-        doneOrder = state.done.y;
+        doneKey = fragmentKey(state.done.x, state.done.y);
         finished = state.done.z != 0u;
-        started = true;
     }
     uint passes = 0u;
     uint fragments = 0u;
@@ -226,18 +226,16 @@ void main() {
                 uint state = (outList * resumeCapacity + slot) * BIN_SIZE + gl_LocalInvocationID.x;
                 g_pixelStates[state] = ExactPixelState(
                     vec4(radiance, 0.0), vec4(transmittance, 0.0),
-                    uvec4(doneDepth, doneOrder, finished ? 1u : 0u, 0u));
+                    uvec4(unpackUint2x32(doneKey).yx, finished ? 1u : 0u, 0u));
             }
             suspended = true;
             break;
         }
         spent += passCost;
-        uint selDepth[SELECT_SIZE];
-        uint selOrder[SELECT_SIZE];
+        uint64_t selKey[SELECT_SIZE];
         uint selTri[SELECT_SIZE];
         [[unroll]] for (int k = 0; k < SELECT_SIZE; k++) {
-            selDepth[k] = 0xFFFFFFFFu;
-            selOrder[k] = 0xFFFFFFFFu;
+            selKey[k] = NO_KEY;
             selTri[k] = 0u;
         }
         uint found = 0u;
@@ -255,24 +253,21 @@ void main() {
                 bool covered = inBox && coversFixed(t, x, y, edges);
                 take = covered && interpolateFixed(t, edges, s);
             }
-            uint d = floatBitsToUint(s.viewDepth);
-            uint o = t.ids.w;
-            take = take && !finished && s.zNdc < opaqueDepth &&
-                   (!started || keyLess(doneDepth, doneOrder, d, o));
+            uint64_t key = fragmentKey(floatBitsToUint(s.viewDepth), t.ids.w);
+            take = take && !finished && s.zNdc < opaqueDepth && key > doneKey;
             found += take ? 1u : 0u;
-            bool insert = take && keyLess(d, o, selDepth[SELECT_SIZE - 1], selOrder[SELECT_SIZE - 1]);
             // Insert, dropping the last: each slot takes its left neighbour, the new key, or
-            // keeps its own, walking right to left (left neighbours are still unchanged).
+            // keeps its own, walking right to left (left neighbours are still unchanged). A
+            // fragment not taken has NO_KEY, which sorts before no slot.
+            key = take ? key : NO_KEY;
             [[unroll]] for (int k = SELECT_SIZE - 1; k > 0; k--) {
-                bool shift = insert && keyLess(d, o, selDepth[k - 1], selOrder[k - 1]);
-                bool here = insert && !shift && keyLess(d, o, selDepth[k], selOrder[k]);
-                selDepth[k] = shift ? selDepth[k - 1] : (here ? d : selDepth[k]);
-                selOrder[k] = shift ? selOrder[k - 1] : (here ? o : selOrder[k]);
+                bool shift = key < selKey[k - 1];
+                bool here = key < selKey[k];
+                selKey[k] = shift ? selKey[k - 1] : (here ? key : selKey[k]);
                 selTri[k] = shift ? selTri[k - 1] : (here ? ti : selTri[k]);
             }
-            if (insert && keyLess(d, o, selDepth[0], selOrder[0])) {
-                selDepth[0] = d;
-                selOrder[0] = o;
+            if (key < selKey[0]) {
+                selKey[0] = key;
                 selTri[0] = ti;
             }
         }
@@ -288,16 +283,13 @@ void main() {
             shadeFragment(t, loadAttributes(selTri[0]), x, y, s, frame, l, tr);
             radiance += transmittance * l;
             transmittance *= tr;
-            doneDepth = selDepth[0];
-            doneOrder = selOrder[0];
+            doneKey = selKey[0];
             [[unroll]] for (int k = 0; k < SELECT_SIZE - 1; k++) {
-                selDepth[k] = selDepth[k + 1];
-                selOrder[k] = selOrder[k + 1];
+                selKey[k] = selKey[k + 1];
                 selTri[k] = selTri[k + 1];
             }
         }
         fragments += count;
-        started = true;
         bool opaqueEnough = u_push.threshold > 0.0 && all(lessThan(transmittance, vec3(u_push.threshold)));
         finished = finished || found <= uint(SELECT_SIZE) || opaqueEnough;
     }
