@@ -9,6 +9,7 @@
 
 mod blend;
 pub mod exact;
+pub mod wavelet;
 
 use crate::gpu::{vk, Gpu, Timestamps};
 use crate::renderer::{FrameTargets, GpuScene};

@@ -1,0 +1,3 @@
+//! `wavelet`: Haar-wavelet transmittance OIT (see DESIGN.md, "Wavelet OIT").
+
+pub mod math;
