@@ -118,22 +118,22 @@ pub fn add_event(coefficients: &mut [Vec3], rank: u32, p: f32, absorbance: Vec3)
     }
 }
 
-/// The inverse Haar transform: the N cell averages of the absorbance staircase.
+/// The inverse Haar transform: the N cell averages of the absorbance staircase. Cell `m` is
+/// the scaling coefficient plus, per level, the wavelet covering it, signed + in the first
+/// half of its support (the shader's form: constant indices, no pyramid of temporaries).
 pub fn synthesize(coefficients: &[Vec3], rank: u32) -> Vec<Vec3> {
-    let mut cells = vec![coefficients[0]];
-    for level in 0..=rank {
-        let scale = level_scale(level).recip();
-        let first = 1usize << level;
-        cells = cells
-            .iter()
-            .enumerate()
-            .flat_map(|(k, &v)| {
-                let d = coefficients[first + k] * scale;
-                [v + d, v - d]
-            })
-            .collect();
-    }
-    cells
+    (0..coefficient_count(rank))
+        .map(|m| {
+            let mut v = coefficients[0];
+            for level in 0..=rank {
+                let shift = rank - level;
+                let k = m >> (shift + 1);
+                let sign = if (m >> shift) & 1 == 0 { 1.0 } else { -1.0 };
+                v += coefficients[(1 << level) + k] * (sign * (0.5 * level as f32).exp2());
+            }
+            v
+        })
+        .collect()
 }
 
 /// Absorbance in front of cell-space position `p`, from the cell averages.
@@ -219,7 +219,10 @@ mod tests {
                     let q = j as f32 / 200.0 * (n - 1) as f32;
                     let got = absorbance_at(&cells, q);
                     if q <= cell {
-                        assert!(close(got, Vec3::ZERO, 1e-5), "rank {rank} v {v} q {q}: {got}");
+                        assert!(
+                            close(got, Vec3::ZERO, 1e-5),
+                            "rank {rank} v {v} q {q}: {got}"
+                        );
                     } else if q >= cell + 2.0 {
                         assert!(close(got, a, 1e-5), "rank {rank} v {v} q {q}: {got}");
                     } else {
@@ -277,7 +280,10 @@ mod tests {
             let cells = cells_of(&events, rank);
             let behind = transmittance(absorbance_behind_all(&cells));
             let want = product.max(Vec3::splat(MIN_TRANSMITTANCE));
-            assert!(close(behind, want, 1e-5), "rank {rank}: {behind} vs {product}");
+            assert!(
+                close(behind, want, 1e-5),
+                "rank {rank}: {behind} vs {product}"
+            );
             // And from two cell boundaries past the last event to the far end.
             let last_cell = cell_position(0.61, rank).floor() + 2.0;
             if last_cell <= (n - 1) as f32 {
@@ -296,7 +302,10 @@ mod tests {
             let cells = cells_of(&[(0.37, Vec3::ONE)], rank);
             for (m, c) in cells.iter().enumerate() {
                 let want = ((m + 1) as f32 - p).clamp(0.0, 1.0);
-                assert!((c.x - want).abs() < 1e-5, "rank {rank} cell {m}: {c} vs {want}");
+                assert!(
+                    (c.x - want).abs() < 1e-5,
+                    "rank {rank} cell {m}: {c} vs {want}"
+                );
             }
         }
     }

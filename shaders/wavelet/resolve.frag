@@ -1,0 +1,33 @@
+#version 450
+// Pass 3, full screen: dims the opaque layer by the transmittance behind every transparent
+// fragment (MULTIPLY blend into the frame colour) and writes the wavelet depth buffer: the
+// opaque depth, or nearer, the depth at which every channel is absorbed. The shading pass
+// tests against it, so hidden fragments are rejected before they are shaded.
+
+#define WAVELET_READ_SET 0
+#include "wavelet_read.glsl"
+
+layout(set = 0, binding = 2) uniform sampler2D u_opaqueDepth;
+
+layout(location = 0) out vec4 o_transmittance;
+
+void main() {
+    ivec2 pixel = ivec2(gl_FragCoord.xy);
+    vec3 cells[WAVELET_MAX_COUNT];
+    waveletLoadCells(pixel, cells);
+    o_transmittance = vec4(waveletTransmittance(waveletAbsorbanceBehindAll(cells)), 1.0);
+
+    float depth = texelFetch(u_opaqueDepth, pixel, 0).x;
+    float p = waveletOpaquePosition(cells, WAVELET_ABSORBED);
+    if (p >= 0.0) {
+        // Noise only moves positions forward, by at most WAVELET_NOISE * noise cells: undo
+        // that much so the cut is never in front of the true crossing.
+        float last = float(WAVELET_COUNT - 1);
+        float slack = clamp(WAVELET_NOISE, 0.0, 0.5 * last) * waveletPixelNoise(uvec2(pixel));
+        float v = min((p + slack) / last, 1.0);
+        vec2 b = waveletBounds(pixel);
+        float viewDepth = b.x + v * (b.y - b.x);
+        depth = min(depth, DEPTH_A - DEPTH_B / viewDepth);
+    }
+    gl_FragDepth = depth;
+}
