@@ -1,7 +1,7 @@
 //! The `wavelet` method on the CPU, pass for pass like its shaders, over the reference's
 //! fragments: a test requires the GPU image to match it within 2/255. It keeps the GPU's
-//! storage: half-float coefficients are rounded after every addition, in submission order,
-//! as the blend into an RGBA16F target rounds them.
+//! storage: half-float coefficients and the RGBA16F frame colour are rounded after every
+//! addition, in submission order, as blending into those targets rounds them.
 
 #![deny(unsafe_code)]
 
@@ -11,6 +11,22 @@ use crate::image::{Image, OpaqueLayer};
 use crate::reference::{self, PixelFragment};
 use crate::scene::Scene;
 use glam::Vec3;
+
+/// `v` stored in an RGBA16F target by a blend. Lavapipe rounds towards zero there (measured:
+/// rounding to nearest leaves the model further from the GPU than not rounding at all).
+fn half_floats(v: Vec3) -> Vec3 {
+    v.to_array().map(half_towards_zero).into()
+}
+
+fn half_towards_zero(x: f32) -> f32 {
+    let h = half::f16::from_f32(x);
+    if h.is_finite() && h.to_f32().abs() > x.abs() {
+        // Sign and magnitude: one less in the bits is one step towards zero.
+        half::f16::from_bits(h.to_bits() - 1).to_f32()
+    } else {
+        h.to_f32()
+    }
+}
 
 /// What the model needs besides the fragments: the settings and the camera's depth mapping.
 #[derive(Clone, Copy, Debug)]
@@ -34,7 +50,7 @@ impl Model {
     fn store(&self, v: Vec3) -> Vec3 {
         match self.settings.precision {
             Precision::Single => v,
-            Precision::Half => v.to_array().map(|c| half::f16::from_f32(c).to_f32()).into(),
+            Precision::Half => half_floats(v),
         }
     }
 
@@ -60,7 +76,9 @@ impl Model {
         }
         let cells = math::synthesize(&coefficients, rank);
         // Pass 3: the opaque layer dimmed, and the depth from which nothing is visible.
-        let mut colour = math::transmittance(math::absorbance_behind_all(&cells)) * opaque;
+        // The frame colour is RGBA16F: every blend into it rounds.
+        let mut colour =
+            half_floats(math::transmittance(math::absorbance_behind_all(&cells)) * opaque);
         let cut = math::opaque_position(&cells, -ABSORBED_TRANSMITTANCE.ln()).map(|p| {
             let last = (math::coefficient_count(rank) - 1) as f32;
             let slack = noise.clamp(0.0, 0.5 * last) * pixel_noise;
@@ -74,7 +92,7 @@ impl Model {
             }
             let own = math::absorbance(f.fragment.transmittance);
             let in_front = math::absorbance_in_front(&cells, position(f), own);
-            colour += f.fragment.radiance * math::transmittance(in_front);
+            colour = half_floats(colour + f.fragment.radiance * math::transmittance(in_front));
         }
         colour
     }
