@@ -157,3 +157,58 @@ fn wboit_matches_its_cpu_model() {
         assert_matches(&label, &m, name == "particles");
     }
 }
+
+/// (scene, method, wavelet rank, PSNR floor in dB, PSNR measured when the floor was set) at
+/// 213×131 against the exact reference. Floors sit 1 dB under the measurement.
+const FLOORS: &[(&str, &str, u32, f32, f32)] = &[
+    ("spheres", "wavelet", 3, 45.3, 46.27),
+    ("spheres", "wavelet", 1, 38.0, 39.03),
+    ("spheres", "wboit", 0, 36.2, 37.22),
+    ("particles", "wavelet", 3, 50.5, 51.50),
+    ("particles", "wavelet", 1, 29.4, 30.44),
+    ("particles", "wboit", 0, 38.7, 39.73),
+    ("planes", "wavelet", 3, 48.0, 48.95),
+    ("planes", "wavelet", 1, 38.6, 39.58),
+    ("planes", "wboit", 0, 31.4, 32.36),
+    ("polychrome", "wavelet", 3, 80.9, 81.94),
+    ("polychrome", "wboit", 0, 45.8, 46.81),
+    ("GlassVaseFlowers", "wavelet", 3, 78.7, 79.70),
+    ("GlassVaseFlowers", "wboit", 0, 68.7, 69.67),
+];
+
+fn load(name: &str) -> Scene {
+    if name == "GlassVaseFlowers" {
+        let path = asset("GlassVaseFlowers/GlassVaseFlowers.glb");
+        scene::load(path.to_str().expect("utf-8 path")).expect("vendored scene")
+    } else {
+        scene::load(name).expect("generated scene")
+    }
+}
+
+#[test]
+fn approximate_methods_stay_above_their_psnr_floors() {
+    let gpu = gpu();
+    let mut failures = Vec::new();
+    for &(name, method, rank, floor, measured) in FLOORS {
+        let scene = load(name);
+        let options = wavelet_options(rank, 0.0, Precision::Half);
+        let frame = render(&gpu, &scene, method, &options);
+        let opaque = frame.opaque.as_ref().expect("opaque layer");
+        let expected = translucid::reference::render(&scene, opaque).expect("reference");
+        let m = metrics::compare(&frame.image, &expected).expect("same size");
+        eprintln!("{name} {method} rank {rank}: {:.2} dB", m.psnr);
+        if !(m.psnr >= floor) {
+            save_failure(
+                &format!("psnr_{name}_{method}{rank}"),
+                &frame.image,
+                &expected,
+            );
+            failures.push(format!(
+                "{name} with {method} (rank {rank}): {:.2} dB, under its floor {floor} dB \
+                 (measured {measured} dB when set)",
+                m.psnr
+            ));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}

@@ -118,13 +118,15 @@ void waveletSynthesize(vec3 c[WAVELET_MAX_COUNT], out vec3 cells[WAVELET_MAX_COU
     }
 }
 
-// Absorbance in front of cell position p, minus `own * t * (1 - t)` (a fragment's own share;
-// pass vec3(0) for none). Selects over constant indices pick the two cells.
+// Absorbance in front of cell position p, minus the share of the fragment's own event of
+// absorbance `own` (pass vec3(0) for none). Cell averages sit at the middles of their cells;
+// selects over constant indices pick the two around p.
 vec3 waveletAbsorbanceAt(vec3 cells[WAVELET_MAX_COUNT], float p, vec3 own) {
     float last = float(WAVELET_COUNT - 1);
     p = clamp(p, 0.0, last);
-    float fm = min(floor(p), last);
-    float t = p - fm;
+    float q = p + 0.5;
+    float fm = min(floor(q), last);
+    float t = q - fm;
     int m = int(fm);
     vec3 before = vec3(0.0);
     vec3 here = vec3(0.0);
@@ -132,7 +134,10 @@ vec3 waveletAbsorbanceAt(vec3 cells[WAVELET_MAX_COUNT], float p, vec3 own) {
         before = (i == m - 1) ? cells[i] : before;
         here = (i == m) ? cells[i] : here;
     }
-    return max(mix(before, here, t) - own * (t * (1.0 - t)), vec3(0.0));
+    float ownBefore = clamp(fm - p, 0.0, 1.0);
+    float ownHere = clamp(fm + 1.0 - p, 0.0, 1.0);
+    vec3 share = own * (ownBefore + (ownHere - ownBefore) * t);
+    return max(mix(before, here, t) - share, vec3(0.0));
 }
 
 vec3 waveletAbsorbanceBehindAll(vec3 cells[WAVELET_MAX_COUNT]) {
@@ -143,25 +148,15 @@ vec3 waveletAbsorbanceBehindAll(vec3 cells[WAVELET_MAX_COUNT]) {
     return last;
 }
 
-// First cell position where every channel reaches `limit`, or a negative value if none
-// before the farthest fragment.
+// The cell position from which fragments are hidden: the end of the first cell whose average
+// reaches `limit` in every channel; negative if none does before the farthest fragment.
 float waveletOpaquePosition(vec3 cells[WAVELET_MAX_COUNT], float limit) {
-    vec3 crossing = vec3(-1.0);
-    vec3 before = vec3(0.0);
-    for (int m = 0; m < WAVELET_COUNT - 1; m++) {
-        vec3 after = cells[m];
-        for (int ch = 0; ch < 3; ch++) {
-            if (crossing[ch] < 0.0 && after[ch] >= limit) {
-                float rise = after[ch] - before[ch];
-                float t = rise > 0.0 ? clamp((limit - before[ch]) / rise, 0.0, 1.0) : 0.0;
-                crossing[ch] = float(m) + t;
-            }
-        }
-        before = after;
+    float cut = -1.0;
+    for (int k = 0; k < WAVELET_COUNT - 1; k++) {
+        bool absorbed = all(greaterThanEqual(cells[k], vec3(limit)));
+        cut = (cut < 0.0 && absorbed) ? float(k + 1) : cut;
     }
-    return min(crossing.x, min(crossing.y, crossing.z)) < 0.0
-               ? -1.0
-               : max(crossing.x, max(crossing.y, crossing.z));
+    return cut;
 }
 
 #endif
