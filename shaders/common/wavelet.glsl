@@ -1,19 +1,26 @@
 // Haar-wavelet absorbance, mirroring crates/translucid/src/methods/wavelet/math.rs function
 // for function (read its module doc first). Coefficients are RGB per index; on the GPU they
 // are packed densely, slot 3*i + channel, four slots per texel of the coefficient images.
-// Every loop has a constant trip count once the specialization constants are set, so the
-// driver unrolls it and every array index below is a constant: no run-time indexed arrays.
+// The rank is a compile-time define (one SPIR-V per rank, from the thin front files in
+// shaders/wavelet/): every loop has a constant trip count and is unrolled by glslc, so every
+// array index below is a constant and nothing is a run-time indexed array. (With the rank as
+// a specialization constant, lavapipe kept some loops and the passes took 15-25 % longer.)
 #ifndef TRANSLUCID_WAVELET_GLSL
 #define TRANSLUCID_WAVELET_GLSL
 
+#extension GL_EXT_control_flow_attributes : require
+
+#ifndef WAVELET_RANK
+#error "define WAVELET_RANK (0 to 3) before including wavelet.glsl"
+#endif
+
 // Specialization constants of every wavelet pass. Host mirror: SpecConstants in
 // crates/translucid/src/methods/wavelet/layout.rs (a test compares the two).
-layout(constant_id = 0) const int WAVELET_RANK = 3;
-layout(constant_id = 1) const int WAVELET_FIRST_TEXEL = 0;  // accumulation: first texel written
-layout(constant_id = 2) const float WAVELET_NOISE = 0.0;    // depth noise strength, in cells
-layout(constant_id = 3) const float WAVELET_ABSORBED = 7.6; // absorbance treated as opaque
-layout(constant_id = 4) const float DEPTH_A = 1.0;          // device depth = A - B / view depth
-layout(constant_id = 5) const float DEPTH_B = 0.0;
+layout(constant_id = 0) const int WAVELET_FIRST_TEXEL = 0;  // accumulation: first texel written
+layout(constant_id = 1) const float WAVELET_NOISE = 0.0;    // depth noise strength, in cells
+layout(constant_id = 2) const float WAVELET_ABSORBED = 7.6; // absorbance treated as opaque
+layout(constant_id = 3) const float DEPTH_A = 1.0;          // device depth = A - B / view depth
+layout(constant_id = 4) const float DEPTH_B = 0.0;
 
 const int WAVELET_COUNT = 2 << WAVELET_RANK;
 const int WAVELET_SLOTS = 3 * WAVELET_COUNT;
@@ -89,11 +96,11 @@ vec4 waveletAddendTexel(int t, float p, vec3 a) {
 
 // Unpacks texels into coefficients (only the first WAVELET_TEXELS are read).
 void waveletUnpack(vec4 texels[WAVELET_MAX_TEXELS], out vec3 c[WAVELET_MAX_COUNT]) {
-    for (int i = 0; i < WAVELET_MAX_COUNT; i++) {
+    [[unroll]] for (int i = 0; i < WAVELET_MAX_COUNT; i++) {
         c[i] = vec3(0.0);
     }
-    for (int i = 0; i < WAVELET_COUNT; i++) {
-        for (int ch = 0; ch < 3; ch++) {
+    [[unroll]] for (int i = 0; i < WAVELET_COUNT; i++) {
+        [[unroll]] for (int ch = 0; ch < 3; ch++) {
             int s = 3 * i + ch;
             c[i][ch] = texels[s / 4][s % 4];
         }
@@ -103,12 +110,12 @@ void waveletUnpack(vec4 texels[WAVELET_MAX_TEXELS], out vec3 c[WAVELET_MAX_COUNT
 // The inverse Haar transform: cell m = c0 + sum over levels of the signed, scaled wavelet
 // coefficient covering it (+ in the first half of the wavelet's support).
 void waveletSynthesize(vec3 c[WAVELET_MAX_COUNT], out vec3 cells[WAVELET_MAX_COUNT]) {
-    for (int m = 0; m < WAVELET_MAX_COUNT; m++) {
+    [[unroll]] for (int m = 0; m < WAVELET_MAX_COUNT; m++) {
         cells[m] = vec3(0.0);
     }
-    for (int m = 0; m < WAVELET_COUNT; m++) {
+    [[unroll]] for (int m = 0; m < WAVELET_COUNT; m++) {
         vec3 v = c[0];
-        for (int level = 0; level <= WAVELET_RANK; level++) {
+        [[unroll]] for (int level = 0; level <= WAVELET_RANK; level++) {
             int shift = WAVELET_RANK - level;
             int k = m >> (shift + 1);
             float sign = ((m >> shift) & 1) == 0 ? 1.0 : -1.0;
@@ -130,7 +137,7 @@ vec3 waveletAbsorbanceAt(vec3 cells[WAVELET_MAX_COUNT], float p, vec3 own) {
     int m = int(fm);
     vec3 before = vec3(0.0);
     vec3 here = vec3(0.0);
-    for (int i = 0; i < WAVELET_COUNT; i++) {
+    [[unroll]] for (int i = 0; i < WAVELET_COUNT; i++) {
         before = (i == m - 1) ? cells[i] : before;
         here = (i == m) ? cells[i] : here;
     }
@@ -142,7 +149,7 @@ vec3 waveletAbsorbanceAt(vec3 cells[WAVELET_MAX_COUNT], float p, vec3 own) {
 
 vec3 waveletAbsorbanceBehindAll(vec3 cells[WAVELET_MAX_COUNT]) {
     vec3 last = vec3(0.0);
-    for (int i = 0; i < WAVELET_COUNT; i++) {
+    [[unroll]] for (int i = 0; i < WAVELET_COUNT; i++) {
         last = cells[i];
     }
     return last;
@@ -152,7 +159,7 @@ vec3 waveletAbsorbanceBehindAll(vec3 cells[WAVELET_MAX_COUNT]) {
 // reaches `limit` in every channel; negative if none does before the farthest fragment.
 float waveletOpaquePosition(vec3 cells[WAVELET_MAX_COUNT], float limit) {
     float cut = -1.0;
-    for (int k = 0; k < WAVELET_COUNT - 1; k++) {
+    [[unroll]] for (int k = 0; k < WAVELET_COUNT - 1; k++) {
         bool absorbed = all(greaterThanEqual(cells[k], vec3(limit)));
         cut = (cut < 0.0 && absorbed) ? float(k + 1) : cut;
     }

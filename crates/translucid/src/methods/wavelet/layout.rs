@@ -1,13 +1,12 @@
 //! The specialization constants every wavelet shader takes, in `constant_id` order; mirrored
-//! by `shaders/common/wavelet.glsl` (a test compares the two).
+//! by `shaders/common/wavelet.glsl` (a test compares the two). The rank is not among them:
+//! each rank has its own SPIR-V (see [`super::passes`]).
 
 use bytemuck::{Pod, Zeroable};
 
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct SpecConstants {
-    /// `WAVELET_RANK`, 0 to 3.
-    pub rank: i32,
     /// `WAVELET_FIRST_TEXEL`: the first coefficient texel an accumulation draw writes.
     pub first_texel: i32,
     /// `WAVELET_NOISE`: depth noise strength, in cells; 0 is off.
@@ -20,8 +19,7 @@ pub struct SpecConstants {
 }
 
 /// GLSL (type, name) of each field, in order.
-pub const GLSL_NAMES: [(&str, &str); 6] = [
-    ("int", "WAVELET_RANK"),
+pub const GLSL_NAMES: [(&str, &str); 5] = [
     ("int", "WAVELET_FIRST_TEXEL"),
     ("float", "WAVELET_NOISE"),
     ("float", "WAVELET_ABSORBED"),
@@ -31,7 +29,7 @@ pub const GLSL_NAMES: [(&str, &str); 6] = [
 
 impl SpecConstants {
     /// The 32-bit words a pipeline's specialization info takes, constant 0 first.
-    pub fn words(&self) -> [u32; 6] {
+    pub fn words(&self) -> [u32; 5] {
         bytemuck::cast(*self)
     }
 }

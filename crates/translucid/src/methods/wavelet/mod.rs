@@ -85,7 +85,6 @@ impl Settings {
     pub fn constants(&self, scene: &Scene) -> SpecConstants {
         let (near, far) = (scene.camera.near, scene.camera.far);
         SpecConstants {
-            rank: self.rank as i32,
             first_texel: 0,
             noise: self.noise,
             absorbed: -ABSORBED_TRANSMITTANCE.ln(),

@@ -19,6 +19,33 @@ const BOUNDS_FORMAT: vk::Format = vk::Format::R32G32_SFLOAT;
 
 type Pair = (GraphicsPipeline, GraphicsPipeline);
 
+/// SPIR-V of the rank's accumulate, resolve and shade shaders: the rank is compiled in, so
+/// that every loop over coefficients unrolls to constant indices.
+fn shaders(rank: u32) -> [&'static [u8]; 3] {
+    match rank {
+        0 => [
+            crate::spirv!("wavelet/accumulate_rank0.frag"),
+            crate::spirv!("wavelet/resolve_rank0.frag"),
+            crate::spirv!("wavelet/shade_rank0.frag"),
+        ],
+        1 => [
+            crate::spirv!("wavelet/accumulate_rank1.frag"),
+            crate::spirv!("wavelet/resolve_rank1.frag"),
+            crate::spirv!("wavelet/shade_rank1.frag"),
+        ],
+        2 => [
+            crate::spirv!("wavelet/accumulate_rank2.frag"),
+            crate::spirv!("wavelet/resolve_rank2.frag"),
+            crate::spirv!("wavelet/shade_rank2.frag"),
+        ],
+        _ => [
+            crate::spirv!("wavelet/accumulate_rank3.frag"),
+            crate::spirv!("wavelet/resolve_rank3.frag"),
+            crate::spirv!("wavelet/shade_rank3.frag"),
+        ],
+    }
+}
+
 /// One draw of the scene into a range of coefficient texels.
 struct Accumulation {
     pass: AttachmentPass,
@@ -57,6 +84,7 @@ impl Passes {
         settings: &Settings,
         constants: super::SpecConstants,
     ) -> Result<Self> {
+        let [accumulate_spirv, resolve_spirv, shade_spirv] = shaders(settings.rank);
         let extent = targets.extent;
         let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED;
         let bounds = gpu.create_image("wavelet bounds", extent, BOUNDS_FORMAT, usage, 1)?;
@@ -167,7 +195,7 @@ impl Passes {
             let pipelines = scene.mesh_pipelines_with(
                 gpu,
                 pass.render_pass,
-                crate::spirv!("wavelet/accumulate.frag"),
+                accumulate_spirv,
                 &[&bounds_layout],
                 &PipelineState {
                     blends: &blends,
@@ -198,7 +226,7 @@ impl Passes {
         let resolve_pipeline = fullscreen_pipeline(
             gpu,
             resolve_pass.render_pass,
-            crate::spirv!("wavelet/resolve.frag"),
+            resolve_spirv,
             &[&resolve_layout],
             &PipelineState {
                 blends: &[Blend::Multiply],
@@ -227,7 +255,7 @@ impl Passes {
         let shade_pipelines = scene.mesh_pipelines_with(
             gpu,
             shade_pass.render_pass,
-            crate::spirv!("wavelet/shade.frag"),
+            shade_spirv,
             &[&read_layout],
             &PipelineState {
                 blends: &[Blend::Add],

@@ -1,4 +1,6 @@
-#version 450
+// The body of the wavelet shade pass; shaders/wavelet/shade_rank<N>.frag set the rank.
+#ifndef TRANSLUCID_WAVELET_SHADE_GLSL
+#define TRANSLUCID_WAVELET_SHADE_GLSL
 // Pass 4, shading: every visible fragment adds its radiance times the transmittance in front
 // of it (its own share removed) to the frame colour, by an ADD blend. Depth-tested against the
 // wavelet depth buffer, so fragments behind full absorption never run this shader.
@@ -25,3 +27,5 @@ void main() {
     vec3 inFront = waveletAbsorbanceAt(cells, p, waveletAbsorbance(transmittance));
     o_radiance = vec4(radiance * waveletTransmittance(inFront), 0.0);
 }
+
+#endif

@@ -1,4 +1,6 @@
-#version 450
+// The body of the wavelet accumulate pass; shaders/wavelet/accumulate_rank<N>.frag set the rank.
+#ifndef TRANSLUCID_WAVELET_ACCUMULATE_GLSL
+#define TRANSLUCID_WAVELET_ACCUMULATE_GLSL
 // Pass 2, transmittance: each fragment adds its absorbance -ln T, projected onto the Haar
 // basis, into the coefficient images by an ADD blend. One draw of the scene writes up to 8
 // texels (colour attachments); rank 3 needs 12, so it draws twice, starting at
@@ -23,7 +25,9 @@ void main() {
     float v = waveletNormalizedDepth(1.0 / gl_FragCoord.w, vec2(-b.x, b.y));
     float p = waveletCellPosition(v, uvec2(gl_FragCoord.xy));
     vec3 a = waveletAbsorbance(transmittance);
-    for (int k = 0; k < 8; k++) {
+    [[unroll]] for (int k = 0; k < 8; k++) {
         o_texels[k] = waveletAddendTexel(WAVELET_FIRST_TEXEL + k, p, a);
     }
 }
+
+#endif
