@@ -18,7 +18,9 @@
 //! - `A(p)` interpolates linearly between the cell averages placed at the *middles* of their
 //!   cells (`F(m)` at `p = m + ½`, and 0 at `p = −½`). For absorbance spread evenly over depth
 //!   (a dense medium, particles) that is unbiased; placing them at the far ends of the cells
-//!   reads half a cell too little everywhere (measured: 30.7 against 3x.x dB on particles).
+//!   reads half a cell too little everywhere (measured at rank 3, 1280×720, PSNR against the
+//!   exact reference: particles 31.1 dB at the ends, 51.9 dB at the middles; spheres 42.3 and
+//!   46.9; planes 44.9 and 50.4).
 //!   A lone event in cell `P` reads 0 up to `p = P − ½` and its full value from `p = P + 1½`.
 //! - A fragment's own event is part of the function; the shading pass subtracts its share at
 //!   its own depth (self-occlusion removal), known in closed form from its cell averages
