@@ -235,6 +235,8 @@ int main(int argc, char **argv) {
         uint32_t s;
 
         frame_info.method = methods[m];
+        /* Method settings: zero is each one's default (wavelet: 16 coefficients per channel). */
+        frame_info.wavelet_coefficients = 0;
         CHECK(translucid_frame_render(g_context, &frame_info, &frame));
         snprintf(path, sizeof path, "%s/example-%s.png", out_dir, name);
         CHECK(translucid_frame_write_png(g_context, frame, path));

@@ -575,6 +575,17 @@ typedef struct translucid_frame_info {
      * may be in the opaque layer.
      */
     const struct translucid_opaque_layer *opaque_layer;
+    /**
+     * `TRANSLUCID_METHOD_WAVELET`: Haar coefficients kept per colour channel, 2, 4, 8 or 16
+     * (ranks 0 to 3: more is closer to exact, and costs memory and time); 0 is the default,
+     * 16. Other methods ignore it.
+     */
+    uint32_t wavelet_coefficients;
+    /**
+     * `TRANSLUCID_METHOD_WAVELET`: depth noise strength in coefficient cells, finite and
+     * >= 0; 0 (the default) is off. The noise is a fixed per-pixel pattern, so frames repeat.
+     */
+    float wavelet_noise;
 } translucid_frame_info;
 
 /**

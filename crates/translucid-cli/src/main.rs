@@ -42,6 +42,26 @@ impl std::str::FromStr for Size {
     }
 }
 
+/// Settings of the `wavelet` method (other methods ignore them).
+#[derive(clap::Args, Clone, Copy, Debug)]
+pub struct WaveletArgs {
+    /// wavelet: Haar rank 0 to 3 (2^(rank+1) coefficients per colour channel) [default: 3]
+    #[arg(long)]
+    pub rank: Option<u32>,
+    /// wavelet: depth noise strength in cells (0: off)
+    #[arg(long, default_value_t = 0.0)]
+    pub noise: f32,
+    /// wavelet: storage precision of the coefficients
+    #[arg(long, value_enum, default_value_t = Precision::Half)]
+    pub precision: Precision,
+}
+
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Precision {
+    Half,
+    Single,
+}
+
 #[derive(Subcommand)]
 enum Command {
     /// List Vulkan devices with the limits translucid sizes itself by.
@@ -50,11 +70,14 @@ enum Command {
     Render {
         /// A glTF path or a generated scene's name (boxes, spheres, particles, planes, ...).
         scene: String,
+        /// blend, exact, wavelet or wboit
         #[arg(long, short, default_value = "exact")]
         method: String,
         /// exact: stop a pixel once its transmittance is under T in every channel (0: exact).
         #[arg(long, default_value_t = 0.0)]
         threshold: f32,
+        #[command(flatten)]
+        wavelet: WaveletArgs,
         #[arg(long, default_value = "1280x720")]
         size: Size,
         #[arg(short, long, default_value = "out/render.png")]
@@ -63,11 +86,14 @@ enum Command {
     /// Render with a method and with the CPU reference, and measure the difference.
     Compare {
         scene: String,
+        /// blend, exact, wavelet or wboit
         #[arg(long, short, default_value = "exact")]
         method: String,
         /// exact: stop a pixel once its transmittance is under T in every channel (0: exact).
         #[arg(long, default_value_t = 0.0)]
         threshold: f32,
+        #[command(flatten)]
+        wavelet: WaveletArgs,
         #[arg(long, default_value = "640x360")]
         size: Size,
         /// Write method | reference | error heat map side by side.
@@ -86,6 +112,8 @@ enum Command {
         /// exact: stop a pixel once its transmittance is under T in every channel (0: exact).
         #[arg(long, default_value_t = 0.0)]
         threshold: f32,
+        #[command(flatten)]
+        wavelet: WaveletArgs,
         #[arg(long, default_value = "1280x720")]
         size: Size,
         #[arg(long, default_value_t = 20)]
@@ -104,25 +132,36 @@ fn main() -> ExitCode {
             scene,
             method,
             threshold,
+            wavelet,
             size,
             output,
-        } => commands::render::run(&scene, &method, threshold, size, &output),
+        } => commands::render::run(&scene, &method, threshold, wavelet, size, &output),
         Command::Compare {
             scene,
             method,
             threshold,
+            wavelet,
             size,
             output,
             json,
-        } => commands::compare::run(&scene, &method, threshold, size, output.as_deref(), json),
+        } => commands::compare::run(
+            &scene,
+            &method,
+            threshold,
+            wavelet,
+            size,
+            output.as_deref(),
+            json,
+        ),
         Command::Bench {
             scenes,
             methods,
             threshold,
+            wavelet,
             size,
             frames,
             json,
-        } => commands::bench::run(&scenes, &methods, threshold, size, frames, json),
+        } => commands::bench::run(&scenes, &methods, threshold, wavelet, size, frames, json),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

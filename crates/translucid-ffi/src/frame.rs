@@ -149,6 +149,34 @@ pub struct translucid_frame_info {
     /// Optional: the engine's opaque colour and depth, replacing `background`; then no draw
     /// may be in the opaque layer.
     pub opaque_layer: *const translucid_opaque_layer,
+    /// `TRANSLUCID_METHOD_WAVELET`: Haar coefficients kept per colour channel, 2, 4, 8 or 16
+    /// (ranks 0 to 3: more is closer to exact, and costs memory and time); 0 is the default,
+    /// 16. Other methods ignore it.
+    pub wavelet_coefficients: u32,
+    /// `TRANSLUCID_METHOD_WAVELET`: depth noise strength in coefficient cells, finite and
+    /// >= 0; 0 (the default) is off. The noise is a fixed per-pixel pattern, so frames repeat.
+    pub wavelet_noise: f32,
+}
+
+/// The core's method options from a frame's settings.
+fn method_options(info: &translucid_frame_info) -> FfiResult<translucid::methods::MethodOptions> {
+    let rank = match info.wavelet_coefficients {
+        0 => None,
+        2 => Some(0),
+        4 => Some(1),
+        8 => Some(2),
+        16 => Some(3),
+        other => {
+            return Err(Failure::argument(format!(
+                "wavelet_coefficients {other} is not 0 (the default), 2, 4, 8 or 16"
+            )))
+        }
+    };
+    Ok(translucid::methods::MethodOptions {
+        rank,
+        noise: info.wavelet_noise,
+        ..Default::default()
+    })
 }
 
 /// GPU time of one stage.
@@ -248,7 +276,15 @@ fn render(objects: &Objects, info: &translucid_frame_info) -> FfiResult<FrameRec
         }
         Some(opaque_layer_from(layer, info.width, info.height)?)
     };
-    let mut renderer = Renderer::new(&objects.gpu, &scene, method.name(), info.width, info.height)?;
+    let options = method_options(info)?;
+    let mut renderer = Renderer::with_options(
+        &objects.gpu,
+        &scene,
+        method.name(),
+        info.width,
+        info.height,
+        &options,
+    )?;
     let frame = match &layer {
         Some(layer) => renderer.render_over(layer)?,
         None => renderer.render(false)?,

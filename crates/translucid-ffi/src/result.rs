@@ -186,7 +186,8 @@ impl From<translucid::Error> for Failure {
             E::InvalidScene(_)
             | E::InvalidGltf { .. }
             | E::UnsupportedExtension { .. }
-            | E::UnknownScene(..) => R::ErrorInvalidArgument,
+            | E::UnknownScene(..)
+            | E::InvalidOption(_) => R::ErrorInvalidArgument,
             E::InvalidViewport { .. } => R::ErrorInvalidSize,
             E::UnknownMethod(..) => R::ErrorMethodUnavailable,
             E::NoDevice(_) => R::ErrorNoDevice,

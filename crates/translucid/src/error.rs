@@ -34,6 +34,9 @@ pub enum Error {
     /// A method name translucid does not know.
     #[error("unknown method {0:?} (known: {1})")]
     UnknownMethod(String, String),
+    /// A method setting out of its range (a wavelet rank over 3, a negative noise...).
+    #[error("invalid method option: {0}")]
+    InvalidOption(String),
     /// No Vulkan loader, no suitable device, or the requested device does not exist.
     #[error("no Vulkan device: {0}")]
     NoDevice(String),

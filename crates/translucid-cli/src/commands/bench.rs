@@ -30,11 +30,12 @@ pub fn run(
     scenes: &[String],
     methods: &[String],
     threshold: f32,
+    wavelet: crate::WaveletArgs,
     size: Size,
     frames: u32,
     json: bool,
 ) -> translucid::Result<()> {
-    let options = super::options(threshold)?;
+    let options = super::options(threshold, wavelet)?;
     let frames = frames.max(1);
     let gpu = open_gpu()?;
     // blend is always measured: every ratio is against it, from this same run.
@@ -113,6 +114,7 @@ pub fn run(
                 "scene": r.scene,
                 "method": r.method,
                 "threshold": threshold,
+                "wavelet": super::wavelet_json(&r.method, wavelet),
                 "fragments": r.fragments,
                 "rerenders": r.rerenders,
                 "wall_ms": r.wall_ms,

@@ -7,12 +7,13 @@ pub fn run(
     scene_spec: &str,
     method: &str,
     threshold: f32,
+    wavelet: crate::WaveletArgs,
     size: Size,
     output: Option<&Path>,
     json: bool,
 ) -> translucid::Result<()> {
     let scene = translucid::scene::load(scene_spec)?;
-    let mut renderer = open_renderer(&scene, method, threshold, size)?;
+    let mut renderer = open_renderer(&scene, method, threshold, wavelet, size)?;
     let frame = renderer.render(true)?;
     let opaque = frame
         .opaque
@@ -31,6 +32,7 @@ pub fn run(
             "scene": scene_spec,
             "method": method,
             "threshold": threshold,
+            "wavelet": super::wavelet_json(method, wavelet),
             "width": size.width,
             "height": size.height,
             "max_error": m.max_error,

@@ -19,9 +19,10 @@ pub fn open_renderer(
     scene: &translucid::scene::Scene,
     method: &str,
     threshold: f32,
+    wavelet: crate::WaveletArgs,
     size: crate::Size,
 ) -> translucid::Result<translucid::renderer::Renderer> {
-    let options = options(threshold)?;
+    let options = options(threshold, wavelet)?;
     let gpu = open_gpu()?;
     translucid::renderer::Renderer::with_options(
         &gpu,
@@ -43,7 +44,10 @@ pub fn stage_text(stages: &[(&str, f64)]) -> String {
 }
 
 /// Method options from the command line, checked.
-pub fn options(threshold: f32) -> translucid::Result<translucid::methods::MethodOptions> {
+pub fn options(
+    threshold: f32,
+    wavelet: crate::WaveletArgs,
+) -> translucid::Result<translucid::methods::MethodOptions> {
     if !(0.0..=1.0).contains(&threshold) {
         return Err(translucid::Error::InvalidScene(format!(
             "--threshold {threshold} is not in [0, 1]"
@@ -51,6 +55,24 @@ pub fn options(threshold: f32) -> translucid::Result<translucid::methods::Method
     }
     Ok(translucid::methods::MethodOptions {
         threshold,
+        rank: wavelet.rank,
+        noise: wavelet.noise,
+        precision: match wavelet.precision {
+            crate::Precision::Half => translucid::methods::wavelet::Precision::Half,
+            crate::Precision::Single => translucid::methods::wavelet::Precision::Single,
+        },
         ..Default::default()
+    })
+}
+
+/// The wavelet settings as JSON fields, for the method's output lines.
+pub fn wavelet_json(method: &str, wavelet: crate::WaveletArgs) -> serde_json::Value {
+    if method != "wavelet" {
+        return serde_json::Value::Null;
+    }
+    serde_json::json!({
+        "rank": wavelet.rank.unwrap_or(translucid::methods::wavelet::DEFAULT_RANK),
+        "noise": wavelet.noise,
+        "precision": format!("{:?}", wavelet.precision).to_lowercase(),
     })
 }

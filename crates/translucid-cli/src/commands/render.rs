@@ -6,11 +6,12 @@ pub fn run(
     scene: &str,
     method: &str,
     threshold: f32,
+    wavelet: crate::WaveletArgs,
     size: Size,
     output: &Path,
 ) -> translucid::Result<()> {
     let scene = translucid::scene::load(scene)?;
-    let mut renderer = open_renderer(&scene, method, threshold, size)?;
+    let mut renderer = open_renderer(&scene, method, threshold, wavelet, size)?;
     let frame = renderer.render(false)?;
     frame.image.save_png(output)?;
     println!("wrote {}", output.display());

@@ -351,6 +351,18 @@ static void frames(translucid_context *ctx, translucid_context *other) {
         }
     }
     info = frame_info(&draw);
+    info.method = TRANSLUCID_METHOD_WAVELET;
+    info.wavelet_coefficients = 3;
+    EXPECT(ctx, translucid_frame_render(ctx, &info, &frame),
+           TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    info.wavelet_coefficients = 32;
+    EXPECT(ctx, translucid_frame_render(ctx, &info, &frame),
+           TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    info.wavelet_coefficients = 0;
+    info.wavelet_noise = -1.0f;
+    EXPECT(ctx, translucid_frame_render(ctx, &info, &frame),
+           TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    info = frame_info(&draw);
     info.width = 0;
     EXPECT(ctx, translucid_frame_render(ctx, &info, &frame), TRANSLUCID_RESULT_ERROR_INVALID_SIZE);
     info.width = 1u << 20;

@@ -74,7 +74,8 @@ static float *read_both(translucid_frame frame) {
     return linear;
 }
 
-static void over_host_layer(uint32_t method, translucid_mesh quad, translucid_material red) {
+static void over_host_layer(uint32_t method, uint32_t wavelet_coefficients, translucid_mesh quad,
+                            translucid_material red) {
     const float host[3] = {0.2f, 0.4f, 0.6f};
     float colour[W * H * 4], depth[W * H];
     translucid_draw draw;
@@ -82,6 +83,7 @@ static void over_host_layer(uint32_t method, translucid_mesh quad, translucid_ma
     translucid_frame_info info = base_frame(method);
     translucid_frame frame;
     translucid_frame_statistics stats;
+    info.wavelet_coefficients = wavelet_coefficients;
     float *pixels;
     size_t i, c;
 
@@ -183,8 +185,14 @@ int main(int argc, char **argv) {
 
     CHECK(translucid_methods_available(methods, 8, &count));
     for (m = 0; m < count; m++) {
-        over_host_layer(methods[m], quad, red);
+        over_host_layer(methods[m], 0, quad, red);
         background_only(methods[m]);
+        if (methods[m] == TRANSLUCID_METHOD_WAVELET) {
+            /* One layer is exact at every rank. */
+            over_host_layer(methods[m], 2, quad, red);
+            over_host_layer(methods[m], 4, quad, red);
+            over_host_layer(methods[m], 8, quad, red);
+        }
     }
 
     /* A frame keeps its pixels after the objects it drew are gone. */

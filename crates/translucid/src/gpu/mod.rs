@@ -8,11 +8,13 @@
 //!   and its peak so a frame can report its GPU memory.
 //! - `commands.rs`: one-shot command buffers (record, submit, wait) and barrier helpers.
 //! - `pipeline.rs`: shader modules from build.rs's SPIR-V, descriptor layouts, pipelines.
+//! - `attachments.rs`: render passes over a method's own sets of attachments.
 //! - `timestamps.rs`: GPU timestamps around every stage.
 //!
 //! Synchronisation is deliberately simple: every frame is recorded into one command buffer,
 //! submitted, and waited for with a fence. Readback copies into host-visible buffers.
 
+mod attachments;
 mod commands;
 mod device;
 mod error;
@@ -22,13 +24,15 @@ mod timestamps;
 mod validation;
 
 pub use ash::vk;
+pub use attachments::{fullscreen_pipeline, Attachment, AttachmentPass, DepthAttachment, Load};
 pub use commands::{image_barrier, memory_barrier, mip_region, whole_image_region};
 pub use device::{list_devices, DeviceInfo, Gpu, GpuOptions, Shared};
 pub use memory::MemoryLocation;
 pub use memory::{Buffer, BufferView, GpuImage, MemoryStats};
 pub use pipeline::{
-    BindingKind, Blend, ComputePipeline, DescriptorLayout, DescriptorSet, GraphicsPipeline,
-    GraphicsPipelineDesc, RenderTarget, RenderTargetDesc, Resource, Sampler,
+    BindingKind, Blend, ComputePipeline, DepthMode, DescriptorLayout, DescriptorSet,
+    GraphicsPipeline, GraphicsPipelineDesc, PipelineState, RenderTarget, RenderTargetDesc,
+    Resource, Sampler,
 };
 pub use timestamps::Timestamps;
 

@@ -375,6 +375,71 @@ pub enum Blend {
     /// `dst = src0 + src1 ⊙ dst` per channel: back-to-front compositing of premultiplied
     /// radiance (output 0) with per-channel transmittance (output 1, dual-source).
     PremultipliedTransmittance,
+    /// `dst = src + dst`: order-independent sums.
+    Add,
+    /// `dst = max(src, dst)`.
+    Max,
+    /// `dst = src ⊙ dst`: order-independent products.
+    Multiply,
+}
+
+impl Blend {
+    fn attachment_state(self) -> vk::PipelineColorBlendAttachmentState {
+        let state = vk::PipelineColorBlendAttachmentState::default()
+            .color_write_mask(vk::ColorComponentFlags::RGBA);
+        let both = |src, dst, op| {
+            state
+                .blend_enable(true)
+                .src_color_blend_factor(src)
+                .dst_color_blend_factor(dst)
+                .color_blend_op(op)
+                .src_alpha_blend_factor(src)
+                .dst_alpha_blend_factor(dst)
+                .alpha_blend_op(op)
+        };
+        match self {
+            Self::None => state,
+            Self::PremultipliedTransmittance => state
+                .blend_enable(true)
+                .src_color_blend_factor(vk::BlendFactor::ONE)
+                .dst_color_blend_factor(vk::BlendFactor::SRC1_COLOR)
+                .color_blend_op(vk::BlendOp::ADD)
+                .src_alpha_blend_factor(vk::BlendFactor::ZERO)
+                .dst_alpha_blend_factor(vk::BlendFactor::ONE)
+                .alpha_blend_op(vk::BlendOp::ADD),
+            Self::Add => both(vk::BlendFactor::ONE, vk::BlendFactor::ONE, vk::BlendOp::ADD),
+            // Factors are ignored by MAX.
+            Self::Max => both(vk::BlendFactor::ONE, vk::BlendFactor::ONE, vk::BlendOp::MAX),
+            Self::Multiply => both(
+                vk::BlendFactor::ZERO,
+                vk::BlendFactor::SRC_COLOR,
+                vk::BlendOp::ADD,
+            ),
+        }
+    }
+}
+
+/// How a pipeline tests and writes depth.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DepthMode {
+    /// No depth test (the pass may still have a depth attachment).
+    Off,
+    /// Test LESS; write when `true`.
+    Less(bool),
+    /// Always pass and write (a full-screen pass writing gl_FragDepth).
+    WriteAlways,
+}
+
+/// What [`GraphicsPipeline::with_state`] varies beyond [`GraphicsPipelineDesc`]: one blend
+/// per colour attachment, the depth mode, the fragment shader's specialization constants
+/// (`constant_id = i` takes `fragment_constants[i]`), and whether there is vertex input at
+/// all (full-screen passes have none). The desc's `blend` and `depth_write` are ignored.
+#[derive(Clone, Copy)]
+pub struct PipelineState<'a> {
+    pub blends: &'a [Blend],
+    pub depth: DepthMode,
+    pub fragment_constants: &'a [u32],
+    pub vertex_input: bool,
 }
 
 /// Everything a graphics pipeline of this crate varies in.
@@ -401,6 +466,25 @@ pub struct GraphicsPipeline {
 
 impl GraphicsPipeline {
     pub fn new(gpu: &Gpu, desc: &GraphicsPipelineDesc<'_>) -> Result<Self> {
+        Self::with_state(
+            gpu,
+            desc,
+            &PipelineState {
+                blends: &[desc.blend],
+                depth: DepthMode::Less(desc.depth_write),
+                fragment_constants: &[],
+                vertex_input: true,
+            },
+        )
+    }
+
+    /// A pipeline with several colour attachments, another depth mode, specialization
+    /// constants or no vertex input.
+    pub fn with_state(
+        gpu: &Gpu,
+        desc: &GraphicsPipelineDesc<'_>,
+        state: &PipelineState<'_>,
+    ) -> Result<Self> {
         let stages_flags = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
         let layout = pipeline_layout(gpu, desc.sets, desc.push_bytes, stages_flags)?;
         let modules =
@@ -420,6 +504,21 @@ impl GraphicsPipeline {
                 return Err(e);
             }
         };
+        let entries: Vec<vk::SpecializationMapEntry> = (0..state.fragment_constants.len() as u32)
+            .map(|i| vk::SpecializationMapEntry {
+                constant_id: i,
+                offset: i * 4,
+                size: 4,
+            })
+            .collect();
+        let data: Vec<u8> = state
+            .fragment_constants
+            .iter()
+            .flat_map(|c| c.to_ne_bytes())
+            .collect();
+        let specialization = vk::SpecializationInfo::default()
+            .map_entries(&entries)
+            .data(&data);
         let stages = [
             vk::PipelineShaderStageCreateInfo::default()
                 .stage(vk::ShaderStageFlags::VERTEX)
@@ -428,7 +527,8 @@ impl GraphicsPipeline {
             vk::PipelineShaderStageCreateInfo::default()
                 .stage(vk::ShaderStageFlags::FRAGMENT)
                 .module(fs)
-                .name(c"main"),
+                .name(c"main")
+                .specialization_info(&specialization),
         ];
         let bindings = [vk::VertexInputBindingDescription {
             binding: 0,
@@ -447,9 +547,13 @@ impl GraphicsPipeline {
                 },
             )
             .collect();
-        let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
-            .vertex_binding_descriptions(&bindings)
-            .vertex_attribute_descriptions(&attributes);
+        let vertex_input = if state.vertex_input {
+            vk::PipelineVertexInputStateCreateInfo::default()
+                .vertex_binding_descriptions(&bindings)
+                .vertex_attribute_descriptions(&attributes)
+        } else {
+            vk::PipelineVertexInputStateCreateInfo::default()
+        };
         let assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
             .topology(vk::PrimitiveTopology::TRIANGLE_LIST);
         let viewport = vk::PipelineViewportStateCreateInfo::default()
@@ -466,24 +570,16 @@ impl GraphicsPipeline {
             .line_width(1.0);
         let multisample = vk::PipelineMultisampleStateCreateInfo::default()
             .rasterization_samples(vk::SampleCountFlags::TYPE_1);
-        let depth = vk::PipelineDepthStencilStateCreateInfo::default()
-            .depth_test_enable(true)
-            .depth_write_enable(desc.depth_write)
-            .depth_compare_op(vk::CompareOp::LESS);
-        let attachment = match desc.blend {
-            Blend::None => vk::PipelineColorBlendAttachmentState::default()
-                .color_write_mask(vk::ColorComponentFlags::RGBA),
-            Blend::PremultipliedTransmittance => vk::PipelineColorBlendAttachmentState::default()
-                .blend_enable(true)
-                .src_color_blend_factor(vk::BlendFactor::ONE)
-                .dst_color_blend_factor(vk::BlendFactor::SRC1_COLOR)
-                .color_blend_op(vk::BlendOp::ADD)
-                .src_alpha_blend_factor(vk::BlendFactor::ZERO)
-                .dst_alpha_blend_factor(vk::BlendFactor::ONE)
-                .alpha_blend_op(vk::BlendOp::ADD)
-                .color_write_mask(vk::ColorComponentFlags::RGBA),
+        let (test, write, compare) = match state.depth {
+            DepthMode::Off => (false, false, vk::CompareOp::ALWAYS),
+            DepthMode::Less(write) => (true, write, vk::CompareOp::LESS),
+            DepthMode::WriteAlways => (true, true, vk::CompareOp::ALWAYS),
         };
-        let attachments = [attachment];
+        let depth = vk::PipelineDepthStencilStateCreateInfo::default()
+            .depth_test_enable(test)
+            .depth_write_enable(write)
+            .depth_compare_op(compare);
+        let attachments: Vec<_> = state.blends.iter().map(|b| b.attachment_state()).collect();
         let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&attachments);
         let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
         let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);

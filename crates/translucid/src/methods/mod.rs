@@ -9,6 +9,8 @@
 
 mod blend;
 pub mod exact;
+pub mod wavelet;
+pub mod wboit;
 
 use crate::gpu::{vk, Gpu, Timestamps};
 use crate::renderer::{FrameTargets, GpuScene};
@@ -16,7 +18,7 @@ use crate::scene::Scene;
 use crate::{Error, Result};
 
 /// Every method's name, as the CLI and the C API spell it.
-pub const NAMES: &[&str] = &["blend", "exact"];
+pub const NAMES: &[&str] = &["blend", "exact", "wavelet", "wboit"];
 
 /// Settings that some methods use; the rest ignore them.
 #[derive(Clone, Debug, Default)]
@@ -36,6 +38,14 @@ pub struct MethodOptions {
     /// scene looks like, so that tests can exercise the rebuild-and-render-again fallback.
     #[doc(hidden)]
     pub assume_fixed_path: bool,
+    /// `wavelet`: Haar rank, 0 to 3 (2^(rank+1) coefficients per colour channel); `None`
+    /// is [`wavelet::DEFAULT_RANK`]. A larger rank is an error.
+    pub rank: Option<u32>,
+    /// `wavelet`: depth noise strength in cells (0, the default, is off); deterministic per
+    /// pixel.
+    pub noise: f32,
+    /// `wavelet`: storage precision of the coefficient images.
+    pub precision: wavelet::Precision,
 }
 
 /// What a method reports once its frame has completed.
@@ -80,6 +90,10 @@ pub fn create(
         "exact" => Ok(Box::new(exact::Exact::new(
             gpu, scene, uploaded, targets, options,
         )?)),
+        "wavelet" => Ok(Box::new(wavelet::Wavelet::new(
+            gpu, scene, uploaded, targets, options,
+        )?)),
+        "wboit" => Ok(Box::new(wboit::Wboit::new(gpu, uploaded, targets)?)),
         other => Err(Error::UnknownMethod(other.to_string(), NAMES.join(", "))),
     }
 }

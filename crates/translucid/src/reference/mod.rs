@@ -30,6 +30,41 @@ use std::cmp::Ordering;
 
 /// Renders the scene's transparent layer over `opaque`, at the opaque layer's size.
 pub fn render(scene: &Scene, opaque: &OpaqueLayer) -> crate::Result<Image> {
+    render_pixels(scene, opaque, Record::order, &|_, _, fragments, opaque| {
+        composite_front_to_back(fragments.iter().map(|f| f.fragment), opaque)
+    })
+}
+
+/// One transparent fragment of a pixel, as the reference rasterizes and shades it.
+#[derive(Clone, Copy, Debug)]
+pub struct PixelFragment {
+    /// View depth (clip w) at the pixel centre.
+    pub view_depth: f32,
+    /// Depth-buffer value (0 near, 1 far).
+    pub device_depth: f32,
+    pub fragment: Fragment,
+}
+
+/// Resolves one pixel `(x, y)` from its fragments and the opaque colour behind them.
+pub type Resolve<'a> = dyn Fn(u32, u32, &[PixelFragment], Vec3) -> Vec3 + Sync + 'a;
+
+/// The reference's rasterization and shading with another per-pixel resolve: CPU models of
+/// the approximate methods. Fragments come in submission order (draw, quad, triangle), the
+/// order in which the GPU's blending sees them.
+pub fn render_with(
+    scene: &Scene,
+    opaque: &OpaqueLayer,
+    resolve: &Resolve<'_>,
+) -> crate::Result<Image> {
+    render_pixels(scene, opaque, |a, b| a.prim.cmp(&b.prim), resolve)
+}
+
+fn render_pixels(
+    scene: &Scene,
+    opaque: &OpaqueLayer,
+    order: fn(&Record, &Record) -> Ordering,
+    resolve: &Resolve<'_>,
+) -> crate::Result<Image> {
     scene.validate()?;
     let (width, height) = (opaque.width, opaque.height);
     check_viewport(width, height)?;
@@ -54,6 +89,8 @@ pub fn render(scene: &Scene, opaque: &OpaqueLayer) -> crate::Result<Image> {
         scene,
         draws: &draws,
         opaque,
+        order,
+        resolve,
     };
     let tiles: Vec<Vec<Vec3>> = bins
         .tiles
@@ -113,6 +150,7 @@ struct Record {
     /// Pixel index within the tile.
     pixel: u32,
     view_depth: f32,
+    device_depth: f32,
     prim: PrimRef,
     fragment: Fragment,
 }
@@ -139,7 +177,7 @@ struct Scratch {
 
 impl Scratch {
     /// Groups `frags` by pixel and sorts each group: far cheaper than one big sort.
-    fn sort(&mut self, pixels: usize) {
+    fn sort(&mut self, pixels: usize, order: fn(&Record, &Record) -> Ordering) {
         self.starts.clear();
         self.starts.resize(pixels + 1, 0);
         for r in &self.frags {
@@ -157,14 +195,18 @@ impl Scratch {
             *slot += 1;
         }
         for i in 0..pixels {
-            self.by_pixel[self.starts[i]..self.starts[i + 1]].sort_unstable_by(Record::order);
+            self.by_pixel[self.starts[i]..self.starts[i + 1]].sort_unstable_by(order);
         }
     }
 
-    fn pixel(&self, i: usize) -> impl Iterator<Item = Fragment> + '_ {
+    fn pixel(&self, i: usize) -> impl Iterator<Item = PixelFragment> + '_ {
         self.by_pixel[self.starts[i]..self.starts[i + 1]]
             .iter()
-            .map(|r| r.fragment)
+            .map(|r| PixelFragment {
+                view_depth: r.view_depth,
+                device_depth: r.device_depth,
+                fragment: r.fragment,
+            })
     }
 }
 
@@ -172,6 +214,8 @@ struct TileContext<'a, 's> {
     scene: &'s Scene,
     draws: &'a [DrawData<'s>],
     opaque: &'a OpaqueLayer,
+    order: fn(&Record, &Record) -> Ordering,
+    resolve: &'a Resolve<'a>,
 }
 
 impl TileContext<'_, '_> {
@@ -196,6 +240,7 @@ impl TileContext<'_, '_> {
                     frags.push(Record {
                         pixel: (y - rect.y0) * tile_width + (x - rect.x0),
                         view_depth: s.view_depth,
+                        device_depth: s.z_ndc,
                         prim,
                         fragment: shader.shade(&tri, x, y, &s),
                     });
@@ -203,14 +248,17 @@ impl TileContext<'_, '_> {
             });
         }
         let pixels = (tile_width * (rect.y1 - rect.y0)) as usize;
-        scratch.sort(pixels);
+        scratch.sort(pixels, self.order);
 
         let mut out = Vec::with_capacity(pixels);
+        let mut fragments = Vec::new();
         for y in rect.y0..rect.y1 {
             for x in rect.x0..rect.x1 {
                 let pixel = ((y - rect.y0) * tile_width + (x - rect.x0)) as usize;
                 let opaque = self.opaque.colour[y as usize * width as usize + x as usize];
-                out.push(composite_front_to_back(scratch.pixel(pixel), opaque));
+                fragments.clear();
+                fragments.extend(scratch.pixel(pixel));
+                out.push((self.resolve)(x, y, &fragments, opaque));
             }
         }
         out

@@ -3,7 +3,7 @@
 
 use crate::gpu::{
     vk, BindingKind, Buffer, DescriptorLayout, DescriptorSet, Gpu, GpuImage, GraphicsPipeline,
-    GraphicsPipelineDesc, Resource, Sampler,
+    GraphicsPipelineDesc, PipelineState, Resource, Sampler,
 };
 use crate::scene::{Mesh, Scene, Texture};
 use crate::shader_types::{GpuDrawInfo, GpuFrameInfo, GpuMaterial, GpuVertex};
@@ -225,6 +225,39 @@ impl GpuScene {
                     sets: &[&self.layout, &self.texture_layout],
                     push_bytes: 4,
                 },
+            )
+        };
+        Ok((pipeline(false)?, pipeline(true)?))
+    }
+
+    /// Like [`Self::mesh_pipelines`], with the method's own descriptor sets after the scene's
+    /// two (set 2 on) and the full pipeline state (several attachments, specialization).
+    pub fn mesh_pipelines_with(
+        &self,
+        gpu: &Gpu,
+        render_pass: vk::RenderPass,
+        fragment: &[u8],
+        extra_sets: &[&DescriptorLayout],
+        state: &PipelineState<'_>,
+    ) -> Result<(GraphicsPipeline, GraphicsPipeline)> {
+        let mut sets = vec![&self.layout, &self.texture_layout];
+        sets.extend_from_slice(extra_sets);
+        let pipeline = |cull_back| {
+            GraphicsPipeline::with_state(
+                gpu,
+                &GraphicsPipelineDesc {
+                    vertex: crate::spirv!("scene/mesh.vert"),
+                    fragment,
+                    vertex_stride: VERTEX_STRIDE,
+                    attributes: &VERTEX_ATTRIBUTES,
+                    cull_back,
+                    depth_write: false,
+                    blend: crate::gpu::Blend::None,
+                    render_pass,
+                    sets: &sets,
+                    push_bytes: 4,
+                },
+                state,
             )
         };
         Ok((pipeline(false)?, pipeline(true)?))

@@ -1,0 +1,302 @@
+//! Render passes over any set of colour attachments (plus an optional depth attachment),
+//! for methods that render into images of their own: several accumulation targets at once,
+//! a depth buffer of their own, the frame's colour with a blend.
+
+use super::error::vk_err;
+use super::{Gpu, GpuImage};
+use crate::Result;
+use ash::vk;
+
+/// What an attachment holds when the pass begins.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Load {
+    /// Cleared to this value (depth uses the first component).
+    Clear([f32; 4]),
+    /// What the image held, in the attachment's `before` layout.
+    Keep,
+    /// Undefined: the pass writes every texel it needs.
+    Discard,
+}
+
+/// One attachment of an [`AttachmentPass`].
+pub struct Attachment<'a> {
+    pub image: &'a GpuImage,
+    pub load: Load,
+    /// Layout before the pass (ignored unless `load` is `Keep`) and after it.
+    pub layouts: (vk::ImageLayout, vk::ImageLayout),
+}
+
+impl Attachment<'_> {
+    fn description(&self) -> vk::AttachmentDescription {
+        let (load, initial) = match self.load {
+            Load::Clear(_) => (vk::AttachmentLoadOp::CLEAR, vk::ImageLayout::UNDEFINED),
+            Load::Keep => (vk::AttachmentLoadOp::LOAD, self.layouts.0),
+            Load::Discard => (vk::AttachmentLoadOp::DONT_CARE, vk::ImageLayout::UNDEFINED),
+        };
+        vk::AttachmentDescription::default()
+            .format(self.image.format)
+            .samples(vk::SampleCountFlags::TYPE_1)
+            .load_op(load)
+            .store_op(vk::AttachmentStoreOp::STORE)
+            .stencil_load_op(vk::AttachmentLoadOp::DONT_CARE)
+            .stencil_store_op(vk::AttachmentStoreOp::DONT_CARE)
+            .initial_layout(initial)
+            .final_layout(self.layouts.1)
+    }
+
+    fn clear_value(&self, depth: bool) -> vk::ClearValue {
+        let value = match self.load {
+            Load::Clear(v) => v,
+            _ => [0.0; 4],
+        };
+        if depth {
+            vk::ClearValue {
+                depth_stencil: vk::ClearDepthStencilValue {
+                    depth: value[0],
+                    stencil: 0,
+                },
+            }
+        } else {
+            vk::ClearValue {
+                color: vk::ClearColorValue { float32: value },
+            }
+        }
+    }
+}
+
+/// How a pass uses its depth attachment.
+pub struct DepthAttachment<'a> {
+    pub attachment: Attachment<'a>,
+    /// Whether the pass writes depth (else the subpass holds it read-only).
+    pub write: bool,
+}
+
+/// A one-subpass render pass, its framebuffer and its clear values.
+pub struct AttachmentPass {
+    gpu: Gpu,
+    pub render_pass: vk::RenderPass,
+    pub framebuffer: vk::Framebuffer,
+    pub extent: vk::Extent2D,
+    clears: Vec<vk::ClearValue>,
+}
+
+impl AttachmentPass {
+    pub fn new(
+        gpu: &Gpu,
+        colours: &[Attachment<'_>],
+        depth: Option<&DepthAttachment<'_>>,
+    ) -> Result<Self> {
+        let extent = colours
+            .first()
+            .map(|a| a.image.extent)
+            .or(depth.map(|d| d.attachment.image.extent))
+            .expect("a pass has at least one attachment");
+        let mut descriptions: Vec<_> = colours.iter().map(Attachment::description).collect();
+        let mut clears: Vec<_> = colours.iter().map(|a| a.clear_value(false)).collect();
+        let colour_refs: Vec<_> = (0..colours.len() as u32)
+            .map(|attachment| vk::AttachmentReference {
+                attachment,
+                layout: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+            })
+            .collect();
+        let depth_ref = depth.map(|d| {
+            descriptions.push(d.attachment.description());
+            clears.push(d.attachment.clear_value(true));
+            vk::AttachmentReference {
+                attachment: colours.len() as u32,
+                layout: if d.write {
+                    vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL
+                } else {
+                    vk::ImageLayout::DEPTH_STENCIL_READ_ONLY_OPTIMAL
+                },
+            }
+        });
+        let mut subpass = vk::SubpassDescription::default()
+            .pipeline_bind_point(vk::PipelineBindPoint::GRAPHICS)
+            .color_attachments(&colour_refs);
+        if let Some(d) = depth_ref.as_ref() {
+            subpass = subpass.depth_stencil_attachment(d);
+        }
+        let subpasses = [subpass];
+        // Ordered after whatever touched the images before and before whatever follows, as
+        // the frame's own passes are (see RenderTarget).
+        let all = vk::PipelineStageFlags::ALL_COMMANDS;
+        let graphics = vk::PipelineStageFlags::ALL_GRAPHICS;
+        let rw = vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE;
+        let dependencies = [
+            vk::SubpassDependency::default()
+                .src_subpass(vk::SUBPASS_EXTERNAL)
+                .dst_subpass(0)
+                .src_stage_mask(all)
+                .dst_stage_mask(graphics)
+                .src_access_mask(rw)
+                .dst_access_mask(rw),
+            vk::SubpassDependency::default()
+                .src_subpass(0)
+                .dst_subpass(vk::SUBPASS_EXTERNAL)
+                .src_stage_mask(graphics)
+                .dst_stage_mask(all)
+                .src_access_mask(rw)
+                .dst_access_mask(rw),
+        ];
+        let info = vk::RenderPassCreateInfo::default()
+            .attachments(&descriptions)
+            .subpasses(&subpasses)
+            .dependencies(&dependencies);
+        // SAFETY: valid device; every pointee lives for the call.
+        let render_pass = unsafe { gpu.device.create_render_pass(&info, None) }
+            .map_err(vk_err("vkCreateRenderPass"))?;
+        let views: Vec<_> = colours
+            .iter()
+            .chain(depth.map(|d| &d.attachment))
+            .map(|a| a.image.view)
+            .collect();
+        let fb_info = vk::FramebufferCreateInfo::default()
+            .render_pass(render_pass)
+            .attachments(&views)
+            .width(extent.width)
+            .height(extent.height)
+            .layers(1);
+        // SAFETY: the views are live, single-level and match the pass's formats.
+        let framebuffer = match unsafe { gpu.device.create_framebuffer(&fb_info, None) } {
+            Ok(f) => f,
+            Err(e) => {
+                // SAFETY: unused render pass.
+                unsafe { gpu.device.destroy_render_pass(render_pass, None) };
+                return Err(vk_err("vkCreateFramebuffer")(e));
+            }
+        };
+        Ok(Self {
+            gpu: gpu.clone(),
+            render_pass,
+            framebuffer,
+            extent,
+            clears,
+        })
+    }
+
+    /// Begins the pass with its clears and sets the full-target viewport and scissor.
+    pub fn begin(&self, cmd: vk::CommandBuffer) {
+        let area = vk::Rect2D {
+            offset: vk::Offset2D::default(),
+            extent: self.extent,
+        };
+        let begin = vk::RenderPassBeginInfo::default()
+            .render_pass(self.render_pass)
+            .framebuffer(self.framebuffer)
+            .render_area(area)
+            .clear_values(&self.clears);
+        let viewport = vk::Viewport {
+            x: 0.0,
+            y: 0.0,
+            width: self.extent.width as f32,
+            height: self.extent.height as f32,
+            min_depth: 0.0,
+            max_depth: 1.0,
+        };
+        // SAFETY: cmd is recording outside any render pass.
+        unsafe {
+            let d = &self.gpu.device;
+            d.cmd_begin_render_pass(cmd, &begin, vk::SubpassContents::INLINE);
+            d.cmd_set_viewport(cmd, 0, &[viewport]);
+            d.cmd_set_scissor(cmd, 0, &[area]);
+        }
+    }
+
+    pub fn end(&self, cmd: vk::CommandBuffer) {
+        // SAFETY: cmd is inside this render pass.
+        unsafe { self.gpu.device.cmd_end_render_pass(cmd) };
+    }
+
+    /// Draws one triangle covering the target (the `fullscreen.vert` shader) with
+    /// `pipeline` and its descriptor sets, inside this pass.
+    pub fn draw_fullscreen(
+        &self,
+        cmd: vk::CommandBuffer,
+        pipeline: &super::GraphicsPipeline,
+        sets: &[vk::DescriptorSet],
+    ) {
+        // SAFETY: cmd is inside this render pass, the pipeline was made for it and takes no
+        // vertex input; the sets match its layout.
+        unsafe {
+            let d = &self.gpu.device;
+            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.raw);
+            if !sets.is_empty() {
+                d.cmd_bind_descriptor_sets(
+                    cmd,
+                    vk::PipelineBindPoint::GRAPHICS,
+                    pipeline.layout,
+                    0,
+                    sets,
+                    &[],
+                );
+            }
+            d.cmd_draw(cmd, 3, 1, 0, 0);
+        }
+    }
+}
+
+impl Drop for AttachmentPass {
+    fn drop(&mut self) {
+        // SAFETY: no pending work uses them.
+        unsafe {
+            self.gpu.device.destroy_framebuffer(self.framebuffer, None);
+            self.gpu.device.destroy_render_pass(self.render_pass, None);
+        }
+    }
+}
+
+/// A pipeline for a full-screen pass (the `fullscreen.vert` triangle, no vertex input) with
+/// descriptor sets `sets` (from set 0) and the given state.
+pub fn fullscreen_pipeline(
+    gpu: &Gpu,
+    render_pass: vk::RenderPass,
+    fragment: &[u8],
+    sets: &[&super::DescriptorLayout],
+    state: &super::PipelineState<'_>,
+) -> Result<super::GraphicsPipeline> {
+    super::GraphicsPipeline::with_state(
+        gpu,
+        &super::GraphicsPipelineDesc {
+            vertex: crate::spirv!("scene/fullscreen.vert"),
+            fragment,
+            vertex_stride: 0,
+            attributes: &[],
+            cull_back: false,
+            depth_write: false,
+            blend: super::Blend::None,
+            render_pass,
+            sets,
+            push_bytes: 0,
+        },
+        &super::PipelineState {
+            vertex_input: false,
+            ..*state
+        },
+    )
+}
+
+impl Gpu {
+    /// Binds `set` as descriptor set `index` of graphics pipelines with `layout`. Sets bound
+    /// later at lower indices with compatible layouts (the scene's sets 0 and 1) leave it bound.
+    pub fn cmd_bind_graphics_set(
+        &self,
+        cmd: vk::CommandBuffer,
+        layout: vk::PipelineLayout,
+        index: u32,
+        set: vk::DescriptorSet,
+    ) {
+        // SAFETY: cmd is recording; the caller passes a layout that has a set `index` matching
+        // `set`'s layout.
+        unsafe {
+            self.device.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::GRAPHICS,
+                layout,
+                index,
+                &[set],
+                &[],
+            )
+        };
+    }
+}

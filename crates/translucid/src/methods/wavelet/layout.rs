@@ -1,0 +1,75 @@
+//! The specialization constants every wavelet shader takes, in `constant_id` order; mirrored
+//! by `shaders/common/wavelet.glsl` (a test compares the two). The rank is not among them:
+//! each rank has its own SPIR-V (see [`super::passes`]).
+
+use bytemuck::{Pod, Zeroable};
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct SpecConstants {
+    /// `WAVELET_FIRST_TEXEL`: the first coefficient texel an accumulation draw writes.
+    pub first_texel: i32,
+    /// `WAVELET_NOISE`: depth noise strength, in cells; 0 is off.
+    pub noise: f32,
+    /// `WAVELET_ABSORBED`: absorbance from which a pixel counts as opaque.
+    pub absorbed: f32,
+    /// `DEPTH_A`, `DEPTH_B`: device depth = A − B / view depth (the camera's projection).
+    pub depth_a: f32,
+    pub depth_b: f32,
+}
+
+/// GLSL (type, name) of each field, in order.
+pub const GLSL_NAMES: [(&str, &str); 5] = [
+    ("int", "WAVELET_FIRST_TEXEL"),
+    ("float", "WAVELET_NOISE"),
+    ("float", "WAVELET_ABSORBED"),
+    ("float", "DEPTH_A"),
+    ("float", "DEPTH_B"),
+];
+
+impl SpecConstants {
+    /// The 32-bit words a pipeline's specialization info takes, constant 0 first.
+    pub fn words(&self) -> [u32; 5] {
+        bytemuck::cast(*self)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const SRC: &str = include_str!("../../../../../shaders/common/wavelet.glsl");
+
+    /// `(id, type, name)` of every `layout(constant_id = N) const TYPE NAME` in the include.
+    fn glsl_constants() -> Vec<(usize, String, String)> {
+        SRC.lines()
+            .filter_map(|line| {
+                let rest = line.trim().strip_prefix("layout(constant_id = ")?;
+                let (id, decl) = rest.split_once(')')?;
+                let mut words = decl.split_whitespace();
+                (words.next()? == "const").then_some(())?;
+                let ty = words.next()?.to_string();
+                let name = words.next()?.to_string();
+                Some((id.trim().parse().ok()?, ty, name))
+            })
+            .collect()
+    }
+
+    #[test]
+    fn constants_match_glsl() {
+        let glsl = glsl_constants();
+        assert_eq!(
+            glsl.len(),
+            GLSL_NAMES.len(),
+            "wavelet.glsl and SpecConstants disagree on the number of constants: {glsl:?}"
+        );
+        for (i, ((id, ty, name), (want_ty, want_name))) in glsl.iter().zip(GLSL_NAMES).enumerate() {
+            assert_eq!(
+                (*id, ty.as_str(), name.as_str()),
+                (i, want_ty, want_name),
+                "constant {i}: fix SpecConstants or wavelet.glsl so they list the same constants"
+            );
+        }
+        assert_eq!(std::mem::size_of::<SpecConstants>(), 4 * GLSL_NAMES.len());
+    }
+}

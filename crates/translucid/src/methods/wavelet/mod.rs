@@ -1,0 +1,139 @@
+//! `wavelet`: Haar-wavelet transmittance OIT (see DESIGN.md, "Wavelet OIT"; the math is in
+//! [`math`], and [`model`] is the whole method on the CPU).
+//!
+//! Passes, each one draw of the scene or one full-screen triangle:
+//! 1. **bounds**: each pixel's nearest and farthest transparent view depth (MAX blend).
+//! 2. **transmittance**: every fragment adds its absorbance's Haar coefficients into
+//!    full-screen coefficient images (ADD blend). The coefficients of the three channels are
+//!    packed densely, 4 to a texel: rank 0–3 needs 2, 3, 6 or 12 texels; a draw writes at most
+//!    8 (colour attachments), so rank 3 draws the scene twice.
+//! 3. **resolve** (full screen): dims the opaque colour by the transmittance behind every
+//!    fragment, and writes a depth buffer of its own: the opaque depth, or nearer, the depth at
+//!    which every channel is absorbed.
+//! 4. **shade**: every fragment in front of that depth (hidden ones fail the depth test before
+//!    shading) adds its radiance times the transmittance in front of it, its own share
+//!    removed, to the frame colour (ADD blend).
+//!
+//! Optional depth noise ([`MethodOptions::noise`]) shifts each pixel's cell boundaries by a
+//! fixed hash, trading banding for noise; it is off by default and in the image tests.
+
+pub mod layout;
+pub mod math;
+pub mod model;
+mod passes;
+
+use super::{Method, MethodOptions, RecordContext};
+use crate::gpu::Gpu;
+use crate::renderer::{FrameTargets, GpuScene};
+use crate::scene::Scene;
+use crate::{Error, Result};
+use layout::SpecConstants;
+
+/// Rank when none is asked for: 16 coefficients per channel.
+pub const DEFAULT_RANK: u32 = 3;
+
+/// A pixel counts as opaque once every channel's transmittance is below this: the fragments
+/// behind it are not shaded, an error of at most 1/1024 of their radiance.
+pub const ABSORBED_TRANSMITTANCE: f32 = 1.0 / 1024.0;
+
+/// Storage of the coefficient images.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Precision {
+    /// RGBA16F: half the memory and bandwidth.
+    #[default]
+    Half,
+    /// RGBA32F.
+    Single,
+}
+
+/// The method's settings, checked.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Settings {
+    pub rank: u32,
+    pub noise: f32,
+    pub precision: Precision,
+}
+
+impl Settings {
+    pub fn from_options(options: &MethodOptions) -> Result<Self> {
+        let rank = options.rank.unwrap_or(DEFAULT_RANK);
+        if rank > math::MAX_RANK {
+            return Err(Error::InvalidOption(format!(
+                "wavelet rank {rank} is over {} (ranks 0 to {0} keep 2 to 16 coefficients per channel)",
+                math::MAX_RANK
+            )));
+        }
+        if !(options.noise >= 0.0 && options.noise.is_finite()) {
+            return Err(Error::InvalidOption(format!(
+                "wavelet noise {} must be finite and at least 0",
+                options.noise
+            )));
+        }
+        Ok(Self {
+            rank,
+            noise: options.noise,
+            precision: options.precision,
+        })
+    }
+
+    /// Coefficient texels (RGBA) per pixel: 3 channels × 2^(rank+1), rounded up to 4.
+    pub fn texels(&self) -> usize {
+        (3 * math::coefficient_count(self.rank)).div_ceil(4)
+    }
+
+    /// The shaders' specialization constants for a scene's camera.
+    pub fn constants(&self, scene: &Scene) -> SpecConstants {
+        let (near, far) = (scene.camera.near, scene.camera.far);
+        SpecConstants {
+            first_texel: 0,
+            noise: self.noise,
+            absorbed: -ABSORBED_TRANSMITTANCE.ln(),
+            depth_a: far / (far - near),
+            depth_b: near * far / (far - near),
+        }
+    }
+}
+
+pub struct Wavelet {
+    passes: passes::Passes,
+}
+
+impl Wavelet {
+    pub fn new(
+        gpu: &Gpu,
+        scene: &Scene,
+        uploaded: &GpuScene,
+        targets: &FrameTargets,
+        options: &MethodOptions,
+    ) -> Result<Self> {
+        let settings = Settings::from_options(options)?;
+        Ok(Self {
+            passes: passes::Passes::new(
+                gpu,
+                uploaded,
+                targets,
+                &settings,
+                settings.constants(scene),
+            )?,
+        })
+    }
+}
+
+impl Method for Wavelet {
+    fn name(&self) -> &'static str {
+        "wavelet"
+    }
+
+    fn record(&mut self, ctx: &mut RecordContext<'_>) -> Result<()> {
+        let p = &self.passes;
+        p.bounds(ctx);
+        ctx.timestamps.mark(ctx.cmd, "wavelet bounds");
+        p.transmittance(ctx);
+        ctx.timestamps.mark(ctx.cmd, "wavelet transmittance");
+        p.resolve(ctx);
+        ctx.timestamps.mark(ctx.cmd, "wavelet resolve");
+        p.shade(ctx);
+        ctx.timestamps.mark(ctx.cmd, "wavelet shade");
+        Ok(())
+    }
+}

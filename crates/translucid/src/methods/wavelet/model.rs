@@ -1,0 +1,106 @@
+//! The `wavelet` method on the CPU, pass for pass like its shaders, over the reference's
+//! fragments: a test requires the GPU image to match it within 2/255. It keeps the GPU's
+//! storage: half-float coefficients and the RGBA16F frame colour are rounded after every
+//! addition, in submission order, as blending into those targets rounds them.
+
+#![deny(unsafe_code)]
+
+use super::math;
+use super::{Precision, Settings, ABSORBED_TRANSMITTANCE};
+use crate::image::{Image, OpaqueLayer};
+use crate::reference::{self, PixelFragment};
+use crate::scene::Scene;
+use glam::Vec3;
+
+/// `v` stored in an RGBA16F target by a blend. Lavapipe rounds towards zero there (measured:
+/// rounding to nearest leaves the model further from the GPU than not rounding at all).
+fn half_floats(v: Vec3) -> Vec3 {
+    v.to_array().map(half_towards_zero).into()
+}
+
+fn half_towards_zero(x: f32) -> f32 {
+    let h = half::f16::from_f32(x);
+    if h.is_finite() && h.to_f32().abs() > x.abs() {
+        // Sign and magnitude: one less in the bits is one step towards zero.
+        half::f16::from_bits(h.to_bits() - 1).to_f32()
+    } else {
+        h.to_f32()
+    }
+}
+
+/// What the model needs besides the fragments: the settings and the camera's depth mapping.
+#[derive(Clone, Copy, Debug)]
+pub struct Model {
+    pub settings: Settings,
+    /// Device depth = `depth_a − depth_b / view depth`.
+    pub depth_a: f32,
+    pub depth_b: f32,
+}
+
+impl Model {
+    pub fn new(settings: Settings, scene: &Scene) -> Self {
+        let c = settings.constants(scene);
+        Self {
+            settings,
+            depth_a: c.depth_a,
+            depth_b: c.depth_b,
+        }
+    }
+
+    fn store(&self, v: Vec3) -> Vec3 {
+        match self.settings.precision {
+            Precision::Single => v,
+            Precision::Half => half_floats(v),
+        }
+    }
+
+    /// The final colour of pixel (x, y): `fragments` in submission order over `opaque`.
+    pub fn resolve(&self, x: u32, y: u32, fragments: &[PixelFragment], opaque: Vec3) -> Vec3 {
+        let Settings { rank, noise, .. } = self.settings;
+        // Pass 1: bounds.
+        let (nearest, farthest) = fragments.iter().fold((f32::MAX, -f32::MAX), |(n, f), p| {
+            (n.min(p.view_depth), f.max(p.view_depth))
+        });
+        let pixel_noise = math::pixel_noise(x, y);
+        let position = |f: &PixelFragment| {
+            let v = math::normalized_depth(f.view_depth, nearest, farthest);
+            math::noisy_cell_position(v, rank, noise, pixel_noise)
+        };
+        // Pass 2: coefficients, in the order the blend sees them.
+        let mut coefficients = vec![Vec3::ZERO; math::coefficient_count(rank)];
+        for f in fragments {
+            let a = math::absorbance(f.fragment.transmittance);
+            for (i, addend) in math::event_addends(position(f), rank, a) {
+                coefficients[i] = self.store(coefficients[i] + addend);
+            }
+        }
+        let cells = math::synthesize(&coefficients, rank);
+        // Pass 3: the opaque layer dimmed, and the depth from which nothing is visible.
+        // The frame colour is RGBA16F: every blend into it rounds.
+        let mut colour =
+            half_floats(math::transmittance(math::absorbance_behind_all(&cells)) * opaque);
+        let cut = math::opaque_position(&cells, -ABSORBED_TRANSMITTANCE.ln()).map(|p| {
+            let last = (math::coefficient_count(rank) - 1) as f32;
+            let slack = noise.clamp(0.0, 0.5 * last) * pixel_noise;
+            let v = ((p + slack) / last).min(1.0);
+            self.depth_a - self.depth_b / (nearest + v * (farthest - nearest))
+        });
+        // Pass 4: shading.
+        for f in fragments {
+            if cut.is_some_and(|c| f.device_depth >= c) {
+                continue;
+            }
+            let own = math::absorbance(f.fragment.transmittance);
+            let in_front = math::absorbance_in_front(&cells, position(f), own);
+            colour = half_floats(colour + f.fragment.radiance * math::transmittance(in_front));
+        }
+        colour
+    }
+
+    /// The whole frame over `opaque`.
+    pub fn render(&self, scene: &Scene, opaque: &OpaqueLayer) -> crate::Result<Image> {
+        reference::render_with(scene, opaque, &|x, y, fragments, opaque| {
+            self.resolve(x, y, fragments, opaque)
+        })
+    }
+}

@@ -1,0 +1,169 @@
+// Haar-wavelet absorbance, mirroring crates/translucid/src/methods/wavelet/math.rs function
+// for function (read its module doc first). Coefficients are RGB per index; on the GPU they
+// are packed densely, slot 3*i + channel, four slots per texel of the coefficient images.
+// The rank is a compile-time define (one SPIR-V per rank, from the thin front files in
+// shaders/wavelet/): every loop has a constant trip count and is unrolled by glslc, so every
+// array index below is a constant and nothing is a run-time indexed array. (With the rank as
+// a specialization constant, lavapipe kept some loops and the passes took 15-25 % longer.)
+#ifndef TRANSLUCID_WAVELET_GLSL
+#define TRANSLUCID_WAVELET_GLSL
+
+#extension GL_EXT_control_flow_attributes : require
+
+#ifndef WAVELET_RANK
+#error "define WAVELET_RANK (0 to 3) before including wavelet.glsl"
+#endif
+
+// Specialization constants of every wavelet pass. Host mirror: SpecConstants in
+// crates/translucid/src/methods/wavelet/layout.rs (a test compares the two).
+layout(constant_id = 0) const int WAVELET_FIRST_TEXEL = 0;  // accumulation: first texel written
+layout(constant_id = 1) const float WAVELET_NOISE = 0.0;    // depth noise strength, in cells
+layout(constant_id = 2) const float WAVELET_ABSORBED = 7.6; // absorbance treated as opaque
+layout(constant_id = 3) const float DEPTH_A = 1.0;          // device depth = A - B / view depth
+layout(constant_id = 4) const float DEPTH_B = 0.0;
+
+const int WAVELET_COUNT = 2 << WAVELET_RANK;
+const int WAVELET_SLOTS = 3 * WAVELET_COUNT;
+// Texels of coefficient images: ceil(3N / 4).
+const int WAVELET_TEXELS = (WAVELET_SLOTS + 3) / 4;
+#define WAVELET_MAX_TEXELS 12
+#define WAVELET_MAX_COUNT 16
+#define WAVELET_MIN_TRANSMITTANCE 1e-5
+
+vec3 waveletAbsorbance(vec3 transmittance) {
+    return -log(max(transmittance, vec3(WAVELET_MIN_TRANSMITTANCE)));
+}
+
+vec3 waveletTransmittance(vec3 absorbance) {
+    return exp(-max(absorbance, vec3(0.0)));
+}
+
+float waveletNormalizedDepth(float viewDepth, vec2 bounds) {
+    float range = bounds.y - bounds.x;
+    return range > 0.0 ? clamp((viewDepth - bounds.x) / range, 0.0, 1.0) : 0.0;
+}
+
+float waveletPixelNoise(uvec2 pixel) {
+    uint h = (pixel.x * 0x8da6b343u) ^ (pixel.y * 0xd8163841u);
+    h ^= h >> 16;
+    h *= 0x7feb352du;
+    h ^= h >> 15;
+    h *= 0x846ca68bu;
+    h ^= h >> 16;
+    return float(h >> 8) * (1.0 / 16777216.0);
+}
+
+// Cell-space position of normalized depth v, with the pixel's depth noise when it is on.
+float waveletCellPosition(float v, uvec2 pixel) {
+    v = clamp(v, 0.0, 1.0);
+    float last = float(WAVELET_COUNT - 1);
+    float p = v * last;
+    if (WAVELET_NOISE > 0.0) {
+        float tent = 2.0 * min(v, 1.0 - v);
+        p -= clamp(WAVELET_NOISE, 0.0, 0.5 * last) * waveletPixelNoise(pixel) * tent;
+    }
+    return p;
+}
+
+// Addend of coefficient i for an event of absorbance a at cell position p.
+vec3 waveletAddend(int i, float p, vec3 a) {
+    float u = p / float(WAVELET_COUNT);
+    if (i == 0) {
+        return a * (1.0 - u);
+    }
+    int level = findMSB(i);
+    float width = float(1 << level);
+    float s = u * width;
+    float k = clamp(floor(s), 0.0, width - 1.0);
+    float f = s - k;
+    float tent = f < 0.5 ? f : 1.0 - f;
+    float scale = exp2(-0.5 * float(level));
+    return float(i - (1 << level)) == k ? -a * (scale * tent) : vec3(0.0);
+}
+
+// Slot s (channel s % 3 of coefficient s / 3) of an event's addends; 0 past the last.
+float waveletAddendSlot(int s, float p, vec3 a) {
+    if (s >= WAVELET_SLOTS) {
+        return 0.0;
+    }
+    return waveletAddend(s / 3, p, a)[s % 3];
+}
+
+vec4 waveletAddendTexel(int t, float p, vec3 a) {
+    return vec4(waveletAddendSlot(4 * t, p, a), waveletAddendSlot(4 * t + 1, p, a),
+                waveletAddendSlot(4 * t + 2, p, a), waveletAddendSlot(4 * t + 3, p, a));
+}
+
+// Unpacks texels into coefficients (only the first WAVELET_TEXELS are read).
+void waveletUnpack(vec4 texels[WAVELET_MAX_TEXELS], out vec3 c[WAVELET_MAX_COUNT]) {
+    [[unroll]] for (int i = 0; i < WAVELET_MAX_COUNT; i++) {
+        c[i] = vec3(0.0);
+    }
+    [[unroll]] for (int i = 0; i < WAVELET_COUNT; i++) {
+        [[unroll]] for (int ch = 0; ch < 3; ch++) {
+            int s = 3 * i + ch;
+            c[i][ch] = texels[s / 4][s % 4];
+        }
+    }
+}
+
+// The inverse Haar transform: cell m = c0 + sum over levels of the signed, scaled wavelet
+// coefficient covering it (+ in the first half of the wavelet's support).
+void waveletSynthesize(vec3 c[WAVELET_MAX_COUNT], out vec3 cells[WAVELET_MAX_COUNT]) {
+    [[unroll]] for (int m = 0; m < WAVELET_MAX_COUNT; m++) {
+        cells[m] = vec3(0.0);
+    }
+    [[unroll]] for (int m = 0; m < WAVELET_COUNT; m++) {
+        vec3 v = c[0];
+        [[unroll]] for (int level = 0; level <= WAVELET_RANK; level++) {
+            int shift = WAVELET_RANK - level;
+            int k = m >> (shift + 1);
+            float sign = ((m >> shift) & 1) == 0 ? 1.0 : -1.0;
+            v += (sign * exp2(0.5 * float(level))) * c[(1 << level) + k];
+        }
+        cells[m] = v;
+    }
+}
+
+// Absorbance in front of cell position p, minus the share of the fragment's own event of
+// absorbance `own` (pass vec3(0) for none). Cell averages sit at the middles of their cells;
+// selects over constant indices pick the two around p.
+vec3 waveletAbsorbanceAt(vec3 cells[WAVELET_MAX_COUNT], float p, vec3 own) {
+    float last = float(WAVELET_COUNT - 1);
+    p = clamp(p, 0.0, last);
+    float q = p + 0.5;
+    float fm = min(floor(q), last);
+    float t = q - fm;
+    int m = int(fm);
+    vec3 before = vec3(0.0);
+    vec3 here = vec3(0.0);
+    [[unroll]] for (int i = 0; i < WAVELET_COUNT; i++) {
+        before = (i == m - 1) ? cells[i] : before;
+        here = (i == m) ? cells[i] : here;
+    }
+    float ownBefore = clamp(fm - p, 0.0, 1.0);
+    float ownHere = clamp(fm + 1.0 - p, 0.0, 1.0);
+    vec3 share = own * (ownBefore + (ownHere - ownBefore) * t);
+    return max(mix(before, here, t) - share, vec3(0.0));
+}
+
+vec3 waveletAbsorbanceBehindAll(vec3 cells[WAVELET_MAX_COUNT]) {
+    vec3 last = vec3(0.0);
+    [[unroll]] for (int i = 0; i < WAVELET_COUNT; i++) {
+        last = cells[i];
+    }
+    return last;
+}
+
+// The cell position from which fragments are hidden: the end of the first cell whose average
+// reaches `limit` in every channel; negative if none does before the farthest fragment.
+float waveletOpaquePosition(vec3 cells[WAVELET_MAX_COUNT], float limit) {
+    float cut = -1.0;
+    [[unroll]] for (int k = 0; k < WAVELET_COUNT - 1; k++) {
+        bool absorbed = all(greaterThanEqual(cells[k], vec3(limit)));
+        cut = (cut < 0.0 && absorbed) ? float(k + 1) : cut;
+    }
+    return cut;
+}
+
+#endif

@@ -1,0 +1,33 @@
+// The body of the wavelet accumulate pass; shaders/wavelet/accumulate_rank<N>.frag set the rank.
+#ifndef TRANSLUCID_WAVELET_ACCUMULATE_GLSL
+#define TRANSLUCID_WAVELET_ACCUMULATE_GLSL
+// Pass 2, transmittance: each fragment adds its absorbance -ln T, projected onto the Haar
+// basis, into the coefficient images by an ADD blend. One draw of the scene writes up to 8
+// texels (colour attachments); rank 3 needs 12, so it draws twice, starting at
+// WAVELET_FIRST_TEXEL. Every output is written: zero where the event adds nothing.
+
+#include "mesh_fragment.glsl"
+#include "shading.glsl"
+#include "wavelet.glsl"
+
+layout(set = 2, binding = 0) uniform sampler2D u_waveletBounds;
+
+layout(location = 0) out vec4 o_texels[8];
+
+void main() {
+    DrawInfo d = g_draws[u_push.drawIndex];
+    Material m = g_materials[d.materialIndex];
+    vec3 radiance;
+    vec3 transmittance;
+    shadeTransparent(m, u_frame, v_colour, sampleBaseTexture(m), fragmentNormal(d), radiance,
+                     transmittance);
+    vec2 b = texelFetch(u_waveletBounds, ivec2(gl_FragCoord.xy), 0).xy;
+    float v = waveletNormalizedDepth(1.0 / gl_FragCoord.w, vec2(-b.x, b.y));
+    float p = waveletCellPosition(v, uvec2(gl_FragCoord.xy));
+    vec3 a = waveletAbsorbance(transmittance);
+    [[unroll]] for (int k = 0; k < 8; k++) {
+        o_texels[k] = waveletAddendTexel(WAVELET_FIRST_TEXEL + k, p, a);
+    }
+}
+
+#endif

@@ -1,0 +1,214 @@
+//! The approximate methods, `wavelet` and `wboit`: the GPU against a CPU model of the same
+//! math (within 2/255), and against the exact reference (a PSNR floor per scene, recorded
+//! with the value measured when it was set; never lower one silently).
+
+use translucid::gpu::Gpu;
+use translucid::methods::wavelet::{model::Model, Precision, Settings};
+use translucid::methods::{wboit, MethodOptions};
+use translucid::metrics::{self, Metrics};
+use translucid::renderer::{Frame, Renderer};
+use translucid::scene::{self, Scene};
+use translucid::Image;
+use translucid_tests::{asset, gpu, save_failure};
+
+const TOLERANCE: f32 = 2.0 / 255.0;
+/// Not a multiple of anything.
+const SIZE: (u32, u32) = (213, 131);
+
+fn render(gpu: &Gpu, scene: &Scene, method: &str, options: &MethodOptions) -> Frame {
+    Renderer::with_options(gpu, scene, method, SIZE.0, SIZE.1, options)
+        .and_then(|mut r| r.render(true))
+        .unwrap_or_else(|e| panic!("{method} on {}: {e}", scene.name))
+}
+
+fn compare(label: &str, got: &Image, expected: &Image) -> Metrics {
+    let m = metrics::compare(got, expected).expect("same size");
+    if m.max_error > TOLERANCE {
+        save_failure(label, got, expected);
+    }
+    m
+}
+
+fn wavelet_options(rank: u32, noise: f32, precision: Precision) -> MethodOptions {
+    MethodOptions {
+        rank: Some(rank),
+        noise,
+        precision,
+        ..MethodOptions::default()
+    }
+}
+
+/// Pixels allowed over 2/255 against a CPU model, as a share of the image, and the most any
+/// may be off. The models run on the reference's coverage; lavapipe's rasterizer covers a
+/// few samples on shared edges differently, and in a deep stack (particles: 50–90 layers)
+/// that moves a pixel by a few 255ths in every method (measured: 2 pixels of 27 903 at
+/// 3.7/255 for wavelet; wboit and the depth-perturbed model confirm the fragment set
+/// differs there, not the math). Shallow scenes are held to 2/255 everywhere.
+const DEEP_SHARE: f64 = 0.0005;
+const DEEP_MAX: f32 = 4.0 / 255.0;
+
+fn assert_matches(label: &str, m: &Metrics, deep: bool) {
+    let ok = if deep {
+        m.share_over <= DEEP_SHARE && m.max_error <= DEEP_MAX
+    } else {
+        m.max_error <= TOLERANCE
+    };
+    assert!(
+        ok,
+        "{label}: GPU off its CPU model by {:.1}/255 on {} pixels ({:.3} %); see \
+         target/test-failures/{label}.png",
+        m.max_error * 255.0,
+        m.pixels_over,
+        m.share_over * 100.0
+    );
+}
+
+/// The GPU's wavelet image against the CPU model of the same passes over the reference's
+/// fragments.
+fn check_wavelet_model(gpu: &Gpu, scene: &Scene, options: &MethodOptions, deep: bool) {
+    let frame = render(gpu, scene, "wavelet", options);
+    let opaque = frame.opaque.as_ref().expect("opaque layer");
+    let settings = Settings::from_options(options).expect("valid settings");
+    let expected = Model::new(settings, scene)
+        .render(scene, opaque)
+        .expect("model");
+    let label = format!(
+        "wavelet_model_{}_rank{}_{:?}_noise{}",
+        scene.name, settings.rank, settings.precision, settings.noise
+    );
+    let m = compare(&label, &frame.image, &expected);
+    assert_matches(&label, &m, deep);
+}
+
+#[test]
+fn wavelet_matches_its_cpu_model_at_every_rank() {
+    let gpu = gpu();
+    for name in ["spheres", "polychrome"] {
+        let scene = scene::load(name).expect("generated scene");
+        for rank in 0..=3 {
+            check_wavelet_model(
+                &gpu,
+                &scene,
+                &wavelet_options(rank, 0.0, Precision::Half),
+                false,
+            );
+        }
+    }
+}
+
+#[test]
+fn wavelet_matches_its_cpu_model_deep_in_single_precision_and_with_noise() {
+    let gpu = gpu();
+    let scene = scene::load("particles").expect("generated scene");
+    check_wavelet_model(
+        &gpu,
+        &scene,
+        &wavelet_options(3, 0.0, Precision::Single),
+        true,
+    );
+    check_wavelet_model(
+        &gpu,
+        &scene,
+        &wavelet_options(2, 1.0, Precision::Half),
+        true,
+    );
+    check_wavelet_model(
+        &gpu,
+        &scene,
+        &wavelet_options(3, 0.0, Precision::Half),
+        true,
+    );
+}
+
+#[test]
+fn wavelet_noise_is_deterministic() {
+    let gpu = gpu();
+    let scene = scene::load("planes").expect("generated scene");
+    let options = wavelet_options(1, 1.0, Precision::Half);
+    let a = render(&gpu, &scene, "wavelet", &options);
+    let b = render(&gpu, &scene, "wavelet", &options);
+    assert_eq!(
+        a.image.pixels, b.image.pixels,
+        "two frames with noise differ"
+    );
+}
+
+#[test]
+fn wavelet_rejects_ranks_over_three() {
+    let gpu = gpu();
+    let scene = scene::load("spheres").expect("generated scene");
+    let options = wavelet_options(4, 0.0, Precision::Half);
+    let err = Renderer::with_options(&gpu, &scene, "wavelet", 16, 16, &options)
+        .err()
+        .expect("rank 4 must fail");
+    assert!(err.to_string().contains("rank 4"), "unhelpful error: {err}");
+}
+
+#[test]
+fn wboit_matches_its_cpu_model() {
+    let gpu = gpu();
+    for name in ["spheres", "polychrome", "particles"] {
+        let scene = scene::load(name).expect("generated scene");
+        let frame = render(&gpu, &scene, "wboit", &MethodOptions::default());
+        let opaque = frame.opaque.as_ref().expect("opaque layer");
+        let expected = wboit::model::render(&scene, opaque).expect("model");
+        let label = format!("wboit_model_{name}");
+        let m = compare(&label, &frame.image, &expected);
+        assert_matches(&label, &m, name == "particles");
+    }
+}
+
+/// (scene, method, wavelet rank, PSNR floor in dB, PSNR measured when the floor was set) at
+/// 213×131 against the exact reference. Floors sit 1 dB under the measurement.
+const FLOORS: &[(&str, &str, u32, f32, f32)] = &[
+    ("spheres", "wavelet", 3, 45.3, 46.27),
+    ("spheres", "wavelet", 1, 38.0, 39.03),
+    ("spheres", "wboit", 0, 36.2, 37.22),
+    ("particles", "wavelet", 3, 50.5, 51.50),
+    ("particles", "wavelet", 1, 29.4, 30.44),
+    ("particles", "wboit", 0, 38.7, 39.73),
+    ("planes", "wavelet", 3, 48.0, 48.95),
+    ("planes", "wavelet", 1, 38.6, 39.58),
+    ("planes", "wboit", 0, 31.4, 32.36),
+    ("polychrome", "wavelet", 3, 80.9, 81.94),
+    ("polychrome", "wboit", 0, 45.8, 46.81),
+    ("GlassVaseFlowers", "wavelet", 3, 78.7, 79.70),
+    ("GlassVaseFlowers", "wboit", 0, 68.7, 69.67),
+];
+
+fn load(name: &str) -> Scene {
+    if name == "GlassVaseFlowers" {
+        let path = asset("GlassVaseFlowers/GlassVaseFlowers.glb");
+        scene::load(path.to_str().expect("utf-8 path")).expect("vendored scene")
+    } else {
+        scene::load(name).expect("generated scene")
+    }
+}
+
+#[test]
+fn approximate_methods_stay_above_their_psnr_floors() {
+    let gpu = gpu();
+    let mut failures = Vec::new();
+    for &(name, method, rank, floor, measured) in FLOORS {
+        let scene = load(name);
+        let options = wavelet_options(rank, 0.0, Precision::Half);
+        let frame = render(&gpu, &scene, method, &options);
+        let opaque = frame.opaque.as_ref().expect("opaque layer");
+        let expected = translucid::reference::render(&scene, opaque).expect("reference");
+        let m = metrics::compare(&frame.image, &expected).expect("same size");
+        eprintln!("{name} {method} rank {rank}: {:.2} dB", m.psnr);
+        if m.psnr.is_nan() || m.psnr < floor {
+            save_failure(
+                &format!("psnr_{name}_{method}{rank}"),
+                &frame.image,
+                &expected,
+            );
+            failures.push(format!(
+                "{name} with {method} (rank {rank}): {:.2} dB, under its floor {floor} dB \
+                 (measured {measured} dB when set)",
+                m.psnr
+            ));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
