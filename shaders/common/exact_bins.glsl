@@ -36,6 +36,43 @@ bool edgeExcludesRect(int a, int b, int64_t c, int bias, int x0, int y0, int x1,
     return int64_t(a) * px + int64_t(b) * py + c + int64_t(bias) <= 0;
 }
 
+// Narrows the open interval (lo, hi) of fixed-point x at which edge (a, b, c) with tie bias
+// covers row py: a*px + b*py + c + bias > 0.
+void narrowRow(int a, int b, int64_t c, int bias, double py, inout double lo, inout double hi) {
+    double k = double(b) * py + double(c + int64_t(bias));
+    if (a > 0) {
+        lo = max(lo, -k / double(a));
+    } else if (a < 0) {
+        hi = min(hi, -k / double(a));
+    } else if (k <= 0.0) {
+        hi = lo;
+    }
+}
+
+// The block columns of pixel row y, within `cols`, that may hold a pixel centre of triangle t:
+// on one row each edge bounds the centres from one side. Rounding is covered by a pixel of
+// margin (mayCoverRect still decides each block), and homogeneous triangles keep `cols`.
+// Thin diagonal triangles (hair) would otherwise visit every block of their bounding box.
+ivec2 rowColumns(ExactTriangle t, int y, ivec2 cols) {
+    if (t.edgeB.w >= 0) {
+        return cols;
+    }
+    double py = double((y << 8) + 128);
+    double lo = -1.0e30;
+    double hi = 1.0e30;
+    int ties = t.edgeA.w;
+    narrowRow(t.edgeA.x, t.edgeB.x, t.edgeC.x, ties & 1, py, lo, hi);
+    narrowRow(t.edgeA.y, t.edgeB.y, t.edgeC.y, (ties >> 1) & 1, py, lo, hi);
+    narrowRow(t.edgeA.z, t.edgeB.z, t.edgeC.z, (ties >> 2) & 1, py, lo, hi);
+    if (!(lo < hi)) {
+        return ivec2(1, 0);
+    }
+    // Pixel x of centre px is (px - 128) / 256; clamp before converting to int.
+    double first = clamp(floor((lo - 128.0) / 256.0) - 1.0, -1.0, 1.0e9);
+    double last = clamp(ceil((hi - 128.0) / 256.0) + 1.0, -1.0, 1.0e9);
+    return ivec2(max(cols.x, int(first) >> BIN_SHIFT), min(cols.y, int(last) >> BIN_SHIFT));
+}
+
 // Whether a triangle may cover a pixel centre of the pixel rectangle [x0, x1) x [y0, y1):
 // false only when one fixed-point edge excludes every centre (its best corner is outside).
 // Homogeneous triangles are not refined. Counting and filling the bins both use this, so

@@ -18,7 +18,8 @@ void main() {
     ivec2 rows = sliceRows(r);
     uint capacity = g_counters.binEntryCapacity;
     for (int by = rows.x; by <= rows.y; by++) {
-        for (int bx = r.x; bx <= r.z; bx++) {
+        ivec2 cols = rowColumns(t, by, r.xz);
+        for (int bx = cols.x; bx <= cols.y; bx++) {
             int x0 = bx << BIN_SHIFT;
             if (!mayCoverRect(t, x0, by, x0 + BIN_SIZE, by + 1)) {
                 continue;
