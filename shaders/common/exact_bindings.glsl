@@ -136,11 +136,6 @@ ExactTriangle loadTriangle(uint i) {
     return t;
 }
 
-// Just the pixel rectangle of triangle record i.
-ivec4 loadTriangleBounds(uint i) {
-    return ivec4(texelFetch(u_triangleTexels, int(i) * 8 + 4));
-}
-
 dvec4 fetchDvec4(int texel) {
     uvec4 a = texelFetch(u_homogeneousTexels, texel);
     uvec4 b = texelFetch(u_homogeneousTexels, texel + 1);

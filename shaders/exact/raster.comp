@@ -152,7 +152,7 @@ uint passIterations(uint entries) {
 }
 
 void main() {
-    // Uniform loads first, outside all control flow: CPU drivers load them once for the
+    // Loads first, outside all control flow: CPU drivers load uniform values once for the
     // subgroup there, but once per lane after a branch (an early return counts).
     FrameInfo frame = u_frame;
     uint resumeCapacity = g_counters.resumeCapacity;
