@@ -54,8 +54,8 @@ layout(push_constant) uniform ExactPush {
     uint drawCount;         // transparent draws
     uint width;
     uint height;
-    uint binsX;
-    uint binsY;
+    uint binsX;             // blocks across (BIN_SIZE pixels each)
+    uint binsY;             // blocks down
     float threshold;        // stop once every channel's transmittance is below this; 0: exact
     uint resumeList;        // raster: the list a continuation reads; it appends to the other
     uint binRowsPerSlice;   // binning: bin rows one invocation covers (see exact_bins.glsl)

@@ -6,16 +6,18 @@
 //!    homogeneous), cull, append visible triangles.
 //! 2. `bin_count`, `bin_scan`, `bin_fill`: per bin (one row of an 8×8-pixel block), count the
 //!    triangles that may cover it, prefix-sum the counts, fill the per-bin triangle lists.
-//! 3. `raster`: one workgroup per block with triangles, one invocation per pixel; each pixel selects its nearest
-//!    remaining fragments in registers, composites them front to back over the opaque colour,
-//!    and repeats until none is left (or transmittance is under the threshold). Rows of
-//!    pixels that reach the driver's loop budget are saved and finished by continuation
-//!    dispatches of the same shader, sized on the GPU (indirect dispatch).
+//! 3. `raster`: one workgroup per block with triangles, one invocation per pixel; each pixel
+//!    selects its nearest remaining fragments in registers, composites them front to back
+//!    over the opaque colour, and repeats until none is left (or transmittance is under the
+//!    threshold). Rows of pixels that reach the driver's loop budget are saved and finished
+//!    by continuation dispatches of the same shader, sized on the GPU (indirect dispatch).
 //!
 //! Why this shape: on lavapipe (subgroups of 8, 32 KB shared memory) barrier-heavy
-//! shared-memory phases cost more than blending itself, while fixed-size register work is
-//! cheap (measurements in DESIGN.md). Selection by key (view depth, draw, quad, triangle) is
-//! exact by construction, so no pixel can come out of order and no fallback path is needed.
+//! shared-memory phases cost more than blending itself, fixed-size register work is cheap
+//! (measurements in DESIGN.md), an `if` runs both its sides, and data read in loops is
+//! cheapest through texel views (README, "Where performance stands"). Selection by key (view
+//! depth, draw, quad, triangle) is exact by construction, so no pixel can come out of order
+//! and no fallback path is needed.
 //!
 //! Memory is sized from the frame: two triangle records per quad at most, bin lists grown to
 //! what the GPU counted. Counters come back every frame; an overflow renders the frame again
