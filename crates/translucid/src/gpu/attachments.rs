@@ -26,7 +26,16 @@ pub struct Attachment<'a> {
     pub layouts: (vk::ImageLayout, vk::ImageLayout),
 }
 
-impl Attachment<'_> {
+impl<'a> Attachment<'a> {
+    /// `image` loaded as it is, in `layout` before and after the pass.
+    pub fn kept(image: &'a GpuImage, layout: vk::ImageLayout) -> Self {
+        Self {
+            image,
+            load: Load::Keep,
+            layouts: (layout, layout),
+        }
+    }
+
     fn description(&self) -> vk::AttachmentDescription {
         let (load, initial) = match self.load {
             Load::Clear(_) => (vk::AttachmentLoadOp::CLEAR, vk::ImageLayout::UNDEFINED),
@@ -118,27 +127,8 @@ impl AttachmentPass {
             subpass = subpass.depth_stencil_attachment(d);
         }
         let subpasses = [subpass];
-        // Ordered after whatever touched the images before and before whatever follows, as
-        // the frame's own passes are (see RenderTarget).
-        let all = vk::PipelineStageFlags::ALL_COMMANDS;
-        let graphics = vk::PipelineStageFlags::ALL_GRAPHICS;
-        let rw = vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE;
-        let dependencies = [
-            vk::SubpassDependency::default()
-                .src_subpass(vk::SUBPASS_EXTERNAL)
-                .dst_subpass(0)
-                .src_stage_mask(all)
-                .dst_stage_mask(graphics)
-                .src_access_mask(rw)
-                .dst_access_mask(rw),
-            vk::SubpassDependency::default()
-                .src_subpass(0)
-                .dst_subpass(vk::SUBPASS_EXTERNAL)
-                .src_stage_mask(graphics)
-                .dst_stage_mask(all)
-                .src_access_mask(rw)
-                .dst_access_mask(rw),
-        ];
+        // Ordered like the frame's own passes (see RenderTarget).
+        let dependencies = super::pipeline::external_dependencies();
         let info = vk::RenderPassCreateInfo::default()
             .attachments(&descriptions)
             .subpasses(&subpasses)

@@ -200,6 +200,30 @@ impl Drop for DescriptorSet {
     }
 }
 
+/// The subpass dependencies of every one-subpass render pass here: ordered after whatever
+/// wrote or read the attachments before it, its writes visible to whatever follows.
+pub(super) fn external_dependencies() -> [vk::SubpassDependency; 2] {
+    let all = vk::PipelineStageFlags::ALL_COMMANDS;
+    let graphics = vk::PipelineStageFlags::ALL_GRAPHICS;
+    let rw = vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE;
+    [
+        vk::SubpassDependency::default()
+            .src_subpass(vk::SUBPASS_EXTERNAL)
+            .dst_subpass(0)
+            .src_stage_mask(all)
+            .dst_stage_mask(graphics)
+            .src_access_mask(rw)
+            .dst_access_mask(rw),
+        vk::SubpassDependency::default()
+            .src_subpass(0)
+            .dst_subpass(vk::SUBPASS_EXTERNAL)
+            .src_stage_mask(graphics)
+            .dst_stage_mask(all)
+            .src_access_mask(rw)
+            .dst_access_mask(rw),
+    ]
+}
+
 fn shader_module(gpu: &Gpu, spirv: &[u8]) -> Result<vk::ShaderModule> {
     let words = ash::util::read_spv(&mut std::io::Cursor::new(spirv))?;
     let info = vk::ShaderModuleCreateInfo::default().code(&words);
@@ -763,27 +787,7 @@ impl RenderTarget {
             .pipeline_bind_point(vk::PipelineBindPoint::GRAPHICS)
             .color_attachments(&colour_ref)
             .depth_stencil_attachment(&depth_ref)];
-        // Order the pass after whatever wrote or read the attachments before it, and make
-        // its writes visible to later transfers and shaders.
-        let all = vk::PipelineStageFlags::ALL_COMMANDS;
-        let graphics = vk::PipelineStageFlags::ALL_GRAPHICS;
-        let rw = vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE;
-        let dependencies = [
-            vk::SubpassDependency::default()
-                .src_subpass(vk::SUBPASS_EXTERNAL)
-                .dst_subpass(0)
-                .src_stage_mask(all)
-                .dst_stage_mask(graphics)
-                .src_access_mask(rw)
-                .dst_access_mask(rw),
-            vk::SubpassDependency::default()
-                .src_subpass(0)
-                .dst_subpass(vk::SUBPASS_EXTERNAL)
-                .src_stage_mask(graphics)
-                .dst_stage_mask(all)
-                .src_access_mask(rw)
-                .dst_access_mask(rw),
-        ];
+        let dependencies = external_dependencies();
         let info = vk::RenderPassCreateInfo::default()
             .attachments(&attachments)
             .subpasses(&subpass)

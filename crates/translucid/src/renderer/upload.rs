@@ -2,8 +2,8 @@
 //! descriptor set every mesh pipeline binds as set 0.
 
 use crate::gpu::{
-    vk, BindingKind, Buffer, DescriptorLayout, DescriptorSet, Gpu, GpuImage, GraphicsPipeline,
-    GraphicsPipelineDesc, PipelineState, Resource, Sampler,
+    vk, BindingKind, Buffer, DepthMode, DescriptorLayout, DescriptorSet, Gpu, GpuImage,
+    GraphicsPipeline, GraphicsPipelineDesc, PipelineState, Resource, Sampler,
 };
 use crate::scene::{Mesh, Scene, Texture};
 use crate::shader_types::{GpuDrawInfo, GpuFrameInfo, GpuMaterial, GpuVertex};
@@ -210,24 +210,18 @@ impl GpuScene {
         depth_write: bool,
         blend: crate::gpu::Blend,
     ) -> Result<(GraphicsPipeline, GraphicsPipeline)> {
-        let pipeline = |cull_back| {
-            GraphicsPipeline::new(
-                gpu,
-                &GraphicsPipelineDesc {
-                    vertex: crate::spirv!("scene/mesh.vert"),
-                    fragment,
-                    vertex_stride: VERTEX_STRIDE,
-                    attributes: &VERTEX_ATTRIBUTES,
-                    cull_back,
-                    depth_write,
-                    blend,
-                    render_pass,
-                    sets: &[&self.layout, &self.texture_layout],
-                    push_bytes: 4,
-                },
-            )
-        };
-        Ok((pipeline(false)?, pipeline(true)?))
+        self.mesh_pipelines_with(
+            gpu,
+            render_pass,
+            fragment,
+            &[],
+            &PipelineState {
+                blends: &[blend],
+                depth: DepthMode::Less(depth_write),
+                fragment_constants: &[],
+                vertex_input: true,
+            },
+        )
     }
 
     /// Like [`Self::mesh_pipelines`], with the method's own descriptor sets after the scene's

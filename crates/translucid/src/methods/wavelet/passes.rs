@@ -209,11 +209,7 @@ impl Passes {
 
         let resolve_pass = AttachmentPass::new(
             gpu,
-            &[Attachment {
-                image: &targets.colour,
-                load: Load::Keep,
-                layouts: (COLOUR, COLOUR),
-            }],
+            &[Attachment::kept(&targets.colour, COLOUR)],
             Some(&DepthAttachment {
                 attachment: Attachment {
                     image: &depth,
@@ -238,11 +234,7 @@ impl Passes {
 
         let shade_pass = AttachmentPass::new(
             gpu,
-            &[Attachment {
-                image: &targets.colour,
-                load: Load::Keep,
-                layouts: (COLOUR, COLOUR),
-            }],
+            &[Attachment::kept(&targets.colour, COLOUR)],
             Some(&DepthAttachment {
                 attachment: Attachment {
                     image: &depth,

@@ -79,15 +79,8 @@ impl Wboit {
                 vertex_input: true,
             },
         )?;
-        let composite = AttachmentPass::new(
-            gpu,
-            &[Attachment {
-                image: &targets.colour,
-                load: Load::Keep,
-                layouts: (colour, colour),
-            }],
-            None,
-        )?;
+        let composite =
+            AttachmentPass::new(gpu, &[Attachment::kept(&targets.colour, colour)], None)?;
         let sampler = Sampler::nearest_clamp(gpu)?;
         let layout = DescriptorLayout::new(
             gpu,
