@@ -167,30 +167,13 @@ impl AttachmentPass {
 
     /// Begins the pass with its clears and sets the full-target viewport and scissor.
     pub fn begin(&self, cmd: vk::CommandBuffer) {
-        let area = vk::Rect2D {
-            offset: vk::Offset2D::default(),
-            extent: self.extent,
-        };
-        let begin = vk::RenderPassBeginInfo::default()
-            .render_pass(self.render_pass)
-            .framebuffer(self.framebuffer)
-            .render_area(area)
-            .clear_values(&self.clears);
-        let viewport = vk::Viewport {
-            x: 0.0,
-            y: 0.0,
-            width: self.extent.width as f32,
-            height: self.extent.height as f32,
-            min_depth: 0.0,
-            max_depth: 1.0,
-        };
-        // SAFETY: cmd is recording outside any render pass.
-        unsafe {
-            let d = &self.gpu.device;
-            d.cmd_begin_render_pass(cmd, &begin, vk::SubpassContents::INLINE);
-            d.cmd_set_viewport(cmd, 0, &[viewport]);
-            d.cmd_set_scissor(cmd, 0, &[area]);
-        }
+        super::pipeline::begin_render_pass(
+            &self.gpu,
+            cmd,
+            (self.render_pass, self.framebuffer),
+            self.extent,
+            &self.clears,
+        );
     }
 
     pub fn end(&self, cmd: vk::CommandBuffer) {

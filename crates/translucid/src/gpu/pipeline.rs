@@ -200,6 +200,41 @@ impl Drop for DescriptorSet {
     }
 }
 
+/// Begins `pass` on `framebuffer` over all of `extent` with `clears`, and sets the matching
+/// viewport and scissor (every pipeline here takes them as dynamic state).
+pub(super) fn begin_render_pass(
+    gpu: &Gpu,
+    cmd: vk::CommandBuffer,
+    (pass, framebuffer): (vk::RenderPass, vk::Framebuffer),
+    extent: vk::Extent2D,
+    clears: &[vk::ClearValue],
+) {
+    let area = vk::Rect2D {
+        offset: vk::Offset2D::default(),
+        extent,
+    };
+    let begin = vk::RenderPassBeginInfo::default()
+        .render_pass(pass)
+        .framebuffer(framebuffer)
+        .render_area(area)
+        .clear_values(clears);
+    let viewport = vk::Viewport {
+        x: 0.0,
+        y: 0.0,
+        width: extent.width as f32,
+        height: extent.height as f32,
+        min_depth: 0.0,
+        max_depth: 1.0,
+    };
+    // SAFETY: cmd is recording outside any render pass; the framebuffer belongs to `pass`.
+    unsafe {
+        gpu.device
+            .cmd_begin_render_pass(cmd, &begin, vk::SubpassContents::INLINE);
+        gpu.device.cmd_set_viewport(cmd, 0, &[viewport]);
+        gpu.device.cmd_set_scissor(cmd, 0, &[area]);
+    }
+}
+
 /// The subpass dependencies of every one-subpass render pass here: ordered after whatever
 /// wrote or read the attachments before it, its writes visible to whatever follows.
 pub(super) fn external_dependencies() -> [vk::SubpassDependency; 2] {
@@ -835,30 +870,13 @@ impl RenderTarget {
                 },
             },
         ];
-        let area = vk::Rect2D {
-            offset: vk::Offset2D::default(),
-            extent: self.extent,
-        };
-        let begin = vk::RenderPassBeginInfo::default()
-            .render_pass(self.render_pass)
-            .framebuffer(self.framebuffer)
-            .render_area(area)
-            .clear_values(&clears);
-        let viewport = vk::Viewport {
-            x: 0.0,
-            y: 0.0,
-            width: self.extent.width as f32,
-            height: self.extent.height as f32,
-            min_depth: 0.0,
-            max_depth: 1.0,
-        };
-        // SAFETY: cmd is recording outside any render pass.
-        unsafe {
-            let d = &self.gpu.device;
-            d.cmd_begin_render_pass(cmd, &begin, vk::SubpassContents::INLINE);
-            d.cmd_set_viewport(cmd, 0, &[viewport]);
-            d.cmd_set_scissor(cmd, 0, &[area]);
-        }
+        begin_render_pass(
+            &self.gpu,
+            cmd,
+            (self.render_pass, self.framebuffer),
+            self.extent,
+            &clears,
+        );
     }
 
     pub fn end(&self, cmd: vk::CommandBuffer) {
