@@ -13,6 +13,7 @@ layout(set = 1, binding = 2) uniform usamplerBuffer u_exactDrawTexels;
 layout(set = 1, binding = 3, std430) buffer TriangleBlock { ExactTriangle g_triangles[]; };
 layout(set = 1, binding = 4, std430) buffer HomogeneousBlock { ExactHomogeneous g_homogeneous[]; };
 layout(set = 1, binding = 5, std430) buffer CounterBlock { ExactCounters g_counters; };
+// Bin counts, offsets and cursors have one entry per (bin, slab): bin * SLABS + slab.
 layout(set = 1, binding = 6, std430) buffer BinCountBlock { uint g_binCounts[]; };
 layout(set = 1, binding = 7, std430) buffer BinOffsetBlock { uint g_binOffsets[]; };
 layout(set = 1, binding = 8, std430) buffer BinCursorBlock { uint g_binCursors[]; };
@@ -48,6 +49,9 @@ layout(set = 1, binding = 21, std430) buffer RasterWorkBlock {
 layout(set = 1, binding = 22, std430) buffer PixelStateBlock { ExactPixelState g_pixelStates[]; };
 layout(set = 1, binding = 23, std430) buffer RasterBinBlock { uint g_rasterBins[]; };
 layout(set = 1, binding = 24) uniform usamplerBuffer u_drawTexels;        // DrawInfo, 9 each
+// Per (bin, slab): bits of the farthest vertex view depth of its triangles (0: none), so a
+// pass can skip the leading slabs its pixels have composited already.
+layout(set = 1, binding = 25, std430) buffer BinDepthMaxBlock { uint g_binDepthMax[]; };
 
 layout(push_constant) uniform ExactPush {
     uint itemCount;         // transparent quads in all draws

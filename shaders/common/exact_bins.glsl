@@ -6,6 +6,16 @@
 
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 
+// Each bin's list holds SLABS depth slabs, near to far. Slabs split the frame's range of
+// triangle view depths (ExactCounters.depthLo..depthHi) evenly in float-bit space, which is
+// close to logarithmic in depth, and a triangle goes to the slab of its nearest vertex.
+// Walking the slabs in order, a pixel that already holds its nearest fragments can stop at
+// the first slab whose floor is past them. Shallow frames keep one slab: the host raises
+// SLAB_BITS (a specialization constant of the binning and raster stages) when pixels turn
+// out deep, since more slabs cost a longer scan.
+layout(constant_id = 7) const uint SLAB_BITS = 0u;
+const uint SLABS = 1u << SLAB_BITS;
+
 // The bins a non-empty pixel rectangle touches: inclusive block columns (x, z) and pixel
 // rows (y, w).
 ivec4 binRect(ivec4 bounds) {
@@ -25,6 +35,36 @@ ivec2 sliceRows(ivec4 r) {
     int rows = int(u_push.binRowsPerSlice);
     int first = int(gl_GlobalInvocationID.y) * rows;
     return ivec2(max(r.y, first), min(r.w, first + rows - 1));
+}
+
+// Bits of a triangle's nearest and farthest vertex view depth, widened by a relative 2^-12
+// so that every fragment's interpolated depth, rounded in float, lies between them.
+// Homogeneous triangles (a vertex may be behind the eye) span everything.
+uvec2 triangleDepthBits(ExactTriangle t) {
+    if (t.edgeB.w >= 0) {
+        return uvec2(0u, 0x7F800000u);
+    }
+    float nearest = 1.0 / max(max(t.invW.x, t.invW.y), t.invW.z);
+    float farthest = 1.0 / min(min(t.invW.x, t.invW.y), t.invW.z);
+    return uvec2(floatBitsToUint(nearest * (1.0 - 1.0 / 4096.0)),
+                 floatBitsToUint(farthest * (1.0 + 1.0 / 4096.0)));
+}
+
+// Slabs are 2^shift depth-bit values wide, starting at the frame's nearest depth `lo`, so
+// that SLABS of them cover up to `hi`.
+uint slabShift(uint lo, uint hi) {
+    return uint(max(findMSB(hi - lo) + 1 - int(SLAB_BITS), 0));
+}
+
+// The slab of depth bits `bits`: depths nearer than `lo` (homogeneous triangles) go to the
+// first, farther than the last slab's floor to the last.
+uint slabOf(uint bits, uint lo, uint shift) {
+    return min((max(bits, lo) - lo) >> shift, SLABS - 1u);
+}
+
+// The least depth bits a triangle of slab `slab` may have.
+uint slabFloor(uint slab, uint lo, uint shift) {
+    return slab == 0u ? 0u : lo + (slab << shift);
 }
 
 // Whether edge (a, b, c) with tie bias excludes every pixel centre of [x0, x1) x [y0, y1):

@@ -11,6 +11,11 @@
 #define BIN_SHIFT 3
 #define BIN_SIZE 8
 
+// A bin's list may be ordered by depth slab (see exact_bins.glsl); its entries then keep
+// their slab in the top bits: slab << ENTRY_SLAB_SHIFT | triangle index.
+#define ENTRY_SLAB_SHIFT 28
+#define ENTRY_TRIANGLE_MASK 0x0FFFFFFFu
+
 // Overflow bits in ExactCounters.overflow: the frame must be rendered again with more room.
 #define OVERFLOW_HOMOGENEOUS 1u
 #define OVERFLOW_BIN_ENTRIES 2u
@@ -85,7 +90,7 @@ struct ExactHomogeneous {
     ivec4 fixedB;           // xyz: b, w: tie bits of the replacement edges
 };
 
-// Counters the host reads back after every frame and checks (std430, 48 bytes).
+// Counters the host reads back after every frame and checks (std430, 64 bytes).
 struct ExactCounters {
     uint triangleCount;
     uint homogeneousCount;
@@ -98,7 +103,10 @@ struct ExactCounters {
     uint passCount;         // largest number of selection passes any pixel needed
     uint resumeCapacity;    // items each resume list holds
     uint resumeNeeded;      // items a resume list needed (counted even when they do not fit)
+    uint depthLo;           // bits of the nearest and farthest vertex view depth of the
+    uint depthHi;           // fixed-point triangles (positive floats order like their bits)
     uint pad0;
+    uint pad1;
 };
 
 // A texture for the software sampler (std430, 32 bytes).

@@ -1,5 +1,6 @@
 #version 450
-// Binning, pass 1: every triangle adds one to the count of each bin it may cover.
+// Binning, pass 1: every triangle adds one to the count of its depth slab in each bin it may
+// cover, and widens that slab's farthest depth.
 
 #include "exact_bindings.glsl"
 #include "exact_bins.glsl"
@@ -8,12 +9,16 @@ layout(local_size_x = 64) in;
 
 void main() {
     uint ti = gl_GlobalInvocationID.x;
+    uint lo = g_counters.depthLo;
+    uint shift = slabShift(lo, g_counters.depthHi);
     if (ti >= g_counters.triangleCount) {
         return;
     }
     ExactTriangle t = loadTriangle(ti);
     ivec4 r = binRect(t.bounds);
     ivec2 rows = sliceRows(r);
+    uvec2 depth = triangleDepthBits(t);
+    uint slab = slabOf(depth.x, lo, shift);
     uint touched = 0u;
     for (int by = rows.x; by <= rows.y; by++) {
         ivec2 cols = rowColumns(t, by, r.xz);
@@ -22,7 +27,9 @@ void main() {
             if (!mayCoverRect(t, x0, by, x0 + BIN_SIZE, by + 1)) {
                 continue;
             }
-            atomicAdd(g_binCounts[binIndex(bx, by)], 1u);
+            uint b = binIndex(bx, by) * SLABS + slab;
+            atomicAdd(g_binCounts[b], 1u);
+            atomicMax(g_binDepthMax[b], depth.y);
             touched++;
         }
     }

@@ -1,5 +1,6 @@
 #version 450
-// Binning, pass 3: every triangle writes its index into the list of each bin it may cover.
+// Binning, pass 3: every triangle writes its index and depth slab into its slab's part of the
+// list of each bin it may cover.
 // Entries past the capacity are dropped and flagged: the host renders the frame again with a
 // list as large as the count says.
 
@@ -10,6 +11,8 @@ layout(local_size_x = 64) in;
 
 void main() {
     uint ti = gl_GlobalInvocationID.x;
+    uint lo = g_counters.depthLo;
+    uint shift = slabShift(lo, g_counters.depthHi);
     if (ti >= g_counters.triangleCount) {
         return;
     }
@@ -17,6 +20,8 @@ void main() {
     ivec4 r = binRect(t.bounds);
     ivec2 rows = sliceRows(r);
     uint capacity = g_counters.binEntryCapacity;
+    uint slab = slabOf(triangleDepthBits(t).x, lo, shift);
+    uint entry = (slab << ENTRY_SLAB_SHIFT) | ti;
     for (int by = rows.x; by <= rows.y; by++) {
         ivec2 cols = rowColumns(t, by, r.xz);
         for (int bx = cols.x; bx <= cols.y; bx++) {
@@ -24,10 +29,10 @@ void main() {
             if (!mayCoverRect(t, x0, by, x0 + BIN_SIZE, by + 1)) {
                 continue;
             }
-            uint b = binIndex(bx, by);
+            uint b = binIndex(bx, by) * SLABS + slab;
             uint slot = g_binOffsets[b] + atomicAdd(g_binCursors[b], 1u);
             if (slot < capacity) {
-                g_binEntries[slot] = ti;
+                g_binEntries[slot] = entry;
             } else {
                 atomicOr(g_counters.overflow, OVERFLOW_BIN_ENTRIES);
             }

@@ -26,6 +26,7 @@
 #include "scene_bindings_compute.glsl"
 #include "exact_bindings.glsl"
 #include "raster.glsl"
+#include "exact_bins.glsl"
 #include "texture_sampler.glsl"
 #include "shading.glsl"
 
@@ -166,9 +167,18 @@ void main() {
         block = g_rasterBins[gl_WorkGroupID.x];
         row = gl_LocalInvocationID.y;
     }
-    // The row's own bin.
-    uint first = g_binOffsets[block * BIN_SIZE + row];
-    uint end = first + g_binCounts[block * BIN_SIZE + row];
+    // The row's own bin: its slabs' parts of the list, near to far, and their farthest depths.
+    uint bin = (block * BIN_SIZE + row) * SLABS;
+    uint slabStart[SLABS];
+    uint slabDepthMax[SLABS];
+    [[unroll]] for (uint k = 0u; k < SLABS; k++) {
+        slabStart[k] = g_binOffsets[bin + k];
+        slabDepthMax[k] = g_binDepthMax[bin + k];
+    }
+    uint first = slabStart[0];
+    uint end = slabStart[SLABS - 1u] + g_binCounts[bin + SLABS - 1u];
+    uint depthLo = g_counters.depthLo;
+    uint shift = slabShift(depthLo, g_counters.depthHi);
     uint x = (block % u_push.binsX) * BIN_SIZE + gl_LocalInvocationID.x;
     uint y = (block / u_push.binsX) * BIN_SIZE + row;
     if (x >= u_push.width || y >= u_push.height) {
@@ -238,9 +248,29 @@ void main() {
             selKey[k] = NO_KEY;
             selTri[k] = 0u;
         }
+        // Skip the leading slabs that every pixel still at work has composited entirely.
+        uint doneBits = finished ? 0xFFFFFFFFu : unpackUint2x32(doneKey).y;
+        uint nearestDone = subgroupMin(doneBits);
+        uint walkFrom = first;
+        bool skipping = true;
+        [[unroll]] for (uint k = 0u; k < SLABS; k++) {
+            skipping = skipping && slabDepthMax[k] < nearestDone;
+            walkFrom = skipping ? (k + 1u < SLABS ? slabStart[k + 1u] : end) : walkFrom;
+        }
         uint found = 0u;
-        for (uint e = first; e < end; e++) {
-            uint ti = subgroupBroadcastFirst(texelFetch(u_binEntryTexels, int(e)).r);
+        bool truncated = false;
+        for (uint e = walkFrom; e < end; e++) {
+            uint entry = subgroupBroadcastFirst(texelFetch(u_binEntryTexels, int(e)).r);
+            // Once a pixel's selection is full and nearer than this slab's floor, nothing from
+            // here on can enter it; the walk ends when that holds for the whole row.
+            uint floorBits = slabFloor(entry >> ENTRY_SLAB_SHIFT, depthLo, shift);
+            uint farthestKept = unpackUint2x32(selKey[SELECT_SIZE - 1]).y;
+            bool past = finished || (selKey[SELECT_SIZE - 1] != NO_KEY && farthestKept < floorBits);
+            if (subgroupAll(past)) {
+                truncated = true;
+                break;
+            }
+            uint ti = entry & ENTRY_TRIANGLE_MASK;
             ExactTriangle t = loadTriangle(ti);
             ivec4 r = t.bounds;
             bool inBox = int(x) >= r.x && int(x) < r.z && int(y) >= r.y && int(y) < r.w;
@@ -291,7 +321,7 @@ void main() {
         }
         fragments += count;
         bool opaqueEnough = u_push.threshold > 0.0 && all(lessThan(transmittance, vec3(u_push.threshold)));
-        finished = finished || found <= uint(SELECT_SIZE) || opaqueEnough;
+        finished = finished || (found <= uint(SELECT_SIZE) && !truncated) || opaqueEnough;
     }
     // A resumed pixel composites what earlier dispatches gathered too.
     if ((fragments > 0u || CONTINUATION) && !suspended) {

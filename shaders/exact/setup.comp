@@ -9,6 +9,7 @@
 #include "scene_bindings_compute.glsl"
 #include "exact_bindings.glsl"
 #include "raster.glsl"
+#include "exact_bins.glsl"
 
 layout(local_size_x = 64) in;
 
@@ -278,6 +279,11 @@ void main() {
             t.edgeB.w = int(hi);
         }
         t.ids = uvec4(slot, quadIndex, sub, item * 2u + sub);
+        if (!homogeneous) {
+            uvec2 depth = triangleDepthBits(t);
+            atomicMin(g_counters.depthLo, depth.x);
+            atomicMax(g_counters.depthHi, depth.y);
+        }
         // Capacity is two triangles per quad: this cannot overflow.
         uint ti = atomicAdd(g_counters.triangleCount, 1u);
         g_triangles[ti] = t;

@@ -6,6 +6,11 @@ use bytemuck::{Pod, Zeroable};
 
 pub const BIN_SHIFT: u32 = 3;
 pub const BIN_SIZE: u32 = 1 << BIN_SHIFT;
+/// Depth slabs per bin (`SLABS` of exact_layout.glsl).
+pub const SLAB_BITS: u32 = 2;
+pub const SLABS: u32 = 1 << SLAB_BITS;
+/// Bin entries keep their slab above this bit, the triangle index below it.
+pub const ENTRY_SLAB_SHIFT: u32 = 28;
 pub const OVERFLOW_HOMOGENEOUS: u32 = 1;
 pub const OVERFLOW_BIN_ENTRIES: u32 = 2;
 pub const OVERFLOW_CROWDED_BIN: u32 = 4;
@@ -49,7 +54,9 @@ pub struct ExactCounters {
     pub pass_count: u32,
     pub resume_capacity: u32,
     pub resume_needed: u32,
-    pub pad: u32,
+    pub depth_lo: u32,
+    pub depth_hi: u32,
+    pub pad: [u32; 2],
 }
 
 #[repr(C)]
@@ -113,6 +120,7 @@ mod tests {
         assert_eq!(define("OVERFLOW_CROWDED_BIN"), OVERFLOW_CROWDED_BIN);
         assert_eq!(define("OVERFLOW_RESUME"), OVERFLOW_RESUME);
         assert_eq!(define("LOOP_BUDGET"), LOOP_BUDGET);
+        assert_eq!(define("ENTRY_SLAB_SHIFT"), ENTRY_SLAB_SHIFT);
     }
 
     /// exact_bindings.glsl reads these records texel by texel (16 bytes each) in field order;
@@ -192,8 +200,10 @@ mod tests {
             offset_of!(ExactCounters, pass_count),
             offset_of!(ExactCounters, resume_capacity),
             offset_of!(ExactCounters, resume_needed),
+            offset_of!(ExactCounters, depth_lo),
+            offset_of!(ExactCounters, depth_hi),
         ];
-        assert_eq!(offsets("ExactCounters")[..11], counters, "{msg}");
+        assert_eq!(offsets("ExactCounters")[..13], counters, "{msg}");
         assert_eq!(
             std430_offsets(SRC, "ExactCounters").1,
             size_of::<ExactCounters>(),

@@ -35,7 +35,7 @@ use crate::gpu::{image_barrier, memory_barrier, vk, ComputePipeline, DescriptorS
 use crate::renderer::{FrameTargets, GpuScene};
 use crate::scene::Scene;
 use crate::Result;
-use features::{RasterFeatures, DEEP_SELECT_SIZE};
+use features::RasterFeatures;
 use layout::{ExactPush, BIN_SIZE, LOOP_BUDGET, OVERFLOW_CROWDED_BIN, RASTER_DISPATCH_BINS_OFFSET};
 use resources::{Capacities, Resources};
 
@@ -63,6 +63,7 @@ pub struct Exact {
 }
 
 const SETUP: usize = 0;
+const BINNING: [usize; 3] = [1, 2, 3];
 const RASTER: usize = 4;
 /// With about 60,000 loop iterations each, this many continuations finish any pixel this
 /// method can render in reasonable time; past it the frame fails with an error.
@@ -121,18 +122,24 @@ impl Exact {
         let bins_x = width.div_ceil(BIN_SIZE);
         let bins_y = height.div_ceil(BIN_SIZE);
         let capacities = Capacities::initial(uploaded.transparent_quads, bins_x * bins_y, options);
-        let resources = Resources::new(gpu, scene, uploaded, width, height, capacities)?;
-        let set = resources.descriptor_set(targets)?;
         let mut features = RasterFeatures::of(scene, width, height);
         features.homogeneous &= !options.assume_fixed_path;
+        let resources = Resources::new(
+            gpu,
+            scene,
+            uploaded,
+            width,
+            height,
+            capacities,
+            features.slabs(),
+        )?;
+        let set = resources.descriptor_set(targets)?;
         let layouts = [&uploaded.layout, &resources.layout];
-        let pipelines = STAGES
-            .iter()
-            .enumerate()
-            .map(|(i, _)| match i {
+        let pipelines = (0..STAGES.len())
+            .map(|i| match i {
                 SETUP => setup_pipeline(gpu, &layouts, &features),
                 RASTER => raster_pipeline(gpu, &layouts, &features, false),
-                _ => stage_pipeline(gpu, &layouts, i, &[]),
+                _ => stage_pipeline(gpu, &layouts, i, &features.binning_constants()),
             })
             .collect::<Result<Vec<_>>>()?;
         let continuation = raster_pipeline(gpu, &layouts, &features, true)?;
@@ -331,17 +338,25 @@ impl Method for Exact {
         // The host's estimate missed a near-plane triangle: the frame needs the full shaders.
         let rebuild = counters.homogeneous_count > 0 && !features.homogeneous;
         features.homogeneous |= rebuild;
-        // Pixels needed several passes: select more fragments per pass from the next frame
-        // on (this one is right either way).
-        if counters.pass_count > 2 {
-            features.select_size = DEEP_SELECT_SIZE;
+        // Deep pixels: select more fragments per pass, or order the bins by depth slab, from
+        // the next frame on (this one is right either way).
+        let pixels = u64::from(self.push.width) * u64::from(self.push.height);
+        features = features.after_frame(
+            counters.pass_count,
+            u64::from(counters.fragment_count),
+            pixels,
+        );
+        let layouts = [&uploaded.layout, &self.resources.layout];
+        if rebuild {
+            self.pipelines[SETUP] = setup_pipeline(&self.gpu, &layouts, &features)?;
+        }
+        if features.slab_bits != self.features.slab_bits {
+            for stage in BINNING {
+                self.pipelines[stage] =
+                    stage_pipeline(&self.gpu, &layouts, stage, &features.binning_constants())?;
+            }
         }
         if features != self.features {
-            self.features = features;
-            let layouts = [&uploaded.layout, &self.resources.layout];
-            if rebuild {
-                self.pipelines[SETUP] = setup_pipeline(&self.gpu, &layouts, &features)?;
-            }
             self.pipelines[RASTER] = raster_pipeline(&self.gpu, &layouts, &features, false)?;
             self.continuation = raster_pipeline(&self.gpu, &layouts, &features, true)?;
         }
@@ -349,8 +364,12 @@ impl Method for Exact {
         if let Some(grown) = grown {
             log::info!("exact: buffers too small ({counters:?}); growing to {grown:?}");
             self.resources.grow(&self.gpu, grown)?;
+        }
+        if grown.is_some() || features.slab_bits != self.features.slab_bits {
+            self.resources.set_slabs(&self.gpu, features.slabs())?;
             self.set = self.resources.descriptor_set(targets)?;
         }
+        self.features = features;
         // The last dispatch appended to list `continuations % 2`; anything there is unfinished.
         let unfinished = self.resources.resume_count(self.continuations % 2)?;
         if unfinished > 0 {

@@ -1,7 +1,7 @@
 //! The exact method's buffers: sized from the frame, grown when the GPU reports an overflow.
 
 use super::layout::{
-    ExactCounters, ExactDraw, ExactTexture, ATTRIBUTES_BYTES, BIN_SIZE, HOMOGENEOUS_BYTES,
+    ExactCounters, ExactDraw, ExactTexture, ATTRIBUTES_BYTES, BIN_SIZE, ENTRY_SLAB_SHIFT, HOMOGENEOUS_BYTES,
     OVERFLOW_BIN_ENTRIES, OVERFLOW_HOMOGENEOUS, OVERFLOW_RESUME, PIXEL_STATE_BYTES,
     RASTER_DISPATCH_BYTES, TRIANGLE_BYTES,
 };
@@ -108,9 +108,7 @@ pub struct Resources {
     /// Texel views of the uploaded scene's vertices, quads and draws.
     scene_views: [BufferView; 3],
     counters: Buffer,
-    bin_counts: Buffer,
-    bin_offsets: Buffer,
-    bin_cursors: Buffer,
+    bins: BinArrays,
     /// The blocks with a non-empty bin, listed by the scan for the raster.
     raster_bins: Buffer,
     materials: Viewed,
@@ -201,6 +199,31 @@ fn growable(gpu: &Gpu, c: Capacities) -> Result<Growable> {
     })
 }
 
+/// Per (bin, depth slab): triangle counts, list offsets, fill cursors and farthest depths.
+struct BinArrays {
+    /// Bins (rows of blocks) in the frame.
+    rows: u64,
+    slabs: u32,
+    counts: Buffer,
+    offsets: Buffer,
+    cursors: Buffer,
+    depth_max: Buffer,
+}
+
+impl BinArrays {
+    fn new(gpu: &Gpu, rows: u64, slabs: u32) -> Result<Self> {
+        let bytes = rows * u64::from(slabs) * 4;
+        Ok(Self {
+            rows,
+            slabs,
+            counts: storage_buffer(gpu, "bin counts", bytes)?,
+            offsets: storage_buffer(gpu, "bin offsets", bytes)?,
+            cursors: storage_buffer(gpu, "bin cursors", bytes)?,
+            depth_max: storage_buffer(gpu, "bin slab depths", bytes)?,
+        })
+    }
+}
+
 /// The transparent draws in the order the reference ranks them, with their model-view-
 /// projection computed on the host exactly as the reference does.
 fn exact_draws(scene: &Scene, width: u32, height: u32) -> Vec<ExactDraw> {
@@ -259,9 +282,16 @@ impl Resources {
         width: u32,
         height: u32,
         capacities: Capacities,
+        slabs: u32,
     ) -> Result<Self> {
         let blocks = u64::from(width.div_ceil(BIN_SIZE)) * u64::from(height.div_ceil(BIN_SIZE));
-        let bins = blocks * u64::from(BIN_SIZE);
+        if capacities.triangles >= 1 << ENTRY_SLAB_SHIFT {
+            return Err(Error::InvalidScene(format!(
+                "exact: {} transparent triangles; bin entries address at most {}",
+                capacities.triangles,
+                1u32 << ENTRY_SLAB_SHIFT
+            )));
+        }
         let draws = exact_draws(scene, width, height);
         let (texture_infos, texels) = texture_data(scene);
         let materials: Vec<GpuMaterial> = scene.materials.iter().map(GpuMaterial::new).collect();
@@ -307,6 +337,7 @@ impl Resources {
                 BindingKind::StorageBuffer,    // 22 pixel states
                 BindingKind::StorageBuffer,    // 23 non-empty bins
                 BindingKind::TexelBuffer,      // 24 draws
+                BindingKind::StorageBuffer,    // 25 slab depth maxima
             ],
             vk::ShaderStageFlags::COMPUTE,
         )?;
@@ -320,9 +351,7 @@ impl Resources {
                 gpu.create_buffer_view(&uploaded.draws, RGBA32UI)?,
             ],
             counters,
-            bin_counts: storage_buffer(gpu, "bin counts", bins * 4)?,
-            bin_offsets: storage_buffer(gpu, "bin offsets", bins * 4)?,
-            bin_cursors: storage_buffer(gpu, "bin cursors", bins * 4)?,
+            bins: BinArrays::new(gpu, blocks * u64::from(BIN_SIZE), slabs)?,
             raster_bins: storage_buffer(gpu, "non-empty blocks", blocks * 4)?,
             materials: texel_data(
                 gpu,
@@ -362,9 +391,9 @@ impl Resources {
             Resource::Buffer(&g.triangles.buffer),
             Resource::Buffer(&g.homogeneous.buffer),
             Resource::Buffer(&self.counters),
-            Resource::Buffer(&self.bin_counts),
-            Resource::Buffer(&self.bin_offsets),
-            Resource::Buffer(&self.bin_cursors),
+            Resource::Buffer(&self.bins.counts),
+            Resource::Buffer(&self.bins.offsets),
+            Resource::Buffer(&self.bins.cursors),
             Resource::Buffer(&g.bin_entries.buffer),
             Resource::Buffer(&g.attributes.buffer),
             Resource::Images(&[targets.depth.view], self.depth_sampler.raw),
@@ -381,10 +410,12 @@ impl Resources {
             Resource::Buffer(&g.pixel_states),
             Resource::Buffer(&self.raster_bins),
             Resource::TexelBuffer(self.scene_views[2].raw),
+            Resource::Buffer(&self.bins.depth_max),
         ])
     }
 
-    /// Zeroes the counters and bin counts and writes the capacities, before setup.
+    /// Zeroes the counters and bin counts, writes the capacities and an empty depth range,
+    /// before setup.
     pub fn record_reset(&self, cmd: vk::CommandBuffer) {
         let gpu = self.counters.gpu();
         let capacities = [
@@ -401,14 +432,17 @@ impl Resources {
             resume_at,
             &self.capacities.resume.to_ne_bytes(),
         );
-        gpu.cmd_fill_buffer(cmd, &self.bin_counts, 0);
+        let depth_at = std::mem::offset_of!(ExactCounters, depth_lo) as u64;
+        gpu.cmd_update_buffer(cmd, &self.counters, depth_at, &u32::MAX.to_ne_bytes());
+        gpu.cmd_fill_buffer(cmd, &self.bins.counts, 0);
+        gpu.cmd_fill_buffer(cmd, &self.bins.depth_max, 0);
         gpu.cmd_update_buffer(
             cmd,
             &self.growable.resume,
             0,
             bytemuck::cast_slice(&EMPTY_DISPATCHES),
         );
-        gpu.cmd_fill_buffer(cmd, &self.bin_cursors, 0);
+        gpu.cmd_fill_buffer(cmd, &self.bins.cursors, 0);
         memory_barrier(
             gpu,
             cmd,
@@ -450,6 +484,14 @@ impl Resources {
         Ok(bytemuck::pod_read_unaligned(
             &self.counters.read()?[..std::mem::size_of::<ExactCounters>()],
         ))
+    }
+
+    /// Makes room for `slabs` depth slabs per bin (call [`Self::descriptor_set`] again).
+    pub fn set_slabs(&mut self, gpu: &Gpu, slabs: u32) -> Result<()> {
+        if slabs != self.bins.slabs {
+            self.bins = BinArrays::new(gpu, self.bins.rows, slabs)?;
+        }
+        Ok(())
     }
 
     pub fn grow(&mut self, gpu: &Gpu, capacities: Capacities) -> Result<()> {
