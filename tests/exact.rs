@@ -63,6 +63,32 @@ fn exact_matches_reference_on_vendored_gltf() {
     }
 }
 
+/// Frames with deep pixels select more fragments per pass and order their bins by depth
+/// slab (bin_count.comp); starting with those settings checks them on every scene, including
+/// near-plane triangles (which span every slab) and the overflow path.
+#[test]
+fn exact_matches_reference_with_the_deep_frame_settings() {
+    let deep = MethodOptions {
+        assume_deep_pixels: true,
+        ..Default::default()
+    };
+    for name in scene::generated::NAMES {
+        let scene = scene::load(name).expect("generated scene");
+        check(&scene, &format!("deep_{name}"), 213, 131, &deep);
+    }
+    let vase = asset("GlassVaseFlowers/GlassVaseFlowers.glb");
+    let vase = scene::load(vase.to_str().expect("utf-8 path")).expect("vendored scene");
+    check(&vase, "deep_GlassVaseFlowers", 301, 177, &deep);
+    check(&near_plane_scene(), "deep_near_plane", 157, 119, &deep);
+    let overflowing = MethodOptions {
+        initial_bin_entries: Some(1),
+        ..deep
+    };
+    let hairball = scene::load("hairball").expect("hairball");
+    let frame = check(&hairball, "deep_overflow_hairball", 199, 143, &overflowing);
+    assert!(frame.rerenders >= 1, "the overflow path was not taken");
+}
+
 /// A quad that passes through the camera plane: rasterized homogeneously, clipped by depth.
 fn near_plane_scene() -> Scene {
     let positions = vec![

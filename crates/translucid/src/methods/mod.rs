@@ -38,6 +38,10 @@ pub struct MethodOptions {
     /// scene looks like, so that tests can exercise the rebuild-and-render-again fallback.
     #[doc(hidden)]
     pub assume_fixed_path: bool,
+    /// `exact`: start with the settings frames with deep pixels move to (more fragments per
+    /// pass, bins ordered by depth slab), so that tests can check them on every scene.
+    #[doc(hidden)]
+    pub assume_deep_pixels: bool,
     /// `wavelet`: Haar rank, 0 to 3 (2^(rank+1) coefficients per colour channel); `None`
     /// is [`wavelet::DEFAULT_RANK`]. A larger rank is an error.
     pub rank: Option<u32>,

@@ -64,6 +64,15 @@ impl RasterFeatures {
         next
     }
 
+    /// Everything deep frames move to.
+    pub fn deep(self) -> Self {
+        Self {
+            select_size: DEEP_SELECT_SIZE,
+            slab_bits: DEEP_SLAB_BITS,
+            ..self
+        }
+    }
+
     /// Depth slabs per bin.
     pub fn slabs(&self) -> u32 {
         1 << self.slab_bits

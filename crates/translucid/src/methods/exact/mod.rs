@@ -124,6 +124,9 @@ impl Exact {
         let capacities = Capacities::initial(uploaded.transparent_quads, bins_x * bins_y, options);
         let mut features = RasterFeatures::of(scene, width, height);
         features.homogeneous &= !options.assume_fixed_path;
+        if options.assume_deep_pixels {
+            features = features.deep();
+        }
         let resources = Resources::new(
             gpu,
             scene,

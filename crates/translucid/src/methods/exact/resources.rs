@@ -1,9 +1,9 @@
 //! The exact method's buffers: sized from the frame, grown when the GPU reports an overflow.
 
 use super::layout::{
-    ExactCounters, ExactDraw, ExactTexture, ATTRIBUTES_BYTES, BIN_SIZE, ENTRY_SLAB_SHIFT, HOMOGENEOUS_BYTES,
-    OVERFLOW_BIN_ENTRIES, OVERFLOW_HOMOGENEOUS, OVERFLOW_RESUME, PIXEL_STATE_BYTES,
-    RASTER_DISPATCH_BYTES, TRIANGLE_BYTES,
+    ExactCounters, ExactDraw, ExactTexture, ATTRIBUTES_BYTES, BIN_SIZE, ENTRY_SLAB_SHIFT,
+    HOMOGENEOUS_BYTES, OVERFLOW_BIN_ENTRIES, OVERFLOW_HOMOGENEOUS, OVERFLOW_RESUME,
+    PIXEL_STATE_BYTES, RASTER_DISPATCH_BYTES, TRIANGLE_BYTES,
 };
 use crate::gpu::{
     memory_barrier, vk, BindingKind, Buffer, BufferView, DescriptorLayout, DescriptorSet, Gpu,
