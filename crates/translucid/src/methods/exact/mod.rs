@@ -6,10 +6,12 @@
 //!    homogeneous), cull, append visible triangles.
 //! 2. `bin_count`, `bin_scan`, `bin_fill`: per bin (one row of an 8×8-pixel block), count the
 //!    triangles that may cover it, prefix-sum the counts, fill the per-bin triangle lists.
+//!    Frames with many fragments per pixel order each list by depth slab (nearest vertex).
 //! 3. `raster`: one workgroup per block with triangles, one invocation per pixel; each pixel
 //!    selects its nearest remaining fragments in registers, composites them front to back
 //!    over the opaque colour, and repeats until none is left (or transmittance is under the
-//!    threshold). Rows of pixels that reach the driver's loop budget are saved and finished
+//!    threshold). On slab-ordered lists a row's walk ends once every pixel holds fragments
+//!    nearer than the next slab, and starts past the slabs its pixels have composited. Rows of pixels that reach the driver's loop budget are saved and finished
 //!    by continuation dispatches of the same shader, sized on the GPU (indirect dispatch).
 //!
 //! Why this shape: on lavapipe (subgroups of 8, 32 KB shared memory) barrier-heavy
@@ -259,11 +261,13 @@ impl Method for Exact {
         let slices = self.push.height.div_ceil(self.push.bin_rows_per_slice);
         self.dispatch(ctx, 1, [triangle_groups, slices, 1]);
         self.compute_to_compute(cmd);
+        ctx.timestamps.mark(cmd, "bin count");
         self.dispatch(ctx, 2, [1, 1, 1]);
         self.compute_to_compute(cmd);
+        ctx.timestamps.mark(cmd, "bin scan");
         self.dispatch(ctx, 3, [triangle_groups, slices, 1]);
         self.compute_to_compute(cmd);
-        ctx.timestamps.mark(cmd, "binning");
+        ctx.timestamps.mark(cmd, "bin fill");
 
         let attachment = (
             vk::PipelineStageFlags::ALL_GRAPHICS,
