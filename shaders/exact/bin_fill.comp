@@ -30,7 +30,7 @@ void main() {
                 continue;
             }
             uint b = binIndex(bx, by) * SLABS + slab;
-            uint slot = g_binOffsets[b] + atomicAdd(g_binCursors[b], 1u);
+            uint slot = atomicAdd(g_binOffsets[b], 1u);
             if (slot < capacity) {
                 g_binEntries[slot] = entry;
             } else {

@@ -169,14 +169,14 @@ void main() {
     }
     // The row's own bin: its slabs' parts of the list, near to far, and their farthest depths.
     uint bin = (block * BIN_SIZE + row) * SLABS;
-    uint slabStart[SLABS];
+    uint slabEnd[SLABS];
     uint slabDepthMax[SLABS];
     [[unroll]] for (uint k = 0u; k < SLABS; k++) {
-        slabStart[k] = g_binOffsets[bin + k];
+        slabEnd[k] = g_binOffsets[bin + k];
         slabDepthMax[k] = g_binDepthMax[bin + k];
     }
-    uint first = slabStart[0];
-    uint end = slabStart[SLABS - 1u] + g_binCounts[bin + SLABS - 1u];
+    uint first = slabEnd[0] - g_binCounts[bin];
+    uint end = slabEnd[SLABS - 1u];
     uint depthLo = g_counters.depthLo;
     uint shift = slabShift(depthLo, g_counters.depthHi);
     uint x = (block % u_push.binsX) * BIN_SIZE + gl_LocalInvocationID.x;
@@ -255,7 +255,7 @@ void main() {
         bool skipping = true;
         [[unroll]] for (uint k = 0u; k < SLABS; k++) {
             skipping = skipping && slabDepthMax[k] < nearestDone;
-            walkFrom = skipping ? (k + 1u < SLABS ? slabStart[k + 1u] : end) : walkFrom;
+            walkFrom = skipping ? slabEnd[k] : walkFrom;
         }
         uint found = 0u;
         bool truncated = false;

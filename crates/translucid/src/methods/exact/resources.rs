@@ -199,14 +199,14 @@ fn growable(gpu: &Gpu, c: Capacities) -> Result<Growable> {
     })
 }
 
-/// Per (bin, depth slab): triangle counts, list offsets, fill cursors and farthest depths.
+/// Per (bin, depth slab): triangle counts, list offsets (list ends once filled) and farthest
+/// depths.
 struct BinArrays {
     /// Bins (rows of blocks) in the frame.
     rows: u64,
     slabs: u32,
     counts: Buffer,
     offsets: Buffer,
-    cursors: Buffer,
     depth_max: Buffer,
 }
 
@@ -218,7 +218,6 @@ impl BinArrays {
             slabs,
             counts: storage_buffer(gpu, "bin counts", bytes)?,
             offsets: storage_buffer(gpu, "bin offsets", bytes)?,
-            cursors: storage_buffer(gpu, "bin cursors", bytes)?,
             depth_max: storage_buffer(gpu, "bin slab depths", bytes)?,
         })
     }
@@ -320,7 +319,7 @@ impl Resources {
                 BindingKind::StorageBuffer,    // 5 counters
                 BindingKind::StorageBuffer,    // 6 bin counts
                 BindingKind::StorageBuffer,    // 7 bin offsets
-                BindingKind::StorageBuffer,    // 8 bin cursors
+                BindingKind::StorageBuffer,    // 8 bin slab depth maxima
                 BindingKind::StorageBuffer,    // 9 bin entries
                 BindingKind::StorageBuffer,    // 10 attributes
                 BindingKind::SampledImages(1), // 11 opaque depth
@@ -337,7 +336,6 @@ impl Resources {
                 BindingKind::StorageBuffer,    // 22 pixel states
                 BindingKind::StorageBuffer,    // 23 non-empty bins
                 BindingKind::TexelBuffer,      // 24 draws
-                BindingKind::StorageBuffer,    // 25 slab depth maxima
             ],
             vk::ShaderStageFlags::COMPUTE,
         )?;
@@ -393,7 +391,7 @@ impl Resources {
             Resource::Buffer(&self.counters),
             Resource::Buffer(&self.bins.counts),
             Resource::Buffer(&self.bins.offsets),
-            Resource::Buffer(&self.bins.cursors),
+            Resource::Buffer(&self.bins.depth_max),
             Resource::Buffer(&g.bin_entries.buffer),
             Resource::Buffer(&g.attributes.buffer),
             Resource::Images(&[targets.depth.view], self.depth_sampler.raw),
@@ -410,7 +408,6 @@ impl Resources {
             Resource::Buffer(&g.pixel_states),
             Resource::Buffer(&self.raster_bins),
             Resource::TexelBuffer(self.scene_views[2].raw),
-            Resource::Buffer(&self.bins.depth_max),
         ])
     }
 
@@ -442,7 +439,6 @@ impl Resources {
             0,
             bytemuck::cast_slice(&EMPTY_DISPATCHES),
         );
-        gpu.cmd_fill_buffer(cmd, &self.bins.cursors, 0);
         memory_barrier(
             gpu,
             cmd,
