@@ -6,10 +6,7 @@ use bytemuck::{Pod, Zeroable};
 
 pub const BIN_SHIFT: u32 = 3;
 pub const BIN_SIZE: u32 = 1 << BIN_SHIFT;
-/// Depth slabs per bin (`SLABS` of exact_layout.glsl).
-pub const SLAB_BITS: u32 = 2;
-pub const SLABS: u32 = 1 << SLAB_BITS;
-/// Bin entries keep their slab above this bit, the triangle index below it.
+/// Bin entries keep their depth slab above this bit, the triangle index below it.
 pub const ENTRY_SLAB_SHIFT: u32 = 28;
 pub const OVERFLOW_HOMOGENEOUS: u32 = 1;
 pub const OVERFLOW_BIN_ENTRIES: u32 = 2;

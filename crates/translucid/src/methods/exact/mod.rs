@@ -11,8 +11,9 @@
 //!    selects its nearest remaining fragments in registers, composites them front to back
 //!    over the opaque colour, and repeats until none is left (or transmittance is under the
 //!    threshold). On slab-ordered lists a row's walk ends once every pixel holds fragments
-//!    nearer than the next slab, and starts past the slabs its pixels have composited. Rows of pixels that reach the driver's loop budget are saved and finished
-//!    by continuation dispatches of the same shader, sized on the GPU (indirect dispatch).
+//!    nearer than the next slab, and starts past the slabs its pixels have composited. Rows
+//!    of pixels that reach the driver's loop budget are saved and finished by continuation
+//!    dispatches of the same shader, sized on the GPU (indirect dispatch).
 //!
 //! Why this shape: on lavapipe (subgroups of 8, 32 KB shared memory) barrier-heavy
 //! shared-memory phases cost more than blending itself, fixed-size register work is cheap
