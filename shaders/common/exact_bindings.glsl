@@ -13,13 +13,11 @@ layout(set = 1, binding = 2) uniform usamplerBuffer u_exactDrawTexels;
 layout(set = 1, binding = 3, std430) buffer TriangleBlock { ExactTriangle g_triangles[]; };
 layout(set = 1, binding = 4, std430) buffer HomogeneousBlock { ExactHomogeneous g_homogeneous[]; };
 layout(set = 1, binding = 5, std430) buffer CounterBlock { ExactCounters g_counters; };
-// Per (bin, slab), at bin * SLABS + slab: triangle counts; list offsets, which bin_fill
-// advances as it appends, so that after binning they are where each part of a list ends;
-// and bits of the farthest vertex view depth of the triangles (0: none), so that a pass can
-// skip the leading slabs its pixels have composited already.
+// Per (bin, slab), at bin * SLABS + slab: triangle counts, and list offsets, which bin_fill
+// advances as it appends, so that after binning they are where each part of a list ends.
 layout(set = 1, binding = 6, std430) buffer BinCountBlock { uint g_binCounts[]; };
 layout(set = 1, binding = 7, std430) buffer BinOffsetBlock { uint g_binOffsets[]; };
-layout(set = 1, binding = 8, std430) buffer BinDepthMaxBlock { uint g_binDepthMax[]; };
+layout(set = 1, binding = 8) uniform usamplerBuffer u_drawTexels;        // DrawInfo, 9 each
 layout(set = 1, binding = 9, std430) buffer BinEntryBlock { uint g_binEntries[]; };
 layout(set = 1, binding = 10, std430) buffer AttributeBlock { ExactAttributes g_attributes[]; };
 layout(set = 1, binding = 11) uniform sampler2D u_opaqueDepth;
@@ -51,7 +49,6 @@ layout(set = 1, binding = 21, std430) buffer RasterWorkBlock {
 };
 layout(set = 1, binding = 22, std430) buffer PixelStateBlock { ExactPixelState g_pixelStates[]; };
 layout(set = 1, binding = 23, std430) buffer RasterBinBlock { uint g_rasterBins[]; };
-layout(set = 1, binding = 24) uniform usamplerBuffer u_drawTexels;        // DrawInfo, 9 each
 
 layout(push_constant) uniform ExactPush {
     uint itemCount;         // transparent quads in all draws

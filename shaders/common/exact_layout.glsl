@@ -14,6 +14,7 @@
 // A bin's list may be ordered by depth slab (see exact_bins.glsl); its entries then keep
 // their slab in the top bits: slab << ENTRY_SLAB_SHIFT | triangle index.
 #define ENTRY_SLAB_SHIFT 28
+#define MAX_SLABS 8
 #define ENTRY_TRIANGLE_MASK 0x0FFFFFFFu
 
 // Overflow bits in ExactCounters.overflow: the frame must be rendered again with more room.
@@ -90,7 +91,7 @@ struct ExactHomogeneous {
     ivec4 fixedB;           // xyz: b, w: tie bits of the replacement edges
 };
 
-// Counters the host reads back after every frame and checks (std430, 64 bytes).
+// Counters the host reads back after every frame and checks (std430, 96 bytes).
 struct ExactCounters {
     uint triangleCount;
     uint homogeneousCount;
@@ -107,6 +108,7 @@ struct ExactCounters {
     uint depthHi;           // fixed-point triangles (positive floats order like their bits)
     uint pad0;
     uint pad1;
+    uint slabFarthest[MAX_SLABS]; // per depth slab: bits of its triangles' farthest vertex
 };
 
 // A texture for the software sampler (std430, 32 bytes).

@@ -1,6 +1,6 @@
 #version 450
 // Binning, pass 1: every triangle adds one to the count of its depth slab in each bin it may
-// cover, and widens that slab's farthest depth.
+// cover, and widens the farthest depth of its slab in the frame.
 
 #include "exact_bindings.glsl"
 #include "exact_bins.glsl"
@@ -19,6 +19,7 @@ void main() {
     ivec2 rows = sliceRows(r);
     uvec2 depth = triangleDepthBits(t);
     uint slab = slabOf(depth.x, lo, shift);
+    atomicMax(g_counters.slabFarthest[slab], depth.y);
     uint touched = 0u;
     for (int by = rows.x; by <= rows.y; by++) {
         ivec2 cols = rowColumns(t, by, r.xz);
@@ -29,7 +30,6 @@ void main() {
             }
             uint b = binIndex(bx, by) * SLABS + slab;
             atomicAdd(g_binCounts[b], 1u);
-            atomicMax(g_binDepthMax[b], depth.y);
             touched++;
         }
     }

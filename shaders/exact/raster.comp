@@ -167,13 +167,14 @@ void main() {
         block = g_rasterBins[gl_WorkGroupID.x];
         row = gl_LocalInvocationID.y;
     }
-    // The row's own bin: its slabs' parts of the list, near to far, and their farthest depths.
+    // The row's own bin: its slabs' parts of the list, near to far; and the slabs' farthest
+    // depths in the frame.
     uint bin = (block * BIN_SIZE + row) * SLABS;
     uint slabEnd[SLABS];
     uint slabDepthMax[SLABS];
     [[unroll]] for (uint k = 0u; k < SLABS; k++) {
         slabEnd[k] = g_binOffsets[bin + k];
-        slabDepthMax[k] = g_binDepthMax[bin + k];
+        slabDepthMax[k] = g_counters.slabFarthest[k];
     }
     uint first = slabEnd[0] - g_binCounts[bin];
     uint end = slabEnd[SLABS - 1u];

@@ -18,7 +18,7 @@ pub fn std430_offsets(src: &str, name: &str) -> (Vec<(String, usize)>, usize) {
         };
         let mut parts = decl.split_whitespace();
         let (ty, field) = (parts.next().expect("type"), parts.next().expect("name"));
-        let (size, align) = match ty {
+        let (size, align): (usize, usize) = match ty {
             "float" | "int" | "uint" => (4, 4),
             "vec2" | "ivec2" | "uvec2" => (8, 8),
             "vec4" | "ivec4" | "uvec4" => (16, 16),
@@ -26,10 +26,43 @@ pub fn std430_offsets(src: &str, name: &str) -> (Vec<(String, usize)>, usize) {
             "i64vec4" | "dvec4" => (32, 32),
             other => panic!("{name}.{field} has type {other}; teach glsl_layout its std430 layout"),
         };
+        // An array `field[N]`: N elements, each a multiple of its alignment (std430).
+        let (field, count) = match field.split_once('[') {
+            Some((field, rest)) => (field, array_length(src, rest.trim_end_matches(']'))),
+            None => (field, 1),
+        };
         offset = offset.next_multiple_of(align);
         largest_align = largest_align.max(align);
         out.push((field.to_string(), offset));
-        offset += size;
+        offset += size.next_multiple_of(align) * count;
     }
     (out, offset.next_multiple_of(largest_align))
+}
+
+/// An array length: a number, or the name of a `#define` in `src`.
+fn array_length(src: &str, length: &str) -> usize {
+    let value = src
+        .lines()
+        .find_map(|l| l.strip_prefix(&format!("#define {length} ")))
+        .unwrap_or(length);
+    value
+        .trim()
+        .trim_end_matches('u')
+        .parse()
+        .unwrap_or_else(|_| panic!("array length {length} is neither a number nor a #define"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::std430_offsets;
+
+    #[test]
+    fn arrays_take_their_length_from_a_number_or_a_define() {
+        let src = "#define COUNT 3u\nstruct S {\n    uint a;\n    uint b[COUNT]; // note\n    vec2 c[2];\n    vec4 d;\n};\n";
+        let (fields, size) = std430_offsets(src, "S");
+        let offsets: Vec<usize> = fields.iter().map(|(_, o)| *o).collect();
+        assert_eq!(offsets, [0, 4, 16, 32]);
+        assert_eq!(fields[1].0, "b");
+        assert_eq!(size, 48);
+    }
 }

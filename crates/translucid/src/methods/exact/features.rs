@@ -30,8 +30,10 @@ pub const DEEP_SELECT_SIZE: u32 = 16;
 /// per pixel, from 1.5 to 0.9 s of raster, and cost hairball, about 1, a fifth of its time.)
 pub const SLAB_FRAGMENTS_PER_PIXEL: u64 = 8;
 pub const DEEP_SLAB_BITS: u32 = 3;
-// A bin entry has the bits above ENTRY_SLAB_SHIFT for its slab.
+// A bin entry has the bits above ENTRY_SLAB_SHIFT for its slab, and the counters keep the
+// farthest depth of MAX_SLABS.
 const _: () = assert!(DEEP_SLAB_BITS <= 32 - super::layout::ENTRY_SLAB_SHIFT);
+const _: () = assert!(1 << DEEP_SLAB_BITS <= super::layout::MAX_SLABS);
 
 impl RasterFeatures {
     pub fn of(scene: &Scene, width: u32, height: u32) -> Self {

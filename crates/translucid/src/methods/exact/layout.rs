@@ -8,6 +8,8 @@ pub const BIN_SHIFT: u32 = 3;
 pub const BIN_SIZE: u32 = 1 << BIN_SHIFT;
 /// Bin entries keep their depth slab above this bit, the triangle index below it.
 pub const ENTRY_SLAB_SHIFT: u32 = 28;
+/// Depth slabs the counters keep a farthest depth for.
+pub const MAX_SLABS: u32 = 8;
 pub const OVERFLOW_HOMOGENEOUS: u32 = 1;
 pub const OVERFLOW_BIN_ENTRIES: u32 = 2;
 pub const OVERFLOW_CROWDED_BIN: u32 = 4;
@@ -54,6 +56,7 @@ pub struct ExactCounters {
     pub depth_lo: u32,
     pub depth_hi: u32,
     pub pad: [u32; 2],
+    pub slab_farthest: [u32; MAX_SLABS as usize],
 }
 
 #[repr(C)]
@@ -118,6 +121,7 @@ mod tests {
         assert_eq!(define("OVERFLOW_RESUME"), OVERFLOW_RESUME);
         assert_eq!(define("LOOP_BUDGET"), LOOP_BUDGET);
         assert_eq!(define("ENTRY_SLAB_SHIFT"), ENTRY_SLAB_SHIFT);
+        assert_eq!(define("MAX_SLABS"), MAX_SLABS);
     }
 
     /// exact_bindings.glsl reads these records texel by texel (16 bytes each) in field order;
@@ -199,8 +203,11 @@ mod tests {
             offset_of!(ExactCounters, resume_needed),
             offset_of!(ExactCounters, depth_lo),
             offset_of!(ExactCounters, depth_hi),
+            offset_of!(ExactCounters, pad),
+            offset_of!(ExactCounters, pad) + 4,
+            offset_of!(ExactCounters, slab_farthest),
         ];
-        assert_eq!(offsets("ExactCounters")[..13], counters, "{msg}");
+        assert_eq!(offsets("ExactCounters"), counters, "{msg}");
         assert_eq!(
             std430_offsets(SRC, "ExactCounters").1,
             size_of::<ExactCounters>(),

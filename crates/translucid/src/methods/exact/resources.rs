@@ -199,15 +199,13 @@ fn growable(gpu: &Gpu, c: Capacities) -> Result<Growable> {
     })
 }
 
-/// Per (bin, depth slab): triangle counts, list offsets (list ends once filled) and farthest
-/// depths.
+/// Per (bin, depth slab): triangle counts and list offsets (list ends once filled).
 struct BinArrays {
     /// Bins (rows of blocks) in the frame.
     rows: u64,
     slabs: u32,
     counts: Buffer,
     offsets: Buffer,
-    depth_max: Buffer,
 }
 
 impl BinArrays {
@@ -218,7 +216,6 @@ impl BinArrays {
             slabs,
             counts: storage_buffer(gpu, "bin counts", bytes)?,
             offsets: storage_buffer(gpu, "bin offsets", bytes)?,
-            depth_max: storage_buffer(gpu, "bin slab depths", bytes)?,
         })
     }
 }
@@ -319,7 +316,7 @@ impl Resources {
                 BindingKind::StorageBuffer,    // 5 counters
                 BindingKind::StorageBuffer,    // 6 bin counts
                 BindingKind::StorageBuffer,    // 7 bin offsets
-                BindingKind::StorageBuffer,    // 8 bin slab depth maxima
+                BindingKind::TexelBuffer,      // 8 draws
                 BindingKind::StorageBuffer,    // 9 bin entries
                 BindingKind::StorageBuffer,    // 10 attributes
                 BindingKind::SampledImages(1), // 11 opaque depth
@@ -335,7 +332,6 @@ impl Resources {
                 BindingKind::StorageBuffer,    // 21 resume lists
                 BindingKind::StorageBuffer,    // 22 pixel states
                 BindingKind::StorageBuffer,    // 23 non-empty bins
-                BindingKind::TexelBuffer,      // 24 draws
             ],
             vk::ShaderStageFlags::COMPUTE,
         )?;
@@ -391,7 +387,7 @@ impl Resources {
             Resource::Buffer(&self.counters),
             Resource::Buffer(&self.bins.counts),
             Resource::Buffer(&self.bins.offsets),
-            Resource::Buffer(&self.bins.depth_max),
+            Resource::TexelBuffer(self.scene_views[2].raw),
             Resource::Buffer(&g.bin_entries.buffer),
             Resource::Buffer(&g.attributes.buffer),
             Resource::Images(&[targets.depth.view], self.depth_sampler.raw),
@@ -407,7 +403,6 @@ impl Resources {
             Resource::Buffer(&g.resume),
             Resource::Buffer(&g.pixel_states),
             Resource::Buffer(&self.raster_bins),
-            Resource::TexelBuffer(self.scene_views[2].raw),
         ])
     }
 
@@ -432,7 +427,6 @@ impl Resources {
         let depth_at = std::mem::offset_of!(ExactCounters, depth_lo) as u64;
         gpu.cmd_update_buffer(cmd, &self.counters, depth_at, &u32::MAX.to_ne_bytes());
         gpu.cmd_fill_buffer(cmd, &self.bins.counts, 0);
-        gpu.cmd_fill_buffer(cmd, &self.bins.depth_max, 0);
         gpu.cmd_update_buffer(
             cmd,
             &self.growable.resume,
