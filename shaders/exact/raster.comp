@@ -7,7 +7,9 @@
 // behind the last one it composited, keeping them sorted in registers with a fully unrolled
 // insertion (constant indices only); shades and composites them front to back; and repeats
 // until no fragment is left or transmittance is under the threshold. All invocations walk
-// the row's list in step. Order is exact by construction: fragments are ranked by
+// the row's list in step. Deep frames order each list by depth slab (exact_bins.glsl): a
+// pass then ends once every pixel of the row holds fragments nearer than the next slab's
+// floor, and starts past the leading slabs whose farthest depth every pixel has passed. Order is exact by construction: fragments are ranked by
 // (view depth, draw, quad, triangle) like the CPU reference, so no pixel is ever out of order.
 //
 // On CPU drivers such as lavapipe an `if` does not branch: both sides run under a mask, so
