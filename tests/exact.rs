@@ -65,11 +65,13 @@ fn exact_matches_reference_on_vendored_gltf() {
 
 /// Frames with deep pixels select more fragments per pass and order their bins by depth
 /// slab (bin_count.comp); starting with those settings checks them on every scene, including
-/// near-plane triangles (which span every slab) and the overflow path.
+/// near-plane triangles (which span every slab) and the overflow path. They run with one row
+/// per raster workgroup, as on GPUs whose subgroups are wider than a row.
 #[test]
-fn exact_matches_reference_with_the_deep_frame_settings() {
+fn exact_matches_reference_with_the_deep_frame_settings_and_one_row_workgroups() {
     let deep = MethodOptions {
         assume_deep_pixels: true,
+        assume_wide_subgroups: true,
         ..Default::default()
     };
     for name in scene::generated::NAMES {
@@ -80,6 +82,7 @@ fn exact_matches_reference_with_the_deep_frame_settings() {
     let vase = scene::load(vase.to_str().expect("utf-8 path")).expect("vendored scene");
     check(&vase, "deep_GlassVaseFlowers", 301, 177, &deep);
     check(&near_plane_scene(), "deep_near_plane", 157, 119, &deep);
+    check(&deep_stack_scene(700), "deep_stack_one_row", 45, 37, &deep);
     let overflowing = MethodOptions {
         initial_bin_entries: Some(1),
         ..deep

@@ -37,9 +37,9 @@ layout(set = 1, binding = 19) uniform usamplerBuffer u_binEntryTexels;   // g_bi
 layout(set = 1, binding = 20) uniform usamplerBuffer u_homogeneousTexels; // g_homogeneous, 12 each
 
 // The raster's indirect dispatches, each a VkDispatchIndirectCommand padded to 16 bytes
-// (x = count, y = z = 1): RASTER_DISPATCH_BINS counts the non-empty bins (listed in
-// g_rasterBins) for the first raster dispatch, and k = 0, 1 count the items of resume list k,
-// the rows a raster dispatch left unfinished, one workgroup each. Items of list k start at
+// (x = count): RASTER_DISPATCH_BINS counts the blocks with a non-empty bin (listed in
+// g_rasterBins) for the first raster dispatch (y = BIN_SIZE rows each), and k = 0, 1 count
+// the items of resume list k, the rows a raster dispatch left unfinished, one workgroup each. Items of list k start at
 // k * g_counters.resumeCapacity, and item i's pixel states at (k * resumeCapacity + i) *
 // BIN_SIZE.
 #define RASTER_DISPATCH_BINS 2u

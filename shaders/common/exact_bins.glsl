@@ -13,7 +13,7 @@
 // the first slab whose floor is past them. Shallow frames keep one slab: the host raises
 // SLAB_BITS (a specialization constant of the binning and raster stages) when pixels turn
 // out deep, since more slabs cost a longer scan.
-layout(constant_id = 7) const uint SLAB_BITS = 0u;
+layout(constant_id = 6) const uint SLAB_BITS = 0u;
 const uint SLABS = 1u << SLAB_BITS;
 
 // The bins a non-empty pixel rectangle touches: inclusive block columns (x, z) and pixel

@@ -1,7 +1,11 @@
 #version 450
-// Bin raster: one workgroup per 8x8 block, one subgroup-sized row of invocations per row of
-// pixels, one invocation per pixel; no shared memory and no barriers. Each row has its own
-// bin: the list of triangles that may cover it.
+// Bin raster: one invocation per pixel, rows of BIN_SIZE pixels; no shared memory and no
+// barriers. Each row has its own bin: the list of triangles that may cover it, and a row is
+// what subgroup operations (votes, broadcasts, reductions) must see. So a workgroup is one
+// row on devices whose subgroups are wider than a row (most GPUs: 32 or 64; one subgroup
+// then holds the whole workgroup), and a whole 8x8 block where subgroups are exactly a row
+// wide (lavapipe on AVX2), whose subgroups take consecutive invocations, so each is one row.
+// The host requires subgroups of at least BIN_SIZE.
 //
 // Each pixel selects, in one pass over its row's triangles, the SELECT_SIZE nearest fragments
 // behind the last one it composited, keeping them sorted in registers with a fully unrolled
@@ -32,10 +36,10 @@
 #include "texture_sampler.glsl"
 #include "shading.glsl"
 
-// BIN_SIZE rows per workgroup for the first dispatch (one workgroup per block with a
-// non-empty bin; the others keep the opaque colour); one row (one resumed item) for
-// continuations.
-layout(local_size_x = BIN_SIZE, local_size_y_id = 5) in;
+// The first dispatch covers the rows of every block with a non-empty bin (the other blocks
+// keep the opaque colour): ROWS rows per workgroup, BIN_SIZE / ROWS workgroups down each
+// block. Continuations have one workgroup per resumed row.
+layout(local_size_x = BIN_SIZE, local_size_y_id = 7) in;
 
 // What the scene needs, fixed when the pipeline is made. CPU drivers such as lavapipe run
 // both sides of a divergent `if` under a mask, so code a scene cannot reach still costs on
@@ -50,7 +54,7 @@ layout(constant_id = 4) const bool CONTINUATION = false;     // resume items of 
 // a longer insertion for every triangle walked: the host starts at 8 and moves to 16 when
 // pixels needed several passes (at 640x360 on lavapipe, 16 makes particles, 60 deep,
 // 1.6x faster and costs spheres about 10 %).
-layout(constant_id = 6) const int SELECT_SIZE = 8;
+layout(constant_id = 5) const int SELECT_SIZE = 8;
 
 bool sampleTriangle(ExactTriangle t, uint x, uint y, out RasterSample s) {
     if (!HOMOGENEOUS_PATH || t.edgeB.w < 0) {
@@ -167,7 +171,7 @@ void main() {
         row = item % BIN_SIZE;
     } else {
         block = g_rasterBins[gl_WorkGroupID.x];
-        row = gl_LocalInvocationID.y;
+        row = gl_WorkGroupID.y * gl_WorkGroupSize.y + gl_LocalInvocationID.y;
     }
     // The row's own bin: its slabs' parts of the list, near to far; and the slabs' farthest
     // depths in the frame.

@@ -41,6 +41,8 @@ pub struct DeviceInfo {
     pub api_version: String,
     pub driver: String,
     pub subgroup_size: u32,
+    /// Compute shaders have the subgroup votes, ballots and reductions the exact raster uses.
+    pub compute_subgroup_operations: bool,
     pub max_shared_memory: u32,
     pub max_storage_buffer_range: u32,
     pub max_texel_buffer_elements: u32,
@@ -167,6 +169,15 @@ fn describe(instance: &ash::Instance, index: usize, pd: vk::PhysicalDevice) -> D
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_default(),
         subgroup_size: subgroup.subgroup_size,
+        compute_subgroup_operations: subgroup
+            .supported_stages
+            .contains(vk::ShaderStageFlags::COMPUTE)
+            && subgroup.supported_operations.contains(
+                vk::SubgroupFeatureFlags::BASIC
+                    | vk::SubgroupFeatureFlags::VOTE
+                    | vk::SubgroupFeatureFlags::ARITHMETIC
+                    | vk::SubgroupFeatureFlags::BALLOT,
+            ),
         max_shared_memory: limits.max_compute_shared_memory_size,
         max_storage_buffer_range: limits.max_storage_buffer_range,
         max_texel_buffer_elements: limits.max_texel_buffer_elements,

@@ -42,6 +42,10 @@ pub struct MethodOptions {
     /// pass, bins ordered by depth slab), so that tests can check them on every scene.
     #[doc(hidden)]
     pub assume_deep_pixels: bool,
+    /// `exact`: rasterize one row per workgroup, as on devices whose subgroups are wider than
+    /// a row (most GPUs), so that tests cover that path on lavapipe too.
+    #[doc(hidden)]
+    pub assume_wide_subgroups: bool,
     /// `wavelet`: Haar rank, 0 to 3 (2^(rank+1) coefficients per colour channel); `None`
     /// is [`wavelet::DEFAULT_RANK`]. A larger rank is an error.
     pub rank: Option<u32>,

@@ -3,6 +3,7 @@
 
 #![deny(unsafe_code)]
 
+use super::layout::BIN_SIZE;
 use crate::raster::{clip_position, viewport_transform, GUARD_BAND};
 use crate::scene::Scene;
 use glam::{Mat4, Vec3};
@@ -17,8 +18,11 @@ pub struct RasterFeatures {
     pub face_normals: bool,
     /// Fragments each pixel selects per pass over its bin.
     pub select_size: u32,
-    /// Each bin's list holds 2^slab_bits depth slabs (constant 7 of the binning stages too).
+    /// Each bin's list holds 2^slab_bits depth slabs (constant 6 of the binning stages too).
     pub slab_bits: u32,
+    /// Rows of a block per workgroup of the first raster dispatch: a subgroup must see one
+    /// row, so BIN_SIZE only where subgroups are exactly a row wide, else 1.
+    pub rows: u32,
 }
 
 /// The selection size to start with, and the one frames with deep pixels move to.
@@ -36,7 +40,7 @@ const _: () = assert!(DEEP_SLAB_BITS <= 32 - super::layout::ENTRY_SLAB_SHIFT);
 const _: () = assert!(1 << DEEP_SLAB_BITS <= super::layout::MAX_SLABS);
 
 impl RasterFeatures {
-    pub fn of(scene: &Scene, width: u32, height: u32) -> Self {
+    pub fn of(scene: &Scene, width: u32, height: u32, subgroup_size: u32) -> Self {
         let draws = || scene.transparent.iter();
         let view_projection = scene.camera.view_projection(width as f32 / height as f32);
         Self {
@@ -49,6 +53,11 @@ impl RasterFeatures {
             face_normals: draws().any(|d| scene.meshes[d.mesh].normals.is_none()),
             select_size: SELECT_SIZE,
             slab_bits: 0,
+            rows: if subgroup_size == BIN_SIZE {
+                BIN_SIZE
+            } else {
+                1
+            },
         }
     }
 
@@ -80,26 +89,24 @@ impl RasterFeatures {
         1 << self.slab_bits
     }
 
-    /// The constants of the binning stages: only the slabs (constant 7).
-    pub fn binning_constants(&self) -> [u32; 8] {
-        let mut constants = [0; 8];
-        constants[7] = self.slab_bits;
+    /// The constants of the binning stages: only the slabs (constant 6).
+    pub fn binning_constants(&self) -> [u32; 7] {
+        let mut constants = [0; 7];
+        constants[6] = self.slab_bits;
         constants
     }
 
-    /// The constants for the first raster dispatch (a workgroup per bin) or for continuations
-    /// (a workgroup per resumed row: `continuation`).
+    /// The constants for the first raster dispatch or for continuations (`continuation`).
     pub fn constants(&self, continuation: bool) -> [u32; 8] {
-        let rows = if continuation { 1 } else { super::BIN_SIZE };
         [
             u32::from(self.homogeneous),
             u32::from(self.textures),
             u32::from(self.vertex_normals),
             u32::from(self.face_normals),
             u32::from(continuation),
-            rows,
             self.select_size,
             self.slab_bits,
+            if continuation { 1 } else { self.rows },
         ]
     }
 }
@@ -138,7 +145,7 @@ mod tests {
     fn generated_scenes_need_only_the_fixed_path_and_no_textures() {
         for name in ["layers", "spheres", "planes"] {
             let scene = crate::scene::generated::generate(name).expect("scene");
-            let f = RasterFeatures::of(&scene, 640, 360);
+            let f = RasterFeatures::of(&scene, 640, 360, 8);
             assert!(!f.homogeneous && !f.textures, "{name}: {f:?}");
         }
     }

@@ -120,15 +120,33 @@ impl Exact {
                 info.name
             )));
         }
+        // The raster runs a workgroup per row of BIN_SIZE pixels and votes, broadcasts and
+        // reduces over it: a subgroup must hold a whole row.
+        if !info.compute_subgroup_operations || info.subgroup_size < BIN_SIZE {
+            return Err(crate::Error::NoDevice(format!(
+                "{} has compute subgroups of {} invocations{}; the exact method needs at least \
+                 {BIN_SIZE} with vote, ballot and arithmetic operations",
+                info.name,
+                info.subgroup_size,
+                if info.compute_subgroup_operations {
+                    ""
+                } else {
+                    " without all of vote, ballot and arithmetic"
+                }
+            )));
+        }
         let width = targets.extent.width;
         let height = targets.extent.height;
         let bins_x = width.div_ceil(BIN_SIZE);
         let bins_y = height.div_ceil(BIN_SIZE);
         let capacities = Capacities::initial(uploaded.transparent_quads, bins_x * bins_y, options);
-        let mut features = RasterFeatures::of(scene, width, height);
+        let mut features = RasterFeatures::of(scene, width, height, info.subgroup_size);
         features.homogeneous &= !options.assume_fixed_path;
         if options.assume_deep_pixels {
             features = features.deep();
+        }
+        if options.assume_wide_subgroups {
+            features.rows = 1;
         }
         let resources = Resources::new(
             gpu,
@@ -250,7 +268,7 @@ impl Method for Exact {
 
     fn record(&mut self, ctx: &mut RecordContext<'_>) -> Result<()> {
         let cmd = ctx.cmd;
-        self.resources.record_reset(cmd);
+        self.resources.record_reset(cmd, self.features.rows);
         let items = self.push.item_count;
         if items > 0 {
             self.dispatch(ctx, 0, [items.div_ceil(64), 1, 1]);

@@ -122,8 +122,11 @@ pub struct Resources {
 const STORAGE: vk::BufferUsageFlags = vk::BufferUsageFlags::STORAGE_BUFFER;
 const TEXELS: vk::BufferUsageFlags = vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER;
 const RGBA32UI: vk::Format = vk::Format::R32G32B32A32_UINT;
-/// Three dispatch commands of (0, 1, 1) workgroups: empty resume lists, no bins listed.
-const EMPTY_DISPATCHES: [u32; 12] = [0, 1, 1, 0, 0, 1, 1, 0, 0, 1, 1, 0];
+/// Three empty dispatch commands: resume lists of (items, 1, 1) workgroups and the listed
+/// blocks' (blocks, BIN_SIZE / rows, 1), for workgroups of `rows` rows.
+fn empty_dispatches(rows: u32) -> [u32; 12] {
+    [0, 1, 1, 0, 0, 1, 1, 0, 0, BIN_SIZE / rows, 1, 0]
+}
 
 /// A device-local buffer the stages write (and the raster may read through a view).
 fn storage_buffer(gpu: &Gpu, name: &str, bytes: u64) -> Result<Buffer> {
@@ -407,8 +410,9 @@ impl Resources {
     }
 
     /// Zeroes the counters and bin counts, writes the capacities and an empty depth range,
-    /// before setup.
-    pub fn record_reset(&self, cmd: vk::CommandBuffer) {
+    /// and empties the raster's dispatch commands (its first dispatch having workgroups of
+    /// `rows` rows), before setup.
+    pub fn record_reset(&self, cmd: vk::CommandBuffer, rows: u32) {
         let gpu = self.counters.gpu();
         let capacities = [
             self.capacities.triangles,
@@ -431,7 +435,7 @@ impl Resources {
             cmd,
             &self.growable.resume,
             0,
-            bytemuck::cast_slice(&EMPTY_DISPATCHES),
+            bytemuck::cast_slice(&empty_dispatches(rows)),
         );
         memory_barrier(
             gpu,
