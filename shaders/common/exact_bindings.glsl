@@ -10,7 +10,7 @@
 layout(set = 1, binding = 0) uniform usamplerBuffer u_vertexTexels;
 layout(set = 1, binding = 1) uniform usamplerBuffer u_quadTexels;
 layout(set = 1, binding = 2) uniform usamplerBuffer u_exactDrawTexels;
-layout(set = 1, binding = 3, std430) buffer TriangleBlock { ExactTriangle g_triangles[]; };
+layout(set = 1, binding = 3, std430) buffer TriangleBlock { ExactTriangleRecord g_triangles[]; };
 layout(set = 1, binding = 4, std430) buffer HomogeneousBlock { ExactHomogeneous g_homogeneous[]; };
 layout(set = 1, binding = 5, std430) buffer CounterBlock { ExactCounters g_counters; };
 // Per (bin, slab), at bin * SLABS + slab: triangle counts, and list offsets, which bin_fill
@@ -27,7 +27,7 @@ layout(set = 1, binding = 12, rgba16f) uniform image2D u_colour;
 // lavapipe fetch texels with straight-line vector loads, where a storage-buffer load inside
 // divergent control flow is a per-lane loop with a branch per component. Records are read
 // texel by texel in field order (the layout test checks every field starts a texel).
-layout(set = 1, binding = 13) uniform usamplerBuffer u_triangleTexels;   // g_triangles, 8 each
+layout(set = 1, binding = 13) uniform usamplerBuffer u_triangleTexels;   // g_triangles, 6 each
 layout(set = 1, binding = 14) uniform usamplerBuffer u_attributeTexels;  // g_attributes, 8 each
 layout(set = 1, binding = 15) uniform usamplerBuffer u_materialTexels;   // Material, 3 each
 layout(set = 1, binding = 16) uniform usamplerBuffer u_textureInfoTexels; // ExactTexture, 2 each
@@ -122,18 +122,19 @@ DrawInfo loadDrawInfo(uint i) {
 
 // Triangle record i, from u_triangleTexels.
 ExactTriangle loadTriangle(uint i) {
-    int base = int(i) * 8;
+    int base = int(i) * 6;
     uvec4 c01 = texelFetch(u_triangleTexels, base);
-    uvec4 c2 = texelFetch(u_triangleTexels, base + 1);
+    uvec4 c2b = texelFetch(u_triangleTexels, base + 1);
     ExactTriangle t;
     t.edgeC = i64vec4(int64_t(packUint2x32(c01.xy)), int64_t(packUint2x32(c01.zw)),
-                      int64_t(packUint2x32(c2.xy)), int64_t(packUint2x32(c2.zw)));
+                      int64_t(packUint2x32(c2b.xy)), 0l);
+    t.bounds = ivec4(c2b.z & 0xFFFFu, c2b.z >> 16u, c2b.w & 0xFFFFu, c2b.w >> 16u);
     t.edgeA = ivec4(texelFetch(u_triangleTexels, base + 2));
     t.edgeB = ivec4(texelFetch(u_triangleTexels, base + 3));
-    t.bounds = ivec4(texelFetch(u_triangleTexels, base + 4));
-    t.zNdc = uintBitsToFloat(texelFetch(u_triangleTexels, base + 5));
-    t.invW = uintBitsToFloat(texelFetch(u_triangleTexels, base + 6));
-    t.ids = texelFetch(u_triangleTexels, base + 7);
+    t.zNdc = uintBitsToFloat(texelFetch(u_triangleTexels, base + 4));
+    uvec4 w = texelFetch(u_triangleTexels, base + 5);
+    t.invW = vec4(uintBitsToFloat(w.xyz), 0.0);
+    t.order = w.w;
     return t;
 }
 

@@ -48,8 +48,9 @@ struct ExactDraw {
     uint firstQuad;         // into the scene's quad buffer
 };
 
-// A visible triangle after setup (std430, 128 bytes). Fixed-point edges E = a*px + b*py + c
-// are positive inside; on the homogeneous path the lines live in ExactHomogeneous.
+// A visible triangle after setup, as the stages use it. Fixed-point edges
+// E = a*px + b*py + c are positive inside; on the homogeneous path the lines live in
+// ExactHomogeneous. Stored packed as an ExactTriangleRecord.
 struct ExactTriangle {
     i64vec4 edgeC;          // xyz: c of edges 0..2
     ivec4 edgeA;            // xyz: a of edges 0..2, w: tie bits (bit k: edge k owns ties)
@@ -57,8 +58,21 @@ struct ExactTriangle {
     ivec4 bounds;           // half-open pixel rectangle x0, y0, x1, y1
     vec4 zNdc;              // xyz: depth-buffer value of each vertex, w: 1 / |double area|
     vec4 invW;              // xyz: 1 / clip w of each vertex
-    uvec4 ids;              // x: exact draw slot, y: quad within the mesh, z: sub-triangle,
-                            // w: order key (global quad index * 2 + sub)
+    uint order;             // order key: global quad index * 2 + sub-triangle
+};
+
+// An ExactTriangle as stored (std430, 96 bytes: six texels, since the bin walk reads one
+// record per triangle it visits). Pixel bounds fit 16 bits (viewports are at most 65535).
+struct ExactTriangleRecord {
+    i64vec2 edgeC01;        // c of edges 0 and 1
+    int64_t edgeC2;         // c of edge 2
+    uint boundsMin;         // x0 | y0 << 16
+    uint boundsEnd;         // x1 | y1 << 16
+    ivec4 edgeA;
+    ivec4 edgeB;
+    vec4 zNdc;
+    vec3 invW;
+    uint order;
 };
 
 #define ATTRIBUTES_FACE_NORMAL 1u   // normal0 is the face normal, used uninterpolated

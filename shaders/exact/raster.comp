@@ -290,7 +290,7 @@ void main() {
                 bool covered = inBox && coversFixed(t, x, y, edges);
                 take = covered && interpolateFixed(t, edges, s);
             }
-            uint64_t key = fragmentKey(floatBitsToUint(s.viewDepth), t.ids.w);
+            uint64_t key = fragmentKey(floatBitsToUint(s.viewDepth), t.order);
             take = take && !finished && s.zNdc < opaqueDepth && key > doneKey;
             found += take ? 1u : 0u;
             // Insert, dropping the last: each slot takes its left neighbour, the new key, or

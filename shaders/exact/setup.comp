@@ -278,7 +278,7 @@ void main() {
             g_homogeneous[hi] = h;
             t.edgeB.w = int(hi);
         }
-        t.ids = uvec4(slot, quadIndex, sub, item * 2u + sub);
+        t.order = item * 2u + sub;
         if (!homogeneous) {
             uvec2 depth = triangleDepthBits(t);
             atomicMin(g_counters.depthLo, depth.x);
@@ -286,7 +286,10 @@ void main() {
         }
         // Capacity is two triangles per quad: this cannot overflow.
         uint ti = atomicAdd(g_counters.triangleCount, 1u);
-        g_triangles[ti] = t;
+        g_triangles[ti] = ExactTriangleRecord(
+            t.edgeC.xy, t.edgeC.z, uint(t.bounds.x) | uint(t.bounds.y) << 16u,
+            uint(t.bounds.z) | uint(t.bounds.w) << 16u, t.edgeA, t.edgeB, t.zNdc, t.invW.xyz,
+            t.order);
         g_attributes[ti] = gatherAttributes(d, vi);
     }
 }

@@ -23,8 +23,8 @@ pub const PIXEL_STATE_BYTES: u64 = 48;
 pub const RASTER_DISPATCH_BYTES: u64 = 48;
 /// Byte offset of the non-empty bins' dispatch command (`RASTER_DISPATCH_BINS`).
 pub const RASTER_DISPATCH_BINS_OFFSET: u64 = 32;
-/// Bytes of one `ExactTriangle` and one `ExactHomogeneous`.
-pub const TRIANGLE_BYTES: u64 = 128;
+/// Bytes of one `ExactTriangleRecord` and one `ExactHomogeneous`.
+pub const TRIANGLE_BYTES: u64 = 96;
 pub const HOMOGENEOUS_BYTES: u64 = 192;
 /// Bytes of one `ExactAttributes`.
 pub const ATTRIBUTES_BYTES: u64 = 128;
@@ -130,8 +130,8 @@ mod tests {
     fn texel_loaders_match_the_records() {
         let msg = "a record changed: update its loader in exact_bindings.glsl and this test";
         assert_eq!(
-            offsets("ExactTriangle"),
-            [0, 32, 48, 64, 80, 96, 112],
+            offsets("ExactTriangleRecord"),
+            [0, 16, 24, 28, 32, 48, 64, 80, 92],
             "{msg}"
         );
         assert_eq!(
@@ -164,7 +164,7 @@ mod tests {
     fn layouts_match_glsl() {
         let msg = "methods/exact/layout.rs and exact_layout.glsl disagree; update both";
         assert_eq!(
-            std430_offsets(SRC, "ExactTriangle").1 as u64,
+            std430_offsets(SRC, "ExactTriangleRecord").1 as u64,
             TRIANGLE_BYTES,
             "{msg}"
         );

@@ -137,6 +137,12 @@ impl Exact {
         }
         let width = targets.extent.width;
         let height = targets.extent.height;
+        if width > 0xFFFF || height > 0xFFFF {
+            // Triangle records keep their pixel bounds in 16 bits.
+            return Err(crate::Error::InvalidScene(format!(
+                "exact: {width}x{height} is over the 65535 pixels a side it supports"
+            )));
+        }
         let bins_x = width.div_ceil(BIN_SIZE);
         let bins_y = height.div_ceil(BIN_SIZE);
         let capacities = Capacities::initial(uploaded.transparent_quads, bins_x * bins_y, options);
