@@ -414,22 +414,17 @@ impl Resources {
     /// `rows` rows), before setup.
     pub fn record_reset(&self, cmd: vk::CommandBuffer, rows: u32) {
         let gpu = self.counters.gpu();
-        let capacities = [
-            self.capacities.triangles,
-            self.capacities.homogeneous,
-            self.capacities.bin_entries,
-        ];
-        gpu.cmd_fill_buffer(cmd, &self.counters, 0);
-        gpu.cmd_update_buffer(cmd, &self.counters, 16, bytemuck::cast_slice(&capacities));
-        let resume_at = std::mem::offset_of!(ExactCounters, resume_capacity) as u64;
-        gpu.cmd_update_buffer(
-            cmd,
-            &self.counters,
-            resume_at,
-            &self.capacities.resume.to_ne_bytes(),
-        );
-        let depth_at = std::mem::offset_of!(ExactCounters, depth_lo) as u64;
-        gpu.cmd_update_buffer(cmd, &self.counters, depth_at, &u32::MAX.to_ne_bytes());
+        // One write of the whole record: separate writes to one buffer would need barriers
+        // between them.
+        let counters = ExactCounters {
+            triangle_capacity: self.capacities.triangles,
+            homogeneous_capacity: self.capacities.homogeneous,
+            bin_entry_capacity: self.capacities.bin_entries,
+            resume_capacity: self.capacities.resume,
+            depth_lo: u32::MAX,
+            ..ExactCounters::default()
+        };
+        gpu.cmd_update_buffer(cmd, &self.counters, 0, bytemuck::bytes_of(&counters));
         gpu.cmd_fill_buffer(cmd, &self.bins.counts, 0);
         gpu.cmd_update_buffer(
             cmd,
