@@ -12,10 +12,12 @@
 //! # Ok::<(), translucid::Error>(())
 //! ```
 
+mod host_device;
 mod host_opaque;
 mod targets;
 mod upload;
 
+pub use host_device::HostFrame;
 pub use targets::{FrameTargets, Readback, COLOUR_FORMAT, DEPTH_FORMAT};
 pub use upload::{DrawCall, GpuScene, MeshRange, VERTEX_ATTRIBUTES, VERTEX_STRIDE};
 
@@ -49,15 +51,21 @@ pub struct Frame {
 }
 
 impl Frame {
-    /// GPU time of the transparency method alone (every stage but the opaque layer and
-    /// readback), in milliseconds.
+    /// GPU time of the transparency method alone (every stage but the opaque layer,
+    /// readback and, on the engine's device, the output copy), in milliseconds.
     pub fn method_ms(&self) -> f64 {
-        self.stages
-            .iter()
-            .filter(|(s, _)| !matches!(*s, "opaque" | "readback"))
-            .map(|(_, ms)| ms)
-            .sum()
+        method_ms(&self.stages)
     }
+}
+
+/// The sum of the method's stages among `stages`: every stage but "opaque", "readback" and
+/// "output".
+fn method_ms(stages: &[(&'static str, f64)]) -> f64 {
+    stages
+        .iter()
+        .filter(|(s, _)| !matches!(*s, "opaque" | "readback" | "output"))
+        .map(|(_, ms)| ms)
+        .sum()
 }
 
 /// Renders frames of one scene with one method at one size.
