@@ -28,6 +28,7 @@ pub mod context;
 pub mod frame;
 pub mod frame_input;
 pub mod handle;
+pub mod host;
 pub mod material;
 pub mod mesh;
 pub mod method;
@@ -36,5 +37,6 @@ pub mod result;
 pub mod structure;
 pub mod texture;
 pub mod version;
+pub mod vulkan;
 
 pub use result::translucid_result;
