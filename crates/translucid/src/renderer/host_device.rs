@@ -8,7 +8,7 @@
 //! already grown, so recording the same frame again renders it correctly.
 
 use super::{method_ms, Renderer};
-use crate::gpu::HostTargets;
+use crate::gpu::{memory_barrier, vk, Buffer, Gpu, HostTargets, MemoryLocation};
 use crate::methods::RecordContext;
 use crate::{Error, Result};
 
@@ -27,6 +27,59 @@ pub struct HostFrame {
     /// A buffer overflowed: the image the frame wrote is wrong. The buffers have grown;
     /// recording the frame again renders it correctly.
     pub overflowed: bool,
+}
+
+/// A host-visible word that the host clears when it records a frame and the frame's last
+/// command sets to the frame's number: it equals the number only once the commands ran.
+pub(super) struct Completion {
+    marker: Buffer,
+    frame: u32,
+}
+
+impl Completion {
+    fn new(gpu: &Gpu) -> Result<Self> {
+        let marker = gpu.create_buffer(
+            "host frame completion",
+            4,
+            vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuToCpu,
+        )?;
+        Ok(Self { marker, frame: 0 })
+    }
+
+    /// Clears the word and records the command that sets it, after everything else.
+    fn record(&mut self, gpu: &Gpu, cmd: vk::CommandBuffer) -> Result<()> {
+        self.frame = self.frame.wrapping_add(1).max(1);
+        self.marker.write(0, &0u32.to_le_bytes())?;
+        memory_barrier(
+            gpu,
+            cmd,
+            (
+                vk::PipelineStageFlags::ALL_COMMANDS,
+                vk::AccessFlags::MEMORY_WRITE,
+            ),
+            (
+                vk::PipelineStageFlags::TRANSFER,
+                vk::AccessFlags::TRANSFER_WRITE,
+            ),
+        );
+        gpu.cmd_update_buffer(cmd, &self.marker, 0, &self.frame.to_le_bytes());
+        memory_barrier(
+            gpu,
+            cmd,
+            (
+                vk::PipelineStageFlags::TRANSFER,
+                vk::AccessFlags::TRANSFER_WRITE,
+            ),
+            (vk::PipelineStageFlags::HOST, vk::AccessFlags::HOST_READ),
+        );
+        Ok(())
+    }
+
+    fn ran(&self) -> Result<bool> {
+        let bytes = self.marker.read()?;
+        Ok(bytes[..4] == self.frame.to_le_bytes())
+    }
 }
 
 impl Renderer {
@@ -51,6 +104,9 @@ impl Renderer {
             ));
         }
         gpu.check_host_targets(targets)?;
+        if self.completion.is_none() {
+            self.completion = Some(Completion::new(&gpu)?);
+        }
         gpu.reset_peak_memory();
         let cmd = targets.cmd;
         self.scene.record_pending_uploads(&gpu, cmd);
@@ -67,19 +123,27 @@ impl Renderer {
         self.method.record(&mut ctx)?;
         gpu.record_host_output(targets, &self.targets.colour);
         self.timestamps.mark(cmd, "output");
-        Ok(())
+        match &mut self.completion {
+            Some(c) => c.record(&gpu, cmd),
+            None => Ok(()),
+        }
     }
 
     /// Reads the completed frame's timestamps and counters, growing the method's buffers if
     /// they overflowed. Fails, changing nothing, when the frame's commands have not run.
     pub fn complete_host(&mut self) -> Result<HostFrame> {
-        let stages = self.timestamps.try_read()?.ok_or_else(|| {
+        let not_run = || {
             Error::HostFrame(
                 "the frame's commands have not run: complete a frame only after the \
                  submission of its command buffer finished"
                     .into(),
             )
-        })?;
+        };
+        match &self.completion {
+            Some(c) if c.ran()? => {}
+            _ => return Err(not_run()),
+        }
+        let stages = self.timestamps.try_read()?.ok_or_else(not_run)?;
         let check = self.method.frame_done(&self.scene, &self.targets)?;
         self.scene.uploads_completed();
         Ok(HostFrame {

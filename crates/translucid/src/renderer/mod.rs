@@ -78,6 +78,8 @@ pub struct Renderer {
     method: Box<dyn Method>,
     timestamps: Timestamps,
     background: Vec3,
+    /// Host-device mode: how a completed frame is told from one whose commands never ran.
+    completion: Option<host_device::Completion>,
 }
 
 /// Checks a viewport against the device's limits.
@@ -139,6 +141,7 @@ impl Renderer {
             method,
             timestamps,
             background: scene.background,
+            completion: None,
         })
     }
 
