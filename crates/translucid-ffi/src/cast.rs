@@ -115,6 +115,24 @@ pub(crate) fn check_header(
     ))
 }
 
+/// A struct translucid fills in whose `s_type` and `next` the caller sets.
+pub(crate) trait OutStructure {
+    const TYPE: translucid_structure_type;
+    const NAME: &'static str;
+    fn header(&self) -> (u32, *mut c_void);
+}
+
+/// An out-struct at `ptr`: its caller-set `s_type` and `next` checked and returned (to be
+/// written back unchanged), and the struct to write once the work succeeded.
+pub(crate) fn try_out_structure<'a, T: OutStructure>(
+    ptr: *mut T,
+    what: &str,
+) -> FfiResult<((u32, *mut c_void), &'a mut MaybeUninit<T>)> {
+    let header = try_ref(ptr.cast_const(), what)?.header();
+    check_header(header.0, header.1.cast_const(), T::TYPE, T::NAME)?;
+    Ok((header, try_out(ptr, what)?))
+}
+
 /// Moves a context to C.
 pub(crate) fn context_into_raw(context: Box<Context>) -> *mut translucid_context {
     Box::into_raw(context).cast()

@@ -2,7 +2,8 @@
 //! at the statistics. Exports `translucid_frame_*`.
 
 use crate::cast::{
-    check_header, translucid_context, try_out, try_out_slice, try_ref, try_slice, try_str,
+    check_header, translucid_context, try_out, try_out_slice, try_out_structure, try_ref,
+    try_slice, try_str, OutStructure,
 };
 use crate::context::Objects;
 use crate::frame_input::{build_scene, opaque_layer_from};
@@ -222,6 +223,14 @@ pub struct translucid_frame_statistics {
     /// is wrong; else 0. Only host-device frames can end so (`translucid_frame_complete`
     /// returns `TRANSLUCID_RESULT_INCOMPLETE`); standalone frames render again instead.
     pub overflowed: u32,
+}
+
+impl OutStructure for translucid_frame_statistics {
+    const TYPE: translucid_structure_type = translucid_structure_type::FrameStatistics;
+    const NAME: &'static str = "translucid_frame_statistics";
+    fn header(&self) -> (u32, *mut c_void) {
+        (self.s_type, self.next)
+    }
 }
 
 /// A rendered frame's handle. `{0}` is the NULL handle.
@@ -502,17 +511,7 @@ impl translucid_frame {
                      once the engine's submission finished",
                 ));
             }
-            let header = {
-                let s = try_ref(out_statistics.cast_const(), "out_statistics")?;
-                check_header(
-                    s.s_type,
-                    s.next.cast_const(),
-                    translucid_structure_type::FrameStatistics,
-                    "translucid_frame_statistics",
-                )?;
-                (s.s_type, s.next)
-            };
-            let out = try_out(out_statistics, "out_statistics")?;
+            let (header, out) = try_out_structure(out_statistics, "out_statistics")?;
             out.write(statistics_of(record, header));
             Ok(translucid_result::Success)
         })

@@ -10,7 +10,9 @@
 //! (uploaded scene, pipelines, grown buffers) and reuses it when the next frame has the same
 //! input, so that a frame recorded again after an overflow renders correctly.
 
-use crate::cast::{check_header, translucid_context, try_out, try_ref, try_slice};
+use crate::cast::{
+    check_header, translucid_context, try_out, try_out_structure, try_ref, try_slice, OutStructure,
+};
 use crate::context::Objects;
 use crate::frame::{frame_input, translucid_frame, translucid_frame_info, FrameRecord};
 use crate::panic;
@@ -326,6 +328,14 @@ fn complete(objects: &mut Objects, frame: translucid_frame) -> FfiResult<translu
     })
 }
 
+impl OutStructure for translucid_host_requirements {
+    const TYPE: translucid_structure_type = translucid_structure_type::HostDeviceRequirements;
+    const NAME: &'static str = "translucid_host_requirements";
+    fn header(&self) -> (u32, *mut c_void) {
+        (self.s_type, self.next)
+    }
+}
+
 impl translucid_host_requirements {
     /// Fills `*out_requirements` (whose `s_type` the caller set to
     /// `TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_REQUIREMENTS`) with what the engine's instance
@@ -336,17 +346,7 @@ impl translucid_host_requirements {
         out_requirements: *mut translucid_host_requirements,
     ) -> translucid_result {
         panic::without_context(|| {
-            let header = {
-                let r = try_ref(out_requirements.cast_const(), "out_requirements")?;
-                check_header(
-                    r.s_type,
-                    r.next.cast_const(),
-                    translucid_structure_type::HostDeviceRequirements,
-                    "translucid_host_requirements",
-                )?;
-                (r.s_type, r.next)
-            };
-            let out = try_out(out_requirements, "out_requirements")?;
+            let (header, out) = try_out_structure(out_requirements, "out_requirements")?;
             let wanted = host_requirements();
             debug_assert!(wanted.extensions.is_empty(), "list them in a static array");
             out.write(translucid_host_requirements {

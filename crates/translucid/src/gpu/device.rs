@@ -341,14 +341,7 @@ impl Gpu {
         physical: vk::PhysicalDevice,
         info: DeviceInfo,
     ) -> Result<Self> {
-        let allocator = Allocator::new(&AllocatorCreateDesc {
-            instance: instance.clone(),
-            device: device.clone(),
-            physical_device: physical,
-            debug_settings: Default::default(),
-            buffer_device_address: false,
-            allocation_sizes: Default::default(),
-        })?;
+        let allocator = create_allocator(&instance, &device, physical)?;
         Ok(Self(Arc::new(Shared {
             _entry: entry,
             instance,
@@ -443,6 +436,21 @@ fn destroy_instance(
     }
 }
 
+fn create_allocator(
+    instance: &ash::Instance,
+    device: &ash::Device,
+    physical: vk::PhysicalDevice,
+) -> Result<Allocator> {
+    Ok(Allocator::new(&AllocatorCreateDesc {
+        instance: instance.clone(),
+        device: device.clone(),
+        physical_device: physical,
+        debug_settings: Default::default(),
+        buffer_device_address: false,
+        allocation_sizes: Default::default(),
+    })?)
+}
+
 type DeviceParts = (ash::Device, vk::Queue, Allocator, vk::CommandPool);
 
 fn create_device(
@@ -476,20 +484,12 @@ fn create_device(
         .map_err(vk_err("vkCreateDevice"))?;
     // SAFETY: family/index 0 were requested above.
     let queue = unsafe { device.get_device_queue(family, 0) };
-    let allocator = Allocator::new(&AllocatorCreateDesc {
-        instance: instance.clone(),
-        device: device.clone(),
-        physical_device: physical,
-        debug_settings: Default::default(),
-        buffer_device_address: false,
-        allocation_sizes: Default::default(),
-    });
-    let allocator = match allocator {
+    let allocator = match create_allocator(instance, &device, physical) {
         Ok(a) => a,
         Err(e) => {
             // SAFETY: nothing was created from the device yet.
             unsafe { device.destroy_device(None) };
-            return Err(e.into());
+            return Err(e);
         }
     };
     let pool_info = vk::CommandPoolCreateInfo::default()

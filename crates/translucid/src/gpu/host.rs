@@ -12,6 +12,7 @@ use super::device::describe;
 use super::{Gpu, GpuImage};
 use crate::{Error, Result};
 use ash::vk;
+use ash::vk::ImageLayout as L;
 use std::ffi::{CStr, CString};
 
 /// The lowest Vulkan version translucid runs on (instance and device).
@@ -327,37 +328,38 @@ const TRANSFER_WRITE: (vk::PipelineStageFlags, vk::AccessFlags) = (
     vk::AccessFlags::TRANSFER_WRITE,
 );
 
-/// One layout transition of a raw image, with its stages and accesses.
-struct Transition {
-    image: vk::Image,
-    aspect: vk::ImageAspectFlags,
-    layouts: (vk::ImageLayout, vk::ImageLayout),
-    src: (vk::PipelineStageFlags, vk::AccessFlags),
-    dst: (vk::PipelineStageFlags, vk::AccessFlags),
-}
+/// One layout transition of a raw image: the image, its aspect, (old, new) layouts, and the
+/// source and destination stages and accesses.
+struct Transition(
+    vk::Image,
+    vk::ImageAspectFlags,
+    (L, L),
+    (vk::PipelineStageFlags, vk::AccessFlags),
+    (vk::PipelineStageFlags, vk::AccessFlags),
+);
 
 impl Gpu {
     fn transitions(&self, cmd: vk::CommandBuffer, list: &[Transition]) {
         let barriers: Vec<vk::ImageMemoryBarrier> = list
             .iter()
-            .map(|t| {
+            .map(|Transition(image, aspect, layouts, src, dst)| {
                 vk::ImageMemoryBarrier::default()
-                    .old_layout(t.layouts.0)
-                    .new_layout(t.layouts.1)
-                    .src_access_mask(t.src.1)
-                    .dst_access_mask(t.dst.1)
+                    .old_layout(layouts.0)
+                    .new_layout(layouts.1)
+                    .src_access_mask(src.1)
+                    .dst_access_mask(dst.1)
                     .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
                     .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-                    .image(t.image)
-                    .subresource_range(range(t.aspect))
+                    .image(*image)
+                    .subresource_range(range(*aspect))
             })
             .collect();
         let src = list
             .iter()
-            .fold(vk::PipelineStageFlags::empty(), |s, t| s | t.src.0);
+            .fold(vk::PipelineStageFlags::empty(), |s, t| s | t.3 .0);
         let dst = list
             .iter()
-            .fold(vk::PipelineStageFlags::empty(), |s, t| s | t.dst.0);
+            .fold(vk::PipelineStageFlags::empty(), |s, t| s | t.4 .0);
         // SAFETY: cmd is recording outside a render pass (checked contract); every barrier
         // names a live image with its whole single subresource.
         unsafe {
@@ -405,47 +407,20 @@ impl Gpu {
     /// its depth in its final layout.
     pub fn record_host_input(&self, t: &HostTargets, colour: &GpuImage, depth: &GpuImage) {
         let (c, d) = (vk::ImageAspectFlags::COLOR, vk::ImageAspectFlags::DEPTH);
-        let attachments = (
-            vk::PipelineStageFlags::ALL_COMMANDS,
-            vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE,
-        );
+        let (src, dst) = (L::TRANSFER_SRC_OPTIMAL, L::TRANSFER_DST_OPTIMAL);
         self.transitions(
             t.cmd,
             &[
-                Transition {
-                    image: t.colour.image,
-                    aspect: c,
-                    layouts: (t.colour.layout, vk::ImageLayout::TRANSFER_SRC_OPTIMAL),
-                    src: ANY,
-                    dst: TRANSFER_READ,
-                },
-                Transition {
-                    image: t.depth.image,
-                    aspect: d,
-                    layouts: (t.depth.layout, vk::ImageLayout::TRANSFER_SRC_OPTIMAL),
-                    src: ANY,
-                    dst: TRANSFER_READ,
-                },
-                Transition {
-                    image: colour.raw,
-                    aspect: c,
-                    layouts: (
-                        vk::ImageLayout::UNDEFINED,
-                        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                    ),
-                    src: ANY,
-                    dst: TRANSFER_WRITE,
-                },
-                Transition {
-                    image: depth.raw,
-                    aspect: d,
-                    layouts: (
-                        vk::ImageLayout::UNDEFINED,
-                        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                    ),
-                    src: ANY,
-                    dst: TRANSFER_WRITE,
-                },
+                Transition(
+                    t.colour.image,
+                    c,
+                    (t.colour.layout, src),
+                    ANY,
+                    TRANSFER_READ,
+                ),
+                Transition(t.depth.image, d, (t.depth.layout, src), ANY, TRANSFER_READ),
+                Transition(colour.raw, c, (L::UNDEFINED, dst), ANY, TRANSFER_WRITE),
+                Transition(depth.raw, d, (L::UNDEFINED, dst), ANY, TRANSFER_WRITE),
             ],
         );
         self.blit(t.cmd, t.colour.image, colour.raw, colour.extent);
@@ -461,45 +436,25 @@ impl Gpu {
         // SAFETY: both depth images are D32_SFLOAT (checked), in the layouts named, and at
         // least `extent` large (the frame's size, the engine's contract).
         unsafe {
-            self.device.cmd_copy_image(
-                t.cmd,
-                t.depth.image,
-                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                depth.raw,
-                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                &[copy],
-            )
+            self.device
+                .cmd_copy_image(t.cmd, t.depth.image, src, depth.raw, dst, &[copy])
         };
+        let attachment = (
+            L::COLOR_ATTACHMENT_OPTIMAL,
+            L::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+        );
         self.transitions(
             t.cmd,
             &[
-                Transition {
-                    image: t.depth.image,
-                    aspect: d,
-                    layouts: (vk::ImageLayout::TRANSFER_SRC_OPTIMAL, t.depth.final_layout),
-                    src: TRANSFER_READ,
-                    dst: ANY,
-                },
-                Transition {
-                    image: colour.raw,
-                    aspect: c,
-                    layouts: (
-                        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                        vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-                    ),
-                    src: TRANSFER_WRITE,
-                    dst: attachments,
-                },
-                Transition {
-                    image: depth.raw,
-                    aspect: d,
-                    layouts: (
-                        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                        vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
-                    ),
-                    src: TRANSFER_WRITE,
-                    dst: attachments,
-                },
+                Transition(
+                    t.depth.image,
+                    d,
+                    (src, t.depth.final_layout),
+                    TRANSFER_READ,
+                    ANY,
+                ),
+                Transition(colour.raw, c, (dst, attachment.0), TRANSFER_WRITE, ANY),
+                Transition(depth.raw, d, (dst, attachment.1), TRANSFER_WRITE, ANY),
             ],
         );
     }
@@ -509,42 +464,24 @@ impl Gpu {
     /// image, which ends in its final layout.
     pub fn record_host_output(&self, t: &HostTargets, colour: &GpuImage) {
         let c = vk::ImageAspectFlags::COLOR;
+        let (src, dst) = (L::TRANSFER_SRC_OPTIMAL, L::TRANSFER_DST_OPTIMAL);
+        let attachment = L::COLOR_ATTACHMENT_OPTIMAL;
         self.transitions(
             t.cmd,
             &[
-                Transition {
-                    image: colour.raw,
-                    aspect: c,
-                    layouts: (
-                        vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-                        vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                    ),
-                    src: ANY,
-                    dst: TRANSFER_READ,
-                },
-                Transition {
-                    image: t.colour.image,
-                    aspect: c,
-                    layouts: (
-                        vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                    ),
-                    src: TRANSFER_READ,
-                    dst: TRANSFER_WRITE,
-                },
+                Transition(colour.raw, c, (attachment, src), ANY, TRANSFER_READ),
+                Transition(t.colour.image, c, (src, dst), TRANSFER_READ, TRANSFER_WRITE),
             ],
         );
         self.blit(t.cmd, colour.raw, t.colour.image, colour.extent);
-        self.transitions(
-            t.cmd,
-            &[Transition {
-                image: t.colour.image,
-                aspect: c,
-                layouts: (vk::ImageLayout::TRANSFER_DST_OPTIMAL, t.colour.final_layout),
-                src: TRANSFER_WRITE,
-                dst: ANY,
-            }],
+        let last = Transition(
+            t.colour.image,
+            c,
+            (dst, t.colour.final_layout),
+            TRANSFER_WRITE,
+            ANY,
         );
+        self.transitions(t.cmd, &[last]);
     }
 }
 

@@ -9,7 +9,6 @@
 
 use super::{method_ms, Renderer};
 use crate::gpu::{memory_barrier, vk, Buffer, Gpu, HostTargets, MemoryLocation};
-use crate::methods::RecordContext;
 use crate::{Error, Result};
 
 /// What a host-device frame reports once the engine's submission completed.
@@ -113,14 +112,7 @@ impl Renderer {
         self.timestamps.begin(cmd);
         gpu.record_host_input(targets, &self.targets.colour, &self.targets.depth);
         self.timestamps.mark(cmd, "opaque");
-        let mut ctx = RecordContext {
-            gpu: &gpu,
-            cmd,
-            scene: &self.scene,
-            targets: &self.targets,
-            timestamps: &mut self.timestamps,
-        };
-        self.method.record(&mut ctx)?;
+        self.record_method(&gpu, cmd)?;
         gpu.record_host_output(targets, &self.targets.colour);
         self.timestamps.mark(cmd, "output");
         match &mut self.completion {

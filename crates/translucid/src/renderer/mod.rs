@@ -21,7 +21,7 @@ pub use host_device::HostFrame;
 pub use targets::{FrameTargets, Readback, COLOUR_FORMAT, DEPTH_FORMAT};
 pub use upload::{DrawCall, GpuScene, MeshRange, VERTEX_ATTRIBUTES, VERTEX_STRIDE};
 
-use crate::gpu::{Gpu, Timestamps};
+use crate::gpu::{vk, Gpu, Timestamps};
 use crate::image::{Image, OpaqueLayer};
 use crate::methods::{self, Method, MethodOptions, RecordContext};
 use crate::scene::Scene;
@@ -193,14 +193,7 @@ impl Renderer {
                         self.timestamps.mark(cmd, "opaque");
                     }
                 }
-                let mut ctx = RecordContext {
-                    gpu: &gpu,
-                    cmd,
-                    scene: &self.scene,
-                    targets: &self.targets,
-                    timestamps: &mut self.timestamps,
-                };
-                self.method.record(&mut ctx)?;
+                self.record_method(&gpu, cmd)?;
                 self.readback.record(&gpu, cmd, &self.targets, false);
                 Ok(())
             })?;
@@ -226,6 +219,18 @@ impl Renderer {
             fragments: check.fragments,
             wall_ms,
         })
+    }
+
+    /// Records the method's passes over the frame targets.
+    fn record_method(&mut self, gpu: &Gpu, cmd: vk::CommandBuffer) -> Result<()> {
+        let mut ctx = RecordContext {
+            gpu,
+            cmd,
+            scene: &self.scene,
+            targets: &self.targets,
+            timestamps: &mut self.timestamps,
+        };
+        self.method.record(&mut ctx)
     }
 }
 
