@@ -53,7 +53,9 @@ pub struct translucid_host_requirements {
 /// The engine's device, chained to `translucid_context_create_info::next` with `mode`
 /// `TRANSLUCID_CONTEXT_MODE_HOST_DEVICE`. translucid never destroys these objects: destroy the
 /// context before them. The enabled features and extensions are checked against
-/// `translucid_host_requirements_get`.
+/// `translucid_host_requirements_get` (`TRANSLUCID_RESULT_ERROR_DEVICE_REQUIREMENTS` names
+/// what is missing); a `VK_NULL_HANDLE` instance, physical device or device is
+/// `TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT`.
 #[allow(non_camel_case_types)]
 #[repr(C)]
 pub struct translucid_host_device_create_info {
@@ -79,7 +81,9 @@ pub struct translucid_host_device_create_info {
 }
 
 /// One of the engine's images: a single-sample 2D image of the frame's size (width x height)
-/// with one mip level and one array layer.
+/// with one mip level and one array layer, owned by the queue family named at context
+/// creation (or created with concurrent sharing). translucid cannot query an image's size:
+/// a smaller image is undefined behaviour, as in Vulkan.
 #[allow(non_camel_case_types)]
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
@@ -93,7 +97,9 @@ pub struct translucid_host_image {
     pub final_layout: VkImageLayout,
 }
 
-/// Where a host-device frame is recorded.
+/// Where a host-device frame is recorded. A `VK_NULL_HANDLE` command buffer or image, an
+/// UNDEFINED or unsuitable layout, or an unsupported format is
+/// `TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT`, reported before anything is recorded.
 #[allow(non_camel_case_types)]
 #[repr(C)]
 pub struct translucid_host_frame_targets {

@@ -680,6 +680,15 @@ static void frame_errors(const scene *s) {
     EXPECT(g_host, translucid_frame_record(g_host, &info, &targets, &frame),
            TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
     info.opaque_layer = NULL;
+    {
+        translucid_draw opaque = s->draws[0];
+        opaque.layer = TRANSLUCID_LAYER_OPAQUE;
+        info.draws = &opaque;
+        info.draw_count = 1;
+        EXPECT(g_host, translucid_frame_record(g_host, &info, &targets, &frame),
+               TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+        info = frame_info(TRANSLUCID_METHOD_BLEND, s);
+    }
     EXPECT(g_host, translucid_frame_render(g_host, &info, &frame),
            TRANSLUCID_RESULT_ERROR_NOT_SUPPORTED);
     EXPECT(g_standalone, translucid_frame_record(g_standalone, &info, &targets, &frame),

@@ -165,13 +165,11 @@ impl GpuScene {
             create_textures(gpu, scene.textures.iter().chain(std::iter::once(&white)))?;
         // A device of translucid's own uploads now; on the engine's, the first frame does.
         let textures_recorded = !gpu.is_host_device();
-        if textures_recorded {
+        let texture_staging = if textures_recorded {
             gpu.submit_and_wait(|cmd| {
                 record_texture_uploads(gpu, cmd, &textures, &staging);
                 Ok(())
             })?;
-        }
-        let texture_staging = if textures_recorded {
             Vec::new()
         } else {
             staging
