@@ -5,7 +5,7 @@
  * - A translucid_context owns a device and everything created on it. Use one context from one
  *   thread at a time (external synchronisation); separate contexts may run on separate threads.
  * - Zero-initialise create-info structs, then set s_type (a TRANSLUCID_STRUCTURE_TYPE_* value)
- *   and what you need; next must be NULL in this version. Zero means the default.
+ *   and what you need; next must be NULL unless documented otherwise. Zero means the default.
  * - Fallible calls return translucid_result: 0 success, > 0 a status that is not an error,
  *   < 0 an error. translucid_context_last_error() says what went wrong. Out-parameters are
  *   written only on success. translucid_result_string() names any code.
@@ -17,10 +17,17 @@
  * - An internal panic returns TRANSLUCID_RESULT_ERROR_PANIC and makes the context refuse all
  *   further work except translucid_context_destroy().
  *
- * Modes: this version implements standalone mode (translucid makes its own headless Vulkan
- * device, renders offscreen and returns pixels). Host-device mode (the engine's VkDevice and
- * command buffers) is reserved: TRANSLUCID_CONTEXT_MODE_HOST_DEVICE and the structure types
- * from 100 up return TRANSLUCID_RESULT_ERROR_NOT_SUPPORTED in this version.
+ * Modes:
+ * - Standalone: translucid makes its own headless Vulkan device, renders offscreen with
+ *   translucid_frame_render and returns pixels.
+ * - Host device: the engine asks translucid_host_requirements_get what to enable, creates its
+ *   instance and device accordingly, and chains a translucid_host_device_create_info to the
+ *   context create-info. translucid_frame_record records a frame into the engine's command
+ *   buffer over the engine's colour and depth images (never submitting); after the engine's
+ *   submission finished, translucid_frame_complete reads the statistics and says whether the
+ *   frame overflowed (TRANSLUCID_RESULT_INCOMPLETE: record it again). One frame in flight per
+ *   context. translucid loads Vulkan through the engine's vkGetInstanceProcAddr and never
+ *   destroys the engine's objects.
  */
 
 #ifndef TRANSLUCID_H
@@ -32,6 +39,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <vulkan/vulkan.h>
 #if defined(__GNUC__) || defined(__clang__)
 #define TRANSLUCID_MUST_USE __attribute__((warn_unused_result))
 #else
@@ -41,7 +49,8 @@
 /**
  * Turn on the Khronos validation layer; every validation error then fails the call that
  * caused it with `TRANSLUCID_RESULT_ERROR_VALIDATION`. (`TRANSLUCID_VALIDATION=1` in the
- * environment does the same.)
+ * environment does the same.) Ignored in host-device mode: enable the layer on the engine's
+ * instance.
  */
 #define TRANSLUCID_CONTEXT_CREATE_VALIDATION 1
 
@@ -97,7 +106,7 @@
 
 #define TRANSLUCID_VERSION_MAJOR 0
 
-#define TRANSLUCID_VERSION_MINOR 1
+#define TRANSLUCID_VERSION_MINOR 2
 
 #define TRANSLUCID_VERSION_PATCH 0
 
@@ -122,7 +131,9 @@ enum translucid_result
     TRANSLUCID_RESULT_SUCCESS = 0,
     /**
      * The call succeeded but an output was cut short (a list longer than the caller's array);
-     * what was written is valid.
+     * what was written is valid. From `translucid_frame_complete`: a buffer overflowed, so
+     * the image the frame wrote is wrong; the buffers have grown, and recording the same frame
+     * again renders it correctly.
      */
     TRANSLUCID_RESULT_INCOMPLETE = 1,
     /**
@@ -172,9 +183,17 @@ enum translucid_result
      */
     TRANSLUCID_RESULT_ERROR_METHOD_UNAVAILABLE = -10,
     /**
-     * A feature the API defines but this build does not implement yet (host-device mode).
+     * A call that the context's mode does not offer (`translucid_frame_render` on a
+     * host-device context, `translucid_frame_record` on a standalone one, reading the pixels
+     * of a host-device frame), or a feature the API defines but this build lacks.
      */
     TRANSLUCID_RESULT_ERROR_NOT_SUPPORTED = -11,
+    /**
+     * Host-device mode: a frame is recorded and not yet completed. Call
+     * `translucid_frame_complete` after the engine's submission finished (or destroy the
+     * frame to abandon it) before recording another; a frame's statistics wait for it too.
+     */
+    TRANSLUCID_RESULT_ERROR_FRAME_IN_FLIGHT = -12,
     /**
      * No Vulkan loader, no usable device, or the requested device does not exist.
      */
@@ -200,6 +219,11 @@ enum translucid_result
      * A file could not be written.
      */
     TRANSLUCID_RESULT_ERROR_IO = -105,
+    /**
+     * Host-device mode: the engine's device lacks a Vulkan version, feature, extension or
+     * queue capability that `translucid_host_requirements_get` lists; the message names each.
+     */
+    TRANSLUCID_RESULT_ERROR_DEVICE_REQUIREMENTS = -106,
     /**
      * translucid panicked inside this call (a bug: please report it with the message). The
      * context refuses all further work; destroy it.
@@ -235,18 +259,15 @@ enum translucid_structure_type
     TRANSLUCID_STRUCTURE_TYPE_OPAQUE_LAYER = 6,
     TRANSLUCID_STRUCTURE_TYPE_FRAME_STATISTICS = 7,
     /**
-     * Reserved for host-device mode (chained to the context create-info: the engine's
-     * VkInstance, VkPhysicalDevice, VkDevice, queue family, vkGetInstanceProcAddr and enabled
-     * features). Passing it today gives `TRANSLUCID_RESULT_ERROR_NOT_SUPPORTED`.
+     * `translucid_host_device_create_info`, chained to the context create-info.
      */
     TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_CREATE_INFO = 100,
     /**
-     * Reserved for host-device mode: the features and extensions the engine must enable.
+     * `translucid_host_requirements`.
      */
     TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_REQUIREMENTS = 101,
     /**
-     * Reserved for host-device mode: the engine's colour and depth images and their layouts,
-     * chained to the frame info.
+     * `translucid_host_frame_targets`.
      */
     TRANSLUCID_STRUCTURE_TYPE_HOST_FRAME_TARGETS = 102,
 };
@@ -271,8 +292,8 @@ enum translucid_context_mode
      */
     TRANSLUCID_CONTEXT_MODE_STANDALONE = 0,
     /**
-     * Reserved: the engine's device, recording into the engine's command buffers. This build
-     * returns `TRANSLUCID_RESULT_ERROR_NOT_SUPPORTED`.
+     * The engine's device, described by a `translucid_host_device_create_info` chained to
+     * `next`: translucid records into the engine's command buffers and never submits.
      */
     TRANSLUCID_CONTEXT_MODE_HOST_DEVICE = 1,
 };
@@ -408,7 +429,7 @@ typedef struct translucid_context_create_info {
      */
     uint32_t s_type;
     /**
-     * NULL. (Host-device mode will chain its device description here.)
+     * NULL in standalone mode; in host-device mode, a `translucid_host_device_create_info`.
      */
     const void *next;
     /**
@@ -424,9 +445,9 @@ typedef struct translucid_context_create_info {
      */
     uint32_t flags;
     /**
-     * Optional: the device's index or a case-insensitive substring of its name. NULL uses
-     * `TRANSLUCID_DEVICE` from the environment, else the best device (discrete, integrated,
-     * then CPU).
+     * Optional, standalone mode: the device's index or a case-insensitive substring of its
+     * name. NULL uses `TRANSLUCID_DEVICE` from the environment, else the best device
+     * (discrete, integrated, then CPU). Must be NULL in host-device mode.
      */
     const char *device;
 } translucid_context_create_info;
@@ -651,10 +672,107 @@ typedef struct translucid_frame_statistics {
     uint64_t fragments;
     /**
      * Times the frame was rendered again because a method's buffer overflowed (and was
-     * grown); 0 for methods without such buffers.
+     * grown); 0 for methods without such buffers, and always 0 in host-device mode, which
+     * cannot render again inside a recording (see `overflowed`).
      */
     uint32_t overflow_rerenders;
+    /**
+     * 1 when a buffer overflowed in the rendering the frame's image comes from, so that image
+     * is wrong; else 0. Only host-device frames can end so (`translucid_frame_complete`
+     * returns `TRANSLUCID_RESULT_INCOMPLETE`); standalone frames render again instead.
+     */
+    uint32_t overflowed;
 } translucid_frame_statistics;
+
+/**
+ * What the engine must give its instance and device before translucid can use them. The
+ * caller sets `s_type` (and `next` to NULL); translucid fills the rest.
+ */
+typedef struct translucid_host_requirements {
+    /**
+     * `TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_REQUIREMENTS`, set by the caller.
+     */
+    uint32_t s_type;
+    /**
+     * NULL, set by the caller.
+     */
+    void *next;
+    /**
+     * The lowest `VkApplicationInfo::apiVersion` for the instance, and the lowest version of
+     * the physical device (`VK_API_VERSION_1_2`).
+     */
+    uint32_t api_version;
+    /**
+     * What the queue family the engine submits translucid's work on must support (graphics
+     * and compute, and timestamps: `timestampValidBits` > 0).
+     */
+    VkQueueFlags queue_flags;
+    /**
+     * The device features to enable: each one translucid needs is `VK_TRUE` (OR them into
+     * the engine's own).
+     */
+    VkPhysicalDeviceFeatures features;
+    /**
+     * Number of device extensions to enable (0 in this version).
+     */
+    uint32_t extension_count;
+    /**
+     * `extension_count` static extension names; NULL when there are none.
+     */
+    const char *const *extensions;
+} translucid_host_requirements;
+
+/**
+ * One of the engine's images: a single-sample 2D image of the frame's size (width x height)
+ * with one mip level and one array layer, owned by the queue family named at context
+ * creation (or created with concurrent sharing). translucid cannot query an image's size:
+ * a smaller image is undefined behaviour, as in Vulkan.
+ */
+typedef struct translucid_host_image {
+    VkImage image;
+    VkFormat format;
+    /**
+     * The layout the image is in when the recorded commands run (not UNDEFINED: its contents
+     * are the opaque layer).
+     */
+    VkImageLayout layout;
+    /**
+     * The layout the recorded commands leave the image in.
+     */
+    VkImageLayout final_layout;
+} translucid_host_image;
+
+/**
+ * Where a host-device frame is recorded. A `VK_NULL_HANDLE` command buffer or image, an
+ * UNDEFINED or unsuitable layout, or an unsupported format is
+ * `TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT`, reported before anything is recorded.
+ */
+typedef struct translucid_host_frame_targets {
+    /**
+     * `TRANSLUCID_STRUCTURE_TYPE_HOST_FRAME_TARGETS`.
+     */
+    uint32_t s_type;
+    /**
+     * NULL.
+     */
+    const void *next;
+    /**
+     * A primary command buffer of the engine's device, recording, outside any render pass,
+     * to be submitted on the queue family named at context creation.
+     */
+    VkCommandBuffer command_buffer;
+    /**
+     * The opaque colour, read and then overwritten with the composited result. Needs
+     * TRANSFER_SRC and TRANSFER_DST usage and a format that can be blitted both ways
+     * (UNORM, SRGB or float; not integer).
+     */
+    struct translucid_host_image colour;
+    /**
+     * The opaque depth (0 near, 1 far), read only. Needs TRANSFER_SRC usage and
+     * `VK_FORMAT_D32_SFLOAT`.
+     */
+    struct translucid_host_image depth;
+} translucid_host_frame_targets;
 
 /**
  * A texture handle. `{0}` is the NULL handle (no texture).
@@ -813,9 +931,53 @@ typedef struct translucid_base_in_structure {
 } translucid_base_in_structure;
 
 /**
+ * The engine's device, chained to `translucid_context_create_info::next` with `mode`
+ * `TRANSLUCID_CONTEXT_MODE_HOST_DEVICE`. translucid never destroys these objects: destroy the
+ * context before them. The enabled features and extensions are checked against
+ * `translucid_host_requirements_get` (`TRANSLUCID_RESULT_ERROR_DEVICE_REQUIREMENTS` names
+ * what is missing); a `VK_NULL_HANDLE` instance, physical device or device is
+ * `TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT`.
+ */
+typedef struct translucid_host_device_create_info {
+    /**
+     * `TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_CREATE_INFO`.
+     */
+    uint32_t s_type;
+    /**
+     * NULL.
+     */
+    const void *next;
+    /**
+     * The `apiVersion` the instance was created with.
+     */
+    uint32_t api_version;
+    VkInstance instance;
+    VkPhysicalDevice physical_device;
+    VkDevice device;
+    /**
+     * The family of the queue(s) the engine submits translucid's command buffers to.
+     */
+    uint32_t queue_family_index;
+    /**
+     * The loader's `vkGetInstanceProcAddr`; translucid loads every Vulkan function through it.
+     */
+    PFN_vkGetInstanceProcAddr get_instance_proc_addr;
+    /**
+     * The features the device was created with (`pEnabledFeatures`, or
+     * `VkPhysicalDeviceFeatures2::features`).
+     */
+    const VkPhysicalDeviceFeatures *enabled_features;
+    uint32_t enabled_extension_count;
+    /**
+     * `enabled_extension_count` extension names the device was created with.
+     */
+    const char *const *enabled_extensions;
+} translucid_host_device_create_info;
+
+/**
  * Every code, for the to-string function and tests.
  */
-#define translucid_result_ALL { translucid_result_Success, translucid_result_Incomplete, translucid_result_ErrorNullPointer, translucid_result_ErrorInvalidStructureType, translucid_result_ErrorInvalidArgument, translucid_result_ErrorInvalidEnum, translucid_result_ErrorInvalidSize, translucid_result_ErrorInvalidHandle, translucid_result_ErrorStaleHandle, translucid_result_ErrorForeignHandle, translucid_result_ErrorHeaderVersionMismatch, translucid_result_ErrorMethodUnavailable, translucid_result_ErrorNotSupported, translucid_result_ErrorNoDevice, translucid_result_ErrorVulkan, translucid_result_ErrorOutOfMemory, translucid_result_ErrorDeviceLost, translucid_result_ErrorValidation, translucid_result_ErrorIo, translucid_result_ErrorPanic, translucid_result_ErrorContextPoisoned, }
+#define translucid_result_ALL { translucid_result_Success, translucid_result_Incomplete, translucid_result_ErrorNullPointer, translucid_result_ErrorInvalidStructureType, translucid_result_ErrorInvalidArgument, translucid_result_ErrorInvalidEnum, translucid_result_ErrorInvalidSize, translucid_result_ErrorInvalidHandle, translucid_result_ErrorStaleHandle, translucid_result_ErrorForeignHandle, translucid_result_ErrorHeaderVersionMismatch, translucid_result_ErrorMethodUnavailable, translucid_result_ErrorNotSupported, translucid_result_ErrorFrameInFlight, translucid_result_ErrorNoDevice, translucid_result_ErrorVulkan, translucid_result_ErrorOutOfMemory, translucid_result_ErrorDeviceLost, translucid_result_ErrorValidation, translucid_result_ErrorIo, translucid_result_ErrorDeviceRequirements, translucid_result_ErrorPanic, translucid_result_ErrorContextPoisoned, }
 
 #ifdef __cplusplus
 extern "C" {
@@ -831,8 +993,10 @@ translucid_result translucid_context_create(const struct translucid_context_crea
 
 /**
  * Destroys a context and everything created with it (meshes, textures, materials,
- * frames): their handles become invalid. Waits for the device to be idle. NULL is
- * allowed and does nothing.
+ * frames): their handles become invalid. Standalone mode waits for its device to be idle.
+ * In host-device mode the GPU must be done with every frame recorded (the frame in flight
+ * completed, or the engine's device idle); destroy the context before the engine's
+ * device. NULL is allowed and does nothing.
  */
 void translucid_context_destroy(struct translucid_context *context);
 
@@ -889,10 +1053,57 @@ translucid_result translucid_frame_get_statistics(struct translucid_context *con
                                                   struct translucid_frame_statistics *out_statistics);
 
 /**
- * Frees a frame's pixels; its handle becomes stale.
+ * Frees a frame's pixels; its handle becomes stale. Destroying a host-device frame that
+ * is recorded and not completed abandons it: you state that the GPU is not executing its
+ * commands (they were never submitted, or the submission finished) and translucid frees
+ * what the recording used.
  */
 translucid_result translucid_frame_destroy(struct translucid_context *context,
                                            struct translucid_frame frame);
+
+/**
+ * Fills `*out_requirements` (whose `s_type` the caller set to
+ * `TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_REQUIREMENTS`) with what the engine's instance
+ * and device must have: call it before creating them. Needs no context.
+ */
+TRANSLUCID_MUST_USE
+translucid_result translucid_host_requirements_get(struct translucid_host_requirements *out_requirements);
+
+/**
+ * Host-device mode: records a frame into the engine's command buffer and writes its
+ * handle to `*out_frame`. Nothing is submitted: the engine submits the command buffer,
+ * waits for it, then calls `translucid_frame_complete`. The commands copy the opaque
+ * colour and depth from the engine's images, composite the transparent draws over the
+ * colour, copy the result into the colour image and leave both images in their
+ * `final_layout`. `info->opaque_layer` must be NULL and no draw opaque; `info->width` and
+ * `height` are the images' size.
+ *
+ * One frame in flight per context: until that frame is completed (or destroyed, to
+ * abandon it), recording returns `TRANSLUCID_RESULT_ERROR_FRAME_IN_FLIGHT`, and the
+ * context's resources the frame uses stay alive. Recording the same input again reuses
+ * the previous frame's uploads, pipelines and buffers. Arguments are checked before
+ * anything is recorded; an error from the method itself may leave commands recorded,
+ * so reset the command buffer after any error.
+ */
+TRANSLUCID_MUST_USE
+translucid_result translucid_frame_record(struct translucid_context *context,
+                                          const struct translucid_frame_info *info,
+                                          const struct translucid_host_frame_targets *targets,
+                                          struct translucid_frame *out_frame);
+
+/**
+ * Host-device mode: call once the engine's submission of the frame's command buffer has
+ * finished (a fence or semaphore waited for). Reads the frame's GPU timings and counters
+ * (see `translucid_frame_get_statistics`) and ends the frame's flight. Returns
+ * `TRANSLUCID_RESULT_SUCCESS`, or `TRANSLUCID_RESULT_INCOMPLETE` when a buffer overflowed:
+ * the image the frame wrote is then wrong, translucid has grown its buffers, and
+ * recording the same frame again (before presenting) renders it correctly. Fails with
+ * `TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT`, keeping the frame in flight, when its
+ * commands have not run yet.
+ */
+TRANSLUCID_MUST_USE
+translucid_result translucid_frame_complete(struct translucid_context *context,
+                                            struct translucid_frame frame);
 
 /**
  * Creates a material and writes its handle to `*out_material`.
@@ -965,7 +1176,7 @@ translucid_result translucid_texture_destroy(struct translucid_context *context,
 uint32_t translucid_version(void);
 
 /**
- * The library's version as a static string, e.g. "0.1.0".
+ * The library's version as a static string, e.g. "0.2.0".
  */
 const char *translucid_version_string(void);
 

@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # Installs what building and running translucid needs on Debian/Ubuntu, if it is missing:
 # the Vulkan loader and headers, Mesa's drivers (lavapipe runs Vulkan on the CPU when there
-# is no GPU), the GLSL compiler and the Khronos validation layer the tests run under.
+# is no GPU), the GLSL compiler, the Khronos validation layer the tests run under, and the C
+# toolchain, CMake and pkg-config the tests build the C example and C tests with.
 set -euo pipefail
 
-packages=(mesa-vulkan-drivers libvulkan-dev glslc vulkan-validationlayers gcc g++)
+packages=(mesa-vulkan-drivers libvulkan-dev glslc vulkan-validationlayers gcc g++ cmake pkg-config)
 missing=()
 for p in "${packages[@]}"; do
     dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p")

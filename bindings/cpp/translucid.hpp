@@ -118,6 +118,14 @@ public:
         detail::check(translucid_frame_write_png(context(), handle(), path.c_str()), context(),
                       "translucid_frame_write_png");
     }
+    /// Host-device mode: call once the engine's submission of the frame finished. Returns
+    /// true when the image is right, false when a buffer overflowed (translucid has grown it:
+    /// record the frame again). Destroying a frame that is not completed abandons it.
+    bool complete() {
+        const translucid_result r = translucid_frame_complete(context(), handle());
+        detail::check(r, context(), "translucid_frame_complete");
+        return r == TRANSLUCID_RESULT_SUCCESS;
+    }
     translucid_frame_statistics statistics() const {
         translucid_frame_statistics stats{};
         stats.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_STATISTICS;
@@ -146,9 +154,30 @@ struct ContextOptions {
     bool validation = false;
 };
 
-/// A standalone context: translucid's own headless device.
+/// A context: translucid's own headless device (standalone), or the engine's (host device,
+/// from Context::host).
 class Context {
 public:
+    /// What the engine's instance and device must have (call before creating them).
+    static translucid_host_requirements host_requirements() {
+        translucid_host_requirements req{};
+        req.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_REQUIREMENTS;
+        detail::check(translucid_host_requirements_get(&req), nullptr,
+                      "translucid_host_requirements_get");
+        return req;
+    }
+    /// A context on the engine's device; `s_type` is filled in for you. Destroy the context
+    /// (and every object from it) before the engine's device.
+    static Context host(translucid_host_device_create_info device) {
+        device.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_CREATE_INFO;
+        translucid_context_create_info info{};
+        info.s_type = TRANSLUCID_STRUCTURE_TYPE_CONTEXT_CREATE_INFO;
+        info.header_version = TRANSLUCID_HEADER_VERSION;
+        info.mode = TRANSLUCID_CONTEXT_MODE_HOST_DEVICE;
+        info.next = &device;
+        return Context(info);
+    }
+
     explicit Context(const ContextOptions &options = ContextOptions()) {
         translucid_context_create_info info{};
         info.s_type = TRANSLUCID_STRUCTURE_TYPE_CONTEXT_CREATE_INFO;
@@ -156,10 +185,7 @@ public:
         info.mode = TRANSLUCID_CONTEXT_MODE_STANDALONE;
         info.flags = options.validation ? TRANSLUCID_CONTEXT_CREATE_VALIDATION : 0u;
         info.device = options.device.empty() ? nullptr : options.device.c_str();
-        translucid_context *raw = nullptr;
-        detail::check(translucid_context_create(&info, &raw), nullptr,
-                      "translucid_context_create");
-        context_ = detail::ContextPtr(raw, translucid_context_destroy);
+        create(info);
     }
     Context(const Context &) = delete;
     Context &operator=(const Context &) = delete;
@@ -202,6 +228,17 @@ public:
         return Frame(context_, frame);
     }
 
+    /// Host-device mode: records a frame into `targets.command_buffer`; submit it, wait, then
+    /// call Frame::complete. One frame in flight per context.
+    Frame record(translucid_frame_info info, translucid_host_frame_targets targets) {
+        info.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_INFO;
+        targets.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_FRAME_TARGETS;
+        translucid_frame frame{0};
+        detail::check(translucid_frame_record(get(), &info, &targets, &frame), get(),
+                      "translucid_frame_record");
+        return Frame(context_, frame);
+    }
+
     /// The methods this build has (translucid_method values).
     static std::vector<std::uint32_t> available_methods() {
         std::size_t count = 0;
@@ -215,6 +252,14 @@ public:
     }
 
 private:
+    explicit Context(const translucid_context_create_info &info) { create(info); }
+    void create(const translucid_context_create_info &info) {
+        translucid_context *raw = nullptr;
+        detail::check(translucid_context_create(&info, &raw), nullptr,
+                      "translucid_context_create");
+        context_ = detail::ContextPtr(raw, translucid_context_destroy);
+    }
+
     detail::ContextPtr context_;
 };
 

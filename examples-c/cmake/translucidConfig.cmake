@@ -3,6 +3,10 @@
 #   find_package(translucid CONFIG REQUIRED)
 #   target_link_libraries(my_engine PRIVATE translucid::translucid)
 # Set translucid_USE_STATIC=ON before find_package to link libtranslucid_ffi.a instead.
+# translucid.h includes <vulkan/vulkan.h>: the Vulkan headers come with the target.
+include(CMakeFindDependencyMacro)
+find_dependency(Vulkan)
+
 get_filename_component(_translucid_prefix "${CMAKE_CURRENT_LIST_DIR}/../../.." ABSOLUTE)
 
 if(translucid_USE_STATIC)
@@ -21,9 +25,10 @@ if(translucid_LIBRARY AND translucid_INCLUDE_DIR AND NOT TARGET translucid::tran
     add_library(translucid::translucid ${_translucid_kind} IMPORTED)
     set_target_properties(translucid::translucid PROPERTIES
         IMPORTED_LOCATION "${translucid_LIBRARY}"
-        INTERFACE_INCLUDE_DIRECTORIES "${translucid_INCLUDE_DIR}")
+        INTERFACE_INCLUDE_DIRECTORIES "${translucid_INCLUDE_DIR}"
+        INTERFACE_LINK_LIBRARIES Vulkan::Headers)
     if(translucid_USE_STATIC)
-        set_property(TARGET translucid::translucid PROPERTY
+        set_property(TARGET translucid::translucid APPEND PROPERTY
                      INTERFACE_LINK_LIBRARIES m dl pthread)
     endif()
 endif()

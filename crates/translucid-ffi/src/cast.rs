@@ -80,9 +80,8 @@ pub struct translucid_base_in_structure {
     pub next: *const translucid_base_in_structure,
 }
 
-/// Checks a struct's `s_type` and its `next` chain. No extension structures exist yet, so any
-/// structure in the chain is reported: as not supported if the API reserves it for a feature
-/// still to come, else as unknown to this library.
+/// Checks a struct's `s_type` and that its `next` chain is empty: the only extension structure
+/// (the host device, chained to the context create-info) is looked for by the context.
 pub(crate) fn check_header(
     s_type: u32,
     next: *const c_void,
@@ -106,20 +105,32 @@ pub(crate) fn check_header(
         return Ok(());
     }
     let link = try_ref(next.cast::<translucid_base_in_structure>(), "next")?;
-    match translucid_structure_type::from_raw(link.s_type) {
-        Some(t) if t.is_reserved() => Err(Failure::new(
-            translucid_result::ErrorNotSupported,
-            format!("{what}.next holds {t:?}, which this build does not implement yet"),
-        )),
-        _ => Err(Failure::new(
-            translucid_result::ErrorInvalidStructureType,
-            format!(
-                "{what}.next holds structure type {}, which {what} does not accept in this \
-                 version; set next to NULL",
-                link.s_type
-            ),
-        )),
-    }
+    Err(Failure::new(
+        translucid_result::ErrorInvalidStructureType,
+        format!(
+            "{what}.next holds structure type {}, which {what} does not accept in this \
+             version; set next to NULL",
+            link.s_type
+        ),
+    ))
+}
+
+/// A struct translucid fills in whose `s_type` and `next` the caller sets.
+pub(crate) trait OutStructure {
+    const TYPE: translucid_structure_type;
+    const NAME: &'static str;
+    fn header(&self) -> (u32, *mut c_void);
+}
+
+/// An out-struct at `ptr`: its caller-set `s_type` and `next` checked and returned (to be
+/// written back unchanged), and the struct to write once the work succeeded.
+pub(crate) fn try_out_structure<'a, T: OutStructure>(
+    ptr: *mut T,
+    what: &str,
+) -> FfiResult<((u32, *mut c_void), &'a mut MaybeUninit<T>)> {
+    let header = try_ref(ptr.cast_const(), what)?.header();
+    check_header(header.0, header.1.cast_const(), T::TYPE, T::NAME)?;
+    Ok((header, try_out(ptr, what)?))
 }
 
 /// Moves a context to C.

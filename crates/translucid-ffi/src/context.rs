@@ -3,6 +3,7 @@
 use crate::cast::{self, check_header, translucid_context, try_out, try_ref, try_str};
 use crate::frame::FrameRecord;
 use crate::handle::{next_context_tag, Kind, Slots};
+use crate::host::{host_gpu, translucid_host_device_create_info, HostFrames};
 use crate::material::MaterialRecord;
 use crate::panic::{self, CallState};
 use crate::result::{translucid_result, Failure, FfiResult};
@@ -19,14 +20,15 @@ use translucid::scene::{Mesh, Texture};
 pub enum translucid_context_mode {
     /// translucid creates its own headless device, renders offscreen and reads pixels back.
     Standalone = 0,
-    /// Reserved: the engine's device, recording into the engine's command buffers. This build
-    /// returns `TRANSLUCID_RESULT_ERROR_NOT_SUPPORTED`.
+    /// The engine's device, described by a `translucid_host_device_create_info` chained to
+    /// `next`: translucid records into the engine's command buffers and never submits.
     HostDevice = 1,
 }
 
 /// Turn on the Khronos validation layer; every validation error then fails the call that
 /// caused it with `TRANSLUCID_RESULT_ERROR_VALIDATION`. (`TRANSLUCID_VALIDATION=1` in the
-/// environment does the same.)
+/// environment does the same.) Ignored in host-device mode: enable the layer on the engine's
+/// instance.
 pub const TRANSLUCID_CONTEXT_CREATE_VALIDATION: u32 = 1;
 const CONTEXT_CREATE_FLAGS: u32 = TRANSLUCID_CONTEXT_CREATE_VALIDATION;
 
@@ -37,7 +39,7 @@ const CONTEXT_CREATE_FLAGS: u32 = TRANSLUCID_CONTEXT_CREATE_VALIDATION;
 pub struct translucid_context_create_info {
     /// `TRANSLUCID_STRUCTURE_TYPE_CONTEXT_CREATE_INFO`.
     pub s_type: u32,
-    /// NULL. (Host-device mode will chain its device description here.)
+    /// NULL in standalone mode; in host-device mode, a `translucid_host_device_create_info`.
     pub next: *const c_void,
     /// `TRANSLUCID_HEADER_VERSION`: lets the library refuse a header it is not compatible with.
     pub header_version: u32,
@@ -45,9 +47,9 @@ pub struct translucid_context_create_info {
     pub mode: u32,
     /// `TRANSLUCID_CONTEXT_CREATE_*` bits; other bits must be 0.
     pub flags: u32,
-    /// Optional: the device's index or a case-insensitive substring of its name. NULL uses
-    /// `TRANSLUCID_DEVICE` from the environment, else the best device (discrete, integrated,
-    /// then CPU).
+    /// Optional, standalone mode: the device's index or a case-insensitive substring of its
+    /// name. NULL uses `TRANSLUCID_DEVICE` from the environment, else the best device
+    /// (discrete, integrated, then CPU). Must be NULL in host-device mode.
     pub device: *const c_char,
 }
 
@@ -59,6 +61,8 @@ pub struct Objects {
     pub textures: Slots<Texture>,
     pub materials: Slots<MaterialRecord>,
     pub frames: Slots<FrameRecord>,
+    /// Host-device mode's frame in flight and last renderer; `None` in standalone mode.
+    pub host: Option<HostFrames>,
 }
 
 /// The object behind `translucid_context *`.
@@ -69,22 +73,21 @@ pub struct Context {
 
 impl Context {
     fn create(info: &translucid_context_create_info) -> FfiResult<Self> {
+        let host_mode = info.mode == translucid_context_mode::HostDevice as u32;
+        // In host-device mode `next` holds the engine's device, checked below.
         check_header(
             info.s_type,
-            info.next,
+            if host_mode {
+                std::ptr::null()
+            } else {
+                info.next
+            },
             translucid_structure_type::ContextCreateInfo,
             "translucid_context_create_info",
         )?;
         version::check_header_version(info.header_version)?;
-        match info.mode {
-            m if m == translucid_context_mode::Standalone as u32 => {}
-            m if m == translucid_context_mode::HostDevice as u32 => {
-                return Err(Failure::new(
-                    translucid_result::ErrorNotSupported,
-                    "host-device mode is not implemented in this build; use standalone mode",
-                ))
-            }
-            m => return Err(Failure::enumeration("translucid_context_mode", m)),
+        if !host_mode && info.mode != translucid_context_mode::Standalone as u32 {
+            return Err(Failure::enumeration("translucid_context_mode", info.mode));
         }
         if info.flags & !CONTEXT_CREATE_FLAGS != 0 {
             return Err(Failure::argument(format!(
@@ -92,15 +95,30 @@ impl Context {
                 info.flags & !CONTEXT_CREATE_FLAGS
             )));
         }
-        let from_env = GpuOptions::from_env();
-        let options = GpuOptions {
-            device: try_str(info.device, "device")?
-                .map(str::to_string)
-                .or(from_env.device),
-            validation: info.flags & TRANSLUCID_CONTEXT_CREATE_VALIDATION != 0
-                || from_env.validation,
+        let device = try_str(info.device, "device")?;
+        let gpu = if host_mode {
+            if device.is_some() {
+                return Err(Failure::argument(
+                    "device must be NULL in host-device mode: the engine's device is used",
+                ));
+            }
+            if info.next.is_null() {
+                return Err(Failure::null(
+                    "next (host-device mode needs a translucid_host_device_create_info)",
+                ));
+            }
+            host_gpu(try_ref(
+                info.next.cast::<translucid_host_device_create_info>(),
+                "next",
+            )?)?
+        } else {
+            let from_env = GpuOptions::from_env();
+            Gpu::new(&GpuOptions {
+                device: device.map(str::to_string).or(from_env.device),
+                validation: info.flags & TRANSLUCID_CONTEXT_CREATE_VALIDATION != 0
+                    || from_env.validation,
+            })?
         };
-        let gpu = Gpu::new(&options)?;
         let tag = next_context_tag();
         let device_name = CString::new(gpu.info().name.replace('\0', "")).unwrap_or_default();
         Ok(Self {
@@ -112,6 +130,7 @@ impl Context {
                 textures: Slots::new(Kind::Texture, tag),
                 materials: Slots::new(Kind::Material, tag),
                 frames: Slots::new(Kind::Frame, tag),
+                host: host_mode.then(HostFrames::default),
             },
         })
     }
@@ -136,8 +155,10 @@ impl translucid_context {
     }
 
     /// Destroys a context and everything created with it (meshes, textures, materials,
-    /// frames): their handles become invalid. Waits for the device to be idle. NULL is
-    /// allowed and does nothing.
+    /// frames): their handles become invalid. Standalone mode waits for its device to be idle.
+    /// In host-device mode the GPU must be done with every frame recorded (the frame in flight
+    /// completed, or the engine's device idle); destroy the context before the engine's
+    /// device. NULL is allowed and does nothing.
     #[no_mangle]
     pub extern "C" fn translucid_context_destroy(context: *mut translucid_context) {
         // A panic while dropping leaks the rest of the context rather than unwinding into C.

@@ -2,7 +2,8 @@
 //! at the statistics. Exports `translucid_frame_*`.
 
 use crate::cast::{
-    check_header, translucid_context, try_out, try_out_slice, try_ref, try_slice, try_str,
+    check_header, translucid_context, try_out, try_out_slice, try_out_structure, try_ref,
+    try_slice, try_str, OutStructure,
 };
 use crate::context::Objects;
 use crate::frame_input::{build_scene, opaque_layer_from};
@@ -215,8 +216,21 @@ pub struct translucid_frame_statistics {
     /// Transparent fragments composited, for methods that count them (exact); 0 otherwise.
     pub fragments: u64,
     /// Times the frame was rendered again because a method's buffer overflowed (and was
-    /// grown); 0 for methods without such buffers.
+    /// grown); 0 for methods without such buffers, and always 0 in host-device mode, which
+    /// cannot render again inside a recording (see `overflowed`).
     pub overflow_rerenders: u32,
+    /// 1 when a buffer overflowed in the rendering the frame's image comes from, so that image
+    /// is wrong; else 0. Only host-device frames can end so (`translucid_frame_complete`
+    /// returns `TRANSLUCID_RESULT_INCOMPLETE`); standalone frames render again instead.
+    pub overflowed: u32,
+}
+
+impl OutStructure for translucid_frame_statistics {
+    const TYPE: translucid_structure_type = translucid_structure_type::FrameStatistics;
+    const NAME: &'static str = "translucid_frame_statistics";
+    fn header(&self) -> (u32, *mut c_void) {
+        (self.s_type, self.next)
+    }
 }
 
 /// A rendered frame's handle. `{0}` is the NULL handle.
@@ -227,18 +241,49 @@ pub struct translucid_frame {
     pub id: u64,
 }
 
-/// A rendered frame as the context keeps it: pixels in host memory and what it cost.
+/// A frame as the context keeps it: what it cost and, for standalone frames, its pixels.
 pub struct FrameRecord {
-    method: translucid_method,
-    image: Image,
-    stages: Vec<(&'static str, f64)>,
-    method_ms: f64,
-    peak_gpu_bytes: u64,
-    fragments: u64,
-    rerenders: u32,
+    pub(crate) method: translucid_method,
+    pub(crate) width: u32,
+    pub(crate) height: u32,
+    /// `None` for host-device frames, whose pixels are in the engine's image.
+    pub(crate) image: Option<Image>,
+    /// A host-device frame recorded and not yet completed: no statistics yet.
+    pub(crate) in_flight: bool,
+    pub(crate) stages: Vec<(&'static str, f64)>,
+    pub(crate) method_ms: f64,
+    pub(crate) peak_gpu_bytes: u64,
+    pub(crate) fragments: u64,
+    pub(crate) rerenders: u32,
+    pub(crate) overflowed: bool,
 }
 
-fn render(objects: &Objects, info: &translucid_frame_info) -> FfiResult<FrameRecord> {
+impl FrameRecord {
+    /// The frame's pixels, or why there are none here.
+    fn image(&self) -> FfiResult<&Image> {
+        self.image.as_ref().ok_or_else(|| {
+            Failure::new(
+                translucid_result::ErrorNotSupported,
+                "a host-device frame's pixels are in the engine's colour image; translucid \
+                 keeps no copy to read or write",
+            )
+        })
+    }
+}
+
+/// A frame's input, checked and built into what the core renders.
+pub(crate) struct FrameInput {
+    pub method: translucid_method,
+    pub scene: translucid::scene::Scene,
+    pub options: translucid::methods::MethodOptions,
+}
+
+/// Checks `info` and builds the scene it describes (with the host's opaque layer, when it
+/// has one, in the second value).
+pub(crate) fn frame_input<'a>(
+    objects: &Objects,
+    info: &'a translucid_frame_info,
+) -> FfiResult<(FrameInput, Option<&'a translucid_opaque_layer>)> {
     check_header(
         info.s_type,
         info.next,
@@ -264,39 +309,66 @@ fn render(objects: &Objects, info: &translucid_frame_info) -> FfiResult<FrameRec
     let layer = if info.opaque_layer.is_null() {
         None
     } else {
-        let layer = try_ref(info.opaque_layer, "opaque_layer")?;
-        if let Some(i) = draws
-            .iter()
-            .position(|d| d.layer == translucid_layer::Opaque as u32)
-        {
-            return Err(Failure::argument(format!(
-                "draw {i} is opaque, but the frame has the host's opaque_layer: draw opaque \
-                 geometry into that layer, or leave opaque_layer NULL"
-            )));
-        }
-        Some(opaque_layer_from(layer, info.width, info.height)?)
+        Some(try_ref(info.opaque_layer, "opaque_layer")?)
     };
+    if let Some(i) = draws
+        .iter()
+        .position(|d| d.layer == translucid_layer::Opaque as u32)
+        .filter(|_| layer.is_some() || objects.gpu.is_host_device())
+    {
+        return Err(Failure::argument(format!(
+            "draw {i} is opaque, but the frame has the host's opaque layer: draw opaque \
+             geometry into that layer (host-device mode: into your colour and depth images), \
+             or leave opaque_layer NULL"
+        )));
+    }
     let options = method_options(info)?;
+    Ok((
+        FrameInput {
+            method,
+            scene,
+            options,
+        },
+        layer,
+    ))
+}
+
+fn render(objects: &Objects, info: &translucid_frame_info) -> FfiResult<FrameRecord> {
+    if objects.gpu.is_host_device() {
+        return Err(Failure::new(
+            translucid_result::ErrorNotSupported,
+            "translucid_frame_render renders on translucid's own device; a host-device context \
+             records with translucid_frame_record",
+        ));
+    }
+    let (input, layer) = frame_input(objects, info)?;
+    let layer = layer
+        .map(|l| opaque_layer_from(l, info.width, info.height))
+        .transpose()?;
     let mut renderer = Renderer::with_options(
         &objects.gpu,
-        &scene,
-        method.name(),
+        &input.scene,
+        input.method.name(),
         info.width,
         info.height,
-        &options,
+        &input.options,
     )?;
     let frame = match &layer {
         Some(layer) => renderer.render_over(layer)?,
         None => renderer.render(false)?,
     };
     Ok(FrameRecord {
-        method,
+        method: input.method,
+        width: frame.image.width,
+        height: frame.image.height,
         method_ms: frame.method_ms(),
-        image: frame.image,
+        image: Some(frame.image),
+        in_flight: false,
         stages: frame.stages,
         peak_gpu_bytes: frame.peak_gpu_bytes,
         fragments: frame.fragments,
         rerenders: frame.rerenders,
+        overflowed: false,
     })
 }
 
@@ -322,8 +394,8 @@ fn statistics_of(record: &FrameRecord, header: (u32, *mut c_void)) -> translucid
         s_type: header.0,
         next: header.1,
         method: record.method as u32,
-        width: record.image.width,
-        height: record.image.height,
+        width: record.width,
+        height: record.height,
         stage_count: u32::try_from(stage_count).unwrap_or(0),
         stages,
         gpu_milliseconds: record.stages.iter().map(|(_, ms)| ms).sum(),
@@ -331,6 +403,7 @@ fn statistics_of(record: &FrameRecord, header: (u32, *mut c_void)) -> translucid
         peak_gpu_bytes: record.peak_gpu_bytes,
         fragments: record.fragments,
         overflow_rerenders: record.rerenders,
+        overflowed: u32::from(record.overflowed),
     }
 }
 
@@ -386,17 +459,17 @@ impl translucid_frame {
         size: usize,
     ) -> translucid_result {
         panic::with_context(context, |objects| {
-            let record = objects.frames.get(frame.id)?;
+            let image = objects.frames.get(frame.id)?.image()?;
             let format = translucid_pixel_format::from_raw(format)?;
-            let needed = record.image.pixels.len() * format.bytes_per_pixel();
+            let needed = image.pixels.len() * format.bytes_per_pixel();
             if size < needed {
                 return Err(Failure::size(format!(
                     "the {}x{} frame needs {needed} bytes in {format:?}, the buffer has {size}",
-                    record.image.width, record.image.height
+                    image.width, image.height
                 )));
             }
             let out = try_out_slice(pixels.cast::<u8>(), needed, "pixels")?;
-            write_pixels(&record.image, format, out);
+            write_pixels(image, format, out);
             Ok(translucid_result::Success)
         })
     }
@@ -410,12 +483,12 @@ impl translucid_frame {
         path: *const c_char,
     ) -> translucid_result {
         panic::with_context(context, |objects| {
-            let record = objects.frames.get(frame.id)?;
+            let image = objects.frames.get(frame.id)?.image()?;
             let path = try_str(path, "path")?.ok_or_else(|| Failure::null("path"))?;
             if path.is_empty() {
                 return Err(Failure::argument("path is empty"));
             }
-            record.image.save_png(path.as_ref())?;
+            image.save_png(path.as_ref())?;
             Ok(translucid_result::Success)
         })
     }
@@ -431,30 +504,35 @@ impl translucid_frame {
     ) -> translucid_result {
         panic::with_context(context, |objects| {
             let record = objects.frames.get(frame.id)?;
-            let header = {
-                let s = try_ref(out_statistics.cast_const(), "out_statistics")?;
-                check_header(
-                    s.s_type,
-                    s.next.cast_const(),
-                    translucid_structure_type::FrameStatistics,
-                    "translucid_frame_statistics",
-                )?;
-                (s.s_type, s.next)
-            };
-            let out = try_out(out_statistics, "out_statistics")?;
+            if record.in_flight {
+                return Err(Failure::new(
+                    translucid_result::ErrorFrameInFlight,
+                    "the frame is recorded but not completed: call translucid_frame_complete \
+                     once the engine's submission finished",
+                ));
+            }
+            let (header, out) = try_out_structure(out_statistics, "out_statistics")?;
             out.write(statistics_of(record, header));
             Ok(translucid_result::Success)
         })
     }
 
-    /// Frees a frame's pixels; its handle becomes stale.
+    /// Frees a frame's pixels; its handle becomes stale. Destroying a host-device frame that
+    /// is recorded and not completed abandons it: you state that the GPU is not executing its
+    /// commands (they were never submitted, or the submission finished) and translucid frees
+    /// what the recording used.
     #[no_mangle]
     pub extern "C" fn translucid_frame_destroy(
         context: *mut translucid_context,
         frame: translucid_frame,
     ) -> translucid_result {
         panic::with_context(context, |objects| {
-            objects.frames.remove(frame.id)?;
+            let record = objects.frames.remove(frame.id)?;
+            if record.in_flight {
+                if let Some(host) = objects.host.as_mut() {
+                    host.abandon();
+                }
+            }
             Ok(translucid_result::Success)
         })
     }

@@ -120,6 +120,12 @@ impl<T> Slots<T> {
             .ok_or_else(|| self.stale(handle))
     }
 
+    pub fn get_mut(&mut self, handle: u64) -> FfiResult<&mut T> {
+        let index = self.check(handle)?;
+        let stale = self.stale(handle);
+        self.slots[index].value.as_mut().ok_or(stale)
+    }
+
     /// The live objects' handles and values, in slot order.
     pub fn iter(&self) -> impl Iterator<Item = (u64, &T)> {
         self.slots.iter().enumerate().filter_map(|(i, s)| {

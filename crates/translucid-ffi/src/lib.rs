@@ -1,5 +1,7 @@
-//! The C API of translucid, in standalone mode: the library makes its own headless Vulkan
-//! device, renders offscreen and hands pixels back. The header is `include/translucid.h`,
+//! The C API of translucid. In standalone mode the library makes its own headless Vulkan
+//! device, renders offscreen and hands pixels back; in host-device mode ([`host`]) it wraps the
+//! engine's device and records into the engine's command buffers, never submitting. The
+//! header is `include/translucid.h`,
 //! generated from this crate by cbindgen (see `cbindgen.toml`) and checked fresh by
 //! `tests/header.rs`.
 //!
@@ -21,13 +23,15 @@
 //! Module map: [`cast`] (the only place raw pointers become references), [`panic`] (the
 //! boundary), [`result`], [`handle`], [`structure`], [`version`], then one module per object
 //! with its exports: [`context`], [`method`], [`mesh`], [`texture`], [`material`], [`frame`]
-//! (with [`frame_input`] building the core scene).
+//! (with [`frame_input`] building the core scene), [`host`] (host-device mode, with the
+//! Vulkan types of [`vulkan`]).
 
 pub mod cast;
 pub mod context;
 pub mod frame;
 pub mod frame_input;
 pub mod handle;
+pub mod host;
 pub mod material;
 pub mod mesh;
 pub mod method;
@@ -36,5 +40,6 @@ pub mod result;
 pub mod structure;
 pub mod texture;
 pub mod version;
+pub mod vulkan;
 
 pub use result::translucid_result;

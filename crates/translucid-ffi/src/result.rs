@@ -14,7 +14,9 @@ pub enum translucid_result {
     /// The call did everything it was asked.
     Success = 0,
     /// The call succeeded but an output was cut short (a list longer than the caller's array);
-    /// what was written is valid.
+    /// what was written is valid. From `translucid_frame_complete`: a buffer overflowed, so
+    /// the image the frame wrote is wrong; the buffers have grown, and recording the same frame
+    /// again renders it correctly.
     Incomplete = 1,
 
     /// A required pointer argument was NULL.
@@ -43,8 +45,14 @@ pub enum translucid_result {
     ErrorHeaderVersionMismatch = -9,
     /// A method the API defines but this build does not have yet.
     ErrorMethodUnavailable = -10,
-    /// A feature the API defines but this build does not implement yet (host-device mode).
+    /// A call that the context's mode does not offer (`translucid_frame_render` on a
+    /// host-device context, `translucid_frame_record` on a standalone one, reading the pixels
+    /// of a host-device frame), or a feature the API defines but this build lacks.
     ErrorNotSupported = -11,
+    /// Host-device mode: a frame is recorded and not yet completed. Call
+    /// `translucid_frame_complete` after the engine's submission finished (or destroy the
+    /// frame to abandon it) before recording another; a frame's statistics wait for it too.
+    ErrorFrameInFlight = -12,
 
     /// No Vulkan loader, no usable device, or the requested device does not exist.
     ErrorNoDevice = -100,
@@ -59,6 +67,9 @@ pub enum translucid_result {
     ErrorValidation = -104,
     /// A file could not be written.
     ErrorIo = -105,
+    /// Host-device mode: the engine's device lacks a Vulkan version, feature, extension or
+    /// queue capability that `translucid_host_requirements_get` lists; the message names each.
+    ErrorDeviceRequirements = -106,
 
     /// translucid panicked inside this call (a bug: please report it with the message). The
     /// context refuses all further work; destroy it.
@@ -70,7 +81,7 @@ pub enum translucid_result {
 
 impl translucid_result {
     /// Every code, for the to-string function and tests.
-    pub const ALL: [translucid_result; 21] = [
+    pub const ALL: [translucid_result; 23] = [
         Self::Success,
         Self::Incomplete,
         Self::ErrorNullPointer,
@@ -84,12 +95,14 @@ impl translucid_result {
         Self::ErrorHeaderVersionMismatch,
         Self::ErrorMethodUnavailable,
         Self::ErrorNotSupported,
+        Self::ErrorFrameInFlight,
         Self::ErrorNoDevice,
         Self::ErrorVulkan,
         Self::ErrorOutOfMemory,
         Self::ErrorDeviceLost,
         Self::ErrorValidation,
         Self::ErrorIo,
+        Self::ErrorDeviceRequirements,
         Self::ErrorPanic,
         Self::ErrorContextPoisoned,
     ];
@@ -103,7 +116,7 @@ impl translucid_result {
     pub fn describe(self) -> &'static CStr {
         match self {
             Self::Success => c"success",
-            Self::Incomplete => c"incomplete: the output was cut short",
+            Self::Incomplete => c"incomplete: the output was cut short, or the frame overflowed",
             Self::ErrorNullPointer => c"a required pointer was NULL",
             Self::ErrorInvalidStructureType => c"wrong or unknown structure type (s_type)",
             Self::ErrorInvalidArgument => c"invalid argument",
@@ -114,13 +127,15 @@ impl translucid_result {
             Self::ErrorForeignHandle => c"handle from another context",
             Self::ErrorHeaderVersionMismatch => c"header version not compatible with the library",
             Self::ErrorMethodUnavailable => c"method not available in this build",
-            Self::ErrorNotSupported => c"not supported by this build",
+            Self::ErrorNotSupported => c"not supported in this mode or by this build",
+            Self::ErrorFrameInFlight => c"a host-device frame is recorded and not completed",
             Self::ErrorNoDevice => c"no usable Vulkan device",
             Self::ErrorVulkan => c"Vulkan call failed",
             Self::ErrorOutOfMemory => c"out of memory",
             Self::ErrorDeviceLost => c"device lost",
             Self::ErrorValidation => c"Vulkan validation error",
             Self::ErrorIo => c"I/O error",
+            Self::ErrorDeviceRequirements => c"the engine's device lacks what translucid requires",
             Self::ErrorPanic => c"internal error (panic); the context is unusable",
             Self::ErrorContextPoisoned => c"context unusable after an earlier internal error",
         }
@@ -187,7 +202,9 @@ impl From<translucid::Error> for Failure {
             | E::InvalidGltf { .. }
             | E::UnsupportedExtension { .. }
             | E::UnknownScene(..)
-            | E::InvalidOption(_) => R::ErrorInvalidArgument,
+            | E::InvalidOption(_)
+            | E::HostFrame(_) => R::ErrorInvalidArgument,
+            E::HostRequirements(_) => R::ErrorDeviceRequirements,
             E::InvalidViewport { .. } => R::ErrorInvalidSize,
             E::UnknownMethod(..) => R::ErrorMethodUnavailable,
             E::NoDevice(_) => R::ErrorNoDevice,

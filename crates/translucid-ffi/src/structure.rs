@@ -14,14 +14,11 @@ pub enum translucid_structure_type {
     FrameInfo = 5,
     OpaqueLayer = 6,
     FrameStatistics = 7,
-    /// Reserved for host-device mode (chained to the context create-info: the engine's
-    /// VkInstance, VkPhysicalDevice, VkDevice, queue family, vkGetInstanceProcAddr and enabled
-    /// features). Passing it today gives `TRANSLUCID_RESULT_ERROR_NOT_SUPPORTED`.
+    /// `translucid_host_device_create_info`, chained to the context create-info.
     HostDeviceCreateInfo = 100,
-    /// Reserved for host-device mode: the features and extensions the engine must enable.
+    /// `translucid_host_requirements`.
     HostDeviceRequirements = 101,
-    /// Reserved for host-device mode: the engine's colour and depth images and their layouts,
-    /// chained to the frame info.
+    /// `translucid_host_frame_targets`.
     HostFrameTargets = 102,
 }
 
@@ -41,10 +38,5 @@ impl translucid_structure_type {
 
     pub fn from_raw(value: u32) -> Option<Self> {
         Self::ALL.into_iter().find(|t| *t as u32 == value)
-    }
-
-    /// Defined for a feature this build does not implement yet.
-    pub fn is_reserved(self) -> bool {
-        (self as u32) >= 100
     }
 }

@@ -47,8 +47,9 @@ fn out_dir(name: &str) -> PathBuf {
     dir
 }
 
-/// Compiles `sources` into `output` with `compiler` and `flags`, linking the library.
-fn compile(compiler: &str, flags: &[&str], sources: &[PathBuf], output: &Path) {
+/// Compiles `sources` into `output` with `compiler` and `flags`, linking the library (and
+/// `libs` after it).
+fn compile(compiler: &str, flags: &[&str], sources: &[PathBuf], output: &Path, libs: &[&str]) {
     let lib = library_dir();
     let result = Command::new(compiler)
         .args(flags)
@@ -61,6 +62,7 @@ fn compile(compiler: &str, flags: &[&str], sources: &[PathBuf], output: &Path) {
         .arg("-ltranslucid_ffi")
         .arg(format!("-Wl,-rpath,{}", lib.display()))
         .arg("-lm")
+        .args(libs)
         .output()
         .unwrap_or_else(|e| {
             panic!("cannot run {compiler} ({e}): install gcc and g++ (scripts/install-deps.sh)")
@@ -107,6 +109,8 @@ fn run(program: &Path, args: &[&Path], sanitized: bool) -> String {
 struct Program {
     name: &'static str,
     source: PathBuf,
+    /// Linked besides translucid.
+    libs: &'static [&'static str],
 }
 
 fn c_programs() -> Vec<Program> {
@@ -115,14 +119,23 @@ fn c_programs() -> Vec<Program> {
         Program {
             name: "example",
             source: repo().join("examples-c/example.c"),
+            libs: &[],
         },
         Program {
             name: "misuse",
             source: tests.join("misuse.c"),
+            libs: &[],
         },
         Program {
             name: "render",
             source: tests.join("render.c"),
+            libs: &[],
+        },
+        // An engine with its own Vulkan device, in host-device mode.
+        Program {
+            name: "host",
+            source: tests.join("host.c"),
+            libs: &["-lvulkan"],
         },
     ]
 }
@@ -137,6 +150,7 @@ fn c_programs_pass_with_validation() {
             C_FLAGS,
             std::slice::from_ref(&program.source),
             &binary,
+            program.libs,
         );
         let output = run(&binary, &[&dir], false);
         if program.name == "example" {
@@ -165,6 +179,7 @@ fn c_programs_pass_under_address_sanitizer() {
             &flags,
             &[program.source.clone(), keep_modules.clone()],
             &binary,
+            program.libs,
         );
         run(&binary, &[&dir], true);
     }
@@ -175,7 +190,7 @@ fn cpp_wrapper_compiles_and_works() {
     let dir = out_dir("cpp");
     let binary = dir.join("wrapper");
     let source = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/cpp/wrapper.cpp");
-    compile("g++", CXX_FLAGS, &[source], &binary);
+    compile("g++", CXX_FLAGS, &[source], &binary, &[]);
     run(&binary, &[], false);
 }
 
@@ -194,9 +209,10 @@ fn header_compiles_alone_as_c_and_cpp() {
         C_FLAGS,
         std::slice::from_ref(&source),
         &dir.join("header_c"),
+        &[],
     );
     let cpp = dir.join("header_only.cpp");
     std::fs::copy(&source, &cpp).expect("copy the header test");
-    compile("g++", CXX_FLAGS, &[cpp], &dir.join("header_cpp"));
+    compile("g++", CXX_FLAGS, &[cpp], &dir.join("header_cpp"), &[]);
     run(&dir.join("header_c"), &[], false);
 }

@@ -40,6 +40,14 @@ pub enum Error {
     /// No Vulkan loader, no suitable device, or the requested device does not exist.
     #[error("no Vulkan device: {0}")]
     NoDevice(String),
+    /// The engine's device (host-device mode) lacks a Vulkan version, feature, extension or
+    /// queue capability translucid needs; the message names every one missing.
+    #[error("the engine's Vulkan device does not meet translucid's requirements: {0}")]
+    HostRequirements(String),
+    /// Host-device mode: the engine's images, layouts or command buffer cannot be used as
+    /// given (wrong format, an undefined layout, a NULL handle, a size mismatch...).
+    #[error("host-device frame: {0}")]
+    HostFrame(String),
     /// A Vulkan call failed.
     #[error("Vulkan call {call} failed: {result}")]
     Vulkan {

@@ -112,8 +112,8 @@ static void context_creation(void) {
     EXPECT(NULL, translucid_context_create(&info, &ctx),
            TRANSLUCID_RESULT_ERROR_HEADER_VERSION_MISMATCH);
     info = context_info();
-    info.mode = TRANSLUCID_CONTEXT_MODE_HOST_DEVICE;
-    EXPECT(NULL, translucid_context_create(&info, &ctx), TRANSLUCID_RESULT_ERROR_NOT_SUPPORTED);
+    info.mode = TRANSLUCID_CONTEXT_MODE_HOST_DEVICE; /* without its device description */
+    EXPECT(NULL, translucid_context_create(&info, &ctx), TRANSLUCID_RESULT_ERROR_NULL_POINTER);
     info.mode = 77;
     EXPECT(NULL, translucid_context_create(&info, &ctx), TRANSLUCID_RESULT_ERROR_INVALID_ENUM);
     info = context_info();
@@ -123,8 +123,9 @@ static void context_creation(void) {
     info = context_info();
     memset(&link, 0, sizeof link);
     link.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_CREATE_INFO;
-    info.next = &link;
-    EXPECT(NULL, translucid_context_create(&info, &ctx), TRANSLUCID_RESULT_ERROR_NOT_SUPPORTED);
+    info.next = &link; /* a host device chained to a standalone context */
+    EXPECT(NULL, translucid_context_create(&info, &ctx),
+           TRANSLUCID_RESULT_ERROR_INVALID_STRUCTURE_TYPE);
     link.s_type = 4242;
     EXPECT(NULL, translucid_context_create(&info, &ctx),
            TRANSLUCID_RESULT_ERROR_INVALID_STRUCTURE_TYPE);

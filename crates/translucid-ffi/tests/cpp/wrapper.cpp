@@ -82,6 +82,25 @@ int main() {
         } catch (const translucid::Error &e) {
             EXPECT(e.code() == TRANSLUCID_RESULT_ERROR_INVALID_ENUM);
         }
+
+        // Host-device mode (tests/c/host.c drives it with a real engine device): the
+        // requirements need no device, a standalone context refuses to record, and a host
+        // context needs real handles.
+        const translucid_host_requirements req = translucid::Context::host_requirements();
+        EXPECT(req.api_version >= VK_API_VERSION_1_2 && req.features.shaderInt64 == VK_TRUE);
+        frame_info.method = 0;
+        try {
+            translucid::Frame bad = context.record(frame_info, translucid_host_frame_targets{});
+            EXPECT(false);
+        } catch (const translucid::Error &e) {
+            EXPECT(e.code() == TRANSLUCID_RESULT_ERROR_NOT_SUPPORTED);
+        }
+        try {
+            translucid::Context bad = translucid::Context::host(translucid_host_device_create_info{});
+            EXPECT(false);
+        } catch (const translucid::Error &e) {
+            EXPECT(e.code() == TRANSLUCID_RESULT_ERROR_NULL_POINTER);
+        }
     } catch (const translucid::Error &e) {
         std::printf("FAIL: unexpected error %d: %s\n", static_cast<int>(e.code()), e.what());
         return 1;

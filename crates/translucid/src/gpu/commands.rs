@@ -2,7 +2,7 @@
 
 use super::error::vk_err;
 use super::{Buffer, Gpu, GpuImage};
-use crate::Result;
+use crate::{Error, Result};
 use ash::vk;
 
 impl Gpu {
@@ -12,17 +12,27 @@ impl Gpu {
         &self,
         record: impl FnOnce(vk::CommandBuffer) -> Result<T>,
     ) -> Result<T> {
+        let Some(submission) = self.submission else {
+            return Err(Error::HostFrame(
+                "translucid never submits on the engine's device; this work must be recorded \
+                 into the engine's command buffer"
+                    .into(),
+            ));
+        };
         let alloc = vk::CommandBufferAllocateInfo::default()
-            .command_pool(self.command_pool)
+            .command_pool(submission.command_pool)
             .level(vk::CommandBufferLevel::PRIMARY)
             .command_buffer_count(1);
         // SAFETY: the pool belongs to this device and is only used from &Gpu calls that wait
         // for their work before returning (one submission at a time per call).
         let cmd = unsafe { self.device.allocate_command_buffers(&alloc) }
             .map_err(vk_err("vkAllocateCommandBuffers"))?[0];
-        let result = self.record_and_submit(cmd, record);
+        let result = self.record_and_submit(submission.queue, cmd, record);
         // SAFETY: the submission (if any) was waited for; the buffer is idle.
-        unsafe { self.device.free_command_buffers(self.command_pool, &[cmd]) };
+        unsafe {
+            self.device
+                .free_command_buffers(submission.command_pool, &[cmd])
+        };
         let value = result?;
         self.check_validation()?;
         Ok(value)
@@ -30,6 +40,7 @@ impl Gpu {
 
     fn record_and_submit<T>(
         &self,
+        queue: vk::Queue,
         cmd: vk::CommandBuffer,
         record: impl FnOnce(vk::CommandBuffer) -> Result<T>,
     ) -> Result<T> {
@@ -53,7 +64,7 @@ impl Gpu {
         // synchronised by &self usage being one submission per call.
         let waited = unsafe {
             self.device
-                .queue_submit(self.queue, &submit, fence)
+                .queue_submit(queue, &submit, fence)
                 .map_err(vk_err("vkQueueSubmit"))
                 .and_then(|_| {
                     self.device

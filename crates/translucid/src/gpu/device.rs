@@ -56,9 +56,10 @@ pub struct DeviceInfo {
     pub shader_float64: bool,
 }
 
-/// A headless Vulkan device with one graphics+compute queue. Cheap to clone: every resource
-/// holds a clone, so the device outlives everything created from it and resources free
-/// themselves on drop.
+/// A Vulkan device: either a headless one translucid made, with one graphics+compute queue
+/// ([`Gpu::new`]), or the engine's, wrapped without being owned ([`Gpu::from_host`]). Cheap
+/// to clone: every resource holds a clone, so the device outlives everything created from it
+/// and resources free themselves on drop.
 #[derive(Clone)]
 pub struct Gpu(Arc<Shared>);
 
@@ -73,15 +74,26 @@ impl std::ops::Deref for Gpu {
 pub struct Shared {
     _entry: ash::Entry,
     instance: ash::Instance,
+    physical: vk::PhysicalDevice,
     messenger: Option<(ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
     /// Boxed so its address, handed to the messenger, never moves.
     validation: Box<ValidationLog>,
     pub(crate) device: ash::Device,
-    pub(crate) queue: vk::Queue,
+    /// The queue and command pool translucid submits with; `None` on the engine's device,
+    /// where translucid only records into the engine's command buffers.
+    pub(crate) submission: Option<Submission>,
+    /// Whether translucid created the instance and device, and so destroys them.
+    owns_device: bool,
     pub(crate) allocator: ManuallyDrop<Mutex<Allocator>>,
     pub(crate) memory: MemoryStats,
-    pub(crate) command_pool: vk::CommandPool,
     info: DeviceInfo,
+}
+
+/// What a device translucid created submits with.
+#[derive(Clone, Copy)]
+pub(crate) struct Submission {
+    pub queue: vk::Queue,
+    pub command_pool: vk::CommandPool,
 }
 
 fn load_entry() -> Result<ash::Entry> {
@@ -137,7 +149,11 @@ fn device_kind(t: vk::PhysicalDeviceType) -> (&'static str, u32) {
     }
 }
 
-fn describe(instance: &ash::Instance, index: usize, pd: vk::PhysicalDevice) -> DeviceInfo {
+pub(super) fn describe(
+    instance: &ash::Instance,
+    index: usize,
+    pd: vk::PhysicalDevice,
+) -> DeviceInfo {
     let mut subgroup = vk::PhysicalDeviceSubgroupProperties::default();
     let mut driver = vk::PhysicalDeviceDriverProperties::default();
     let mut props2 = vk::PhysicalDeviceProperties2::default()
@@ -304,13 +320,17 @@ impl Gpu {
             Ok((device, queue, allocator, command_pool)) => Ok(Self(Arc::new(Shared {
                 _entry: entry,
                 instance,
+                physical,
                 messenger,
                 validation,
                 device,
-                queue,
+                submission: Some(Submission {
+                    queue,
+                    command_pool,
+                }),
+                owns_device: true,
                 allocator: ManuallyDrop::new(Mutex::new(allocator)),
                 memory: MemoryStats::default(),
-                command_pool,
                 info,
             }))),
             Err(e) => {
@@ -321,7 +341,49 @@ impl Gpu {
     }
 }
 
+impl Gpu {
+    /// Wraps the engine's instance and device (host-device mode, already checked against
+    /// the requirements by the caller) with an allocator of translucid's own. Nothing of the
+    /// engine's is destroyed when the last clone drops.
+    pub(super) fn wrap_host(
+        entry: ash::Entry,
+        instance: ash::Instance,
+        device: ash::Device,
+        physical: vk::PhysicalDevice,
+        info: DeviceInfo,
+    ) -> Result<Self> {
+        let allocator = create_allocator(&instance, &device, physical)?;
+        Ok(Self(Arc::new(Shared {
+            _entry: entry,
+            instance,
+            physical,
+            messenger: None,
+            validation: Box::default(),
+            device,
+            submission: None,
+            owns_device: false,
+            allocator: ManuallyDrop::new(Mutex::new(allocator)),
+            memory: MemoryStats::default(),
+            info,
+        })))
+    }
+}
+
 impl Shared {
+    /// Whether this is the engine's device (host-device mode): translucid records into the
+    /// engine's command buffers and never submits.
+    pub fn is_host_device(&self) -> bool {
+        self.submission.is_none()
+    }
+
+    pub(crate) fn instance(&self) -> &ash::Instance {
+        &self.instance
+    }
+
+    pub(crate) fn physical_device(&self) -> vk::PhysicalDevice {
+        self.physical
+    }
+
     /// Limits and identity of the chosen device.
     pub fn info(&self) -> &DeviceInfo {
         &self.info
@@ -385,6 +447,21 @@ fn destroy_instance(
     }
 }
 
+fn create_allocator(
+    instance: &ash::Instance,
+    device: &ash::Device,
+    physical: vk::PhysicalDevice,
+) -> Result<Allocator> {
+    Ok(Allocator::new(&AllocatorCreateDesc {
+        instance: instance.clone(),
+        device: device.clone(),
+        physical_device: physical,
+        debug_settings: Default::default(),
+        buffer_device_address: false,
+        allocation_sizes: Default::default(),
+    })?)
+}
+
 type DeviceParts = (ash::Device, vk::Queue, Allocator, vk::CommandPool);
 
 fn create_device(
@@ -418,20 +495,12 @@ fn create_device(
         .map_err(vk_err("vkCreateDevice"))?;
     // SAFETY: family/index 0 were requested above.
     let queue = unsafe { device.get_device_queue(family, 0) };
-    let allocator = Allocator::new(&AllocatorCreateDesc {
-        instance: instance.clone(),
-        device: device.clone(),
-        physical_device: physical,
-        debug_settings: Default::default(),
-        buffer_device_address: false,
-        allocation_sizes: Default::default(),
-    });
-    let allocator = match allocator {
+    let allocator = match create_allocator(instance, &device, physical) {
         Ok(a) => a,
         Err(e) => {
             // SAFETY: nothing was created from the device yet.
             unsafe { device.destroy_device(None) };
-            return Err(e.into());
+            return Err(e);
         }
     };
     let pool_info = vk::CommandPoolCreateInfo::default()
@@ -456,11 +525,19 @@ impl Drop for Shared {
         if live != 0 {
             log::warn!("device destroyed with {live} bytes of GPU memory still allocated");
         }
+        let Some(submission) = self.submission.filter(|_| self.owns_device) else {
+            // The engine's device: the engine guarantees (host-device contract) that the GPU
+            // no longer uses anything of ours; only our memory is ours to free.
+            // SAFETY: the allocator is dropped exactly once, here.
+            unsafe { ManuallyDrop::drop(&mut self.allocator) };
+            return;
+        };
         // SAFETY: we own every object below; waiting for idle first means none is in use, and
         // they are destroyed in reverse creation order. The allocator is dropped exactly once.
         unsafe {
             let _ = self.device.device_wait_idle();
-            self.device.destroy_command_pool(self.command_pool, None);
+            self.device
+                .destroy_command_pool(submission.command_pool, None);
             ManuallyDrop::drop(&mut self.allocator);
             self.device.destroy_device(None);
             if let Some((loader, m)) = self.messenger.take() {

@@ -10,14 +10,19 @@
 //! - `pipeline.rs`: shader modules from build.rs's SPIR-V, descriptor layouts, pipelines.
 //! - `attachments.rs`: render passes over a method's own sets of attachments.
 //! - `timestamps.rs`: GPU timestamps around every stage.
+//! - `host.rs`: host-device mode: the engine's device wrapped without being owned, and the
+//!   copies between the engine's images and the frame targets.
 //!
 //! Synchronisation is deliberately simple: every frame is recorded into one command buffer,
-//! submitted, and waited for with a fence. Readback copies into host-visible buffers.
+//! submitted, and waited for with a fence. Readback copies into host-visible buffers. On the
+//! engine's device the engine submits and waits instead, and tells translucid when the frame
+//! completed.
 
 mod attachments;
 mod commands;
 mod device;
 mod error;
+mod host;
 mod memory;
 mod pipeline;
 mod timestamps;
@@ -27,6 +32,10 @@ pub use ash::vk;
 pub use attachments::{fullscreen_pipeline, Attachment, AttachmentPass, DepthAttachment, Load};
 pub use commands::{image_barrier, memory_barrier, mip_region, whole_image_region};
 pub use device::{list_devices, DeviceInfo, Gpu, GpuOptions, Shared};
+pub use host::{
+    host_requirements, HostDevice, HostImage, HostRequirements, HostTargets, HOST_API_VERSION,
+    HOST_DEPTH_FORMAT,
+};
 pub use memory::MemoryLocation;
 pub use memory::{Buffer, BufferView, GpuImage, MemoryStats};
 pub use pipeline::{

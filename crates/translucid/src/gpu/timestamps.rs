@@ -67,30 +67,47 @@ impl Timestamps {
 
     /// Stage names with durations in milliseconds, after the submission completed.
     pub fn read(&self) -> Result<Vec<(&'static str, f64)>> {
+        self.results(vk::QueryResultFlags::WAIT)
+            .map(|stages| stages.unwrap_or_default())
+    }
+
+    /// Like [`Timestamps::read`] without waiting: `None` when some timestamp has not been
+    /// written, i.e. the commands have not run (yet). For work someone else submitted.
+    pub fn try_read(&self) -> Result<Option<Vec<(&'static str, f64)>>> {
+        self.results(vk::QueryResultFlags::empty())
+    }
+
+    fn results(&self, wait: vk::QueryResultFlags) -> Result<Option<Vec<(&'static str, f64)>>> {
         let n = self.names.len();
         if n < 2 {
-            return Ok(Vec::new());
+            return Ok(Some(Vec::new()));
         }
         let mut ticks = vec![0u64; n];
-        // SAFETY: the queries 0..n were written by a submission that has completed.
-        unsafe {
+        // SAFETY: the queries 0..n were reset and written by recorded commands; without WAIT,
+        // unavailable ones give NOT_READY.
+        let read = unsafe {
             self.gpu.device.get_query_pool_results(
                 self.pool,
                 0,
                 &mut ticks,
-                vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT,
+                vk::QueryResultFlags::TYPE_64 | wait,
             )
+        };
+        match read {
+            Err(vk::Result::NOT_READY) => return Ok(None),
+            other => other.map_err(vk_err("vkGetQueryPoolResults"))?,
         }
-        .map_err(vk_err("vkGetQueryPoolResults"))?;
         let ms_per_tick = self.gpu.info().timestamp_period_ns as f64 * 1e-6;
-        Ok((1..n)
-            .map(|i| {
-                (
-                    self.names[i],
-                    ticks[i].saturating_sub(ticks[i - 1]) as f64 * ms_per_tick,
-                )
-            })
-            .collect())
+        Ok(Some(
+            (1..n)
+                .map(|i| {
+                    (
+                        self.names[i],
+                        ticks[i].saturating_sub(ticks[i - 1]) as f64 * ms_per_tick,
+                    )
+                })
+                .collect(),
+        ))
     }
 }
 

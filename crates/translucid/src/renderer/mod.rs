@@ -12,14 +12,16 @@
 //! # Ok::<(), translucid::Error>(())
 //! ```
 
+mod host_device;
 mod host_opaque;
 mod targets;
 mod upload;
 
+pub use host_device::HostFrame;
 pub use targets::{FrameTargets, Readback, COLOUR_FORMAT, DEPTH_FORMAT};
 pub use upload::{DrawCall, GpuScene, MeshRange, VERTEX_ATTRIBUTES, VERTEX_STRIDE};
 
-use crate::gpu::{Gpu, Timestamps};
+use crate::gpu::{vk, Gpu, Timestamps};
 use crate::image::{Image, OpaqueLayer};
 use crate::methods::{self, Method, MethodOptions, RecordContext};
 use crate::scene::Scene;
@@ -49,15 +51,21 @@ pub struct Frame {
 }
 
 impl Frame {
-    /// GPU time of the transparency method alone (every stage but the opaque layer and
-    /// readback), in milliseconds.
+    /// GPU time of the transparency method alone (every stage but the opaque layer,
+    /// readback and, on the engine's device, the output copy), in milliseconds.
     pub fn method_ms(&self) -> f64 {
-        self.stages
-            .iter()
-            .filter(|(s, _)| !matches!(*s, "opaque" | "readback"))
-            .map(|(_, ms)| ms)
-            .sum()
+        method_ms(&self.stages)
     }
+}
+
+/// The sum of the method's stages among `stages`: every stage but "opaque", "readback" and
+/// "output".
+fn method_ms(stages: &[(&'static str, f64)]) -> f64 {
+    stages
+        .iter()
+        .filter(|(s, _)| !matches!(*s, "opaque" | "readback" | "output"))
+        .map(|(_, ms)| ms)
+        .sum()
 }
 
 /// Renders frames of one scene with one method at one size.
@@ -70,6 +78,8 @@ pub struct Renderer {
     method: Box<dyn Method>,
     timestamps: Timestamps,
     background: Vec3,
+    /// Host-device mode: how a completed frame is told from one whose commands never ran.
+    completion: Option<host_device::Completion>,
 }
 
 /// Checks a viewport against the device's limits.
@@ -131,6 +141,7 @@ impl Renderer {
             method,
             timestamps,
             background: scene.background,
+            completion: None,
         })
     }
 
@@ -182,14 +193,7 @@ impl Renderer {
                         self.timestamps.mark(cmd, "opaque");
                     }
                 }
-                let mut ctx = RecordContext {
-                    gpu: &gpu,
-                    cmd,
-                    scene: &self.scene,
-                    targets: &self.targets,
-                    timestamps: &mut self.timestamps,
-                };
-                self.method.record(&mut ctx)?;
+                self.record_method(&gpu, cmd)?;
                 self.readback.record(&gpu, cmd, &self.targets, false);
                 Ok(())
             })?;
@@ -215,6 +219,18 @@ impl Renderer {
             fragments: check.fragments,
             wall_ms,
         })
+    }
+
+    /// Records the method's passes over the frame targets.
+    fn record_method(&mut self, gpu: &Gpu, cmd: vk::CommandBuffer) -> Result<()> {
+        let mut ctx = RecordContext {
+            gpu,
+            cmd,
+            scene: &self.scene,
+            targets: &self.targets,
+            timestamps: &mut self.timestamps,
+        };
+        self.method.record(&mut ctx)
     }
 }
 

@@ -48,7 +48,11 @@ pub struct GpuScene {
     pub draws: Buffer,
     pub materials: Buffer,
     pub frame: Buffer,
-    _textures: Vec<GpuImage>,
+    textures: Vec<GpuImage>,
+    /// On the engine's device (which translucid never submits to), the textures' staging
+    /// buffers: recorded into the first frame's command buffer, kept until it completes.
+    texture_staging: Vec<Buffer>,
+    textures_recorded: bool,
     _sampler: Sampler,
     /// Set 0: frame, draws, materials.
     pub layout: DescriptorLayout,
@@ -157,7 +161,19 @@ impl GpuScene {
         )?;
 
         let white = Texture::new("white", 1, 1, vec![[255; 4]], false);
-        let textures = upload_textures(gpu, scene.textures.iter().chain(std::iter::once(&white)))?;
+        let (textures, staging) =
+            create_textures(gpu, scene.textures.iter().chain(std::iter::once(&white)))?;
+        // A device of translucid's own uploads now; on the engine's, the first frame does.
+        let textures_recorded = !gpu.is_host_device();
+        let texture_staging = if textures_recorded {
+            gpu.submit_and_wait(|cmd| {
+                record_texture_uploads(gpu, cmd, &textures, &staging);
+                Ok(())
+            })?;
+            Vec::new()
+        } else {
+            staging
+        };
         let sampler = Sampler::trilinear_repeat(gpu)?;
         let stages = vk::ShaderStageFlags::VERTEX
             | vk::ShaderStageFlags::FRAGMENT
@@ -189,7 +205,9 @@ impl GpuScene {
             draws,
             materials,
             frame,
-            _textures: textures,
+            textures,
+            texture_staging,
+            textures_recorded,
             _sampler: sampler,
             layout,
             set,
@@ -327,11 +345,29 @@ impl GpuScene {
     }
 }
 
-/// Uploads textures (all mips) and leaves them in SHADER_READ_ONLY_OPTIMAL.
-fn upload_textures<'a>(
+impl GpuScene {
+    /// On the engine's device: records the texture uploads into the first frame's command
+    /// buffer (later calls record nothing).
+    pub fn record_pending_uploads(&mut self, gpu: &Gpu, cmd: vk::CommandBuffer) {
+        if !self.textures_recorded {
+            record_texture_uploads(gpu, cmd, &self.textures, &self.texture_staging);
+            self.textures_recorded = true;
+        }
+    }
+
+    /// Frees the texture staging once the frame that recorded the uploads completed.
+    pub fn uploads_completed(&mut self) {
+        if self.textures_recorded {
+            self.texture_staging.clear();
+        }
+    }
+}
+
+/// Creates the textures' images (all mips) and their filled staging buffers.
+fn create_textures<'a>(
     gpu: &Gpu,
     textures: impl Iterator<Item = &'a Texture>,
-) -> Result<Vec<GpuImage>> {
+) -> Result<(Vec<GpuImage>, Vec<Buffer>)> {
     let mut images = Vec::new();
     let mut staging = Vec::new();
     for t in textures {
@@ -362,57 +398,63 @@ fn upload_textures<'a>(
         )?);
         images.push(image);
     }
-    gpu.submit_and_wait(|cmd| {
-        for (image, buffer) in images.iter().zip(&staging) {
-            let top = (
-                vk::PipelineStageFlags::TOP_OF_PIPE,
-                vk::AccessFlags::empty(),
-            );
-            let transfer = (
-                vk::PipelineStageFlags::TRANSFER,
-                vk::AccessFlags::TRANSFER_WRITE,
-            );
-            crate::gpu::image_barrier(
-                gpu,
-                cmd,
-                image,
-                vk::ImageLayout::UNDEFINED,
-                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                top,
-                transfer,
-            );
-            let mut offset = 0u64;
-            let mut regions = Vec::new();
-            for level in 0..image.mip_levels {
-                let region = crate::gpu::mip_region(image, level, offset);
-                offset += u64::from(region.image_extent.width * region.image_extent.height * 4);
-                regions.push(region);
-            }
-            // SAFETY: the image is in TRANSFER_DST_OPTIMAL and the buffer holds every level.
-            unsafe {
-                gpu.device.cmd_copy_buffer_to_image(
-                    cmd,
-                    buffer.raw,
-                    image.raw,
-                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                    &regions,
-                )
-            };
-            let read = (
-                vk::PipelineStageFlags::FRAGMENT_SHADER | vk::PipelineStageFlags::COMPUTE_SHADER,
-                vk::AccessFlags::SHADER_READ,
-            );
-            crate::gpu::image_barrier(
-                gpu,
-                cmd,
-                image,
-                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-                transfer,
-                read,
-            );
+    Ok((images, staging))
+}
+
+/// Records the copies of `staging` into `images`, leaving them in SHADER_READ_ONLY_OPTIMAL.
+fn record_texture_uploads(
+    gpu: &Gpu,
+    cmd: vk::CommandBuffer,
+    images: &[GpuImage],
+    staging: &[Buffer],
+) {
+    for (image, buffer) in images.iter().zip(staging) {
+        let top = (
+            vk::PipelineStageFlags::TOP_OF_PIPE,
+            vk::AccessFlags::empty(),
+        );
+        let transfer = (
+            vk::PipelineStageFlags::TRANSFER,
+            vk::AccessFlags::TRANSFER_WRITE,
+        );
+        crate::gpu::image_barrier(
+            gpu,
+            cmd,
+            image,
+            vk::ImageLayout::UNDEFINED,
+            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+            top,
+            transfer,
+        );
+        let mut offset = 0u64;
+        let mut regions = Vec::new();
+        for level in 0..image.mip_levels {
+            let region = crate::gpu::mip_region(image, level, offset);
+            offset += u64::from(region.image_extent.width * region.image_extent.height * 4);
+            regions.push(region);
         }
-        Ok(())
-    })?;
-    Ok(images)
+        // SAFETY: the image is in TRANSFER_DST_OPTIMAL and the buffer holds every level.
+        unsafe {
+            gpu.device.cmd_copy_buffer_to_image(
+                cmd,
+                buffer.raw,
+                image.raw,
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                &regions,
+            )
+        };
+        let read = (
+            vk::PipelineStageFlags::FRAGMENT_SHADER | vk::PipelineStageFlags::COMPUTE_SHADER,
+            vk::AccessFlags::SHADER_READ,
+        );
+        crate::gpu::image_barrier(
+            gpu,
+            cmd,
+            image,
+            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+            transfer,
+            read,
+        );
+    }
 }

@@ -1,0 +1,446 @@
+//! Host-device mode: the requirements query, the engine's device description, and frames
+//! recorded into the engine's command buffer. Exports `translucid_host_requirements_get`,
+//! `translucid_frame_record` and `translucid_frame_complete`.
+//!
+//! The frame rule: a host-device context has at most one frame in flight. Recording makes the
+//! frame in flight; `translucid_frame_complete`, called once the engine's submission of that
+//! command buffer finished, ends it (destroying the frame abandons it). Until then every
+//! resource the recording uses stays alive, and recording another frame fails with
+//! `TRANSLUCID_RESULT_ERROR_FRAME_IN_FLIGHT`. The context keeps the last frame's renderer
+//! (uploaded scene, pipelines, grown buffers) and reuses it when the next frame has the same
+//! input, so that a frame recorded again after an overflow renders correctly.
+
+use crate::cast::{
+    check_header, translucid_context, try_out, try_out_structure, try_ref, try_slice, OutStructure,
+};
+use crate::context::Objects;
+use crate::frame::{frame_input, translucid_frame, translucid_frame_info, FrameRecord};
+use crate::panic;
+use crate::result::{translucid_result, Failure, FfiResult};
+use crate::structure::translucid_structure_type;
+use crate::vulkan::{
+    PFN_vkGetInstanceProcAddr, VkCommandBuffer, VkDevice, VkFormat, VkImage, VkImageLayout,
+    VkInstance, VkPhysicalDevice, VkPhysicalDeviceFeatures, VkQueueFlags,
+};
+use std::ffi::{c_char, c_void, CStr, CString};
+use translucid::gpu::{host_requirements, Gpu, HostDevice, HostImage, HostTargets};
+use translucid::renderer::Renderer;
+
+/// What the engine must give its instance and device before translucid can use them. The
+/// caller sets `s_type` (and `next` to NULL); translucid fills the rest.
+#[allow(non_camel_case_types)]
+#[repr(C)]
+pub struct translucid_host_requirements {
+    /// `TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_REQUIREMENTS`, set by the caller.
+    pub s_type: u32,
+    /// NULL, set by the caller.
+    pub next: *mut c_void,
+    /// The lowest `VkApplicationInfo::apiVersion` for the instance, and the lowest version of
+    /// the physical device (`VK_API_VERSION_1_2`).
+    pub api_version: u32,
+    /// What the queue family the engine submits translucid's work on must support (graphics
+    /// and compute, and timestamps: `timestampValidBits` > 0).
+    pub queue_flags: VkQueueFlags,
+    /// The device features to enable: each one translucid needs is `VK_TRUE` (OR them into
+    /// the engine's own).
+    pub features: VkPhysicalDeviceFeatures,
+    /// Number of device extensions to enable (0 in this version).
+    pub extension_count: u32,
+    /// `extension_count` static extension names; NULL when there are none.
+    pub extensions: *const *const c_char,
+}
+
+/// The engine's device, chained to `translucid_context_create_info::next` with `mode`
+/// `TRANSLUCID_CONTEXT_MODE_HOST_DEVICE`. translucid never destroys these objects: destroy the
+/// context before them. The enabled features and extensions are checked against
+/// `translucid_host_requirements_get` (`TRANSLUCID_RESULT_ERROR_DEVICE_REQUIREMENTS` names
+/// what is missing); a `VK_NULL_HANDLE` instance, physical device or device is
+/// `TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT`.
+#[allow(non_camel_case_types)]
+#[repr(C)]
+pub struct translucid_host_device_create_info {
+    /// `TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_CREATE_INFO`.
+    pub s_type: u32,
+    /// NULL.
+    pub next: *const c_void,
+    /// The `apiVersion` the instance was created with.
+    pub api_version: u32,
+    pub instance: VkInstance,
+    pub physical_device: VkPhysicalDevice,
+    pub device: VkDevice,
+    /// The family of the queue(s) the engine submits translucid's command buffers to.
+    pub queue_family_index: u32,
+    /// The loader's `vkGetInstanceProcAddr`; translucid loads every Vulkan function through it.
+    pub get_instance_proc_addr: PFN_vkGetInstanceProcAddr,
+    /// The features the device was created with (`pEnabledFeatures`, or
+    /// `VkPhysicalDeviceFeatures2::features`).
+    pub enabled_features: *const VkPhysicalDeviceFeatures,
+    pub enabled_extension_count: u32,
+    /// `enabled_extension_count` extension names the device was created with.
+    pub enabled_extensions: *const *const c_char,
+}
+
+/// One of the engine's images: a single-sample 2D image of the frame's size (width x height)
+/// with one mip level and one array layer, owned by the queue family named at context
+/// creation (or created with concurrent sharing). translucid cannot query an image's size:
+/// a smaller image is undefined behaviour, as in Vulkan.
+#[allow(non_camel_case_types)]
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct translucid_host_image {
+    pub image: VkImage,
+    pub format: VkFormat,
+    /// The layout the image is in when the recorded commands run (not UNDEFINED: its contents
+    /// are the opaque layer).
+    pub layout: VkImageLayout,
+    /// The layout the recorded commands leave the image in.
+    pub final_layout: VkImageLayout,
+}
+
+/// Where a host-device frame is recorded. A `VK_NULL_HANDLE` command buffer or image, an
+/// UNDEFINED or unsuitable layout, or an unsupported format is
+/// `TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT`, reported before anything is recorded.
+#[allow(non_camel_case_types)]
+#[repr(C)]
+pub struct translucid_host_frame_targets {
+    /// `TRANSLUCID_STRUCTURE_TYPE_HOST_FRAME_TARGETS`.
+    pub s_type: u32,
+    /// NULL.
+    pub next: *const c_void,
+    /// A primary command buffer of the engine's device, recording, outside any render pass,
+    /// to be submitted on the queue family named at context creation.
+    pub command_buffer: VkCommandBuffer,
+    /// The opaque colour, read and then overwritten with the composited result. Needs
+    /// TRANSFER_SRC and TRANSFER_DST usage and a format that can be blitted both ways
+    /// (UNORM, SRGB or float; not integer).
+    pub colour: translucid_host_image,
+    /// The opaque depth (0 near, 1 far), read only. Needs TRANSFER_SRC usage and
+    /// `VK_FORMAT_D32_SFLOAT`.
+    pub depth: translucid_host_image,
+}
+
+/// A host-device context's frames: the renderer of the last one, and whether it is in flight.
+#[derive(Default)]
+pub struct HostFrames {
+    /// The last recorded frame's renderer, with the input it was made for.
+    renderer: Option<(Vec<u64>, Renderer)>,
+    /// The frame recorded and not yet completed.
+    in_flight: Option<u64>,
+}
+
+impl HostFrames {
+    /// Forgets the frame in flight (the engine says the GPU is not running it) and the
+    /// renderer it used, whose counters can no longer be trusted.
+    pub fn abandon(&mut self) {
+        self.in_flight = None;
+        self.renderer = None;
+    }
+}
+
+/// The engine's device description as the core takes it.
+pub(crate) fn host_device(info: &translucid_host_device_create_info) -> FfiResult<HostDevice> {
+    let get_instance_proc_addr = info
+        .get_instance_proc_addr
+        .ok_or_else(|| Failure::null("host device get_instance_proc_addr"))?;
+    let features = *try_ref(info.enabled_features, "host device enabled_features")?;
+    let count = usize::try_from(info.enabled_extension_count)
+        .map_err(|_| Failure::size("too many enabled extensions"))?;
+    let names = try_slice(info.enabled_extensions, count, "enabled_extensions")?;
+    let extensions = names
+        .iter()
+        .enumerate()
+        .map(|(i, &name)| {
+            if name.is_null() {
+                return Err(Failure::null(&format!("enabled_extensions[{i}]")));
+            }
+            // SAFETY: non-NULL; a NUL-terminated string live for the call (C contract).
+            Ok(CString::from(unsafe { CStr::from_ptr(name) }))
+        })
+        .collect::<FfiResult<Vec<_>>>()?;
+    Ok(HostDevice {
+        get_instance_proc_addr,
+        instance: info.instance,
+        physical_device: info.physical_device,
+        device: info.device,
+        queue_family: info.queue_family_index,
+        api_version: info.api_version,
+        features,
+        extensions,
+    })
+}
+
+/// Wraps the engine's device described by `info`.
+pub(crate) fn host_gpu(info: &translucid_host_device_create_info) -> FfiResult<Gpu> {
+    check_header(
+        info.s_type,
+        info.next,
+        translucid_structure_type::HostDeviceCreateInfo,
+        "translucid_host_device_create_info",
+    )?;
+    let host = host_device(info)?;
+    // SAFETY: the header documents that the handles are live objects of one instance made
+    // through this vkGetInstanceProcAddr, outliving the context (destroyed before them).
+    Ok(unsafe { Gpu::from_host(&host) }?)
+}
+
+fn host_image(image: &translucid_host_image) -> HostImage {
+    HostImage {
+        image: image.image,
+        format: image.format,
+        layout: image.layout,
+        final_layout: image.final_layout,
+    }
+}
+
+/// The words a frame's input is compared by: equal words, same scene and settings.
+fn input_key(info: &translucid_frame_info) -> FfiResult<Vec<u64>> {
+    let floats = |v: &[f32]| v.iter().map(|f| u64::from(f.to_bits())).collect::<Vec<_>>();
+    let c = &info.camera;
+    let mut key = vec![
+        u64::from(info.method),
+        u64::from(info.width),
+        u64::from(info.height),
+        u64::from(info.wavelet_coefficients),
+        u64::from(info.wavelet_noise.to_bits()),
+    ];
+    key.extend(floats(&c.view));
+    key.extend(floats(&[c.fov_y, c.z_near, c.z_far]));
+    if !info.light.is_null() {
+        let l = try_ref(info.light, "light")?;
+        key.extend(floats(&l.direction));
+        key.extend(floats(&l.colour));
+        key.extend(floats(&l.ambient));
+    }
+    let count = usize::try_from(info.draw_count).map_err(|_| Failure::size("too many draws"))?;
+    for d in try_slice(info.draws, count, "draws")? {
+        key.extend([d.mesh.id, d.material.id, u64::from(d.layer)]);
+        key.extend(floats(&d.transform));
+    }
+    Ok(key)
+}
+
+fn not_host(call: &str) -> Failure {
+    Failure::new(
+        translucid_result::ErrorNotSupported,
+        format!(
+            "{call} needs a host-device context (TRANSLUCID_CONTEXT_MODE_HOST_DEVICE); a \
+             standalone context renders with translucid_frame_render"
+        ),
+    )
+}
+
+fn record(
+    objects: &mut Objects,
+    info: &translucid_frame_info,
+    targets: &translucid_host_frame_targets,
+) -> FfiResult<FrameRecord> {
+    check_header(
+        targets.s_type,
+        targets.next,
+        translucid_structure_type::HostFrameTargets,
+        "translucid_host_frame_targets",
+    )?;
+    let host = objects
+        .host
+        .as_ref()
+        .ok_or_else(|| not_host("translucid_frame_record"))?;
+    if let Some(frame) = host.in_flight {
+        return Err(Failure::new(
+            translucid_result::ErrorFrameInFlight,
+            format!(
+                "frame {{{frame:#x}}} is recorded and not completed: call \
+                 translucid_frame_complete after its submission finished (one frame in flight \
+                 per context)"
+            ),
+        ));
+    }
+    let (input, _) = frame_input(objects, info)?;
+    if !info.opaque_layer.is_null() {
+        return Err(Failure::argument(
+            "opaque_layer must be NULL in host-device mode: the opaque layer is the colour and \
+             depth images of the frame targets",
+        ));
+    }
+    let key = input_key(info)?;
+    let host = objects
+        .host
+        .as_mut()
+        .ok_or_else(|| not_host("translucid_frame_record"))?;
+    let renderer = match host.renderer.take() {
+        Some((old, renderer)) if old == key => renderer,
+        _ => Renderer::with_options(
+            &objects.gpu,
+            &input.scene,
+            input.method.name(),
+            info.width,
+            info.height,
+            &input.options,
+        )?,
+    };
+    let (_, renderer) = host.renderer.insert((key, renderer));
+    let t = HostTargets {
+        cmd: targets.command_buffer,
+        colour: host_image(&targets.colour),
+        depth: host_image(&targets.depth),
+    };
+    // SAFETY: the header documents the engine's side: a recording command buffer outside a
+    // render pass and images of the frame's size with the usages listed, all of the device
+    // this context wraps. Handles, formats and layouts are checked first.
+    unsafe { renderer.record_host(&t) }?;
+    Ok(FrameRecord {
+        method: input.method,
+        width: info.width,
+        height: info.height,
+        image: None,
+        in_flight: true,
+        stages: Vec::new(),
+        method_ms: 0.0,
+        peak_gpu_bytes: 0,
+        fragments: 0,
+        rerenders: 0,
+        overflowed: false,
+    })
+}
+
+fn complete(objects: &mut Objects, frame: translucid_frame) -> FfiResult<translucid_result> {
+    let host = objects
+        .host
+        .as_mut()
+        .ok_or_else(|| not_host("translucid_frame_complete"))?;
+    let record = objects.frames.get(frame.id)?;
+    if host.in_flight != Some(frame.id) || !record.in_flight {
+        return Err(Failure::argument(
+            "the frame is not in flight: it was completed already",
+        ));
+    }
+    let renderer = &mut host
+        .renderer
+        .as_mut()
+        .ok_or_else(|| Failure::argument("the frame's renderer is gone"))?
+        .1;
+    let done = renderer.complete_host()?;
+    host.in_flight = None;
+    let record = objects.frames.get_mut(frame.id)?;
+    record.in_flight = false;
+    record.method_ms = done.method_ms;
+    record.stages = done.stages;
+    record.peak_gpu_bytes = done.peak_gpu_bytes;
+    record.fragments = done.fragments;
+    record.overflowed = done.overflowed;
+    Ok(if done.overflowed {
+        translucid_result::Incomplete
+    } else {
+        translucid_result::Success
+    })
+}
+
+impl OutStructure for translucid_host_requirements {
+    const TYPE: translucid_structure_type = translucid_structure_type::HostDeviceRequirements;
+    const NAME: &'static str = "translucid_host_requirements";
+    fn header(&self) -> (u32, *mut c_void) {
+        (self.s_type, self.next)
+    }
+}
+
+impl translucid_host_requirements {
+    /// Fills `*out_requirements` (whose `s_type` the caller set to
+    /// `TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_REQUIREMENTS`) with what the engine's instance
+    /// and device must have: call it before creating them. Needs no context.
+    #[no_mangle]
+    #[must_use]
+    pub extern "C" fn translucid_host_requirements_get(
+        out_requirements: *mut translucid_host_requirements,
+    ) -> translucid_result {
+        panic::without_context(|| {
+            let (header, out) = try_out_structure(out_requirements, "out_requirements")?;
+            let wanted = host_requirements();
+            debug_assert!(wanted.extensions.is_empty(), "list them in a static array");
+            out.write(translucid_host_requirements {
+                s_type: header.0,
+                next: header.1,
+                api_version: wanted.api_version,
+                queue_flags: wanted.queue_flags,
+                features: wanted.features,
+                extension_count: 0,
+                extensions: std::ptr::null(),
+            });
+            Ok(translucid_result::Success)
+        })
+    }
+}
+
+impl translucid_frame {
+    /// Host-device mode: records a frame into the engine's command buffer and writes its
+    /// handle to `*out_frame`. Nothing is submitted: the engine submits the command buffer,
+    /// waits for it, then calls `translucid_frame_complete`. The commands copy the opaque
+    /// colour and depth from the engine's images, composite the transparent draws over the
+    /// colour, copy the result into the colour image and leave both images in their
+    /// `final_layout`. `info->opaque_layer` must be NULL and no draw opaque; `info->width` and
+    /// `height` are the images' size.
+    ///
+    /// One frame in flight per context: until that frame is completed (or destroyed, to
+    /// abandon it), recording returns `TRANSLUCID_RESULT_ERROR_FRAME_IN_FLIGHT`, and the
+    /// context's resources the frame uses stay alive. Recording the same input again reuses
+    /// the previous frame's uploads, pipelines and buffers. Arguments are checked before
+    /// anything is recorded; an error from the method itself may leave commands recorded,
+    /// so reset the command buffer after any error.
+    #[no_mangle]
+    #[must_use]
+    pub extern "C" fn translucid_frame_record(
+        context: *mut translucid_context,
+        info: *const translucid_frame_info,
+        targets: *const translucid_host_frame_targets,
+        out_frame: *mut translucid_frame,
+    ) -> translucid_result {
+        panic::with_context(context, |objects| {
+            let info = try_ref(info, "info")?;
+            let targets = try_ref(targets, "targets")?;
+            let out = try_out(out_frame, "out_frame")?;
+            let record = record(objects, info, targets)?;
+            let id = objects.frames.insert(record)?;
+            if let Some(host) = objects.host.as_mut() {
+                host.in_flight = Some(id);
+            }
+            out.write(translucid_frame { id });
+            Ok(translucid_result::Success)
+        })
+    }
+
+    /// Host-device mode: call once the engine's submission of the frame's command buffer has
+    /// finished (a fence or semaphore waited for). Reads the frame's GPU timings and counters
+    /// (see `translucid_frame_get_statistics`) and ends the frame's flight. Returns
+    /// `TRANSLUCID_RESULT_SUCCESS`, or `TRANSLUCID_RESULT_INCOMPLETE` when a buffer overflowed:
+    /// the image the frame wrote is then wrong, translucid has grown its buffers, and
+    /// recording the same frame again (before presenting) renders it correctly. Fails with
+    /// `TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT`, keeping the frame in flight, when its
+    /// commands have not run yet.
+    #[no_mangle]
+    #[must_use]
+    pub extern "C" fn translucid_frame_complete(
+        context: *mut translucid_context,
+        frame: translucid_frame,
+    ) -> translucid_result {
+        panic::with_context(context, |objects| complete(objects, frame))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn vulkan_types_have_the_sizes_of_vulkan_h() {
+        assert_eq!(std::mem::size_of::<VkImage>(), 8);
+        assert_eq!(std::mem::size_of::<VkFormat>(), 4);
+        assert_eq!(std::mem::size_of::<VkImageLayout>(), 4);
+        assert_eq!(
+            std::mem::size_of::<VkPhysicalDeviceFeatures>(),
+            55 * 4,
+            "VkPhysicalDeviceFeatures has 55 VkBool32 members"
+        );
+        assert_eq!(
+            std::mem::size_of::<PFN_vkGetInstanceProcAddr>(),
+            std::mem::size_of::<usize>()
+        );
+    }
+}

@@ -1,0 +1,792 @@
+/*
+ * Plays an engine using host-device mode: its own Vulkan instance, device, images and command
+ * buffer. It asks translucid what to enable, creates its device accordingly, draws (uploads)
+ * its opaque layer, lets translucid record the transparent pass into the same command buffer,
+ * submits, waits, reads its colour image back and compares it with a standalone context's
+ * frame of the same scene over the same opaque layer: every method, every pixel within 2/255.
+ * Then the errors: missing requirements, NULL handles, a second frame recorded before the
+ * first completed, completing a frame that never ran, wrong layouts and formats, calls the
+ * mode does not offer.
+ *
+ * With TRANSLUCID_VALIDATION=1 the engine's instance runs the Khronos validation layer, and
+ * any error it reports fails the test. TRANSLUCID_SYNC_VALIDATION=1 adds synchronization
+ * validation (off by default: it reports a hazard inside the exact method's counter reset,
+ * a fill and an update of one buffer with no barrier between them).
+ */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <vulkan/vulkan.h>
+
+#include "translucid.h"
+
+#define W 64
+#define H 48
+
+static int g_failed = 0, g_passed = 0, g_validation_messages = 0;
+static translucid_context *g_host = NULL, *g_standalone = NULL;
+
+static VkInstance g_instance;
+static VkPhysicalDevice g_physical;
+static VkDevice g_device;
+static VkQueue g_queue;
+static uint32_t g_family;
+static VkCommandPool g_pool;
+static VkCommandBuffer g_cmd;
+static VkFence g_fence;
+static VkDebugUtilsMessengerEXT g_messenger;
+static VkPhysicalDeviceFeatures g_features;
+
+/* The engine's frame: colour and depth images, and one host-visible buffer for uploads
+ * (colour bytes, then depth floats) and readback. */
+static VkImage g_colour, g_depth;
+static VkDeviceMemory g_colour_memory, g_depth_memory, g_buffer_memory;
+static VkBuffer g_buffer;
+static void *g_mapped;
+#define COLOUR_BYTES (W * H * 4)
+#define DEPTH_BYTES (W * H * 4)
+
+static void fail(const char *what, int line) {
+    printf("FAIL line %d: %s\n", line, what);
+    exit(1);
+}
+
+#define VK_CHECK(call)                                                                          \
+    do {                                                                                        \
+        if ((call) != VK_SUCCESS) fail(#call, __LINE__);                                        \
+    } while (0)
+
+static void check(translucid_context *ctx, translucid_result got, translucid_result want,
+                  const char *call, int line) {
+    if (got != want) {
+        printf("FAIL line %d: %s returned %s (%d), expected %s: %s\n", line, call,
+               translucid_result_string(got), got, translucid_result_string(want),
+               translucid_context_last_error(ctx));
+        g_failed++;
+        if (want == TRANSLUCID_RESULT_SUCCESS) exit(1);
+    } else {
+        g_passed++;
+    }
+}
+#define EXPECT(ctx, call, want) check((ctx), (call), (want), #call, __LINE__)
+#define CHECK(ctx, call) EXPECT(ctx, call, TRANSLUCID_RESULT_SUCCESS)
+
+#define TRUE_OR_FAIL(cond)                                                                      \
+    do {                                                                                        \
+        if (cond) {                                                                             \
+            g_passed++;                                                                         \
+        } else {                                                                                \
+            printf("FAIL line %d: %s\n", __LINE__, #cond);                                      \
+            g_failed++;                                                                         \
+        }                                                                                       \
+    } while (0)
+
+static VKAPI_ATTR VkBool32 VKAPI_CALL on_validation(
+    VkDebugUtilsMessageSeverityFlagBitsEXT severity, VkDebugUtilsMessageTypeFlagsEXT type,
+    const VkDebugUtilsMessengerCallbackDataEXT *data, void *user) {
+    (void)type;
+    (void)user;
+    if (severity >= VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) {
+        printf("VALIDATION: %s\n", data->pMessage);
+        g_validation_messages++;
+    }
+    return VK_FALSE;
+}
+
+static int env_is_1(const char *name) {
+    const char *v = getenv(name);
+    return v != NULL && strcmp(v, "1") == 0;
+}
+
+static void create_instance(uint32_t api_version) {
+    const char *layers[] = {"VK_LAYER_KHRONOS_validation"};
+    const char *extensions[] = {VK_EXT_DEBUG_UTILS_EXTENSION_NAME};
+    VkValidationFeatureEnableEXT enables[] = {
+        VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT};
+    VkValidationFeaturesEXT features;
+    VkApplicationInfo app;
+    VkInstanceCreateInfo info;
+    VkDebugUtilsMessengerCreateInfoEXT messenger;
+    int validate = env_is_1("TRANSLUCID_VALIDATION");
+
+    memset(&app, 0, sizeof app);
+    app.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO;
+    app.pApplicationName = "translucid host test";
+    app.apiVersion = api_version;
+    memset(&features, 0, sizeof features);
+    features.sType = VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT;
+    features.enabledValidationFeatureCount = 1;
+    features.pEnabledValidationFeatures = enables;
+    memset(&info, 0, sizeof info);
+    info.sType = VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO;
+    info.pApplicationInfo = &app;
+    if (validate) {
+        info.pNext = env_is_1("TRANSLUCID_SYNC_VALIDATION") ? &features : NULL;
+        info.enabledLayerCount = 1;
+        info.ppEnabledLayerNames = layers;
+        info.enabledExtensionCount = 1;
+        info.ppEnabledExtensionNames = extensions;
+    }
+    VK_CHECK(vkCreateInstance(&info, NULL, &g_instance));
+    if (validate) {
+        PFN_vkCreateDebugUtilsMessengerEXT create =
+            (PFN_vkCreateDebugUtilsMessengerEXT)vkGetInstanceProcAddr(
+                g_instance, "vkCreateDebugUtilsMessengerEXT");
+        memset(&messenger, 0, sizeof messenger);
+        messenger.sType = VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT;
+        messenger.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT |
+                                    VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
+        messenger.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
+                                VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT;
+        messenger.pfnUserCallback = on_validation;
+        if (create == NULL) fail("vkCreateDebugUtilsMessengerEXT not found", __LINE__);
+        VK_CHECK(create(g_instance, &messenger, NULL, &g_messenger));
+    }
+}
+
+/* The first device and queue family that meet the requirements, and the device made with
+ * exactly the features translucid asks for. */
+static void create_device(const translucid_host_requirements *req) {
+    VkPhysicalDevice devices[8];
+    uint32_t count = 8, i;
+    VkQueueFamilyProperties families[16];
+    uint32_t family_count = 16;
+    VkPhysicalDeviceProperties properties;
+    VkPhysicalDeviceFeatures supported;
+    float priority = 1.0f;
+    VkDeviceQueueCreateInfo queue;
+    VkDeviceCreateInfo info;
+    VkResult r = vkEnumeratePhysicalDevices(g_instance, &count, devices);
+
+    if ((r != VK_SUCCESS && r != VK_INCOMPLETE) || count == 0) fail("no Vulkan device", __LINE__);
+    g_physical = devices[0];
+    vkGetPhysicalDeviceProperties(g_physical, &properties);
+    TRUE_OR_FAIL(properties.apiVersion >= req->api_version);
+    vkGetPhysicalDeviceQueueFamilyProperties(g_physical, &family_count, families);
+    g_family = family_count;
+    for (i = 0; i < family_count; i++) {
+        if ((families[i].queueFlags & req->queue_flags) == req->queue_flags &&
+            families[i].timestampValidBits > 0) {
+            g_family = i;
+            break;
+        }
+    }
+    if (g_family == family_count) fail("no queue family meets the requirements", __LINE__);
+
+    /* An engine ORs the requirements into its own features; this one has none of its own. */
+    vkGetPhysicalDeviceFeatures(g_physical, &supported);
+    g_features = req->features;
+    TRUE_OR_FAIL(g_features.shaderInt64 == VK_TRUE && supported.shaderInt64 == VK_TRUE);
+    TRUE_OR_FAIL(g_features.dualSrcBlend == VK_TRUE && supported.dualSrcBlend == VK_TRUE);
+
+    memset(&queue, 0, sizeof queue);
+    queue.sType = VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO;
+    queue.queueFamilyIndex = g_family;
+    queue.queueCount = 1;
+    queue.pQueuePriorities = &priority;
+    memset(&info, 0, sizeof info);
+    info.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO;
+    info.queueCreateInfoCount = 1;
+    info.pQueueCreateInfos = &queue;
+    info.pEnabledFeatures = &g_features;
+    info.enabledExtensionCount = req->extension_count;
+    info.ppEnabledExtensionNames = req->extensions;
+    VK_CHECK(vkCreateDevice(g_physical, &info, NULL, &g_device));
+    vkGetDeviceQueue(g_device, g_family, 0, &g_queue);
+}
+
+static uint32_t memory_type(uint32_t bits, VkMemoryPropertyFlags wanted) {
+    VkPhysicalDeviceMemoryProperties props;
+    uint32_t i;
+    vkGetPhysicalDeviceMemoryProperties(g_physical, &props);
+    for (i = 0; i < props.memoryTypeCount; i++) {
+        if ((bits & (1u << i)) && (props.memoryTypes[i].propertyFlags & wanted) == wanted) {
+            return i;
+        }
+    }
+    fail("no suitable memory type", __LINE__);
+    return 0;
+}
+
+static VkDeviceMemory bind_image(VkImage image) {
+    VkMemoryRequirements req;
+    VkMemoryAllocateInfo info;
+    VkDeviceMemory memory;
+    vkGetImageMemoryRequirements(g_device, image, &req);
+    memset(&info, 0, sizeof info);
+    info.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
+    info.allocationSize = req.size;
+    info.memoryTypeIndex = memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+    VK_CHECK(vkAllocateMemory(g_device, &info, NULL, &memory));
+    VK_CHECK(vkBindImageMemory(g_device, image, memory, 0));
+    return memory;
+}
+
+static VkImage create_image(VkFormat format, VkImageUsageFlags usage) {
+    VkImageCreateInfo info;
+    VkImage image;
+    memset(&info, 0, sizeof info);
+    info.sType = VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO;
+    info.imageType = VK_IMAGE_TYPE_2D;
+    info.format = format;
+    info.extent.width = W;
+    info.extent.height = H;
+    info.extent.depth = 1;
+    info.mipLevels = 1;
+    info.arrayLayers = 1;
+    info.samples = VK_SAMPLE_COUNT_1_BIT;
+    info.tiling = VK_IMAGE_TILING_OPTIMAL;
+    info.usage = usage;
+    info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+    VK_CHECK(vkCreateImage(g_device, &info, NULL, &image));
+    return image;
+}
+
+static void create_frame_resources(void) {
+    VkCommandPoolCreateInfo pool;
+    VkCommandBufferAllocateInfo alloc;
+    VkFenceCreateInfo fence;
+    VkBufferCreateInfo buffer;
+    VkMemoryRequirements req;
+    VkMemoryAllocateInfo info;
+    VkImageUsageFlags transfer = VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+
+    memset(&pool, 0, sizeof pool);
+    pool.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO;
+    pool.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+    pool.queueFamilyIndex = g_family;
+    VK_CHECK(vkCreateCommandPool(g_device, &pool, NULL, &g_pool));
+    memset(&alloc, 0, sizeof alloc);
+    alloc.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO;
+    alloc.commandPool = g_pool;
+    alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+    alloc.commandBufferCount = 1;
+    VK_CHECK(vkAllocateCommandBuffers(g_device, &alloc, &g_cmd));
+    memset(&fence, 0, sizeof fence);
+    fence.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO;
+    VK_CHECK(vkCreateFence(g_device, &fence, NULL, &g_fence));
+
+    g_colour = create_image(VK_FORMAT_R8G8B8A8_SRGB,
+                            transfer | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT);
+    g_colour_memory = bind_image(g_colour);
+    g_depth = create_image(VK_FORMAT_D32_SFLOAT,
+                           transfer | VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT);
+    g_depth_memory = bind_image(g_depth);
+
+    memset(&buffer, 0, sizeof buffer);
+    buffer.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO;
+    buffer.size = COLOUR_BYTES + DEPTH_BYTES;
+    buffer.usage = VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    buffer.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+    VK_CHECK(vkCreateBuffer(g_device, &buffer, NULL, &g_buffer));
+    vkGetBufferMemoryRequirements(g_device, g_buffer, &req);
+    memset(&info, 0, sizeof info);
+    info.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
+    info.allocationSize = req.size;
+    info.memoryTypeIndex = memory_type(
+        req.memoryTypeBits,
+        VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
+    VK_CHECK(vkAllocateMemory(g_device, &info, NULL, &g_buffer_memory));
+    VK_CHECK(vkBindBufferMemory(g_device, g_buffer, g_buffer_memory, 0));
+    VK_CHECK(vkMapMemory(g_device, g_buffer_memory, 0, VK_WHOLE_SIZE, 0, &g_mapped));
+}
+
+static void barrier(VkImage image, VkImageAspectFlags aspect, VkImageLayout from,
+                    VkImageLayout to, VkPipelineStageFlags src_stage, VkAccessFlags src,
+                    VkPipelineStageFlags dst_stage, VkAccessFlags dst) {
+    VkImageMemoryBarrier b;
+    memset(&b, 0, sizeof b);
+    b.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER;
+    b.srcAccessMask = src;
+    b.dstAccessMask = dst;
+    b.oldLayout = from;
+    b.newLayout = to;
+    b.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    b.image = image;
+    b.subresourceRange.aspectMask = aspect;
+    b.subresourceRange.levelCount = 1;
+    b.subresourceRange.layerCount = 1;
+    vkCmdPipelineBarrier(g_cmd, src_stage, dst_stage, 0, 0, NULL, 0, NULL, 1, &b);
+}
+
+static VkBufferImageCopy region(VkImageAspectFlags aspect, VkDeviceSize offset) {
+    VkBufferImageCopy r;
+    memset(&r, 0, sizeof r);
+    r.bufferOffset = offset;
+    r.imageSubresource.aspectMask = aspect;
+    r.imageSubresource.layerCount = 1;
+    r.imageExtent.width = W;
+    r.imageExtent.height = H;
+    r.imageExtent.depth = 1;
+    return r;
+}
+
+static void begin(void) {
+    VkCommandBufferBeginInfo info;
+    memset(&info, 0, sizeof info);
+    info.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
+    info.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    VK_CHECK(vkResetCommandBuffer(g_cmd, 0));
+    VK_CHECK(vkBeginCommandBuffer(g_cmd, &info));
+}
+
+/* The engine's "opaque pass": its colour and depth, copied from the upload buffer, left in
+ * the attachment layouts an opaque pass would leave them in. */
+static void record_opaque_layer(void) {
+    VkBufferImageCopy colour = region(VK_IMAGE_ASPECT_COLOR_BIT, 0);
+    VkBufferImageCopy depth = region(VK_IMAGE_ASPECT_DEPTH_BIT, COLOUR_BYTES);
+    VkPipelineStageFlags transfer = VK_PIPELINE_STAGE_TRANSFER_BIT;
+    barrier(g_colour, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+            VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
+            VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT, transfer,
+            VK_ACCESS_TRANSFER_WRITE_BIT);
+    barrier(g_depth, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+            VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
+            VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT, transfer,
+            VK_ACCESS_TRANSFER_WRITE_BIT);
+    vkCmdCopyBufferToImage(g_cmd, g_buffer, g_colour, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1,
+                           &colour);
+    vkCmdCopyBufferToImage(g_cmd, g_buffer, g_depth, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1,
+                           &depth);
+    barrier(g_colour, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+            VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, transfer, VK_ACCESS_TRANSFER_WRITE_BIT,
+            VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
+            VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT);
+    barrier(g_depth, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+            VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL, transfer,
+            VK_ACCESS_TRANSFER_WRITE_BIT,
+            VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT |
+                VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT,
+            VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT |
+                VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT);
+}
+
+/* After translucid: the colour image (left in TRANSFER_SRC_OPTIMAL as asked) into the
+ * buffer, for the host to read. */
+static void record_readback(void) {
+    VkBufferImageCopy colour = region(VK_IMAGE_ASPECT_COLOR_BIT, 0);
+    VkMemoryBarrier host;
+    vkCmdCopyImageToBuffer(g_cmd, g_colour, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, g_buffer, 1,
+                           &colour);
+    memset(&host, 0, sizeof host);
+    host.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
+    host.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    host.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+    vkCmdPipelineBarrier(g_cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1,
+                         &host, 0, NULL, 0, NULL);
+}
+
+static void submit_and_wait(void) {
+    VkSubmitInfo submit;
+    VK_CHECK(vkEndCommandBuffer(g_cmd));
+    memset(&submit, 0, sizeof submit);
+    submit.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;
+    submit.commandBufferCount = 1;
+    submit.pCommandBuffers = &g_cmd;
+    VK_CHECK(vkQueueSubmit(g_queue, 1, &submit, g_fence));
+    VK_CHECK(vkWaitForFences(g_device, 1, &g_fence, VK_TRUE, UINT64_MAX));
+    VK_CHECK(vkResetFences(g_device, 1, &g_fence));
+}
+
+/* ---- the scene, the same in both contexts ---- */
+
+static uint8_t g_opaque_colour[COLOUR_BYTES];
+static float g_opaque_depth[W * H];
+
+/* A gradient; depth in three bands: in front of every quad, cutting through them, far. */
+static void make_opaque_layer(void) {
+    size_t x, y;
+    for (y = 0; y < H; y++) {
+        for (x = 0; x < W; x++) {
+            size_t i = y * W + x;
+            g_opaque_colour[i * 4 + 0] = (uint8_t)(40 + 3 * x);
+            g_opaque_colour[i * 4 + 1] = (uint8_t)(200 - 3 * y);
+            g_opaque_colour[i * 4 + 2] = 90;
+            g_opaque_colour[i * 4 + 3] = 255;
+            g_opaque_depth[i] = x < W / 4 ? 0.3f : x < W / 2 ? 0.75f : 1.0f;
+        }
+    }
+}
+
+typedef struct scene {
+    translucid_mesh meshes[3];
+    translucid_material materials[3];
+    translucid_draw draws[3];
+} scene;
+
+/* Three quads: two facing the camera at different depths, and one tilted through both. */
+static void make_scene(translucid_context *ctx, scene *s) {
+    static const float quads[3][12] = {
+        {-1.2f, -0.9f, -2.0f, 0.4f, -0.9f, -2.0f, 0.4f, 0.6f, -2.0f, -1.2f, 0.6f, -2.0f},
+        {-0.6f, -0.5f, -3.0f, 1.4f, -0.5f, -3.0f, 1.4f, 1.0f, -3.0f, -0.6f, 1.0f, -3.0f},
+        {-1.5f, -0.2f, -1.6f, 1.5f, -0.2f, -3.6f, 1.5f, 0.3f, -3.6f, -1.5f, 0.3f, -1.6f},
+    };
+    static const float colours[3][4] = {
+        {1.0f, 0.1f, 0.1f, 0.5f}, {0.1f, 0.3f, 1.0f, 0.7f}, {0.2f, 1.0f, 0.3f, 0.6f}};
+    static const uint32_t triangles[] = {0, 1, 2, 0, 2, 3};
+    size_t i;
+    for (i = 0; i < 3; i++) {
+        translucid_mesh_create_info mesh;
+        translucid_material_create_info material;
+        memset(&mesh, 0, sizeof mesh);
+        mesh.s_type = TRANSLUCID_STRUCTURE_TYPE_MESH_CREATE_INFO;
+        mesh.primitive = TRANSLUCID_PRIMITIVE_TRIANGLES;
+        mesh.vertex_count = 4;
+        mesh.positions = quads[i];
+        mesh.index_count = 6;
+        mesh.indices = triangles;
+        CHECK(ctx, translucid_mesh_create(ctx, &mesh, &s->meshes[i]));
+        memset(&material, 0, sizeof material);
+        material.s_type = TRANSLUCID_STRUCTURE_TYPE_MATERIAL_CREATE_INFO;
+        memcpy(material.base_colour, colours[i], sizeof colours[i]);
+        CHECK(ctx, translucid_material_create(ctx, &material, &s->materials[i]));
+        memset(&s->draws[i], 0, sizeof s->draws[i]);
+        s->draws[i].mesh = s->meshes[i];
+        s->draws[i].material = s->materials[i];
+        s->draws[i].layer = TRANSLUCID_LAYER_TRANSPARENT;
+        s->draws[i].transform[0] = s->draws[i].transform[5] = s->draws[i].transform[10] =
+            s->draws[i].transform[15] = 1.0f;
+    }
+}
+
+static translucid_frame_info frame_info(uint32_t method, const scene *s) {
+    translucid_frame_info info;
+    memset(&info, 0, sizeof info);
+    info.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_INFO;
+    info.method = method;
+    info.width = W;
+    info.height = H;
+    info.camera.view[0] = info.camera.view[5] = info.camera.view[10] = info.camera.view[15] = 1;
+    info.camera.fov_y = 0.9f;
+    info.camera.z_near = 1.0f;
+    info.camera.z_far = 10.0f;
+    info.draws = s->draws;
+    info.draw_count = 3;
+    return info;
+}
+
+static translucid_host_frame_targets frame_targets(void) {
+    translucid_host_frame_targets t;
+    memset(&t, 0, sizeof t);
+    t.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_FRAME_TARGETS;
+    t.command_buffer = g_cmd;
+    t.colour.image = g_colour;
+    t.colour.format = VK_FORMAT_R8G8B8A8_SRGB;
+    t.colour.layout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+    t.colour.final_layout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+    t.depth.image = g_depth;
+    t.depth.format = VK_FORMAT_D32_SFLOAT;
+    t.depth.layout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
+    t.depth.final_layout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL;
+    return t;
+}
+
+/* One whole engine frame: opaque layer, translucid, readback; submitted and waited for.
+ * Returns what translucid_frame_complete said. */
+static translucid_result engine_frame(const translucid_frame_info *info,
+                                      translucid_frame *frame) {
+    translucid_host_frame_targets targets = frame_targets();
+    translucid_result completed;
+    memcpy(g_mapped, g_opaque_colour, COLOUR_BYTES);
+    memcpy((uint8_t *)g_mapped + COLOUR_BYTES, g_opaque_depth, DEPTH_BYTES);
+    begin();
+    record_opaque_layer();
+    CHECK(g_host, translucid_frame_record(g_host, info, &targets, frame));
+    record_readback();
+    submit_and_wait();
+    completed = translucid_frame_complete(g_host, *frame);
+    TRUE_OR_FAIL(completed == TRANSLUCID_RESULT_SUCCESS ||
+                 completed == TRANSLUCID_RESULT_INCOMPLETE);
+    return completed;
+}
+
+static void compare_with_standalone(uint32_t method, const scene *host_scene,
+                                    const scene *standalone_scene) {
+    translucid_frame_info info = frame_info(method, standalone_scene);
+    translucid_opaque_layer layer;
+    translucid_frame frame;
+    translucid_frame_statistics stats;
+    static uint8_t expected[COLOUR_BYTES];
+    const uint8_t *got = g_mapped;
+    int worst = 0, attempts = 0;
+    size_t i;
+    translucid_result completed;
+
+    memset(&layer, 0, sizeof layer);
+    layer.s_type = TRANSLUCID_STRUCTURE_TYPE_OPAQUE_LAYER;
+    layer.colour_format = TRANSLUCID_PIXEL_FORMAT_RGBA8_SRGB;
+    layer.colour = g_opaque_colour;
+    layer.depth = g_opaque_depth;
+    info.opaque_layer = &layer;
+    CHECK(g_standalone, translucid_frame_render(g_standalone, &info, &frame));
+    CHECK(g_standalone, translucid_frame_read(g_standalone, frame, TRANSLUCID_PIXEL_FORMAT_RGBA8_SRGB,
+                                              expected, sizeof expected));
+    CHECK(g_standalone, translucid_frame_destroy(g_standalone, frame));
+
+    info = frame_info(method, host_scene);
+    /* An overflow says "record it again"; the grown buffers then suffice. */
+    do {
+        completed = engine_frame(&info, &frame);
+        attempts++;
+        memset(&stats, 0, sizeof stats);
+        stats.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_STATISTICS;
+        CHECK(g_host, translucid_frame_get_statistics(g_host, frame, &stats));
+        TRUE_OR_FAIL(stats.overflowed == (completed == TRANSLUCID_RESULT_INCOMPLETE));
+        CHECK(g_host, translucid_frame_destroy(g_host, frame));
+    } while (completed == TRANSLUCID_RESULT_INCOMPLETE && attempts < 3);
+    TRUE_OR_FAIL(completed == TRANSLUCID_RESULT_SUCCESS);
+
+    for (i = 0; i < COLOUR_BYTES; i++) {
+        int d = abs((int)got[i] - (int)expected[i]);
+        if (i % 4 == 3) continue; /* alpha: the engine's, not compared */
+        if (d > worst) worst = d;
+        if (d > 2 && g_failed < 40) {
+            printf("FAIL method %u pixel (%u, %u) channel %u: host %u, standalone %u\n", method,
+                   (unsigned)(i / 4 % W), (unsigned)(i / 4 / W), (unsigned)(i % 4), got[i],
+                   expected[i]);
+        }
+        if (d > 2) g_failed++;
+    }
+    g_passed++;
+    printf("method %u: host-device vs standalone, worst difference %d/255\n", method, worst);
+
+    TRUE_OR_FAIL(stats.method == method && stats.width == W && stats.height == H);
+    TRUE_OR_FAIL(stats.stage_count >= 3);
+    TRUE_OR_FAIL(strcmp(stats.stages[0].name, "opaque") == 0);
+    TRUE_OR_FAIL(strcmp(stats.stages[stats.stage_count - 1].name, "output") == 0);
+    TRUE_OR_FAIL(stats.gpu_milliseconds >= stats.method_milliseconds);
+    TRUE_OR_FAIL(stats.peak_gpu_bytes > 0);
+    TRUE_OR_FAIL(stats.overflow_rerenders == 0);
+}
+
+static translucid_host_device_create_info host_device_info(void) {
+    static const char *none[1];
+    translucid_host_device_create_info hd;
+    memset(&hd, 0, sizeof hd);
+    hd.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_CREATE_INFO;
+    hd.api_version = VK_API_VERSION_1_2;
+    hd.instance = g_instance;
+    hd.physical_device = g_physical;
+    hd.device = g_device;
+    hd.queue_family_index = g_family;
+    hd.get_instance_proc_addr = vkGetInstanceProcAddr;
+    hd.enabled_features = &g_features;
+    hd.enabled_extension_count = 0;
+    hd.enabled_extensions = none;
+    return hd;
+}
+
+static translucid_context_create_info context_info(const void *next) {
+    translucid_context_create_info info;
+    memset(&info, 0, sizeof info);
+    info.s_type = TRANSLUCID_STRUCTURE_TYPE_CONTEXT_CREATE_INFO;
+    info.header_version = TRANSLUCID_HEADER_VERSION;
+    info.mode = TRANSLUCID_CONTEXT_MODE_HOST_DEVICE;
+    info.next = next;
+    return info;
+}
+
+/* What the engine's device description must get right. */
+static void context_errors(void) {
+    translucid_host_device_create_info hd = host_device_info();
+    translucid_context_create_info info = context_info(&hd);
+    VkPhysicalDeviceFeatures fewer = g_features;
+    translucid_context *ctx = (translucid_context *)&hd; /* a sentinel, never written */
+    translucid_context *const sentinel = ctx;
+
+    fewer.shaderInt64 = VK_FALSE;
+    hd.enabled_features = &fewer;
+    EXPECT(NULL, translucid_context_create(&info, &ctx),
+           TRANSLUCID_RESULT_ERROR_DEVICE_REQUIREMENTS);
+    TRUE_OR_FAIL(strstr(translucid_context_last_error(NULL), "shaderInt64") != NULL);
+    hd = host_device_info();
+    hd.api_version = VK_API_VERSION_1_0;
+    EXPECT(NULL, translucid_context_create(&info, &ctx),
+           TRANSLUCID_RESULT_ERROR_DEVICE_REQUIREMENTS);
+    TRUE_OR_FAIL(strstr(translucid_context_last_error(NULL), "apiVersion") != NULL);
+    hd = host_device_info();
+    hd.queue_family_index = 99;
+    EXPECT(NULL, translucid_context_create(&info, &ctx),
+           TRANSLUCID_RESULT_ERROR_DEVICE_REQUIREMENTS);
+    hd = host_device_info();
+    hd.device = VK_NULL_HANDLE;
+    EXPECT(NULL, translucid_context_create(&info, &ctx), TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    hd = host_device_info();
+    hd.instance = VK_NULL_HANDLE;
+    EXPECT(NULL, translucid_context_create(&info, &ctx), TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    hd = host_device_info();
+    hd.get_instance_proc_addr = NULL;
+    EXPECT(NULL, translucid_context_create(&info, &ctx), TRANSLUCID_RESULT_ERROR_NULL_POINTER);
+    hd = host_device_info();
+    hd.enabled_features = NULL;
+    EXPECT(NULL, translucid_context_create(&info, &ctx), TRANSLUCID_RESULT_ERROR_NULL_POINTER);
+    hd = host_device_info();
+    hd.s_type = 0;
+    EXPECT(NULL, translucid_context_create(&info, &ctx),
+           TRANSLUCID_RESULT_ERROR_INVALID_STRUCTURE_TYPE);
+    hd = host_device_info();
+    info.device = "lavapipe";
+    EXPECT(NULL, translucid_context_create(&info, &ctx), TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    TRUE_OR_FAIL(ctx == sentinel);
+}
+
+/* Frame misuse on a working host-device context. */
+static void frame_errors(const scene *s) {
+    translucid_frame_info info = frame_info(TRANSLUCID_METHOD_BLEND, s);
+    translucid_host_frame_targets targets = frame_targets();
+    translucid_frame frame, second;
+    translucid_frame_statistics stats;
+    translucid_opaque_layer layer;
+    uint8_t pixel[4];
+
+    /* Checked before anything is recorded. */
+    begin();
+    EXPECT(g_host, translucid_frame_record(g_host, &info, NULL, &frame),
+           TRANSLUCID_RESULT_ERROR_NULL_POINTER);
+    targets.s_type = 0;
+    EXPECT(g_host, translucid_frame_record(g_host, &info, &targets, &frame),
+           TRANSLUCID_RESULT_ERROR_INVALID_STRUCTURE_TYPE);
+    targets = frame_targets();
+    targets.command_buffer = VK_NULL_HANDLE;
+    EXPECT(g_host, translucid_frame_record(g_host, &info, &targets, &frame),
+           TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    targets = frame_targets();
+    targets.depth.image = VK_NULL_HANDLE;
+    EXPECT(g_host, translucid_frame_record(g_host, &info, &targets, &frame),
+           TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    targets = frame_targets();
+    targets.colour.layout = VK_IMAGE_LAYOUT_UNDEFINED;
+    EXPECT(g_host, translucid_frame_record(g_host, &info, &targets, &frame),
+           TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    TRUE_OR_FAIL(strstr(translucid_context_last_error(g_host), "layout") != NULL);
+    targets = frame_targets();
+    targets.depth.final_layout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+    EXPECT(g_host, translucid_frame_record(g_host, &info, &targets, &frame),
+           TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    targets = frame_targets();
+    targets.depth.format = VK_FORMAT_D16_UNORM;
+    EXPECT(g_host, translucid_frame_record(g_host, &info, &targets, &frame),
+           TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    TRUE_OR_FAIL(strstr(translucid_context_last_error(g_host), "D32_SFLOAT") != NULL);
+    targets = frame_targets();
+    targets.colour.format = VK_FORMAT_R8G8B8A8_UINT;
+    EXPECT(g_host, translucid_frame_record(g_host, &info, &targets, &frame),
+           TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    targets = frame_targets();
+    memset(&layer, 0, sizeof layer);
+    info.opaque_layer = &layer;
+    EXPECT(g_host, translucid_frame_record(g_host, &info, &targets, &frame),
+           TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    info.opaque_layer = NULL;
+    {
+        translucid_draw opaque = s->draws[0];
+        opaque.layer = TRANSLUCID_LAYER_OPAQUE;
+        info.draws = &opaque;
+        info.draw_count = 1;
+        EXPECT(g_host, translucid_frame_record(g_host, &info, &targets, &frame),
+               TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+        info = frame_info(TRANSLUCID_METHOD_BLEND, s);
+    }
+    EXPECT(g_host, translucid_frame_render(g_host, &info, &frame),
+           TRANSLUCID_RESULT_ERROR_NOT_SUPPORTED);
+    EXPECT(g_standalone, translucid_frame_record(g_standalone, &info, &targets, &frame),
+           TRANSLUCID_RESULT_ERROR_NOT_SUPPORTED);
+
+    /* One frame in flight: a second recording, the first's statistics and completing it
+     * before it ran are refused; destroying it abandons it. */
+    record_opaque_layer();
+    CHECK(g_host, translucid_frame_record(g_host, &info, &targets, &frame));
+    EXPECT(g_host, translucid_frame_record(g_host, &info, &targets, &second),
+           TRANSLUCID_RESULT_ERROR_FRAME_IN_FLIGHT);
+    memset(&stats, 0, sizeof stats);
+    stats.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_STATISTICS;
+    EXPECT(g_host, translucid_frame_get_statistics(g_host, frame, &stats),
+           TRANSLUCID_RESULT_ERROR_FRAME_IN_FLIGHT);
+    EXPECT(g_host, translucid_frame_complete(g_host, frame), TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    TRUE_OR_FAIL(strstr(translucid_context_last_error(g_host), "not run") != NULL);
+    EXPECT(g_host, translucid_frame_read(g_host, frame, TRANSLUCID_PIXEL_FORMAT_RGBA8_SRGB, pixel,
+                                         sizeof pixel),
+           TRANSLUCID_RESULT_ERROR_NOT_SUPPORTED);
+    /* The engine drops this command buffer (it is reset before its next use) and abandons the
+     * frame: what it referenced is freed, so it must never be submitted. */
+    VK_CHECK(vkEndCommandBuffer(g_cmd));
+    CHECK(g_host, translucid_frame_destroy(g_host, frame));
+    EXPECT(g_host, translucid_frame_complete(g_host, frame), TRANSLUCID_RESULT_ERROR_STALE_HANDLE);
+
+    /* After that the context records again, and a completed frame cannot complete twice. */
+    TRUE_OR_FAIL(engine_frame(&info, &frame) == TRANSLUCID_RESULT_SUCCESS);
+    EXPECT(g_host, translucid_frame_complete(g_host, frame), TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    EXPECT(g_host, translucid_frame_read(g_host, frame, TRANSLUCID_PIXEL_FORMAT_RGBA8_SRGB, pixel,
+                                         sizeof pixel),
+           TRANSLUCID_RESULT_ERROR_NOT_SUPPORTED);
+    CHECK(g_host, translucid_frame_destroy(g_host, frame));
+}
+
+int main(void) {
+    translucid_host_requirements req;
+    translucid_host_device_create_info hd;
+    translucid_context_create_info info;
+    scene host_scene, standalone_scene;
+    uint32_t methods[8];
+    size_t count = 0, m;
+
+    /* 1. What to enable, before the engine creates anything. */
+    EXPECT(NULL, translucid_host_requirements_get(NULL), TRANSLUCID_RESULT_ERROR_NULL_POINTER);
+    memset(&req, 0, sizeof req);
+    EXPECT(NULL, translucid_host_requirements_get(&req),
+           TRANSLUCID_RESULT_ERROR_INVALID_STRUCTURE_TYPE);
+    req.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_REQUIREMENTS;
+    CHECK(NULL, translucid_host_requirements_get(&req));
+    TRUE_OR_FAIL(req.api_version >= VK_API_VERSION_1_2);
+    TRUE_OR_FAIL(req.queue_flags & VK_QUEUE_GRAPHICS_BIT);
+
+    /* 2. The engine's instance and device. */
+    create_instance(req.api_version);
+    create_device(&req);
+    create_frame_resources();
+
+    /* 3. The context on the engine's device, and a standalone one to compare with. */
+    context_errors();
+    hd = host_device_info();
+    info = context_info(&hd);
+    CHECK(NULL, translucid_context_create(&info, &g_host));
+    info = context_info(NULL);
+    info.mode = TRANSLUCID_CONTEXT_MODE_STANDALONE;
+    CHECK(NULL, translucid_context_create(&info, &g_standalone));
+    printf("host-device context on %s\n", translucid_context_device_name(g_host));
+
+    make_opaque_layer();
+    make_scene(g_host, &host_scene);
+    make_scene(g_standalone, &standalone_scene);
+    CHECK(g_host, translucid_methods_available(methods, 8, &count));
+    for (m = 0; m < count; m++) {
+        compare_with_standalone(methods[m], &host_scene, &standalone_scene);
+    }
+    frame_errors(&host_scene);
+
+    /* The GPU is idle (every submission was waited for): the context goes before the device. */
+    translucid_context_destroy(g_host);
+    translucid_context_destroy(g_standalone);
+    vkDestroyBuffer(g_device, g_buffer, NULL);
+    vkFreeMemory(g_device, g_buffer_memory, NULL);
+    vkDestroyImage(g_device, g_colour, NULL);
+    vkFreeMemory(g_device, g_colour_memory, NULL);
+    vkDestroyImage(g_device, g_depth, NULL);
+    vkFreeMemory(g_device, g_depth_memory, NULL);
+    vkDestroyFence(g_device, g_fence, NULL);
+    vkDestroyCommandPool(g_device, g_pool, NULL);
+    vkDestroyDevice(g_device, NULL);
+    if (g_messenger != VK_NULL_HANDLE) {
+        PFN_vkDestroyDebugUtilsMessengerEXT destroy =
+            (PFN_vkDestroyDebugUtilsMessengerEXT)vkGetInstanceProcAddr(
+                g_instance, "vkDestroyDebugUtilsMessengerEXT");
+        destroy(g_instance, g_messenger, NULL);
+    }
+    vkDestroyInstance(g_instance, NULL);
+
+    printf("host: %d checks passed, %d failed, %d validation messages, %u methods\n", g_passed,
+           g_failed, g_validation_messages, (unsigned)count);
+    return g_failed == 0 && g_validation_messages == 0 ? 0 : 1;
+}

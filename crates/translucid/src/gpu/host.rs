@@ -1,0 +1,505 @@
+//! Host-device mode: the engine's instance and device, wrapped without being owned, and the
+//! copies between the engine's images and the frame targets.
+//!
+//! The engine asks [`host_requirements`] what to enable before it creates its device, then
+//! describes what it created in a [`HostDevice`]; [`Gpu::from_host`] checks the description
+//! against the requirements and names everything missing. Function pointers are loaded
+//! through the engine's `vkGetInstanceProcAddr`, so translucid uses the same loader (and
+//! layers) as the engine. translucid then owns only its allocator and what it creates; it
+//! never submits, never waits on the engine's queues and never destroys the engine's objects.
+
+use super::device::describe;
+use super::{Gpu, GpuImage};
+use crate::{Error, Result};
+use ash::vk;
+use ash::vk::ImageLayout as L;
+use std::ffi::{CStr, CString};
+
+/// The lowest Vulkan version translucid runs on (instance and device).
+pub const HOST_API_VERSION: u32 = vk::API_VERSION_1_2;
+
+/// What the engine must enable for translucid.
+#[derive(Clone, Copy, Debug)]
+pub struct HostRequirements {
+    /// The lowest `apiVersion` for the instance, and the physical device's version.
+    pub api_version: u32,
+    /// What the queue family the engine names must support.
+    pub queue_flags: vk::QueueFlags,
+    /// The features every method together needs (blend: dual-source blending; exact: 64-bit
+    /// shader integers and floats), each `vk::TRUE`.
+    pub features: vk::PhysicalDeviceFeatures,
+    /// Device extensions; none today.
+    pub extensions: &'static [&'static CStr],
+}
+
+/// What translucid needs of the engine's device.
+pub fn host_requirements() -> HostRequirements {
+    HostRequirements {
+        api_version: HOST_API_VERSION,
+        queue_flags: vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE,
+        features: vk::PhysicalDeviceFeatures::default()
+            .dual_src_blend(true)
+            .shader_int64(true)
+            .shader_float64(true),
+        extensions: &[],
+    }
+}
+
+/// The features of `f` that are on, by their Vulkan names (only those translucid may need).
+fn features_on(f: &vk::PhysicalDeviceFeatures) -> Vec<&'static str> {
+    [
+        ("dualSrcBlend", f.dual_src_blend),
+        ("shaderInt64", f.shader_int64),
+        ("shaderFloat64", f.shader_float64),
+    ]
+    .into_iter()
+    .filter(|(_, on)| *on == vk::TRUE)
+    .map(|(name, _)| name)
+    .collect()
+}
+
+/// The engine's device, as it created it.
+#[derive(Clone, Debug)]
+pub struct HostDevice {
+    pub get_instance_proc_addr: vk::PFN_vkGetInstanceProcAddr,
+    pub instance: vk::Instance,
+    pub physical_device: vk::PhysicalDevice,
+    pub device: vk::Device,
+    /// The family of the queues the engine will submit translucid's work on.
+    pub queue_family: u32,
+    /// The `apiVersion` the engine created its instance with.
+    pub api_version: u32,
+    /// The features the engine enabled on the device.
+    pub features: vk::PhysicalDeviceFeatures,
+    /// The device extensions the engine enabled.
+    pub extensions: Vec<CString>,
+}
+
+fn version_string(v: u32) -> String {
+    format!("{}.{}", vk::api_version_major(v), vk::api_version_minor(v))
+}
+
+impl Gpu {
+    /// Wraps the engine's device after checking it against [`host_requirements`]; the error
+    /// names every version, feature, extension or queue capability that is missing.
+    ///
+    /// # Safety
+    /// The handles are live objects of one instance (the device made from the physical device
+    /// with the given features and extensions), `get_instance_proc_addr` is the loader's for
+    /// that instance, and they outlive the returned `Gpu` and everything created from it.
+    pub unsafe fn from_host(host: &HostDevice) -> Result<Self> {
+        if host.instance == vk::Instance::null()
+            || host.physical_device == vk::PhysicalDevice::null()
+            || host.device == vk::Device::null()
+        {
+            return Err(Error::HostFrame(
+                "the instance, physical device and device must not be VK_NULL_HANDLE".into(),
+            ));
+        }
+        let wanted = host_requirements();
+        let mut missing = Vec::new();
+        if host.api_version < wanted.api_version {
+            missing.push(format!(
+                "instance apiVersion {} (the engine says {})",
+                version_string(wanted.api_version),
+                version_string(host.api_version)
+            ));
+        }
+        let have = features_on(&host.features);
+        missing.extend(
+            features_on(&wanted.features)
+                .into_iter()
+                .filter(|f| !have.contains(f))
+                .map(|f| format!("feature {f}")),
+        );
+        missing.extend(
+            wanted
+                .extensions
+                .iter()
+                .filter(|e| !host.extensions.iter().any(|h| h.as_c_str() == **e))
+                .map(|e| format!("extension {}", e.to_string_lossy())),
+        );
+        let static_fn = ash::StaticFn {
+            get_instance_proc_addr: host.get_instance_proc_addr,
+        };
+        // SAFETY: the pointer is the loader's vkGetInstanceProcAddr (caller's guarantee).
+        let entry = unsafe { ash::Entry::from_static_fn(static_fn) };
+        // SAFETY: the caller guarantees a live instance made through this loader.
+        let instance = unsafe { ash::Instance::load(entry.static_fn(), host.instance) };
+        let mut info = describe(&instance, 0, host.physical_device);
+        // SAFETY: physical device of this instance (caller's guarantee).
+        let (properties, families) = unsafe {
+            (
+                instance.get_physical_device_properties(host.physical_device),
+                instance.get_physical_device_queue_family_properties(host.physical_device),
+            )
+        };
+        if properties.api_version < wanted.api_version {
+            missing.push(format!(
+                "a Vulkan {} device ({} is {})",
+                version_string(wanted.api_version),
+                info.name,
+                version_string(properties.api_version)
+            ));
+        }
+        match families.get(host.queue_family as usize) {
+            None => missing.push(format!(
+                "queue family {} (the device has {})",
+                host.queue_family,
+                families.len()
+            )),
+            Some(f) => {
+                if !f.queue_flags.contains(wanted.queue_flags) {
+                    missing.push(format!(
+                        "graphics and compute on queue family {}",
+                        host.queue_family
+                    ));
+                }
+                if f.timestamp_valid_bits == 0 {
+                    missing.push(format!(
+                        "timestamps on queue family {} (for per-stage GPU times)",
+                        host.queue_family
+                    ));
+                }
+            }
+        }
+        if !missing.is_empty() {
+            return Err(Error::HostRequirements(format!(
+                "missing {}; enable what translucid_host_requirements_get lists",
+                missing.join(", ")
+            )));
+        }
+        // Methods look at what is enabled, not merely supported.
+        info.dual_source_blend = true;
+        info.shader_int64 = true;
+        info.shader_float64 = true;
+        // SAFETY: a live device of this instance (caller's guarantee).
+        let device = unsafe { ash::Device::load(instance.fp_v1_0(), host.device) };
+        Self::wrap_host(entry, instance, device, host.physical_device, info)
+    }
+}
+
+/// One of the engine's images: the layout it is in when the recorded commands run, and the
+/// one it must be left in.
+#[derive(Clone, Copy, Debug)]
+pub struct HostImage {
+    pub image: vk::Image,
+    pub format: vk::Format,
+    pub layout: vk::ImageLayout,
+    pub final_layout: vk::ImageLayout,
+}
+
+/// What a host-device frame records into: the engine's command buffer (recording, outside a
+/// render pass) and its colour and depth images, both single-sample 2D images of the frame's
+/// size with one mip level and one layer.
+#[derive(Clone, Copy, Debug)]
+pub struct HostTargets {
+    pub cmd: vk::CommandBuffer,
+    /// Read (the opaque layer) and written (the result): TRANSFER_SRC and TRANSFER_DST usage,
+    /// a format that supports blits both ways (not an integer format).
+    pub colour: HostImage,
+    /// Read only: `D32_SFLOAT`, with TRANSFER_SRC usage.
+    pub depth: HostImage,
+}
+
+const COLOUR_LAYOUTS: [vk::ImageLayout; 6] = [
+    vk::ImageLayout::GENERAL,
+    vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+    vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+    vk::ImageLayout::PRESENT_SRC_KHR,
+];
+
+const DEPTH_LAYOUTS: [vk::ImageLayout; 8] = [
+    vk::ImageLayout::GENERAL,
+    vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+    vk::ImageLayout::DEPTH_STENCIL_READ_ONLY_OPTIMAL,
+    vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+    vk::ImageLayout::DEPTH_READ_ONLY_OPTIMAL,
+    vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+];
+
+/// The only depth format translucid reads (copied as is into its own depth target).
+pub const HOST_DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
+
+fn check_layouts(what: &str, image: &HostImage, allowed: &[vk::ImageLayout]) -> Result<()> {
+    for (field, layout) in [
+        ("layout", image.layout),
+        ("final_layout", image.final_layout),
+    ] {
+        if !allowed.contains(&layout) {
+            return Err(Error::HostFrame(format!(
+                "{what} {field} is {layout:?}; it must be one of {allowed:?} (the opaque layer \
+                 must be defined when the commands run, and is kept afterwards)"
+            )));
+        }
+    }
+    Ok(())
+}
+
+impl Gpu {
+    /// Checks the engine's command buffer, images, formats and layouts before anything is
+    /// recorded.
+    pub fn check_host_targets(&self, t: &HostTargets) -> Result<()> {
+        if t.cmd == vk::CommandBuffer::null()
+            || t.colour.image == vk::Image::null()
+            || t.depth.image == vk::Image::null()
+        {
+            return Err(Error::HostFrame(
+                "the command buffer, colour image and depth image must not be VK_NULL_HANDLE"
+                    .into(),
+            ));
+        }
+        if t.colour.image == t.depth.image {
+            return Err(Error::HostFrame(
+                "the colour and depth images are the same image".into(),
+            ));
+        }
+        check_layouts("colour", &t.colour, &COLOUR_LAYOUTS)?;
+        check_layouts("depth", &t.depth, &DEPTH_LAYOUTS)?;
+        if t.depth.format != HOST_DEPTH_FORMAT {
+            return Err(Error::HostFrame(format!(
+                "depth format is {:?}; translucid reads {HOST_DEPTH_FORMAT:?} depth images",
+                t.depth.format
+            )));
+        }
+        let blit = vk::FormatFeatureFlags::BLIT_SRC | vk::FormatFeatureFlags::BLIT_DST;
+        // SAFETY: a physical-device query on a live instance.
+        let props = unsafe {
+            self.instance()
+                .get_physical_device_format_properties(self.physical_device(), t.colour.format)
+        };
+        if t.colour.format == vk::Format::UNDEFINED
+            || !props.optimal_tiling_features.contains(blit)
+            || is_integer_or_depth(t.colour.format)
+        {
+            return Err(Error::HostFrame(format!(
+                "colour format {:?} cannot be blitted to and from on this device (use a \
+                 UNORM, SRGB or float colour format)",
+                t.colour.format
+            )));
+        }
+        Ok(())
+    }
+}
+
+fn is_integer_or_depth(f: vk::Format) -> bool {
+    let name = format!("{f:?}");
+    name.contains("INT") || name.starts_with('D') || name.starts_with("S8")
+}
+
+/// The whole colour (or depth) subresource of a host image.
+fn range(aspect: vk::ImageAspectFlags) -> vk::ImageSubresourceRange {
+    vk::ImageSubresourceRange {
+        aspect_mask: aspect,
+        base_mip_level: 0,
+        level_count: 1,
+        base_array_layer: 0,
+        layer_count: 1,
+    }
+}
+
+fn layers(aspect: vk::ImageAspectFlags) -> vk::ImageSubresourceLayers {
+    vk::ImageSubresourceLayers {
+        aspect_mask: aspect,
+        mip_level: 0,
+        base_array_layer: 0,
+        layer_count: 1,
+    }
+}
+
+/// Anything any earlier command did, in any stage: the engine's work before ours (or ours
+/// before the engine's, in the other direction) is not known more precisely.
+const ANY: (vk::PipelineStageFlags, vk::AccessFlags) = (
+    vk::PipelineStageFlags::ALL_COMMANDS,
+    vk::AccessFlags::from_raw(
+        vk::AccessFlags::MEMORY_READ.as_raw() | vk::AccessFlags::MEMORY_WRITE.as_raw(),
+    ),
+);
+const TRANSFER_READ: (vk::PipelineStageFlags, vk::AccessFlags) = (
+    vk::PipelineStageFlags::TRANSFER,
+    vk::AccessFlags::TRANSFER_READ,
+);
+const TRANSFER_WRITE: (vk::PipelineStageFlags, vk::AccessFlags) = (
+    vk::PipelineStageFlags::TRANSFER,
+    vk::AccessFlags::TRANSFER_WRITE,
+);
+
+/// One layout transition of a raw image: the image, its aspect, (old, new) layouts, and the
+/// source and destination stages and accesses.
+struct Transition(
+    vk::Image,
+    vk::ImageAspectFlags,
+    (L, L),
+    (vk::PipelineStageFlags, vk::AccessFlags),
+    (vk::PipelineStageFlags, vk::AccessFlags),
+);
+
+impl Gpu {
+    fn transitions(&self, cmd: vk::CommandBuffer, list: &[Transition]) {
+        let barriers: Vec<vk::ImageMemoryBarrier> = list
+            .iter()
+            .map(|Transition(image, aspect, layouts, src, dst)| {
+                vk::ImageMemoryBarrier::default()
+                    .old_layout(layouts.0)
+                    .new_layout(layouts.1)
+                    .src_access_mask(src.1)
+                    .dst_access_mask(dst.1)
+                    .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+                    .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+                    .image(*image)
+                    .subresource_range(range(*aspect))
+            })
+            .collect();
+        let src = list
+            .iter()
+            .fold(vk::PipelineStageFlags::empty(), |s, t| s | t.3 .0);
+        let dst = list
+            .iter()
+            .fold(vk::PipelineStageFlags::empty(), |s, t| s | t.4 .0);
+        // SAFETY: cmd is recording outside a render pass (checked contract); every barrier
+        // names a live image with its whole single subresource.
+        unsafe {
+            self.device.cmd_pipeline_barrier(
+                cmd,
+                src,
+                dst,
+                vk::DependencyFlags::empty(),
+                &[],
+                &[],
+                &barriers,
+            )
+        };
+    }
+
+    fn blit(&self, cmd: vk::CommandBuffer, from: vk::Image, to: vk::Image, extent: vk::Extent2D) {
+        let corner = vk::Offset3D {
+            x: extent.width as i32,
+            y: extent.height as i32,
+            z: 1,
+        };
+        let region = vk::ImageBlit::default()
+            .src_subresource(layers(vk::ImageAspectFlags::COLOR))
+            .src_offsets([vk::Offset3D::default(), corner])
+            .dst_subresource(layers(vk::ImageAspectFlags::COLOR))
+            .dst_offsets([vk::Offset3D::default(), corner]);
+        // SAFETY: both images are in the transfer layouts named here (set by the barriers
+        // before), have blittable formats (checked) and are at least `extent` large.
+        unsafe {
+            self.device.cmd_blit_image(
+                cmd,
+                from,
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                to,
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                &[region],
+                vk::Filter::NEAREST,
+            )
+        };
+    }
+
+    /// Records the copies of the engine's colour and depth into `colour` and `depth` (the
+    /// frame targets, left in COLOR_ATTACHMENT_OPTIMAL and DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
+    /// the engine's colour is left in TRANSFER_SRC_OPTIMAL for [`Gpu::record_host_output`],
+    /// its depth in its final layout.
+    pub fn record_host_input(&self, t: &HostTargets, colour: &GpuImage, depth: &GpuImage) {
+        let (c, d) = (vk::ImageAspectFlags::COLOR, vk::ImageAspectFlags::DEPTH);
+        let (src, dst) = (L::TRANSFER_SRC_OPTIMAL, L::TRANSFER_DST_OPTIMAL);
+        self.transitions(
+            t.cmd,
+            &[
+                Transition(
+                    t.colour.image,
+                    c,
+                    (t.colour.layout, src),
+                    ANY,
+                    TRANSFER_READ,
+                ),
+                Transition(t.depth.image, d, (t.depth.layout, src), ANY, TRANSFER_READ),
+                Transition(colour.raw, c, (L::UNDEFINED, dst), ANY, TRANSFER_WRITE),
+                Transition(depth.raw, d, (L::UNDEFINED, dst), ANY, TRANSFER_WRITE),
+            ],
+        );
+        self.blit(t.cmd, t.colour.image, colour.raw, colour.extent);
+        let extent = vk::Extent3D {
+            width: depth.extent.width,
+            height: depth.extent.height,
+            depth: 1,
+        };
+        let copy = vk::ImageCopy::default()
+            .src_subresource(layers(d))
+            .dst_subresource(layers(d))
+            .extent(extent);
+        // SAFETY: both depth images are D32_SFLOAT (checked), in the layouts named, and at
+        // least `extent` large (the frame's size, the engine's contract).
+        unsafe {
+            self.device
+                .cmd_copy_image(t.cmd, t.depth.image, src, depth.raw, dst, &[copy])
+        };
+        let attachment = (
+            L::COLOR_ATTACHMENT_OPTIMAL,
+            L::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+        );
+        self.transitions(
+            t.cmd,
+            &[
+                Transition(
+                    t.depth.image,
+                    d,
+                    (src, t.depth.final_layout),
+                    TRANSFER_READ,
+                    ANY,
+                ),
+                Transition(colour.raw, c, (dst, attachment.0), TRANSFER_WRITE, ANY),
+                Transition(depth.raw, d, (dst, attachment.1), TRANSFER_WRITE, ANY),
+            ],
+        );
+    }
+
+    /// Records the copy of the composited `colour` (a frame target in
+    /// COLOR_ATTACHMENT_OPTIMAL, left in TRANSFER_SRC_OPTIMAL) back into the engine's colour
+    /// image, which ends in its final layout.
+    pub fn record_host_output(&self, t: &HostTargets, colour: &GpuImage) {
+        let c = vk::ImageAspectFlags::COLOR;
+        let (src, dst) = (L::TRANSFER_SRC_OPTIMAL, L::TRANSFER_DST_OPTIMAL);
+        let attachment = L::COLOR_ATTACHMENT_OPTIMAL;
+        self.transitions(
+            t.cmd,
+            &[
+                Transition(colour.raw, c, (attachment, src), ANY, TRANSFER_READ),
+                Transition(t.colour.image, c, (src, dst), TRANSFER_READ, TRANSFER_WRITE),
+            ],
+        );
+        self.blit(t.cmd, colour.raw, t.colour.image, colour.extent);
+        let last = Transition(
+            t.colour.image,
+            c,
+            (dst, t.colour.final_layout),
+            TRANSFER_WRITE,
+            ANY,
+        );
+        self.transitions(t.cmd, &[last]);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn requirements_name_the_features_methods_check() {
+        let on = features_on(&host_requirements().features);
+        assert_eq!(on, ["dualSrcBlend", "shaderInt64", "shaderFloat64"]);
+    }
+
+    #[test]
+    fn integer_and_depth_colour_formats_are_refused() {
+        assert!(is_integer_or_depth(vk::Format::R8G8B8A8_UINT));
+        assert!(is_integer_or_depth(vk::Format::D32_SFLOAT));
+        assert!(!is_integer_or_depth(vk::Format::R8G8B8A8_SRGB));
+        assert!(!is_integer_or_depth(vk::Format::R16G16B16A16_SFLOAT));
+    }
+}
