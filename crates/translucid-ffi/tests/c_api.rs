@@ -75,7 +75,9 @@ fn compile(compiler: &str, flags: &[&str], sources: &[PathBuf], output: &Path, l
     );
 }
 
-/// Runs a compiled program with validation on; fails the test with its output otherwise.
+/// Runs a compiled program with validation on (synchronization validation too, except under
+/// the sanitizers, where the layer's own allocations count as leaks); fails the test with
+/// its output otherwise.
 fn run(program: &Path, args: &[&Path], sanitized: bool) -> String {
     let mut command = Command::new(program);
     // cargo's LD_LIBRARY_PATH also lists target/<profile>, where an older
@@ -89,6 +91,8 @@ fn run(program: &Path, args: &[&Path], sanitized: bool) -> String {
                 "detect_leaks=1:abort_on_error=0:exitcode=23",
             )
             .env("UBSAN_OPTIONS", "print_stacktrace=1:halt_on_error=1");
+    } else {
+        command.env("TRANSLUCID_SYNC_VALIDATION", "1");
     }
     let result = command.output().expect("run the compiled program");
     let output = format!(
