@@ -132,10 +132,16 @@ enum translucid_result
     /**
      * The call succeeded but an output was cut short (a list longer than the caller's array);
      * what was written is valid. From `translucid_frame_complete`: a buffer overflowed, so
-     * the image the frame wrote is wrong; the buffers have grown, and recording the same frame
-     * again renders it correctly.
+     * the colour image the frame wrote is wrong; the buffers have grown, and recording the
+     * same frame again over a restored opaque colour renders it correctly.
      */
     TRANSLUCID_RESULT_INCOMPLETE = 1,
+    /**
+     * From `translucid_frame_complete`: the frame's commands have not run (not submitted,
+     * or still running). Nothing changed; the frame stays in flight: complete it after the
+     * submission finished, or abandon it.
+     */
+    TRANSLUCID_RESULT_NOT_READY = 2,
     /**
      * A required pointer argument was NULL.
      */
@@ -977,7 +983,7 @@ typedef struct translucid_host_device_create_info {
 /**
  * Every code, for the to-string function and tests.
  */
-#define translucid_result_ALL { translucid_result_Success, translucid_result_Incomplete, translucid_result_ErrorNullPointer, translucid_result_ErrorInvalidStructureType, translucid_result_ErrorInvalidArgument, translucid_result_ErrorInvalidEnum, translucid_result_ErrorInvalidSize, translucid_result_ErrorInvalidHandle, translucid_result_ErrorStaleHandle, translucid_result_ErrorForeignHandle, translucid_result_ErrorHeaderVersionMismatch, translucid_result_ErrorMethodUnavailable, translucid_result_ErrorNotSupported, translucid_result_ErrorFrameInFlight, translucid_result_ErrorNoDevice, translucid_result_ErrorVulkan, translucid_result_ErrorOutOfMemory, translucid_result_ErrorDeviceLost, translucid_result_ErrorValidation, translucid_result_ErrorIo, translucid_result_ErrorDeviceRequirements, translucid_result_ErrorPanic, translucid_result_ErrorContextPoisoned, }
+#define translucid_result_ALL { translucid_result_Success, translucid_result_Incomplete, translucid_result_NotReady, translucid_result_ErrorNullPointer, translucid_result_ErrorInvalidStructureType, translucid_result_ErrorInvalidArgument, translucid_result_ErrorInvalidEnum, translucid_result_ErrorInvalidSize, translucid_result_ErrorInvalidHandle, translucid_result_ErrorStaleHandle, translucid_result_ErrorForeignHandle, translucid_result_ErrorHeaderVersionMismatch, translucid_result_ErrorMethodUnavailable, translucid_result_ErrorNotSupported, translucid_result_ErrorFrameInFlight, translucid_result_ErrorNoDevice, translucid_result_ErrorVulkan, translucid_result_ErrorOutOfMemory, translucid_result_ErrorDeviceLost, translucid_result_ErrorValidation, translucid_result_ErrorIo, translucid_result_ErrorDeviceRequirements, translucid_result_ErrorPanic, translucid_result_ErrorContextPoisoned, }
 
 #ifdef __cplusplus
 extern "C" {
@@ -1053,12 +1059,21 @@ translucid_result translucid_frame_get_statistics(struct translucid_context *con
                                                   struct translucid_frame_statistics *out_statistics);
 
 /**
- * Frees a frame's pixels; its handle becomes stale. Destroying a host-device frame that
- * is recorded and not completed abandons it: you state that the GPU is not executing its
- * commands (they were never submitted, or the submission finished) and translucid frees
- * what the recording used.
+ * Frees a frame's pixels; its handle becomes stale. A host-device frame in flight
+ * (recorded, not completed) is not destroyed: that returns
+ * `TRANSLUCID_RESULT_ERROR_FRAME_IN_FLIGHT` and frees nothing, since the GPU may still
+ * be running its commands; complete it or abandon it (`translucid_frame_abandon`).
  */
 translucid_result translucid_frame_destroy(struct translucid_context *context,
+                                           struct translucid_frame frame);
+
+/**
+ * Host-device mode: ends a frame in flight without completing it, and destroys it. You
+ * state that the GPU is not running its commands and never will: they were never
+ * submitted, or their submission finished and you do not want the frame's results.
+ * translucid frees what the recording used; the next recording builds it anew.
+ */
+translucid_result translucid_frame_abandon(struct translucid_context *context,
                                            struct translucid_frame frame);
 
 /**
@@ -1078,12 +1093,27 @@ translucid_result translucid_host_requirements_get(struct translucid_host_requir
  * `final_layout`. `info->opaque_layer` must be NULL and no draw opaque; `info->width` and
  * `height` are the images' size.
  *
- * One frame in flight per context: until that frame is completed (or destroyed, to
- * abandon it), recording returns `TRANSLUCID_RESULT_ERROR_FRAME_IN_FLIGHT`, and the
- * context's resources the frame uses stay alive. Recording the same input again reuses
- * the previous frame's uploads, pipelines and buffers. Arguments are checked before
- * anything is recorded; an error from the method itself may leave commands recorded,
- * so reset the command buffer after any error.
+ * The engine's obligations:
+ * - The command buffer is recording, outside any render pass, and its pool is not used
+ *   by another thread during the call. translucid binds its own pipelines, descriptor
+ *   sets and push constants: bind yours again before recording more of your own work.
+ * - Submit the recorded commands once (no simultaneous use, no resubmission), and not
+ *   after the frame or context is destroyed.
+ * - "Finished" means the host waited for the submission (`vkWaitForFences`, a timeline
+ *   `vkWaitSemaphores`, or `vkDeviceWaitIdle`); a semaphore another queue waits on is
+ *   not enough.
+ * - Colour in a UNORM format is taken as linear, in an SRGB format as sRGB; its alpha is
+ *   overwritten. Depth is 0 near, 1 far, from translucid's projection of the camera.
+ *
+ * One frame in flight per context: until that frame is completed or abandoned
+ * (`translucid_frame_abandon`), recording returns
+ * `TRANSLUCID_RESULT_ERROR_FRAME_IN_FLIGHT` and the context's resources the frame uses
+ * stay alive. So the host waits for each frame before recording the next with the same
+ * context (use one context per frame in flight to overlap them). Recording the same input
+ * again reuses the previous frame's uploads, pipelines and buffers; new input (a moved
+ * camera, other draws) builds them anew. Arguments are checked before anything is
+ * recorded; an error from the method itself may leave commands recorded, so reset the
+ * command buffer after any error.
  */
 TRANSLUCID_MUST_USE
 translucid_result translucid_frame_record(struct translucid_context *context,
@@ -1092,14 +1122,19 @@ translucid_result translucid_frame_record(struct translucid_context *context,
                                           struct translucid_frame *out_frame);
 
 /**
- * Host-device mode: call once the engine's submission of the frame's command buffer has
- * finished (a fence or semaphore waited for). Reads the frame's GPU timings and counters
- * (see `translucid_frame_get_statistics`) and ends the frame's flight. Returns
- * `TRANSLUCID_RESULT_SUCCESS`, or `TRANSLUCID_RESULT_INCOMPLETE` when a buffer overflowed:
- * the image the frame wrote is then wrong, translucid has grown its buffers, and
- * recording the same frame again (before presenting) renders it correctly. Fails with
- * `TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT`, keeping the frame in flight, when its
- * commands have not run yet.
+ * Host-device mode: call once the host waited for the engine's submission of the frame's
+ * command buffer. Reads the frame's GPU timings and counters (see
+ * `translucid_frame_get_statistics`) and ends the frame's flight. Returns:
+ * - `TRANSLUCID_RESULT_SUCCESS`: the colour image holds the frame.
+ * - `TRANSLUCID_RESULT_INCOMPLETE`: a buffer overflowed and the colour image holds a wrong
+ *   composite. translucid has grown its buffers: restore the opaque colour (draw it
+ *   again) and record the same frame again, before presenting.
+ * - `TRANSLUCID_RESULT_NOT_READY`: the commands have not run (not submitted, or still
+ *   running). Nothing changed and the frame stays in flight.
+ * - `TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT` for a frame not in flight (completed or
+ *   abandoned already), or another error from the method (such as a bin too crowded for
+ *   this device): the frame's flight is over either way, and the next recording builds
+ *   its resources anew.
  */
 TRANSLUCID_MUST_USE
 translucid_result translucid_frame_complete(struct translucid_context *context,

@@ -77,8 +77,9 @@ public:
     Handle handle() const noexcept { return handle_; }
     explicit operator bool() const noexcept { return handle_.id != 0; }
 
-    /// Destroys the object now. Errors are ignored: destroying can only fail for a handle the
-    /// wrapper never hands out.
+    /// Destroys the object now. Errors are ignored: destroying fails only for a handle the
+    /// wrapper never hands out, or for a host-device frame in flight, which is then left to
+    /// its context (the GPU may be running it).
     void reset() noexcept {
         if (context_ && handle_.id != 0) {
             Destroy(context_.get(), handle_);
@@ -89,6 +90,11 @@ public:
 
 protected:
     translucid_context *context() const noexcept { return context_.get(); }
+    /// Forgets the handle without destroying it (the C API has freed it already).
+    void release() noexcept {
+        handle_ = Handle{0};
+        context_.reset();
+    }
 
 private:
     ContextPtr context_;
@@ -118,13 +124,27 @@ public:
         detail::check(translucid_frame_write_png(context(), handle(), path.c_str()), context(),
                       "translucid_frame_write_png");
     }
-    /// Host-device mode: call once the engine's submission of the frame finished. Returns
-    /// true when the image is right, false when a buffer overflowed (translucid has grown it:
-    /// record the frame again). Destroying a frame that is not completed abandons it.
-    bool complete() {
+    /// What Frame::complete found.
+    enum class Completion {
+        done,       ///< the colour image holds the frame
+        overflowed, ///< translucid grew its buffers: restore the opaque colour, record again
+        not_ready,  ///< the commands have not run: the frame stays in flight
+    };
+    /// Host-device mode: call once the host waited for the engine's submission of the frame.
+    /// A frame in flight is not freed by its destructor (the GPU may be running it): complete
+    /// it, or abandon() it; the context frees it otherwise.
+    Completion complete() {
         const translucid_result r = translucid_frame_complete(context(), handle());
         detail::check(r, context(), "translucid_frame_complete");
-        return r == TRANSLUCID_RESULT_SUCCESS;
+        if (r == TRANSLUCID_RESULT_NOT_READY) return Completion::not_ready;
+        return r == TRANSLUCID_RESULT_SUCCESS ? Completion::done : Completion::overflowed;
+    }
+    /// Host-device mode: ends the flight of a frame the GPU is not running and never will
+    /// (never submitted, or its results unwanted), and frees it.
+    void abandon() {
+        detail::check(translucid_frame_abandon(context(), handle()), context(),
+                      "translucid_frame_abandon");
+        release();
     }
     translucid_frame_statistics statistics() const {
         translucid_frame_statistics stats{};

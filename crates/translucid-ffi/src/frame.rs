@@ -517,21 +517,46 @@ impl translucid_frame {
         })
     }
 
-    /// Frees a frame's pixels; its handle becomes stale. Destroying a host-device frame that
-    /// is recorded and not completed abandons it: you state that the GPU is not executing its
-    /// commands (they were never submitted, or the submission finished) and translucid frees
-    /// what the recording used.
+    /// Frees a frame's pixels; its handle becomes stale. A host-device frame in flight
+    /// (recorded, not completed) is not destroyed: that returns
+    /// `TRANSLUCID_RESULT_ERROR_FRAME_IN_FLIGHT` and frees nothing, since the GPU may still
+    /// be running its commands; complete it or abandon it (`translucid_frame_abandon`).
     #[no_mangle]
     pub extern "C" fn translucid_frame_destroy(
         context: *mut translucid_context,
         frame: translucid_frame,
     ) -> translucid_result {
         panic::with_context(context, |objects| {
-            let record = objects.frames.remove(frame.id)?;
-            if record.in_flight {
-                if let Some(host) = objects.host.as_mut() {
-                    host.abandon();
-                }
+            if objects.frames.get(frame.id)?.in_flight {
+                return Err(Failure::new(
+                    translucid_result::ErrorFrameInFlight,
+                    "the frame is in flight: complete it after its submission finished, or \
+                     abandon it (translucid_frame_abandon) if the GPU is not running it",
+                ));
+            }
+            objects.frames.remove(frame.id)?;
+            Ok(translucid_result::Success)
+        })
+    }
+
+    /// Host-device mode: ends a frame in flight without completing it, and destroys it. You
+    /// state that the GPU is not running its commands and never will: they were never
+    /// submitted, or their submission finished and you do not want the frame's results.
+    /// translucid frees what the recording used; the next recording builds it anew.
+    #[no_mangle]
+    pub extern "C" fn translucid_frame_abandon(
+        context: *mut translucid_context,
+        frame: translucid_frame,
+    ) -> translucid_result {
+        panic::with_context(context, |objects| {
+            if !objects.frames.get(frame.id)?.in_flight {
+                return Err(Failure::argument(
+                    "the frame is not in flight: destroy it with translucid_frame_destroy",
+                ));
+            }
+            objects.frames.remove(frame.id)?;
+            if let Some(host) = objects.host.as_mut() {
+                host.abandon();
             }
             Ok(translucid_result::Success)
         })

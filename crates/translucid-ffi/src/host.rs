@@ -286,7 +286,12 @@ fn record(
     // SAFETY: the header documents the engine's side: a recording command buffer outside a
     // render pass and images of the frame's size with the usages listed, all of the device
     // this context wraps. Handles, formats and layouts are checked first.
-    unsafe { renderer.record_host(&t) }?;
+    if let Err(e) = unsafe { renderer.record_host(&t) } {
+        // Part of the frame may be recorded (the engine resets its command buffer), and the
+        // renderer believes it: build the next one afresh.
+        host.renderer = None;
+        return Err(e.into());
+    }
     Ok(FrameRecord {
         method: input.method,
         width: info.width,
@@ -310,7 +315,7 @@ fn complete(objects: &mut Objects, frame: translucid_frame) -> FfiResult<translu
     let record = objects.frames.get(frame.id)?;
     if host.in_flight != Some(frame.id) || !record.in_flight {
         return Err(Failure::argument(
-            "the frame is not in flight: it was completed already",
+            "the frame is not in flight: it was completed or abandoned already",
         ));
     }
     let renderer = &mut host
@@ -318,8 +323,15 @@ fn complete(objects: &mut Objects, frame: translucid_frame) -> FfiResult<translu
         .as_mut()
         .ok_or_else(|| Failure::argument("the frame's renderer is gone"))?
         .1;
-    let done = renderer.complete_host()?;
+    let done = match renderer.complete_host() {
+        Ok(None) => return Ok(translucid_result::NotReady),
+        Ok(Some(done)) => Ok(done),
+        Err(e) => Err(e),
+    };
+    // The commands ran: the frame's flight is over whatever the method reports.
     host.in_flight = None;
+    objects.frames.get_mut(frame.id)?.in_flight = false;
+    let done = done.inspect_err(|_| host.renderer = None)?;
     let record = objects.frames.get_mut(frame.id)?;
     record.in_flight = false;
     record.method_ms = done.method_ms;
@@ -378,12 +390,27 @@ impl translucid_frame {
     /// `final_layout`. `info->opaque_layer` must be NULL and no draw opaque; `info->width` and
     /// `height` are the images' size.
     ///
-    /// One frame in flight per context: until that frame is completed (or destroyed, to
-    /// abandon it), recording returns `TRANSLUCID_RESULT_ERROR_FRAME_IN_FLIGHT`, and the
-    /// context's resources the frame uses stay alive. Recording the same input again reuses
-    /// the previous frame's uploads, pipelines and buffers. Arguments are checked before
-    /// anything is recorded; an error from the method itself may leave commands recorded,
-    /// so reset the command buffer after any error.
+    /// The engine's obligations:
+    /// - The command buffer is recording, outside any render pass, and its pool is not used
+    ///   by another thread during the call. translucid binds its own pipelines, descriptor
+    ///   sets and push constants: bind yours again before recording more of your own work.
+    /// - Submit the recorded commands once (no simultaneous use, no resubmission), and not
+    ///   after the frame or context is destroyed.
+    /// - "Finished" means the host waited for the submission (`vkWaitForFences`, a timeline
+    ///   `vkWaitSemaphores`, or `vkDeviceWaitIdle`); a semaphore another queue waits on is
+    ///   not enough.
+    /// - Colour in a UNORM format is taken as linear, in an SRGB format as sRGB; its alpha is
+    ///   overwritten. Depth is 0 near, 1 far, from translucid's projection of the camera.
+    ///
+    /// One frame in flight per context: until that frame is completed or abandoned
+    /// (`translucid_frame_abandon`), recording returns
+    /// `TRANSLUCID_RESULT_ERROR_FRAME_IN_FLIGHT` and the context's resources the frame uses
+    /// stay alive. So the host waits for each frame before recording the next with the same
+    /// context (use one context per frame in flight to overlap them). Recording the same input
+    /// again reuses the previous frame's uploads, pipelines and buffers; new input (a moved
+    /// camera, other draws) builds them anew. Arguments are checked before anything is
+    /// recorded; an error from the method itself may leave commands recorded, so reset the
+    /// command buffer after any error.
     #[no_mangle]
     #[must_use]
     pub extern "C" fn translucid_frame_record(
@@ -397,7 +424,12 @@ impl translucid_frame {
             let targets = try_ref(targets, "targets")?;
             let out = try_out(out_frame, "out_frame")?;
             let record = record(objects, info, targets)?;
-            let id = objects.frames.insert(record)?;
+            let id = objects.frames.insert(record).inspect_err(|_| {
+                // Recorded but untracked: the renderer must not be trusted again.
+                if let Some(host) = objects.host.as_mut() {
+                    host.abandon();
+                }
+            })?;
             if let Some(host) = objects.host.as_mut() {
                 host.in_flight = Some(id);
             }
@@ -406,14 +438,19 @@ impl translucid_frame {
         })
     }
 
-    /// Host-device mode: call once the engine's submission of the frame's command buffer has
-    /// finished (a fence or semaphore waited for). Reads the frame's GPU timings and counters
-    /// (see `translucid_frame_get_statistics`) and ends the frame's flight. Returns
-    /// `TRANSLUCID_RESULT_SUCCESS`, or `TRANSLUCID_RESULT_INCOMPLETE` when a buffer overflowed:
-    /// the image the frame wrote is then wrong, translucid has grown its buffers, and
-    /// recording the same frame again (before presenting) renders it correctly. Fails with
-    /// `TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT`, keeping the frame in flight, when its
-    /// commands have not run yet.
+    /// Host-device mode: call once the host waited for the engine's submission of the frame's
+    /// command buffer. Reads the frame's GPU timings and counters (see
+    /// `translucid_frame_get_statistics`) and ends the frame's flight. Returns:
+    /// - `TRANSLUCID_RESULT_SUCCESS`: the colour image holds the frame.
+    /// - `TRANSLUCID_RESULT_INCOMPLETE`: a buffer overflowed and the colour image holds a wrong
+    ///   composite. translucid has grown its buffers: restore the opaque colour (draw it
+    ///   again) and record the same frame again, before presenting.
+    /// - `TRANSLUCID_RESULT_NOT_READY`: the commands have not run (not submitted, or still
+    ///   running). Nothing changed and the frame stays in flight.
+    /// - `TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT` for a frame not in flight (completed or
+    ///   abandoned already), or another error from the method (such as a bin too crowded for
+    ///   this device): the frame's flight is over either way, and the next recording builds
+    ///   its resources anew.
     #[no_mangle]
     #[must_use]
     pub extern "C" fn translucid_frame_complete(

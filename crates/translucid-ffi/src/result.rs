@@ -15,9 +15,13 @@ pub enum translucid_result {
     Success = 0,
     /// The call succeeded but an output was cut short (a list longer than the caller's array);
     /// what was written is valid. From `translucid_frame_complete`: a buffer overflowed, so
-    /// the image the frame wrote is wrong; the buffers have grown, and recording the same frame
-    /// again renders it correctly.
+    /// the colour image the frame wrote is wrong; the buffers have grown, and recording the
+    /// same frame again over a restored opaque colour renders it correctly.
     Incomplete = 1,
+    /// From `translucid_frame_complete`: the frame's commands have not run (not submitted,
+    /// or still running). Nothing changed; the frame stays in flight: complete it after the
+    /// submission finished, or abandon it.
+    NotReady = 2,
 
     /// A required pointer argument was NULL.
     ErrorNullPointer = -1,
@@ -81,9 +85,10 @@ pub enum translucid_result {
 
 impl translucid_result {
     /// Every code, for the to-string function and tests.
-    pub const ALL: [translucid_result; 23] = [
+    pub const ALL: [translucid_result; 24] = [
         Self::Success,
         Self::Incomplete,
+        Self::NotReady,
         Self::ErrorNullPointer,
         Self::ErrorInvalidStructureType,
         Self::ErrorInvalidArgument,
@@ -117,6 +122,7 @@ impl translucid_result {
         match self {
             Self::Success => c"success",
             Self::Incomplete => c"incomplete: the output was cut short, or the frame overflowed",
+            Self::NotReady => c"not ready: the frame's commands have not run yet",
             Self::ErrorNullPointer => c"a required pointer was NULL",
             Self::ErrorInvalidStructureType => c"wrong or unknown structure type (s_type)",
             Self::ErrorInvalidArgument => c"invalid argument",
@@ -234,6 +240,6 @@ mod tests {
             assert!(!code.describe().is_empty());
         }
         assert_eq!(translucid_result::from_raw(-12345), None);
-        assert_eq!(translucid_result::from_raw(2), None);
+        assert_eq!(translucid_result::from_raw(3), None);
     }
 }

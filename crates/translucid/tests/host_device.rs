@@ -338,7 +338,10 @@ fn an_overflowing_frame_says_so_and_renders_right_when_recorded_again() {
                 (vk::PipelineStageFlags::HOST, vk::AccessFlags::HOST_READ),
             );
             engine.submit_and_wait();
-            let done = renderer.complete_host().expect("complete");
+            let done = renderer
+                .complete_host()
+                .expect("complete")
+                .expect("the submission finished, so the commands ran");
             overflows.push(done.overflowed);
             if !done.overflowed {
                 assert!(done.fragments > 0 && done.stages.len() >= 3, "{done:?}");

@@ -694,8 +694,9 @@ static void frame_errors(const scene *s) {
     EXPECT(g_standalone, translucid_frame_record(g_standalone, &info, &targets, &frame),
            TRANSLUCID_RESULT_ERROR_NOT_SUPPORTED);
 
-    /* One frame in flight: a second recording, the first's statistics and completing it
-     * before it ran are refused; destroying it abandons it. */
+    /* One frame in flight: a second recording and the first's statistics are refused,
+     * completing it before it ran says NOT_READY and changes nothing, and destroying it is
+     * refused (the GPU might be running it); abandoning it ends it. */
     record_opaque_layer();
     CHECK(g_host, translucid_frame_record(g_host, &info, &targets, &frame));
     EXPECT(g_host, translucid_frame_record(g_host, &info, &targets, &second),
@@ -704,20 +705,25 @@ static void frame_errors(const scene *s) {
     stats.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_STATISTICS;
     EXPECT(g_host, translucid_frame_get_statistics(g_host, frame, &stats),
            TRANSLUCID_RESULT_ERROR_FRAME_IN_FLIGHT);
-    EXPECT(g_host, translucid_frame_complete(g_host, frame), TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
-    TRUE_OR_FAIL(strstr(translucid_context_last_error(g_host), "not run") != NULL);
+    EXPECT(g_host, translucid_frame_complete(g_host, frame), TRANSLUCID_RESULT_NOT_READY);
+    EXPECT(g_host, translucid_frame_complete(g_host, frame), TRANSLUCID_RESULT_NOT_READY);
+    EXPECT(g_host, translucid_frame_record(g_host, &info, &targets, &second),
+           TRANSLUCID_RESULT_ERROR_FRAME_IN_FLIGHT);
+    EXPECT(g_host, translucid_frame_destroy(g_host, frame), TRANSLUCID_RESULT_ERROR_FRAME_IN_FLIGHT);
     EXPECT(g_host, translucid_frame_read(g_host, frame, TRANSLUCID_PIXEL_FORMAT_RGBA8_SRGB, pixel,
                                          sizeof pixel),
            TRANSLUCID_RESULT_ERROR_NOT_SUPPORTED);
     /* The engine drops this command buffer (it is reset before its next use) and abandons the
      * frame: what it referenced is freed, so it must never be submitted. */
     VK_CHECK(vkEndCommandBuffer(g_cmd));
-    CHECK(g_host, translucid_frame_destroy(g_host, frame));
+    CHECK(g_host, translucid_frame_abandon(g_host, frame));
     EXPECT(g_host, translucid_frame_complete(g_host, frame), TRANSLUCID_RESULT_ERROR_STALE_HANDLE);
+    EXPECT(g_host, translucid_frame_abandon(g_host, frame), TRANSLUCID_RESULT_ERROR_STALE_HANDLE);
 
     /* After that the context records again, and a completed frame cannot complete twice. */
     TRUE_OR_FAIL(engine_frame(&info, &frame) == TRANSLUCID_RESULT_SUCCESS);
     EXPECT(g_host, translucid_frame_complete(g_host, frame), TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    EXPECT(g_host, translucid_frame_abandon(g_host, frame), TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
     EXPECT(g_host, translucid_frame_read(g_host, frame, TRANSLUCID_PIXEL_FORMAT_RGBA8_SRGB, pixel,
                                          sizeof pixel),
            TRANSLUCID_RESULT_ERROR_NOT_SUPPORTED);

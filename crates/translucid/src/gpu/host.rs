@@ -126,7 +126,8 @@ impl Gpu {
         let entry = unsafe { ash::Entry::from_static_fn(static_fn) };
         // SAFETY: the caller guarantees a live instance made through this loader.
         let instance = unsafe { ash::Instance::load(entry.static_fn(), host.instance) };
-        let mut info = describe(&instance, 0, host.physical_device);
+        // Vulkan 1.0 queries only until the versions are known to be good: describe() uses
+        // 1.1 properties, which an older instance or device may not have.
         // SAFETY: physical device of this instance (caller's guarantee).
         let (properties, families) = unsafe {
             (
@@ -138,7 +139,10 @@ impl Gpu {
             missing.push(format!(
                 "a Vulkan {} device ({} is {})",
                 version_string(wanted.api_version),
-                info.name,
+                properties
+                    .device_name_as_c_str()
+                    .map(|s| s.to_string_lossy().into_owned())
+                    .unwrap_or_default(),
                 version_string(properties.api_version)
             ));
         }
@@ -169,6 +173,7 @@ impl Gpu {
                 missing.join(", ")
             )));
         }
+        let mut info = describe(&instance, 0, host.physical_device);
         // Methods look at what is enabled, not merely supported.
         info.dual_source_blend = true;
         info.shader_int64 = true;

@@ -122,28 +122,24 @@ impl Renderer {
     }
 
     /// Reads the completed frame's timestamps and counters, growing the method's buffers if
-    /// they overflowed. Fails, changing nothing, when the frame's commands have not run.
-    pub fn complete_host(&mut self) -> Result<HostFrame> {
-        let not_run = || {
-            Error::HostFrame(
-                "the frame's commands have not run: complete a frame only after the \
-                 submission of its command buffer finished"
-                    .into(),
-            )
-        };
+    /// they overflowed. `None`, changing nothing, while the frame's commands have not run
+    /// (not submitted, or still running). After an error the renderer is not to be used again.
+    pub fn complete_host(&mut self) -> Result<Option<HostFrame>> {
         match &self.completion {
             Some(c) if c.ran()? => {}
-            _ => return Err(not_run()),
+            _ => return Ok(None),
         }
-        let stages = self.timestamps.try_read()?.ok_or_else(not_run)?;
+        let Some(stages) = self.timestamps.try_read()? else {
+            return Ok(None);
+        };
         let check = self.method.frame_done(&self.scene, &self.targets)?;
         self.scene.uploads_completed();
-        Ok(HostFrame {
+        Ok(Some(HostFrame {
             method_ms: method_ms(&stages),
             stages,
             peak_gpu_bytes: self.gpu.memory_in_use().1,
             fragments: check.fragments,
             overflowed: check.rerender,
-        })
+        }))
     }
 }
