@@ -174,6 +174,27 @@ fn exact_recovers_from_every_overflow() {
     assert!(frame.rerenders >= 1, "the overflow path was not taken");
 }
 
+/// A renderer made for the next frame starts from the buffer sizes the last one grew to, so
+/// that a moving camera does not overflow again every frame.
+#[test]
+fn exact_passes_learned_buffer_sizes_to_the_next_renderer() {
+    let gpu = gpu();
+    let scene = scene::load("hairball").expect("hairball");
+    let tiny = MethodOptions {
+        initial_bin_entries: Some(1),
+        ..Default::default()
+    };
+    let mut first =
+        Renderer::with_options(&gpu, &scene, "exact", 199, 143, &tiny).expect("renderer");
+    assert!(first.render(false).expect("frame").rerenders >= 1);
+    let learned = first.learned_options(&tiny);
+    assert!(learned.initial_bin_entries > Some(1), "{learned:?}");
+    drop(first);
+    let mut next =
+        Renderer::with_options(&gpu, &scene, "exact", 199, 143, &learned).expect("renderer");
+    assert_eq!(next.render(false).expect("frame").rerenders, 0);
+}
+
 /// `layers` screen-facing quads stacked over one spot: pixels hundreds of fragments deep need
 /// more loop iterations than lavapipe allows one shader invocation (it ends loops silently
 /// after 65535), so their rows are suspended and finished by continuation dispatches.

@@ -268,14 +268,24 @@ fn record(
         .ok_or_else(|| not_host("translucid_frame_record"))?;
     let renderer = match host.renderer.take() {
         Some((old, renderer)) if old == key => renderer,
-        _ => Renderer::with_options(
-            &objects.gpu,
-            &input.scene,
-            input.method.name(),
-            info.width,
-            info.height,
-            &input.options,
-        )?,
+        previous => {
+            // New input: start from the buffer sizes the last frames needed, and free the
+            // last renderer before making the next.
+            let options = match previous {
+                Some((_, r)) if r.method_name() == input.method.name() => {
+                    r.learned_options(&input.options)
+                }
+                _ => input.options.clone(),
+            };
+            Renderer::with_options(
+                &objects.gpu,
+                &input.scene,
+                input.method.name(),
+                info.width,
+                info.height,
+                &options,
+            )?
+        }
     };
     let (_, renderer) = host.renderer.insert((key, renderer));
     let t = HostTargets {

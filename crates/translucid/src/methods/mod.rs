@@ -82,6 +82,9 @@ pub trait Method {
     fn frame_done(&mut self, _scene: &GpuScene, _targets: &FrameTargets) -> Result<FrameCheck> {
         Ok(FrameCheck::default())
     }
+    /// Writes into `options` the buffer sizes this method's frames turned out to need, so
+    /// that a method made for the next, similar frame starts there instead of overflowing.
+    fn learned(&self, _options: &mut MethodOptions) {}
 }
 
 /// Creates the method called `name` for `scene` (uploaded as `uploaded`) and `targets`.

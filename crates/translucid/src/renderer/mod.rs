@@ -145,6 +145,14 @@ impl Renderer {
         })
     }
 
+    /// `options` with the buffer sizes this renderer's frames turned out to need, for a
+    /// renderer made for the next, similar frame.
+    pub fn learned_options(&self, options: &MethodOptions) -> MethodOptions {
+        let mut learned = options.clone();
+        self.method.learned(&mut learned);
+        learned
+    }
+
     pub fn method_name(&self) -> &'static str {
         self.method.name()
     }

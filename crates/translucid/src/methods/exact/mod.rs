@@ -355,6 +355,13 @@ impl Method for Exact {
         Ok(())
     }
 
+    fn learned(&self, options: &mut MethodOptions) {
+        let c = self.resources.capacities;
+        options.initial_bin_entries = Some(c.bin_entries);
+        options.initial_homogeneous = Some(c.homogeneous);
+        options.initial_resume_rows = Some(c.resume);
+    }
+
     fn frame_done(&mut self, uploaded: &GpuScene, targets: &FrameTargets) -> Result<FrameCheck> {
         let counters = self.resources.counters()?;
         if counters.overflow & OVERFLOW_CROWDED_BIN != 0 {
