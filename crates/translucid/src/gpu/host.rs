@@ -410,7 +410,7 @@ impl Gpu {
     /// frame targets, left in COLOR_ATTACHMENT_OPTIMAL and DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
     /// the engine's colour is left in TRANSFER_SRC_OPTIMAL for [`Gpu::record_host_output`],
     /// its depth in its final layout.
-    pub fn record_host_input(&self, t: &HostTargets, colour: &GpuImage, depth: &GpuImage) {
+    pub(crate) fn record_host_input(&self, t: &HostTargets, colour: &GpuImage, depth: &GpuImage) {
         let (c, d) = (vk::ImageAspectFlags::COLOR, vk::ImageAspectFlags::DEPTH);
         let (src, dst) = (L::TRANSFER_SRC_OPTIMAL, L::TRANSFER_DST_OPTIMAL);
         self.transitions(
@@ -467,7 +467,7 @@ impl Gpu {
     /// Records the copy of the composited `colour` (a frame target in
     /// COLOR_ATTACHMENT_OPTIMAL, left in TRANSFER_SRC_OPTIMAL) back into the engine's colour
     /// image, which ends in its final layout.
-    pub fn record_host_output(&self, t: &HostTargets, colour: &GpuImage) {
+    pub(crate) fn record_host_output(&self, t: &HostTargets, colour: &GpuImage) {
         let c = vk::ImageAspectFlags::COLOR;
         let (src, dst) = (L::TRANSFER_SRC_OPTIMAL, L::TRANSFER_DST_OPTIMAL);
         let attachment = L::COLOR_ATTACHMENT_OPTIMAL;

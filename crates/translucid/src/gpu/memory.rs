@@ -224,6 +224,21 @@ impl Buffer {
         Ok(())
     }
 
+    /// The first word of a host-visible buffer the GPU may be writing right now (a frame the
+    /// engine may not have waited for), read as one volatile load.
+    pub fn read_word_volatile(&self) -> Result<u32> {
+        let bytes = self.read()?;
+        if bytes.len() < 4 {
+            return Err(crate::Error::InvalidScene(
+                "word read of a buffer under 4 bytes".into(),
+            ));
+        }
+        // SAFETY: the mapping holds at least 4 bytes and stays mapped while `self` lives; a
+        // volatile, unaligned load of plain bytes makes no assumption about the GPU's writes.
+        let word = unsafe { std::ptr::read_volatile(bytes.as_ptr().cast::<[u8; 4]>()) };
+        Ok(u32::from_le_bytes(word))
+    }
+
     /// The contents of a host-visible buffer.
     pub fn read(&self) -> Result<&[u8]> {
         self.allocation

@@ -33,6 +33,8 @@ pub struct HostFrame {
 pub(super) struct Completion {
     marker: Buffer,
     frame: u32,
+    /// A frame is recorded and not completed: its resources must not be reused yet.
+    in_flight: bool,
 }
 
 impl Completion {
@@ -43,7 +45,11 @@ impl Completion {
             vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuToCpu,
         )?;
-        Ok(Self { marker, frame: 0 })
+        Ok(Self {
+            marker,
+            frame: 0,
+            in_flight: false,
+        })
     }
 
     /// Clears the word and records the command that sets it, after everything else.
@@ -72,25 +78,25 @@ impl Completion {
             ),
             (vk::PipelineStageFlags::HOST, vk::AccessFlags::HOST_READ),
         );
+        self.in_flight = true;
         Ok(())
     }
 
     fn ran(&self) -> Result<bool> {
-        let bytes = self.marker.read()?;
-        Ok(bytes[..4] == self.frame.to_le_bytes())
+        Ok(self.marker.read_word_volatile()? == self.frame)
     }
 }
 
 impl Renderer {
-    /// Records one frame into the engine's command buffer. Nothing is submitted. The
-    /// renderer's resources must stay alive, and no other frame of this renderer may be
-    /// recorded, until [`Renderer::complete_host`] after the engine's submission finished.
+    /// Records one frame into the engine's command buffer. Nothing is submitted. Recording
+    /// another frame fails until [`Renderer::complete_host`] has seen this one run.
     ///
     /// # Safety
     /// `targets` names live objects of the engine's device this renderer's [`Gpu`] wraps:
     /// a command buffer in the recording state outside any render pass, and colour and depth
     /// images of the renderer's size, in the layouts named, with the usages
-    /// [`HostTargets`] lists.
+    /// [`HostTargets`] lists. The renderer must not be dropped while the GPU may run the
+    /// recorded commands: submit them at most once, and complete or discard them first.
     ///
     /// [`Gpu`]: crate::gpu::Gpu
     pub unsafe fn record_host(&mut self, targets: &HostTargets) -> Result<()> {
@@ -103,6 +109,11 @@ impl Renderer {
             ));
         }
         gpu.check_host_targets(targets)?;
+        if self.completion.as_ref().is_some_and(|c| c.in_flight) {
+            return Err(Error::HostFrame(
+                "the last frame recorded is not completed: one frame in flight".into(),
+            ));
+        }
         if self.completion.is_none() {
             self.completion = Some(Completion::new(&gpu)?);
         }
@@ -126,12 +137,15 @@ impl Renderer {
     /// (not submitted, or still running). After an error the renderer is not to be used again.
     pub fn complete_host(&mut self) -> Result<Option<HostFrame>> {
         match &self.completion {
-            Some(c) if c.ran()? => {}
+            Some(c) if c.in_flight && c.ran()? => {}
             _ => return Ok(None),
         }
         let Some(stages) = self.timestamps.try_read()? else {
             return Ok(None);
         };
+        if let Some(c) = &mut self.completion {
+            c.in_flight = false;
+        }
         let check = self.method.frame_done(&self.scene, &self.targets)?;
         self.scene.uploads_completed();
         Ok(Some(HostFrame {
