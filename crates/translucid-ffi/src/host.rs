@@ -343,7 +343,6 @@ fn complete(objects: &mut Objects, frame: translucid_frame) -> FfiResult<translu
     objects.frames.get_mut(frame.id)?.in_flight = false;
     let done = done.inspect_err(|_| host.renderer = None)?;
     let record = objects.frames.get_mut(frame.id)?;
-    record.in_flight = false;
     record.method_ms = done.method_ms;
     record.stages = done.stages;
     record.peak_gpu_bytes = done.peak_gpu_bytes;
