@@ -46,6 +46,8 @@ static VkBuffer g_buffer;
 static void *g_mapped;
 #define COLOUR_BYTES (W * H * 4)
 #define DEPTH_BYTES (W * H * 4)
+/* Where the depth image is read back to, after the upload's colour and depth. */
+#define DEPTH_READBACK (COLOUR_BYTES + DEPTH_BYTES)
 
 static void fail(const char *what, int line) {
     printf("FAIL line %d: %s\n", line, what);
@@ -276,7 +278,7 @@ static void create_frame_resources(void) {
 
     memset(&buffer, 0, sizeof buffer);
     buffer.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO;
-    buffer.size = COLOUR_BYTES + DEPTH_BYTES;
+    buffer.size = COLOUR_BYTES + 2 * DEPTH_BYTES;
     buffer.usage = VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
     buffer.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
     VK_CHECK(vkCreateBuffer(g_device, &buffer, NULL, &g_buffer));
@@ -363,13 +365,21 @@ static void record_opaque_layer(void) {
                 VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT);
 }
 
-/* After translucid: the colour image (left in TRANSFER_SRC_OPTIMAL as asked) into the
- * buffer, for the host to read. */
+/* After translucid: the colour image (left in TRANSFER_SRC_OPTIMAL as asked) and the depth
+ * image into the buffer, for the host to read. The depth image's transition starts from the
+ * final layout the frame asked for, so validation checks translucid left it there. */
 static void record_readback(void) {
     VkBufferImageCopy colour = region(VK_IMAGE_ASPECT_COLOR_BIT, 0);
+    VkBufferImageCopy depth = region(VK_IMAGE_ASPECT_DEPTH_BIT, DEPTH_READBACK);
     VkMemoryBarrier host;
+    barrier(g_depth, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL,
+            VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
+            VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT,
+            VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
     vkCmdCopyImageToBuffer(g_cmd, g_colour, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, g_buffer, 1,
                            &colour);
+    vkCmdCopyImageToBuffer(g_cmd, g_depth, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, g_buffer, 1,
+                           &depth);
     memset(&host, 0, sizeof host);
     host.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
     host.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
@@ -491,6 +501,7 @@ static translucid_result engine_frame(const translucid_frame_info *info,
     translucid_result completed;
     memcpy(g_mapped, g_opaque_colour, COLOUR_BYTES);
     memcpy((uint8_t *)g_mapped + COLOUR_BYTES, g_opaque_depth, DEPTH_BYTES);
+    memset((uint8_t *)g_mapped + DEPTH_READBACK, 0xFF, DEPTH_BYTES);
     begin();
     record_opaque_layer();
     CHECK(g_host, translucid_frame_record(g_host, info, &targets, frame));
@@ -499,6 +510,8 @@ static translucid_result engine_frame(const translucid_frame_info *info,
     completed = translucid_frame_complete(g_host, *frame);
     TRUE_OR_FAIL(completed == TRANSLUCID_RESULT_SUCCESS ||
                  completed == TRANSLUCID_RESULT_INCOMPLETE);
+    /* translucid only reads the engine's depth. */
+    TRUE_OR_FAIL(memcmp((uint8_t *)g_mapped + DEPTH_READBACK, g_opaque_depth, DEPTH_BYTES) == 0);
     return completed;
 }
 
