@@ -1,6 +1,8 @@
 //! The context: one device and every object created on it. Exports `translucid_context_*`.
 
-use crate::cast::{self, check_header, translucid_context, try_out, try_ref, try_str};
+use crate::cast::{
+    self, check_header, translucid_base_in_structure, translucid_context, try_out, try_ref, try_str,
+};
 use crate::frame::FrameRecord;
 use crate::handle::{next_context_tag, Kind, Slots};
 use crate::host::{host_gpu, translucid_host_device_create_info, HostFrames};
@@ -105,6 +107,19 @@ impl Context {
             if info.next.is_null() {
                 return Err(Failure::null(
                     "next (host-device mode needs a translucid_host_device_create_info)",
+                ));
+            }
+            // Read the chained structure's type before the structure: a smaller one must not
+            // be read as a host-device create info.
+            let link = try_ref(info.next.cast::<translucid_base_in_structure>(), "next")?;
+            if link.s_type != translucid_structure_type::HostDeviceCreateInfo as u32 {
+                return Err(Failure::new(
+                    translucid_result::ErrorInvalidStructureType,
+                    format!(
+                        "next holds structure type {} where host-device mode needs \
+                         TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_CREATE_INFO",
+                        link.s_type
+                    ),
                 ));
             }
             host_gpu(try_ref(
