@@ -13,8 +13,9 @@
 // until no fragment is left or transmittance is under the threshold. All invocations walk
 // the row's list in step. Deep frames order each list by depth slab (exact_bins.glsl): a
 // pass then ends once every pixel of the row holds fragments nearer than the next slab's
-// floor, and starts past the leading slabs whose farthest depth every pixel has passed. Order is exact by construction: fragments are ranked by
-// (view depth, draw, quad, triangle) like the CPU reference, so no pixel is ever out of order.
+// floor, and starts past the leading slabs whose farthest depth every pixel has passed.
+// Order is exact by construction: fragments are ranked by (view depth, draw, quad,
+// triangle) like the CPU reference, so no pixel is ever out of order.
 //
 // On CPU drivers such as lavapipe an `if` does not branch: both sides run under a mask, so
 // cost is the code inside each loop times its iterations, and only loop exits save work.
@@ -37,8 +38,9 @@
 #include "shading.glsl"
 
 // The first dispatch covers the rows of every block with a non-empty bin (the other blocks
-// keep the opaque colour): ROWS rows per workgroup, BIN_SIZE / ROWS workgroups down each
-// block. Continuations have one workgroup per resumed row.
+// keep the opaque colour): gl_WorkGroupSize.y rows per workgroup (constant 7: BIN_SIZE or 1),
+// BIN_SIZE / gl_WorkGroupSize.y workgroups down each block. Continuations have one workgroup
+// per resumed row.
 layout(local_size_x = BIN_SIZE, local_size_y_id = 7) in;
 
 // What the scene needs, fixed when the pipeline is made. CPU drivers such as lavapipe run
