@@ -36,15 +36,16 @@ layout(set = 1, binding = 18) uniform samplerBuffer u_srgbToLinear;      // 256 
 layout(set = 1, binding = 19) uniform usamplerBuffer u_binEntryTexels;   // g_binEntries
 layout(set = 1, binding = 20) uniform usamplerBuffer u_homogeneousTexels; // g_homogeneous, 12 each
 
-// The raster's indirect dispatches, each a VkDispatchIndirectCommand padded to 16 bytes
-// (x = count): RASTER_DISPATCH_BINS counts the blocks with a non-empty bin (listed in
-// g_rasterBins) for the first raster dispatch (y = BIN_SIZE rows each), and k = 0, 1 count
-// the items of resume list k, the rows a raster dispatch left unfinished, one workgroup each. Items of list k start at
-// k * g_counters.resumeCapacity, and item i's pixel states at (k * resumeCapacity + i) *
-// BIN_SIZE.
-#define RASTER_DISPATCH_BINS 2u
-layout(set = 1, binding = 21, std430) buffer RasterWorkBlock {
-    uint g_rasterDispatch[12];
+// Indirect dispatches written on the GPU, each a VkDispatchIndirectCommand padded to 16
+// bytes (x = count): k = 0, 1 count the items of resume list k, the rows a raster dispatch
+// left unfinished, one workgroup each; DISPATCH_RASTER_BINS counts the blocks with a
+// non-empty bin (listed in g_rasterBins) for the first raster dispatch (y = BIN_SIZE rows
+// each); DISPATCH_BINNING counts the binning passes' workgroups of BINNING_GROUP_SIZE
+// triangles, so that they run for the triangles setup kept, not for every quad. Items of
+// resume list k start at k * g_counters.resumeCapacity, and item i's pixel states at
+// (k * resumeCapacity + i) * BIN_SIZE.
+layout(set = 1, binding = 21, std430) buffer DispatchBlock {
+    uint g_dispatch[16];
     uint g_resumeItems[];
 };
 layout(set = 1, binding = 22, std430) buffer PixelStateBlock { ExactPixelState g_pixelStates[]; };

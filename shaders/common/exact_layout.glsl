@@ -31,6 +31,11 @@
 // states of its BIN_SIZE pixels.
 #define LOOP_BUDGET 60000u
 
+// Indirect dispatch commands (see exact_bindings.glsl) and binning's workgroup size.
+#define DISPATCH_RASTER_BINS 2u
+#define DISPATCH_BINNING 3u
+#define BINNING_GROUP_SIZE 64u
+
 // One pixel's compositing state between raster dispatches (std430, 48 bytes).
 struct ExactPixelState {
     vec4 radiance;          // xyz: radiance so far

@@ -5,7 +5,7 @@
 #include "exact_bindings.glsl"
 #include "exact_bins.glsl"
 
-layout(local_size_x = 64) in;
+layout(local_size_x = BINNING_GROUP_SIZE) in;
 
 void main() {
     uint ti = gl_GlobalInvocationID.x;

@@ -44,7 +44,7 @@ void main() {
         blockEntries += count;
         if (b % perBlock == perBlock - 1u) {
             if (blockEntries > 0u) {
-                uint slot = atomicAdd(g_rasterDispatch[RASTER_DISPATCH_BINS * 4u], 1u);
+                uint slot = atomicAdd(g_dispatch[DISPATCH_RASTER_BINS * 4u], 1u);
                 g_rasterBins[slot] = b / perBlock;
             }
             blockEntries = 0u;

@@ -229,13 +229,13 @@ void main() {
             uint outList = u_push.resumeList ^ 1u;
             uint slot = 0u;
             if (subgroupElect()) {
-                slot = atomicAdd(g_rasterDispatch[outList * 4u], 1u);
+                slot = atomicAdd(g_dispatch[outList * 4u], 1u);
                 if (slot < resumeCapacity) {
                     g_resumeItems[outList * resumeCapacity + slot] = block * BIN_SIZE + row;
                 } else {
                     // No room: take the item back; the host grows the lists and renders the
                     // frame again.
-                    atomicAdd(g_rasterDispatch[outList * 4u], 0xFFFFFFFFu);
+                    atomicAdd(g_dispatch[outList * 4u], 0xFFFFFFFFu);
                     atomicOr(g_counters.overflow, OVERFLOW_RESUME);
                     atomicMax(g_counters.resumeNeeded, slot + 1u);
                 }

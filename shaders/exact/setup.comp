@@ -286,6 +286,7 @@ void main() {
         }
         // Capacity is two triangles per quad: this cannot overflow.
         uint ti = atomicAdd(g_counters.triangleCount, 1u);
+        atomicMax(g_dispatch[DISPATCH_BINNING * 4u], ti / BINNING_GROUP_SIZE + 1u);
         g_triangles[ti] = ExactTriangleRecord(
             t.edgeC.xy, t.edgeC.z, uint(t.bounds.x) | uint(t.bounds.y) << 16u,
             uint(t.bounds.z) | uint(t.bounds.w) << 16u, t.edgeA, t.edgeB, t.zNdc, t.invW.xyz,

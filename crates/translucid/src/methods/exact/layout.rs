@@ -18,11 +18,15 @@ pub const OVERFLOW_RESUME: u32 = 8;
 pub const LOOP_BUDGET: u32 = 60_000;
 /// Bytes of one `ExactPixelState`.
 pub const PIXEL_STATE_BYTES: u64 = 48;
-/// Bytes of the raster's indirect dispatch commands (each padded to 16) before the resume
-/// items: resume list 0, resume list 1, non-empty bins.
-pub const RASTER_DISPATCH_BYTES: u64 = 48;
-/// Byte offset of the non-empty bins' dispatch command (`RASTER_DISPATCH_BINS`).
-pub const RASTER_DISPATCH_BINS_OFFSET: u64 = 32;
+/// Bytes of the indirect dispatch commands (each padded to 16) before the resume items:
+/// resume list 0, resume list 1, non-empty bins, binning.
+pub const DISPATCH_BYTES: u64 = 64;
+/// Byte offset of the non-empty bins' dispatch command (`DISPATCH_RASTER_BINS`).
+pub const DISPATCH_RASTER_BINS_OFFSET: u64 = 32;
+/// Byte offset of the binning passes' dispatch command (`DISPATCH_BINNING`).
+pub const DISPATCH_BINNING_OFFSET: u64 = 48;
+/// Invocations per workgroup of the binning passes (`local_size_x`).
+pub const BINNING_GROUP_SIZE: u32 = 64;
 /// Bytes of one `ExactTriangleRecord` and one `ExactHomogeneous`.
 pub const TRIANGLE_BYTES: u64 = 96;
 pub const HOMOGENEOUS_BYTES: u64 = 192;
@@ -122,6 +126,15 @@ mod tests {
         assert_eq!(define("LOOP_BUDGET"), LOOP_BUDGET);
         assert_eq!(define("ENTRY_SLAB_SHIFT"), ENTRY_SLAB_SHIFT);
         assert_eq!(define("MAX_SLABS"), MAX_SLABS);
+        assert_eq!(define("BINNING_GROUP_SIZE"), BINNING_GROUP_SIZE);
+        let commands = u64::from(define("DISPATCH_BINNING")) + 1;
+        assert_eq!(commands * 16, DISPATCH_BYTES);
+        assert_eq!(
+            u64::from(define("DISPATCH_BINNING")) * 16,
+            DISPATCH_BINNING_OFFSET
+        );
+        let bins = u64::from(define("DISPATCH_RASTER_BINS")) * 16;
+        assert_eq!(bins, DISPATCH_RASTER_BINS_OFFSET);
     }
 
     /// exact_bindings.glsl reads these records texel by texel (16 bytes each) in field order;

@@ -39,7 +39,10 @@ use crate::renderer::{FrameTargets, GpuScene};
 use crate::scene::Scene;
 use crate::Result;
 use features::RasterFeatures;
-use layout::{ExactPush, BIN_SIZE, LOOP_BUDGET, OVERFLOW_CROWDED_BIN, RASTER_DISPATCH_BINS_OFFSET};
+use layout::{
+    ExactPush, BIN_SIZE, DISPATCH_BINNING_OFFSET, DISPATCH_RASTER_BINS_OFFSET, LOOP_BUDGET,
+    OVERFLOW_CROWDED_BIN,
+};
 use resources::{Capacities, Resources};
 
 const STAGES: [(&str, &[u8]); 5] = [
@@ -207,6 +210,17 @@ impl Exact {
         );
     }
 
+    /// Stage `stage` with the workgroups of the indirect command at `offset`.
+    fn dispatch_indirect(&self, ctx: &RecordContext<'_>, stage: usize, offset: u64) {
+        self.pipelines[stage].dispatch_indirect(
+            ctx.cmd,
+            &[ctx.scene.set.raw, self.set.raw],
+            bytemuck::bytes_of(&self.push),
+            self.resources.dispatches(),
+            offset,
+        );
+    }
+
     /// The raster over every non-empty bin, then the continuations: continuation k resumes the rows
     /// on list k % 2 (one workgroup each, counted on the GPU) and suspends rows onto the
     /// other list, which the next continuation reads. The first raster fills list 0.
@@ -221,8 +235,8 @@ impl Exact {
             cmd,
             &sets,
             bytemuck::bytes_of(&push),
-            self.resources.raster_dispatches(),
-            RASTER_DISPATCH_BINS_OFFSET,
+            self.resources.dispatches(),
+            DISPATCH_RASTER_BINS_OFFSET,
         );
         let compute = vk::PipelineStageFlags::COMPUTE_SHADER;
         let rw = vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE;
@@ -245,7 +259,7 @@ impl Exact {
                 cmd,
                 &sets,
                 bytemuck::bytes_of(&push),
-                self.resources.raster_dispatches(),
+                self.resources.dispatches(),
                 u64::from(list) * 16,
             );
             memory_barrier(&self.gpu, cmd, (compute, rw), transfer);
@@ -274,7 +288,8 @@ impl Method for Exact {
 
     fn record(&mut self, ctx: &mut RecordContext<'_>) -> Result<()> {
         let cmd = ctx.cmd;
-        self.resources.record_reset(cmd, self.features.rows);
+        let slices = self.push.height.div_ceil(self.push.bin_rows_per_slice);
+        self.resources.record_reset(cmd, self.features.rows, slices);
         let items = self.push.item_count;
         if items > 0 {
             self.dispatch(ctx, 0, [items.div_ceil(64), 1, 1]);
@@ -282,15 +297,13 @@ impl Method for Exact {
         self.compute_to_compute(cmd);
         ctx.timestamps.mark(cmd, "setup");
 
-        let triangle_groups = self.resources.capacities.triangles.div_ceil(64).max(1);
-        let slices = self.push.height.div_ceil(self.push.bin_rows_per_slice);
-        self.dispatch(ctx, 1, [triangle_groups, slices, 1]);
+        self.dispatch_indirect(ctx, 1, DISPATCH_BINNING_OFFSET);
         self.compute_to_compute(cmd);
         ctx.timestamps.mark(cmd, "bin count");
         self.dispatch(ctx, 2, [1, 1, 1]);
         self.compute_to_compute(cmd);
         ctx.timestamps.mark(cmd, "bin scan");
-        self.dispatch(ctx, 3, [triangle_groups, slices, 1]);
+        self.dispatch_indirect(ctx, 3, DISPATCH_BINNING_OFFSET);
         self.compute_to_compute(cmd);
         ctx.timestamps.mark(cmd, "bin fill");
 

@@ -1,9 +1,9 @@
 //! The exact method's buffers: sized from the frame, grown when the GPU reports an overflow.
 
 use super::layout::{
-    ExactCounters, ExactDraw, ExactTexture, ATTRIBUTES_BYTES, BIN_SIZE, ENTRY_SLAB_SHIFT,
-    HOMOGENEOUS_BYTES, OVERFLOW_BIN_ENTRIES, OVERFLOW_HOMOGENEOUS, OVERFLOW_RESUME,
-    PIXEL_STATE_BYTES, RASTER_DISPATCH_BYTES, TRIANGLE_BYTES,
+    ExactCounters, ExactDraw, ExactTexture, ATTRIBUTES_BYTES, BIN_SIZE, DISPATCH_BYTES,
+    ENTRY_SLAB_SHIFT, HOMOGENEOUS_BYTES, OVERFLOW_BIN_ENTRIES, OVERFLOW_HOMOGENEOUS,
+    OVERFLOW_RESUME, PIXEL_STATE_BYTES, TRIANGLE_BYTES,
 };
 use crate::gpu::{
     memory_barrier, vk, BindingKind, Buffer, BufferView, DescriptorLayout, DescriptorSet, Gpu,
@@ -122,10 +122,28 @@ pub struct Resources {
 const STORAGE: vk::BufferUsageFlags = vk::BufferUsageFlags::STORAGE_BUFFER;
 const TEXELS: vk::BufferUsageFlags = vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER;
 const RGBA32UI: vk::Format = vk::Format::R32G32B32A32_UINT;
-/// Three empty dispatch commands: resume lists of (items, 1, 1) workgroups and the listed
-/// blocks' (blocks, BIN_SIZE / rows, 1), for workgroups of `rows` rows.
-fn empty_dispatches(rows: u32) -> [u32; 12] {
-    [0, 1, 1, 0, 0, 1, 1, 0, 0, BIN_SIZE / rows, 1, 0]
+/// Empty indirect dispatch commands: resume lists of (items, 1, 1) workgroups, the listed
+/// blocks' (blocks, BIN_SIZE / rows, 1) for raster workgroups of `rows` rows, and binning's
+/// (triangle groups, slices, 1).
+fn empty_dispatches(rows: u32, slices: u32) -> [u32; 16] {
+    [
+        0,
+        1,
+        1,
+        0,
+        0,
+        1,
+        1,
+        0,
+        0,
+        BIN_SIZE / rows,
+        1,
+        0,
+        0,
+        slices,
+        1,
+        0,
+    ]
 }
 
 /// A device-local buffer the stages write (and the raster may read through a view).
@@ -166,7 +184,7 @@ fn growable(gpu: &Gpu, c: Capacities) -> Result<Growable> {
     Ok(Growable {
         resume: gpu.create_buffer(
             "resume lists",
-            RASTER_DISPATCH_BYTES + resume_items * 4,
+            DISPATCH_BYTES + resume_items * 4,
             STORAGE | vk::BufferUsageFlags::INDIRECT_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuToCpu,
         )?,
@@ -410,9 +428,9 @@ impl Resources {
     }
 
     /// Zeroes the counters and bin counts, writes the capacities and an empty depth range,
-    /// and empties the raster's dispatch commands (its first dispatch having workgroups of
-    /// `rows` rows), before setup.
-    pub fn record_reset(&self, cmd: vk::CommandBuffer, rows: u32) {
+    /// and empties the indirect dispatch commands (the raster's first having workgroups of
+    /// `rows` rows, binning's `slices` slices of rows), before setup.
+    pub fn record_reset(&self, cmd: vk::CommandBuffer, rows: u32, slices: u32) {
         let gpu = self.counters.gpu();
         // One write of the whole record: separate writes to one buffer would need barriers
         // between them.
@@ -430,7 +448,7 @@ impl Resources {
             cmd,
             &self.growable.resume,
             0,
-            bytemuck::cast_slice(&empty_dispatches(rows)),
+            bytemuck::cast_slice(&empty_dispatches(rows, slices)),
         );
         memory_barrier(
             gpu,
@@ -463,8 +481,8 @@ impl Resources {
         ))
     }
 
-    /// The buffer holding the raster's indirect dispatch commands.
-    pub fn raster_dispatches(&self) -> &Buffer {
+    /// The buffer holding the indirect dispatch commands.
+    pub fn dispatches(&self) -> &Buffer {
         &self.growable.resume
     }
 
