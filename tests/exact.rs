@@ -136,6 +136,61 @@ fn near_plane_scene() -> Scene {
     }
 }
 
+/// An opaque wall at z = -1 hiding the left half of the view, and three transparent quads:
+/// wholly behind it, straddling its edge (partly visible), and in front of it.
+fn occluded_scene() -> Scene {
+    let square = |x0: f32, x1: f32, y: f32, z: f32| {
+        Mesh::from_quads(
+            "square",
+            vec![
+                Vec3::new(x0, -y, z),
+                Vec3::new(x1, -y, z),
+                Vec3::new(x1, y, z),
+                Vec3::new(x0, y, z),
+            ],
+            vec![[0, 1, 2, 3]],
+        )
+    };
+    let draw = |mesh: usize, material: usize| Draw {
+        mesh,
+        material,
+        transform: Mat4::IDENTITY,
+    };
+    Scene {
+        name: "occluded".into(),
+        meshes: vec![
+            square(-10.0, 0.2, 10.0, -1.0),
+            square(-2.0, -0.5, 1.0, -2.0),
+            square(-1.0, 0.5, 1.0, -2.0),
+            square(-1.5, 1.0, 1.0, 0.0),
+        ],
+        materials: vec![
+            Material::default(),
+            Material::alpha(Vec3::new(0.9, 0.3, 0.1), 0.6),
+        ],
+        opaque: vec![draw(0, 0)],
+        transparent: vec![draw(1, 1), draw(2, 1), draw(3, 1)],
+        camera: Camera::look_at(Vec3::new(0.0, 0.0, 3.0), Vec3::ZERO, 1.0, 0.1, 50.0),
+        background: Vec3::splat(0.8),
+        ..Scene::default()
+    }
+}
+
+#[test]
+fn exact_culls_triangles_behind_the_opaque_layer() {
+    let frame = check(
+        &occluded_scene(),
+        "occluded",
+        203,
+        117,
+        &MethodOptions::default(),
+    );
+    assert_eq!(
+        frame.triangles, 4,
+        "the quad behind the wall should be culled, the other two kept"
+    );
+}
+
 #[test]
 fn exact_matches_reference_across_the_near_plane() {
     check(

@@ -1,8 +1,8 @@
 #version 450
 // Setup: one invocation per transparent quad. Transforms its vertices, sets up its one or two
 // triangles under the shared raster rules, culls what can cover nothing (degenerate, back
-// facing for single-sided materials, outside the viewport or the depth range), and appends
-// the rest to the triangle array for binning.
+// facing for single-sided materials, outside the viewport or the depth range, wholly behind
+// the opaque layer), and appends the rest to the triangle array for binning.
 
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 
@@ -10,6 +10,7 @@
 #include "exact_bindings.glsl"
 #include "raster.glsl"
 #include "exact_bins.glsl"
+#include "depth_pyramid.glsl"
 
 layout(local_size_x = 64) in;
 
@@ -98,6 +99,7 @@ bool setupTriangle(vec4 c[3], out ExactTriangle t, out ExactHomogeneous h, out b
                    out bool front) {
     homogeneous = false;
     front = false;
+    t.bounds = ivec4(0);
     for (int i = 0; i < 3; i++) {
         if (any(isnan(c[i])) || any(isinf(c[i]))) {
             return false;
@@ -205,6 +207,14 @@ bool setupTriangle(vec4 c[3], out ExactTriangle t, out ExactHomogeneous h, out b
     return t.bounds.x < t.bounds.z && t.bounds.y < t.bounds.w;
 }
 
+// Whether no fragment of fixed-path triangle t can pass the opaque depth test (nearer than
+// the opaque depth). Its fragments' depths are interpolated between its vertices' in float,
+// so none is below the nearest vertex's less a few ulps; 2^-16 of it is far more than that.
+bool behindOpaque(ExactTriangle t) {
+    float nearest = min(min(t.zNdc.x, t.zNdc.y), t.zNdc.z);
+    return nearest - nearest * (1.0 / 65536.0) >= farthestOpaque(t.bounds);
+}
+
 // Everything shading needs of triangle `vi` of draw `d`, so that the raster reads one record.
 // Normals are transformed here exactly as the reference transforms them per fragment.
 ExactAttributes gatherAttributes(ExactDraw d, uvec3 vi) {
@@ -266,7 +276,8 @@ void main() {
         ExactHomogeneous h;
         bool homogeneous;
         bool front;
-        if (!setupTriangle(c, t, h, homogeneous, front) || (cullBack && !front)) {
+        if (!setupTriangle(c, t, h, homogeneous, front) || (cullBack && !front) ||
+            (!homogeneous && behindOpaque(t))) {
             continue;
         }
         if (homogeneous) {

@@ -22,6 +22,8 @@ struct Result {
     stages: Vec<(&'static str, f64)>,
     peak_gpu_bytes: u64,
     fragments: u64,
+    /// Triangles left after culling (exact).
+    triangles: u64,
     rerenders: u32,
     wall_ms: f64,
 }
@@ -62,7 +64,7 @@ pub fn run(
             let mut per_stage: BTreeMap<&'static str, Vec<f64>> = BTreeMap::new();
             let mut stage_order = Vec::new();
             let (mut totals, mut method_totals, mut peak) = (Vec::new(), Vec::new(), 0);
-            let (mut fragments, mut rerenders) = (0, 0);
+            let (mut fragments, mut triangles, mut rerenders) = (0, 0, 0);
             let mut walls = Vec::new();
             for _ in 0..frames {
                 let frame = renderer.render(false)?;
@@ -76,6 +78,7 @@ pub fn run(
                 method_totals.push(frame.method_ms());
                 peak = peak.max(frame.peak_gpu_bytes);
                 fragments = frame.fragments;
+                triangles = frame.triangles;
                 rerenders += frame.rerenders;
                 walls.push(frame.wall_ms);
                 bar.inc(1);
@@ -92,6 +95,7 @@ pub fn run(
                     .collect(),
                 peak_gpu_bytes: peak,
                 fragments,
+                triangles,
                 rerenders,
                 wall_ms: median(walls),
             });
@@ -116,6 +120,7 @@ pub fn run(
                 "threshold": threshold,
                 "wavelet": super::wavelet_json(&r.method, wavelet),
                 "fragments": r.fragments,
+                "triangles": r.triangles,
                 "rerenders": r.rerenders,
                 "wall_ms": r.wall_ms,
                 "wall_ratio_to_blend": wall_ratio,

@@ -63,6 +63,8 @@ pub struct FrameCheck {
     pub rerender: bool,
     /// Fragments composited, where the method counts them.
     pub fragments: u64,
+    /// Transparent triangles left to rasterize after culling, where the method culls.
+    pub triangles: u64,
 }
 
 /// What a method records into.

@@ -44,6 +44,9 @@ pub struct Frame {
     pub rerenders: u32,
     /// Fragments composited, for methods that count them (0 otherwise).
     pub fragments: u64,
+    /// Transparent triangles left to rasterize after culling (back faces, off screen, behind
+    /// the opaque layer), for methods that cull them (0 otherwise).
+    pub triangles: u64,
     /// Host wall-clock time from the last submission to its completion, in milliseconds. On
     /// CPU devices GPU timestamps are written as commands are issued, not as asynchronous
     /// raster work finishes, so this is the fairer measure of a whole frame there.
@@ -241,6 +244,7 @@ impl Renderer {
             peak_gpu_bytes: gpu.memory_in_use().1,
             rerenders,
             fragments: check.fragments,
+            triangles: check.triangles,
             wall_ms,
         })
     }

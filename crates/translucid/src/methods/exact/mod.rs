@@ -2,8 +2,11 @@
 //! reference does, in the same order, under the same raster rules.
 //!
 //! Stages (one compute shader each, `shaders/exact/`):
+//! 0. `depth_pyramid`: the farthest opaque depth per 8×8 block and over ever larger cells.
 //! 1. `setup`: per transparent quad, transform, set up its triangles (fixed-point or
-//!    homogeneous), cull, append visible triangles.
+//!    homogeneous), cull (back faces, off screen, wholly behind the opaque layer by the
+//!    pyramid), append visible triangles. Binning runs for as many triangles as setup kept
+//!    (an indirect dispatch setup sizes).
 //! 2. `bin_count`, `bin_scan`, `bin_fill`: per bin (one row of an 8×8-pixel block), count the
 //!    triangles that may cover it, prefix-sum the counts, fill the per-bin triangle lists.
 //!    Frames with many fragments per pixel order each list by depth slab (nearest vertex).
@@ -45,12 +48,13 @@ use layout::{
 };
 use resources::{Capacities, Resources};
 
-const STAGES: [(&str, &[u8]); 5] = [
+const STAGES: [(&str, &[u8]); 6] = [
     ("setup", crate::spirv!("exact/setup.comp")),
     ("bin_count", crate::spirv!("exact/bin_count.comp")),
     ("bin_scan", crate::spirv!("exact/bin_scan.comp")),
     ("bin_fill", crate::spirv!("exact/bin_fill.comp")),
     ("raster", crate::spirv!("exact/raster.comp")),
+    ("depth_pyramid", crate::spirv!("exact/depth_pyramid.comp")),
 ];
 
 pub struct Exact {
@@ -60,6 +64,8 @@ pub struct Exact {
     pipelines: Vec<ComputePipeline>,
     /// The raster shader again, specialized to resume suspended rows.
     continuation: ComputePipeline,
+    /// The depth pyramid shader specialized to build the levels above level 0.
+    pyramid_top: ComputePipeline,
     /// Continuation dispatches recorded after the raster; doubled when some row was still
     /// unfinished after the last one.
     continuations: u32,
@@ -71,6 +77,10 @@ pub struct Exact {
 const SETUP: usize = 0;
 const BINNING: [usize; 3] = [1, 2, 3];
 const RASTER: usize = 4;
+/// Built twice: level 0 (constant 0 false), then the levels above (true).
+const DEPTH_PYRAMID: usize = 5;
+/// `PYRAMID_GROUP_SIZE` of depth_pyramid.comp.
+const PYRAMID_GROUP_SIZE: u32 = 256;
 /// With about 60,000 loop iterations each, this many continuations finish any pixel this
 /// method can render in reasonable time; past it the frame fails with an error.
 const MAX_CONTINUATIONS: u32 = 64;
@@ -172,10 +182,12 @@ impl Exact {
             .map(|i| match i {
                 SETUP => setup_pipeline(gpu, &layouts, &features),
                 RASTER => raster_pipeline(gpu, &layouts, &features, false),
+                DEPTH_PYRAMID => stage_pipeline(gpu, &layouts, i, &[0]),
                 _ => stage_pipeline(gpu, &layouts, i, &features.binning_constants()),
             })
             .collect::<Result<Vec<_>>>()?;
         let continuation = raster_pipeline(gpu, &layouts, &features, true)?;
+        let pyramid_top = stage_pipeline(gpu, &layouts, DEPTH_PYRAMID, &[1])?;
         let push = ExactPush {
             item_count: uploaded.transparent_quads,
             draw_count: scene.transparent.len() as u32,
@@ -195,6 +207,7 @@ impl Exact {
             set,
             pipelines,
             continuation,
+            pyramid_top,
             continuations: 1,
             push,
             features,
@@ -290,9 +303,46 @@ impl Method for Exact {
         let cmd = ctx.cmd;
         let slices = self.push.height.div_ceil(self.push.bin_rows_per_slice);
         self.resources.record_reset(cmd, self.features.rows, slices);
+        let attachment = (
+            vk::PipelineStageFlags::ALL_GRAPHICS,
+            vk::AccessFlags::COLOR_ATTACHMENT_WRITE
+                | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE,
+        );
+        let shader = (
+            vk::PipelineStageFlags::COMPUTE_SHADER,
+            vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
+        );
+        let (colour, depth) = (&ctx.targets.colour, &ctx.targets.depth);
+        // Setup's occlusion cull reads the opaque depth (through the pyramid), as does the
+        // raster's depth test.
+        image_barrier(
+            &self.gpu,
+            cmd,
+            depth,
+            vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+            attachment,
+            shader,
+        );
+        let cells = self.push.bins_x * self.push.bins_y;
+        self.dispatch(
+            ctx,
+            DEPTH_PYRAMID,
+            [cells.div_ceil(PYRAMID_GROUP_SIZE), 1, 1],
+        );
+        self.compute_to_compute(cmd);
+        self.pyramid_top.dispatch(
+            cmd,
+            &[ctx.scene.set.raw, self.set.raw],
+            bytemuck::bytes_of(&self.push),
+            [1, 1, 1],
+        );
+        self.compute_to_compute(cmd);
+        ctx.timestamps.mark(cmd, "depth pyramid");
+
         let items = self.push.item_count;
         if items > 0 {
-            self.dispatch(ctx, 0, [items.div_ceil(64), 1, 1]);
+            self.dispatch(ctx, SETUP, [items.div_ceil(64), 1, 1]);
         }
         self.compute_to_compute(cmd);
         ctx.timestamps.mark(cmd, "setup");
@@ -307,31 +357,12 @@ impl Method for Exact {
         self.compute_to_compute(cmd);
         ctx.timestamps.mark(cmd, "bin fill");
 
-        let attachment = (
-            vk::PipelineStageFlags::ALL_GRAPHICS,
-            vk::AccessFlags::COLOR_ATTACHMENT_WRITE
-                | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE,
-        );
-        let shader = (
-            vk::PipelineStageFlags::COMPUTE_SHADER,
-            vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
-        );
-        let (colour, depth) = (&ctx.targets.colour, &ctx.targets.depth);
         image_barrier(
             &self.gpu,
             cmd,
             colour,
             vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
             vk::ImageLayout::GENERAL,
-            attachment,
-            shader,
-        );
-        image_barrier(
-            &self.gpu,
-            cmd,
-            depth,
-            vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
-            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
             attachment,
             shader,
         );
@@ -438,13 +469,11 @@ impl Method for Exact {
             );
         }
         let rerender = rebuild || grown.is_some() || unfinished > 0;
+        let kept = |count: u32| if rerender { 0 } else { u64::from(count) };
         Ok(FrameCheck {
             rerender,
-            fragments: if rerender {
-                0
-            } else {
-                u64::from(counters.fragment_count)
-            },
+            fragments: kept(counters.fragment_count),
+            triangles: kept(counters.triangle_count),
         })
     }
 }

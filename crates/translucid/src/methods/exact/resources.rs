@@ -111,6 +111,8 @@ pub struct Resources {
     bins: BinArrays,
     /// The blocks with a non-empty bin, listed by the scan for the raster.
     raster_bins: Buffer,
+    /// The farthest opaque depth over ever larger cells, for setup's occlusion cull.
+    depth_pyramid: Buffer,
     materials: Viewed,
     textures: Viewed,
     texels: Viewed,
@@ -241,6 +243,19 @@ impl BinArrays {
     }
 }
 
+/// Cells of every level of the opaque depth pyramid over a frame of `bins_x` x `bins_y`
+/// blocks (depth_pyramid.glsl): each level halves the sides, rounding up, down to one cell.
+pub fn pyramid_cells(bins_x: u32, bins_y: u32) -> u32 {
+    let (mut x, mut y) = (bins_x, bins_y);
+    let mut cells = x * y;
+    while x > 1 || y > 1 {
+        x = x.div_ceil(2);
+        y = y.div_ceil(2);
+        cells += x * y;
+    }
+    cells
+}
+
 /// The transparent draws in the order the reference ranks them, with their model-view-
 /// projection computed on the host exactly as the reference does.
 fn exact_draws(scene: &Scene, width: u32, height: u32) -> Vec<ExactDraw> {
@@ -353,6 +368,7 @@ impl Resources {
                 BindingKind::StorageBuffer,    // 21 resume lists
                 BindingKind::StorageBuffer,    // 22 pixel states
                 BindingKind::StorageBuffer,    // 23 non-empty bins
+                BindingKind::StorageBuffer,    // 24 opaque depth pyramid
             ],
             vk::ShaderStageFlags::COMPUTE,
         )?;
@@ -368,6 +384,14 @@ impl Resources {
             counters,
             bins: BinArrays::new(gpu, blocks * u64::from(BIN_SIZE), slabs)?,
             raster_bins: storage_buffer(gpu, "non-empty blocks", blocks * 4)?,
+            depth_pyramid: storage_buffer(
+                gpu,
+                "opaque depth pyramid",
+                u64::from(pyramid_cells(
+                    width.div_ceil(BIN_SIZE),
+                    height.div_ceil(BIN_SIZE),
+                )) * 4,
+            )?,
             materials: texel_data(
                 gpu,
                 "exact materials",
@@ -424,6 +448,7 @@ impl Resources {
             Resource::Buffer(&g.resume),
             Resource::Buffer(&g.pixel_states),
             Resource::Buffer(&self.raster_bins),
+            Resource::Buffer(&self.depth_pyramid),
         ])
     }
 
@@ -505,5 +530,41 @@ impl Resources {
         self.growable = growable(gpu, capacities)?;
         self.capacities = capacities;
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pyramid_levels_halve_down_to_one_cell() {
+        // 5x3 blocks: 5x3, 3x2, 2x1, 1x1.
+        assert_eq!(pyramid_cells(5, 3), 15 + 6 + 2 + 1);
+        assert_eq!(pyramid_cells(1, 1), 1);
+    }
+
+    /// farthestOpaque climbs at most PYRAMID_MAX_LEVELS - 1 levels: enough for the largest
+    /// frame the method takes (65535 pixels a side).
+    #[test]
+    fn pyramid_lookup_reaches_the_top_of_the_largest_frame() {
+        let src = include_str!("../../../../../shaders/common/depth_pyramid.glsl");
+        let max_levels: u32 = src
+            .lines()
+            .find_map(|l| l.strip_prefix("#define PYRAMID_MAX_LEVELS "))
+            .expect("PYRAMID_MAX_LEVELS")
+            .trim()
+            .parse()
+            .expect("number");
+        let mut side = 0xFFFF_u32.div_ceil(BIN_SIZE);
+        let mut levels = 1;
+        while side > 1 {
+            side = side.div_ceil(2);
+            levels += 1;
+        }
+        assert!(
+            levels <= max_levels,
+            "{levels} levels, lookup climbs {max_levels}"
+        );
     }
 }

@@ -1,0 +1,66 @@
+#version 450
+// Builds the opaque depth pyramid (depth_pyramid.glsl) in two dispatches: level 0 from the
+// opaque depth, one invocation per cell; then every level above, by one workgroup that
+// finishes a level before it starts the next.
+
+#extension GL_EXT_control_flow_attributes : require
+
+#include "exact_bindings.glsl"
+#include "depth_pyramid.glsl"
+
+#define PYRAMID_GROUP_SIZE 256
+layout(local_size_x = PYRAMID_GROUP_SIZE) in;
+
+// false: level 0; true: the levels above it.
+layout(constant_id = 0) const bool UPPER_LEVELS = false;
+
+// A gather of four texels costs about as much as one fetch on lavapipe, so level 0 gathers each
+// 2x2 quad of its cell; the clamp-to-edge sampler repeats the last row and column where the
+// image ends mid-cell, which leaves the farthest depth unchanged.
+void buildLevelZero() {
+    uint cell = gl_GlobalInvocationID.x;
+    if (cell >= u_push.binsX * u_push.binsY) {
+        return;
+    }
+    vec2 origin = vec2(cell % u_push.binsX, cell / u_push.binsX) * BIN_SIZE;
+    vec2 texelSize = 1.0 / vec2(u_push.width, u_push.height);
+    float farthest = 0.0;
+    [[unroll]] for (int y = 0; y < BIN_SIZE; y += 2) {
+        [[unroll]] for (int x = 0; x < BIN_SIZE; x += 2) {
+            // The shared corner of texels (x, y) .. (x + 1, y + 1): half a texel from any
+            // other choice, so rounding cannot move the gather.
+            vec4 quad = textureGather(u_opaqueDepth, (origin + vec2(x + 1, y + 1)) * texelSize, 0);
+            farthest = max(farthest, max(max(quad.x, quad.y), max(quad.z, quad.w)));
+        }
+    }
+    g_depthPyramid[cell] = farthest;
+}
+
+void buildUpperLevels() {
+    uvec2 size = uvec2(u_push.binsX, u_push.binsY);
+    uint offset = 0u;
+    while (size.x > 1u || size.y > 1u) {
+        uvec2 parent = pyramidParentSize(size);
+        uint parentOffset = offset + size.x * size.y;
+        for (uint i = gl_LocalInvocationID.x; i < parent.x * parent.y; i += PYRAMID_GROUP_SIZE) {
+            ivec2 lo = ivec2(i % parent.x, i / parent.x) * 2;
+            ivec2 hi = min(lo + 1, ivec2(size) - 1);
+            g_depthPyramid[parentOffset + i] =
+                max(max(pyramidCell(offset, size, lo), pyramidCell(offset, size, ivec2(hi.x, lo.y))),
+                    max(pyramidCell(offset, size, ivec2(lo.x, hi.y)), pyramidCell(offset, size, hi)));
+        }
+        // The next level reads what other invocations wrote.
+        memoryBarrierBuffer();
+        barrier();
+        offset = parentOffset;
+        size = parent;
+    }
+}
+
+void main() {
+    if (UPPER_LEVELS) {
+        buildUpperLevels();
+    } else {
+        buildLevelZero();
+    }
+}
