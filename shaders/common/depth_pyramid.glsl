@@ -15,8 +15,10 @@ uvec2 pyramidParentSize(uvec2 size) {
     return (size + 1u) >> 1;
 }
 
+// Read through the texel view: setup reads cells under a branch, where storage-buffer loads
+// cost a loop over the lanes on CPU drivers.
 float pyramidCell(uint levelOffset, uvec2 size, ivec2 cell) {
-    return g_depthPyramid[levelOffset + uint(cell.y) * size.x + uint(cell.x)];
+    return texelFetch(u_depthPyramidTexels, int(levelOffset + uint(cell.y) * size.x + uint(cell.x))).r;
 }
 
 // Levels the pyramid may have: enough for 65535 pixels a side.

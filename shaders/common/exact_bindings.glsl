@@ -52,6 +52,8 @@ layout(set = 1, binding = 22, std430) buffer PixelStateBlock { ExactPixelState g
 layout(set = 1, binding = 23, std430) buffer RasterBinBlock { uint g_rasterBins[]; };
 // The opaque depth pyramid (depth_pyramid.glsl).
 layout(set = 1, binding = 24, std430) buffer DepthPyramidBlock { float g_depthPyramid[]; };
+layout(set = 1, binding = 25) uniform usamplerBuffer u_binCountTexels;  // g_binCounts
+layout(set = 1, binding = 26) uniform samplerBuffer u_depthPyramidTexels; // g_depthPyramid
 
 layout(push_constant) uniform ExactPush {
     uint itemCount;         // transparent quads in all draws

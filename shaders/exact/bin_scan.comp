@@ -22,7 +22,7 @@ void main() {
     uint last = min(first + run, bins);
     uint sum = 0u;
     for (uint b = first; b < last; b++) {
-        sum += g_binCounts[b];
+        sum += texelFetch(u_binCountTexels, int(b)).r;
     }
     s_runTotals[gl_LocalInvocationID.x] = sum;
     barrier();
@@ -38,7 +38,7 @@ void main() {
     uint offset = s_runTotals[gl_LocalInvocationID.x];
     uint blockEntries = 0u;
     for (uint b = first; b < last; b++) {
-        uint count = g_binCounts[b];
+        uint count = texelFetch(u_binCountTexels, int(b)).r;
         g_binOffsets[b] = offset;
         offset += count;
         blockEntries += count;

@@ -112,7 +112,7 @@ pub struct Resources {
     /// The blocks with a non-empty bin, listed by the scan for the raster.
     raster_bins: Buffer,
     /// The farthest opaque depth over ever larger cells, for setup's occlusion cull.
-    depth_pyramid: Buffer,
+    depth_pyramid: Viewed,
     materials: Viewed,
     textures: Viewed,
     texels: Viewed,
@@ -227,7 +227,8 @@ struct BinArrays {
     /// Bins (rows of blocks) in the frame.
     rows: u64,
     slabs: u32,
-    counts: Buffer,
+    /// Viewed for the scan, which reads them in a loop.
+    counts: Viewed,
     offsets: Buffer,
 }
 
@@ -237,7 +238,7 @@ impl BinArrays {
         Ok(Self {
             rows,
             slabs,
-            counts: storage_buffer(gpu, "bin counts", bytes)?,
+            counts: viewed_storage(gpu, "bin counts", bytes, vk::Format::R32_UINT)?,
             offsets: storage_buffer(gpu, "bin offsets", bytes)?,
         })
     }
@@ -369,6 +370,8 @@ impl Resources {
                 BindingKind::StorageBuffer,    // 22 pixel states
                 BindingKind::StorageBuffer,    // 23 non-empty bins
                 BindingKind::StorageBuffer,    // 24 opaque depth pyramid
+                BindingKind::TexelBuffer,      // 25 bin counts
+                BindingKind::TexelBuffer,      // 26 opaque depth pyramid
             ],
             vk::ShaderStageFlags::COMPUTE,
         )?;
@@ -384,13 +387,14 @@ impl Resources {
             counters,
             bins: BinArrays::new(gpu, blocks * u64::from(BIN_SIZE), slabs)?,
             raster_bins: storage_buffer(gpu, "non-empty blocks", blocks * 4)?,
-            depth_pyramid: storage_buffer(
+            depth_pyramid: viewed_storage(
                 gpu,
                 "opaque depth pyramid",
                 u64::from(pyramid_cells(
                     width.div_ceil(BIN_SIZE),
                     height.div_ceil(BIN_SIZE),
                 )) * 4,
+                vk::Format::R32_SFLOAT,
             )?,
             materials: texel_data(
                 gpu,
@@ -430,7 +434,7 @@ impl Resources {
             Resource::Buffer(&g.triangles.buffer),
             Resource::Buffer(&g.homogeneous.buffer),
             Resource::Buffer(&self.counters),
-            Resource::Buffer(&self.bins.counts),
+            Resource::Buffer(&self.bins.counts.buffer),
             Resource::Buffer(&self.bins.offsets),
             Resource::TexelBuffer(self.scene_views[2].raw),
             Resource::Buffer(&g.bin_entries.buffer),
@@ -448,7 +452,9 @@ impl Resources {
             Resource::Buffer(&g.resume),
             Resource::Buffer(&g.pixel_states),
             Resource::Buffer(&self.raster_bins),
-            Resource::Buffer(&self.depth_pyramid),
+            Resource::Buffer(&self.depth_pyramid.buffer),
+            Resource::TexelBuffer(self.bins.counts.view.raw),
+            Resource::TexelBuffer(self.depth_pyramid.view.raw),
         ])
     }
 
@@ -468,7 +474,7 @@ impl Resources {
             ..ExactCounters::default()
         };
         gpu.cmd_update_buffer(cmd, &self.counters, 0, bytemuck::bytes_of(&counters));
-        gpu.cmd_fill_buffer(cmd, &self.bins.counts, 0);
+        gpu.cmd_fill_buffer(cmd, &self.bins.counts.buffer, 0);
         gpu.cmd_update_buffer(
             cmd,
             &self.growable.resume,
