@@ -54,6 +54,9 @@ layout(set = 1, binding = 23, std430) buffer RasterBinBlock { uint g_rasterBins[
 layout(set = 1, binding = 24, std430) buffer DepthPyramidBlock { float g_depthPyramid[]; };
 layout(set = 1, binding = 25) uniform usamplerBuffer u_binCountTexels;  // g_binCounts
 layout(set = 1, binding = 26) uniform samplerBuffer u_depthPyramidTexels; // g_depthPyramid
+// Per block: the sum of its bins' counts, then its list offset (bin_scan.comp).
+layout(set = 1, binding = 27, std430) buffer BlockTotalBlock { uint g_blockTotals[]; };
+layout(set = 1, binding = 28) uniform usamplerBuffer u_blockTotalTexels;
 
 layout(push_constant) uniform ExactPush {
     uint itemCount;         // transparent quads in all draws

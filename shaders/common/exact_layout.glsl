@@ -35,6 +35,8 @@
 #define DISPATCH_RASTER_BINS 2u
 #define DISPATCH_BINNING 3u
 #define BINNING_GROUP_SIZE 64u
+// Workgroup size of the scan, and the multiple the blocks of the bin arrays are padded to.
+#define SCAN_GROUP_SIZE 256u
 
 // One pixel's compositing state between raster dispatches (std430, 48 bytes).
 struct ExactPixelState {

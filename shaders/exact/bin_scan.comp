@@ -1,34 +1,54 @@
 #version 450
-// Binning, pass 2: exclusive prefix sum of the (bin, slab) counts into offsets, so that each
-// bin's list holds its slabs near to far, by one workgroup:
-// each invocation sums a contiguous run of bins, the runs' sums are scanned in shared memory,
-// then each invocation writes its run's offsets. Blocks with a non-empty bin are listed for
-// the raster, which runs one workgroup per listed block (runs are whole blocks).
+// Binning, pass 2: exclusive prefix sum of the (bin, slab) counts into list offsets, so that
+// each bin's list holds its slabs near to far. Three dispatches (SCAN_STEP):
+// 0. every invocation sums the counts of one block (BIN_SIZE rows of SLABS slabs) into
+//    g_blockTotals;
+// 1. one workgroup turns the block totals into block offsets in place (each invocation scans
+//    a contiguous run of blocks; the runs' sums are scanned in shared memory) and lists the
+//    blocks with a non-empty bin for the raster;
+// 2. every invocation writes the bin offsets of one block, starting from its block offset.
+// Steps 0 and 2 take whole workgroups of blocks (the arrays are padded, the padding's counts
+// stay zero), so they run without a branch: on CPU drivers such as lavapipe straight-line
+// loads and stores are vector operations, but per-lane loops inside control flow. One
+// workgroup scanning every bin was single-threaded there.
+
+#extension GL_KHR_shader_subgroup_ballot : require
+#extension GL_EXT_control_flow_attributes : require
 
 #include "exact_bindings.glsl"
 #include "exact_bins.glsl"
 
-#define SCAN_SIZE 256
-layout(local_size_x = SCAN_SIZE) in;
+layout(local_size_x = SCAN_GROUP_SIZE) in;
 
-shared uint s_runTotals[SCAN_SIZE];
+layout(constant_id = 0) const uint SCAN_STEP = 0u;
 
-void main() {
+const uint BINS_PER_BLOCK = BIN_SIZE * SLABS;
+
+shared uint s_runTotals[SCAN_GROUP_SIZE];
+
+void sumBlock() {
+    uint block = gl_GlobalInvocationID.x;
+    uint first = block * BINS_PER_BLOCK;
+    uint total = 0u;
+    [[unroll]] for (uint i = 0u; i < BINS_PER_BLOCK; i++) {
+        total += texelFetch(u_binCountTexels, int(first + i)).r;
+    }
+    g_blockTotals[block] = total;
+}
+
+void scanBlocks() {
     uint blocks = u_push.binsX * u_push.binsY;
-    uint perBlock = BIN_SIZE * SLABS;
-    uint bins = blocks * perBlock;
-    uint run = (blocks + SCAN_SIZE - 1u) / SCAN_SIZE * perBlock;
+    uint run = (blocks + SCAN_GROUP_SIZE - 1u) / SCAN_GROUP_SIZE;
     uint first = gl_LocalInvocationID.x * run;
-    uint last = min(first + run, bins);
     uint sum = 0u;
-    for (uint b = first; b < last; b++) {
-        sum += texelFetch(u_binCountTexels, int(b)).r;
+    for (uint i = 0u; i < run; i++) {
+        sum += first + i < blocks ? texelFetch(u_blockTotalTexels, int(first + i)).r : 0u;
     }
     s_runTotals[gl_LocalInvocationID.x] = sum;
     barrier();
     if (gl_LocalInvocationID.x == 0u) {
         uint total = 0u;
-        for (uint i = 0u; i < SCAN_SIZE; i++) {
+        for (uint i = 0u; i < SCAN_GROUP_SIZE; i++) {
             uint t = s_runTotals[i];
             s_runTotals[i] = total;
             total += t;
@@ -36,18 +56,46 @@ void main() {
     }
     barrier();
     uint offset = s_runTotals[gl_LocalInvocationID.x];
-    uint blockEntries = 0u;
-    for (uint b = first; b < last; b++) {
-        uint count = texelFetch(u_binCountTexels, int(b)).r;
-        g_binOffsets[b] = offset;
-        offset += count;
-        blockEntries += count;
-        if (b % perBlock == perBlock - 1u) {
-            if (blockEntries > 0u) {
-                uint slot = atomicAdd(g_dispatch[DISPATCH_RASTER_BINS * 4u], 1u);
-                g_rasterBins[slot] = b / perBlock;
-            }
-            blockEntries = 0u;
+    // The same number of iterations for every invocation, so that the listing below can
+    // take one atomic per subgroup.
+    for (uint i = 0u; i < run; i++) {
+        uint block = first + i;
+        bool inside = block < blocks;
+        uint total = inside ? texelFetch(u_blockTotalTexels, int(block)).r : 0u;
+        if (inside) {
+            g_blockTotals[block] = offset;
         }
+        offset += total;
+        bool listed = total > 0u;
+        uvec4 ballot = subgroupBallot(listed);
+        uint count = subgroupBallotBitCount(ballot);
+        uint slot = 0u;
+        if (subgroupElect() && count > 0u) {
+            slot = atomicAdd(g_dispatch[DISPATCH_RASTER_BINS * 4u], count);
+        }
+        slot = subgroupBroadcastFirst(slot) + subgroupBallotExclusiveBitCount(ballot);
+        if (listed) {
+            g_rasterBins[slot] = block;
+        }
+    }
+}
+
+void writeBinOffsets() {
+    uint block = gl_GlobalInvocationID.x;
+    uint first = block * BINS_PER_BLOCK;
+    uint offset = texelFetch(u_blockTotalTexels, int(block)).r;
+    [[unroll]] for (uint i = 0u; i < BINS_PER_BLOCK; i++) {
+        g_binOffsets[first + i] = offset;
+        offset += texelFetch(u_binCountTexels, int(first + i)).r;
+    }
+}
+
+void main() {
+    if (SCAN_STEP == 0u) {
+        sumBlock();
+    } else if (SCAN_STEP == 1u) {
+        scanBlocks();
+    } else {
+        writeBinOffsets();
     }
 }

@@ -27,6 +27,8 @@ pub const DISPATCH_RASTER_BINS_OFFSET: u64 = 32;
 pub const DISPATCH_BINNING_OFFSET: u64 = 48;
 /// Invocations per workgroup of the binning passes (`local_size_x`).
 pub const BINNING_GROUP_SIZE: u32 = 64;
+/// Invocations per workgroup of the scan, and the multiple of blocks the bin arrays hold.
+pub const SCAN_GROUP_SIZE: u32 = 256;
 /// Bytes of one `ExactTriangleRecord` and one `ExactHomogeneous`.
 pub const TRIANGLE_BYTES: u64 = 96;
 pub const HOMOGENEOUS_BYTES: u64 = 192;
@@ -127,6 +129,7 @@ mod tests {
         assert_eq!(define("ENTRY_SLAB_SHIFT"), ENTRY_SLAB_SHIFT);
         assert_eq!(define("MAX_SLABS"), MAX_SLABS);
         assert_eq!(define("BINNING_GROUP_SIZE"), BINNING_GROUP_SIZE);
+        assert_eq!(define("SCAN_GROUP_SIZE"), SCAN_GROUP_SIZE);
         let commands = u64::from(define("DISPATCH_BINNING")) + 1;
         assert_eq!(commands * 16, DISPATCH_BYTES);
         assert_eq!(

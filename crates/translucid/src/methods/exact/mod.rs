@@ -66,6 +66,8 @@ pub struct Exact {
     continuation: ComputePipeline,
     /// The depth pyramid shader specialized to build the levels above level 0.
     pyramid_top: ComputePipeline,
+    /// The scan's steps 1 and 2 (step 0 is `pipelines[BIN_SCAN]`).
+    scan_steps: [ComputePipeline; 2],
     /// Continuation dispatches recorded after the raster; doubled when some row was still
     /// unfinished after the last one.
     continuations: u32,
@@ -75,7 +77,8 @@ pub struct Exact {
 }
 
 const SETUP: usize = 0;
-const BINNING: [usize; 3] = [1, 2, 3];
+const BINNING: [usize; 3] = [1, BIN_SCAN, 3];
+const BIN_SCAN: usize = 2;
 const RASTER: usize = 4;
 /// Built twice: level 0 (constant 0 false), then the levels above (true).
 const DEPTH_PYRAMID: usize = 5;
@@ -107,6 +110,20 @@ fn setup_pipeline(
     features: &RasterFeatures,
 ) -> Result<ComputePipeline> {
     stage_pipeline(gpu, layouts, SETUP, &[u32::from(features.homogeneous)])
+}
+
+/// The scan's steps 1 and 2 (constant 0), for the frame's slabs.
+fn scan_steps(
+    gpu: &Gpu,
+    layouts: &[&crate::gpu::DescriptorLayout],
+    features: &RasterFeatures,
+) -> Result<[ComputePipeline; 2]> {
+    let step = |n: u32| {
+        let mut constants = features.binning_constants();
+        constants[0] = n;
+        stage_pipeline(gpu, layouts, BIN_SCAN, &constants)
+    };
+    Ok([step(1)?, step(2)?])
 }
 
 fn raster_pipeline(
@@ -188,6 +205,7 @@ impl Exact {
             .collect::<Result<Vec<_>>>()?;
         let continuation = raster_pipeline(gpu, &layouts, &features, true)?;
         let pyramid_top = stage_pipeline(gpu, &layouts, DEPTH_PYRAMID, &[1])?;
+        let scan_steps = scan_steps(gpu, &layouts, &features)?;
         let push = ExactPush {
             item_count: uploaded.transparent_quads,
             draw_count: scene.transparent.len() as u32,
@@ -208,6 +226,7 @@ impl Exact {
             pipelines,
             continuation,
             pyramid_top,
+            scan_steps,
             continuations: 1,
             push,
             features,
@@ -350,7 +369,17 @@ impl Method for Exact {
         self.dispatch_indirect(ctx, 1, DISPATCH_BINNING_OFFSET);
         self.compute_to_compute(cmd);
         ctx.timestamps.mark(cmd, "bin count");
-        self.dispatch(ctx, 2, [1, 1, 1]);
+        let blocks = [self.resources.scan_groups(), 1, 1];
+        self.dispatch(ctx, BIN_SCAN, blocks);
+        for (step, groups) in self.scan_steps.iter().zip([[1, 1, 1], blocks]) {
+            self.compute_to_compute(cmd);
+            step.dispatch(
+                cmd,
+                &[ctx.scene.set.raw, self.set.raw],
+                bytemuck::bytes_of(&self.push),
+                groups,
+            );
+        }
         self.compute_to_compute(cmd);
         ctx.timestamps.mark(cmd, "bin scan");
         self.dispatch_indirect(ctx, 3, DISPATCH_BINNING_OFFSET);
@@ -438,6 +467,7 @@ impl Method for Exact {
                 self.pipelines[stage] =
                     stage_pipeline(&self.gpu, &layouts, stage, &features.binning_constants())?;
             }
+            self.scan_steps = scan_steps(&self.gpu, &layouts, &features)?;
         }
         if features != self.features {
             self.pipelines[RASTER] = raster_pipeline(&self.gpu, &layouts, &features, false)?;

@@ -3,7 +3,7 @@
 use super::layout::{
     ExactCounters, ExactDraw, ExactTexture, ATTRIBUTES_BYTES, BIN_SIZE, DISPATCH_BYTES,
     ENTRY_SLAB_SHIFT, HOMOGENEOUS_BYTES, OVERFLOW_BIN_ENTRIES, OVERFLOW_HOMOGENEOUS,
-    OVERFLOW_RESUME, PIXEL_STATE_BYTES, TRIANGLE_BYTES,
+    OVERFLOW_RESUME, PIXEL_STATE_BYTES, SCAN_GROUP_SIZE, TRIANGLE_BYTES,
 };
 use crate::gpu::{
     memory_barrier, vk, BindingKind, Buffer, BufferView, DescriptorLayout, DescriptorSet, Gpu,
@@ -222,25 +222,35 @@ fn growable(gpu: &Gpu, c: Capacities) -> Result<Growable> {
     })
 }
 
-/// Per (bin, depth slab): triangle counts and list offsets (list ends once filled).
+/// Per (bin, depth slab): triangle counts and list offsets (list ends once filled); per
+/// block, the scan's totals and offsets. Blocks are padded to whole scan workgroups, whose
+/// bins stay empty (see bin_scan.comp).
 struct BinArrays {
-    /// Bins (rows of blocks) in the frame.
-    rows: u64,
+    /// Blocks the arrays hold: the frame's, padded.
+    blocks: u64,
     slabs: u32,
-    /// Viewed for the scan, which reads them in a loop.
     counts: Viewed,
     offsets: Buffer,
+    block_totals: Viewed,
 }
 
 impl BinArrays {
-    fn new(gpu: &Gpu, rows: u64, slabs: u32) -> Result<Self> {
-        let bytes = rows * u64::from(slabs) * 4;
+    fn new(gpu: &Gpu, frame_blocks: u64, slabs: u32) -> Result<Self> {
+        let blocks = frame_blocks.next_multiple_of(u64::from(SCAN_GROUP_SIZE));
+        let bytes = blocks * u64::from(BIN_SIZE * slabs) * 4;
+        let r32 = vk::Format::R32_UINT;
         Ok(Self {
-            rows,
+            blocks,
             slabs,
-            counts: viewed_storage(gpu, "bin counts", bytes, vk::Format::R32_UINT)?,
+            counts: viewed_storage(gpu, "bin counts", bytes, r32)?,
             offsets: storage_buffer(gpu, "bin offsets", bytes)?,
+            block_totals: viewed_storage(gpu, "block totals", blocks * 4, r32)?,
         })
+    }
+
+    /// Workgroups of the scan's per-block steps.
+    fn scan_groups(&self) -> u32 {
+        (self.blocks / u64::from(SCAN_GROUP_SIZE)) as u32
     }
 }
 
@@ -372,6 +382,8 @@ impl Resources {
                 BindingKind::StorageBuffer,    // 24 opaque depth pyramid
                 BindingKind::TexelBuffer,      // 25 bin counts
                 BindingKind::TexelBuffer,      // 26 opaque depth pyramid
+                BindingKind::StorageBuffer,    // 27 block totals
+                BindingKind::TexelBuffer,      // 28 block totals
             ],
             vk::ShaderStageFlags::COMPUTE,
         )?;
@@ -385,7 +397,7 @@ impl Resources {
                 gpu.create_buffer_view(&uploaded.draws, RGBA32UI)?,
             ],
             counters,
-            bins: BinArrays::new(gpu, blocks * u64::from(BIN_SIZE), slabs)?,
+            bins: BinArrays::new(gpu, blocks, slabs)?,
             raster_bins: storage_buffer(gpu, "non-empty blocks", blocks * 4)?,
             depth_pyramid: viewed_storage(
                 gpu,
@@ -455,6 +467,8 @@ impl Resources {
             Resource::Buffer(&self.depth_pyramid.buffer),
             Resource::TexelBuffer(self.bins.counts.view.raw),
             Resource::TexelBuffer(self.depth_pyramid.view.raw),
+            Resource::Buffer(&self.bins.block_totals.buffer),
+            Resource::TexelBuffer(self.bins.block_totals.view.raw),
         ])
     }
 
@@ -512,6 +526,11 @@ impl Resources {
         ))
     }
 
+    /// Workgroups of the scan's per-block steps (0 and 2).
+    pub fn scan_groups(&self) -> u32 {
+        self.bins.scan_groups()
+    }
+
     /// The buffer holding the indirect dispatch commands.
     pub fn dispatches(&self) -> &Buffer {
         &self.growable.resume
@@ -527,7 +546,7 @@ impl Resources {
     /// Makes room for `slabs` depth slabs per bin (call [`Self::descriptor_set`] again).
     pub fn set_slabs(&mut self, gpu: &Gpu, slabs: u32) -> Result<()> {
         if slabs != self.bins.slabs {
-            self.bins = BinArrays::new(gpu, self.bins.rows, slabs)?;
+            self.bins = BinArrays::new(gpu, self.bins.blocks, slabs)?;
         }
         Ok(())
     }
