@@ -20,6 +20,7 @@ layout(set = 1, binding = 7, std430) buffer BinOffsetBlock { uint g_binOffsets[]
 layout(set = 1, binding = 8) uniform usamplerBuffer u_drawTexels;        // DrawInfo, 9 each
 layout(set = 1, binding = 9, std430) buffer BinEntryBlock { uint g_binEntries[]; };
 layout(set = 1, binding = 10, std430) buffer AttributeBlock { ExactAttributes g_attributes[]; };
+layout(set = 1, binding = 11) uniform sampler2D u_opaqueDepth;
 layout(set = 1, binding = 12, rgba16f) uniform image2D u_colour;
 
 // What the raster reads in its hot loops comes through texel buffers: CPU drivers such as
@@ -34,7 +35,6 @@ layout(set = 1, binding = 17) uniform usamplerBuffer u_texels;           // pack
 layout(set = 1, binding = 18) uniform samplerBuffer u_srgbToLinear;      // 256 entries
 layout(set = 1, binding = 19) uniform usamplerBuffer u_binEntryTexels;   // g_binEntries
 layout(set = 1, binding = 20) uniform usamplerBuffer u_homogeneousTexels; // g_homogeneous, 12 each
-layout(set = 1, binding = 11) uniform sampler2D u_opaqueDepth;
 
 // Indirect dispatches written on the GPU, each a VkDispatchIndirectCommand padded to 16
 // bytes (x = count): k = 0, 1 count the items of resume list k, the rows a raster dispatch
