@@ -53,9 +53,9 @@ layout(constant_id = 2) const bool VERTEX_NORMALS = true;    // some draw has ve
 layout(constant_id = 3) const bool FACE_NORMALS = true;      // some draw has none
 layout(constant_id = 4) const bool CONTINUATION = false;     // resume items of a resume list
 // Fragments selected per pass. Larger means fewer passes over the bin for deep pixels, but
-// a longer insertion for every triangle walked: the host starts at 8 and moves to 16 when
-// pixels needed several passes (at 640x360 on lavapipe, 16 makes particles, 60 deep,
-// 1.6x faster and costs spheres about 10 %).
+// a longer insertion for every triangle walked: the host starts at 8 and moves to
+// DEEP_SELECT_SIZE (features.rs) when pixels needed several passes (at 640x360 on lavapipe,
+// 16 made particles, 60 deep, 1.6x faster than 8, and cost spheres about 10 %).
 layout(constant_id = 5) const int SELECT_SIZE = 8;
 
 bool sampleTriangle(ExactTriangle t, uint x, uint y, out RasterSample s) {
