@@ -189,14 +189,8 @@ impl Renderer {
     /// the result back.
     fn run(&mut self, source: OpaqueSource<'_>) -> Result<Frame> {
         let gpu = self.gpu.clone();
-        let not_here = || {
-            Error::HostFrame(
-                "on an engine's device frames are recorded (record_host), not rendered".into(),
-            )
-        };
-        if self.readback.is_none() {
-            return Err(not_here());
-        }
+        // Fail before submitting anything.
+        self.readback()?;
         let mut rerenders = 0;
         let mut wall_ms;
         let check = loop {
@@ -219,9 +213,7 @@ impl Renderer {
                     }
                 }
                 self.record_method(&gpu, cmd)?;
-                if let Some(r) = &self.readback {
-                    r.record(&gpu, cmd, &self.targets, false);
-                }
+                self.readback()?.record(&gpu, cmd, &self.targets, false);
                 Ok(())
             })?;
             wall_ms = started.elapsed().as_secs_f64() * 1e3;
@@ -238,7 +230,7 @@ impl Renderer {
             }
         };
         Ok(Frame {
-            image: self.readback.as_ref().ok_or_else(not_here)?.colour()?,
+            image: self.readback()?.colour()?,
             opaque: None,
             stages: self.timestamps.read()?,
             peak_gpu_bytes: gpu.memory_in_use().1,
@@ -246,6 +238,15 @@ impl Renderer {
             fragments: check.fragments,
             triangles: check.triangles,
             wall_ms,
+        })
+    }
+
+    /// Where standalone frames are read back; an error on an engine's device.
+    fn readback(&self) -> Result<&Readback> {
+        self.readback.as_ref().ok_or_else(|| {
+            Error::HostFrame(
+                "on an engine's device frames are recorded (record_host), not rendered".into(),
+            )
         })
     }
 

@@ -77,8 +77,10 @@ pub struct Exact {
 }
 
 const SETUP: usize = 0;
-const BINNING: [usize; 3] = [1, BIN_SCAN, 3];
+const BIN_COUNT: usize = 1;
 const BIN_SCAN: usize = 2;
+const BIN_FILL: usize = 3;
+const BINNING: [usize; 3] = [BIN_COUNT, BIN_SCAN, BIN_FILL];
 const RASTER: usize = 4;
 /// Built twice: level 0 (constant 0 false), then the levels above (true).
 const DEPTH_PYRAMID: usize = 5;
@@ -234,7 +236,11 @@ impl Exact {
     }
 
     fn dispatch(&self, ctx: &RecordContext<'_>, stage: usize, groups: [u32; 3]) {
-        self.pipelines[stage].dispatch(
+        self.dispatch_pipeline(ctx, &self.pipelines[stage], groups);
+    }
+
+    fn dispatch_pipeline(&self, ctx: &RecordContext<'_>, p: &ComputePipeline, groups: [u32; 3]) {
+        p.dispatch(
             ctx.cmd,
             &[ctx.scene.set.raw, self.set.raw],
             bytemuck::bytes_of(&self.push),
@@ -350,12 +356,7 @@ impl Method for Exact {
             [cells.div_ceil(PYRAMID_GROUP_SIZE), 1, 1],
         );
         self.compute_to_compute(cmd);
-        self.pyramid_top.dispatch(
-            cmd,
-            &[ctx.scene.set.raw, self.set.raw],
-            bytemuck::bytes_of(&self.push),
-            [1, 1, 1],
-        );
+        self.dispatch_pipeline(ctx, &self.pyramid_top, [1, 1, 1]);
         self.compute_to_compute(cmd);
         ctx.timestamps.mark(cmd, "depth pyramid");
 
@@ -366,23 +367,18 @@ impl Method for Exact {
         self.compute_to_compute(cmd);
         ctx.timestamps.mark(cmd, "setup");
 
-        self.dispatch_indirect(ctx, 1, DISPATCH_BINNING_OFFSET);
+        self.dispatch_indirect(ctx, BIN_COUNT, DISPATCH_BINNING_OFFSET);
         self.compute_to_compute(cmd);
         ctx.timestamps.mark(cmd, "bin count");
         let blocks = [self.resources.scan_groups(), 1, 1];
         self.dispatch(ctx, BIN_SCAN, blocks);
         for (step, groups) in self.scan_steps.iter().zip([[1, 1, 1], blocks]) {
             self.compute_to_compute(cmd);
-            step.dispatch(
-                cmd,
-                &[ctx.scene.set.raw, self.set.raw],
-                bytemuck::bytes_of(&self.push),
-                groups,
-            );
+            self.dispatch_pipeline(ctx, step, groups);
         }
         self.compute_to_compute(cmd);
         ctx.timestamps.mark(cmd, "bin scan");
-        self.dispatch_indirect(ctx, 3, DISPATCH_BINNING_OFFSET);
+        self.dispatch_indirect(ctx, BIN_FILL, DISPATCH_BINNING_OFFSET);
         self.compute_to_compute(cmd);
         ctx.timestamps.mark(cmd, "bin fill");
 

@@ -244,7 +244,7 @@ impl BinArrays {
 
 /// Cells of every level of the opaque depth pyramid over a frame of `bins_x` x `bins_y`
 /// blocks (depth_pyramid.glsl): each level halves the sides, rounding up, down to one cell.
-pub fn pyramid_cells(bins_x: u32, bins_y: u32) -> u32 {
+fn pyramid_cells(bins_x: u32, bins_y: u32) -> u32 {
     let (mut x, mut y) = (bins_x, bins_y);
     let mut cells = x * y;
     while x > 1 || y > 1 {
