@@ -36,6 +36,7 @@
 #include "exact_bins.glsl"
 #include "texture_sampler.glsl"
 #include "shading.glsl"
+#include "exact_fragment.glsl"
 
 // The first dispatch covers the rows of every block with a non-empty bin (the other blocks
 // keep the opaque colour): gl_WorkGroupSize.y rows per workgroup (constant 7: BIN_SIZE or 1),
@@ -43,108 +44,13 @@
 // per resumed row.
 layout(local_size_x = BIN_SIZE, local_size_y_id = 7) in;
 
-// What the scene needs, fixed when the pipeline is made. CPU drivers such as lavapipe run
-// both sides of a divergent `if` under a mask, so code a scene cannot reach still costs on
-// every fragment there; constants compile it away. The host sets them from the scene and
-// falls back to the full shader if setup ever reports a triangle the constants excluded.
-layout(constant_id = 0) const bool HOMOGENEOUS_PATH = true;  // near-plane / guard-band triangles
-layout(constant_id = 1) const bool TEXTURES = true;          // some material has a texture
-layout(constant_id = 2) const bool VERTEX_NORMALS = true;    // some draw has vertex normals
-layout(constant_id = 3) const bool FACE_NORMALS = true;      // some draw has none
+// Constants 0 to 3 say what the scene needs (exact_fragment.glsl).
 layout(constant_id = 4) const bool CONTINUATION = false;     // resume items of a resume list
 // Fragments selected per pass. Larger means fewer passes over the bin for deep pixels, but
 // a longer insertion for every triangle walked: the host starts at 8 and moves to
 // DEEP_SELECT_SIZE (features.rs) when pixels needed several passes (at 640x360 on lavapipe,
 // 16 made particles, 60 deep, 1.6x faster than 8, and cost spheres about 10 %).
 layout(constant_id = 5) const int SELECT_SIZE = 8;
-
-bool sampleTriangle(ExactTriangle t, uint x, uint y, out RasterSample s) {
-    if (!HOMOGENEOUS_PATH || t.edgeB.w < 0) {
-        return sampleFixed(t, x, y, s);
-    }
-    return sampleHomogeneous(loadHomogeneous(t.edgeB.w), x, y, s);
-}
-
-// d(barycentric)/dx and /dy at the pixel, as Triangle::barycentric_gradients computes them.
-void barycentricGradients(ExactTriangle t, uint x, uint y, out vec3 gx, out vec3 gy) {
-    dvec3 q;
-    dvec3 dqx;
-    dvec3 dqy;
-    if (!HOMOGENEOUS_PATH || t.edgeB.w < 0) {
-        [[unroll]] for (int k = 0; k < 3; k++) {
-            int64_t e = edgeAt(int64_t(t.edgeA[k]), int64_t(t.edgeB[k]), t.edgeC[k], x, y);
-            precise float lambda = float(e) * t.zNdc.w;
-            precise float qk = lambda * t.invW[k];
-            precise float dx = float(t.edgeA[k]) * 256.0 * t.zNdc.w * t.invW[k];
-            precise float dy = float(t.edgeB[k]) * 256.0 * t.zNdc.w * t.invW[k];
-            q[k] = double(qk);
-            dqx[k] = double(dx);
-            dqy[k] = double(dy);
-        }
-    } else {
-        ExactHomogeneous h = loadHomogeneous(t.edgeB.w);
-        precise dvec3 qq = dvec3(lineAt(h.line0, x, y), lineAt(h.line1, x, y), lineAt(h.line2, x, y)) *
-                           h.zInvDet.w;
-        q = qq;
-        precise dvec3 ax = dvec3(h.line0.x, h.line1.x, h.line2.x) * h.zInvDet.w;
-        precise dvec3 ay = dvec3(h.line0.y, h.line1.y, h.line2.y) * h.zInvDet.w;
-        dqx = ax;
-        dqy = ay;
-    }
-    precise double sum = (q.x + q.y) + q.z;
-    if (sum == 0.0) {
-        gx = vec3(0.0);
-        gy = vec3(0.0);
-        return;
-    }
-    precise dvec3 b = q / sum;
-    precise double dsx = (dqx.x + dqx.y) + dqx.z;
-    precise double dsy = (dqy.x + dqy.y) + dqy.z;
-    precise dvec3 rx = (dqx - b * dsx) / sum;
-    precise dvec3 ry = (dqy - b * dsy) / sum;
-    gx = vec3(rx);
-    gy = vec3(ry);
-}
-
-// Shades the fragment of triangle t (with attributes a) at pixel (x, y).
-void shadeFragment(ExactTriangle t, ExactAttributes a, uint x, uint y, RasterSample s,
-                   FrameInfo frame, out vec3 radiance, out vec3 transmittance) {
-    Material m = loadMaterial(a.materialIndex);
-    vec3 b = s.barycentric;
-
-    precise vec4 colour = (a.colour0 * b.x + a.colour1 * b.y) + a.colour2 * b.z;
-
-    vec3 normal;
-    if (FACE_NORMALS && (!VERTEX_NORMALS || (a.flags & ATTRIBUTES_FACE_NORMAL) != 0u)) {
-        normal = a.normal0.xyz;
-    } else {
-        precise vec3 n = (a.normal0.xyz * b.x + a.normal1.xyz * b.y) + a.normal2.xyz * b.z;
-        normal = n;
-    }
-
-    vec4 texel = vec4(1.0);
-    if (TEXTURES && m.textureIndex >= 0) {
-        ExactTexture tex = loadTextureInfo(m.textureIndex);
-        // Meshes without UVs read (0, 0) everywhere: level 0 at the origin, like the reference.
-        if ((a.flags & ATTRIBUTES_HAS_UVS) == 0u) {
-            texel = sampleTexture(tex, vec2(0.0), 0.0);
-        } else {
-            vec2 uv0 = a.uv01.xy;
-            vec2 uv1 = a.uv01.zw;
-            vec2 uv2 = a.uv2;
-            vec3 gx;
-            vec3 gy;
-            barycentricGradients(t, x, y, gx, gy);
-            vec2 size = vec2(tex.width, tex.height);
-            precise vec2 ux = ((uv0 * gx.x + uv1 * gx.y) + uv2 * gx.z) * size;
-            precise vec2 uy = ((uv0 * gy.x + uv1 * gy.y) + uv2 * gy.z) * size;
-            float rho = max(length(ux), length(uy));
-            precise vec2 uv = (uv0 * b.x + uv1 * b.y) + uv2 * b.z;
-            texel = sampleTexture(tex, uv, log2(rho));
-        }
-    }
-    shadeTransparent(m, frame, colour, texel, normal, radiance, transmittance);
-}
 
 // A fragment's rank as one number: view depth bits (positive floats order like their bits),
 // then the order key. One 64-bit compare instead of three 32-bit ones in the insertion.
@@ -281,17 +187,8 @@ void main() {
             }
             uint ti = entry & ENTRY_TRIANGLE_MASK;
             ExactTriangle t = loadTriangle(ti);
-            ivec4 r = t.bounds;
-            bool inBox = int(x) >= r.x && int(x) < r.z && int(y) >= r.y && int(y) < r.w;
             RasterSample s;
-            bool take;
-            if (HOMOGENEOUS_PATH && t.edgeB.w >= 0) {
-                take = inBox && sampleHomogeneous(loadHomogeneous(t.edgeB.w), x, y, s);
-            } else {
-                i64vec3 edges;
-                bool covered = inBox && coversFixed(t, x, y, edges);
-                take = covered && interpolateFixed(t, edges, s);
-            }
+            bool take = coverSample(t, x, y, s);
             uint64_t key = fragmentKey(floatBitsToUint(s.viewDepth), t.order);
             take = take && !finished && s.zNdc < opaqueDepth && key > doneKey;
             found += take ? 1u : 0u;

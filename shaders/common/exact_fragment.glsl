@@ -1,0 +1,124 @@
+// A pixel's fragment in the compute rasterizers (the exact raster, the wavelet bin raster):
+// coverage and sampling of a triangle record at a pixel, and its shading, as the CPU
+// reference does them. Needs scene_bindings_compute.glsl, exact_bindings.glsl, raster.glsl,
+// texture_sampler.glsl and shading.glsl first.
+#ifndef TRANSLUCID_EXACT_FRAGMENT_GLSL
+#define TRANSLUCID_EXACT_FRAGMENT_GLSL
+
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#extension GL_EXT_control_flow_attributes : require
+
+// What the scene needs, fixed when the pipeline is made. CPU drivers such as lavapipe run
+// both sides of a divergent `if` under a mask, so code a scene cannot reach still costs on
+// every fragment there; constants compile it away. The host sets them from the scene and
+// falls back to the full shader if setup ever reports a triangle the constants excluded.
+layout(constant_id = 0) const bool HOMOGENEOUS_PATH = true;  // near-plane / guard-band triangles
+layout(constant_id = 1) const bool TEXTURES = true;          // some material has a texture
+layout(constant_id = 2) const bool VERTEX_NORMALS = true;    // some draw has vertex normals
+layout(constant_id = 3) const bool FACE_NORMALS = true;      // some draw has none
+
+// Whether triangle t covers pixel (x, y) (its bounds first, then its edges), and the sample.
+bool coverSample(ExactTriangle t, uint x, uint y, out RasterSample s) {
+    ivec4 r = t.bounds;
+    bool inBox = int(x) >= r.x && int(x) < r.z && int(y) >= r.y && int(y) < r.w;
+    // One exit: glslang turns early returns in inlined functions into extra flags.
+    bool take;
+    if (HOMOGENEOUS_PATH && t.edgeB.w >= 0) {
+        take = inBox && sampleHomogeneous(loadHomogeneous(t.edgeB.w), x, y, s);
+    } else {
+        i64vec3 edges;
+        bool covered = inBox && coversFixed(t, x, y, edges);
+        take = covered && interpolateFixed(t, edges, s);
+    }
+    return take;
+}
+
+bool sampleTriangle(ExactTriangle t, uint x, uint y, out RasterSample s) {
+    if (!HOMOGENEOUS_PATH || t.edgeB.w < 0) {
+        return sampleFixed(t, x, y, s);
+    }
+    return sampleHomogeneous(loadHomogeneous(t.edgeB.w), x, y, s);
+}
+
+// d(barycentric)/dx and /dy at the pixel, as Triangle::barycentric_gradients computes them.
+void barycentricGradients(ExactTriangle t, uint x, uint y, out vec3 gx, out vec3 gy) {
+    dvec3 q;
+    dvec3 dqx;
+    dvec3 dqy;
+    if (!HOMOGENEOUS_PATH || t.edgeB.w < 0) {
+        [[unroll]] for (int k = 0; k < 3; k++) {
+            int64_t e = edgeAt(int64_t(t.edgeA[k]), int64_t(t.edgeB[k]), t.edgeC[k], x, y);
+            precise float lambda = float(e) * t.zNdc.w;
+            precise float qk = lambda * t.invW[k];
+            precise float dx = float(t.edgeA[k]) * 256.0 * t.zNdc.w * t.invW[k];
+            precise float dy = float(t.edgeB[k]) * 256.0 * t.zNdc.w * t.invW[k];
+            q[k] = double(qk);
+            dqx[k] = double(dx);
+            dqy[k] = double(dy);
+        }
+    } else {
+        ExactHomogeneous h = loadHomogeneous(t.edgeB.w);
+        precise dvec3 qq = dvec3(lineAt(h.line0, x, y), lineAt(h.line1, x, y), lineAt(h.line2, x, y)) *
+                           h.zInvDet.w;
+        q = qq;
+        precise dvec3 ax = dvec3(h.line0.x, h.line1.x, h.line2.x) * h.zInvDet.w;
+        precise dvec3 ay = dvec3(h.line0.y, h.line1.y, h.line2.y) * h.zInvDet.w;
+        dqx = ax;
+        dqy = ay;
+    }
+    precise double sum = (q.x + q.y) + q.z;
+    if (sum == 0.0) {
+        gx = vec3(0.0);
+        gy = vec3(0.0);
+        return;
+    }
+    precise dvec3 b = q / sum;
+    precise double dsx = (dqx.x + dqx.y) + dqx.z;
+    precise double dsy = (dqy.x + dqy.y) + dqy.z;
+    precise dvec3 rx = (dqx - b * dsx) / sum;
+    precise dvec3 ry = (dqy - b * dsy) / sum;
+    gx = vec3(rx);
+    gy = vec3(ry);
+}
+
+// Shades the fragment of triangle t (with attributes a) at pixel (x, y).
+void shadeFragment(ExactTriangle t, ExactAttributes a, uint x, uint y, RasterSample s,
+                   FrameInfo frame, out vec3 radiance, out vec3 transmittance) {
+    Material m = loadMaterial(a.materialIndex);
+    vec3 b = s.barycentric;
+
+    precise vec4 colour = (a.colour0 * b.x + a.colour1 * b.y) + a.colour2 * b.z;
+
+    vec3 normal;
+    if (FACE_NORMALS && (!VERTEX_NORMALS || (a.flags & ATTRIBUTES_FACE_NORMAL) != 0u)) {
+        normal = a.normal0.xyz;
+    } else {
+        precise vec3 n = (a.normal0.xyz * b.x + a.normal1.xyz * b.y) + a.normal2.xyz * b.z;
+        normal = n;
+    }
+
+    vec4 texel = vec4(1.0);
+    if (TEXTURES && m.textureIndex >= 0) {
+        ExactTexture tex = loadTextureInfo(m.textureIndex);
+        // Meshes without UVs read (0, 0) everywhere: level 0 at the origin, like the reference.
+        if ((a.flags & ATTRIBUTES_HAS_UVS) == 0u) {
+            texel = sampleTexture(tex, vec2(0.0), 0.0);
+        } else {
+            vec2 uv0 = a.uv01.xy;
+            vec2 uv1 = a.uv01.zw;
+            vec2 uv2 = a.uv2;
+            vec3 gx;
+            vec3 gy;
+            barycentricGradients(t, x, y, gx, gy);
+            vec2 size = vec2(tex.width, tex.height);
+            precise vec2 ux = ((uv0 * gx.x + uv1 * gx.y) + uv2 * gx.z) * size;
+            precise vec2 uy = ((uv0 * gy.x + uv1 * gy.y) + uv2 * gy.z) * size;
+            float rho = max(length(ux), length(uy));
+            precise vec2 uv = (uv0 * b.x + uv1 * b.y) + uv2 * b.z;
+            texel = sampleTexture(tex, uv, log2(rho));
+        }
+    }
+    shadeTransparent(m, frame, colour, texel, normal, radiance, transmittance);
+}
+
+#endif
