@@ -3,7 +3,7 @@
 //! with the value measured when it was set; never lower one silently).
 
 use translucid::gpu::Gpu;
-use translucid::methods::wavelet::{model::Model, Precision, Settings};
+use translucid::methods::wavelet::{model::Model, Precision, Settings, Storage};
 use translucid::methods::{wboit, MethodOptions};
 use translucid::metrics::{self, Metrics};
 use translucid::renderer::{Frame, Renderer};
@@ -73,8 +73,8 @@ fn check_wavelet_model(gpu: &Gpu, scene: &Scene, options: &MethodOptions, deep: 
         .render(scene, opaque)
         .expect("model");
     let label = format!(
-        "wavelet_model_{}_rank{}_{:?}_noise{}",
-        scene.name, settings.rank, settings.precision, settings.noise
+        "wavelet_model_{}_rank{}_{:?}_{:?}_noise{}",
+        scene.name, settings.rank, settings.storage, settings.precision, settings.noise
     );
     let m = compare(&label, &frame.image, &expected);
     assert_matches(&label, &m, deep);
@@ -118,6 +118,43 @@ fn wavelet_matches_its_cpu_model_deep_in_single_precision_and_with_noise() {
         &wavelet_options(3, 0.0, Precision::Half),
         true,
     );
+}
+
+fn bins_options(rank: u32, noise: f32) -> MethodOptions {
+    MethodOptions {
+        storage: Storage::Bins,
+        ..wavelet_options(rank, noise, Precision::Half)
+    }
+}
+
+/// In the exact method's bins every pixel has the reference's fragments, so the GPU is held
+/// to 2/255 everywhere, deep scenes and textures included.
+#[test]
+fn wavelet_in_bins_matches_its_cpu_model() {
+    let gpu = gpu();
+    for name in ["spheres", "polychrome"] {
+        let scene = load(name);
+        for rank in 0..=3 {
+            check_wavelet_model(&gpu, &scene, &bins_options(rank, 0.0), false);
+        }
+    }
+    for name in ["particles", "planes", "GlassVaseFlowers"] {
+        check_wavelet_model(&gpu, &load(name), &bins_options(3, 0.0), false);
+    }
+    check_wavelet_model(&gpu, &load("particles"), &bins_options(2, 1.0), false);
+}
+
+/// The bins' lists overflow on the first frame and grow; the second frame is right.
+#[test]
+fn wavelet_in_bins_recovers_from_overflow() {
+    let gpu = gpu();
+    let options = MethodOptions {
+        initial_bin_entries: Some(1),
+        ..bins_options(3, 0.0)
+    };
+    let frame = render(&gpu, &load("planes"), "wavelet", &options);
+    assert!(frame.rerenders > 0, "the first frame did not overflow");
+    check_wavelet_model(&gpu, &load("planes"), &options, false);
 }
 
 #[test]

@@ -15,12 +15,17 @@
 #endif
 
 // Specialization constants of every wavelet pass. Host mirror: SpecConstants in
-// crates/translucid/src/methods/wavelet/layout.rs (a test compares the two).
-layout(constant_id = 0) const int WAVELET_FIRST_TEXEL = 0;  // accumulation: first texel written
-layout(constant_id = 1) const float WAVELET_NOISE = 0.0;    // depth noise strength, in cells
-layout(constant_id = 2) const float WAVELET_ABSORBED = 7.6; // absorbance treated as opaque
-layout(constant_id = 3) const float DEPTH_A = 1.0;          // device depth = A - B / view depth
-layout(constant_id = 4) const float DEPTH_B = 0.0;
+// crates/translucid/src/methods/wavelet/layout.rs (a test compares the two). They start at
+// WAVELET_CONSTANT_ID: 0 in the graphics passes; the bin raster (wavelet_bins.glsl) puts them
+// after the exact raster's own.
+#ifndef WAVELET_CONSTANT_ID
+#define WAVELET_CONSTANT_ID 0
+#endif
+layout(constant_id = WAVELET_CONSTANT_ID + 0) const int WAVELET_FIRST_TEXEL = 0;  // accumulation: first texel written
+layout(constant_id = WAVELET_CONSTANT_ID + 1) const float WAVELET_NOISE = 0.0;    // depth noise strength, in cells
+layout(constant_id = WAVELET_CONSTANT_ID + 2) const float WAVELET_ABSORBED = 7.6; // absorbance treated as opaque
+layout(constant_id = WAVELET_CONSTANT_ID + 3) const float DEPTH_A = 1.0;          // device depth = A - B / view depth
+layout(constant_id = WAVELET_CONSTANT_ID + 4) const float DEPTH_B = 0.0;
 
 const int WAVELET_COUNT = 2 << WAVELET_RANK;
 const int WAVELET_SLOTS = 3 * WAVELET_COUNT;
@@ -93,6 +98,31 @@ vec4 waveletAddendTexel(int t, float p, vec3 a) {
     return vec4(waveletAddendSlot(4 * t, p, a), waveletAddendSlot(4 * t + 1, p, a),
                 waveletAddendSlot(4 * t + 2, p, a), waveletAddendSlot(4 * t + 3, p, a));
 }
+
+// Adds an event of absorbance a at cell position p to coefficients kept in registers (the bin
+// raster): constant indices, a select per coefficient. Written out, not as an unrolled loop:
+// glslc's optimizer (shaderc 2023.2, SPIRV-Tools 2022.4) crashes unrolling that loop inside
+// the walk that shades.
+#define WAVELET_ADD(i) c[i] += (i < WAVELET_COUNT) ? waveletAddend(i, p, a) : vec3(0.0)
+void waveletAccumulate(inout vec3 c[WAVELET_MAX_COUNT], float p, vec3 a) {
+    WAVELET_ADD(0);
+    WAVELET_ADD(1);
+    WAVELET_ADD(2);
+    WAVELET_ADD(3);
+    WAVELET_ADD(4);
+    WAVELET_ADD(5);
+    WAVELET_ADD(6);
+    WAVELET_ADD(7);
+    WAVELET_ADD(8);
+    WAVELET_ADD(9);
+    WAVELET_ADD(10);
+    WAVELET_ADD(11);
+    WAVELET_ADD(12);
+    WAVELET_ADD(13);
+    WAVELET_ADD(14);
+    WAVELET_ADD(15);
+}
+#undef WAVELET_ADD
 
 // Unpacks texels into coefficients (only the first WAVELET_TEXELS are read).
 void waveletUnpack(vec4 texels[WAVELET_MAX_TEXELS], out vec3 c[WAVELET_MAX_COUNT]) {

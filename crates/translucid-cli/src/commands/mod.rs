@@ -61,6 +61,10 @@ pub fn options(
             crate::Precision::Half => translucid::methods::wavelet::Precision::Half,
             crate::Precision::Single => translucid::methods::wavelet::Precision::Single,
         },
+        storage: match wavelet.storage {
+            crate::Storage::Images => translucid::methods::wavelet::Storage::Images,
+            crate::Storage::Bins => translucid::methods::wavelet::Storage::Bins,
+        },
         ..Default::default()
     })
 }
@@ -74,5 +78,6 @@ pub fn wavelet_json(method: &str, wavelet: crate::WaveletArgs) -> serde_json::Va
         "rank": wavelet.rank.unwrap_or(translucid::methods::wavelet::DEFAULT_RANK),
         "noise": wavelet.noise,
         "precision": format!("{:?}", wavelet.precision).to_lowercase(),
+        "storage": format!("{:?}", wavelet.storage).to_lowercase(),
     })
 }

@@ -54,6 +54,8 @@ pub struct MethodOptions {
     pub noise: f32,
     /// `wavelet`: storage precision of the coefficient images.
     pub precision: wavelet::Precision,
+    /// `wavelet`: where the coefficients live (images, or registers in the exact bins).
+    pub storage: wavelet::Storage,
 }
 
 /// What a method reports once its frame has completed.

@@ -57,13 +57,46 @@ const STAGES: [(&str, &[u8]); 6] = [
     ("depth_pyramid", crate::spirv!("exact/depth_pyramid.comp")),
 ];
 
+/// What the raster stage computes from each row's list.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum RasterProgram {
+    /// This method: every pixel selects and composites its fragments in order.
+    Exact,
+    /// The wavelet method's bin raster (`shaders/wavelet/bins_rank<N>.comp`): its SPIR-V and
+    /// the constants it takes after the raster's own (constant_id 8 on). Its rows are not
+    /// resumed by continuations, and it keeps the shallow frames' settings.
+    Wavelet {
+        spirv: &'static [u8],
+        constants: [u32; 5],
+    },
+}
+
+impl RasterProgram {
+    /// The method's name, in errors.
+    fn method(&self) -> &'static str {
+        match self {
+            Self::Exact => "exact",
+            Self::Wavelet { .. } => "wavelet",
+        }
+    }
+
+    /// The timestamp after the raster.
+    fn stage(&self) -> &'static str {
+        match self {
+            Self::Exact => "raster",
+            Self::Wavelet { .. } => "wavelet raster",
+        }
+    }
+}
+
 pub struct Exact {
     gpu: Gpu,
+    program: RasterProgram,
     resources: Resources,
     set: DescriptorSet,
     pipelines: Vec<ComputePipeline>,
-    /// The raster shader again, specialized to resume suspended rows.
-    continuation: ComputePipeline,
+    /// The raster shader again, specialized to resume suspended rows (exact only).
+    continuation: Option<ComputePipeline>,
     /// The depth pyramid shader specialized to build the levels above level 0.
     pyramid_top: ComputePipeline,
     /// The scan's steps 1 and 2 (step 0 is `pipelines[BIN_SCAN]`).
@@ -132,9 +165,40 @@ fn raster_pipeline(
     gpu: &Gpu,
     layouts: &[&crate::gpu::DescriptorLayout],
     features: &RasterFeatures,
-    continuation: bool,
+    program: &RasterProgram,
 ) -> Result<ComputePipeline> {
-    stage_pipeline(gpu, layouts, RASTER, &features.constants(continuation))
+    match program {
+        RasterProgram::Exact => stage_pipeline(gpu, layouts, RASTER, &features.constants(false)),
+        RasterProgram::Wavelet { spirv, constants } => {
+            let words: Vec<u32> = features
+                .constants(false)
+                .into_iter()
+                .chain(*constants)
+                .collect();
+            ComputePipeline::specialized(
+                gpu,
+                spirv,
+                layouts,
+                std::mem::size_of::<ExactPush>() as u32,
+                &words,
+            )
+        }
+    }
+}
+
+/// The exact raster specialized to resume suspended rows; none for other programs.
+fn continuation_pipeline(
+    gpu: &Gpu,
+    layouts: &[&crate::gpu::DescriptorLayout],
+    features: &RasterFeatures,
+    program: &RasterProgram,
+) -> Result<Option<ComputePipeline>> {
+    match program {
+        RasterProgram::Exact => {
+            stage_pipeline(gpu, layouts, RASTER, &features.constants(true)).map(Some)
+        }
+        RasterProgram::Wavelet { .. } => Ok(None),
+    }
 }
 
 impl Exact {
@@ -145,10 +209,23 @@ impl Exact {
         targets: &FrameTargets,
         options: &MethodOptions,
     ) -> Result<Self> {
+        Self::with_program(gpu, scene, uploaded, targets, options, RasterProgram::Exact)
+    }
+
+    /// The exact method's stages with `program` as the raster.
+    pub fn with_program(
+        gpu: &Gpu,
+        scene: &Scene,
+        uploaded: &GpuScene,
+        targets: &FrameTargets,
+        options: &MethodOptions,
+        program: RasterProgram,
+    ) -> Result<Self> {
+        let method = program.method();
         let info = gpu.info();
         if !(info.shader_int64 && info.shader_float64) {
             return Err(crate::Error::NoDevice(format!(
-                "{} lacks 64-bit shader integers or floats, which the exact method's edge functions need",
+                "{} lacks 64-bit shader integers or floats, which the {method} method's edge functions need",
                 info.name
             )));
         }
@@ -156,7 +233,7 @@ impl Exact {
         // reduces over it: a subgroup must hold a whole row.
         if !info.compute_subgroup_operations || info.subgroup_size < BIN_SIZE {
             return Err(crate::Error::NoDevice(format!(
-                "{} has compute subgroups of {} invocations{}; the exact method needs at least \
+                "{} has compute subgroups of {} invocations{}; the {method} method needs at least \
                  {BIN_SIZE} with vote, ballot and arithmetic operations",
                 info.name,
                 info.subgroup_size,
@@ -172,7 +249,7 @@ impl Exact {
         if width > 0xFFFF || height > 0xFFFF {
             // Triangle records keep their pixel bounds in 16 bits.
             return Err(crate::Error::InvalidScene(format!(
-                "exact: {width}x{height} is over the 65535 pixels a side it supports"
+                "{method}: {width}x{height} is over the 65535 pixels a side it supports"
             )));
         }
         let bins_x = width.div_ceil(BIN_SIZE);
@@ -180,7 +257,7 @@ impl Exact {
         let capacities = Capacities::initial(uploaded.transparent_quads, bins_x * bins_y, options);
         let mut features = RasterFeatures::of(scene, width, height, info.subgroup_size);
         features.homogeneous &= !options.assume_fixed_path;
-        if options.assume_deep_pixels {
+        if options.assume_deep_pixels && program == RasterProgram::Exact {
             features = features.deep();
         }
         if options.assume_wide_subgroups {
@@ -200,12 +277,13 @@ impl Exact {
         let pipelines = (0..STAGES.len())
             .map(|i| match i {
                 SETUP => setup_pipeline(gpu, &layouts, &features),
-                RASTER => raster_pipeline(gpu, &layouts, &features, false),
+                RASTER => raster_pipeline(gpu, &layouts, &features, &program),
                 DEPTH_PYRAMID => stage_pipeline(gpu, &layouts, i, &[0]),
                 _ => stage_pipeline(gpu, &layouts, i, &features.binning_constants()),
             })
             .collect::<Result<Vec<_>>>()?;
-        let continuation = raster_pipeline(gpu, &layouts, &features, true)?;
+        let continuation = continuation_pipeline(gpu, &layouts, &features, &program)?;
+        let continuations = u32::from(continuation.is_some());
         let pyramid_top = stage_pipeline(gpu, &layouts, DEPTH_PYRAMID, &[1])?;
         let scan_steps = scan_steps(gpu, &layouts, &features)?;
         let push = ExactPush {
@@ -223,13 +301,14 @@ impl Exact {
         };
         Ok(Self {
             gpu: gpu.clone(),
+            program,
             resources,
             set,
             pipelines,
             continuation,
             pyramid_top,
             scan_steps,
-            continuations: 1,
+            continuations,
             push,
             features,
         })
@@ -286,6 +365,9 @@ impl Exact {
             compute | vk::PipelineStageFlags::DRAW_INDIRECT,
             rw | vk::AccessFlags::INDIRECT_COMMAND_READ,
         );
+        let Some(continuation) = &self.continuation else {
+            return;
+        };
         for k in 0..self.continuations {
             let list = k % 2;
             self.compute_to_compute(cmd);
@@ -293,7 +375,7 @@ impl Exact {
                 resume_list: list,
                 ..self.push
             };
-            self.continuation.dispatch_indirect(
+            continuation.dispatch_indirect(
                 cmd,
                 &sets,
                 bytemuck::bytes_of(&push),
@@ -420,7 +502,7 @@ impl Method for Exact {
             shader,
             (vk::PipelineStageFlags::HOST, vk::AccessFlags::HOST_READ),
         );
-        ctx.timestamps.mark(cmd, "raster");
+        ctx.timestamps.mark(cmd, self.program.stage());
         Ok(())
     }
 
@@ -433,11 +515,12 @@ impl Method for Exact {
 
     fn frame_done(&mut self, uploaded: &GpuScene, targets: &FrameTargets) -> Result<FrameCheck> {
         let counters = self.resources.counters()?;
+        let method = self.program.method();
         if counters.overflow & OVERFLOW_CROWDED_BIN != 0 {
             return Err(crate::Error::InvalidScene(format!(
-                "exact: one 8x8-pixel bin of this frame holds so many triangles that a single \
-                 pass over them exceeds {}'s shader loop limit; render at a larger size or \
-                 with fewer overlapping triangles",
+                "{method}: one 8x8-pixel bin of this frame holds so many triangles that a \
+                 single pass over them exceeds {}'s shader loop limit; render at a larger size \
+                 or with fewer overlapping triangles",
                 self.gpu.info().name
             )));
         }
@@ -448,12 +531,15 @@ impl Method for Exact {
         features.homogeneous |= rebuild;
         // Deep pixels: select more fragments per pass, or order the bins by depth slab, from
         // the next frame on (this one is right either way).
+        // (Other programs have no selection, and would only pay for slabs.)
         let pixels = u64::from(self.push.width) * u64::from(self.push.height);
-        features = features.after_frame(
-            counters.pass_count,
-            u64::from(counters.fragment_count),
-            pixels,
-        );
+        if self.program == RasterProgram::Exact {
+            features = features.after_frame(
+                counters.pass_count,
+                u64::from(counters.fragment_count),
+                pixels,
+            );
+        }
         let layouts = [&uploaded.layout, &self.resources.layout];
         if rebuild {
             self.pipelines[SETUP] = setup_pipeline(&self.gpu, &layouts, &features)?;
@@ -466,12 +552,14 @@ impl Method for Exact {
             self.scan_steps = scan_steps(&self.gpu, &layouts, &features)?;
         }
         if features != self.features {
-            self.pipelines[RASTER] = raster_pipeline(&self.gpu, &layouts, &features, false)?;
-            self.continuation = raster_pipeline(&self.gpu, &layouts, &features, true)?;
+            self.pipelines[RASTER] =
+                raster_pipeline(&self.gpu, &layouts, &features, &self.program)?;
+            self.continuation =
+                continuation_pipeline(&self.gpu, &layouts, &features, &self.program)?;
         }
         let grown = self.resources.capacities.grown_for(&counters);
         if let Some(grown) = grown {
-            log::info!("exact: buffers too small ({counters:?}); growing to {grown:?}");
+            log::info!("{method}: buffers too small ({counters:?}); growing to {grown:?}");
             self.resources.grow(&self.gpu, grown)?;
         }
         if grown.is_some() || features.slab_bits != self.features.slab_bits {

@@ -40,11 +40,14 @@ mod tests {
 
     const SRC: &str = include_str!("../../../../../shaders/common/wavelet.glsl");
 
-    /// `(id, type, name)` of every `layout(constant_id = N) const TYPE NAME` in the include.
+    /// `(id, type, name)` of every `layout(constant_id = WAVELET_CONSTANT_ID + N) const TYPE NAME`
+    /// in the include.
     fn glsl_constants() -> Vec<(usize, String, String)> {
         SRC.lines()
             .filter_map(|line| {
-                let rest = line.trim().strip_prefix("layout(constant_id = ")?;
+                let rest = line
+                    .trim()
+                    .strip_prefix("layout(constant_id = WAVELET_CONSTANT_ID + ")?;
                 let (id, decl) = rest.split_once(')')?;
                 let mut words = decl.split_whitespace();
                 (words.next()? == "const").then_some(())?;

@@ -14,6 +14,11 @@
 //!    shading) adds its radiance times the transmittance in front of it, its own share
 //!    removed, to the frame colour (ADD blend).
 //!
+//! With [`Storage::Bins`] the method runs on the exact method's setup and bins instead: its
+//! raster (`shaders/common/wavelet_bins.glsl`) keeps each pixel's coefficients in registers
+//! and walks its row's triangle list three times (bounds, coefficients, shading), so there
+//! are no coefficient images and every fragment is the CPU reference's.
+//!
 //! Optional depth noise ([`MethodOptions::noise`]) shifts each pixel's cell boundaries by a
 //! fixed hash, trading banding for noise; it is off by default and in the image tests.
 
@@ -22,7 +27,8 @@ pub mod math;
 pub mod model;
 mod passes;
 
-use super::{Method, MethodOptions, RecordContext};
+use super::exact::{Exact, RasterProgram};
+use super::{FrameCheck, Method, MethodOptions, RecordContext};
 use crate::gpu::Gpu;
 use crate::renderer::{FrameTargets, GpuScene};
 use crate::scene::Scene;
@@ -46,12 +52,24 @@ pub enum Precision {
     Single,
 }
 
+/// Where each pixel's coefficients live.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Storage {
+    /// Full-screen coefficient images, written and read by four graphics passes.
+    #[default]
+    Images,
+    /// Registers of the exact method's bin raster, in single precision (`precision` is the
+    /// images' and does not apply).
+    Bins,
+}
+
 /// The method's settings, checked.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Settings {
     pub rank: u32,
     pub noise: f32,
     pub precision: Precision,
+    pub storage: Storage,
 }
 
 impl Settings {
@@ -73,6 +91,7 @@ impl Settings {
             rank,
             noise: options.noise,
             precision: options.precision,
+            storage: options.storage,
         })
     }
 
@@ -94,8 +113,19 @@ impl Settings {
     }
 }
 
-pub struct Wavelet {
-    passes: passes::Passes,
+/// The bin raster of each rank.
+fn bin_raster(rank: u32) -> &'static [u8] {
+    match rank {
+        0 => crate::spirv!("wavelet/bins_rank0.comp"),
+        1 => crate::spirv!("wavelet/bins_rank1.comp"),
+        2 => crate::spirv!("wavelet/bins_rank2.comp"),
+        _ => crate::spirv!("wavelet/bins_rank3.comp"),
+    }
+}
+
+pub enum Wavelet {
+    Images(Box<passes::Passes>),
+    Bins(Box<Exact>),
 }
 
 impl Wavelet {
@@ -107,14 +137,20 @@ impl Wavelet {
         options: &MethodOptions,
     ) -> Result<Self> {
         let settings = Settings::from_options(options)?;
-        Ok(Self {
-            passes: passes::Passes::new(
-                gpu,
-                uploaded,
-                targets,
-                &settings,
-                settings.constants(scene),
-            )?,
+        let constants = settings.constants(scene);
+        Ok(match settings.storage {
+            Storage::Images => Self::Images(Box::new(passes::Passes::new(
+                gpu, uploaded, targets, &settings, constants,
+            )?)),
+            Storage::Bins => {
+                let program = RasterProgram::Wavelet {
+                    spirv: bin_raster(settings.rank),
+                    constants: constants.words(),
+                };
+                Self::Bins(Box::new(Exact::with_program(
+                    gpu, scene, uploaded, targets, options, program,
+                )?))
+            }
         })
     }
 }
@@ -125,7 +161,10 @@ impl Method for Wavelet {
     }
 
     fn record(&mut self, ctx: &mut RecordContext<'_>) -> Result<()> {
-        let p = &self.passes;
+        let p = match self {
+            Self::Images(p) => p,
+            Self::Bins(exact) => return exact.record(ctx),
+        };
         p.bounds(ctx);
         ctx.timestamps.mark(ctx.cmd, "wavelet bounds");
         p.transmittance(ctx);
@@ -135,5 +174,18 @@ impl Method for Wavelet {
         p.shade(ctx);
         ctx.timestamps.mark(ctx.cmd, "wavelet shade");
         Ok(())
+    }
+
+    fn frame_done(&mut self, scene: &GpuScene, targets: &FrameTargets) -> Result<FrameCheck> {
+        match self {
+            Self::Images(_) => Ok(FrameCheck::default()),
+            Self::Bins(exact) => exact.frame_done(scene, targets),
+        }
+    }
+
+    fn learned(&self, options: &mut MethodOptions) {
+        if let Self::Bins(exact) = self {
+            exact.learned(options);
+        }
     }
 }

@@ -1,12 +1,13 @@
 //! The `wavelet` method on the CPU, pass for pass like its shaders, over the reference's
 //! fragments: a test requires the GPU image to match it within 2/255. It keeps the GPU's
-//! storage: half-float coefficients and the RGBA16F frame colour are rounded after every
-//! addition, in submission order, as blending into those targets rounds them.
+//! storage: with coefficient images, half-float coefficients and the RGBA16F frame colour are
+//! rounded after every addition, in submission order, as blending into those targets rounds
+//! them; in the bins, coefficients and colour stay in single precision until the one write.
 
 #![deny(unsafe_code)]
 
 use super::math;
-use super::{Precision, Settings, ABSORBED_TRANSMITTANCE};
+use super::{Precision, Settings, Storage, ABSORBED_TRANSMITTANCE};
 use crate::image::{Image, OpaqueLayer};
 use crate::reference::{self, PixelFragment};
 use crate::scene::Scene;
@@ -47,10 +48,19 @@ impl Model {
         }
     }
 
+    /// A coefficient after an addition.
     fn store(&self, v: Vec3) -> Vec3 {
-        match self.settings.precision {
-            Precision::Single => v,
-            Precision::Half => half_floats(v),
+        match (self.settings.storage, self.settings.precision) {
+            (Storage::Images, Precision::Half) => half_floats(v),
+            (Storage::Images, Precision::Single) | (Storage::Bins, _) => v,
+        }
+    }
+
+    /// The frame colour after an addition.
+    fn colour(&self, v: Vec3) -> Vec3 {
+        match self.settings.storage {
+            Storage::Images => half_floats(v),
+            Storage::Bins => v,
         }
     }
 
@@ -78,7 +88,7 @@ impl Model {
         // Pass 3: the opaque layer dimmed, and the depth from which nothing is visible.
         // The frame colour is RGBA16F: every blend into it rounds.
         let mut colour =
-            half_floats(math::transmittance(math::absorbance_behind_all(&cells)) * opaque);
+            self.colour(math::transmittance(math::absorbance_behind_all(&cells)) * opaque);
         let cut = math::opaque_position(&cells, -ABSORBED_TRANSMITTANCE.ln()).map(|p| {
             let last = (math::coefficient_count(rank) - 1) as f32;
             let slack = noise.clamp(0.0, 0.5 * last) * pixel_noise;
@@ -92,7 +102,7 @@ impl Model {
             }
             let own = math::absorbance(f.fragment.transmittance);
             let in_front = math::absorbance_in_front(&cells, position(f), own);
-            colour = half_floats(colour + f.fragment.radiance * math::transmittance(in_front));
+            colour = self.colour(colour + f.fragment.radiance * math::transmittance(in_front));
         }
         colour
     }

@@ -1,0 +1,146 @@
+// The body of the wavelet bin raster; shaders/wavelet/bins_rank<N>.comp set the rank.
+#ifndef TRANSLUCID_WAVELET_BINS_GLSL
+#define TRANSLUCID_WAVELET_BINS_GLSL
+// The wavelet method on the exact method's bins, with each pixel's coefficients in registers
+// instead of full-screen images. It runs where exact's raster runs, after the same setup and
+// binning, one invocation per pixel and rows of BIN_SIZE pixels that walk their row's list in
+// step (raster.comp says why a subgroup must see one row). Three walks over the list:
+// 1. bounds: the nearest and farthest view depth of the pixel's fragments;
+// 2. transmittance: each fragment adds its absorbance's Haar coefficients;
+// 3. shading: each fragment in front of full absorption adds its radiance times the
+//    transmittance in front of it, its own share removed;
+// then the opaque colour, dimmed by the transmittance behind every fragment, plus what the
+// fragments added, is written once. Coverage, sampling and shading are exact's, so a pixel's
+// fragments are the CPU reference's, and the math is wavelet.glsl's, as in the image passes.
+// Rows whose walks would pass the driver's loop budget are reported (OVERFLOW_CROWDED_BIN):
+// unlike exact's raster, a row's state (its coefficients) is not saved for a continuation.
+
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#extension GL_KHR_shader_subgroup_ballot : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
+#extension GL_KHR_shader_subgroup_vote : require
+#extension GL_EXT_control_flow_attributes : require
+
+#include "scene_bindings_compute.glsl"
+#include "exact_bindings.glsl"
+#include "raster.glsl"
+#include "exact_bins.glsl"
+#include "texture_sampler.glsl"
+#include "shading.glsl"
+#include "exact_fragment.glsl"
+// After the exact raster's constants 0 to 7, which the host passes unchanged.
+#define WAVELET_CONSTANT_ID 8
+#include "wavelet.glsl"
+
+// As raster.comp: gl_WorkGroupSize.y rows of a block per workgroup (constant 7).
+layout(local_size_x = BIN_SIZE, local_size_y_id = 7) in;
+
+// The triangle of list entry e, the same for the whole row.
+uint entryTriangle(uint e) {
+    return subgroupBroadcastFirst(texelFetch(u_binEntryTexels, int(e)).r) & ENTRY_TRIANGLE_MASK;
+}
+
+void main() {
+    // Loads first, outside all control flow (raster.comp says why).
+    FrameInfo frame = u_frame;
+    uint block = g_rasterBins[gl_WorkGroupID.x];
+    uint row = gl_WorkGroupID.y * gl_WorkGroupSize.y + gl_LocalInvocationID.y;
+    uint bin = (block * BIN_SIZE + row) * SLABS;
+    uint first = g_binOffsets[bin] - g_binCounts[bin];
+    uint end = g_binOffsets[bin + SLABS - 1u];
+    uint x = (block % u_push.binsX) * BIN_SIZE + gl_LocalInvocationID.x;
+    uint y = (block / u_push.binsX) * BIN_SIZE + row;
+    if (x >= u_push.width || y >= u_push.height) {
+        return;
+    }
+    // Loop iterations per entry: walk 1, and walks 2 and 3 with their shading (the software
+    // sampler's mip loops), counted generously.
+    uint perEntry = 1u + 2u * (TEXTURES ? 41u : 1u);
+    if ((end - first) * perEntry + 16u > LOOP_BUDGET) {
+        if (subgroupElect()) {
+            atomicOr(g_counters.overflow, OVERFLOW_CROWDED_BIN);
+        }
+        return;
+    }
+    float opaqueDepth = texelFetch(u_opaqueDepth, ivec2(x, y), 0).r;
+    uvec2 pixel = uvec2(x, y);
+
+    // Walk 1: bounds.
+    float nearest = uintBitsToFloat(0x7F800000u);
+    float farthest = 0.0;
+    uint fragments = 0u;
+    for (uint e = first; e < end; e++) {
+        RasterSample s;
+        bool take = coverSample(loadTriangle(entryTriangle(e)), x, y, s) && s.zNdc < opaqueDepth;
+        nearest = take ? min(nearest, s.viewDepth) : nearest;
+        farthest = take ? max(farthest, s.viewDepth) : farthest;
+        fragments += take ? 1u : 0u;
+    }
+    if (subgroupAll(fragments == 0u)) {
+        return;
+    }
+    vec2 bounds = vec2(nearest, farthest);
+
+    // Walk 2: transmittance, as coefficients.
+    vec3 c[WAVELET_MAX_COUNT];
+    [[unroll]] for (int i = 0; i < WAVELET_MAX_COUNT; i++) {
+        c[i] = vec3(0.0);
+    }
+    for (uint e = first; e < end; e++) {
+        uint ti = entryTriangle(e);
+        ExactTriangle t = loadTriangle(ti);
+        RasterSample s;
+        bool take = coverSample(t, x, y, s) && s.zNdc < opaqueDepth;
+        vec3 a = vec3(0.0);
+        if (take) {
+            vec3 l;
+            vec3 tr;
+            shadeFragment(t, loadAttributes(ti), x, y, s, frame, l, tr);
+            a = waveletAbsorbance(tr);
+        }
+        float p = waveletCellPosition(waveletNormalizedDepth(s.viewDepth, bounds), pixel);
+        waveletAccumulate(c, take ? p : 0.0, a);
+    }
+    vec3 cells[WAVELET_MAX_COUNT];
+    waveletSynthesize(c, cells);
+
+    // The opaque layer behind every fragment, and the depth from which nothing is visible
+    // (as the image passes' resolve: noise only moves positions forward, so its slack is
+    // undone to keep the cut behind the true crossing).
+    vec3 behind = imageLoad(u_colour, ivec2(x, y)).rgb;
+    vec3 colour = waveletTransmittance(waveletAbsorbanceBehindAll(cells)) * behind;
+    float cut = 2.0;
+    float cutPosition = waveletOpaquePosition(cells, WAVELET_ABSORBED);
+    if (cutPosition >= 0.0) {
+        float last = float(WAVELET_COUNT - 1);
+        float slack = clamp(WAVELET_NOISE, 0.0, 0.5 * last) * waveletPixelNoise(pixel);
+        float v = min((cutPosition + slack) / last, 1.0);
+        cut = DEPTH_A - DEPTH_B / (bounds.x + v * (bounds.y - bounds.x));
+    }
+
+    // Walk 3: shading.
+    for (uint e = first; e < end; e++) {
+        uint ti = entryTriangle(e);
+        ExactTriangle t = loadTriangle(ti);
+        RasterSample s;
+        bool take = coverSample(t, x, y, s) && s.zNdc < opaqueDepth && s.zNdc < cut;
+        if (take) {
+            vec3 l;
+            vec3 tr;
+            shadeFragment(t, loadAttributes(ti), x, y, s, frame, l, tr);
+            float p = waveletCellPosition(waveletNormalizedDepth(s.viewDepth, bounds), pixel);
+            vec3 inFront = waveletAbsorbanceAt(cells, p, waveletAbsorbance(tr));
+            colour += l * waveletTransmittance(inFront);
+        }
+    }
+    if (fragments > 0u) {
+        imageStore(u_colour, ivec2(x, y), vec4(colour, 1.0));
+    }
+    uint subgroupFragments = subgroupAdd(fragments);
+    if (subgroupElect()) {
+        atomicAdd(g_counters.fragmentCount, subgroupFragments);
+        atomicMax(g_counters.passCount, 1u);
+    }
+}
+
+#endif
