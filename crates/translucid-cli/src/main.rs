@@ -54,16 +54,16 @@ pub struct WaveletArgs {
     /// wavelet: storage precision of the coefficients
     #[arg(long, value_enum, default_value_t = Precision::Half)]
     pub precision: Precision,
-    /// wavelet: where the coefficients live: full-screen images, or registers in the exact
-    /// method's bins
-    #[arg(long, value_enum, default_value_t = Storage::Images)]
+    /// wavelet: where the coefficients live: registers in the exact method's bins, or
+    /// full-screen images
+    #[arg(long, value_enum, default_value_t = Storage::Bins)]
     pub storage: Storage,
 }
 
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Storage {
-    Images,
     Bins,
+    Images,
 }
 
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
