@@ -209,7 +209,11 @@ void main() {
         }
         passes += finished ? 0u : 1u;
         uint count = min(found, uint(SELECT_SIZE));
-        for (uint i = 0u; i < count; i++) {
+        // A pixel stops as soon as its transmittance is under the threshold, even within a
+        // pass (its loop ends there; the row's ends when every pixel's has).
+        bool opaqueEnough = false;
+        uint composited = 0u;
+        for (uint i = 0u; i < count && !opaqueEnough; i++) {
             // Always shade slot 0, then shift the selection left: constant indices only.
             ExactTriangle t = loadTriangle(selTri[0]);
             RasterSample s;
@@ -224,9 +228,10 @@ void main() {
                 selKey[k] = selKey[k + 1];
                 selTri[k] = selTri[k + 1];
             }
+            composited++;
+            opaqueEnough = u_push.threshold > 0.0 && all(lessThan(transmittance, vec3(u_push.threshold)));
         }
-        fragments += count;
-        bool opaqueEnough = u_push.threshold > 0.0 && all(lessThan(transmittance, vec3(u_push.threshold)));
+        fragments += composited;
         finished = finished || (found <= uint(SELECT_SIZE) && !truncated) || opaqueEnough;
     }
     // A resumed pixel composites what earlier dispatches gathered too.

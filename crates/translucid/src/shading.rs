@@ -87,9 +87,23 @@ pub fn composite_front_to_back(
     fragments: impl IntoIterator<Item = Fragment>,
     opaque: Vec3,
 ) -> Vec3 {
+    composite_until(fragments, opaque, 0.0)
+}
+
+/// [`composite_front_to_back`] that stops once every channel of the transmittance is below
+/// `threshold` (the exact method's early stop; 0 never stops), the opaque colour still
+/// dimmed by what is left.
+pub fn composite_until(
+    fragments: impl IntoIterator<Item = Fragment>,
+    opaque: Vec3,
+    threshold: f32,
+) -> Vec3 {
     let mut radiance = Vec3::ZERO;
     let mut transmittance = Vec3::ONE;
     for f in fragments {
+        if threshold > 0.0 && transmittance.cmplt(Vec3::splat(threshold)).all() {
+            break;
+        }
         radiance += transmittance * f.radiance;
         transmittance *= f.transmittance;
     }

@@ -21,7 +21,7 @@ mod tests;
 use crate::image::{Image, OpaqueLayer};
 use crate::raster::{PixelRect, MAX_VIEWPORT};
 use crate::scene::Scene;
-use crate::shading::{composite_front_to_back, Fragment};
+use crate::shading::{composite_front_to_back, composite_until, Fragment};
 use glam::Vec3;
 use prepare::{DrawData, PrimRef};
 use rayon::prelude::*;
@@ -32,6 +32,14 @@ use std::cmp::Ordering;
 pub fn render(scene: &Scene, opaque: &OpaqueLayer) -> crate::Result<Image> {
     render_pixels(scene, opaque, Record::order, &|_, _, fragments, opaque| {
         composite_front_to_back(fragments.iter().map(|f| f.fragment), opaque)
+    })
+}
+
+/// [`render`] with the exact method's early stop: each pixel composites its fragments until
+/// every channel of its transmittance is below `threshold`.
+pub fn render_until(scene: &Scene, opaque: &OpaqueLayer, threshold: f32) -> crate::Result<Image> {
+    render_pixels(scene, opaque, Record::order, &|_, _, fragments, opaque| {
+        composite_until(fragments.iter().map(|f| f.fragment), opaque, threshold)
     })
 }
 
