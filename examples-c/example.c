@@ -235,8 +235,11 @@ int main(int argc, char **argv) {
         uint32_t s;
 
         frame_info.method = methods[m];
-        /* Method settings: zero is each one's default (wavelet: 16 coefficients per channel). */
+        /* Method settings: zero is each one's default (wavelet: 16 coefficients per channel,
+           kept in the exact method's bins; exact: no threshold, every fragment composited). */
         frame_info.wavelet_coefficients = 0;
+        frame_info.wavelet_storage = TRANSLUCID_WAVELET_STORAGE_BINS;
+        frame_info.exact_threshold = 0.0f;
         CHECK(translucid_frame_render(g_context, &frame_info, &frame));
         snprintf(path, sizeof path, "%s/example-%s.png", out_dir, name);
         CHECK(translucid_frame_write_png(g_context, frame, path));

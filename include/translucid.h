@@ -106,7 +106,7 @@
 
 #define TRANSLUCID_VERSION_MAJOR 0
 
-#define TRANSLUCID_VERSION_MINOR 2
+#define TRANSLUCID_VERSION_MINOR 3
 
 #define TRANSLUCID_VERSION_PATCH 0
 
@@ -421,6 +421,32 @@ typedef uint32_t translucid_method;
 #endif // __cplusplus
 
 /**
+ * Where the wavelet method keeps each pixel's coefficients.
+ */
+enum translucid_wavelet_storage
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+    /**
+     * In registers, on the exact method's bins (the default): faster and smaller; needs the
+     * device features the exact method needs.
+     */
+    TRANSLUCID_WAVELET_STORAGE_BINS = 0,
+    /**
+     * In full-screen coefficient images, drawn by the graphics pipeline.
+     */
+    TRANSLUCID_WAVELET_STORAGE_IMAGES = 1,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum translucid_wavelet_storage translucid_wavelet_storage;
+#else
+typedef uint32_t translucid_wavelet_storage;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
+/**
  * The context as C sees it: opaque, only ever behind a pointer.
  */
 typedef struct translucid_context translucid_context;
@@ -613,6 +639,17 @@ typedef struct translucid_frame_info {
      * >= 0; 0 (the default) is off. The noise is a fixed per-pixel pattern, so frames repeat.
      */
     float wavelet_noise;
+    /**
+     * `TRANSLUCID_METHOD_WAVELET`: a `translucid_wavelet_storage`, where the coefficients
+     * live; 0 is `TRANSLUCID_WAVELET_STORAGE_BINS`, the default.
+     */
+    uint32_t wavelet_storage;
+    /**
+     * `TRANSLUCID_METHOD_EXACT`: stop compositing a pixel once every channel of its
+     * transmittance is below this, in [0, 1]; 0 (the default) composites every fragment: the
+     * exact result. Other methods ignore it.
+     */
+    float exact_threshold;
 } translucid_frame_info;
 
 /**
@@ -1211,7 +1248,7 @@ translucid_result translucid_texture_destroy(struct translucid_context *context,
 uint32_t translucid_version(void);
 
 /**
- * The library's version as a static string, e.g. "0.2.0".
+ * The library's version as a static string, e.g. "0.3.0".
  */
 const char *translucid_version_string(void);
 

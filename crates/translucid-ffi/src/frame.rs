@@ -9,7 +9,7 @@ use crate::context::Objects;
 use crate::frame_input::{build_scene, opaque_layer_from};
 use crate::material::translucid_material;
 use crate::mesh::translucid_mesh;
-use crate::method::translucid_method;
+use crate::method::{translucid_method, translucid_wavelet_storage};
 use crate::panic;
 use crate::result::{translucid_result, Failure, FfiResult};
 use crate::structure::translucid_structure_type;
@@ -157,6 +157,13 @@ pub struct translucid_frame_info {
     /// `TRANSLUCID_METHOD_WAVELET`: depth noise strength in coefficient cells, finite and
     /// >= 0; 0 (the default) is off. The noise is a fixed per-pixel pattern, so frames repeat.
     pub wavelet_noise: f32,
+    /// `TRANSLUCID_METHOD_WAVELET`: a `translucid_wavelet_storage`, where the coefficients
+    /// live; 0 is `TRANSLUCID_WAVELET_STORAGE_BINS`, the default.
+    pub wavelet_storage: u32,
+    /// `TRANSLUCID_METHOD_EXACT`: stop compositing a pixel once every channel of its
+    /// transmittance is below this, in [0, 1]; 0 (the default) composites every fragment: the
+    /// exact result. Other methods ignore it.
+    pub exact_threshold: f32,
 }
 
 /// The core's method options from a frame's settings.
@@ -173,9 +180,17 @@ fn method_options(info: &translucid_frame_info) -> FfiResult<translucid::methods
             )))
         }
     };
+    let threshold = info.exact_threshold;
+    if !(0.0..=1.0).contains(&threshold) {
+        return Err(Failure::argument(format!(
+            "exact_threshold {threshold} is not in [0, 1]"
+        )));
+    }
     Ok(translucid::methods::MethodOptions {
         rank,
         noise: info.wavelet_noise,
+        storage: translucid_wavelet_storage::from_raw(info.wavelet_storage)?.core(),
+        threshold,
         ..Default::default()
     })
 }

@@ -202,6 +202,8 @@ fn input_key(info: &translucid_frame_info) -> FfiResult<Vec<u64>> {
         u64::from(info.height),
         u64::from(info.wavelet_coefficients),
         u64::from(info.wavelet_noise.to_bits()),
+        u64::from(info.wavelet_storage),
+        u64::from(info.exact_threshold.to_bits()),
     ];
     key.extend(floats(&c.view));
     key.extend(floats(&[c.fov_y, c.z_near, c.z_far]));

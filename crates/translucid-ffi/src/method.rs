@@ -6,6 +6,34 @@ use crate::panic;
 use crate::result::{translucid_result, Failure, FfiResult};
 use std::ffi::c_char;
 
+/// Where the wavelet method keeps each pixel's coefficients.
+#[allow(non_camel_case_types)]
+#[repr(u32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum translucid_wavelet_storage {
+    /// In registers, on the exact method's bins (the default): faster and smaller; needs the
+    /// device features the exact method needs.
+    Bins = 0,
+    /// In full-screen coefficient images, drawn by the graphics pipeline.
+    Images = 1,
+}
+
+impl translucid_wavelet_storage {
+    pub fn from_raw(value: u32) -> FfiResult<Self> {
+        [Self::Bins, Self::Images]
+            .into_iter()
+            .find(|s| *s as u32 == value)
+            .ok_or_else(|| Failure::enumeration("wavelet storage", value))
+    }
+
+    pub fn core(self) -> translucid::methods::wavelet::Storage {
+        match self {
+            Self::Bins => translucid::methods::wavelet::Storage::Bins,
+            Self::Images => translucid::methods::wavelet::Storage::Images,
+        }
+    }
+}
+
 /// A transparency method.
 #[allow(non_camel_case_types)]
 #[repr(u32)]

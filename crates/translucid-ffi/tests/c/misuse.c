@@ -363,6 +363,20 @@ static void frames(translucid_context *ctx, translucid_context *other) {
     info.wavelet_noise = -1.0f;
     EXPECT(ctx, translucid_frame_render(ctx, &info, &frame),
            TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    info.wavelet_noise = 0.0f;
+    info.wavelet_storage = 2;
+    EXPECT(ctx, translucid_frame_render(ctx, &info, &frame), TRANSLUCID_RESULT_ERROR_INVALID_ENUM);
+    info = frame_info(&draw);
+    info.method = TRANSLUCID_METHOD_EXACT;
+    info.exact_threshold = -0.5f;
+    EXPECT(ctx, translucid_frame_render(ctx, &info, &frame),
+           TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    info.exact_threshold = 1.5f;
+    EXPECT(ctx, translucid_frame_render(ctx, &info, &frame),
+           TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    info.exact_threshold = (float)NAN;
+    EXPECT(ctx, translucid_frame_render(ctx, &info, &frame),
+           TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
     info = frame_info(&draw);
     info.width = 0;
     EXPECT(ctx, translucid_frame_render(ctx, &info, &frame), TRANSLUCID_RESULT_ERROR_INVALID_SIZE);

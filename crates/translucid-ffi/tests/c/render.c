@@ -1,7 +1,9 @@
 /*
  * Frames from C with known answers, for every available method:
  * - over the host's opaque layer: where the host's depth is nearer than the transparent quad
- *   the host's colour stays; elsewhere the quad is blended over it;
+ *   the host's colour stays; elsewhere the quad is blended over it (wavelet: at every rank and
+ *   in both storages);
+ * - exact with a threshold stops under it: of two stacked quads, only the front one shows;
  * - over a background colour with no draws at all;
  * - both pixel formats agree; statistics are filled in; frames outlive their meshes.
  */
@@ -74,16 +76,16 @@ static float *read_both(translucid_frame frame) {
     return linear;
 }
 
-static void over_host_layer(uint32_t method, uint32_t wavelet_coefficients, translucid_mesh quad,
+/* `info` is a base_frame with the method's settings. */
+static void over_host_layer(translucid_frame_info info, translucid_mesh quad,
                             translucid_material red) {
     const float host[3] = {0.2f, 0.4f, 0.6f};
+    const uint32_t method = info.method;
     float colour[W * H * 4], depth[W * H];
     translucid_draw draw;
     translucid_opaque_layer layer;
-    translucid_frame_info info = base_frame(method);
     translucid_frame frame;
     translucid_frame_statistics stats;
-    info.wavelet_coefficients = wavelet_coefficients;
     float *pixels;
     size_t i, c;
 
@@ -130,6 +132,33 @@ static void over_host_layer(uint32_t method, uint32_t wavelet_coefficients, tran
     near_or_fail(stats.peak_gpu_bytes > 0, 1.0f, 0.0f, "statistics: peak memory", 0);
     near_or_fail(stats.gpu_milliseconds >= stats.method_milliseconds, 1.0f, 0.0f,
                  "statistics: total time covers the method", 0);
+    CHECK(translucid_frame_destroy(g_ctx, frame));
+}
+
+/* Two red quads at alpha 0.5 over black: 0.75 red in all, 0.5 once a pixel stops under a
+   threshold of 0.6 (its transmittance is 0.5 after the front quad). */
+static void exact_threshold(float threshold, float want, translucid_mesh quad,
+                            translucid_material red) {
+    translucid_frame_info info = base_frame(TRANSLUCID_METHOD_EXACT);
+    translucid_draw draws[2];
+    translucid_frame frame;
+    float *pixels;
+    size_t i, d;
+    memset(draws, 0, sizeof draws);
+    for (d = 0; d < 2; d++) {
+        draws[d].mesh = quad;
+        draws[d].material = red;
+        draws[d].transform[0] = draws[d].transform[5] = draws[d].transform[10] = 1.0f;
+        draws[d].transform[15] = 1.0f;
+        draws[d].transform[14] = -0.5f * (float)d; /* the second behind the first */
+    }
+    info.draws = draws;
+    info.draw_count = 2;
+    info.exact_threshold = threshold;
+    CHECK(translucid_frame_render(g_ctx, &info, &frame));
+    pixels = read_both(frame);
+    for (i = 0; i < W * H; i++) near_or_fail(pixels[i * 4], want, 2e-3f, "exact threshold", i);
+    free(pixels);
     CHECK(translucid_frame_destroy(g_ctx, frame));
 }
 
@@ -185,13 +214,23 @@ int main(int argc, char **argv) {
 
     CHECK(translucid_methods_available(methods, 8, &count));
     for (m = 0; m < count; m++) {
-        over_host_layer(methods[m], 0, quad, red);
+        translucid_frame_info info = base_frame(methods[m]);
+        over_host_layer(info, quad, red);
         background_only(methods[m]);
         if (methods[m] == TRANSLUCID_METHOD_WAVELET) {
-            /* One layer is exact at every rank. */
-            over_host_layer(methods[m], 2, quad, red);
-            over_host_layer(methods[m], 4, quad, red);
-            over_host_layer(methods[m], 8, quad, red);
+            /* One layer is exact at every rank, in both storages. */
+            uint32_t coefficients;
+            for (coefficients = 2; coefficients <= 8; coefficients *= 2) {
+                info.wavelet_coefficients = coefficients;
+                info.wavelet_storage = TRANSLUCID_WAVELET_STORAGE_BINS;
+                over_host_layer(info, quad, red);
+                info.wavelet_storage = TRANSLUCID_WAVELET_STORAGE_IMAGES;
+                over_host_layer(info, quad, red);
+            }
+        }
+        if (methods[m] == TRANSLUCID_METHOD_EXACT) {
+            exact_threshold(0.0f, 0.75f, quad, red);
+            exact_threshold(0.6f, 0.5f, quad, red);
         }
     }
 
