@@ -6,7 +6,7 @@ use translucid::methods::MethodOptions;
 use translucid::metrics;
 use translucid::renderer::Renderer;
 use translucid::scene::{self, Camera, Draw, Material, Mesh, Scene};
-use translucid_tests::{against_reference, asset, gpu, save_failure};
+use translucid_tests::{asset, gpu, save_failure};
 
 const TOLERANCE: f32 = 2.0 / 255.0;
 
