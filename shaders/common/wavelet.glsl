@@ -33,6 +33,7 @@ const int WAVELET_SLOTS = 3 * WAVELET_COUNT;
 const int WAVELET_TEXELS = (WAVELET_SLOTS + 3) / 4;
 #define WAVELET_MAX_TEXELS 12
 #define WAVELET_MAX_COUNT 16
+#define WAVELET_MAX_RANK 3
 #define WAVELET_MIN_TRANSMITTANCE 1e-5
 
 vec3 waveletAbsorbance(vec3 transmittance) {
@@ -70,6 +71,19 @@ float waveletCellPosition(float v, uvec2 pixel) {
     return p;
 }
 
+// An event of absorbance a at unit position u adds one addend per wavelet level: to the
+// level's wavelet waveletLevelCell (of 2^level), waveletLevelAddend.
+float waveletLevelCell(int level, float u) {
+    float width = float(1 << level);
+    return clamp(floor(u * width), 0.0, width - 1.0);
+}
+
+vec3 waveletLevelAddend(int level, float u, vec3 a) {
+    float f = u * float(1 << level) - waveletLevelCell(level, u);
+    float tent = f < 0.5 ? f : 1.0 - f;
+    return -a * (exp2(-0.5 * float(level)) * tent);
+}
+
 // Addend of coefficient i for an event of absorbance a at cell position p.
 vec3 waveletAddend(int i, float p, vec3 a) {
     float u = p / float(WAVELET_COUNT);
@@ -77,13 +91,8 @@ vec3 waveletAddend(int i, float p, vec3 a) {
         return a * (1.0 - u);
     }
     int level = findMSB(i);
-    float width = float(1 << level);
-    float s = u * width;
-    float k = clamp(floor(s), 0.0, width - 1.0);
-    float f = s - k;
-    float tent = f < 0.5 ? f : 1.0 - f;
-    float scale = exp2(-0.5 * float(level));
-    return float(i - (1 << level)) == k ? -a * (scale * tent) : vec3(0.0);
+    return float(i - (1 << level)) == waveletLevelCell(level, u) ? waveletLevelAddend(level, u, a)
+                                                                 : vec3(0.0);
 }
 
 // Slot s (channel s % 3 of coefficient s / 3) of an event's addends; 0 past the last.
@@ -99,28 +108,45 @@ vec4 waveletAddendTexel(int t, float p, vec3 a) {
                 waveletAddendSlot(4 * t + 2, p, a), waveletAddendSlot(4 * t + 3, p, a));
 }
 
+// The bin raster sums in the order of its lists, which atomics choose anew each frame. So
+// every addend it sums is first rounded to a multiple of 2^-16: sums under 2^8 (absorbance,
+// radiance) are then exact in single precision, the same in any order, and frames repeat.
+#define WAVELET_QUANTUM 65536.0
+vec3 waveletQuantize(vec3 v) {
+    return roundEven(v * WAVELET_QUANTUM) * (1.0 / WAVELET_QUANTUM);
+}
+
 // Adds an event of absorbance a at cell position p to coefficients kept in registers (the bin
-// raster): constant indices, a select per coefficient. Written out, not as an unrolled loop:
-// glslc's optimizer (shaderc 2023.2, SPIRV-Tools 2022.4) crashes unrolling that loop inside
-// the walk that shades.
-#define WAVELET_ADD(i) c[i] += (i < WAVELET_COUNT) ? waveletAddend(i, p, a) : vec3(0.0)
+// raster), quantized: constant indices, a select per coefficient. Written out, not as an
+// unrolled loop: glslc's optimizer (shaderc 2023.2, SPIRV-Tools 2022.4) crashes unrolling that
+// loop inside the walk that shades.
+#define WAVELET_ADD(i, level) \
+    if (i < WAVELET_COUNT) c[i] += float(i - (1 << level)) == cell[level] ? value[level] : vec3(0.0)
 void waveletAccumulate(inout vec3 c[WAVELET_MAX_COUNT], float p, vec3 a) {
-    WAVELET_ADD(0);
-    WAVELET_ADD(1);
-    WAVELET_ADD(2);
-    WAVELET_ADD(3);
-    WAVELET_ADD(4);
-    WAVELET_ADD(5);
-    WAVELET_ADD(6);
-    WAVELET_ADD(7);
-    WAVELET_ADD(8);
-    WAVELET_ADD(9);
-    WAVELET_ADD(10);
-    WAVELET_ADD(11);
-    WAVELET_ADD(12);
-    WAVELET_ADD(13);
-    WAVELET_ADD(14);
-    WAVELET_ADD(15);
+    float u = p / float(WAVELET_COUNT);
+    float cell[WAVELET_MAX_RANK + 1];
+    vec3 value[WAVELET_MAX_RANK + 1];
+    [[unroll]] for (int level = 0; level <= WAVELET_MAX_RANK; level++) {
+        cell[level] = level <= WAVELET_RANK ? waveletLevelCell(level, u) : 0.0;
+        value[level] = level <= WAVELET_RANK ? waveletQuantize(waveletLevelAddend(level, u, a))
+                                             : vec3(0.0);
+    }
+    c[0] += waveletQuantize(a * (1.0 - u));
+    WAVELET_ADD(1, 0);
+    WAVELET_ADD(2, 1);
+    WAVELET_ADD(3, 1);
+    WAVELET_ADD(4, 2);
+    WAVELET_ADD(5, 2);
+    WAVELET_ADD(6, 2);
+    WAVELET_ADD(7, 2);
+    WAVELET_ADD(8, 3);
+    WAVELET_ADD(9, 3);
+    WAVELET_ADD(10, 3);
+    WAVELET_ADD(11, 3);
+    WAVELET_ADD(12, 3);
+    WAVELET_ADD(13, 3);
+    WAVELET_ADD(14, 3);
+    WAVELET_ADD(15, 3);
 }
 #undef WAVELET_ADD
 

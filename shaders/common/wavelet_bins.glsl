@@ -130,7 +130,7 @@ void main() {
             shadeFragment(t, loadAttributes(ti), x, y, s, frame, l, tr);
             float p = waveletCellPosition(waveletNormalizedDepth(s.viewDepth, bounds), pixel);
             vec3 inFront = waveletAbsorbanceAt(cells, p, waveletAbsorbance(tr));
-            colour += l * waveletTransmittance(inFront);
+            colour += waveletQuantize(l * waveletTransmittance(inFront));
         }
     }
     if (fragments > 0u) {

@@ -2,7 +2,8 @@
 //! fragments: a test requires the GPU image to match it within 2/255. It keeps the GPU's
 //! storage: with coefficient images, half-float coefficients and the RGBA16F frame colour are
 //! rounded after every addition, in submission order, as blending into those targets rounds
-//! them; in the bins, coefficients and colour stay in single precision until the one write.
+//! them; in the bins, coefficients and colour stay in single precision until the one write,
+//! and every addend is rounded to a multiple of 2^-16 first, as the bin raster rounds them.
 
 #![deny(unsafe_code)]
 
@@ -29,6 +30,14 @@ fn half_towards_zero(x: f32) -> f32 {
     }
 }
 
+/// The bin raster's rounding of what it sums (`waveletQuantize` in wavelet.glsl), which makes
+/// its sums exact and so independent of the order of its lists.
+const QUANTUM: f32 = 65536.0;
+
+fn quantized(v: Vec3) -> Vec3 {
+    Vec3::from((v * QUANTUM).to_array().map(f32::round_ties_even)) / QUANTUM
+}
+
 /// What the model needs besides the fragments: the settings and the camera's depth mapping.
 #[derive(Clone, Copy, Debug)]
 pub struct Model {
@@ -48,19 +57,20 @@ impl Model {
         }
     }
 
-    /// A coefficient after an addition.
-    fn store(&self, v: Vec3) -> Vec3 {
+    /// `sum + addend`, stored as the variant stores a coefficient.
+    fn add_coefficient(&self, sum: Vec3, addend: Vec3) -> Vec3 {
         match (self.settings.storage, self.settings.precision) {
-            (Storage::Images, Precision::Half) => half_floats(v),
-            (Storage::Images, Precision::Single) | (Storage::Bins, _) => v,
+            (Storage::Images, Precision::Half) => half_floats(sum + addend),
+            (Storage::Images, Precision::Single) => sum + addend,
+            (Storage::Bins, _) => sum + quantized(addend),
         }
     }
 
-    /// The frame colour after an addition.
-    fn colour(&self, v: Vec3) -> Vec3 {
+    /// `colour + addend`, stored as the variant stores the frame colour.
+    fn add_colour(&self, colour: Vec3, addend: Vec3) -> Vec3 {
         match self.settings.storage {
-            Storage::Images => half_floats(v),
-            Storage::Bins => v,
+            Storage::Images => half_floats(colour + addend),
+            Storage::Bins => colour + quantized(addend),
         }
     }
 
@@ -81,14 +91,17 @@ impl Model {
         for f in fragments {
             let a = math::absorbance(f.fragment.transmittance);
             for (i, addend) in math::event_addends(position(f), rank, a) {
-                coefficients[i] = self.store(coefficients[i] + addend);
+                coefficients[i] = self.add_coefficient(coefficients[i], addend);
             }
         }
         let cells = math::synthesize(&coefficients, rank);
         // Pass 3: the opaque layer dimmed, and the depth from which nothing is visible.
         // The frame colour is RGBA16F: every blend into it rounds.
-        let mut colour =
-            self.colour(math::transmittance(math::absorbance_behind_all(&cells)) * opaque);
+        let behind = math::transmittance(math::absorbance_behind_all(&cells)) * opaque;
+        let mut colour = match self.settings.storage {
+            Storage::Images => half_floats(behind),
+            Storage::Bins => behind,
+        };
         let cut = math::opaque_position(&cells, -ABSORBED_TRANSMITTANCE.ln()).map(|p| {
             let last = (math::coefficient_count(rank) - 1) as f32;
             let slack = noise.clamp(0.0, 0.5 * last) * pixel_noise;
@@ -102,7 +115,7 @@ impl Model {
             }
             let own = math::absorbance(f.fragment.transmittance);
             let in_front = math::absorbance_in_front(&cells, position(f), own);
-            colour = self.colour(colour + f.fragment.radiance * math::transmittance(in_front));
+            colour = self.add_colour(colour, f.fragment.radiance * math::transmittance(in_front));
         }
         colour
     }
