@@ -10,7 +10,9 @@
 // 3. shading: each fragment in front of full absorption adds its radiance times the
 //    transmittance in front of it, its own share removed;
 // then the opaque colour, dimmed by the transmittance behind every fragment, plus what the
-// fragments added, is written once. Coverage, sampling and shading are exact's, so a pixel's
+// fragments added, is written once. Rows whose pixels all have at most KEPT fragments keep
+// them from walk 1 (their triangles, in registers) and do walks 2 and 3 over those instead
+// of the list: each fragment is covered once and shaded once. Coverage, sampling and shading are exact's, so a pixel's
 // fragments are the CPU reference's, and the math is wavelet.glsl's, as in the image passes.
 // Rows whose walks would pass the driver's loop budget are reported (OVERFLOW_CROWDED_BIN):
 // unlike exact's raster, a row's state (its coefficients) is not saved for a continuation.
@@ -34,6 +36,9 @@
 
 // As raster.comp: gl_WorkGroupSize.y rows of a block per workgroup (constant 7).
 layout(local_size_x = BIN_SIZE, local_size_y_id = 7) in;
+
+// Fragments a pixel keeps from walk 1 for the short form of walks 2 and 3.
+const int KEPT = 8;
 
 // The triangle of list entry e, the same for the whole row.
 uint entryTriangle(uint e) {
@@ -65,28 +70,47 @@ void main() {
     float opaqueDepth = texelFetch(u_opaqueDepth, ivec2(x, y), 0).r;
     uvec2 pixel = uvec2(x, y);
 
-    // Walk 1: bounds.
+    // Walk 1: bounds, and the first KEPT fragments' triangles (newest in slot 0).
     float nearest = uintBitsToFloat(0x7F800000u);
     float farthest = 0.0;
     uint fragments = 0u;
+    uint keptTri[KEPT];
+    [[unroll]] for (int k = 0; k < KEPT; k++) {
+        keptTri[k] = 0u;
+    }
     for (uint e = first; e < end; e++) {
+        uint ti = entryTriangle(e);
         RasterSample s;
-        bool take = coverSample(loadTriangle(entryTriangle(e)), x, y, s) && s.zNdc < opaqueDepth;
+        bool take = coverSample(loadTriangle(ti), x, y, s) && s.zNdc < opaqueDepth;
         nearest = take ? min(nearest, s.viewDepth) : nearest;
         farthest = take ? max(farthest, s.viewDepth) : farthest;
         fragments += take ? 1u : 0u;
+        [[unroll]] for (int k = KEPT - 1; k > 0; k--) {
+            keptTri[k] = take ? keptTri[k - 1] : keptTri[k];
+        }
+        keptTri[0] = take ? ti : keptTri[0];
     }
     if (subgroupAll(fragments == 0u)) {
         return;
     }
     vec2 bounds = vec2(nearest, farthest);
+    // The short form when every pixel of the row kept all its fragments; loops with bounds
+    // the whole row shares are skipped outright, where an `if` would run masked.
+    bool shortForm = subgroupAll(fragments <= uint(KEPT));
+    uint walkEnd = shortForm ? first : end;
+    uint keptCount = shortForm ? fragments : 0u;
+    // What walk 3's short form needs of each kept fragment, filled by walk 2's.
+    vec3 keptRadiance[KEPT];
+    vec3 keptAbsorbance[KEPT];
+    float keptPosition[KEPT];
+    float keptDepth[KEPT];
 
     // Walk 2: transmittance, as coefficients.
     vec3 c[WAVELET_MAX_COUNT];
     [[unroll]] for (int i = 0; i < WAVELET_MAX_COUNT; i++) {
         c[i] = vec3(0.0);
     }
-    for (uint e = first; e < end; e++) {
+    for (uint e = first; e < walkEnd; e++) {
         uint ti = entryTriangle(e);
         ExactTriangle t = loadTriangle(ti);
         RasterSample s;
@@ -101,6 +125,30 @@ void main() {
         float p = waveletCellPosition(waveletNormalizedDepth(s.viewDepth, bounds), pixel);
         waveletAccumulate(c, take ? p : 0.0, a);
     }
+    // Short form: shade slot 0, then rotate it to the end of the pixel's kept fragments with
+    // what walk 3 needs (constant indices only), so slot 0 is the next one.
+    for (uint i = 0u; i < keptCount; i++) {
+        uint ti = keptTri[0];
+        ExactTriangle t = loadTriangle(ti);
+        RasterSample s;
+        sampleTriangle(t, x, y, s);
+        vec3 l;
+        vec3 tr;
+        shadeFragment(t, loadAttributes(ti), x, y, s, frame, l, tr);
+        vec3 a = waveletAbsorbance(tr);
+        float p = waveletCellPosition(waveletNormalizedDepth(s.viewDepth, bounds), pixel);
+        waveletAccumulate(c, p, a);
+        uint last = fragments - 1u;
+        [[unroll]] for (int k = 0; k < KEPT; k++) {
+            bool here = uint(k) == last;
+            int next = min(k + 1, KEPT - 1);
+            keptTri[k] = here ? ti : keptTri[next];
+            keptRadiance[k] = here ? l : keptRadiance[next];
+            keptAbsorbance[k] = here ? a : keptAbsorbance[next];
+            keptPosition[k] = here ? p : keptPosition[next];
+            keptDepth[k] = here ? s.zNdc : keptDepth[next];
+        }
+    }
     vec3 cells[WAVELET_MAX_COUNT];
     waveletSynthesize(c, cells);
 
@@ -108,7 +156,7 @@ void main() {
     // (as the image passes' resolve: noise only moves positions forward, so its slack is
     // undone to keep the cut behind the true crossing).
     vec3 behind = imageLoad(u_colour, ivec2(x, y)).rgb;
-    vec3 colour = waveletTransmittance(waveletAbsorbanceBehindAll(cells)) * behind;
+    behind *= waveletTransmittance(waveletAbsorbanceBehindAll(cells));
     float cut = 2.0;
     float cutPosition = waveletOpaquePosition(cells, WAVELET_ABSORBED);
     if (cutPosition >= 0.0) {
@@ -118,8 +166,10 @@ void main() {
         cut = DEPTH_A - DEPTH_B / (bounds.x + v * (bounds.y - bounds.x));
     }
 
-    // Walk 3: shading.
-    for (uint e = first; e < end; e++) {
+    // Walk 3: shading. The fragments' share is summed apart from the opaque colour, so that
+    // the sum of quantized addends stays exact.
+    vec3 lit = vec3(0.0);
+    for (uint e = first; e < walkEnd; e++) {
         uint ti = entryTriangle(e);
         ExactTriangle t = loadTriangle(ti);
         RasterSample s;
@@ -130,11 +180,24 @@ void main() {
             shadeFragment(t, loadAttributes(ti), x, y, s, frame, l, tr);
             float p = waveletCellPosition(waveletNormalizedDepth(s.viewDepth, bounds), pixel);
             vec3 inFront = waveletAbsorbanceAt(cells, p, waveletAbsorbance(tr));
-            colour += waveletQuantize(l * waveletTransmittance(inFront));
+            lit += waveletQuantize(l * waveletTransmittance(inFront));
+        }
+    }
+    // Short form: slot 0, then shift left.
+    for (uint i = 0u; i < keptCount; i++) {
+        if (keptDepth[0] < cut) {
+            vec3 inFront = waveletAbsorbanceAt(cells, keptPosition[0], keptAbsorbance[0]);
+            lit += waveletQuantize(keptRadiance[0] * waveletTransmittance(inFront));
+        }
+        [[unroll]] for (int k = 0; k < KEPT - 1; k++) {
+            keptRadiance[k] = keptRadiance[k + 1];
+            keptAbsorbance[k] = keptAbsorbance[k + 1];
+            keptPosition[k] = keptPosition[k + 1];
+            keptDepth[k] = keptDepth[k + 1];
         }
     }
     if (fragments > 0u) {
-        imageStore(u_colour, ivec2(x, y), vec4(colour, 1.0));
+        imageStore(u_colour, ivec2(x, y), vec4(behind + lit, 1.0));
     }
     uint subgroupFragments = subgroupAdd(fragments);
     if (subgroupElect()) {

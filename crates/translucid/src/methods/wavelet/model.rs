@@ -66,14 +66,6 @@ impl Model {
         }
     }
 
-    /// `colour + addend`, stored as the variant stores the frame colour.
-    fn add_colour(&self, colour: Vec3, addend: Vec3) -> Vec3 {
-        match self.settings.storage {
-            Storage::Images => half_floats(colour + addend),
-            Storage::Bins => colour + quantized(addend),
-        }
-    }
-
     /// The final colour of pixel (x, y): `fragments` in submission order over `opaque`.
     pub fn resolve(&self, x: u32, y: u32, fragments: &[PixelFragment], opaque: Vec3) -> Vec3 {
         let Settings { rank, noise, .. } = self.settings;
@@ -98,10 +90,6 @@ impl Model {
         // Pass 3: the opaque layer dimmed, and the depth from which nothing is visible.
         // The frame colour is RGBA16F: every blend into it rounds.
         let behind = math::transmittance(math::absorbance_behind_all(&cells)) * opaque;
-        let mut colour = match self.settings.storage {
-            Storage::Images => half_floats(behind),
-            Storage::Bins => behind,
-        };
         let cut = math::opaque_position(&cells, -ABSORBED_TRANSMITTANCE.ln()).map(|p| {
             let last = (math::coefficient_count(rank) - 1) as f32;
             let slack = noise.clamp(0.0, 0.5 * last) * pixel_noise;
@@ -109,15 +97,20 @@ impl Model {
             self.depth_a - self.depth_b / (nearest + v * (farthest - nearest))
         });
         // Pass 4: shading.
-        for f in fragments {
-            if cut.is_some_and(|c| f.device_depth >= c) {
-                continue;
-            }
-            let own = math::absorbance(f.fragment.transmittance);
-            let in_front = math::absorbance_in_front(&cells, position(f), own);
-            colour = self.add_colour(colour, f.fragment.radiance * math::transmittance(in_front));
+        let lit = fragments
+            .iter()
+            .filter(|f| !cut.is_some_and(|c| f.device_depth >= c))
+            .map(|f| {
+                let own = math::absorbance(f.fragment.transmittance);
+                let in_front = math::absorbance_in_front(&cells, position(f), own);
+                f.fragment.radiance * math::transmittance(in_front)
+            });
+        match self.settings.storage {
+            // Blended one by one into the dimmed opaque colour.
+            Storage::Images => lit.fold(half_floats(behind), |c, l| half_floats(c + l)),
+            // Summed apart, quantized, then added to it once.
+            Storage::Bins => behind + lit.fold(Vec3::ZERO, |sum, l| sum + quantized(l)),
         }
-        colour
     }
 
     /// The whole frame over `opaque`.
