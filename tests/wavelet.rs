@@ -2,12 +2,13 @@
 //! math (within 2/255), and against the exact reference (a PSNR floor per scene, recorded
 //! with the value measured when it was set; never lower one silently).
 
+use glam::{Mat4, Vec3};
 use translucid::gpu::Gpu;
 use translucid::methods::wavelet::{model::Model, Precision, Settings, Storage};
 use translucid::methods::{wboit, MethodOptions};
 use translucid::metrics::{self, Metrics};
 use translucid::renderer::{Frame, Renderer};
-use translucid::scene::{self, Scene};
+use translucid::scene::{self, Camera, Draw, Material, Mesh, Scene, Texture};
 use translucid::Image;
 use translucid_tests::{asset, gpu, save_failure};
 
@@ -159,6 +160,93 @@ fn wavelet_in_bins_recovers_from_overflow() {
     let frame = render(&gpu, &load("planes"), "wavelet", &options);
     assert!(frame.rerenders > 0, "the first frame did not overflow");
     check_wavelet_model(&gpu, &load("planes"), &options, false);
+}
+
+/// `layers` textured quads stacked over one spot: each row of the stack lists two triangles
+/// a layer, and with textures (the software sampler's loops) the bins' three walks over more
+/// than about 700 of them would pass lavapipe's loop limit.
+fn textured_stack_scene(layers: u32) -> Scene {
+    let mut positions = Vec::new();
+    let mut quads = Vec::new();
+    for i in 0..layers {
+        let z = -1.0 + i as f32 * 0.002;
+        let shift = (i % 5) as f32 * 0.03;
+        let first = positions.len() as u32;
+        positions.extend([
+            Vec3::new(-0.5 + shift, -0.4, z),
+            Vec3::new(0.5 + shift, -0.4, z),
+            Vec3::new(0.5 + shift, 0.4 - shift, z),
+            Vec3::new(-0.5 + shift, 0.4 - shift, z),
+        ]);
+        quads.push([first, first + 1, first + 2, first + 3]);
+    }
+    let texels = vec![
+        [255, 200, 120, 255],
+        [120, 200, 255, 255],
+        [200, 255, 120, 255],
+        [255; 4],
+    ];
+    Scene {
+        name: "textured stack".into(),
+        meshes: vec![Mesh::from_quads("stack", positions, quads)],
+        materials: vec![Material {
+            texture: Some(0),
+            ..Material::alpha(Vec3::new(0.9, 0.6, 0.3), 0.004)
+        }],
+        textures: vec![Texture::new("checker", 2, 2, texels, true)],
+        transparent: vec![Draw {
+            mesh: 0,
+            material: 0,
+            transform: Mat4::IDENTITY,
+        }],
+        camera: Camera::look_at(Vec3::new(0.0, 0.0, 3.0), Vec3::ZERO, 0.8, 0.1, 20.0),
+        background: Vec3::splat(0.2),
+        ..Scene::default()
+    }
+}
+
+/// A row too crowded for the bins' walks renders with coefficient images instead: the frame
+/// is rendered again, and matches the images' model.
+#[test]
+fn wavelet_in_bins_falls_back_to_images_for_crowded_rows() {
+    let gpu = gpu();
+    let scene = textured_stack_scene(800);
+    let options = bins_options(3, 0.0);
+    let frame = Renderer::with_options(&gpu, &scene, "wavelet", 45, 37, &options)
+        .and_then(|mut r| r.render(true))
+        .expect("frame");
+    assert!(
+        frame.rerenders >= 1,
+        "the crowded frame was not rendered again"
+    );
+    assert!(
+        frame
+            .stages
+            .iter()
+            .any(|(name, _)| *name == "wavelet resolve"),
+        "the frame did not fall back to the images: {:?}",
+        frame.stages
+    );
+    let opaque = frame.opaque.as_ref().expect("opaque layer");
+    let settings = Settings::from_options(&MethodOptions {
+        storage: Storage::Images,
+        ..options
+    })
+    .expect("valid settings");
+    let expected = Model::new(settings, &scene)
+        .render(&scene, opaque)
+        .expect("model");
+    let m = compare("wavelet_crowded_fallback", &frame.image, &expected);
+    assert_matches("wavelet_crowded_fallback", &m, true);
+    // Half as many layers fit the bins.
+    let shallower = render(&gpu, &textured_stack_scene(200), "wavelet", &options);
+    assert!(
+        !shallower
+            .stages
+            .iter()
+            .any(|(name, _)| *name == "wavelet resolve"),
+        "200 layers fell back too"
+    );
 }
 
 /// Frames repeat bit for bit, with noise too. The images blend in submission order; the bins

@@ -314,6 +314,13 @@ impl Exact {
         })
     }
 
+    /// Whether the completed frame had a row whose list was too long for the raster's loop
+    /// budget (an error for the exact raster, which resumes rows instead; a program that
+    /// cannot may fall back to another method).
+    pub fn crowded(&self) -> Result<bool> {
+        Ok(self.resources.counters()?.overflow & OVERFLOW_CROWDED_BIN != 0)
+    }
+
     fn dispatch(&self, ctx: &RecordContext<'_>, stage: usize, groups: [u32; 3]) {
         self.dispatch_pipeline(ctx, &self.pipelines[stage], groups);
     }

@@ -126,7 +126,14 @@ fn bin_raster(rank: u32) -> &'static [u8] {
     }
 }
 
-pub enum Wavelet {
+pub struct Wavelet {
+    gpu: Gpu,
+    settings: Settings,
+    constants: SpecConstants,
+    variant: Variant,
+}
+
+enum Variant {
     Images(Box<passes::Passes>),
     Bins(Box<Exact>),
 }
@@ -141,8 +148,8 @@ impl Wavelet {
     ) -> Result<Self> {
         let settings = Settings::from_options(options)?;
         let constants = settings.constants(scene);
-        Ok(match settings.storage {
-            Storage::Images => Self::Images(Box::new(passes::Passes::new(
+        let variant = match settings.storage {
+            Storage::Images => Variant::Images(Box::new(passes::Passes::new(
                 gpu, uploaded, targets, &settings, constants,
             )?)),
             Storage::Bins => {
@@ -150,10 +157,16 @@ impl Wavelet {
                     spirv: bin_raster(settings.rank),
                     constants: constants.words(),
                 };
-                Self::Bins(Box::new(Exact::with_program(
+                Variant::Bins(Box::new(Exact::with_program(
                     gpu, scene, uploaded, targets, options, program,
                 )?))
             }
+        };
+        Ok(Self {
+            gpu: gpu.clone(),
+            settings,
+            constants,
+            variant,
         })
     }
 }
@@ -164,9 +177,9 @@ impl Method for Wavelet {
     }
 
     fn record(&mut self, ctx: &mut RecordContext<'_>) -> Result<()> {
-        let p = match self {
-            Self::Images(p) => p,
-            Self::Bins(exact) => return exact.record(ctx),
+        let p = match &mut self.variant {
+            Variant::Images(p) => p,
+            Variant::Bins(exact) => return exact.record(ctx),
         };
         p.bounds(ctx);
         ctx.timestamps.mark(ctx.cmd, "wavelet bounds");
@@ -180,14 +193,34 @@ impl Method for Wavelet {
     }
 
     fn frame_done(&mut self, scene: &GpuScene, targets: &FrameTargets) -> Result<FrameCheck> {
-        match self {
-            Self::Images(_) => Ok(FrameCheck::default()),
-            Self::Bins(exact) => exact.frame_done(scene, targets),
+        let Variant::Bins(exact) = &mut self.variant else {
+            return Ok(FrameCheck::default());
+        };
+        if !exact.crowded()? {
+            return exact.frame_done(scene, targets);
         }
+        // A row's three walks would pass the driver's loop budget (the bins' raster does not
+        // resume rows as exact's does): the coefficient images have no such limit.
+        log::warn!(
+            "wavelet: a bin of this frame is too crowded for the bins' raster; rendering it \
+             with coefficient images instead"
+        );
+        self.settings.storage = Storage::Images;
+        self.variant = Variant::Images(Box::new(passes::Passes::new(
+            &self.gpu,
+            scene,
+            targets,
+            &self.settings,
+            self.constants,
+        )?));
+        Ok(FrameCheck {
+            rerender: true,
+            ..FrameCheck::default()
+        })
     }
 
     fn learned(&self, options: &mut MethodOptions) {
-        if let Self::Bins(exact) = self {
+        if let Variant::Bins(exact) = &self.variant {
             exact.learned(options);
         }
     }
