@@ -47,7 +47,7 @@ void barycentricGradients(ExactTriangle t, uint x, uint y, out vec3 gx, out vec3
     dvec3 dqy;
     if (!HOMOGENEOUS_PATH || t.edgeB.w < 0) {
         [[unroll]] for (int k = 0; k < 3; k++) {
-            int64_t e = edgeAt(int64_t(t.edgeA[k]), int64_t(t.edgeB[k]), t.edgeC[k], x, y);
+            int64_t e = edgeAt(t.edgeA[k], t.edgeB[k], t.edgeC[k], x, y);
             precise float lambda = float(e) * t.zNdc.w;
             precise float qk = lambda * t.invW[k];
             precise float dx = float(t.edgeA[k]) * 256.0 * t.zNdc.w * t.invW[k];

@@ -29,10 +29,13 @@ int64_t snapCoord(float v) {
     return int64_t(floor(s));
 }
 
-int64_t edgeAt(int64_t a, int64_t b, int64_t c, uint x, uint y) {
-    int64_t px = (int64_t(x) << SUBPIXEL_BITS) + HALF_PIXEL;
-    int64_t py = (int64_t(y) << SUBPIXEL_BITS) + HALF_PIXEL;
-    return a * px + b * py + c;
+// Sample positions fit 32 bits (x < 2^16, 8 sub-pixel bits), and so do a and b: products of
+// two sign-extended 32-bit values compile to one 32x32->64 multiply on x86, where a full
+// 64-bit product is emulated (exact either way; 1-3 % of the raster on lavapipe).
+int64_t edgeAt(int a, int b, int64_t c, uint x, uint y) {
+    int px = (int(x) << SUBPIXEL_BITS) + HALF_PIXEL;
+    int py = (int(y) << SUBPIXEL_BITS) + HALF_PIXEL;
+    return int64_t(a) * int64_t(px) + int64_t(b) * int64_t(py) + c;
 }
 
 bool ownsTies(int64_t a, int64_t b) {
@@ -52,9 +55,9 @@ bool depthClip(float z) {
 // Coverage of a fixed-point triangle at pixel (x, y): the three edge values, and whether the
 // sample is inside under the tie rule.
 bool coversFixed(ExactTriangle t, uint x, uint y, out i64vec3 e) {
-    e.x = edgeAt(int64_t(t.edgeA.x), int64_t(t.edgeB.x), t.edgeC.x, x, y);
-    e.y = edgeAt(int64_t(t.edgeA.y), int64_t(t.edgeB.y), t.edgeC.y, x, y);
-    e.z = edgeAt(int64_t(t.edgeA.z), int64_t(t.edgeB.z), t.edgeC.z, x, y);
+    e.x = edgeAt(t.edgeA.x, t.edgeB.x, t.edgeC.x, x, y);
+    e.y = edgeAt(t.edgeA.y, t.edgeB.y, t.edgeC.y, x, y);
+    e.z = edgeAt(t.edgeA.z, t.edgeB.z, t.edgeC.z, x, y);
     int ties = t.edgeA.w;
     return e.x + int64_t(ties & 1) > 0 && e.y + int64_t((ties >> 1) & 1) > 0 &&
            e.z + int64_t((ties >> 2) & 1) > 0;
@@ -90,7 +93,7 @@ double lineAt(dvec4 line, uint x, uint y) {
 
 bool homogeneousEdgeCovers(ExactHomogeneous h, int k, dvec4 line, uint x, uint y) {
     if (((h.fixedA.w >> k) & 1) != 0) {
-        int64_t e = edgeAt(int64_t(h.fixedA[k]), int64_t(h.fixedB[k]), h.fixedC[k], x, y);
+        int64_t e = edgeAt(h.fixedA[k], h.fixedB[k], h.fixedC[k], x, y);
         return e + int64_t((h.fixedB.w >> k) & 1) > 0;
     }
     double v = lineAt(line, x, y);
