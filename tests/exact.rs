@@ -6,7 +6,7 @@ use translucid::methods::MethodOptions;
 use translucid::metrics;
 use translucid::renderer::Renderer;
 use translucid::scene::{self, Camera, Draw, Material, Mesh, Scene};
-use translucid_tests::{asset, gpu, save_failure};
+use translucid_tests::{asset, gpu, save_failure, stack_scene};
 
 const TOLERANCE: f32 = 2.0 / 255.0;
 
@@ -254,33 +254,11 @@ fn exact_passes_learned_buffer_sizes_to_the_next_renderer() {
 /// more loop iterations than lavapipe allows one shader invocation (it ends loops silently
 /// after 65535), so their rows are suspended and finished by continuation dispatches.
 fn deep_stack_scene(layers: u32) -> Scene {
-    let mut positions = Vec::new();
-    let mut quads = Vec::new();
-    for i in 0..layers {
-        let z = -1.0 + i as f32 * 0.002;
-        let shift = (i % 7) as f32 * 0.02;
-        let first = positions.len() as u32;
-        positions.extend([
-            Vec3::new(-0.5 + shift, -0.4, z),
-            Vec3::new(0.5 + shift, -0.4, z),
-            Vec3::new(0.5 + shift, 0.4 - shift, z),
-            Vec3::new(-0.5 + shift, 0.4 - shift, z),
-        ]);
-        quads.push([first, first + 1, first + 2, first + 3]);
-    }
-    Scene {
-        name: "deep stack".into(),
-        meshes: vec![Mesh::from_quads("stack", positions, quads)],
-        materials: vec![Material::alpha(Vec3::new(0.9, 0.5, 0.2), 0.004)],
-        transparent: vec![Draw {
-            mesh: 0,
-            material: 0,
-            transform: Mat4::IDENTITY,
-        }],
-        camera: Camera::look_at(Vec3::new(0.0, 0.0, 3.0), Vec3::ZERO, 0.8, 0.1, 20.0),
-        background: Vec3::splat(0.2),
-        ..Scene::default()
-    }
+    stack_scene(
+        "deep stack",
+        layers,
+        Material::alpha(Vec3::new(0.9, 0.5, 0.2), 0.004),
+    )
 }
 
 #[test]

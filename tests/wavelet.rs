@@ -2,15 +2,15 @@
 //! math (within 2/255), and against the exact reference (a PSNR floor per scene, recorded
 //! with the value measured when it was set; never lower one silently).
 
-use glam::{Mat4, Vec3};
+use glam::Vec3;
 use translucid::gpu::Gpu;
 use translucid::methods::wavelet::{model::Model, Precision, Settings, Storage};
 use translucid::methods::{wboit, MethodOptions};
 use translucid::metrics::{self, Metrics};
 use translucid::renderer::{Frame, Renderer};
-use translucid::scene::{self, Camera, Draw, Material, Mesh, Scene, Texture};
+use translucid::scene::{self, Material, Scene, Texture};
 use translucid::Image;
-use translucid_tests::{asset, gpu, save_failure};
+use translucid_tests::{asset, gpu, save_failure, stack_scene};
 
 const TOLERANCE: f32 = 2.0 / 255.0;
 /// Not a multiple of anything.
@@ -166,42 +166,19 @@ fn wavelet_in_bins_recovers_from_overflow() {
 /// a layer, and with textures (the software sampler's loops) the bins' three walks over more
 /// than about 700 of them would pass lavapipe's loop limit.
 fn textured_stack_scene(layers: u32) -> Scene {
-    let mut positions = Vec::new();
-    let mut quads = Vec::new();
-    for i in 0..layers {
-        let z = -1.0 + i as f32 * 0.002;
-        let shift = (i % 5) as f32 * 0.03;
-        let first = positions.len() as u32;
-        positions.extend([
-            Vec3::new(-0.5 + shift, -0.4, z),
-            Vec3::new(0.5 + shift, -0.4, z),
-            Vec3::new(0.5 + shift, 0.4 - shift, z),
-            Vec3::new(-0.5 + shift, 0.4 - shift, z),
-        ]);
-        quads.push([first, first + 1, first + 2, first + 3]);
-    }
     let texels = vec![
         [255, 200, 120, 255],
         [120, 200, 255, 255],
         [200, 255, 120, 255],
         [255; 4],
     ];
+    let material = Material {
+        texture: Some(0),
+        ..Material::alpha(Vec3::new(0.9, 0.6, 0.3), 0.004)
+    };
     Scene {
-        name: "textured stack".into(),
-        meshes: vec![Mesh::from_quads("stack", positions, quads)],
-        materials: vec![Material {
-            texture: Some(0),
-            ..Material::alpha(Vec3::new(0.9, 0.6, 0.3), 0.004)
-        }],
         textures: vec![Texture::new("checker", 2, 2, texels, true)],
-        transparent: vec![Draw {
-            mesh: 0,
-            material: 0,
-            transform: Mat4::IDENTITY,
-        }],
-        camera: Camera::look_at(Vec3::new(0.0, 0.0, 3.0), Vec3::ZERO, 0.8, 0.1, 20.0),
-        background: Vec3::splat(0.2),
-        ..Scene::default()
+        ..stack_scene("textured stack", layers, material)
     }
 }
 

@@ -1,10 +1,11 @@
 //! Shared helpers of the end-to-end tests.
 
+use glam::{Mat4, Vec3};
 use std::path::PathBuf;
 use translucid::gpu::{Gpu, GpuOptions};
 use translucid::metrics::{self, Metrics};
 use translucid::renderer::{Frame, Renderer};
-use translucid::scene::Scene;
+use translucid::scene::{Camera, Draw, Material, Mesh, Scene};
 use translucid::Image;
 
 /// The device under test, with the validation layer on: any validation error fails the test.
@@ -55,4 +56,36 @@ pub fn save_failure(name: &str, got: &Image, expected: &Image) -> PathBuf {
         let _ = metrics::side_by_side(&[got, expected, &heat]).save_png(&path);
     }
     path
+}
+
+/// `layers` screen-facing quads of `material` stacked over one spot, each a little nearer and
+/// shifted, so that pixels there are up to `layers` fragments deep.
+pub fn stack_scene(name: &str, layers: u32, material: Material) -> Scene {
+    let mut positions = Vec::new();
+    let mut quads = Vec::new();
+    for i in 0..layers {
+        let z = -1.0 + i as f32 * 0.002;
+        let shift = (i % 7) as f32 * 0.02;
+        let first = positions.len() as u32;
+        positions.extend([
+            Vec3::new(-0.5 + shift, -0.4, z),
+            Vec3::new(0.5 + shift, -0.4, z),
+            Vec3::new(0.5 + shift, 0.4 - shift, z),
+            Vec3::new(-0.5 + shift, 0.4 - shift, z),
+        ]);
+        quads.push([first, first + 1, first + 2, first + 3]);
+    }
+    Scene {
+        name: name.into(),
+        meshes: vec![Mesh::from_quads("stack", positions, quads)],
+        materials: vec![material],
+        transparent: vec![Draw {
+            mesh: 0,
+            material: 0,
+            transform: Mat4::IDENTITY,
+        }],
+        camera: Camera::look_at(Vec3::new(0.0, 0.0, 3.0), Vec3::ZERO, 0.8, 0.1, 20.0),
+        background: Vec3::splat(0.2),
+        ..Scene::default()
+    }
 }
