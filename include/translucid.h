@@ -641,13 +641,15 @@ typedef struct translucid_frame_info {
     float wavelet_noise;
     /**
      * `TRANSLUCID_METHOD_WAVELET`: a `translucid_wavelet_storage`, where the coefficients
-     * live; 0 is `TRANSLUCID_WAVELET_STORAGE_BINS`, the default.
+     * live; 0 is `TRANSLUCID_WAVELET_STORAGE_BINS`, the default, which falls back to the
+     * images on a device without what the exact method needs and for frames too crowded
+     * for its loop budget.
      */
     uint32_t wavelet_storage;
     /**
      * `TRANSLUCID_METHOD_EXACT`: stop compositing a pixel once every channel of its
-     * transmittance is below this, in [0, 1]; 0 (the default) composites every fragment: the
-     * exact result. Other methods ignore it.
+     * transmittance is below this; 0 (the default) composites every fragment: the exact
+     * result. Must be in [0, 1] whatever the method; only exact uses it.
      */
     float exact_threshold;
 } translucid_frame_info;

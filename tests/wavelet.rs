@@ -189,13 +189,15 @@ fn wavelet_in_bins_falls_back_to_images_for_crowded_rows() {
     let gpu = gpu();
     let scene = textured_stack_scene(800);
     let options = bins_options(3, 0.0);
-    let frame = Renderer::with_options(&gpu, &scene, "wavelet", 45, 37, &options)
-        .and_then(|mut r| r.render(true))
-        .expect("frame");
+    let mut renderer =
+        Renderer::with_options(&gpu, &scene, "wavelet", 45, 37, &options).expect("renderer");
+    let frame = renderer.render(true).expect("frame");
     assert!(
         frame.rerenders >= 1,
         "the crowded frame was not rendered again"
     );
+    // A renderer made for this scene's next input starts on the images.
+    assert_eq!(renderer.learned_options(&options).storage, Storage::Images);
     assert!(
         frame
             .stages

@@ -109,8 +109,11 @@ vec4 waveletAddendTexel(int t, float p, vec3 a) {
 }
 
 // The bin raster sums in the order of its lists, which atomics choose anew each frame. So
-// every addend it sums is first rounded to a multiple of 2^-16: sums under 2^8 (absorbance,
-// radiance) are then exact in single precision, the same in any order, and frames repeat.
+// every addend it sums is first rounded to a multiple of 2^-16: sums under 2^8 are then
+// exact in single precision, the same in any order, and frames repeat. (A coefficient is at
+// most the pixel's total absorbance, 11.5 a fragment at most: 22 nearly opaque layers; the
+// radiance sum is the light that reaches the eye. A quantum of 2^-14, exact to 2^10, cost
+// 2.7 dB on polychrome, 89 to 86 dB, invisible but measurable.)
 #define WAVELET_QUANTUM 65536.0
 vec3 waveletQuantize(vec3 v) {
     return roundEven(v * WAVELET_QUANTUM) * (1.0 / WAVELET_QUANTUM);

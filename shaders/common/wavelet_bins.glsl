@@ -12,7 +12,8 @@
 // then the opaque colour, dimmed by the transmittance behind every fragment, plus what the
 // fragments added, is written once. Rows whose pixels all have at most KEPT fragments keep
 // them from walk 1 (their triangles, in registers) and do walks 2 and 3 over those instead
-// of the list: each fragment is covered once and shaded once. Coverage, sampling and shading are exact's, so a pixel's
+// of the list: each fragment is covered once and shaded once. The loop budget applies on
+// every device, and to every row of a scene with any texture (TEXTURES is per scene). Coverage, sampling and shading are exact's, so a pixel's
 // fragments are the CPU reference's, and the math is wavelet.glsl's, as in the image passes.
 // Rows whose walks would pass the driver's loop budget are reported (OVERFLOW_CROWDED_BIN):
 // unlike exact's raster, a row's state (its coefficients) is not saved for a continuation.
@@ -61,7 +62,7 @@ void main() {
     // Loop iterations per entry: walk 1, and walks 2 and 3 with their shading (the software
     // sampler's mip loops), counted generously.
     uint perEntry = 1u + 2u * (TEXTURES ? 41u : 1u);
-    if ((end - first) * perEntry + 16u > LOOP_BUDGET) {
+    if (end - first > (LOOP_BUDGET - 16u) / perEntry) {
         if (subgroupElect()) {
             atomicOr(g_counters.overflow, OVERFLOW_CROWDED_BIN);
         }
@@ -70,7 +71,8 @@ void main() {
     float opaqueDepth = texelFetch(u_opaqueDepth, ivec2(x, y), 0).r;
     uvec2 pixel = uvec2(x, y);
 
-    // Walk 1: bounds, and the first KEPT fragments' triangles (newest in slot 0).
+    // Walk 1: bounds, and the triangles of the last KEPT fragments (all of them where there
+    // are at most KEPT; newest in slot 0).
     float nearest = uintBitsToFloat(0x7F800000u);
     float farthest = 0.0;
     uint fragments = 0u;

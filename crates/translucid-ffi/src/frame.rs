@@ -158,11 +158,13 @@ pub struct translucid_frame_info {
     /// >= 0; 0 (the default) is off. The noise is a fixed per-pixel pattern, so frames repeat.
     pub wavelet_noise: f32,
     /// `TRANSLUCID_METHOD_WAVELET`: a `translucid_wavelet_storage`, where the coefficients
-    /// live; 0 is `TRANSLUCID_WAVELET_STORAGE_BINS`, the default.
+    /// live; 0 is `TRANSLUCID_WAVELET_STORAGE_BINS`, the default, which falls back to the
+    /// images on a device without what the exact method needs and for frames too crowded
+    /// for its loop budget.
     pub wavelet_storage: u32,
     /// `TRANSLUCID_METHOD_EXACT`: stop compositing a pixel once every channel of its
-    /// transmittance is below this, in [0, 1]; 0 (the default) composites every fragment: the
-    /// exact result. Other methods ignore it.
+    /// transmittance is below this; 0 (the default) composites every fragment: the exact
+    /// result. Must be in [0, 1] whatever the method; only exact uses it.
     pub exact_threshold: f32,
 }
 

@@ -77,7 +77,9 @@ pub fn wavelet_json(method: &str, wavelet: crate::WaveletArgs) -> serde_json::Va
     serde_json::json!({
         "rank": wavelet.rank.unwrap_or(translucid::methods::wavelet::DEFAULT_RANK),
         "noise": wavelet.noise,
-        "precision": format!("{:?}", wavelet.precision).to_lowercase(),
+        // Only the images have a storage precision.
+        "precision": (wavelet.storage == crate::Storage::Images)
+            .then(|| format!("{:?}", wavelet.precision).to_lowercase()),
         "storage": format!("{:?}", wavelet.storage).to_lowercase(),
     })
 }

@@ -8,6 +8,10 @@ use crate::raster::{clip_position, viewport_transform, GUARD_BAND};
 use crate::scene::Scene;
 use glam::{Mat4, Vec3};
 
+/// How many constants the raster takes: other programs on the same stages (the wavelet bin
+/// raster) number theirs from here.
+pub const RASTER_CONSTANTS: usize = 8;
+
 /// Specialization constants of the raster stage, in `constant_id` order.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct RasterFeatures {
@@ -99,7 +103,7 @@ impl RasterFeatures {
     }
 
     /// The constants for the first raster dispatch or for continuations (`continuation`).
-    pub fn constants(&self, continuation: bool) -> [u32; 8] {
+    pub fn constants(&self, continuation: bool) -> [u32; RASTER_CONSTANTS] {
         [
             u32::from(self.homogeneous),
             u32::from(self.textures),

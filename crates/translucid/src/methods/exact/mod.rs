@@ -32,7 +32,7 @@
 
 #![deny(clippy::unwrap_used)]
 
-mod features;
+pub mod features;
 pub mod layout;
 mod resources;
 

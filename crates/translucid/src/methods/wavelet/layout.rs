@@ -58,6 +58,18 @@ mod tests {
             .collect()
     }
 
+    /// The bin raster numbers the wavelet constants after the exact raster's own.
+    #[test]
+    fn bin_raster_constants_follow_the_exact_rasters() {
+        let bins = include_str!("../../../../../shaders/common/wavelet_bins.glsl");
+        let first = bins
+            .lines()
+            .find_map(|l| l.trim().strip_prefix("#define WAVELET_CONSTANT_ID "))
+            .and_then(|v| v.trim().parse::<usize>().ok())
+            .expect("wavelet_bins.glsl defines WAVELET_CONSTANT_ID");
+        assert_eq!(first, crate::methods::exact::features::RASTER_CONSTANTS);
+    }
+
     #[test]
     fn constants_match_glsl() {
         let glsl = glsl_constants();

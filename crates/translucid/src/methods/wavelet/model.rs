@@ -20,6 +20,11 @@ fn half_floats(v: Vec3) -> Vec3 {
     v.to_array().map(half_towards_zero).into()
 }
 
+/// `v` stored in an RGBA16F image by a shader (rounded to nearest).
+fn half_nearest(v: Vec3) -> Vec3 {
+    v.to_array().map(|x| half::f16::from_f32(x).to_f32()).into()
+}
+
 fn half_towards_zero(x: f32) -> f32 {
     let h = half::f16::from_f32(x);
     if h.is_finite() && h.to_f32().abs() > x.abs() {
@@ -108,8 +113,10 @@ impl Model {
         match self.settings.storage {
             // Blended one by one into the dimmed opaque colour.
             Storage::Images => lit.fold(half_floats(behind), |c, l| half_floats(c + l)),
-            // Summed apart, quantized, then added to it once.
-            Storage::Bins => behind + lit.fold(Vec3::ZERO, |sum, l| sum + quantized(l)),
+            // Summed apart, quantized, then added to it in one store.
+            Storage::Bins => {
+                half_nearest(behind + lit.fold(Vec3::ZERO, |sum, l| sum + quantized(l)))
+            }
         }
     }
 
