@@ -57,7 +57,7 @@ pub enum Precision {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Storage {
     /// Registers of the exact method's bin raster, in single precision (`precision` is the
-    /// images' and does not apply). The default: 1.8 to 5.6 times faster than the images on
+    /// images' and does not apply). The default: 1.8 to 5.9 times faster than the images on
     /// lavapipe, a third of their memory, and every fragment the reference's. It needs what
     /// the exact method needs of the device (64-bit shader arithmetic, subgroups of 8 or
     /// more); on a device without, and for frames with rows too crowded for its loop budget,
