@@ -154,19 +154,10 @@ void main() {
     vec3 cells[WAVELET_MAX_COUNT];
     waveletSynthesize(c, cells);
 
-    // The opaque layer behind every fragment, and the depth from which nothing is visible
-    // (as the image passes' resolve: noise only moves positions forward, so its slack is
-    // undone to keep the cut behind the true crossing).
+    // The opaque layer behind every fragment, and the depth from which nothing is visible.
     vec3 behind = imageLoad(u_colour, ivec2(x, y)).rgb;
     behind *= waveletTransmittance(waveletAbsorbanceBehindAll(cells));
-    float cut = 2.0;
-    float cutPosition = waveletOpaquePosition(cells, WAVELET_ABSORBED);
-    if (cutPosition >= 0.0) {
-        float last = float(WAVELET_COUNT - 1);
-        float slack = clamp(WAVELET_NOISE, 0.0, 0.5 * last) * waveletPixelNoise(pixel);
-        float v = min((cutPosition + slack) / last, 1.0);
-        cut = DEPTH_A - DEPTH_B / (bounds.x + v * (bounds.y - bounds.x));
-    }
+    float cut = waveletHiddenDepth(cells, bounds, pixel);
 
     // Walk 3: shading. The fragments' share is summed apart from the opaque colour, so that
     // the sum of quantized addends stays exact.

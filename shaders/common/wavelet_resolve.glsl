@@ -29,17 +29,7 @@ void main() {
     waveletLoadCells(pixel, cells);
     o_transmittance = vec4(waveletTransmittance(waveletAbsorbanceBehindAll(cells)), 1.0);
 
-    float p = waveletOpaquePosition(cells, WAVELET_ABSORBED);
-    if (p >= 0.0) {
-        // Noise only moves positions forward, by at most WAVELET_NOISE * noise cells: undo
-        // that much so the cut is never in front of the true crossing.
-        float last = float(WAVELET_COUNT - 1);
-        float slack = clamp(WAVELET_NOISE, 0.0, 0.5 * last) * waveletPixelNoise(uvec2(pixel));
-        float v = min((p + slack) / last, 1.0);
-        float viewDepth = b.x + v * (b.y - b.x);
-        depth = min(depth, DEPTH_A - DEPTH_B / viewDepth);
-    }
-    gl_FragDepth = depth;
+    gl_FragDepth = min(depth, waveletHiddenDepth(cells, b, uvec2(pixel)));
 }
 
 #endif
