@@ -2,6 +2,10 @@
 // Binning, pass 1: every triangle adds one to the count of its depth slab in each bin it may
 // cover, and widens the farthest depth of its slab in the frame.
 
+#extension GL_KHR_shader_subgroup_arithmetic : require
+#extension GL_KHR_shader_subgroup_basic : require
+#extension GL_EXT_control_flow_attributes : require
+
 #include "exact_bindings.glsl"
 #include "exact_bins.glsl"
 
@@ -19,7 +23,6 @@ void main() {
     ivec2 rows = sliceRows(r);
     uvec2 depth = triangleDepthBits(t);
     uint slab = slabOf(depth.x, lo, shift);
-    atomicMax(g_counters.slabFarthest[slab], depth.y);
     uint touched = 0u;
     for (int by = rows.x; by <= rows.y; by++) {
         ivec2 cols = rowColumns(t, by, r.xz);
@@ -33,5 +36,18 @@ void main() {
             touched++;
         }
     }
-    atomicAdd(g_counters.binEntryCount, touched);
+    // The frame-wide counters take one atomic per subgroup and slab: one per triangle made
+    // them the most contended words of the frame (binning a 100k-triangle mesh took twice
+    // as long to count as to fill). A slab none of the subgroup's triangles is in costs no
+    // atomic: a masked atomic with no active lane does nothing.
+    [[unroll]] for (uint k = 0u; k < SLABS; k++) {
+        uint farthest = subgroupMax(slab == k ? depth.y : 0u);
+        if (subgroupElect() && farthest != 0u) {
+            atomicMax(g_counters.slabFarthest[k], farthest);
+        }
+    }
+    uint entries = subgroupAdd(touched);
+    if (subgroupElect()) {
+        atomicAdd(g_counters.binEntryCount, entries);
+    }
 }

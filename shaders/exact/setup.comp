@@ -5,6 +5,8 @@
 // the opaque layer), and appends the rest to the triangle array for binning.
 
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
+#extension GL_KHR_shader_subgroup_ballot : require
 
 #include "scene_bindings_compute.glsl"
 #include "exact_bindings.glsl"
@@ -290,14 +292,22 @@ void main() {
             t.edgeB.w = int(hi);
         }
         t.order = item * 2u + sub;
-        if (!homogeneous) {
-            uvec2 depth = triangleDepthBits(t);
-            atomicMin(g_counters.depthLo, depth.x);
-            atomicMax(g_counters.depthHi, depth.y);
+        // Frame-wide counters take one atomic per subgroup: one per triangle made them the
+        // most contended words of the frame. Lanes culled above have left this iteration.
+        uvec2 depth = homogeneous ? uvec2(0xFFFFFFFFu, 0u) : triangleDepthBits(t);
+        uint nearest = subgroupMin(depth.x);
+        uint farthest = subgroupMax(depth.y);
+        uvec4 kept = subgroupBallot(true);
+        uint first = 0u;
+        if (subgroupElect()) {
+            atomicMin(g_counters.depthLo, nearest);
+            atomicMax(g_counters.depthHi, farthest);
+            // Capacity is two triangles per quad: this cannot overflow.
+            first = atomicAdd(g_counters.triangleCount, subgroupBallotBitCount(kept));
+            uint last = first + subgroupBallotBitCount(kept) - 1u;
+            atomicMax(g_dispatch[DISPATCH_BINNING * 4u], last / BINNING_GROUP_SIZE + 1u);
         }
-        // Capacity is two triangles per quad: this cannot overflow.
-        uint ti = atomicAdd(g_counters.triangleCount, 1u);
-        atomicMax(g_dispatch[DISPATCH_BINNING * 4u], ti / BINNING_GROUP_SIZE + 1u);
+        uint ti = subgroupBroadcastFirst(first) + subgroupBallotExclusiveBitCount(kept);
         g_triangles[ti] = ExactTriangleRecord(
             t.edgeC.xy, t.edgeC.z, uint(t.bounds.x) | uint(t.bounds.y) << 16u,
             uint(t.bounds.z) | uint(t.bounds.w) << 16u, t.edgeA, t.edgeB, t.zNdc, t.invW.xyz,
