@@ -41,9 +41,10 @@ layout(local_size_x = BIN_SIZE, local_size_y_id = 7) in;
 // Fragments a pixel keeps from walk 1 for the short form of walks 2 and 3.
 const int KEPT = 8;
 
-// The triangle of list entry e, the same for the whole row.
+// The triangle of list entry e, the same for the whole row (not broadcast: raster.comp says
+// why).
 uint entryTriangle(uint e) {
-    return subgroupBroadcastFirst(texelFetch(u_binEntryTexels, int(e)).r) & ENTRY_TRIANGLE_MASK;
+    return texelFetch(u_binEntryTexels, int(e)).r & ENTRY_TRIANGLE_MASK;
 }
 
 void main() {

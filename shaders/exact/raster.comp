@@ -12,8 +12,8 @@
 // insertion (constant indices only); shades and composites them front to back; and repeats
 // until no fragment is left or transmittance is under the threshold. All invocations walk
 // the row's list in step. Deep frames order each list by depth slab (exact_bins.glsl): a
-// pass then ends once every pixel of the row holds fragments nearer than the next slab's
-// floor, and starts past the leading slabs whose farthest depth every pixel has passed.
+// pixel's pass then ends once it holds fragments nearer than the next slab's floor (the
+// row's when every pixel's has), and a pass starts past the leading slabs whose farthest depth every pixel has passed.
 // Order is exact by construction: fragments are ranked by (view depth, draw, quad,
 // triangle) like the CPU reference, so no pixel is ever out of order.
 //
@@ -175,13 +175,16 @@ void main() {
         uint found = 0u;
         bool truncated = false;
         for (uint e = walkFrom; e < end; e++) {
-            uint entry = subgroupBroadcastFirst(texelFetch(u_binEntryTexels, int(e)).r);
+            // The same entry for the whole row. (A broadcast would tell a GPU compiler so, but
+            // on CPU drivers it is a loop over the lanes: 3 % of the raster.)
+            uint entry = texelFetch(u_binEntryTexels, int(e)).r;
             // Once a pixel's selection is full and nearer than this slab's floor, nothing from
-            // here on can enter it; the walk ends when that holds for the whole row.
+            // here on can enter it, and its walk ends; the row's ends when every pixel's has.
+            // (A per-pixel break, since a loop ends when no lane is left in it; a vote would be
+            // another loop over the lanes.)
             uint floorBits = slabFloor(entry >> ENTRY_SLAB_SHIFT, depthLo, shift);
             uint farthestKept = unpackUint2x32(selKey[SELECT_SIZE - 1]).y;
-            bool past = finished || (selKey[SELECT_SIZE - 1] != NO_KEY && farthestKept < floorBits);
-            if (subgroupAll(past)) {
+            if (finished || (selKey[SELECT_SIZE - 1] != NO_KEY && farthestKept < floorBits)) {
                 truncated = true;
                 break;
             }
