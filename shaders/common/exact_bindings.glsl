@@ -2,6 +2,8 @@
 #ifndef TRANSLUCID_EXACT_BINDINGS_GLSL
 #define TRANSLUCID_EXACT_BINDINGS_GLSL
 
+#extension GL_EXT_control_flow_attributes : require
+
 #include "layout.glsl"
 #include "exact_layout.glsl"
 
@@ -128,21 +130,58 @@ DrawInfo loadDrawInfo(uint i) {
     return d;
 }
 
-// Triangle record i, from u_triangleTexels.
-ExactTriangle loadTriangle(uint i) {
-    int base = int(i) * 6;
-    uvec4 c01 = texelFetch(u_triangleTexels, base);
-    uvec4 c2b = texelFetch(u_triangleTexels, base + 1);
+// Texels of a triangle record (ExactTriangleRecord) in u_triangleTexels; the walks read the
+// first RASTER_TRIANGLE_TEXELS.
+#define TRIANGLE_TEXELS 5
+#define RASTER_TRIANGLE_TEXELS 4
+
+// Edge k of a triangle runs from vertex k + 1 to vertex k + 2; fixedEdge in setup.comp.
+void unpackEdges(ivec2 v[3], bool negated, out ExactTriangle t) {
+    int s = negated ? -1 : 1;
+    int ties = 0;
+    [[unroll]] for (int k = 0; k < 3; k++) {
+        ivec2 p = v[(k + 1) % 3];
+        ivec2 q = v[(k + 2) % 3];
+        int a = s * (p.y - q.y);
+        int b = s * (q.x - p.x);
+        t.edgeA[k] = a;
+        t.edgeB[k] = b;
+        int64_t c = int64_t(p.x) * int64_t(q.y) - int64_t(p.y) * int64_t(q.x);
+        t.edgeC[k] = negated ? -c : c;
+        ties |= (a > 0 || (a == 0 && b > 0)) ? (1 << k) : 0;
+    }
+    t.edgeA.w = ties;
+    t.edgeC.w = 0l;
+}
+
+// Everything of a record but its bounds, from its first RASTER_TRIANGLE_TEXELS texels.
+ExactTriangle unpackRasterTriangle(uvec4 t0, uvec4 t1, uvec4 t2, uvec4 t3) {
     ExactTriangle t;
-    t.edgeC = i64vec4(int64_t(packUint2x32(c01.xy)), int64_t(packUint2x32(c01.zw)),
-                      int64_t(packUint2x32(c2b.xy)), 0l);
-    t.bounds = ivec4(c2b.z & 0xFFFFu, c2b.z >> 16u, c2b.w & 0xFFFFu, c2b.w >> 16u);
-    t.edgeA = ivec4(texelFetch(u_triangleTexels, base + 2));
-    t.edgeB = ivec4(texelFetch(u_triangleTexels, base + 3));
-    t.zNdc = uintBitsToFloat(texelFetch(u_triangleTexels, base + 4));
-    uvec4 w = texelFetch(u_triangleTexels, base + 5);
-    t.invW = vec4(uintBitsToFloat(w.xyz), 0.0);
-    t.order = w.w;
+    ivec2 v[3] = ivec2[3](ivec2(t0.xy), ivec2(t0.zw), ivec2(t1.xy));
+    unpackEdges(v, (t1.z & TRIANGLE_NEGATED) != 0u, t);
+    t.edgeB.w = int(t3.w);
+    t.order = t1.w;
+    t.zNdc = uintBitsToFloat(t2);
+    t.invW = vec4(uintBitsToFloat(t3.xyz), 0.0);
+    t.bounds = ivec4(0);
+    return t;
+}
+
+// Triangle record i without its bounds: all the raster needs, since the edges alone decide
+// coverage (bounds only spare the binning passes).
+ExactTriangle loadRasterTriangle(uint i) {
+    int base = int(i) * TRIANGLE_TEXELS;
+    return unpackRasterTriangle(texelFetch(u_triangleTexels, base),
+                                texelFetch(u_triangleTexels, base + 1),
+                                texelFetch(u_triangleTexels, base + 2),
+                                texelFetch(u_triangleTexels, base + 3));
+}
+
+// Triangle record i, bounds included.
+ExactTriangle loadTriangle(uint i) {
+    ExactTriangle t = loadRasterTriangle(i);
+    uvec4 b = texelFetch(u_triangleTexels, int(i) * TRIANGLE_TEXELS + 4);
+    t.bounds = ivec4(b.x & 0xFFFFu, b.x >> 16u, b.y & 0xFFFFu, b.y >> 16u);
     return t;
 }
 

@@ -17,17 +17,16 @@ layout(constant_id = 1) const bool TEXTURES = true;          // some material ha
 layout(constant_id = 2) const bool VERTEX_NORMALS = true;    // some draw has vertex normals
 layout(constant_id = 3) const bool FACE_NORMALS = true;      // some draw has none
 
-// Whether triangle t covers pixel (x, y) (its bounds first, then its edges), and the sample.
+// Whether triangle t covers pixel (x, y), and the sample. The edges decide on both paths
+// (bounds only ever hold every covered sample; raster.rs), so t may come without bounds.
 bool coverSample(ExactTriangle t, uint x, uint y, out RasterSample s) {
-    ivec4 r = t.bounds;
-    bool inBox = int(x) >= r.x && int(x) < r.z && int(y) >= r.y && int(y) < r.w;
     // One exit: glslang turns early returns in inlined functions into extra flags.
     bool take;
     if (HOMOGENEOUS_PATH && t.edgeB.w >= 0) {
-        take = inBox && sampleHomogeneous(loadHomogeneous(t.edgeB.w), x, y, s);
+        take = sampleHomogeneous(loadHomogeneous(t.edgeB.w), x, y, s);
     } else {
         i64vec3 edges;
-        bool covered = inBox && coversFixed(t, x, y, edges);
+        bool covered = coversFixed(t, x, y, edges);
         take = covered && interpolateFixed(t, edges, s);
     }
     return take;

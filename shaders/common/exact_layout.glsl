@@ -68,19 +68,29 @@ struct ExactTriangle {
     uint order;             // order key: global quad index * 2 + sub-triangle
 };
 
-// An ExactTriangle as stored (std430, 96 bytes: six texels, since the bin walk reads one
-// record per triangle it visits). Pixel bounds fit 16 bits (viewports are at most 65535).
+// An ExactTriangle as stored (std430, 80 bytes: five texels). The walks read a record for
+// every triangle they visit, one texel fetch each, so it keeps the snapped vertices instead
+// of the edges (loaders rebuild a, b and c exactly, as setup computes them) and puts the
+// bounds, which coverage does not need, in the last texel, which the walks skip. Fixed-point
+// vertices fit 32 bits (guard band 2^20 pixels, 8 sub-pixel bits), pixel bounds 16 bits
+// (viewports are at most 65535).
 struct ExactTriangleRecord {
-    i64vec2 edgeC01;        // c of edges 0 and 1
-    int64_t edgeC2;         // c of edge 2
-    uint boundsMin;         // x0 | y0 << 16
-    uint boundsEnd;         // x1 | y1 << 16
-    ivec4 edgeA;
-    ivec4 edgeB;
+    ivec4 vertices01;       // fixed-point x, y of vertices 0 and 1 (zero on the homogeneous path)
+    ivec2 vertex2;
+    uint flags;             // TRIANGLE_NEGATED
+    uint order;
     vec4 zNdc;
     vec3 invW;
-    uint order;
+    int homogeneous;        // index into the homogeneous array, or -1
+    uint boundsMin;         // x0 | y0 << 16
+    uint boundsEnd;         // x1 | y1 << 16
+    uint pad0;
+    uint pad1;
 };
+
+// The edges are s * (the edges of the vertices in order), with s = -1: the triangle winds
+// clockwise in fixed-point framebuffer coordinates, and the edges are made positive inside.
+#define TRIANGLE_NEGATED 1u
 
 #define ATTRIBUTES_FACE_NORMAL 1u   // normal0 is the face normal, used uninterpolated
 #define ATTRIBUTES_HAS_UVS 2u

@@ -84,7 +84,7 @@ void main() {
     for (uint e = first; e < end; e++) {
         uint ti = entryTriangle(e);
         RasterSample s;
-        bool take = coverSample(loadTriangle(ti), x, y, s) && s.zNdc < opaqueDepth;
+        bool take = coverSample(loadRasterTriangle(ti), x, y, s) && s.zNdc < opaqueDepth;
         nearest = take ? min(nearest, s.viewDepth) : nearest;
         farthest = take ? max(farthest, s.viewDepth) : farthest;
         fragments += take ? 1u : 0u;
@@ -115,7 +115,7 @@ void main() {
     }
     for (uint e = first; e < walkEnd; e++) {
         uint ti = entryTriangle(e);
-        ExactTriangle t = loadTriangle(ti);
+        ExactTriangle t = loadRasterTriangle(ti);
         RasterSample s;
         bool take = coverSample(t, x, y, s) && s.zNdc < opaqueDepth;
         vec3 a = vec3(0.0);
@@ -132,7 +132,7 @@ void main() {
     // what walk 3 needs (constant indices only), so slot 0 is the next one.
     for (uint i = 0u; i < keptCount; i++) {
         uint ti = keptTri[0];
-        ExactTriangle t = loadTriangle(ti);
+        ExactTriangle t = loadRasterTriangle(ti);
         RasterSample s;
         sampleTriangle(t, x, y, s);
         vec3 l;
@@ -165,7 +165,7 @@ void main() {
     vec3 lit = vec3(0.0);
     for (uint e = first; e < walkEnd; e++) {
         uint ti = entryTriangle(e);
-        ExactTriangle t = loadTriangle(ti);
+        ExactTriangle t = loadRasterTriangle(ti);
         RasterSample s;
         bool take = coverSample(t, x, y, s) && s.zNdc < opaqueDepth && s.zNdc < cut;
         if (take) {

@@ -189,7 +189,7 @@ void main() {
                 break;
             }
             uint ti = entry & ENTRY_TRIANGLE_MASK;
-            ExactTriangle t = loadTriangle(ti);
+            ExactTriangle t = loadRasterTriangle(ti);
             RasterSample s;
             bool take = coverSample(t, x, y, s);
             uint64_t key = fragmentKey(floatBitsToUint(s.viewDepth), t.order);
@@ -218,7 +218,7 @@ void main() {
         uint composited = 0u;
         for (uint i = 0u; i < count && !opaqueEnough; i++) {
             // Always shade slot 0, then shift the selection left: constant indices only.
-            ExactTriangle t = loadTriangle(selTri[0]);
+            ExactTriangle t = loadRasterTriangle(selTri[0]);
             RasterSample s;
             sampleTriangle(t, x, y, s);
             vec3 l;

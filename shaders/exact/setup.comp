@@ -96,11 +96,14 @@ void fixedEdge(i64vec2 p, i64vec2 q, int64_t s, out int64_t a, out int64_t b, ou
     c = s * (p.x * q.y - p.y * q.x);
 }
 
-// Sets up one triangle; false when it covers no sample. `front` tells its facing.
-bool setupTriangle(vec4 c[3], out ExactTriangle t, out ExactHomogeneous h, out bool homogeneous,
-                   out bool front) {
+// Sets up one triangle; false when it covers no sample. `front` tells its facing; `vertices`
+// and `negated` are what the record keeps of the edges (zero on the homogeneous path).
+bool setupTriangle(vec4 c[3], out ExactTriangle t, out ivec2 vertices[3], out bool negated,
+                   out ExactHomogeneous h, out bool homogeneous, out bool front) {
     homogeneous = false;
     front = false;
+    negated = false;
+    vertices = ivec2[3](ivec2(0), ivec2(0), ivec2(0));
     t.bounds = ivec4(0);
     for (int i = 0; i < 3; i++) {
         if (any(isnan(c[i])) || any(isinf(c[i]))) {
@@ -125,6 +128,9 @@ bool setupTriangle(vec4 c[3], out ExactTriangle t, out ExactHomogeneous h, out b
             return false;
         }
         int64_t s = area2 > 0 ? int64_t(1) : int64_t(-1);
+        negated = s < 0;
+        // Inside the guard band, so they fit 32 bits.
+        vertices = ivec2[3](ivec2(p[0]), ivec2(p[1]), ivec2(p[2]));
         int ties = 0;
         for (int k = 0; k < 3; k++) {
             int64_t a, b, cc;
@@ -275,10 +281,12 @@ void main() {
         c[1] = clipPosition(d.mvp, vertexPosition(vi.y));
         c[2] = clipPosition(d.mvp, vertexPosition(vi.z));
         ExactTriangle t;
+        ivec2 v[3];
+        bool negated;
         ExactHomogeneous h;
         bool homogeneous;
         bool front;
-        if (!setupTriangle(c, t, h, homogeneous, front) || (cullBack && !front) ||
+        if (!setupTriangle(c, t, v, negated, h, homogeneous, front) || (cullBack && !front) ||
             (!homogeneous && behindOpaque(t))) {
             continue;
         }
@@ -309,9 +317,9 @@ void main() {
         }
         uint ti = subgroupBroadcastFirst(first) + subgroupBallotExclusiveBitCount(kept);
         g_triangles[ti] = ExactTriangleRecord(
-            t.edgeC.xy, t.edgeC.z, uint(t.bounds.x) | uint(t.bounds.y) << 16u,
-            uint(t.bounds.z) | uint(t.bounds.w) << 16u, t.edgeA, t.edgeB, t.zNdc, t.invW.xyz,
-            t.order);
+            ivec4(v[0], v[1]), v[2], negated ? TRIANGLE_NEGATED : 0u, t.order, t.zNdc,
+            t.invW.xyz, t.edgeB.w, uint(t.bounds.x) | uint(t.bounds.y) << 16u,
+            uint(t.bounds.z) | uint(t.bounds.w) << 16u, 0u, 0u);
         g_attributes[ti] = gatherAttributes(d, vi);
     }
 }
