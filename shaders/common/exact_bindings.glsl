@@ -208,22 +208,9 @@ ExactHomogeneous loadHomogeneous(int i) {
     return h;
 }
 
-ExactAttributes loadAttributes(uint i) {
-    int base = int(i) * 8;
-    ExactAttributes a;
-    a.colour0 = uintBitsToFloat(texelFetch(u_attributeTexels, base));
-    a.colour1 = uintBitsToFloat(texelFetch(u_attributeTexels, base + 1));
-    a.colour2 = uintBitsToFloat(texelFetch(u_attributeTexels, base + 2));
-    a.normal0 = uintBitsToFloat(texelFetch(u_attributeTexels, base + 3));
-    a.normal1 = uintBitsToFloat(texelFetch(u_attributeTexels, base + 4));
-    a.normal2 = uintBitsToFloat(texelFetch(u_attributeTexels, base + 5));
-    a.uv01 = uintBitsToFloat(texelFetch(u_attributeTexels, base + 6));
-    uvec4 last = texelFetch(u_attributeTexels, base + 7);
-    a.uv2 = uintBitsToFloat(last.xy);
-    a.materialIndex = last.z;
-    a.flags = last.w;
-    return a;
-}
+// Texels of an attribute record (ExactAttributes) in u_attributeTexels; exact_fragment.glsl
+// reads them.
+#define ATTRIBUTE_TEXELS 8
 
 Material loadMaterial(uint i) {
     int base = int(i) * 3;

@@ -17,6 +17,41 @@ layout(constant_id = 1) const bool TEXTURES = true;          // some material ha
 layout(constant_id = 2) const bool VERTEX_NORMALS = true;    // some draw has vertex normals
 layout(constant_id = 3) const bool FACE_NORMALS = true;      // some draw has none
 
+// What shading reads of attribute record i: only the texels the scene's constants let it
+// use. A texel fetch is a call to the driver's sampling code on CPU drivers, which the
+// compiler keeps even when nothing reads its result.
+ExactAttributes loadShadingAttributes(uint i) {
+    int base = int(i) * ATTRIBUTE_TEXELS;
+    ExactAttributes a;
+    a.colour0 = uintBitsToFloat(texelFetch(u_attributeTexels, base));
+    a.colour1 = uintBitsToFloat(texelFetch(u_attributeTexels, base + 1));
+    a.colour2 = uintBitsToFloat(texelFetch(u_attributeTexels, base + 2));
+    uvec4 n0 = texelFetch(u_attributeTexels, base + 3);
+    a.normal0 = uintBitsToFloat(n0.xyz);
+    a.materialIndex = n0.w;
+    a.normal1 = vec3(0.0);
+    a.flags = 0u;
+    a.normal2 = vec3(0.0);
+    a.uv01 = vec4(0.0);
+    a.uv2 = vec2(0.0);
+    a.pad0 = 0u;
+    a.pad1 = 0u;
+    a.pad2 = 0u;
+    if (VERTEX_NORMALS || TEXTURES) {
+        uvec4 n1 = texelFetch(u_attributeTexels, base + 4);
+        a.normal1 = uintBitsToFloat(n1.xyz);
+        a.flags = n1.w;
+    }
+    if (VERTEX_NORMALS) {
+        a.normal2 = uintBitsToFloat(texelFetch(u_attributeTexels, base + 5).xyz);
+    }
+    if (TEXTURES) {
+        a.uv01 = uintBitsToFloat(texelFetch(u_attributeTexels, base + 6));
+        a.uv2 = uintBitsToFloat(texelFetch(u_attributeTexels, base + 7).xy);
+    }
+    return a;
+}
+
 // Whether triangle t covers pixel (x, y), and the sample. The edges decide on both paths
 // (bounds only ever hold every covered sample; raster.rs), so t may come without bounds.
 bool coverSample(ExactTriangle t, uint x, uint y, out RasterSample s) {

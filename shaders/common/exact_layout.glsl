@@ -97,18 +97,24 @@ struct ExactTriangleRecord {
 
 // What shading needs of a visible triangle, gathered by setup so that the raster reads one
 // record instead of following draw, quad and vertex indices per fragment (std430, 128 bytes,
-// read as texels: every field starts a 16-byte texel).
+// read as texels). Fields are grouped by what needs them, so that the raster fetches only
+// the texels its scene can use (loadShadingAttributes): colours and material always, the
+// flags with vertex normals or textures, the other normals with vertex normals, uvs with
+// textures.
 struct ExactAttributes {
     vec4 colour0;           // vertex colours
     vec4 colour1;
     vec4 colour2;
-    vec4 normal0;           // xyz: world-space normal of each vertex (normal matrix applied)
-    vec4 normal1;
-    vec4 normal2;
+    vec3 normal0;           // world-space normal of each vertex (normal matrix applied), or
+    uint materialIndex;     // the face normal alone (ATTRIBUTES_FACE_NORMAL)
+    vec3 normal1;
+    uint flags;             // ATTRIBUTES_*
+    vec3 normal2;
+    uint pad0;
     vec4 uv01;              // xy: uv of vertex 0, zw: of vertex 1
     vec2 uv2;
-    uint materialIndex;
-    uint flags;             // ATTRIBUTES_*
+    uint pad1;
+    uint pad2;
 };
 
 // Extra data of a triangle on the homogeneous path (std430, 192 bytes: 176 padded to 32).

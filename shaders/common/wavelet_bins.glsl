@@ -122,7 +122,7 @@ void main() {
         if (take) {
             vec3 l;
             vec3 tr;
-            shadeFragment(t, loadAttributes(ti), x, y, s, frame, l, tr);
+            shadeFragment(t, loadShadingAttributes(ti), x, y, s, frame, l, tr);
             a = waveletAbsorbance(tr);
         }
         float p = waveletCellPosition(waveletNormalizedDepth(s.viewDepth, bounds), pixel);
@@ -137,7 +137,7 @@ void main() {
         sampleTriangle(t, x, y, s);
         vec3 l;
         vec3 tr;
-        shadeFragment(t, loadAttributes(ti), x, y, s, frame, l, tr);
+        shadeFragment(t, loadShadingAttributes(ti), x, y, s, frame, l, tr);
         vec3 a = waveletAbsorbance(tr);
         float p = waveletCellPosition(waveletNormalizedDepth(s.viewDepth, bounds), pixel);
         waveletAccumulate(c, p, a);
@@ -171,7 +171,7 @@ void main() {
         if (take) {
             vec3 l;
             vec3 tr;
-            shadeFragment(t, loadAttributes(ti), x, y, s, frame, l, tr);
+            shadeFragment(t, loadShadingAttributes(ti), x, y, s, frame, l, tr);
             float p = waveletCellPosition(waveletNormalizedDepth(s.viewDepth, bounds), pixel);
             vec3 inFront = waveletAbsorbanceAt(cells, p, waveletAbsorbance(tr));
             lit += waveletQuantize(l * waveletTransmittance(inFront));

@@ -223,7 +223,7 @@ void main() {
             sampleTriangle(t, x, y, s);
             vec3 l;
             vec3 tr;
-            shadeFragment(t, loadAttributes(selTri[0]), x, y, s, frame, l, tr);
+            shadeFragment(t, loadShadingAttributes(selTri[0]), x, y, s, frame, l, tr);
             radiance += transmittance * l;
             transmittance *= tr;
             doneKey = selKey[0];

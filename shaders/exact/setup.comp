@@ -237,16 +237,16 @@ ExactAttributes gatherAttributes(ExactDraw d, uvec3 vi) {
         precise vec3 n0 = nm * vertexNormal(vi.x);
         precise vec3 n1 = nm * vertexNormal(vi.y);
         precise vec3 n2 = nm * vertexNormal(vi.z);
-        a.normal0 = vec4(n0, 0.0);
-        a.normal1 = vec4(n1, 0.0);
-        a.normal2 = vec4(n2, 0.0);
+        a.normal0 = n0;
+        a.normal1 = n1;
+        a.normal2 = n2;
     } else {
         vec3 p0 = (draw.model * vec4(vertexPosition(vi.x), 1.0)).xyz;
         vec3 p1 = (draw.model * vec4(vertexPosition(vi.y), 1.0)).xyz;
         vec3 p2 = (draw.model * vec4(vertexPosition(vi.z), 1.0)).xyz;
-        a.normal0 = vec4(cross(p1 - p0, p2 - p0), 0.0);
-        a.normal1 = vec4(0.0);
-        a.normal2 = vec4(0.0);
+        a.normal0 = cross(p1 - p0, p2 - p0);
+        a.normal1 = vec3(0.0);
+        a.normal2 = vec3(0.0);
         a.flags |= ATTRIBUTES_FACE_NORMAL;
     }
     if ((draw.flags & DRAW_HAS_UVS) != 0u) {
@@ -258,6 +258,9 @@ ExactAttributes gatherAttributes(ExactDraw d, uvec3 vi) {
         a.uv2 = vec2(0.0);
     }
     a.materialIndex = draw.materialIndex;
+    a.pad0 = 0u;
+    a.pad1 = 0u;
+    a.pad2 = 0u;
     return a;
 }
 

@@ -140,8 +140,9 @@ mod tests {
         assert_eq!(bins, DISPATCH_RASTER_BINS_OFFSET);
     }
 
-    /// exact_bindings.glsl reads these records texel by texel (16 bytes each) in field order;
-    /// its loaders are right only while every field sits where they expect.
+    /// exact_bindings.glsl and exact_fragment.glsl read these records texel by texel (16 bytes
+    /// each) in field order; their loaders are right only while every field sits where they
+    /// expect.
     #[test]
     fn texel_loaders_match_the_records() {
         let msg = "a record changed: update its loader in exact_bindings.glsl and this test";
@@ -152,7 +153,7 @@ mod tests {
         );
         assert_eq!(
             offsets("ExactAttributes"),
-            [0, 16, 32, 48, 64, 80, 96, 112, 120, 124],
+            [0, 16, 32, 48, 60, 64, 76, 80, 92, 96, 112, 120, 124],
             "{msg}"
         );
         assert_eq!(
