@@ -42,9 +42,10 @@ layout(local_size_x = BIN_SIZE, local_size_y_id = 7) in;
 const int KEPT = 8;
 
 // The triangle of list entry e, the same for the whole row (not broadcast: raster.comp says
-// why).
-uint entryTriangle(uint e) {
-    return texelFetch(u_binEntryTexels, int(e)).r & ENTRY_TRIANGLE_MASK;
+// why). The walks fetch the next step's entry a step ahead, as raster.comp does, with the
+// index clamped to the list's last entry.
+uint entryTriangle(uint e, uint last) {
+    return texelFetch(u_binEntryTexels, int(min(e, last))).r & ENTRY_TRIANGLE_MASK;
 }
 
 void main() {
@@ -55,6 +56,7 @@ void main() {
     uint bin = (block * BIN_SIZE + row) * SLABS;
     uint first = g_binOffsets[bin] - g_binCounts[bin];
     uint end = g_binOffsets[bin + SLABS - 1u];
+    uint lastEntry = max(end, 1u) - 1u;
     uint x = (block % u_push.binsX) * BIN_SIZE + gl_LocalInvocationID.x;
     uint y = (block / u_push.binsX) * BIN_SIZE + row;
     if (x >= u_push.width || y >= u_push.height) {
@@ -81,8 +83,10 @@ void main() {
     [[unroll]] for (int k = 0; k < KEPT; k++) {
         keptTri[k] = 0u;
     }
+    uint nextTri = entryTriangle(first, lastEntry);
     for (uint e = first; e < end; e++) {
-        uint ti = entryTriangle(e);
+        uint ti = nextTri;
+        nextTri = entryTriangle(e + 1u, lastEntry);
         RasterSample s;
         bool take = coverSample(loadRasterTriangle(ti), x, y, s) && s.zNdc < opaqueDepth;
         nearest = take ? min(nearest, s.viewDepth) : nearest;
@@ -113,8 +117,10 @@ void main() {
     [[unroll]] for (int i = 0; i < WAVELET_MAX_COUNT; i++) {
         c[i] = vec3(0.0);
     }
+    nextTri = entryTriangle(first, lastEntry);
     for (uint e = first; e < walkEnd; e++) {
-        uint ti = entryTriangle(e);
+        uint ti = nextTri;
+        nextTri = entryTriangle(e + 1u, lastEntry);
         ExactTriangle t = loadRasterTriangle(ti);
         RasterSample s;
         bool take = coverSample(t, x, y, s) && s.zNdc < opaqueDepth;
@@ -163,8 +169,10 @@ void main() {
     // Walk 3: shading. The fragments' share is summed apart from the opaque colour, so that
     // the sum of quantized addends stays exact.
     vec3 lit = vec3(0.0);
+    nextTri = entryTriangle(first, lastEntry);
     for (uint e = first; e < walkEnd; e++) {
-        uint ti = entryTriangle(e);
+        uint ti = nextTri;
+        nextTri = entryTriangle(e + 1u, lastEntry);
         ExactTriangle t = loadRasterTriangle(ti);
         RasterSample s;
         bool take = coverSample(t, x, y, s) && s.zNdc < opaqueDepth && s.zNdc < cut;
