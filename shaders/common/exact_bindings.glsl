@@ -75,24 +75,6 @@ layout(push_constant) uniform ExactPush {
     uint pad2;
 } u_push;
 
-vec3 vertexPosition(uint v) {
-    return uintBitsToFloat(texelFetch(u_vertexTexels, int(v) * 3).xyz);
-}
-
-vec3 vertexNormal(uint v) {
-    uvec4 a = texelFetch(u_vertexTexels, int(v) * 3);
-    uvec4 b = texelFetch(u_vertexTexels, int(v) * 3 + 1);
-    return uintBitsToFloat(uvec3(a.w, b.xy));
-}
-
-vec2 vertexUv(uint v) {
-    return uintBitsToFloat(texelFetch(u_vertexTexels, int(v) * 3 + 1).zw);
-}
-
-vec4 vertexColour(uint v) {
-    return uintBitsToFloat(texelFetch(u_vertexTexels, int(v) * 3 + 2));
-}
-
 uvec4 loadQuad(uint i) {
     return texelFetch(u_quadTexels, int(i));
 }
@@ -238,11 +220,6 @@ ExactTexture loadTextureInfo(int i) {
     t.pad1 = 0u;
     t.pad2 = 0u;
     return t;
-}
-
-// The vertices of sub-triangle `sub` of quad q: (q0, q1, q2) or (q0, q2, q3).
-uvec3 quadTriangle(uvec4 q, uint sub) {
-    return sub == 0u ? q.xyz : q.xzw;
 }
 
 #endif

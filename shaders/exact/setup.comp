@@ -223,35 +223,56 @@ bool behindOpaque(ExactTriangle t) {
     return nearest - nearest * (1.0 / 65536.0) >= farthestOpaque(t.bounds);
 }
 
-// Everything shading needs of triangle `vi` of draw `d`, so that the raster reads one record.
-// Normals are transformed here exactly as the reference transforms them per fragment.
-ExactAttributes gatherAttributes(ExactDraw d, uvec3 vi) {
-    DrawInfo draw = loadDrawInfo(d.drawIndex);
+// A corner of a quad as setup reads it: its three vertex texels, fetched once for both of
+// the quad's triangles (a texel fetch is a call to the driver's sampling code on CPU
+// drivers, and setup's fetches were most of its time).
+struct Corner {
+    vec3 position;
+    vec3 normal;
+    vec2 uv;
+    vec4 colour;
+};
+
+Corner loadCorner(uint v) {
+    uvec4 a = texelFetch(u_vertexTexels, int(v) * 3);
+    uvec4 b = texelFetch(u_vertexTexels, int(v) * 3 + 1);
+    Corner c;
+    c.position = uintBitsToFloat(a.xyz);
+    c.normal = uintBitsToFloat(uvec3(a.w, b.xy));
+    c.uv = uintBitsToFloat(b.zw);
+    c.colour = uintBitsToFloat(texelFetch(u_vertexTexels, int(v) * 3 + 2));
+    return c;
+}
+
+// Everything shading needs of the triangle with corners k0, k1, k2 of a quad of `draw`, so
+// that the raster reads one record. Normals are transformed here exactly as the reference
+// transforms them per fragment.
+ExactAttributes gatherAttributes(DrawInfo draw, Corner k0, Corner k1, Corner k2) {
     ExactAttributes a;
-    a.colour0 = vertexColour(vi.x);
-    a.colour1 = vertexColour(vi.y);
-    a.colour2 = vertexColour(vi.z);
+    a.colour0 = k0.colour;
+    a.colour1 = k1.colour;
+    a.colour2 = k2.colour;
     a.flags = 0u;
     if ((draw.flags & DRAW_HAS_NORMALS) != 0u) {
         mat3 nm = mat3(draw.normalMatrix);
-        precise vec3 n0 = nm * vertexNormal(vi.x);
-        precise vec3 n1 = nm * vertexNormal(vi.y);
-        precise vec3 n2 = nm * vertexNormal(vi.z);
+        precise vec3 n0 = nm * k0.normal;
+        precise vec3 n1 = nm * k1.normal;
+        precise vec3 n2 = nm * k2.normal;
         a.normal0 = n0;
         a.normal1 = n1;
         a.normal2 = n2;
     } else {
-        vec3 p0 = (draw.model * vec4(vertexPosition(vi.x), 1.0)).xyz;
-        vec3 p1 = (draw.model * vec4(vertexPosition(vi.y), 1.0)).xyz;
-        vec3 p2 = (draw.model * vec4(vertexPosition(vi.z), 1.0)).xyz;
+        vec3 p0 = (draw.model * vec4(k0.position, 1.0)).xyz;
+        vec3 p1 = (draw.model * vec4(k1.position, 1.0)).xyz;
+        vec3 p2 = (draw.model * vec4(k2.position, 1.0)).xyz;
         a.normal0 = cross(p1 - p0, p2 - p0);
         a.normal1 = vec3(0.0);
         a.normal2 = vec3(0.0);
         a.flags |= ATTRIBUTES_FACE_NORMAL;
     }
     if ((draw.flags & DRAW_HAS_UVS) != 0u) {
-        a.uv01 = vec4(vertexUv(vi.x), vertexUv(vi.y));
-        a.uv2 = vertexUv(vi.z);
+        a.uv01 = vec4(k0.uv, k1.uv);
+        a.uv2 = k2.uv;
         a.flags |= ATTRIBUTES_HAS_UVS;
     } else {
         a.uv01 = vec4(0.0);
@@ -273,16 +294,28 @@ void main() {
     ExactDraw d = loadExactDraw(slot);
     uint quadIndex = item - d.firstItem;
     uvec4 q = loadQuad(d.firstQuad + quadIndex);
-    Material m = loadMaterial(texelFetch(u_drawTexels, int(d.drawIndex) * 9 + 8).x);
+    DrawInfo draw = loadDrawInfo(d.drawIndex);
+    Material m = loadMaterial(draw.materialIndex);
     bool cullBack = (m.flags & MATERIAL_DOUBLE_SIDED) == 0u;
-    // A quad whose last index repeats a corner is a lone triangle.
+    // A quad whose last index repeats a corner is a lone triangle (its fourth corner is read
+    // and not used). Triangle 0 has corners 0, 1, 2 and triangle 1 corners 0, 2, 3, as in the
+    // reference; selects pick them, since an array indexed by `sub` would be indexed at run
+    // time.
+    Corner k0 = loadCorner(q.x);
+    Corner k1 = loadCorner(q.y);
+    Corner k2 = loadCorner(q.z);
+    Corner k3 = loadCorner(q.w);
+    vec4 clip0 = clipPosition(d.mvp, k0.position);
+    vec4 clip1 = clipPosition(d.mvp, k1.position);
+    vec4 clip2 = clipPosition(d.mvp, k2.position);
+    vec4 clip3 = clipPosition(d.mvp, k3.position);
     uint subCount = (q.w != q.z && q.w != q.x) ? 2u : 1u;
     for (uint sub = 0u; sub < subCount; sub++) {
-        uvec3 vi = quadTriangle(q, sub);
+        bool second = sub != 0u;
         vec4 c[3];
-        c[0] = clipPosition(d.mvp, vertexPosition(vi.x));
-        c[1] = clipPosition(d.mvp, vertexPosition(vi.y));
-        c[2] = clipPosition(d.mvp, vertexPosition(vi.z));
+        c[0] = clip0;
+        c[1] = second ? clip2 : clip1;
+        c[2] = second ? clip3 : clip2;
         ExactTriangle t;
         ivec2 v[3];
         bool negated;
@@ -323,6 +356,6 @@ void main() {
             ivec4(v[0], v[1]), v[2], negated ? TRIANGLE_NEGATED : 0u, t.order, t.zNdc,
             t.invW.xyz, t.edgeB.w, uint(t.bounds.x) | uint(t.bounds.y) << 16u,
             uint(t.bounds.z) | uint(t.bounds.w) << 16u, 0u, 0u);
-        g_attributes[ti] = gatherAttributes(d, vi);
+        g_attributes[ti] = gatherAttributes(draw, k0, second ? k2 : k1, second ? k3 : k2);
     }
 }
