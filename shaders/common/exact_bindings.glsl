@@ -28,8 +28,8 @@ layout(set = 1, binding = 12, rgba16f) uniform image2D u_colour;
 // What the raster reads in its hot loops comes through texel buffers: CPU drivers such as
 // lavapipe fetch texels with straight-line vector loads, where a storage-buffer load inside
 // divergent control flow is a per-lane loop with a branch per component. Records are read
-// texel by texel in field order (the layout test checks every field starts a texel).
-layout(set = 1, binding = 13) uniform usamplerBuffer u_triangleTexels;   // g_triangles, 6 each
+// texel by texel in field order (a layout test checks every field's offset).
+layout(set = 1, binding = 13) uniform usamplerBuffer u_triangleTexels;   // g_triangles, 5 each
 layout(set = 1, binding = 14) uniform usamplerBuffer u_attributeTexels;  // g_attributes, 8 each
 layout(set = 1, binding = 15) uniform usamplerBuffer u_materialTexels;   // Material, 3 each
 layout(set = 1, binding = 16) uniform usamplerBuffer u_textureInfoTexels; // ExactTexture, 2 each
