@@ -14,8 +14,8 @@
 // falls back to the full shader if setup ever reports a triangle the constants excluded.
 layout(constant_id = 0) const bool HOMOGENEOUS_PATH = true;  // near-plane / guard-band triangles
 layout(constant_id = 1) const bool TEXTURES = true;          // some material has a texture
-layout(constant_id = 2) const bool VERTEX_NORMALS = true;    // some draw has vertex normals
-layout(constant_id = 3) const bool FACE_NORMALS = true;      // some draw has none
+layout(constant_id = 2) const bool VERTEX_NORMALS = true;    // some lit draw has vertex normals
+layout(constant_id = 3) const bool FACE_NORMALS = true;      // some lit draw has none
 
 // What shading reads of attribute record i: only the texels the scene's constants let it
 // use. A texel fetch is a call to the driver's sampling code on CPU drivers, which the
@@ -119,6 +119,11 @@ void barycentricGradients(ExactTriangle t, uint x, uint y, out vec3 gx, out vec3
 void shadeFragment(ExactTriangle t, ExactAttributes a, uint x, uint y, RasterSample s,
                    FrameInfo frame, out vec3 radiance, out vec3 transmittance) {
     Material m = loadMaterial(a.materialIndex);
+    // Normals are only for lighting: a scene with no lit draw needs neither, and clearing
+    // the flag compiles the lighting away (an `if` runs both sides on CPU drivers).
+    if (!VERTEX_NORMALS && !FACE_NORMALS) {
+        m.flags &= ~MATERIAL_LIT;
+    }
     vec3 b = s.barycentric;
 
     precise vec4 colour = (a.colour0 * b.x + a.colour1 * b.y) + a.colour2 * b.z;

@@ -18,6 +18,8 @@ pub struct RasterFeatures {
     /// Some triangle may need the homogeneous path (near plane, behind the eye, guard band).
     pub homogeneous: bool,
     pub textures: bool,
+    /// Some lit draw has vertex normals, and some lit draw has none. Normals are only for
+    /// lighting, so with neither the shader drops lighting altogether.
     pub vertex_normals: bool,
     pub face_normals: bool,
     /// Fragments each pixel selects per pass over its bin.
@@ -48,6 +50,7 @@ const _: () = assert!(1 << DEEP_SLAB_BITS <= super::layout::MAX_SLABS);
 impl RasterFeatures {
     pub fn of(scene: &Scene, width: u32, height: u32, subgroup_size: u32) -> Self {
         let draws = || scene.transparent.iter();
+        let lit = |d: &crate::scene::Draw| scene.materials[d.material].lit;
         let view_projection = scene.camera.view_projection(width as f32 / height as f32);
         Self {
             homogeneous: draws().any(|d| {
@@ -55,8 +58,8 @@ impl RasterFeatures {
                 !bounds_on_fixed_path(&mvp, &scene.meshes[d.mesh].positions, width, height)
             }),
             textures: draws().any(|d| scene.materials[d.material].texture.is_some()),
-            vertex_normals: draws().any(|d| scene.meshes[d.mesh].normals.is_some()),
-            face_normals: draws().any(|d| scene.meshes[d.mesh].normals.is_none()),
+            vertex_normals: draws().any(|d| lit(d) && scene.meshes[d.mesh].normals.is_some()),
+            face_normals: draws().any(|d| lit(d) && scene.meshes[d.mesh].normals.is_none()),
             select_size: SELECT_SIZE,
             slab_bits: 0,
             rows: if subgroup_size == BIN_SIZE {
