@@ -16,6 +16,8 @@ layout(constant_id = 0) const bool HOMOGENEOUS_PATH = true;  // near-plane / gua
 layout(constant_id = 1) const bool TEXTURES = true;          // some material has a texture
 layout(constant_id = 2) const bool VERTEX_NORMALS = true;    // some lit draw has vertex normals
 layout(constant_id = 3) const bool FACE_NORMALS = true;      // some lit draw has none
+// (Constants 4 to 7 are the raster's own: raster.comp and exact_bins.glsl.)
+layout(constant_id = 8) const bool TRANSMISSION = true;      // some material transmits light
 
 // What shading reads of attribute record i: only the texels the scene's constants let it
 // use. A texel fetch is a call to the driver's sampling code on CPU drivers, which the
@@ -50,6 +52,32 @@ ExactAttributes loadShadingAttributes(uint i) {
         a.uv2 = uintBitsToFloat(texelFetch(u_attributeTexels, base + 7).xy);
     }
     return a;
+}
+
+// What shading reads of material i: only the texels the scene's constants let it use, as
+// loadShadingAttributes. Without transmission a material's tint and reflectance do not
+// matter (the reference's terms with them are exact zeros), nor its flags and texture
+// without lighting and textures.
+Material loadShadingMaterial(uint i) {
+    int base = int(i) * 3;
+    Material m;
+    m.baseColour = uintBitsToFloat(texelFetch(u_materialTexels, base));
+    m.tintTransmission = vec4(1.0, 1.0, 1.0, 0.0);
+    m.reflectance = 0.0;
+    m.alphaCutoff = -1.0;
+    m.textureIndex = -1;
+    m.flags = 0u;
+    if (TRANSMISSION) {
+        m.tintTransmission = uintBitsToFloat(texelFetch(u_materialTexels, base + 1));
+    }
+    if (TRANSMISSION || TEXTURES || VERTEX_NORMALS || FACE_NORMALS) {
+        uvec4 last = texelFetch(u_materialTexels, base + 2);
+        m.reflectance = uintBitsToFloat(last.x);
+        m.alphaCutoff = uintBitsToFloat(last.y);
+        m.textureIndex = int(last.z);
+        m.flags = last.w;
+    }
+    return m;
 }
 
 // Whether triangle t covers pixel (x, y), and the sample. The edges decide on both paths
@@ -118,7 +146,7 @@ void barycentricGradients(ExactTriangle t, uint x, uint y, out vec3 gx, out vec3
 // Shades the fragment of triangle t (with attributes a) at pixel (x, y).
 void shadeFragment(ExactTriangle t, ExactAttributes a, uint x, uint y, RasterSample s,
                    FrameInfo frame, out vec3 radiance, out vec3 transmittance) {
-    Material m = loadMaterial(a.materialIndex);
+    Material m = loadShadingMaterial(a.materialIndex);
     // Normals are only for lighting: a scene with no lit draw needs neither, and clearing
     // the flag compiles the lighting away (an `if` runs both sides on CPU drivers).
     if (!VERTEX_NORMALS && !FACE_NORMALS) {

@@ -10,7 +10,7 @@ use glam::{Mat4, Vec3};
 
 /// How many constants the raster takes: other programs on the same stages (the wavelet bin
 /// raster) number theirs from here.
-pub const RASTER_CONSTANTS: usize = 8;
+pub const RASTER_CONSTANTS: usize = 9;
 
 /// Specialization constants of the raster stage, in `constant_id` order.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -29,6 +29,8 @@ pub struct RasterFeatures {
     /// Rows of a block per workgroup of the first raster dispatch: a subgroup must see one
     /// row, so BIN_SIZE only where subgroups are exactly a row wide, else 1.
     pub rows: u32,
+    /// Some draw's material transmits light (transmission above 0).
+    pub transmission: bool,
 }
 
 /// The selection size to start with, and the one frames with deep pixels move to. (24 took
@@ -67,6 +69,7 @@ impl RasterFeatures {
             } else {
                 1
             },
+            transmission: draws().any(|d| scene.materials[d.material].transmission > 0.0),
         }
     }
 
@@ -116,6 +119,7 @@ impl RasterFeatures {
             self.select_size,
             self.slab_bits,
             if continuation { 1 } else { self.rows },
+            u32::from(self.transmission),
         ]
     }
 }
