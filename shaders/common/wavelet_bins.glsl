@@ -84,7 +84,9 @@ void main() {
         keptTri[k] = 0u;
     }
     uint nextTri = entryTriangle(first, lastEntry);
-    for (uint e = first; e < end; e++) {
+    // Do-whiles throughout: raster.comp says why.
+    uint e = first;
+    if (e < end) do {
         uint ti = nextTri;
         nextTri = entryTriangle(e + 1u, lastEntry);
         RasterSample s;
@@ -96,7 +98,7 @@ void main() {
             keptTri[k] = take ? keptTri[k - 1] : keptTri[k];
         }
         keptTri[0] = take ? ti : keptTri[0];
-    }
+    } while (++e < end);
     if (subgroupAll(fragments == 0u)) {
         return;
     }
@@ -118,7 +120,8 @@ void main() {
         c[i] = vec3(0.0);
     }
     nextTri = entryTriangle(first, lastEntry);
-    for (uint e = first; e < walkEnd; e++) {
+    e = first;
+    if (e < walkEnd) do {
         uint ti = nextTri;
         nextTri = entryTriangle(e + 1u, lastEntry);
         ExactTriangle t = loadRasterTriangle(ti);
@@ -133,10 +136,11 @@ void main() {
         }
         float p = waveletCellPosition(waveletNormalizedDepth(s.viewDepth, bounds), pixel);
         waveletAccumulate(c, take ? p : 0.0, a);
-    }
+    } while (++e < walkEnd);
     // Short form: shade slot 0, then rotate it to the end of the pixel's kept fragments with
     // what walk 3 needs (constant indices only), so slot 0 is the next one.
-    for (uint i = 0u; i < keptCount; i++) {
+    uint i = 0u;
+    if (i < keptCount) do {
         uint ti = keptTri[0];
         ExactTriangle t = loadRasterTriangle(ti);
         RasterSample s;
@@ -157,7 +161,7 @@ void main() {
             keptPosition[k] = here ? p : keptPosition[next];
             keptDepth[k] = here ? s.zNdc : keptDepth[next];
         }
-    }
+    } while (++i < keptCount);
     vec3 cells[WAVELET_MAX_COUNT];
     waveletSynthesize(c, cells);
 
@@ -170,7 +174,8 @@ void main() {
     // the sum of quantized addends stays exact.
     vec3 lit = vec3(0.0);
     nextTri = entryTriangle(first, lastEntry);
-    for (uint e = first; e < walkEnd; e++) {
+    e = first;
+    if (e < walkEnd) do {
         uint ti = nextTri;
         nextTri = entryTriangle(e + 1u, lastEntry);
         ExactTriangle t = loadRasterTriangle(ti);
@@ -184,9 +189,10 @@ void main() {
             vec3 inFront = waveletAbsorbanceAt(cells, p, waveletAbsorbance(tr));
             lit += waveletQuantize(l * waveletTransmittance(inFront));
         }
-    }
+    } while (++e < walkEnd);
     // Short form: slot 0, then shift left.
-    for (uint i = 0u; i < keptCount; i++) {
+    i = 0u;
+    if (i < keptCount) do {
         if (keptDepth[0] < cut) {
             vec3 inFront = waveletAbsorbanceAt(cells, keptPosition[0], keptAbsorbance[0]);
             lit += waveletQuantize(keptRadiance[0] * waveletTransmittance(inFront));
@@ -197,7 +203,7 @@ void main() {
             keptPosition[k] = keptPosition[k + 1];
             keptDepth[k] = keptDepth[k + 1];
         }
-    }
+    } while (++i < keptCount);
     if (fragments > 0u) {
         imageStore(u_colour, ivec2(x, y), vec4(behind + lit, 1.0));
     }

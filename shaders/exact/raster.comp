@@ -20,7 +20,10 @@
 // On CPU drivers such as lavapipe an `if` does not branch: both sides run under a mask, so
 // cost is the code inside each loop times its iterations, and only loop exits save work.
 // Shading therefore runs in its own loop of at most SELECT_SIZE iterations per pass instead
-// of inside the walk (measured 1.5-9x slower there). Those drivers also end a shader's loops
+// of inside the walk (measured 1.5-9x slower there). Those drivers test a loop's exit at
+// the end of each iteration, so a `for` or `while` runs its body once more, masked, after
+// its last lanes leave at the top: every loop here is a do-while (behind an `if` where it
+// may run no iteration), which took a third off the shallow scenes' rasters. Those drivers also end a shader's loops
 // silently after 65535 iterations in all; the raster counts against LOOP_BUDGET and hands
 // what is left of a pixel to a continuation dispatch of this same shader (CONTINUATION).
 
@@ -124,7 +127,7 @@ void main() {
     uint passCost = passIterations(end - first);
     bool suspended = false;
 
-    while (subgroupAny(!finished)) {
+    do {
         if (spent + passCost > LOOP_BUDGET) {
             if (spent == 0u) {
                 // Not even one pass fits a fresh budget: tell the host instead of drawing
@@ -179,7 +182,8 @@ void main() {
         // (the last step re-reads its own entry).
         uint last = max(end, 1u) - 1u;
         uint nextEntry = texelFetch(u_binEntryTexels, int(min(walkFrom, last))).r;
-        for (uint e = walkFrom; e < end; e++) {
+        uint e = walkFrom;
+        if (e < end) do {
             // The same entry for the whole row. (A broadcast would tell a GPU compiler so, but
             // on CPU drivers it is a loop over the lanes: 3 % of the raster.)
             uint entry = nextEntry;
@@ -215,14 +219,16 @@ void main() {
                 selKey[0] = key;
                 selTri[0] = ti;
             }
-        }
+            e++;
+        } while (e < end);
         passes += finished ? 0u : 1u;
         uint count = min(found, uint(SELECT_SIZE));
         // A pixel stops as soon as its transmittance is under the threshold, even within a
         // pass (its loop ends there; the row's ends when every pixel's has).
         bool opaqueEnough = false;
         uint composited = 0u;
-        for (uint i = 0u; i < count && !opaqueEnough; i++) {
+        uint i = 0u;
+        if (count > 0u) do {
             // Always shade slot 0, then shift the selection left: constant indices only.
             ExactTriangle t = loadRasterTriangle(selTri[0]);
             RasterSample s;
@@ -239,10 +245,11 @@ void main() {
             }
             composited++;
             opaqueEnough = u_push.threshold > 0.0 && all(lessThan(transmittance, vec3(u_push.threshold)));
-        }
+            i++;
+        } while (i < count && !opaqueEnough);
         fragments += composited;
         finished = finished || (found <= uint(SELECT_SIZE) && !truncated) || opaqueEnough;
-    }
+    } while (subgroupAny(!finished));
     // A resumed pixel composites what earlier dispatches gathered too.
     if ((fragments > 0u || CONTINUATION) && !suspended) {
         vec3 behind = imageLoad(u_colour, ivec2(x, y)).rgb;
