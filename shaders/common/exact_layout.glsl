@@ -88,8 +88,8 @@ struct ExactTriangleRecord {
     uint pad1;
 };
 
-// The edges are s * (the edges of the vertices in order), with s = -1: the triangle winds
-// clockwise in fixed-point framebuffer coordinates, and the edges are made positive inside.
+// Set when the edges are those of the vertices in order, negated: the triangle winds the
+// other way in fixed-point framebuffer coordinates, and edges are positive inside.
 #define TRIANGLE_NEGATED 1u
 
 #define ATTRIBUTES_FACE_NORMAL 1u   // normal0 is the face normal, used uninterpolated

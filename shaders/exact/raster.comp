@@ -13,7 +13,8 @@
 // until no fragment is left or transmittance is under the threshold. All invocations walk
 // the row's list in step. Deep frames order each list by depth slab (exact_bins.glsl): a
 // pixel's pass then ends once it holds fragments nearer than the next slab's floor (the
-// row's when every pixel's has), and a pass starts past the leading slabs whose farthest depth every pixel has passed.
+// row's when every pixel's has), and a pass starts past the leading slabs whose farthest
+// depth every pixel has passed.
 // Order is exact by construction: fragments are ranked by (view depth, draw, quad,
 // triangle) like the CPU reference, so no pixel is ever out of order.
 //
@@ -23,9 +24,10 @@
 // of inside the walk (measured 1.5-9x slower there). Those drivers test a loop's exit at
 // the end of each iteration, so a `for` or `while` runs its body once more, masked, after
 // its last lanes leave at the top: every loop here is a do-while (behind an `if` where it
-// may run no iteration), which took a third off the shallow scenes' rasters. Those drivers also end a shader's loops
-// silently after 65535 iterations in all; the raster counts against LOOP_BUDGET and hands
-// what is left of a pixel to a continuation dispatch of this same shader (CONTINUATION).
+// may run no iteration), which took up to a third off the shallow scenes' rasters. Those
+// drivers also end a shader's loops silently after 65535 iterations in all; the raster
+// counts against LOOP_BUDGET and hands what is left of a pixel to a continuation dispatch
+// of this same shader (CONTINUATION).
 
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_KHR_shader_subgroup_ballot : require
