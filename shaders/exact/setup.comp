@@ -21,6 +21,12 @@ layout(local_size_x = 64) in;
 // needs it anyway is only counted, and the host rebuilds this shader and the raster with
 // the path and renders the frame again.
 layout(constant_id = 0) const bool HOMOGENEOUS_PATH = true;
+// What shading can read of an attribute record, as the raster's constants 1 to 3
+// (exact_fragment.glsl): setup stores only those fields. Its stores are most of its time,
+// since a storage-buffer store is a loop over the lanes for every 32-bit component.
+layout(constant_id = 1) const bool TEXTURES = true;          // some material has a texture
+layout(constant_id = 2) const bool VERTEX_NORMALS = true;    // some lit draw has vertex normals
+layout(constant_id = 3) const bool FACE_NORMALS = true;      // some lit draw has none
 
 // The transparent draw holding global quad `item` (draws are sorted by firstItem).
 uint findDraw(uint item) {
@@ -285,6 +291,42 @@ ExactAttributes gatherAttributes(DrawInfo draw, Corner k0, Corner k1, Corner k2)
     return a;
 }
 
+// Record ti, field by field: the padding is never stored.
+void storeTriangle(uint ti, ExactTriangle t, ivec2 v[3], bool negated) {
+    g_triangles[ti].vertices01 = ivec4(v[0], v[1]);
+    g_triangles[ti].vertex2 = v[2];
+    g_triangles[ti].flags = negated ? TRIANGLE_NEGATED : 0u;
+    g_triangles[ti].order = t.order;
+    g_triangles[ti].zNdc = t.zNdc;
+    g_triangles[ti].invW = t.invW.xyz;
+    g_triangles[ti].homogeneous = t.edgeB.w;
+    g_triangles[ti].boundsMin = uint(t.bounds.x) | uint(t.bounds.y) << 16u;
+    g_triangles[ti].boundsEnd = uint(t.bounds.z) | uint(t.bounds.w) << 16u;
+}
+
+// Attribute record ti: only the fields shading can read (loadShadingAttributes in
+// exact_fragment.glsl, under the same constants); the others are never stored.
+void storeAttributes(uint ti, ExactAttributes a) {
+    g_attributes[ti].colour0 = a.colour0;
+    g_attributes[ti].colour1 = a.colour1;
+    g_attributes[ti].colour2 = a.colour2;
+    g_attributes[ti].materialIndex = a.materialIndex;
+    if (VERTEX_NORMALS || FACE_NORMALS) {
+        g_attributes[ti].normal0 = a.normal0;
+    }
+    if (VERTEX_NORMALS || TEXTURES) {
+        g_attributes[ti].flags = a.flags;
+    }
+    if (VERTEX_NORMALS) {
+        g_attributes[ti].normal1 = a.normal1;
+        g_attributes[ti].normal2 = a.normal2;
+    }
+    if (TEXTURES) {
+        g_attributes[ti].uv01 = a.uv01;
+        g_attributes[ti].uv2 = a.uv2;
+    }
+}
+
 void main() {
     uint item = gl_GlobalInvocationID.x;
     if (item >= u_push.itemCount) {
@@ -352,10 +394,7 @@ void main() {
             atomicMax(g_dispatch[DISPATCH_BINNING * 4u], last / BINNING_GROUP_SIZE + 1u);
         }
         uint ti = subgroupBroadcastFirst(first) + subgroupBallotExclusiveBitCount(kept);
-        g_triangles[ti] = ExactTriangleRecord(
-            ivec4(v[0], v[1]), v[2], negated ? TRIANGLE_NEGATED : 0u, t.order, t.zNdc,
-            t.invW.xyz, t.edgeB.w, uint(t.bounds.x) | uint(t.bounds.y) << 16u,
-            uint(t.bounds.z) | uint(t.bounds.w) << 16u, 0u, 0u);
-        g_attributes[ti] = gatherAttributes(draw, k0, second ? k2 : k1, second ? k3 : k2);
+        storeTriangle(ti, t, v, negated);
+        storeAttributes(ti, gatherAttributes(draw, k0, second ? k2 : k1, second ? k3 : k2));
     }
 }

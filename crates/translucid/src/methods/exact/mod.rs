@@ -144,7 +144,8 @@ fn setup_pipeline(
     layouts: &[&crate::gpu::DescriptorLayout],
     features: &RasterFeatures,
 ) -> Result<ComputePipeline> {
-    stage_pipeline(gpu, layouts, SETUP, &[u32::from(features.homogeneous)])
+    // The raster's first four constants, with the same ids (exact_fragment.glsl).
+    stage_pipeline(gpu, layouts, SETUP, &features.constants(false)[..4])
 }
 
 /// The scan's steps 1 and 2 (constant 0), for the frame's slabs.
