@@ -18,6 +18,7 @@ layout(constant_id = 2) const bool VERTEX_NORMALS = true;    // some lit draw ha
 layout(constant_id = 3) const bool FACE_NORMALS = true;      // some lit draw has none
 // (Constants 4 to 7 are the raster's own: raster.comp and exact_bins.glsl.)
 layout(constant_id = 8) const bool TRANSMISSION = true;      // some material transmits light
+layout(constant_id = 9) const bool VERTEX_COLOURS = true;    // some mesh has vertex colours
 
 // What shading reads of attribute record i: only the texels the scene's constants let it
 // use. A texel fetch is a call to the driver's sampling code on CPU drivers, which the
@@ -25,9 +26,14 @@ layout(constant_id = 8) const bool TRANSMISSION = true;      // some material tr
 ExactAttributes loadShadingAttributes(uint i) {
     int base = int(i) * ATTRIBUTE_TEXELS;
     ExactAttributes a;
-    a.colour0 = uintBitsToFloat(texelFetch(u_attributeTexels, base));
-    a.colour1 = uintBitsToFloat(texelFetch(u_attributeTexels, base + 1));
-    a.colour2 = uintBitsToFloat(texelFetch(u_attributeTexels, base + 2));
+    a.colour0 = vec4(1.0);
+    a.colour1 = vec4(1.0);
+    a.colour2 = vec4(1.0);
+    if (VERTEX_COLOURS) {
+        a.colour0 = uintBitsToFloat(texelFetch(u_attributeTexels, base));
+        a.colour1 = uintBitsToFloat(texelFetch(u_attributeTexels, base + 1));
+        a.colour2 = uintBitsToFloat(texelFetch(u_attributeTexels, base + 2));
+    }
     uvec4 n0 = texelFetch(u_attributeTexels, base + 3);
     a.normal0 = uintBitsToFloat(n0.xyz);
     a.materialIndex = n0.w;
@@ -154,7 +160,9 @@ void shadeFragment(ExactTriangle t, ExactAttributes a, uint x, uint y, RasterSam
     }
     vec3 b = s.barycentric;
 
-    precise vec4 colour = (a.colour0 * b.x + a.colour1 * b.y) + a.colour2 * b.z;
+    // White vertices give the reference's sum of barycentrics exactly (1 * b is b).
+    precise vec4 colour = VERTEX_COLOURS ? (a.colour0 * b.x + a.colour1 * b.y) + a.colour2 * b.z
+                                         : vec4((b.x + b.y) + b.z);
 
     vec3 normal;
     if (FACE_NORMALS && (!VERTEX_NORMALS || (a.flags & ATTRIBUTES_FACE_NORMAL) != 0u)) {

@@ -21,12 +21,13 @@ layout(local_size_x = 64) in;
 // needs it anyway is only counted, and the host rebuilds this shader and the raster with
 // the path and renders the frame again.
 layout(constant_id = 0) const bool HOMOGENEOUS_PATH = true;
-// What shading can read of an attribute record, as the raster's constants 1 to 3
+// What shading can read of an attribute record, as the raster's constants 1 to 3 and 9
 // (exact_fragment.glsl): setup stores only those fields. Its stores are most of its time,
 // since a storage-buffer store is a loop over the lanes for every 32-bit component.
 layout(constant_id = 1) const bool TEXTURES = true;          // some material has a texture
 layout(constant_id = 2) const bool VERTEX_NORMALS = true;    // some lit draw has vertex normals
 layout(constant_id = 3) const bool FACE_NORMALS = true;      // some lit draw has none
+layout(constant_id = 9) const bool VERTEX_COLOURS = true;    // some mesh has vertex colours
 
 // The transparent draw holding global quad `item` (draws are sorted by firstItem).
 uint findDraw(uint item) {
@@ -307,9 +308,11 @@ void storeTriangle(uint ti, ExactTriangle t, ivec2 v[3], bool negated) {
 // Attribute record ti: only the fields shading can read (loadShadingAttributes in
 // exact_fragment.glsl, under the same constants); the others are never stored.
 void storeAttributes(uint ti, ExactAttributes a) {
-    g_attributes[ti].colour0 = a.colour0;
-    g_attributes[ti].colour1 = a.colour1;
-    g_attributes[ti].colour2 = a.colour2;
+    if (VERTEX_COLOURS) {
+        g_attributes[ti].colour0 = a.colour0;
+        g_attributes[ti].colour1 = a.colour1;
+        g_attributes[ti].colour2 = a.colour2;
+    }
     g_attributes[ti].materialIndex = a.materialIndex;
     if (VERTEX_NORMALS || FACE_NORMALS) {
         g_attributes[ti].normal0 = a.normal0;

@@ -10,7 +10,7 @@ use glam::{Mat4, Vec3};
 
 /// How many constants the raster takes: other programs on the same stages (the wavelet bin
 /// raster) number theirs from here.
-pub const RASTER_CONSTANTS: usize = 9;
+pub const RASTER_CONSTANTS: usize = 10;
 
 /// Specialization constants of the raster stage, in `constant_id` order.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -31,6 +31,8 @@ pub struct RasterFeatures {
     pub rows: u32,
     /// Some draw's material transmits light (transmission above 0).
     pub transmission: bool,
+    /// Some draw's mesh has vertex colours (the others' are white).
+    pub vertex_colours: bool,
 }
 
 /// The selection size to start with, and the one frames with deep pixels move to. (24 took
@@ -70,6 +72,7 @@ impl RasterFeatures {
                 1
             },
             transmission: draws().any(|d| scene.materials[d.material].transmission > 0.0),
+            vertex_colours: draws().any(|d| scene.meshes[d.mesh].colours.is_some()),
         }
     }
 
@@ -120,6 +123,7 @@ impl RasterFeatures {
             self.slab_bits,
             if continuation { 1 } else { self.rows },
             u32::from(self.transmission),
+            u32::from(self.vertex_colours),
         ]
     }
 }

@@ -144,8 +144,9 @@ fn setup_pipeline(
     layouts: &[&crate::gpu::DescriptorLayout],
     features: &RasterFeatures,
 ) -> Result<ComputePipeline> {
-    // The raster's first four constants, with the same ids (exact_fragment.glsl).
-    stage_pipeline(gpu, layouts, SETUP, &features.constants(false)[..4])
+    // The raster's constants: setup declares those of exact_fragment.glsl it needs, with the
+    // same ids, and ignores the others.
+    stage_pipeline(gpu, layouts, SETUP, &features.constants(false))
 }
 
 /// The scan's steps 1 and 2 (constant 0), for the frame's slabs.
