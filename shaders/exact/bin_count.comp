@@ -24,18 +24,21 @@ void main() {
     uvec2 depth = triangleDepthBits(t);
     uint slab = slabOf(depth.x, lo, shift);
     uint touched = 0u;
-    for (int by = rows.x; by <= rows.y; by++) {
+    // Do-whiles (raster.comp says why), and an `if` rather than a `continue`: with one, the
+    // do-whiles were slower than the `for`s (15 %), without, faster (5-14 %).
+    int by = rows.x;
+    if (by <= rows.y) do {
         ivec2 cols = rowColumns(t, by, r.xz);
-        for (int bx = cols.x; bx <= cols.y; bx++) {
+        int bx = cols.x;
+        if (bx <= cols.y) do {
             int x0 = bx << BIN_SHIFT;
-            if (!mayCoverRect(t, x0, by, x0 + BIN_SIZE, by + 1)) {
-                continue;
+            if (mayCoverRect(t, x0, by, x0 + BIN_SIZE, by + 1)) {
+                uint b = binIndex(bx, by) * SLABS + slab;
+                atomicAdd(g_binCounts[b], 1u);
+                touched++;
             }
-            uint b = binIndex(bx, by) * SLABS + slab;
-            atomicAdd(g_binCounts[b], 1u);
-            touched++;
-        }
-    }
+        } while (++bx <= cols.y);
+    } while (++by <= rows.y);
     // The frame-wide counters take one atomic per subgroup and slab: one per triangle made
     // them the most contended words of the frame (binning a 100k-triangle mesh took twice
     // as long to count as to fill). A slab none of the subgroup's triangles is in costs no

@@ -22,20 +22,23 @@ void main() {
     uint capacity = g_counters.binEntryCapacity;
     uint slab = slabOf(triangleDepthBits(t).x, lo, shift);
     uint entry = (slab << ENTRY_SLAB_SHIFT) | ti;
-    for (int by = rows.x; by <= rows.y; by++) {
+    // Do-whiles (raster.comp says why), and an `if` rather than a `continue`: with one, the
+    // do-whiles were slower than the `for`s (15 %), without, faster (5-14 %).
+    int by = rows.x;
+    if (by <= rows.y) do {
         ivec2 cols = rowColumns(t, by, r.xz);
-        for (int bx = cols.x; bx <= cols.y; bx++) {
+        int bx = cols.x;
+        if (bx <= cols.y) do {
             int x0 = bx << BIN_SHIFT;
-            if (!mayCoverRect(t, x0, by, x0 + BIN_SIZE, by + 1)) {
-                continue;
+            if (mayCoverRect(t, x0, by, x0 + BIN_SIZE, by + 1)) {
+                uint b = binIndex(bx, by) * SLABS + slab;
+                uint slot = atomicAdd(g_binOffsets[b], 1u);
+                if (slot < capacity) {
+                    g_binEntries[slot] = entry;
+                } else {
+                    atomicOr(g_counters.overflow, OVERFLOW_BIN_ENTRIES);
+                }
             }
-            uint b = binIndex(bx, by) * SLABS + slab;
-            uint slot = atomicAdd(g_binOffsets[b], 1u);
-            if (slot < capacity) {
-                g_binEntries[slot] = entry;
-            } else {
-                atomicOr(g_counters.overflow, OVERFLOW_BIN_ENTRIES);
-            }
-        }
-    }
+        } while (++bx <= cols.y);
+    } while (++by <= rows.y);
 }

@@ -355,7 +355,9 @@ void main() {
     vec4 clip2 = clipPosition(d.mvp, k2.position);
     vec4 clip3 = clipPosition(d.mvp, k3.position);
     uint subCount = (q.w != q.z && q.w != q.x) ? 2u : 1u;
-    for (uint sub = 0u; sub < subCount; sub++) {
+    // A do-while, and `if`s rather than `continue`s (bin_count.comp says why).
+    uint sub = 0u;
+    do {
         bool second = sub != 0u;
         vec4 c[3];
         c[0] = clip0;
@@ -367,37 +369,38 @@ void main() {
         ExactHomogeneous h;
         bool homogeneous;
         bool front;
-        if (!setupTriangle(c, t, v, negated, h, homogeneous, front) || (cullBack && !front) ||
-            (!homogeneous && behindOpaque(t))) {
-            continue;
-        }
-        if (homogeneous) {
+        bool visible = setupTriangle(c, t, v, negated, h, homogeneous, front) &&
+                       !(cullBack && !front) && (homogeneous || !behindOpaque(t));
+        if (visible && homogeneous) {
             uint hi = atomicAdd(g_counters.homogeneousCount, 1u);
             if (hi >= g_counters.homogeneousCapacity) {
                 atomicOr(g_counters.overflow, OVERFLOW_HOMOGENEOUS);
-                continue;
+                visible = false;
+            } else {
+                g_homogeneous[hi] = h;
+                t.edgeB.w = int(hi);
             }
-            g_homogeneous[hi] = h;
-            t.edgeB.w = int(hi);
         }
-        t.order = item * 2u + sub;
-        // Frame-wide counters take one atomic per subgroup: one per triangle made them the
-        // most contended words of the frame. Lanes culled above have left this iteration.
-        uvec2 depth = homogeneous ? uvec2(0xFFFFFFFFu, 0u) : triangleDepthBits(t);
-        uint nearest = subgroupMin(depth.x);
-        uint farthest = subgroupMax(depth.y);
-        uvec4 kept = subgroupBallot(true);
-        uint first = 0u;
-        if (subgroupElect()) {
-            atomicMin(g_counters.depthLo, nearest);
-            atomicMax(g_counters.depthHi, farthest);
-            // Capacity is two triangles per quad: this cannot overflow.
-            first = atomicAdd(g_counters.triangleCount, subgroupBallotBitCount(kept));
-            uint last = first + subgroupBallotBitCount(kept) - 1u;
-            atomicMax(g_dispatch[DISPATCH_BINNING * 4u], last / BINNING_GROUP_SIZE + 1u);
+        if (visible) {
+            t.order = item * 2u + sub;
+            // Frame-wide counters take one atomic per subgroup: one per triangle made them the
+            // most contended words of the frame. Only the visible lanes are active here.
+            uvec2 depth = homogeneous ? uvec2(0xFFFFFFFFu, 0u) : triangleDepthBits(t);
+            uint nearest = subgroupMin(depth.x);
+            uint farthest = subgroupMax(depth.y);
+            uvec4 kept = subgroupBallot(true);
+            uint first = 0u;
+            if (subgroupElect()) {
+                atomicMin(g_counters.depthLo, nearest);
+                atomicMax(g_counters.depthHi, farthest);
+                // Capacity is two triangles per quad: this cannot overflow.
+                first = atomicAdd(g_counters.triangleCount, subgroupBallotBitCount(kept));
+                uint last = first + subgroupBallotBitCount(kept) - 1u;
+                atomicMax(g_dispatch[DISPATCH_BINNING * 4u], last / BINNING_GROUP_SIZE + 1u);
+            }
+            uint ti = subgroupBroadcastFirst(first) + subgroupBallotExclusiveBitCount(kept);
+            storeTriangle(ti, t, v, negated);
+            storeAttributes(ti, gatherAttributes(draw, k0, second ? k2 : k1, second ? k3 : k2));
         }
-        uint ti = subgroupBroadcastFirst(first) + subgroupBallotExclusiveBitCount(kept);
-        storeTriangle(ti, t, v, negated);
-        storeAttributes(ti, gatherAttributes(draw, k0, second ? k2 : k1, second ? k3 : k2));
-    }
+    } while (++sub < subCount);
 }
