@@ -231,20 +231,24 @@ void main() {
         uint composited = 0u;
         uint i = 0u;
         if (count > 0u) do {
-            // Always shade slot 0, then shift the selection left: constant indices only.
-            ExactTriangle t = loadRasterTriangle(selTri[0]);
+            // Slot i, picked by selects over constant indices (no run-time index). Shifting the
+            // selection left every step instead moved all its keys and triangles, which a deep
+            // selection spills: 5 % of the particles raster.
+            uint ti = selTri[0];
+            uint64_t ki = selKey[0];
+            [[unroll]] for (int k = 1; k < SELECT_SIZE; k++) {
+                ti = i == uint(k) ? selTri[k] : ti;
+                ki = i == uint(k) ? selKey[k] : ki;
+            }
+            ExactTriangle t = loadRasterTriangle(ti);
             RasterSample s;
             sampleTriangle(t, x, y, s);
             vec3 l;
             vec3 tr;
-            shadeFragment(t, loadShadingAttributes(selTri[0]), x, y, s, frame, l, tr);
+            shadeFragment(t, loadShadingAttributes(ti), x, y, s, frame, l, tr);
             radiance += transmittance * l;
             transmittance *= tr;
-            doneKey = selKey[0];
-            [[unroll]] for (int k = 0; k < SELECT_SIZE - 1; k++) {
-                selKey[k] = selKey[k + 1];
-                selTri[k] = selTri[k + 1];
-            }
+            doneKey = ki;
             composited++;
             opaqueEnough = u_push.threshold > 0.0 && all(lessThan(transmittance, vec3(u_push.threshold)));
             i++;
