@@ -145,7 +145,9 @@ mod tests {
     /// expect.
     #[test]
     fn texel_loaders_match_the_records() {
-        let msg = "a record changed: update its loader in exact_bindings.glsl and this test";
+        let msg =
+            "a record changed: update its loaders (exact_bindings.glsl, exact_fragment.glsl) \
+                   and this test";
         assert_eq!(
             offsets("ExactTriangleRecord"),
             [0, 16, 24, 28, 32, 48, 60, 64, 68, 72, 76],
