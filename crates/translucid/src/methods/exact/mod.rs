@@ -144,9 +144,12 @@ fn setup_pipeline(
     layouts: &[&crate::gpu::DescriptorLayout],
     features: &RasterFeatures,
 ) -> Result<ComputePipeline> {
-    // The raster's constants: setup declares those of exact_fragment.glsl it needs, with the
-    // same ids, and ignores the others.
-    stage_pipeline(gpu, layouts, SETUP, &features.constants(false))
+    // The raster's constants 0 to 3 and 9, which setup declares with the same ids. The rest
+    // stay at their defaults: setup is not rebuilt when they change (SLAB_BITS, constant 6,
+    // is declared in exact_bins.glsl, which setup includes).
+    let mut constants = features.constants(false);
+    constants[4..9].fill(0);
+    stage_pipeline(gpu, layouts, SETUP, &constants)
 }
 
 /// The scan's steps 1 and 2 (constant 0), for the frame's slabs.
