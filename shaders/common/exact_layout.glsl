@@ -14,7 +14,7 @@
 // A bin's list may be ordered by depth slab (see exact_bins.glsl); its entries then keep
 // their slab in the top bits: slab << ENTRY_SLAB_SHIFT | triangle index.
 #define ENTRY_SLAB_SHIFT 28
-#define MAX_SLABS 8
+#define MAX_SLABS 16
 #define ENTRY_TRIANGLE_MASK 0x0FFFFFFFu
 
 // Overflow bits in ExactCounters.overflow: the frame must be rendered again with more room.
@@ -128,7 +128,7 @@ struct ExactHomogeneous {
     ivec4 fixedB;           // xyz: b, w: tie bits of the replacement edges
 };
 
-// Counters the host reads back after every frame and checks (std430, 96 bytes).
+// Counters the host reads back after every frame and checks (std430, 128 bytes).
 struct ExactCounters {
     uint triangleCount;
     uint homogeneousCount;

@@ -43,9 +43,11 @@ pub const DEEP_SELECT_SIZE: u32 = 24;
 /// Frames averaging more fragments per pixel than this order their bins by depth slab:
 /// there pixels need several passes, and stopping each walk early repays the longer scan of
 /// 2^DEEP_SLAB_BITS slabs per bin. (On lavapipe at 1280x720, slabs take particles, about 18
-/// per pixel, from 1.5 to 0.9 s of raster, and cost hairball, about 1, a fifth of its time.)
+/// per pixel, from 1.5 to 0.9 s of raster, and cost hairball, about 1, a fifth of its time.
+/// Sixteen slabs took particles 4 % under eight, 2.5 % with `--threshold 0.05`; 32 were no
+/// faster, their longer scan eating what the raster saved.)
 pub const SLAB_FRAGMENTS_PER_PIXEL: u64 = 8;
-pub const DEEP_SLAB_BITS: u32 = 3;
+pub const DEEP_SLAB_BITS: u32 = 4;
 // A bin entry has the bits above ENTRY_SLAB_SHIFT for its slab, and the counters keep the
 // farthest depth of MAX_SLABS.
 const _: () = assert!(DEEP_SLAB_BITS <= 32 - super::layout::ENTRY_SLAB_SHIFT);

@@ -9,7 +9,7 @@ pub const BIN_SIZE: u32 = 1 << BIN_SHIFT;
 /// Bin entries keep their depth slab above this bit, the triangle index below it.
 pub const ENTRY_SLAB_SHIFT: u32 = 28;
 /// Depth slabs the counters keep a farthest depth for.
-pub const MAX_SLABS: u32 = 8;
+pub const MAX_SLABS: u32 = 16;
 pub const OVERFLOW_HOMOGENEOUS: u32 = 1;
 pub const OVERFLOW_BIN_ENTRIES: u32 = 2;
 pub const OVERFLOW_CROWDED_BIN: u32 = 4;
