@@ -143,6 +143,7 @@ ExactTriangle unpackRasterTriangle(uvec4 t0, uvec4 t1, uvec4 t2, uvec4 t3) {
     unpackEdges(v, (t1.z & TRIANGLE_NEGATED) != 0u, t);
     t.edgeB.w = int(t3.w);
     t.order = t1.w;
+    t.materialIndex = t1.z >> TRIANGLE_MATERIAL_SHIFT;
     t.zNdc = uintBitsToFloat(t2);
     t.invW = vec4(uintBitsToFloat(t3.xyz), 0.0);
     t.bounds = ivec4(0);

@@ -34,9 +34,11 @@ ExactAttributes loadShadingAttributes(uint i) {
         a.colour1 = uintBitsToFloat(texelFetch(u_attributeTexels, base + 1));
         a.colour2 = uintBitsToFloat(texelFetch(u_attributeTexels, base + 2));
     }
-    uvec4 n0 = texelFetch(u_attributeTexels, base + 3);
-    a.normal0 = uintBitsToFloat(n0.xyz);
-    a.materialIndex = n0.w;
+    a.normal0 = vec3(0.0);
+    a.pad3 = 0u;
+    if (VERTEX_NORMALS || FACE_NORMALS) {
+        a.normal0 = uintBitsToFloat(texelFetch(u_attributeTexels, base + 3).xyz);
+    }
     a.normal1 = vec3(0.0);
     a.flags = 0u;
     a.normal2 = vec3(0.0);
@@ -152,7 +154,7 @@ void barycentricGradients(ExactTriangle t, uint x, uint y, out vec3 gx, out vec3
 // Shades the fragment of triangle t (with attributes a) at pixel (x, y).
 void shadeFragment(ExactTriangle t, ExactAttributes a, uint x, uint y, RasterSample s,
                    FrameInfo frame, out vec3 radiance, out vec3 transmittance) {
-    Material m = loadShadingMaterial(a.materialIndex);
+    Material m = loadShadingMaterial(t.materialIndex);
     // Normals are only for lighting: a scene with no lit draw needs neither, and clearing
     // the flag compiles the lighting away (an `if` runs both sides on CPU drivers).
     if (!VERTEX_NORMALS && !FACE_NORMALS) {

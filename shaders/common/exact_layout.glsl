@@ -66,6 +66,7 @@ struct ExactTriangle {
     vec4 zNdc;              // xyz: depth-buffer value of each vertex, w: 1 / |double area|
     vec4 invW;              // xyz: 1 / clip w of each vertex
     uint order;             // order key: global quad index * 2 + sub-triangle
+    uint materialIndex;
 };
 
 // An ExactTriangle as stored (std430, 80 bytes: five texels). The walks read a record for
@@ -77,7 +78,7 @@ struct ExactTriangle {
 struct ExactTriangleRecord {
     ivec4 vertices01;       // fixed-point x, y of vertices 0 and 1 (zero on the homogeneous path)
     ivec2 vertex2;
-    uint flags;             // TRIANGLE_NEGATED
+    uint flags;             // TRIANGLE_NEGATED, material index << TRIANGLE_MATERIAL_SHIFT
     uint order;
     vec4 zNdc;
     vec3 invW;
@@ -91,6 +92,9 @@ struct ExactTriangleRecord {
 // Set when the edges are those of the vertices in order, negated: the triangle winds the
 // other way in fixed-point framebuffer coordinates, and edges are positive inside.
 #define TRIANGLE_NEGATED 1u
+// The material sits in the same texel as the coverage data, so that shading an unlit,
+// untextured fragment needs no attribute texel besides its colours.
+#define TRIANGLE_MATERIAL_SHIFT 8
 
 #define ATTRIBUTES_FACE_NORMAL 1u   // normal0 is the face normal, used uninterpolated
 #define ATTRIBUTES_HAS_UVS 2u
@@ -98,15 +102,15 @@ struct ExactTriangleRecord {
 // What shading needs of a visible triangle, gathered by setup so that the raster reads one
 // record instead of following draw, quad and vertex indices per fragment (std430, 128 bytes,
 // read as texels). Fields are grouped by what needs them, so that the raster fetches only
-// the texels its scene can use (loadShadingAttributes): colours and material always, the
-// flags with vertex normals or textures, the other normals with vertex normals, uvs with
-// textures.
+// the texels its scene can use (loadShadingAttributes): colours with vertex colours, the
+// first normal with lighting, the flags with vertex normals or textures, the other normals
+// with vertex normals, uvs with textures. (The material is in the triangle record.)
 struct ExactAttributes {
     vec4 colour0;           // vertex colours
     vec4 colour1;
     vec4 colour2;
     vec3 normal0;           // world-space normal of each vertex (normal matrix applied), or
-    uint materialIndex;     // the face normal alone (ATTRIBUTES_FACE_NORMAL)
+    uint pad3;              // the face normal alone (ATTRIBUTES_FACE_NORMAL)
     vec3 normal1;
     uint flags;             // ATTRIBUTES_*
     vec3 normal2;

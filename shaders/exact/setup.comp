@@ -285,7 +285,6 @@ ExactAttributes gatherAttributes(DrawInfo draw, Corner k0, Corner k1, Corner k2)
         a.uv01 = vec4(0.0);
         a.uv2 = vec2(0.0);
     }
-    a.materialIndex = draw.materialIndex;
     return a;
 }
 
@@ -293,7 +292,8 @@ ExactAttributes gatherAttributes(DrawInfo draw, Corner k0, Corner k1, Corner k2)
 void storeTriangle(uint ti, ExactTriangle t, ivec2 v[3], bool negated) {
     g_triangles[ti].vertices01 = ivec4(v[0], v[1]);
     g_triangles[ti].vertex2 = v[2];
-    g_triangles[ti].flags = negated ? TRIANGLE_NEGATED : 0u;
+    g_triangles[ti].flags = (negated ? TRIANGLE_NEGATED : 0u) |
+                              t.materialIndex << TRIANGLE_MATERIAL_SHIFT;
     g_triangles[ti].order = t.order;
     g_triangles[ti].zNdc = t.zNdc;
     g_triangles[ti].invW = t.invW.xyz;
@@ -310,7 +310,6 @@ void storeAttributes(uint ti, ExactAttributes a) {
         g_attributes[ti].colour1 = a.colour1;
         g_attributes[ti].colour2 = a.colour2;
     }
-    g_attributes[ti].materialIndex = a.materialIndex;
     if (VERTEX_NORMALS || FACE_NORMALS) {
         g_attributes[ti].normal0 = a.normal0;
     }
@@ -380,6 +379,7 @@ void main() {
         }
         if (visible) {
             t.order = item * 2u + sub;
+            t.materialIndex = draw.materialIndex;
             // Frame-wide counters take one atomic per subgroup: one per triangle made them the
             // most contended words of the frame. Only the visible lanes are active here.
             uvec2 depth = homogeneous ? uvec2(0xFFFFFFFFu, 0u) : triangleDepthBits(t);

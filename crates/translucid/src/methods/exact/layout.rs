@@ -10,6 +10,8 @@ pub const BIN_SIZE: u32 = 1 << BIN_SHIFT;
 pub const ENTRY_SLAB_SHIFT: u32 = 28;
 /// Depth slabs the counters keep a farthest depth for.
 pub const MAX_SLABS: u32 = 16;
+/// A triangle record's flags keep its material above this bit.
+pub const TRIANGLE_MATERIAL_SHIFT: u32 = 8;
 pub const OVERFLOW_HOMOGENEOUS: u32 = 1;
 pub const OVERFLOW_BIN_ENTRIES: u32 = 2;
 pub const OVERFLOW_CROWDED_BIN: u32 = 4;
@@ -128,6 +130,7 @@ mod tests {
         assert_eq!(define("LOOP_BUDGET"), LOOP_BUDGET);
         assert_eq!(define("ENTRY_SLAB_SHIFT"), ENTRY_SLAB_SHIFT);
         assert_eq!(define("MAX_SLABS"), MAX_SLABS);
+        assert_eq!(define("TRIANGLE_MATERIAL_SHIFT"), TRIANGLE_MATERIAL_SHIFT);
         assert_eq!(define("BINNING_GROUP_SIZE"), BINNING_GROUP_SIZE);
         assert_eq!(define("SCAN_GROUP_SIZE"), SCAN_GROUP_SIZE);
         let commands = u64::from(define("DISPATCH_BINNING")) + 1;

@@ -3,7 +3,7 @@
 use super::layout::{
     ExactCounters, ExactDraw, ExactTexture, ATTRIBUTES_BYTES, BIN_SIZE, DISPATCH_BYTES,
     ENTRY_SLAB_SHIFT, HOMOGENEOUS_BYTES, OVERFLOW_BIN_ENTRIES, OVERFLOW_HOMOGENEOUS,
-    OVERFLOW_RESUME, PIXEL_STATE_BYTES, SCAN_GROUP_SIZE, TRIANGLE_BYTES,
+    OVERFLOW_RESUME, PIXEL_STATE_BYTES, SCAN_GROUP_SIZE, TRIANGLE_BYTES, TRIANGLE_MATERIAL_SHIFT,
 };
 use crate::gpu::{
     memory_barrier, vk, BindingKind, Buffer, BufferView, DescriptorLayout, DescriptorSet, Gpu,
@@ -321,6 +321,13 @@ impl Resources {
                 "exact: {} transparent triangles; bin entries address at most {}",
                 capacities.triangles,
                 1u32 << ENTRY_SLAB_SHIFT
+            )));
+        }
+        if scene.materials.len() as u64 > 1 << (32 - TRIANGLE_MATERIAL_SHIFT) {
+            return Err(Error::InvalidScene(format!(
+                "exact: {} materials; triangle records address at most {}",
+                scene.materials.len(),
+                1u32 << (32 - TRIANGLE_MATERIAL_SHIFT)
             )));
         }
         let draws = exact_draws(scene, width, height);
