@@ -1,6 +1,7 @@
 #version 450
 // Binning, pass 1: every triangle adds one to the count of its depth slab in each bin it may
-// cover, and widens the farthest depth of its slab in the frame.
+// cover, and widens the farthest depth of its slab in the frame. (The frame's entry count is
+// the scan's total: bin_scan.comp writes it.)
 
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #extension GL_KHR_shader_subgroup_basic : require
@@ -23,7 +24,6 @@ void main() {
     ivec2 rows = sliceRows(r);
     uvec2 depth = triangleDepthBits(t);
     uint slab = slabOf(depth.x, lo, shift);
-    uint touched = 0u;
     // Do-whiles (raster.comp says why), and an `if` rather than a `continue`: with one, the
     // do-whiles were slower than the `for`s (15 %), without, faster (5-14 %).
     int by = rows.x;
@@ -35,22 +35,20 @@ void main() {
             if (mayCoverRect(t, x0, by, x0 + BIN_SIZE, by + 1)) {
                 uint b = binIndex(bx, by) * SLABS + slab;
                 atomicAdd(g_binCounts[b], 1u);
-                touched++;
             }
         } while (++bx <= cols.y);
     } while (++by <= rows.y);
-    // The frame-wide counters take one atomic per subgroup and slab: one per triangle made
+    // The slabs' farthest depths take one atomic per subgroup and slab: one per triangle made
     // them the most contended words of the frame (binning a 100k-triangle mesh took twice
     // as long to count as to fill). A slab none of the subgroup's triangles is in costs no
-    // atomic: a masked atomic with no active lane does nothing.
-    [[unroll]] for (uint k = 0u; k < SLABS; k++) {
-        uint farthest = subgroupMax(slab == k ? depth.y : 0u);
-        if (subgroupElect() && farthest != 0u) {
-            atomicMax(g_counters.slabFarthest[k], farthest);
+    // atomic: a masked atomic with no active lane does nothing. With one slab the raster needs
+    // none (raster.comp), and even one contended atomic per subgroup was a fifth of the count.
+    if (SLABS > 1u) {
+        [[unroll]] for (uint k = 0u; k < SLABS; k++) {
+            uint farthest = subgroupMax(slab == k ? depth.y : 0u);
+            if (subgroupElect() && farthest != 0u) {
+                atomicMax(g_counters.slabFarthest[k], farthest);
+            }
         }
-    }
-    uint entries = subgroupAdd(touched);
-    if (subgroupElect()) {
-        atomicAdd(g_counters.binEntryCount, entries);
     }
 }

@@ -53,6 +53,9 @@ void scanBlocks() {
             s_runTotals[i] = total;
             total += t;
         }
+        // Every bin's count summed: the entries the frame needs, which the host checks
+        // against the list's capacity.
+        g_counters.binEntryCount = total;
     }
     barrier();
     uint offset = s_runTotals[gl_LocalInvocationID.x];

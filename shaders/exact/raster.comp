@@ -93,7 +93,9 @@ void main() {
     uint slabDepthMax[SLABS];
     [[unroll]] for (uint k = 0u; k < SLABS; k++) {
         slabEnd[k] = g_binOffsets[bin + k];
-        slabDepthMax[k] = g_counters.slabFarthest[k];
+        // With one slab, binning keeps no farthest depth; none is needed, since a row whose
+        // pixels have all passed every fragment has finished.
+        slabDepthMax[k] = SLABS > 1u ? g_counters.slabFarthest[k] : 0xFFFFFFFFu;
     }
     uint first = slabEnd[0] - g_binCounts[bin];
     uint end = slabEnd[SLABS - 1u];
