@@ -144,11 +144,12 @@ fn setup_pipeline(
     layouts: &[&crate::gpu::DescriptorLayout],
     features: &RasterFeatures,
 ) -> Result<ComputePipeline> {
-    // The raster's constants 0 to 3 and 9, which setup declares with the same ids. The rest
-    // stay at their defaults: setup is not rebuilt when they change (SLAB_BITS, constant 6,
-    // is declared in exact_bins.glsl, which setup includes).
+    // The raster's constants 0 to 3, 6 (SLAB_BITS, declared in exact_bins.glsl, which setup
+    // includes) and 9, which setup declares with the same ids. The rest stay at their
+    // defaults: setup is not rebuilt when they change.
     let mut constants = features.constants(false);
-    constants[4..9].fill(0);
+    constants[4..6].fill(0);
+    constants[7..9].fill(0);
     stage_pipeline(gpu, layouts, SETUP, &constants)
 }
 
@@ -553,7 +554,7 @@ impl Method for Exact {
             );
         }
         let layouts = [&uploaded.layout, &self.resources.layout];
-        if rebuild {
+        if rebuild || features.slab_bits != self.features.slab_bits {
             self.pipelines[SETUP] = setup_pipeline(&self.gpu, &layouts, &features)?;
         }
         if features.slab_bits != self.features.slab_bits {
