@@ -207,10 +207,12 @@ void main() {
     if (fragments > 0u) {
         imageStore(u_colour, ivec2(x, y), vec4(behind + lit, 1.0));
     }
+    // Statistics: one atomic per subgroup, in the workgroup's slot (exact_layout.glsl); there
+    // are no passes to count.
     uint subgroupFragments = subgroupAdd(fragments);
     if (subgroupElect()) {
-        atomicAdd(g_counters.fragmentCount, subgroupFragments);
-        atomicMax(g_counters.passCount, 1u);
+        atomicAdd(g_counters.statistics[(gl_WorkGroupID.x % STATISTICS_SLOTS) * 16u],
+                  subgroupFragments);
     }
 }
 

@@ -264,11 +264,12 @@ void main() {
         precise vec3 result = radiance + transmittance * behind;
         imageStore(u_colour, ivec2(x, y), vec4(result, 1.0));
     }
-    // Statistics: one atomic per subgroup, not per pixel.
+    // Statistics: one atomic per subgroup, not per pixel, in the workgroup's slot.
     uint subgroupFragments = subgroupAdd(fragments);
     uint subgroupPasses = subgroupMax(passes);
+    uint slot = (gl_WorkGroupID.x % STATISTICS_SLOTS) * 16u;
     if (subgroupElect()) {
-        atomicAdd(g_counters.fragmentCount, subgroupFragments);
-        atomicMax(g_counters.passCount, subgroupPasses);
+        atomicAdd(g_counters.statistics[slot], subgroupFragments);
+        atomicMax(g_counters.statistics[slot + 1u], subgroupPasses);
     }
 }

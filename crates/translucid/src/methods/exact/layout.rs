@@ -10,6 +10,8 @@ pub const BIN_SIZE: u32 = 1 << BIN_SHIFT;
 pub const ENTRY_SLAB_SHIFT: u32 = 28;
 /// Depth slabs the counters keep a farthest depth for.
 pub const MAX_SLABS: u32 = 16;
+/// Slots of `ExactCounters::statistics`, each a cache line (16 words).
+pub const STATISTICS_SLOTS: u32 = 8;
 /// A triangle record's flags keep its material above this bit.
 pub const TRIANGLE_MATERIAL_SHIFT: u32 = 8;
 pub const OVERFLOW_HOMOGENEOUS: u32 = 1;
@@ -48,7 +50,7 @@ pub struct ExactDraw {
 }
 
 #[repr(C)]
-#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq, Eq)]
 pub struct ExactCounters {
     pub triangle_count: u32,
     pub homogeneous_count: u32,
@@ -57,14 +59,35 @@ pub struct ExactCounters {
     pub triangle_capacity: u32,
     pub homogeneous_capacity: u32,
     pub bin_entry_capacity: u32,
-    pub fragment_count: u32,
-    pub pass_count: u32,
     pub resume_capacity: u32,
     pub resume_needed: u32,
     pub depth_lo: u32,
     pub depth_hi: u32,
-    pub pad: [u32; 2],
+    pub pad: u32,
     pub slab_farthest: [u32; MAX_SLABS as usize],
+    pub statistics: [[u32; 16]; STATISTICS_SLOTS as usize],
+}
+
+impl Default for ExactCounters {
+    fn default() -> Self {
+        Self::zeroed()
+    }
+}
+
+impl ExactCounters {
+    /// Fragments the raster composited.
+    pub fn fragments(&self) -> u64 {
+        self.statistics.iter().map(|slot| u64::from(slot[0])).sum()
+    }
+
+    /// The most selection passes any pixel needed.
+    pub fn passes(&self) -> u32 {
+        self.statistics
+            .iter()
+            .map(|slot| slot[1])
+            .max()
+            .unwrap_or(0)
+    }
 }
 
 #[repr(C)]
@@ -130,6 +153,8 @@ mod tests {
         assert_eq!(define("LOOP_BUDGET"), LOOP_BUDGET);
         assert_eq!(define("ENTRY_SLAB_SHIFT"), ENTRY_SLAB_SHIFT);
         assert_eq!(define("MAX_SLABS"), MAX_SLABS);
+        assert_eq!(define("STATISTICS_SLOTS"), STATISTICS_SLOTS);
+        assert_eq!(define("STATISTICS_WORDS"), STATISTICS_SLOTS * 16);
         assert_eq!(define("TRIANGLE_MATERIAL_SHIFT"), TRIANGLE_MATERIAL_SHIFT);
         assert_eq!(define("BINNING_GROUP_SIZE"), BINNING_GROUP_SIZE);
         assert_eq!(define("SCAN_GROUP_SIZE"), SCAN_GROUP_SIZE);
@@ -219,15 +244,13 @@ mod tests {
             offset_of!(ExactCounters, triangle_capacity),
             offset_of!(ExactCounters, homogeneous_capacity),
             offset_of!(ExactCounters, bin_entry_capacity),
-            offset_of!(ExactCounters, fragment_count),
-            offset_of!(ExactCounters, pass_count),
             offset_of!(ExactCounters, resume_capacity),
             offset_of!(ExactCounters, resume_needed),
             offset_of!(ExactCounters, depth_lo),
             offset_of!(ExactCounters, depth_hi),
             offset_of!(ExactCounters, pad),
-            offset_of!(ExactCounters, pad) + 4,
             offset_of!(ExactCounters, slab_farthest),
+            offset_of!(ExactCounters, statistics),
         ];
         assert_eq!(offsets("ExactCounters"), counters, "{msg}");
         assert_eq!(

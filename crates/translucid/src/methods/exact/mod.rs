@@ -547,11 +547,7 @@ impl Method for Exact {
         // (Other programs have no selection, and would only pay for slabs.)
         let pixels = u64::from(self.push.width) * u64::from(self.push.height);
         if self.program == RasterProgram::Exact {
-            features = features.after_frame(
-                counters.pass_count,
-                u64::from(counters.fragment_count),
-                pixels,
-            );
+            features = features.after_frame(counters.passes(), counters.fragments(), pixels);
         }
         let layouts = [&uploaded.layout, &self.resources.layout];
         if rebuild || features.slab_bits != self.features.slab_bits {
@@ -596,11 +592,11 @@ impl Method for Exact {
             );
         }
         let rerender = rebuild || grown.is_some() || unfinished > 0;
-        let kept = |count: u32| if rerender { 0 } else { u64::from(count) };
+        let kept = |count: u64| if rerender { 0 } else { count };
         Ok(FrameCheck {
             rerender,
-            fragments: kept(counters.fragment_count),
-            triangles: kept(counters.triangle_count),
+            fragments: kept(counters.fragments()),
+            triangles: kept(u64::from(counters.triangle_count)),
         })
     }
 }
