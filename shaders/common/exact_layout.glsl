@@ -38,6 +38,7 @@
 // Indirect dispatch commands (see exact_bindings.glsl) and binning's workgroup size.
 #define DISPATCH_RASTER_BINS 2u
 #define DISPATCH_BINNING 3u
+#define DISPATCH_BIN_OFFSETS 4u
 #define BINNING_GROUP_SIZE 64u
 // Workgroup size of the scan, and the multiple the blocks of the bin arrays are padded to.
 #define SCAN_GROUP_SIZE 256u

@@ -23,12 +23,14 @@ pub const LOOP_BUDGET: u32 = 60_000;
 /// Bytes of one `ExactPixelState`.
 pub const PIXEL_STATE_BYTES: u64 = 48;
 /// Bytes of the indirect dispatch commands (each padded to 16) before the resume items:
-/// resume list 0, resume list 1, non-empty bins, binning.
-pub const DISPATCH_BYTES: u64 = 64;
+/// resume list 0, resume list 1, non-empty bins, binning, bin offsets.
+pub const DISPATCH_BYTES: u64 = 80;
 /// Byte offset of the non-empty bins' dispatch command (`DISPATCH_RASTER_BINS`).
 pub const DISPATCH_RASTER_BINS_OFFSET: u64 = 32;
 /// Byte offset of the binning passes' dispatch command (`DISPATCH_BINNING`).
 pub const DISPATCH_BINNING_OFFSET: u64 = 48;
+/// Byte offset of the scan's last step's dispatch command (`DISPATCH_BIN_OFFSETS`).
+pub const DISPATCH_BIN_OFFSETS_OFFSET: u64 = 64;
 /// Invocations per workgroup of the binning passes (`local_size_x`).
 pub const BINNING_GROUP_SIZE: u32 = 64;
 /// Invocations per workgroup of the scan, and the multiple of blocks the bin arrays hold.
@@ -158,8 +160,12 @@ mod tests {
         assert_eq!(define("TRIANGLE_MATERIAL_SHIFT"), TRIANGLE_MATERIAL_SHIFT);
         assert_eq!(define("BINNING_GROUP_SIZE"), BINNING_GROUP_SIZE);
         assert_eq!(define("SCAN_GROUP_SIZE"), SCAN_GROUP_SIZE);
-        let commands = u64::from(define("DISPATCH_BINNING")) + 1;
+        let commands = u64::from(define("DISPATCH_BIN_OFFSETS")) + 1;
         assert_eq!(commands * 16, DISPATCH_BYTES);
+        assert_eq!(
+            u64::from(define("DISPATCH_BIN_OFFSETS")) * 16,
+            DISPATCH_BIN_OFFSETS_OFFSET
+        );
         assert_eq!(
             u64::from(define("DISPATCH_BINNING")) * 16,
             DISPATCH_BINNING_OFFSET

@@ -43,8 +43,8 @@ use crate::scene::Scene;
 use crate::Result;
 use features::RasterFeatures;
 use layout::{
-    ExactPush, BIN_SIZE, DISPATCH_BINNING_OFFSET, DISPATCH_RASTER_BINS_OFFSET, LOOP_BUDGET,
-    OVERFLOW_CROWDED_BIN,
+    ExactPush, BIN_SIZE, DISPATCH_BINNING_OFFSET, DISPATCH_BIN_OFFSETS_OFFSET,
+    DISPATCH_RASTER_BINS_OFFSET, LOOP_BUDGET, OVERFLOW_CROWDED_BIN,
 };
 use resources::{Capacities, Resources};
 
@@ -465,12 +465,18 @@ impl Method for Exact {
         self.dispatch_indirect(ctx, BIN_COUNT, DISPATCH_BINNING_OFFSET);
         self.compute_to_compute(cmd);
         ctx.timestamps.mark(cmd, "bin count");
-        let blocks = [self.resources.scan_groups(), 1, 1];
-        self.dispatch(ctx, BIN_SCAN, blocks);
-        for (step, groups) in self.scan_steps.iter().zip([[1, 1, 1], blocks]) {
-            self.compute_to_compute(cmd);
-            self.dispatch_pipeline(ctx, step, groups);
-        }
+        let [list_blocks, write_offsets] = &self.scan_steps;
+        self.dispatch(ctx, BIN_SCAN, [self.resources.scan_groups(), 1, 1]);
+        self.compute_to_compute(cmd);
+        self.dispatch_pipeline(ctx, list_blocks, [1, 1, 1]);
+        self.compute_to_compute(cmd);
+        write_offsets.dispatch_indirect(
+            cmd,
+            &[ctx.scene.set.raw, self.set.raw],
+            bytemuck::bytes_of(&self.push),
+            self.resources.dispatches(),
+            DISPATCH_BIN_OFFSETS_OFFSET,
+        );
         self.compute_to_compute(cmd);
         ctx.timestamps.mark(cmd, "bin scan");
         self.dispatch_indirect(ctx, BIN_FILL, DISPATCH_BINNING_OFFSET);

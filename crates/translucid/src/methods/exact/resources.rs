@@ -126,13 +126,15 @@ const TEXELS: vk::BufferUsageFlags = vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER;
 const RGBA32UI: vk::Format = vk::Format::R32G32B32A32_UINT;
 /// Empty indirect dispatch commands, (x, y, z) and a word of padding each, x counted on the
 /// GPU: resume lists of (items, 1, 1) workgroups, the listed blocks' (blocks, BIN_SIZE /
-/// rows, 1) for raster workgroups of `rows` rows, and binning's (triangle groups, slices, 1).
-fn empty_dispatches(rows: u32, slices: u32) -> [[u32; 4]; 4] {
+/// rows, 1) for raster workgroups of `rows` rows, binning's (triangle groups, slices, 1), and
+/// the scan's last step's (groups of listed blocks, 1, 1).
+fn empty_dispatches(rows: u32, slices: u32) -> [[u32; 4]; 5] {
     [
         [0, 1, 1, 0],
         [0, 1, 1, 0],
         [0, BIN_SIZE / rows, 1, 0],
         [0, slices, 1, 0],
+        [0, 1, 1, 0],
     ]
 }
 
