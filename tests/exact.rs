@@ -92,6 +92,28 @@ fn exact_matches_reference_with_the_deep_frame_settings_and_one_row_workgroups()
     assert!(frame.rerenders >= 1, "the overflow path was not taken");
 }
 
+/// Binning splits a triangle taller than a slice of rows into several invocations (setup sizes
+/// the dispatch to the tallest); slices of 5 rows split nearly every triangle of these scenes,
+/// large and near-plane ones included.
+#[test]
+fn exact_matches_reference_with_triangles_binned_in_slices() {
+    let sliced = MethodOptions {
+        bin_rows_per_slice: Some(5),
+        ..Default::default()
+    };
+    for name in ["layers", "planes", "spheres"] {
+        let scene = scene::load(name).expect("generated scene");
+        check(&scene, &format!("sliced_{name}"), 213, 131, &sliced);
+    }
+    check(&near_plane_scene(), "sliced_near_plane", 157, 119, &sliced);
+    let deep = MethodOptions {
+        assume_deep_pixels: true,
+        ..sliced
+    };
+    let particles = scene::load("particles").expect("particles");
+    check(&particles, "sliced_deep_particles", 213, 131, &deep);
+}
+
 /// A quad that passes through the camera plane: rasterized homogeneously, clipped by depth.
 fn near_plane_scene() -> Scene {
     let positions = vec![

@@ -29,12 +29,21 @@ uint binIndex(int bx, int y) {
 }
 
 // The pixel rows of `r` this binning invocation covers. A triangle's bins are split into
-// slices of u_push.binRowsPerSlice rows, one invocation each (gl_GlobalInvocationID.y), so
-// that no invocation loops more than LOOP_BUDGET times however large the triangle and frame.
+// slices of u_push.binRowsPerSlice rows from its first, one invocation each
+// (gl_GlobalInvocationID.y), so that no invocation loops more than LOOP_BUDGET times however
+// large the triangle and frame. Setup sizes the dispatch to the tallest triangle's slices
+// (binningSlices), so that a frame of triangles under that height bins each once: with
+// slices of the frame's rows instead, every triangle paid a second, empty invocation.
 ivec2 sliceRows(ivec4 r) {
     int rows = int(u_push.binRowsPerSlice);
-    int first = int(gl_GlobalInvocationID.y) * rows;
-    return ivec2(max(r.y, first), min(r.w, first + rows - 1));
+    int first = r.y + int(gl_GlobalInvocationID.y) * rows;
+    return ivec2(first, min(r.w, first + rows - 1));
+}
+
+// The slices of a triangle with pixel bounds `bounds` (sliceRows).
+uint binningSlices(ivec4 bounds) {
+    uint rows = uint(max(bounds.w - bounds.y, 0));
+    return max((rows + u_push.binRowsPerSlice - 1u) / u_push.binRowsPerSlice, 1u);
 }
 
 // Bits of a triangle's nearest and farthest vertex view depth, widened by a relative 2^-12

@@ -388,8 +388,12 @@ void main() {
             uint nearest = SLABS > 1u ? subgroupMin(depth.x) : 0u;
             uint farthest = SLABS > 1u ? subgroupMax(depth.y) : 0u;
             uvec4 kept = subgroupBallot(true);
+            uint slices = subgroupMax(binningSlices(t.bounds));
             uint first = 0u;
             if (subgroupElect()) {
+                if (slices > 1u) {
+                    atomicMax(g_dispatch[DISPATCH_BINNING * 4u + 1u], slices);
+                }
                 if (SLABS > 1u) {
                     atomicMin(g_counters.depthLo, nearest);
                     atomicMax(g_counters.depthHi, farthest);

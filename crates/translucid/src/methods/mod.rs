@@ -46,6 +46,11 @@ pub struct MethodOptions {
     /// a row (most GPUs), so that tests cover that path on lavapipe too.
     #[doc(hidden)]
     pub assume_wide_subgroups: bool,
+    /// `exact`: bin at most this many rows of a triangle per binning invocation (the shader
+    /// loop budget otherwise decides, about 370 rows at 1280 pixels across), so that tests
+    /// cover triangles split into several slices.
+    #[doc(hidden)]
+    pub bin_rows_per_slice: Option<u32>,
     /// `wavelet`: Haar rank, 0 to 3 (2^(rank+1) coefficients per colour channel); `None`
     /// is [`wavelet::DEFAULT_RANK`]. A larger rank is an error.
     pub rank: Option<u32>,

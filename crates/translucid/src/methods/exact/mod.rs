@@ -302,7 +302,9 @@ impl Exact {
             threshold: options.threshold,
             resume_list: 0,
             // A row of bins costs at most bins_x + 1 iterations.
-            bin_rows_per_slice: (LOOP_BUDGET / (bins_x + 1)).max(1),
+            bin_rows_per_slice: (LOOP_BUDGET / (bins_x + 1))
+                .min(options.bin_rows_per_slice.unwrap_or(u32::MAX))
+                .max(1),
             pad: [0; 3],
         };
         Ok(Self {
@@ -421,8 +423,7 @@ impl Method for Exact {
 
     fn record(&mut self, ctx: &mut RecordContext<'_>) -> Result<()> {
         let cmd = ctx.cmd;
-        let slices = self.push.height.div_ceil(self.push.bin_rows_per_slice);
-        self.resources.record_reset(cmd, self.features.rows, slices);
+        self.resources.record_reset(cmd, self.features.rows);
         let attachment = (
             vk::PipelineStageFlags::ALL_GRAPHICS,
             vk::AccessFlags::COLOR_ATTACHMENT_WRITE

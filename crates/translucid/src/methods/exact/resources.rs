@@ -126,14 +126,14 @@ const TEXELS: vk::BufferUsageFlags = vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER;
 const RGBA32UI: vk::Format = vk::Format::R32G32B32A32_UINT;
 /// Empty indirect dispatch commands, (x, y, z) and a word of padding each, x counted on the
 /// GPU: resume lists of (items, 1, 1) workgroups, the listed blocks' (blocks, BIN_SIZE /
-/// rows, 1) for raster workgroups of `rows` rows, binning's (triangle groups, slices, 1), and
-/// the scan's last step's (groups of listed blocks, 1, 1).
-fn empty_dispatches(rows: u32, slices: u32) -> [[u32; 4]; 5] {
+/// rows, 1) for raster workgroups of `rows` rows, binning's (triangle groups, slices of the
+/// tallest triangle, 1), and the scan's last step's (groups of listed blocks, 1, 1).
+fn empty_dispatches(rows: u32) -> [[u32; 4]; 5] {
     [
         [0, 1, 1, 0],
         [0, 1, 1, 0],
         [0, BIN_SIZE / rows, 1, 0],
-        [0, slices, 1, 0],
+        [0, 1, 1, 0],
         [0, 1, 1, 0],
     ]
 }
@@ -471,8 +471,8 @@ impl Resources {
 
     /// Zeroes the counters and bin counts, writes the capacities and an empty depth range,
     /// and empties the indirect dispatch commands (the raster's first having workgroups of
-    /// `rows` rows, binning's `slices` slices of rows), before setup.
-    pub fn record_reset(&self, cmd: vk::CommandBuffer, rows: u32, slices: u32) {
+    /// `rows` rows, binning one slice until setup finds a taller triangle), before setup.
+    pub fn record_reset(&self, cmd: vk::CommandBuffer, rows: u32) {
         let gpu = self.counters.gpu();
         // One write of the whole record: separate writes to one buffer would need barriers
         // between them.
@@ -490,7 +490,7 @@ impl Resources {
             cmd,
             &self.growable.resume,
             0,
-            bytemuck::cast_slice(&empty_dispatches(rows, slices)),
+            bytemuck::cast_slice(&empty_dispatches(rows)),
         );
         memory_barrier(
             gpu,
