@@ -126,6 +126,9 @@ void main() {
     }
     uint passes = 0u;
     uint fragments = 0u;
+    // Fragments the pixel's first pass found, all of them but where depth slabs ended the
+    // walk early: its depth, whatever the threshold.
+    uint firstFound = 0u;
     // Uniform across the subgroup: every pixel of a row walks the same list.
     uint spent = 0u;
     uint passCost = passIterations(end - first);
@@ -226,6 +229,7 @@ void main() {
             e++;
         } while (e < end);
         passes += finished ? 0u : 1u;
+        firstFound += doneKey == 0ul ? found : 0u;
         uint count = min(found, uint(SELECT_SIZE));
         // A pixel stops as soon as its transmittance is under the threshold, even within a
         // pass (its loop ends there; the row's ends when every pixel's has).
@@ -267,9 +271,11 @@ void main() {
     // Statistics: one atomic per subgroup, not per pixel, in the workgroup's slot.
     uint subgroupFragments = subgroupAdd(fragments);
     uint subgroupPasses = subgroupMax(passes);
+    uint subgroupFound = subgroupAdd(firstFound);
     uint slot = (gl_WorkGroupID.x % STATISTICS_SLOTS) * 16u;
     if (subgroupElect()) {
         atomicAdd(g_counters.statistics[slot], subgroupFragments);
         atomicMax(g_counters.statistics[slot + 1u], subgroupPasses);
+        atomicAdd(g_counters.statistics[slot + 2u], subgroupFound);
     }
 }

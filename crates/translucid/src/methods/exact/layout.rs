@@ -82,6 +82,12 @@ impl ExactCounters {
         self.statistics.iter().map(|slot| u64::from(slot[0])).sum()
     }
 
+    /// Fragments in front of the opaque layer, composited or not (a threshold stops pixels
+    /// early); fewer where depth slabs ended a pixel's first walk early.
+    pub fn fragments_in_front(&self) -> u64 {
+        self.statistics.iter().map(|slot| u64::from(slot[2])).sum()
+    }
+
     /// The most selection passes any pixel needed.
     pub fn passes(&self) -> u32 {
         self.statistics
@@ -142,6 +148,22 @@ mod tests {
             .into_iter()
             .map(|(_, o)| o)
             .collect()
+    }
+
+    #[test]
+    fn statistics_add_up_over_the_slots() {
+        let mut c = ExactCounters::default();
+        for (k, slot) in c.statistics.iter_mut().enumerate() {
+            let k = k as u32;
+            *slot = [0; 16];
+            slot[0] = 10 + k;
+            slot[1] = k % 3;
+            slot[2] = 100 * (k + 1);
+        }
+        let slots = u64::from(STATISTICS_SLOTS);
+        assert_eq!(c.fragments(), 10 * slots + slots * (slots - 1) / 2);
+        assert_eq!(c.passes(), 2);
+        assert_eq!(c.fragments_in_front(), 100 * slots * (slots + 1) / 2);
     }
 
     #[test]

@@ -554,7 +554,8 @@ impl Method for Exact {
         // (Other programs have no selection, and would only pay for slabs.)
         let pixels = u64::from(self.push.width) * u64::from(self.push.height);
         if self.program == RasterProgram::Exact {
-            features = features.after_frame(counters.passes(), counters.fragments(), pixels);
+            features =
+                features.after_frame(counters.passes(), counters.fragments_in_front(), pixels);
         }
         let layouts = [&uploaded.layout, &self.resources.layout];
         if rebuild || features.slab_bits != self.features.slab_bits {
