@@ -383,7 +383,7 @@ void main() {
             // Frame-wide counters take one atomic per subgroup: one per triangle made them the
             // most contended words of the frame. Only the visible lanes are active here. The
             // depth range only places slabs (exact_bins.glsl): frames of one slab skip it
-            // (the dragon's setup 6 % faster).
+            // (the dragon's setup 4-6 % faster).
             uvec2 depth = homogeneous ? uvec2(0xFFFFFFFFu, 0u) : triangleDepthBits(t);
             uint nearest = SLABS > 1u ? subgroupMin(depth.x) : 0u;
             uint farthest = SLABS > 1u ? subgroupMax(depth.y) : 0u;
