@@ -119,7 +119,8 @@ DrawInfo loadDrawInfo(uint i) {
 #define TRIANGLE_TEXELS 5
 #define RASTER_TRIANGLE_TEXELS 4
 
-// Edge k of a triangle runs from vertex k + 1 to vertex k + 2; fixedEdge in setup.comp.
+// The fixed-point edges of snapped vertices v, negated when they wind the other way: edge k
+// runs from vertex k + 1 to vertex k + 2. Setup and the record loaders both build them here.
 void unpackEdges(ivec2 v[3], bool negated, out ExactTriangle t) {
     int s = negated ? -1 : 1;
     int ties = 0;

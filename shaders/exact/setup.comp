@@ -136,20 +136,11 @@ bool setupTriangle(vec4 c[3], out ExactTriangle t, out ivec2 vertices[3], out bo
         }
         int64_t s = area2 > 0 ? int64_t(1) : int64_t(-1);
         negated = s < 0;
-        // Inside the guard band, so they fit 32 bits.
+        // Inside the guard band, so they fit 32 bits. The edges come from the same function
+        // that rebuilds them from the record.
         vertices = ivec2[3](ivec2(p[0]), ivec2(p[1]), ivec2(p[2]));
-        int ties = 0;
-        for (int k = 0; k < 3; k++) {
-            int64_t a, b, cc;
-            fixedEdge(p[(k + 1) % 3], p[(k + 2) % 3], s, a, b, cc);
-            t.edgeA[k] = int(a);
-            t.edgeB[k] = int(b);
-            t.edgeC[k] = cc;
-            ties |= ownsTies(a, b) ? (1 << k) : 0;
-        }
-        t.edgeA.w = ties;
+        unpackEdges(vertices, negated, t);
         t.edgeB.w = -1;
-        t.edgeC.w = 0;
         int64_t minX = min(min(p[0].x, p[1].x), p[2].x);
         int64_t minY = min(min(p[0].y, p[1].y), p[2].y);
         int64_t maxX = max(max(p[0].x, p[1].x), p[2].x);
@@ -399,8 +390,9 @@ void main() {
                     atomicMax(g_counters.depthHi, farthest);
                 }
                 // Capacity is two triangles per quad: this cannot overflow.
-                first = atomicAdd(g_counters.triangleCount, subgroupBallotBitCount(kept));
-                uint last = first + subgroupBallotBitCount(kept) - 1u;
+                uint keptCount = subgroupBallotBitCount(kept);
+                first = atomicAdd(g_counters.triangleCount, keptCount);
+                uint last = first + keptCount - 1u;
                 atomicMax(g_dispatch[DISPATCH_BINNING * 4u], last / BINNING_GROUP_SIZE + 1u);
             }
             uint ti = subgroupBroadcastFirst(first) + subgroupBallotExclusiveBitCount(kept);
