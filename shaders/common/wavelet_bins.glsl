@@ -11,10 +11,11 @@
 //    transmittance in front of it, its own share removed;
 // then the opaque colour, dimmed by the transmittance behind every fragment, plus what the
 // fragments added, is written once. Rows whose pixels all have at most KEPT fragments keep
-// them from walk 1 (their triangles, in registers) and do walks 2 and 3 over those instead
-// of the list: each fragment is covered once and shaded once. The loop budget applies on
-// every device, and to every row of a scene with any texture (TEXTURES is per scene). Coverage, sampling and shading are exact's, so a pixel's
-// fragments are the CPU reference's, and the math is wavelet.glsl's, as in the image passes.
+// their triangles from walk 1 (in registers), and walks 2 and 3 visit those instead of the
+// list: a pixel's own fragments, not every triangle of the row. The loop budget applies on
+// every device, and to every row of a scene with any texture (TEXTURES is per scene).
+// Coverage, sampling and shading are exact's, so a pixel's fragments are the CPU
+// reference's, and the math is wavelet.glsl's, as in the image passes.
 // Rows whose walks would pass the driver's loop budget are reported (OVERFLOW_CROWDED_BIN):
 // unlike exact's raster, a row's state (its coefficients) is not saved for a continuation.
 
@@ -46,6 +47,16 @@ const int KEPT = 8;
 // index clamped to the list's last entry.
 uint entryTriangle(uint e, uint last) {
     return texelFetch(u_binEntryTexels, int(min(e, last))).r & ENTRY_TRIANGLE_MASK;
+}
+
+// The triangle of visit i of walks 2 and 3: kept slot i in the short form, else list entry
+// first + i (selects over constant indices: a run-time index would put the slots in memory).
+uint visitTriangle(bool shortForm, uint keptTri[KEPT], uint i, uint first, uint last) {
+    uint kept = keptTri[0];
+    [[unroll]] for (int k = 1; k < KEPT; k++) {
+        kept = uint(k) == i ? keptTri[k] : kept;
+    }
+    return shortForm ? kept : entryTriangle(first + i, last);
 }
 
 void main() {
@@ -103,27 +114,22 @@ void main() {
         return;
     }
     vec2 bounds = vec2(nearest, farthest);
-    // The short form when every pixel of the row kept all its fragments; loops with bounds
-    // the whole row shares are skipped outright, where an `if` would run masked.
+    // Walks 2 and 3 visit the row's list, or, when every pixel of the row kept all its
+    // fragments, each pixel's kept triangles (each covered once). One loop serves both, so
+    // that a row runs each walk's body once at least, not twice (a loop's body always runs).
     bool shortForm = subgroupAll(fragments <= uint(KEPT));
-    uint walkEnd = shortForm ? first : end;
-    uint keptCount = shortForm ? fragments : 0u;
-    // What walk 3's short form needs of each kept fragment, filled by walk 2's.
-    vec3 keptRadiance[KEPT];
-    vec3 keptAbsorbance[KEPT];
-    float keptPosition[KEPT];
-    float keptDepth[KEPT];
+    uint visits = shortForm ? fragments : end - first;
 
     // Walk 2: transmittance, as coefficients.
     vec3 c[WAVELET_MAX_COUNT];
     [[unroll]] for (int i = 0; i < WAVELET_MAX_COUNT; i++) {
         c[i] = vec3(0.0);
     }
-    nextTri = entryTriangle(first, lastEntry);
-    e = first;
-    if (e < walkEnd) do {
+    nextTri = visitTriangle(shortForm, keptTri, 0u, first, lastEntry);
+    uint i = 0u;
+    if (i < visits) do {
         uint ti = nextTri;
-        nextTri = entryTriangle(e + 1u, lastEntry);
+        nextTri = visitTriangle(shortForm, keptTri, i + 1u, first, lastEntry);
         ExactTriangle t = loadRasterTriangle(ti);
         RasterSample s;
         bool take = coverSample(t, x, y, s) && s.zNdc < opaqueDepth;
@@ -136,32 +142,7 @@ void main() {
         }
         float p = waveletCellPosition(waveletNormalizedDepth(s.viewDepth, bounds), pixel);
         waveletAccumulate(c, take ? p : 0.0, a);
-    } while (++e < walkEnd);
-    // Short form: shade slot 0, then rotate it to the end of the pixel's kept fragments with
-    // what walk 3 needs (constant indices only), so slot 0 is the next one.
-    uint i = 0u;
-    if (i < keptCount) do {
-        uint ti = keptTri[0];
-        ExactTriangle t = loadRasterTriangle(ti);
-        RasterSample s;
-        sampleTriangle(t, x, y, s);
-        vec3 l;
-        vec3 tr;
-        shadeFragment(t, loadShadingAttributes(ti), x, y, s, frame, l, tr);
-        vec3 a = waveletAbsorbance(tr);
-        float p = waveletCellPosition(waveletNormalizedDepth(s.viewDepth, bounds), pixel);
-        waveletAccumulate(c, p, a);
-        uint last = fragments - 1u;
-        [[unroll]] for (int k = 0; k < KEPT; k++) {
-            bool here = uint(k) == last;
-            int next = min(k + 1, KEPT - 1);
-            keptTri[k] = here ? ti : keptTri[next];
-            keptRadiance[k] = here ? l : keptRadiance[next];
-            keptAbsorbance[k] = here ? a : keptAbsorbance[next];
-            keptPosition[k] = here ? p : keptPosition[next];
-            keptDepth[k] = here ? s.zNdc : keptDepth[next];
-        }
-    } while (++i < keptCount);
+    } while (++i < visits);
     vec3 cells[WAVELET_MAX_COUNT];
     waveletSynthesize(c, cells);
 
@@ -173,11 +154,11 @@ void main() {
     // Walk 3: shading. The fragments' share is summed apart from the opaque colour, so that
     // the sum of quantized addends stays exact.
     vec3 lit = vec3(0.0);
-    nextTri = entryTriangle(first, lastEntry);
-    e = first;
-    if (e < walkEnd) do {
+    nextTri = visitTriangle(shortForm, keptTri, 0u, first, lastEntry);
+    i = 0u;
+    if (i < visits) do {
         uint ti = nextTri;
-        nextTri = entryTriangle(e + 1u, lastEntry);
+        nextTri = visitTriangle(shortForm, keptTri, i + 1u, first, lastEntry);
         ExactTriangle t = loadRasterTriangle(ti);
         RasterSample s;
         bool take = coverSample(t, x, y, s) && s.zNdc < opaqueDepth && s.zNdc < cut;
@@ -189,21 +170,7 @@ void main() {
             vec3 inFront = waveletAbsorbanceAt(cells, p, waveletAbsorbance(tr));
             lit += waveletQuantize(l * waveletTransmittance(inFront));
         }
-    } while (++e < walkEnd);
-    // Short form: slot 0, then shift left.
-    i = 0u;
-    if (i < keptCount) do {
-        if (keptDepth[0] < cut) {
-            vec3 inFront = waveletAbsorbanceAt(cells, keptPosition[0], keptAbsorbance[0]);
-            lit += waveletQuantize(keptRadiance[0] * waveletTransmittance(inFront));
-        }
-        [[unroll]] for (int k = 0; k < KEPT - 1; k++) {
-            keptRadiance[k] = keptRadiance[k + 1];
-            keptAbsorbance[k] = keptAbsorbance[k + 1];
-            keptPosition[k] = keptPosition[k + 1];
-            keptDepth[k] = keptDepth[k + 1];
-        }
-    } while (++i < keptCount);
+    } while (++i < visits);
     if (fragments > 0u) {
         imageStore(u_colour, ivec2(x, y), vec4(behind + lit, 1.0));
     }
