@@ -7,21 +7,26 @@
 // wide (lavapipe on AVX2), whose subgroups take consecutive invocations, so each is one row.
 // The host requires subgroups of at least BIN_SIZE.
 //
-// Each pixel selects, in one pass over its row's triangles, the SELECT_SIZE nearest fragments
-// behind the last one it composited, keeping them sorted in registers with a fully unrolled
-// insertion (constant indices only); shades and composites them front to back; and repeats
-// until no fragment is left or transmittance is under the threshold. All invocations walk
-// the row's list in step. Deep frames order each list by depth slab (exact_bins.glsl): a
-// pixel's pass then ends once it holds fragments nearer than the next slab's floor (the
-// row's when every pixel's has), and a pass starts past the leading slabs whose farthest
-// depth every pixel has passed.
+// Each pixel keeps, as it walks its row's triangles, the SELECT_SIZE nearest fragments behind
+// the last one it composited, sorted in registers by a fully unrolled insertion (constant
+// indices only). All invocations walk the row's list in step, a stretch at a time: the
+// entries of one depth slab (exact_bins.glsl; shallow frames have one slab, the whole list).
+// After each stretch a pixel shades and composites, front to back, the fragments it keeps
+// that are nearer than the next slab's floor and than any fragment it had to drop: nothing
+// still unwalked or dropped can come before them. A sweep is the walk over the whole list;
+// a pixel that dropped nothing in one is done, the others sweep again behind what they
+// composited, starting past the leading slabs whose farthest depth every pixel has passed.
+// So a deep pixel needs room for the fragments of about one slab, not all of its own: at
+// 1280x720, particles (60 deep) take 3 sweeps of 16, where selecting the 24 nearest per
+// pass and compositing only at the pass's end took 8-16 % longer. Transmittance under the
+// threshold ends a pixel at once.
 // Order is exact by construction: fragments are ranked by (view depth, draw, quad,
 // triangle) like the CPU reference, so no pixel is ever out of order.
 //
 // On CPU drivers such as lavapipe an `if` does not branch: both sides run under a mask, so
 // cost is the code inside each loop times its iterations, and only loop exits save work.
-// Shading therefore runs in its own loop of at most SELECT_SIZE iterations per pass instead
-// of inside the walk (measured 1.5-9x slower there). Those drivers test a loop's exit at
+// Shading therefore runs in its own loop of at most SELECT_SIZE iterations per stretch
+// instead of inside the walk (measured 1.5-9x slower there). Those drivers test a loop's exit at
 // the end of each iteration, so a `for` or `while` runs its body once more, masked, after
 // its last lanes leave at the top: every loop here is a do-while (behind an `if` where it
 // may run no iteration), which took up to a third off the shallow scenes' rasters. Those
@@ -51,10 +56,9 @@ layout(local_size_x = BIN_SIZE, local_size_y_id = 7) in;
 
 // Constants 0 to 3 say what the scene needs (exact_fragment.glsl).
 layout(constant_id = 4) const bool CONTINUATION = false;     // resume items of a resume list
-// Fragments selected per pass. Larger means fewer passes over the bin for deep pixels, but
-// a longer insertion for every triangle walked: the host starts at 8 and moves to
-// DEEP_SELECT_SIZE (features.rs) when pixels needed several passes (at 640x360 on lavapipe,
-// 16 made particles, 60 deep, 1.6x faster than 8, and cost spheres about 10 %).
+// Fragments a pixel keeps. Larger means fewer sweeps for deep pixels, but a longer insertion
+// for every triangle walked: the host starts at 8 and moves to DEEP_SELECT_SIZE
+// (features.rs) when pixels needed several sweeps.
 layout(constant_id = 5) const int SELECT_SIZE = 8;
 
 // A fragment's rank as one number: view depth bits (positive floats order like their bits),
@@ -65,9 +69,9 @@ uint64_t fragmentKey(uint depthBits, uint order) {
 
 const uint64_t NO_KEY = 0xFFFFFFFFFFFFFFFFul;
 
-// Loop iterations one selection pass may take, counted generously: the walk, the shading
-// loop, and the software sampler's mip loops.
-uint passIterations(uint entries) {
+// Loop iterations one stretch of `entries` entries may take, counted generously: the walk,
+// the shading loop, and the software sampler's mip loops.
+uint stretchIterations(uint entries) {
     return entries + 4u + uint(SELECT_SIZE) * (TEXTURES ? 40u : 2u);
 }
 
@@ -126,18 +130,65 @@ void main() {
     }
     uint passes = 0u;
     uint fragments = 0u;
-    // Fragments the pixel's first pass found, all of them but where depth slabs ended the
-    // walk early: its depth, whatever the threshold.
+    // Fragments the pixel's first sweep found, all of them unless it had to drop some: its
+    // depth, whatever the threshold.
     uint firstFound = 0u;
     // Uniform across the subgroup: every pixel of a row walks the same list.
     uint spent = 0u;
-    uint passCost = passIterations(end - first);
     bool suspended = false;
 
+    // The selection, kept from one stretch to the next within a sweep.
+    uint64_t selKey[SELECT_SIZE];
+    uint selTri[SELECT_SIZE];
+    [[unroll]] for (int k = 0; k < SELECT_SIZE; k++) {
+        selKey[k] = NO_KEY;
+        selTri[k] = 0u;
+    }
+    // The nearest fragment this sweep found but could not keep (NO_KEY: none).
+    uint64_t dropped = NO_KEY;
+    // The slab the next stretch starts at, uniform across the row.
+    uint cursor = 0u;
+    bool sweepStart = true;
+    // Bit k: slab k of the row's list has entries.
+    uint nonEmptySlabs = 0u;
+    [[unroll]] for (uint k = 0u; k < SLABS; k++) {
+        uint start = k == 0u ? first : slabEnd[k - 1u];
+        nonEmptySlabs |= slabEnd[k] > start ? 1u << k : 0u;
+    }
+    bool opaqueEnough = false;
+
     do {
-        if (spent + passCost > LOOP_BUDGET) {
+        if (sweepStart) {
+            // Skip the leading slabs that every pixel still at work has composited entirely.
+            uint doneBits = finished ? 0xFFFFFFFFu : unpackUint2x32(doneKey).y;
+            uint nearestDone = subgroupMin(doneBits);
+            bool skipping = true;
+            cursor = 0u;
+            [[unroll]] for (uint k = 0u; k < SLABS; k++) {
+                skipping = skipping && slabDepthMax[k] < nearestDone;
+                cursor = skipping ? k + 1u : cursor;
+            }
+            passes += finished ? 0u : 1u;
+        }
+        // This stretch: the first non-empty slab from `cursor` (none: an empty stretch, the
+        // last of the sweep); and the floor of the next non-empty slab, under which whatever
+        // a pixel keeps is final. (SLABS is at most 16: the shifts stay under 32.)
+        int slab = findLSB(nonEmptySlabs & (0xFFFFFFFFu << cursor));
+        int nextSlab = slab < 0 ? -1 : findLSB(nonEmptySlabs & (0xFFFFFFFEu << uint(slab)));
+        uint from = end;
+        uint to = end;
+        [[unroll]] for (uint k = 0u; k < SLABS; k++) {
+            from = int(k) == slab ? (k == 0u ? first : slabEnd[k - 1u]) : from;
+            to = int(k) == slab ? slabEnd[k] : to;
+        }
+        uint after = slab < 0 ? SLABS : uint(slab) + 1u;
+        bool nextFound = nextSlab >= 0;
+        uint limitBits = slabFloor(uint(max(nextSlab, 0)), depthLo, shift);
+        uint64_t limit = nextFound ? uint64_t(limitBits) << 32 : NO_KEY;
+        uint stretchCost = stretchIterations(to - from);
+        if (spent + stretchCost > LOOP_BUDGET) {
             if (spent == 0u) {
-                // Not even one pass fits a fresh budget: tell the host instead of drawing
+                // Not even one stretch fits a fresh budget: tell the host instead of drawing
                 // a wrong pixel.
                 atomicOr(g_counters.overflow, OVERFLOW_CROWDED_BIN);
                 break;
@@ -166,43 +217,20 @@ void main() {
             suspended = true;
             break;
         }
-        spent += passCost;
-        uint64_t selKey[SELECT_SIZE];
-        uint selTri[SELECT_SIZE];
-        [[unroll]] for (int k = 0; k < SELECT_SIZE; k++) {
-            selKey[k] = NO_KEY;
-            selTri[k] = 0u;
-        }
-        // Skip the leading slabs that every pixel still at work has composited entirely.
-        uint doneBits = finished ? 0xFFFFFFFFu : unpackUint2x32(doneKey).y;
-        uint nearestDone = subgroupMin(doneBits);
-        uint walkFrom = first;
-        bool skipping = true;
-        [[unroll]] for (uint k = 0u; k < SLABS; k++) {
-            skipping = skipping && slabDepthMax[k] < nearestDone;
-            walkFrom = skipping ? slabEnd[k] : walkFrom;
-        }
+        spent += stretchCost;
         uint found = 0u;
-        bool truncated = false;
-        // Each step fetches the next step's entry, so that its triangle's fetches need not
-        // wait for it (3 % of deep rasters). Clamped, so no fetch falls past the list's end
-        // (the last step re-reads its own entry).
         uint last = max(end, 1u) - 1u;
-        uint nextEntry = texelFetch(u_binEntryTexels, int(min(walkFrom, last))).r;
-        uint e = walkFrom;
-        if (e < end) do {
-            // The same entry for the whole row. (A broadcast would tell a GPU compiler so, but
-            // on CPU drivers it is a loop over the lanes: 3 % of the raster.)
+        uint nextEntry = texelFetch(u_binEntryTexels, int(min(from, last))).r;
+        uint e = from;
+        if (e < to) do {
             uint entry = nextEntry;
             nextEntry = texelFetch(u_binEntryTexels, int(min(e + 1u, last))).r;
-            // Once a pixel's selection is full and nearer than this slab's floor, nothing from
-            // here on can enter it, and its walk ends; the row's ends when every pixel's has.
-            // (A per-pixel break, since a loop ends when no lane is left in it; a vote would be
-            // another loop over the lanes.)
+            // A pixel that dropped a fragment nearer than this slab's floor can composite
+            // nothing from here on in this sweep, so its walk ends (the row's when every
+            // pixel's has). (A per-pixel break, since a loop ends when no lane is left in it;
+            // a vote would be another loop over the lanes.)
             uint floorBits = slabFloor(entry >> ENTRY_SLAB_SHIFT, depthLo, shift);
-            uint farthestKept = unpackUint2x32(selKey[SELECT_SIZE - 1]).y;
-            if (finished || (selKey[SELECT_SIZE - 1] != NO_KEY && farthestKept < floorBits)) {
-                truncated = true;
+            if (finished || dropped < (uint64_t(floorBits) << 32)) {
                 break;
             }
             uint ti = entry & ENTRY_TRIANGLE_MASK;
@@ -212,10 +240,12 @@ void main() {
             uint64_t key = fragmentKey(floatBitsToUint(s.viewDepth), t.order);
             take = take && !finished && s.zNdc < opaqueDepth && key > doneKey;
             found += take ? 1u : 0u;
+            key = take ? key : NO_KEY;
             // Insert, dropping the last: each slot takes its left neighbour, the new key, or
             // keeps its own, walking right to left (left neighbours are still unchanged). A
-            // fragment not taken has NO_KEY, which sorts before no slot.
-            key = take ? key : NO_KEY;
+            // fragment not taken has NO_KEY, which sorts before no slot. What falls out of a
+            // full selection is the larger of the new key and the last.
+            dropped = min(dropped, max(key, selKey[SELECT_SIZE - 1]));
             [[unroll]] for (int k = SELECT_SIZE - 1; k > 0; k--) {
                 bool shift = key < selKey[k - 1];
                 bool here = key < selKey[k];
@@ -227,25 +257,15 @@ void main() {
                 selTri[0] = ti;
             }
             e++;
-        } while (e < end);
-        passes += finished ? 0u : 1u;
-        firstFound += doneKey == 0ul ? found : 0u;
-        uint count = min(found, uint(SELECT_SIZE));
-        // A pixel stops as soon as its transmittance is under the threshold, even within a
-        // pass (its loop ends there; the row's ends when every pixel's has).
-        bool opaqueEnough = false;
+        } while (e < to);
+        firstFound += passes == 1u && !CONTINUATION ? found : 0u;
+        // Composite, nearest first, what nothing unwalked or dropped can come before: slot 0,
+        // then shift the selection left (K moves; picking slot i by selects instead would
+        // need the kept slots compacted before the next stretch's insertions).
+        uint64_t final = min(limit, dropped);
         uint composited = 0u;
-        uint i = 0u;
-        if (count > 0u) do {
-            // Slot i, picked by selects over constant indices (no run-time index). Shifting the
-            // selection left every step instead moved all its keys and triangles, which a deep
-            // selection spills: 5 % of the particles raster.
+        if (selKey[0] < final && !finished) do {
             uint ti = selTri[0];
-            uint64_t ki = selKey[0];
-            [[unroll]] for (int k = 1; k < SELECT_SIZE; k++) {
-                ti = i == uint(k) ? selTri[k] : ti;
-                ki = i == uint(k) ? selKey[k] : ki;
-            }
             ExactTriangle t = loadRasterTriangle(ti);
             RasterSample s;
             sampleTriangle(t, x, y, s);
@@ -254,13 +274,27 @@ void main() {
             shadeFragment(t, loadShadingAttributes(ti), x, y, s, frame, l, tr);
             radiance += transmittance * l;
             transmittance *= tr;
-            doneKey = ki;
+            doneKey = selKey[0];
             composited++;
             opaqueEnough = u_push.threshold > 0.0 && all(lessThan(transmittance, vec3(u_push.threshold)));
-            i++;
-        } while (i < count && !opaqueEnough);
+            [[unroll]] for (int k = 0; k < SELECT_SIZE - 1; k++) {
+                selKey[k] = selKey[k + 1];
+                selTri[k] = selTri[k + 1];
+            }
+            selKey[SELECT_SIZE - 1] = NO_KEY;
+        } while (selKey[0] < final && !opaqueEnough);
         fragments += composited;
-        finished = finished || (found <= uint(SELECT_SIZE) && !truncated) || opaqueEnough;
+        finished = finished || opaqueEnough;
+        cursor = after;
+        sweepStart = !nextFound;
+        if (sweepStart) {
+            // The sweep is over: a pixel that dropped nothing has composited everything.
+            finished = finished || dropped == NO_KEY;
+            dropped = NO_KEY;
+            [[unroll]] for (int k = 0; k < SELECT_SIZE; k++) {
+                selKey[k] = NO_KEY;
+            }
+        }
     } while (subgroupAny(!finished));
     // A resumed pixel composites what earlier dispatches gathered too.
     if ((fragments > 0u || CONTINUATION) && !suspended) {

@@ -36,15 +36,14 @@ pub struct RasterFeatures {
 }
 
 /// The selection size to start with, and the ones frames with deep pixels move to, a step at
-/// a time while some pixel still needs more than two passes. (On lavapipe at 1280x720: 24
-/// took the particles raster, 60 deep, to 0.92 of its time with 16, with and without a
-/// threshold; 32 was faster still without one, but 1.13x slower with `--threshold 0.05`.
-/// Hairball needs three passes of 8 and two of 16, where 16 is 4 % faster than 24.)
+/// a time while some pixel still needs more than two sweeps. (On lavapipe at 1280x720, with
+/// the raster compositing after each slab: particles, 60 deep, take three sweeps of 16 and
+/// are 5-10 % slower with 24, and 1.4x slower with 8; hairball is faster with 16 than 8.)
 pub const SELECT_SIZE: u32 = 8;
-pub const SELECT_STEPS: [u32; 3] = [SELECT_SIZE, 16, DEEP_SELECT_SIZE];
-pub const DEEP_SELECT_SIZE: u32 = 24;
+pub const SELECT_STEPS: [u32; 2] = [SELECT_SIZE, DEEP_SELECT_SIZE];
+pub const DEEP_SELECT_SIZE: u32 = 16;
 /// Frames averaging more fragments per pixel than this order their bins by depth slab:
-/// there pixels need several passes, and stopping each walk early repays the longer scan of
+/// there pixels need several sweeps, and compositing after each slab repays the longer scan of
 /// 2^DEEP_SLAB_BITS slabs per bin. (On lavapipe at 1280x720, slabs take particles, about 18
 /// per pixel, from 1.5 to 0.9 s of raster, and cost hairball, about 1, a fifth of its time.
 /// Sixteen slabs took particles 4 % under eight, 2.5 % with `--threshold 0.05`; 32 were no
@@ -82,7 +81,7 @@ impl RasterFeatures {
     }
 
     /// What the next frame should use after one with `fragments` fragments in front of the
-    /// opaque layer over `pixels` pixels, some pixel needing `passes` passes. (Fragments
+    /// opaque layer over `pixels` pixels, some pixel needing `passes` sweeps. (Fragments
     /// found, not composited: with a threshold, pixels composite fewer than they have, and
     /// counting those kept the deep particles of `--threshold 0.2` from their slabs.) Only
     /// ever moves up, so that a scene does not rebuild its pipelines back and forth.
@@ -188,9 +187,9 @@ mod tests {
                 .map(|f| f.select_size)
                 .take(5)
                 .collect();
-        assert_eq!(sizes, [8, 16, 24, 24, 24]);
-        let shallow = start.after_frame(3, 0, pixels).after_frame(2, 0, pixels);
-        assert_eq!(shallow.select_size, 16, "two passes keep the size");
+        assert_eq!(sizes, [8, 16, 16, 16, 16]);
+        let shallow = start.after_frame(2, 0, pixels);
+        assert_eq!(shallow.select_size, 8, "two sweeps keep the size");
         assert_eq!(shallow.slab_bits, 0);
         assert_eq!(
             start.after_frame(1, 9 * pixels, pixels).slab_bits,
