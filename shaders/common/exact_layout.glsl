@@ -153,11 +153,12 @@ struct ExactCounters {
     uint pad0;
     uint slabFarthest[MAX_SLABS]; // per depth slab: bits of its triangles' farthest vertex
     // Statistics of the raster: slot k holds the fragments composited at [16 k], the most
-    // selection passes any pixel needed at [16 k + 1], and the fragments in front of the
-    // opaque layer (all of them without depth slabs, fewer with) at [16 k + 2]. A row adds
-    // to the slot of its workgroup, a cache line from the others, so that the CPU threads of
-    // drivers such as lavapipe do not fight over one line (two such atomics a row were 7 % of
-    // the spheres raster, and a sixth of a row's fixed cost).
+    // sweeps of its list any pixel needed at [16 k + 1], and the fragments in front of the
+    // opaque layer found in the first sweep (all of them, fewer where a pixel had to drop
+    // some) at [16 k + 2]. A row adds to the slot of its workgroup, a cache line from the
+    // others, so that the CPU threads of drivers such as lavapipe do not fight over one line
+    // (two such atomics a row were 7 % of the spheres raster, and a sixth of a row's fixed
+    // cost).
     uint statistics[STATISTICS_WORDS];
 };
 

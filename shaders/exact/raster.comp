@@ -128,7 +128,7 @@ void main() {
         doneKey = fragmentKey(state.done.x, state.done.y);
         finished = state.done.z != 0u;
     }
-    uint passes = 0u;
+    uint sweeps = 0u;
     uint fragments = 0u;
     // Fragments the pixel's first sweep found, all of them unless it had to drop some: its
     // depth, whatever the threshold.
@@ -168,7 +168,7 @@ void main() {
                 skipping = skipping && slabDepthMax[k] < nearestDone;
                 cursor = skipping ? k + 1u : cursor;
             }
-            passes += finished ? 0u : 1u;
+            sweeps += finished ? 0u : 1u;
         }
         // This stretch: the first non-empty slab from `cursor` (none: an empty stretch, the
         // last of the sweep); and the floor of the next non-empty slab, under which whatever
@@ -263,7 +263,7 @@ void main() {
             }
             e++;
         } while (e < to);
-        firstFound += passes == 1u && !CONTINUATION ? found : 0u;
+        firstFound += sweeps == 1u && !CONTINUATION ? found : 0u;
         // Composite, nearest first, what nothing unwalked or dropped can come before: slot 0,
         // then shift the selection left (SELECT_SIZE moves; picking slot i by selects instead would
         // need the kept slots compacted before the next stretch's insertions).
@@ -309,12 +309,12 @@ void main() {
     }
     // Statistics: one atomic per subgroup, not per pixel, in the workgroup's slot.
     uint subgroupFragments = subgroupAdd(fragments);
-    uint subgroupPasses = subgroupMax(passes);
+    uint subgroupSweeps = subgroupMax(sweeps);
     uint subgroupFound = subgroupAdd(firstFound);
     uint slot = (gl_WorkGroupID.x % STATISTICS_SLOTS) * 16u;
     if (subgroupElect()) {
         atomicAdd(g_counters.statistics[slot], subgroupFragments);
-        atomicMax(g_counters.statistics[slot + 1u], subgroupPasses);
+        atomicMax(g_counters.statistics[slot + 1u], subgroupSweeps);
         atomicAdd(g_counters.statistics[slot + 2u], subgroupFound);
     }
 }

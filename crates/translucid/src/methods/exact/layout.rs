@@ -88,7 +88,7 @@ impl ExactCounters {
         self.statistics.iter().map(|slot| u64::from(slot[2])).sum()
     }
 
-    /// The most selection passes any pixel needed.
+    /// The most sweeps of its row's list any pixel needed (raster.comp).
     pub fn passes(&self) -> u32 {
         self.statistics
             .iter()
