@@ -25,7 +25,7 @@ void main() {
     // Do-whiles (raster.comp says why) over the rows and each row's run of blocks.
     int by = rows.x;
     if (by <= rows.y) do {
-        ivec2 run = rowRun(t, by, r.xz);
+        ivec2 run = rowColumns(t, by, r.xz);
         int bx = run.x;
         if (bx <= run.y) do {
             uint b = binIndex(bx, by) * SLABS + slab;
