@@ -184,6 +184,8 @@ void main() {
         uint after = slab < 0 ? SLABS : uint(slab) + 1u;
         bool nextFound = nextSlab >= 0;
         uint limitBits = slabFloor(uint(max(nextSlab, 0)), depthLo, shift);
+        // Every entry of the stretch is of one slab, so its floor is the stretch's.
+        uint64_t floorKey = uint64_t(slabFloor(uint(max(slab, 0)), depthLo, shift)) << 32;
         uint64_t limit = nextFound ? uint64_t(limitBits) << 32 : NO_KEY;
         uint stretchCost = stretchIterations(to - from);
         if (spent + stretchCost > LOOP_BUDGET) {
@@ -234,8 +236,7 @@ void main() {
             // nothing from here on in this sweep, so its walk ends (the row's when every
             // pixel's has). (A per-pixel break, since a loop ends when no lane is left in it;
             // a vote would be another loop over the lanes.)
-            uint floorBits = slabFloor(entry >> ENTRY_SLAB_SHIFT, depthLo, shift);
-            if (finished || dropped < (uint64_t(floorBits) << 32)) {
+            if (finished || dropped < floorKey) {
                 break;
             }
             uint ti = entry & ENTRY_TRIANGLE_MASK;
