@@ -81,13 +81,13 @@ impl RasterFeatures {
     }
 
     /// What the next frame should use after one with `fragments` fragments in front of the
-    /// opaque layer over `pixels` pixels, some pixel needing `passes` sweeps. (Fragments
+    /// opaque layer over `pixels` pixels, some pixel needing `sweeps` sweeps. (Fragments
     /// found, not composited: with a threshold, pixels composite fewer than they have, and
     /// counting those kept the deep particles of `--threshold 0.2` from their slabs.) Only
     /// ever moves up, so that a scene does not rebuild its pipelines back and forth.
-    pub fn after_frame(self, passes: u32, fragments: u64, pixels: u64) -> Self {
+    pub fn after_frame(self, sweeps: u32, fragments: u64, pixels: u64) -> Self {
         let mut next = self;
-        if passes > 2 {
+        if sweeps > 2 {
             next.select_size = SELECT_STEPS
                 .into_iter()
                 .find(|&size| size > self.select_size)

@@ -82,14 +82,14 @@ impl ExactCounters {
         self.statistics.iter().map(|slot| u64::from(slot[0])).sum()
     }
 
-    /// Fragments in front of the opaque layer, composited or not (a threshold stops pixels
-    /// early); fewer where depth slabs ended a pixel's first walk early.
+    /// Fragments in front of the opaque layer that the raster's first sweep found, composited
+    /// or not (a threshold stops pixels early); fewer where a pixel had to drop some.
     pub fn fragments_in_front(&self) -> u64 {
         self.statistics.iter().map(|slot| u64::from(slot[2])).sum()
     }
 
     /// The most sweeps of its row's list any pixel needed (raster.comp).
-    pub fn passes(&self) -> u32 {
+    pub fn sweeps(&self) -> u32 {
         self.statistics
             .iter()
             .map(|slot| slot[1])
@@ -162,7 +162,7 @@ mod tests {
         }
         let slots = u64::from(STATISTICS_SLOTS);
         assert_eq!(c.fragments(), 10 * slots + slots * (slots - 1) / 2);
-        assert_eq!(c.passes(), 2);
+        assert_eq!(c.sweeps(), 2);
         assert_eq!(c.fragments_in_front(), 100 * slots * (slots + 1) / 2);
     }
 

@@ -555,7 +555,7 @@ impl Method for Exact {
         let pixels = u64::from(self.push.width) * u64::from(self.push.height);
         if self.program == RasterProgram::Exact {
             features =
-                features.after_frame(counters.passes(), counters.fragments_in_front(), pixels);
+                features.after_frame(counters.sweeps(), counters.fragments_in_front(), pixels);
         }
         let layouts = [&uploaded.layout, &self.resources.layout];
         if rebuild || features.slab_bits != self.features.slab_bits {
