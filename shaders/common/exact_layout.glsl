@@ -70,7 +70,9 @@ struct ExactTriangle {
     ivec4 bounds;           // half-open pixel rectangle x0, y0, x1, y1
     vec4 zNdc;              // xyz: depth-buffer value of each vertex, w: 1 / |double area|
     vec4 invW;              // xyz: 1 / clip w of each vertex
-    uint order;             // order key: global quad index * 2 + sub-triangle
+    uint order;             // order key: global quad index * 2 + sub-triangle, which is
+                            // also the index of the record (setup.comp), so that a
+                            // fragment's rank names its triangle
     uint materialIndex;
 };
 

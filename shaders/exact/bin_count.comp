@@ -16,7 +16,9 @@ void main() {
     uint ti = gl_GlobalInvocationID.x;
     uint lo = g_counters.depthLo;
     uint shift = slabShift(lo, g_counters.depthHi);
-    if (ti >= g_counters.triangleCount) {
+    // Records sit at their triangles' order keys, two per quad; culled ones are holes with
+    // empty bounds, which enter no bin.
+    if (ti >= 2u * u_push.itemCount) {
         return;
     }
     ExactTriangle t = loadTriangle(ti);
@@ -41,7 +43,7 @@ void main() {
     // none (raster.comp), and even one contended atomic per subgroup was a fifth of the count.
     if (SLABS > 1u) {
         [[unroll]] for (uint k = 0u; k < SLABS; k++) {
-            uint farthest = subgroupMax(slab == k ? depth.y : 0u);
+            uint farthest = subgroupMax(slab == k && r.y <= r.w ? depth.y : 0u);
             if (subgroupElect() && farthest != 0u) {
                 atomicMax(g_counters.slabFarthest[k], farthest);
             }

@@ -13,7 +13,9 @@ void main() {
     uint ti = gl_GlobalInvocationID.x;
     uint lo = g_counters.depthLo;
     uint shift = slabShift(lo, g_counters.depthHi);
-    if (ti >= g_counters.triangleCount) {
+    // Records sit at their triangles' order keys, two per quad; culled ones are holes with
+    // empty bounds, which enter no bin.
+    if (ti >= 2u * u_push.itemCount) {
         return;
     }
     ExactTriangle t = loadTriangle(ti);

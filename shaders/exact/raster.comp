@@ -137,12 +137,11 @@ void main() {
     uint spent = 0u;
     bool suspended = false;
 
-    // The selection, kept from one stretch to the next within a sweep.
+    // The selection, kept from one stretch to the next within a sweep: fragment keys alone,
+    // since a key's low half, the order key, is its triangle's record.
     uint64_t selKey[SELECT_SIZE];
-    uint selTri[SELECT_SIZE];
     [[unroll]] for (int k = 0; k < SELECT_SIZE; k++) {
         selKey[k] = NO_KEY;
-        selTri[k] = 0u;
     }
     // The nearest fragment this sweep found but could not keep (NO_KEY: none).
     uint64_t dropped = NO_KEY;
@@ -248,20 +247,15 @@ void main() {
             found += take ? 1u : 0u;
             key = take ? key : NO_KEY;
             // Insert, dropping the last: each slot takes its left neighbour, the new key, or
-            // keeps its own, walking right to left (left neighbours are still unchanged). A
-            // fragment not taken has NO_KEY, which sorts before no slot. What falls out of a
-            // full selection is the larger of the new key and the last.
+            // keeps its own, whichever is in the middle (keys are distinct but for NO_KEY),
+            // walking right to left (left neighbours are still unchanged). A fragment not
+            // taken has NO_KEY, which sorts before no slot. What falls out of a full
+            // selection is the larger of the new key and the last.
             dropped = min(dropped, max(key, selKey[SELECT_SIZE - 1]));
             [[unroll]] for (int k = SELECT_SIZE - 1; k > 0; k--) {
-                bool shift = key < selKey[k - 1];
-                bool here = key < selKey[k];
-                selKey[k] = shift ? selKey[k - 1] : (here ? key : selKey[k]);
-                selTri[k] = shift ? selTri[k - 1] : (here ? ti : selTri[k]);
+                selKey[k] = max(selKey[k - 1], min(key, selKey[k]));
             }
-            if (key < selKey[0]) {
-                selKey[0] = key;
-                selTri[0] = ti;
-            }
+            selKey[0] = min(selKey[0], key);
             e++;
         } while (e < to);
         firstFound += sweeps == 1u && !CONTINUATION ? found : 0u;
@@ -271,7 +265,7 @@ void main() {
         uint64_t final = min(limit, dropped);
         uint composited = 0u;
         if (selKey[0] < final && !finished) do {
-            uint ti = selTri[0];
+            uint ti = uint(selKey[0]);
             ExactTriangle t = loadRasterTriangle(ti);
             RasterSample s;
             sampleTriangle(t, x, y, s);
@@ -285,7 +279,6 @@ void main() {
             opaqueEnough = u_push.threshold > 0.0 && all(lessThan(transmittance, vec3(u_push.threshold)));
             [[unroll]] for (int k = 0; k < SELECT_SIZE - 1; k++) {
                 selKey[k] = selKey[k + 1];
-                selTri[k] = selTri[k + 1];
             }
             selKey[SELECT_SIZE - 1] = NO_KEY;
         } while (selKey[0] < final && !opaqueEnough);

@@ -2,7 +2,8 @@
 // Setup: one invocation per transparent quad. Transforms its vertices, sets up its one or two
 // triangles under the shared raster rules, culls what can cover nothing (degenerate, back
 // facing for single-sided materials, outside the viewport or the depth range, wholly behind
-// the opaque layer), and appends the rest to the triangle array for binning.
+// the opaque layer), and writes the rest to the triangle array for binning, each at its
+// order key.
 
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
@@ -293,6 +294,13 @@ void storeTriangle(uint ti, ExactTriangle t, ivec2 v[3], bool negated) {
     g_triangles[ti].boundsEnd = uint(t.bounds.z) | uint(t.bounds.w) << 16u;
 }
 
+// Record ti as a hole: empty bounds, so that binning enters it nowhere. Its other fields are
+// never read.
+void storeHole(uint ti) {
+    g_triangles[ti].boundsMin = 0u;
+    g_triangles[ti].boundsEnd = 0u;
+}
+
 // Attribute record ti: only the fields shading can read (loadShadingAttributes in
 // exact_fragment.glsl, under the same constants); the others are never stored.
 void storeAttributes(uint ti, ExactAttributes a) {
@@ -368,8 +376,11 @@ void main() {
                 t.edgeB.w = int(hi);
             }
         }
+        // Every triangle has its record at its order key (exact_layout.glsl), culled ones too,
+        // as a hole that binning skips: two records per quad, the capacity.
+        uint ti = item * 2u + sub;
         if (visible) {
-            t.order = item * 2u + sub;
+            t.order = ti;
             t.materialIndex = draw.materialIndex;
             // Frame-wide counters take one atomic per subgroup: one per triangle made them the
             // most contended words of the frame. Only the visible lanes are active here. The
@@ -378,9 +389,9 @@ void main() {
             uvec2 depth = homogeneous ? uvec2(0xFFFFFFFFu, 0u) : triangleDepthBits(t);
             uint nearest = SLABS > 1u ? subgroupMin(depth.x) : 0u;
             uint farthest = SLABS > 1u ? subgroupMax(depth.y) : 0u;
-            uvec4 kept = subgroupBallot(true);
+            uint keptCount = subgroupBallotBitCount(subgroupBallot(true));
             uint slices = subgroupMax(binningSlices(t.bounds));
-            uint first = 0u;
+            uint last = subgroupMax(ti);
             if (subgroupElect()) {
                 if (slices > 1u) {
                     atomicMax(g_dispatch[DISPATCH_BINNING * 4u + 1u], slices);
@@ -389,15 +400,16 @@ void main() {
                     atomicMin(g_counters.depthLo, nearest);
                     atomicMax(g_counters.depthHi, farthest);
                 }
-                // Capacity is two triangles per quad: this cannot overflow.
-                uint keptCount = subgroupBallotBitCount(kept);
-                first = atomicAdd(g_counters.triangleCount, keptCount);
-                uint last = first + keptCount - 1u;
+                atomicAdd(g_counters.triangleCount, keptCount);
                 atomicMax(g_dispatch[DISPATCH_BINNING * 4u], last / BINNING_GROUP_SIZE + 1u);
             }
-            uint ti = subgroupBroadcastFirst(first) + subgroupBallotExclusiveBitCount(kept);
             storeTriangle(ti, t, v, negated);
             storeAttributes(ti, gatherAttributes(draw, k0, second ? k2 : k1, second ? k3 : k2));
+        } else {
+            storeHole(ti);
         }
     } while (++sub < subCount);
+    if (subCount == 1u) {
+        storeHole(item * 2u + 1u);
+    }
 }
