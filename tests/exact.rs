@@ -1,7 +1,7 @@
 //! The exact method against the CPU reference: every pixel within 2/255, on every test scene,
 //! at sizes that are not multiples of the bin size, including the overflow paths.
 
-use glam::{Mat4, Vec3};
+use glam::{Mat4, Vec3, Vec4};
 use translucid::methods::MethodOptions;
 use translucid::metrics;
 use translucid::renderer::Renderer;
@@ -112,6 +112,60 @@ fn exact_matches_reference_with_triangles_binned_in_slices() {
     };
     let particles = scene::load("particles").expect("particles");
     check(&particles, "sliced_deep_particles", 213, 131, &deep);
+}
+
+/// Two overlapping quads whose corners differ in colour and alpha: the raster interpolates all
+/// three colours of each triangle (scenes of flat-coloured quads read one).
+#[test]
+fn exact_interpolates_vertex_colours_that_vary_across_a_quad() {
+    let quad = |z: f32, colours: [Vec4; 4]| {
+        let mut mesh = Mesh::from_quads(
+            "gradient",
+            vec![
+                Vec3::new(-1.0, -1.0, z),
+                Vec3::new(1.0, -1.0, z),
+                Vec3::new(1.0, 1.0, z),
+                Vec3::new(-1.0, 1.0, z),
+            ],
+            vec![[0, 1, 2, 3]],
+        );
+        mesh.colours = Some(colours.to_vec());
+        mesh
+    };
+    let draw = |mesh: usize| Draw {
+        mesh,
+        material: 0,
+        transform: Mat4::from_rotation_z(0.3 * mesh as f32),
+    };
+    let scene = Scene {
+        name: "gradient".into(),
+        meshes: vec![
+            quad(
+                -0.5,
+                [
+                    Vec4::new(1.0, 0.0, 0.0, 0.9),
+                    Vec4::new(0.0, 1.0, 0.0, 0.2),
+                    Vec4::new(0.0, 0.0, 1.0, 0.6),
+                    Vec4::new(1.0, 1.0, 0.0, 0.4),
+                ],
+            ),
+            quad(
+                0.0,
+                [
+                    Vec4::new(0.0, 1.0, 1.0, 0.3),
+                    Vec4::new(1.0, 0.0, 1.0, 0.8),
+                    Vec4::new(0.5, 0.5, 0.5, 0.5),
+                    Vec4::new(0.1, 0.9, 0.2, 0.7),
+                ],
+            ),
+        ],
+        materials: vec![Material::alpha(Vec3::ONE, 1.0)],
+        transparent: vec![draw(0), draw(1)],
+        camera: Camera::look_at(Vec3::new(0.0, 0.0, 3.0), Vec3::ZERO, 1.0, 0.1, 50.0),
+        background: Vec3::splat(0.2),
+        ..Scene::default()
+    };
+    check(&scene, "gradient", 123, 97, &MethodOptions::default());
 }
 
 /// A quad that passes through the camera plane: rasterized homogeneously, clipped by depth.

@@ -19,6 +19,8 @@ layout(constant_id = 3) const bool FACE_NORMALS = true;      // some lit draw ha
 // (Constants 4 to 7 are the raster's own: raster.comp and exact_bins.glsl.)
 layout(constant_id = 8) const bool TRANSMISSION = true;      // some material transmits light
 layout(constant_id = 9) const bool VERTEX_COLOURS = true;    // some mesh has vertex colours
+// Every quad has one colour at all its corners: attribute records keep colour0 alone.
+layout(constant_id = 10) const bool FLAT_COLOURS = false;
 
 // What shading reads of attribute record i: only the texels the scene's constants let it
 // use. A texel fetch is a call to the driver's sampling code on CPU drivers, which the
@@ -30,9 +32,14 @@ ExactAttributes loadShadingAttributes(uint i) {
     a.colour1 = vec4(1.0);
     a.colour2 = vec4(1.0);
     if (VERTEX_COLOURS) {
+        // Flat colours are interpolated all the same, so that the sum is the reference's.
         a.colour0 = uintBitsToFloat(texelFetch(u_attributeTexels, base));
-        a.colour1 = uintBitsToFloat(texelFetch(u_attributeTexels, base + 1));
-        a.colour2 = uintBitsToFloat(texelFetch(u_attributeTexels, base + 2));
+        a.colour1 = a.colour0;
+        a.colour2 = a.colour0;
+        if (!FLAT_COLOURS) {
+            a.colour1 = uintBitsToFloat(texelFetch(u_attributeTexels, base + 1));
+            a.colour2 = uintBitsToFloat(texelFetch(u_attributeTexels, base + 2));
+        }
     }
     a.normal0 = vec3(0.0);
     a.pad3 = 0u;

@@ -22,13 +22,14 @@ layout(local_size_x = 64) in;
 // needs it anyway is only counted, and the host rebuilds this shader and the raster with
 // the path and renders the frame again.
 layout(constant_id = 0) const bool HOMOGENEOUS_PATH = true;
-// What shading can read of an attribute record, as the raster's constants 1 to 3 and 9
+// What shading can read of an attribute record, as the raster's constants 1 to 3, 9 and 10
 // (exact_fragment.glsl): setup stores only those fields. Its stores are most of its time,
 // since a storage-buffer store is a loop over the lanes for every 32-bit component.
 layout(constant_id = 1) const bool TEXTURES = true;          // some material has a texture
 layout(constant_id = 2) const bool VERTEX_NORMALS = true;    // some lit draw has vertex normals
 layout(constant_id = 3) const bool FACE_NORMALS = true;      // some lit draw has none
 layout(constant_id = 9) const bool VERTEX_COLOURS = true;    // some mesh has vertex colours
+layout(constant_id = 10) const bool FLAT_COLOURS = false;    // each quad has one colour
 
 // The transparent draw holding global quad `item` (draws are sorted by firstItem).
 uint findDraw(uint item) {
@@ -306,6 +307,8 @@ void storeHole(uint ti) {
 void storeAttributes(uint ti, ExactAttributes a) {
     if (VERTEX_COLOURS) {
         g_attributes[ti].colour0 = a.colour0;
+    }
+    if (VERTEX_COLOURS && !FLAT_COLOURS) {
         g_attributes[ti].colour1 = a.colour1;
         g_attributes[ti].colour2 = a.colour2;
     }

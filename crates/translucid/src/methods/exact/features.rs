@@ -10,7 +10,7 @@ use glam::{Mat4, Vec3};
 
 /// How many constants the raster takes: other programs on the same stages (the wavelet bin
 /// raster) number theirs from here.
-pub const RASTER_CONSTANTS: usize = 10;
+pub const RASTER_CONSTANTS: usize = 11;
 
 /// Specialization constants of the raster stage, in `constant_id` order.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -33,6 +33,9 @@ pub struct RasterFeatures {
     pub transmission: bool,
     /// Some draw's mesh has vertex colours (the others' are white).
     pub vertex_colours: bool,
+    /// Every quad's corners have one colour (particles, billboards), so that shading reads
+    /// one colour per triangle instead of three.
+    pub flat_colours: bool,
 }
 
 /// The selection size to start with, and the ones frames with deep pixels move to, a step at
@@ -77,6 +80,7 @@ impl RasterFeatures {
             },
             transmission: draws().any(|d| scene.materials[d.material].transmission > 0.0),
             vertex_colours: draws().any(|d| scene.meshes[d.mesh].colours.is_some()),
+            flat_colours: draws().all(|d| flat_colours(&scene.meshes[d.mesh])),
         }
     }
 
@@ -133,8 +137,20 @@ impl RasterFeatures {
             if continuation { 1 } else { self.rows },
             u32::from(self.transmission),
             u32::from(self.vertex_colours),
+            u32::from(self.flat_colours),
         ]
     }
+}
+
+/// Whether each quad of `mesh` has one colour at all its corners (true without colours).
+fn flat_colours(mesh: &crate::scene::Mesh) -> bool {
+    let Some(colours) = &mesh.colours else {
+        return true;
+    };
+    mesh.quads.iter().all(|q| {
+        let first = colours[q[0] as usize];
+        q.iter().all(|&v| colours[v as usize] == first)
+    })
 }
 
 /// Whether every vertex inside the positions' bounding box lands on the fixed-point path:
@@ -194,6 +210,21 @@ mod tests {
         assert_eq!(
             start.after_frame(1, 9 * pixels, pixels).slab_bits,
             DEEP_SLAB_BITS
+        );
+    }
+
+    #[test]
+    fn colours_are_flat_only_when_every_quad_has_one() {
+        let particles = crate::scene::generated::generate("particles").expect("scene");
+        assert!(RasterFeatures::of(&particles, 640, 360, 8).flat_colours);
+        let mut mesh = crate::scene::Mesh::from_quads("q", vec![Vec3::ZERO; 4], vec![[0, 1, 2, 3]]);
+        assert!(flat_colours(&mesh), "no colours");
+        mesh.colours = Some(vec![glam::Vec4::ONE; 4]);
+        assert!(flat_colours(&mesh));
+        mesh.colours.as_mut().expect("colours")[3].x = 0.5;
+        assert!(
+            !flat_colours(&mesh),
+            "the second triangle's last corner differs"
         );
     }
 

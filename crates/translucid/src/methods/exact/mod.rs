@@ -145,7 +145,7 @@ fn setup_pipeline(
     features: &RasterFeatures,
 ) -> Result<ComputePipeline> {
     // The raster's constants 0 to 3, 6 (SLAB_BITS, declared in exact_bins.glsl, which setup
-    // includes) and 9, which setup declares with the same ids. The rest stay at their
+    // includes), 9 and 10, which setup declares with the same ids. The rest stay at their
     // defaults: setup is not rebuilt when they change.
     let mut constants = features.constants(false);
     constants[4..6].fill(0);
