@@ -144,10 +144,10 @@ ExactTriangle unpackRasterTriangle(uvec4 t0, uvec4 t1, uvec4 t2, uvec4 t3) {
     ExactTriangle t;
     ivec2 v[3] = ivec2[3](ivec2(t0.xy), ivec2(t0.zw), ivec2(t1.xy));
     unpackEdges(v, (t1.z & TRIANGLE_NEGATED) != 0u, t);
-    t.edgeB.w = int(t3.w);
+    t.edgeB.w = int(t2.w);
     t.order = t1.w;
     t.materialIndex = t1.z >> TRIANGLE_MATERIAL_SHIFT;
-    t.zNdc = uintBitsToFloat(t2);
+    t.zNdc = vec4(uintBitsToFloat(t2.xyz), uintBitsToFloat(t3.w));
     t.invW = vec4(uintBitsToFloat(t3.xyz), 0.0);
     t.bounds = ivec4(0);
     return t;

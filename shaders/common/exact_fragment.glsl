@@ -95,6 +95,20 @@ Material loadShadingMaterial(uint i) {
     return m;
 }
 
+// Triangle record i as shading needs it, for a fragment the walk already found: coverage and
+// the depth test are done, so the depths texel is read only for the homogeneous path's index
+// (without it the sample's depth is meaningless and unused).
+ExactTriangle loadShadingTriangle(uint i) {
+    int base = int(i) * TRIANGLE_TEXELS;
+    uvec4 depths = uvec4(0u, 0u, 0u, 0xFFFFFFFFu);
+    if (HOMOGENEOUS_PATH) {
+        depths = texelFetch(u_triangleTexels, base + 2);
+    }
+    return unpackRasterTriangle(texelFetch(u_triangleTexels, base),
+                                texelFetch(u_triangleTexels, base + 1), depths,
+                                texelFetch(u_triangleTexels, base + 3));
+}
+
 // Whether triangle t covers pixel (x, y), and the sample. The edges decide on both paths
 // (bounds only ever hold every covered sample; raster.rs), so t may come without bounds.
 bool coverSample(ExactTriangle t, uint x, uint y, out RasterSample s) {

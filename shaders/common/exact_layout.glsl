@@ -79,7 +79,8 @@ struct ExactTriangle {
 // An ExactTriangle as stored (std430, 80 bytes: five texels). The walks read a record for
 // every triangle they visit, one texel fetch each, so it keeps the snapped vertices instead
 // of the edges (loaders rebuild a, b and c exactly, as setup computes them) and puts the
-// bounds, which coverage does not need, in the last texel, which the walks skip. Fixed-point
+// bounds, which coverage does not need, in the last texel, which the walks skip; shading
+// skips the depths too (loadShadingTriangle in exact_fragment.glsl). Fixed-point
 // vertices fit 32 bits (guard band 2^20 pixels, 8 sub-pixel bits), pixel bounds 16 bits
 // (viewports are at most 65535).
 struct ExactTriangleRecord {
@@ -87,9 +88,10 @@ struct ExactTriangleRecord {
     ivec2 vertex2;
     uint flags;             // TRIANGLE_NEGATED, material index << TRIANGLE_MATERIAL_SHIFT
     uint order;
-    vec4 zNdc;
-    vec3 invW;
+    vec3 zNdc;              // depth-buffer value of each vertex
     int homogeneous;        // index into the homogeneous array, or -1
+    vec3 invW;              // 1 / clip w of each vertex
+    float invArea;          // 1 / |double area|, with invW: what shading's sample needs
     uint boundsMin;         // x0 | y0 << 16
     uint boundsEnd;         // x1 | y1 << 16
     uint pad0;

@@ -266,7 +266,7 @@ void main() {
         uint composited = 0u;
         if (selKey[0] < final && !finished) do {
             uint ti = uint(selKey[0]);
-            ExactTriangle t = loadRasterTriangle(ti);
+            ExactTriangle t = loadShadingTriangle(ti);
             RasterSample s;
             sampleTriangle(t, x, y, s);
             vec3 l;

@@ -288,9 +288,10 @@ void storeTriangle(uint ti, ExactTriangle t, ivec2 v[3], bool negated) {
     g_triangles[ti].flags = (negated ? TRIANGLE_NEGATED : 0u) |
                               t.materialIndex << TRIANGLE_MATERIAL_SHIFT;
     g_triangles[ti].order = t.order;
-    g_triangles[ti].zNdc = t.zNdc;
-    g_triangles[ti].invW = t.invW.xyz;
+    g_triangles[ti].zNdc = t.zNdc.xyz;
     g_triangles[ti].homogeneous = t.edgeB.w;
+    g_triangles[ti].invW = t.invW.xyz;
+    g_triangles[ti].invArea = t.zNdc.w;
     g_triangles[ti].boundsMin = uint(t.bounds.x) | uint(t.bounds.y) << 16u;
     g_triangles[ti].boundsEnd = uint(t.bounds.z) | uint(t.bounds.w) << 16u;
 }

@@ -206,7 +206,7 @@ mod tests {
                    and this test";
         assert_eq!(
             offsets("ExactTriangleRecord"),
-            [0, 16, 24, 28, 32, 48, 60, 64, 68, 72, 76],
+            [0, 16, 24, 28, 32, 44, 48, 60, 64, 68, 72, 76],
             "{msg}"
         );
         assert_eq!(
