@@ -43,6 +43,26 @@ ivec2 sliceRows(ivec4 r) {
     return ivec2(max(r.y, first), min(r.w, first + rows - 1));
 }
 
+// Invocations that bin one triangle, taking its rows in turn (binningLane). Deep frames'
+// triangles are large: with one invocation each, the lanes of a subgroup held different
+// triangles, and the row loop ran over the rows of all of them with most lanes idle; a
+// subgroup's lanes on one triangle's consecutive rows also append to neighbouring bins
+// (particles' fill 36 to 24 ms, its count 17 to 15). Small triangles would leave most of
+// the lanes idle instead, so shallow frames keep one. The host sets DEEP_BINNING_LANES to
+// BIN_SIZE, or 1 where the dispatch would pass the workgroups a device must allow.
+layout(constant_id = 11) const uint DEEP_BINNING_LANES = 1u;
+const uint ROW_LANES = SLABS > 1u ? DEEP_BINNING_LANES : 1u;
+
+// The triangle record a binning invocation bins, and the first of its rows (of every
+// ROW_LANES) within its slice.
+uint binningTriangle() {
+    return gl_GlobalInvocationID.x / ROW_LANES;
+}
+
+int binningLane() {
+    return int(gl_GlobalInvocationID.x % ROW_LANES);
+}
+
 // The slices a triangle with pixel bounds `bounds` needs (sliceRows).
 uint binningSlices(ivec4 bounds) {
     uint rows = uint(max(bounds.w - (SLABS > 1u ? 0 : bounds.y), 0));

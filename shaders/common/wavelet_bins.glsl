@@ -32,8 +32,8 @@
 #include "texture_sampler.glsl"
 #include "shading.glsl"
 #include "exact_fragment.glsl"
-// After the exact raster's constants 0 to 10, which the host passes unchanged.
-#define WAVELET_CONSTANT_ID 11
+// After the exact raster's constants 0 to 11, which the host passes unchanged.
+#define WAVELET_CONSTANT_ID 12
 #include "wavelet.glsl"
 
 // As raster.comp: gl_WorkGroupSize.y rows of a block per workgroup (constant 7).

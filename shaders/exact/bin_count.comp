@@ -13,7 +13,7 @@
 layout(local_size_x = BINNING_GROUP_SIZE) in;
 
 void main() {
-    uint ti = gl_GlobalInvocationID.x;
+    uint ti = binningTriangle();
     uint lo = g_counters.depthLo;
     uint shift = slabShift(lo, g_counters.depthHi);
     // Records sit at their triangles' order keys, two per quad; culled ones are holes with
@@ -26,8 +26,9 @@ void main() {
     ivec2 rows = sliceRows(r);
     uvec2 depth = triangleDepthBits(t);
     uint slab = slabOf(depth.x, lo, shift);
-    // Do-whiles (raster.comp says why) over the rows and each row's run of blocks.
-    int by = rows.x;
+    // Do-whiles (raster.comp says why) over the invocation's rows and each row's run of
+    // blocks.
+    int by = rows.x + binningLane();
     if (by <= rows.y) do {
         ivec2 run = rowColumns(t, by, r.xz);
         int bx = run.x;
@@ -35,7 +36,7 @@ void main() {
             uint b = binIndex(bx, by) * SLABS + slab;
             atomicAdd(g_binCounts[b], 1u);
         } while (++bx <= run.y);
-    } while (++by <= rows.y);
+    } while ((by += int(ROW_LANES)) <= rows.y);
     // The slabs' farthest depths take one atomic per subgroup and slab: one per triangle made
     // them the most contended words of the frame (binning a 100k-triangle mesh took twice
     // as long to count as to fill). A slab none of the subgroup's triangles is in costs no

@@ -10,7 +10,7 @@
 layout(local_size_x = BINNING_GROUP_SIZE) in;
 
 void main() {
-    uint ti = gl_GlobalInvocationID.x;
+    uint ti = binningTriangle();
     uint lo = g_counters.depthLo;
     uint shift = slabShift(lo, g_counters.depthHi);
     // Records sit at their triangles' order keys, two per quad; culled ones are holes with
@@ -24,8 +24,9 @@ void main() {
     uint capacity = g_counters.binEntryCapacity;
     uint slab = slabOf(triangleDepthBits(t).x, lo, shift);
     uint entry = (slab << ENTRY_SLAB_SHIFT) | ti;
-    // Do-whiles (raster.comp says why) over the rows and each row's run of blocks.
-    int by = rows.x;
+    // Do-whiles (raster.comp says why) over the invocation's rows and each row's run of
+    // blocks.
+    int by = rows.x + binningLane();
     if (by <= rows.y) do {
         ivec2 run = rowColumns(t, by, r.xz);
         int bx = run.x;
@@ -38,5 +39,5 @@ void main() {
                 atomicOr(g_counters.overflow, OVERFLOW_BIN_ENTRIES);
             }
         } while (++bx <= run.y);
-    } while (++by <= rows.y);
+    } while ((by += int(ROW_LANES)) <= rows.y);
 }

@@ -405,7 +405,8 @@ void main() {
                     atomicMax(g_counters.depthHi, farthest);
                 }
                 atomicAdd(g_counters.triangleCount, keptCount);
-                atomicMax(g_dispatch[DISPATCH_BINNING * 4u], last / BINNING_GROUP_SIZE + 1u);
+                atomicMax(g_dispatch[DISPATCH_BINNING * 4u],
+                          ((last + 1u) * ROW_LANES + BINNING_GROUP_SIZE - 1u) / BINNING_GROUP_SIZE);
             }
             storeTriangle(ti, t, v, negated);
             storeAttributes(ti, gatherAttributes(draw, k0, second ? k2 : k1, second ? k3 : k2));

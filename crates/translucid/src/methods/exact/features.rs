@@ -10,7 +10,7 @@ use glam::{Mat4, Vec3};
 
 /// How many constants the raster takes: other programs on the same stages (the wavelet bin
 /// raster) number theirs from here.
-pub const RASTER_CONSTANTS: usize = 11;
+pub const RASTER_CONSTANTS: usize = 12;
 
 /// Specialization constants of the raster stage, in `constant_id` order.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -36,6 +36,10 @@ pub struct RasterFeatures {
     /// Every quad's corners have one colour (particles, billboards), so that shading reads
     /// one colour per triangle instead of three.
     pub flat_colours: bool,
+    /// Binning invocations per triangle once bins hold slabs (constant 11 of setup and
+    /// binning; exact_bins.glsl): a row's width of them, unless the dispatch would pass the
+    /// workgroups every device allows.
+    pub deep_binning_lanes: u32,
 }
 
 /// The selection size to start with, and the ones frames with deep pixels move to, a step at
@@ -81,6 +85,11 @@ impl RasterFeatures {
             transmission: draws().any(|d| scene.materials[d.material].transmission > 0.0),
             vertex_colours: draws().any(|d| scene.meshes[d.mesh].colours.is_some()),
             flat_colours: draws().all(|d| flat_colours(&scene.meshes[d.mesh])),
+            deep_binning_lanes: deep_binning_lanes(
+                draws()
+                    .map(|d| scene.meshes[d.mesh].quads.len() as u64)
+                    .sum(),
+            ),
         }
     }
 
@@ -117,10 +126,12 @@ impl RasterFeatures {
         1 << self.slab_bits
     }
 
-    /// The constants of the binning stages: only the slabs (constant 6).
-    pub fn binning_constants(&self) -> [u32; 7] {
-        let mut constants = [0; 7];
+    /// The constants of the binning stages: the slabs (constant 6) and the lanes per
+    /// triangle (11).
+    pub fn binning_constants(&self) -> [u32; RASTER_CONSTANTS] {
+        let mut constants = [0; RASTER_CONSTANTS];
         constants[6] = self.slab_bits;
+        constants[11] = self.deep_binning_lanes;
         constants
     }
 
@@ -138,7 +149,21 @@ impl RasterFeatures {
             u32::from(self.transmission),
             u32::from(self.vertex_colours),
             u32::from(self.flat_colours),
+            self.deep_binning_lanes,
         ]
+    }
+}
+
+/// Binning lanes per triangle for a frame of `quads` transparent quads: BIN_SIZE, unless two
+/// triangles a quad would then need more than the 65 535 binning workgroups (of 64) every
+/// Vulkan device must allow in one dimension.
+fn deep_binning_lanes(quads: u64) -> u32 {
+    const MAX_GROUPS: u64 = 65_535;
+    if quads * 2 * u64::from(BIN_SIZE) <= MAX_GROUPS * u64::from(super::layout::BINNING_GROUP_SIZE)
+    {
+        BIN_SIZE
+    } else {
+        1
     }
 }
 
@@ -211,6 +236,13 @@ mod tests {
             start.after_frame(1, 9 * pixels, pixels).slab_bits,
             DEEP_SLAB_BITS
         );
+    }
+
+    #[test]
+    fn deep_binning_takes_a_row_of_lanes_per_triangle_while_the_dispatch_allows() {
+        assert_eq!(deep_binning_lanes(4096), BIN_SIZE);
+        assert_eq!(deep_binning_lanes(262_140), BIN_SIZE);
+        assert_eq!(deep_binning_lanes(262_141), 1);
     }
 
     #[test]
