@@ -42,7 +42,12 @@ void main() {
     // as long to count as to fill). A slab none of the subgroup's triangles is in costs no
     // atomic: a masked atomic with no active lane does nothing. With one slab the raster needs
     // none (raster.comp), and even one contended atomic per subgroup was a fifth of the count.
-    if (SLABS > 1u) {
+    if (SLABS > 1u && ROW_LANES > 1u) {
+        // A row of lanes on one triangle: its first lane reports it.
+        if (binningLane() == 0 && r.y <= r.w) {
+            atomicMax(g_counters.slabFarthest[slab], depth.y);
+        }
+    } else if (SLABS > 1u) {
         [[unroll]] for (uint k = 0u; k < SLABS; k++) {
             uint farthest = subgroupMax(slab == k && r.y <= r.w ? depth.y : 0u);
             if (subgroupElect() && farthest != 0u) {
