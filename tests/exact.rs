@@ -326,7 +326,7 @@ fn exact_passes_learned_buffer_sizes_to_the_next_renderer() {
     assert_eq!(next.render(false).expect("frame").rerenders, 0);
 }
 
-/// `layers` screen-facing quads stacked over one spot: pixels hundreds of fragments deep need
+/// `layers` screen-facing quads stacked over one spot: pixels a thousand fragments deep need
 /// more loop iterations than lavapipe allows one shader invocation (it ends loops silently
 /// after 65535), so their rows are suspended and finished by continuation dispatches.
 fn deep_stack_scene(layers: u32) -> Scene {
@@ -340,7 +340,7 @@ fn deep_stack_scene(layers: u32) -> Scene {
 #[test]
 fn exact_finishes_pixels_deeper_than_the_loop_limit() {
     let frame = check(
-        &deep_stack_scene(700),
+        &deep_stack_scene(2000),
         "deep_stack",
         45,
         37,
@@ -348,16 +348,17 @@ fn exact_finishes_pixels_deeper_than_the_loop_limit() {
     );
     assert!(
         frame.rerenders >= 1,
-        "one continuation should not have been enough for 700 layers"
+        "one continuation should not have been enough for 2000 layers"
     );
-    // Resume lists of one row force their overflow path too (600 layers need one
-    // continuation, which the first frame has).
+    // Resume lists of one row force their overflow path too (1200 layers suspend rows, more
+    // than one). Both stacks are deep enough that a raster which never suspends fails them:
+    // 700 and 600 layers had stopped running out of the loop budget once the walk got cheaper.
     let options = MethodOptions {
         initial_resume_rows: Some(1),
         ..Default::default()
     };
     let frame = check(
-        &deep_stack_scene(600),
+        &deep_stack_scene(1200),
         "deep_stack_small_lists",
         45,
         37,

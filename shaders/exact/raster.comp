@@ -135,6 +135,7 @@ void main() {
     uint firstFound = 0u;
     // Uniform across the subgroup: every pixel of a row walks the same list.
     uint spent = 0u;
+    bool outOfBudget = false;
     bool suspended = false;
 
     // The selection, kept from one stretch to the next within a sweep: fragment keys alone,
@@ -187,35 +188,9 @@ void main() {
         uint64_t floorKey = uint64_t(slabFloor(uint(max(slab, 0)), depthLo, shift)) << 32;
         uint64_t limit = nextFound ? uint64_t(limitBits) << 32 : NO_KEY;
         uint stretchCost = stretchIterations(to - from);
+        // Out of budget: the row stops here, before this stretch, and is suspended below.
         if (spent + stretchCost > LOOP_BUDGET) {
-            if (spent == 0u) {
-                // Not even one stretch fits a fresh budget: tell the host instead of drawing
-                // a wrong pixel.
-                atomicOr(g_counters.overflow, OVERFLOW_CROWDED_BIN);
-                break;
-            }
-            uint outList = u_push.resumeList ^ 1u;
-            uint slot = 0u;
-            if (subgroupElect()) {
-                slot = atomicAdd(g_dispatch[outList * 4u], 1u);
-                if (slot < resumeCapacity) {
-                    g_resumeItems[outList * resumeCapacity + slot] = block * BIN_SIZE + row;
-                } else {
-                    // No room: take the item back; the host grows the lists and renders the
-                    // frame again.
-                    atomicAdd(g_dispatch[outList * 4u], 0xFFFFFFFFu);
-                    atomicOr(g_counters.overflow, OVERFLOW_RESUME);
-                    atomicMax(g_counters.resumeNeeded, slot + 1u);
-                }
-            }
-            slot = subgroupBroadcastFirst(slot);
-            if (slot < resumeCapacity) {
-                uint state = (outList * resumeCapacity + slot) * BIN_SIZE + gl_LocalInvocationID.x;
-                g_pixelStates[state] = ExactPixelState(
-                    vec4(radiance, 0.0), vec4(transmittance, 0.0),
-                    uvec4(unpackUint2x32(doneKey).yx, finished ? 1u : 0u, 0u));
-            }
-            suspended = true;
+            outOfBudget = true;
             break;
         }
         spent += stretchCost;
@@ -295,6 +270,36 @@ void main() {
             }
         }
     } while (subgroupAny(!finished));
+    // After the loop, so that the suspension's code, which runs masked whenever it is not
+    // taken (an `if` never branches on CPU drivers), runs once a row, not once a stretch.
+    if (outOfBudget && spent == 0u) {
+        // Not even one stretch fits a fresh budget: tell the host instead of drawing a wrong
+        // pixel.
+        atomicOr(g_counters.overflow, OVERFLOW_CROWDED_BIN);
+    } else if (outOfBudget) {
+        uint outList = u_push.resumeList ^ 1u;
+        uint slot = 0u;
+        if (subgroupElect()) {
+            slot = atomicAdd(g_dispatch[outList * 4u], 1u);
+            if (slot < resumeCapacity) {
+                g_resumeItems[outList * resumeCapacity + slot] = block * BIN_SIZE + row;
+            } else {
+                // No room: take the item back; the host grows the lists and renders the frame
+                // again.
+                atomicAdd(g_dispatch[outList * 4u], 0xFFFFFFFFu);
+                atomicOr(g_counters.overflow, OVERFLOW_RESUME);
+                atomicMax(g_counters.resumeNeeded, slot + 1u);
+            }
+        }
+        slot = subgroupBroadcastFirst(slot);
+        if (slot < resumeCapacity) {
+            uint state = (outList * resumeCapacity + slot) * BIN_SIZE + gl_LocalInvocationID.x;
+            g_pixelStates[state] = ExactPixelState(
+                vec4(radiance, 0.0), vec4(transmittance, 0.0),
+                uvec4(unpackUint2x32(doneKey).yx, finished ? 1u : 0u, 0u));
+        }
+        suspended = true;
+    }
     // A resumed pixel composites what earlier dispatches gathered too.
     if ((fragments > 0u || CONTINUATION) && !suspended) {
         vec3 behind = imageLoad(u_colour, ivec2(x, y)).rgb;
