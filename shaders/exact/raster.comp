@@ -148,7 +148,6 @@ void main() {
     uint64_t dropped = NO_KEY;
     // The slab the next stretch starts at, uniform across the row.
     uint cursor = 0u;
-    bool sweepStart = true;
     // Bit k: slab k of the row's list has entries.
     uint nonEmptySlabs = 0u;
     [[unroll]] for (uint k = 0u; k < SLABS; k++) {
@@ -157,119 +156,128 @@ void main() {
     }
     bool opaqueEnough = false;
 
+    // Sweeps of the list, each a loop over its stretches. What a sweep does at its start and
+    // end is outside the stretch loop, where it runs once a sweep: inside, it ran masked in
+    // every stretch (an `if` never branches on CPU drivers).
     do {
-        if (sweepStart) {
-            // Skip the leading slabs that every pixel still at work has composited entirely.
-            uint doneBits = finished ? 0xFFFFFFFFu : unpackUint2x32(doneKey).y;
-            uint nearestDone = subgroupMin(doneBits);
-            bool skipping = true;
-            cursor = 0u;
-            [[unroll]] for (uint k = 0u; k < SLABS; k++) {
-                skipping = skipping && slabDepthMax[k] < nearestDone;
-                cursor = skipping ? k + 1u : cursor;
-            }
-            sweeps += finished ? 0u : 1u;
-        }
-        // This stretch: the first non-empty slab from `cursor` (none: an empty stretch, the
-        // last of the sweep); and the floor of the next non-empty slab, under which whatever
-        // a pixel keeps is final. (SLABS is at most 16: the shifts stay under 32.)
-        int slab = findLSB(nonEmptySlabs & (0xFFFFFFFFu << cursor));
-        int nextSlab = slab < 0 ? -1 : findLSB(nonEmptySlabs & (0xFFFFFFFEu << uint(slab)));
-        uint from = end;
-        uint to = end;
+        // Skip the leading slabs that every pixel still at work has composited entirely.
+        uint doneBits = finished ? 0xFFFFFFFFu : unpackUint2x32(doneKey).y;
+        uint nearestDone = subgroupMin(doneBits);
+        bool skipping = true;
+        cursor = 0u;
         [[unroll]] for (uint k = 0u; k < SLABS; k++) {
-            from = int(k) == slab ? (k == 0u ? first : slabEnd[k - 1u]) : from;
-            to = int(k) == slab ? slabEnd[k] : to;
+            skipping = skipping && slabDepthMax[k] < nearestDone;
+            cursor = skipping ? k + 1u : cursor;
         }
-        uint after = slab < 0 ? SLABS : uint(slab) + 1u;
-        bool nextFound = nextSlab >= 0;
-        uint limitBits = slabFloor(uint(max(nextSlab, 0)), depthLo, shift);
-        // Every entry of the stretch is of one slab, so its floor is the stretch's.
-        uint64_t floorKey = uint64_t(slabFloor(uint(max(slab, 0)), depthLo, shift)) << 32;
-        uint64_t limit = nextFound ? uint64_t(limitBits) << 32 : NO_KEY;
-        uint stretchCost = stretchIterations(to - from);
-        // Out of budget: the row stops here, before this stretch, and is suspended below.
-        if (spent + stretchCost > LOOP_BUDGET) {
-            outOfBudget = true;
-            break;
-        }
-        spent += stretchCost;
-        uint found = 0u;
-        // Each step fetches the next step's entry, so that its triangle's fetches need not
-        // wait for it (3 % of deep rasters). Clamped, so no fetch falls past the list's end
-        // (the last step re-reads its own entry).
-        uint last = max(end, 1u) - 1u;
-        uint nextEntry = texelFetch(u_binEntryTexels, int(min(from, last))).r;
-        uint e = from;
-        if (e < to) do {
-            // The same entry for the whole row. (A broadcast would tell a GPU compiler so, but
-            // on CPU drivers it is a loop over the lanes: 3 % of the raster.)
-            uint entry = nextEntry;
-            nextEntry = texelFetch(u_binEntryTexels, int(min(e + 1u, last))).r;
-            // A pixel that dropped a fragment nearer than this slab's floor can composite
-            // nothing from here on in this sweep, so its walk ends (the row's when every
-            // pixel's has). (A per-pixel break, since a loop ends when no lane is left in it;
-            // a vote would be another loop over the lanes.)
-            if (finished || dropped < floorKey) {
+        sweeps += finished ? 0u : 1u;
+        bool nextFound = false;
+        // A pixel leaves the stretch loop once it is finished, the row once all are or the
+        // sweep is over. (Its own exit: a vote would be a loop over the lanes.)
+        if (!finished) do {
+            // This stretch: the first non-empty slab from `cursor` (none: an empty stretch, the
+            // last of the sweep); and the floor of the next non-empty slab, under which whatever
+            // a pixel keeps is final. (SLABS is at most 16: the shifts stay under 32.)
+            int slab = findLSB(nonEmptySlabs & (0xFFFFFFFFu << cursor));
+            int nextSlab = slab < 0 ? -1 : findLSB(nonEmptySlabs & (0xFFFFFFFEu << uint(slab)));
+            uint from = end;
+            uint to = end;
+            [[unroll]] for (uint k = 0u; k < SLABS; k++) {
+                from = int(k) == slab ? (k == 0u ? first : slabEnd[k - 1u]) : from;
+                to = int(k) == slab ? slabEnd[k] : to;
+            }
+            uint after = slab < 0 ? SLABS : uint(slab) + 1u;
+            nextFound = nextSlab >= 0;
+            uint limitBits = slabFloor(uint(max(nextSlab, 0)), depthLo, shift);
+            // Every entry of the stretch is of one slab, so its floor is the stretch's.
+            uint64_t floorKey = uint64_t(slabFloor(uint(max(slab, 0)), depthLo, shift)) << 32;
+            uint64_t limit = nextFound ? uint64_t(limitBits) << 32 : NO_KEY;
+            uint stretchCost = stretchIterations(to - from);
+            // Out of budget: the row stops here, before this stretch, and is suspended below.
+            if (spent + stretchCost > LOOP_BUDGET) {
+                outOfBudget = true;
                 break;
             }
-            uint ti = entry & ENTRY_TRIANGLE_MASK;
-            ExactTriangle t = loadRasterTriangle(ti);
-            RasterSample s;
-            bool take = coverSample(t, x, y, s);
-            uint64_t key = fragmentKey(floatBitsToUint(s.viewDepth), t.order);
-            take = take && !finished && s.zNdc < opaqueDepth && key > doneKey;
-            found += take ? 1u : 0u;
-            key = take ? key : NO_KEY;
-            // Insert, dropping the last: each slot takes its left neighbour, the new key, or
-            // keeps its own, whichever is in the middle (keys are distinct but for NO_KEY),
-            // walking right to left (left neighbours are still unchanged). A fragment not
-            // taken has NO_KEY, which sorts before no slot. What falls out of a full
-            // selection is the larger of the new key and the last.
-            dropped = min(dropped, max(key, selKey[SELECT_SIZE - 1]));
-            [[unroll]] for (int k = SELECT_SIZE - 1; k > 0; k--) {
-                selKey[k] = max(selKey[k - 1], min(key, selKey[k]));
-            }
-            selKey[0] = min(selKey[0], key);
-            e++;
-        } while (e < to);
-        firstFound += sweeps == 1u && !CONTINUATION ? found : 0u;
-        // Composite, nearest first, what nothing unwalked or dropped can come before: slot 0,
-        // then shift the selection left (SELECT_SIZE moves; picking slot i by selects instead would
-        // need the kept slots compacted before the next stretch's insertions).
-        uint64_t final = min(limit, dropped);
-        uint composited = 0u;
-        if (selKey[0] < final && !finished) do {
-            uint ti = uint(selKey[0]);
-            ExactTriangle t = loadShadingTriangle(ti);
-            RasterSample s;
-            sampleTriangle(t, x, y, s);
-            vec3 l;
-            vec3 tr;
-            shadeFragment(t, loadShadingAttributes(ti), x, y, s, frame, l, tr);
-            radiance += transmittance * l;
-            transmittance *= tr;
-            doneKey = selKey[0];
-            composited++;
-            opaqueEnough = u_push.threshold > 0.0 && all(lessThan(transmittance, vec3(u_push.threshold)));
-            [[unroll]] for (int k = 0; k < SELECT_SIZE - 1; k++) {
-                selKey[k] = selKey[k + 1];
-            }
-            selKey[SELECT_SIZE - 1] = NO_KEY;
-        } while (selKey[0] < final && !opaqueEnough);
-        fragments += composited;
-        finished = finished || opaqueEnough;
-        cursor = after;
-        sweepStart = !nextFound;
-        if (sweepStart) {
-            // The sweep is over: a pixel that dropped nothing has composited everything.
-            finished = finished || dropped == NO_KEY;
-            dropped = NO_KEY;
-            [[unroll]] for (int k = 0; k < SELECT_SIZE; k++) {
-                selKey[k] = NO_KEY;
-            }
+            spent += stretchCost;
+            uint found = 0u;
+            // Each step fetches the next step's entry, so that its triangle's fetches need not
+            // wait for it (3 % of deep rasters). Clamped, so no fetch falls past the list's end
+            // (the last step re-reads its own entry).
+            uint last = max(end, 1u) - 1u;
+            uint nextEntry = texelFetch(u_binEntryTexels, int(min(from, last))).r;
+            uint e = from;
+            if (e < to) do {
+                // The same entry for the whole row. (A broadcast would tell a GPU compiler so, but
+                // on CPU drivers it is a loop over the lanes: 3 % of the raster.)
+                uint entry = nextEntry;
+                nextEntry = texelFetch(u_binEntryTexels, int(min(e + 1u, last))).r;
+                // A pixel that dropped a fragment nearer than this slab's floor can composite
+                // nothing from here on in this sweep, so its walk ends (the row's when every
+                // pixel's has). (A per-pixel break, since a loop ends when no lane is left in it;
+                // a vote would be another loop over the lanes.)
+                if (finished || dropped < floorKey) {
+                    break;
+                }
+                uint ti = entry & ENTRY_TRIANGLE_MASK;
+                ExactTriangle t = loadRasterTriangle(ti);
+                RasterSample s;
+                bool take = coverSample(t, x, y, s);
+                uint64_t key = fragmentKey(floatBitsToUint(s.viewDepth), t.order);
+                take = take && !finished && s.zNdc < opaqueDepth && key > doneKey;
+                found += take ? 1u : 0u;
+                key = take ? key : NO_KEY;
+                // Insert, dropping the last: each slot takes its left neighbour, the new key, or
+                // keeps its own, whichever is in the middle (keys are distinct but for NO_KEY),
+                // walking right to left (left neighbours are still unchanged). A fragment not
+                // taken has NO_KEY, which sorts before no slot. What falls out of a full
+                // selection is the larger of the new key and the last.
+                dropped = min(dropped, max(key, selKey[SELECT_SIZE - 1]));
+                [[unroll]] for (int k = SELECT_SIZE - 1; k > 0; k--) {
+                    selKey[k] = max(selKey[k - 1], min(key, selKey[k]));
+                }
+                selKey[0] = min(selKey[0], key);
+                e++;
+            } while (e < to);
+            firstFound += sweeps == 1u && !CONTINUATION ? found : 0u;
+            // Composite, nearest first, what nothing unwalked or dropped can come before:
+            // slot 0, then shift the selection left (SELECT_SIZE moves; picking slot i by
+            // selects instead would need the kept slots compacted before the next stretch's
+            // insertions).
+            uint64_t final = min(limit, dropped);
+            uint composited = 0u;
+            if (selKey[0] < final && !finished) do {
+                uint ti = uint(selKey[0]);
+                ExactTriangle t = loadShadingTriangle(ti);
+                RasterSample s;
+                sampleTriangle(t, x, y, s);
+                vec3 l;
+                vec3 tr;
+                shadeFragment(t, loadShadingAttributes(ti), x, y, s, frame, l, tr);
+                radiance += transmittance * l;
+                transmittance *= tr;
+                doneKey = selKey[0];
+                composited++;
+                opaqueEnough = u_push.threshold > 0.0 &&
+                               all(lessThan(transmittance, vec3(u_push.threshold)));
+                [[unroll]] for (int k = 0; k < SELECT_SIZE - 1; k++) {
+                    selKey[k] = selKey[k + 1];
+                }
+                selKey[SELECT_SIZE - 1] = NO_KEY;
+            } while (selKey[0] < final && !opaqueEnough);
+            fragments += composited;
+            finished = finished || opaqueEnough;
+            cursor = after;
+        } while (nextFound && !finished);
+        // Pixels that left early (finished) did not see the rest: the row's budget and
+        // whether it ran out are the row's.
+        outOfBudget = subgroupAny(outOfBudget);
+        spent = subgroupMax(spent);
+        // The sweep is over: a pixel that dropped nothing has composited everything.
+        finished = finished || (!outOfBudget && dropped == NO_KEY);
+        dropped = NO_KEY;
+        [[unroll]] for (int k = 0; k < SELECT_SIZE; k++) {
+            selKey[k] = NO_KEY;
         }
-    } while (subgroupAny(!finished));
+    } while (!outOfBudget && subgroupAny(!finished));
     // After the loop, so that the suspension's code, which runs masked whenever it is not
     // taken (an `if` never branches on CPU drivers), runs once a row, not once a stretch.
     if (outOfBudget && spent == 0u) {
