@@ -114,21 +114,26 @@ fn exact_matches_reference_with_triangles_binned_in_slices() {
     check(&particles, "sliced_deep_particles", 213, 131, &deep);
 }
 
+/// One quad from x0 to x1 and from -y to y, at depth z, facing +z.
+fn square(x0: f32, x1: f32, y: f32, z: f32) -> Mesh {
+    Mesh::from_quads(
+        "square",
+        vec![
+            Vec3::new(x0, -y, z),
+            Vec3::new(x1, -y, z),
+            Vec3::new(x1, y, z),
+            Vec3::new(x0, y, z),
+        ],
+        vec![[0, 1, 2, 3]],
+    )
+}
+
 /// Two overlapping quads whose corners differ in colour and alpha: the raster interpolates all
 /// three colours of each triangle (scenes of flat-coloured quads read one).
 #[test]
 fn exact_interpolates_vertex_colours_that_vary_across_a_quad() {
     let quad = |z: f32, colours: [Vec4; 4]| {
-        let mut mesh = Mesh::from_quads(
-            "gradient",
-            vec![
-                Vec3::new(-1.0, -1.0, z),
-                Vec3::new(1.0, -1.0, z),
-                Vec3::new(1.0, 1.0, z),
-                Vec3::new(-1.0, 1.0, z),
-            ],
-            vec![[0, 1, 2, 3]],
-        );
+        let mut mesh = square(-1.0, 1.0, 1.0, z);
         mesh.colours = Some(colours.to_vec());
         mesh
     };
@@ -215,18 +220,6 @@ fn near_plane_scene() -> Scene {
 /// An opaque wall at z = -1 hiding the left half of the view, and three transparent quads:
 /// wholly behind it, straddling its edge (partly visible), and in front of it.
 fn occluded_scene() -> Scene {
-    let square = |x0: f32, x1: f32, y: f32, z: f32| {
-        Mesh::from_quads(
-            "square",
-            vec![
-                Vec3::new(x0, -y, z),
-                Vec3::new(x1, -y, z),
-                Vec3::new(x1, y, z),
-                Vec3::new(x0, y, z),
-            ],
-            vec![[0, 1, 2, 3]],
-        )
-    };
     let draw = |mesh: usize, material: usize| Draw {
         mesh,
         material,

@@ -143,7 +143,8 @@ struct ExactHomogeneous {
 
 // Counters the host reads back after every frame and checks (std430, 624 bytes).
 struct ExactCounters {
-    uint triangleCount;
+    uint triangleCount;     // triangles setup kept (a statistic: records sit at their order
+                            // keys, and binning runs over every record)
     uint homogeneousCount;
     uint binEntryCount;     // entries the bins need (counted even when they do not fit)
     uint overflow;          // OVERFLOW_* bits
