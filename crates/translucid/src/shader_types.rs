@@ -82,14 +82,19 @@ impl GpuDrawInfo {
             model: draw.transform.to_cols_array(),
             normal_matrix: normal_matrix.to_cols_array(),
             material_index: draw.material as u32,
-            flags: if mesh.normals.is_some() {
-                DRAW_HAS_NORMALS
-            } else {
-                0
-            },
+            flags: flag(mesh.normals.is_some(), DRAW_HAS_NORMALS)
+                | flag(mesh.uvs.is_some(), DRAW_HAS_UVS),
             first_quad,
             quad_count: mesh.quads.len() as u32,
         }
+    }
+}
+
+fn flag(set: bool, bit: u32) -> u32 {
+    if set {
+        bit
+    } else {
+        0
     }
 }
 
