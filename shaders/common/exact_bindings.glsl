@@ -220,9 +220,9 @@ ExactTexture loadTextureInfo(int i) {
     t.height = a.z;
     t.levels = a.w;
     t.srgb = b.x;
+    t.samplerBits = b.y;
     t.pad0 = 0u;
     t.pad1 = 0u;
-    t.pad2 = 0u;
     return t;
 }
 

@@ -174,9 +174,25 @@ struct ExactTexture {
     uint height;
     uint levels;
     uint srgb;
+    uint samplerBits;       // SAMPLER_* bits below
     uint pad0;
     uint pad1;
-    uint pad2;
 };
+
+// ExactTexture.sampler: each axis's wrap mode, the filters, the mipmap mode
+// (methods/exact/layout.rs writes them).
+#define SAMPLER_WRAP_S_SHIFT 0
+#define SAMPLER_WRAP_T_SHIFT 2
+#define SAMPLER_WRAP_MASK 3u
+#define SAMPLER_WRAP_REPEAT 0u
+#define SAMPLER_WRAP_CLAMP_TO_EDGE 1u
+#define SAMPLER_WRAP_MIRRORED_REPEAT 2u
+#define SAMPLER_MAG_LINEAR 16u
+#define SAMPLER_MIN_LINEAR 32u
+#define SAMPLER_MIP_SHIFT 6
+#define SAMPLER_MIP_MASK 3u
+#define SAMPLER_MIP_NONE 0u
+#define SAMPLER_MIP_NEAREST 1u
+#define SAMPLER_MIP_LINEAR 2u
 
 #endif

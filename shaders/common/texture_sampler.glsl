@@ -1,7 +1,8 @@
 // Software texture sampling for compute stages, operation for operation like
-// Texture::sample in crates/translucid/src/scene/texture.rs: REPEAT addressing, texel centres
-// at +0.5, bilinear within a level, linear between levels, sRGB decoded by table before
-// filtering. Texels are packed RGBA8 in u_texels; u_srgbToLinear is the decode table.
+// Texture::sample in crates/translucid/src/scene/texture.rs (whose doc states the rules): the
+// texture's sampler word (SAMPLER_* in exact_layout.glsl) picks the wrap mode of each axis,
+// the mag and min filters and the mipmap mode; sRGB is decoded by table before filtering.
+// Texels are packed RGBA8 in u_texels; u_srgbToLinear is the decode table.
 #ifndef TRANSLUCID_TEXTURE_SAMPLER_GLSL
 #define TRANSLUCID_TEXTURE_SAMPLER_GLSL
 
@@ -17,15 +18,27 @@ vec4 decodeTexel(uint packed, bool srgb) {
     return unorm;
 }
 
-uint wrapCoord(float c, uint size) {
-    // Saturate like a float-to-i64 cast before the Euclidean remainder.
+// Texel coordinate floor(c) and the one after it, wrapped into [0, size) by `mode`
+// (SAMPLER_WRAP_*). One 64-bit remainder by the mirrored period serves every mode: repeat
+// and mirror both read it, and clamping needs none. (The period fits 32 bits for any image a
+// device can create.)
+uvec2 wrapPair(float c, uint size, uint mode) {
+    // Saturate like a float-to-i64 cast, with room for + 1.
     int64_t i = int64_t(clamp(c, -4.0e18, 4.0e18));
-    int64_t s = int64_t(size);
-    int64_t r = i % s;
-    return uint(r < 0 ? r + s : r);
+    uint period = 2u * size;
+    int64_t r = i % int64_t(period);
+    uint p0 = uint(r < 0 ? r + int64_t(period) : r);
+    uint p1 = p0 + 1u == period ? 0u : p0 + 1u;
+    uvec2 repeated = uvec2(p0 >= size ? p0 - size : p0, p1 >= size ? p1 - size : p1);
+    uvec2 mirrored = uvec2(p0 < size ? p0 : period - 1u - p0, p1 < size ? p1 : period - 1u - p1);
+    int64_t last = int64_t(size) - 1;
+    uvec2 clamped = uvec2(uint(clamp(i, 0l, last)), uint(clamp(i + 1, 0l, last)));
+    return mode == SAMPLER_WRAP_CLAMP_TO_EDGE ? clamped
+         : (mode == SAMPLER_WRAP_MIRRORED_REPEAT ? mirrored : repeated);
 }
 
-vec4 sampleLevel(ExactTexture t, uint level, vec2 uv) {
+// One level, bilinear or nearest (its texel alone, weighted 1).
+vec4 sampleLevel(ExactTexture t, uint level, vec2 uv, bool linear) {
     uint first = t.firstTexel;
     uint w = t.width;
     uint h = t.height;
@@ -34,36 +47,45 @@ vec4 sampleLevel(ExactTexture t, uint level, vec2 uv) {
         w = max(w >> 1, 1u);
         h = max(h >> 1, 1u);
     }
-    precise float u = uv.x * float(w) - 0.5;
-    precise float v = uv.y * float(h) - 0.5;
+    float shift = linear ? 0.5 : 0.0;
+    precise float u = uv.x * float(w) - shift;
+    precise float v = uv.y * float(h) - shift;
     float fi = floor(u);
     float fj = floor(v);
-    precise float a = u - fi;
-    precise float b = v - fj;
-    uint i0 = wrapCoord(fi, w);
-    uint j0 = wrapCoord(fj, h);
-    uint i1 = (i0 + 1u) % w;
-    uint j1 = (j0 + 1u) % h;
+    precise float fa = u - fi;
+    precise float fb = v - fj;
+    float a = linear ? fa : 0.0;
+    float b = linear ? fb : 0.0;
+    uvec2 i = wrapPair(fi, w, (t.samplerBits >> SAMPLER_WRAP_S_SHIFT) & SAMPLER_WRAP_MASK);
+    uvec2 j = wrapPair(fj, h, (t.samplerBits >> SAMPLER_WRAP_T_SHIFT) & SAMPLER_WRAP_MASK);
     bool srgb = t.srgb != 0u;
-    vec4 t00 = decodeTexel(texelFetch(u_texels, int(first + j0 * w + i0)).r, srgb);
-    vec4 t10 = decodeTexel(texelFetch(u_texels, int(first + j0 * w + i1)).r, srgb);
-    vec4 t01 = decodeTexel(texelFetch(u_texels, int(first + j1 * w + i0)).r, srgb);
-    vec4 t11 = decodeTexel(texelFetch(u_texels, int(first + j1 * w + i1)).r, srgb);
+    vec4 t00 = decodeTexel(texelFetch(u_texels, int(first + j.x * w + i.x)).r, srgb);
+    vec4 t10 = decodeTexel(texelFetch(u_texels, int(first + j.x * w + i.y)).r, srgb);
+    vec4 t01 = decodeTexel(texelFetch(u_texels, int(first + j.y * w + i.x)).r, srgb);
+    vec4 t11 = decodeTexel(texelFetch(u_texels, int(first + j.y * w + i.y)).r, srgb);
     precise vec4 r = (t00 * (1.0 - a) + t10 * a) * (1.0 - b) + (t01 * (1.0 - a) + t11 * a) * b;
     return r;
 }
 
+// Texture t at uv and level of detail lod: magnified (lod <= 0, or NaN) with the mag filter
+// at level 0; minified with the min filter at the levels the mipmap mode picks.
 vec4 sampleTexture(ExactTexture t, vec2 uv, float lod) {
-    float top = float(t.levels - 1u);
-    float l = lod > 0.0 ? min(lod, top) : 0.0;
-    float level = floor(l);
-    precise float blend = l - level;
+    bool magnified = !(lod > 0.0);
+    bool linear = (t.samplerBits & (magnified ? SAMPLER_MAG_LINEAR : SAMPLER_MIN_LINEAR)) != 0u;
+    uint mip = magnified ? SAMPLER_MIP_NONE : (t.samplerBits >> SAMPLER_MIP_SHIFT) & SAMPLER_MIP_MASK;
+    float l = magnified ? 0.0 : min(lod, float(t.levels - 1u));
+    // Vulkan's nearest level is ceil(lod + 0.5) - 1: halves round down.
+    float nearest = ceil(l + 0.5) - 1.0;
+    float below = floor(l);
+    precise float between = l - below;
+    float level = mip == SAMPLER_MIP_LINEAR ? below : (mip == SAMPLER_MIP_NEAREST ? nearest : 0.0);
+    float blend = mip == SAMPLER_MIP_LINEAR ? between : 0.0;
     uint d = uint(level);
-    vec4 lower = sampleLevel(t, d, uv);
+    vec4 lower = sampleLevel(t, d, uv, linear);
     if (blend == 0.0 || d >= t.levels - 1u) {
         return lower;
     }
-    precise vec4 r = lower * (1.0 - blend) + sampleLevel(t, d + 1u, uv) * blend;
+    precise vec4 r = lower * (1.0 - blend) + sampleLevel(t, d + 1u, uv, linear) * blend;
     return r;
 }
 

@@ -2,7 +2,7 @@
 
 use super::error::vk_err;
 use super::{Buffer, Gpu};
-use crate::Result;
+use crate::{scene, Result};
 use ash::vk;
 
 /// What a descriptor binding holds.
@@ -690,22 +690,41 @@ impl Drop for GraphicsPipeline {
     }
 }
 
-/// A trilinear, repeating sampler.
+/// A sampler object.
 pub struct Sampler {
     gpu: Gpu,
     pub raw: vk::Sampler,
 }
 
 impl Sampler {
-    pub fn trilinear_repeat(gpu: &Gpu) -> Result<Self> {
+    /// The hardware sampler of a texture's [`scene::Sampler`], by the rules
+    /// `scene::Texture::sample` states: without mipmaps `maxLod` is 0.25 (as the Vulkan spec
+    /// advises for GL's non-mipmapped filters), so that the level of detail still tells
+    /// magnification (λ ≤ 0) from minification, and only level 0 is read.
+    pub fn for_texture(gpu: &Gpu, sampler: &scene::Sampler) -> Result<Self> {
+        let filter = |f| match f {
+            scene::Filter::Nearest => vk::Filter::NEAREST,
+            scene::Filter::Linear => vk::Filter::LINEAR,
+        };
+        let wrap = |w| match w {
+            scene::Wrap::Repeat => vk::SamplerAddressMode::REPEAT,
+            scene::Wrap::ClampToEdge => vk::SamplerAddressMode::CLAMP_TO_EDGE,
+            scene::Wrap::MirroredRepeat => vk::SamplerAddressMode::MIRRORED_REPEAT,
+        };
+        let (mipmap_mode, max_lod) = match sampler.mip_filter {
+            scene::MipFilter::None => (vk::SamplerMipmapMode::NEAREST, 0.25),
+            scene::MipFilter::Nearest => (vk::SamplerMipmapMode::NEAREST, vk::LOD_CLAMP_NONE),
+            scene::MipFilter::Linear => (vk::SamplerMipmapMode::LINEAR, vk::LOD_CLAMP_NONE),
+        };
         let info = vk::SamplerCreateInfo::default()
-            .mag_filter(vk::Filter::LINEAR)
-            .min_filter(vk::Filter::LINEAR)
-            .mipmap_mode(vk::SamplerMipmapMode::LINEAR)
-            .address_mode_u(vk::SamplerAddressMode::REPEAT)
-            .address_mode_v(vk::SamplerAddressMode::REPEAT)
+            .mag_filter(filter(sampler.mag_filter))
+            .min_filter(filter(sampler.min_filter))
+            .mipmap_mode(mipmap_mode)
+            .address_mode_u(wrap(sampler.wrap_s))
+            .address_mode_v(wrap(sampler.wrap_t))
             .address_mode_w(vk::SamplerAddressMode::REPEAT)
-            .max_lod(vk::LOD_CLAMP_NONE);
+            .min_lod(0.0)
+            .max_lod(max_lod);
         // SAFETY: valid device and create info.
         let raw =
             unsafe { gpu.device.create_sampler(&info, None) }.map_err(vk_err("vkCreateSampler"))?;

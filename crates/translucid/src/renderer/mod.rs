@@ -17,6 +17,9 @@ mod host_opaque;
 mod targets;
 mod upload;
 
+#[cfg(test)]
+mod sampling_tests;
+
 pub use host_device::HostFrame;
 pub use targets::{FrameTargets, Readback, COLOUR_FORMAT, DEPTH_FORMAT};
 pub use upload::{DrawCall, GpuScene, MeshRange, VERTEX_ATTRIBUTES, VERTEX_STRIDE};

@@ -5,7 +5,7 @@ use crate::gpu::{
     vk, BindingKind, Buffer, DepthMode, DescriptorLayout, DescriptorSet, Gpu, GpuImage,
     GraphicsPipeline, GraphicsPipelineDesc, PipelineState, Resource, Sampler,
 };
-use crate::scene::{Mesh, Scene, Texture};
+use crate::scene::{self, Mesh, Scene, Texture};
 use crate::shader_types::{GpuDrawInfo, GpuFrameInfo, GpuMaterial, GpuVertex};
 use crate::Result;
 use glam::{Vec2, Vec3, Vec4};
@@ -53,7 +53,8 @@ pub struct GpuScene {
     /// buffers: recorded into the first frame's command buffer, kept until it completes.
     texture_staging: Vec<Buffer>,
     textures_recorded: bool,
-    _sampler: Sampler,
+    /// The texture sets' samplers, kept alive with them.
+    _samplers: Vec<Sampler>,
     /// Set 0: frame, draws, materials.
     pub layout: DescriptorLayout,
     pub set: DescriptorSet,
@@ -174,7 +175,19 @@ impl GpuScene {
         } else {
             staging
         };
-        let sampler = Sampler::trilinear_repeat(gpu)?;
+        // One hardware sampler for each distinct sampler the textures use.
+        let mut samplers: Vec<(scene::Sampler, Sampler)> = Vec::new();
+        for t in scene.textures.iter().chain(std::iter::once(&white)) {
+            if !samplers.iter().any(|(s, _)| *s == t.sampler) {
+                samplers.push((t.sampler, Sampler::for_texture(gpu, &t.sampler)?));
+            }
+        }
+        let sampler_of = |t: &Texture| {
+            samplers
+                .iter()
+                .find(|(s, _)| *s == t.sampler)
+                .map_or(vk::Sampler::null(), |(_, made)| made.raw)
+        };
         let stages = vk::ShaderStageFlags::VERTEX
             | vk::ShaderStageFlags::FRAGMENT
             | vk::ShaderStageFlags::COMPUTE;
@@ -195,7 +208,10 @@ impl GpuScene {
         let texture_layout = DescriptorLayout::new(gpu, &[BindingKind::SampledImages(1)], stages)?;
         let texture_sets = textures
             .iter()
-            .map(|t| texture_layout.create_set(&[Resource::Images(&[t.view], sampler.raw)]))
+            .zip(scene.textures.iter().chain(std::iter::once(&white)))
+            .map(|(image, t)| {
+                texture_layout.create_set(&[Resource::Images(&[image.view], sampler_of(t))])
+            })
             .collect::<Result<Vec<_>>>()?;
         Ok(Self {
             vertices,
@@ -208,7 +224,7 @@ impl GpuScene {
             textures,
             texture_staging,
             textures_recorded,
-            _sampler: sampler,
+            _samplers: samplers.into_iter().map(|(_, made)| made).collect(),
             layout,
             set,
             texture_layout,
@@ -364,7 +380,7 @@ impl GpuScene {
 }
 
 /// Creates the textures' images (all mips) and their filled staging buffers.
-fn create_textures<'a>(
+pub(crate) fn create_textures<'a>(
     gpu: &Gpu,
     textures: impl Iterator<Item = &'a Texture>,
 ) -> Result<(Vec<GpuImage>, Vec<Buffer>)> {
@@ -402,7 +418,7 @@ fn create_textures<'a>(
 }
 
 /// Records the copies of `staging` into `images`, leaving them in SHADER_READ_ONLY_OPTIMAL.
-fn record_texture_uploads(
+pub(crate) fn record_texture_uploads(
     gpu: &Gpu,
     cmd: vk::CommandBuffer,
     images: &[GpuImage],

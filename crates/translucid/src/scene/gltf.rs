@@ -6,7 +6,7 @@
 //! every accessor is checked here before the crate reads it, and buffers and images are loaded
 //! here rather than by `gltf::import`.
 
-use super::{Camera, Draw, Material, Mesh, Scene, Texture};
+use super::{Camera, Draw, Filter, Material, Mesh, MipFilter, Sampler, Scene, Texture, Wrap};
 use crate::{Error, Result};
 use glam::{Mat4, Vec2, Vec3, Vec4};
 use gltf::accessor::{DataType, Dimensions};
@@ -402,9 +402,10 @@ impl<'p> Importer<'p> {
             .map_err(|e| invalid(self.path, format!("{label}: {e}")))?;
         let (width, height) = decoded.dimensions();
         let texels = decoded.pixels().map(|p| p.0).collect();
+        let sampler = convert_sampler(&texture.sampler());
         self.scene
             .textures
-            .push(Texture::new(label, width, height, texels, true));
+            .push(Texture::new(label, width, height, texels, true).with_sampler(sampler));
         let index = self.scene.textures.len() - 1;
         self.textures.insert(texture.index(), index);
         Ok(index)
@@ -481,6 +482,35 @@ fn far_plane_for(eye: Vec3, near: f32, bounds: Option<(Vec3, Vec3)>) -> f32 {
         (eye - lo).abs().max((eye - hi).abs()).length()
     });
     (farthest * 1.5).max(near * 1000.0)
+}
+
+/// The file's sampler; absent fields take glTF's suggested defaults (REPEAT, trilinear).
+fn convert_sampler(sampler: &gltf::texture::Sampler<'_>) -> Sampler {
+    use gltf::texture::{MagFilter, MinFilter, WrappingMode};
+    let wrap = |mode| match mode {
+        WrappingMode::Repeat => Wrap::Repeat,
+        WrappingMode::ClampToEdge => Wrap::ClampToEdge,
+        WrappingMode::MirroredRepeat => Wrap::MirroredRepeat,
+    };
+    let mag_filter = match sampler.mag_filter() {
+        Some(MagFilter::Nearest) => Filter::Nearest,
+        Some(MagFilter::Linear) | None => Filter::Linear,
+    };
+    let (min_filter, mip_filter) = match sampler.min_filter() {
+        Some(MinFilter::Nearest) => (Filter::Nearest, MipFilter::None),
+        Some(MinFilter::Linear) => (Filter::Linear, MipFilter::None),
+        Some(MinFilter::NearestMipmapNearest) => (Filter::Nearest, MipFilter::Nearest),
+        Some(MinFilter::LinearMipmapNearest) => (Filter::Linear, MipFilter::Nearest),
+        Some(MinFilter::NearestMipmapLinear) => (Filter::Nearest, MipFilter::Linear),
+        Some(MinFilter::LinearMipmapLinear) | None => (Filter::Linear, MipFilter::Linear),
+    };
+    Sampler {
+        wrap_s: wrap(sampler.wrap_s()),
+        wrap_t: wrap(sampler.wrap_t()),
+        mag_filter,
+        min_filter,
+        mip_filter,
+    }
 }
 
 fn is_triangles(mode: Mode) -> bool {

@@ -16,7 +16,9 @@ mod texture;
 pub use camera::Camera;
 pub use material::Material;
 pub use mesh::{pair_triangles, Mesh};
-pub use texture::{srgb_lut, Texture};
+#[cfg(test)]
+pub(crate) use texture::hand_cases as texture_hand;
+pub use texture::{srgb_lut, Filter, MipFilter, Sampler, Texture, Wrap};
 
 use glam::{Mat4, Vec3};
 

@@ -2,6 +2,7 @@
 
 #![deny(unsafe_code)]
 
+use crate::scene::{Filter, MipFilter, Sampler, Wrap};
 use bytemuck::{Pod, Zeroable};
 
 pub const BIN_SHIFT: u32 = 3;
@@ -106,7 +107,41 @@ pub struct ExactTexture {
     pub height: u32,
     pub levels: u32,
     pub srgb: u32,
-    pub pad: [u32; 3],
+    /// `SAMPLER_*` bits: [`sampler_bits`].
+    pub sampler: u32,
+    pub pad: [u32; 2],
+}
+
+pub const SAMPLER_WRAP_S_SHIFT: u32 = 0;
+pub const SAMPLER_WRAP_T_SHIFT: u32 = 2;
+pub const SAMPLER_WRAP_REPEAT: u32 = 0;
+pub const SAMPLER_WRAP_CLAMP_TO_EDGE: u32 = 1;
+pub const SAMPLER_WRAP_MIRRORED_REPEAT: u32 = 2;
+pub const SAMPLER_MAG_LINEAR: u32 = 16;
+pub const SAMPLER_MIN_LINEAR: u32 = 32;
+pub const SAMPLER_MIP_SHIFT: u32 = 6;
+pub const SAMPLER_MIP_NONE: u32 = 0;
+pub const SAMPLER_MIP_NEAREST: u32 = 1;
+pub const SAMPLER_MIP_LINEAR: u32 = 2;
+
+/// A texture's sampler as the software sampler's word (`ExactTexture.samplerBits`).
+pub fn sampler_bits(s: &Sampler) -> u32 {
+    let wrap = |w: Wrap| match w {
+        Wrap::Repeat => SAMPLER_WRAP_REPEAT,
+        Wrap::ClampToEdge => SAMPLER_WRAP_CLAMP_TO_EDGE,
+        Wrap::MirroredRepeat => SAMPLER_WRAP_MIRRORED_REPEAT,
+    };
+    let linear = |f: Filter, bit: u32| if f == Filter::Linear { bit } else { 0 };
+    let mip = match s.mip_filter {
+        MipFilter::None => SAMPLER_MIP_NONE,
+        MipFilter::Nearest => SAMPLER_MIP_NEAREST,
+        MipFilter::Linear => SAMPLER_MIP_LINEAR,
+    };
+    wrap(s.wrap_s) << SAMPLER_WRAP_S_SHIFT
+        | wrap(s.wrap_t) << SAMPLER_WRAP_T_SHIFT
+        | linear(s.mag_filter, SAMPLER_MAG_LINEAR)
+        | linear(s.min_filter, SAMPLER_MIN_LINEAR)
+        | mip << SAMPLER_MIP_SHIFT
 }
 
 /// The push constants of every exact stage.
@@ -224,7 +259,7 @@ mod tests {
             [0, 32, 64, 96, 128, 160, 176],
             "{msg}"
         );
-        assert_eq!(offsets("ExactTexture")[..5], [0, 4, 8, 12, 16], "{msg}");
+        assert_eq!(offsets("ExactTexture")[..6], [0, 4, 8, 12, 16, 20], "{msg}");
         let scene = include_str!("../../../../../shaders/common/layout.glsl");
         let material: Vec<usize> = std430_offsets(scene, "Material")
             .0
@@ -297,9 +332,54 @@ mod tests {
             "{msg}"
         );
         assert_eq!(
-            offsets("ExactTexture")[4],
-            offset_of!(ExactTexture, srgb),
+            offsets("ExactTexture")[4..6],
+            [
+                offset_of!(ExactTexture, srgb),
+                offset_of!(ExactTexture, sampler)
+            ],
             "{msg}"
         );
+    }
+
+    #[test]
+    fn sampler_bits_match_glsl() {
+        let defines = [
+            ("SAMPLER_WRAP_S_SHIFT", SAMPLER_WRAP_S_SHIFT.to_string()),
+            ("SAMPLER_WRAP_T_SHIFT", SAMPLER_WRAP_T_SHIFT.to_string()),
+            ("SAMPLER_WRAP_MASK", "3u".into()),
+            ("SAMPLER_WRAP_REPEAT", format!("{SAMPLER_WRAP_REPEAT}u")),
+            (
+                "SAMPLER_WRAP_CLAMP_TO_EDGE",
+                format!("{SAMPLER_WRAP_CLAMP_TO_EDGE}u"),
+            ),
+            (
+                "SAMPLER_WRAP_MIRRORED_REPEAT",
+                format!("{SAMPLER_WRAP_MIRRORED_REPEAT}u"),
+            ),
+            ("SAMPLER_MAG_LINEAR", format!("{SAMPLER_MAG_LINEAR}u")),
+            ("SAMPLER_MIN_LINEAR", format!("{SAMPLER_MIN_LINEAR}u")),
+            ("SAMPLER_MIP_SHIFT", SAMPLER_MIP_SHIFT.to_string()),
+            ("SAMPLER_MIP_MASK", "3u".into()),
+            ("SAMPLER_MIP_NONE", format!("{SAMPLER_MIP_NONE}u")),
+            ("SAMPLER_MIP_NEAREST", format!("{SAMPLER_MIP_NEAREST}u")),
+            ("SAMPLER_MIP_LINEAR", format!("{SAMPLER_MIP_LINEAR}u")),
+        ];
+        for (name, value) in defines {
+            let line = format!("#define {name} {value}\n");
+            assert!(
+                SRC.contains(&line),
+                "exact_layout.glsl lacks `{}`: update it and layout.rs together",
+                line.trim()
+            );
+        }
+        // The fields do not overlap.
+        let all = Sampler {
+            wrap_s: Wrap::MirroredRepeat,
+            wrap_t: Wrap::MirroredRepeat,
+            mag_filter: Filter::Linear,
+            min_filter: Filter::Linear,
+            mip_filter: MipFilter::Linear,
+        };
+        assert_eq!(sampler_bits(&all), 2 | 2 << 2 | 16 | 32 | 2 << 6);
     }
 }

@@ -34,7 +34,7 @@
 
 pub mod features;
 pub mod layout;
-mod resources;
+pub(crate) mod resources;
 
 use super::{FrameCheck, Method, MethodOptions, RecordContext};
 use crate::gpu::{image_barrier, memory_barrier, vk, ComputePipeline, DescriptorSet, Gpu};

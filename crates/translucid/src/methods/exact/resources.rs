@@ -1,9 +1,10 @@
 //! The exact method's buffers: sized from the frame, grown when the GPU reports an overflow.
 
 use super::layout::{
-    ExactCounters, ExactDraw, ExactTexture, ATTRIBUTES_BYTES, BIN_SIZE, DISPATCH_BYTES,
-    ENTRY_SLAB_SHIFT, HOMOGENEOUS_BYTES, OVERFLOW_BIN_ENTRIES, OVERFLOW_HOMOGENEOUS,
-    OVERFLOW_RESUME, PIXEL_STATE_BYTES, SCAN_GROUP_SIZE, TRIANGLE_BYTES, TRIANGLE_MATERIAL_SHIFT,
+    sampler_bits, ExactCounters, ExactDraw, ExactTexture, ATTRIBUTES_BYTES, BIN_SIZE,
+    DISPATCH_BYTES, ENTRY_SLAB_SHIFT, HOMOGENEOUS_BYTES, OVERFLOW_BIN_ENTRIES,
+    OVERFLOW_HOMOGENEOUS, OVERFLOW_RESUME, PIXEL_STATE_BYTES, SCAN_GROUP_SIZE, TRIANGLE_BYTES,
+    TRIANGLE_MATERIAL_SHIFT,
 };
 use crate::gpu::{
     memory_barrier, vk, BindingKind, Buffer, BufferView, DescriptorLayout, DescriptorSet, Gpu,
@@ -11,7 +12,7 @@ use crate::gpu::{
 };
 use crate::methods::MethodOptions;
 use crate::renderer::{FrameTargets, GpuScene};
-use crate::scene::{srgb_lut, Scene};
+use crate::scene::{srgb_lut, Scene, Texture};
 use crate::shader_types::GpuMaterial;
 use crate::{Error, Result};
 
@@ -288,17 +289,18 @@ fn exact_draws(scene: &Scene, width: u32, height: u32) -> Vec<ExactDraw> {
 }
 
 /// Texture descriptors and every level's texels, packed RGBA8, for the software sampler.
-fn texture_data(scene: &Scene) -> (Vec<ExactTexture>, Vec<u32>) {
-    let mut infos = Vec::with_capacity(scene.textures.len());
+pub(crate) fn texture_data(textures: &[Texture]) -> (Vec<ExactTexture>, Vec<u32>) {
+    let mut infos = Vec::with_capacity(textures.len());
     let mut texels = Vec::new();
-    for t in &scene.textures {
+    for t in textures {
         infos.push(ExactTexture {
             first_texel: texels.len() as u32,
             width: t.width(),
             height: t.height(),
             levels: t.levels.len() as u32,
             srgb: u32::from(t.srgb),
-            pad: [0; 3],
+            sampler: sampler_bits(&t.sampler),
+            pad: [0; 2],
         });
         for level in &t.levels {
             texels.extend(level.texels.iter().map(|&t| u32::from_le_bytes(t)));
@@ -333,7 +335,7 @@ impl Resources {
             )));
         }
         let draws = exact_draws(scene, width, height);
-        let (texture_infos, texels) = texture_data(scene);
+        let (texture_infos, texels) = texture_data(&scene.textures);
         let materials: Vec<GpuMaterial> = scene.materials.iter().map(GpuMaterial::new).collect();
         let texel_bytes = texels.len() as u64 * 4;
         if texel_bytes > u64::from(gpu.info().max_storage_buffer_range) {
