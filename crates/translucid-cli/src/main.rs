@@ -1,4 +1,5 @@
-//! `translucid`: render, compare against the CPU reference, benchmark, and list devices.
+//! `translucid`: render, compare against the CPU reference, check glTF files, benchmark, and
+//! list devices.
 
 mod commands;
 
@@ -113,6 +114,37 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Check that translucid renders glTF files right, each within 2/255 of what its method
+    /// promises.
+    ///
+    /// Each file is rendered with the method and measured against an image computed on the
+    /// CPU from the same opaque layer: the CPU reference (exact, blend) or the method's CPU
+    /// model (wavelet, wboit). A file passes when no channel of any pixel is off by more than
+    /// 2/255 (a NaN fails).
+    ///
+    /// Exits non-zero when a file cannot be loaded or rendered, when no glTF file is found,
+    /// or when a file fails with exact, wavelet or wboit. blend (unsorted alpha blending) is
+    /// right only when draws happen to be sorted: its rows show its error against the
+    /// reference, but image errors never make the run fail.
+    Conformance {
+        /// Folders (searched recursively for .gltf and .glb files) or glTF files.
+        #[arg(required = true)]
+        paths: Vec<PathBuf>,
+        /// blend, exact, wavelet or wboit (blend's image errors never fail the run)
+        #[arg(long, short, default_value = "exact")]
+        method: String,
+        /// exact: stop a pixel once its transmittance is under T in every channel (0: exact);
+        /// checked against the reference with the same early stop.
+        #[arg(long, default_value_t = 0.0)]
+        threshold: f32,
+        #[command(flatten)]
+        wavelet: WaveletArgs,
+        #[arg(long, default_value = "480x270")]
+        size: Size,
+        /// Print one JSON document instead of text.
+        #[arg(long)]
+        json: bool,
+    },
     /// Median GPU time per stage over N frames, with the ratio to `blend` from the same run.
     Bench {
         #[arg(required = true)]
@@ -135,9 +167,19 @@ enum Command {
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
-    let result = match cli.command {
-        Command::Info => commands::info::run(),
+    match run(Cli::parse().command) {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("translucid: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn run(command: Command) -> translucid::Result<ExitCode> {
+    let done = |result: translucid::Result<()>| result.map(|()| ExitCode::SUCCESS);
+    match command {
+        Command::Info => done(commands::info::run()),
         Command::Render {
             scene,
             method,
@@ -145,7 +187,9 @@ fn main() -> ExitCode {
             wavelet,
             size,
             output,
-        } => commands::render::run(&scene, &method, threshold, wavelet, size, &output),
+        } => done(commands::render::run(
+            &scene, &method, threshold, wavelet, size, &output,
+        )),
         Command::Compare {
             scene,
             method,
@@ -154,7 +198,7 @@ fn main() -> ExitCode {
             size,
             output,
             json,
-        } => commands::compare::run(
+        } => done(commands::compare::run(
             &scene,
             &method,
             threshold,
@@ -162,7 +206,15 @@ fn main() -> ExitCode {
             size,
             output.as_deref(),
             json,
-        ),
+        )),
+        Command::Conformance {
+            paths,
+            method,
+            threshold,
+            wavelet,
+            size,
+            json,
+        } => commands::conformance::run(&paths, &method, threshold, wavelet, size, json),
         Command::Bench {
             scenes,
             methods,
@@ -171,13 +223,8 @@ fn main() -> ExitCode {
             size,
             frames,
             json,
-        } => commands::bench::run(&scenes, &methods, threshold, wavelet, size, frames, json),
-    };
-    match result {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("translucid: {e}");
-            ExitCode::FAILURE
-        }
+        } => done(commands::bench::run(
+            &scenes, &methods, threshold, wavelet, size, frames, json,
+        )),
     }
 }

@@ -123,3 +123,171 @@ fn bad_input_fails_with_a_clear_message() {
         assert!(!stderr.contains("panicked"), "{args:?} panicked: {stderr}");
     }
 }
+
+/// The vendored scenes, in the repository root.
+fn vendored_scenes() -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes")
+}
+
+/// The `.gltf` and `.glb` files under `folder`, counted apart from the tool's own search.
+fn count_gltf(folder: &std::path::Path) -> usize {
+    std::fs::read_dir(folder)
+        .expect("readable folder")
+        .map(|entry| entry.expect("entry").path())
+        .map(|path| {
+            if path.is_dir() {
+                count_gltf(&path)
+            } else {
+                let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+                usize::from(matches!(ext.to_ascii_lowercase().as_str(), "gltf" | "glb"))
+            }
+        })
+        .sum()
+}
+
+/// An empty folder of its own for one test.
+fn temp_folder(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("translucid-cli-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("temp folder");
+    dir
+}
+
+/// `conformance --json`'s one document, and its rows by path.
+fn conformance_json(args: &[&str]) -> (bool, serde_json::Value, String) {
+    let mut all = vec!["conformance", "--size", "160x90", "--json"];
+    all.extend_from_slice(args);
+    let (ok, stdout, stderr) = translucid(&all);
+    let doc = serde_json::from_str(&stdout)
+        .unwrap_or_else(|e| panic!("not one JSON document ({e}): {stdout}\n{stderr}"));
+    (ok, doc, stderr)
+}
+
+fn rows(doc: &serde_json::Value) -> &Vec<serde_json::Value> {
+    doc["files"].as_array().expect("files array")
+}
+
+#[test]
+fn conformance_passes_on_the_vendored_scenes() {
+    let scenes = vendored_scenes();
+    let expected_files = count_gltf(&scenes);
+    assert!(
+        expected_files > 0,
+        "no vendored scenes in {}",
+        scenes.display()
+    );
+    let (ok, doc, stderr) = conformance_json(&[scenes.to_str().expect("utf-8 path")]);
+    assert!(ok, "conformance failed: {doc}\n{stderr}");
+    assert_eq!(doc["method"], "exact");
+    assert_eq!(doc["against"], "the CPU reference");
+    assert_eq!(doc["size"]["width"], 160);
+    assert_eq!(doc["size"]["height"], 90);
+    assert_eq!(rows(&doc).len(), expected_files, "{doc}");
+    for row in rows(&doc) {
+        assert_eq!(row["pass"], true, "{row}");
+        assert!(row["error"].is_null(), "{row}");
+        assert!(
+            row["max_error"].as_f64().is_some_and(|e| e <= 2.0 / 255.0),
+            "{row}"
+        );
+        for key in ["path", "rmse", "psnr", "pixels_over", "share_over"] {
+            assert!(!row[key].is_null(), "row lacks {key}: {row}");
+        }
+        // Relative to the folder argument.
+        let path = row["path"].as_str().expect("path");
+        assert!(scenes.join(path).is_file(), "{path}");
+    }
+    assert_eq!(doc["passed"], expected_files);
+    assert_eq!(doc["failed"], 0);
+}
+
+#[test]
+fn conformance_reports_a_broken_file_and_goes_on() {
+    let dir = temp_folder("conformance-broken");
+    std::fs::write(dir.join("broken.gltf"), "{ this is not JSON").expect("write");
+    std::fs::copy(
+        vendored_scenes().join("AttenuationTest/AttenuationTest.glb"),
+        dir.join("good.glb"),
+    )
+    .expect("copy");
+    let (ok, doc, stderr) = conformance_json(&[dir.to_str().expect("utf-8 path")]);
+    let _ = std::fs::remove_dir_all(&dir);
+    assert!(!ok, "a broken file must fail the run: {doc}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    let row = |name: &str| {
+        rows(&doc)
+            .iter()
+            .find(|r| r["path"] == name)
+            .unwrap_or_else(|| panic!("no row for {name}: {doc}"))
+            .clone()
+    };
+    let broken = row("broken.gltf");
+    assert_eq!(broken["pass"], false, "{broken}");
+    assert!(
+        broken["error"]
+            .as_str()
+            .is_some_and(|e| e.contains("broken.gltf")),
+        "{broken}"
+    );
+    let good = row("good.glb");
+    assert_eq!(good["pass"], true, "{good}");
+    assert!(good["error"].is_null(), "{good}");
+    assert_eq!(doc["passed"], 1);
+    assert_eq!(doc["failed"], 1);
+}
+
+#[test]
+fn conformance_without_gltf_files_fails_clearly() {
+    let dir = temp_folder("conformance-empty");
+    std::fs::write(dir.join("notes.txt"), "no scenes here").expect("write");
+    let (ok, stdout, stderr) = translucid(&["conformance", dir.to_str().expect("utf-8 path")]);
+    let _ = std::fs::remove_dir_all(&dir);
+    assert!(!ok, "no glTF file should fail: {stdout}");
+    assert!(
+        stderr.contains("no .gltf or .glb file") && stderr.contains("conformance-empty"),
+        "{stderr}"
+    );
+    let (ok, _, stderr) = translucid(&["conformance", "/no/such/folder"]);
+    assert!(!ok);
+    assert!(stderr.contains("/no/such/folder"), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
+
+#[test]
+fn conformance_holds_wavelet_to_its_cpu_model() {
+    let scene = vendored_scenes().join("GlassVaseFlowers/GlassVaseFlowers.glb");
+    let scene = scene.to_str().expect("utf-8 path");
+    let (ok, doc, stderr) = conformance_json(&["--method", "wavelet", scene]);
+    assert!(ok, "wavelet conformance failed: {doc}\n{stderr}");
+    assert_eq!(doc["against"], "its CPU model");
+    assert_eq!(doc["wavelet"]["rank"], 3);
+    let rows = rows(&doc);
+    assert_eq!(rows.len(), 1, "{doc}");
+    // A file argument is named as given.
+    assert_eq!(rows[0]["path"], scene);
+    assert_eq!(rows[0]["pass"], true, "{doc}");
+}
+
+/// blend is unsorted: the teapot's back faces blend over its front, far off the reference,
+/// and the rows say so, but that never fails the run.
+#[test]
+fn conformance_reports_blend_without_failing_on_its_error() {
+    let scene = vendored_scenes().join("utah_teapot/utah_teapot_blend.gltf");
+    let (ok, stdout, stderr) = translucid(&[
+        "conformance",
+        "--method",
+        "blend",
+        "--size",
+        "160x90",
+        scene.to_str().expect("utf-8 path"),
+    ]);
+    assert!(
+        ok,
+        "blend's image error must not fail the run: {stdout}\n{stderr}"
+    );
+    assert!(stdout.contains("FAIL"), "{stdout}");
+    assert!(
+        stdout.contains("1 file, 0 pass, 1 fail: blend at 160x90 against the CPU reference"),
+        "{stdout}"
+    );
+}

@@ -1,7 +1,7 @@
-use super::{open_renderer, stage_text};
+use super::{measure, open_renderer, psnr_json, stage_text, Expected};
 use crate::Size;
 use std::path::Path;
-use translucid::{metrics, reference};
+use translucid::metrics;
 
 pub fn run(
     scene_spec: &str,
@@ -14,18 +14,17 @@ pub fn run(
 ) -> translucid::Result<()> {
     let scene = translucid::scene::load(scene_spec)?;
     let mut renderer = open_renderer(&scene, method, threshold, wavelet, size)?;
-    let frame = renderer.render(true)?;
-    let opaque = frame
-        .opaque
-        .as_ref()
-        .expect("render(true) reads the opaque layer back");
-    let started = std::time::Instant::now();
-    let expected = reference::render(&scene, opaque)?;
-    let reference_s = started.elapsed().as_secs_f64();
-    let m = metrics::compare(&frame.image, &expected)?;
+    // Every method against the exact answer: how far it is from right, threshold included.
+    let against = Expected::Reference;
+    let measured = measure(&mut renderer, &scene, &against)?;
+    let (frame, m, reference_s) = (
+        &measured.frame,
+        &measured.metrics,
+        measured.expected_seconds,
+    );
     if let Some(path) = output {
-        let heat = metrics::heat_map(&frame.image, &expected)?;
-        metrics::side_by_side(&[&frame.image, &expected, &heat]).save_png(path)?;
+        let heat = metrics::heat_map(&frame.image, &measured.expected)?;
+        metrics::side_by_side(&[&frame.image, &measured.expected, &heat]).save_png(path)?;
     }
     if json {
         let value = serde_json::json!({
@@ -37,7 +36,7 @@ pub fn run(
             "height": size.height,
             "max_error": m.max_error,
             "rmse": m.rmse,
-            "psnr": if m.psnr.is_finite() { serde_json::json!(m.psnr) } else { serde_json::json!("inf") },
+            "psnr": psnr_json(m.psnr),
             "pixels_over": m.pixels_over,
             "share_over": m.share_over,
             "reference_seconds": reference_s,
@@ -45,8 +44,10 @@ pub fn run(
         println!("{value}");
     } else {
         println!(
-            "{scene_spec} with {method} at {}x{} against the CPU reference:",
-            size.width, size.height
+            "{scene_spec} with {method} at {}x{} against {}:",
+            size.width,
+            size.height,
+            against.description()
         );
         println!(
             "  max error   {:.4} ({:.1}/255)",

@@ -2,10 +2,17 @@
 
 pub mod bench;
 pub mod compare;
+pub mod conformance;
 pub mod info;
 pub mod render;
 
 use translucid::gpu::{Gpu, GpuOptions};
+use translucid::methods::wavelet::{model::Model, Settings};
+use translucid::methods::{wboit, MethodOptions};
+use translucid::metrics::{self, Metrics};
+use translucid::renderer::{Frame, Renderer};
+use translucid::scene::Scene;
+use translucid::{reference, Image, OpaqueLayer};
 
 /// The device chosen by `TRANSLUCID_DEVICE` / `TRANSLUCID_VALIDATION`, named on stderr.
 pub fn open_gpu() -> translucid::Result<Gpu> {
@@ -82,4 +89,102 @@ pub fn wavelet_json(method: &str, wavelet: crate::WaveletArgs) -> serde_json::Va
             .then(|| format!("{:?}", wavelet.precision).to_lowercase()),
         "storage": format!("{:?}", wavelet.storage).to_lowercase(),
     })
+}
+
+/// An image computed on the CPU that a method's frame is measured against.
+#[derive(Clone, Copy, Debug)]
+pub enum Expected {
+    /// The exact reference: every fragment, composited in depth order.
+    Reference,
+    /// The reference with the exact method's early stop at this transmittance.
+    ReferenceUntil(f32),
+    /// The wavelet method's CPU model, with the settings the method runs with.
+    WaveletModel(Settings),
+    /// The wboit method's CPU model.
+    WboitModel,
+}
+
+impl Expected {
+    /// What `method` promises to match within 2/255, or `None` for `blend`, which is right
+    /// only when the draws happen to be sorted.
+    pub fn promised(method: &str, options: &MethodOptions) -> translucid::Result<Option<Self>> {
+        Ok(Some(match method {
+            "exact" if options.threshold > 0.0 => Self::ReferenceUntil(options.threshold),
+            "exact" => Self::Reference,
+            "wavelet" => Self::WaveletModel(Settings::from_options(options)?),
+            "wboit" => Self::WboitModel,
+            "blend" => return Ok(None),
+            // The renderer's own message, before any file is loaded.
+            other => {
+                return Err(translucid::Error::UnknownMethod(
+                    other.to_string(),
+                    translucid::methods::NAMES.join(", "),
+                ))
+            }
+        }))
+    }
+
+    /// What it is, for "... against {description}".
+    pub fn description(&self) -> String {
+        match self {
+            Self::Reference => "the CPU reference".into(),
+            Self::ReferenceUntil(t) => {
+                format!("the CPU reference stopping under transmittance {t}")
+            }
+            Self::WaveletModel(_) | Self::WboitModel => "its CPU model".into(),
+        }
+    }
+
+    /// The expected image of `scene` over `opaque`.
+    pub fn render(&self, scene: &Scene, opaque: &OpaqueLayer) -> translucid::Result<Image> {
+        match *self {
+            Self::Reference => reference::render(scene, opaque),
+            Self::ReferenceUntil(t) => reference::render_until(scene, opaque, t),
+            Self::WaveletModel(settings) => Model::new(settings, scene).render(scene, opaque),
+            Self::WboitModel => wboit::model::render(scene, opaque),
+        }
+    }
+}
+
+/// One frame of a method next to the image expected of it.
+pub struct Measured {
+    pub frame: Frame,
+    pub expected: Image,
+    pub metrics: Metrics,
+    /// CPU time taken by the expected image.
+    pub expected_seconds: f64,
+}
+
+/// Renders one frame, then the expected image from that frame's own opaque layer (so that
+/// only the transparent layer can differ), and compares them.
+pub fn measure(
+    renderer: &mut Renderer,
+    scene: &Scene,
+    expected: &Expected,
+) -> translucid::Result<Measured> {
+    let frame = renderer.render(true)?;
+    let opaque = frame
+        .opaque
+        .as_ref()
+        .expect("render(true) reads the opaque layer back");
+    let started = std::time::Instant::now();
+    let expected = expected.render(scene, opaque)?;
+    let expected_seconds = started.elapsed().as_secs_f64();
+    let metrics = metrics::compare(&frame.image, &expected)?;
+    Ok(Measured {
+        frame,
+        expected,
+        metrics,
+        expected_seconds,
+    })
+}
+
+/// A PSNR for JSON: a number, or "inf" for identical images (JSON has no infinity); a NaN
+/// (from a NaN pixel) stays distinct from "inf" as null.
+pub fn psnr_json(psnr: f32) -> serde_json::Value {
+    if psnr == f32::INFINITY {
+        serde_json::json!("inf")
+    } else {
+        serde_json::json!(psnr)
+    }
 }
