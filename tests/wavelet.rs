@@ -143,7 +143,7 @@ fn wavelet_in_bins_matches_its_cpu_model() {
             check_wavelet_model(&gpu, &scene, &bins_options(rank, 0.0), false);
         }
     }
-    for name in ["particles", "planes", "GlassVaseFlowers"] {
+    for name in ["particles", "planes", "GlassVaseFlowers", "textured"] {
         check_wavelet_model(&gpu, &load(name), &bins_options(3, 0.0), false);
     }
     check_wavelet_model(&gpu, &load("particles"), &bins_options(2, 1.0), false);

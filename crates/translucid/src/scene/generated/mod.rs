@@ -11,6 +11,9 @@
 //! | `hairball`   | tens of thousands of thin strands at low alpha                       |
 //! | `layers`     | screen-facing quads submitted back to front: unsorted blend is exact |
 //! | `polychrome` | transmissive quads with coloured (per-channel) transmittance         |
+//! | `textured`   | textured quads: every sampler mode, mips, steep angles, texture alpha |
+
+mod textured;
 
 use super::{Camera, Draw, Material, Mesh, Scene};
 use glam::{Mat4, Quat, Vec2, Vec3, Vec4};
@@ -25,6 +28,7 @@ pub const NAMES: &[&str] = &[
     "hairball",
     "layers",
     "polychrome",
+    "textured",
 ];
 
 /// The generated scene called `name`, or `None` when there is no such scene.
@@ -38,6 +42,7 @@ pub fn generate(name: &str) -> Option<Scene> {
         "hairball" => hairball(),
         "layers" => layers(),
         "polychrome" => polychrome(),
+        "textured" => textured::textured(),
         _ => return None,
     };
     Some(scene)
