@@ -228,16 +228,19 @@ float waveletOpaquePosition(vec3 cells[WAVELET_MAX_COUNT], float limit) {
 // The device depth from which a pixel's fragments are hidden (every channel absorbed in front
 // of them), or 2.0, behind everything, where none is. Noise only moves positions forward, by
 // at most WAVELET_NOISE cells: that much is undone so the cut is never in front of the true
-// crossing.
+// crossing. The cut is at least a cell behind the nearest fragment; where the pixel's depth
+// range is too thin for that to be a later depth (one fragment, or all at one depth), every
+// fragment sits in cell 0 and none is hidden: mapped back to depth, the cut would fall on them.
 float waveletHiddenDepth(vec3 cells[WAVELET_MAX_COUNT], vec2 bounds, uvec2 pixel) {
     float p = waveletOpaquePosition(cells, WAVELET_ABSORBED);
-    if (p < 0.0) {
-        return 2.0;
-    }
     float last = float(WAVELET_COUNT - 1);
     float slack = clamp(WAVELET_NOISE, 0.0, 0.5 * last) * waveletPixelNoise(pixel);
     float v = min((p + slack) / last, 1.0);
-    return DEPTH_A - DEPTH_B / (bounds.x + v * (bounds.y - bounds.x));
+    float view = bounds.x + v * (bounds.y - bounds.x);
+    if (p < 0.0 || !(view > bounds.x)) {
+        return 2.0;
+    }
+    return DEPTH_A - DEPTH_B / view;
 }
 
 #endif

@@ -95,11 +95,14 @@ impl Model {
         // Pass 3: the opaque layer dimmed, and the depth from which nothing is visible.
         // The frame colour is RGBA16F: every blend into it rounds.
         let behind = math::transmittance(math::absorbance_behind_all(&cells)) * opaque;
-        let cut = math::opaque_position(&cells, -ABSORBED_TRANSMITTANCE.ln()).map(|p| {
+        let cut = math::opaque_position(&cells, -ABSORBED_TRANSMITTANCE.ln()).and_then(|p| {
             let last = (math::coefficient_count(rank) - 1) as f32;
             let slack = noise.clamp(0.0, 0.5 * last) * pixel_noise;
             let v = ((p + slack) / last).min(1.0);
-            self.depth_a - self.depth_b / (nearest + v * (farthest - nearest))
+            // A cut that maps back onto the nearest depth (a pixel of one depth) hides
+            // nothing: every fragment is in cell 0, in front of it.
+            let view = nearest + v * (farthest - nearest);
+            (view > nearest).then(|| self.depth_a - self.depth_b / view)
         });
         // Pass 4: shading.
         let lit = fragments
@@ -125,5 +128,47 @@ impl Model {
         reference::render_with(scene, opaque, &|x, y, fragments, opaque| {
             self.resolve(x, y, fragments, opaque)
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::shading::Fragment;
+
+    /// One fully opaque fragment (alpha 1: absorbance at its limit) is exact at every rank
+    /// in both storages: its own share is removed, and nothing hides it. The depth cut once
+    /// mapped back onto the fragment's own depth and culled it at random.
+    #[test]
+    fn a_lone_opaque_fragment_is_its_own_colour() {
+        let colour = Vec3::new(0.9, 0.5, 0.1);
+        let fragment = PixelFragment {
+            view_depth: 3.0,
+            device_depth: 0.75,
+            fragment: Fragment {
+                radiance: colour,
+                transmittance: Vec3::ZERO,
+            },
+        };
+        for storage in [Storage::Bins, Storage::Images] {
+            for rank in 0..=math::MAX_RANK {
+                let model = Model {
+                    settings: Settings {
+                        rank,
+                        noise: 0.0,
+                        precision: Precision::Single,
+                        storage,
+                    },
+                    // Device depth 0.75 at view depth 3: a - b / 3 = 0.75.
+                    depth_a: 1.0,
+                    depth_b: 0.75,
+                };
+                let got = model.resolve(0, 0, &[fragment], Vec3::ONE);
+                assert!(
+                    (got - colour).abs().max_element() < 2e-3,
+                    "rank {rank}, {storage:?}: {got} instead of {colour}"
+                );
+            }
+        }
     }
 }
