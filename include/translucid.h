@@ -265,6 +265,10 @@ enum translucid_structure_type
     TRANSLUCID_STRUCTURE_TYPE_OPAQUE_LAYER = 6,
     TRANSLUCID_STRUCTURE_TYPE_FRAME_STATISTICS = 7,
     /**
+     * `translucid_sampler_info`, chained to the texture create-info.
+     */
+    TRANSLUCID_STRUCTURE_TYPE_SAMPLER_INFO = 8,
+    /**
      * `translucid_host_device_create_info`, chained to the context create-info.
      */
     TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_CREATE_INFO = 100,
@@ -443,6 +447,75 @@ enum translucid_wavelet_storage
 typedef enum translucid_wavelet_storage translucid_wavelet_storage;
 #else
 typedef uint32_t translucid_wavelet_storage;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
+/**
+ * How texture coordinates outside [0, 1] map into a texture, per axis (glTF's `wrapS`,
+ * `wrapT`).
+ */
+enum translucid_wrap
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+    TRANSLUCID_WRAP_REPEAT = 0,
+    TRANSLUCID_WRAP_CLAMP_TO_EDGE = 1,
+    TRANSLUCID_WRAP_MIRRORED_REPEAT = 2,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum translucid_wrap translucid_wrap;
+#else
+typedef uint32_t translucid_wrap;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
+/**
+ * Filtering within a mip level.
+ */
+enum translucid_filter
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+    TRANSLUCID_FILTER_LINEAR = 0,
+    TRANSLUCID_FILTER_NEAREST = 1,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum translucid_filter translucid_filter;
+#else
+typedef uint32_t translucid_filter;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
+/**
+ * Filtering between mip levels when a texture is minified.
+ */
+enum translucid_mipmap_mode
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+    /**
+     * The two levels around the level of detail, blended (glTF `*_MIPMAP_LINEAR`).
+     */
+    TRANSLUCID_MIPMAP_MODE_LINEAR = 0,
+    /**
+     * The nearest level (`*_MIPMAP_NEAREST`).
+     */
+    TRANSLUCID_MIPMAP_MODE_NEAREST = 1,
+    /**
+     * Level 0 only (glTF's `NEAREST` and `LINEAR` min filters).
+     */
+    TRANSLUCID_MIPMAP_MODE_NONE = 2,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum translucid_mipmap_mode translucid_mipmap_mode;
+#else
+typedef uint32_t translucid_mipmap_mode;
 #endif // __STDC_VERSION__ >= 202311L
 #endif // __cplusplus
 
@@ -935,7 +1008,8 @@ typedef struct translucid_texture_create_info {
      */
     uint32_t s_type;
     /**
-     * NULL.
+     * NULL, or a `translucid_sampler_info` saying how the texture is sampled (without one:
+     * repeated, filtered trilinearly).
      */
     const void *next;
     /**
@@ -960,6 +1034,43 @@ typedef struct translucid_texture_create_info {
      */
     const char *name;
 } translucid_texture_create_info;
+
+/**
+ * How a texture is sampled, as a glTF sampler says it; chained to
+ * `translucid_texture_create_info::next`. Zero-initialised, every field takes glTF's default:
+ * repeat, linear filters, linear between mip levels. Every method and the CPU reference
+ * follow the same rules (the README's "Textures and samplers").
+ */
+typedef struct translucid_sampler_info {
+    /**
+     * `TRANSLUCID_STRUCTURE_TYPE_SAMPLER_INFO`.
+     */
+    uint32_t s_type;
+    /**
+     * NULL.
+     */
+    const void *next;
+    /**
+     * `translucid_wrap` along u.
+     */
+    uint32_t wrap_s;
+    /**
+     * `translucid_wrap` along v.
+     */
+    uint32_t wrap_t;
+    /**
+     * `translucid_filter` when magnified.
+     */
+    uint32_t mag_filter;
+    /**
+     * `translucid_filter` when minified.
+     */
+    uint32_t min_filter;
+    /**
+     * `translucid_mipmap_mode` when minified.
+     */
+    uint32_t mipmap_mode;
+} translucid_sampler_info;
 
 /**
  * The header every extensible struct starts with; used to read `next` chains.

@@ -14,6 +14,8 @@ pub enum translucid_structure_type {
     FrameInfo = 5,
     OpaqueLayer = 6,
     FrameStatistics = 7,
+    /// `translucid_sampler_info`, chained to the texture create-info.
+    SamplerInfo = 8,
     /// `translucid_host_device_create_info`, chained to the context create-info.
     HostDeviceCreateInfo = 100,
     /// `translucid_host_requirements`.
@@ -23,7 +25,7 @@ pub enum translucid_structure_type {
 }
 
 impl translucid_structure_type {
-    const ALL: [Self; 10] = [
+    const ALL: [Self; 11] = [
         Self::ContextCreateInfo,
         Self::MeshCreateInfo,
         Self::TextureCreateInfo,
@@ -31,6 +33,7 @@ impl translucid_structure_type {
         Self::FrameInfo,
         Self::OpaqueLayer,
         Self::FrameStatistics,
+        Self::SamplerInfo,
         Self::HostDeviceCreateInfo,
         Self::HostDeviceRequirements,
         Self::HostFrameTargets,

@@ -241,7 +241,8 @@ static void meshes(translucid_context *ctx) {
 static void textures_and_materials(translucid_context *ctx, translucid_context *other) {
     uint8_t texels[4 * 4 * 4];
     translucid_texture_create_info tinfo;
-    translucid_texture texture, foreign_texture;
+    translucid_texture texture, foreign_texture, sampled;
+    translucid_sampler_info sinfo;
     translucid_material_create_info minfo = material_info();
     translucid_material material = {7};
     translucid_mesh mesh;
@@ -269,6 +270,37 @@ static void textures_and_materials(translucid_context *ctx, translucid_context *
     EXPECT(ctx, translucid_texture_create(ctx, &tinfo, &texture), TRANSLUCID_RESULT_SUCCESS);
     EXPECT(other, translucid_texture_create(other, &tinfo, &foreign_texture),
            TRANSLUCID_RESULT_SUCCESS);
+
+    /* A sampler chained to the texture: unknown values and foreign structures are refused. */
+    memset(&sinfo, 0, sizeof sinfo);
+    sinfo.s_type = TRANSLUCID_STRUCTURE_TYPE_SAMPLER_INFO;
+    sinfo.wrap_s = TRANSLUCID_WRAP_MIRRORED_REPEAT;
+    sinfo.wrap_t = TRANSLUCID_WRAP_CLAMP_TO_EDGE;
+    sinfo.mag_filter = TRANSLUCID_FILTER_NEAREST;
+    sinfo.mipmap_mode = TRANSLUCID_MIPMAP_MODE_NONE;
+    tinfo.next = &sinfo;
+    EXPECT(ctx, translucid_texture_create(ctx, &tinfo, &sampled), TRANSLUCID_RESULT_SUCCESS);
+    EXPECT(ctx, translucid_texture_destroy(ctx, sampled), TRANSLUCID_RESULT_SUCCESS);
+    sinfo.wrap_t = 3;
+    EXPECT(ctx, translucid_texture_create(ctx, &tinfo, &sampled),
+           TRANSLUCID_RESULT_ERROR_INVALID_ENUM);
+    sinfo.wrap_t = TRANSLUCID_WRAP_REPEAT;
+    sinfo.min_filter = 2;
+    EXPECT(ctx, translucid_texture_create(ctx, &tinfo, &sampled),
+           TRANSLUCID_RESULT_ERROR_INVALID_ENUM);
+    sinfo.min_filter = TRANSLUCID_FILTER_LINEAR;
+    sinfo.mipmap_mode = 3;
+    EXPECT(ctx, translucid_texture_create(ctx, &tinfo, &sampled),
+           TRANSLUCID_RESULT_ERROR_INVALID_ENUM);
+    sinfo.mipmap_mode = TRANSLUCID_MIPMAP_MODE_LINEAR;
+    sinfo.s_type = TRANSLUCID_STRUCTURE_TYPE_MESH_CREATE_INFO;
+    EXPECT(ctx, translucid_texture_create(ctx, &tinfo, &sampled),
+           TRANSLUCID_RESULT_ERROR_INVALID_STRUCTURE_TYPE);
+    sinfo.s_type = TRANSLUCID_STRUCTURE_TYPE_SAMPLER_INFO;
+    sinfo.next = &sinfo;
+    EXPECT(ctx, translucid_texture_create(ctx, &tinfo, &sampled),
+           TRANSLUCID_RESULT_ERROR_INVALID_STRUCTURE_TYPE);
+    tinfo.next = NULL;
 
     minfo.base_colour[3] = 2.0f;
     EXPECT(ctx, translucid_material_create(ctx, &minfo, &material),

@@ -162,6 +162,79 @@ static void exact_threshold(float threshold, float want, translucid_mesh quad,
     CHECK(translucid_frame_destroy(g_ctx, frame));
 }
 
+/* A 2x1 black and white texture, nearest, on a quad whose u runs from -0.29 at the left pixel
+   to 1.29 at the right one (u = 0.5 + x / 2 at z = -2): columns 7 and 8 straddle u = 0.5, and
+   the wrap mode decides the outer ones. Opaque texels over black: the pixel is the texel. */
+static void sampled_texture(uint32_t method, uint32_t wrap, float left, float right) {
+    static const float positions[] = {-5, -5, -2, 5, -5, -2, 5, 5, -2, -5, 5, -2};
+    static const float uvs[] = {-2, 0, 3, 0, 3, 1, -2, 1};
+    static const uint32_t triangles[] = {0, 1, 2, 0, 2, 3};
+    static const uint8_t texels[] = {0, 0, 0, 255, 255, 255, 255, 255};
+    translucid_frame_info info = base_frame(method);
+    translucid_mesh_create_info mesh_info;
+    translucid_sampler_info sampler;
+    translucid_texture_create_info texture_info;
+    translucid_material_create_info material_info;
+    translucid_mesh mesh;
+    translucid_texture texture;
+    translucid_material material;
+    translucid_draw draw;
+    translucid_frame frame;
+    float *pixels;
+    size_t row;
+    char what[64], text[96];
+
+    memset(&mesh_info, 0, sizeof mesh_info);
+    mesh_info.s_type = TRANSLUCID_STRUCTURE_TYPE_MESH_CREATE_INFO;
+    mesh_info.primitive = TRANSLUCID_PRIMITIVE_TRIANGLES;
+    mesh_info.vertex_count = 4;
+    mesh_info.positions = positions;
+    mesh_info.uvs = uvs;
+    mesh_info.index_count = 6;
+    mesh_info.indices = triangles;
+    CHECK(translucid_mesh_create(g_ctx, &mesh_info, &mesh));
+    memset(&sampler, 0, sizeof sampler);
+    sampler.s_type = TRANSLUCID_STRUCTURE_TYPE_SAMPLER_INFO;
+    sampler.wrap_s = wrap;
+    sampler.mag_filter = TRANSLUCID_FILTER_NEAREST;
+    sampler.min_filter = TRANSLUCID_FILTER_NEAREST;
+    memset(&texture_info, 0, sizeof texture_info);
+    texture_info.s_type = TRANSLUCID_STRUCTURE_TYPE_TEXTURE_CREATE_INFO;
+    texture_info.next = &sampler;
+    texture_info.width = 2;
+    texture_info.height = 1;
+    texture_info.texels = texels;
+    CHECK(translucid_texture_create(g_ctx, &texture_info, &texture));
+    memset(&material_info, 0, sizeof material_info);
+    material_info.s_type = TRANSLUCID_STRUCTURE_TYPE_MATERIAL_CREATE_INFO;
+    material_info.base_colour[0] = material_info.base_colour[1] = 1.0f;
+    material_info.base_colour[2] = material_info.base_colour[3] = 1.0f;
+    material_info.texture = texture;
+    CHECK(translucid_material_create(g_ctx, &material_info, &material));
+    memset(&draw, 0, sizeof draw);
+    draw.mesh = mesh;
+    draw.material = material;
+    draw.transform[0] = draw.transform[5] = draw.transform[10] = draw.transform[15] = 1.0f;
+    info.draws = &draw;
+    info.draw_count = 1;
+    CHECK(translucid_frame_render(g_ctx, &info, &frame));
+    pixels = read_both(frame);
+    snprintf(what, sizeof what, "method %u, wrap %u: ", (unsigned)method, (unsigned)wrap);
+    for (row = 0; row < H; row++) {
+        const float *p = pixels + row * W * 4;
+        near_or_fail(p[0], left, 2e-3f, strcat(strcpy(text, what), "left column"), row * W);
+        near_or_fail(p[7 * 4], 0.0f, 2e-3f, strcat(strcpy(text, what), "column 7"), row * W + 7);
+        near_or_fail(p[8 * 4], 1.0f, 2e-3f, strcat(strcpy(text, what), "column 8"), row * W + 8);
+        near_or_fail(p[(W - 1) * 4], right, 2e-3f, strcat(strcpy(text, what), "right column"),
+                     row * W + W - 1);
+    }
+    free(pixels);
+    CHECK(translucid_frame_destroy(g_ctx, frame));
+    CHECK(translucid_material_destroy(g_ctx, material));
+    CHECK(translucid_texture_destroy(g_ctx, texture));
+    CHECK(translucid_mesh_destroy(g_ctx, mesh));
+}
+
 static void background_only(uint32_t method) {
     translucid_frame_info info = base_frame(method);
     translucid_frame frame;
@@ -217,6 +290,10 @@ int main(int argc, char **argv) {
         translucid_frame_info info = base_frame(methods[m]);
         over_host_layer(info, quad, red);
         background_only(methods[m]);
+        /* u -0.29 is texel -1 and u 1.29 texel 2, wrapped: */
+        sampled_texture(methods[m], TRANSLUCID_WRAP_REPEAT, 1.0f, 0.0f);
+        sampled_texture(methods[m], TRANSLUCID_WRAP_CLAMP_TO_EDGE, 0.0f, 1.0f);
+        sampled_texture(methods[m], TRANSLUCID_WRAP_MIRRORED_REPEAT, 0.0f, 1.0f);
         if (methods[m] == TRANSLUCID_METHOD_WAVELET) {
             /* One layer is exact at every rank, in both storages. */
             uint32_t coefficients;
