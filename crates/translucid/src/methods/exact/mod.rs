@@ -19,9 +19,9 @@
 //!    dispatches of the same shader, sized on the GPU (indirect dispatch).
 //!
 //! Why this shape: on lavapipe (subgroups of 8, 32 KB shared memory) barrier-heavy
-//! shared-memory phases cost more than blending itself, fixed-size register work is cheap
-//! (measurements in DESIGN.md), an `if` runs both its sides, and data read in loops is
-//! cheapest through texel views (README, "Where performance stands"). Selection by key (view
+//! shared-memory phases cost more than blending itself, fixed-size register work is cheap, an
+//! `if` runs both its sides, and data read in loops is cheapest through texel views (README,
+//! "Where performance stands"). Selection by key (view
 //! depth, draw, quad, triangle) is exact by construction, so no pixel can come out of order
 //! and no fallback path is needed.
 //!

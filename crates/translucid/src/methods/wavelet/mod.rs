@@ -1,5 +1,5 @@
-//! `wavelet`: Haar-wavelet transmittance OIT (see DESIGN.md, "Wavelet OIT"; the math is in
-//! [`math`], and [`model`] is the whole method on the CPU). Two variants, by where each
+//! `wavelet`: Haar-wavelet transmittance OIT (the README's "The approximate methods"; the math
+//! is in [`math`], and [`model`] is the whole method on the CPU). Two variants, by where each
 //! pixel's coefficients live ([`Storage`]):
 //!
 //! **Bins** (the default): the exact method's setup and bins, with a raster of its own
