@@ -167,6 +167,11 @@ enum Command {
 }
 
 fn main() -> ExitCode {
+    // The library's warnings (parts of a file it skips or cannot draw as written) on stderr;
+    // RUST_LOG sets another level.
+    env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn"))
+        .format_timestamp(None)
+        .init();
     match run(Cli::parse().command) {
         Ok(code) => code,
         Err(e) => {

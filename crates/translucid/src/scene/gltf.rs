@@ -221,6 +221,15 @@ impl<'p> Importer<'p> {
                 self.skipped_primitives
             );
         }
+        if document
+            .extensions_used()
+            .any(|e| e == "KHR_texture_transform")
+        {
+            log::warn!(
+                "{}: KHR_texture_transform is not supported; textures are drawn untransformed",
+                self.path.display()
+            );
+        }
         if self.scene.opaque.is_empty() && self.scene.transparent.is_empty() {
             return Err(invalid(self.path, "the scene draws no triangles"));
         }
