@@ -1,11 +1,14 @@
 //! The CPU exact renderer: the definition of the right answer that every GPU method is
-//! measured against (see DESIGN.md, "What exact means").
+//! measured against (ARCHITECTURE.md, on the fragment model).
 //!
 //! Per pixel: every transparent triangle covering the pixel centre under the rules of
 //! [`crate::raster`] (back faces culled for single-sided materials), with depth-buffer value
 //! below the opaque depth there, is shaded with [`crate::shading::shade_transparent`]; the
 //! fragments are sorted by view depth, ties broken by (draw index, quad index, triangle index
 //! within the quad), and composited front to back over the opaque colour.
+//!
+//! [`render_in_submission_order`] composites the same fragments in submission order instead,
+//! as unsorted hardware blending does: the CPU model of the `blend` method.
 //!
 //! For speed: vertices are transformed once per draw, triangles are set up and binned to
 //! 32×32 tiles in parallel, and tiles render in parallel, each with its own fragment list.
@@ -43,6 +46,26 @@ pub fn render_until(scene: &Scene, opaque: &OpaqueLayer, threshold: f32) -> crat
     })
 }
 
+/// The fragments of [`render`], composited the way unsorted hardware blending (the `blend`
+/// method) composites them: in submission order, by draw index, then quad, then triangle
+/// within the quad, each one blended over what is already there (`dst = L + T ⊙ dst`), with
+/// no regard for depth. The last fragment submitted ends up in front. Where submission runs
+/// back to front and nothing interpenetrates this equals [`render`]; elsewhere it shows the
+/// error that sorting avoids.
+///
+/// Coverage, the opaque depth test, back-face culling and shading (texture level of detail
+/// included) are the reference's, so it differs from a hardware rasterizer where those do.
+pub fn render_in_submission_order(scene: &Scene, opaque: &OpaqueLayer) -> crate::Result<Image> {
+    render_pixels(
+        scene,
+        opaque,
+        Record::last_submitted_first,
+        &|_, _, fragments, opaque| {
+            composite_front_to_back(fragments.iter().map(|f| f.fragment), opaque)
+        },
+    )
+}
+
 /// One transparent fragment of a pixel, as the reference rasterizes and shades it.
 #[derive(Clone, Copy, Debug)]
 pub struct PixelFragment {
@@ -64,7 +87,7 @@ pub fn render_with(
     opaque: &OpaqueLayer,
     resolve: &Resolve<'_>,
 ) -> crate::Result<Image> {
-    render_pixels(scene, opaque, |a, b| a.prim.cmp(&b.prim), resolve)
+    render_pixels(scene, opaque, Record::submission, resolve)
 }
 
 fn render_pixels(
@@ -169,6 +192,17 @@ impl Record {
         self.view_depth
             .total_cmp(&other.view_depth)
             .then(self.prim.cmp(&other.prim))
+    }
+
+    /// Submission order: draw, quad, triangle.
+    fn submission(&self, other: &Self) -> Ordering {
+        self.prim.cmp(&other.prim)
+    }
+
+    /// Reverse submission order: the front-to-back order that blending each fragment over
+    /// the ones submitted before it produces.
+    fn last_submitted_first(&self, other: &Self) -> Ordering {
+        other.prim.cmp(&self.prim)
     }
 }
 

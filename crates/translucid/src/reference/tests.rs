@@ -3,7 +3,7 @@
 //! quads are placed by their pixel rectangle, with edges on pixel boundaries, away from the
 //! pixel centres.
 
-use super::render;
+use super::{render, render_in_submission_order};
 use crate::image::{Image, OpaqueLayer};
 use crate::scene::{Camera, Draw, Material, Mesh, Scene, Texture};
 use glam::{Mat4, Vec3, Vec4};
@@ -281,6 +281,53 @@ fn equal_depths_keep_submission_order() {
     );
     // The first draw counts as nearer: red over blue over black.
     assert_pixel(&draw(&s, 8, Vec3::ZERO), 4, 4, [0.5, 0.0, 0.25]);
+}
+
+#[test]
+fn submission_order_puts_the_last_draw_in_front_whatever_the_depths() {
+    // Red (α .5, near) over columns 0..6, blue (α .25, far) over 2..8, submitted near first,
+    // over grey 0.2.
+    let red = || (rect(8, [0, 0, 6, 8], 1.0), alpha(1.0, 0.0, 0.0, 0.5));
+    let blue = || (rect(8, [2, 0, 8, 8], 0.0), alpha(0.0, 0.0, 1.0, 0.25));
+    let front_first = scene(1.0, vec![red(), blue()]);
+    let opaque = OpaqueLayer::clear(8, 8, Vec3::splat(0.2));
+    let sorted = render(&front_first, &opaque).expect("renders");
+    let unsorted = render_in_submission_order(&front_first, &opaque).expect("renders");
+    for y in 0..8 {
+        // One layer: the order does not matter. Red: (.5, 0, 0) + .5 · .2; blue:
+        // (0, 0, .25) + .75 · .2.
+        for image in [&sorted, &unsorted] {
+            assert_pixel(image, 1, y, [0.6, 0.1, 0.1]);
+            assert_pixel(image, 7, y, [0.15, 0.15, 0.4]);
+        }
+        // By depth, red over blue: (.5, 0, 0) + .5 (0, 0, .25) + .5 · .75 · .2.
+        assert_pixel(&sorted, 3, y, [0.575, 0.075, 0.2]);
+        // In submission order blue, drawn last, lands over red:
+        // (0, 0, .25) + .75 (.5, 0, 0) + .75 · .5 · .2.
+        assert_pixel(&unsorted, 3, y, [0.45, 0.075, 0.325]);
+    }
+
+    // Submitted back to front, the two agree.
+    let back_first = scene(1.0, vec![blue(), red()]);
+    assert_eq!(
+        render_in_submission_order(&back_first, &opaque).expect("renders"),
+        sorted
+    );
+
+    // Within one draw the order is by quad: the same two quads as one mesh, their colours
+    // from the vertices, the near one listed first, give the same two answers.
+    let (near, far) = (red().0, blue().0);
+    let mut positions = near.positions;
+    positions.extend(far.positions);
+    let mut both = Mesh::from_quads("both", positions, vec![[0, 1, 2, 3], [4, 5, 6, 7]]);
+    let mut colours = vec![Vec4::new(1.0, 0.0, 0.0, 0.5); 4];
+    colours.extend([Vec4::new(0.0, 0.0, 1.0, 0.25); 4]);
+    both.colours = Some(colours);
+    let one_draw = scene(1.0, vec![(both, alpha(1.0, 1.0, 1.0, 1.0))]);
+    let sorted = render(&one_draw, &opaque).expect("renders");
+    let unsorted = render_in_submission_order(&one_draw, &opaque).expect("renders");
+    assert_pixel(&sorted, 3, 4, [0.575, 0.075, 0.2]);
+    assert_pixel(&unsorted, 3, 4, [0.45, 0.075, 0.325]);
 }
 
 #[test]
