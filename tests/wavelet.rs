@@ -343,3 +343,32 @@ fn approximate_methods_stay_above_their_psnr_floors() {
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
+
+/// One surface of alpha 1 over the opaque layer is exact at every rank, in both storages:
+/// its own share of absorbance is removed, and nothing hides it. Its opacity cut once mapped
+/// back onto its own depth and culled it at random (black, noisy), in the CPU model too, so
+/// this compares with the exact reference.
+#[test]
+fn wavelet_draws_a_lone_opaque_surface_exactly() {
+    let gpu = gpu();
+    let scene = stack_scene("opaque", 1, Material::alpha(Vec3::new(0.9, 0.5, 0.1), 1.0));
+    for rank in 0..=3 {
+        for options in [
+            bins_options(rank, 0.0),
+            wavelet_options(rank, 0.0, Precision::Half),
+        ] {
+            let frame = render(&gpu, &scene, "wavelet", &options);
+            let opaque = frame.opaque.as_ref().expect("opaque layer");
+            let expected = translucid::reference::render(&scene, opaque).expect("reference");
+            let label = format!("wavelet_lone_opaque_rank{rank}_{:?}", options.storage);
+            let m = compare(&label, &frame.image, &expected);
+            assert!(
+                m.max_error <= TOLERANCE,
+                "{label}: off the exact reference by {:.1}/255 on {} pixels; see \
+                 target/test-failures/{label}.png",
+                m.max_error * 255.0,
+                m.pixels_over
+            );
+        }
+    }
+}
