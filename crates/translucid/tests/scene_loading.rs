@@ -271,6 +271,131 @@ fn node_cycle_is_refused() {
     assert!(err.to_string().contains("own ancestor"), "{err}");
 }
 
+/// A camera whose `type` names the projection object it lacks: the gltf crate unwraps it.
+#[test]
+fn camera_without_its_projection_object_is_refused() {
+    for (kind, object) in [
+        (
+            "perspective",
+            r#""orthographic": {"xmag": 1, "ymag": 1, "znear": 0.1, "zfar": 10}"#,
+        ),
+        (
+            "orthographic",
+            r#""perspective": {"yfov": 0.8, "znear": 0.1}"#,
+        ),
+    ] {
+        let json = Tiny::triangle()
+            .nodes(r#"{"mesh": 0}, {"camera": 0}"#, "[0, 1]")
+            .top(&format!(r#""cameras": [{{"type": "{kind}", {object}}}]"#))
+            .json();
+        let err = load_bytes("camera.gltf", json.as_bytes()).expect_err(kind);
+        assert!(matches!(err, Error::InvalidGltf { .. }), "{err:?}");
+        let msg = err.to_string();
+        assert!(msg.contains("camera 0") && msg.contains(kind), "{msg}");
+    }
+}
+
+/// An attribute naming an accessor past the end of `accessors`: gltf-json's own validation
+/// indexes with it.
+#[test]
+fn attribute_accessor_out_of_range_is_refused() {
+    let json = Tiny::triangle()
+        .json()
+        .replace(r#""POSITION": 0"#, r#""POSITION": 9"#);
+    let err = load_bytes("accessor.gltf", json.as_bytes()).expect_err("accessor 9 of 2");
+    assert!(matches!(err, Error::InvalidGltf { .. }), "{err:?}");
+    let msg = err.to_string();
+    assert!(
+        msg.contains("POSITION") && msg.contains("accessor 9") && msg.contains("mesh 0"),
+        "{msg}"
+    );
+}
+
+/// An image in a buffer view must say its MIME type; the gltf crate unwraps it.
+#[test]
+fn image_in_a_buffer_view_without_mime_type_is_refused() {
+    let json = Tiny::triangle()
+        .material(r#"{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}"#)
+        .top(r#""textures": [{"source": 0}], "images": [{"bufferView": 1}]"#)
+        .json();
+    let err = load_bytes("mime.gltf", json.as_bytes()).expect_err("no mimeType");
+    assert!(matches!(err, Error::InvalidGltf { .. }), "{err:?}");
+    let msg = err.to_string();
+    assert!(msg.contains("image 0") && msg.contains("mimeType"), "{msg}");
+}
+
+/// A buffer URI naming something that is not a regular file (a pipe that never ends, a
+/// device) is refused before it is read; reading one blocked forever or until memory ran out.
+#[cfg(unix)]
+#[test]
+fn buffer_uri_of_a_pipe_or_device_is_refused() {
+    let dir = temp_path("pipe");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let fifo = dir.join("stream.bin");
+    let made = std::process::Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .expect("mkfifo");
+    assert!(made.success());
+    for uri in ["\"stream.bin\"", "\"/dev/zero\""] {
+        let path = dir.join("pipe.gltf");
+        std::fs::write(&path, Tiny::triangle().buffer_uri(uri).json()).expect("write");
+        let err = scene::gltf::load(&path).expect_err(uri);
+        let msg = err.to_string();
+        assert!(msg.contains("not a regular file"), "{uri}: {msg}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// An external buffer file is read up to its declared byteLength, not whole: here the
+/// declared bytes, then 64 GiB the file does not declare (sparse, so they take no disk).
+#[test]
+fn buffer_file_is_read_up_to_its_byte_length() {
+    let dir = temp_path("long-buffer");
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let tiny = Tiny::triangle();
+    let json = tiny.json();
+    let start = json.find("base64,").expect("data URI") + "base64,".len();
+    let end = start + json[start..].find('"').expect("end of URI");
+    let buffer = dir.join("long.bin");
+    std::fs::write(&buffer, decode_base64(&json[start..end])).expect("write buffer");
+    std::fs::File::options()
+        .write(true)
+        .open(&buffer)
+        .and_then(|f| f.set_len(64 << 30))
+        .expect("extend the buffer file");
+    let path = dir.join("long.gltf");
+    std::fs::write(&path, tiny.buffer_uri("\"long.bin\"").json()).expect("write");
+    let scene = scene::gltf::load(&path).expect("a longer file is fine");
+    assert_eq!(scene.meshes[0].positions.len(), 3);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// An image wider than any device allows is refused from its header, before it is decoded
+/// or reaches the GPU (a 100000×1 PNG crashed the driver).
+#[test]
+fn image_over_the_largest_texture_is_refused_before_decoding() {
+    let mut png = Vec::new();
+    image::RgbaImage::new(100_000, 1)
+        .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+        .expect("encode");
+    let uri = format!("data:image/png;base64,{}", base64(&png));
+    let json = Tiny::triangle()
+        .material(r#"{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}"#)
+        .top(&format!(
+            r#""textures": [{{"source": 0}}], "images": [{{"uri": "{uri}"}}]"#
+        ))
+        .json();
+    let err = load_bytes("wide.gltf", json.as_bytes()).expect_err("100000 wide");
+    assert!(matches!(err, Error::InvalidGltf { .. }), "{err:?}");
+    let msg = err.to_string();
+    assert!(
+        msg.contains("100000x1") && msg.contains(&scene::MAX_TEXTURE_SIZE.to_string()),
+        "{msg}"
+    );
+}
+
 #[test]
 fn reused_mesh_is_converted_once_and_drawn_per_node() {
     let json = Tiny::triangle()
@@ -437,6 +562,26 @@ fn base64(bytes: &[u8]) -> String {
             } else {
                 out.push('=');
             }
+        }
+    }
+    out
+}
+
+fn decode_base64(text: &str) -> Vec<u8> {
+    const ALPHABET: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let values: Vec<u32> = text
+        .bytes()
+        .filter(|&b| b != b'=')
+        .map(|b| ALPHABET.iter().position(|&a| a == b).expect("base64") as u32)
+        .collect();
+    let mut out = Vec::new();
+    for chunk in values.chunks(4) {
+        let n = chunk
+            .iter()
+            .enumerate()
+            .fold(0u32, |n, (i, v)| n | v << (18 - 6 * i));
+        for i in 0..chunk.len() - 1 {
+            out.push((n >> (16 - 8 * i)) as u8);
         }
     }
     out

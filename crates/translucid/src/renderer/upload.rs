@@ -386,7 +386,17 @@ pub(crate) fn create_textures<'a>(
 ) -> Result<(Vec<GpuImage>, Vec<Buffer>)> {
     let mut images = Vec::new();
     let mut staging = Vec::new();
+    let max = gpu.info().max_image_dimension_2d;
     for t in textures {
+        // Checked before anything is created: a driver may crash on an image it cannot make.
+        if t.width() > max || t.height() > max {
+            return Err(crate::Error::InvalidScene(format!(
+                "texture {} is {}x{}; this device's largest image is {max}x{max}",
+                t.name,
+                t.width(),
+                t.height()
+            )));
+        }
         let format = if t.srgb {
             vk::Format::R8G8B8A8_SRGB
         } else {

@@ -6,7 +6,10 @@
 //! every accessor is checked here before the crate reads it, and buffers and images are loaded
 //! here rather than by `gltf::import`.
 
-use super::{Camera, Draw, Filter, Material, Mesh, MipFilter, Sampler, Scene, Texture, Wrap};
+use super::{
+    Camera, Draw, Filter, Material, Mesh, MipFilter, Sampler, Scene, Texture, Wrap,
+    MAX_TEXTURE_SIZE,
+};
 use crate::{Error, Result};
 use glam::{Mat4, Vec2, Vec3, Vec4};
 use gltf::accessor::{DataType, Dimensions};
@@ -37,6 +40,22 @@ const DEFAULT_FOV_Y: f32 = 0.8;
 /// BLEND and transmissive ones to `scene.transparent`, in node traversal order. The camera is
 /// the first perspective camera found, else one framing everything.
 pub fn load(path: &Path) -> Result<Scene> {
+    // The last line of defence: a panic in the gltf crate on input no check here foresaw is
+    // this file's error, not the caller's crash.
+    std::panic::catch_unwind(|| load_unguarded(path)).unwrap_or_else(|panic| {
+        let message = panic
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| panic.downcast_ref::<String>().cloned())
+            .unwrap_or_else(|| "no message".into());
+        Err(invalid(
+            path,
+            format!("the glTF reader failed on this file ({message})"),
+        ))
+    })
+}
+
+fn load_unguarded(path: &Path) -> Result<Scene> {
     let bytes = std::fs::read(path).map_err(|source| Error::SceneIo {
         path: path.into(),
         source,
@@ -92,8 +111,88 @@ fn parse(path: &Path, bytes: &[u8]) -> Result<gltf::Gltf> {
             extension: ext.to_string(),
         });
     }
-    validate(gltf.document.as_json()).map_err(|reason| invalid(path, reason))?;
+    let root = gltf.document.as_json();
+    check_what_readers_unwrap(root).map_err(|reason| invalid(path, reason))?;
+    validate(root).map_err(|reason| invalid(path, reason))?;
     Ok(gltf)
+}
+
+/// What the gltf crate indexes or unwraps without checking, in its validation or its
+/// readers: primitives' accessor indices (its validation looks up POSITION's accessor before
+/// checking the index), a camera's projection object, an embedded image's MIME type.
+fn check_what_readers_unwrap(root: &gltf::json::Root) -> std::result::Result<(), String> {
+    let accessors = root.accessors.len();
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        let label = mesh
+            .name
+            .as_deref()
+            .map(|n| format!(" ({n})"))
+            .unwrap_or_default();
+        for (p, primitive) in mesh.primitives.iter().enumerate() {
+            let named = primitive.attributes.iter().map(|(semantic, index)| {
+                let name = match semantic {
+                    gltf::json::validation::Checked::Valid(s) => s.to_string(),
+                    gltf::json::validation::Checked::Invalid => "an attribute".to_string(),
+                };
+                (name, index.value())
+            });
+            let indices = primitive
+                .indices
+                .map(|i| ("indices".to_string(), i.value()));
+            let targets = primitive
+                .targets
+                .iter()
+                .flatten()
+                .enumerate()
+                .flat_map(|(t, target)| {
+                    [
+                        ("POSITION", target.positions),
+                        ("NORMAL", target.normals),
+                        ("TANGENT", target.tangents),
+                    ]
+                    .into_iter()
+                    .filter_map(move |(name, index)| {
+                        index.map(|i| (format!("morph target {t} {name}"), i.value()))
+                    })
+                });
+            for (what, index) in named.chain(indices).chain(targets) {
+                if index >= accessors {
+                    return Err(format!(
+                        "mesh {m}{label} primitive {p}: {what} names accessor {index}, and the \
+                         file has {accessors}"
+                    ));
+                }
+            }
+        }
+    }
+    for (i, camera) in root.cameras.iter().enumerate() {
+        use gltf::json::camera::Type;
+        use gltf::json::validation::Checked;
+        let (kind, present) = match camera.type_ {
+            Checked::Valid(Type::Perspective) => ("perspective", camera.perspective.is_some()),
+            Checked::Valid(Type::Orthographic) => ("orthographic", camera.orthographic.is_some()),
+            Checked::Invalid => continue, // validation names it
+        };
+        if !present {
+            return Err(format!(
+                "camera {i}: its type is {kind} but it has no {kind} object"
+            ));
+        }
+    }
+    for (i, image) in root.images.iter().enumerate() {
+        if image.buffer_view.is_some() && image.mime_type.is_none() {
+            let label = image
+                .name
+                .as_deref()
+                .map(|n| format!(" ({n})"))
+                .unwrap_or_default();
+            return Err(format!(
+                "image {i}{label} is in a bufferView but has no mimeType, which glTF requires \
+                 there"
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// The gltf crate's structural validation (index references, required fields, enums).
@@ -133,7 +232,8 @@ fn load_buffers(document: &gltf::Document, base: &Path, mut blob: Option<Vec<u8>
                 gltf::buffer::Source::Bin => blob
                     .take()
                     .ok_or_else(|| "the GLB file has no BIN chunk".to_string()),
-                gltf::buffer::Source::Uri(uri) => read_uri(base, uri),
+                // Bytes past byteLength are never read.
+                gltf::buffer::Source::Uri(uri) => read_uri(base, uri, buffer.length() as u64),
             }?;
             if data.len() < buffer.length() {
                 return Err(format!(
@@ -147,8 +247,13 @@ fn load_buffers(document: &gltf::Document, base: &Path, mut blob: Option<Vec<u8>
         .collect()
 }
 
-/// Reads a `data:` URI or a file relative to the glTF file.
-fn read_uri(base: &Path, uri: &str) -> std::result::Result<Vec<u8>, String> {
+/// Largest image file read through a URI. Decoding is limited separately, by the image's
+/// size ([`MAX_TEXTURE_SIZE`]).
+const MAX_IMAGE_FILE_BYTES: u64 = 1 << 30;
+
+/// Reads a `data:` URI, or at most `limit` bytes of a regular file relative to the glTF file
+/// (pipes and devices never end).
+fn read_uri(base: &Path, uri: &str, limit: u64) -> std::result::Result<Vec<u8>, String> {
     if uri.starts_with("data:") {
         // The gltf crate decodes base64 data URIs (without touching the file system).
         return gltf::buffer::Data::from_source(gltf::buffer::Source::Uri(uri), None)
@@ -160,7 +265,18 @@ fn read_uri(base: &Path, uri: &str) -> std::result::Result<Vec<u8>, String> {
         return Err(format!("unsupported URI scheme in {uri:?}"));
     }
     let file = base.join(percent_decode(relative)?);
-    std::fs::read(&file).map_err(|e| format!("cannot read {}: {e}", file.display()))
+    let cannot = |e: std::io::Error| format!("cannot read {}: {e}", file.display());
+    let metadata = std::fs::metadata(&file).map_err(cannot)?;
+    if !metadata.is_file() {
+        return Err(format!("{} is not a regular file", file.display()));
+    }
+    let mut bytes = Vec::new();
+    std::io::Read::read_to_end(
+        &mut std::io::Read::take(std::fs::File::open(&file).map_err(cannot)?, limit),
+        &mut bytes,
+    )
+    .map_err(cannot)?;
+    Ok(bytes)
 }
 
 /// Decodes `%XX` escapes in a relative URI (glTF URIs are RFC 3986).
@@ -426,9 +542,31 @@ impl<'p> Importer<'p> {
     ) -> std::result::Result<::image::RgbaImage, String> {
         let encoded = match image.source() {
             gltf::image::Source::View { view, .. } => view_bytes(&view, &self.buffers)?.to_vec(),
-            gltf::image::Source::Uri { uri, .. } => read_uri(self.base, uri)?,
+            gltf::image::Source::Uri { uri, .. } => read_uri(self.base, uri, MAX_IMAGE_FILE_BYTES)?,
         };
-        ::image::load_from_memory(&encoded)
+        if encoded.len() as u64 >= MAX_IMAGE_FILE_BYTES {
+            return Err(format!(
+                "the image file is over the {} MiB translucid reads",
+                MAX_IMAGE_FILE_BYTES >> 20
+            ));
+        }
+        // The size from the header, before anything is decoded.
+        let reader = || {
+            ::image::ImageReader::new(std::io::Cursor::new(&encoded))
+                .with_guessed_format()
+                .map_err(|e| format!("cannot read image: {e}"))
+        };
+        let (width, height) = reader()?
+            .into_dimensions()
+            .map_err(|e| format!("cannot decode image: {e}"))?;
+        if width > MAX_TEXTURE_SIZE || height > MAX_TEXTURE_SIZE {
+            return Err(format!(
+                "image is {width}x{height}; the largest width or height translucid takes is \
+                 {MAX_TEXTURE_SIZE}"
+            ));
+        }
+        reader()?
+            .decode()
             .map(|i| i.to_rgba8())
             .map_err(|e| format!("cannot decode image: {e}"))
     }

@@ -57,6 +57,10 @@ pub struct Sampler {
     pub mip_filter: MipFilter,
 }
 
+/// Largest texture width or height: what Vulkan devices commonly allow, and a 16384² RGBA8
+/// texture with its mips already takes 1.4 GB. Larger images are refused before decoding.
+pub const MAX_TEXTURE_SIZE: u32 = 16384;
+
 #[derive(Clone, Debug, PartialEq)]
 pub struct Texture {
     pub name: String,
@@ -181,6 +185,12 @@ impl Texture {
         };
         if base.width == 0 || base.height == 0 {
             return Err("texture has zero size".into());
+        }
+        if base.width > MAX_TEXTURE_SIZE || base.height > MAX_TEXTURE_SIZE {
+            return Err(format!(
+                "texture is {}x{}; the largest width or height is {MAX_TEXTURE_SIZE}",
+                base.width, base.height
+            ));
         }
         for (i, l) in self.levels.iter().enumerate() {
             let expect = ((base.width >> i).max(1), (base.height >> i).max(1));
