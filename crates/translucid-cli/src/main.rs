@@ -203,7 +203,7 @@ fn run(command: Command) -> translucid::Result<ExitCode> {
             size,
             output,
             json,
-        } => done(commands::compare::run(
+        } => commands::compare::run(
             &scene,
             &method,
             threshold,
@@ -211,7 +211,7 @@ fn run(command: Command) -> translucid::Result<ExitCode> {
             size,
             output.as_deref(),
             json,
-        )),
+        ),
         Command::Conformance {
             paths,
             method,

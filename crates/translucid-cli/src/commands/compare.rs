@@ -1,6 +1,7 @@
 use super::{measure, open_renderer, psnr_json, stage_text, Expected};
 use crate::Size;
 use std::path::Path;
+use std::process::ExitCode;
 use translucid::metrics;
 
 pub fn run(
@@ -11,7 +12,7 @@ pub fn run(
     size: Size,
     output: Option<&Path>,
     json: bool,
-) -> translucid::Result<()> {
+) -> translucid::Result<ExitCode> {
     let scene = translucid::scene::load(scene_spec)?;
     let mut renderer = open_renderer(&scene, method, threshold, wavelet, size)?;
     // Every method against the exact answer: how far it is from right, threshold included.
@@ -39,6 +40,7 @@ pub fn run(
             "psnr": psnr_json(m.psnr),
             "pixels_over": m.pixels_over,
             "share_over": m.share_over,
+            "non_finite_pixels": m.non_finite,
             "reference_seconds": reference_s,
         });
         println!("{value}");
@@ -67,5 +69,13 @@ pub fn run(
             println!("wrote {} (method | reference | error)", path.display());
         }
     }
-    Ok(())
+    // A NaN or infinite pixel is never a close match, whatever the other figures say.
+    if m.non_finite > 0 {
+        eprintln!(
+            "translucid: {} pixels are NaN or infinite in the frame or the reference",
+            m.non_finite
+        );
+        return Ok(ExitCode::FAILURE);
+    }
+    Ok(ExitCode::SUCCESS)
 }

@@ -28,6 +28,17 @@ pub struct Metrics {
     pub pixels_over: u64,
     /// `pixels_over` as a share of all pixels (0 for an empty image).
     pub share_over: f64,
+    /// Pixels with a NaN or infinite colour channel in either image. Each counts as over;
+    /// any makes `max_error` infinite, so that no bound passes them. `rmse` and `psnr` are
+    /// over the other pixels.
+    pub non_finite: u64,
+}
+
+impl Metrics {
+    /// Whether every pixel is finite and within `bound` in every channel.
+    pub fn within(&self, bound: f32) -> bool {
+        self.non_finite == 0 && self.max_error <= bound
+    }
 }
 
 fn check_sizes(a: &Image, b: &Image) -> crate::Result<()> {
@@ -46,22 +57,34 @@ fn differences<'a>(a: &'a Image, b: &'a Image) -> impl Iterator<Item = Vec3> + '
     (0..a.height).flat_map(move |y| (0..a.width).map(move |x| (a.srgb(x, y) - b.srgb(x, y)).abs()))
 }
 
-/// Compares two images of the same size.
+/// Compares two images of the same size. A pixel that is not finite in either image is
+/// never a match (see [`Metrics::non_finite`]).
 pub fn compare(a: &Image, b: &Image) -> crate::Result<Metrics> {
     check_sizes(a, b)?;
     let mut max_error = 0.0f32;
     let mut sum_sq = 0.0f64;
     let mut pixels_over = 0u64;
-    for d in differences(a, b) {
+    let mut non_finite = 0u64;
+    let finite = |p: &Vec4| p.truncate().is_finite();
+    for ((d, pa), pb) in differences(a, b).zip(&a.pixels).zip(&b.pixels) {
+        if !(finite(pa) && finite(pb)) {
+            non_finite += 1;
+            continue;
+        }
         max_error = max_error.max(d.max_element());
         sum_sq += d.as_dvec3().length_squared();
         pixels_over += u64::from(d.max_element() > TOLERANCE);
     }
+    if non_finite > 0 {
+        max_error = f32::INFINITY;
+        pixels_over += non_finite;
+    }
     let pixels = a.pixels.len() as u64;
-    let mse = if pixels == 0 {
+    let finite_pixels = pixels - non_finite;
+    let mse = if finite_pixels == 0 {
         0.0
     } else {
-        sum_sq / (3 * pixels) as f64
+        sum_sq / (3 * finite_pixels) as f64
     };
     let psnr = if mse == 0.0 {
         f32::INFINITY
@@ -78,6 +101,7 @@ pub fn compare(a: &Image, b: &Image) -> crate::Result<Metrics> {
         } else {
             pixels_over as f64 / pixels as f64
         },
+        non_finite,
     })
 }
 
@@ -187,6 +211,27 @@ mod tests {
         assert_eq!(m.pixels_over, 1);
         // mse = 1 / 6 -> psnr = 10 log10(6)
         assert!((m.psnr - 10.0 * 6f32.log10()).abs() < 1e-4);
+    }
+
+    /// NaN and infinite pixels (vertices at 1e30 give them) never count as a match: they
+    /// once left `max_error` at 0 (NaN loses every `max`) and the frame looked perfect.
+    #[test]
+    fn non_finite_pixels_fail_every_bound() {
+        let a = greys(&[10, 10, 10, 10]);
+        for bad in [f32::NAN, f32::INFINITY] {
+            let mut b = a.clone();
+            b.set(2, 0, Vec4::new(bad, 0.0, 0.0, 1.0));
+            for (x, y) in [(&a, &b), (&b, &a)] {
+                let m = compare(x, y).expect("same size");
+                assert_eq!(m.non_finite, 1, "{bad}");
+                assert_eq!(m.max_error, f32::INFINITY, "{bad}");
+                assert_eq!(m.pixels_over, 1, "{bad}");
+                assert!(!m.within(1.0), "{bad}");
+                // The finite pixels match.
+                assert_eq!(m.rmse, 0.0, "{bad}");
+            }
+        }
+        assert!(compare(&a, &a).expect("same size").within(0.0));
     }
 
     #[test]
