@@ -396,6 +396,46 @@ fn image_over_the_largest_texture_is_refused_before_decoding() {
     );
 }
 
+/// A sparse accessor with no bufferView is zeros but for its entries, so its count is not
+/// bounded by the file's bytes: a billion positions once ran the process out of memory.
+#[test]
+fn huge_zero_filled_accessors_are_refused_before_reading() {
+    let sparse = r#""sparse": {"count": 1, "indices": {"bufferView": 1, "componentType": 5125}, "values": {"bufferView": 0}}"#;
+    let huge_positions = Tiny::triangle().json().replace(
+        r#"{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3""#,
+        &format!(r#"{{{sparse}, "componentType": 5126, "count": 1000000000, "type": "VEC3""#),
+    );
+    assert!(huge_positions.contains("1000000000"));
+    let err = load_bytes("sparse.gltf", huge_positions.as_bytes()).expect_err("1e9 positions");
+    let msg = err.to_string();
+    assert!(
+        msg.contains("POSITION") && msg.contains("1000000000"),
+        "{msg}"
+    );
+
+    // A TEXCOORD of a billion elements on three positions.
+    let accessor =
+        format!(r#"{{{sparse}, "componentType": 5126, "count": 1000000000, "type": "VEC2"}}"#);
+    let huge_uvs = Tiny::triangle()
+        .json()
+        .replace(r#""POSITION": 0"#, r#""POSITION": 0, "TEXCOORD_0": 2"#)
+        .replace(
+            r#""type": "SCALAR"}"#,
+            &format!(r#""type": "SCALAR"}}, {accessor}"#),
+        );
+    assert!(huge_uvs.contains(r#""TEXCOORD_0": 2"#));
+    let huge_uvs = huge_uvs.replace(
+        r#""materials": [{}]"#,
+        r#""materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}], "textures": [{"source": 0}], "images": [{"uri": "nowhere.png"}]"#,
+    );
+    let err = load_bytes("sparse-uv.gltf", huge_uvs.as_bytes()).expect_err("1e9 uvs");
+    let msg = err.to_string();
+    assert!(
+        msg.contains("TEXCOORD") && msg.contains("1000000000"),
+        "{msg}"
+    );
+}
+
 #[test]
 fn reused_mesh_is_converted_once_and_drawn_per_node() {
     let json = Tiny::triangle()

@@ -781,6 +781,7 @@ fn read_primitive(
     let normals = match attr(gltf::Semantic::Normals) {
         Some(a) => {
             check_accessor("NORMAL", &a, buffers, &[(DataType::F32, Dimensions::Vec3)])?;
+            same_count("NORMAL", &a, n)?;
             Some(
                 reader
                     .read_normals()
@@ -794,6 +795,7 @@ fn read_primitive(
     let colours = match attr(gltf::Semantic::Colors(0)) {
         Some(a) => {
             check_accessor("COLOR_0", &a, buffers, COLOUR_TYPES)?;
+            same_count("COLOR_0", &a, n)?;
             let read = reader.read_colors(0).ok_or("COLOR_0 data missing")?;
             Some(read.into_rgba_f32().map(Vec4::from).collect())
         }
@@ -802,6 +804,7 @@ fn read_primitive(
     let uvs = match attr(gltf::Semantic::TexCoords(uv_set)) {
         Some(a) => {
             check_accessor("TEXCOORD", &a, buffers, UV_TYPES)?;
+            same_count("TEXCOORD", &a, n)?;
             let read = reader
                 .read_tex_coords(uv_set)
                 .ok_or("TEXCOORD data missing")?;
@@ -854,6 +857,23 @@ const INDEX_TYPES: &[(DataType, Dimensions)] = &[
     (DataType::U16, Dimensions::Scalar),
     (DataType::U32, Dimensions::Scalar),
 ];
+
+/// A vertex attribute has one element per position: checked before it is read, so that a
+/// huge count costs nothing.
+fn same_count(
+    what: &str,
+    accessor: &gltf::Accessor<'_>,
+    positions: usize,
+) -> std::result::Result<(), String> {
+    if accessor.count() != positions {
+        return Err(format!(
+            "{what} accessor {} has {} elements for {positions} positions",
+            accessor.index(),
+            accessor.count()
+        ));
+    }
+    Ok(())
+}
 
 /// Checks an accessor's type and that every byte it reads lies inside its buffer view and
 /// buffer, so that the gltf reader neither asserts nor silently returns nothing.
@@ -914,8 +934,21 @@ fn check_accessor(
     } else if accessor.view().is_none() {
         return Err(fail("no bufferView and no sparse data".into()));
     }
+    // Without a bufferView every element the sparse entries leave is zero, and the reader
+    // allocates them all: the file's bytes do not bound the count, this does.
+    if accessor.view().is_none() && accessor.count() > MAX_ZERO_FILLED_ELEMENTS {
+        return Err(fail(format!(
+            "{} elements with no bufferView; such accessors may have at most {}",
+            accessor.count(),
+            MAX_ZERO_FILLED_ELEMENTS
+        )));
+    }
     Ok(())
 }
+
+/// Elements an accessor without a bufferView (zeros but for its sparse entries) may have:
+/// 16 M, more vertices than any one primitive of a real scene.
+const MAX_ZERO_FILLED_ELEMENTS: usize = 1 << 24;
 
 /// `count` elements of `size` bytes at `offset` (with the view's stride) fit in the view,
 /// and the view fits in its loaded buffer.
