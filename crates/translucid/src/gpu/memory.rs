@@ -94,6 +94,7 @@ impl Gpu {
             gpu: self.clone(),
             raw,
             size,
+            name: name.to_string(),
             allocation: None,
         };
         // SAFETY: raw is a live buffer of this device.
@@ -192,6 +193,8 @@ pub struct Buffer {
     gpu: Gpu,
     pub raw: vk::Buffer,
     pub size: u64,
+    /// What it holds, for messages.
+    pub name: String,
     allocation: Option<Allocation>,
 }
 
@@ -287,7 +290,8 @@ impl Gpu {
         let limit = u64::from(self.info().max_texel_buffer_elements);
         if texels > limit {
             return Err(crate::Error::InvalidScene(format!(
-                "a texel buffer of {texels} texels is over this device's limit of {limit}"
+                "{} ({texels} texels) is over this device's limit of {limit} texels a view",
+                buffer.name
             )));
         }
         let info = vk::BufferViewCreateInfo::default()

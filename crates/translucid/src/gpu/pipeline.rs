@@ -84,6 +84,22 @@ impl DescriptorLayout {
             self.kinds.len(),
             "one resource per binding"
         );
+        // A binding over the device's range is refused before anything is made: writing
+        // one is invalid, and the shader would read past its end.
+        let range = u64::from(self.gpu.info().max_storage_buffer_range);
+        for (kind, resource) in self.kinds.iter().zip(resources) {
+            if let (BindingKind::StorageBuffer, Resource::Buffer(b)) = (kind, resource) {
+                if b.size > range {
+                    return Err(crate::Error::InvalidScene(format!(
+                        "{} takes {} MB, over the {} MB this device binds as one storage \
+                         buffer",
+                        b.name,
+                        b.size >> 20,
+                        range >> 20
+                    )));
+                }
+            }
+        }
         let sizes: Vec<_> = self
             .kinds
             .iter()
