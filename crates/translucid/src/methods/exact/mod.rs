@@ -40,7 +40,7 @@ use super::{FrameCheck, Method, MethodOptions, RecordContext};
 use crate::gpu::{image_barrier, memory_barrier, vk, ComputePipeline, DescriptorSet, Gpu};
 use crate::renderer::{FrameTargets, GpuScene};
 use crate::scene::Scene;
-use crate::Result;
+use crate::{Error, Result};
 use features::RasterFeatures;
 use layout::{
     ExactPush, BIN_SIZE, DISPATCH_BINNING_OFFSET, DISPATCH_BIN_OFFSETS_OFFSET,
@@ -77,6 +77,17 @@ impl RasterProgram {
         match self {
             Self::Exact => "exact",
             Self::Wavelet { .. } => "wavelet",
+        }
+    }
+
+    /// A limit `e` the stages' resources hit, said as the method's (wavelet's bins share
+    /// them).
+    fn in_errors(&self, e: Error) -> Error {
+        match e {
+            Error::InvalidScene(message) => {
+                Error::InvalidScene(format!("{}: {message}", self.method()))
+            }
+            other => other,
         }
     }
 
@@ -277,7 +288,8 @@ impl Exact {
             height,
             capacities,
             features.slabs(),
-        )?;
+        )
+        .map_err(|e| program.in_errors(e))?;
         let set = resources.descriptor_set(targets)?;
         let layouts = [&uploaded.layout, &resources.layout];
         let pipelines = (0..STAGES.len())
@@ -577,7 +589,9 @@ impl Method for Exact {
         let grown = self.resources.capacities.grown_for(&counters);
         if let Some(grown) = grown {
             log::info!("{method}: buffers too small ({counters:?}); growing to {grown:?}");
-            self.resources.grow(&self.gpu, grown)?;
+            self.resources
+                .grow(&self.gpu, grown)
+                .map_err(|e| self.program.in_errors(e))?;
         }
         if grown.is_some() || features.slab_bits != self.features.slab_bits {
             self.resources.set_slabs(&self.gpu, features.slabs())?;

@@ -144,7 +144,7 @@ fn storage_buffer(gpu: &Gpu, name: &str, bytes: u64) -> Result<Buffer> {
     let limit = u64::from(gpu.info().max_storage_buffer_range);
     if bytes > limit {
         return Err(Error::InvalidScene(format!(
-            "exact: the {name} need {} MB, over this device's {} MB storage-buffer limit",
+            "the {name} need {} MB, over this device's {} MB storage-buffer limit",
             bytes >> 20,
             limit >> 20
         )));
@@ -322,14 +322,14 @@ impl Resources {
         let blocks = u64::from(width.div_ceil(BIN_SIZE)) * u64::from(height.div_ceil(BIN_SIZE));
         if capacities.triangles >= 1 << ENTRY_SLAB_SHIFT {
             return Err(Error::InvalidScene(format!(
-                "exact: {} transparent triangles; bin entries address at most {}",
+                "{} transparent triangles; bin entries address at most {}",
                 capacities.triangles,
                 1u32 << ENTRY_SLAB_SHIFT
             )));
         }
         if scene.materials.len() as u64 > 1 << (32 - TRIANGLE_MATERIAL_SHIFT) {
             return Err(Error::InvalidScene(format!(
-                "exact: {} materials; triangle records address at most {}",
+                "{} materials; triangle records address at most {}",
                 scene.materials.len(),
                 1u32 << (32 - TRIANGLE_MATERIAL_SHIFT)
             )));
@@ -340,7 +340,7 @@ impl Resources {
         let texel_bytes = texels.len() as u64 * 4;
         if texel_bytes > u64::from(gpu.info().max_storage_buffer_range) {
             return Err(Error::InvalidScene(format!(
-                "exact: the scene's textures take {} MB, over this device's {} MB storage-buffer limit",
+                "the scene's textures take {} MB, over this device's {} MB storage-buffer limit",
                 texel_bytes >> 20,
                 gpu.info().max_storage_buffer_range >> 20
             )));
