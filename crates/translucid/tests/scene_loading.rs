@@ -436,6 +436,21 @@ fn huge_zero_filled_accessors_are_refused_before_reading() {
     );
 }
 
+/// Vertices at 1e30 are finite, but no camera can frame them: the message says so, not
+/// "camera: view matrix is not finite" about a camera the file does not have.
+#[test]
+fn vertices_too_far_apart_to_frame_are_refused_saying_why() {
+    let mut tiny = Tiny::triangle();
+    tiny.positions = vec![[-1e30, 0.0, 0.0], [1e30, 0.0, 0.0], [0.0, 1e30, 0.0]];
+    let err = load_bytes("far.gltf", tiny.json().as_bytes()).expect_err("1e30");
+    assert!(matches!(err, Error::InvalidGltf { .. }), "{err:?}");
+    let msg = err.to_string();
+    assert!(
+        msg.contains("no perspective camera") && msg.contains("frame"),
+        "{msg}"
+    );
+}
+
 #[test]
 fn reused_mesh_is_converted_once_and_drawn_per_node() {
     let json = Tiny::triangle()

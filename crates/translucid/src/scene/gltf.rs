@@ -576,7 +576,18 @@ impl<'p> Importer<'p> {
         let bounds = self.world_bounds();
         let framing = || {
             let (min, max) = bounds.unwrap_or((Vec3::splat(-1.0), Vec3::ONE));
-            Ok(Camera::framing(min, max, DEFAULT_FOV_Y))
+            let camera = Camera::framing(min, max, DEFAULT_FOV_Y);
+            // Finite vertices can still be too far apart to frame (1e30 squared is not).
+            camera.validate().map_err(|e| {
+                invalid(
+                    self.path,
+                    format!(
+                        "the file has no perspective camera, and none can frame its vertices \
+                         from {min} to {max} ({e})"
+                    ),
+                )
+            })?;
+            Ok(camera)
         };
         let Some((gltf_camera, world)) = &self.camera else {
             return framing();
