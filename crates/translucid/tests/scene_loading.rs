@@ -451,6 +451,22 @@ fn vertices_too_far_apart_to_frame_are_refused_saying_why() {
     );
 }
 
+/// A 5000-character URI is cut in messages, not printed whole (twice).
+#[test]
+fn long_uris_are_cut_in_messages() {
+    let long = "x".repeat(5000);
+    let json = Tiny::triangle()
+        .buffer_uri(&format!("\"{long}.bin\""))
+        .json();
+    let err = load_bytes("long-uri.gltf", json.as_bytes()).expect_err("missing file");
+    let msg = err.to_string();
+    assert!(
+        msg.len() < 600 && msg.contains("characters"),
+        "{} characters: {msg}",
+        msg.len()
+    );
+}
+
 #[test]
 fn reused_mesh_is_converted_once_and_drawn_per_node() {
     let json = Tiny::triangle()

@@ -262,13 +262,14 @@ fn read_uri(base: &Path, uri: &str, limit: u64) -> std::result::Result<Vec<u8>, 
     }
     let relative = uri.strip_prefix("file://").unwrap_or(uri);
     if relative.contains(':') && !cfg!(windows) {
-        return Err(format!("unsupported URI scheme in {uri:?}"));
+        return Err(format!("unsupported URI scheme in {:?}", shortened(uri)));
     }
     let file = base.join(percent_decode(relative)?);
-    let cannot = |e: std::io::Error| format!("cannot read {}: {e}", file.display());
+    let shown = shortened(&file.display().to_string());
+    let cannot = |e: std::io::Error| format!("cannot read {shown}: {e}");
     let metadata = std::fs::metadata(&file).map_err(cannot)?;
     if !metadata.is_file() {
-        return Err(format!("{} is not a regular file", file.display()));
+        return Err(format!("{shown} is not a regular file"));
     }
     let mut bytes = Vec::new();
     std::io::Read::read_to_end(
@@ -300,7 +301,8 @@ fn percent_decode(uri: &str) -> std::result::Result<String, String> {
             }
         }
     }
-    String::from_utf8(out).map_err(|_| format!("URI {uri:?} is not UTF-8 once decoded"))
+    String::from_utf8(out)
+        .map_err(|_| format!("URI {:?} is not UTF-8 once decoded", shortened(uri)))
 }
 
 /// Flattening state: what has been converted so far, keyed by glTF indices so that reused
@@ -1021,10 +1023,23 @@ fn view_bytes<'b>(
 fn buffer_label(buffer: &gltf::Buffer<'_>) -> String {
     match buffer.source() {
         gltf::buffer::Source::Uri(uri) if !uri.starts_with("data:") => {
-            format!("{} ({uri})", buffer.index())
+            format!("{} ({})", buffer.index(), shortened(uri))
         }
         _ => buffer.index().to_string(),
     }
+}
+
+/// Text from a file (a URI, a path) cut to its first and last 40 characters, so that a long
+/// one cannot flood a message.
+fn shortened(text: &str) -> String {
+    const KEEP: usize = 40;
+    let chars: Vec<char> = text.chars().collect();
+    if chars.len() <= 2 * KEEP + 1 {
+        return text.to_string();
+    }
+    let head: String = chars[..KEEP].iter().collect();
+    let tail: String = chars[chars.len() - KEEP..].iter().collect();
+    format!("{head}…{tail} ({} characters)", chars.len())
 }
 
 /// Triangle lists from triangles, strips and fans (glTF 2.0 §3.7.2.1), dropping degenerate
