@@ -107,6 +107,31 @@ fn malformed_json_and_binary_are_invalid_gltf() {
     }
 }
 
+/// GLB container errors name the value that is wrong, and the file.
+#[test]
+fn glb_container_errors_name_the_value() {
+    let json = br#"{"asset":{"version":"2.0"}}  "#; // padded to a multiple of 4
+    let glb = |version: u32, kind: &[u8; 4], length_delta: i64| {
+        let mut bytes = b"glTF".to_vec();
+        bytes.extend(version.to_le_bytes());
+        let total = 12 + 8 + json.len() as i64 + length_delta;
+        bytes.extend((total as u32).to_le_bytes());
+        bytes.extend((json.len() as u32).to_le_bytes());
+        bytes.extend(kind);
+        bytes.extend(json);
+        bytes
+    };
+    for (name, bytes, wanted) in [
+        ("version.glb", glb(3, b"JSON", 0), "version 3"),
+        ("chunk.glb", glb(2, b"XSON", 0), "type 0x4e4f5358"),
+        ("length.glb", glb(2, b"JSON", 8), "says the file has"),
+    ] {
+        let err = load_bytes(name, &bytes).expect_err(name);
+        let msg = err.to_string();
+        assert!(msg.contains(wanted) && msg.contains(name), "{name}: {msg}");
+    }
+}
+
 #[test]
 fn required_unsupported_extension_is_refused_by_name() {
     let json = Tiny::triangle()

@@ -99,6 +99,9 @@ fn invalid(path: &Path, reason: impl Into<String>) -> Error {
 
 /// Parses JSON or GLB, refuses unimplemented required extensions, then validates.
 fn parse(path: &Path, bytes: &[u8]) -> Result<gltf::Gltf> {
+    if bytes.starts_with(b"glTF") {
+        check_glb_container(bytes).map_err(|reason| invalid(path, reason))?;
+    }
     let gltf = gltf::Gltf::from_slice_without_validation(bytes)
         .map_err(|e| invalid(path, e.to_string()))?;
     // Checked before validation so that the error names the extension, not a JSON path.
@@ -115,6 +118,63 @@ fn parse(path: &Path, bytes: &[u8]) -> Result<gltf::Gltf> {
     check_what_readers_unwrap(root).map_err(|reason| invalid(path, reason))?;
     validate(root).map_err(|reason| invalid(path, reason))?;
     Ok(gltf)
+}
+
+/// The GLB container's header and chunk headers (glTF 2.0 §4.4), so that an error says which
+/// value is wrong; the gltf crate's own errors name none.
+fn check_glb_container(bytes: &[u8]) -> std::result::Result<(), String> {
+    let word = |at: usize| {
+        bytes
+            .get(at..at + 4)
+            .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+    };
+    let (Some(version), Some(length)) = (word(4), word(8)) else {
+        return Err(format!("GLB header: {} bytes, a header is 12", bytes.len()));
+    };
+    if version != 2 {
+        return Err(format!("GLB version {version}; only version 2 is glTF 2.0"));
+    }
+    if length as usize != bytes.len() {
+        return Err(format!(
+            "GLB header says the file has {length} bytes; it has {}",
+            bytes.len()
+        ));
+    }
+    const JSON: u32 = 0x4E4F_534A;
+    const BIN: u32 = 0x004E_4942;
+    let mut at = 12;
+    let mut chunk = 0;
+    while at < bytes.len() {
+        let (Some(size), Some(kind)) = (word(at), word(at + 4)) else {
+            return Err(format!(
+                "GLB chunk {chunk} at byte {at}: its header is cut off"
+            ));
+        };
+        // The first chunk is JSON, the second (if any) BIN; the gltf crate refuses others.
+        let required = match chunk {
+            0 => Some(("JSON", JSON)),
+            1 => Some(("BIN", BIN)),
+            _ => None,
+        };
+        if let Some((name, want)) = required.filter(|&(_, want)| want != kind) {
+            return Err(format!(
+                "GLB chunk {chunk} has type {kind:#010x}; it must be {name} ({want:#010x})"
+            ));
+        }
+        let end = at + 8 + size as usize;
+        if end > bytes.len() {
+            return Err(format!(
+                "GLB chunk {chunk} claims {size} bytes; only {} follow its header",
+                bytes.len() - (at + 8).min(bytes.len())
+            ));
+        }
+        at = end;
+        chunk += 1;
+    }
+    if chunk == 0 {
+        return Err("GLB file has no JSON chunk".into());
+    }
+    Ok(())
 }
 
 /// What the gltf crate indexes or unwraps without checking, in its validation or its
