@@ -222,7 +222,7 @@ impl From<translucid::Error> for Failure {
                 _ => R::ErrorVulkan,
             },
             E::Validation(_) => R::ErrorValidation,
-            E::Allocation(_) => R::ErrorOutOfMemory,
+            E::Allocation { .. } => R::ErrorOutOfMemory,
             E::Image(_) | E::Io(_) | E::SceneIo { .. } => R::ErrorIo,
         };
         Self::new(code, error.to_string())

@@ -48,18 +48,23 @@ pub enum Error {
     /// given (wrong format, an undefined layout, a NULL handle, a size mismatch...).
     #[error("host-device frame: {0}")]
     HostFrame(String),
-    /// A Vulkan call failed.
-    #[error("Vulkan call {call} failed: {result}")]
+    /// A Vulkan call failed; `object` names what it was making, when it made something.
+    #[error("Vulkan call {call} failed{}: {result}", for_object(object))]
     Vulkan {
         call: &'static str,
+        object: String,
         result: ash::vk::Result,
     },
     /// The Khronos validation layer reported errors (only with `TRANSLUCID_VALIDATION=1`).
     #[error("Vulkan validation errors:\n{0}")]
     Validation(String),
-    /// GPU memory allocation failed.
-    #[error("GPU memory allocation failed: {0}")]
-    Allocation(#[from] gpu_allocator::AllocationError),
+    /// GPU memory allocation failed for `object`.
+    #[error("GPU memory allocation for {object} failed: {source}")]
+    Allocation {
+        object: String,
+        #[source]
+        source: gpu_allocator::AllocationError,
+    },
     /// An image could not be decoded or written.
     #[error("image error: {0}")]
     Image(#[from] ::image::ImageError),
@@ -68,5 +73,45 @@ pub enum Error {
     Io(#[from] std::io::Error),
 }
 
+/// " for NAME", or nothing when no object is named.
+fn for_object(object: &str) -> String {
+    if object.is_empty() {
+        String::new()
+    } else {
+        format!(" for {object}")
+    }
+}
+
 /// `Result` with translucid's [`Error`].
 pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A failed creation names what it was making; a plain call failure names the call alone.
+    #[test]
+    fn vulkan_errors_name_their_object() {
+        let named = Error::Vulkan {
+            call: "vkCreateBuffer",
+            object: "bin lists (134217744 bytes)".into(),
+            result: ash::vk::Result::ERROR_OUT_OF_DEVICE_MEMORY,
+        };
+        let text = named.to_string();
+        assert!(
+            text.starts_with("Vulkan call vkCreateBuffer failed for bin lists (134217744 bytes)"),
+            "{text}"
+        );
+        let plain = Error::Vulkan {
+            call: "vkQueueSubmit",
+            object: String::new(),
+            result: ash::vk::Result::ERROR_DEVICE_LOST,
+        };
+        assert!(
+            plain
+                .to_string()
+                .starts_with("Vulkan call vkQueueSubmit failed: "),
+            "{plain}"
+        );
+    }
+}

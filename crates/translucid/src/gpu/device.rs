@@ -452,14 +452,18 @@ fn create_allocator(
     device: &ash::Device,
     physical: vk::PhysicalDevice,
 ) -> Result<Allocator> {
-    Ok(Allocator::new(&AllocatorCreateDesc {
+    Allocator::new(&AllocatorCreateDesc {
         instance: instance.clone(),
         device: device.clone(),
         physical_device: physical,
         debug_settings: Default::default(),
         buffer_device_address: false,
         allocation_sizes: Default::default(),
-    })?)
+    })
+    .map_err(|source| crate::Error::Allocation {
+        object: "the memory allocator".into(),
+        source,
+    })
 }
 
 type DeviceParts = (ash::Device, vk::Queue, Allocator, vk::CommandPool);

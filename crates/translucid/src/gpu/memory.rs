@@ -1,7 +1,7 @@
 //! Buffers and images with memory from `gpu-allocator`. Each resource holds a [`Gpu`] clone
 //! and frees itself on drop, so error paths cannot leak.
 
-use super::error::vk_err;
+use super::error::{vk_err, vk_err_for};
 use super::Gpu;
 use crate::Result;
 use ash::vk;
@@ -59,6 +59,10 @@ impl Gpu {
                 location,
                 linear,
                 allocation_scheme: AllocationScheme::GpuAllocatorManaged,
+            })
+            .map_err(|source| crate::Error::Allocation {
+                object: format!("{name} ({} bytes)", requirements.size),
+                source,
             })?;
         self.memory.add(allocation.size());
         Ok(allocation)
@@ -88,8 +92,10 @@ impl Gpu {
             .usage(usage)
             .sharing_mode(vk::SharingMode::EXCLUSIVE);
         // SAFETY: valid device and create info.
-        let raw =
-            unsafe { self.device.create_buffer(&info, None) }.map_err(vk_err("vkCreateBuffer"))?;
+        let raw = unsafe { self.device.create_buffer(&info, None) }.map_err(vk_err_for(
+            "vkCreateBuffer",
+            format!("{name} ({size} bytes)"),
+        ))?;
         let mut buffer = Buffer {
             gpu: self.clone(),
             raw,
@@ -154,8 +160,10 @@ impl Gpu {
             .usage(usage)
             .initial_layout(vk::ImageLayout::UNDEFINED);
         // SAFETY: valid device and create info.
-        let raw =
-            unsafe { self.device.create_image(&info, None) }.map_err(vk_err("vkCreateImage"))?;
+        let raw = unsafe { self.device.create_image(&info, None) }.map_err(vk_err_for(
+            "vkCreateImage",
+            format!("{name} ({}x{})", extent.width, extent.height),
+        ))?;
         let mut image = GpuImage {
             gpu: self.clone(),
             raw,
