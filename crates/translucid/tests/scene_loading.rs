@@ -132,6 +132,19 @@ fn glb_container_errors_name_the_value() {
     }
 }
 
+/// A JSON value of the wrong type is named by its field, not only a line and column.
+#[test]
+fn json_type_errors_name_the_field() {
+    let json = Tiny::triangle().json().replace(
+        r#""componentType": 5125, "count": 3"#,
+        r#""componentType": 5125, "count": "three""#,
+    );
+    assert!(json.contains(r#""three""#));
+    let err = load_bytes("type.gltf", json.as_bytes()).expect_err("count is a string");
+    let msg = err.to_string();
+    assert!(msg.contains("accessors[1].count"), "{msg}");
+}
+
 #[test]
 fn required_unsupported_extension_is_refused_by_name() {
     let json = Tiny::triangle()

@@ -103,7 +103,7 @@ fn parse(path: &Path, bytes: &[u8]) -> Result<gltf::Gltf> {
         check_glb_container(bytes).map_err(|reason| invalid(path, reason))?;
     }
     let gltf = gltf::Gltf::from_slice_without_validation(bytes)
-        .map_err(|e| invalid(path, e.to_string()))?;
+        .map_err(|e| invalid(path, with_json_field(bytes, e)))?;
     // Checked before validation so that the error names the extension, not a JSON path.
     if let Some(ext) = gltf
         .extensions_required()
@@ -118,6 +118,23 @@ fn parse(path: &Path, bytes: &[u8]) -> Result<gltf::Gltf> {
     check_what_readers_unwrap(root).map_err(|reason| invalid(path, reason))?;
     validate(root).map_err(|reason| invalid(path, reason))?;
     Ok(gltf)
+}
+
+/// The gltf crate's parse error, with the JSON field it is about when it is a JSON error
+/// (serde gives only a line and column).
+fn with_json_field(bytes: &[u8], error: gltf::Error) -> String {
+    let gltf::Error::Deserialize(_) = &error else {
+        return error.to_string();
+    };
+    let json = match gltf::Glb::from_slice(bytes) {
+        Ok(glb) => glb.json.into_owned(),
+        Err(_) => bytes.to_vec(),
+    };
+    let mut deserializer = serde_json::Deserializer::from_slice(&json);
+    match serde_path_to_error::deserialize::<_, gltf::json::Root>(&mut deserializer) {
+        Err(e) if e.path().iter().next().is_some() => format!("{}: {}", e.path(), e.inner()),
+        _ => error.to_string(),
+    }
 }
 
 /// The GLB container's header and chunk headers (glTF 2.0 §4.4), so that an error says which
