@@ -362,6 +362,47 @@ fn image_in_a_buffer_view_without_mime_type_is_refused() {
     assert!(msg.contains("image 0") && msg.contains("mimeType"), "{msg}");
 }
 
+/// An image with neither a uri nor a bufferView (found by the fuzzer): the gltf crate
+/// unwraps the uri.
+#[test]
+fn image_without_a_source_is_refused() {
+    let json = Tiny::triangle()
+        .material(r#"{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}"#)
+        .top(r#""textures": [{"source": 0}], "images": [{"name": "nothing"}]"#)
+        .json();
+    let err = load_bytes("sourceless.gltf", json.as_bytes()).expect_err("no source");
+    assert!(matches!(err, Error::InvalidGltf { .. }), "{err:?}");
+    let msg = err.to_string();
+    assert!(
+        msg.contains("image 0 (nothing)") && msg.contains("neither"),
+        "{msg}"
+    );
+}
+
+/// A mesh listed 100 000 times by the scene: framing a camera once transformed every vertex
+/// of every instance (billions for a scanned mesh), which took minutes.
+#[test]
+fn framing_many_instances_of_a_mesh_is_bounded() {
+    let roots: Vec<String> = std::iter::repeat_n("0".to_string(), 100_000).collect();
+    let mut tiny = Tiny::triangle();
+    // A big mesh: 600 000 vertices, 60 billion transforms over the instances.
+    tiny.positions = (0..600_000)
+        .map(|i| [(i % 1000) as f32, (i / 1000) as f32, 0.0])
+        .collect();
+    tiny.indices = vec![0, 1, 1000];
+    let json = tiny
+        .nodes(r#"{"mesh": 0}"#, &format!("[{}]", roots.join(",")))
+        .json();
+    let started = std::time::Instant::now();
+    let scene = load_bytes("instances.gltf", json.as_bytes()).expect("loads");
+    assert_eq!(scene.opaque.len() + scene.transparent.len(), 100_000);
+    assert!(
+        started.elapsed().as_secs() < 20,
+        "framing took {:?}",
+        started.elapsed()
+    );
+}
+
 /// A buffer URI naming something that is not a regular file (a pipe that never ends, a
 /// device) is refused before it is read; reading one blocked forever or until memory ran out.
 #[cfg(unix)]

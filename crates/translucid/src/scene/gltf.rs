@@ -257,6 +257,16 @@ fn check_what_readers_unwrap(root: &gltf::json::Root) -> std::result::Result<(),
         }
     }
     for (i, image) in root.images.iter().enumerate() {
+        if image.buffer_view.is_none() && image.uri.is_none() {
+            let label = image
+                .name
+                .as_deref()
+                .map(|n| format!(" ({n})"))
+                .unwrap_or_default();
+            return Err(format!(
+                "image {i}{label} has neither a uri nor a bufferView"
+            ));
+        }
         if image.buffer_view.is_some() && image.mime_type.is_none() {
             let label = image
                 .name
@@ -697,19 +707,54 @@ impl<'p> Importer<'p> {
     }
 
     /// World-space bounds of every draw's vertices.
+    ///
+    /// Every vertex of every draw is transformed while that is at most
+    /// [`MAX_BOUNDS_VERTICES`] in all; past it (a mesh drawn by a million node instances)
+    /// each draw contributes its mesh's box's corners instead: a little looser, and bounded.
     fn world_bounds(&self) -> Option<(Vec3, Vec3)> {
+        let draws = || self.scene.opaque.iter().chain(&self.scene.transparent);
+        let vertices: usize = draws()
+            .map(|d| self.scene.meshes[d.mesh].positions.len())
+            .sum();
+        let boxes: Vec<Option<[Vec3; 8]>> = self.scene.meshes.iter().map(box_corners).collect();
         let mut bounds: Option<(Vec3, Vec3)> = None;
-        for draw in self.scene.opaque.iter().chain(&self.scene.transparent) {
-            for &p in &self.scene.meshes[draw.mesh].positions {
-                let w = draw.transform.transform_point3(p);
-                bounds = Some(match bounds {
-                    Some((lo, hi)) => (lo.min(w), hi.max(w)),
-                    None => (w, w),
-                });
+        let mut add = |w: Vec3| {
+            bounds = Some(match bounds {
+                Some((lo, hi)) => (lo.min(w), hi.max(w)),
+                None => (w, w),
+            });
+        };
+        for draw in draws() {
+            let points: &[Vec3] = if vertices <= MAX_BOUNDS_VERTICES {
+                &self.scene.meshes[draw.mesh].positions
+            } else {
+                boxes[draw.mesh].as_ref().map_or(&[], |c| c.as_slice())
+            };
+            for &p in points {
+                add(draw.transform.transform_point3(p));
             }
         }
         bounds
     }
+}
+
+/// Transformed vertices [`Importer::world_bounds`] takes exactly (some seconds' work).
+const MAX_BOUNDS_VERTICES: usize = 50_000_000;
+
+/// The corners of a mesh's bounding box, if it has vertices.
+fn box_corners(mesh: &Mesh) -> Option<[Vec3; 8]> {
+    let first = *mesh.positions.first()?;
+    let (lo, hi) = mesh
+        .positions
+        .iter()
+        .fold((first, first), |(lo, hi), &p| (lo.min(p), hi.max(p)));
+    Some(std::array::from_fn(|i| {
+        Vec3::new(
+            if i & 1 == 0 { lo.x } else { hi.x },
+            if i & 2 == 0 { lo.y } else { hi.y },
+            if i & 4 == 0 { lo.z } else { hi.z },
+        )
+    }))
 }
 
 /// A far plane beyond everything in the scene, for cameras without `zfar`.
