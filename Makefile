@@ -5,8 +5,9 @@ CARGO ?= cargo
 DEMO_SCENE ?= assets/scenes/GlassVaseFlowers/GlassVaseFlowers.glb
 DEMO_SIZE ?= 1280x720
 DEMO_METHOD ?= exact
+FUZZ_SECONDS ?= 60
 
-.PHONY: all deps demo test lint
+.PHONY: all deps demo test lint fuzz
 
 all: demo
 
@@ -23,3 +24,7 @@ lint: deps
 
 test: deps lint
 	$(CARGO) test --workspace
+
+# Not part of `test`: runs the glTF import fuzzer for FUZZ_SECONDS (see README, "Fuzzing").
+fuzz: deps
+	$(CARGO) run --release -p translucid-fuzz -- gltf --seconds $(FUZZ_SECONDS)

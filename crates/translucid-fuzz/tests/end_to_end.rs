@@ -1,0 +1,90 @@
+//! The binary end to end: the child's exit codes, replaying one case, and a short run that
+//! ends with the summary line.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+const EXE: &str = env!("CARGO_BIN_EXE_translucid-fuzz");
+
+fn scenes() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes")
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("translucid-fuzz-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch folder");
+    dir
+}
+
+#[test]
+fn child_exit_codes_say_loaded_or_clean_error() {
+    let good = scenes().join("spot/spot_blend.gltf");
+    let status = Command::new(EXE)
+        .arg("run-one")
+        .arg(&good)
+        .status()
+        .expect("run child");
+    assert_eq!(status.code(), Some(0));
+
+    let dir = scratch("child");
+    let bad = dir.join("bad.gltf");
+    std::fs::write(
+        &bad,
+        br#"{"asset":{"version":"2.0"},"scenes":[{"nodes":[7]}]}"#,
+    )
+    .expect("write");
+    let out = Command::new(EXE)
+        .arg("run-one")
+        .arg(&bad)
+        .output()
+        .expect("run child");
+    assert_eq!(
+        out.status.code(),
+        Some(2),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn a_case_replays_and_a_short_run_summarises() {
+    let dir = scratch("run");
+    let replay = Command::new(EXE)
+        .args(["gltf", "--seed", "5", "--case", "3", "--corpus"])
+        .arg(scenes())
+        .arg("--out")
+        .arg(dir.join("findings"))
+        .output()
+        .expect("replay");
+    let text = String::from_utf8_lossy(&replay.stdout);
+    assert!(text.contains("case 3: seed "), "{text}");
+    assert!(text.contains("outcome: "), "{text}");
+
+    let run = Command::new(EXE)
+        .args([
+            "gltf",
+            "--seconds",
+            "2",
+            "--jobs",
+            "1",
+            "--seed",
+            "5",
+            "--corpus",
+        ])
+        .arg(scenes())
+        .arg("--out")
+        .arg(dir.join("findings"))
+        .output()
+        .expect("short run");
+    let text = String::from_utf8_lossy(&run.stdout);
+    // Exit 1 means the run found something: still a working fuzzer.
+    assert!(matches!(run.status.code(), Some(0 | 1)), "{text}");
+    let summary = text.lines().last().unwrap_or("");
+    assert!(
+        summary.contains(" cases in ") && summary.contains("clean errors"),
+        "{text}"
+    );
+    let _ = std::fs::remove_dir_all(dir);
+}
