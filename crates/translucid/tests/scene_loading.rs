@@ -546,6 +546,42 @@ fn long_uris_are_cut_in_messages() {
     );
 }
 
+/// A buffer listed 100 000 times (found by the fuzzer) would be read 100 000 times; a
+/// primitive repeated as often, converted as often. Both are refused from what the file
+/// declares, before anything is read.
+#[test]
+fn files_declaring_too_much_are_refused_before_reading() {
+    let json = Tiny::triangle().json();
+    let start = json.find(r#""buffers": ["#).expect("buffers") + r#""buffers": ["#.len();
+    let end = start + json[start..].find("}]").expect("end") + 1;
+    let one = &json[start..end];
+    let large = one.replace(r#""byteLength": 48"#, r#""byteLength": 60000"#);
+    let many = vec![large.as_str(); 100_000].join(", ");
+    let buffers = format!("{}{many}{}", &json[..start], &json[end..]);
+    let err = load_bytes("buffers.gltf", buffers.as_bytes()).expect_err("6 GB declared");
+    let msg = err.to_string();
+    assert!(
+        msg.contains("buffers declare") && msg.contains("MiB"),
+        "{msg}"
+    );
+
+    // Seven primitives of 5 M triangles each: indices without a bufferView (zeros), so
+    // that the file is small; refused from the counts alone.
+    let sparse = r#"{"componentType": 5125, "count": 15000000, "type": "SCALAR", "sparse": {"count": 1, "indices": {"bufferView": 1, "componentType": 5125}, "values": {"bufferView": 1}}}"#;
+    let primitive = r#"{"attributes": {"POSITION": 0}, "indices": 1, "material": 0, "mode": 4}"#;
+    let json = Tiny::triangle()
+        .json()
+        .replace(
+            r#"{"bufferView": 1, "componentType": 5125, "count": 3, "type": "SCALAR"}"#,
+            sparse,
+        )
+        .replace(primitive, &[primitive; 7].join(", "));
+    assert!(json.contains("15000000"));
+    let err = load_bytes("primitives.gltf", json.as_bytes()).expect_err("35 M triangles");
+    let msg = err.to_string();
+    assert!(msg.contains("35000000 triangles"), "{msg}");
+}
+
 #[test]
 fn reused_mesh_is_converted_once_and_drawn_per_node() {
     let json = Tiny::triangle()

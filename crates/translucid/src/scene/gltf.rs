@@ -30,6 +30,15 @@ pub const IMPLEMENTED_EXTENSIONS: &[&str] = &[
 /// refused: a small file reusing nodes in a doubling chain could otherwise expand without end.
 const MAX_NODE_INSTANCES: usize = 1 << 22;
 
+/// Bytes a file's buffers may declare in all: 4 GiB, more than any real scene here (the
+/// largest shared one declares under 100 MB); a file listing one buffer 100 000 times read it
+/// 100 000 times.
+const MAX_BUFFER_BYTES: u64 = 4 << 30;
+
+/// Triangles a file's meshes may hold in all (each mesh counted once, however many nodes
+/// draw it): 32 M.
+const MAX_TRIANGLES: usize = 1 << 25;
+
 /// Field of view used to frame files without a camera.
 const DEFAULT_FOV_Y: f32 = 0.8;
 
@@ -62,6 +71,34 @@ fn load_unguarded(path: &Path) -> Result<Scene> {
     })?;
     let gltf::Gltf { document, blob } = parse(path, &bytes)?;
     let base = path.parent().unwrap_or(Path::new("."));
+    let declared: u64 = document.buffers().map(|b| b.length() as u64).sum();
+    if declared > MAX_BUFFER_BYTES {
+        return Err(invalid(
+            path,
+            format!(
+                "its buffers declare {} MiB in all; translucid reads at most {} MiB",
+                declared >> 20,
+                MAX_BUFFER_BYTES >> 20
+            ),
+        ));
+    }
+    // Counted from the accessors, before anything is read.
+    let triangles = document
+        .meshes()
+        .flat_map(|m| m.primitives())
+        .map(|p| {
+            let elements = p.indices().or_else(|| p.get(&gltf::Semantic::Positions));
+            elements.map_or(0, |a| a.count() / 3)
+        })
+        .fold(0usize, usize::saturating_add);
+    if triangles > MAX_TRIANGLES {
+        return Err(invalid(
+            path,
+            format!(
+                "its meshes hold {triangles} triangles; translucid takes at most {MAX_TRIANGLES}"
+            ),
+        ));
+    }
     let buffers = load_buffers(&document, base, blob);
     let mut importer = Importer {
         path,
