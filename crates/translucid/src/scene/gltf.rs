@@ -174,6 +174,11 @@ fn with_json_field(bytes: &[u8], error: gltf::Error) -> String {
     }
 }
 
+/// " (name)" for a named glTF object, nothing for an unnamed one.
+fn name_suffix(name: Option<&str>) -> String {
+    name.map(|n| format!(" ({n})")).unwrap_or_default()
+}
+
 /// The GLB container's header and chunk headers (glTF 2.0 §4.4), so that an error says which
 /// value is wrong; the gltf crate's own errors name none.
 fn check_glb_container(bytes: &[u8]) -> std::result::Result<(), String> {
@@ -237,11 +242,7 @@ fn check_glb_container(bytes: &[u8]) -> std::result::Result<(), String> {
 fn check_what_readers_unwrap(root: &gltf::json::Root) -> std::result::Result<(), String> {
     let accessors = root.accessors.len();
     for (m, mesh) in root.meshes.iter().enumerate() {
-        let label = mesh
-            .name
-            .as_deref()
-            .map(|n| format!(" ({n})"))
-            .unwrap_or_default();
+        let label = name_suffix(mesh.name.as_deref());
         for (p, primitive) in mesh.primitives.iter().enumerate() {
             let named = primitive.attributes.iter().map(|(semantic, index)| {
                 let name = match semantic {
@@ -294,22 +295,13 @@ fn check_what_readers_unwrap(root: &gltf::json::Root) -> std::result::Result<(),
         }
     }
     for (i, image) in root.images.iter().enumerate() {
+        let label = name_suffix(image.name.as_deref());
         if image.buffer_view.is_none() && image.uri.is_none() {
-            let label = image
-                .name
-                .as_deref()
-                .map(|n| format!(" ({n})"))
-                .unwrap_or_default();
             return Err(format!(
                 "image {i}{label} has neither a uri nor a bufferView"
             ));
         }
         if image.buffer_view.is_some() && image.mime_type.is_none() {
-            let label = image
-                .name
-                .as_deref()
-                .map(|n| format!(" ({n})"))
-                .unwrap_or_default();
             return Err(format!(
                 "image {i}{label} is in a bufferView but has no mimeType, which glTF requires \
                  there"
@@ -588,7 +580,7 @@ impl<'p> Importer<'p> {
                 .base_color_texture()
                 .map_or(0, |t| t.tex_coord());
             let m = read_primitive(primitive, &self.buffers, &name, uv_set).map_err(|e| {
-                let label = mesh.name().map(|n| format!(" ({n})")).unwrap_or_default();
+                let label = name_suffix(mesh.name());
                 Error::InvalidScene(format!(
                     "{}: mesh {}{label} primitive {}: {e}",
                     self.path.display(),
