@@ -5,7 +5,7 @@
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::path::Path;
 use std::process::ExitCode;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicPtr, Ordering};
 
 /// Loaded and validated.
 pub const EXIT_OK: u8 = 0;
@@ -19,6 +19,7 @@ pub const EXIT_CAUGHT_PANIC: u8 = 3;
 static PANICKED: AtomicBool = AtomicBool::new(false);
 
 pub fn run_one(path: &Path) -> ExitCode {
+    reserve();
     let default_hook = std::panic::take_hook();
     std::panic::set_hook(Box::new(move |info| {
         PANICKED.store(true, Ordering::SeqCst);
@@ -42,20 +43,52 @@ pub fn run_one(path: &Path) -> ExitCode {
 /// about which code asked for the memory.
 pub struct ReportingAllocator;
 
+/// Address space set aside in the child and given back before a failure is reported:
+/// symbolising a backtrace needs memory, and the cap has just been reached.
+const RESERVE: Layout = match Layout::from_size_align(128 << 20, 4096) {
+    Ok(layout) => layout,
+    Err(_) => panic!("invalid reserve layout"),
+};
+static RESERVED: AtomicPtr<u8> = AtomicPtr::new(std::ptr::null_mut());
 static REPORTED: AtomicBool = AtomicBool::new(false);
+static REPORTING: AtomicBool = AtomicBool::new(false);
+
+/// Sets the reserve aside (called once, in the child, before loading).
+pub fn reserve() {
+    // SAFETY: RESERVE has a non-zero size.
+    let block = unsafe { System.alloc(RESERVE) };
+    RESERVED.store(block, Ordering::SeqCst);
+}
 
 fn report_failure(size: usize) {
-    // Once: capturing allocates, and a second failure while capturing must not recurse.
-    if !REPORTED.swap(true, Ordering::SeqCst) {
-        let trace = std::backtrace::Backtrace::force_capture();
-        eprintln!("fuzz: allocation of {size} bytes failed at:\n{trace}");
+    if REPORTING.load(Ordering::SeqCst) {
+        // A failure while the report is being made: std's handler would wait for the
+        // backtrace lock the report holds, and the child would hang instead of dying.
+        const MESSAGE: &[u8] =
+            b"fuzz: allocation of more memory failed while reporting a failed allocation\n";
+        // SAFETY: write(2) on the standard error descriptor with a valid static buffer and
+        // its length; the result is deliberately ignored since the process aborts next.
+        unsafe { libc::write(2, MESSAGE.as_ptr().cast(), MESSAGE.len()) };
+        std::process::abort();
     }
+    if REPORTED.swap(true, Ordering::SeqCst) {
+        return;
+    }
+    REPORTING.store(true, Ordering::SeqCst);
+    let block = RESERVED.swap(std::ptr::null_mut(), Ordering::SeqCst);
+    if !block.is_null() {
+        // SAFETY: `block` came from `System.alloc(RESERVE)` and, swapped out, is freed once.
+        unsafe { System.dealloc(block, RESERVE) };
+    }
+    let trace = std::backtrace::Backtrace::force_capture();
+    eprintln!("fuzz: allocation of {size} bytes failed at:\n{trace}");
+    REPORTING.store(false, Ordering::SeqCst);
 }
 
 // SAFETY: every method forwards to `System` with the caller's arguments unchanged and returns
 // its result unchanged, so `System`'s guarantees are ours; on a null result it only writes a
-// report, which allocates through this allocator again, and the `REPORTED` flag keeps that
-// from recursing.
+// report, which allocates through this allocator again, and the `REPORTING` flag turns a
+// failure inside the report into an abort instead of recursion.
 unsafe impl GlobalAlloc for ReportingAllocator {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
         // SAFETY: the caller upholds `GlobalAlloc::alloc`'s contract, which `System` shares.

@@ -155,21 +155,126 @@ pub fn image_header(data: &mut [u8], rng: &mut Rng) -> Option<String> {
     None
 }
 
-/// CRC-32 (IEEE), as PNG chunks carry it.
+/// CRC-32 (IEEE), as PNG chunks carry it; table-driven, since bombs are megabytes.
 fn crc32(bytes: &[u8]) -> u32 {
+    const TABLE: [u32; 256] = {
+        let mut table = [0u32; 256];
+        let mut i = 0;
+        while i < 256 {
+            let mut c = i as u32;
+            let mut k = 0;
+            while k < 8 {
+                c = if c & 1 != 0 {
+                    (c >> 1) ^ 0xEDB8_8320
+                } else {
+                    c >> 1
+                };
+                k += 1;
+            }
+            table[i] = c;
+            i += 1;
+        }
+        table
+    };
     let mut crc = 0xFFFF_FFFFu32;
     for &b in bytes {
-        crc ^= u32::from(b);
-        for _ in 0..8 {
-            crc = if crc & 1 != 0 {
-                (crc >> 1) ^ 0xEDB8_8320
-            } else {
-                crc >> 1
-            };
-        }
+        crc = TABLE[((crc ^ u32::from(b)) & 0xFF) as usize] ^ (crc >> 8);
     }
     !crc
 }
+
+/// Deflate bits, least significant first (RFC 1951 §3.1.1).
+struct Bits {
+    out: Vec<u8>,
+    acc: u64,
+    len: u32,
+}
+
+impl Bits {
+    /// Writes `count` bits of `value`, lowest first.
+    fn put(&mut self, value: u32, count: u32) {
+        self.acc |= u64::from(value) << self.len;
+        self.len += count;
+        while self.len >= 8 {
+            self.out.push(self.acc as u8);
+            self.acc >>= 8;
+            self.len -= 8;
+        }
+    }
+
+    /// Writes a Huffman code, which deflate stores most significant bit first.
+    fn code(&mut self, code: u32, count: u32) {
+        let reversed = code.reverse_bits() >> (32 - count);
+        self.put(reversed, count);
+    }
+
+    fn finish(mut self) -> Vec<u8> {
+        if self.len > 0 {
+            self.out.push(self.acc as u8);
+        }
+        self.out
+    }
+}
+
+/// A valid, all-zero (transparent black) RGBA8 PNG of `width` x `height`: a few megabytes
+/// that decode to up to 1 GiB, since every row is zeros that deflate's 258-byte copies
+/// repeat for 13 bits each. What a size check on the header alone lets through.
+pub fn png_bomb(width: u32, height: u32) -> Vec<u8> {
+    // Each row: filter type 0, then four zero bytes a pixel.
+    let raw = u64::from(height) * (1 + 4 * u64::from(width));
+    let mut bits = Bits {
+        out: Vec::with_capacity((raw / 158) as usize + 64),
+        acc: 0,
+        len: 0,
+    };
+    bits.put(1, 1); // final block
+    bits.put(1, 2); // fixed Huffman codes
+    bits.code(0x30, 8); // literal 0
+    let mut left = raw.saturating_sub(1);
+    while left >= 258 {
+        bits.code(0xC5, 8); // length 258 (symbol 285)
+        bits.code(0, 5); // distance 1
+        left -= 258;
+    }
+    for _ in 0..left {
+        bits.code(0x30, 8);
+    }
+    bits.code(0, 7); // end of block
+    let mut zlib = vec![0x78, 0x01];
+    zlib.extend(bits.finish());
+    // Adler-32 of zeros: a stays 1, b adds 1 per byte.
+    let adler = (((raw % 65521) as u32) << 16) | 1;
+    zlib.extend_from_slice(&adler.to_be_bytes());
+
+    let mut png = b"\x89PNG\r\n\x1a\n".to_vec();
+    let mut chunk = |kind: &[u8; 4], data: &[u8]| {
+        png.extend_from_slice(&(data.len() as u32).to_be_bytes());
+        let start = png.len();
+        png.extend_from_slice(kind);
+        png.extend_from_slice(data);
+        let crc = crc32(&png[start..]);
+        png.extend_from_slice(&crc.to_be_bytes());
+    };
+    let mut ihdr = Vec::with_capacity(13);
+    ihdr.extend_from_slice(&width.to_be_bytes());
+    ihdr.extend_from_slice(&height.to_be_bytes());
+    ihdr.extend_from_slice(&[8, 6, 0, 0, 0]); // 8-bit RGBA, deflate, no filter, no interlace
+    chunk(b"IHDR", &ihdr);
+    chunk(b"IDAT", &zlib);
+    chunk(b"IEND", &[]);
+    png
+}
+
+/// Sizes for [`png_bomb`]: the largest a header check allows, in both orientations, and
+/// just past it.
+pub const BOMB_SIZES: &[(u32, u32)] = &[
+    (16384, 16384),
+    (16384, 16384),
+    (16384, 8192),
+    (8192, 8192),
+    (16384, 1),
+    (16385, 16385),
+];
 
 #[cfg(test)]
 mod tests {
@@ -180,6 +285,18 @@ mod tests {
         // The IHDR of a 1x1 8-bit RGBA PNG and the CRC every encoder writes for it.
         let ihdr = b"IHDR\x00\x00\x00\x01\x00\x00\x00\x01\x08\x06\x00\x00\x00";
         assert_eq!(crc32(ihdr), 0x1F15_C489);
+    }
+
+    #[test]
+    fn png_bombs_decode_to_zeros_of_their_size() {
+        for (w, h) in [(1, 1), (7, 3), (64, 64), (300, 2)] {
+            let png = png_bomb(w, h);
+            let image = image::load_from_memory(&png).expect("the bomb is a valid PNG");
+            assert_eq!((image.width(), image.height()), (w, h));
+            assert!(image.to_rgba8().into_raw().iter().all(|&b| b == 0));
+        }
+        // 1 GiB of pixels in a few megabytes.
+        assert!(png_bomb(16384, 16384).len() < 8 << 20);
     }
 
     #[test]

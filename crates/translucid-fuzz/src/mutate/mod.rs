@@ -61,6 +61,19 @@ pub fn make(seeds: &[Seed], rng: &mut Rng) -> Mutant {
         _ => (true, has_data, false),
     };
     let mut doc = seed.json.clone();
+    // Some data cases swap one drawn texture's image, or all of them, for a decompression
+    // bomb: each is within the size limit, together they may not be.
+    let bomb = match (data && rng.chance(0.2), seed.json.as_ref()) {
+        (true, Some(original)) => {
+            let mut images = drawn_images(original);
+            if rng.chance(0.5) && !images.is_empty() {
+                images = vec![images[rng.below(images.len())]];
+            }
+            let (w, h) = rng.pick_copy(bytes::BOMB_SIZES);
+            (!images.is_empty()).then(|| (images, w, h, bytes::png_bomb(w, h)))
+        }
+        _ => None,
+    };
     if structural {
         if let Some(doc) = doc.as_mut() {
             let ctx = json::Context {
@@ -74,8 +87,24 @@ pub fn make(seeds: &[Seed], rng: &mut Rng) -> Mutant {
             mutant.notes.extend(json::mutate(doc, rng, &ctx));
         }
     }
+    // A GLB's bomb goes at the end of its BIN chunk, through a new bufferView.
+    let bin_len = seed.glb.as_ref().and_then(bin).map_or(0, <[u8]>::len);
+    let glb_bomb = match (&bomb, seed.format, doc.as_mut()) {
+        (Some((images, w, h, png)), Format::Glb, Some(doc)) => {
+            let offset = bin_len.div_ceil(4) * 4;
+            point_images_at_end(doc, images, offset, png.len()).map(|()| {
+                mutant.notes.push(format!(
+                    "images {images:?} = a {w}x{h} all-zero PNG of {} bytes in the BIN chunk",
+                    png.len()
+                ));
+                (offset, png)
+            })
+        }
+        _ => None,
+    };
+    let rewritten = structural || glb_bomb.is_some();
     // The JSON text: re-serialised when mutated, else the seed's own bytes.
-    let mut text = match (&doc, structural) {
+    let mut text = match (&doc, rewritten) {
         (Some(doc), true) => serde_json::to_vec(doc).unwrap_or_default(),
         _ => match seed.format {
             Format::Gltf => seed.bytes.clone(),
@@ -93,11 +122,16 @@ pub fn make(seeds: &[Seed], rng: &mut Rng) -> Mutant {
             .push(format!("JSON text: {}", bytes::mutate(&mut text, rng)));
     }
     match (seed.format, &seed.glb) {
-        (Format::Glb, Some(glb)) if structural || data => {
+        (Format::Glb, Some(glb)) if rewritten || data => {
             let mut glb = glb.clone();
             glb.set_json(text);
-            if data {
-                mutate_bin(&mut glb, seed.json.as_ref(), rng, &mut mutant.notes);
+            match (glb_bomb, glb.bin_mut()) {
+                (Some((offset, png)), Some(chunk)) => {
+                    chunk.resize(offset, 0);
+                    chunk.extend_from_slice(png);
+                }
+                _ if data => mutate_bin(&mut glb, seed.json.as_ref(), rng, &mut mutant.notes),
+                _ => {}
             }
             mutant.main = if rng.chance(0.1) {
                 let (bytes, note) = glb.pack_broken(rng);
@@ -111,7 +145,32 @@ pub fn make(seeds: &[Seed], rng: &mut Rng) -> Mutant {
         _ => {}
     }
     if data && seed.format == Format::Gltf {
-        mutate_sibling(seed, rng, &mut mutant);
+        // Every bombed image that is a file beside the seed is replaced.
+        let files: Vec<PathBuf> = match (&bomb, seed.json.as_ref()) {
+            (Some((images, ..)), Some(original)) => images
+                .iter()
+                .filter_map(|&i| original.get("images")?.get(i)?.get("uri")?.as_str())
+                .filter_map(crate::corpus::uri_to_relative)
+                .filter(|rel| seed.siblings.iter().any(|s| &s.rel == rel))
+                .collect(),
+            _ => Vec::new(),
+        };
+        match &bomb {
+            Some((_, w, h, png)) if !files.is_empty() => {
+                let names: Vec<String> = files.iter().map(|f| f.display().to_string()).collect();
+                mutant.notes.push(format!(
+                    "{} = a {w}x{h} all-zero PNG of {} bytes",
+                    names.join(", "),
+                    png.len()
+                ));
+                let mut files = files;
+                files.dedup();
+                mutant
+                    .overrides
+                    .extend(files.into_iter().map(|rel| (rel, png.clone())));
+            }
+            _ => mutate_sibling(seed, rng, &mut mutant),
+        }
     }
     if raw && !structural {
         let note = bytes::mutate(&mut mutant.main, rng);
@@ -202,6 +261,53 @@ fn mutate_sibling(seed: &Seed, rng: &mut Rng, mutant: &mut Mutant) {
     mutant.overrides.push((sibling.rel.clone(), data));
 }
 
+/// The images materials draw as base colour (the only textures translucid decodes).
+fn drawn_images(doc: &Value) -> Vec<usize> {
+    let Some(materials) = doc.get("materials").and_then(Value::as_array) else {
+        return Vec::new();
+    };
+    let mut images: Vec<usize> = materials
+        .iter()
+        .filter_map(|m| {
+            let texture = m
+                .get("pbrMetallicRoughness")?
+                .get("baseColorTexture")?
+                .get("index")?
+                .as_u64()?;
+            doc.get("textures")?
+                .get(texture as usize)?
+                .get("source")?
+                .as_u64()
+                .map(|i| i as usize)
+        })
+        .collect();
+    images.sort_unstable();
+    images.dedup();
+    images
+}
+
+/// Makes `images` read `length` bytes at `offset` of buffer 0 (the BIN chunk) through one
+/// new bufferView, and grows the buffer to hold them.
+fn point_images_at_end(
+    doc: &mut Value,
+    images: &[usize],
+    offset: usize,
+    length: usize,
+) -> Option<()> {
+    let views = doc.get_mut("bufferViews")?.as_array_mut()?;
+    views.push(serde_json::json!({ "buffer": 0, "byteOffset": offset, "byteLength": length }));
+    let view = views.len() - 1;
+    let buffer = doc.get_mut("buffers")?.get_mut(0)?.as_object_mut()?;
+    buffer.insert("byteLength".into(), (offset + length).into());
+    for &image in images {
+        let img = doc.get_mut("images")?.get_mut(image)?.as_object_mut()?;
+        img.remove("uri");
+        img.insert("bufferView".into(), view.into());
+        img.insert("mimeType".into(), "image/png".into());
+    }
+    Some(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -221,6 +327,43 @@ mod tests {
             assert!(a.main == b.main, "case {case} differs between two builds");
             assert_eq!(a.overrides, b.overrides);
         }
+    }
+
+    #[test]
+    fn bombs_replace_drawn_images_in_both_formats() {
+        let seeds = corpus();
+        let (mut in_glb, mut in_gltf) = (false, false);
+        for case in 0..3000 {
+            let m = make(&seeds, &mut Rng::for_case(3, case));
+            if !m.describe().contains("all-zero PNG") {
+                continue;
+            }
+            match m.format {
+                Format::Glb if !in_glb => {
+                    let glb = Glb::parse(&m.main).expect("a bomb GLB is a valid container");
+                    let doc: Value =
+                        serde_json::from_slice(glb.json().expect("JSON chunk")).expect("JSON");
+                    let bin = bin(&glb).expect("BIN chunk");
+                    let view = doc["bufferViews"]
+                        .as_array()
+                        .and_then(|v| v.last())
+                        .expect("view");
+                    let start = view["byteOffset"].as_u64().expect("offset") as usize;
+                    assert!(bin[start..].starts_with(b"\x89PNG"), "case {case}");
+                    in_glb = true;
+                }
+                Format::Gltf if !in_gltf => {
+                    let (_, png) = m.overrides.first().expect("the image file is replaced");
+                    assert!(png.starts_with(b"\x89PNG"), "case {case}");
+                    in_gltf = true;
+                }
+                _ => {}
+            }
+            if in_glb && in_gltf {
+                return;
+            }
+        }
+        panic!("no bomb in both formats (glb {in_glb}, gltf {in_gltf})");
     }
 
     #[test]
