@@ -1,4 +1,4 @@
-use super::{measure, open_renderer, psnr_json, stage_text, Expected};
+use super::{measure, metrics_json, open_renderer, stage_text, Expected};
 use crate::Size;
 use std::path::Path;
 use std::process::ExitCode;
@@ -28,22 +28,20 @@ pub fn run(
         metrics::side_by_side(&[&frame.image, &measured.expected, &heat]).save_png(path)?;
     }
     if json {
-        let value = serde_json::json!({
-            "scene": scene_spec,
-            "method": method,
-            "threshold": threshold,
-            "wavelet": super::wavelet_json(method, wavelet),
-            "width": size.width,
-            "height": size.height,
-            "max_error": m.max_error,
-            "rmse": m.rmse,
-            "psnr": psnr_json(m.psnr),
-            "pixels_over": m.pixels_over,
-            "share_over": m.share_over,
-            "non_finite_pixels": m.non_finite,
-            "reference_seconds": reference_s,
-        });
-        println!("{value}");
+        let mut fields = metrics_json(m);
+        fields.extend(
+            [
+                ("scene", serde_json::json!(scene_spec)),
+                ("method", serde_json::json!(method)),
+                ("threshold", serde_json::json!(threshold)),
+                ("wavelet", super::wavelet_json(method, wavelet)),
+                ("width", serde_json::json!(size.width)),
+                ("height", serde_json::json!(size.height)),
+                ("reference_seconds", serde_json::json!(reference_s)),
+            ]
+            .map(|(k, v)| (k.to_string(), v)),
+        );
+        println!("{}", serde_json::Value::Object(fields));
     } else {
         println!(
             "{scene_spec} with {method} at {}x{} against {}:",

@@ -2,7 +2,7 @@
 //! and measured against what that method promises to match, so that users can check
 //! translucid on their own assets.
 
-use super::{measure, open_gpu, psnr_json, wavelet_json, Expected};
+use super::{measure, metrics_json, open_gpu, wavelet_json, Expected};
 use crate::Size;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::collections::HashSet;
@@ -293,17 +293,13 @@ fn print_json(rows: &[Row], check: &Check<'_>, wavelet: crate::WaveletArgs, agai
 
 fn row_json(row: &Row) -> serde_json::Value {
     match &row.result {
-        Ok(m) => serde_json::json!({
-            "path": row.name,
-            "max_error": m.max_error,
-            "rmse": m.rmse,
-            "psnr": psnr_json(m.psnr),
-            "pixels_over": m.pixels_over,
-            "share_over": m.share_over,
-            "non_finite_pixels": m.non_finite,
-            "pass": passes(m),
-            "error": null,
-        }),
+        Ok(m) => {
+            let mut fields = metrics_json(m);
+            fields.insert("path".into(), row.name.clone().into());
+            fields.insert("pass".into(), passes(m).into());
+            fields.insert("error".into(), serde_json::Value::Null);
+            serde_json::Value::Object(fields)
+        }
         Err(message) => serde_json::json!({
             "path": row.name,
             "max_error": null,

@@ -181,7 +181,23 @@ pub fn measure(
 
 /// A PSNR for JSON: a number, or "inf" for identical images (JSON has no infinity); a NaN
 /// (from a NaN pixel) stays distinct from "inf" as null.
-pub fn psnr_json(psnr: f32) -> serde_json::Value {
+/// The measures every JSON report gives, as fields to add to its object.
+pub fn metrics_json(m: &Metrics) -> serde_json::Map<String, serde_json::Value> {
+    let value = serde_json::json!({
+        "max_error": m.max_error,
+        "rmse": m.rmse,
+        "psnr": psnr_json(m.psnr),
+        "pixels_over": m.pixels_over,
+        "share_over": m.share_over,
+        "non_finite_pixels": m.non_finite,
+    });
+    match value {
+        serde_json::Value::Object(fields) => fields,
+        _ => serde_json::Map::new(),
+    }
+}
+
+fn psnr_json(psnr: f32) -> serde_json::Value {
     if psnr == f32::INFINITY {
         serde_json::json!("inf")
     } else {
