@@ -475,6 +475,81 @@ fn image_over_the_largest_texture_is_refused_before_decoding() {
     );
 }
 
+/// Textures are bounded in all, not only one by one: six textures sharing one large image
+/// once ran the process out of memory. The limit is checked from the header, before the
+/// image that would pass it is decoded (this one's pixel data is cut short).
+#[test]
+fn textures_past_the_scene_texel_limit_are_refused_before_decoding() {
+    let mut small = Vec::new();
+    image::RgbaImage::new(1, 1)
+        .write_to(
+            &mut std::io::Cursor::new(&mut small),
+            image::ImageFormat::Png,
+        )
+        .expect("encode");
+    let side = scene::MAX_TEXTURE_SIZE;
+    let large = png_header_only(side, side);
+    let json = Tiny::triangle()
+        .material(
+            r#"{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}},
+               {"pbrMetallicRoughness": {"baseColorTexture": {"index": 1}}}"#,
+        )
+        .top(&format!(
+            r#""textures": [{{"source": 0}}, {{"source": 1}}],
+               "images": [{{"uri": "data:image/png;base64,{}"}}, {{"uri": "data:image/png;base64,{}"}}]"#,
+            base64(&small),
+            base64(&large)
+        ))
+        .json();
+    let primitive = r#"{"attributes": {"POSITION": 0}, "indices": 1, "material": 0, "mode": 4}"#;
+    let two_materials = json.replace(
+        primitive,
+        &format!(
+            "{primitive}, {}",
+            primitive.replace(r#""material": 0"#, r#""material": 1"#)
+        ),
+    );
+    assert_ne!(two_materials, json);
+    let err = load_bytes("texels.gltf", two_materials.as_bytes()).expect_err("over the limit");
+    let msg = err.to_string();
+    assert!(
+        msg.contains("texture 1")
+            && msg.contains(&format!("{side}x{side}"))
+            && msg.contains(&scene::MAX_SCENE_TEXELS.to_string()),
+        "{msg}"
+    );
+}
+
+/// A PNG of `width` x `height` with a valid header and a pixel stream cut after two bytes.
+fn png_header_only(width: u32, height: u32) -> Vec<u8> {
+    fn crc32(bytes: &[u8]) -> u32 {
+        let mut crc = !0u32;
+        for &b in bytes {
+            crc ^= u32::from(b);
+            for _ in 0..8 {
+                crc = (crc >> 1) ^ (0xEDB8_8320 & (crc & 1).wrapping_neg());
+            }
+        }
+        !crc
+    }
+    let mut png = b"\x89PNG\r\n\x1a\n".to_vec();
+    let mut chunk = |kind: &[u8; 4], data: &[u8]| {
+        png.extend((data.len() as u32).to_be_bytes());
+        let body: Vec<u8> = kind.iter().chain(data).copied().collect();
+        png.extend(&body);
+        png.extend(crc32(&body).to_be_bytes());
+    };
+    let mut header = Vec::new();
+    header.extend(width.to_be_bytes());
+    header.extend(height.to_be_bytes());
+    header.extend([8, 6, 0, 0, 0]); // 8-bit RGBA, deflate, no interlace
+    chunk(b"IHDR", &header);
+    // Readers take the header as read once they reach pixel data: a zlib stream's start.
+    chunk(b"IDAT", &[0x78, 0x01]);
+    chunk(b"IEND", &[]);
+    png
+}
+
 /// A sparse accessor with no bufferView is zeros but for its entries, so its count is not
 /// bounded by the file's bytes: a billion positions once ran the process out of memory.
 #[test]

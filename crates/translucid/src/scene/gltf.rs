@@ -8,7 +8,7 @@
 
 use super::{
     Camera, Draw, Filter, Material, Mesh, MipFilter, Sampler, Scene, Texture, Wrap,
-    MAX_TEXTURE_SIZE,
+    MAX_SCENE_TEXELS, MAX_TEXTURE_SIZE,
 };
 use crate::{Error, Result};
 use glam::{Mat4, Vec2, Vec3, Vec4};
@@ -16,6 +16,7 @@ use gltf::accessor::{DataType, Dimensions};
 use gltf::mesh::Mode;
 use std::collections::HashMap;
 use std::path::Path;
+use std::rc::Rc;
 
 /// glTF extensions whose meaning translucid implements: a file may *require* only these.
 /// Files that merely *use* others (clearcoat, sheen...) load, ignoring them.
@@ -112,6 +113,8 @@ fn load_unguarded(path: &Path) -> Result<Scene> {
         meshes: HashMap::new(),
         materials: HashMap::new(),
         textures: HashMap::new(),
+        images: HashMap::new(),
+        texels: 0,
         skipped_primitives: 0,
         camera: None,
     };
@@ -434,6 +437,10 @@ struct Importer<'p> {
     materials: HashMap<(Option<usize>, u32), usize>,
     /// glTF texture -> scene texture.
     textures: HashMap<usize, usize>,
+    /// glTF image -> its decoded texels, for textures that share an image.
+    images: HashMap<usize, Rc<::image::RgbaImage>>,
+    /// Level-0 texels of the scene's textures so far (at most [`MAX_SCENE_TEXELS`]).
+    texels: u64,
     skipped_primitives: usize,
     /// The first perspective camera met: its glTF data and the node's world transform.
     camera: Option<(gltf::Camera<'p>, Mat4)>,
@@ -640,9 +647,22 @@ impl<'p> Importer<'p> {
             Some(n) => format!("texture {} ({n})", texture.index()),
             None => format!("texture {} (image {})", texture.index(), image.index()),
         };
-        let decoded = self
-            .decode_image(&image)
-            .map_err(|e| invalid(self.path, format!("{label}: {e}")))?;
+        let decoded = match self.images.get(&image.index()).cloned() {
+            Some(decoded) => {
+                let (width, height) = decoded.dimensions();
+                self.count_texels(width, height)
+                    .map_err(|e| invalid(self.path, format!("{label}: {e}")))?;
+                decoded
+            }
+            None => {
+                let decoded = Rc::new(
+                    self.decode_image(&image)
+                        .map_err(|e| invalid(self.path, format!("{label}: {e}")))?,
+                );
+                self.images.insert(image.index(), decoded.clone());
+                decoded
+            }
+        };
         let (width, height) = decoded.dimensions();
         let texels = decoded.pixels().map(|p| p.0).collect();
         let sampler = convert_sampler(&texture.sampler());
@@ -654,8 +674,23 @@ impl<'p> Importer<'p> {
         Ok(index)
     }
 
+    /// Adds a texture of `width` x `height` to the scene's texels, unless that takes them
+    /// past [`MAX_SCENE_TEXELS`].
+    fn count_texels(&mut self, width: u32, height: u32) -> std::result::Result<(), String> {
+        let total = self.texels + u64::from(width) * u64::from(height);
+        if total > MAX_SCENE_TEXELS {
+            return Err(format!(
+                "a {width}x{height} image takes the file's textures to {total} texels; \
+                 translucid takes at most {MAX_SCENE_TEXELS} in all (one \
+                 {MAX_TEXTURE_SIZE}x{MAX_TEXTURE_SIZE} texture)"
+            ));
+        }
+        self.texels = total;
+        Ok(())
+    }
+
     fn decode_image(
-        &self,
+        &mut self,
         image: &gltf::Image<'p>,
     ) -> std::result::Result<::image::RgbaImage, String> {
         let encoded = match image.source() {
@@ -683,6 +718,7 @@ impl<'p> Importer<'p> {
                  {MAX_TEXTURE_SIZE}"
             ));
         }
+        self.count_texels(width, height)?;
         reader()?
             .decode()
             .map(|i| i.to_rgba8())

@@ -18,7 +18,9 @@ pub use material::Material;
 pub use mesh::{pair_triangles, Mesh};
 #[cfg(test)]
 pub(crate) use texture::hand_cases as texture_hand;
-pub use texture::{srgb_lut, Filter, MipFilter, Sampler, Texture, Wrap, MAX_TEXTURE_SIZE};
+pub use texture::{
+    srgb_lut, Filter, MipFilter, Sampler, Texture, Wrap, MAX_SCENE_TEXELS, MAX_TEXTURE_SIZE,
+};
 
 use glam::{Mat4, Vec3};
 

@@ -61,6 +61,11 @@ pub struct Sampler {
 /// texture with its mips already takes 1.4 GB. Larger images are refused before decoding.
 pub const MAX_TEXTURE_SIZE: u32 = 16384;
 
+/// Largest number of level-0 texels a scene's textures hold in all: one texture of the
+/// largest size. Each texture is its own upload, so textures that share an image count once
+/// each. Checked from image headers, before anything is decoded.
+pub const MAX_SCENE_TEXELS: u64 = (MAX_TEXTURE_SIZE as u64) * (MAX_TEXTURE_SIZE as u64);
+
 #[derive(Clone, Debug, PartialEq)]
 pub struct Texture {
     pub name: String,
