@@ -44,3 +44,25 @@ fn draws_past_a_storage_binding_are_refused_by_name() {
         );
     }
 }
+
+/// Frames smaller than a GPU buffer's 16-byte minimum read back exactly their own pixels,
+/// and match the reference (a 1x1 frame came back with two pixels, so the C API asked for
+/// twice the bytes it documents).
+#[test]
+fn tiny_frames_read_back_their_own_pixels() {
+    let gpu = gpu();
+    let scene = translucid::scene::load("layers").expect("layers scene");
+    for method in ["blend", "exact", "wavelet", "wboit"] {
+        for (width, height) in [(1, 1), (1, 3), (3, 1)] {
+            let frame = translucid_tests::render(&gpu, &scene, method, width, height);
+            let pixels = (width * height) as usize;
+            assert_eq!(
+                frame.image.pixels.len(),
+                pixels,
+                "{method} at {width}x{height}"
+            );
+            let opaque = frame.opaque.as_ref().expect("opaque layer read back");
+            assert_eq!(opaque.depth.len(), pixels, "{method} at {width}x{height}");
+        }
+    }
+}

@@ -77,8 +77,8 @@ impl Gpu {
         }
     }
 
-    /// A buffer of `size` bytes (at least 16, so empty data still binds, as a buffer or as a
-    /// view of one RGBA32 texel).
+    /// A buffer of `size` bytes (made at least 16, so empty data still binds, as a buffer or
+    /// as a view of one RGBA32 texel; reads still return `size` bytes).
     pub fn create_buffer(
         &self,
         name: &str,
@@ -86,6 +86,7 @@ impl Gpu {
         usage: vk::BufferUsageFlags,
         location: MemoryLocation,
     ) -> Result<Buffer> {
+        let len = size;
         let size = size.max(16);
         let info = vk::BufferCreateInfo::default()
             .size(size)
@@ -100,6 +101,7 @@ impl Gpu {
             gpu: self.clone(),
             raw,
             size,
+            len,
             name: name.to_string(),
             allocation: None,
         };
@@ -200,7 +202,10 @@ impl Gpu {
 pub struct Buffer {
     gpu: Gpu,
     pub raw: vk::Buffer,
+    /// Bytes the buffer has (and binds).
     pub size: u64,
+    /// Bytes it was asked for, which `read` returns: `size` can be larger.
+    len: u64,
     /// What it holds, for messages.
     pub name: String,
     allocation: Option<Allocation>,
@@ -255,7 +260,7 @@ impl Buffer {
         self.allocation
             .as_ref()
             .and_then(|a| a.mapped_slice())
-            .map(|s| &s[..self.size as usize])
+            .map(|s| &s[..self.len as usize])
             .ok_or_else(|| {
                 crate::Error::InvalidScene("read of a buffer that is not host-visible".into())
             })
