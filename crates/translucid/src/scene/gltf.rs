@@ -14,7 +14,7 @@ use crate::{Error, Result};
 use glam::{Mat4, Vec2, Vec3, Vec4};
 use gltf::accessor::{DataType, Dimensions};
 use gltf::mesh::Mode;
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::path::Path;
 use std::rc::Rc;
 
@@ -114,7 +114,7 @@ fn load_unguarded(path: &Path) -> Result<Scene> {
         materials: HashMap::new(),
         textures: HashMap::new(),
         images: HashMap::new(),
-        texels: 0,
+        encoded: HashMap::new(),
         skipped_primitives: 0,
         camera: None,
     };
@@ -439,8 +439,8 @@ struct Importer<'p> {
     textures: HashMap<usize, usize>,
     /// glTF image -> its decoded texels, for textures that share an image.
     images: HashMap<usize, Rc<::image::RgbaImage>>,
-    /// Level-0 texels of the scene's textures so far (at most [`MAX_SCENE_TEXELS`]).
-    texels: u64,
+    /// glTF image -> its encoded bytes, read by `check_textures`, until decoded.
+    encoded: HashMap<usize, Vec<u8>>,
     skipped_primitives: usize,
     /// The first perspective camera met: its glTF data and the node's world transform.
     camera: Option<(gltf::Camera<'p>, Mat4)>,
@@ -454,6 +454,7 @@ impl<'p> Importer<'p> {
         else {
             return Err(invalid(self.path, "the file has no scene"));
         };
+        self.check_textures(document)?;
         self.traverse(document, root)?;
         if self.skipped_primitives > 0 {
             log::warn!(
@@ -638,28 +639,54 @@ impl<'p> Importer<'p> {
         Ok((index, transparent))
     }
 
+    /// Reads every image a material's base colour uses and checks its size from its header,
+    /// and the texels of all those textures, before any image is decoded.
+    fn check_textures(&mut self, document: &'p gltf::Document) -> Result<()> {
+        let path = self.path;
+        let mut seen = HashSet::new();
+        let mut total = 0u64;
+        for material in document.materials() {
+            let Some(info) = material.pbr_metallic_roughness().base_color_texture() else {
+                continue;
+            };
+            let texture = info.texture();
+            if !seen.insert(texture.index()) {
+                continue;
+            }
+            let failed = |e: String| invalid(path, format!("{}: {e}", texture_label(&texture)));
+            let image = texture.source();
+            if !self.encoded.contains_key(&image.index()) {
+                let bytes = self.read_image(&image).map_err(failed)?;
+                self.encoded.insert(image.index(), bytes);
+            }
+            let (width, height) = image_size(&self.encoded[&image.index()]).map_err(failed)?;
+            total += u64::from(width) * u64::from(height);
+            if total > MAX_SCENE_TEXELS {
+                return Err(failed(format!(
+                    "its {width}x{height} image takes the file's textures to {total} texels; \
+                     translucid takes at most {MAX_SCENE_TEXELS} in all"
+                )));
+            }
+        }
+        Ok(())
+    }
+
     fn convert_texture(&mut self, texture: gltf::Texture<'p>) -> Result<usize> {
         if let Some(&done) = self.textures.get(&texture.index()) {
             return Ok(done);
         }
-        let image = texture.source();
-        let label = match image.name().or(texture.name()) {
-            Some(n) => format!("texture {} ({n})", texture.index()),
-            None => format!("texture {} (image {})", texture.index(), image.index()),
-        };
-        let decoded = match self.images.get(&image.index()).cloned() {
-            Some(decoded) => {
-                let (width, height) = decoded.dimensions();
-                self.count_texels(width, height)
-                    .map_err(|e| invalid(self.path, format!("{label}: {e}")))?;
-                decoded
-            }
+        let label = texture_label(&texture);
+        let image = texture.source().index();
+        let decoded = match self.images.get(&image) {
+            Some(decoded) => decoded.clone(),
             None => {
+                // check_textures read every base colour image.
+                let encoded = self.encoded.remove(&image).unwrap_or_default();
                 let decoded = Rc::new(
-                    self.decode_image(&image)
+                    decode_image(&encoded)
                         .map_err(|e| invalid(self.path, format!("{label}: {e}")))?,
                 );
-                self.images.insert(image.index(), decoded.clone());
+                self.images.insert(image, decoded.clone());
                 decoded
             }
         };
@@ -674,25 +701,8 @@ impl<'p> Importer<'p> {
         Ok(index)
     }
 
-    /// Adds a texture of `width` x `height` to the scene's texels, unless that takes them
-    /// past [`MAX_SCENE_TEXELS`].
-    fn count_texels(&mut self, width: u32, height: u32) -> std::result::Result<(), String> {
-        let total = self.texels + u64::from(width) * u64::from(height);
-        if total > MAX_SCENE_TEXELS {
-            return Err(format!(
-                "a {width}x{height} image takes the file's textures to {total} texels; \
-                 translucid takes at most {MAX_SCENE_TEXELS} in all (one \
-                 {MAX_TEXTURE_SIZE}x{MAX_TEXTURE_SIZE} texture)"
-            ));
-        }
-        self.texels = total;
-        Ok(())
-    }
-
-    fn decode_image(
-        &mut self,
-        image: &gltf::Image<'p>,
-    ) -> std::result::Result<::image::RgbaImage, String> {
+    /// An image's encoded bytes, from its buffer view or URI.
+    fn read_image(&self, image: &gltf::Image<'p>) -> std::result::Result<Vec<u8>, String> {
         let encoded = match image.source() {
             gltf::image::Source::View { view, .. } => view_bytes(&view, &self.buffers)?.to_vec(),
             gltf::image::Source::Uri { uri, .. } => read_uri(self.base, uri, MAX_IMAGE_FILE_BYTES)?,
@@ -703,26 +713,7 @@ impl<'p> Importer<'p> {
                 MAX_IMAGE_FILE_BYTES >> 20
             ));
         }
-        // The size from the header, before anything is decoded.
-        let reader = || {
-            ::image::ImageReader::new(std::io::Cursor::new(&encoded))
-                .with_guessed_format()
-                .map_err(|e| format!("cannot read image: {e}"))
-        };
-        let (width, height) = reader()?
-            .into_dimensions()
-            .map_err(|e| format!("cannot decode image: {e}"))?;
-        if width > MAX_TEXTURE_SIZE || height > MAX_TEXTURE_SIZE {
-            return Err(format!(
-                "image is {width}x{height}; the largest width or height translucid takes is \
-                 {MAX_TEXTURE_SIZE}"
-            ));
-        }
-        self.count_texels(width, height)?;
-        reader()?
-            .decode()
-            .map(|i| i.to_rgba8())
-            .map_err(|e| format!("cannot decode image: {e}"))
+        Ok(encoded)
     }
 
     /// The file's first perspective camera, else a camera framing every draw.
@@ -832,6 +823,45 @@ fn far_plane_for(eye: Vec3, near: f32, bounds: Option<(Vec3, Vec3)>) -> f32 {
 }
 
 /// The file's sampler; absent fields take glTF's suggested defaults (REPEAT, trilinear).
+/// A texture as messages name it: by index, and by its image's or its own name.
+fn texture_label(texture: &gltf::Texture<'_>) -> String {
+    let image = texture.source();
+    match image.name().or(texture.name()) {
+        Some(n) => format!("texture {} ({n})", texture.index()),
+        None => format!("texture {} (image {})", texture.index(), image.index()),
+    }
+}
+
+fn image_reader(
+    encoded: &[u8],
+) -> std::result::Result<::image::ImageReader<std::io::Cursor<&[u8]>>, String> {
+    ::image::ImageReader::new(std::io::Cursor::new(encoded))
+        .with_guessed_format()
+        .map_err(|e| format!("cannot read image: {e}"))
+}
+
+/// An image's size from its header, within [`MAX_TEXTURE_SIZE`].
+fn image_size(encoded: &[u8]) -> std::result::Result<(u32, u32), String> {
+    let (width, height) = image_reader(encoded)?
+        .into_dimensions()
+        .map_err(|e| format!("cannot decode image: {e}"))?;
+    if width > MAX_TEXTURE_SIZE || height > MAX_TEXTURE_SIZE {
+        return Err(format!(
+            "image is {width}x{height}; the largest width or height translucid takes is \
+             {MAX_TEXTURE_SIZE}"
+        ));
+    }
+    Ok((width, height))
+}
+
+fn decode_image(encoded: &[u8]) -> std::result::Result<::image::RgbaImage, String> {
+    image_size(encoded)?;
+    image_reader(encoded)?
+        .decode()
+        .map(|i| i.into_rgba8())
+        .map_err(|e| format!("cannot decode image: {e}"))
+}
+
 fn convert_sampler(sampler: &gltf::texture::Sampler<'_>) -> Sampler {
     use gltf::texture::{MagFilter, MinFilter, WrappingMode};
     let wrap = |mode| match mode {

@@ -13,7 +13,7 @@
 //!   CLAMP_TO_EDGE or MIRRORED_REPEAT.
 //! - sRGB texels are decoded to linear before filtering; mips are built in linear light.
 
-use crate::image::{linear_to_srgb, quantize, srgb_to_linear};
+use crate::image::{quantize, srgb_to_linear};
 use glam::{Vec2, Vec4};
 use std::sync::OnceLock;
 
@@ -57,14 +57,16 @@ pub struct Sampler {
     pub mip_filter: MipFilter,
 }
 
-/// Largest texture width or height: what Vulkan devices commonly allow, and a 16384² RGBA8
-/// texture with its mips already takes 1.4 GB. Larger images are refused before decoding.
-pub const MAX_TEXTURE_SIZE: u32 = 16384;
+/// Largest texture width or height, as in the C API: an 8192² RGBA8 texture with its mips
+/// takes 358 MB, and the software sampler's texel buffer holds 128 MB on lavapipe. Larger
+/// images are refused from their header, before decoding.
+pub const MAX_TEXTURE_SIZE: u32 = 8192;
 
-/// Largest number of level-0 texels a scene's textures hold in all: one texture of the
-/// largest size. Each texture is its own upload, so textures that share an image count once
-/// each. Checked from image headers, before anything is decoded.
-pub const MAX_SCENE_TEXELS: u64 = (MAX_TEXTURE_SIZE as u64) * (MAX_TEXTURE_SIZE as u64);
+/// Largest number of level-0 texels a scene's textures hold in all: two textures of the
+/// largest size, or 32 of 2048² (the real scenes beside the project use at most 20 M).
+/// Each texture counts once, whatever shares its image. It bounds import's memory (textures
+/// and decoded images) and time. Checked from image headers, before anything is decoded.
+pub const MAX_SCENE_TEXELS: u64 = 2 * (MAX_TEXTURE_SIZE as u64) * (MAX_TEXTURE_SIZE as u64);
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct Texture {
@@ -243,18 +245,28 @@ pub fn srgb_lut() -> &'static [f32; 256] {
     LUT.get_or_init(|| std::array::from_fn(|i| srgb_to_linear(i as f32 / 255.0)))
 }
 
+/// The sRGB byte nearest in display encoding to linear `v`: `quantize(linear_to_srgb(v))`
+/// without a power function, by the linear values where rounding moves to the next byte.
+/// (The mips of an 8192² sRGB texture took 64 M power calls.)
+fn encode_srgb(v: f32) -> u8 {
+    static STEPS: OnceLock<[f32; 255]> = OnceLock::new();
+    let steps =
+        STEPS.get_or_init(|| std::array::from_fn(|k| srgb_to_linear((k as f32 + 0.5) / 255.0)));
+    steps.partition_point(|&step| step <= v) as u8
+}
+
 fn downsample(prev: &MipLevel, srgb: bool) -> MipLevel {
     let width = (prev.width / 2).max(1);
     let height = (prev.height / 2).max(1);
+    let lut = srgb_lut();
     let decode = |v: u8| {
-        let f = v as f32 / 255.0;
         if srgb {
-            srgb_to_linear(f)
+            lut[v as usize]
         } else {
-            f
+            v as f32 / 255.0
         }
     };
-    let encode = |v: f32| quantize(if srgb { linear_to_srgb(v) } else { v });
+    let encode = |v: f32| if srgb { encode_srgb(v) } else { quantize(v) };
     let mut texels = Vec::with_capacity((width * height) as usize);
     for y in 0..height {
         for x in 0..width {
@@ -288,6 +300,31 @@ mod tests {
     use super::hand_cases::{hand_cases, levels};
     use super::*;
     use glam::Vec3;
+
+    /// The power-free sRGB encoding rounds as the transfer function does, but within float
+    /// noise of a rounding step.
+    #[test]
+    fn srgb_encoding_matches_the_transfer_function() {
+        use crate::image::linear_to_srgb;
+        let mut differing = 0;
+        for i in 0..=100_000 {
+            let v = i as f32 / 100_000.0;
+            let exact = quantize(linear_to_srgb(v));
+            if encode_srgb(v) != exact {
+                let step = srgb_to_linear((exact.min(encode_srgb(v)) as f32 + 0.5) / 255.0);
+                assert!(
+                    (v - step).abs() < 1e-6,
+                    "{v}: {} vs {exact}",
+                    encode_srgb(v)
+                );
+                differing += 1;
+            }
+        }
+        assert!(differing < 10, "{differing}");
+        assert_eq!(encode_srgb(-1.0), 0);
+        assert_eq!(encode_srgb(2.0), 255);
+        assert_eq!(encode_srgb(f32::NAN), quantize(f32::NAN));
+    }
 
     #[test]
     fn mip_chain_reaches_one_texel() {
