@@ -220,3 +220,43 @@ fn header_compiles_alone_as_c_and_cpp() {
     compile("g++", CXX_FLAGS, &[cpp], &dir.join("header_cpp"), &[]);
     run(&dir.join("header_c"), &[], false);
 }
+
+/// The C API fuzzer (`tests/c/fuzz_calls.c`) on a fixed set of cases, under AddressSanitizer
+/// and UBSan with validation on: random call sequences with random and broken arguments,
+/// each call held to its documented code. About a minute here; `make fuzz` runs it for as
+/// long as asked, with a fresh seed.
+#[test]
+fn c_api_fuzzer_keeps_the_contract_on_fixed_cases() {
+    let tests = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/c");
+    let dir = out_dir("fuzz_calls");
+    let binary = dir.join("fuzz_calls");
+    let flags: Vec<&str> = C_FLAGS.iter().chain(SANITIZE).copied().collect();
+    compile(
+        "cc",
+        &flags,
+        &[tests.join("fuzz_calls.c"), tests.join("keep_modules.c")],
+        &binary,
+        &[],
+    );
+    let mut command = Command::new(&binary);
+    command
+        .args(["--seed", "1", "--cases", "40"])
+        .env("LD_LIBRARY_PATH", library_dir())
+        .env("TRANSLUCID_VALIDATION", "1")
+        .env(
+            "ASAN_OPTIONS",
+            "detect_leaks=1:abort_on_error=0:exitcode=23",
+        )
+        .env("UBSAN_OPTIONS", "print_stacktrace=1:halt_on_error=1");
+    let result = command.output().expect("run the C API fuzzer");
+    let stdout = String::from_utf8_lossy(&result.stdout);
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    // The last lines: the case that failed and why (stderr lists every case it started).
+    let tail: Vec<&str> = stderr.lines().rev().take(40).collect();
+    assert!(
+        result.status.success() && stdout.contains("every call kept the contract"),
+        "the C API fuzzer failed ({}):\n{stdout}\n{}",
+        result.status,
+        tail.into_iter().rev().collect::<Vec<_>>().join("\n")
+    );
+}

@@ -8,12 +8,14 @@ use crate::rng::Rng;
 use crate::runner::{self, Limits, Outcome};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
 pub struct Options {
     pub seconds: u64,
+    /// Run cases 0 to N-1, ignoring `seconds`.
+    pub cases: Option<u64>,
     pub seed: u64,
     pub corpus: Vec<PathBuf>,
     pub out: PathBuf,
@@ -144,28 +146,41 @@ fn replay_command(options: &Options, number: u64) -> String {
 }
 
 fn fuzz(options: &Options, seeds: &[Seed], exe: &Path) -> Result<bool, String> {
+    let length = match options.cases {
+        Some(cases) => format!("{cases} cases"),
+        None => format!("{} s", options.seconds),
+    };
     eprintln!(
-        "fuzzing glTF import: {} seeds, seed {}, {} jobs, {} s, child limits {} s and {} MiB; findings go to {}",
+        "fuzzing glTF import: {} seeds, seed {}, {} jobs, {length}, child limits {} s and {} MiB; findings go to {}",
         seeds.len(),
         options.seed,
         options.jobs,
-        options.seconds,
         options.limits.timeout.as_secs(),
         options.limits.memory >> 20,
         options.out.display()
     );
     let start = Instant::now();
-    let deadline = start + Duration::from_secs(options.seconds);
+    let deadline = match options.cases {
+        // Long enough never to come.
+        Some(_) => start + Duration::from_secs(100 * 365 * 86_400),
+        None => start + Duration::from_secs(options.seconds),
+    };
     let next = AtomicU64::new(0);
     let report = Mutex::new(Report::default());
     let failure: Mutex<Option<String>> = Mutex::new(None);
+    let jobs = options.jobs.max(1);
+    // Jobs still drawing cases: progress reports stop with the last.
+    let running = AtomicUsize::new(jobs);
     std::thread::scope(|scope| {
-        for job in 0..options.jobs.max(1) {
-            let (next, report, failure) = (&next, &report, &failure);
+        for job in 0..jobs {
+            let (next, report, failure, running) = (&next, &report, &failure, &running);
             scope.spawn(move || {
                 let mut work = WorkDir::new(options.work.join(format!("job-{job}")));
                 while Instant::now() < deadline {
                     let number = next.fetch_add(1, Ordering::Relaxed);
+                    if options.cases.is_some_and(|cases| number >= cases) {
+                        break;
+                    }
                     match run_case(options, seeds, exe, &mut work, number, report) {
                         Ok((_, Some(dir))) => {
                             eprintln!("finding: case {number} -> {}", dir.display())
@@ -179,19 +194,23 @@ fn fuzz(options: &Options, seeds: &[Seed], exe: &Path) -> Result<bool, String> {
                             if let Ok(mut slot) = failure.lock() {
                                 slot.get_or_insert(e);
                             }
-                            return;
+                            break;
                         }
                     }
                     if failure.lock().map_or(true, |f| f.is_some()) {
-                        return;
+                        break;
                     }
                 }
+                running.fetch_sub(1, Ordering::Relaxed);
             });
         }
         // Progress every 30 s, so that a long run shows it is alive.
         scope.spawn(|| {
             let mut last = Instant::now();
-            while Instant::now() < deadline && failure.lock().is_ok_and(|f| f.is_none()) {
+            while Instant::now() < deadline
+                && running.load(Ordering::Relaxed) > 0
+                && failure.lock().is_ok_and(|f| f.is_none())
+            {
                 std::thread::sleep(Duration::from_millis(200));
                 if last.elapsed() >= Duration::from_secs(30) {
                     last = Instant::now();

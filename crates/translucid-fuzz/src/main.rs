@@ -49,6 +49,10 @@ struct GltfArgs {
     /// How long to fuzz.
     #[arg(long, default_value_t = 60)]
     seconds: u64,
+    /// Runs cases 0 to N-1 of --seed instead, however long they take: a fixed run, as the
+    /// tests make.
+    #[arg(long, conflicts_with = "case")]
+    cases: Option<u64>,
     /// Makes the run reproducible: case N is built from (seed, N) alone [default: the time].
     #[arg(long)]
     seed: Option<u64>,
@@ -97,6 +101,7 @@ fn main() -> ExitCode {
             });
             let options = fuzz::Options {
                 seconds: args.seconds,
+                cases: args.cases,
                 seed,
                 corpus: if args.corpus.is_empty() {
                     vec![root.join("assets/scenes")]

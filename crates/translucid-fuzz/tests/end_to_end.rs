@@ -88,3 +88,31 @@ fn a_case_replays_and_a_short_run_summarises() {
     );
     let _ = std::fs::remove_dir_all(dir);
 }
+
+/// The bounded run `make test` makes: a fixed seed's first cases over the vendored scenes,
+/// every one a clean error or a loaded scene (about a minute on two cores).
+#[test]
+fn fixed_cases_find_nothing() {
+    let dir = scratch("fixed");
+    let run = Command::new(EXE)
+        .args([
+            "gltf", "--cases", "1200", "--jobs", "2", "--seed", "1", "--corpus",
+        ])
+        .arg(scenes())
+        .arg("--out")
+        .arg(dir.join("findings"))
+        .output()
+        .expect("fixed run");
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&run.stdout),
+        String::from_utf8_lossy(&run.stderr)
+    );
+    assert!(
+        run.status.success(),
+        "findings (saved under {}):\n{text}",
+        dir.display()
+    );
+    assert!(text.contains("1200 cases in "), "{text}");
+    let _ = std::fs::remove_dir_all(dir);
+}
