@@ -15,6 +15,7 @@
 
 use crate::image::{quantize, srgb_to_linear};
 use glam::{Vec2, Vec4};
+use rayon::prelude::*;
 use std::sync::OnceLock;
 
 /// How a texture coordinate outside [0, 1] maps into the texture (glTF `wrapS`/`wrapT`).
@@ -246,13 +247,34 @@ pub fn srgb_lut() -> &'static [f32; 256] {
 }
 
 /// The sRGB byte nearest in display encoding to linear `v`: `quantize(linear_to_srgb(v))`
-/// without a power function, by the linear values where rounding moves to the next byte.
-/// (The mips of an 8192² sRGB texture took 64 M power calls.)
+/// without a power function, from the linear values where rounding moves to the next byte
+/// (`steps`) and a table of where each 1/4096 of the range starts among them. (The mips of
+/// an 8192² sRGB texture took 64 M power calls, then as many binary searches.)
 fn encode_srgb(v: f32) -> u8 {
-    static STEPS: OnceLock<[f32; 255]> = OnceLock::new();
-    let steps =
-        STEPS.get_or_init(|| std::array::from_fn(|k| srgb_to_linear((k as f32 + 0.5) / 255.0)));
-    steps.partition_point(|&step| step <= v) as u8
+    const BINS: usize = 4096;
+    struct Tables {
+        steps: [f32; 255],
+        first: [u8; BINS + 1],
+    }
+    static TABLES: OnceLock<Tables> = OnceLock::new();
+    let t = TABLES.get_or_init(|| {
+        let steps = std::array::from_fn(|k| srgb_to_linear((k as f32 + 0.5) / 255.0));
+        let first = std::array::from_fn(|i| {
+            let start = i as f32 / BINS as f32;
+            steps.partition_point(|&step| step < start) as u8
+        });
+        Tables { steps, first }
+    });
+    if !(v >= 0.0) {
+        return 0; // also NaN, as quantize does
+    }
+    let bin = ((v * BINS as f32) as usize).min(BINS);
+    // Steps under the bin's start are at most v; the bin holds at most a few more.
+    let mut byte = t.first[bin] as usize;
+    while byte < t.steps.len() && t.steps[byte] <= v {
+        byte += 1;
+    }
+    byte as u8
 }
 
 fn downsample(prev: &MipLevel, srgb: bool) -> MipLevel {
@@ -267,27 +289,32 @@ fn downsample(prev: &MipLevel, srgb: bool) -> MipLevel {
         }
     };
     let encode = |v: f32| if srgb { encode_srgb(v) } else { quantize(v) };
-    let mut texels = Vec::with_capacity((width * height) as usize);
-    for y in 0..height {
-        for x in 0..width {
-            let mut sum = [0.0f32; 4];
-            for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
-                let sx = (2 * x + dx).min(prev.width - 1);
-                let sy = (2 * y + dy).min(prev.height - 1);
-                let t = prev.texels[(sy * prev.width + sx) as usize];
-                for c in 0..3 {
-                    sum[c] += decode(t[c]);
+    // Rows in parallel: large textures' mips are most of a scene's import time.
+    let mut texels = vec![[0u8; 4]; (width * height) as usize];
+    texels
+        .par_chunks_mut(width as usize)
+        .enumerate()
+        .for_each(|(y, row)| {
+            let y = y as u32;
+            for (x, out) in (0..width).zip(row) {
+                let mut sum = [0.0f32; 4];
+                for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                    let sx = (2 * x + dx).min(prev.width - 1);
+                    let sy = (2 * y + dy).min(prev.height - 1);
+                    let t = prev.texels[(sy * prev.width + sx) as usize];
+                    for c in 0..3 {
+                        sum[c] += decode(t[c]);
+                    }
+                    sum[3] += t[3] as f32 / 255.0;
                 }
-                sum[3] += t[3] as f32 / 255.0;
+                *out = [
+                    encode(sum[0] / 4.0),
+                    encode(sum[1] / 4.0),
+                    encode(sum[2] / 4.0),
+                    quantize(sum[3] / 4.0),
+                ];
             }
-            texels.push([
-                encode(sum[0] / 4.0),
-                encode(sum[1] / 4.0),
-                encode(sum[2] / 4.0),
-                quantize(sum[3] / 4.0),
-            ]);
-        }
-    }
+        });
     MipLevel {
         width,
         height,
