@@ -265,8 +265,8 @@ fn encode_srgb(v: f32) -> u8 {
         });
         Tables { steps, first }
     });
-    if !(v >= 0.0) {
-        return 0; // also NaN, as quantize does
+    if v.is_nan() || v < 0.0 {
+        return 0; // as quantize does
     }
     let bin = ((v * BINS as f32) as usize).min(BINS);
     // Steps under the bin's start are at most v; the bin holds at most a few more.
