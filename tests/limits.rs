@@ -66,3 +66,53 @@ fn tiny_frames_read_back_their_own_pixels() {
         }
     }
 }
+
+/// A limit of the bin stages that wavelet shares with exact is said as wavelet's own, and
+/// as exact's under exact: textures over what the software sampler's texel buffer binds.
+#[test]
+fn limits_of_the_shared_bin_stages_name_the_method() {
+    let gpu = gpu();
+    let range = u64::from(gpu.info().max_storage_buffer_range);
+    // RGBA8 texels with mips take 4/3 of level 0: enough textures of 4096² to pass the range.
+    let side = 4096u32;
+    let per_texture = u64::from(side) * u64::from(side) * 4 * 4 / 3;
+    let count = range / per_texture + 1;
+    let texture = translucid::scene::Texture::new(
+        "large",
+        side,
+        side,
+        vec![[128, 128, 128, 255]; (side * side) as usize],
+        true,
+    );
+    let triangle =
+        Mesh::from_triangles("triangle", vec![Vec3::ZERO, Vec3::X, Vec3::Y], &[[0, 1, 2]]);
+    let scene = Scene {
+        name: "large textures".into(),
+        meshes: vec![triangle],
+        materials: vec![Material::alpha(Vec3::ONE, 0.5)],
+        textures: vec![texture; count as usize],
+        transparent: vec![Draw {
+            mesh: 0,
+            material: 0,
+            transform: Mat4::from_translation(Vec3::new(0.0, 0.0, -3.0)),
+        }],
+        ..Scene::default()
+    };
+    for method in ["exact", "wavelet"] {
+        let err = Renderer::new(&gpu, &scene, method, 64, 48)
+            .err()
+            .unwrap_or_else(|| panic!("{method}: {count} textures of {side}² were accepted"));
+        let msg = err.to_string();
+        let other = if method == "exact" {
+            "wavelet"
+        } else {
+            "exact"
+        };
+        assert!(
+            msg.contains(&format!("{method}: "))
+                && !msg.contains(other)
+                && msg.contains("textures"),
+            "{method}: {msg}"
+        );
+    }
+}
