@@ -425,3 +425,48 @@ fn exact_fragments(gpu: &translucid::gpu::Gpu, scene: &Scene) -> u64 {
     let mut r = Renderer::new(gpu, scene, "exact", 160, 120).expect("renderer");
     r.render(false).expect("frame").fragments
 }
+
+/// `count` screen-filling quads, one behind another, faint enough that none hides the rest.
+fn full_screen_layers(count: u32) -> Scene {
+    let mut positions = Vec::new();
+    let mut quads = Vec::new();
+    for i in 0..count {
+        let z = -1.0 - i as f32 * (4.0 / count as f32);
+        let first = positions.len() as u32;
+        positions.extend([
+            Vec3::new(-9.0, -9.0, z),
+            Vec3::new(9.0, -9.0, z),
+            Vec3::new(9.0, 9.0, z),
+            Vec3::new(-9.0, 9.0, z),
+        ]);
+        quads.push([first, first + 1, first + 2, first + 3]);
+    }
+    Scene {
+        name: "full-screen layers".into(),
+        meshes: vec![Mesh::from_quads("layers", positions, quads)],
+        materials: vec![Material::alpha(Vec3::new(0.9, 0.5, 0.2), 0.001)],
+        transparent: vec![Draw {
+            mesh: 0,
+            material: 0,
+            transform: Mat4::IDENTITY,
+        }],
+        camera: Camera::look_at(Vec3::new(0.0, 0.0, 3.0), Vec3::ZERO, 0.8, 0.1, 20.0),
+        background: Vec3::splat(0.2),
+        ..Scene::default()
+    }
+}
+
+/// 10,000 layers over every pixel: each row needs hundreds of continuation dispatches, which
+/// the renderer finds in a few re-renders (it gave up after four, with "buffers still
+/// overflow").
+#[test]
+fn exact_renders_ten_thousand_full_screen_layers() {
+    let frame = check(
+        &full_screen_layers(10_000),
+        "ten_thousand_layers",
+        16,
+        12,
+        &MethodOptions::default(),
+    );
+    assert_eq!(frame.fragments, 16 * 12 * 10_000);
+}

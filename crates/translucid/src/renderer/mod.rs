@@ -109,9 +109,10 @@ pub fn check_viewport(gpu: &Gpu, width: u32, height: u32) -> Result<()> {
     Ok(())
 }
 
-/// Renders again at most this many times when buffers overflow; each time they grow to at
-/// least what the GPU counted, so one re-render normally suffices.
-const MAX_RERENDERS: u32 = 4;
+/// Renders again at most this many times when buffers overflow or a method must change
+/// its passes: buffers grow to at least what the GPU counted, so one re-render normally
+/// suffices; exact's continuations, for the deepest frames, take up to four more.
+const MAX_RERENDERS: u32 = 8;
 
 impl Renderer {
     pub fn new(gpu: &Gpu, scene: &Scene, method: &str, width: u32, height: u32) -> Result<Self> {
@@ -227,7 +228,8 @@ impl Renderer {
             rerenders += 1;
             if rerenders > MAX_RERENDERS {
                 return Err(Error::InvalidScene(format!(
-                    "{}: buffers still overflow after {MAX_RERENDERS} re-renders",
+                    "{}: the frame still overflows its buffers or passes after {MAX_RERENDERS} \
+                     re-renders",
                     self.method.name()
                 )));
             }

@@ -131,8 +131,13 @@ const DEPTH_PYRAMID: usize = 5;
 /// `PYRAMID_GROUP_SIZE` of depth_pyramid.comp.
 const PYRAMID_GROUP_SIZE: u32 = 256;
 /// With about 60,000 loop iterations each, this many continuations finish any pixel this
-/// method can render in reasonable time; past it the frame fails with an error.
-const MAX_CONTINUATIONS: u32 = 64;
+/// method can render in reasonable time (10,000 full-screen layers take a few hundred);
+/// past it the frame fails with an error. Continuations with no rows cost an empty
+/// indirect dispatch.
+const MAX_CONTINUATIONS: u32 = 4096;
+/// Continuations are multiplied by this when rows were left unfinished: a deep frame finds
+/// its count in a few re-renders (1, 8, 64, 512, 4096).
+const CONTINUATION_GROWTH: u32 = 8;
 
 /// Exact stage `stage` specialized with `constants` (constant_id i = constants[i]).
 fn stage_pipeline(
@@ -607,7 +612,7 @@ impl Method for Exact {
                      continuation dispatches; the frame is too deep for this driver"
                 )));
             }
-            self.continuations *= 2;
+            self.continuations = (self.continuations * CONTINUATION_GROWTH).min(MAX_CONTINUATIONS);
             log::info!(
                 "exact: {unfinished} rows unfinished; {} continuations next",
                 self.continuations
