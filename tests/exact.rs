@@ -470,3 +470,66 @@ fn exact_renders_ten_thousand_full_screen_layers() {
     );
     assert_eq!(frame.fragments, 16 * 12 * 10_000);
 }
+/// `count` triangles over all of an 8x8-pixel frame, all at one depth, so that every row's
+/// list holds all of them and no depth slab splits it.
+fn crowded_bin(count: u32) -> Scene {
+    let mut positions = Vec::new();
+    let mut triangles = Vec::new();
+    for i in 0..count {
+        // Each a little turned, so that they are not all the same triangle.
+        let turn = glam::Quat::from_rotation_z(i as f32 * 0.001);
+        let first = positions.len() as u32;
+        positions.extend(
+            [
+                Vec3::new(-6.0, -6.0, -2.0),
+                Vec3::new(6.0, -6.0, -2.0),
+                Vec3::new(0.0, 6.0, -2.0),
+            ]
+            .map(|p| turn * p),
+        );
+        triangles.push([first, first + 1, first + 2]);
+    }
+    Scene {
+        name: "crowded bin".into(),
+        meshes: vec![Mesh::from_triangles("crowd", positions, &triangles)],
+        materials: vec![Material::alpha(Vec3::new(0.2, 0.6, 0.9), 0.5)],
+        transparent: vec![Draw {
+            mesh: 0,
+            material: 0,
+            transform: Mat4::IDENTITY,
+        }],
+        camera: Camera::look_at(Vec3::ZERO, Vec3::NEG_Z, 1.0, 0.1, 20.0),
+        background: Vec3::splat(0.2),
+        ..Scene::default()
+    }
+}
+
+/// 100,000 triangles over one 8x8-pixel bin at one depth: one pass over a row's list is
+/// longer than lavapipe's shader loop limit and no depth slab splits it, so rows are
+/// suspended inside the pass, their selections saved, and resumed by continuations (exact
+/// refused the frame: "exceeds the shader loop limit"). The threshold ends every pixel
+/// after its first pass; without it each is 100,000 fragments deep.
+#[test]
+fn exact_renders_a_hundred_thousand_triangles_in_one_bin() {
+    let gpu = gpu();
+    let scene = crowded_bin(100_000);
+    let threshold = 0.01;
+    let options = MethodOptions {
+        threshold,
+        ..Default::default()
+    };
+    let mut renderer =
+        Renderer::with_options(&gpu, &scene, "exact", 8, 8, &options).expect("renderer");
+    let frame = renderer.render(true).expect("a crowded bin renders");
+    let opaque = frame.opaque.as_ref().expect("opaque layer");
+    let expected =
+        translucid::reference::render_until(&scene, opaque, threshold).expect("reference");
+    let m = metrics::compare(&frame.image, &expected).expect("same size");
+    assert!(
+        m.max_error <= TOLERANCE,
+        "crowded bin off by {:.1}/255; see {}",
+        m.max_error * 255.0,
+        save_failure("exact_crowded_bin", &frame.image, &expected).display()
+    );
+    assert!(frame.fragments >= 64 * 7, "{}", frame.fragments);
+}

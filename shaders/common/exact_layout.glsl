@@ -24,7 +24,8 @@
 // Overflow bits in ExactCounters.overflow: the frame must be rendered again with more room.
 #define OVERFLOW_HOMOGENEOUS 1u
 #define OVERFLOW_BIN_ENTRIES 2u
-// A bin so crowded that one selection pass over it cannot fit the shader loop budget.
+// A bin so crowded that one pass over it cannot fit the shader loop budget (wavelet's bin
+// raster reports it; the exact raster resumes such rows instead).
 #define OVERFLOW_CROWDED_BIN 4u
 #define OVERFLOW_RESUME 8u
 
@@ -43,12 +44,20 @@
 // Workgroup size of the scan, and the multiple the blocks of the bin arrays are padded to.
 #define SCAN_GROUP_SIZE 256u
 
-// One pixel's compositing state between raster dispatches (std430, 48 bytes).
+// Most fragments a pixel keeps while it walks its row's list (the raster's SELECT_SIZE).
+#define MAX_SELECT_SIZE 16
+
+// One pixel's compositing state between raster dispatches (std430, 192 bytes). A row is
+// suspended anywhere in a sweep, even inside one slab's part of its list, so the sweep's
+// selection goes with it.
 struct ExactPixelState {
     vec4 radiance;          // xyz: radiance so far
     vec4 transmittance;     // xyz: transmittance so far
     uvec4 done;             // x, y: depth bits and order key of the last composited fragment,
                             // z: 1 once the pixel has no fragment left (it waits for its row)
+    uvec4 sweep;            // x: the slab the row resumes in, y: the list entry it resumes at,
+                            // z, w: the nearest fragment the sweep dropped (low, high word)
+    uvec2 selection[MAX_SELECT_SIZE]; // the sweep's kept keys (low, high word)
 };
 
 // One transparent draw as the exact method sees it (std430, 80 bytes).

@@ -31,8 +31,8 @@
 // after its last lanes leave at the top: every loop here is a do-while (behind an `if` where
 // it may run no iteration), which took up to a third off the shallow scenes' rasters. Those
 // drivers also end a shader's loops silently after 65535 iterations in all; the raster
-// counts against LOOP_BUDGET and hands what is left of a pixel to a continuation dispatch
-// of this same shader (CONTINUATION).
+// counts against LOOP_BUDGET and hands what is left of a row to a continuation dispatch of
+// this same shader (CONTINUATION); see PARTIAL_WALKS for where a row stops.
 
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_KHR_shader_subgroup_ballot : require
@@ -68,6 +68,14 @@ uint64_t fragmentKey(uint depthBits, uint order) {
 }
 
 const uint64_t NO_KEY = 0xFFFFFFFFFFFFFFFFul;
+
+// Rows of deep frames (SLABS > 1) are suspended wherever their budget runs out, even inside
+// a stretch too long for one budget, and resumed there with their pixels' selections. Rows
+// of shallow frames are suspended only between stretches and start a new sweep when
+// resumed: saving selections costs every row (the code runs masked when not taken) some 5 %
+// of a textured scene's raster. A shallow frame's stretch that no budget holds is reported
+// (OVERFLOW_CROWDED_BIN), and the host renders it again with slabs.
+const bool PARTIAL_WALKS = SLABS > 1u;
 
 // Loop iterations one stretch of `entries` entries may take, counted generously: the walk,
 // the shading loop, and the software sampler's mip loops.
@@ -120,6 +128,20 @@ void main() {
     // Finished pixels wait for the rest of their row, so that a row is suspended and resumed
     // whole.
     bool finished = false;
+    // The selection, kept from one stretch to the next within a sweep: fragment keys alone,
+    // since a key's low half, the order key, is its triangle's record.
+    uint64_t selKey[SELECT_SIZE];
+    [[unroll]] for (int k = 0; k < SELECT_SIZE; k++) {
+        selKey[k] = NO_KEY;
+    }
+    // The nearest fragment this sweep found but could not keep (NO_KEY: none).
+    uint64_t dropped = NO_KEY;
+    // A row is suspended inside a sweep and resumed there, with its pixels' selections: at
+    // the stretch its search for a slab started from (resumeCursor), at list entry
+    // resumeEntry. Uniform across the row.
+    bool resumeSweep = false;
+    uint resumeCursor = 0u;
+    uint resumeEntry = 0u;
     if (CONTINUATION) {
         uint item = u_push.resumeList * resumeCapacity + gl_WorkGroupID.x;
         ExactPixelState state = g_pixelStates[item * BIN_SIZE + gl_LocalInvocationID.x];
@@ -127,6 +149,13 @@ void main() {
         transmittance = state.transmittance.xyz;
         doneKey = fragmentKey(state.done.x, state.done.y);
         finished = state.done.z != 0u;
+        resumeSweep = PARTIAL_WALKS;
+        resumeCursor = state.sweep.x;
+        resumeEntry = state.sweep.y;
+        dropped = packUint2x32(state.sweep.zw);
+        [[unroll]] for (int k = 0; k < SELECT_SIZE; k++) {
+            selKey[k] = packUint2x32(state.selection[k]);
+        }
     }
     uint sweeps = 0u;
     uint fragments = 0u;
@@ -138,14 +167,6 @@ void main() {
     bool outOfBudget = false;
     bool suspended = false;
 
-    // The selection, kept from one stretch to the next within a sweep: fragment keys alone,
-    // since a key's low half, the order key, is its triangle's record.
-    uint64_t selKey[SELECT_SIZE];
-    [[unroll]] for (int k = 0; k < SELECT_SIZE; k++) {
-        selKey[k] = NO_KEY;
-    }
-    // The nearest fragment this sweep found but could not keep (NO_KEY: none).
-    uint64_t dropped = NO_KEY;
     // The slab the next stretch starts at, uniform across the row.
     uint cursor = 0u;
     // Bit k: slab k of the row's list has entries.
@@ -169,7 +190,9 @@ void main() {
             skipping = skipping && slabDepthMax[k] < nearestDone;
             cursor = skipping ? k + 1u : cursor;
         }
-        sweeps += finished ? 0u : 1u;
+        // A resumed row goes on with the sweep it was suspended in.
+        cursor = resumeSweep ? resumeCursor : cursor;
+        sweeps += finished || resumeSweep ? 0u : 1u;
         bool nextFound = false;
         // A pixel leaves the stretch loop once it is finished, the row once all are or the
         // sweep is over. (Its own exit: a vote would be a loop over the lanes.)
@@ -185,19 +208,26 @@ void main() {
                 from = int(k) == slab ? (k == 0u ? first : slabEnd[k - 1u]) : from;
                 to = int(k) == slab ? slabEnd[k] : to;
             }
+            from = resumeSweep ? resumeEntry : from;
+            resumeSweep = false;
             uint after = slab < 0 ? SLABS : uint(slab) + 1u;
             nextFound = nextSlab >= 0;
             uint limitBits = slabFloor(uint(max(nextSlab, 0)), depthLo, shift);
             // Every entry of the stretch is of one slab, so its floor is the stretch's.
             uint64_t floorKey = uint64_t(slabFloor(uint(max(slab, 0)), depthLo, shift)) << 32;
             uint64_t limit = nextFound ? uint64_t(limitBits) << 32 : NO_KEY;
-            uint stretchCost = stretchIterations(to - from);
-            // Out of budget: the row stops here, before this stretch, and is suspended below.
-            if (spent + stretchCost > LOOP_BUDGET) {
+            // The entries of this stretch the budget has room for, after its shading: all of
+            // them, but for rows whose lists are very long. A row that cannot walk them all
+            // walks what it can and is suspended below, before compositing anything.
+            uint shadeCost = stretchIterations(0u);
+            uint room = LOOP_BUDGET - min(spent + shadeCost, LOOP_BUDGET);
+            bool partial = to - from > room;
+            if (partial && !PARTIAL_WALKS) {
                 outOfBudget = true;
                 break;
             }
-            spent += stretchCost;
+            uint walkTo = partial ? from + room : to;
+            spent += walkTo - from + shadeCost;
             uint found = 0u;
             // Each step fetches the next step's entry, so that its triangle's fetches need not
             // wait for it (3 % of deep rasters). Clamped, so no fetch falls past the list's end
@@ -205,7 +235,7 @@ void main() {
             uint last = max(end, 1u) - 1u;
             uint nextEntry = texelFetch(u_binEntryTexels, int(min(from, last))).r;
             uint e = from;
-            if (e < to) do {
+            if (e < walkTo) do {
                 // The same entry for the whole row. (A broadcast would tell a GPU compiler so, but
                 // on CPU drivers it is a loop over the lanes: 3 % of the raster.)
                 uint entry = nextEntry;
@@ -236,7 +266,13 @@ void main() {
                 }
                 selKey[0] = min(selKey[0], key);
                 e++;
-            } while (e < to);
+            } while (e < walkTo);
+            if (partial) {
+                outOfBudget = true;
+                resumeCursor = cursor;
+                resumeEntry = walkTo;
+                break;
+            }
             firstFound += sweeps == 1u && !CONTINUATION ? found : 0u;
             // Composite, nearest first, what nothing unwalked or dropped can come before:
             // slot 0, then shift the selection left (SELECT_SIZE moves; picking slot i by
@@ -271,16 +307,24 @@ void main() {
         // whether it ran out are the row's.
         outOfBudget = subgroupAny(outOfBudget);
         spent = subgroupMax(spent);
-        // The sweep is over: a pixel that dropped nothing has composited everything.
+        // Pixels that finished earlier in the sweep did not reach the suspension.
+        if (PARTIAL_WALKS) {
+            resumeCursor = subgroupMax(resumeCursor);
+            resumeEntry = subgroupMax(resumeEntry);
+        }
+        // The sweep is over, unless the row was suspended in it: a pixel that dropped nothing
+        // has composited everything.
         finished = finished || (!outOfBudget && dropped == NO_KEY);
-        dropped = NO_KEY;
-        [[unroll]] for (int k = 0; k < SELECT_SIZE; k++) {
-            selKey[k] = NO_KEY;
+        if (!PARTIAL_WALKS || !outOfBudget) {
+            dropped = NO_KEY;
+            [[unroll]] for (int k = 0; k < SELECT_SIZE; k++) {
+                selKey[k] = NO_KEY;
+            }
         }
     } while (!outOfBudget && subgroupAny(!finished));
     // After the loop, so that the suspension's code, which runs masked whenever it is not
     // taken (an `if` never branches on CPU drivers), runs once a row, not once a stretch.
-    if (outOfBudget && spent == 0u) {
+    if (!PARTIAL_WALKS && outOfBudget && spent == 0u) {
         // Not even one stretch fits a fresh budget: tell the host instead of drawing a wrong
         // pixel.
         atomicOr(g_counters.overflow, OVERFLOW_CROWDED_BIN);
@@ -302,9 +346,17 @@ void main() {
         slot = subgroupBroadcastFirst(slot);
         if (slot < resumeCapacity) {
             uint state = (outList * resumeCapacity + slot) * BIN_SIZE + gl_LocalInvocationID.x;
-            g_pixelStates[state] = ExactPixelState(
-                vec4(radiance, 0.0), vec4(transmittance, 0.0),
-                uvec4(unpackUint2x32(doneKey).yx, finished ? 1u : 0u, 0u));
+            g_pixelStates[state].radiance = vec4(radiance, 0.0);
+            g_pixelStates[state].transmittance = vec4(transmittance, 0.0);
+            g_pixelStates[state].done =
+                uvec4(unpackUint2x32(doneKey).yx, finished ? 1u : 0u, 0u);
+            if (PARTIAL_WALKS) {
+                g_pixelStates[state].sweep =
+                    uvec4(resumeCursor, resumeEntry, unpackUint2x32(dropped));
+                [[unroll]] for (int k = 0; k < SELECT_SIZE; k++) {
+                    g_pixelStates[state].selection[k] = unpackUint2x32(selKey[k]);
+                }
+            }
         }
         suspended = true;
     }

@@ -49,6 +49,8 @@ pub struct RasterFeatures {
 pub const SELECT_SIZE: u32 = 8;
 pub const SELECT_STEPS: [u32; 2] = [SELECT_SIZE, DEEP_SELECT_SIZE];
 pub const DEEP_SELECT_SIZE: u32 = 16;
+// A suspended row saves its pixels' selections (ExactPixelState).
+const _: () = assert!(DEEP_SELECT_SIZE <= super::layout::MAX_SELECT_SIZE);
 /// Frames averaging more fragments per pixel than this order their bins by depth slab:
 /// there pixels need several sweeps, and compositing after each slab repays the longer scan of
 /// 2^DEEP_SLAB_BITS slabs per bin. (On lavapipe at 1280x720, slabs take particles, about 18

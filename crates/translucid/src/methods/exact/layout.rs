@@ -22,7 +22,9 @@ pub const OVERFLOW_RESUME: u32 = 8;
 /// `LOOP_BUDGET` of exact_layout.glsl: loop iterations one invocation may spend.
 pub const LOOP_BUDGET: u32 = 60_000;
 /// Bytes of one `ExactPixelState`.
-pub const PIXEL_STATE_BYTES: u64 = 48;
+pub const PIXEL_STATE_BYTES: u64 = 192;
+/// `MAX_SELECT_SIZE` of exact_layout.glsl: fragments a pixel's saved state can hold.
+pub const MAX_SELECT_SIZE: u32 = 16;
 /// Bytes of the indirect dispatch commands (each padded to 16) before the resume items:
 /// resume list 0, resume list 1, non-empty bins, binning, bin offsets.
 pub const DISPATCH_BYTES: u64 = 80;
@@ -210,6 +212,7 @@ mod tests {
         assert_eq!(define("OVERFLOW_CROWDED_BIN"), OVERFLOW_CROWDED_BIN);
         assert_eq!(define("OVERFLOW_RESUME"), OVERFLOW_RESUME);
         assert_eq!(define("LOOP_BUDGET"), LOOP_BUDGET);
+        assert_eq!(define("MAX_SELECT_SIZE"), MAX_SELECT_SIZE);
         assert_eq!(define("ENTRY_SLAB_SHIFT"), ENTRY_SLAB_SHIFT);
         assert_eq!(define("MAX_SLABS"), MAX_SLABS);
         assert_eq!(define("STATISTICS_SLOTS"), STATISTICS_SLOTS);

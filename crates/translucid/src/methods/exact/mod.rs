@@ -15,7 +15,8 @@
 //!    over the opaque colour, and repeats until none is left (or transmittance is under the
 //!    threshold). On slab-ordered lists a row's walk ends once every pixel holds fragments
 //!    nearer than the next slab, and starts past the slabs its pixels have composited. Rows
-//!    of pixels that reach the driver's loop budget are saved and finished by continuation
+//!    of pixels that reach the driver's loop budget are saved where they stopped (even
+//!    inside one slab's part of a list, with their selections) and finished by continuation
 //!    dispatches of the same shader, sized on the GPU (indirect dispatch).
 //!
 //! Why this shape: on lavapipe (subgroups of 8, 32 KB shared memory) barrier-heavy
@@ -339,9 +340,9 @@ impl Exact {
         })
     }
 
-    /// Whether the completed frame had a row whose list was too long for the raster's loop
-    /// budget (an error for the exact raster, which resumes rows instead; a program that
-    /// cannot may fall back to another method).
+    /// Whether the completed frame had a row whose list was too long for one pass of the
+    /// raster's loop budget (the exact raster then moves to slabs and walks such lists in
+    /// parts; a program that cannot may fall back to another method).
     pub fn crowded(&self) -> Result<bool> {
         Ok(self.resources.counters()?.overflow & OVERFLOW_CROWDED_BIN != 0)
     }
@@ -553,7 +554,13 @@ impl Method for Exact {
     fn frame_done(&mut self, uploaded: &GpuScene, targets: &FrameTargets) -> Result<FrameCheck> {
         let counters = self.resources.counters()?;
         let method = self.program.method();
-        if counters.overflow & OVERFLOW_CROWDED_BIN != 0 {
+        // A row whose list is too long for one pass of the loop budget: the exact raster
+        // walks such lists in parts once they are ordered by depth slab (PARTIAL_WALKS in
+        // raster.comp), so the frame moves to slabs; other programs cannot.
+        let crowded = counters.overflow & OVERFLOW_CROWDED_BIN != 0;
+        let walks_in_parts_with_slabs =
+            self.program == RasterProgram::Exact && self.features.slab_bits == 0;
+        if crowded && !walks_in_parts_with_slabs {
             return Err(crate::Error::InvalidScene(format!(
                 "{method}: one 8x8-pixel bin of this frame holds so many triangles that a \
                  single pass over them exceeds {}'s shader loop limit; render at a larger size \
@@ -563,6 +570,9 @@ impl Method for Exact {
         }
         // Every fix the frame needs, before the one re-render.
         let mut features = self.features;
+        if crowded {
+            features = features.deep();
+        }
         // The host's estimate missed a near-plane triangle: the frame needs the full shaders.
         let rebuild = counters.homogeneous_count > 0 && !features.homogeneous;
         features.homogeneous |= rebuild;
@@ -605,7 +615,7 @@ impl Method for Exact {
         self.features = features;
         // The last dispatch appended to list `continuations % 2`; anything there is unfinished.
         let unfinished = self.resources.resume_count(self.continuations % 2)?;
-        if unfinished > 0 {
+        if unfinished > 0 && !crowded {
             if self.continuations >= MAX_CONTINUATIONS {
                 return Err(crate::Error::InvalidScene(format!(
                     "exact: {unfinished} pixel rows still unfinished after {MAX_CONTINUATIONS} \
@@ -618,7 +628,7 @@ impl Method for Exact {
                 self.continuations
             );
         }
-        let rerender = rebuild || grown.is_some() || unfinished > 0;
+        let rerender = rebuild || crowded || grown.is_some() || unfinished > 0;
         let kept = |count: u64| if rerender { 0 } else { count };
         Ok(FrameCheck {
             rerender,
