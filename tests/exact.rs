@@ -457,8 +457,8 @@ fn full_screen_layers(count: u32) -> Scene {
 }
 
 /// 10,000 layers over every pixel: each row needs hundreds of continuation dispatches, which
-/// the renderer finds in a few re-renders (it gave up after four, with "buffers still
-/// overflow").
+/// further submissions provide (the renderer gave up after four re-renders, with "buffers
+/// still overflow").
 #[test]
 fn exact_renders_ten_thousand_full_screen_layers() {
     let frame = check(
@@ -469,6 +469,13 @@ fn exact_renders_ten_thousand_full_screen_layers() {
         &MethodOptions::default(),
     );
     assert_eq!(frame.fragments, 16 * 12 * 10_000);
+    // Rows still unfinished after the frame's continuations are finished by more, in
+    // another submission, not by rendering the frame again.
+    assert!(
+        frame.stages.iter().any(|(stage, _)| *stage == "raster finished"),
+        "{:?}",
+        frame.stages
+    );
 }
 /// `count` triangles over all of an 8x8-pixel frame, all at one depth, so that every row's
 /// list holds all of them and no depth slab splits it.

@@ -68,6 +68,10 @@ pub struct MethodOptions {
 pub struct FrameCheck {
     /// The frame is incomplete (a buffer overflowed and has been grown): render it again.
     pub rerender: bool,
+    /// The frame's work is unfinished but intact: a submission of what `Method::record_finish`
+    /// records completes it (on an engine's device, where translucid does not submit, the
+    /// frame is rendered again instead).
+    pub finish: bool,
     /// Fragments composited, where the method counts them.
     pub fragments: u64,
     /// Transparent triangles left to rasterize after culling, where the method culls.
@@ -87,6 +91,11 @@ pub trait Method {
     fn name(&self) -> &'static str;
     /// Records the transparent pass of one frame.
     fn record(&mut self, ctx: &mut RecordContext<'_>) -> Result<()>;
+    /// Records what completes a frame whose check asked to `finish` it, into a submission
+    /// after the frame's.
+    fn record_finish(&mut self, _ctx: &mut RecordContext<'_>) -> Result<()> {
+        Ok(())
+    }
     /// Called after the frame's submission completed.
     fn frame_done(&mut self, _scene: &GpuScene, _targets: &FrameTargets) -> Result<FrameCheck> {
         Ok(FrameCheck::default())

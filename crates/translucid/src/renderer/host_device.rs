@@ -153,7 +153,7 @@ impl Renderer {
             stages,
             peak_gpu_bytes: self.gpu.memory_in_use().1,
             fragments: check.fragments,
-            overflowed: check.rerender,
+            overflowed: check.rerender || check.finish,
         }))
     }
 }

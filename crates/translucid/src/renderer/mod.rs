@@ -43,7 +43,8 @@ pub struct Frame {
     /// Peak bytes of GPU memory allocated while the frame was rendered (scene, targets,
     /// method buffers and readback included).
     pub peak_gpu_bytes: u64,
-    /// Times the frame was rendered again because a buffer overflowed (and was grown).
+    /// Times the frame was submitted again: rendered again because a buffer overflowed (and
+    /// was grown), or finished by a method whose work ran long.
     pub rerenders: u32,
     /// Fragments composited, for methods that count them (0 otherwise).
     pub fragments: u64,
@@ -109,9 +110,10 @@ pub fn check_viewport(gpu: &Gpu, width: u32, height: u32) -> Result<()> {
     Ok(())
 }
 
-/// Renders again at most this many times when buffers overflow or a method must change
-/// its passes: buffers grow to at least what the GPU counted, so one re-render normally
-/// suffices; exact's continuations, for the deepest frames, take up to four more.
+/// Submits a frame again at most this many times: rendered again when buffers overflow or
+/// a method must change its passes (buffers grow to at least what the GPU counted, so once
+/// normally suffices), or finished by the method when its work ran long (exact's
+/// continuations, for the deepest frames, take up to four more).
 const MAX_RERENDERS: u32 = 8;
 
 impl Renderer {
@@ -196,11 +198,20 @@ impl Renderer {
         // Fail before submitting anything.
         self.readback()?;
         let mut rerenders = 0;
-        let mut wall_ms;
+        let mut wall_ms = 0.0;
+        // A frame the method finishes in further submissions: their stages, after the
+        // frame's own.
+        let mut finishing = false;
+        let mut stages = Vec::new();
         let check = loop {
             let started = std::time::Instant::now();
             gpu.submit_and_wait(|cmd| {
                 self.timestamps.begin(cmd);
+                if finishing {
+                    self.record_finish(&gpu, cmd)?;
+                    self.readback()?.record(&gpu, cmd, &self.targets, false);
+                    return Ok(());
+                }
                 match &source {
                     OpaqueSource::Scene { readback } => {
                         self.opaque_pass
@@ -220,16 +231,25 @@ impl Renderer {
                 self.readback()?.record(&gpu, cmd, &self.targets, false);
                 Ok(())
             })?;
-            wall_ms = started.elapsed().as_secs_f64() * 1e3;
+            let elapsed = started.elapsed().as_secs_f64() * 1e3;
+            wall_ms = if finishing {
+                wall_ms + elapsed
+            } else {
+                elapsed
+            };
+            if !finishing {
+                stages.clear();
+            }
+            stages.extend(self.timestamps.read()?);
             let check = self.method.frame_done(&self.scene, &self.targets)?;
-            if !check.rerender {
+            finishing = check.finish;
+            if !check.rerender && !check.finish {
                 break check;
             }
             rerenders += 1;
             if rerenders > MAX_RERENDERS {
                 return Err(Error::InvalidScene(format!(
-                    "{}: the frame still overflows its buffers or passes after {MAX_RERENDERS} \
-                     re-renders",
+                    "{}: the frame is still unfinished after {MAX_RERENDERS} more submissions",
                     self.method.name()
                 )));
             }
@@ -237,7 +257,7 @@ impl Renderer {
         Ok(Frame {
             image: self.readback()?.colour()?,
             opaque: None,
-            stages: self.timestamps.read()?,
+            stages,
             peak_gpu_bytes: gpu.memory_in_use().1,
             rerenders,
             fragments: check.fragments,
@@ -253,6 +273,18 @@ impl Renderer {
                 "on an engine's device frames are recorded (record_host), not rendered".into(),
             )
         })
+    }
+
+    /// Records what completes the method's unfinished frame.
+    fn record_finish(&mut self, gpu: &Gpu, cmd: vk::CommandBuffer) -> Result<()> {
+        let mut ctx = RecordContext {
+            gpu,
+            cmd,
+            scene: &self.scene,
+            targets: &self.targets,
+            timestamps: &mut self.timestamps,
+        };
+        self.method.record_finish(&mut ctx)
     }
 
     /// Records the method's passes over the frame targets.

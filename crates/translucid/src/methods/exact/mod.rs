@@ -113,9 +113,11 @@ pub struct Exact {
     pyramid_top: ComputePipeline,
     /// The scan's steps 1 and 2 (step 0 is `pipelines[BIN_SCAN]`).
     scan_steps: [ComputePipeline; 2],
-    /// Continuation dispatches recorded after the raster; doubled when some row was still
+    /// Continuation dispatches recorded after the raster; multiplied when some row was still
     /// unfinished after the last one.
     continuations: u32,
+    /// The resume list holding the rows the last submission left unfinished.
+    pending_list: u32,
     push: ExactPush,
     /// The constants the raster pipelines were made with.
     features: RasterFeatures,
@@ -129,6 +131,21 @@ const BINNING: [usize; 3] = [BIN_COUNT, BIN_SCAN, BIN_FILL];
 const RASTER: usize = 4;
 /// Built twice: level 0 (constant 0 false), then the levels above (true).
 const DEPTH_PYRAMID: usize = 5;
+/// What last wrote the frame targets before a frame's raster: the opaque pass.
+const OPAQUE_PASS_WRITES: (vk::PipelineStageFlags, vk::AccessFlags) = (
+    vk::PipelineStageFlags::ALL_GRAPHICS,
+    vk::AccessFlags::from_raw(
+        vk::AccessFlags::COLOR_ATTACHMENT_WRITE.as_raw()
+            | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE.as_raw(),
+    ),
+);
+/// What last touched them before a finishing submission: the previous one, waited for.
+const FINISHED_SUBMISSION_WRITES: (vk::PipelineStageFlags, vk::AccessFlags) = (
+    vk::PipelineStageFlags::ALL_COMMANDS,
+    vk::AccessFlags::from_raw(
+        vk::AccessFlags::MEMORY_READ.as_raw() | vk::AccessFlags::MEMORY_WRITE.as_raw(),
+    ),
+);
 /// `PYRAMID_GROUP_SIZE` of depth_pyramid.comp.
 const PYRAMID_GROUP_SIZE: u32 = 256;
 /// With about 60,000 loop iterations each, this many continuations finish any pixel this
@@ -335,6 +352,7 @@ impl Exact {
             pyramid_top,
             scan_steps,
             continuations,
+            pending_list: 0,
             push,
             features,
         })
@@ -371,23 +389,30 @@ impl Exact {
         );
     }
 
-    /// The raster over every non-empty bin, then the continuations: continuation k resumes the rows
-    /// on list k % 2 (one workgroup each, counted on the GPU) and suspends rows onto the
-    /// other list, which the next continuation reads. The first raster fills list 0.
-    fn record_raster(&self, ctx: &RecordContext<'_>) {
-        let cmd = ctx.cmd;
-        let sets = [ctx.scene.set.raw, self.set.raw];
+    /// The raster over every non-empty bin, then the continuations. The first raster fills
+    /// list 0.
+    fn record_raster(&mut self, ctx: &RecordContext<'_>) {
         let push = ExactPush {
             resume_list: 1,
             ..self.push
         };
         self.pipelines[RASTER].dispatch_indirect(
-            cmd,
-            &sets,
+            ctx.cmd,
+            &[ctx.scene.set.raw, self.set.raw],
             bytemuck::bytes_of(&push),
             self.resources.dispatches(),
             DISPATCH_RASTER_BINS_OFFSET,
         );
+        self.pending_list = 0;
+        self.record_continuations(ctx);
+    }
+
+    /// `self.continuations` continuation dispatches from the pending list: each resumes the
+    /// rows on one list (one workgroup each, counted on the GPU) and suspends rows onto the
+    /// other, which the next reads.
+    fn record_continuations(&mut self, ctx: &RecordContext<'_>) {
+        let cmd = ctx.cmd;
+        let sets = [ctx.scene.set.raw, self.set.raw];
         let compute = vk::PipelineStageFlags::COMPUTE_SHADER;
         let rw = vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE;
         let transfer = (
@@ -401,8 +426,8 @@ impl Exact {
         let Some(continuation) = &self.continuation else {
             return;
         };
-        for k in 0..self.continuations {
-            let list = k % 2;
+        for _ in 0..self.continuations {
+            let list = self.pending_list;
             self.compute_to_compute(cmd);
             let push = ExactPush {
                 resume_list: list,
@@ -418,7 +443,77 @@ impl Exact {
             memory_barrier(&self.gpu, cmd, (compute, rw), transfer);
             self.resources.record_resume_list_reset(cmd, list);
             memory_barrier(&self.gpu, cmd, transfer, to_next);
+            self.pending_list = list ^ 1;
         }
+    }
+
+    /// Moves the frame targets to the layouts the raster uses (colour written as a storage
+    /// image, depth sampled); `since` is the access that last wrote them.
+    fn targets_to_raster(
+        &self,
+        ctx: &RecordContext<'_>,
+        since: (vk::PipelineStageFlags, vk::AccessFlags),
+    ) {
+        let shader = (
+            vk::PipelineStageFlags::COMPUTE_SHADER,
+            vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
+        );
+        image_barrier(
+            &self.gpu,
+            ctx.cmd,
+            &ctx.targets.colour,
+            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+            vk::ImageLayout::GENERAL,
+            since,
+            shader,
+        );
+        image_barrier(
+            &self.gpu,
+            ctx.cmd,
+            &ctx.targets.depth,
+            vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+            since,
+            shader,
+        );
+    }
+
+    /// Returns the frame targets to their attachment layouts after the raster, and makes the
+    /// counters visible to the host.
+    fn targets_from_raster(&self, ctx: &RecordContext<'_>) {
+        let cmd = ctx.cmd;
+        let shader = (
+            vk::PipelineStageFlags::COMPUTE_SHADER,
+            vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
+        );
+        let after = (
+            vk::PipelineStageFlags::ALL_COMMANDS,
+            vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE,
+        );
+        image_barrier(
+            &self.gpu,
+            cmd,
+            &ctx.targets.colour,
+            vk::ImageLayout::GENERAL,
+            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+            shader,
+            after,
+        );
+        image_barrier(
+            &self.gpu,
+            cmd,
+            &ctx.targets.depth,
+            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+            vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+            shader,
+            after,
+        );
+        memory_barrier(
+            &self.gpu,
+            cmd,
+            shader,
+            (vk::PipelineStageFlags::HOST, vk::AccessFlags::HOST_READ),
+        );
     }
 
     /// Makes one stage's writes visible to the next, including the indirect dispatch
@@ -442,27 +537,9 @@ impl Method for Exact {
     fn record(&mut self, ctx: &mut RecordContext<'_>) -> Result<()> {
         let cmd = ctx.cmd;
         self.resources.record_reset(cmd, self.features.rows);
-        let attachment = (
-            vk::PipelineStageFlags::ALL_GRAPHICS,
-            vk::AccessFlags::COLOR_ATTACHMENT_WRITE
-                | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE,
-        );
-        let shader = (
-            vk::PipelineStageFlags::COMPUTE_SHADER,
-            vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
-        );
-        let (colour, depth) = (&ctx.targets.colour, &ctx.targets.depth);
         // Setup's occlusion cull reads the opaque depth (through the pyramid), as does the
         // raster's depth test.
-        image_barrier(
-            &self.gpu,
-            cmd,
-            depth,
-            vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
-            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-            attachment,
-            shader,
-        );
+        self.targets_to_raster(ctx, OPAQUE_PASS_WRITES);
         let cells = self.push.bins_x * self.push.bins_y;
         self.dispatch(
             ctx,
@@ -502,45 +579,17 @@ impl Method for Exact {
         self.compute_to_compute(cmd);
         ctx.timestamps.mark(cmd, "bin fill");
 
-        image_barrier(
-            &self.gpu,
-            cmd,
-            colour,
-            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-            vk::ImageLayout::GENERAL,
-            attachment,
-            shader,
-        );
         self.record_raster(ctx);
-        let after = (
-            vk::PipelineStageFlags::ALL_COMMANDS,
-            vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE,
-        );
-        image_barrier(
-            &self.gpu,
-            cmd,
-            colour,
-            vk::ImageLayout::GENERAL,
-            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-            shader,
-            after,
-        );
-        image_barrier(
-            &self.gpu,
-            cmd,
-            depth,
-            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-            vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
-            shader,
-            after,
-        );
-        memory_barrier(
-            &self.gpu,
-            cmd,
-            shader,
-            (vk::PipelineStageFlags::HOST, vk::AccessFlags::HOST_READ),
-        );
+        self.targets_from_raster(ctx);
         ctx.timestamps.mark(cmd, self.program.stage());
+        Ok(())
+    }
+
+    fn record_finish(&mut self, ctx: &mut RecordContext<'_>) -> Result<()> {
+        self.targets_to_raster(ctx, FINISHED_SUBMISSION_WRITES);
+        self.record_continuations(ctx);
+        self.targets_from_raster(ctx);
+        ctx.timestamps.mark(ctx.cmd, "raster finished");
         Ok(())
     }
 
@@ -612,9 +661,10 @@ impl Method for Exact {
             self.resources.set_slabs(&self.gpu, features.slabs())?;
             self.set = self.resources.descriptor_set(targets)?;
         }
+        let features_changed = features != self.features;
         self.features = features;
-        // The last dispatch appended to list `continuations % 2`; anything there is unfinished.
-        let unfinished = self.resources.resume_count(self.continuations % 2)?;
+        // Rows the last dispatch left on the pending list are unfinished.
+        let unfinished = self.resources.resume_count(self.pending_list)?;
         if unfinished > 0 && !crowded {
             if self.continuations >= MAX_CONTINUATIONS {
                 return Err(crate::Error::InvalidScene(format!(
@@ -628,10 +678,15 @@ impl Method for Exact {
                 self.continuations
             );
         }
-        let rerender = rebuild || crowded || grown.is_some() || unfinished > 0;
-        let kept = |count: u64| if rerender { 0 } else { count };
+        // Unfinished rows are finished by another submission of continuations, unless the
+        // frame must be rendered again anyway, or its pipelines changed under the saved rows.
+        let again = rebuild || crowded || grown.is_some();
+        let finish = unfinished > 0 && !again && !features_changed;
+        let rerender = again || (unfinished > 0 && !finish);
+        let kept = |count: u64| if rerender || finish { 0 } else { count };
         Ok(FrameCheck {
             rerender,
+            finish,
             fragments: kept(counters.fragments()),
             triangles: kept(u64::from(counters.triangle_count)),
         })
