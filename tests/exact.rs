@@ -472,7 +472,10 @@ fn exact_renders_ten_thousand_full_screen_layers() {
     // Rows still unfinished after the frame's continuations are finished by more, in
     // another submission, not by rendering the frame again.
     assert!(
-        frame.stages.iter().any(|(stage, _)| *stage == "raster finished"),
+        frame
+            .stages
+            .iter()
+            .any(|(stage, _)| *stage == "raster finished"),
         "{:?}",
         frame.stages
     );
