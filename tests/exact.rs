@@ -6,7 +6,7 @@ use translucid::methods::MethodOptions;
 use translucid::metrics;
 use translucid::renderer::Renderer;
 use translucid::scene::{self, Camera, Draw, Material, Mesh, Scene};
-use translucid_tests::{asset, gpu, save_failure, stack_scene};
+use translucid_tests::{asset, gpu, one_draw_scene, save_failure, stack_scene};
 
 const TOLERANCE: f32 = 2.0 / 255.0;
 
@@ -441,19 +441,12 @@ fn full_screen_layers(count: u32) -> Scene {
         ]);
         quads.push([first, first + 1, first + 2, first + 3]);
     }
-    Scene {
-        name: "full-screen layers".into(),
-        meshes: vec![Mesh::from_quads("layers", positions, quads)],
-        materials: vec![Material::alpha(Vec3::new(0.9, 0.5, 0.2), 0.001)],
-        transparent: vec![Draw {
-            mesh: 0,
-            material: 0,
-            transform: Mat4::IDENTITY,
-        }],
-        camera: Camera::look_at(Vec3::new(0.0, 0.0, 3.0), Vec3::ZERO, 0.8, 0.1, 20.0),
-        background: Vec3::splat(0.2),
-        ..Scene::default()
-    }
+    one_draw_scene(
+        "full-screen layers",
+        Mesh::from_quads("layers", positions, quads),
+        Material::alpha(Vec3::new(0.9, 0.5, 0.2), 0.001),
+        Camera::look_at(Vec3::new(0.0, 0.0, 3.0), Vec3::ZERO, 0.8, 0.1, 20.0),
+    )
 }
 
 /// 10,000 layers over every pixel: each row needs hundreds of continuation dispatches, which
@@ -499,19 +492,12 @@ fn crowded_bin(count: u32) -> Scene {
         );
         triangles.push([first, first + 1, first + 2]);
     }
-    Scene {
-        name: "crowded bin".into(),
-        meshes: vec![Mesh::from_triangles("crowd", positions, &triangles)],
-        materials: vec![Material::alpha(Vec3::new(0.2, 0.6, 0.9), 0.5)],
-        transparent: vec![Draw {
-            mesh: 0,
-            material: 0,
-            transform: Mat4::IDENTITY,
-        }],
-        camera: Camera::look_at(Vec3::ZERO, Vec3::NEG_Z, 1.0, 0.1, 20.0),
-        background: Vec3::splat(0.2),
-        ..Scene::default()
-    }
+    one_draw_scene(
+        "crowded bin",
+        Mesh::from_triangles("crowd", positions, &triangles),
+        Material::alpha(Vec3::new(0.2, 0.6, 0.9), 0.5),
+        Camera::look_at(Vec3::ZERO, Vec3::NEG_Z, 1.0, 0.1, 20.0),
+    )
 }
 
 /// 100,000 triangles over one 8x8-pixel bin at one depth: one pass over a row's list is

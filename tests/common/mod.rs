@@ -75,16 +75,27 @@ pub fn stack_scene(name: &str, layers: u32, material: Material) -> Scene {
         ]);
         quads.push([first, first + 1, first + 2, first + 3]);
     }
+    one_draw_scene(
+        name,
+        Mesh::from_quads("stack", positions, quads),
+        material,
+        Camera::look_at(Vec3::new(0.0, 0.0, 3.0), Vec3::ZERO, 0.8, 0.1, 20.0),
+    )
+}
+
+/// A scene of one transparent draw of `mesh` in `material`, untransformed, over a grey
+/// background.
+pub fn one_draw_scene(name: &str, mesh: Mesh, material: Material, camera: Camera) -> Scene {
     Scene {
         name: name.into(),
-        meshes: vec![Mesh::from_quads("stack", positions, quads)],
+        meshes: vec![mesh],
         materials: vec![material],
         transparent: vec![Draw {
             mesh: 0,
             material: 0,
             transform: Mat4::IDENTITY,
         }],
-        camera: Camera::look_at(Vec3::new(0.0, 0.0, 3.0), Vec3::ZERO, 0.8, 0.1, 20.0),
+        camera,
         background: Vec3::splat(0.2),
         ..Scene::default()
     }

@@ -277,18 +277,21 @@ impl Renderer {
 
     /// Records what completes the method's unfinished frame.
     fn record_finish(&mut self, gpu: &Gpu, cmd: vk::CommandBuffer) -> Result<()> {
-        let mut ctx = RecordContext {
-            gpu,
-            cmd,
-            scene: &self.scene,
-            targets: &self.targets,
-            timestamps: &mut self.timestamps,
-        };
-        self.method.record_finish(&mut ctx)
+        self.with_method(gpu, cmd, |method, ctx| method.record_finish(ctx))
     }
 
     /// Records the method's passes over the frame targets.
     fn record_method(&mut self, gpu: &Gpu, cmd: vk::CommandBuffer) -> Result<()> {
+        self.with_method(gpu, cmd, |method, ctx| method.record(ctx))
+    }
+
+    /// Calls `record` with the method and a context for recording into `cmd`.
+    fn with_method(
+        &mut self,
+        gpu: &Gpu,
+        cmd: vk::CommandBuffer,
+        record: impl FnOnce(&mut dyn Method, &mut RecordContext<'_>) -> Result<()>,
+    ) -> Result<()> {
         let mut ctx = RecordContext {
             gpu,
             cmd,
@@ -296,7 +299,7 @@ impl Renderer {
             targets: &self.targets,
             timestamps: &mut self.timestamps,
         };
-        self.method.record(&mut ctx)
+        record(self.method.as_mut(), &mut ctx)
     }
 }
 
