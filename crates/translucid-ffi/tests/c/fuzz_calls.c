@@ -600,13 +600,10 @@ static void frame_render(state *s) {
 
 /* Reads, statistics and PNGs of random frames, into buffers of random sizes. */
 static void frame_use(state *s) {
+    /* No foreign frames are made: that fault falls back to a live frame. */
     enum handle_fault fault = any_handle_fault();
     int want;
-    uint64_t id = handle_for(&s->frames, 0, &fault, &want);
-    if (fault == HANDLE_FOREIGN) {
-        return;
-    }
-    translucid_frame frame = {id};
+    translucid_frame frame = {handle_for(&s->frames, 0, &fault, &want)};
     switch (below(3)) {
     case 0: {
         uint32_t format = chance(90) ? below(2) : 2 + below(100);
