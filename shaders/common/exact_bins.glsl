@@ -10,9 +10,10 @@
 // triangle view depths (ExactCounters.depthLo..depthHi) evenly in float-bit space, which is
 // close to logarithmic in depth, and a triangle goes to the slab of its nearest vertex.
 // Walking the slabs in order, a pixel that already holds its nearest fragments can stop at
-// the first slab whose floor is past them. Shallow frames keep one slab: the host raises
-// SLAB_BITS (a specialization constant of the binning and raster stages) when pixels turn
-// out deep, since more slabs cost a longer scan.
+// the first slab whose floor is past them. Shallow frames keep one slab, since more cost a
+// longer scan; the host sets SLAB_BITS (a specialization constant of the binning and raster
+// stages) for pixels expected or found deep, about one slab for every few fragments of a
+// pixel (features.rs), so that a slab's part of a pixel's fragments fits its selection.
 layout(constant_id = 6) const uint SLAB_BITS = 0u;
 const uint SLABS = 1u << SLAB_BITS;
 
@@ -82,21 +83,23 @@ uvec2 triangleDepthBits(ExactTriangle t) {
                  floatBitsToUint(farthest * (1.0 + 1.0 / 4096.0)));
 }
 
-// Slabs are 2^shift depth-bit values wide, starting at the frame's nearest depth `lo`, so
-// that SLABS of them cover up to `hi`.
-uint slabShift(uint lo, uint hi) {
-    return uint(max(findMSB(hi - lo) + 1 - int(SLAB_BITS), 0));
+// Slabs split the depth bits from the frame's nearest, `lo`, to its farthest, `hi`, into
+// SLABS equal parts (to within one): the depth-bit values a slab spans.
+uint slabRange(uint lo, uint hi) {
+    return hi >= lo ? hi - lo + 1u : 1u;
 }
 
 // The slab of depth bits `bits`: depths nearer than `lo` (homogeneous triangles) go to the
-// first, farther than the last slab's floor to the last.
-uint slabOf(uint bits, uint lo, uint shift) {
-    return min((max(bits, lo) - lo) >> shift, SLABS - 1u);
+// first, farther than `hi` to the last.
+uint slabOf(uint bits, uint lo, uint range) {
+    uint64_t offset = uint64_t(max(bits, lo) - lo);
+    return uint(min(offset * uint64_t(SLABS) / uint64_t(range), uint64_t(SLABS - 1u)));
 }
 
-// The least depth bits a triangle of slab `slab` may have.
-uint slabFloor(uint slab, uint lo, uint shift) {
-    return slab == 0u ? 0u : lo + (slab << shift);
+// The least depth bits a triangle of slab `slab` may have: the least b with slabOf(b) = slab.
+uint slabFloor(uint slab, uint lo, uint range) {
+    uint64_t scaled = uint64_t(slab) * uint64_t(range) + uint64_t(SLABS - 1u);
+    return slab == 0u ? 0u : lo + uint(scaled / uint64_t(SLABS));
 }
 
 // Narrows the open interval (lo, hi) of fixed-point x at which edge (a, b, c) with tie bias

@@ -11,11 +11,8 @@
 #define BIN_SHIFT 3
 #define BIN_SIZE 8
 
-// A bin's list may be ordered by depth slab (see exact_bins.glsl); its entries then keep
-// their slab in the top bits: slab << ENTRY_SLAB_SHIFT | triangle index.
-#define ENTRY_SLAB_SHIFT 28
-#define MAX_SLABS 16
-#define ENTRY_TRIANGLE_MASK 0x0FFFFFFFu
+// A bin's list may be ordered by depth slab (see exact_bins.glsl), into at most MAX_SLABS.
+#define MAX_SLABS 1024
 
 // Slots of ExactCounters.statistics, and its words: a cache line (16 words) a slot.
 #define STATISTICS_SLOTS 8u
@@ -150,7 +147,7 @@ struct ExactHomogeneous {
     ivec4 fixedB;           // xyz: b, w: tie bits of the replacement edges
 };
 
-// Counters the host reads back after every frame and checks (std430, 624 bytes).
+// Counters the host reads back after every frame and checks (std430, 4688 bytes).
 struct ExactCounters {
     uint triangleCount;     // triangles setup kept (a statistic: records sit at their order
                             // keys, and binning runs over every record)
@@ -165,7 +162,6 @@ struct ExactCounters {
     uint depthLo;           // bits of the nearest and farthest vertex view depth of the
     uint depthHi;           // fixed-point triangles (positive floats order like their bits)
     uint pad0;
-    uint slabFarthest[MAX_SLABS]; // per depth slab: bits of its triangles' farthest vertex
     // Statistics of the raster: slot k holds the fragments composited at [16 k], the most
     // sweeps of its list any pixel needed at [16 k + 1], and the fragments in front of the
     // opaque layer found in the first sweep (all of them, fewer where a pixel had to drop
@@ -174,6 +170,7 @@ struct ExactCounters {
     // (two such atomics a row were 7 % of the spheres raster, and a sixth of a row's fixed
     // cost).
     uint statistics[STATISTICS_WORDS];
+    uint slabFarthest[MAX_SLABS]; // per depth slab: bits of its triangles' farthest vertex
 };
 
 // A texture for the software sampler (std430, 32 bytes).

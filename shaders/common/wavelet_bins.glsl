@@ -46,7 +46,7 @@ const int KEPT = 8;
 // why). The walks fetch the next step's entry a step ahead, as raster.comp does, with the
 // index clamped to the list's last entry.
 uint entryTriangle(uint e, uint last) {
-    return texelFetch(u_binEntryTexels, int(min(e, last))).r & ENTRY_TRIANGLE_MASK;
+    return texelFetch(u_binEntryTexels, int(min(e, last))).r;
 }
 
 // The triangle of visit i of walks 2 and 3: kept slot i in the short form, else list entry

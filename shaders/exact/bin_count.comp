@@ -5,7 +5,7 @@
 
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #extension GL_KHR_shader_subgroup_basic : require
-#extension GL_EXT_control_flow_attributes : require
+#extension GL_KHR_shader_subgroup_vote : require
 
 #include "exact_bindings.glsl"
 #include "exact_bins.glsl"
@@ -15,7 +15,7 @@ layout(local_size_x = BINNING_GROUP_SIZE) in;
 void main() {
     uint ti = binningTriangle();
     uint lo = g_counters.depthLo;
-    uint shift = slabShift(lo, g_counters.depthHi);
+    uint range = slabRange(lo, g_counters.depthHi);
     // Records sit at their triangles' order keys, two per quad; culled ones are holes with
     // empty bounds, which enter no bin.
     if (ti >= 2u * u_push.itemCount) {
@@ -25,7 +25,7 @@ void main() {
     ivec4 r = binRect(t.bounds);
     ivec2 rows = sliceRows(r);
     uvec2 depth = triangleDepthBits(t);
-    uint slab = slabOf(depth.x, lo, shift);
+    uint slab = slabOf(depth.x, lo, range);
     // Do-whiles (raster.comp says why) over the invocation's rows and each row's run of
     // blocks.
     int by = rows.x + binningLane();
@@ -39,20 +39,19 @@ void main() {
     } while ((by += int(ROW_LANES)) <= rows.y);
     // The slabs' farthest depths take one atomic per subgroup and slab: one per triangle made
     // them the most contended words of the frame (binning a 100k-triangle mesh took twice
-    // as long to count as to fill). A slab none of the subgroup's triangles is in costs no
-    // atomic: a masked atomic with no active lane does nothing. With one slab the raster needs
-    // none (raster.comp), and even one contended atomic per subgroup was a fifth of the count.
-    if (SLABS > 1u && ROW_LANES > 1u) {
-        // A row of lanes on one triangle: its first lane reports it.
-        if (binningLane() == 0 && r.y <= r.w) {
-            atomicMax(g_counters.slabFarthest[slab], depth.y);
-        }
-    } else if (SLABS > 1u) {
-        [[unroll]] for (uint k = 0u; k < SLABS; k++) {
-            uint farthest = subgroupMax(slab == k && r.y <= r.w ? depth.y : 0u);
-            if (subgroupElect() && farthest != 0u) {
+    // as long to count as to fill). So the subgroup takes its triangles' slabs one at a time,
+    // nearest first, each lane reporting once (a row of lanes on one triangle: its first
+    // lane). With one slab the raster needs none (raster.comp), and even one contended atomic
+    // per subgroup was a fifth of the count.
+    if (SLABS > 1u) {
+        bool pending = r.y <= r.w && binningLane() == 0;
+        if (subgroupAny(pending)) do {
+            uint k = subgroupMin(pending ? slab : 0xFFFFFFFFu);
+            uint farthest = subgroupMax(pending && slab == k ? depth.y : 0u);
+            if (subgroupElect()) {
                 atomicMax(g_counters.slabFarthest[k], farthest);
             }
-        }
+            pending = pending && slab != k;
+        } while (subgroupAny(pending));
     }
 }

@@ -1,6 +1,6 @@
 #version 450
-// Binning, pass 3: every triangle writes its index and depth slab into its slab's part of the
-// list of each bin it may cover.
+// Binning, pass 3: every triangle writes its index into its depth slab's part of the list of
+// each bin it may cover.
 // Entries past the capacity are dropped and flagged: the host renders the frame again with a
 // list as large as the count says.
 
@@ -12,7 +12,7 @@ layout(local_size_x = BINNING_GROUP_SIZE) in;
 void main() {
     uint ti = binningTriangle();
     uint lo = g_counters.depthLo;
-    uint shift = slabShift(lo, g_counters.depthHi);
+    uint range = slabRange(lo, g_counters.depthHi);
     // Records sit at their triangles' order keys, two per quad; culled ones are holes with
     // empty bounds, which enter no bin.
     if (ti >= 2u * u_push.itemCount) {
@@ -22,8 +22,7 @@ void main() {
     ivec4 r = binRect(t.bounds);
     ivec2 rows = sliceRows(r);
     uint capacity = g_counters.binEntryCapacity;
-    uint slab = slabOf(triangleDepthBits(t).x, lo, shift);
-    uint entry = (slab << ENTRY_SLAB_SHIFT) | ti;
+    uint slab = slabOf(triangleDepthBits(t).x, lo, range);
     // Do-whiles (raster.comp says why) over the invocation's rows and each row's run of
     // blocks.
     int by = rows.x + binningLane();
@@ -34,7 +33,7 @@ void main() {
             uint b = binIndex(bx, by) * SLABS + slab;
             uint slot = atomicAdd(g_binOffsets[b], 1u);
             if (slot < capacity) {
-                g_binEntries[slot] = entry;
+                g_binEntries[slot] = ti;
             } else {
                 atomicOr(g_counters.overflow, OVERFLOW_BIN_ENTRIES);
             }

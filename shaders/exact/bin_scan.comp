@@ -29,12 +29,16 @@ const uint BINS_PER_BLOCK = BIN_SIZE * SLABS;
 
 shared uint s_runTotals[SCAN_GROUP_SIZE];
 
+// The per-block loops are unrolled over the block's rows; over the slabs of each row only
+// where the driver chooses to (deep frames have up to MAX_SLABS, too many to unroll).
 void sumBlock() {
     uint block = gl_GlobalInvocationID.x;
     uint first = block * BINS_PER_BLOCK;
     uint total = 0u;
-    [[unroll]] for (uint i = 0u; i < BINS_PER_BLOCK; i++) {
-        total += texelFetch(u_binCountTexels, int(first + i)).r;
+    [[unroll]] for (uint row = 0u; row < BIN_SIZE; row++) {
+        for (uint k = 0u; k < SLABS; k++) {
+            total += texelFetch(u_binCountTexels, int(first + row * SLABS + k)).r;
+        }
     }
     g_blockTotals[block] = total;
 }
@@ -98,9 +102,12 @@ void writeBinOffsets() {
     uint block = g_rasterBins[min(gl_GlobalInvocationID.x, listed - 1u)];
     uint first = block * BINS_PER_BLOCK;
     uint offset = texelFetch(u_blockTotalTexels, int(block)).r;
-    [[unroll]] for (uint i = 0u; i < BINS_PER_BLOCK; i++) {
-        g_binOffsets[first + i] = offset;
-        offset += texelFetch(u_binCountTexels, int(first + i)).r;
+    [[unroll]] for (uint row = 0u; row < BIN_SIZE; row++) {
+        for (uint k = 0u; k < SLABS; k++) {
+            uint bin = first + row * SLABS + k;
+            g_binOffsets[bin] = offset;
+            offset += texelFetch(u_binCountTexels, int(bin)).r;
+        }
     }
 }
 

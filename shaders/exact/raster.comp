@@ -77,10 +77,27 @@ const uint64_t NO_KEY = 0xFFFFFFFFFFFFFFFFul;
 // (OVERFLOW_CROWDED_BIN), and the host renders it again with slabs.
 const bool PARTIAL_WALKS = SLABS > 1u;
 
-// Loop iterations one stretch of `entries` entries may take, counted generously: the walk,
-// the shading loop, and the software sampler's mip loops.
-uint stretchIterations(uint entries) {
-    return entries + 4u + uint(SELECT_SIZE) * (TEXTURES ? 40u : 2u);
+// Loop iterations a stretch's shading of `fragments` fragments may take, counted
+// generously: the shading loop and the software sampler's mip loops.
+uint shadingIterations(uint fragments) {
+    return 4u + fragments * (TEXTURES ? 40u : 2u);
+}
+
+// Where slab k of the row's list (at `bin`) ends and slab k + 1 starts. Filling left every
+// (bin, slab) offset at the end of its part of the list.
+uint slabEnd(uint bin, uint k) {
+    return g_binOffsets[bin + k];
+}
+
+uint slabStart(uint bin, uint first, uint k) {
+    return k == 0u ? first : g_binOffsets[bin + k - 1u];
+}
+
+// The farthest depth bits of slab k's triangles, anywhere in the frame. With one slab,
+// binning keeps none; none is needed, since a row whose pixels have all passed every fragment
+// has finished.
+uint slabFarthest(uint k) {
+    return SLABS > 1u ? g_counters.slabFarthest[min(k, SLABS - 1u)] : 0xFFFFFFFFu;
 }
 
 void main() {
@@ -98,21 +115,13 @@ void main() {
         block = g_rasterBins[gl_WorkGroupID.x];
         row = gl_WorkGroupID.y * gl_WorkGroupSize.y + gl_LocalInvocationID.y;
     }
-    // The row's own bin: its slabs' parts of the list, near to far; and the slabs' farthest
-    // depths in the frame.
+    // The row's own bin: its slabs' parts of the list, near to far, each ending where the
+    // next starts (slabEnd).
     uint bin = (block * BIN_SIZE + row) * SLABS;
-    uint slabEnd[SLABS];
-    uint slabDepthMax[SLABS];
-    [[unroll]] for (uint k = 0u; k < SLABS; k++) {
-        slabEnd[k] = g_binOffsets[bin + k];
-        // With one slab, binning keeps no farthest depth; none is needed, since a row whose
-        // pixels have all passed every fragment has finished.
-        slabDepthMax[k] = SLABS > 1u ? g_counters.slabFarthest[k] : 0xFFFFFFFFu;
-    }
-    uint first = slabEnd[0] - g_binCounts[bin];
-    uint end = slabEnd[SLABS - 1u];
+    uint first = g_binOffsets[bin] - g_binCounts[bin];
+    uint end = g_binOffsets[bin + SLABS - 1u];
     uint depthLo = g_counters.depthLo;
-    uint shift = slabShift(depthLo, g_counters.depthHi);
+    uint range = slabRange(depthLo, g_counters.depthHi);
     uint x = (block % u_push.binsX) * BIN_SIZE + gl_LocalInvocationID.x;
     uint y = (block / u_push.binsX) * BIN_SIZE + row;
     if (x >= u_push.width || y >= u_push.height) {
@@ -167,67 +176,52 @@ void main() {
     bool outOfBudget = false;
     bool suspended = false;
 
-    // The slab the next stretch starts at, uniform across the row.
-    uint cursor = 0u;
-    // Bit k: slab k of the row's list has entries.
-    uint nonEmptySlabs = 0u;
-    [[unroll]] for (uint k = 0u; k < SLABS; k++) {
-        uint start = k == 0u ? first : slabEnd[k - 1u];
-        nonEmptySlabs |= slabEnd[k] > start ? 1u << k : 0u;
-    }
+    // The leading slabs that every pixel still at work has composited entirely, which sweeps
+    // skip: a number that only grows, since what pixels have composited does.
+    uint skip = 0u;
     bool opaqueEnough = false;
 
     // Sweeps of the list, each a loop over its stretches. What a sweep does at its start and
     // end is outside the stretch loop, where it runs once a sweep: inside, it ran masked in
     // every stretch (an `if` never branches on CPU drivers).
     do {
-        // Skip the leading slabs that every pixel still at work has composited entirely.
         uint doneBits = finished ? 0xFFFFFFFFu : unpackUint2x32(doneKey).y;
         uint nearestDone = subgroupMin(doneBits);
-        bool skipping = true;
-        cursor = 0u;
-        [[unroll]] for (uint k = 0u; k < SLABS; k++) {
-            skipping = skipping && slabDepthMax[k] < nearestDone;
-            cursor = skipping ? k + 1u : cursor;
-        }
-        // A resumed row goes on with the sweep it was suspended in.
-        cursor = resumeSweep ? resumeCursor : cursor;
+        if (SLABS > 1u && skip < SLABS && slabFarthest(skip) < nearestDone) do {
+            skip++;
+            spent++;
+        } while (skip < SLABS && slabFarthest(skip) < nearestDone);
+        // This sweep's first stretch: the first slab with entries from `skip` on (none: an
+        // empty stretch), or, for a resumed row, where it was suspended.
+        uint slab = resumeSweep ? resumeCursor : skip;
+        uint from = slab < SLABS ? slabStart(bin, first, slab) : end;
+        uint to = slab < SLABS ? slabEnd(bin, slab) : end;
+        if (SLABS > 1u && from == to && to < end) do {
+            slab++;
+            to = slabEnd(bin, slab);
+            spent++;
+        } while (to == from);
+        from = resumeSweep ? resumeEntry : from;
         sweeps += finished || resumeSweep ? 0u : 1u;
+        resumeSweep = false;
         bool nextFound = false;
         // A pixel leaves the stretch loop once it is finished, the row once all are or the
         // sweep is over. (Its own exit: a vote would be a loop over the lanes.)
         if (!finished) do {
-            // This stretch: the first non-empty slab from `cursor` (none: an empty stretch, the
-            // last of the sweep); and the floor of the next non-empty slab, under which whatever
-            // a pixel keeps is final. (SLABS is at most 16: the shifts stay under 32.)
-            int slab = findLSB(nonEmptySlabs & (0xFFFFFFFFu << cursor));
-            int nextSlab = slab < 0 ? -1 : findLSB(nonEmptySlabs & (0xFFFFFFFEu << uint(slab)));
-            uint from = end;
-            uint to = end;
-            [[unroll]] for (uint k = 0u; k < SLABS; k++) {
-                from = int(k) == slab ? (k == 0u ? first : slabEnd[k - 1u]) : from;
-                to = int(k) == slab ? slabEnd[k] : to;
-            }
-            from = resumeSweep ? resumeEntry : from;
-            resumeSweep = false;
-            uint after = slab < 0 ? SLABS : uint(slab) + 1u;
-            nextFound = nextSlab >= 0;
-            uint limitBits = slabFloor(uint(max(nextSlab, 0)), depthLo, shift);
             // Every entry of the stretch is of one slab, so its floor is the stretch's.
-            uint64_t floorKey = uint64_t(slabFloor(uint(max(slab, 0)), depthLo, shift)) << 32;
-            uint64_t limit = nextFound ? uint64_t(limitBits) << 32 : NO_KEY;
-            // The entries of this stretch the budget has room for, after its shading: all of
-            // them, but for rows whose lists are very long. A row that cannot walk them all
+            uint64_t floorKey = uint64_t(slabFloor(min(slab, SLABS - 1u), depthLo, range)) << 32;
+            // The entries of this stretch the budget has room for, after its shading and the
+            // search for the next slab: all of them, but for rows whose lists are very long. A row that cannot walk them all
             // walks what it can and is suspended below, before compositing anything.
-            uint shadeCost = stretchIterations(0u);
-            uint room = LOOP_BUDGET - min(spent + shadeCost, LOOP_BUDGET);
+            uint shadeCost = shadingIterations(uint(SELECT_SIZE));
+            uint room = LOOP_BUDGET - min(spent + shadeCost + SLABS, LOOP_BUDGET);
             bool partial = to - from > room;
             if (partial && !PARTIAL_WALKS) {
                 outOfBudget = true;
                 break;
             }
             uint walkTo = partial ? from + room : to;
-            spent += walkTo - from + shadeCost;
+            spent += walkTo - from;
             uint found = 0u;
             // Each step fetches the next step's entry, so that its triangle's fetches need not
             // wait for it (3 % of deep rasters). Clamped, so no fetch falls past the list's end
@@ -247,7 +241,7 @@ void main() {
                 if (finished || dropped < floorKey) {
                     break;
                 }
-                uint ti = entry & ENTRY_TRIANGLE_MASK;
+                uint ti = entry;
                 ExactTriangle t = loadRasterTriangle(ti);
                 RasterSample s;
                 bool take = coverSample(t, x, y, s);
@@ -269,11 +263,22 @@ void main() {
             } while (e < walkTo);
             if (partial) {
                 outOfBudget = true;
-                resumeCursor = cursor;
+                resumeCursor = slab;
                 resumeEntry = walkTo;
                 break;
             }
             firstFound += sweeps == 1u && !CONTINUATION ? found : 0u;
+            // The next stretch: the next slab with entries, if the list goes on. Whatever a
+            // pixel keeps nearer than its floor is final.
+            nextFound = SLABS > 1u && to < end;
+            uint next = slab;
+            uint nextTo = to;
+            if (nextFound) do {
+                next++;
+                nextTo = slabEnd(bin, next);
+                spent++;
+            } while (nextTo == to);
+            uint64_t limit = nextFound ? uint64_t(slabFloor(next, depthLo, range)) << 32 : NO_KEY;
             // Composite, nearest first, what nothing unwalked or dropped can come before:
             // slot 0, then shift the selection left (SELECT_SIZE moves; picking slot i by
             // selects instead would need the kept slots compacted before the next stretch's
@@ -300,8 +305,13 @@ void main() {
                 selKey[SELECT_SIZE - 1] = NO_KEY;
             } while (selKey[0] < final && !opaqueEnough);
             fragments += composited;
+            // What the shading loop took: the same for the whole row, so that all of it
+            // agrees on when to suspend.
+            spent += shadingIterations(subgroupMax(composited));
             finished = finished || opaqueEnough;
-            cursor = after;
+            slab = next;
+            from = to;
+            to = nextTo;
         } while (nextFound && !finished);
         // Pixels that left early (finished) did not see the rest: the row's budget and
         // whether it ran out are the row's.

@@ -59,10 +59,17 @@ const _: () = assert!(DEEP_SELECT_SIZE <= super::layout::MAX_SELECT_SIZE);
 /// faster, their longer scan eating what the raster saved.)
 pub const SLAB_FRAGMENTS_PER_PIXEL: u64 = 8;
 pub const DEEP_SLAB_BITS: u32 = 4;
-// A bin entry has the bits above ENTRY_SLAB_SHIFT for its slab, and the counters keep the
-// farthest depth of MAX_SLABS.
-const _: () = assert!(DEEP_SLAB_BITS <= 32 - super::layout::ENTRY_SLAB_SHIFT);
-const _: () = assert!(1 << DEEP_SLAB_BITS <= super::layout::MAX_SLABS);
+/// Deeper frames take more slabs: one per FRAGMENTS_PER_SLAB fragments of their average pixel,
+/// rounded up to a power of two, while the (bin, slab) arrays stay within MAX_BIN_SLABS words
+/// (16 MB each) and up to MAX_SLABS. A sweep composites at most a selection's worth of a
+/// pixel's fragments per slab, so a pixel D deep in slabs of S of its fragments costs about
+/// D S / DEEP_SELECT_SIZE triangle visits: with 16 slabs, 10,000 full-screen layers took 12x
+/// blend's time.
+pub const FRAGMENTS_PER_SLAB: u64 = 8;
+pub const MAX_BIN_SLABS: u64 = 1 << 22;
+const MAX_SLAB_BITS: u32 = super::layout::MAX_SLABS.trailing_zeros();
+const _: () = assert!(super::layout::MAX_SLABS.is_power_of_two());
+const _: () = assert!(DEEP_SLAB_BITS <= MAX_SLAB_BITS);
 
 impl RasterFeatures {
     pub fn of(scene: &Scene, width: u32, height: u32, subgroup_size: u32) -> Self {
@@ -95,12 +102,13 @@ impl RasterFeatures {
         }
     }
 
-    /// What the next frame should use after one with `fragments` fragments in front of the
-    /// opaque layer over `pixels` pixels, some pixel needing `sweeps` sweeps. (Fragments
-    /// found, not composited: with a threshold, pixels composite fewer than they have, and
-    /// counting those kept the deep particles of `--threshold 0.2` from their slabs.) Only
-    /// ever moves up, so that a scene does not rebuild its pipelines back and forth.
-    pub fn after_frame(self, sweeps: u32, fragments: u64, pixels: u64) -> Self {
+    /// What the next frame should use after one of `width` x `height` pixels with
+    /// `fragments` fragments in front of the opaque layer, some pixel needing `sweeps` sweeps.
+    /// (Fragments found, not composited: with a threshold, pixels composite fewer than they
+    /// have, and counting those kept the deep particles of `--threshold 0.2` from their
+    /// slabs.) Only ever moves up, so that a scene does not rebuild its pipelines back and
+    /// forth.
+    pub fn after_frame(self, sweeps: u32, fragments: u64, width: u32, height: u32) -> Self {
         let mut next = self;
         if sweeps > 2 {
             next.select_size = SELECT_STEPS
@@ -108,10 +116,35 @@ impl RasterFeatures {
                 .find(|&size| size > self.select_size)
                 .unwrap_or(self.select_size);
         }
+        let pixels = u64::from(width) * u64::from(height);
+        let most = max_slab_bits(width, height);
         if fragments > SLAB_FRAGMENTS_PER_PIXEL * pixels {
-            next.slab_bits = DEEP_SLAB_BITS;
+            let slabs = (fragments / pixels / FRAGMENTS_PER_SLAB).next_power_of_two();
+            let bits = slabs.trailing_zeros().min(most);
+            next.slab_bits = self.slab_bits.max(bits).max(DEEP_SLAB_BITS);
+        }
+        // Pixels deeper than the average, or depths bunched in a few slabs: twice as many.
+        // (In slabs, the first sweep's count stops where a pixel first drops a fragment.)
+        if self.slab_bits > 0 && sweeps > 2 {
+            next.slab_bits = next.slab_bits.max((self.slab_bits + 1).min(most));
         }
         next
+    }
+
+    /// What a first frame should use when the scene's triangles are expected to put
+    /// `fragments` fragments over its `width` x `height` pixels ([`estimated_fragments`]):
+    /// frames deep enough for slabs start with them and the deep selection, instead of
+    /// being rendered once without and then again.
+    pub fn expecting(self, fragments: u64, width: u32, height: u32) -> Self {
+        let next = self.after_frame(0, fragments, width, height);
+        if next.slab_bits > self.slab_bits {
+            Self {
+                select_size: DEEP_SELECT_SIZE,
+                ..next
+            }
+        } else {
+            next
+        }
     }
 
     /// Everything deep frames move to.
@@ -154,6 +187,81 @@ impl RasterFeatures {
             self.deep_binning_lanes,
         ]
     }
+}
+
+/// Quads the estimate of [`estimated_fragments`] looks at, at most: every k-th of larger
+/// scenes, scaled.
+const ESTIMATE_QUADS: u64 = 1 << 16;
+
+/// About how many fragments the scene's transparent draws put over a `width` x `height`
+/// frame: their quads' areas on screen, each at most its bounding box's part of the screen.
+/// It ignores what the opaque layer hides, and triangles that reach behind the eye.
+pub fn estimated_fragments(scene: &Scene, width: u32, height: u32) -> u64 {
+    let view_projection = scene.camera.view_projection(width as f32 / height as f32);
+    let quads: u64 = scene
+        .transparent
+        .iter()
+        .map(|d| scene.meshes[d.mesh].quads.len() as u64)
+        .sum();
+    let stride = quads.div_ceil(ESTIMATE_QUADS).max(1);
+    let mut area = 0.0f64;
+    let mut index = 0u64;
+    for draw in &scene.transparent {
+        let mvp = view_projection * draw.transform;
+        let mesh = &scene.meshes[draw.mesh];
+        for quad in &mesh.quads {
+            index += 1;
+            if index % stride != 0 {
+                continue;
+            }
+            let corner = |v: u32| {
+                let clip = clip_position(&mvp, mesh.positions[v as usize]);
+                (clip.w > 0.0).then(|| viewport_transform(clip, width, height))
+            };
+            let [a, b, c, d] = quad.map(corner);
+            let (Some(a), Some(b), Some(c), Some(d)) = (a, b, c, d) else {
+                continue;
+            };
+            area += screen_area([a, b, c, d], width, height);
+        }
+    }
+    (area * stride as f64) as u64
+}
+
+/// Pixels quad `q` (framebuffer coordinates; its triangles a b c and a c d) covers, at most
+/// its bounding box's overlap with the screen.
+fn screen_area(q: [Vec3; 4], width: u32, height: u32) -> f64 {
+    let [a, b, c, d] = q.map(|p| (f64::from(p.x), f64::from(p.y)));
+    let triangle = |a: (f64, f64), b: (f64, f64), c: (f64, f64)| {
+        ((b.0 - a.0) * (c.1 - a.1) - (c.0 - a.0) * (b.1 - a.1)).abs() / 2.0
+    };
+    let area = triangle(a, b, c) + triangle(a, c, d);
+    let overlap = |lo: f64, hi: f64, size: u32| (hi.min(f64::from(size)) - lo.max(0.0)).max(0.0);
+    let box_x = overlap(
+        a.0.min(b.0).min(c.0).min(d.0),
+        a.0.max(b.0).max(c.0).max(d.0),
+        width,
+    );
+    let box_y = overlap(
+        a.1.min(b.1).min(c.1).min(d.1),
+        a.1.max(b.1).max(c.1).max(d.1),
+        height,
+    );
+    if area.is_finite() {
+        area.min(box_x * box_y)
+    } else {
+        0.0
+    }
+}
+
+/// The most slab bits a frame of `width` x `height` pixels takes beyond DEEP_SLAB_BITS: as
+/// many as keep its (bin, slab) arrays within MAX_BIN_SLABS words.
+fn max_slab_bits(width: u32, height: u32) -> u32 {
+    let bins = u64::from(width.div_ceil(BIN_SIZE))
+        * u64::from(height.div_ceil(BIN_SIZE))
+        * u64::from(BIN_SIZE);
+    let fit = (MAX_BIN_SLABS / bins.max(1)).max(1).ilog2();
+    fit.clamp(DEEP_SLAB_BITS, MAX_SLAB_BITS)
 }
 
 /// Binning lanes per triangle for a frame of `quads` transparent quads: BIN_SIZE, unless two
@@ -224,20 +332,90 @@ mod tests {
         let scene = crate::scene::generated::generate("spheres").expect("scene");
         let start = RasterFeatures::of(&scene, 640, 360, 8);
         assert_eq!(start.select_size, SELECT_SIZE);
-        let pixels = 640 * 360;
+        let (w, h) = (640, 360);
+        let pixels = u64::from(w * h);
         let sizes: Vec<u32> =
-            std::iter::successors(Some(start), |f| Some(f.after_frame(3, 0, pixels)))
+            std::iter::successors(Some(start), |f| Some(f.after_frame(3, 0, w, h)))
                 .map(|f| f.select_size)
                 .take(5)
                 .collect();
         assert_eq!(sizes, [8, 16, 16, 16, 16]);
-        let shallow = start.after_frame(2, 0, pixels);
+        let shallow = start.after_frame(2, 0, w, h);
         assert_eq!(shallow.select_size, 8, "two sweeps keep the size");
         assert_eq!(shallow.slab_bits, 0);
         assert_eq!(
-            start.after_frame(1, 9 * pixels, pixels).slab_bits,
+            start.after_frame(1, 9 * pixels, w, h).slab_bits,
             DEEP_SLAB_BITS
         );
+    }
+
+    #[test]
+    fn deeper_frames_take_more_slabs_within_the_arrays_bound() {
+        let scene = crate::scene::generated::generate("spheres").expect("scene");
+        let bits = |w: u32, h: u32, depth: u64| {
+            let start = RasterFeatures::of(&scene, w, h, 8);
+            start
+                .after_frame(1, depth * u64::from(w * h), w, h)
+                .slab_bits
+        };
+        assert_eq!(bits(32, 24, 60), DEEP_SLAB_BITS);
+        assert_eq!(bits(32, 24, 1000), 7, "1000 / 8 rounds up to 128 slabs");
+        assert_eq!(bits(32, 24, 10_000), MAX_SLAB_BITS);
+        // 1280x720 has 115,200 row bins: 32 slabs each fit in 2^22 words, 64 do not.
+        assert_eq!(bits(1280, 720, 10_000), 5);
+        // Never fewer than deep frames start with, even where the bound is smaller.
+        assert_eq!(bits(7680, 4320, 10_000), DEEP_SLAB_BITS);
+        // Only ever more.
+        let start = RasterFeatures::of(&scene, 32, 24, 8);
+        let deep = start.after_frame(1, 1000 * 32 * 24, 32, 24);
+        assert_eq!(deep.after_frame(1, 9 * 32 * 24, 32, 24).slab_bits, 7);
+        // Pixels that still need several sweeps double the slabs, up to the bound.
+        assert_eq!(deep.after_frame(3, 9 * 32 * 24, 32, 24).slab_bits, 8);
+        let wide =
+            RasterFeatures::of(&scene, 1280, 720, 8).after_frame(1, 60 * 1280 * 720, 1280, 720);
+        assert_eq!(wide.slab_bits, DEEP_SLAB_BITS);
+        assert_eq!(wide.after_frame(3, 0, 1280, 720).slab_bits, 5);
+        assert_eq!(
+            wide.after_frame(3, 0, 1280, 720)
+                .after_frame(3, 0, 1280, 720)
+                .slab_bits,
+            5
+        );
+    }
+
+    #[test]
+    fn the_depth_estimate_counts_screen_area_within_the_screen() {
+        let quad = |z: f32, half: f32| {
+            let mut positions = Vec::new();
+            let mut quads = Vec::new();
+            for i in 0..10 {
+                let z = z - i as f32 * 0.01;
+                let first = positions.len() as u32;
+                positions.extend([
+                    Vec3::new(-half, -half, z),
+                    Vec3::new(half, -half, z),
+                    Vec3::new(half, half, z),
+                    Vec3::new(-half, half, z),
+                ]);
+                quads.push([first, first + 1, first + 2, first + 3]);
+            }
+            let mut scene = crate::scene::generated::generate("spheres").expect("scene");
+            scene.meshes = vec![crate::scene::Mesh::from_quads("q", positions, quads)];
+            scene.transparent.truncate(1);
+            scene.transparent[0].mesh = 0;
+            scene.transparent[0].transform = glam::Mat4::IDENTITY;
+            scene.camera = crate::scene::Camera::look_at(Vec3::Z * 3.0, Vec3::ZERO, 0.8, 0.1, 20.0);
+            scene
+        };
+        // Ten layers far wider than the screen: ten fragments a pixel, not their whole area.
+        let full = estimated_fragments(&quad(-1.0, 50.0), 64, 48);
+        assert_eq!(full, 10 * 64 * 48);
+        // Ten small layers: about their area.
+        let small = estimated_fragments(&quad(-1.0, 0.1), 64, 48) as f64;
+        let side = 0.2 / (2.0 * 4.0 * (0.4f64).tan()) * 48.0;
+        assert!((small / (10.0 * side * side) - 1.0).abs() < 0.05, "{small}");
+        // Behind the eye: nothing.
+        assert_eq!(estimated_fragments(&quad(5.0, 50.0), 64, 48), 0);
     }
 
     #[test]

@@ -7,10 +7,8 @@ use bytemuck::{Pod, Zeroable};
 
 pub const BIN_SHIFT: u32 = 3;
 pub const BIN_SIZE: u32 = 1 << BIN_SHIFT;
-/// Bin entries keep their depth slab above this bit, the triangle index below it.
-pub const ENTRY_SLAB_SHIFT: u32 = 28;
-/// Depth slabs the counters keep a farthest depth for.
-pub const MAX_SLABS: u32 = 16;
+/// Depth slabs a bin's list may be ordered into; the counters keep a farthest depth for each.
+pub const MAX_SLABS: u32 = 1024;
 /// Slots of `ExactCounters::statistics`, each a cache line (16 words).
 pub const STATISTICS_SLOTS: u32 = 8;
 /// A triangle record's flags keep its material above this bit.
@@ -21,6 +19,9 @@ pub const OVERFLOW_CROWDED_BIN: u32 = 4;
 pub const OVERFLOW_RESUME: u32 = 8;
 /// `LOOP_BUDGET` of exact_layout.glsl: loop iterations one invocation may spend.
 pub const LOOP_BUDGET: u32 = 60_000;
+// The raster may pass its budget by two searches over the slabs (a sweep's start) before it
+// stops; lavapipe ends loops after 65535 iterations.
+const _: () = assert!(LOOP_BUDGET + 2 * MAX_SLABS < 65_000);
 /// Bytes of one `ExactPixelState`.
 pub const PIXEL_STATE_BYTES: u64 = 192;
 /// `MAX_SELECT_SIZE` of exact_layout.glsl: fragments a pixel's saved state can hold.
@@ -69,8 +70,8 @@ pub struct ExactCounters {
     pub depth_lo: u32,
     pub depth_hi: u32,
     pub pad: u32,
-    pub slab_farthest: [u32; MAX_SLABS as usize],
     pub statistics: [[u32; 16]; STATISTICS_SLOTS as usize],
+    pub slab_farthest: [u32; MAX_SLABS as usize],
 }
 
 impl Default for ExactCounters {
@@ -213,7 +214,6 @@ mod tests {
         assert_eq!(define("OVERFLOW_RESUME"), OVERFLOW_RESUME);
         assert_eq!(define("LOOP_BUDGET"), LOOP_BUDGET);
         assert_eq!(define("MAX_SELECT_SIZE"), MAX_SELECT_SIZE);
-        assert_eq!(define("ENTRY_SLAB_SHIFT"), ENTRY_SLAB_SHIFT);
         assert_eq!(define("MAX_SLABS"), MAX_SLABS);
         assert_eq!(define("STATISTICS_SLOTS"), STATISTICS_SLOTS);
         assert_eq!(define("STATISTICS_WORDS"), STATISTICS_SLOTS * 16);
@@ -315,8 +315,8 @@ mod tests {
             offset_of!(ExactCounters, depth_lo),
             offset_of!(ExactCounters, depth_hi),
             offset_of!(ExactCounters, pad),
-            offset_of!(ExactCounters, slab_farthest),
             offset_of!(ExactCounters, statistics),
+            offset_of!(ExactCounters, slab_farthest),
         ];
         assert_eq!(offsets("ExactCounters"), counters, "{msg}");
         assert_eq!(

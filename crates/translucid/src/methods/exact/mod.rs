@@ -294,11 +294,20 @@ impl Exact {
         }
         let bins_x = width.div_ceil(BIN_SIZE);
         let bins_y = height.div_ceil(BIN_SIZE);
-        let capacities = Capacities::initial(uploaded.transparent_quads, bins_x * bins_y, options);
+        let expected = features::estimated_fragments(scene, width, height);
+        let capacities = Capacities::initial(
+            uploaded.transparent_quads,
+            bins_x * bins_y,
+            expected,
+            options,
+        );
         let mut features = RasterFeatures::of(scene, width, height, info.subgroup_size);
         features.homogeneous &= !options.assume_fixed_path;
-        if options.assume_deep_pixels && program == RasterProgram::Exact {
-            features = features.deep();
+        if program == RasterProgram::Exact {
+            features = features.expecting(expected, width, height);
+            if options.assume_deep_pixels {
+                features = features.deep();
+            }
         }
         if options.assume_wide_subgroups {
             features.rows = 1;
@@ -628,10 +637,13 @@ impl Method for Exact {
         // Deep pixels: select more fragments per pass, or order the bins by depth slab, from
         // the next frame on (this one is right either way).
         // (Other programs have no selection, and would only pay for slabs.)
-        let pixels = u64::from(self.push.width) * u64::from(self.push.height);
         if self.program == RasterProgram::Exact {
-            features =
-                features.after_frame(counters.sweeps(), counters.fragments_in_front(), pixels);
+            features = features.after_frame(
+                counters.sweeps(),
+                counters.fragments_in_front(),
+                self.push.width,
+                self.push.height,
+            );
         }
         let layouts = [&uploaded.layout, &self.resources.layout];
         if rebuild || features.slab_bits != self.features.slab_bits {
@@ -652,7 +664,14 @@ impl Method for Exact {
         }
         let grown = self.resources.capacities.grown_for(&counters);
         if let Some(grown) = grown {
-            log::info!("{method}: buffers too small ({counters:?}); growing to {grown:?}");
+            log::info!(
+                "{method}: buffers too small (overflow bits {:#x}: {} homogeneous triangles, \
+                 {} bin entries, {} resume items needed); growing to {grown:?}",
+                counters.overflow,
+                counters.homogeneous_count,
+                counters.bin_entry_count,
+                counters.resume_needed
+            );
             self.resources
                 .grow(&self.gpu, grown)
                 .map_err(|e| self.program.in_errors(e))?;

@@ -2,9 +2,8 @@
 
 use super::layout::{
     sampler_bits, ExactCounters, ExactDraw, ExactTexture, ATTRIBUTES_BYTES, BIN_SIZE,
-    DISPATCH_BYTES, ENTRY_SLAB_SHIFT, HOMOGENEOUS_BYTES, OVERFLOW_BIN_ENTRIES,
-    OVERFLOW_HOMOGENEOUS, OVERFLOW_RESUME, PIXEL_STATE_BYTES, SCAN_GROUP_SIZE, TRIANGLE_BYTES,
-    TRIANGLE_MATERIAL_SHIFT,
+    DISPATCH_BYTES, HOMOGENEOUS_BYTES, OVERFLOW_BIN_ENTRIES, OVERFLOW_HOMOGENEOUS, OVERFLOW_RESUME,
+    PIXEL_STATE_BYTES, SCAN_GROUP_SIZE, TRIANGLE_BYTES, TRIANGLE_MATERIAL_SHIFT,
 };
 use crate::gpu::{
     memory_barrier, vk, BindingKind, Buffer, BufferView, DescriptorLayout, DescriptorSet, Gpu,
@@ -29,10 +28,17 @@ pub struct Capacities {
 
 impl Capacities {
     /// A first guess from the frame: every quad's two triangles, each touching a few bins
-    /// (rows of blocks). Overflow corrects it after one frame.
-    pub fn initial(quads: u32, blocks: u32, options: &MethodOptions) -> Self {
+    /// (rows of blocks), or, for frames expected to be deep, a bin entry for every row of
+    /// BIN_SIZE of the `fragments` expected and an eighth more (up to EXPECTED_BIN_ENTRIES).
+    /// Overflow corrects it after one frame.
+    pub fn initial(quads: u32, blocks: u32, fragments: u64, options: &MethodOptions) -> Self {
+        /// The most bin entries an expected depth starts with: 128 MB, the least storage
+        /// binding every Vulkan device allows.
+        const EXPECTED_BIN_ENTRIES: u64 = 1 << 25;
         let triangles = quads.saturating_mul(2).max(1);
         let rows = blocks.saturating_mul(BIN_SIZE);
+        let rows_expected = fragments / u64::from(BIN_SIZE);
+        let expected_entries = (rows_expected + rows_expected / 8).min(EXPECTED_BIN_ENTRIES) as u32;
         Self {
             // Rows only suspend where pixels are hundreds of fragments deep: a sixteenth of
             // the frame's rows to start with.
@@ -47,7 +53,7 @@ impl Capacities {
                 .max(1),
             bin_entries: options
                 .initial_bin_entries
-                .unwrap_or(triangles.saturating_mul(8).max(rows))
+                .unwrap_or(triangles.saturating_mul(8).max(rows).max(expected_entries))
                 .max(1),
         }
     }
@@ -320,13 +326,6 @@ impl Resources {
         slabs: u32,
     ) -> Result<Self> {
         let blocks = u64::from(width.div_ceil(BIN_SIZE)) * u64::from(height.div_ceil(BIN_SIZE));
-        if capacities.triangles >= 1 << ENTRY_SLAB_SHIFT {
-            return Err(Error::InvalidScene(format!(
-                "{} transparent triangles; bin entries address at most {}",
-                capacities.triangles,
-                1u32 << ENTRY_SLAB_SHIFT
-            )));
-        }
         if scene.materials.len() as u64 > 1 << (32 - TRIANGLE_MATERIAL_SHIFT) {
             return Err(Error::InvalidScene(format!(
                 "{} materials; triangle records address at most {}",
