@@ -487,6 +487,59 @@ fn exact_renders_ten_thousand_full_screen_layers_in_blends_time() {
     );
 }
 
+/// `layers` layers over the left part of the frame, each a little wider than the last, bunched
+/// within a hundredth of a unit of depth, behind them two full-screen layers far apart: the
+/// slabs split the whole depth range, so the bunch falls in one or two of them and its pixels
+/// need many sweeps, while the pixels beside it finish after two fragments.
+fn bunched_layers(layers: u32) -> Scene {
+    let mut positions = Vec::new();
+    let mut quads = Vec::new();
+    let mut quad = |right: f32, z: f32| {
+        let first = positions.len() as u32;
+        positions.extend([
+            Vec3::new(-9.0, -9.0, z),
+            Vec3::new(right, -9.0, z),
+            Vec3::new(right, 9.0, z),
+            Vec3::new(-9.0, 9.0, z),
+        ]);
+        quads.push([first, first + 1, first + 2, first + 3]);
+    };
+    for i in 0..layers {
+        quad(-0.5 + (i % 13) as f32 * 0.05, -1.0 - i as f32 * 1e-5);
+    }
+    quad(9.0, -1.5);
+    quad(9.0, -8.0);
+    one_draw_scene(
+        "bunched layers",
+        Mesh::from_quads("bunch", positions, quads),
+        Material::alpha(Vec3::new(1.0, 0.9, 0.8), 0.0002),
+        Camera::look_at(Vec3::new(0.0, 0.0, 3.0), Vec3::ZERO, 0.8, 0.1, 20.0),
+    )
+}
+
+/// Rows suspended in one sweep, resumed, and suspended again in a later one resume where the
+/// later sweep stopped. (Pixels that had finished kept the first resumption point, which was
+/// further down the list, and the row's took the furthest: a sixth of the bunch's fragments
+/// were skipped, 21/255 off, and 43/255 on 100,000 random single-triangle draws.)
+#[test]
+fn exact_resumes_rows_where_their_last_sweep_stopped() {
+    let frame = check(
+        &bunched_layers(6000),
+        "bunched_layers",
+        16,
+        12,
+        &MethodOptions::default(),
+    );
+    assert!(
+        frame
+            .stages
+            .iter()
+            .any(|(stage, _)| *stage == "raster finished"),
+        "rows were not suspended more than once: {:?}",
+        frame.stages
+    );
+}
+
 /// `count` triangles over all of an 8x8-pixel frame, all at one depth, so that every row's
 /// list holds all of them and no depth slab splits it.
 fn crowded_bin(count: u32) -> Scene {

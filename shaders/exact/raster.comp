@@ -204,6 +204,10 @@ void main() {
         from = resumeSweep ? resumeEntry : from;
         sweeps += finished || resumeSweep ? 0u : 1u;
         resumeSweep = false;
+        // Where this sweep suspends the row, if it does, is the only resumption point from
+        // here on: pixels that finish before it must not keep the one they were resumed at.
+        resumeCursor = 0u;
+        resumeEntry = 0u;
         bool nextFound = false;
         // A pixel leaves the stretch loop once it is finished, the row once all are or the
         // sweep is over. (Its own exit: a vote would be a loop over the lanes.)
