@@ -29,7 +29,8 @@ pub struct Capacities {
 impl Capacities {
     /// A first guess from the frame: every quad's two triangles, each touching a few bins
     /// (rows of blocks), or, for frames expected to be deep, a bin entry for every row of
-    /// BIN_SIZE of the `fragments` expected and an eighth more (up to EXPECTED_BIN_ENTRIES).
+    /// BIN_SIZE of the `fragments` expected and a quarter more, for blocks that a quad's
+    /// diagonal splits (up to EXPECTED_BIN_ENTRIES).
     /// Overflow corrects it after one frame.
     pub fn initial(quads: u32, blocks: u32, fragments: u64, options: &MethodOptions) -> Self {
         /// The most bin entries an expected depth starts with: 128 MB, the least storage
@@ -38,7 +39,7 @@ impl Capacities {
         let triangles = quads.saturating_mul(2).max(1);
         let rows = blocks.saturating_mul(BIN_SIZE);
         let rows_expected = fragments / u64::from(BIN_SIZE);
-        let expected_entries = (rows_expected + rows_expected / 8).min(EXPECTED_BIN_ENTRIES) as u32;
+        let expected_entries = (rows_expected + rows_expected / 4).min(EXPECTED_BIN_ENTRIES) as u32;
         Self {
             // Rows only suspend where pixels are hundreds of fragments deep: a sixteenth of
             // the frame's rows to start with.
