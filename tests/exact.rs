@@ -567,15 +567,11 @@ fn crowded_bin(count: u32) -> Scene {
     )
 }
 
-/// 100,000 triangles over one 8x8-pixel bin at one depth: one pass over a row's list is
-/// longer than lavapipe's shader loop limit and no depth slab splits it, so rows are
-/// suspended inside the pass, their selections saved, and resumed by continuations (exact
-/// refused the frame: "exceeds the shader loop limit"). The threshold ends every pixel
-/// after its first pass; without it each is 100,000 fragments deep.
-#[test]
-fn exact_renders_a_hundred_thousand_triangles_in_one_bin() {
+/// The 8x8 frame of `crowded_bin(count)` rendered with a transmittance threshold of 0.01,
+/// checked against the reference stopped at the same threshold.
+fn crowded_bin_frame(count: u32, label: &str) -> translucid::renderer::Frame {
     let gpu = gpu();
-    let scene = crowded_bin(100_000);
+    let scene = crowded_bin(count);
     let threshold = 0.01;
     let options = MethodOptions {
         threshold,
@@ -590,10 +586,21 @@ fn exact_renders_a_hundred_thousand_triangles_in_one_bin() {
     let m = metrics::compare(&frame.image, &expected).expect("same size");
     assert!(
         m.max_error <= TOLERANCE,
-        "crowded bin off by {:.1}/255; see {}",
+        "{label} off by {:.1}/255; see {}",
         m.max_error * 255.0,
-        save_failure("exact_crowded_bin", &frame.image, &expected).display()
+        save_failure(&format!("exact_{label}"), &frame.image, &expected).display()
     );
+    frame
+}
+
+/// 100,000 triangles over one 8x8-pixel bin at one depth: one pass over a row's list is
+/// longer than lavapipe's shader loop limit and no depth slab splits it, so rows are
+/// suspended inside the pass, their selections saved, and resumed by continuations (exact
+/// refused the frame: "exceeds the shader loop limit"). The threshold ends every pixel
+/// after its first pass; without it each is 100,000 fragments deep.
+#[test]
+fn exact_renders_a_hundred_thousand_triangles_in_one_bin() {
+    let frame = crowded_bin_frame(100_000, "crowded_bin");
     assert!(frame.fragments >= 64 * 7, "{}", frame.fragments);
 }
 
@@ -603,26 +610,7 @@ fn exact_renders_a_hundred_thousand_triangles_in_one_bin() {
 /// frame again.
 #[test]
 fn exact_finishes_unfinished_rows_in_another_submission() {
-    let gpu = gpu();
-    let scene = crowded_bin(250_000);
-    let threshold = 0.01;
-    let options = MethodOptions {
-        threshold,
-        ..Default::default()
-    };
-    let mut renderer =
-        Renderer::with_options(&gpu, &scene, "exact", 8, 8, &options).expect("renderer");
-    let frame = renderer.render(true).expect("a crowded bin renders");
-    let opaque = frame.opaque.as_ref().expect("opaque layer");
-    let expected =
-        translucid::reference::render_until(&scene, opaque, threshold).expect("reference");
-    let m = metrics::compare(&frame.image, &expected).expect("same size");
-    assert!(
-        m.max_error <= TOLERANCE,
-        "crowded bin off by {:.1}/255; see {}",
-        m.max_error * 255.0,
-        save_failure("exact_crowded_bin_finished", &frame.image, &expected).display()
-    );
+    let frame = crowded_bin_frame(250_000, "crowded_bin_finished");
     let stages: Vec<&str> = frame.stages.iter().map(|(stage, _)| *stage).collect();
     assert!(stages.contains(&"raster finished"), "{stages:?}");
     assert_eq!(
