@@ -147,11 +147,11 @@ impl RasterFeatures {
         }
     }
 
-    /// Everything deep frames move to.
+    /// At least everything deep frames move to.
     pub fn deep(self) -> Self {
         Self {
-            select_size: DEEP_SELECT_SIZE,
-            slab_bits: DEEP_SLAB_BITS,
+            select_size: self.select_size.max(DEEP_SELECT_SIZE),
+            slab_bits: self.slab_bits.max(DEEP_SLAB_BITS),
             ..self
         }
     }
@@ -254,8 +254,9 @@ fn screen_area(q: [Vec3; 4], width: u32, height: u32) -> f64 {
     }
 }
 
-/// The most slab bits a frame of `width` x `height` pixels takes beyond DEEP_SLAB_BITS: as
-/// many as keep its (bin, slab) arrays within MAX_BIN_SLABS words.
+/// The most slab bits a frame of `width` x `height` pixels takes: as many as keep its (bin,
+/// slab) arrays within MAX_BIN_SLABS words, but at least DEEP_SLAB_BITS and at most the
+/// counters' MAX_SLABS.
 fn max_slab_bits(width: u32, height: u32) -> u32 {
     let bins = u64::from(width.div_ceil(BIN_SIZE))
         * u64::from(height.div_ceil(BIN_SIZE))
@@ -369,6 +370,7 @@ mod tests {
         let start = RasterFeatures::of(&scene, 32, 24, 8);
         let deep = start.after_frame(1, 1000 * 32 * 24, 32, 24);
         assert_eq!(deep.after_frame(1, 9 * 32 * 24, 32, 24).slab_bits, 7);
+        assert_eq!(deep.deep().slab_bits, 7);
         // Pixels that still need several sweeps double the slabs, up to the bound.
         assert_eq!(deep.after_frame(3, 9 * 32 * 24, 32, 24).slab_bits, 8);
         let wide =
