@@ -16,7 +16,7 @@ deps:
 
 demo: deps
 	$(CARGO) build --release -p translucid-cli
-	./target/release/translucid render $(DEMO_SCENE) --method $(DEMO_METHOD) --size $(DEMO_SIZE) -o out/demo.png
+	./target/release/translucid render $(DEMO_SCENE) --method $(DEMO_METHOD) --size $(DEMO_SIZE) -o out/demo.png --warm
 
 lint: deps
 	$(CARGO) fmt --all -- --check

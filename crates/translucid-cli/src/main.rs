@@ -93,6 +93,10 @@ enum Command {
         size: Size,
         #[arg(short, long, default_value = "out/render.png")]
         output: PathBuf,
+        /// Render the frame a second time and print that warm frame's stage times: the
+        /// first frame's include building pipelines and compiling shaders.
+        #[arg(long)]
+        warm: bool,
     },
     /// Render with a method and with the CPU reference, and measure the difference.
     Compare {
@@ -192,8 +196,9 @@ fn run(command: Command) -> translucid::Result<ExitCode> {
             wavelet,
             size,
             output,
+            warm,
         } => done(commands::render::run(
-            &scene, &method, threshold, wavelet, size, &output,
+            &scene, &method, threshold, wavelet, size, &output, warm,
         )),
         Command::Compare {
             scene,

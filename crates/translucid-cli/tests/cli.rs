@@ -97,6 +97,23 @@ fn render_writes_a_png() {
     let _ = std::fs::remove_file(path);
 }
 
+/// `--warm` (what `make demo` passes) reports a second frame's stage times, not the first's,
+/// which include building pipelines.
+#[test]
+fn render_warm_reports_a_warm_frame() {
+    let path = std::env::temp_dir().join(format!("translucid-cli-warm-{}.png", std::process::id()));
+    let p = path.to_str().expect("utf-8 temp path");
+    let (ok, stdout, stderr) =
+        translucid(&["render", "spheres", "--size", "80x60", "-o", p, "--warm"]);
+    assert!(ok, "render failed: {stderr}");
+    assert!(stdout.contains("first frame: "), "{stdout}");
+    assert!(
+        stdout.contains("GPU time of a warm frame: ") && stdout.contains("raster"),
+        "{stdout}"
+    );
+    let _ = std::fs::remove_file(path);
+}
+
 #[test]
 fn bad_input_fails_with_a_clear_message() {
     let cases: &[(&[&str], &str)] = &[
