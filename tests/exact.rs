@@ -383,6 +383,31 @@ fn exact_rebuilds_the_raster_shader_for_unexpected_near_plane_triangles() {
         "the fallback should render the frame once or twice more, not {} times",
         frame.rerenders
     );
+    // The rebuilt setup and raster pipelines (and the raster's continuation) are counted.
+    assert!(
+        frame.pipelines_created >= 2,
+        "{} pipelines created",
+        frame.pipelines_created
+    );
+}
+
+/// A frame rendered again unchanged creates no pipeline: everything it needs was built with
+/// the renderer or by the frames before.
+#[test]
+fn exact_creates_no_pipeline_in_a_warm_frame() {
+    let gpu = gpu();
+    let scene = scene::load("particles").expect("generated scene");
+    let mut renderer = Renderer::new(&gpu, &scene, "exact", 96, 64).expect("renderer");
+    // The first frames may rebuild for what they find (deeper pixels than expected); the
+    // later ones none. (The near-plane test above checks that rebuilds are counted.)
+    let frames: Vec<u64> = (0..4)
+        .map(|_| renderer.render(false).expect("frame").pipelines_created)
+        .collect();
+    assert_eq!(
+        frames[2..],
+        [0, 0],
+        "pipelines created per frame: {frames:?}"
+    );
 }
 
 /// With the threshold on, each pixel stops as soon as its transmittance is under it, as the

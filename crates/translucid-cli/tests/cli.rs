@@ -66,9 +66,11 @@ fn bench_json_has_one_line_per_scene_and_method() {
             "wall_ms",
             "wall_ratio_to_blend",
             "peak_gpu_bytes",
+            "pipelines_created",
         ] {
             assert!(v.get(key).is_some(), "bench --json lacks {key}: {v}");
         }
+        assert_eq!(v["pipelines_created"], 0, "after warm-up: {v}");
         assert!(
             v["stages"]["blend"].as_f64().is_some_and(|ms| ms >= 0.0),
             "{v}"

@@ -25,6 +25,8 @@ struct Result {
     /// Triangles left after culling (exact).
     triangles: u64,
     rerenders: u32,
+    /// Pipelines the timed frames created, after the warm-up (0 where nothing is rebuilt).
+    pipelines_created: u64,
     wall_ms: f64,
 }
 
@@ -64,7 +66,7 @@ pub fn run(
             let mut per_stage: BTreeMap<&'static str, Vec<f64>> = BTreeMap::new();
             let mut stage_order = Vec::new();
             let (mut totals, mut method_totals, mut peak) = (Vec::new(), Vec::new(), 0);
-            let (mut fragments, mut triangles, mut rerenders) = (0, 0, 0);
+            let (mut fragments, mut triangles, mut rerenders, mut pipelines) = (0, 0, 0, 0);
             let mut walls = Vec::new();
             for _ in 0..frames {
                 let frame = renderer.render(false)?;
@@ -80,6 +82,7 @@ pub fn run(
                 fragments = frame.fragments;
                 triangles = frame.triangles;
                 rerenders += frame.rerenders;
+                pipelines += frame.pipelines_created;
                 walls.push(frame.wall_ms);
                 bar.inc(1);
             }
@@ -97,6 +100,7 @@ pub fn run(
                 fragments,
                 triangles,
                 rerenders,
+                pipelines_created: pipelines,
                 wall_ms: median(walls),
             });
         }
@@ -132,12 +136,13 @@ pub fn run(
                 "stages": stages,
                 "ratio_to_blend": ratio,
                 "peak_gpu_bytes": r.peak_gpu_bytes,
+                "pipelines_created": r.pipelines_created,
             });
             println!("{line}");
         } else {
             println!(
                 "{:<40} {:<8} total {:>9.3} ms  method {:>9.3} ms  x{:.2} blend  \
-                 frame wall {:>9.3} ms  x{:.2} blend  peak {:.1} MB",
+                 frame wall {:>9.3} ms  x{:.2} blend  peak {:.1} MB  pipelines created {}",
                 r.scene,
                 r.method,
                 r.total_ms,
@@ -145,7 +150,8 @@ pub fn run(
                 ratio,
                 r.wall_ms,
                 wall_ratio,
-                r.peak_gpu_bytes as f64 / (1 << 20) as f64
+                r.peak_gpu_bytes as f64 / (1 << 20) as f64,
+                r.pipelines_created
             );
             println!("{:<40} {}", "", super::stage_text(&r.stages));
         }

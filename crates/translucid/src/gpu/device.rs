@@ -7,6 +7,7 @@ use crate::{Error, Result};
 use ash::vk;
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 use std::mem::ManuallyDrop;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 
 /// How to create a [`Gpu`].
@@ -86,6 +87,9 @@ pub struct Shared {
     owns_device: bool,
     pub(crate) allocator: ManuallyDrop<Mutex<Allocator>>,
     pub(crate) memory: MemoryStats,
+    /// Pipelines created on the device so far: each one costs a shader compilation, which
+    /// a frame loop must not pay.
+    pipelines_created: AtomicU64,
     info: DeviceInfo,
 }
 
@@ -331,6 +335,7 @@ impl Gpu {
                 owns_device: true,
                 allocator: ManuallyDrop::new(Mutex::new(allocator)),
                 memory: MemoryStats::default(),
+                pipelines_created: AtomicU64::new(0),
                 info,
             }))),
             Err(e) => {
@@ -364,6 +369,7 @@ impl Gpu {
             owns_device: false,
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
             memory: MemoryStats::default(),
+            pipelines_created: AtomicU64::new(0),
             info,
         })))
     }
@@ -407,6 +413,15 @@ impl Shared {
 
     pub fn reset_peak_memory(&self) {
         self.memory.reset_peak();
+    }
+
+    /// Pipelines created on this device so far (compute and graphics).
+    pub fn pipelines_created(&self) -> u64 {
+        self.pipelines_created.load(Ordering::Relaxed)
+    }
+
+    pub(crate) fn count_pipeline(&self) {
+        self.pipelines_created.fetch_add(1, Ordering::Relaxed);
     }
 }
 

@@ -364,11 +364,14 @@ impl ComputePipeline {
         // SAFETY: the module is no longer needed once the pipeline exists (or failed).
         unsafe { gpu.device.destroy_shader_module(module, None) };
         match created {
-            Ok(p) => Ok(Self {
-                gpu: gpu.clone(),
-                raw: p[0],
-                layout,
-            }),
+            Ok(p) => {
+                gpu.count_pipeline();
+                Ok(Self {
+                    gpu: gpu.clone(),
+                    raw: p[0],
+                    layout,
+                })
+            }
             Err((_, e)) => {
                 // SAFETY: unused layout.
                 unsafe { gpu.device.destroy_pipeline_layout(layout, None) };
@@ -682,11 +685,14 @@ impl GraphicsPipeline {
             gpu.device.destroy_shader_module(fs, None);
         }
         match created {
-            Ok(p) => Ok(Self {
-                gpu: gpu.clone(),
-                raw: p[0],
-                layout,
-            }),
+            Ok(p) => {
+                gpu.count_pipeline();
+                Ok(Self {
+                    gpu: gpu.clone(),
+                    raw: p[0],
+                    layout,
+                })
+            }
             Err((_, e)) => {
                 // SAFETY: unused layout.
                 unsafe { gpu.device.destroy_pipeline_layout(layout, None) };

@@ -51,6 +51,10 @@ pub struct Frame {
     /// Transparent triangles left to rasterize after culling (back faces, off screen, behind
     /// the opaque layer), for methods that cull them (0 otherwise).
     pub triangles: u64,
+    /// Pipelines created while the frame was rendered (a method rebuilding its shaders for
+    /// what the frame turned out to need): each compiles a shader, which a frame loop should
+    /// pay only in its first frames.
+    pub pipelines_created: u64,
     /// Host wall-clock time from the last submission to its completion, in milliseconds. On
     /// CPU devices GPU timestamps are written as commands are issued, not as asynchronous
     /// raster work finishes, so this is the fairer measure of a whole frame there.
@@ -195,6 +199,7 @@ impl Renderer {
     /// the result back.
     fn run(&mut self, source: OpaqueSource<'_>) -> Result<Frame> {
         let gpu = self.gpu.clone();
+        let pipelines_before = gpu.pipelines_created();
         // Fail before submitting anything.
         self.readback()?;
         let mut rerenders = 0;
@@ -262,6 +267,7 @@ impl Renderer {
             rerenders,
             fragments: check.fragments,
             triangles: check.triangles,
+            pipelines_created: gpu.pipelines_created() - pipelines_before,
             wall_ms,
         })
     }
