@@ -90,14 +90,21 @@ pub struct Shared {
     /// Pipelines created on the device so far: each one costs a shader compilation, which
     /// a frame loop must not pay.
     pipelines_created: AtomicU64,
+    /// Held while a submission records, submits and waits: the queue, the command pool and
+    /// the reused command buffer and fence are externally synchronised objects.
+    pub(crate) submitting: Mutex<()>,
     info: DeviceInfo,
 }
 
-/// What a device translucid created submits with.
+/// What a device translucid created submits with: one command buffer and one fence, made
+/// with the device and reused by every submission (taken in turn under `Shared::submitting`),
+/// so that a frame allocates no Vulkan object to submit.
 #[derive(Clone, Copy)]
 pub(crate) struct Submission {
     pub queue: vk::Queue,
     pub command_pool: vk::CommandPool,
+    pub command_buffer: vk::CommandBuffer,
+    pub fence: vk::Fence,
 }
 
 fn load_entry() -> Result<ash::Entry> {
@@ -321,21 +328,19 @@ impl Gpu {
             }
         };
         match create_device(&instance, physical, &info) {
-            Ok((device, queue, allocator, command_pool)) => Ok(Self(Arc::new(Shared {
+            Ok((device, allocator, submission)) => Ok(Self(Arc::new(Shared {
                 _entry: entry,
                 instance,
                 physical,
                 messenger,
                 validation,
                 device,
-                submission: Some(Submission {
-                    queue,
-                    command_pool,
-                }),
+                submission: Some(submission),
                 owns_device: true,
                 allocator: ManuallyDrop::new(Mutex::new(allocator)),
                 memory: MemoryStats::default(),
                 pipelines_created: AtomicU64::new(0),
+                submitting: Mutex::new(()),
                 info,
             }))),
             Err(e) => {
@@ -370,6 +375,7 @@ impl Gpu {
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
             memory: MemoryStats::default(),
             pipelines_created: AtomicU64::new(0),
+            submitting: Mutex::new(()),
             info,
         })))
     }
@@ -481,7 +487,7 @@ fn create_allocator(
     })
 }
 
-type DeviceParts = (ash::Device, vk::Queue, Allocator, vk::CommandPool);
+type DeviceParts = (ash::Device, Allocator, Submission);
 
 fn create_device(
     instance: &ash::Instance,
@@ -535,7 +541,46 @@ fn create_device(
             return Err(vk_err("vkCreateCommandPool")(e));
         }
     };
-    Ok((device, queue, allocator, pool))
+    let parts = create_submission_objects(&device, pool);
+    match parts {
+        Ok((command_buffer, fence)) => Ok((
+            device,
+            allocator,
+            Submission {
+                queue,
+                command_pool: pool,
+                command_buffer,
+                fence,
+            },
+        )),
+        Err(e) => {
+            drop(allocator);
+            // SAFETY: the pool (and any buffer from it) is unused; nothing else exists.
+            unsafe {
+                device.destroy_command_pool(pool, None);
+                device.destroy_device(None);
+            }
+            Err(e)
+        }
+    }
+}
+
+/// The command buffer and the fence every submission reuses.
+fn create_submission_objects(
+    device: &ash::Device,
+    pool: vk::CommandPool,
+) -> Result<(vk::CommandBuffer, vk::Fence)> {
+    let alloc = vk::CommandBufferAllocateInfo::default()
+        .command_pool(pool)
+        .level(vk::CommandBufferLevel::PRIMARY)
+        .command_buffer_count(1);
+    // SAFETY: the pool belongs to this device and nothing else uses it yet.
+    let command_buffer = unsafe { device.allocate_command_buffers(&alloc) }
+        .map_err(vk_err("vkAllocateCommandBuffers"))?[0];
+    // SAFETY: valid device; the fence is destroyed with the device (Drop for Shared).
+    let fence = unsafe { device.create_fence(&vk::FenceCreateInfo::default(), None) }
+        .map_err(vk_err("vkCreateFence"))?;
+    Ok((command_buffer, fence))
 }
 
 impl Drop for Shared {
@@ -555,6 +600,7 @@ impl Drop for Shared {
         // they are destroyed in reverse creation order. The allocator is dropped exactly once.
         unsafe {
             let _ = self.device.device_wait_idle();
+            self.device.destroy_fence(submission.fence, None);
             self.device
                 .destroy_command_pool(submission.command_pool, None);
             ManuallyDrop::drop(&mut self.allocator);
