@@ -99,6 +99,36 @@ impl Gpu {
 }
 
 impl Gpu {
+    /// Copies `buffer` into the mip levels of `image` that `regions` name (one region a level,
+    /// as [`mip_region`] makes them); the image must be in TRANSFER_DST_OPTIMAL.
+    pub fn cmd_copy_buffer_to_image_levels(
+        &self,
+        cmd: vk::CommandBuffer,
+        buffer: &Buffer,
+        image: &GpuImage,
+        regions: &[vk::BufferImageCopy],
+    ) {
+        let end = |r: &vk::BufferImageCopy| {
+            r.buffer_offset + u64::from(r.image_extent.width) * u64::from(r.image_extent.height) * 4
+        };
+        assert!(
+            regions.iter().all(|r| end(r) <= buffer.size),
+            "a level's region runs past the {}-byte buffer",
+            buffer.size
+        );
+        // SAFETY: cmd is recording outside a render pass, every region lies within the buffer
+        // (checked above) and the caller put the image in TRANSFER_DST_OPTIMAL.
+        unsafe {
+            self.device.cmd_copy_buffer_to_image(
+                cmd,
+                buffer.raw,
+                image.raw,
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                regions,
+            )
+        };
+    }
+
     /// Copies `buffer` (exactly mip 0's texels, tightly packed) into `image`, which must be in
     /// TRANSFER_DST_OPTIMAL.
     pub fn cmd_copy_buffer_to_image(

@@ -935,3 +935,67 @@ impl Drop for RenderTarget {
         }
     }
 }
+
+/// Indexed mesh draws inside a render pass.
+impl Gpu {
+    /// Binds `vertices` as vertex buffer 0 and `indices` as 32-bit indices.
+    pub fn cmd_bind_mesh_buffers(
+        &self,
+        cmd: vk::CommandBuffer,
+        vertices: &Buffer,
+        indices: &Buffer,
+    ) {
+        // SAFETY: cmd is recording; both buffers are alive and were made with vertex and
+        // index usage by the caller.
+        unsafe {
+            self.device
+                .cmd_bind_vertex_buffers(cmd, 0, &[vertices.raw], &[0]);
+            self.device
+                .cmd_bind_index_buffer(cmd, indices.raw, 0, vk::IndexType::UINT32);
+        }
+    }
+
+    pub fn cmd_bind_graphics_pipeline(&self, cmd: vk::CommandBuffer, pipeline: &GraphicsPipeline) {
+        // SAFETY: cmd is recording inside a render pass compatible with the pipeline's.
+        unsafe {
+            self.device
+                .cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.raw)
+        };
+    }
+
+    /// Pushes `bytes` at offset 0 for the vertex and fragment stages of `pipeline`'s layout.
+    pub fn cmd_push_draw_constants(
+        &self,
+        cmd: vk::CommandBuffer,
+        pipeline: &GraphicsPipeline,
+        bytes: &[u8],
+    ) {
+        // SAFETY: cmd is recording; the layout's push-constant range covers `bytes` for both
+        // stages (the caller made the pipeline with them).
+        unsafe {
+            self.device.cmd_push_constants(
+                cmd,
+                pipeline.layout,
+                vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
+                0,
+                bytes,
+            )
+        };
+    }
+
+    /// One instance of `index_count` indices from `first_index`, offset by `vertex_offset`.
+    pub fn cmd_draw_indexed(
+        &self,
+        cmd: vk::CommandBuffer,
+        index_count: u32,
+        first_index: u32,
+        vertex_offset: i32,
+    ) {
+        // SAFETY: cmd is recording inside a render pass with a graphics pipeline and the
+        // buffers it reads bound; the caller keeps the range within the bound index buffer.
+        unsafe {
+            self.device
+                .cmd_draw_indexed(cmd, index_count, 1, first_index, vertex_offset, 0)
+        };
+    }
+}

@@ -1,6 +1,8 @@
 //! The scene on the GPU: vertices, triangle indices, draws, materials, textures, and the
 //! descriptor set every mesh pipeline binds as set 0.
 
+#![deny(unsafe_code)]
+
 use crate::gpu::{
     vk, BindingKind, Buffer, DepthMode, DescriptorLayout, DescriptorSet, Gpu, GpuImage,
     GraphicsPipeline, GraphicsPipelineDesc, PipelineState, Resource, Sampler,
@@ -300,62 +302,36 @@ impl GpuScene {
         calls: &[DrawCall],
         pipelines: (&crate::gpu::GraphicsPipeline, &crate::gpu::GraphicsPipeline),
     ) {
-        // SAFETY: cmd is recording inside a render pass compatible with both pipelines, whose
-        // layouts take this scene's sets 0 and 1 and a 4-byte push constant.
-        unsafe {
-            let d = &gpu.device;
-            d.cmd_bind_vertex_buffers(cmd, 0, &[self.vertices.raw], &[0]);
-            d.cmd_bind_index_buffer(cmd, self.indices.raw, 0, vk::IndexType::UINT32);
-            let mut bound: Option<bool> = None;
-            let mut bound_texture: Option<usize> = None;
-            for call in calls {
-                let pipeline = if call.cull_back {
-                    pipelines.1
-                } else {
-                    pipelines.0
-                };
-                if bound != Some(call.cull_back) {
-                    d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.raw);
-                    d.cmd_bind_descriptor_sets(
-                        cmd,
-                        vk::PipelineBindPoint::GRAPHICS,
-                        pipeline.layout,
-                        0,
-                        &[self.set.raw],
-                        &[],
-                    );
-                    bound = Some(call.cull_back);
-                    bound_texture = None;
-                }
-                if bound_texture != Some(call.texture_set) {
-                    let set = self.texture_sets[call.texture_set].raw;
-                    d.cmd_bind_descriptor_sets(
-                        cmd,
-                        vk::PipelineBindPoint::GRAPHICS,
-                        pipeline.layout,
-                        1,
-                        &[set],
-                        &[],
-                    );
-                    bound_texture = Some(call.texture_set);
-                }
-                d.cmd_push_constants(
+        // The render pass is compatible with both pipelines, whose layouts take this scene's
+        // sets 0 and 1 and a 4-byte push constant.
+        gpu.cmd_bind_mesh_buffers(cmd, &self.vertices, &self.indices);
+        let mut bound: Option<bool> = None;
+        let mut bound_texture: Option<usize> = None;
+        for call in calls {
+            let pipeline = if call.cull_back {
+                pipelines.1
+            } else {
+                pipelines.0
+            };
+            if bound != Some(call.cull_back) {
+                gpu.cmd_bind_graphics_pipeline(cmd, pipeline);
+                gpu.cmd_bind_graphics_set(cmd, pipeline.layout, 0, self.set.raw);
+                bound = Some(call.cull_back);
+                bound_texture = None;
+            }
+            if bound_texture != Some(call.texture_set) {
+                let set = self.texture_sets[call.texture_set].raw;
+                gpu.cmd_bind_graphics_set(cmd, pipeline.layout, 1, set);
+                bound_texture = Some(call.texture_set);
+            }
+            gpu.cmd_push_draw_constants(cmd, pipeline, &call.draw_index.to_ne_bytes());
+            if call.range.index_count > 0 {
+                gpu.cmd_draw_indexed(
                     cmd,
-                    pipeline.layout,
-                    vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
-                    0,
-                    &call.draw_index.to_ne_bytes(),
+                    call.range.index_count,
+                    call.range.first_index,
+                    call.range.vertex_offset,
                 );
-                if call.range.index_count > 0 {
-                    d.cmd_draw_indexed(
-                        cmd,
-                        call.range.index_count,
-                        1,
-                        call.range.first_index,
-                        call.range.vertex_offset,
-                        0,
-                    );
-                }
             }
         }
     }
@@ -459,16 +435,7 @@ pub(crate) fn record_texture_uploads(
             offset += u64::from(region.image_extent.width * region.image_extent.height * 4);
             regions.push(region);
         }
-        // SAFETY: the image is in TRANSFER_DST_OPTIMAL and the buffer holds every level.
-        unsafe {
-            gpu.device.cmd_copy_buffer_to_image(
-                cmd,
-                buffer.raw,
-                image.raw,
-                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                &regions,
-            )
-        };
+        gpu.cmd_copy_buffer_to_image_levels(cmd, buffer, image, &regions);
         let read = (
             vk::PipelineStageFlags::FRAGMENT_SHADER | vk::PipelineStageFlags::COMPUTE_SHADER,
             vk::AccessFlags::SHADER_READ,
