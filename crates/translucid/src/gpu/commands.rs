@@ -100,7 +100,8 @@ impl Gpu {
 
 impl Gpu {
     /// Copies `buffer` into the mip levels of `image` that `regions` name (one region a level,
-    /// as [`mip_region`] makes them); the image must be in TRANSFER_DST_OPTIMAL.
+    /// as [`mip_region`] makes them, texels tightly packed); the image must be in
+    /// TRANSFER_DST_OPTIMAL.
     pub fn cmd_copy_buffer_to_image_levels(
         &self,
         cmd: vk::CommandBuffer,
@@ -108,8 +109,13 @@ impl Gpu {
         image: &GpuImage,
         regions: &[vk::BufferImageCopy],
     ) {
+        let texel_bytes = match image.format {
+            vk::Format::R16G16B16A16_SFLOAT => 8,
+            _ => 4,
+        };
         let end = |r: &vk::BufferImageCopy| {
-            r.buffer_offset + u64::from(r.image_extent.width) * u64::from(r.image_extent.height) * 4
+            r.buffer_offset
+                + u64::from(r.image_extent.width) * u64::from(r.image_extent.height) * texel_bytes
         };
         assert!(
             regions.iter().all(|r| end(r) <= buffer.size),
@@ -137,27 +143,7 @@ impl Gpu {
         buffer: &Buffer,
         image: &GpuImage,
     ) {
-        let texel_bytes = match image.format {
-            vk::Format::R16G16B16A16_SFLOAT => 8,
-            _ => 4,
-        };
-        let needed = u64::from(image.extent.width) * u64::from(image.extent.height) * texel_bytes;
-        assert!(
-            buffer.size >= needed,
-            "buffer of {} bytes for a {needed}-byte image",
-            buffer.size
-        );
-        // SAFETY: cmd is recording outside a render pass, the buffer holds the whole level
-        // (checked above) and the caller put the image in TRANSFER_DST_OPTIMAL.
-        unsafe {
-            self.device.cmd_copy_buffer_to_image(
-                cmd,
-                buffer.raw,
-                image.raw,
-                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                &[whole_image_region(image)],
-            )
-        };
+        self.cmd_copy_buffer_to_image_levels(cmd, buffer, image, &[whole_image_region(image)]);
     }
 
     /// Fills the whole buffer with a repeated 32-bit value (it needs TRANSFER_DST usage).
