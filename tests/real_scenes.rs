@@ -86,10 +86,13 @@ impl Method {
     fn model(self, scene: &Scene, opaque: &OpaqueLayer) -> translucid::Result<Image> {
         match self {
             Method::Exact => reference::render(scene, opaque),
-            Method::Wavelet => {
-                Model::new(Settings::from_options(&MethodOptions::default())?, scene)
-                    .render(scene, opaque)
-            }
+            Method::Wavelet => Model::new(
+                Settings::from_options(&MethodOptions::default())?,
+                scene,
+                opaque.width,
+                opaque.height,
+            )
+            .render(scene, opaque),
             Method::Blend => reference::render_in_submission_order(scene, opaque),
         }
     }

@@ -72,7 +72,7 @@ fn check_wavelet_model(gpu: &Gpu, scene: &Scene, options: &MethodOptions, deep: 
     let frame = render(gpu, scene, "wavelet", options);
     let opaque = frame.opaque.as_ref().expect("opaque layer");
     let settings = Settings::from_options(options).expect("valid settings");
-    let expected = Model::new(settings, scene)
+    let expected = Model::new(settings, scene, opaque.width, opaque.height)
         .render(scene, opaque)
         .expect("model");
     let label = format!(
@@ -212,7 +212,7 @@ fn wavelet_in_bins_falls_back_to_images_for_crowded_rows() {
         ..options
     })
     .expect("valid settings");
-    let expected = Model::new(settings, &scene)
+    let expected = Model::new(settings, &scene, opaque.width, opaque.height)
         .render(&scene, opaque)
         .expect("model");
     let m = compare("wavelet_crowded_fallback", &frame.image, &expected);

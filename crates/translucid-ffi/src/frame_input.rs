@@ -12,7 +12,7 @@ use crate::structure::translucid_structure_type;
 use glam::{Mat4, Vec3};
 use std::collections::HashMap;
 use translucid::image::srgb_to_linear;
-use translucid::scene::{Camera, Draw, Light, Scene};
+use translucid::scene::{Camera, Draw, Light, Projection, Scene};
 use translucid::OpaqueLayer;
 
 /// Maps handles to indices in the scene being built, copying each object once.
@@ -57,11 +57,20 @@ pub fn build_scene(
     draws: &[translucid_draw],
 ) -> FfiResult<Scene> {
     let c = &info.camera;
+    if !c.z_far.is_finite() {
+        return Err(Failure::argument(format!(
+            "camera: far {} must be finite",
+            c.z_far
+        )));
+    }
     let camera = Camera {
         view: Mat4::from_cols_array(&c.view),
-        fov_y: c.fov_y,
-        near: c.z_near,
-        far: c.z_far,
+        projection: Projection::Perspective {
+            fov_y: c.fov_y,
+            near: c.z_near,
+            far: c.z_far,
+        },
+        jitter: glam::Vec2::ZERO,
     };
     camera
         .validate()

@@ -285,13 +285,13 @@ fn camera_node_gives_the_view() {
         )
         .json();
     let s = load_bytes("camera.gltf", json.as_bytes()).expect("camera");
-    assert_eq!(s.camera.fov_y, 0.7);
-    assert_eq!(s.camera.near, 0.1);
-    assert!(
-        s.camera.far > 4.0 && s.camera.far.is_finite(),
-        "far from bounds: {}",
-        s.camera.far
-    );
+    let translucid::scene::Projection::Perspective { fov_y, near, far } = s.camera.projection
+    else {
+        panic!("a glTF perspective camera: {:?}", s.camera.projection);
+    };
+    assert_eq!(fov_y, 0.7);
+    assert_eq!(near, 0.1);
+    assert!(far > 4.0 && far.is_finite(), "far from bounds: {far}");
     let eye = s.camera.view.inverse().transform_point3(glam::Vec3::ZERO);
     assert!(
         (eye - glam::Vec3::new(0.0, 0.0, 4.0)).length() < 1e-5,

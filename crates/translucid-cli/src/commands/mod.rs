@@ -140,7 +140,9 @@ impl Expected {
         match *self {
             Self::Reference => reference::render(scene, opaque),
             Self::ReferenceUntil(t) => reference::render_until(scene, opaque, t),
-            Self::WaveletModel(settings) => Model::new(settings, scene).render(scene, opaque),
+            Self::WaveletModel(settings) => {
+                Model::new(settings, scene, opaque.width, opaque.height).render(scene, opaque)
+            }
             Self::WboitModel => wboit::model::render(scene, opaque),
         }
     }

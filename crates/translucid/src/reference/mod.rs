@@ -109,7 +109,7 @@ fn render_pixels(
     }
     check_order_keys(scene)?;
 
-    let view_projection = scene.camera.view_projection(width as f32 / height as f32);
+    let view_projection = scene.camera.view_projection(width, height);
     let draws: Vec<DrawData<'_>> = scene
         .transparent
         .par_iter()

@@ -217,7 +217,7 @@ fn opaque_depth_hides_fragments_behind_it() {
     );
     // Opaque depth between the two quads on the left half, far on the right half.
     let depth_at = |z: f32| {
-        let clip = s.camera.view_projection(1.0) * Vec4::new(0.0, 0.0, z, 1.0);
+        let clip = s.camera.view_projection(8, 8) * Vec4::new(0.0, 0.0, z, 1.0);
         clip.z / clip.w
     };
     let mut opaque = OpaqueLayer::clear(8, 8, Vec3::splat(0.2));

@@ -150,9 +150,8 @@ impl GpuScene {
             storage,
             bytemuck::cast_slice(&materials),
         )?;
-        let aspect = width as f32 / height as f32;
         let frame_info = GpuFrameInfo::new(
-            scene.camera.view_projection(aspect),
+            scene.camera.view_projection(width, height),
             &scene.light,
             width,
             height,

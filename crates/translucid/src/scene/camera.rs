@@ -1,16 +1,38 @@
-//! Perspective camera with Vulkan conventions: right-handed view space looking down -Z,
-//! framebuffer Y down, depth 0 at the near plane and 1 at the far plane.
+//! The camera: a view matrix, a projection and a sub-pixel jitter, in Vulkan conventions
+//! (framebuffer Y down, clip z in [0, w]).
+//!
+//! Engines hand over their own projection matrix ([`Projection::Matrix`]): reversed-Z,
+//! infinite far planes and off-centre frusta are taken as they are. [`Projection::Perspective`]
+//! is the helper for scenes that name a field of view, its aspect following the render size.
+//!
+//! Inside translucid depth always grows away from the eye: a reversed-Z matrix is turned
+//! around (clip z becomes w − z, device depth 1 − d) before anything uses it, so the opaque
+//! pass, every method and the CPU reference depth-test with one convention. Fragments are
+//! ordered by clip w, which is why the projection must be a perspective one.
 
-use glam::{Mat4, Vec3};
+use glam::{Mat4, Vec2, Vec3, Vec4};
+
+/// How view space maps to clip space.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Projection {
+    /// A symmetric perspective whose aspect ratio is the render size's: vertical field of view
+    /// in radians, near and far distances (`far` may be infinite). Depth 0 at near, 1 at far.
+    Perspective { fov_y: f32, near: f32, far: f32 },
+    /// The engine's clip-from-view matrix, column-major, in Vulkan clip space (y down, z in
+    /// [0, w]), used as given. Clip w must grow with the distance in front of the eye
+    /// (`w = k · z_view`, k ≠ 0, as every perspective projection has); depth may grow or
+    /// shrink with distance (reversed-Z), and the far plane may be at infinity.
+    Matrix(Mat4),
+}
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Camera {
     /// World to view transform.
     pub view: Mat4,
-    /// Vertical field of view, radians.
-    pub fov_y: f32,
-    pub near: f32,
-    pub far: f32,
+    pub projection: Projection,
+    /// Sub-pixel offset of the whole image, in pixels (x right, y down), applied after the
+    /// projection as temporal anti-aliasing jitters it; zero for none.
+    pub jitter: Vec2,
 }
 
 impl Default for Camera {
@@ -20,52 +42,105 @@ impl Default for Camera {
 }
 
 impl Camera {
+    /// A perspective camera at `eye` looking at `target`.
     pub fn look_at(eye: Vec3, target: Vec3, fov_y: f32, near: f32, far: f32) -> Self {
-        let forward = (target - eye).normalize_or(Vec3::NEG_Z);
-        // Pick an up vector that is not parallel to the view direction.
-        let up = if forward.cross(Vec3::Y).length_squared() < 1e-6 {
-            Vec3::Z
-        } else {
-            Vec3::Y
-        };
         Self {
-            view: Mat4::look_at_rh(eye, target, up),
-            fov_y,
-            near,
-            far,
+            view: look_at_view(eye, target),
+            projection: Projection::Perspective { fov_y, near, far },
+            jitter: Vec2::ZERO,
         }
     }
 
-    /// The projection for a viewport of the given aspect ratio (width / height).
-    /// Maps view space to Vulkan clip space: y flipped so +Y is up on screen, z in [0, w].
-    pub fn projection(&self, aspect: f32) -> Mat4 {
-        let mut p = Mat4::perspective_rh(self.fov_y, aspect, self.near, self.far);
-        p.y_axis.y = -p.y_axis.y;
+    /// The clip-from-view matrix for a `width` x `height` render, jitter included, as the
+    /// engine gave it (depth direction unchanged).
+    pub fn projection_matrix(&self, width: u32, height: u32) -> Mat4 {
+        let mut p = match self.projection {
+            Projection::Perspective { fov_y, near, far } => {
+                let aspect = width as f32 / height as f32;
+                let mut p = if far.is_infinite() {
+                    Mat4::perspective_infinite_rh(fov_y, aspect, near)
+                } else {
+                    Mat4::perspective_rh(fov_y, aspect, near, far)
+                };
+                // Vulkan's framebuffer Y points down.
+                p.y_axis.y = -p.y_axis.y;
+                p
+            }
+            Projection::Matrix(m) => m,
+        };
+        if self.jitter != Vec2::ZERO {
+            // Clip x and y move by the jitter's share of the viewport's NDC span, times w.
+            let shift = Vec2::new(
+                2.0 * self.jitter.x / width as f32,
+                2.0 * self.jitter.y / height as f32,
+            );
+            let w = p.row(3);
+            p = Mat4::from_cols(
+                add_rows(p.x_axis, shift, w.x),
+                add_rows(p.y_axis, shift, w.y),
+                add_rows(p.z_axis, shift, w.z),
+                add_rows(p.w_axis, shift, w.w),
+            );
+        }
         p
     }
 
-    /// Projection × view.
-    pub fn view_projection(&self, aspect: f32) -> Mat4 {
-        self.projection(aspect) * self.view
+    /// Whether device depth shrinks with distance (reversed-Z).
+    pub fn reversed_depth(&self) -> bool {
+        match self.projection {
+            Projection::Perspective { .. } => false,
+            // d = m22 / m23 + m32 / w: depth falls as w grows when m32 > 0.
+            Projection::Matrix(m) => m.w_axis.z > 0.0,
+        }
+    }
+
+    /// The projection as translucid uses it: jittered, with depth growing away from the eye
+    /// (a reversed-Z projection turned around).
+    pub fn clip_from_view(&self, width: u32, height: u32) -> Mat4 {
+        let mut p = self.projection_matrix(width, height);
+        if self.reversed_depth() {
+            for column in [&mut p.x_axis, &mut p.y_axis, &mut p.z_axis, &mut p.w_axis] {
+                column.z = column.w - column.z;
+            }
+        }
+        p
+    }
+
+    /// [`Self::clip_from_view`] × view.
+    pub fn view_projection(&self, width: u32, height: u32) -> Mat4 {
+        self.clip_from_view(width, height) * self.view
+    }
+
+    /// `(a, b)` with device depth `a − b / w` for a point at clip w `w`, in translucid's depth
+    /// convention (see [`Self::clip_from_view`]).
+    pub fn depth_from_w(&self, width: u32, height: u32) -> (f32, f32) {
+        let p = self.clip_from_view(width, height);
+        // z_clip = m22 z + m32 and w = m23 z, so d = m22 / m23 + m32 / w.
+        (p.z_axis.z / p.z_axis.w, -p.w_axis.z)
     }
 
     pub fn validate(&self) -> Result<(), String> {
         if !self.view.is_finite() {
             return Err("view matrix is not finite".into());
         }
-        if !(self.fov_y > 0.0 && self.fov_y < std::f32::consts::PI) {
-            return Err(format!(
-                "vertical field of view {} is not in (0, pi)",
-                self.fov_y
-            ));
+        if !self.jitter.is_finite() {
+            return Err(format!("jitter {} is not finite", self.jitter));
         }
-        if !(self.near > 0.0 && self.far > self.near && self.far.is_finite()) {
-            return Err(format!(
-                "near {} and far {} must satisfy 0 < near < far < infinity",
-                self.near, self.far
-            ));
+        match self.projection {
+            Projection::Perspective { fov_y, near, far } => {
+                if !(fov_y > 0.0 && fov_y < std::f32::consts::PI) {
+                    return Err(format!("vertical field of view {fov_y} is not in (0, pi)"));
+                }
+                if !(near > 0.0 && near.is_finite() && far > near) {
+                    return Err(format!(
+                        "near {near} and far {far} must satisfy 0 < near < far (far may be \
+                         infinite)"
+                    ));
+                }
+                Ok(())
+            }
+            Projection::Matrix(m) => check_projection_matrix(&m),
         }
-        Ok(())
     }
 
     /// A camera that frames a bounding box from a pleasant angle, used when a glTF file has no
@@ -79,5 +154,159 @@ impl Camera {
         let near = (distance - radius).max(distance * 1e-3);
         let far = distance + radius * 2.0;
         Self::look_at(eye, centre, fov_y, near, far)
+    }
+}
+
+/// A right-handed view matrix at `eye` looking at `target`, up as near +Y as it can be.
+pub fn look_at_view(eye: Vec3, target: Vec3) -> Mat4 {
+    let forward = (target - eye).normalize_or(Vec3::NEG_Z);
+    // Pick an up vector that is not parallel to the view direction.
+    let up = if forward.cross(Vec3::Y).length_squared() < 1e-6 {
+        Vec3::Z
+    } else {
+        Vec3::Y
+    };
+    Mat4::look_at_rh(eye, target, up)
+}
+
+/// `column` with `shift · w` added to its x and y (a row operation on the matrix).
+fn add_rows(column: Vec4, shift: Vec2, w: f32) -> Vec4 {
+    Vec4::new(
+        column.x + shift.x * w,
+        column.y + shift.y * w,
+        column.z,
+        column.w,
+    )
+}
+
+/// What translucid needs of an engine's projection matrix: finite; clip w proportional to the
+/// view depth (no orthographic projection, whose w is constant: fragments are ordered by w);
+/// clip z and w free of view x and y (no oblique near plane); depth that changes with
+/// distance.
+fn check_projection_matrix(m: &Mat4) -> Result<(), String> {
+    if !m.is_finite() {
+        return Err("projection matrix is not finite".into());
+    }
+    let (z, w) = (m.row(2), m.row(3));
+    if w.z == 0.0 || w.w != 0.0 {
+        return Err(format!(
+            "projection matrix row 3 is {w}: clip w must be k * view z with k != 0 (a \
+             perspective projection); orthographic projections are not supported, because \
+             fragments are ordered by clip w"
+        ));
+    }
+    if w.x != 0.0 || w.y != 0.0 || z.x != 0.0 || z.y != 0.0 {
+        return Err(format!(
+            "projection matrix rows 2 and 3 ({z}, {w}) depend on view x or y (an oblique \
+             near plane), which translucid does not support"
+        ));
+    }
+    if z.w == 0.0 {
+        return Err(format!(
+            "projection matrix row 2 is {z}: depth does not change with distance"
+        ));
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const SIZE: (u32, u32) = (160, 90);
+
+    /// Device depth of the view-space point at distance `d` straight ahead.
+    fn depth(c: &Camera, d: f32) -> f32 {
+        let clip = c.clip_from_view(SIZE.0, SIZE.1) * Vec4::new(0.0, 0.0, -d, 1.0);
+        clip.z / clip.w
+    }
+
+    fn with_matrix(m: Mat4) -> Camera {
+        Camera {
+            projection: Projection::Matrix(m),
+            ..Camera::default()
+        }
+    }
+
+    fn vulkan(mut p: Mat4) -> Mat4 {
+        p.y_axis.y = -p.y_axis.y;
+        p
+    }
+
+    #[test]
+    fn reversed_projections_are_turned_around() {
+        let aspect = SIZE.0 as f32 / SIZE.1 as f32;
+        let forward = Camera::look_at(Vec3::Z * 5.0, Vec3::ZERO, 0.8, 0.5, 50.0);
+        // Reversed-Z: near and far swapped.
+        let reversed = with_matrix(vulkan(Mat4::perspective_rh(0.8, aspect, 50.0, 0.5)));
+        assert!(reversed.reversed_depth() && !forward.reversed_depth());
+        for d in [0.5, 1.0, 7.0, 50.0] {
+            let (f, r) = (depth(&forward, d), depth(&reversed, d));
+            assert!((f - r).abs() < 1e-6, "at {d}: {f} forward, {r} reversed");
+        }
+        assert!(depth(&forward, 0.5).abs() < 1e-6 && (depth(&forward, 50.0) - 1.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn infinite_far_planes_keep_depth_below_one() {
+        let aspect = SIZE.0 as f32 / SIZE.1 as f32;
+        for m in [
+            Mat4::perspective_infinite_rh(0.8, aspect, 0.5),
+            Mat4::perspective_infinite_reverse_rh(0.8, aspect, 0.5),
+        ] {
+            let c = with_matrix(vulkan(m));
+            let near = depth(&c, 0.5);
+            let far = depth(&c, 1e6);
+            assert!(
+                near.abs() < 1e-6 && far < 1.0 && far > 0.99,
+                "{near}, {far}"
+            );
+        }
+    }
+
+    #[test]
+    fn depth_from_w_follows_the_matrix() {
+        let aspect = SIZE.0 as f32 / SIZE.1 as f32;
+        for c in [
+            Camera::look_at(Vec3::Z * 5.0, Vec3::ZERO, 0.8, 0.5, 50.0),
+            with_matrix(vulkan(Mat4::perspective_infinite_reverse_rh(
+                0.8, aspect, 0.5,
+            ))),
+        ] {
+            let (a, b) = c.depth_from_w(SIZE.0, SIZE.1);
+            for d in [0.7f32, 3.0, 40.0] {
+                assert!((a - b / d - depth(&c, d)).abs() < 1e-6);
+            }
+        }
+    }
+
+    #[test]
+    fn jitter_moves_the_image_by_that_many_pixels() {
+        let mut c = Camera::look_at(Vec3::Z * 5.0, Vec3::ZERO, 0.8, 0.5, 50.0);
+        let pixel = |c: &Camera| {
+            let clip = c.view_projection(SIZE.0, SIZE.1) * Vec4::new(0.3, 0.2, -1.0, 1.0);
+            Vec2::new(
+                (clip.x / clip.w + 1.0) * 0.5 * SIZE.0 as f32,
+                (clip.y / clip.w + 1.0) * 0.5 * SIZE.1 as f32,
+            )
+        };
+        let still = pixel(&c);
+        c.jitter = Vec2::new(0.25, -0.5);
+        let moved = pixel(&c) - still;
+        assert!((moved - c.jitter).length() < 1e-4, "{moved}");
+    }
+
+    #[test]
+    fn orthographic_and_oblique_matrices_are_refused_with_the_reason() {
+        let ortho = with_matrix(Mat4::orthographic_rh(-1.0, 1.0, -1.0, 1.0, 0.1, 10.0));
+        assert!(ortho.validate().unwrap_err().contains("orthographic"));
+        let mut oblique = vulkan(Mat4::perspective_rh(0.8, 1.0, 0.1, 10.0));
+        oblique.x_axis.z = 0.2;
+        assert!(with_matrix(oblique)
+            .validate()
+            .unwrap_err()
+            .contains("oblique"));
+        let nan = with_matrix(Mat4::NAN);
+        assert!(nan.validate().unwrap_err().contains("not finite"));
     }
 }

@@ -7,7 +7,7 @@
 //! here rather than by `gltf::import`.
 
 use super::{
-    Camera, Draw, Filter, Material, Mesh, MipFilter, Sampler, Scene, Texture, Wrap,
+    Camera, Draw, Filter, Material, Mesh, MipFilter, Projection, Sampler, Scene, Texture, Wrap,
     MAX_SCENE_TEXELS, MAX_TEXTURE_SIZE,
 };
 use crate::{Error, Result};
@@ -752,9 +752,12 @@ impl<'p> Importer<'p> {
         };
         let camera = Camera {
             view: camera_to_world.inverse(),
-            fov_y: p.yfov(),
-            near,
-            far,
+            projection: Projection::Perspective {
+                fov_y: p.yfov(),
+                near,
+                far,
+            },
+            jitter: Vec2::ZERO,
         };
         camera
             .validate()

@@ -13,7 +13,7 @@ mod material;
 mod mesh;
 mod texture;
 
-pub use camera::Camera;
+pub use camera::{look_at_view, Camera, Projection};
 pub use material::Material;
 pub use mesh::{pair_triangles, Mesh};
 #[cfg(test)]

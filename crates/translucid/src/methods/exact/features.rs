@@ -75,7 +75,7 @@ impl RasterFeatures {
     pub fn of(scene: &Scene, width: u32, height: u32, subgroup_size: u32) -> Self {
         let draws = || scene.transparent.iter();
         let lit = |d: &crate::scene::Draw| scene.materials[d.material].lit;
-        let view_projection = scene.camera.view_projection(width as f32 / height as f32);
+        let view_projection = scene.camera.view_projection(width, height);
         Self {
             homogeneous: draws().any(|d| {
                 let mvp = view_projection * d.transform;
@@ -197,7 +197,7 @@ const ESTIMATE_QUADS: u64 = 1 << 16;
 /// frame: their quads' areas on screen, each at most its bounding box's part of the screen.
 /// It ignores what the opaque layer hides, and triangles that reach behind the eye.
 pub fn estimated_fragments(scene: &Scene, width: u32, height: u32) -> u64 {
-    let view_projection = scene.camera.view_projection(width as f32 / height as f32);
+    let view_projection = scene.camera.view_projection(width, height);
     let quads: u64 = scene
         .transparent
         .iter()
@@ -444,7 +444,7 @@ mod tests {
 
     #[test]
     fn a_mesh_around_the_camera_needs_the_homogeneous_path() {
-        let mvp = crate::scene::Camera::default().view_projection(1.0);
+        let mvp = crate::scene::Camera::default().view_projection(64, 64);
         let around = [Vec3::new(-1.0, -1.0, 4.0), Vec3::new(1.0, 1.0, 6.0)];
         assert!(!bounds_on_fixed_path(&mvp, &around, 64, 64));
         let ahead = [Vec3::new(-1.0, -1.0, -1.0), Vec3::new(1.0, 1.0, 1.0)];

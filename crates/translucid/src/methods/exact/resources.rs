@@ -268,7 +268,7 @@ fn pyramid_cells(bins_x: u32, bins_y: u32) -> u32 {
 /// The transparent draws in the order the reference ranks them, with their model-view-
 /// projection computed on the host exactly as the reference does.
 fn exact_draws(scene: &Scene, width: u32, height: u32) -> Vec<ExactDraw> {
-    let view_projection = scene.camera.view_projection(width as f32 / height as f32);
+    let view_projection = scene.camera.view_projection(width, height);
     let mut first_quad_of_mesh = Vec::with_capacity(scene.meshes.len());
     let mut total = 0u32;
     for mesh in &scene.meshes {

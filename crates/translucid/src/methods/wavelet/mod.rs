@@ -32,7 +32,7 @@ use super::exact::{Exact, RasterProgram};
 use super::{FrameCheck, Method, MethodOptions, RecordContext};
 use crate::gpu::Gpu;
 use crate::renderer::{FrameTargets, GpuScene};
-use crate::scene::Scene;
+use crate::scene::{Camera, Scene};
 use crate::{Error, Result};
 use layout::SpecConstants;
 
@@ -105,15 +105,15 @@ impl Settings {
         (3 * math::coefficient_count(self.rank)).div_ceil(4)
     }
 
-    /// The shaders' specialization constants for a scene's camera.
-    pub fn constants(&self, scene: &Scene) -> SpecConstants {
-        let (near, far) = (scene.camera.near, scene.camera.far);
+    /// The shaders' specialization constants for a camera and render size.
+    pub fn constants(&self, camera: &Camera, width: u32, height: u32) -> SpecConstants {
+        let (depth_a, depth_b) = camera.depth_from_w(width, height);
         SpecConstants {
             first_texel: 0,
             noise: self.noise,
             absorbed: -ABSORBED_TRANSMITTANCE.ln(),
-            depth_a: far / (far - near),
-            depth_b: near * far / (far - near),
+            depth_a,
+            depth_b,
         }
     }
 }
@@ -149,7 +149,8 @@ impl Wavelet {
         options: &MethodOptions,
     ) -> Result<Self> {
         let mut settings = Settings::from_options(options)?;
-        let constants = settings.constants(scene);
+        let constants =
+            settings.constants(&scene.camera, targets.extent.width, targets.extent.height);
         let bins = match settings.storage {
             Storage::Images => None,
             Storage::Bins => {

@@ -53,8 +53,9 @@ pub struct Model {
 }
 
 impl Model {
-    pub fn new(settings: Settings, scene: &Scene) -> Self {
-        let c = settings.constants(scene);
+    /// The model of `settings` for `scene`'s camera at `width` x `height`.
+    pub fn new(settings: Settings, scene: &Scene, width: u32, height: u32) -> Self {
+        let c = settings.constants(&scene.camera, width, height);
         Self {
             settings,
             depth_a: c.depth_a,
