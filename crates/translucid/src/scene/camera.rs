@@ -299,14 +299,17 @@ mod tests {
     #[test]
     fn orthographic_and_oblique_matrices_are_refused_with_the_reason() {
         let ortho = with_matrix(Mat4::orthographic_rh(-1.0, 1.0, -1.0, 1.0, 0.1, 10.0));
-        assert!(ortho.validate().unwrap_err().contains("orthographic"));
+        assert!(ortho
+            .validate()
+            .expect_err("refused")
+            .contains("orthographic"));
         let mut oblique = vulkan(Mat4::perspective_rh(0.8, 1.0, 0.1, 10.0));
         oblique.x_axis.z = 0.2;
         assert!(with_matrix(oblique)
             .validate()
-            .unwrap_err()
+            .expect_err("refused")
             .contains("oblique"));
         let nan = with_matrix(Mat4::NAN);
-        assert!(nan.validate().unwrap_err().contains("not finite"));
+        assert!(nan.validate().expect_err("refused").contains("not finite"));
     }
 }
