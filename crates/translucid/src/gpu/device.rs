@@ -417,6 +417,12 @@ impl Shared {
         self.memory.current_and_peak()
     }
 
+    /// Bytes of GPU memory allocated on this device so far, freed or not: a frame loop's
+    /// figure stops growing once its buffers have reached their size.
+    pub fn bytes_allocated(&self) -> u64 {
+        self.memory.total()
+    }
+
     pub fn reset_peak_memory(&self) {
         self.memory.reset_peak();
     }

@@ -9,15 +9,17 @@ use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
 pub use gpu_allocator::MemoryLocation;
 use std::sync::atomic::{AtomicU64, Ordering};
 
-/// Live bytes allocated through one device, and their peak.
+/// Live bytes allocated through one device, their peak, and every byte ever allocated.
 #[derive(Default)]
 pub struct MemoryStats {
     current: AtomicU64,
     peak: AtomicU64,
+    total: AtomicU64,
 }
 
 impl MemoryStats {
     fn add(&self, bytes: u64) {
+        self.total.fetch_add(bytes, Ordering::Relaxed);
         let now = self.current.fetch_add(bytes, Ordering::Relaxed) + bytes;
         self.peak.fetch_max(now, Ordering::Relaxed);
     }
@@ -31,6 +33,10 @@ impl MemoryStats {
             self.current.load(Ordering::Relaxed),
             self.peak.load(Ordering::Relaxed),
         )
+    }
+
+    pub(crate) fn total(&self) -> u64 {
+        self.total.load(Ordering::Relaxed)
     }
 
     pub(crate) fn reset_peak(&self) {

@@ -25,6 +25,7 @@ mod error;
 mod host;
 mod memory;
 mod pipeline;
+mod pipeline_cache;
 mod timestamps;
 mod validation;
 
@@ -43,6 +44,7 @@ pub use pipeline::{
     GraphicsPipeline, GraphicsPipelineDesc, PipelineState, RenderTarget, RenderTargetDesc,
     Resource, Sampler,
 };
+pub use pipeline_cache::ComputePipelineCache;
 pub use timestamps::Timestamps;
 
 /// SPIR-V bytes compiled by build.rs from `shaders/<folder>/<file>`.

@@ -87,8 +87,25 @@ pub struct RecordContext<'a> {
     pub timestamps: &'a mut Timestamps,
 }
 
+/// What a method is given when the frame changes (see [`Method::set_frame`]).
+pub struct FrameSetup<'a> {
+    pub gpu: &'a Gpu,
+    /// The renderer's scene: its assets, and the new frame's camera, light and draws.
+    pub scene: &'a Scene,
+    /// The same, on the GPU, with the new frame already written.
+    pub uploaded: &'a GpuScene,
+    pub targets: &'a FrameTargets,
+}
+
 pub trait Method {
     fn name(&self) -> &'static str;
+    /// Takes the frame `setup.scene` now describes: another camera, light or set of draws
+    /// over the same assets. Called between frames, never while one the method recorded may
+    /// still run. Buffers only grow; pipelines come from what the method built before
+    /// whenever the frame needs a variant it already has.
+    fn set_frame(&mut self, _setup: &FrameSetup<'_>) -> Result<()> {
+        Ok(())
+    }
     /// Records the transparent pass of one frame.
     fn record(&mut self, ctx: &mut RecordContext<'_>) -> Result<()>;
     /// Records what completes a frame whose check asked to `finish` it, into a submission

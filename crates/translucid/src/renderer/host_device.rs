@@ -34,7 +34,7 @@ pub(super) struct Completion {
     marker: Buffer,
     frame: u32,
     /// A frame is recorded and not completed: its resources must not be reused yet.
-    in_flight: bool,
+    pub(super) in_flight: bool,
 }
 
 impl Completion {

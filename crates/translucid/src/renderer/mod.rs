@@ -26,8 +26,8 @@ pub use upload::{DrawCall, GpuScene, MeshRange, VERTEX_ATTRIBUTES, VERTEX_STRIDE
 
 use crate::gpu::{vk, Gpu, Timestamps};
 use crate::image::{Image, OpaqueLayer};
-use crate::methods::{self, Method, MethodOptions, RecordContext};
-use crate::scene::Scene;
+use crate::methods::{self, FrameSetup, Method, MethodOptions, RecordContext};
+use crate::scene::{FrameInput, Scene};
 use crate::{Error, Result};
 use glam::Vec3;
 use targets::OpaquePass;
@@ -51,10 +51,13 @@ pub struct Frame {
     /// Transparent triangles left to rasterize after culling (back faces, off screen, behind
     /// the opaque layer), for methods that cull them (0 otherwise).
     pub triangles: u64,
-    /// Pipelines created while the frame was rendered (a method rebuilding its shaders for
-    /// what the frame turned out to need): each compiles a shader, which a frame loop should
-    /// pay only in its first frames.
+    /// Pipelines created on the renderer's device since its last frame ended, its
+    /// `set_frame` included (a shader variant this frame was the first to need): each
+    /// compiles a shader, which a frame loop should pay only in its first frames.
     pub pipelines_created: u64,
+    /// Bytes of GPU memory allocated on the device over the same span (buffers grown for
+    /// this frame), the opaque layer's readback aside: 0 in a warm frame loop.
+    pub bytes_allocated: u64,
     /// Host wall-clock time from the last submission to its completion, in milliseconds. On
     /// CPU devices GPU timestamps are written as commands are issued, not as asynchronous
     /// raster work finishes, so this is the fairer measure of a whole frame there.
@@ -79,9 +82,13 @@ fn method_ms(stages: &[(&'static str, f64)]) -> f64 {
         .sum()
 }
 
-/// Renders frames of one scene with one method at one size.
+/// Renders frames of one scene's assets with one method at one size. Each frame may move the
+/// camera, change the light and draw other meshes and materials of the scene, anywhere
+/// ([`Renderer::set_frame`]): the assets stay uploaded, pipelines are kept, buffers grow.
 pub struct Renderer {
     gpu: Gpu,
+    /// The scene's assets and the current frame's camera, light and draws.
+    frame_scene: Scene,
     scene: GpuScene,
     targets: FrameTargets,
     opaque_pass: OpaquePass,
@@ -93,6 +100,9 @@ pub struct Renderer {
     background: Vec3,
     /// Host-device mode: how a completed frame is told from one whose commands never ran.
     completion: Option<host_device::Completion>,
+    /// The device's pipelines created and bytes allocated when the last frame ended (the
+    /// renderer was made), readbacks for the opaque layer not counted.
+    counted: (u64, u64),
 }
 
 /// Checks a viewport against the device's limits.
@@ -153,6 +163,7 @@ impl Renderer {
         gpu.check_validation()?;
         Ok(Self {
             gpu: gpu.clone(),
+            frame_scene: scene.clone(),
             scene: uploaded,
             targets,
             opaque_pass,
@@ -161,6 +172,7 @@ impl Renderer {
             timestamps,
             background: scene.background,
             completion: None,
+            counted: (gpu.pipelines_created(), gpu.bytes_allocated()),
         })
     }
 
@@ -172,6 +184,30 @@ impl Renderer {
         learned
     }
 
+    /// Makes `input` the frame the next [`Self::render`] (or `record_host`) draws: a camera,
+    /// light and draws over the assets this renderer was made with. Nothing is rebuilt:
+    /// per-frame data is rewritten, buffers grow when the frame needs more, and pipelines
+    /// come from those built before (a frame needing a shader variant no earlier frame
+    /// needed builds it once). Refused while a frame recorded on an engine's device is not
+    /// completed.
+    pub fn set_frame(&mut self, input: &FrameInput<'_>) -> Result<()> {
+        if self.completion.as_ref().is_some_and(|c| c.in_flight) {
+            return Err(Error::HostFrame(
+                "the last frame recorded is not completed: its draws cannot change yet".into(),
+            ));
+        }
+        self.frame_scene.set_frame(input)?;
+        self.scene.set_frame(&self.gpu, &self.frame_scene)?;
+        self.method.set_frame(&FrameSetup {
+            gpu: &self.gpu,
+            scene: &self.frame_scene,
+            uploaded: &self.scene,
+            targets: &self.targets,
+        })?;
+        self.background = input.background;
+        Ok(())
+    }
+
     pub fn method_name(&self) -> &'static str {
         self.method.name()
     }
@@ -180,11 +216,13 @@ impl Renderer {
     /// reference), timed as its own "readback" stage.
     pub fn render(&mut self, with_opaque: bool) -> Result<Frame> {
         self.gpu.reset_peak_memory();
+        let before = self.gpu.bytes_allocated();
         let opaque_readback = if with_opaque {
             Some(Readback::new(&self.gpu, &self.targets)?)
         } else {
             None
         };
+        self.counted.1 += self.gpu.bytes_allocated() - before;
         let mut frame = self.run(OpaqueSource::Scene {
             readback: opaque_readback.as_ref(),
         })?;
@@ -199,7 +237,7 @@ impl Renderer {
     /// the result back.
     fn run(&mut self, source: OpaqueSource<'_>) -> Result<Frame> {
         let gpu = self.gpu.clone();
-        let pipelines_before = gpu.pipelines_created();
+
         // Fail before submitting anything.
         self.readback()?;
         let mut rerenders = 0;
@@ -259,6 +297,8 @@ impl Renderer {
                 )));
             }
         };
+        let counted = self.counted;
+        self.counted = (gpu.pipelines_created(), gpu.bytes_allocated());
         Ok(Frame {
             image: self.readback()?.colour()?,
             opaque: None,
@@ -267,7 +307,8 @@ impl Renderer {
             rerenders,
             fragments: check.fragments,
             triangles: check.triangles,
-            pipelines_created: gpu.pipelines_created() - pipelines_before,
+            pipelines_created: self.counted.0 - counted.0,
+            bytes_allocated: self.counted.1 - counted.1,
             wall_ms,
         })
     }

@@ -5,7 +5,7 @@
 
 use crate::gpu::{
     vk, BindingKind, Buffer, DepthMode, DescriptorLayout, DescriptorSet, Gpu, GpuImage,
-    GraphicsPipeline, GraphicsPipelineDesc, PipelineState, Resource, Sampler,
+    GraphicsPipeline, GraphicsPipelineDesc, MemoryLocation, PipelineState, Resource, Sampler,
 };
 use crate::scene::{self, Mesh, Scene, Texture};
 use crate::shader_types::{GpuDrawInfo, GpuFrameInfo, GpuMaterial, GpuVertex};
@@ -20,6 +20,12 @@ pub const VERTEX_ATTRIBUTES: [(u32, vk::Format, u32); 4] = [
     (3, vk::Format::R32G32B32A32_SFLOAT, 32),
 ];
 pub const VERTEX_STRIDE: u32 = std::mem::size_of::<GpuVertex>() as u32;
+
+/// Usage of the scene's buffers: compute methods read them through texel views as well.
+const SCENE_STORAGE: vk::BufferUsageFlags = vk::BufferUsageFlags::from_raw(
+    vk::BufferUsageFlags::STORAGE_BUFFER.as_raw()
+        | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER.as_raw(),
+);
 
 /// Where one mesh's triangles start in the index buffer.
 #[derive(Clone, Copy, Debug)]
@@ -65,6 +71,11 @@ pub struct GpuScene {
     pub texture_sets: Vec<DescriptorSet>,
     pub opaque_calls: Vec<DrawCall>,
     pub transparent_calls: Vec<DrawCall>,
+    /// Each mesh's triangles in the index buffer, and its first quad in the quad buffer.
+    ranges: Vec<MeshRange>,
+    first_quads: Vec<u32>,
+    /// The frame size the frame info is written for.
+    extent: (u32, u32),
 }
 
 fn vertices_of(mesh: &Mesh) -> impl Iterator<Item = GpuVertex> + '_ {
@@ -107,30 +118,9 @@ impl GpuScene {
             quad_total += mesh.quads.len() as u32;
         }
 
-        let all_draws = scene.opaque.iter().chain(&scene.transparent);
-        let draw_infos: Vec<GpuDrawInfo> = all_draws
-            .clone()
-            .map(|d| GpuDrawInfo::new(d, &scene.meshes[d.mesh], first_quads[d.mesh]))
-            .collect();
-        let calls: Vec<DrawCall> = all_draws
-            .enumerate()
-            .map(|(i, d)| DrawCall {
-                draw_index: i as u32,
-                range: ranges[d.mesh],
-                cull_back: !scene.materials[d.material].double_sided,
-                texture_set: scene.materials[d.material]
-                    .texture
-                    .unwrap_or(scene.textures.len()),
-            })
-            .collect();
-        let (opaque_calls, transparent_calls) = calls.split_at(scene.opaque.len());
         let materials: Vec<GpuMaterial> = scene.materials.iter().map(GpuMaterial::new).collect();
-        let transparent_quads = u32::try_from(scene.transparent_quads())
-            .map_err(|_| crate::Error::InvalidScene("more than 2^32 transparent quads".into()))?;
 
-        // Compute methods read the scene through texel views as well.
-        let storage =
-            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER;
+        let storage = SCENE_STORAGE;
         let vertices = gpu.create_buffer_with_data(
             "scene vertices",
             vk::BufferUsageFlags::VERTEX_BUFFER | storage,
@@ -143,23 +133,17 @@ impl GpuScene {
         )?;
         let quads =
             gpu.create_buffer_with_data("scene quads", storage, bytemuck::cast_slice(&quads))?;
-        let draws =
-            gpu.create_buffer_with_data("scene draws", storage, bytemuck::cast_slice(&draw_infos))?;
+        let draws = gpu.create_buffer("scene draws", 0, storage, MemoryLocation::CpuToGpu)?;
         let materials = gpu.create_buffer_with_data(
             "scene materials",
             storage,
             bytemuck::cast_slice(&materials),
         )?;
-        let frame_info = GpuFrameInfo::new(
-            scene.camera.view_projection(width, height),
-            &scene.light,
-            width,
-            height,
-        );
-        let frame = gpu.create_buffer_with_data(
+        let frame = gpu.create_buffer(
             "frame info",
+            std::mem::size_of::<GpuFrameInfo>() as u64,
             vk::BufferUsageFlags::UNIFORM_BUFFER,
-            bytemuck::bytes_of(&frame_info),
+            MemoryLocation::CpuToGpu,
         )?;
 
         let white = Texture::new("white", 1, 1, vec![[255; 4]], false);
@@ -214,11 +198,11 @@ impl GpuScene {
                 texture_layout.create_set(&[Resource::Images(&[image.view], sampler_of(t))])
             })
             .collect::<Result<Vec<_>>>()?;
-        Ok(Self {
+        let mut uploaded = Self {
             vertices,
             indices,
             quads,
-            transparent_quads,
+            transparent_quads: 0,
             draws,
             materials,
             frame,
@@ -230,9 +214,64 @@ impl GpuScene {
             set,
             texture_layout,
             texture_sets,
-            opaque_calls: opaque_calls.to_vec(),
-            transparent_calls: transparent_calls.to_vec(),
-        })
+            opaque_calls: Vec::new(),
+            transparent_calls: Vec::new(),
+            ranges,
+            first_quads,
+            extent: (width, height),
+        };
+        uploaded.set_frame(gpu, scene)?;
+        Ok(uploaded)
+    }
+
+    /// Writes the frame `scene` describes (camera, light, draws; checked by the caller
+    /// against the assets this was made with) for the next frames to draw. The draw buffer
+    /// grows when the frame has more draws than it holds: then the descriptor set is new.
+    /// No frame that reads these buffers may be in flight.
+    pub fn set_frame(&mut self, gpu: &Gpu, scene: &Scene) -> Result<()> {
+        let (width, height) = self.extent;
+        let frame_info = GpuFrameInfo::new(
+            scene.camera.view_projection(width, height),
+            &scene.light,
+            width,
+            height,
+        );
+        self.frame.write(0, bytemuck::bytes_of(&frame_info))?;
+        let all_draws = scene.opaque.iter().chain(&scene.transparent);
+        let draw_infos: Vec<GpuDrawInfo> = all_draws
+            .clone()
+            .map(|d| GpuDrawInfo::new(d, &scene.meshes[d.mesh], self.first_quads[d.mesh]))
+            .collect();
+        let bytes: &[u8] = bytemuck::cast_slice(&draw_infos);
+        if bytes.len() as u64 > self.draws.size {
+            // Room for twice as many, so that a growing draw count reallocates rarely.
+            self.draws = gpu.create_buffer(
+                "scene draws",
+                2 * bytes.len() as u64,
+                SCENE_STORAGE,
+                MemoryLocation::CpuToGpu,
+            )?;
+            self.set = self.layout.create_set(&[
+                Resource::Buffer(&self.frame),
+                Resource::Buffer(&self.draws),
+                Resource::Buffer(&self.materials),
+            ])?;
+        }
+        self.draws.write(0, bytes)?;
+        let calls = all_draws.enumerate().map(|(i, d)| DrawCall {
+            draw_index: i as u32,
+            range: self.ranges[d.mesh],
+            cull_back: !scene.materials[d.material].double_sided,
+            texture_set: scene.materials[d.material]
+                .texture
+                .unwrap_or(scene.textures.len()),
+        });
+        self.opaque_calls.clear();
+        self.opaque_calls.extend(calls);
+        self.transparent_calls = self.opaque_calls.split_off(scene.opaque.len());
+        self.transparent_quads = u32::try_from(scene.transparent_quads())
+            .map_err(|_| crate::Error::InvalidScene("more than 2^32 transparent quads".into()))?;
+        Ok(())
     }
 
     /// The pair of pipelines every scene draw goes through (back faces kept, back faces

@@ -69,7 +69,50 @@ pub struct Scene {
     pub background: Vec3,
 }
 
+/// What may change from one frame to the next: the camera, the light, and which of a scene's
+/// meshes are drawn with which materials, where. The assets (meshes, materials, textures) stay
+/// the scene's.
+#[derive(Clone, Copy, Debug)]
+pub struct FrameInput<'a> {
+    pub camera: Camera,
+    pub light: Light,
+    /// Linear-light colour behind everything.
+    pub background: Vec3,
+    /// Depth-tested, depth-writing draws rendered first into colour and depth.
+    pub opaque: &'a [Draw],
+    /// Transparent draws in submission order.
+    pub transparent: &'a [Draw],
+}
+
 impl Scene {
+    /// The frame the scene itself describes.
+    pub fn frame_input(&self) -> FrameInput<'_> {
+        FrameInput {
+            camera: self.camera,
+            light: self.light,
+            background: self.background,
+            opaque: &self.opaque,
+            transparent: &self.transparent,
+        }
+    }
+
+    /// Makes `input` the scene's frame, after checking it against the scene's assets (the
+    /// draw vectors keep their allocations).
+    pub fn set_frame(&mut self, input: &FrameInput<'_>) -> crate::Result<()> {
+        self.check_frame(input)?;
+        self.camera = input.camera;
+        self.light = Light {
+            direction: input.light.direction.normalize(),
+            ..input.light
+        };
+        self.background = input.background;
+        self.opaque.clear();
+        self.opaque.extend_from_slice(input.opaque);
+        self.transparent.clear();
+        self.transparent.extend_from_slice(input.transparent);
+        Ok(())
+    }
+
     /// Checks every cross-reference and value a renderer relies on, so that no method has to:
     /// indices in range, finite positions and transforms, textures present.
     pub fn validate(&self) -> crate::Result<()> {
@@ -95,7 +138,13 @@ impl Scene {
             t.validate()
                 .map_err(|e| crate::Error::InvalidScene(format!("texture {i}: {e}")))?;
         }
-        for (layer, draws) in [("opaque", &self.opaque), ("transparent", &self.transparent)] {
+        self.check_frame(&self.frame_input())
+    }
+
+    /// Checks a frame's draws, camera and light against this scene's assets.
+    pub fn check_frame(&self, input: &FrameInput<'_>) -> crate::Result<()> {
+        let bad = |msg: String| Err(crate::Error::InvalidScene(msg));
+        for (layer, draws) in [("opaque", input.opaque), ("transparent", input.transparent)] {
             for (i, d) in draws.iter().enumerate() {
                 if d.mesh >= self.meshes.len() {
                     return bad(format!(
@@ -116,11 +165,17 @@ impl Scene {
                 }
             }
         }
-        self.camera
+        input
+            .camera
             .validate()
             .map_err(|e| crate::Error::InvalidScene(format!("camera: {e}")))?;
-        if !self.light.direction.is_finite() || self.light.direction.length_squared() == 0.0 {
+        let light = &input.light;
+        if !light.direction.is_finite() || light.direction.length_squared() == 0.0 {
             return bad("light direction must be finite and non-zero".into());
+        }
+        if !(light.colour.is_finite() && light.ambient.is_finite() && input.background.is_finite())
+        {
+            return bad("light colours and background must be finite".into());
         }
         Ok(())
     }

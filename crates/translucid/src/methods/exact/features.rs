@@ -102,6 +102,18 @@ impl RasterFeatures {
         }
     }
 
+    /// The features of another frame of the same scene: what depends on the frame's draws and
+    /// camera from `fresh` ([`Self::of`] that frame), what earlier frames taught (selection,
+    /// slabs, rows per workgroup) from `self`.
+    pub fn for_frame(self, fresh: Self) -> Self {
+        Self {
+            select_size: self.select_size,
+            slab_bits: self.slab_bits,
+            rows: self.rows,
+            ..fresh
+        }
+    }
+
     /// What the next frame should use after one of `width` x `height` pixels with
     /// `fragments` fragments in front of the opaque layer, some pixel needing `sweeps` sweeps.
     /// (Fragments found, not composited: with a threshold, pixels composite fewer than they

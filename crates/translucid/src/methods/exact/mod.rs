@@ -37,8 +37,10 @@ pub mod features;
 pub mod layout;
 pub(crate) mod resources;
 
-use super::{FrameCheck, Method, MethodOptions, RecordContext};
-use crate::gpu::{image_barrier, memory_barrier, vk, ComputePipeline, DescriptorSet, Gpu};
+use super::{FrameCheck, FrameSetup, Method, MethodOptions, RecordContext};
+use crate::gpu::{
+    image_barrier, memory_barrier, vk, ComputePipeline, ComputePipelineCache, DescriptorSet, Gpu,
+};
 use crate::renderer::{FrameTargets, GpuScene};
 use crate::scene::Scene;
 use crate::{Error, Result};
@@ -48,6 +50,7 @@ use layout::{
     DISPATCH_RASTER_BINS_OFFSET, LOOP_BUDGET, OVERFLOW_CROWDED_BIN,
 };
 use resources::{Capacities, Resources};
+use std::sync::Arc;
 
 const STAGES: [(&str, &[u8]); 6] = [
     ("setup", crate::spirv!("exact/setup.comp")),
@@ -106,28 +109,29 @@ pub struct Exact {
     program: RasterProgram,
     resources: Resources,
     set: DescriptorSet,
-    pipelines: Vec<ComputePipeline>,
-    /// The raster shader again, specialized to resume suspended rows (exact only).
-    continuation: Option<ComputePipeline>,
-    /// The depth pyramid shader specialized to build the levels above level 0.
-    pyramid_top: ComputePipeline,
-    /// The scan's steps 1 and 2 (step 0 is `pipelines[BIN_SCAN]`).
-    scan_steps: [ComputePipeline; 2],
+    /// Every stage variant built so far, by specialization.
+    cache: ComputePipelineCache,
+    /// The variants this frame's features need.
+    stages: StagePipelines,
     /// Continuation dispatches recorded after the raster; multiplied when some row was still
     /// unfinished after the last one.
     continuations: u32,
     /// The resume list holding the rows the last submission left unfinished.
     pending_list: u32,
     push: ExactPush,
-    /// The constants the raster pipelines were made with.
+    /// The constants the stage pipelines are specialized with.
     features: RasterFeatures,
+    /// Tests start without the near-plane path whatever the frame (MethodOptions).
+    fixed_path_forced: bool,
+    /// The GPU found a near-plane triangle the host's estimate missed: later frames keep the
+    /// near-plane path rather than render again.
+    homogeneous_missed: bool,
 }
 
 const SETUP: usize = 0;
 const BIN_COUNT: usize = 1;
 const BIN_SCAN: usize = 2;
 const BIN_FILL: usize = 3;
-const BINNING: [usize; 3] = [BIN_COUNT, BIN_SCAN, BIN_FILL];
 const RASTER: usize = 4;
 /// Built twice: level 0 (constant 0 false), then the levels above (true).
 const DEPTH_PYRAMID: usize = 5;
@@ -157,87 +161,78 @@ const MAX_CONTINUATIONS: u32 = 4096;
 /// its count in a few re-renders (1, 8, 64, 512, 4096).
 const CONTINUATION_GROWTH: u32 = 8;
 
-/// Exact stage `stage` specialized with `constants` (constant_id i = constants[i]).
-fn stage_pipeline(
-    gpu: &Gpu,
-    layouts: &[&crate::gpu::DescriptorLayout],
-    stage: usize,
-    constants: &[u32],
-) -> Result<ComputePipeline> {
-    ComputePipeline::specialized(
-        gpu,
-        STAGES[stage].1,
-        layouts,
-        std::mem::size_of::<ExactPush>() as u32,
-        constants,
-    )
+/// The pipelines a frame records, for its features.
+struct StagePipelines {
+    depth_pyramid: Arc<ComputePipeline>,
+    /// The depth pyramid shader specialized to build the levels above level 0.
+    pyramid_top: Arc<ComputePipeline>,
+    setup: Arc<ComputePipeline>,
+    bin_count: Arc<ComputePipeline>,
+    /// The scan's steps 0, 1 and 2 (constant 0).
+    scan_steps: [Arc<ComputePipeline>; 3],
+    bin_fill: Arc<ComputePipeline>,
+    raster: Arc<ComputePipeline>,
+    /// The raster shader again, specialized to resume suspended rows (exact only).
+    continuation: Option<Arc<ComputePipeline>>,
 }
 
-fn setup_pipeline(
-    gpu: &Gpu,
-    layouts: &[&crate::gpu::DescriptorLayout],
-    features: &RasterFeatures,
-) -> Result<ComputePipeline> {
-    // The raster's constants 0 to 3, 6 (SLAB_BITS, declared in exact_bins.glsl, which setup
-    // includes), 9 and 10, which setup declares with the same ids. The rest stay at their
-    // defaults: setup is not rebuilt when they change.
-    let mut constants = features.constants(false);
-    constants[4..6].fill(0);
-    constants[7..9].fill(0);
-    stage_pipeline(gpu, layouts, SETUP, &constants)
-}
-
-/// The scan's steps 1 and 2 (constant 0), for the frame's slabs.
-fn scan_steps(
-    gpu: &Gpu,
-    layouts: &[&crate::gpu::DescriptorLayout],
-    features: &RasterFeatures,
-) -> Result<[ComputePipeline; 2]> {
-    let step = |n: u32| {
-        let mut constants = features.binning_constants();
-        constants[0] = n;
-        stage_pipeline(gpu, layouts, BIN_SCAN, &constants)
-    };
-    Ok([step(1)?, step(2)?])
-}
-
-fn raster_pipeline(
-    gpu: &Gpu,
-    layouts: &[&crate::gpu::DescriptorLayout],
-    features: &RasterFeatures,
-    program: &RasterProgram,
-) -> Result<ComputePipeline> {
-    match program {
-        RasterProgram::Exact => stage_pipeline(gpu, layouts, RASTER, &features.constants(false)),
-        RasterProgram::Wavelet { spirv, constants } => {
-            let words: Vec<u32> = features
-                .constants(false)
-                .into_iter()
-                .chain(*constants)
-                .collect();
-            ComputePipeline::specialized(
-                gpu,
-                spirv,
-                layouts,
-                std::mem::size_of::<ExactPush>() as u32,
-                &words,
-            )
-        }
-    }
-}
-
-/// The exact raster specialized to resume suspended rows; none for other programs.
-fn continuation_pipeline(
-    gpu: &Gpu,
-    layouts: &[&crate::gpu::DescriptorLayout],
-    features: &RasterFeatures,
-    program: &RasterProgram,
-) -> Result<Option<ComputePipeline>> {
-    match program {
-        RasterProgram::Exact => {
-            stage_pipeline(gpu, layouts, RASTER, &features.constants(true)).map(Some)
-        }
-        RasterProgram::Wavelet { .. } => Ok(None),
+impl StagePipelines {
+    /// The stages specialized for `features`, from `cache` (built there on first use).
+    fn select(
+        cache: &mut ComputePipelineCache,
+        gpu: &Gpu,
+        layouts: &[&crate::gpu::DescriptorLayout],
+        features: &RasterFeatures,
+        program: &RasterProgram,
+    ) -> Result<Self> {
+        let mut stage =
+            |stage: usize, constants: &[u32]| cache.get(gpu, layouts, STAGES[stage].1, constants);
+        // Setup takes the raster's constants 0 to 3, 6 (SLAB_BITS, declared in
+        // exact_bins.glsl, which setup includes), 9 and 10, with the same ids; the rest stay
+        // at their defaults so that setup is shared by the features that differ only there.
+        let mut setup = features.constants(false);
+        setup[4..6].fill(0);
+        setup[7..9].fill(0);
+        let binning = features.binning_constants();
+        let scan_step = |n: u32| {
+            let mut constants = binning;
+            constants[0] = n;
+            constants
+        };
+        let depth_pyramid = stage(DEPTH_PYRAMID, &[0])?;
+        let pyramid_top = stage(DEPTH_PYRAMID, &[1])?;
+        let setup = stage(SETUP, &setup)?;
+        let bin_count = stage(BIN_COUNT, &binning)?;
+        let scan_steps = [
+            stage(BIN_SCAN, &binning)?,
+            stage(BIN_SCAN, &scan_step(1))?,
+            stage(BIN_SCAN, &scan_step(2))?,
+        ];
+        let bin_fill = stage(BIN_FILL, &binning)?;
+        let (raster, continuation) = match program {
+            RasterProgram::Exact => (
+                stage(RASTER, &features.constants(false))?,
+                Some(stage(RASTER, &features.constants(true))?),
+            ),
+            RasterProgram::Wavelet { spirv, constants } => {
+                let words: Vec<u32> = features
+                    .constants(false)
+                    .into_iter()
+                    .chain(*constants)
+                    .collect();
+                (cache.get(gpu, layouts, spirv, &words)?, None)
+            }
+        };
+        Ok(Self {
+            depth_pyramid,
+            pyramid_top,
+            setup,
+            bin_count,
+            scan_steps,
+            bin_fill,
+            raster,
+            continuation,
+        })
     }
 }
 
@@ -324,18 +319,9 @@ impl Exact {
         .map_err(|e| program.in_errors(e))?;
         let set = resources.descriptor_set(targets)?;
         let layouts = [&uploaded.layout, &resources.layout];
-        let pipelines = (0..STAGES.len())
-            .map(|i| match i {
-                SETUP => setup_pipeline(gpu, &layouts, &features),
-                RASTER => raster_pipeline(gpu, &layouts, &features, &program),
-                DEPTH_PYRAMID => stage_pipeline(gpu, &layouts, i, &[0]),
-                _ => stage_pipeline(gpu, &layouts, i, &features.binning_constants()),
-            })
-            .collect::<Result<Vec<_>>>()?;
-        let continuation = continuation_pipeline(gpu, &layouts, &features, &program)?;
-        let continuations = u32::from(continuation.is_some());
-        let pyramid_top = stage_pipeline(gpu, &layouts, DEPTH_PYRAMID, &[1])?;
-        let scan_steps = scan_steps(gpu, &layouts, &features)?;
+        let mut cache = ComputePipelineCache::new(std::mem::size_of::<ExactPush>() as u32);
+        let stages = StagePipelines::select(&mut cache, gpu, &layouts, &features, &program)?;
+        let continuations = u32::from(stages.continuation.is_some());
         let push = ExactPush {
             item_count: uploaded.transparent_quads,
             draw_count: scene.transparent.len() as u32,
@@ -356,15 +342,32 @@ impl Exact {
             program,
             resources,
             set,
-            pipelines,
-            continuation,
-            pyramid_top,
-            scan_steps,
+            cache,
+            stages,
+            fixed_path_forced: options.assume_fixed_path,
+            homogeneous_missed: false,
             continuations,
             pending_list: 0,
             push,
             features,
         })
+    }
+
+    /// Makes `program` the raster from the next frame on (the wavelet bins' constants follow
+    /// the camera's depth mapping), its pipelines built unless made before.
+    pub fn set_program(&mut self, uploaded: &GpuScene, program: RasterProgram) -> Result<()> {
+        if program != self.program {
+            let layouts = [&uploaded.layout, &self.resources.layout];
+            self.stages = StagePipelines::select(
+                &mut self.cache,
+                &self.gpu,
+                &layouts,
+                &self.features,
+                &program,
+            )?;
+            self.program = program;
+        }
+        Ok(())
     }
 
     /// Whether the completed frame had a row whose list was too long for one pass of the
@@ -374,11 +377,7 @@ impl Exact {
         Ok(self.resources.counters()?.overflow & OVERFLOW_CROWDED_BIN != 0)
     }
 
-    fn dispatch(&self, ctx: &RecordContext<'_>, stage: usize, groups: [u32; 3]) {
-        self.dispatch_pipeline(ctx, &self.pipelines[stage], groups);
-    }
-
-    fn dispatch_pipeline(&self, ctx: &RecordContext<'_>, p: &ComputePipeline, groups: [u32; 3]) {
+    fn dispatch(&self, ctx: &RecordContext<'_>, p: &ComputePipeline, groups: [u32; 3]) {
         p.dispatch(
             ctx.cmd,
             &[ctx.scene.set.raw, self.set.raw],
@@ -387,9 +386,9 @@ impl Exact {
         );
     }
 
-    /// Stage `stage` with the workgroups of the indirect command at `offset`.
-    fn dispatch_indirect(&self, ctx: &RecordContext<'_>, stage: usize, offset: u64) {
-        self.pipelines[stage].dispatch_indirect(
+    /// `p` with the workgroups of the indirect command at `offset`.
+    fn dispatch_indirect(&self, ctx: &RecordContext<'_>, p: &ComputePipeline, offset: u64) {
+        p.dispatch_indirect(
             ctx.cmd,
             &[ctx.scene.set.raw, self.set.raw],
             bytemuck::bytes_of(&self.push),
@@ -405,7 +404,7 @@ impl Exact {
             resume_list: 1,
             ..self.push
         };
-        self.pipelines[RASTER].dispatch_indirect(
+        self.stages.raster.dispatch_indirect(
             ctx.cmd,
             &[ctx.scene.set.raw, self.set.raw],
             bytemuck::bytes_of(&push),
@@ -432,7 +431,7 @@ impl Exact {
             compute | vk::PipelineStageFlags::DRAW_INDIRECT,
             rw | vk::AccessFlags::INDIRECT_COMMAND_READ,
         );
-        let Some(continuation) = &self.continuation else {
+        let Some(continuation) = self.stages.continuation.clone() else {
             return;
         };
         for _ in 0..self.continuations {
@@ -543,6 +542,42 @@ impl Method for Exact {
         "exact"
     }
 
+    fn set_frame(&mut self, f: &FrameSetup<'_>) -> Result<()> {
+        let (width, height) = (self.push.width, self.push.height);
+        let mut replaced = self
+            .resources
+            .set_frame(f.gpu, f.scene, f.uploaded, width, height)?;
+        self.push.item_count = f.uploaded.transparent_quads;
+        self.push.draw_count = f.scene.transparent.len() as u32;
+        // Setup writes at most two triangles per quad.
+        let triangles = f.uploaded.transparent_quads.saturating_mul(2);
+        let capacities = self.resources.capacities;
+        if triangles > capacities.triangles {
+            let grown = resources::Capacities {
+                triangles,
+                ..capacities
+            };
+            self.resources
+                .grow(f.gpu, grown)
+                .map_err(|e| self.program.in_errors(e))?;
+            replaced = true;
+        }
+        let mut fresh = RasterFeatures::of(f.scene, width, height, self.gpu.info().subgroup_size);
+        fresh.homogeneous =
+            (fresh.homogeneous && !self.fixed_path_forced) || self.homogeneous_missed;
+        let features = self.features.for_frame(fresh);
+        if features != self.features {
+            let layouts = [&f.uploaded.layout, &self.resources.layout];
+            self.stages =
+                StagePipelines::select(&mut self.cache, f.gpu, &layouts, &features, &self.program)?;
+            self.features = features;
+        }
+        if replaced {
+            self.set = self.resources.descriptor_set(f.targets)?;
+        }
+        Ok(())
+    }
+
     fn record(&mut self, ctx: &mut RecordContext<'_>) -> Result<()> {
         let cmd = ctx.cmd;
         self.resources.record_reset(cmd, self.features.rows);
@@ -550,41 +585,36 @@ impl Method for Exact {
         // raster's depth test.
         self.targets_to_raster(ctx, OPAQUE_PASS_WRITES);
         let cells = self.push.bins_x * self.push.bins_y;
+        let s = &self.stages;
         self.dispatch(
             ctx,
-            DEPTH_PYRAMID,
+            &s.depth_pyramid,
             [cells.div_ceil(PYRAMID_GROUP_SIZE), 1, 1],
         );
         self.compute_to_compute(cmd);
-        self.dispatch_pipeline(ctx, &self.pyramid_top, [1, 1, 1]);
+        self.dispatch(ctx, &s.pyramid_top, [1, 1, 1]);
         self.compute_to_compute(cmd);
         ctx.timestamps.mark(cmd, "depth pyramid");
 
         let items = self.push.item_count;
         if items > 0 {
-            self.dispatch(ctx, SETUP, [items.div_ceil(64), 1, 1]);
+            self.dispatch(ctx, &s.setup, [items.div_ceil(64), 1, 1]);
         }
         self.compute_to_compute(cmd);
         ctx.timestamps.mark(cmd, "setup");
 
-        self.dispatch_indirect(ctx, BIN_COUNT, DISPATCH_BINNING_OFFSET);
+        self.dispatch_indirect(ctx, &s.bin_count, DISPATCH_BINNING_OFFSET);
         self.compute_to_compute(cmd);
         ctx.timestamps.mark(cmd, "bin count");
-        let [list_blocks, write_offsets] = &self.scan_steps;
-        self.dispatch(ctx, BIN_SCAN, [self.resources.scan_groups(), 1, 1]);
+        let [block_sums, list_blocks, write_offsets] = &s.scan_steps;
+        self.dispatch(ctx, block_sums, [self.resources.scan_groups(), 1, 1]);
         self.compute_to_compute(cmd);
-        self.dispatch_pipeline(ctx, list_blocks, [1, 1, 1]);
+        self.dispatch(ctx, list_blocks, [1, 1, 1]);
         self.compute_to_compute(cmd);
-        write_offsets.dispatch_indirect(
-            cmd,
-            &[ctx.scene.set.raw, self.set.raw],
-            bytemuck::bytes_of(&self.push),
-            self.resources.dispatches(),
-            DISPATCH_BIN_OFFSETS_OFFSET,
-        );
+        self.dispatch_indirect(ctx, write_offsets, DISPATCH_BIN_OFFSETS_OFFSET);
         self.compute_to_compute(cmd);
         ctx.timestamps.mark(cmd, "bin scan");
-        self.dispatch_indirect(ctx, BIN_FILL, DISPATCH_BINNING_OFFSET);
+        self.dispatch_indirect(ctx, &s.bin_fill, DISPATCH_BINNING_OFFSET);
         self.compute_to_compute(cmd);
         ctx.timestamps.mark(cmd, "bin fill");
 
@@ -634,6 +664,7 @@ impl Method for Exact {
         // The host's estimate missed a near-plane triangle: the frame needs the full shaders.
         let rebuild = counters.homogeneous_count > 0 && !features.homogeneous;
         features.homogeneous |= rebuild;
+        self.homogeneous_missed |= rebuild;
         // Deep pixels: select more fragments per pass, or order the bins by depth slab, from
         // the next frame on (this one is right either way).
         // (Other programs have no selection, and would only pay for slabs.)
@@ -645,22 +676,15 @@ impl Method for Exact {
                 self.push.height,
             );
         }
-        let layouts = [&uploaded.layout, &self.resources.layout];
-        if rebuild || features.slab_bits != self.features.slab_bits {
-            self.pipelines[SETUP] = setup_pipeline(&self.gpu, &layouts, &features)?;
-        }
-        if features.slab_bits != self.features.slab_bits {
-            for stage in BINNING {
-                self.pipelines[stage] =
-                    stage_pipeline(&self.gpu, &layouts, stage, &features.binning_constants())?;
-            }
-            self.scan_steps = scan_steps(&self.gpu, &layouts, &features)?;
-        }
         if features != self.features {
-            self.pipelines[RASTER] =
-                raster_pipeline(&self.gpu, &layouts, &features, &self.program)?;
-            self.continuation =
-                continuation_pipeline(&self.gpu, &layouts, &features, &self.program)?;
+            let layouts = [&uploaded.layout, &self.resources.layout];
+            self.stages = StagePipelines::select(
+                &mut self.cache,
+                &self.gpu,
+                &layouts,
+                &features,
+                &self.program,
+            )?;
         }
         let grown = self.resources.capacities.grown_for(&counters);
         if let Some(grown) = grown {

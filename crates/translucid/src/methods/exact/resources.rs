@@ -115,6 +115,8 @@ pub struct Resources {
     draws: Viewed,
     /// Texel views of the uploaded scene's vertices, quads and draws.
     scene_views: [BufferView; 3],
+    /// The scene draw buffer `scene_views[2]` views (replaced when the draws outgrow it).
+    scene_draws: vk::Buffer,
     counters: Buffer,
     bins: BinArrays,
     /// The blocks with a non-empty bin, listed by the scan for the raster.
@@ -395,6 +397,7 @@ impl Resources {
                 gpu.create_buffer_view(&uploaded.quads, RGBA32UI)?,
                 gpu.create_buffer_view(&uploaded.draws, RGBA32UI)?,
             ],
+            scene_draws: uploaded.draws.raw,
             counters,
             bins: BinArrays::new(gpu, blocks, slabs)?,
             raster_bins: storage_buffer(gpu, "non-empty blocks", blocks * 4)?,
@@ -540,6 +543,39 @@ impl Resources {
         Ok(bytemuck::pod_read_unaligned(
             &self.counters.read()?[..std::mem::size_of::<ExactCounters>()],
         ))
+    }
+
+    /// Writes the frame's draws (`uploaded` holding the frame already). True when a buffer
+    /// the descriptor set names was replaced: call [`Self::descriptor_set`] again.
+    pub fn set_frame(
+        &mut self,
+        gpu: &Gpu,
+        scene: &Scene,
+        uploaded: &GpuScene,
+        width: u32,
+        height: u32,
+    ) -> Result<bool> {
+        let draws = exact_draws(scene, width, height);
+        let bytes: &[u8] = bytemuck::cast_slice(&draws);
+        let mut replaced = false;
+        if bytes.len() as u64 > self.draws.buffer.size {
+            // Room for twice as many, so that a growing draw count reallocates rarely.
+            let buffer = gpu.create_buffer(
+                "exact draws",
+                2 * bytes.len() as u64,
+                TEXELS,
+                MemoryLocation::CpuToGpu,
+            )?;
+            self.draws = Viewed::new(gpu, buffer, RGBA32UI)?;
+            replaced = true;
+        }
+        self.draws.buffer.write(0, bytes)?;
+        if self.scene_draws != uploaded.draws.raw {
+            self.scene_views[2] = gpu.create_buffer_view(&uploaded.draws, RGBA32UI)?;
+            self.scene_draws = uploaded.draws.raw;
+            replaced = true;
+        }
+        Ok(replaced)
     }
 
     /// Makes room for `slabs` depth slabs per bin (call [`Self::descriptor_set`] again).

@@ -29,7 +29,7 @@ pub mod model;
 mod passes;
 
 use super::exact::{Exact, RasterProgram};
-use super::{FrameCheck, Method, MethodOptions, RecordContext};
+use super::{FrameCheck, FrameSetup, Method, MethodOptions, RecordContext};
 use crate::gpu::Gpu;
 use crate::renderer::{FrameTargets, GpuScene};
 use crate::scene::{Camera, Scene};
@@ -188,6 +188,41 @@ impl Wavelet {
 impl Method for Wavelet {
     fn name(&self) -> &'static str {
         "wavelet"
+    }
+
+    fn set_frame(&mut self, f: &FrameSetup<'_>) -> Result<()> {
+        let extent = f.targets.extent;
+        let constants = self
+            .settings
+            .constants(&f.scene.camera, extent.width, extent.height);
+        // The depth mapping changes with the projection's near and far planes only: a moving
+        // camera keeps its pipelines.
+        let changed = constants.words() != self.constants.words();
+        self.constants = constants;
+        match &mut self.variant {
+            Variant::Bins(exact) => {
+                if changed {
+                    let program = RasterProgram::Wavelet {
+                        spirv: bin_raster(self.settings.rank),
+                        constants: constants.words(),
+                    };
+                    exact.set_program(f.uploaded, program)?;
+                }
+                exact.set_frame(f)
+            }
+            Variant::Images(passes) => {
+                if changed {
+                    **passes = passes::Passes::new(
+                        f.gpu,
+                        f.uploaded,
+                        f.targets,
+                        &self.settings,
+                        constants,
+                    )?;
+                }
+                Ok(())
+            }
+        }
     }
 
     fn record(&mut self, ctx: &mut RecordContext<'_>) -> Result<()> {

@@ -1,0 +1,178 @@
+//! Frames, not scenes: one renderer draws a sequence in which the camera circles the scene
+//! and every third transparent draw moves, each frame held to the CPU reference (wavelet to
+//! its CPU model), and a warm frame builds no pipeline and allocates no GPU memory. Then
+//! the projections engines use: reversed-Z, an infinite far plane, sub-pixel jitter.
+
+use glam::{Mat4, Vec2, Vec3};
+use translucid::image::{Image, OpaqueLayer};
+use translucid::methods::wavelet::{model::Model, Settings};
+use translucid::methods::MethodOptions;
+use translucid::metrics;
+use translucid::renderer::{Frame, Renderer};
+use translucid::scene::{self, Camera, Projection, Scene};
+use translucid_tests::{gpu, save_failure};
+
+const WIDTH: u32 = 96;
+const HEIGHT: u32 = 64;
+/// Frames after which a frame loop is warm: buffers grown, every shader variant built.
+const WARM_UP: usize = 4;
+
+/// Frame `i` of the sequence: the camera turned `i` steps around the scene's origin, and
+/// every third transparent draw moved along a small circle.
+fn moved(scene: &Scene, i: usize) -> Scene {
+    let mut next = scene.clone();
+    let angle = i as f32 * 0.04;
+    next.camera.view = scene.camera.view * Mat4::from_rotation_y(angle);
+    for (k, draw) in next.transparent.iter_mut().enumerate().step_by(3) {
+        let phase = angle * 3.0 + k as f32;
+        let offset = Vec3::new(phase.cos(), phase.sin(), 0.0) * 0.05 * i as f32 / 10.0;
+        draw.transform = Mat4::from_translation(offset) * draw.transform;
+    }
+    next
+}
+
+/// What `method`'s frame is held to, over that frame's opaque layer.
+fn expected(method: &str, scene: &Scene, opaque: &OpaqueLayer) -> Image {
+    match method {
+        "exact" => translucid::reference::render(scene, opaque),
+        "wavelet" => {
+            let settings = Settings::from_options(&MethodOptions::default()).expect("defaults");
+            Model::new(settings, scene, opaque.width, opaque.height).render(scene, opaque)
+        }
+        _ => translucid::reference::render_in_submission_order(scene, opaque),
+    }
+    .expect("CPU image")
+}
+
+/// The frame against its CPU image, within 2/255 on every pixel.
+fn check(name: &str, method: &str, scene: &Scene, frame: &Frame) {
+    let opaque = frame.opaque.as_ref().expect("opaque layer read back");
+    let want = expected(method, scene, opaque);
+    let m = metrics::compare(&frame.image, &want).expect("same size");
+    if m.max_error * 255.0 > 2.0 {
+        let path = save_failure(name, &frame.image, &want);
+        panic!(
+            "{name}: {:.2}/255 off the CPU image ({})",
+            m.max_error * 255.0,
+            path.display()
+        );
+    }
+}
+
+fn moving_sequence(scene_name: &str, method: &str, frames: usize) {
+    let gpu = gpu();
+    let scene = scene::load(scene_name).expect("scene");
+    let mut renderer = Renderer::new(&gpu, &scene, method, WIDTH, HEIGHT).expect("renderer");
+    let mut last = None;
+    for i in 0..frames {
+        let frame_scene = moved(&scene, i);
+        renderer
+            .set_frame(&frame_scene.frame_input())
+            .expect("set frame");
+        let frame = renderer.render(true).expect("frame");
+        let name = format!("motion_{scene_name}_{method}_{i}");
+        check(&name, method, &frame_scene, &frame);
+        if i >= WARM_UP {
+            assert_eq!(
+                (frame.pipelines_created, frame.bytes_allocated),
+                (0, 0),
+                "{name}: a warm frame built pipelines or allocated GPU memory"
+            );
+        }
+        last = Some((frame_scene, frame));
+    }
+    // The last frame is what a renderer made for it alone draws.
+    let (frame_scene, frame) = last.expect("frames");
+    let alone = Renderer::new(&gpu, &frame_scene, method, WIDTH, HEIGHT)
+        .and_then(|mut r| r.render(false))
+        .expect("frame alone");
+    let m = metrics::compare(&frame.image, &alone.image).expect("same size");
+    assert!(
+        m.max_error * 255.0 <= 0.01,
+        "{scene_name} {method}: the sequence's last frame is {:.3}/255 off the same frame \
+         rendered alone",
+        m.max_error * 255.0
+    );
+}
+
+#[test]
+fn exact_follows_a_moving_camera_and_moving_draws() {
+    moving_sequence("spheres", "exact", 30);
+}
+
+#[test]
+fn exact_follows_motion_over_textured_surfaces() {
+    moving_sequence("textured", "exact", 12);
+}
+
+#[test]
+fn wavelet_follows_a_moving_camera_and_moving_draws() {
+    moving_sequence("spheres", "wavelet", 12);
+}
+
+#[test]
+fn blend_follows_a_moving_camera_and_moving_draws() {
+    moving_sequence("spheres", "blend", 8);
+}
+
+/// The scene's camera with `projection` instead of its own, and `jitter`.
+fn with_projection(scene: &Scene, projection: Mat4, jitter: Vec2) -> Scene {
+    let mut s = scene.clone();
+    s.camera = Camera {
+        projection: Projection::Matrix(projection),
+        jitter,
+        ..scene.camera
+    };
+    s
+}
+
+/// Vulkan's framebuffer Y points down.
+fn flip_y(mut p: Mat4) -> Mat4 {
+    p.y_axis.y = -p.y_axis.y;
+    p
+}
+
+#[test]
+fn engine_projections_match_the_reference() {
+    let gpu = gpu();
+    let scene = scene::load("spheres").expect("scene");
+    let Projection::Perspective { fov_y, near, far } = scene.camera.projection else {
+        panic!("spheres has a perspective camera");
+    };
+    let aspect = WIDTH as f32 / HEIGHT as f32;
+    let cases = [
+        (
+            "reversed_z",
+            flip_y(Mat4::perspective_rh(fov_y, aspect, far, near)),
+            Vec2::ZERO,
+        ),
+        (
+            "infinite_far",
+            flip_y(Mat4::perspective_infinite_rh(fov_y, aspect, near)),
+            Vec2::ZERO,
+        ),
+        (
+            "reversed_infinite_jittered",
+            flip_y(Mat4::perspective_infinite_reverse_rh(fov_y, aspect, near)),
+            Vec2::new(0.375, -0.25),
+        ),
+    ];
+    for method in ["exact", "wavelet", "blend"] {
+        let plain = translucid_tests::render(&gpu, &scene, method, WIDTH, HEIGHT);
+        for (name, projection, jitter) in cases {
+            let s = with_projection(&scene, projection, jitter);
+            let frame = translucid_tests::render(&gpu, &s, method, WIDTH, HEIGHT);
+            let label = format!("projection_{name}_{method}");
+            check(&label, method, &s, &frame);
+            // Without jitter the picture is the scene camera's, whichever way depth runs.
+            if jitter == Vec2::ZERO {
+                let m = metrics::compare(&frame.image, &plain.image).expect("same size");
+                assert!(
+                    m.max_error * 255.0 <= 2.0,
+                    "{label}: {:.2}/255 off the scene camera's picture",
+                    m.max_error * 255.0
+                );
+            }
+        }
+    }
+}
