@@ -3,13 +3,13 @@
 //! its CPU model), and a warm frame builds no pipeline and allocates no GPU memory. Then
 //! the projections engines use: reversed-Z, an infinite far plane, sub-pixel jitter.
 
-use glam::{Mat4, Vec2, Vec3};
+use glam::{Mat4, Vec2};
 use translucid::image::{Image, OpaqueLayer};
 use translucid::methods::wavelet::{model::Model, Settings};
 use translucid::methods::MethodOptions;
 use translucid::metrics;
 use translucid::renderer::{Frame, Renderer};
-use translucid::scene::{self, Camera, Projection, Scene};
+use translucid::scene::{self, motion::Orbit, Camera, Projection, Scene};
 use translucid_tests::{gpu, save_failure};
 
 const WIDTH: u32 = 96;
@@ -17,17 +17,12 @@ const HEIGHT: u32 = 64;
 /// Frames after which a frame loop is warm: buffers grown, every shader variant built.
 const WARM_UP: usize = 4;
 
-/// Frame `i` of the sequence: the camera turned `i` steps around the scene's origin, and
-/// every third transparent draw moved along a small circle.
-fn moved(scene: &Scene, i: usize) -> Scene {
+/// Frame `i` of the orbit `bench --motion orbit` measures: the camera turned `i` steps
+/// around the scene, every third transparent draw moved.
+fn moved(scene: &Scene, orbit: &Orbit, i: usize) -> Scene {
     let mut next = scene.clone();
-    let angle = i as f32 * 0.04;
-    next.camera.view = scene.camera.view * Mat4::from_rotation_y(angle);
-    for (k, draw) in next.transparent.iter_mut().enumerate().step_by(3) {
-        let phase = angle * 3.0 + k as f32;
-        let offset = Vec3::new(phase.cos(), phase.sin(), 0.0) * 0.05 * i as f32 / 10.0;
-        draw.transform = Mat4::from_translation(offset) * draw.transform;
-    }
+    next.camera = orbit.camera(scene, i as u32);
+    orbit.transparent(scene, i as u32, &mut next.transparent);
     next
 }
 
@@ -63,9 +58,10 @@ fn moving_sequence(scene_name: &str, method: &str, frames: usize) {
     let gpu = gpu();
     let scene = scene::load(scene_name).expect("scene");
     let mut renderer = Renderer::new(&gpu, &scene, method, WIDTH, HEIGHT).expect("renderer");
+    let orbit = Orbit::new(&scene);
     let mut last = None;
     for i in 0..frames {
-        let frame_scene = moved(&scene, i);
+        let frame_scene = moved(&scene, &orbit, i);
         renderer
             .set_frame(&frame_scene.frame_input())
             .expect("set frame");

@@ -61,6 +61,15 @@ pub struct WaveletArgs {
     pub storage: Storage,
 }
 
+/// What changes between a bench's frames.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Motion {
+    /// The camera circles the scene and every third transparent draw moves, every frame.
+    Orbit,
+    /// The same frame again and again.
+    Static,
+}
+
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Storage {
     Bins,
@@ -164,6 +173,9 @@ enum Command {
         size: Size,
         #[arg(long, default_value_t = 20)]
         frames: u32,
+        /// What changes from frame to frame, as in an engine's frame loop.
+        #[arg(long, value_enum, default_value = "orbit")]
+        motion: Motion,
         /// Print one JSON object per (scene, method) line instead of a table.
         #[arg(long)]
         json: bool,
@@ -232,9 +244,19 @@ fn run(command: Command) -> translucid::Result<ExitCode> {
             wavelet,
             size,
             frames,
+            motion,
             json,
         } => done(commands::bench::run(
-            &scenes, &methods, threshold, wavelet, size, frames, json,
+            &scenes,
+            &methods,
+            threshold,
+            wavelet,
+            commands::bench::FrameLoop {
+                size,
+                frames,
+                motion,
+            },
+            json,
         )),
     }
 }

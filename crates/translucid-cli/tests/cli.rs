@@ -67,10 +67,16 @@ fn bench_json_has_one_line_per_scene_and_method() {
             "wall_ratio_to_blend",
             "peak_gpu_bytes",
             "pipelines_created",
+            "bytes_allocated",
+            "cpu_record_ms",
+            "motion",
         ] {
             assert!(v.get(key).is_some(), "bench --json lacks {key}: {v}");
         }
+        // The default frame loop moves the camera and draws: still nothing built or grown.
+        assert_eq!(v["motion"], "orbit", "{v}");
         assert_eq!(v["pipelines_created"], 0, "after warm-up: {v}");
+        assert_eq!(v["bytes_allocated"], 0, "after warm-up: {v}");
         assert!(
             v["stages"]["blend"].as_f64().is_some_and(|ms| ms >= 0.0),
             "{v}"

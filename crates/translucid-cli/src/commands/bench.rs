@@ -1,8 +1,11 @@
 use super::open_gpu;
+use crate::Motion;
 use crate::Size;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::collections::BTreeMap;
+use std::time::Instant;
 use translucid::renderer::Renderer;
+use translucid::scene::{motion::Orbit, FrameInput};
 
 /// Median of the values (upper median for an even count).
 fn median(mut v: Vec<f64>) -> f64 {
@@ -27,7 +30,19 @@ struct Result {
     rerenders: u32,
     /// Pipelines the timed frames created, after the warm-up (0 where nothing is rebuilt).
     pipelines_created: u64,
+    /// GPU memory the timed frames allocated, after the warm-up.
+    bytes_allocated: u64,
     wall_ms: f64,
+    /// Median host time per frame in `set_frame` and recording.
+    cpu_ms: f64,
+}
+
+/// The frame loop a bench times.
+pub struct FrameLoop {
+    pub size: Size,
+    /// Frames timed, after two of warm-up.
+    pub frames: u32,
+    pub motion: Motion,
 }
 
 pub fn run(
@@ -35,10 +50,14 @@ pub fn run(
     methods: &[String],
     threshold: f32,
     wavelet: crate::WaveletArgs,
-    size: Size,
-    frames: u32,
+    frame_loop: FrameLoop,
     json: bool,
 ) -> translucid::Result<()> {
+    let FrameLoop {
+        size,
+        frames,
+        motion,
+    } = frame_loop;
     let options = super::options(threshold, wavelet)?;
     let frames = frames.max(1);
     let gpu = open_gpu()?;
@@ -54,22 +73,43 @@ pub fn run(
     let mut results = Vec::new();
     for spec in scenes {
         let scene = translucid::scene::load(spec)?;
+        let orbit = Orbit::new(&scene);
+        let mut draws = Vec::new();
+        // The frame's host work: the new camera and draws, then recording (and submission).
+        let mut next_frame = |renderer: &mut Renderer,
+                              index: u32|
+         -> translucid::Result<(f64, translucid::renderer::Frame)> {
+            let started = Instant::now();
+            if motion == Motion::Orbit {
+                orbit.transparent(&scene, index, &mut draws);
+                renderer.set_frame(&FrameInput {
+                    camera: orbit.camera(&scene, index),
+                    transparent: &draws,
+                    ..scene.frame_input()
+                })?;
+            }
+            let set_ms = started.elapsed().as_secs_f64() * 1e3;
+            let frame = renderer.render(false)?;
+            Ok((set_ms + frame.record_ms, frame))
+        };
         for method in &order {
             bar.set_message(format!("{spec} / {method}"));
             let mut renderer =
                 Renderer::with_options(&gpu, &scene, method, size.width, size.height, &options)?;
             // Lavapipe compiles pipelines on first use: warm up before timing.
-            for _ in 0..warmup {
-                renderer.render(false)?;
+            for index in 0..warmup {
+                next_frame(&mut renderer, index)?;
                 bar.inc(1);
             }
             let mut per_stage: BTreeMap<&'static str, Vec<f64>> = BTreeMap::new();
             let mut stage_order = Vec::new();
             let (mut totals, mut method_totals, mut peak) = (Vec::new(), Vec::new(), 0);
             let (mut fragments, mut triangles, mut rerenders, mut pipelines) = (0, 0, 0, 0);
-            let mut walls = Vec::new();
-            for _ in 0..frames {
-                let frame = renderer.render(false)?;
+            let (mut walls, mut cpu, mut allocated) = (Vec::new(), Vec::new(), 0);
+            for index in warmup..warmup + frames {
+                let (cpu_ms, frame) = next_frame(&mut renderer, index)?;
+                cpu.push(cpu_ms);
+                allocated += frame.bytes_allocated;
                 for (name, ms) in &frame.stages {
                     if !stage_order.contains(name) {
                         stage_order.push(*name);
@@ -101,7 +141,9 @@ pub fn run(
                 triangles,
                 rerenders,
                 pipelines_created: pipelines,
+                bytes_allocated: allocated,
                 wall_ms: median(walls),
+                cpu_ms: median(cpu),
             });
         }
     }
@@ -137,12 +179,16 @@ pub fn run(
                 "ratio_to_blend": ratio,
                 "peak_gpu_bytes": r.peak_gpu_bytes,
                 "pipelines_created": r.pipelines_created,
+                "bytes_allocated": r.bytes_allocated,
+                "cpu_record_ms": r.cpu_ms,
+                "motion": format!("{motion:?}").to_lowercase(),
             });
             println!("{line}");
         } else {
             println!(
                 "{:<40} {:<8} total {:>9.3} ms  method {:>9.3} ms  x{:.2} blend  \
-                 frame wall {:>9.3} ms  x{:.2} blend  peak {:.1} MB  pipelines created {}",
+                 frame wall {:>9.3} ms  x{:.2} blend  CPU record {:.3} ms  peak {:.1} MB  \
+                 pipelines created {}  bytes allocated {}",
                 r.scene,
                 r.method,
                 r.total_ms,
@@ -150,8 +196,10 @@ pub fn run(
                 ratio,
                 r.wall_ms,
                 wall_ratio,
+                r.cpu_ms,
                 r.peak_gpu_bytes as f64 / (1 << 20) as f64,
-                r.pipelines_created
+                r.pipelines_created,
+                r.bytes_allocated
             );
             println!("{:<40} {}", "", super::stage_text(&r.stages));
         }

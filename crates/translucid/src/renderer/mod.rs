@@ -58,6 +58,9 @@ pub struct Frame {
     /// Bytes of GPU memory allocated on the device over the same span (buffers grown for
     /// this frame), the opaque layer's readback aside: 0 in a warm frame loop.
     pub bytes_allocated: u64,
+    /// Host time spent recording the frame's command buffers, in milliseconds (the
+    /// renderer's share of an engine's CPU frame; `set_frame` not included).
+    pub record_ms: f64,
     /// Host wall-clock time from the last submission to its completion, in milliseconds. On
     /// CPU devices GPU timestamps are written as commands are issued, not as asynchronous
     /// raster work finishes, so this is the fairer measure of a whole frame there.
@@ -242,6 +245,7 @@ impl Renderer {
         self.readback()?;
         let mut rerenders = 0;
         let mut wall_ms = 0.0;
+        let mut record_ms = 0.0;
         // A frame the method finishes in further submissions: their stages, after the
         // frame's own.
         let mut finishing = false;
@@ -249,6 +253,8 @@ impl Renderer {
         let check = loop {
             let started = std::time::Instant::now();
             gpu.submit_and_wait(|cmd| {
+                let recording = std::time::Instant::now();
+                let _timed = OnDrop(|| record_ms += recording.elapsed().as_secs_f64() * 1e3);
                 self.timestamps.begin(cmd);
                 if finishing {
                     self.record_finish(&gpu, cmd)?;
@@ -309,6 +315,7 @@ impl Renderer {
             triangles: check.triangles,
             pipelines_created: self.counted.0 - counted.0,
             bytes_allocated: self.counted.1 - counted.1,
+            record_ms,
             wall_ms,
         })
     }
@@ -359,4 +366,13 @@ enum OpaqueSource<'a> {
         colour: &'a crate::gpu::Buffer,
         depth: &'a crate::gpu::Buffer,
     },
+}
+
+/// Runs its closure when dropped: times a scope however it is left.
+struct OnDrop<F: FnMut()>(F);
+
+impl<F: FnMut()> Drop for OnDrop<F> {
+    fn drop(&mut self) {
+        (self.0)();
+    }
 }

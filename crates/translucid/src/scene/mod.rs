@@ -11,6 +11,7 @@ pub mod generated;
 pub mod gltf;
 mod material;
 mod mesh;
+pub mod motion;
 mod texture;
 
 pub use camera::{look_at_view, Camera, Projection};
