@@ -6,6 +6,7 @@ use crate::cast::{
 use crate::frame::FrameRecord;
 use crate::handle::{next_context_tag, Kind, Slots};
 use crate::host::{host_gpu, translucid_host_device_create_info, HostFrames};
+use crate::kept_renderer::KeptRenderer;
 use crate::material::MaterialRecord;
 use crate::panic::{self, CallState};
 use crate::result::{translucid_result, Failure, FfiResult};
@@ -65,6 +66,8 @@ pub struct Objects {
     pub frames: Slots<FrameRecord>,
     /// Host-device mode's frame in flight and last renderer; `None` in standalone mode.
     pub host: Option<HostFrames>,
+    /// Standalone mode's last renderer, kept for the next frame.
+    pub standalone: Option<KeptRenderer>,
 }
 
 /// The object behind `translucid_context *`.
@@ -146,6 +149,7 @@ impl Context {
                 materials: Slots::new(Kind::Material, tag),
                 frames: Slots::new(Kind::Frame, tag),
                 host: host_mode.then(HostFrames::default),
+                standalone: None,
             },
         })
     }

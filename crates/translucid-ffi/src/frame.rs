@@ -7,6 +7,7 @@ use crate::cast::{
 };
 use crate::context::Objects;
 use crate::frame_input::{build_scene, opaque_layer_from};
+use crate::kept_renderer::renderer_for;
 use crate::material::translucid_material;
 use crate::mesh::translucid_mesh;
 use crate::method::{translucid_method, translucid_wavelet_storage};
@@ -14,7 +15,7 @@ use crate::panic;
 use crate::result::{translucid_result, Failure, FfiResult};
 use crate::structure::translucid_structure_type;
 use std::ffi::{c_char, c_void};
-use translucid::renderer::{check_viewport, Renderer};
+use translucid::renderer::check_viewport;
 use translucid::Image;
 
 /// Most draws in one frame.
@@ -350,7 +351,7 @@ pub(crate) fn frame_input<'a>(
     ))
 }
 
-fn render(objects: &Objects, info: &translucid_frame_info) -> FfiResult<FrameRecord> {
+fn render(objects: &mut Objects, info: &translucid_frame_info) -> FfiResult<FrameRecord> {
     if objects.gpu.is_host_device() {
         return Err(Failure::new(
             translucid_result::ErrorNotSupported,
@@ -362,14 +363,7 @@ fn render(objects: &Objects, info: &translucid_frame_info) -> FfiResult<FrameRec
     let layer = layer
         .map(|l| opaque_layer_from(l, info.width, info.height))
         .transpose()?;
-    let mut renderer = Renderer::with_options(
-        &objects.gpu,
-        &input.scene,
-        input.method.name(),
-        info.width,
-        info.height,
-        &input.options,
-    )?;
+    let renderer = renderer_for(&mut objects.standalone, &objects.gpu, &input, info)?;
     let frame = match &layer {
         Some(layer) => renderer.render_over(layer)?,
         None => renderer.render(false)?,

@@ -7,14 +7,17 @@
 //! command buffer finished, ends it (destroying the frame abandons it). Until then every
 //! resource the recording uses stays alive, and recording another frame fails with
 //! `TRANSLUCID_RESULT_ERROR_FRAME_IN_FLIGHT`. The context keeps the last frame's renderer
-//! (uploaded scene, pipelines, grown buffers) and reuses it when the next frame has the same
-//! input, so that a frame recorded again after an overflow renders correctly.
+//! (uploaded scene, pipelines, grown buffers) and reuses it when the next frame draws the same
+//! meshes and materials with the same settings, whatever its camera, light and transforms
+//! (`kept_renderer`): so a moving camera builds nothing, and a frame recorded again after an
+//! overflow renders correctly.
 
 use crate::cast::{
     check_header, translucid_context, try_out, try_out_structure, try_ref, try_slice, OutStructure,
 };
 use crate::context::Objects;
 use crate::frame::{frame_input, translucid_frame, translucid_frame_info, FrameRecord};
+use crate::kept_renderer::{renderer_for, KeptRenderer};
 use crate::panic;
 use crate::result::{translucid_result, Failure, FfiResult};
 use crate::structure::translucid_structure_type;
@@ -24,7 +27,6 @@ use crate::vulkan::{
 };
 use std::ffi::{c_char, c_void, CStr, CString};
 use translucid::gpu::{host_requirements, Gpu, HostDevice, HostImage, HostTargets};
-use translucid::renderer::Renderer;
 
 /// What the engine must give its instance and device before translucid can use them. The
 /// caller sets `s_type` (and `next` to NULL); translucid fills the rest.
@@ -122,8 +124,8 @@ pub struct translucid_host_frame_targets {
 /// A host-device context's frames: the renderer of the last one, and whether it is in flight.
 #[derive(Default)]
 pub struct HostFrames {
-    /// The last recorded frame's renderer, with the input it was made for.
-    renderer: Option<(Vec<u64>, Renderer)>,
+    /// The last recorded frame's renderer.
+    renderer: Option<KeptRenderer>,
     /// The frame recorded and not yet completed.
     in_flight: Option<u64>,
 }
@@ -192,35 +194,6 @@ fn host_image(image: &translucid_host_image) -> HostImage {
     }
 }
 
-/// The words a frame's input is compared by: equal words, same scene and settings.
-fn input_key(info: &translucid_frame_info) -> FfiResult<Vec<u64>> {
-    let floats = |v: &[f32]| v.iter().map(|f| u64::from(f.to_bits())).collect::<Vec<_>>();
-    let c = &info.camera;
-    let mut key = vec![
-        u64::from(info.method),
-        u64::from(info.width),
-        u64::from(info.height),
-        u64::from(info.wavelet_coefficients),
-        u64::from(info.wavelet_noise.to_bits()),
-        u64::from(info.wavelet_storage),
-        u64::from(info.exact_threshold.to_bits()),
-    ];
-    key.extend(floats(&c.view));
-    key.extend(floats(&[c.fov_y, c.z_near, c.z_far]));
-    if !info.light.is_null() {
-        let l = try_ref(info.light, "light")?;
-        key.extend(floats(&l.direction));
-        key.extend(floats(&l.colour));
-        key.extend(floats(&l.ambient));
-    }
-    let count = usize::try_from(info.draw_count).map_err(|_| Failure::size("too many draws"))?;
-    for d in try_slice(info.draws, count, "draws")? {
-        key.extend([d.mesh.id, d.material.id, u64::from(d.layer)]);
-        key.extend(floats(&d.transform));
-    }
-    Ok(key)
-}
-
 fn not_host(call: &str) -> Failure {
     Failure::new(
         translucid_result::ErrorNotSupported,
@@ -263,33 +236,11 @@ fn record(
              depth images of the frame targets",
         ));
     }
-    let key = input_key(info)?;
     let host = objects
         .host
         .as_mut()
         .ok_or_else(|| not_host("translucid_frame_record"))?;
-    let renderer = match host.renderer.take() {
-        Some((old, renderer)) if old == key => renderer,
-        previous => {
-            // New input: start from the buffer sizes the last frames needed, and free the
-            // last renderer before making the next.
-            let options = match previous {
-                Some((_, r)) if r.method_name() == input.method.name() => {
-                    r.learned_options(&input.options)
-                }
-                _ => input.options.clone(),
-            };
-            Renderer::with_options(
-                &objects.gpu,
-                &input.scene,
-                input.method.name(),
-                info.width,
-                info.height,
-                &options,
-            )?
-        }
-    };
-    let (_, renderer) = host.renderer.insert((key, renderer));
+    let renderer = renderer_for(&mut host.renderer, &objects.gpu, &input, info)?;
     let t = HostTargets {
         cmd: targets.command_buffer,
         colour: host_image(&targets.colour),
@@ -330,11 +281,11 @@ fn complete(objects: &mut Objects, frame: translucid_frame) -> FfiResult<translu
             "the frame is not in flight: it was completed or abandoned already",
         ));
     }
-    let renderer = &mut host
+    let renderer = host
         .renderer
         .as_mut()
         .ok_or_else(|| Failure::argument("the frame's renderer is gone"))?
-        .1;
+        .renderer_mut();
     let done = match renderer.complete_host() {
         Ok(None) => return Ok(translucid_result::NotReady),
         Ok(Some(done)) => Ok(done),

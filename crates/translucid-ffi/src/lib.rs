@@ -32,6 +32,7 @@ pub mod frame;
 pub mod frame_input;
 pub mod handle;
 pub mod host;
+pub mod kept_renderer;
 pub mod material;
 pub mod mesh;
 pub mod method;
