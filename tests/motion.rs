@@ -1,9 +1,10 @@
-//! Frames, not scenes: one renderer draws a sequence in which the camera circles the scene
-//! and every third transparent draw moves, each frame held to the CPU reference (wavelet to
-//! its CPU model), and a warm frame builds no pipeline and allocates no GPU memory. Then
+//! Frames, not scenes: one renderer draws a sequence in which the camera circles the scene,
+//! every third transparent draw moves and one mesh's vertices are rewritten, each frame held
+//! to the CPU reference (wavelet to its CPU model), and a warm frame builds no pipeline and
+//! allocates no GPU memory. Then
 //! the projections engines use: reversed-Z, an infinite far plane, sub-pixel jitter.
 
-use glam::{Mat4, Vec2};
+use glam::{Mat4, Vec2, Vec3};
 use translucid::image::{Image, OpaqueLayer};
 use translucid::methods::wavelet::{model::Model, Settings};
 use translucid::methods::MethodOptions;
@@ -18,12 +19,25 @@ const HEIGHT: u32 = 64;
 const WARM_UP: usize = 4;
 
 /// Frame `i` of the orbit `bench --motion orbit` measures: the camera turned `i` steps
-/// around the scene, every third transparent draw moved.
+/// around the scene, every third transparent draw moved; and the first transparent draw's
+/// mesh swelling and shrinking, its vertices rewritten.
 fn moved(scene: &Scene, orbit: &Orbit, i: usize) -> Scene {
     let mut next = scene.clone();
     next.camera = orbit.camera(scene, i as u32);
     orbit.transparent(scene, i as u32, &mut next.transparent);
+    let mesh = scene.transparent[0].mesh;
+    next.meshes[mesh].positions = breathing(&scene.meshes[mesh].positions, i);
     next
+}
+
+/// `positions` scaled about their centre by a factor that changes every frame.
+fn breathing(positions: &[Vec3], i: usize) -> Vec<Vec3> {
+    let centre = positions.iter().copied().sum::<Vec3>() / positions.len().max(1) as f32;
+    let scale = 1.0 + 0.15 * (i as f32 * 0.7).sin();
+    positions
+        .iter()
+        .map(|&p| centre + (p - centre) * scale)
+        .collect()
 }
 
 /// What `method`'s frame is held to, over that frame's opaque layer.
@@ -65,6 +79,10 @@ fn moving_sequence(scene_name: &str, method: &str, frames: usize) {
         renderer
             .set_frame(&frame_scene.frame_input())
             .expect("set frame");
+        let mesh = scene.transparent[0].mesh;
+        renderer
+            .update_mesh(mesh, &frame_scene.meshes[mesh].positions)
+            .expect("update mesh");
         let frame = renderer.render(true).expect("frame");
         let name = format!("motion_{scene_name}_{method}_{i}");
         check(&name, method, &frame_scene, &frame);

@@ -211,6 +211,46 @@ impl Renderer {
         Ok(())
     }
 
+    /// Moves mesh `mesh`'s vertices to `positions` (one per vertex, as many as it has; its
+    /// normals, colours and texture coordinates stay) for the next frames, as particle
+    /// systems and skinned meshes do every frame. Written in place: nothing is rebuilt or
+    /// allocated on the GPU. Refused while a frame recorded on an engine's device is not
+    /// completed.
+    pub fn update_mesh(&mut self, mesh: usize, positions: &[Vec3]) -> Result<()> {
+        if self.completion.as_ref().is_some_and(|c| c.in_flight) {
+            return Err(Error::HostFrame(
+                "the last frame recorded is not completed: its meshes cannot change yet".into(),
+            ));
+        }
+        let meshes = self.frame_scene.meshes.len();
+        let target = self.frame_scene.meshes.get_mut(mesh).ok_or_else(|| {
+            Error::InvalidScene(format!("mesh {mesh} to update; the scene has {meshes}"))
+        })?;
+        if positions.len() != target.positions.len() {
+            return Err(Error::InvalidScene(format!(
+                "mesh {mesh} ({}) has {} vertices; {} positions given",
+                target.name,
+                target.positions.len(),
+                positions.len()
+            )));
+        }
+        if let Some(i) = positions.iter().position(|p| !p.is_finite()) {
+            return Err(Error::InvalidScene(format!(
+                "mesh {mesh} ({}): position {i} is not finite",
+                target.name
+            )));
+        }
+        target.positions.copy_from_slice(positions);
+        self.scene.update_mesh(mesh, target)?;
+        // The method's view of the frame (near-plane estimate, bounds) follows the vertices.
+        self.method.set_frame(&FrameSetup {
+            gpu: &self.gpu,
+            scene: &self.frame_scene,
+            uploaded: &self.scene,
+            targets: &self.targets,
+        })
+    }
+
     pub fn method_name(&self) -> &'static str {
         self.method.name()
     }

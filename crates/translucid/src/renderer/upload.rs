@@ -71,7 +71,8 @@ pub struct GpuScene {
     pub texture_sets: Vec<DescriptorSet>,
     pub opaque_calls: Vec<DrawCall>,
     pub transparent_calls: Vec<DrawCall>,
-    /// Each mesh's triangles in the index buffer, and its first quad in the quad buffer.
+    /// Each mesh's triangles in the index buffer (and its first vertex), and its first quad
+    /// in the quad buffer.
     ranges: Vec<MeshRange>,
     first_quads: Vec<u32>,
     /// The frame size the frame info is written for.
@@ -222,6 +223,17 @@ impl GpuScene {
         };
         uploaded.set_frame(gpu, scene)?;
         Ok(uploaded)
+    }
+
+    /// Rewrites mesh `index`'s vertices from `mesh` (the same vertex count as uploaded,
+    /// checked by the caller). No frame that reads them may be in flight.
+    pub fn update_mesh(&mut self, index: usize, mesh: &Mesh) -> Result<()> {
+        let vertices: Vec<GpuVertex> = vertices_of(mesh).collect();
+        let first = u64::try_from(self.ranges[index].vertex_offset).unwrap_or(0);
+        self.vertices.write(
+            first * u64::from(VERTEX_STRIDE),
+            bytemuck::cast_slice(&vertices),
+        )
     }
 
     /// Writes the frame `scene` describes (camera, light, draws; checked by the caller
