@@ -146,6 +146,37 @@ impl Gpu {
         self.cmd_copy_buffer_to_image_levels(cmd, buffer, image, &[whole_image_region(image)]);
     }
 
+    /// Copies `bytes` bytes from the start of `src` to `dst` at `dst_offset` (TRANSFER_SRC and
+    /// TRANSFER_DST usage).
+    pub fn cmd_copy_buffer(
+        &self,
+        cmd: vk::CommandBuffer,
+        src: &Buffer,
+        dst: &Buffer,
+        dst_offset: u64,
+        bytes: u64,
+    ) {
+        assert!(
+            bytes <= src.size && dst_offset + bytes <= dst.size,
+            "a {bytes}-byte copy from the {}-byte {} to offset {dst_offset} of the {}-byte {}",
+            src.size,
+            src.name,
+            dst.size,
+            dst.name
+        );
+        let region = vk::BufferCopy {
+            src_offset: 0,
+            dst_offset,
+            size: bytes,
+        };
+        // SAFETY: cmd is recording outside a render pass; the region lies within both buffers
+        // (checked above).
+        unsafe {
+            self.device
+                .cmd_copy_buffer(cmd, src.raw, dst.raw, &[region])
+        };
+    }
+
     /// Fills the whole buffer with a repeated 32-bit value (it needs TRANSFER_DST usage).
     pub fn cmd_fill_buffer(&self, cmd: vk::CommandBuffer, buffer: &Buffer, value: u32) {
         // SAFETY: cmd is recording outside a render pass; WHOLE_SIZE stays inside the buffer.

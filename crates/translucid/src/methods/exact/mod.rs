@@ -516,12 +516,7 @@ impl Exact {
             shader,
             after,
         );
-        memory_barrier(
-            &self.gpu,
-            cmd,
-            shader,
-            (vk::PipelineStageFlags::HOST, vk::AccessFlags::HOST_READ),
-        );
+        self.resources.record_readback(cmd);
     }
 
     /// Makes one stage's writes visible to the next, including the indirect dispatch

@@ -118,6 +118,8 @@ pub struct Resources {
     /// The scene draw buffer `scene_views[2]` views (replaced when the draws outgrow it).
     scene_draws: vk::Buffer,
     counters: Buffer,
+    /// What the host reads after a frame: the counters, then the resume lists' counts.
+    readback: Buffer,
     bins: BinArrays,
     /// The blocks with a non-empty bin, listed by the scan for the raster.
     raster_bins: Buffer,
@@ -131,6 +133,9 @@ pub struct Resources {
     growable: Growable,
 }
 
+const COUNTER_BYTES: u64 = std::mem::size_of::<ExactCounters>() as u64;
+/// The resume lists' indirect dispatch commands (x is the list's item count).
+const RESUME_HEADER_BYTES: u64 = 32;
 const STORAGE: vk::BufferUsageFlags = vk::BufferUsageFlags::STORAGE_BUFFER;
 const TEXELS: vk::BufferUsageFlags = vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER;
 const RGBA32UI: vk::Format = vk::Format::R32G32B32A32_UINT;
@@ -187,8 +192,11 @@ fn growable(gpu: &Gpu, c: Capacities) -> Result<Growable> {
         resume: gpu.create_buffer(
             "resume lists",
             DISPATCH_BYTES + resume_items * 4,
-            STORAGE | vk::BufferUsageFlags::INDIRECT_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
-            MemoryLocation::GpuToCpu,
+            STORAGE
+                | vk::BufferUsageFlags::INDIRECT_BUFFER
+                | vk::BufferUsageFlags::TRANSFER_DST
+                | vk::BufferUsageFlags::TRANSFER_SRC,
+            MemoryLocation::GpuOnly,
         )?,
         pixel_states: storage_buffer(
             gpu,
@@ -347,10 +355,17 @@ impl Resources {
                 gpu.info().max_storage_buffer_range >> 20
             )));
         }
+        // Counters and indirect arguments stay in device memory; the host reads a copy.
         let counters = gpu.create_buffer(
             "exact counters",
-            std::mem::size_of::<ExactCounters>() as u64,
-            STORAGE | vk::BufferUsageFlags::TRANSFER_DST,
+            COUNTER_BYTES,
+            STORAGE | vk::BufferUsageFlags::TRANSFER_DST | vk::BufferUsageFlags::TRANSFER_SRC,
+            MemoryLocation::GpuOnly,
+        )?;
+        let readback = gpu.create_buffer(
+            "exact counters readback",
+            COUNTER_BYTES + RESUME_HEADER_BYTES,
+            vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuToCpu,
         )?;
         let layout = DescriptorLayout::new(
@@ -399,6 +414,7 @@ impl Resources {
             ],
             scene_draws: uploaded.draws.raw,
             counters,
+            readback,
             bins: BinArrays::new(gpu, blocks, slabs)?,
             raster_bins: storage_buffer(gpu, "non-empty blocks", blocks * 4)?,
             depth_pyramid: viewed_storage(
@@ -520,11 +536,47 @@ impl Resources {
             .cmd_update_buffer(cmd, resume, u64::from(list) * 16, &0u32.to_ne_bytes());
     }
 
+    /// Records the copy of the counters and the resume lists' counts for the host, after
+    /// the frame's last compute pass and before `(HOST, HOST_READ)`.
+    pub fn record_readback(&self, cmd: vk::CommandBuffer) {
+        let gpu = self.counters.gpu();
+        let transfer_write = (
+            vk::PipelineStageFlags::TRANSFER,
+            vk::AccessFlags::TRANSFER_WRITE,
+        );
+        memory_barrier(
+            gpu,
+            cmd,
+            (
+                vk::PipelineStageFlags::COMPUTE_SHADER | vk::PipelineStageFlags::TRANSFER,
+                vk::AccessFlags::SHADER_WRITE | vk::AccessFlags::TRANSFER_WRITE,
+            ),
+            (
+                vk::PipelineStageFlags::TRANSFER,
+                vk::AccessFlags::TRANSFER_READ,
+            ),
+        );
+        gpu.cmd_copy_buffer(cmd, &self.counters, &self.readback, 0, COUNTER_BYTES);
+        gpu.cmd_copy_buffer(
+            cmd,
+            &self.growable.resume,
+            &self.readback,
+            COUNTER_BYTES,
+            RESUME_HEADER_BYTES,
+        );
+        memory_barrier(
+            gpu,
+            cmd,
+            transfer_write,
+            (vk::PipelineStageFlags::HOST, vk::AccessFlags::HOST_READ),
+        );
+    }
+
     /// Items on resume list `list` after the last completed frame.
     pub fn resume_count(&self, list: u32) -> Result<u32> {
-        let at = list as usize * 16;
+        let at = (COUNTER_BYTES + u64::from(list) * 16) as usize;
         Ok(bytemuck::pod_read_unaligned(
-            &self.growable.resume.read()?[at..at + 4],
+            &self.readback.read()?[at..at + 4],
         ))
     }
 
@@ -541,7 +593,7 @@ impl Resources {
     /// The counters of the last completed frame.
     pub fn counters(&self) -> Result<ExactCounters> {
         Ok(bytemuck::pod_read_unaligned(
-            &self.counters.read()?[..std::mem::size_of::<ExactCounters>()],
+            &self.readback.read()?[..std::mem::size_of::<ExactCounters>()],
         ))
     }
 
