@@ -26,6 +26,7 @@ mod host;
 mod memory;
 mod pipeline;
 mod pipeline_cache;
+mod retirement;
 mod timestamps;
 mod validation;
 
@@ -45,6 +46,7 @@ pub use pipeline::{
     Resource, Sampler,
 };
 pub use pipeline_cache::ComputePipelineCache;
+pub use retirement::Retirement;
 pub use timestamps::Timestamps;
 
 /// SPIR-V bytes compiled by build.rs from `shaders/<folder>/<file>`.

@@ -78,10 +78,21 @@ pub struct FrameCheck {
     pub triangles: u64,
 }
 
+/// What a method is told when a frame it recorded has completed.
+pub struct FrameDone<'a> {
+    pub uploaded: &'a GpuScene,
+    pub targets: &'a FrameTargets,
+    /// The frame slot the frame was recorded in.
+    pub slot: usize,
+}
+
 /// What a method records into.
 pub struct RecordContext<'a> {
     pub gpu: &'a Gpu,
     pub cmd: vk::CommandBuffer,
+    /// The frame slot: per-frame data written and read in this slot, shared buffers
+    /// after a barrier against the frames before.
+    pub slot: usize,
     pub scene: &'a GpuScene,
     pub targets: &'a FrameTargets,
     pub timestamps: &'a mut Timestamps,
@@ -95,6 +106,8 @@ pub struct FrameSetup<'a> {
     /// The same, on the GPU, with the new frame already written.
     pub uploaded: &'a GpuScene,
     pub targets: &'a FrameTargets,
+    /// The frame slot the frame is written into (no frame of it in flight).
+    pub slot: usize,
 }
 
 pub trait Method {
@@ -113,8 +126,9 @@ pub trait Method {
     fn record_finish(&mut self, _ctx: &mut RecordContext<'_>) -> Result<()> {
         Ok(())
     }
-    /// Called after the frame's submission completed.
-    fn frame_done(&mut self, _scene: &GpuScene, _targets: &FrameTargets) -> Result<FrameCheck> {
+    /// Called after the frame's submission completed, for each frame recorded, in the order
+    /// they were recorded.
+    fn frame_done(&mut self, _done: &FrameDone<'_>) -> Result<FrameCheck> {
         Ok(FrameCheck::default())
     }
     /// Writes into `options` the buffer sizes this method's frames turned out to need, so

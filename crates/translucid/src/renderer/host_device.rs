@@ -9,6 +9,7 @@
 
 use super::{method_ms, Renderer};
 use crate::gpu::{memory_barrier, vk, Buffer, Gpu, HostTargets, MemoryLocation};
+use crate::methods::FrameDone;
 use crate::{Error, Result};
 
 /// What a host-device frame reports once the engine's submission completed.
@@ -88,8 +89,10 @@ impl Completion {
 }
 
 impl Renderer {
-    /// Records one frame into the engine's command buffer. Nothing is submitted. Recording
-    /// another frame fails until [`Renderer::complete_host`] has seen this one run.
+    /// Records one frame into the engine's command buffer. Nothing is submitted. Up to the
+    /// renderer's frames in flight may be recorded and not completed; past that, recording
+    /// fails until [`Renderer::complete_host`] has seen the oldest one run. The frames must
+    /// be submitted to one queue in the order they were recorded.
     ///
     /// # Safety
     /// `targets` names live objects of the engine's device this renderer's [`Gpu`] wraps:
@@ -109,44 +112,62 @@ impl Renderer {
             ));
         }
         gpu.check_host_targets(targets)?;
-        if self.completion.as_ref().is_some_and(|c| c.in_flight) {
-            return Err(Error::HostFrame(
-                "the last frame recorded is not completed: one frame in flight".into(),
-            ));
+        let slots = self.timestamps.len();
+        if self.in_flight.len() >= slots {
+            return Err(Error::HostFrame(format!(
+                "{slots} recorded frame(s) not completed: the renderer was made for {slots} in \
+                 flight; complete the oldest first"
+            )));
         }
-        if self.completion.is_none() {
-            self.completion = Some(Completion::new(&gpu)?);
+        while self.completions.len() < slots {
+            self.completions.push(Completion::new(&gpu)?);
         }
+        let slot = self.slot;
+        self.prepare_slot(slot)?;
         gpu.reset_peak_memory();
         let cmd = targets.cmd;
         self.scene.record_pending_uploads(&gpu, cmd);
-        self.timestamps.begin(cmd);
+        self.timestamps[slot].begin(cmd);
+        // Frame targets and the methods' working buffers are shared by the slots: the frames
+        // recorded before (in flight, earlier on the queue) finish with them first. Frames
+        // therefore run one after another on the GPU; only per-frame data is per slot.
+        let any = (
+            vk::PipelineStageFlags::ALL_COMMANDS,
+            vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE,
+        );
+        memory_barrier(&gpu, cmd, any, any);
         gpu.record_host_input(targets, &self.targets.colour, &self.targets.depth);
-        self.timestamps.mark(cmd, "opaque");
+        self.timestamps[slot].mark(cmd, "opaque");
         self.record_method(&gpu, cmd)?;
         gpu.record_host_output(targets, &self.targets.colour);
-        self.timestamps.mark(cmd, "output");
-        match &mut self.completion {
-            Some(c) => c.record(&gpu, cmd),
-            None => Ok(()),
-        }
+        self.timestamps[slot].mark(cmd, "output");
+        self.completions[slot].record(&gpu, cmd)?;
+        self.in_flight.push_back(slot);
+        self.slot = (slot + 1) % slots;
+        Ok(())
     }
 
-    /// Reads the completed frame's timestamps and counters, growing the method's buffers if
-    /// they overflowed. `None`, changing nothing, while the frame's commands have not run
-    /// (not submitted, or still running). After an error the renderer is not to be used again.
+    /// Reads the oldest recorded frame's timestamps and counters once it has completed,
+    /// growing the method's buffers if they overflowed. `None`, changing nothing, while that
+    /// frame's commands have not run (not submitted, or still running), or when no frame is
+    /// in flight. After an error the renderer is not to be used again.
     pub fn complete_host(&mut self) -> Result<Option<HostFrame>> {
-        match &self.completion {
-            Some(c) if c.in_flight && c.ran()? => {}
-            _ => return Ok(None),
-        }
-        let Some(stages) = self.timestamps.try_read()? else {
+        let Some(&slot) = self.in_flight.front() else {
             return Ok(None);
         };
-        if let Some(c) = &mut self.completion {
-            c.in_flight = false;
+        if !self.completions[slot].ran()? {
+            return Ok(None);
         }
-        let check = self.method.frame_done(&self.scene, &self.targets)?;
+        let Some(stages) = self.timestamps[slot].try_read()? else {
+            return Ok(None);
+        };
+        self.in_flight.pop_front();
+        self.completions[slot].in_flight = false;
+        let check = self.method.frame_done(&FrameDone {
+            uploaded: &self.scene,
+            targets: &self.targets,
+            slot,
+        })?;
         self.scene.uploads_completed();
         Ok(Some(HostFrame {
             method_ms: method_ms(&stages),
@@ -155,5 +176,10 @@ impl Renderer {
             fragments: check.fragments,
             overflowed: check.rerender || check.finish,
         }))
+    }
+
+    /// Frames recorded on the engine's device and not completed yet.
+    pub fn frames_in_flight(&self) -> usize {
+        self.in_flight.len()
     }
 }

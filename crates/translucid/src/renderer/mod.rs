@@ -26,7 +26,7 @@ pub use upload::{DrawCall, GpuScene, MeshRange, VERTEX_ATTRIBUTES, VERTEX_STRIDE
 
 use crate::gpu::{vk, Gpu, Timestamps};
 use crate::image::{Image, OpaqueLayer};
-use crate::methods::{self, FrameSetup, Method, MethodOptions, RecordContext};
+use crate::methods::{self, FrameDone, FrameSetup, Method, MethodOptions, RecordContext};
 use crate::scene::{FrameInput, Scene};
 use crate::{Error, Result};
 use glam::Vec3;
@@ -99,10 +99,19 @@ pub struct Renderer {
     /// in the engine's images (12 bytes a pixel saved).
     readback: Option<Readback>,
     method: Box<dyn Method>,
-    timestamps: Timestamps,
+    /// Per frame slot: the frame's stage timestamps.
+    timestamps: Vec<Timestamps>,
     background: Vec3,
-    /// Host-device mode: how a completed frame is told from one whose commands never ran.
-    completion: Option<host_device::Completion>,
+    /// The slot the next frame is written into and recorded from.
+    slot: usize,
+    /// Bumped by every change of the frame ([`Self::set_frame`], [`Self::update_mesh`]);
+    /// each slot remembers the one its data was written for.
+    frame_serial: u64,
+    slot_serials: Vec<u64>,
+    /// Host-device mode: per slot, how a completed frame is told from one whose commands
+    /// never ran; and the slots of the frames in flight, oldest first.
+    completions: Vec<host_device::Completion>,
+    in_flight: std::collections::VecDeque<usize>,
     /// The device's pipelines created and bytes allocated when the last frame ended (the
     /// renderer was made), readbacks for the opaque layer not counted.
     counted: (u64, u64),
@@ -127,6 +136,9 @@ pub fn check_viewport(gpu: &Gpu, width: u32, height: u32) -> Result<()> {
     Ok(())
 }
 
+/// The most frames an engine may keep recorded and not completed on one renderer.
+pub const MAX_FRAMES_IN_FLIGHT: u32 = 4;
+
 /// Submits a frame again at most this many times: rendered again when buffers overflow or
 /// a method must change its passes (buffers grow to at least what the GPU counted, so once
 /// normally suffices), or finished by the method when its work ran long (exact's
@@ -146,6 +158,27 @@ impl Renderer {
         height: u32,
         options: &MethodOptions,
     ) -> Result<Self> {
+        Self::with_frames_in_flight(gpu, scene, method, width, height, options, 1)
+    }
+
+    /// A renderer whose engine keeps up to `frames` frames (1 to [`MAX_FRAMES_IN_FLIGHT`])
+    /// recorded and not yet completed (host-device mode): per-frame data lives in that
+    /// many slots; buffers the frames share are used one frame after another on the queue.
+    pub fn with_frames_in_flight(
+        gpu: &Gpu,
+        scene: &Scene,
+        method: &str,
+        width: u32,
+        height: u32,
+        options: &MethodOptions,
+        frames: u32,
+    ) -> Result<Self> {
+        if !(1..=MAX_FRAMES_IN_FLIGHT).contains(&frames) {
+            return Err(Error::InvalidOption(format!(
+                "{frames} frames in flight; 1 to {MAX_FRAMES_IN_FLIGHT} are supported"
+            )));
+        }
+        let slots = frames as usize;
         check_viewport(gpu, width, height)?;
         if !methods::NAMES.contains(&method) {
             return Err(Error::UnknownMethod(
@@ -153,7 +186,7 @@ impl Renderer {
                 methods::NAMES.join(", "),
             ));
         }
-        let uploaded = GpuScene::new(gpu, scene, width, height)?;
+        let uploaded = GpuScene::new(gpu, scene, width, height, slots)?;
         let targets = FrameTargets::new(gpu, width, height)?;
         let opaque_pass = OpaquePass::new(gpu, &targets, &uploaded)?;
         let readback = if gpu.is_host_device() {
@@ -162,8 +195,13 @@ impl Renderer {
             Some(Readback::new(gpu, &targets)?)
         };
         let method = methods::create(method, gpu, scene, &uploaded, &targets, options)?;
-        let timestamps = Timestamps::new(gpu, 32)?;
+        let timestamps = (0..slots)
+            .map(|_| Timestamps::new(gpu, 32))
+            .collect::<Result<Vec<_>>>()?;
         gpu.check_validation()?;
+        // Slot 0 holds the scene's own frame; the others are written before their first use.
+        let mut slot_serials = vec![u64::MAX; slots];
+        slot_serials[0] = 0;
         Ok(Self {
             gpu: gpu.clone(),
             frame_scene: scene.clone(),
@@ -174,7 +212,11 @@ impl Renderer {
             method,
             timestamps,
             background: scene.background,
-            completion: None,
+            slot: 0,
+            frame_serial: 0,
+            slot_serials,
+            completions: Vec::new(),
+            in_flight: std::collections::VecDeque::new(),
             counted: (gpu.pipelines_created(), gpu.bytes_allocated()),
         })
     }
@@ -188,26 +230,36 @@ impl Renderer {
     }
 
     /// Makes `input` the frame the next [`Self::render`] (or `record_host`) draws: a camera,
-    /// light and draws over the assets this renderer was made with. Nothing is rebuilt:
-    /// per-frame data is rewritten, buffers grow when the frame needs more, and pipelines
-    /// come from those built before (a frame needing a shader variant no earlier frame
-    /// needed builds it once). Refused while a frame recorded on an engine's device is not
-    /// completed.
+    /// light and draws over the assets this renderer was made with, checked now. Nothing is
+    /// rebuilt: the frame's data is written into its slot when it is recorded, buffers grow
+    /// when the frame needs more, and pipelines come from those built before (a frame
+    /// needing a shader variant no earlier frame needed builds it once). Frames in flight
+    /// keep drawing what they were recorded with.
     pub fn set_frame(&mut self, input: &FrameInput<'_>) -> Result<()> {
-        if self.completion.as_ref().is_some_and(|c| c.in_flight) {
-            return Err(Error::HostFrame(
-                "the last frame recorded is not completed: its draws cannot change yet".into(),
-            ));
-        }
         self.frame_scene.set_frame(input)?;
+        self.background = input.background;
+        self.frame_serial += 1;
+        Ok(())
+    }
+
+    /// Writes the current frame into `slot` unless the slot holds it already, and makes it
+    /// the slot recorded from. No frame of that slot may be in flight.
+    fn prepare_slot(&mut self, slot: usize) -> Result<()> {
+        self.scene.use_slot(slot);
+        if self.slot_serials[slot] == self.frame_serial {
+            return Ok(());
+        }
+        // A failure below leaves the slot to be written again.
+        self.slot_serials[slot] = u64::MAX;
         self.scene.set_frame(&self.gpu, &self.frame_scene)?;
         self.method.set_frame(&FrameSetup {
             gpu: &self.gpu,
             scene: &self.frame_scene,
             uploaded: &self.scene,
             targets: &self.targets,
+            slot,
         })?;
-        self.background = input.background;
+        self.slot_serials[slot] = self.frame_serial;
         Ok(())
     }
 
@@ -217,9 +269,12 @@ impl Renderer {
     /// allocated on the GPU. Refused while a frame recorded on an engine's device is not
     /// completed.
     pub fn update_mesh(&mut self, mesh: usize, positions: &[Vec3]) -> Result<()> {
-        if self.completion.as_ref().is_some_and(|c| c.in_flight) {
+        // Vertices are shared by the frame slots.
+        if !self.in_flight.is_empty() {
             return Err(Error::HostFrame(
-                "the last frame recorded is not completed: its meshes cannot change yet".into(),
+                "a recorded frame is not completed: meshes cannot change while frames are in \
+                 flight"
+                    .into(),
             ));
         }
         let meshes = self.frame_scene.meshes.len();
@@ -243,12 +298,8 @@ impl Renderer {
         target.positions.copy_from_slice(positions);
         self.scene.update_mesh(mesh, target)?;
         // The method's view of the frame (near-plane estimate, bounds) follows the vertices.
-        self.method.set_frame(&FrameSetup {
-            gpu: &self.gpu,
-            scene: &self.frame_scene,
-            uploaded: &self.scene,
-            targets: &self.targets,
-        })
+        self.frame_serial += 1;
+        Ok(())
     }
 
     pub fn method_name(&self) -> &'static str {
@@ -280,9 +331,11 @@ impl Renderer {
     /// the result back.
     fn run(&mut self, source: OpaqueSource<'_>) -> Result<Frame> {
         let gpu = self.gpu.clone();
-
         // Fail before submitting anything.
         self.readback()?;
+        // Standalone frames complete before the call returns: one slot serves them all.
+        let slot = self.slot;
+        self.prepare_slot(slot)?;
         let mut rerenders = 0;
         let mut wall_ms = 0.0;
         let mut record_ms = 0.0;
@@ -295,7 +348,7 @@ impl Renderer {
             gpu.submit_and_wait(|cmd| {
                 let recording = std::time::Instant::now();
                 let _timed = OnDrop(|| record_ms += recording.elapsed().as_secs_f64() * 1e3);
-                self.timestamps.begin(cmd);
+                self.timestamps[slot].begin(cmd);
                 if finishing {
                     self.record_finish(&gpu, cmd)?;
                     self.readback()?.record(&gpu, cmd, &self.targets, false);
@@ -305,15 +358,15 @@ impl Renderer {
                     OpaqueSource::Scene { readback } => {
                         self.opaque_pass
                             .record(&gpu, cmd, &self.scene, self.background);
-                        self.timestamps.mark(cmd, "opaque");
+                        self.timestamps[slot].mark(cmd, "opaque");
                         if let Some(r) = readback {
                             r.record(&gpu, cmd, &self.targets, true);
-                            self.timestamps.mark(cmd, "readback");
+                            self.timestamps[slot].mark(cmd, "readback");
                         }
                     }
                     OpaqueSource::Host { colour, depth } => {
                         host_opaque::record_upload(&gpu, cmd, &self.targets, colour, depth);
-                        self.timestamps.mark(cmd, "opaque");
+                        self.timestamps[slot].mark(cmd, "opaque");
                     }
                 }
                 self.record_method(&gpu, cmd)?;
@@ -329,8 +382,12 @@ impl Renderer {
             if !finishing {
                 stages.clear();
             }
-            stages.extend(self.timestamps.read()?);
-            let check = self.method.frame_done(&self.scene, &self.targets)?;
+            stages.extend(self.timestamps[slot].read()?);
+            let check = self.method.frame_done(&FrameDone {
+                uploaded: &self.scene,
+                targets: &self.targets,
+                slot,
+            })?;
             finishing = check.finish;
             if !check.rerender && !check.finish {
                 break check;
@@ -386,12 +443,14 @@ impl Renderer {
         cmd: vk::CommandBuffer,
         record: impl FnOnce(&mut dyn Method, &mut RecordContext<'_>) -> Result<()>,
     ) -> Result<()> {
+        let slot = self.scene.slot();
         let mut ctx = RecordContext {
             gpu,
             cmd,
+            slot,
             scene: &self.scene,
             targets: &self.targets,
-            timestamps: &mut self.timestamps,
+            timestamps: &mut self.timestamps[slot],
         };
         record(self.method.as_mut(), &mut ctx)
     }

@@ -46,6 +46,42 @@ pub struct DrawCall {
     pub texture_set: usize,
 }
 
+/// One frame slot's share of the scene: the frame info and draws a frame in flight reads
+/// while the next frames are written into other slots, and set 0 over them.
+struct SceneSlot {
+    frame: Buffer,
+    draws: Buffer,
+    set: DescriptorSet,
+}
+
+impl SceneSlot {
+    fn new(
+        gpu: &Gpu,
+        layout: &DescriptorLayout,
+        materials: &Buffer,
+        draw_bytes: u64,
+    ) -> Result<Self> {
+        let frame = gpu.create_buffer(
+            "frame info",
+            std::mem::size_of::<GpuFrameInfo>() as u64,
+            vk::BufferUsageFlags::UNIFORM_BUFFER,
+            MemoryLocation::CpuToGpu,
+        )?;
+        let draws = gpu.create_buffer(
+            "scene draws",
+            draw_bytes,
+            SCENE_STORAGE,
+            MemoryLocation::CpuToGpu,
+        )?;
+        let set = layout.create_set(&[
+            Resource::Buffer(&frame),
+            Resource::Buffer(&draws),
+            Resource::Buffer(materials),
+        ])?;
+        Ok(Self { frame, draws, set })
+    }
+}
+
 pub struct GpuScene {
     pub vertices: Buffer,
     pub indices: Buffer,
@@ -53,9 +89,11 @@ pub struct GpuScene {
     pub quads: Buffer,
     /// Total quads of the transparent draws.
     pub transparent_quads: u32,
-    pub draws: Buffer,
     pub materials: Buffer,
-    pub frame: Buffer,
+    /// Per frame slot, what a frame writes and reads while others are in flight.
+    slots: Vec<SceneSlot>,
+    /// The slot frames write and record now.
+    slot: usize,
     textures: Vec<GpuImage>,
     /// On the engine's device (which translucid never submits to), the textures' staging
     /// buffers: recorded into the first frame's command buffer, kept until it completes.
@@ -65,7 +103,6 @@ pub struct GpuScene {
     _samplers: Vec<Sampler>,
     /// Set 0: frame, draws, materials.
     pub layout: DescriptorLayout,
-    pub set: DescriptorSet,
     /// Set 1: one base-colour texture.
     pub texture_layout: DescriptorLayout,
     pub texture_sets: Vec<DescriptorSet>,
@@ -93,8 +130,15 @@ fn vertices_of(mesh: &Mesh) -> impl Iterator<Item = GpuVertex> + '_ {
 }
 
 impl GpuScene {
-    /// Uploads `scene` (validated first) for frames of `width`×`height`.
-    pub fn new(gpu: &Gpu, scene: &Scene, width: u32, height: u32) -> Result<Self> {
+    /// Uploads `scene` (validated first) for frames of `width`×`height`, with `frame_slots`
+    /// frames in flight at most, and writes the scene's own frame into slot 0.
+    pub fn new(
+        gpu: &Gpu,
+        scene: &Scene,
+        width: u32,
+        height: u32,
+        frame_slots: usize,
+    ) -> Result<Self> {
         scene.validate()?;
         let mut vertices = Vec::new();
         let mut indices: Vec<u32> = Vec::new();
@@ -134,19 +178,11 @@ impl GpuScene {
         )?;
         let quads =
             gpu.create_buffer_with_data("scene quads", storage, bytemuck::cast_slice(&quads))?;
-        let draws = gpu.create_buffer("scene draws", 0, storage, MemoryLocation::CpuToGpu)?;
         let materials = gpu.create_buffer_with_data(
             "scene materials",
             storage,
             bytemuck::cast_slice(&materials),
         )?;
-        let frame = gpu.create_buffer(
-            "frame info",
-            std::mem::size_of::<GpuFrameInfo>() as u64,
-            vk::BufferUsageFlags::UNIFORM_BUFFER,
-            MemoryLocation::CpuToGpu,
-        )?;
-
         let white = Texture::new("white", 1, 1, vec![[255; 4]], false);
         let (textures, staging) =
             create_textures(gpu, scene.textures.iter().chain(std::iter::once(&white)))?;
@@ -186,11 +222,11 @@ impl GpuScene {
             ],
             stages,
         )?;
-        let set = layout.create_set(&[
-            Resource::Buffer(&frame),
-            Resource::Buffer(&draws),
-            Resource::Buffer(&materials),
-        ])?;
+        let draw_bytes = (scene.opaque.len() + scene.transparent.len()) as u64
+            * std::mem::size_of::<GpuDrawInfo>() as u64;
+        let slots = (0..frame_slots.max(1))
+            .map(|_| SceneSlot::new(gpu, &layout, &materials, draw_bytes))
+            .collect::<Result<Vec<_>>>()?;
         let texture_layout = DescriptorLayout::new(gpu, &[BindingKind::SampledImages(1)], stages)?;
         let texture_sets = textures
             .iter()
@@ -204,15 +240,14 @@ impl GpuScene {
             indices,
             quads,
             transparent_quads: 0,
-            draws,
             materials,
-            frame,
+            slots,
+            slot: 0,
             textures,
             texture_staging,
             textures_recorded,
             _samplers: samplers.into_iter().map(|(_, made)| made).collect(),
             layout,
-            set,
             texture_layout,
             texture_sets,
             opaque_calls: Vec::new(),
@@ -236,10 +271,35 @@ impl GpuScene {
         )
     }
 
+    /// Makes `slot` the frame slot that [`Self::set_frame`] writes and recording reads.
+    pub fn use_slot(&mut self, slot: usize) {
+        self.slot = slot % self.slots.len();
+    }
+
+    /// The slot frames write and record now.
+    pub fn slot(&self) -> usize {
+        self.slot
+    }
+
+    /// Frame slots: frames that may be in flight at once.
+    pub fn slot_count(&self) -> usize {
+        self.slots.len()
+    }
+
+    /// The current slot's set 0 (frame, draws, materials).
+    pub fn set(&self) -> &DescriptorSet {
+        &self.slots[self.slot].set
+    }
+
+    /// The current slot's draw buffer.
+    pub fn draws(&self) -> &Buffer {
+        &self.slots[self.slot].draws
+    }
+
     /// Writes the frame `scene` describes (camera, light, draws; checked by the caller
-    /// against the assets this was made with) for the next frames to draw. The draw buffer
-    /// grows when the frame has more draws than it holds: then the descriptor set is new.
-    /// No frame that reads these buffers may be in flight.
+    /// against the assets this was made with) into the current slot, for the next frame to
+    /// draw. The slot's draw buffer grows when the frame has more draws than it holds: then
+    /// its descriptor set is new. No frame that reads the slot may be in flight.
     pub fn set_frame(&mut self, gpu: &Gpu, scene: &Scene) -> Result<()> {
         let (width, height) = self.extent;
         let frame_info = GpuFrameInfo::new(
@@ -248,28 +308,20 @@ impl GpuScene {
             width,
             height,
         );
-        self.frame.write(0, bytemuck::bytes_of(&frame_info))?;
+        let slot = &mut self.slots[self.slot];
+        slot.frame.write(0, bytemuck::bytes_of(&frame_info))?;
         let all_draws = scene.opaque.iter().chain(&scene.transparent);
         let draw_infos: Vec<GpuDrawInfo> = all_draws
             .clone()
             .map(|d| GpuDrawInfo::new(d, &scene.meshes[d.mesh], self.first_quads[d.mesh]))
             .collect();
         let bytes: &[u8] = bytemuck::cast_slice(&draw_infos);
-        if bytes.len() as u64 > self.draws.size {
+        if bytes.len() as u64 > slot.draws.size {
             // Room for twice as many, so that a growing draw count reallocates rarely.
-            self.draws = gpu.create_buffer(
-                "scene draws",
-                2 * bytes.len() as u64,
-                SCENE_STORAGE,
-                MemoryLocation::CpuToGpu,
-            )?;
-            self.set = self.layout.create_set(&[
-                Resource::Buffer(&self.frame),
-                Resource::Buffer(&self.draws),
-                Resource::Buffer(&self.materials),
-            ])?;
+            *slot = SceneSlot::new(gpu, &self.layout, &self.materials, 2 * bytes.len() as u64)?;
+            slot.frame.write(0, bytemuck::bytes_of(&frame_info))?;
         }
-        self.draws.write(0, bytes)?;
+        slot.draws.write(0, bytes)?;
         let calls = all_draws.enumerate().map(|(i, d)| DrawCall {
             draw_index: i as u32,
             range: self.ranges[d.mesh],
@@ -365,7 +417,7 @@ impl GpuScene {
             };
             if bound != Some(call.cull_back) {
                 gpu.cmd_bind_graphics_pipeline(cmd, pipeline);
-                gpu.cmd_bind_graphics_set(cmd, pipeline.layout, 0, self.set.raw);
+                gpu.cmd_bind_graphics_set(cmd, pipeline.layout, 0, self.set().raw);
                 bound = Some(call.cull_back);
                 bound_texture = None;
             }

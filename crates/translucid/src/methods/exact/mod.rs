@@ -37,10 +37,8 @@ pub mod features;
 pub mod layout;
 pub(crate) mod resources;
 
-use super::{FrameCheck, FrameSetup, Method, MethodOptions, RecordContext};
-use crate::gpu::{
-    image_barrier, memory_barrier, vk, ComputePipeline, ComputePipelineCache, DescriptorSet, Gpu,
-};
+use super::{FrameCheck, FrameDone, FrameSetup, Method, MethodOptions, RecordContext};
+use crate::gpu::{image_barrier, memory_barrier, vk, ComputePipeline, ComputePipelineCache, Gpu};
 use crate::renderer::{FrameTargets, GpuScene};
 use crate::scene::Scene;
 use crate::{Error, Result};
@@ -108,7 +106,6 @@ pub struct Exact {
     gpu: Gpu,
     program: RasterProgram,
     resources: Resources,
-    set: DescriptorSet,
     /// Every stage variant built so far, by specialization.
     cache: ComputePipelineCache,
     /// The variants this frame's features need.
@@ -307,17 +304,8 @@ impl Exact {
         if options.assume_wide_subgroups {
             features.rows = 1;
         }
-        let resources = Resources::new(
-            gpu,
-            scene,
-            uploaded,
-            width,
-            height,
-            capacities,
-            features.slabs(),
-        )
-        .map_err(|e| program.in_errors(e))?;
-        let set = resources.descriptor_set(targets)?;
+        let resources = Resources::new(gpu, scene, uploaded, targets, capacities, features.slabs())
+            .map_err(|e| program.in_errors(e))?;
         let layouts = [&uploaded.layout, &resources.layout];
         let mut cache = ComputePipelineCache::new(std::mem::size_of::<ExactPush>() as u32);
         let stages = StagePipelines::select(&mut cache, gpu, &layouts, &features, &program)?;
@@ -341,7 +329,6 @@ impl Exact {
             gpu: gpu.clone(),
             program,
             resources,
-            set,
             cache,
             stages,
             fixed_path_forced: options.assume_fixed_path,
@@ -373,14 +360,14 @@ impl Exact {
     /// Whether the completed frame had a row whose list was too long for one pass of the
     /// raster's loop budget (the exact raster then moves to slabs and walks such lists in
     /// parts; a program that cannot may fall back to another method).
-    pub fn crowded(&self) -> Result<bool> {
-        Ok(self.resources.counters()?.overflow & OVERFLOW_CROWDED_BIN != 0)
+    pub fn crowded(&self, slot: usize) -> Result<bool> {
+        Ok(self.resources.counters(slot)?.overflow & OVERFLOW_CROWDED_BIN != 0)
     }
 
     fn dispatch(&self, ctx: &RecordContext<'_>, p: &ComputePipeline, groups: [u32; 3]) {
         p.dispatch(
             ctx.cmd,
-            &[ctx.scene.set.raw, self.set.raw],
+            &[ctx.scene.set().raw, self.resources.set()],
             bytemuck::bytes_of(&self.push),
             groups,
         );
@@ -390,7 +377,7 @@ impl Exact {
     fn dispatch_indirect(&self, ctx: &RecordContext<'_>, p: &ComputePipeline, offset: u64) {
         p.dispatch_indirect(
             ctx.cmd,
-            &[ctx.scene.set.raw, self.set.raw],
+            &[ctx.scene.set().raw, self.resources.set()],
             bytemuck::bytes_of(&self.push),
             self.resources.dispatches(),
             offset,
@@ -406,7 +393,7 @@ impl Exact {
         };
         self.stages.raster.dispatch_indirect(
             ctx.cmd,
-            &[ctx.scene.set.raw, self.set.raw],
+            &[ctx.scene.set().raw, self.resources.set()],
             bytemuck::bytes_of(&push),
             self.resources.dispatches(),
             DISPATCH_RASTER_BINS_OFFSET,
@@ -420,7 +407,7 @@ impl Exact {
     /// other, which the next reads.
     fn record_continuations(&mut self, ctx: &RecordContext<'_>) {
         let cmd = ctx.cmd;
-        let sets = [ctx.scene.set.raw, self.set.raw];
+        let sets = [ctx.scene.set().raw, self.resources.set()];
         let compute = vk::PipelineStageFlags::COMPUTE_SHADER;
         let rw = vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE;
         let transfer = (
@@ -539,9 +526,9 @@ impl Method for Exact {
 
     fn set_frame(&mut self, f: &FrameSetup<'_>) -> Result<()> {
         let (width, height) = (self.push.width, self.push.height);
-        let mut replaced = self
-            .resources
-            .set_frame(f.gpu, f.scene, f.uploaded, width, height)?;
+        self.resources.use_slot(f.slot);
+        self.resources
+            .set_frame(f.gpu, f.scene, f.uploaded, f.targets)?;
         self.push.item_count = f.uploaded.transparent_quads;
         self.push.draw_count = f.scene.transparent.len() as u32;
         // Setup writes at most two triangles per quad.
@@ -555,7 +542,7 @@ impl Method for Exact {
             self.resources
                 .grow(f.gpu, grown)
                 .map_err(|e| self.program.in_errors(e))?;
-            replaced = true;
+            self.resources.refresh_set(f.targets)?;
         }
         let mut fresh = RasterFeatures::of(f.scene, width, height, self.gpu.info().subgroup_size);
         fresh.homogeneous =
@@ -567,14 +554,15 @@ impl Method for Exact {
                 StagePipelines::select(&mut self.cache, f.gpu, &layouts, &features, &self.program)?;
             self.features = features;
         }
-        if replaced {
-            self.set = self.resources.descriptor_set(f.targets)?;
-        }
         Ok(())
     }
 
     fn record(&mut self, ctx: &mut RecordContext<'_>) -> Result<()> {
         let cmd = ctx.cmd;
+        self.resources.use_slot(ctx.slot);
+        // Buffers grown after the last frame: the slot's set names the new ones.
+        self.resources.refresh_set(ctx.targets)?;
+        self.resources.retirement.recorded();
         self.resources.record_reset(cmd, self.features.rows);
         // Setup's occlusion cull reads the opaque depth (through the pyramid), as does the
         // raster's depth test.
@@ -614,6 +602,7 @@ impl Method for Exact {
         ctx.timestamps.mark(cmd, "bin fill");
 
         self.record_raster(ctx);
+        self.resources.set_pending_list(self.pending_list);
         self.targets_from_raster(ctx);
         ctx.timestamps.mark(cmd, self.program.stage());
         Ok(())
@@ -622,6 +611,7 @@ impl Method for Exact {
     fn record_finish(&mut self, ctx: &mut RecordContext<'_>) -> Result<()> {
         self.targets_to_raster(ctx, FINISHED_SUBMISSION_WRITES);
         self.record_continuations(ctx);
+        self.resources.set_pending_list(self.pending_list);
         self.targets_from_raster(ctx);
         ctx.timestamps.mark(ctx.cmd, "raster finished");
         Ok(())
@@ -634,8 +624,10 @@ impl Method for Exact {
         options.initial_resume_rows = Some(c.resume);
     }
 
-    fn frame_done(&mut self, uploaded: &GpuScene, targets: &FrameTargets) -> Result<FrameCheck> {
-        let counters = self.resources.counters()?;
+    fn frame_done(&mut self, done: &FrameDone<'_>) -> Result<FrameCheck> {
+        self.resources.retirement.completed();
+        let uploaded = done.uploaded;
+        let counters = self.resources.counters(done.slot)?;
         let method = self.program.method();
         // A row whose list is too long for one pass of the loop budget: the exact raster
         // walks such lists in parts once they are ordered by depth slab (PARTIAL_WALKS in
@@ -695,14 +687,11 @@ impl Method for Exact {
                 .grow(&self.gpu, grown)
                 .map_err(|e| self.program.in_errors(e))?;
         }
-        if grown.is_some() || features.slab_bits != self.features.slab_bits {
-            self.resources.set_slabs(&self.gpu, features.slabs())?;
-            self.set = self.resources.descriptor_set(targets)?;
-        }
+        self.resources.set_slabs(&self.gpu, features.slabs())?;
         let features_changed = features != self.features;
         self.features = features;
         // Rows the last dispatch left on the pending list are unfinished.
-        let unfinished = self.resources.resume_count(self.pending_list)?;
+        let unfinished = self.resources.unfinished_rows(done.slot)?;
         if unfinished > 0 && !crowded {
             if self.continuations >= MAX_CONTINUATIONS {
                 return Err(crate::Error::InvalidScene(format!(

@@ -7,7 +7,7 @@ use super::layout::{
 };
 use crate::gpu::{
     memory_barrier, vk, BindingKind, Buffer, BufferView, DescriptorLayout, DescriptorSet, Gpu,
-    MemoryLocation, Resource, Sampler,
+    MemoryLocation, Resource, Retirement, Sampler,
 };
 use crate::methods::MethodOptions;
 use crate::renderer::{FrameTargets, GpuScene};
@@ -109,17 +109,36 @@ impl Viewed {
     }
 }
 
+/// One frame slot's share: what a frame writes before it is recorded or reads after it
+/// completed, while other frames are in flight.
+struct ExactSlot {
+    draws: Viewed,
+    /// A texel view of the scene's draw buffer of the same slot, and that buffer (replaced
+    /// when the draws outgrow it).
+    scene_draws: (vk::Buffer, BufferView),
+    /// What the host reads after the frame: the counters, then the resume lists' counts.
+    readback: Buffer,
+    /// Set 1 over the slot's buffers and the shared ones of `generation`.
+    set: DescriptorSet,
+    generation: u64,
+    /// The resume list the frame's last continuation left unfinished rows on.
+    pub pending_list: u32,
+}
+
 pub struct Resources {
     pub capacities: Capacities,
     pub layout: DescriptorLayout,
-    draws: Viewed,
-    /// Texel views of the uploaded scene's vertices, quads and draws.
-    scene_views: [BufferView; 3],
-    /// The scene draw buffer `scene_views[2]` views (replaced when the draws outgrow it).
-    scene_draws: vk::Buffer,
+    slots: Vec<ExactSlot>,
+    /// The slot being written and recorded.
+    slot: usize,
+    /// Bumped whenever a shared buffer is replaced: slot sets of older generations are
+    /// rebuilt before their next frame.
+    generation: u64,
+    /// Replaced buffers that frames in flight may still use.
+    pub retirement: Retirement,
+    /// Texel views of the uploaded scene's vertices and quads.
+    scene_views: [BufferView; 2],
     counters: Buffer,
-    /// What the host reads after a frame: the counters, then the resume lists' counts.
-    readback: Buffer,
     bins: BinArrays,
     /// The blocks with a non-empty bin, listed by the scan for the raster.
     raster_bins: Buffer,
@@ -327,15 +346,17 @@ pub(crate) fn texture_data(textures: &[Texture]) -> (Vec<ExactTexture>, Vec<u32>
 }
 
 impl Resources {
+    /// The buffers for `scene` (uploaded as `uploaded`, whose frame slots it takes) over
+    /// `targets`, every slot holding the scene's own frame.
     pub fn new(
         gpu: &Gpu,
         scene: &Scene,
         uploaded: &GpuScene,
-        width: u32,
-        height: u32,
+        targets: &FrameTargets,
         capacities: Capacities,
         slabs: u32,
     ) -> Result<Self> {
+        let (width, height) = (targets.extent.width, targets.extent.height);
         let blocks = u64::from(width.div_ceil(BIN_SIZE)) * u64::from(height.div_ceil(BIN_SIZE));
         if scene.materials.len() as u64 > 1 << (32 - TRIANGLE_MATERIAL_SHIFT) {
             return Err(Error::InvalidScene(format!(
@@ -362,12 +383,7 @@ impl Resources {
             STORAGE | vk::BufferUsageFlags::TRANSFER_DST | vk::BufferUsageFlags::TRANSFER_SRC,
             MemoryLocation::GpuOnly,
         )?;
-        let readback = gpu.create_buffer(
-            "exact counters readback",
-            COUNTER_BYTES + RESUME_HEADER_BYTES,
-            vk::BufferUsageFlags::TRANSFER_DST,
-            MemoryLocation::GpuToCpu,
-        )?;
+
         let layout = DescriptorLayout::new(
             gpu,
             &[
@@ -403,18 +419,18 @@ impl Resources {
             ],
             vk::ShaderStageFlags::COMPUTE,
         )?;
-        Ok(Self {
+        let mut resources = Self {
             capacities,
             layout,
-            draws: texel_data(gpu, "exact draws", bytemuck::cast_slice(&draws), RGBA32UI)?,
+            slots: Vec::new(),
+            slot: 0,
+            generation: 0,
+            retirement: Retirement::default(),
             scene_views: [
                 gpu.create_buffer_view(&uploaded.vertices, RGBA32UI)?,
                 gpu.create_buffer_view(&uploaded.quads, RGBA32UI)?,
-                gpu.create_buffer_view(&uploaded.draws, RGBA32UI)?,
             ],
-            scene_draws: uploaded.draws.raw,
             counters,
-            readback,
             bins: BinArrays::new(gpu, blocks, slabs)?,
             raster_bins: storage_buffer(gpu, "non-empty blocks", blocks * 4)?,
             depth_pyramid: viewed_storage(
@@ -452,21 +468,79 @@ impl Resources {
             )?,
             depth_sampler: Sampler::nearest_clamp(gpu)?,
             growable: growable(gpu, capacities)?,
-        })
+        };
+        for _ in 0..uploaded.slot_count() {
+            let draws = texel_data(gpu, "exact draws", bytemuck::cast_slice(&draws), RGBA32UI)?;
+            let scene_draws = (
+                uploaded.draws().raw,
+                gpu.create_buffer_view(uploaded.draws(), RGBA32UI)?,
+            );
+            let set = resources.make_set(&draws.view, &scene_draws.1, targets)?;
+            resources.slots.push(ExactSlot {
+                draws,
+                scene_draws,
+                readback: gpu.create_buffer(
+                    "exact counters readback",
+                    COUNTER_BYTES + RESUME_HEADER_BYTES,
+                    vk::BufferUsageFlags::TRANSFER_DST,
+                    MemoryLocation::GpuToCpu,
+                )?,
+                set,
+                generation: 0,
+                pending_list: 0,
+            });
+        }
+        Ok(resources)
     }
 
-    pub fn descriptor_set(&self, targets: &FrameTargets) -> Result<DescriptorSet> {
+    /// Makes `slot` the frame slot the next frame is written into and recorded from. No frame
+    /// of that slot may be in flight.
+    pub fn use_slot(&mut self, slot: usize) {
+        self.slot = slot % self.slots.len();
+    }
+
+    /// The current slot's descriptor set, made by [`Self::refresh_set`].
+    pub fn set(&self) -> vk::DescriptorSet {
+        self.slots[self.slot].set.raw
+    }
+
+    /// The resume list the current slot's frame left its unfinished rows on.
+    pub fn set_pending_list(&mut self, list: u32) {
+        self.slots[self.slot].pending_list = list;
+    }
+
+    /// Rebuilds the current slot's descriptor set if a buffer it names was replaced.
+    pub fn refresh_set(&mut self, targets: &FrameTargets) -> Result<()> {
+        let slot = &self.slots[self.slot];
+        if slot.generation == self.generation {
+            return Ok(());
+        }
+        let set = self.make_set(&slot.draws.view, &slot.scene_draws.1, targets)?;
+        let slot = &mut self.slots[self.slot];
+        // The slot's last frame has completed: its old set can go now.
+        slot.set = set;
+        slot.generation = self.generation;
+        Ok(())
+    }
+
+    /// Set 1 over a slot's draws and view of the scene's draws, and the shared buffers.
+    fn make_set(
+        &self,
+        draws: &BufferView,
+        scene_draws: &BufferView,
+        targets: &FrameTargets,
+    ) -> Result<DescriptorSet> {
         let g = &self.growable;
         self.layout.create_set(&[
             Resource::TexelBuffer(self.scene_views[0].raw),
             Resource::TexelBuffer(self.scene_views[1].raw),
-            Resource::TexelBuffer(self.draws.view.raw),
+            Resource::TexelBuffer(draws.raw),
             Resource::Buffer(&g.triangles.buffer),
             Resource::Buffer(&g.homogeneous.buffer),
             Resource::Buffer(&self.counters),
             Resource::Buffer(&self.bins.counts.buffer),
             Resource::Buffer(&self.bins.offsets),
-            Resource::TexelBuffer(self.scene_views[2].raw),
+            Resource::TexelBuffer(scene_draws.raw),
             Resource::Buffer(&g.bin_entries.buffer),
             Resource::Buffer(&g.attributes.buffer),
             Resource::Images(&[targets.depth.view], self.depth_sampler.raw),
@@ -556,11 +630,12 @@ impl Resources {
                 vk::AccessFlags::TRANSFER_READ,
             ),
         );
-        gpu.cmd_copy_buffer(cmd, &self.counters, &self.readback, 0, COUNTER_BYTES);
+        let readback = &self.slots[self.slot].readback;
+        gpu.cmd_copy_buffer(cmd, &self.counters, readback, 0, COUNTER_BYTES);
         gpu.cmd_copy_buffer(
             cmd,
             &self.growable.resume,
-            &self.readback,
+            readback,
             COUNTER_BYTES,
             RESUME_HEADER_BYTES,
         );
@@ -572,11 +647,12 @@ impl Resources {
         );
     }
 
-    /// Items on resume list `list` after the last completed frame.
-    pub fn resume_count(&self, list: u32) -> Result<u32> {
-        let at = (COUNTER_BYTES + u64::from(list) * 16) as usize;
+    /// Rows slot `slot`'s completed frame left unfinished (on its pending resume list).
+    pub fn unfinished_rows(&self, slot: usize) -> Result<u32> {
+        let slot = &self.slots[slot];
+        let at = (COUNTER_BYTES + u64::from(slot.pending_list) * 16) as usize;
         Ok(bytemuck::pod_read_unaligned(
-            &self.readback.read()?[at..at + 4],
+            &slot.readback.read()?[at..at + 4],
         ))
     }
 
@@ -590,27 +666,26 @@ impl Resources {
         &self.growable.resume
     }
 
-    /// The counters of the last completed frame.
-    pub fn counters(&self) -> Result<ExactCounters> {
+    /// The counters of slot `slot`'s completed frame.
+    pub fn counters(&self, slot: usize) -> Result<ExactCounters> {
         Ok(bytemuck::pod_read_unaligned(
-            &self.readback.read()?[..std::mem::size_of::<ExactCounters>()],
+            &self.slots[slot].readback.read()?[..std::mem::size_of::<ExactCounters>()],
         ))
     }
 
-    /// Writes the frame's draws (`uploaded` holding the frame already). True when a buffer
-    /// the descriptor set names was replaced: call [`Self::descriptor_set`] again.
+    /// Writes the frame's draws into the current slot (`uploaded` holding the frame in the
+    /// same slot already), and renews the slot's descriptor set if a buffer it names moved.
     pub fn set_frame(
         &mut self,
         gpu: &Gpu,
         scene: &Scene,
         uploaded: &GpuScene,
-        width: u32,
-        height: u32,
-    ) -> Result<bool> {
-        let draws = exact_draws(scene, width, height);
+        targets: &FrameTargets,
+    ) -> Result<()> {
+        let draws = exact_draws(scene, targets.extent.width, targets.extent.height);
         let bytes: &[u8] = bytemuck::cast_slice(&draws);
-        let mut replaced = false;
-        if bytes.len() as u64 > self.draws.buffer.size {
+        let slot = &mut self.slots[self.slot];
+        if bytes.len() as u64 > slot.draws.buffer.size {
             // Room for twice as many, so that a growing draw count reallocates rarely.
             let buffer = gpu.create_buffer(
                 "exact draws",
@@ -618,28 +693,38 @@ impl Resources {
                 TEXELS,
                 MemoryLocation::CpuToGpu,
             )?;
-            self.draws = Viewed::new(gpu, buffer, RGBA32UI)?;
-            replaced = true;
+            slot.draws = Viewed::new(gpu, buffer, RGBA32UI)?;
+            slot.generation = u64::MAX;
         }
-        self.draws.buffer.write(0, bytes)?;
-        if self.scene_draws != uploaded.draws.raw {
-            self.scene_views[2] = gpu.create_buffer_view(&uploaded.draws, RGBA32UI)?;
-            self.scene_draws = uploaded.draws.raw;
-            replaced = true;
+        slot.draws.buffer.write(0, bytes)?;
+        if slot.scene_draws.0 != uploaded.draws().raw {
+            slot.scene_draws = (
+                uploaded.draws().raw,
+                gpu.create_buffer_view(uploaded.draws(), RGBA32UI)?,
+            );
+            slot.generation = u64::MAX;
         }
-        Ok(replaced)
+        self.refresh_set(targets)
     }
 
-    /// Makes room for `slabs` depth slabs per bin (call [`Self::descriptor_set`] again).
+    /// Makes room for `slabs` depth slabs per bin; the old arrays stay until the frames in
+    /// flight complete.
     pub fn set_slabs(&mut self, gpu: &Gpu, slabs: u32) -> Result<()> {
         if slabs != self.bins.slabs {
-            self.bins = BinArrays::new(gpu, self.bins.blocks, slabs)?;
+            let bins = BinArrays::new(gpu, self.bins.blocks, slabs)?;
+            let old = std::mem::replace(&mut self.bins, bins);
+            self.retirement.retire(old);
+            self.generation += 1;
         }
         Ok(())
     }
 
+    /// Replaces the growable buffers with ones of `capacities`; the old ones stay until the
+    /// frames in flight complete.
     pub fn grow(&mut self, gpu: &Gpu, capacities: Capacities) -> Result<()> {
-        self.growable = growable(gpu, capacities)?;
+        let old = std::mem::replace(&mut self.growable, growable(gpu, capacities)?);
+        self.retirement.retire(old);
+        self.generation += 1;
         self.capacities = capacities;
         Ok(())
     }

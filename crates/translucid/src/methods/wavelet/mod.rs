@@ -29,8 +29,8 @@ pub mod model;
 mod passes;
 
 use super::exact::{Exact, RasterProgram};
-use super::{FrameCheck, FrameSetup, Method, MethodOptions, RecordContext};
-use crate::gpu::Gpu;
+use super::{FrameCheck, FrameDone, FrameSetup, Method, MethodOptions, RecordContext};
+use crate::gpu::{Gpu, Retirement};
 use crate::renderer::{FrameTargets, GpuScene};
 use crate::scene::{Camera, Scene};
 use crate::{Error, Result};
@@ -133,6 +133,8 @@ pub struct Wavelet {
     settings: Settings,
     constants: SpecConstants,
     variant: Variant,
+    /// Passes replaced while frames in flight may still run them.
+    retirement: Retirement,
 }
 
 enum Variant {
@@ -181,6 +183,7 @@ impl Wavelet {
             settings,
             constants,
             variant,
+            retirement: Retirement::default(),
         })
     }
 }
@@ -212,13 +215,16 @@ impl Method for Wavelet {
             }
             Variant::Images(passes) => {
                 if changed {
-                    **passes = passes::Passes::new(
+                    let new = passes::Passes::new(
                         f.gpu,
                         f.uploaded,
                         f.targets,
                         &self.settings,
                         constants,
                     )?;
+                    // Frames in flight may still run the old passes.
+                    self.retirement
+                        .retire(std::mem::replace(passes, Box::new(new)));
                 }
                 Ok(())
             }
@@ -226,6 +232,7 @@ impl Method for Wavelet {
     }
 
     fn record(&mut self, ctx: &mut RecordContext<'_>) -> Result<()> {
+        self.retirement.recorded();
         let p = match &mut self.variant {
             Variant::Images(p) => p,
             Variant::Bins(exact) => return exact.record(ctx),
@@ -241,12 +248,13 @@ impl Method for Wavelet {
         Ok(())
     }
 
-    fn frame_done(&mut self, scene: &GpuScene, targets: &FrameTargets) -> Result<FrameCheck> {
+    fn frame_done(&mut self, done: &FrameDone<'_>) -> Result<FrameCheck> {
+        self.retirement.completed();
         let Variant::Bins(exact) = &mut self.variant else {
             return Ok(FrameCheck::default());
         };
-        if !exact.crowded()? {
-            return exact.frame_done(scene, targets);
+        if !exact.crowded(done.slot)? {
+            return exact.frame_done(done);
         }
         // A row's three walks would pass the loop budget (the bins' raster does not resume
         // rows as exact's does): the coefficient images have no such limit. The renderer
@@ -256,13 +264,16 @@ impl Method for Wavelet {
              with coefficient images instead"
         );
         self.settings.storage = Storage::Images;
-        self.variant = Variant::Images(Box::new(passes::Passes::new(
+        let images = Variant::Images(Box::new(passes::Passes::new(
             &self.gpu,
-            scene,
-            targets,
+            done.uploaded,
+            done.targets,
             &self.settings,
             self.constants,
         )?));
+        // Frames in flight may still run the bins' passes.
+        self.retirement
+            .retire(std::mem::replace(&mut self.variant, images));
         Ok(FrameCheck {
             rerender: true,
             ..FrameCheck::default()
