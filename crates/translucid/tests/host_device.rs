@@ -14,6 +14,7 @@ use translucid::gpu::{
 };
 use translucid::methods::MethodOptions;
 use translucid::renderer::Renderer;
+use translucid::scene::motion::Orbit;
 use translucid::OpaqueLayer;
 
 const W: u32 = 96;
@@ -47,8 +48,9 @@ struct Engine {
     family: u32,
     queue: vk::Queue,
     pool: vk::CommandPool,
-    cmd: vk::CommandBuffer,
-    fence: vk::Fence,
+    /// One command buffer and fence per frame the engine keeps in flight (up to four).
+    cmds: Vec<vk::CommandBuffer>,
+    fences: Vec<vk::Fence>,
     features: vk::PhysicalDeviceFeatures,
 }
 
@@ -113,16 +115,20 @@ impl Engine {
                     None,
                 )
                 .expect("command pool");
-            let cmd = device
+            let cmds = device
                 .allocate_command_buffers(
                     &vk::CommandBufferAllocateInfo::default()
                         .command_pool(pool)
-                        .command_buffer_count(1),
+                        .command_buffer_count(4),
                 )
-                .expect("command buffer")[0];
-            let fence = device
-                .create_fence(&vk::FenceCreateInfo::default(), None)
-                .expect("fence");
+                .expect("command buffers");
+            let fences = (0..4)
+                .map(|_| {
+                    device
+                        .create_fence(&vk::FenceCreateInfo::default(), None)
+                        .expect("fence")
+                })
+                .collect();
             Self {
                 _entry: entry,
                 instance,
@@ -132,8 +138,8 @@ impl Engine {
                 family,
                 queue,
                 pool,
-                cmd,
-                fence,
+                cmds,
+                fences,
                 features,
             }
         }
@@ -152,32 +158,46 @@ impl Engine {
         }
     }
 
-    fn begin(&self) {
-        // SAFETY: the command buffer is idle (every submission was waited for).
+    /// Begins command buffer `i`, which must be idle (its last submission waited for).
+    fn begin(&self, i: usize) {
+        // SAFETY: the caller waited for the buffer's last submission.
         unsafe {
             self.device
-                .begin_command_buffer(self.cmd, &vk::CommandBufferBeginInfo::default())
+                .begin_command_buffer(self.cmds[i], &vk::CommandBufferBeginInfo::default())
                 .expect("begin");
         }
     }
 
-    fn submit_and_wait(&self) {
-        let cmds = [self.cmd];
-        // SAFETY: recorded by this thread; the fence is unsignalled and reset after the wait.
+    /// Ends and submits command buffer `i`, signalling fence `i`, without waiting.
+    fn submit(&self, i: usize) {
+        let cmds = [self.cmds[i]];
+        // SAFETY: recorded by this thread; fence i is unsignalled (reset after each wait).
         unsafe {
-            self.device.end_command_buffer(self.cmd).expect("end");
+            self.device.end_command_buffer(self.cmds[i]).expect("end");
             self.device
                 .queue_submit(
                     self.queue,
                     &[vk::SubmitInfo::default().command_buffers(&cmds)],
-                    self.fence,
+                    self.fences[i],
                 )
                 .expect("submit");
-            self.device
-                .wait_for_fences(&[self.fence], true, u64::MAX)
-                .expect("wait");
-            self.device.reset_fences(&[self.fence]).expect("reset");
         }
+    }
+
+    /// Waits for command buffer `i`'s submission and resets its fence.
+    fn wait(&self, i: usize) {
+        // SAFETY: fence i was submitted with command buffer i.
+        unsafe {
+            self.device
+                .wait_for_fences(&[self.fences[i]], true, u64::MAX)
+                .expect("wait");
+            self.device.reset_fences(&[self.fences[i]]).expect("reset");
+        }
+    }
+
+    fn submit_and_wait(&self) {
+        self.submit(0);
+        self.wait(0);
     }
 }
 
@@ -186,7 +206,9 @@ impl Drop for Engine {
         // SAFETY: the device is idle and every translucid object is gone (dropped first).
         unsafe {
             let _ = self.device.device_wait_idle();
-            self.device.destroy_fence(self.fence, None);
+            for &fence in &self.fences {
+                self.device.destroy_fence(fence, None);
+            }
             self.device.destroy_command_pool(self.pool, None);
             self.device.destroy_device(None);
             self.messenger
@@ -300,7 +322,7 @@ fn an_overflowing_frame_says_so_and_renders_right_when_recorded_again() {
         let attachment = vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL;
         let depth_attachment = vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
         let targets = HostTargets {
-            cmd: engine.cmd,
+            cmd: engine.cmds[0],
             colour: HostImage {
                 image: colour.raw,
                 format: colour_format,
@@ -316,10 +338,10 @@ fn an_overflowing_frame_says_so_and_renders_right_when_recorded_again() {
         };
         let mut overflows = Vec::new();
         for _ in 0..3 {
-            engine.begin();
+            engine.begin(0);
             record_opaque(
                 &gpu,
-                engine.cmd,
+                engine.cmds[0],
                 [
                     (&colour, &colour_in, attachment),
                     (&depth, &depth_in, depth_attachment),
@@ -327,10 +349,10 @@ fn an_overflowing_frame_says_so_and_renders_right_when_recorded_again() {
             );
             // SAFETY: the engine's recording command buffer and images of the frame's size.
             unsafe { renderer.record_host(&targets) }.expect("record");
-            gpu.cmd_copy_image_to_buffer(engine.cmd, &colour, &out);
+            gpu.cmd_copy_image_to_buffer(engine.cmds[0], &colour, &out);
             translucid::gpu::memory_barrier(
                 &gpu,
-                engine.cmd,
+                engine.cmds[0],
                 (
                     vk::PipelineStageFlags::TRANSFER,
                     vk::AccessFlags::TRANSFER_WRITE,
@@ -387,4 +409,216 @@ fn an_overflowing_frame_says_so_and_renders_right_when_recorded_again() {
         "validation errors:\n{}",
         errors.join("\n")
     );
+}
+
+/// An engine that keeps `in_flight` frames recorded before it submits any of them: 30 frames
+/// of a moving camera and moving draws, each read back from the engine's colour image once
+/// completed, must each be what a standalone renderer draws for that frame alone.
+fn frames_in_flight_match_frames_drawn_alone(in_flight: usize) {
+    const FRAMES: usize = 30;
+    let scene = translucid::scene::load("spheres").expect("generated scene");
+    let orbit = Orbit::new(&scene);
+    let frame_scene = |f: usize| {
+        let mut s = scene.clone();
+        s.camera = orbit.camera(&scene, f as u32);
+        orbit.transparent(&scene, f as u32, &mut s.transparent);
+        s
+    };
+    let layer = OpaqueLayer::clear(W, H, scene.background);
+    let standalone = Gpu::new(&GpuOptions {
+        device: None,
+        validation: true,
+    })
+    .expect("a Vulkan device with the validation layer");
+    let mut alone = Renderer::new(&standalone, &scene, "exact", W, H).expect("renderer");
+    let mut expected = |f: usize| {
+        alone
+            .set_frame(&frame_scene(f).frame_input())
+            .expect("set frame");
+        alone.render_over(&layer).expect("frame").image.to_srgb8()
+    };
+
+    let engine = Engine::new();
+    {
+        // SAFETY: the engine's live objects, outliving `gpu` (dropped at the end of this block).
+        let gpu = unsafe { Gpu::from_host(&engine.host_device()) }.expect("host device");
+        let extent = vk::Extent2D {
+            width: W,
+            height: H,
+        };
+        let transfer = vk::ImageUsageFlags::TRANSFER_SRC | vk::ImageUsageFlags::TRANSFER_DST;
+        let colour_format = vk::Format::R16G16B16A16_SFLOAT;
+        let colour = gpu
+            .create_image(
+                "engine colour",
+                extent,
+                colour_format,
+                transfer | vk::ImageUsageFlags::COLOR_ATTACHMENT,
+                1,
+            )
+            .expect("colour");
+        let depth = gpu
+            .create_image(
+                "engine depth",
+                extent,
+                vk::Format::D32_SFLOAT,
+                transfer | vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
+                1,
+            )
+            .expect("depth");
+        let (colour_texels, depth_texels) = texels(&layer);
+        let src = vk::BufferUsageFlags::TRANSFER_SRC;
+        let colour_in = gpu
+            .create_buffer_with_data("opaque colour", src, &colour_texels)
+            .expect("upload buffer");
+        let depth_in = gpu
+            .create_buffer_with_data("opaque depth", src, &depth_texels)
+            .expect("upload buffer");
+        // One readback per frame in flight.
+        let outs: Vec<_> = (0..in_flight)
+            .map(|_| {
+                gpu.create_buffer(
+                    "readback",
+                    colour_texels.len() as u64,
+                    vk::BufferUsageFlags::TRANSFER_DST,
+                    MemoryLocation::GpuToCpu,
+                )
+                .expect("readback buffer")
+            })
+            .collect();
+        let mut renderer = Renderer::with_frames_in_flight(
+            &gpu,
+            &scene,
+            "exact",
+            W,
+            H,
+            &MethodOptions::default(),
+            in_flight as u32,
+        )
+        .expect("renderer");
+        let attachment = vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL;
+        let depth_attachment = vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
+        let targets = |k: usize| HostTargets {
+            cmd: engine.cmds[k],
+            colour: HostImage {
+                image: colour.raw,
+                format: colour_format,
+                layout: attachment,
+                final_layout: vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+            },
+            depth: HostImage {
+                image: depth.raw,
+                format: vk::Format::D32_SFLOAT,
+                layout: depth_attachment,
+                final_layout: depth_attachment,
+            },
+        };
+        for first in (0..FRAMES).step_by(in_flight) {
+            let batch = first..(first + in_flight).min(FRAMES);
+            // Every frame of the batch is recorded before any is submitted: each must keep
+            // its own camera and draws.
+            for (k, f) in batch.clone().enumerate() {
+                renderer
+                    .set_frame(&frame_scene(f).frame_input())
+                    .expect("set frame");
+                engine.begin(k);
+                let cmd = engine.cmds[k];
+                record_opaque(
+                    &gpu,
+                    cmd,
+                    [
+                        (&colour, &colour_in, attachment),
+                        (&depth, &depth_in, depth_attachment),
+                    ],
+                );
+                // SAFETY: the engine's recording command buffer and images of the frame's size.
+                unsafe { renderer.record_host(&targets(k)) }.expect("record");
+                gpu.cmd_copy_image_to_buffer(cmd, &colour, &outs[k]);
+                translucid::gpu::memory_barrier(
+                    &gpu,
+                    cmd,
+                    (
+                        vk::PipelineStageFlags::TRANSFER,
+                        vk::AccessFlags::TRANSFER_WRITE,
+                    ),
+                    (vk::PipelineStageFlags::HOST, vk::AccessFlags::HOST_READ),
+                );
+            }
+            if batch.len() == in_flight {
+                assert_eq!(renderer.frames_in_flight(), in_flight);
+                let k = in_flight % 4;
+                engine.begin(k);
+                // SAFETY: as above; refused before anything is recorded.
+                let refused = unsafe { renderer.record_host(&targets(k)) };
+                assert!(
+                    refused.is_err(),
+                    "a frame past the renderer's {in_flight} in flight"
+                );
+                // SAFETY: ended unsubmitted, reset by the next begin.
+                unsafe { engine.device.end_command_buffer(engine.cmds[k]) }.expect("end");
+            }
+            for k in 0..batch.len() {
+                engine.submit(k);
+            }
+            for (k, f) in batch.enumerate() {
+                engine.wait(k);
+                let done = renderer
+                    .complete_host()
+                    .expect("complete")
+                    .expect("the submission finished, so the commands ran");
+                assert!(!done.overflowed, "frame {f}: {done:?}");
+                let got = half_pixels(&outs[k].read().expect("readback"));
+                let want = expected(f);
+                let worst = got
+                    .iter()
+                    .zip(&want)
+                    .map(|(a, b)| a.abs_diff(*b))
+                    .max()
+                    .unwrap_or(0);
+                assert!(
+                    worst <= 2,
+                    "{in_flight} in flight, frame {f}: {worst}/255 off the frame drawn alone"
+                );
+            }
+        }
+        assert_eq!(renderer.frames_in_flight(), 0);
+    }
+    let errors = ERRORS.lock().map(|e| e.clone()).unwrap_or_default();
+    assert!(
+        errors.is_empty(),
+        "validation errors:\n{}",
+        errors.join("\n")
+    );
+}
+
+/// RGBA16F texels as sRGB bytes.
+fn half_pixels(bytes: &[u8]) -> Vec<u8> {
+    let pixels = bytes
+        .chunks_exact(8)
+        .map(|p| {
+            let c = |i: usize| half::f16::from_le_bytes([p[2 * i], p[2 * i + 1]]).to_f32();
+            glam::Vec4::new(c(0), c(1), c(2), 1.0)
+        })
+        .collect();
+    translucid::Image {
+        width: W,
+        height: H,
+        pixels,
+    }
+    .to_srgb8()
+}
+
+#[test]
+fn one_frame_in_flight_matches_frames_drawn_alone() {
+    frames_in_flight_match_frames_drawn_alone(1);
+}
+
+#[test]
+fn two_frames_in_flight_match_frames_drawn_alone() {
+    frames_in_flight_match_frames_drawn_alone(2);
+}
+
+#[test]
+fn three_frames_in_flight_match_frames_drawn_alone() {
+    frames_in_flight_match_frames_drawn_alone(3);
 }
