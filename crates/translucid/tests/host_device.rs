@@ -567,7 +567,7 @@ fn frames_in_flight_match_frames_drawn_alone(in_flight: usize) {
                     .expect("complete")
                     .expect("the submission finished, so the commands ran");
                 assert!(!done.overflowed, "frame {f}: {done:?}");
-                let got = half_pixels(&outs[k].read().expect("readback"));
+                let got = half_pixels(outs[k].read().expect("readback"));
                 let want = expected(f);
                 let worst = got
                     .iter()
