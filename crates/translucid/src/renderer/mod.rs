@@ -1,16 +1,42 @@
-//! One frame, end to end: upload the scene, render the opaque layer, run a transparency method
-//! over it, read the result back, and time every stage on the GPU.
+//! Frames, end to end: upload a scene's assets once, then per frame write what changed,
+//! render the opaque layer, run a transparency method over it, read the result back, and time
+//! every stage on the GPU.
 //!
 //! ```no_run
-//! use translucid::{gpu::{Gpu, GpuOptions}, renderer::Renderer, scene};
+//! use translucid::{gpu::{Gpu, GpuOptions}, renderer::Renderer, scene::{self, Camera, Projection}};
 //! let gpu = Gpu::new(&GpuOptions::from_env())?;
-//! let scene = scene::load("spheres")?;
-//! let mut renderer = Renderer::new(&gpu, &scene, "blend", 640, 360)?;
-//! let frame = renderer.render(false)?;
-//! frame.image.save_png("out/spheres.png".as_ref())?;
-//! for (stage, ms) in &frame.stages { println!("{stage}: {ms:.3} ms"); }
+//! let scene = scene::load("particles")?;
+//! let mut renderer = Renderer::new(&gpu, &scene, "exact", 1280, 720)?;
+//! let orbit = scene::motion::Orbit::new(&scene);
+//! let mut draws = Vec::new();
+//! for index in 0..120 {
+//!     orbit.transparent(&scene, index, &mut draws);
+//!     let camera = Camera {
+//!         // The engine's own matrix: reversed-Z, infinite far plane, TAA jitter.
+//!         projection: Projection::Matrix(glam::Mat4::perspective_infinite_reverse_rh(
+//!             0.8,
+//!             16.0 / 9.0,
+//!             0.1,
+//!         )),
+//!         jitter: glam::Vec2::new(0.25, -0.25),
+//!         ..orbit.camera(&scene, index)
+//!     };
+//!     renderer.set_frame(&scene::FrameInput {
+//!         camera,
+//!         transparent: &draws,
+//!         ..scene.frame_input()
+//!     })?;
+//!     let frame = renderer.render(false)?;
+//!     if index >= 4 {
+//!         assert_eq!((frame.pipelines_created, frame.bytes_allocated), (0, 0), "warm");
+//!     }
+//!     for (stage, ms) in &frame.stages { println!("{stage}: {ms:.3} ms"); }
+//! }
 //! # Ok::<(), translucid::Error>(())
 //! ```
+//!
+//! (glam's `perspective_*` matrices are y up: this frame is upside down. An engine's Vulkan
+//! projection has y negated; `Projection::Perspective` does that itself.)
 
 mod host_device;
 mod host_opaque;
