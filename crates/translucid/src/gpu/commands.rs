@@ -156,25 +156,38 @@ impl Gpu {
         dst_offset: u64,
         bytes: u64,
     ) {
-        assert!(
-            bytes <= src.size && dst_offset + bytes <= dst.size,
-            "a {bytes}-byte copy from the {}-byte {} to offset {dst_offset} of the {}-byte {}",
-            src.size,
-            src.name,
-            dst.size,
-            dst.name
-        );
         let region = vk::BufferCopy {
             src_offset: 0,
             dst_offset,
             size: bytes,
         };
-        // SAFETY: cmd is recording outside a render pass; the region lies within both buffers
-        // (checked above).
-        unsafe {
-            self.device
-                .cmd_copy_buffer(cmd, src.raw, dst.raw, &[region])
-        };
+        self.cmd_copy_buffer_regions(cmd, src, dst, &[region]);
+    }
+
+    /// Copies `regions` of `src` into `dst` (TRANSFER_SRC and TRANSFER_DST usage).
+    pub fn cmd_copy_buffer_regions(
+        &self,
+        cmd: vk::CommandBuffer,
+        src: &Buffer,
+        dst: &Buffer,
+        regions: &[vk::BufferCopy],
+    ) {
+        for r in regions {
+            assert!(
+                r.src_offset + r.size <= src.size && r.dst_offset + r.size <= dst.size,
+                "a {}-byte copy from offset {} of the {}-byte {} to offset {} of the {}-byte {}",
+                r.size,
+                r.src_offset,
+                src.size,
+                src.name,
+                r.dst_offset,
+                dst.size,
+                dst.name
+            );
+        }
+        // SAFETY: cmd is recording outside a render pass; every region lies within both
+        // buffers (checked above).
+        unsafe { self.device.cmd_copy_buffer(cmd, src.raw, dst.raw, regions) };
     }
 
     /// Fills the whole buffer with a repeated 32-bit value (it needs TRANSFER_DST usage).

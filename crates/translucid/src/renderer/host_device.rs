@@ -136,6 +136,8 @@ impl Renderer {
             vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE,
         );
         memory_barrier(&gpu, cmd, any, any);
+        self.scene
+            .record_moved_vertices(&gpu, cmd, &self.frame_scene)?;
         gpu.record_host_input(targets, &self.targets.colour, &self.targets.depth);
         self.timestamps[slot].mark(cmd, "opaque");
         self.record_method(&gpu, cmd)?;

@@ -84,8 +84,8 @@ pub struct Frame {
     /// Bytes of GPU memory allocated on the device over the same span (buffers grown for
     /// this frame), the opaque layer's readback aside: 0 in a warm frame loop.
     pub bytes_allocated: u64,
-    /// Host time spent recording the frame's command buffers, in milliseconds (the
-    /// renderer's share of an engine's CPU frame; `set_frame` not included).
+    /// Host time spent writing the frame's data into its slot and recording its command
+    /// buffers, in milliseconds: the renderer's share of an engine's CPU frame.
     pub record_ms: f64,
     /// Host wall-clock time from the last submission to its completion, in milliseconds. On
     /// CPU devices GPU timestamps are written as commands are issued, not as asynchronous
@@ -290,19 +290,11 @@ impl Renderer {
     }
 
     /// Moves mesh `mesh`'s vertices to `positions` (one per vertex, as many as it has; its
-    /// normals, colours and texture coordinates stay) for the next frames, as particle
-    /// systems and skinned meshes do every frame. Written in place: nothing is rebuilt or
-    /// allocated on the GPU. Refused while a frame recorded on an engine's device is not
-    /// completed.
+    /// normals, colours and texture coordinates stay) from the next frame recorded on, as
+    /// particle systems and skinned meshes do every frame. That frame copies them into the
+    /// vertex buffer after the frames in flight before it: nothing is rebuilt, and GPU memory
+    /// is allocated only for the first move (a staging buffer per frame slot).
     pub fn update_mesh(&mut self, mesh: usize, positions: &[Vec3]) -> Result<()> {
-        // Vertices are shared by the frame slots.
-        if !self.in_flight.is_empty() {
-            return Err(Error::HostFrame(
-                "a recorded frame is not completed: meshes cannot change while frames are in \
-                 flight"
-                    .into(),
-            ));
-        }
         let meshes = self.frame_scene.meshes.len();
         let target = self.frame_scene.meshes.get_mut(mesh).ok_or_else(|| {
             Error::InvalidScene(format!("mesh {mesh} to update; the scene has {meshes}"))
@@ -322,7 +314,7 @@ impl Renderer {
             )));
         }
         target.positions.copy_from_slice(positions);
-        self.scene.update_mesh(mesh, target)?;
+        self.scene.mesh_moved(mesh);
         // The method's view of the frame (near-plane estimate, bounds) follows the vertices.
         self.frame_serial += 1;
         Ok(())
@@ -361,10 +353,11 @@ impl Renderer {
         self.readback()?;
         // Standalone frames complete before the call returns: one slot serves them all.
         let slot = self.slot;
+        let preparing = std::time::Instant::now();
         self.prepare_slot(slot)?;
+        let mut record_ms = preparing.elapsed().as_secs_f64() * 1e3;
         let mut rerenders = 0;
         let mut wall_ms = 0.0;
-        let mut record_ms = 0.0;
         // A frame the method finishes in further submissions: their stages, after the
         // frame's own.
         let mut finishing = false;
@@ -380,6 +373,8 @@ impl Renderer {
                     self.readback()?.record(&gpu, cmd, &self.targets, false);
                     return Ok(());
                 }
+                self.scene
+                    .record_moved_vertices(&gpu, cmd, &self.frame_scene)?;
                 match &source {
                     OpaqueSource::Scene { readback } => {
                         self.opaque_pass

@@ -52,6 +52,8 @@ struct SceneSlot {
     frame: Buffer,
     draws: Buffer,
     set: DescriptorSet,
+    /// Moved vertices on their way to the vertex buffer (made on the first move).
+    staging: Option<Buffer>,
 }
 
 impl SceneSlot {
@@ -78,7 +80,12 @@ impl SceneSlot {
             Resource::Buffer(&draws),
             Resource::Buffer(materials),
         ])?;
-        Ok(Self { frame, draws, set })
+        Ok(Self {
+            frame,
+            draws,
+            set,
+            staging: None,
+        })
     }
 }
 
@@ -114,6 +121,8 @@ pub struct GpuScene {
     first_quads: Vec<u32>,
     /// The frame size the frame info is written for.
     extent: (u32, u32),
+    /// Meshes whose vertices moved since the last frame recorded.
+    moved_meshes: Vec<usize>,
 }
 
 fn vertices_of(mesh: &Mesh) -> impl Iterator<Item = GpuVertex> + '_ {
@@ -166,9 +175,10 @@ impl GpuScene {
         let materials: Vec<GpuMaterial> = scene.materials.iter().map(GpuMaterial::new).collect();
 
         let storage = SCENE_STORAGE;
+        // Moved vertices are copied in by the frame that first draws them.
         let vertices = gpu.create_buffer_with_data(
             "scene vertices",
-            vk::BufferUsageFlags::VERTEX_BUFFER | storage,
+            vk::BufferUsageFlags::VERTEX_BUFFER | vk::BufferUsageFlags::TRANSFER_DST | storage,
             bytemuck::cast_slice(&vertices),
         )?;
         let indices = gpu.create_buffer_with_data(
@@ -255,20 +265,75 @@ impl GpuScene {
             ranges,
             first_quads,
             extent: (width, height),
+            moved_meshes: Vec::new(),
         };
         uploaded.set_frame(gpu, scene)?;
         Ok(uploaded)
     }
 
-    /// Rewrites mesh `index`'s vertices from `mesh` (the same vertex count as uploaded,
-    /// checked by the caller). No frame that reads them may be in flight.
-    pub fn update_mesh(&mut self, index: usize, mesh: &Mesh) -> Result<()> {
-        let vertices: Vec<GpuVertex> = vertices_of(mesh).collect();
-        let first = u64::try_from(self.ranges[index].vertex_offset).unwrap_or(0);
-        self.vertices.write(
-            first * u64::from(VERTEX_STRIDE),
-            bytemuck::cast_slice(&vertices),
-        )
+    /// Notes that mesh `index` moved: the next frame recorded copies its vertices in (see
+    /// [`Self::record_moved_vertices`]).
+    pub fn mesh_moved(&mut self, index: usize) {
+        if !self.moved_meshes.contains(&index) {
+            self.moved_meshes.push(index);
+        }
+    }
+
+    /// Records the copy of the moved meshes' vertices (as `scene` holds them now) from the
+    /// current slot's staging buffer into the vertex buffer, after every command before it on
+    /// the queue (frames in flight included) and before the frame's draws and dispatches.
+    /// The slot's last frame must have completed.
+    pub fn record_moved_vertices(
+        &mut self,
+        gpu: &Gpu,
+        cmd: vk::CommandBuffer,
+        scene: &Scene,
+    ) -> Result<()> {
+        if self.moved_meshes.is_empty() {
+            return Ok(());
+        }
+        let mut bytes: Vec<u8> = Vec::new();
+        let mut regions = Vec::with_capacity(self.moved_meshes.len());
+        for &mesh in &self.moved_meshes {
+            let vertices: Vec<GpuVertex> = vertices_of(&scene.meshes[mesh]).collect();
+            let first = u64::try_from(self.ranges[mesh].vertex_offset).unwrap_or(0);
+            regions.push(vk::BufferCopy {
+                src_offset: bytes.len() as u64,
+                dst_offset: first * u64::from(VERTEX_STRIDE),
+                size: (vertices.len() * VERTEX_STRIDE as usize) as u64,
+            });
+            bytes.extend_from_slice(bytemuck::cast_slice(&vertices));
+        }
+        let slot = &mut self.slots[self.slot];
+        if slot
+            .staging
+            .as_ref()
+            .is_none_or(|s| s.size < bytes.len() as u64)
+        {
+            slot.staging = Some(gpu.create_buffer(
+                "moved vertices",
+                (bytes.len() as u64).next_power_of_two(),
+                vk::BufferUsageFlags::TRANSFER_SRC,
+                MemoryLocation::CpuToGpu,
+            )?);
+        }
+        let Some(staging) = slot.staging.as_mut() else {
+            return Ok(());
+        };
+        staging.write(0, &bytes)?;
+        let any = (
+            vk::PipelineStageFlags::ALL_COMMANDS,
+            vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE,
+        );
+        let transfer = (
+            vk::PipelineStageFlags::TRANSFER,
+            vk::AccessFlags::TRANSFER_WRITE,
+        );
+        crate::gpu::memory_barrier(gpu, cmd, any, transfer);
+        gpu.cmd_copy_buffer_regions(cmd, staging, &self.vertices, &regions);
+        crate::gpu::memory_barrier(gpu, cmd, transfer, any);
+        self.moved_meshes.clear();
+        Ok(())
     }
 
     /// Makes `slot` the frame slot that [`Self::set_frame`] writes and recording reads.
