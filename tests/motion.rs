@@ -190,3 +190,27 @@ fn engine_projections_match_the_reference() {
         }
     }
 }
+
+/// An engine saves the pipeline cache after a run and hands it back on the next: the data
+/// names this device, merges, and other data is turned away without harm.
+#[test]
+fn the_pipeline_cache_survives_a_restart() {
+    let first = gpu();
+    let scene = scene::load("spheres").expect("scene");
+    Renderer::new(&first, &scene, "exact", WIDTH, HEIGHT)
+        .and_then(|mut r| r.render(false))
+        .expect("frame");
+    let data = first.pipeline_cache_data().expect("cache data");
+    // At least the header naming the device (lavapipe 22 keeps nothing after it).
+    assert!(data.len() >= 32, "{} bytes", data.len());
+    let next = gpu();
+    assert!(next.merge_pipeline_cache(&data).expect("merge"));
+    let mut foreign = data.clone();
+    foreign[16] ^= 0xFF;
+    assert!(!next.merge_pipeline_cache(&foreign).expect("foreign data"));
+    assert!(!next.merge_pipeline_cache(&data[..20]).expect("cut data"));
+    assert!(!next.merge_pipeline_cache(&[]).expect("no data"));
+    Renderer::new(&next, &scene, "exact", WIDTH, HEIGHT)
+        .and_then(|mut r| r.render(false))
+        .expect("frame with the merged cache");
+}

@@ -8,6 +8,7 @@ use ash::vk;
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 use std::mem::ManuallyDrop;
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::OnceLock;
 use std::sync::{Arc, Mutex};
 
 /// How to create a [`Gpu`].
@@ -90,6 +91,9 @@ pub struct Shared {
     /// Pipelines created on the device so far: each one costs a shader compilation, which
     /// a frame loop must not pay.
     pipelines_created: AtomicU64,
+    /// Every pipeline is made through this cache (made on first use), whose data an engine
+    /// can save and hand back on its next run ([`Gpu::pipeline_cache_data`]).
+    pipeline_cache: OnceLock<vk::PipelineCache>,
     /// Held while a submission records, submits and waits: the queue, the command pool and
     /// the reused command buffer and fence are externally synchronised objects.
     pub(crate) submitting: Mutex<()>,
@@ -340,6 +344,7 @@ impl Gpu {
                 allocator: ManuallyDrop::new(Mutex::new(allocator)),
                 memory: MemoryStats::default(),
                 pipelines_created: AtomicU64::new(0),
+                pipeline_cache: OnceLock::new(),
                 submitting: Mutex::new(()),
                 info,
             }))),
@@ -375,6 +380,7 @@ impl Gpu {
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
             memory: MemoryStats::default(),
             pipelines_created: AtomicU64::new(0),
+            pipeline_cache: OnceLock::new(),
             submitting: Mutex::new(()),
             info,
         })))
@@ -382,6 +388,76 @@ impl Gpu {
 }
 
 impl Shared {
+    /// The device's pipeline cache, made on first use (null, caching nothing, if the driver
+    /// cannot make one).
+    pub(crate) fn pipeline_cache(&self) -> vk::PipelineCache {
+        *self.pipeline_cache.get_or_init(|| {
+            // SAFETY: valid device and create info.
+            unsafe {
+                self.device
+                    .create_pipeline_cache(&vk::PipelineCacheCreateInfo::default(), None)
+            }
+            .unwrap_or_else(|e| {
+                log::warn!("vkCreatePipelineCache failed ({e}); pipelines are not cached");
+                vk::PipelineCache::null()
+            })
+        })
+    }
+
+    /// The pipeline cache's contents, for the engine to save and give back to
+    /// [`Self::merge_pipeline_cache`] on its next run, so that its first frames skip shader
+    /// compilation the driver has cached.
+    pub fn pipeline_cache_data(&self) -> Result<Vec<u8>> {
+        let cache = self.pipeline_cache();
+        if cache == vk::PipelineCache::null() {
+            return Ok(Vec::new());
+        }
+        // SAFETY: a live cache of this device.
+        unsafe { self.device.get_pipeline_cache_data(cache) }
+            .map_err(super::error::vk_err("vkGetPipelineCacheData"))
+    }
+
+    /// Adds what `data` (from [`Self::pipeline_cache_data`], maybe of another run) holds to
+    /// the device's pipeline cache. False, changing nothing, when the data was made by
+    /// another driver or device (its header says which), or is too short to say.
+    pub fn merge_pipeline_cache(&self, data: &[u8]) -> Result<bool> {
+        if !self.cache_data_fits(data) {
+            return Ok(false);
+        }
+        let cache = self.pipeline_cache();
+        if cache == vk::PipelineCache::null() {
+            return Ok(false);
+        }
+        let info = vk::PipelineCacheCreateInfo::default().initial_data(data);
+        // SAFETY: valid device; the data's header names this device (checked above).
+        let loaded = unsafe { self.device.create_pipeline_cache(&info, None) }
+            .map_err(super::error::vk_err("vkCreatePipelineCache"))?;
+        // SAFETY: both caches are live and of this device; `loaded` is destroyed once merged.
+        let merged = unsafe {
+            let merged = self.device.merge_pipeline_caches(cache, &[loaded]);
+            self.device.destroy_pipeline_cache(loaded, None);
+            merged
+        };
+        merged.map_err(super::error::vk_err("vkMergePipelineCaches"))?;
+        Ok(true)
+    }
+
+    /// Whether pipeline cache `data` starts with a version-one header naming this device's
+    /// vendor, device and pipeline cache UUID.
+    fn cache_data_fits(&self, data: &[u8]) -> bool {
+        // SAFETY: a live physical device of this instance.
+        let properties = unsafe { self.instance.get_physical_device_properties(self.physical) };
+        let word = |at: usize| {
+            data.get(at..at + 4)
+                .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+        };
+        word(0).is_some_and(|size| size >= 32)
+            && word(4) == Some(vk::PipelineCacheHeaderVersion::ONE.as_raw() as u32)
+            && word(8) == Some(properties.vendor_id)
+            && word(12) == Some(properties.device_id)
+            && data.get(16..32) == Some(&properties.pipeline_cache_uuid[..])
+    }
+
     /// Whether this is the engine's device (host-device mode): translucid records into the
     /// engine's command buffers and never submits.
     pub fn is_host_device(&self) -> bool {
@@ -591,6 +667,11 @@ fn create_submission_objects(
 
 impl Drop for Shared {
     fn drop(&mut self) {
+        if let Some(&cache) = self.pipeline_cache.get() {
+            // SAFETY: every pipeline made through the cache has been created (creation is
+            // synchronous); the cache is ours on either kind of device.
+            unsafe { self.device.destroy_pipeline_cache(cache, None) };
+        }
         let (live, _) = self.memory.current_and_peak();
         if live != 0 {
             log::warn!("device destroyed with {live} bytes of GPU memory still allocated");

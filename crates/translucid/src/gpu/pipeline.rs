@@ -359,7 +359,7 @@ impl ComputePipeline {
         // SAFETY: valid module and layout.
         let created = unsafe {
             gpu.device
-                .create_compute_pipelines(vk::PipelineCache::null(), &info, None)
+                .create_compute_pipelines(gpu.pipeline_cache(), &info, None)
         };
         // SAFETY: the module is no longer needed once the pipeline exists (or failed).
         unsafe { gpu.device.destroy_shader_module(module, None) };
@@ -677,7 +677,7 @@ impl GraphicsPipeline {
         // SAFETY: every pointee lives until the call returns.
         let created = unsafe {
             gpu.device
-                .create_graphics_pipelines(vk::PipelineCache::null(), &info, None)
+                .create_graphics_pipelines(gpu.pipeline_cache(), &info, None)
         };
         // SAFETY: modules are not needed after pipeline creation.
         unsafe {
