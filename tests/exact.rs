@@ -2,7 +2,7 @@
 //! at sizes that are not multiples of the bin size, including the overflow paths.
 
 use glam::{Mat4, Vec3, Vec4};
-use translucid::methods::MethodOptions;
+use translucid::methods::{MethodKind, MethodOptions};
 use translucid::metrics;
 use translucid::renderer::Renderer;
 use translucid::scene::{self, Camera, Draw, Material, Mesh, Scene};
@@ -18,8 +18,9 @@ fn check(
     options: &MethodOptions,
 ) -> translucid::renderer::Frame {
     let gpu = gpu();
-    let mut renderer = Renderer::with_options(&gpu, scene, "exact", width, height, options)
-        .unwrap_or_else(|e| panic!("exact on {label}: {e}"));
+    let mut renderer =
+        Renderer::with_options(&gpu, scene, MethodKind::Exact, width, height, options)
+            .unwrap_or_else(|e| panic!("exact on {label}: {e}"));
     let frame = renderer
         .render(true)
         .unwrap_or_else(|e| panic!("exact on {label}: {e}"));
@@ -309,13 +310,13 @@ fn exact_passes_learned_buffer_sizes_to_the_next_renderer() {
         ..Default::default()
     };
     let mut first =
-        Renderer::with_options(&gpu, &scene, "exact", 199, 143, &tiny).expect("renderer");
+        Renderer::with_options(&gpu, &scene, MethodKind::Exact, 199, 143, &tiny).expect("renderer");
     assert!(first.render(false).expect("frame").rerenders >= 1);
     let learned = first.learned_options(&tiny);
     assert!(learned.initial_bin_entries > Some(1), "{learned:?}");
     drop(first);
-    let mut next =
-        Renderer::with_options(&gpu, &scene, "exact", 199, 143, &learned).expect("renderer");
+    let mut next = Renderer::with_options(&gpu, &scene, MethodKind::Exact, 199, 143, &learned)
+        .expect("renderer");
     assert_eq!(next.render(false).expect("frame").rerenders, 0);
 }
 
@@ -397,7 +398,7 @@ fn exact_rebuilds_the_raster_shader_for_unexpected_near_plane_triangles() {
 fn exact_creates_no_pipeline_in_a_warm_frame() {
     let gpu = gpu();
     let scene = scene::load("particles").expect("generated scene");
-    let mut renderer = Renderer::new(&gpu, &scene, "exact", 96, 64).expect("renderer");
+    let mut renderer = Renderer::new(&gpu, &scene, MethodKind::Exact, 96, 64).expect("renderer");
     // The first frames may rebuild for what they find (deeper pixels than expected); the
     // later ones none. (The near-plane test above checks that rebuilds are counted.)
     let frames: Vec<u64> = (0..4)
@@ -421,8 +422,8 @@ fn exact_threshold_stops_where_the_reference_stops() {
             threshold,
             ..Default::default()
         };
-        let mut with =
-            Renderer::with_options(&gpu, &scene, "exact", 160, 120, &options).expect("renderer");
+        let mut with = Renderer::with_options(&gpu, &scene, MethodKind::Exact, 160, 120, &options)
+            .expect("renderer");
         let early = with.render(true).expect("frame");
         let opaque = early.opaque.as_ref().expect("opaque layer");
         let expected =
@@ -448,7 +449,7 @@ fn exact_threshold_stops_where_the_reference_stops() {
 }
 
 fn exact_fragments(gpu: &translucid::gpu::Gpu, scene: &Scene) -> u64 {
-    let mut r = Renderer::new(gpu, scene, "exact", 160, 120).expect("renderer");
+    let mut r = Renderer::new(gpu, scene, MethodKind::Exact, 160, 120).expect("renderer");
     r.render(false).expect("frame").fragments
 }
 
@@ -494,7 +495,8 @@ fn exact_renders_ten_thousand_full_screen_layers_in_blends_time() {
     // devices are noisy, ratios less so. (On lavapipe, 2 cores: exact about 0.4x blend.)
     let gpu = gpu();
     let best_ms = |method: &str| {
-        let mut renderer = Renderer::new(&gpu, &scene, method, 32, 24).expect("renderer");
+        let kind = method.parse().expect("a method name");
+        let mut renderer = Renderer::new(&gpu, &scene, kind, 32, 24).expect("renderer");
         renderer.render(false).expect("first frame");
         (0..3)
             .map(|_| {
@@ -607,7 +609,7 @@ fn crowded_bin_frame(count: u32, label: &str) -> translucid::renderer::Frame {
         ..Default::default()
     };
     let mut renderer =
-        Renderer::with_options(&gpu, &scene, "exact", 8, 8, &options).expect("renderer");
+        Renderer::with_options(&gpu, &scene, MethodKind::Exact, 8, 8, &options).expect("renderer");
     let frame = renderer.render(true).expect("a crowded bin renders");
     let opaque = frame.opaque.as_ref().expect("opaque layer");
     let expected =

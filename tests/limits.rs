@@ -34,7 +34,7 @@ fn draws_past_a_storage_binding_are_refused_by_name() {
         ..Scene::default()
     };
     for method in ["exact", "blend", "wavelet", "wboit"] {
-        let err = Renderer::new(&gpu, &scene, method, 64, 48)
+        let err = Renderer::new(&gpu, &scene, method.parse().expect("a method name"), 64, 48)
             .err()
             .unwrap_or_else(|| panic!("{method}: {count} draws were accepted"));
         let msg = err.to_string();
@@ -99,7 +99,7 @@ fn limits_of_the_shared_bin_stages_name_the_method() {
         ..Scene::default()
     };
     for method in ["exact", "wavelet"] {
-        let err = Renderer::new(&gpu, &scene, method, 64, 48)
+        let err = Renderer::new(&gpu, &scene, method.parse().expect("a method name"), 64, 48)
             .err()
             .unwrap_or_else(|| panic!("{method}: {count} textures of {side}² were accepted"));
         let msg = err.to_string();

@@ -7,7 +7,7 @@
 use glam::{Mat4, Vec2, Vec3};
 use translucid::image::{Image, OpaqueLayer};
 use translucid::methods::wavelet::{model::Model, Settings};
-use translucid::methods::MethodOptions;
+use translucid::methods::{MethodKind, MethodOptions};
 use translucid::metrics;
 use translucid::renderer::{Frame, Renderer};
 use translucid::scene::{self, motion::Orbit, Camera, Projection, Scene};
@@ -71,7 +71,8 @@ fn check(name: &str, method: &str, scene: &Scene, frame: &Frame) {
 fn moving_sequence(scene_name: &str, method: &str, frames: usize) {
     let gpu = gpu();
     let scene = scene::load(scene_name).expect("scene");
-    let mut renderer = Renderer::new(&gpu, &scene, method, WIDTH, HEIGHT).expect("renderer");
+    let kind = method.parse().expect("a method name");
+    let mut renderer = Renderer::new(&gpu, &scene, kind, WIDTH, HEIGHT).expect("renderer");
     let orbit = Orbit::new(&scene);
     let mut last = None;
     for i in 0..frames {
@@ -97,7 +98,7 @@ fn moving_sequence(scene_name: &str, method: &str, frames: usize) {
     }
     // The last frame is what a renderer made for it alone draws.
     let (frame_scene, frame) = last.expect("frames");
-    let alone = Renderer::new(&gpu, &frame_scene, method, WIDTH, HEIGHT)
+    let alone = Renderer::new(&gpu, &frame_scene, kind, WIDTH, HEIGHT)
         .and_then(|mut r| r.render(false))
         .expect("frame alone");
     let m = metrics::compare(&frame.image, &alone.image).expect("same size");
@@ -197,7 +198,7 @@ fn engine_projections_match_the_reference() {
 fn the_pipeline_cache_survives_a_restart() {
     let first = gpu();
     let scene = scene::load("spheres").expect("scene");
-    Renderer::new(&first, &scene, "exact", WIDTH, HEIGHT)
+    Renderer::new(&first, &scene, MethodKind::Exact, WIDTH, HEIGHT)
         .and_then(|mut r| r.render(false))
         .expect("frame");
     let data = first.pipeline_cache_data().expect("cache data");
@@ -210,7 +211,7 @@ fn the_pipeline_cache_survives_a_restart() {
     assert!(!next.merge_pipeline_cache(&foreign).expect("foreign data"));
     assert!(!next.merge_pipeline_cache(&data[..20]).expect("cut data"));
     assert!(!next.merge_pipeline_cache(&[]).expect("no data"));
-    Renderer::new(&next, &scene, "exact", WIDTH, HEIGHT)
+    Renderer::new(&next, &scene, MethodKind::Exact, WIDTH, HEIGHT)
         .and_then(|mut r| r.render(false))
         .expect("frame with the merged cache");
 }

@@ -118,7 +118,7 @@ impl Method {
 
 /// One frame with the method's default options, its opaque layer read back.
 fn frame(gpu: &Gpu, scene: &Scene, method: Method) -> translucid::Result<Frame> {
-    Renderer::new(gpu, scene, method.name(), SIZE.0, SIZE.1)?.render(true)
+    Renderer::new(gpu, scene, method.name().parse()?, SIZE.0, SIZE.1)?.render(true)
 }
 
 /// Renders `scene` with `method`, compares it with the method's model and prints the numbers.

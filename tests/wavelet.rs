@@ -5,7 +5,7 @@
 use glam::Vec3;
 use translucid::gpu::Gpu;
 use translucid::methods::wavelet::{model::Model, Precision, Settings, Storage};
-use translucid::methods::{wboit, MethodOptions};
+use translucid::methods::{wboit, MethodKind, MethodOptions};
 use translucid::metrics::{self, Metrics};
 use translucid::renderer::{Frame, Renderer};
 use translucid::scene::{self, Material, Scene, Texture};
@@ -17,7 +17,8 @@ const TOLERANCE: f32 = 2.0 / 255.0;
 const SIZE: (u32, u32) = (213, 131);
 
 fn render(gpu: &Gpu, scene: &Scene, method: &str, options: &MethodOptions) -> Frame {
-    Renderer::with_options(gpu, scene, method, SIZE.0, SIZE.1, options)
+    let kind = method.parse().expect("a method name");
+    Renderer::with_options(gpu, scene, kind, SIZE.0, SIZE.1, options)
         .and_then(|mut r| r.render(true))
         .unwrap_or_else(|e| panic!("{method} on {}: {e}", scene.name))
 }
@@ -189,8 +190,8 @@ fn wavelet_in_bins_falls_back_to_images_for_crowded_rows() {
     let gpu = gpu();
     let scene = textured_stack_scene(800);
     let options = bins_options(3, 0.0);
-    let mut renderer =
-        Renderer::with_options(&gpu, &scene, "wavelet", 45, 37, &options).expect("renderer");
+    let mut renderer = Renderer::with_options(&gpu, &scene, MethodKind::Wavelet, 45, 37, &options)
+        .expect("renderer");
     let frame = renderer.render(true).expect("frame");
     assert!(
         frame.rerenders >= 1,
@@ -257,7 +258,7 @@ fn wavelet_rejects_ranks_over_three() {
     let gpu = gpu();
     let scene = scene::load("spheres").expect("generated scene");
     let options = wavelet_options(4, 0.0, Precision::Half);
-    let err = Renderer::with_options(&gpu, &scene, "wavelet", 16, 16, &options)
+    let err = Renderer::with_options(&gpu, &scene, MethodKind::Wavelet, 16, 16, &options)
         .err()
         .expect("rank 4 must fail");
     assert!(err.to_string().contains("rank 4"), "unhelpful error: {err}");

@@ -26,7 +26,8 @@ pub fn asset(relative: &str) -> PathBuf {
 
 /// One frame of `scene` with `method`, its opaque layer read back too.
 pub fn render(gpu: &Gpu, scene: &Scene, method: &str, width: u32, height: u32) -> Frame {
-    let mut renderer = Renderer::new(gpu, scene, method, width, height)
+    let kind = method.parse().expect("a method name");
+    let mut renderer = Renderer::new(gpu, scene, kind, width, height)
         .unwrap_or_else(|e| panic!("{method} on {}: {e}", scene.name));
     renderer
         .render(true)

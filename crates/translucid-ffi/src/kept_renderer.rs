@@ -67,7 +67,7 @@ pub(crate) fn renderer_for<'k>(
             Renderer::with_options(
                 gpu,
                 &input.scene,
-                input.method.name(),
+                input.method.kind(),
                 info.width,
                 info.height,
                 &options,

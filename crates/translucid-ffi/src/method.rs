@@ -5,6 +5,7 @@ use crate::cast::{try_out, try_out_slice};
 use crate::panic;
 use crate::result::{translucid_result, Failure, FfiResult};
 use std::ffi::c_char;
+use translucid::methods::MethodKind;
 
 /// Where the wavelet method keeps each pixel's coefficients.
 #[allow(non_camel_case_types)]
@@ -52,14 +53,19 @@ pub enum translucid_method {
 impl translucid_method {
     const ALL: [Self; 4] = [Self::Blend, Self::Exact, Self::Wavelet, Self::Wboit];
 
+    /// The core library's method.
+    pub fn kind(self) -> MethodKind {
+        match self {
+            Self::Blend => MethodKind::Blend,
+            Self::Exact => MethodKind::Exact,
+            Self::Wavelet => MethodKind::Wavelet,
+            Self::Wboit => MethodKind::Wboit,
+        }
+    }
+
     /// The name the core library (and the CLI) uses.
     pub fn name(self) -> &'static str {
-        match self {
-            Self::Blend => "blend",
-            Self::Exact => "exact",
-            Self::Wavelet => "wavelet",
-            Self::Wboit => "wboit",
-        }
+        self.kind().name()
     }
 
     fn c_name(self) -> *const c_char {

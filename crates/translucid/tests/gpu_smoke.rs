@@ -2,6 +2,7 @@
 
 use glam::{Mat4, Vec3, Vec4};
 use translucid::gpu::{Gpu, GpuOptions};
+use translucid::methods::MethodKind;
 use translucid::renderer::Renderer;
 use translucid::scene::{Camera, Draw, Material, Mesh, Scene};
 
@@ -54,7 +55,8 @@ fn two_layer_scene() -> Scene {
 #[test]
 fn blend_composites_over_the_opaque_layer() {
     let gpu = gpu();
-    let mut renderer = Renderer::new(&gpu, &two_layer_scene(), "blend", 64, 48).expect("renderer");
+    let mut renderer =
+        Renderer::new(&gpu, &two_layer_scene(), MethodKind::Blend, 64, 48).expect("renderer");
     let frame = renderer.render(true).expect("frame");
     let centre = frame.image.get(32, 24);
     assert!(
@@ -87,7 +89,7 @@ fn zero_and_oversized_viewports_are_refused() {
     let gpu = gpu();
     let scene = two_layer_scene();
     for (w, h) in [(0, 10), (10, 0), (1 << 20, 10)] {
-        let err = Renderer::new(&gpu, &scene, "blend", w, h)
+        let err = Renderer::new(&gpu, &scene, MethodKind::Blend, w, h)
             .err()
             .expect("refused");
         assert!(
@@ -99,10 +101,7 @@ fn zero_and_oversized_viewports_are_refused() {
 
 #[test]
 fn unknown_method_is_named() {
-    let gpu = gpu();
-    let err = Renderer::new(&gpu, &two_layer_scene(), "nope", 8, 8)
-        .err()
-        .expect("refused");
+    let err = "nope".parse::<MethodKind>().expect_err("refused");
     assert!(
         err.to_string().contains("nope") && err.to_string().contains("blend"),
         "{err}"

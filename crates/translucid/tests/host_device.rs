@@ -13,7 +13,7 @@ use translucid::gpu::{
     host_requirements, image_barrier, Gpu, GpuImage, GpuOptions, HostDevice, HostImage,
     HostTargets, MemoryLocation,
 };
-use translucid::methods::MethodOptions;
+use translucid::methods::{MethodKind, MethodOptions};
 use translucid::renderer::Renderer;
 use translucid::scene::motion::Orbit;
 use translucid::OpaqueLayer;
@@ -262,7 +262,8 @@ fn an_overflowing_frame_says_so_and_renders_right_when_recorded_again() {
         validation: true,
     })
     .expect("a Vulkan device with the validation layer");
-    let mut reference = Renderer::new(&standalone, &scene, "exact", W, H).expect("renderer");
+    let mut reference =
+        Renderer::new(&standalone, &scene, MethodKind::Exact, W, H).expect("renderer");
     let layer = reference
         .render(true)
         .expect("frame")
@@ -318,8 +319,8 @@ fn an_overflowing_frame_says_so_and_renders_right_when_recorded_again() {
             initial_bin_entries: Some(16),
             ..Default::default()
         };
-        let mut renderer =
-            Renderer::with_options(&gpu, &scene, "exact", W, H, &options).expect("renderer");
+        let mut renderer = Renderer::with_options(&gpu, &scene, MethodKind::Exact, W, H, &options)
+            .expect("renderer");
         let attachment = vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL;
         let depth_attachment = vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
         let targets = HostTargets {
@@ -499,7 +500,7 @@ fn frames_in_flight_match_the_reference(in_flight: usize) {
         let mut renderer = Renderer::with_frames_in_flight(
             &gpu,
             &scene,
-            "exact",
+            MethodKind::Exact,
             W,
             H,
             &MethodOptions::default(),

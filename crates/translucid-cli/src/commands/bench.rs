@@ -94,8 +94,14 @@ pub fn run(
         };
         for method in &order {
             bar.set_message(format!("{spec} / {method}"));
-            let mut renderer =
-                Renderer::with_options(&gpu, &scene, method, size.width, size.height, &options)?;
+            let mut renderer = Renderer::with_options(
+                &gpu,
+                &scene,
+                method.parse()?,
+                size.width,
+                size.height,
+                &options,
+            )?;
             // Lavapipe compiles pipelines on first use: warm up before timing.
             for index in 0..warmup {
                 next_frame(&mut renderer, index)?;

@@ -133,7 +133,7 @@ fn check_file(
     let result = Renderer::with_options(
         device,
         &scene,
-        check.method,
+        check.method.parse()?,
         check.size.width,
         check.size.height,
         &check.options,

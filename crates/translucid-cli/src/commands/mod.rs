@@ -34,7 +34,7 @@ pub fn open_renderer(
     translucid::renderer::Renderer::with_options(
         &gpu,
         scene,
-        method,
+        method.parse()?,
         size.width,
         size.height,
         &options,

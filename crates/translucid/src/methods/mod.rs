@@ -20,6 +20,51 @@ use crate::{Error, Result};
 /// Every method's name, as the CLI and the C API spell it.
 pub const NAMES: &[&str] = &["blend", "exact", "wavelet", "wboit"];
 
+/// The transparency methods.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum MethodKind {
+    /// Unsorted hardware alpha blending: the baseline.
+    Blend,
+    /// The compute bin rasterizer: every pixel's fragments in the reference's order.
+    Exact,
+    /// Haar-wavelet transmittance, approximate.
+    Wavelet,
+    /// Weighted blended OIT, approximate.
+    Wboit,
+}
+
+impl MethodKind {
+    pub const ALL: [Self; 4] = [Self::Blend, Self::Exact, Self::Wavelet, Self::Wboit];
+
+    /// The name the CLI and the C API use.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Blend => "blend",
+            Self::Exact => "exact",
+            Self::Wavelet => "wavelet",
+            Self::Wboit => "wboit",
+        }
+    }
+}
+
+impl std::fmt::Display for MethodKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for MethodKind {
+    type Err = Error;
+
+    /// A method by name; [`Error::UnknownMethod`] lists the names.
+    fn from_str(name: &str) -> Result<Self> {
+        Self::ALL
+            .into_iter()
+            .find(|m| m.name() == name)
+            .ok_or_else(|| Error::UnknownMethod(name.to_string(), NAMES.join(", ")))
+    }
+}
+
 /// Settings that some methods use; the rest ignore them.
 #[derive(Clone, Debug, Default)]
 pub struct MethodOptions {
@@ -136,24 +181,36 @@ pub trait Method {
     fn learned(&self, _options: &mut MethodOptions) {}
 }
 
-/// Creates the method called `name` for `scene` (uploaded as `uploaded`) and `targets`.
+/// Creates method `kind` for `scene` (uploaded as `uploaded`) and `targets`.
 pub fn create(
-    name: &str,
+    kind: MethodKind,
     gpu: &Gpu,
     scene: &Scene,
     uploaded: &GpuScene,
     targets: &FrameTargets,
     options: &MethodOptions,
 ) -> Result<Box<dyn Method>> {
-    match name {
-        "blend" => Ok(Box::new(blend::Blend::new(gpu, uploaded, targets)?)),
-        "exact" => Ok(Box::new(exact::Exact::new(
+    Ok(match kind {
+        MethodKind::Blend => Box::new(blend::Blend::new(gpu, uploaded, targets)?),
+        MethodKind::Exact => Box::new(exact::Exact::new(gpu, scene, uploaded, targets, options)?),
+        MethodKind::Wavelet => Box::new(wavelet::Wavelet::new(
             gpu, scene, uploaded, targets, options,
-        )?)),
-        "wavelet" => Ok(Box::new(wavelet::Wavelet::new(
-            gpu, scene, uploaded, targets, options,
-        )?)),
-        "wboit" => Ok(Box::new(wboit::Wboit::new(gpu, uploaded, targets)?)),
-        other => Err(Error::UnknownMethod(other.to_string(), NAMES.join(", "))),
+        )?),
+        MethodKind::Wboit => Box::new(wboit::Wboit::new(gpu, uploaded, targets)?),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_method_round_trips_by_name_and_unknown_names_are_listed() {
+        for kind in MethodKind::ALL {
+            assert_eq!(kind.name().parse::<MethodKind>().ok(), Some(kind));
+        }
+        assert_eq!(MethodKind::ALL.map(MethodKind::name), NAMES);
+        let err = "nope".parse::<MethodKind>().expect_err("unknown");
+        assert!(err.to_string().contains("nope") && err.to_string().contains("wboit"));
     }
 }

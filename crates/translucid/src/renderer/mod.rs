@@ -3,10 +3,11 @@
 //! every stage on the GPU.
 //!
 //! ```no_run
-//! use translucid::{gpu::{Gpu, GpuOptions}, renderer::Renderer, scene::{self, Camera, Projection}};
+//! use translucid::{gpu::{Gpu, GpuOptions}, methods::MethodKind, renderer::Renderer};
+//! use translucid::scene::{self, Camera, Projection};
 //! let gpu = Gpu::new(&GpuOptions::from_env())?;
 //! let scene = scene::load("particles")?;
-//! let mut renderer = Renderer::new(&gpu, &scene, "exact", 1280, 720)?;
+//! let mut renderer = Renderer::new(&gpu, &scene, MethodKind::Exact, 1280, 720)?;
 //! let orbit = scene::motion::Orbit::new(&scene);
 //! let mut draws = Vec::new();
 //! for index in 0..120 {
@@ -52,7 +53,9 @@ pub use upload::{DrawCall, GpuScene, MeshRange, VERTEX_ATTRIBUTES, VERTEX_STRIDE
 
 use crate::gpu::{vk, Gpu, Timestamps};
 use crate::image::{Image, OpaqueLayer};
-use crate::methods::{self, FrameDone, FrameSetup, Method, MethodOptions, RecordContext};
+use crate::methods::{
+    self, FrameDone, FrameSetup, Method, MethodKind, MethodOptions, RecordContext,
+};
 use crate::scene::{FrameInput, Scene};
 use crate::{Error, Result};
 use glam::Vec3;
@@ -172,14 +175,20 @@ pub const MAX_FRAMES_IN_FLIGHT: u32 = 4;
 const MAX_RERENDERS: u32 = 8;
 
 impl Renderer {
-    pub fn new(gpu: &Gpu, scene: &Scene, method: &str, width: u32, height: u32) -> Result<Self> {
+    pub fn new(
+        gpu: &Gpu,
+        scene: &Scene,
+        method: MethodKind,
+        width: u32,
+        height: u32,
+    ) -> Result<Self> {
         Self::with_options(gpu, scene, method, width, height, &MethodOptions::default())
     }
 
     pub fn with_options(
         gpu: &Gpu,
         scene: &Scene,
-        method: &str,
+        method: MethodKind,
         width: u32,
         height: u32,
         options: &MethodOptions,
@@ -193,7 +202,7 @@ impl Renderer {
     pub fn with_frames_in_flight(
         gpu: &Gpu,
         scene: &Scene,
-        method: &str,
+        method: MethodKind,
         width: u32,
         height: u32,
         options: &MethodOptions,
@@ -206,12 +215,6 @@ impl Renderer {
         }
         let slots = frames as usize;
         check_viewport(gpu, width, height)?;
-        if !methods::NAMES.contains(&method) {
-            return Err(Error::UnknownMethod(
-                method.to_string(),
-                methods::NAMES.join(", "),
-            ));
-        }
         let uploaded = GpuScene::new(gpu, scene, width, height, slots)?;
         let targets = FrameTargets::new(gpu, width, height)?;
         let opaque_pass = OpaquePass::new(gpu, &targets, &uploaded)?;
