@@ -11,7 +11,9 @@
 //! - [`methods`]: one module per transparency method behind one small trait.
 //! - [`renderer`]: ties a device, an uploaded scene, the opaque layer and a method into a frame.
 
+pub mod assets;
 pub mod error;
+pub mod frame;
 #[cfg(test)]
 mod glsl_layout;
 pub mod gpu;

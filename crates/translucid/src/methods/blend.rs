@@ -4,8 +4,9 @@
 //! sorted back to front and nothing interpenetrates.
 
 use super::{Method, RecordContext};
+use crate::assets::GpuScene;
+use crate::frame::FrameTargets;
 use crate::gpu::{Gpu, GraphicsPipeline, RenderTarget};
-use crate::renderer::{FrameTargets, GpuScene};
 use crate::{Error, Result};
 
 pub struct Blend {

@@ -12,8 +12,9 @@ pub mod exact;
 pub mod wavelet;
 pub mod wboit;
 
+use crate::assets::GpuScene;
+use crate::frame::FrameTargets;
 use crate::gpu::{vk, Gpu, Timestamps};
-use crate::renderer::{FrameTargets, GpuScene};
 use crate::scene::Scene;
 use crate::{Error, Result};
 

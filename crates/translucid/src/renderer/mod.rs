@@ -42,14 +42,11 @@
 mod host_device;
 mod host_opaque;
 mod targets;
-mod upload;
 
-#[cfg(test)]
-mod sampling_tests;
-
+pub use crate::assets::GpuScene;
+pub use crate::frame::{FrameTargets, COLOUR_FORMAT, DEPTH_FORMAT};
 pub use host_device::HostFrame;
-pub use targets::{FrameTargets, Readback, COLOUR_FORMAT, DEPTH_FORMAT};
-pub use upload::{DrawCall, GpuScene, MeshRange, VERTEX_ATTRIBUTES, VERTEX_STRIDE};
+pub use targets::Readback;
 
 use crate::gpu::{vk, Gpu, Timestamps};
 use crate::image::{Image, OpaqueLayer};

@@ -1,90 +1,13 @@
-//! The frame's colour and depth images, the opaque-layer pass that fills them, and readback.
+//! The opaque-layer pass that fills the frame targets, and readback.
 
-use super::upload::GpuScene;
+use crate::assets::GpuScene;
+use crate::frame::FrameTargets;
 use crate::gpu::{
-    image_barrier, vk, Blend, Buffer, Gpu, GpuImage, GraphicsPipeline, MemoryLocation,
-    RenderTarget, RenderTargetDesc,
+    image_barrier, vk, Blend, Buffer, Gpu, GraphicsPipeline, MemoryLocation, RenderTarget,
 };
 use crate::image::{Image, OpaqueLayer};
 use crate::Result;
 use glam::{Vec3, Vec4};
-
-/// Colour is linear RGBA16F: blending into 8 bits would pile rounding up per layer.
-pub const COLOUR_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
-pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
-
-/// Colour and depth of one frame. Between passes the colour image is in
-/// COLOR_ATTACHMENT_OPTIMAL and depth in DEPTH_STENCIL_ATTACHMENT_OPTIMAL: every method
-/// receives and returns them so.
-pub struct FrameTargets {
-    pub colour: GpuImage,
-    pub depth: GpuImage,
-    pub extent: vk::Extent2D,
-}
-
-impl FrameTargets {
-    pub fn new(gpu: &Gpu, width: u32, height: u32) -> Result<Self> {
-        let extent = vk::Extent2D { width, height };
-        let colour = gpu.create_image(
-            "frame colour",
-            extent,
-            COLOUR_FORMAT,
-            vk::ImageUsageFlags::COLOR_ATTACHMENT
-                | vk::ImageUsageFlags::TRANSFER_SRC
-                | vk::ImageUsageFlags::TRANSFER_DST
-                | vk::ImageUsageFlags::STORAGE
-                | vk::ImageUsageFlags::SAMPLED,
-            1,
-        )?;
-        let depth = gpu.create_image(
-            "frame depth",
-            extent,
-            DEPTH_FORMAT,
-            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT
-                | vk::ImageUsageFlags::TRANSFER_SRC
-                | vk::ImageUsageFlags::TRANSFER_DST
-                | vk::ImageUsageFlags::SAMPLED,
-            1,
-        )?;
-        Ok(Self {
-            colour,
-            depth,
-            extent,
-        })
-    }
-
-    /// A render pass and framebuffer over these targets that leaves them in the between-pass
-    /// layouts. With `clear` it starts from nothing (and stores depth: the opaque layer);
-    /// otherwise it loads both and only reads depth (a transparent pass).
-    pub fn render_target(&self, gpu: &Gpu, clear: bool) -> Result<RenderTarget> {
-        let colour = vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL;
-        let depth = vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
-        let before = |layout| {
-            if clear {
-                vk::ImageLayout::UNDEFINED
-            } else {
-                layout
-            }
-        };
-        RenderTarget::new(
-            gpu,
-            &RenderTargetDesc {
-                colour_format: COLOUR_FORMAT,
-                depth_format: DEPTH_FORMAT,
-                clear,
-                store_depth: clear,
-                colour_layouts: (before(colour), colour),
-                depth_layouts: (before(depth), depth),
-            },
-            &self.colour,
-            &self.depth,
-        )
-    }
-
-    pub fn pixel_count(&self) -> u64 {
-        u64::from(self.extent.width) * u64::from(self.extent.height)
-    }
-}
 
 /// Renders the opaque draws into cleared colour and depth.
 pub struct OpaquePass {

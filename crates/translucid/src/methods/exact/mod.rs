@@ -38,8 +38,9 @@ pub mod layout;
 pub(crate) mod resources;
 
 use super::{FrameCheck, FrameDone, FrameSetup, Method, MethodOptions, RecordContext};
+use crate::assets::GpuScene;
+use crate::frame::FrameTargets;
 use crate::gpu::{image_barrier, memory_barrier, vk, ComputePipeline, ComputePipelineCache, Gpu};
-use crate::renderer::{FrameTargets, GpuScene};
 use crate::scene::Scene;
 use crate::{Error, Result};
 use features::RasterFeatures;

@@ -5,12 +5,13 @@ use super::layout::{
     DISPATCH_BYTES, HOMOGENEOUS_BYTES, OVERFLOW_BIN_ENTRIES, OVERFLOW_HOMOGENEOUS, OVERFLOW_RESUME,
     PIXEL_STATE_BYTES, SCAN_GROUP_SIZE, TRIANGLE_BYTES, TRIANGLE_MATERIAL_SHIFT,
 };
+use crate::assets::GpuScene;
+use crate::frame::FrameTargets;
 use crate::gpu::{
     memory_barrier, vk, BindingKind, Buffer, BufferView, DescriptorLayout, DescriptorSet, Gpu,
     MemoryLocation, Resource, Retirement, Sampler,
 };
 use crate::methods::MethodOptions;
-use crate::renderer::{FrameTargets, GpuScene};
 use crate::scene::{srgb_lut, Scene, Texture};
 use crate::shader_types::GpuMaterial;
 use crate::{Error, Result};

@@ -30,8 +30,9 @@ mod passes;
 
 use super::exact::{Exact, RasterProgram};
 use super::{FrameCheck, FrameDone, FrameSetup, Method, MethodOptions, RecordContext};
+use crate::assets::GpuScene;
+use crate::frame::FrameTargets;
 use crate::gpu::{Gpu, Retirement};
-use crate::renderer::{FrameTargets, GpuScene};
 use crate::scene::{Camera, Scene};
 use crate::{Error, Result};
 use layout::SpecConstants;

@@ -1,13 +1,14 @@
 //! The wavelet method's images, render passes and pipelines, one recording function per pass.
 
 use super::Settings;
+use crate::assets::GpuScene;
+use crate::frame::{FrameTargets, DEPTH_FORMAT};
 use crate::gpu::{
     fullscreen_pipeline, image_barrier, vk, Attachment, AttachmentPass, BindingKind, Blend,
     DepthAttachment, DepthMode, DescriptorLayout, DescriptorSet, Gpu, GpuImage, GraphicsPipeline,
     Load, PipelineState, Resource, Sampler,
 };
 use crate::methods::RecordContext;
-use crate::renderer::{FrameTargets, GpuScene, DEPTH_FORMAT};
 use crate::Result;
 
 /// Colour attachments one draw may write (the Vulkan minimum, and lavapipe's limit).

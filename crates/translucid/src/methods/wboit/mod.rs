@@ -12,12 +12,13 @@
 pub mod model;
 
 use super::{Method, RecordContext};
+use crate::assets::GpuScene;
+use crate::frame::FrameTargets;
 use crate::gpu::{
     fullscreen_pipeline, vk, Attachment, AttachmentPass, BindingKind, Blend, DepthAttachment,
     DepthMode, DescriptorLayout, DescriptorSet, Gpu, GpuImage, GraphicsPipeline, Load,
     PipelineState, Resource, Sampler,
 };
-use crate::renderer::{FrameTargets, GpuScene};
 use crate::Result;
 
 const SUM_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;

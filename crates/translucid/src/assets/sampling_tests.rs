@@ -3,7 +3,7 @@
 //! hardware sampler the graphics passes bind (`Sampler::for_texture`, on textures uploaded as
 //! the renderer uploads them), both run by `shaders/test/sampler.comp`.
 
-use super::upload::{create_textures, record_texture_uploads};
+use super::{create_textures, record_texture_uploads};
 use crate::gpu::{
     memory_barrier, vk, BindingKind, ComputePipeline, DescriptorLayout, Gpu, GpuOptions,
     MemoryLocation, Resource, Sampler,

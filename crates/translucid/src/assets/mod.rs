@@ -1,7 +1,12 @@
-//! The scene on the GPU: vertices, triangle indices, draws, materials, textures, and the
-//! descriptor set every mesh pipeline binds as set 0.
+//! A scene's assets on the GPU, uploaded once and resident: vertices (rewritten in place when
+//! a mesh moves), triangle indices, quads, materials, textures with their samplers; and, per
+//! frame slot, the frame info and draws with the descriptor set every mesh pipeline binds as
+//! set 0.
 
 #![deny(unsafe_code)]
+
+#[cfg(test)]
+mod sampling_tests;
 
 use crate::gpu::{
     vk, BindingKind, Buffer, DepthMode, DescriptorLayout, DescriptorSet, Gpu, GpuImage,
