@@ -21,10 +21,9 @@
 //!
 //! Why this shape: on lavapipe (subgroups of 8, 32 KB shared memory) barrier-heavy
 //! shared-memory phases cost more than blending itself, fixed-size register work is cheap, an
-//! `if` runs both its sides, and data read in loops is cheapest through texel views (README,
-//! "Where performance stands"). Selection by key (view
-//! depth, draw, quad, triangle) is exact by construction, so no pixel can come out of order
-//! and no fallback path is needed.
+//! `if` runs both its sides, and data read in loops is cheapest through texel views
+//! (`docs/performance-log.md`). Selection by key (view depth, draw, quad, triangle) is exact by
+//! construction, so no pixel can come out of order and no fallback path is needed.
 //!
 //! Memory is sized from the frame: two triangle records per quad at most, bin lists grown to
 //! what the GPU counted. Counters come back every frame; an overflow renders the frame again
