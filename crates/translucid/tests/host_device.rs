@@ -417,7 +417,11 @@ fn an_overflowing_frame_says_so_and_renders_right_when_recorded_again() {
 /// of a moving camera, moving draws and one mesh's vertices moving, each read back from the
 /// engine's colour image once completed, must each be what the CPU reference draws for that
 /// frame.
-fn frames_in_flight_match_the_reference(in_flight: usize) {
+/// With `options` starting the bin lists too small, every frame of the first batch overflows
+/// and says so; the buffers grow once for them all (not once per frame), and the later
+/// batches are right.
+fn frames_in_flight_match_the_reference(in_flight: usize, options: MethodOptions) {
+    let starts_small = options.initial_bin_entries.is_some();
     const FRAMES: usize = 30;
     let scene = translucid::scene::load("spheres").expect("generated scene");
     let orbit = Orbit::new(&scene);
@@ -503,7 +507,7 @@ fn frames_in_flight_match_the_reference(in_flight: usize) {
             MethodKind::Exact,
             W,
             H,
-            &MethodOptions::default(),
+            &options,
             in_flight as u32,
         )
         .expect("renderer");
@@ -524,6 +528,7 @@ fn frames_in_flight_match_the_reference(in_flight: usize) {
                 final_layout: depth_attachment,
             },
         };
+        let mut grown_to = None;
         for first in (0..FRAMES).step_by(in_flight) {
             let batch = first..(first + in_flight).min(FRAMES);
             // Every frame of the batch is recorded before any is submitted: each must keep
@@ -575,6 +580,14 @@ fn frames_in_flight_match_the_reference(in_flight: usize) {
                     .complete_host()
                     .expect("complete")
                     .expect("the submission finished, so the commands ran");
+                let learned = renderer.learned_options(&options).initial_bin_entries;
+                if starts_small && first == 0 {
+                    assert!(done.overflowed, "frame {f} had 16 bin entries: {done:?}");
+                    // The first completion grows the lists; the frames recorded with the
+                    // same small lists leave them be.
+                    assert_eq!(*grown_to.get_or_insert(learned), learned, "frame {f}");
+                    continue;
+                }
                 assert!(!done.overflowed, "frame {f}: {done:?}");
                 let got = half_pixels(outs[k].read().expect("readback"));
                 let want = expected(f);
@@ -619,15 +632,26 @@ fn half_pixels(bytes: &[u8]) -> Vec<u8> {
 
 #[test]
 fn one_frame_in_flight_matches_the_reference() {
-    frames_in_flight_match_the_reference(1);
+    frames_in_flight_match_the_reference(1, MethodOptions::default());
 }
 
 #[test]
 fn two_frames_in_flight_match_the_reference() {
-    frames_in_flight_match_the_reference(2);
+    frames_in_flight_match_the_reference(2, MethodOptions::default());
 }
 
 #[test]
 fn three_frames_in_flight_match_the_reference() {
-    frames_in_flight_match_the_reference(3);
+    frames_in_flight_match_the_reference(3, MethodOptions::default());
+}
+
+#[test]
+fn overflows_of_frames_in_flight_grow_the_buffers_once() {
+    frames_in_flight_match_the_reference(
+        3,
+        MethodOptions {
+            initial_bin_entries: Some(16),
+            ..MethodOptions::default()
+        },
+    );
 }

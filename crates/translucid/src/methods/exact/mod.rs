@@ -45,7 +45,8 @@ use crate::{Error, Result};
 use features::RasterFeatures;
 use layout::{
     ExactPush, BIN_SIZE, DISPATCH_BINNING_OFFSET, DISPATCH_BIN_OFFSETS_OFFSET,
-    DISPATCH_RASTER_BINS_OFFSET, LOOP_BUDGET, OVERFLOW_CROWDED_BIN,
+    DISPATCH_RASTER_BINS_OFFSET, LOOP_BUDGET, OVERFLOW_BIN_ENTRIES, OVERFLOW_CROWDED_BIN,
+    OVERFLOW_HOMOGENEOUS, OVERFLOW_RESUME,
 };
 use resources::{Capacities, Resources};
 use std::sync::Arc;
@@ -123,6 +124,17 @@ pub struct Exact {
     /// The GPU found a near-plane triangle the host's estimate missed: later frames keep the
     /// near-plane path rather than render again.
     homogeneous_missed: bool,
+    /// Per frame slot, what its last frame was recorded with: with frames in flight, the
+    /// settings may have moved on by the time that frame completes.
+    recorded: Vec<Recorded>,
+}
+
+/// The settings a frame was recorded with.
+#[derive(Clone, Copy, Debug)]
+struct Recorded {
+    features: RasterFeatures,
+    continuations: u32,
+    capacities: resources::Capacities,
 }
 
 const SETUP: usize = 0;
@@ -333,6 +345,14 @@ impl Exact {
             stages,
             fixed_path_forced: options.assume_fixed_path,
             homogeneous_missed: false,
+            recorded: vec![
+                Recorded {
+                    features,
+                    continuations,
+                    capacities,
+                };
+                uploaded.slot_count()
+            ],
             continuations,
             pending_list: 0,
             push,
@@ -563,6 +583,11 @@ impl Method for Exact {
         // Buffers grown after the last frame: the slot's set names the new ones.
         self.resources.refresh_set(ctx.targets)?;
         self.resources.retirement.recorded();
+        self.recorded[ctx.slot] = Recorded {
+            features: self.features,
+            continuations: self.continuations,
+            capacities: self.resources.capacities,
+        };
         self.resources.record_reset(cmd, self.features.rows);
         // Setup's occlusion cull reads the opaque depth (through the pyramid), as does the
         // raster's depth test.
@@ -609,6 +634,7 @@ impl Method for Exact {
     }
 
     fn record_finish(&mut self, ctx: &mut RecordContext<'_>) -> Result<()> {
+        self.recorded[ctx.slot].continuations = self.continuations;
         self.targets_to_raster(ctx, FINISHED_SUBMISSION_WRITES);
         self.record_continuations(ctx);
         self.resources.set_pending_list(self.pending_list);
@@ -628,13 +654,15 @@ impl Method for Exact {
         self.resources.retirement.completed();
         let uploaded = done.uploaded;
         let counters = self.resources.counters(done.slot)?;
+        // Judged by what the frame was recorded with; fixes go to the current settings.
+        let recorded = self.recorded[done.slot % self.recorded.len()];
         let method = self.program.method();
         // A row whose list is too long for one pass of the loop budget: the exact raster
         // walks such lists in parts once they are ordered by depth slab (PARTIAL_WALKS in
         // raster.comp), so the frame moves to slabs; other programs cannot.
         let crowded = counters.overflow & OVERFLOW_CROWDED_BIN != 0;
         let walks_in_parts_with_slabs =
-            self.program == RasterProgram::Exact && self.features.slab_bits == 0;
+            self.program == RasterProgram::Exact && recorded.features.slab_bits == 0;
         if crowded && !walks_in_parts_with_slabs {
             return Err(crate::Error::InvalidScene(format!(
                 "{method}: one 8x8-pixel bin of this frame holds so many triangles that a \
@@ -649,7 +677,7 @@ impl Method for Exact {
             features = features.deep();
         }
         // The host's estimate missed a near-plane triangle: the frame needs the full shaders.
-        let rebuild = counters.homogeneous_count > 0 && !features.homogeneous;
+        let rebuild = counters.homogeneous_count > 0 && !recorded.features.homogeneous;
         features.homogeneous |= rebuild;
         self.homogeneous_missed |= rebuild;
         // Deep pixels: select more fragments per pass, or order the bins by depth slab, from
@@ -673,7 +701,13 @@ impl Method for Exact {
                 &self.program,
             )?;
         }
-        let grown = self.resources.capacities.grown_for(&counters);
+        let overflowed = counters.overflow
+            & (OVERFLOW_HOMOGENEOUS | OVERFLOW_BIN_ENTRIES | OVERFLOW_RESUME)
+            != 0;
+        let grown = self
+            .resources
+            .capacities
+            .grown_for(&counters, &recorded.capacities);
         if let Some(grown) = grown {
             log::info!(
                 "{method}: buffers too small (overflow bits {:#x}: {} homogeneous triangles, \
@@ -692,7 +726,8 @@ impl Method for Exact {
         self.features = features;
         // Rows the last dispatch left on the pending list are unfinished.
         let unfinished = self.resources.unfinished_rows(done.slot)?;
-        if unfinished > 0 && !crowded {
+        // (Continuations already multiplied since the frame was recorded are left alone.)
+        if unfinished > 0 && !crowded && recorded.continuations == self.continuations {
             if self.continuations >= MAX_CONTINUATIONS {
                 return Err(crate::Error::InvalidScene(format!(
                     "exact: {unfinished} pixel rows still unfinished after {MAX_CONTINUATIONS} \
@@ -707,7 +742,7 @@ impl Method for Exact {
         }
         // Unfinished rows are finished by another submission of continuations, unless the
         // frame must be rendered again anyway, or its pipelines changed under the saved rows.
-        let again = rebuild || crowded || grown.is_some();
+        let again = rebuild || crowded || overflowed;
         let finish = unfinished > 0 && !again && !features_changed;
         let rerender = again || (unfinished > 0 && !finish);
         let kept = |count: u64| if rerender || finish { 0 } else { count };

@@ -60,24 +60,25 @@ impl Capacities {
         }
     }
 
-    /// Larger capacities when the frame overflowed, from what the GPU counted.
-    pub fn grown_for(&self, c: &ExactCounters) -> Option<Self> {
-        if c.overflow & (OVERFLOW_HOMOGENEOUS | OVERFLOW_BIN_ENTRIES | OVERFLOW_RESUME) == 0 {
-            return None;
-        }
+    /// Larger capacities when a frame recorded with capacities `recorded` overflowed, from
+    /// what the GPU counted. A buffer already grown since that frame was recorded (by a
+    /// frame completed before it, with frames in flight) is left alone: frames recorded
+    /// with it will say whether it suffices.
+    pub fn grown_for(&self, c: &ExactCounters, recorded: &Self) -> Option<Self> {
         let with_headroom =
             |needed: u32, now: u32| needed.saturating_add(needed / 4).max(now.saturating_mul(2));
+        let grows = |bit: u32, now: u32, then: u32| c.overflow & bit != 0 && now == then;
         let mut next = *self;
-        if c.overflow & OVERFLOW_HOMOGENEOUS != 0 {
+        if grows(OVERFLOW_HOMOGENEOUS, self.homogeneous, recorded.homogeneous) {
             next.homogeneous = with_headroom(c.homogeneous_count, self.homogeneous);
         }
-        if c.overflow & OVERFLOW_BIN_ENTRIES != 0 {
+        if grows(OVERFLOW_BIN_ENTRIES, self.bin_entries, recorded.bin_entries) {
             next.bin_entries = with_headroom(c.bin_entry_count, self.bin_entries);
         }
-        if c.overflow & OVERFLOW_RESUME != 0 {
+        if grows(OVERFLOW_RESUME, self.resume, recorded.resume) {
             next.resume = with_headroom(c.resume_needed, self.resume);
         }
-        Some(next)
+        (next != *self).then_some(next)
     }
 }
 
