@@ -364,10 +364,12 @@ fn render(objects: &mut Objects, info: &translucid_frame_info) -> FfiResult<Fram
         .map(|l| opaque_layer_from(l, info.width, info.height))
         .transpose()?;
     let renderer = renderer_for(&mut objects.standalone, &objects.gpu, &input, info)?;
-    let frame = match &layer {
-        Some(layer) => renderer.render_over(layer)?,
-        None => renderer.render(false)?,
+    let rendered = match &layer {
+        Some(layer) => renderer.render_over(layer),
+        None => renderer.render(false),
     };
+    // A renderer whose frame failed is not kept: the next frame starts afresh.
+    let frame = rendered.inspect_err(|_| objects.standalone = None)?;
     Ok(FrameRecord {
         method: input.method,
         width: frame.image.width,

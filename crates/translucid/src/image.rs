@@ -106,8 +106,9 @@ mod tests {
 }
 
 /// The engine's opaque layer: what every transparency method composites onto and depth-tests
-/// against. Depth is the Vulkan depth-buffer value (0 near, 1 far; a transparent fragment is
-/// visible where its depth is *less* than this).
+/// against. Depth is the Vulkan depth-buffer value in translucid's convention, 0 near and 1
+/// far (a transparent fragment is visible where its depth is *less* than this), whatever
+/// the camera's projection: an engine with a reversed-Z projection hands over `1 − d`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct OpaqueLayer {
     pub width: u32,

@@ -287,7 +287,8 @@ impl GpuScene {
     /// Records the copy of the moved meshes' vertices (as `scene` holds them now) from the
     /// current slot's staging buffer into the vertex buffer, after every command before it on
     /// the queue (frames in flight included) and before the frame's draws and dispatches.
-    /// The slot's last frame must have completed.
+    /// The slot's last frame must have completed. Recorded again by every frame until
+    /// [`Self::uploads_recorded`] says one recording went through.
     pub fn record_moved_vertices(
         &mut self,
         gpu: &Gpu,
@@ -337,7 +338,6 @@ impl GpuScene {
         crate::gpu::memory_barrier(gpu, cmd, any, transfer);
         gpu.cmd_copy_buffer_regions(cmd, staging, &self.vertices, &regions);
         crate::gpu::memory_barrier(gpu, cmd, transfer, any);
-        self.moved_meshes.clear();
         Ok(())
     }
 
@@ -515,8 +515,15 @@ impl GpuScene {
     pub fn record_pending_uploads(&mut self, gpu: &Gpu, cmd: vk::CommandBuffer) {
         if !self.textures_recorded {
             record_texture_uploads(gpu, cmd, &self.textures, &self.texture_staging);
-            self.textures_recorded = true;
         }
+    }
+
+    /// The frame that recorded the pending uploads (textures, moved vertices) was recorded
+    /// whole (and submitted, or handed to the engine): later frames need not record them.
+    /// A recording that failed leaves them pending.
+    pub fn uploads_recorded(&mut self) {
+        self.textures_recorded = true;
+        self.moved_meshes.clear();
     }
 
     /// Frees the texture staging once the frame that recorded the uploads completed.

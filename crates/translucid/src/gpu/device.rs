@@ -8,8 +8,8 @@ use ash::vk;
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 use std::mem::ManuallyDrop;
 use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::OnceLock;
 use std::sync::{Arc, Mutex};
+use std::sync::{OnceLock, RwLock};
 
 /// How to create a [`Gpu`].
 #[derive(Clone, Debug, Default)]
@@ -94,6 +94,9 @@ pub struct Shared {
     /// Every pipeline is made through this cache (made on first use), whose data an engine
     /// can save and hand back on its next run ([`Gpu::pipeline_cache_data`]).
     pipeline_cache: OnceLock<vk::PipelineCache>,
+    /// Pipelines are made under the read side; a merge into the cache, which Vulkan wants
+    /// externally synchronised, under the write side.
+    pipeline_cache_lock: RwLock<()>,
     /// Held while a submission records, submits and waits: the queue, the command pool and
     /// the reused command buffer and fence are externally synchronised objects.
     pub(crate) submitting: Mutex<()>,
@@ -345,6 +348,7 @@ impl Gpu {
                 memory: MemoryStats::default(),
                 pipelines_created: AtomicU64::new(0),
                 pipeline_cache: OnceLock::new(),
+                pipeline_cache_lock: RwLock::new(()),
                 submitting: Mutex::new(()),
                 info,
             }))),
@@ -381,6 +385,7 @@ impl Gpu {
             memory: MemoryStats::default(),
             pipelines_created: AtomicU64::new(0),
             pipeline_cache: OnceLock::new(),
+            pipeline_cache_lock: RwLock::new(()),
             submitting: Mutex::new(()),
             info,
         })))
@@ -388,9 +393,20 @@ impl Gpu {
 }
 
 impl Shared {
+    /// Runs `create` with the device's pipeline cache, as pipeline creation may: while no
+    /// merge into it runs.
+    pub(crate) fn with_pipeline_cache<T>(&self, create: impl FnOnce(vk::PipelineCache) -> T) -> T {
+        let cache = self.pipeline_cache();
+        let _shared = self
+            .pipeline_cache_lock
+            .read()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        create(cache)
+    }
+
     /// The device's pipeline cache, made on first use (null, caching nothing, if the driver
     /// cannot make one).
-    pub(crate) fn pipeline_cache(&self) -> vk::PipelineCache {
+    fn pipeline_cache(&self) -> vk::PipelineCache {
         *self.pipeline_cache.get_or_init(|| {
             // SAFETY: valid device and create info.
             unsafe {
@@ -432,7 +448,12 @@ impl Shared {
         // SAFETY: valid device; the data's header names this device (checked above).
         let loaded = unsafe { self.device.create_pipeline_cache(&info, None) }
             .map_err(super::error::vk_err("vkCreatePipelineCache"))?;
-        // SAFETY: both caches are live and of this device; `loaded` is destroyed once merged.
+        let _exclusive = self
+            .pipeline_cache_lock
+            .write()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        // SAFETY: both caches are live and of this device, the destination held exclusively
+        // (the lock above); `loaded` is destroyed once merged.
         let merged = unsafe {
             let merged = self.device.merge_pipeline_caches(cache, &[loaded]);
             self.device.destroy_pipeline_cache(loaded, None);

@@ -357,10 +357,9 @@ impl ComputePipeline {
             .stage(stage)
             .layout(layout)];
         // SAFETY: valid module and layout.
-        let created = unsafe {
-            gpu.device
-                .create_compute_pipelines(gpu.pipeline_cache(), &info, None)
-        };
+        let created = gpu.with_pipeline_cache(|cache| unsafe {
+            gpu.device.create_compute_pipelines(cache, &info, None)
+        });
         // SAFETY: the module is no longer needed once the pipeline exists (or failed).
         unsafe { gpu.device.destroy_shader_module(module, None) };
         match created {
@@ -675,10 +674,9 @@ impl GraphicsPipeline {
             .render_pass(desc.render_pass)
             .subpass(0)];
         // SAFETY: every pointee lives until the call returns.
-        let created = unsafe {
-            gpu.device
-                .create_graphics_pipelines(gpu.pipeline_cache(), &info, None)
-        };
+        let created = gpu.with_pipeline_cache(|cache| unsafe {
+            gpu.device.create_graphics_pipelines(cache, &info, None)
+        });
         // SAFETY: modules are not needed after pipeline creation.
         unsafe {
             gpu.device.destroy_shader_module(vs, None);

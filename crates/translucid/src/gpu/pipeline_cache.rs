@@ -17,12 +17,19 @@ pub struct ComputePipelineCache {
     built: HashMap<Key, Arc<ComputePipeline>>,
 }
 
-/// A shader by where its SPIR-V lives (shaders are `'static` words compiled into the crate),
-/// and its constants in `constant_id` order.
+/// A shader by its SPIR-V (length and a hash of the words: the same shader may be reached
+/// through different addresses), and its constants in `constant_id` order.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 struct Key {
-    spirv: (usize, usize),
+    spirv: (usize, u64),
     constants: Vec<u32>,
+}
+
+fn spirv_hash(spirv: &[u8]) -> u64 {
+    use std::hash::{Hash, Hasher};
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    spirv.hash(&mut h);
+    h.finish()
 }
 
 impl ComputePipelineCache {
@@ -43,7 +50,7 @@ impl ComputePipelineCache {
         constants: &[u32],
     ) -> Result<Arc<ComputePipeline>> {
         let key = Key {
-            spirv: (spirv.as_ptr() as usize, spirv.len()),
+            spirv: (spirv.len(), spirv_hash(spirv)),
             constants: constants.to_vec(),
         };
         if let Some(p) = self.built.get(&key) {

@@ -92,7 +92,9 @@ impl Renderer {
     /// Records one frame into the engine's command buffer. Nothing is submitted. Up to the
     /// renderer's frames in flight may be recorded and not completed; past that, recording
     /// fails until [`Renderer::complete_host`] has seen the oldest one run. The frames must
-    /// be submitted to one queue in the order they were recorded.
+    /// be submitted to one queue in the order they were recorded. When recording fails, the
+    /// command buffer may hold part of a frame: reset it rather than submit it; uploads it
+    /// would have carried (textures, moved vertices) go with the next frame recorded.
     ///
     /// # Safety
     /// `targets` names live objects of the engine's device this renderer's [`Gpu`] wraps:
@@ -112,6 +114,16 @@ impl Renderer {
             ));
         }
         gpu.check_host_targets(targets)?;
+        if self.frame_scene.camera.reversed_depth() {
+            // The engine's depth image is copied as it is; translucid tests depth growing
+            // away from the eye.
+            return Err(Error::HostFrame(
+                "the camera's projection is reversed-Z, but frames on the engine's device take \
+                 its depth image as it is, near 0 and far 1: reversed depth images are not \
+                 supported yet"
+                    .into(),
+            ));
+        }
         let slots = self.timestamps.len();
         if self.in_flight.len() >= slots {
             return Err(Error::HostFrame(format!(
@@ -144,6 +156,7 @@ impl Renderer {
         gpu.record_host_output(targets, &self.targets.colour);
         self.timestamps[slot].mark(cmd, "output");
         self.completions[slot].record(&gpu, cmd)?;
+        self.scene.uploads_recorded();
         self.in_flight.push_back(slot);
         self.slot = (slot + 1) % slots;
         Ok(())

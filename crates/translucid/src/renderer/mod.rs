@@ -394,6 +394,7 @@ impl Renderer {
                 self.readback()?.record(&gpu, cmd, &self.targets, false);
                 Ok(())
             })?;
+            self.scene.uploads_recorded();
             let elapsed = started.elapsed().as_secs_f64() * 1e3;
             wall_ms = if finishing {
                 wall_ms + elapsed

@@ -136,6 +136,9 @@ pub struct Wavelet {
     variant: Variant,
     /// Passes replaced while frames in flight may still run them.
     retirement: Retirement,
+    /// Per frame slot, whether its last frame ran on the bins (a frame in flight when the
+    /// method moved to images must still be checked as a bins frame).
+    recorded_on_bins: Vec<bool>,
 }
 
 enum Variant {
@@ -185,6 +188,7 @@ impl Wavelet {
             constants,
             variant,
             retirement: Retirement::default(),
+            recorded_on_bins: Vec::new(),
         })
     }
 }
@@ -234,6 +238,10 @@ impl Method for Wavelet {
 
     fn record(&mut self, ctx: &mut RecordContext<'_>) -> Result<()> {
         self.retirement.recorded();
+        if self.recorded_on_bins.len() <= ctx.slot {
+            self.recorded_on_bins.resize(ctx.slot + 1, false);
+        }
+        self.recorded_on_bins[ctx.slot] = matches!(self.variant, Variant::Bins(_));
         let p = match &mut self.variant {
             Variant::Images(p) => p,
             Variant::Bins(exact) => return exact.record(ctx),
@@ -251,8 +259,18 @@ impl Method for Wavelet {
 
     fn frame_done(&mut self, done: &FrameDone<'_>) -> Result<FrameCheck> {
         self.retirement.completed();
+        let on_bins = self
+            .recorded_on_bins
+            .get(done.slot)
+            .copied()
+            .unwrap_or(false);
         let Variant::Bins(exact) = &mut self.variant else {
-            return Ok(FrameCheck::default());
+            // A frame recorded on the bins before the move to images may be truncated too:
+            // its counters went with the bins, so it is reported for drawing again.
+            return Ok(FrameCheck {
+                rerender: on_bins,
+                ..FrameCheck::default()
+            });
         };
         if !exact.crowded(done.slot)? {
             return exact.frame_done(done);
