@@ -379,6 +379,23 @@ fn an_overflowing_frame_says_so_and_renders_right_when_recorded_again() {
         );
         assert_eq!(overflows.last(), Some(&false), "{overflows:?}");
 
+        // A reversed-Z camera is refused here: the engine's depth image is taken as it is.
+        let mut reversed = scene.clone();
+        reversed.camera.projection = translucid::scene::Projection::Matrix({
+            let mut p = glam::Mat4::perspective_infinite_reverse_rh(0.8, W as f32 / H as f32, 0.1);
+            p.y_axis.y = -p.y_axis.y;
+            p
+        });
+        renderer
+            .set_frame(&reversed.frame_input())
+            .expect("a reversed-Z frame is valid");
+        engine.begin(0);
+        // SAFETY: as above; refused before anything is recorded.
+        let refused = unsafe { renderer.record_host(&targets) }.expect_err("reversed-Z refused");
+        assert!(refused.to_string().contains("reversed-Z"), "{refused}");
+        // SAFETY: ended unsubmitted, reset by the next begin.
+        unsafe { engine.device.end_command_buffer(engine.cmds[0]) }.expect("end");
+
         let bytes = out.read().expect("readback");
         let pixels = bytes
             .chunks_exact(8)
