@@ -231,26 +231,136 @@ fn texels(layer: &OpaqueLayer) -> (Vec<u8>, Vec<u8>) {
     (colour, depth)
 }
 
-/// The engine's opaque pass: copies `layer` into its images, left as attachments.
-fn record_opaque(
-    gpu: &Gpu,
-    cmd: vk::CommandBuffer,
-    images: [(&GpuImage, &translucid::gpu::Buffer, vk::ImageLayout); 2],
-) {
-    let any = (
-        vk::PipelineStageFlags::ALL_COMMANDS,
-        vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE,
-    );
-    let write = (
-        vk::PipelineStageFlags::TRANSFER,
-        vk::AccessFlags::TRANSFER_WRITE,
-    );
-    for (image, buffer, layout) in images {
-        let undefined = vk::ImageLayout::UNDEFINED;
-        let dst = vk::ImageLayout::TRANSFER_DST_OPTIMAL;
-        image_barrier(gpu, cmd, image, undefined, dst, any, write);
-        gpu.cmd_copy_buffer_to_image(cmd, buffer, image);
-        image_barrier(gpu, cmd, image, dst, layout, write, any);
+/// The engine's colour and depth images of a frame, the opaque layer's texels to fill them
+/// with, and one readback buffer per frame in flight.
+struct EngineImages {
+    colour: GpuImage,
+    depth: GpuImage,
+    colour_in: translucid::gpu::Buffer,
+    depth_in: translucid::gpu::Buffer,
+    outs: Vec<translucid::gpu::Buffer>,
+}
+
+const COLOUR_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
+const ATTACHMENT: vk::ImageLayout = vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL;
+const DEPTH_ATTACHMENT: vk::ImageLayout = vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
+
+impl EngineImages {
+    fn new(gpu: &Gpu, layer: &OpaqueLayer, readbacks: usize) -> Self {
+        let extent = vk::Extent2D {
+            width: W,
+            height: H,
+        };
+        let transfer = vk::ImageUsageFlags::TRANSFER_SRC | vk::ImageUsageFlags::TRANSFER_DST;
+        let image = |name, format, usage| {
+            gpu.create_image(name, extent, format, transfer | usage, 1)
+                .expect("engine image")
+        };
+        let (colour_texels, depth_texels) = texels(layer);
+        let upload = |name, bytes: &[u8]| {
+            gpu.create_buffer_with_data(name, vk::BufferUsageFlags::TRANSFER_SRC, bytes)
+                .expect("upload buffer")
+        };
+        let outs = (0..readbacks)
+            .map(|_| {
+                gpu.create_buffer(
+                    "readback",
+                    colour_texels.len() as u64,
+                    vk::BufferUsageFlags::TRANSFER_DST,
+                    MemoryLocation::GpuToCpu,
+                )
+                .expect("readback buffer")
+            })
+            .collect();
+        Self {
+            colour: image(
+                "engine colour",
+                COLOUR_FORMAT,
+                vk::ImageUsageFlags::COLOR_ATTACHMENT,
+            ),
+            depth: image(
+                "engine depth",
+                vk::Format::D32_SFLOAT,
+                vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
+            ),
+            colour_in: upload("opaque colour", &colour_texels),
+            depth_in: upload("opaque depth", &depth_texels),
+            outs,
+        }
+    }
+
+    /// The frame targets over these images, recorded into `cmd`.
+    fn targets(&self, cmd: vk::CommandBuffer) -> HostTargets {
+        HostTargets {
+            cmd,
+            colour: HostImage {
+                image: self.colour.raw,
+                format: COLOUR_FORMAT,
+                layout: ATTACHMENT,
+                final_layout: vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+            },
+            depth: HostImage {
+                image: self.depth.raw,
+                format: vk::Format::D32_SFLOAT,
+                layout: DEPTH_ATTACHMENT,
+                final_layout: DEPTH_ATTACHMENT,
+            },
+        }
+    }
+
+    /// The engine's opaque pass: the layer's texels into its images, left as attachments.
+    fn record_opaque(&self, gpu: &Gpu, cmd: vk::CommandBuffer) {
+        let any = (
+            vk::PipelineStageFlags::ALL_COMMANDS,
+            vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE,
+        );
+        let write = (
+            vk::PipelineStageFlags::TRANSFER,
+            vk::AccessFlags::TRANSFER_WRITE,
+        );
+        for (image, buffer, layout) in [
+            (&self.colour, &self.colour_in, ATTACHMENT),
+            (&self.depth, &self.depth_in, DEPTH_ATTACHMENT),
+        ] {
+            let undefined = vk::ImageLayout::UNDEFINED;
+            let dst = vk::ImageLayout::TRANSFER_DST_OPTIMAL;
+            image_barrier(gpu, cmd, image, undefined, dst, any, write);
+            gpu.cmd_copy_buffer_to_image(cmd, buffer, image);
+            image_barrier(gpu, cmd, image, dst, layout, write, any);
+        }
+    }
+
+    /// Copies the colour image (left in TRANSFER_SRC_OPTIMAL by the frame) into readback `k`
+    /// for the host.
+    fn record_readback(&self, gpu: &Gpu, cmd: vk::CommandBuffer, k: usize) {
+        gpu.cmd_copy_image_to_buffer(cmd, &self.colour, &self.outs[k]);
+        translucid::gpu::memory_barrier(
+            gpu,
+            cmd,
+            (
+                vk::PipelineStageFlags::TRANSFER,
+                vk::AccessFlags::TRANSFER_WRITE,
+            ),
+            (vk::PipelineStageFlags::HOST, vk::AccessFlags::HOST_READ),
+        );
+    }
+
+    /// Readback `k` as sRGB bytes, after the frame that wrote it completed.
+    fn srgb(&self, k: usize) -> Vec<u8> {
+        let bytes = self.outs[k].read().expect("readback");
+        let pixels = bytes
+            .chunks_exact(8)
+            .map(|p| {
+                let c = |i: usize| half::f16::from_le_bytes([p[2 * i], p[2 * i + 1]]).to_f32();
+                glam::Vec4::new(c(0), c(1), c(2), 1.0)
+            })
+            .collect();
+        translucid::Image {
+            width: W,
+            height: H,
+            pixels,
+        }
+        .to_srgb8()
     }
 }
 
@@ -275,92 +385,21 @@ fn an_overflowing_frame_says_so_and_renders_right_when_recorded_again() {
     {
         // SAFETY: the engine's live objects, outliving `gpu` (dropped at the end of this block).
         let gpu = unsafe { Gpu::from_host(&engine.host_device()) }.expect("host device");
-        let extent = vk::Extent2D {
-            width: W,
-            height: H,
-        };
-        let transfer = vk::ImageUsageFlags::TRANSFER_SRC | vk::ImageUsageFlags::TRANSFER_DST;
-        let colour_format = vk::Format::R16G16B16A16_SFLOAT;
-        let colour = gpu
-            .create_image(
-                "engine colour",
-                extent,
-                colour_format,
-                transfer | vk::ImageUsageFlags::COLOR_ATTACHMENT,
-                1,
-            )
-            .expect("colour");
-        let depth = gpu
-            .create_image(
-                "engine depth",
-                extent,
-                vk::Format::D32_SFLOAT,
-                transfer | vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
-                1,
-            )
-            .expect("depth");
-        let (colour_texels, depth_texels) = texels(&layer);
-        let src = vk::BufferUsageFlags::TRANSFER_SRC;
-        let colour_in = gpu
-            .create_buffer_with_data("opaque colour", src, &colour_texels)
-            .expect("upload buffer");
-        let depth_in = gpu
-            .create_buffer_with_data("opaque depth", src, &depth_texels)
-            .expect("upload buffer");
-        let out = gpu
-            .create_buffer(
-                "readback",
-                colour_texels.len() as u64,
-                vk::BufferUsageFlags::TRANSFER_DST,
-                MemoryLocation::GpuToCpu,
-            )
-            .expect("readback buffer");
+        let images = EngineImages::new(&gpu, &layer, 1);
         let options = MethodOptions {
             initial_bin_entries: Some(16),
             ..Default::default()
         };
         let mut renderer = Renderer::with_options(&gpu, &scene, MethodKind::Exact, W, H, &options)
             .expect("renderer");
-        let attachment = vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL;
-        let depth_attachment = vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
-        let targets = HostTargets {
-            cmd: engine.cmds[0],
-            colour: HostImage {
-                image: colour.raw,
-                format: colour_format,
-                layout: attachment,
-                final_layout: vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-            },
-            depth: HostImage {
-                image: depth.raw,
-                format: vk::Format::D32_SFLOAT,
-                layout: depth_attachment,
-                final_layout: depth_attachment,
-            },
-        };
+        let targets = images.targets(engine.cmds[0]);
         let mut overflows = Vec::new();
         for _ in 0..3 {
             engine.begin(0);
-            record_opaque(
-                &gpu,
-                engine.cmds[0],
-                [
-                    (&colour, &colour_in, attachment),
-                    (&depth, &depth_in, depth_attachment),
-                ],
-            );
+            images.record_opaque(&gpu, engine.cmds[0]);
             // SAFETY: the engine's recording command buffer and images of the frame's size.
             unsafe { renderer.record_host(&targets) }.expect("record");
-            gpu.cmd_copy_image_to_buffer(engine.cmds[0], &colour, &out);
-            translucid::gpu::memory_barrier(
-                &gpu,
-                engine.cmds[0],
-                (
-                    vk::PipelineStageFlags::TRANSFER,
-                    vk::AccessFlags::TRANSFER_WRITE,
-                ),
-                (vk::PipelineStageFlags::HOST, vk::AccessFlags::HOST_READ),
-            );
+            images.record_readback(&gpu, engine.cmds[0], 0);
             engine.submit_and_wait();
             let done = renderer
                 .complete_host()
@@ -396,20 +435,7 @@ fn an_overflowing_frame_says_so_and_renders_right_when_recorded_again() {
         // SAFETY: ended unsubmitted, reset by the next begin.
         unsafe { engine.device.end_command_buffer(engine.cmds[0]) }.expect("end");
 
-        let bytes = out.read().expect("readback");
-        let pixels = bytes
-            .chunks_exact(8)
-            .map(|p| {
-                let c = |i: usize| half::f16::from_le_bytes([p[2 * i], p[2 * i + 1]]).to_f32();
-                glam::Vec4::new(c(0), c(1), c(2), 1.0)
-            })
-            .collect();
-        let got = translucid::Image {
-            width: W,
-            height: H,
-            pixels,
-        }
-        .to_srgb8();
+        let got = images.srgb(0);
         let want = expected.image.to_srgb8();
         let worst = got
             .iter()
@@ -474,50 +500,7 @@ fn frames_in_flight_match_the_reference(in_flight: usize, options: MethodOptions
     {
         // SAFETY: the engine's live objects, outliving `gpu` (dropped at the end of this block).
         let gpu = unsafe { Gpu::from_host(&engine.host_device()) }.expect("host device");
-        let extent = vk::Extent2D {
-            width: W,
-            height: H,
-        };
-        let transfer = vk::ImageUsageFlags::TRANSFER_SRC | vk::ImageUsageFlags::TRANSFER_DST;
-        let colour_format = vk::Format::R16G16B16A16_SFLOAT;
-        let colour = gpu
-            .create_image(
-                "engine colour",
-                extent,
-                colour_format,
-                transfer | vk::ImageUsageFlags::COLOR_ATTACHMENT,
-                1,
-            )
-            .expect("colour");
-        let depth = gpu
-            .create_image(
-                "engine depth",
-                extent,
-                vk::Format::D32_SFLOAT,
-                transfer | vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
-                1,
-            )
-            .expect("depth");
-        let (colour_texels, depth_texels) = texels(&layer);
-        let src = vk::BufferUsageFlags::TRANSFER_SRC;
-        let colour_in = gpu
-            .create_buffer_with_data("opaque colour", src, &colour_texels)
-            .expect("upload buffer");
-        let depth_in = gpu
-            .create_buffer_with_data("opaque depth", src, &depth_texels)
-            .expect("upload buffer");
-        // One readback per frame in flight.
-        let outs: Vec<_> = (0..in_flight)
-            .map(|_| {
-                gpu.create_buffer(
-                    "readback",
-                    colour_texels.len() as u64,
-                    vk::BufferUsageFlags::TRANSFER_DST,
-                    MemoryLocation::GpuToCpu,
-                )
-                .expect("readback buffer")
-            })
-            .collect();
+        let images = EngineImages::new(&gpu, &layer, in_flight);
         let mut renderer = Renderer::with_frames_in_flight(
             &gpu,
             &scene,
@@ -528,23 +511,6 @@ fn frames_in_flight_match_the_reference(in_flight: usize, options: MethodOptions
             in_flight as u32,
         )
         .expect("renderer");
-        let attachment = vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL;
-        let depth_attachment = vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
-        let targets = |k: usize| HostTargets {
-            cmd: engine.cmds[k],
-            colour: HostImage {
-                image: colour.raw,
-                format: colour_format,
-                layout: attachment,
-                final_layout: vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-            },
-            depth: HostImage {
-                image: depth.raw,
-                format: vk::Format::D32_SFLOAT,
-                layout: depth_attachment,
-                final_layout: depth_attachment,
-            },
-        };
         let mut grown_to = None;
         for first in (0..FRAMES).step_by(in_flight) {
             let batch = first..(first + in_flight).min(FRAMES);
@@ -554,33 +520,17 @@ fn frames_in_flight_match_the_reference(in_flight: usize, options: MethodOptions
                 set(&mut renderer, f);
                 engine.begin(k);
                 let cmd = engine.cmds[k];
-                record_opaque(
-                    &gpu,
-                    cmd,
-                    [
-                        (&colour, &colour_in, attachment),
-                        (&depth, &depth_in, depth_attachment),
-                    ],
-                );
+                images.record_opaque(&gpu, cmd);
                 // SAFETY: the engine's recording command buffer and images of the frame's size.
-                unsafe { renderer.record_host(&targets(k)) }.expect("record");
-                gpu.cmd_copy_image_to_buffer(cmd, &colour, &outs[k]);
-                translucid::gpu::memory_barrier(
-                    &gpu,
-                    cmd,
-                    (
-                        vk::PipelineStageFlags::TRANSFER,
-                        vk::AccessFlags::TRANSFER_WRITE,
-                    ),
-                    (vk::PipelineStageFlags::HOST, vk::AccessFlags::HOST_READ),
-                );
+                unsafe { renderer.record_host(&images.targets(cmd)) }.expect("record");
+                images.record_readback(&gpu, cmd, k);
             }
             if batch.len() == in_flight {
                 assert_eq!(renderer.frames_in_flight(), in_flight);
                 let k = in_flight % 4;
                 engine.begin(k);
                 // SAFETY: as above; refused before anything is recorded.
-                let refused = unsafe { renderer.record_host(&targets(k)) };
+                let refused = unsafe { renderer.record_host(&images.targets(engine.cmds[k])) };
                 assert!(
                     refused.is_err(),
                     "a frame past the renderer's {in_flight} in flight"
@@ -606,7 +556,7 @@ fn frames_in_flight_match_the_reference(in_flight: usize, options: MethodOptions
                     continue;
                 }
                 assert!(!done.overflowed, "frame {f}: {done:?}");
-                let got = half_pixels(outs[k].read().expect("readback"));
+                let got = images.srgb(k);
                 let want = expected(f);
                 let worst = got
                     .iter()
@@ -628,23 +578,6 @@ fn frames_in_flight_match_the_reference(in_flight: usize, options: MethodOptions
         "validation errors:\n{}",
         errors.join("\n")
     );
-}
-
-/// RGBA16F texels as sRGB bytes.
-fn half_pixels(bytes: &[u8]) -> Vec<u8> {
-    let pixels = bytes
-        .chunks_exact(8)
-        .map(|p| {
-            let c = |i: usize| half::f16::from_le_bytes([p[2 * i], p[2 * i + 1]]).to_f32();
-            glam::Vec4::new(c(0), c(1), c(2), 1.0)
-        })
-        .collect();
-    translucid::Image {
-        width: W,
-        height: H,
-        pixels,
-    }
-    .to_srgb8()
 }
 
 #[test]
