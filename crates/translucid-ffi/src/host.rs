@@ -368,11 +368,12 @@ impl translucid_frame {
     /// (`translucid_frame_abandon`), recording returns
     /// `TRANSLUCID_RESULT_ERROR_FRAME_IN_FLIGHT` and the context's resources the frame uses
     /// stay alive. So the host waits for each frame before recording the next with the same
-    /// context (use one context per frame in flight to overlap them). Recording the same input
-    /// again reuses the previous frame's uploads, pipelines and buffers; new input (a moved
-    /// camera, other draws) builds them anew. Arguments are checked before anything is
-    /// recorded; an error from the method itself may leave commands recorded, so reset the
-    /// command buffer after any error.
+    /// context (use one context per frame in flight to overlap them). A frame that draws the
+    /// same meshes and materials with the same method, size and settings as the last one
+    /// reuses its uploads, pipelines and buffers, whatever its camera, light and transforms
+    /// (a moving camera builds nothing); other draws or settings build them anew. Arguments
+    /// are checked before anything is recorded; an error from the method itself may leave
+    /// commands recorded, so reset the command buffer after any error.
     #[no_mangle]
     #[must_use]
     pub extern "C" fn translucid_frame_record(
