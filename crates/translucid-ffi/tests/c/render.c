@@ -5,6 +5,7 @@
  *   in both storages);
  * - exact with a threshold stops under it: of two stacked quads, only the front one shows;
  * - over a background colour with no draws at all;
+ * - a quad moved, then the camera moved, frame after frame on one context;
  * - both pixel formats agree; statistics are filled in; frames outlive their meshes.
  */
 #include <math.h>
@@ -253,6 +254,42 @@ static void background_only(uint32_t method) {
     CHECK(translucid_frame_destroy(g_ctx, frame));
 }
 
+/* A small quad at view x `x` in frame 1, the other side in frame 2, then the camera moved so
+ * that it is back where it was: the context keeps its renderer for these frames (same mesh,
+ * material and settings), and each frame must show the quad where that frame put it. */
+static void moving_draws(uint32_t method, translucid_mesh quad, translucid_material red) {
+    /* quad x (world), camera x: the quad lands left (column 3) or right (column 12). */
+    static const float cases[3][2] = {{-1.0f, 0.0f}, {1.0f, 0.0f}, {1.0f, 2.0f}};
+    static const int left[3] = {1, 0, 1};
+    size_t k;
+    for (k = 0; k < 3; k++) {
+        translucid_frame_info info = base_frame(method);
+        translucid_draw draw;
+        translucid_frame frame;
+        float pixels[W * H * 4];
+        const size_t row = H / 2;
+        memset(&draw, 0, sizeof draw);
+        draw.mesh = quad;
+        draw.material = red;
+        draw.layer = TRANSLUCID_LAYER_TRANSPARENT;
+        /* The 10-wide quad scaled to 0.5, moved along x. */
+        draw.transform[0] = draw.transform[5] = 0.05f;
+        draw.transform[10] = draw.transform[15] = 1.0f;
+        draw.transform[12] = cases[k][0];
+        info.draws = &draw;
+        info.draw_count = 1;
+        info.camera.view[12] = -cases[k][1];
+        CHECK(translucid_frame_render(g_ctx, &info, &frame));
+        CHECK(translucid_frame_read(g_ctx, frame, TRANSLUCID_PIXEL_FORMAT_RGBA32F_LINEAR, pixels,
+                                    sizeof pixels));
+        near_or_fail(pixels[(row * W + 3) * 4], left[k] ? 0.5f : 0.0f, 2e-3f,
+                     "moving draws: left pixel", row * W + 3);
+        near_or_fail(pixels[(row * W + 12) * 4], left[k] ? 0.0f : 0.5f, 2e-3f,
+                     "moving draws: right pixel", row * W + 12);
+        CHECK(translucid_frame_destroy(g_ctx, frame));
+    }
+}
+
 int main(int argc, char **argv) {
     static const float positions[] = {-5, -5, -2, 5, -5, -2, 5, 5, -2, -5, 5, -2};
     static const uint32_t triangles[] = {0, 1, 2, 0, 2, 3};
@@ -290,6 +327,7 @@ int main(int argc, char **argv) {
         translucid_frame_info info = base_frame(methods[m]);
         over_host_layer(info, quad, red);
         background_only(methods[m]);
+        moving_draws(methods[m], quad, red);
         /* u -0.29 is texel -1 and u 1.29 texel 2, wrapped: */
         sampled_texture(methods[m], TRANSLUCID_WRAP_REPEAT, 1.0f, 0.0f);
         sampled_texture(methods[m], TRANSLUCID_WRAP_CLAMP_TO_EDGE, 0.0f, 1.0f);
