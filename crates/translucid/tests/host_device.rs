@@ -231,6 +231,15 @@ fn texels(layer: &OpaqueLayer) -> (Vec<u8>, Vec<u8>) {
     (colour, depth)
 }
 
+/// The largest difference between two images' bytes.
+fn worst_difference(got: &[u8], want: &[u8]) -> u8 {
+    got.iter()
+        .zip(want)
+        .map(|(a, b)| a.abs_diff(*b))
+        .max()
+        .unwrap_or(0)
+}
+
 /// The engine's colour and depth images of a frame, the opaque layer's texels to fill them
 /// with, and one readback buffer per frame in flight.
 struct EngineImages {
@@ -437,12 +446,7 @@ fn an_overflowing_frame_says_so_and_renders_right_when_recorded_again() {
 
         let got = images.srgb(0);
         let want = expected.image.to_srgb8();
-        let worst = got
-            .iter()
-            .zip(&want)
-            .map(|(a, b)| a.abs_diff(*b))
-            .max()
-            .unwrap_or(0);
+        let worst = worst_difference(&got, &want);
         assert!(
             worst <= 2,
             "host-device exact differs from standalone by {worst}/255"
@@ -558,12 +562,7 @@ fn frames_in_flight_match_the_reference(in_flight: usize, options: MethodOptions
                 assert!(!done.overflowed, "frame {f}: {done:?}");
                 let got = images.srgb(k);
                 let want = expected(f);
-                let worst = got
-                    .iter()
-                    .zip(&want)
-                    .map(|(a, b)| a.abs_diff(*b))
-                    .max()
-                    .unwrap_or(0);
+                let worst = worst_difference(&got, &want);
                 assert!(
                     worst <= 2,
                     "{in_flight} in flight, frame {f}: {worst}/255 off the reference"

@@ -34,8 +34,6 @@ pub struct HostFrame {
 pub(super) struct Completion {
     marker: Buffer,
     frame: u32,
-    /// A frame is recorded and not completed: its resources must not be reused yet.
-    pub(super) in_flight: bool,
 }
 
 impl Completion {
@@ -46,11 +44,7 @@ impl Completion {
             vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuToCpu,
         )?;
-        Ok(Self {
-            marker,
-            frame: 0,
-            in_flight: false,
-        })
+        Ok(Self { marker, frame: 0 })
     }
 
     /// Clears the word and records the command that sets it, after everything else.
@@ -79,7 +73,6 @@ impl Completion {
             ),
             (vk::PipelineStageFlags::HOST, vk::AccessFlags::HOST_READ),
         );
-        self.in_flight = true;
         Ok(())
     }
 
@@ -177,7 +170,6 @@ impl Renderer {
             return Ok(None);
         };
         self.in_flight.pop_front();
-        self.completions[slot].in_flight = false;
         let check = self.method.frame_done(&FrameDone {
             uploaded: &self.scene,
             targets: &self.targets,

@@ -116,7 +116,8 @@ fn method_ms(stages: &[(&'static str, f64)]) -> f64 {
 /// ([`Renderer::set_frame`]): the assets stay uploaded, pipelines are kept, buffers grow.
 pub struct Renderer {
     gpu: Gpu,
-    /// The scene's assets and the current frame's camera, light and draws.
+    /// The scene's assets (texels aside: they are on the GPU) and the current frame's camera,
+    /// light and draws.
     frame_scene: Scene,
     scene: GpuScene,
     targets: FrameTargets,
@@ -127,7 +128,6 @@ pub struct Renderer {
     method: Box<dyn Method>,
     /// Per frame slot: the frame's stage timestamps.
     timestamps: Vec<Timestamps>,
-    background: Vec3,
     /// The slot the next frame is written into and recorded from.
     slot: usize,
     /// Bumped by every change of the frame ([`Self::set_frame`], [`Self::update_mesh`]);
@@ -230,14 +230,13 @@ impl Renderer {
         slot_serials[0] = 0;
         Ok(Self {
             gpu: gpu.clone(),
-            frame_scene: scene.clone(),
+            frame_scene: scene.without_texels(),
             scene: uploaded,
             targets,
             opaque_pass,
             readback,
             method,
             timestamps,
-            background: scene.background,
             slot: 0,
             frame_serial: 0,
             slot_serials,
@@ -263,7 +262,6 @@ impl Renderer {
     /// keep drawing what they were recorded with.
     pub fn set_frame(&mut self, input: &FrameInput<'_>) -> Result<()> {
         self.frame_scene.set_frame(input)?;
-        self.background = input.background;
         self.frame_serial += 1;
         Ok(())
     }
@@ -377,8 +375,12 @@ impl Renderer {
                     .record_moved_vertices(&gpu, cmd, &self.frame_scene)?;
                 match &source {
                     OpaqueSource::Scene { readback } => {
-                        self.opaque_pass
-                            .record(&gpu, cmd, &self.scene, self.background);
+                        self.opaque_pass.record(
+                            &gpu,
+                            cmd,
+                            &self.scene,
+                            self.frame_scene.background,
+                        );
                         self.timestamps[slot].mark(cmd, "opaque");
                         if let Some(r) = readback {
                             r.record(&gpu, cmd, &self.targets, true);

@@ -97,6 +97,22 @@ impl Scene {
         }
     }
 
+    /// A copy without the textures' texels (each level keeps its size): what a renderer
+    /// keeps once the textures are uploaded, for the frames to come.
+    pub fn without_texels(&self) -> Scene {
+        Scene {
+            name: self.name.clone(),
+            meshes: self.meshes.clone(),
+            materials: self.materials.clone(),
+            textures: self.textures.iter().map(Texture::without_texels).collect(),
+            opaque: self.opaque.clone(),
+            transparent: self.transparent.clone(),
+            camera: self.camera,
+            light: self.light,
+            background: self.background,
+        }
+    }
+
     /// Makes `input` the scene's frame, after checking it against the scene's assets (the
     /// draw vectors keep their allocations).
     pub fn set_frame(&mut self, input: &FrameInput<'_>) -> crate::Result<()> {

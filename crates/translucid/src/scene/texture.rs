@@ -79,6 +79,26 @@ pub struct Texture {
     pub levels: Vec<MipLevel>,
 }
 
+impl Texture {
+    /// The texture's name, sampler and level sizes, without texels.
+    pub fn without_texels(&self) -> Self {
+        Self {
+            name: self.name.clone(),
+            srgb: self.srgb,
+            sampler: self.sampler,
+            levels: self
+                .levels
+                .iter()
+                .map(|l| MipLevel {
+                    width: l.width,
+                    height: l.height,
+                    texels: Vec::new(),
+                })
+                .collect(),
+        }
+    }
+}
+
 #[derive(Clone, Debug, PartialEq)]
 pub struct MipLevel {
     pub width: u32,
