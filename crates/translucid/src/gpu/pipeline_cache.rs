@@ -66,13 +66,4 @@ impl ComputePipelineCache {
         self.built.insert(key, p.clone());
         Ok(p)
     }
-
-    /// Pipelines built so far.
-    pub fn len(&self) -> usize {
-        self.built.len()
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.built.is_empty()
-    }
 }

@@ -34,15 +34,6 @@ impl Retirement {
             self.held.push((self.recorded, Box::new(object)));
         }
     }
-
-    /// Objects held now.
-    pub fn len(&self) -> usize {
-        self.held.len()
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.held.is_empty()
-    }
 }
 
 #[cfg(test)]
