@@ -44,12 +44,15 @@ layout(set = 1, binding = 20) uniform usamplerBuffer u_homogeneousTexels; // g_h
 // non-empty bin (listed in g_rasterBins) for the first raster dispatch (y = BIN_SIZE rows
 // each); DISPATCH_BINNING counts the binning passes' workgroups of BINNING_GROUP_SIZE
 // triangles, so that they run for the triangles setup kept, not for every quad;
-// DISPATCH_BIN_OFFSETS counts the scan's last step's workgroups of SCAN_GROUP_SIZE listed
-// blocks, so that it writes offsets only where some bin has an entry. Items of
+// DISPATCH_BIN_OFFSETS counts the scan's offset step's workgroups of SCAN_GROUP_SIZE listed
+// blocks, so that it writes offsets only where some bin has an entry; DISPATCH_BAND_FILL is
+// DISPATCH_BINNING while a band has blocks, else empty. The band plan (bin_scan.comp, step
+// 3) writes DISPATCH_RASTER_BINS, DISPATCH_BIN_OFFSETS and DISPATCH_BAND_FILL for each band.
+// Items of
 // resume list k start at k * g_counters.resumeCapacity, and item i's pixel states at
 // (k * resumeCapacity + i) * BIN_SIZE.
 layout(set = 1, binding = 21, std430) buffer DispatchBlock {
-    uint g_dispatch[20];
+    uint g_dispatch[24];
     uint g_resumeItems[];
 };
 layout(set = 1, binding = 22, std430) buffer PixelStateBlock { ExactPixelState g_pixelStates[]; };

@@ -70,6 +70,24 @@ uint binningSlices(ivec4 bounds) {
     return max((rows + u_push.binRowsPerSlice - 1u) / u_push.binRowsPerSlice, 1u);
 }
 
+// The pixel rows of `rows` in the current band's blocks (g_counters.bandFirstBlock to
+// bandLastBlock, in block order), and, on pixel row y, the block columns of `run` in them:
+// fill enters only the band's bins, whose lists the band's offsets place.
+ivec2 bandRows(ivec2 rows) {
+    int top = int(g_counters.bandFirstBlock / u_push.binsX) << BIN_SHIFT;
+    int bottom = (int(g_counters.bandLastBlock / u_push.binsX) << BIN_SHIFT) + BIN_SIZE - 1;
+    return ivec2(max(rows.x, top), min(rows.y, bottom));
+}
+
+ivec2 bandColumns(int y, ivec2 run) {
+    uint first = g_counters.bandFirstBlock;
+    uint last = g_counters.bandLastBlock;
+    uint blockRow = uint(y >> BIN_SHIFT);
+    int lo = blockRow == first / u_push.binsX ? int(first % u_push.binsX) : run.x;
+    int hi = blockRow == last / u_push.binsX ? int(last % u_push.binsX) : run.y;
+    return ivec2(max(run.x, lo), min(run.y, hi));
+}
+
 // Bits of a triangle's nearest and farthest vertex view depth, widened by a relative 2^-12
 // so that every fragment's interpolated depth, rounded in float, lies between them.
 // Homogeneous triangles (a vertex may be behind the eye) span everything.

@@ -18,7 +18,8 @@
 #define STATISTICS_SLOTS 8u
 #define STATISTICS_WORDS 128u
 
-// Overflow bits in ExactCounters.overflow: the frame must be rendered again with more room.
+// Overflow bits in ExactCounters.overflow: a buffer was too small for the frame (the host
+// grows it for later frames). The bin lists' overflow is answered within the frame, by bands.
 #define OVERFLOW_HOMOGENEOUS 1u
 #define OVERFLOW_BIN_ENTRIES 2u
 // A bin so crowded that one pass over it cannot fit the shader loop budget (wavelet's bin
@@ -37,6 +38,7 @@
 #define DISPATCH_RASTER_BINS 2u
 #define DISPATCH_BINNING 3u
 #define DISPATCH_BIN_OFFSETS 4u
+#define DISPATCH_BAND_FILL 5u
 #define BINNING_GROUP_SIZE 64u
 // Workgroup size of the scan, and the multiple the blocks of the bin arrays are padded to.
 #define SCAN_GROUP_SIZE 256u
@@ -161,7 +163,19 @@ struct ExactCounters {
     uint resumeNeeded;      // items a resume list needed (counted even when they do not fit)
     uint depthLo;           // bits of the nearest and farthest vertex view depth of the
     uint depthHi;           // fixed-point triangles (positive floats order like their bits)
-    uint pad0;
+    // Bands (bin_scan.comp, step 3): the listed blocks are rasterized in runs whose lists fit
+    // the capacity together, one band after another within the frame.
+    uint listedBlocks;      // blocks with a non-empty bin: g_rasterBins[0, listedBlocks), in order
+    uint bandFirst;         // the current band: listed blocks [bandFirst, bandFirst + bandCount)
+    uint bandCount;
+    uint bandBase;          // the list offset of its first block (its lists start at 0)
+    uint bandFirstBlock;    // block indices of its first and last block
+    uint bandLastBlock;
+    uint bandNext;          // the listed block the next band starts at
+    uint bands;             // bands rasterized
+    uint skippedBlocks;     // blocks whose lists alone pass the capacity: left untouched
+    uint abandonedRows;     // rows a band left unfinished: left untouched
+    uint pad[11];
     // Statistics of the raster: slot k holds the fragments composited at [16 k], the most
     // sweeps of its list any pixel needed at [16 k + 1], and the fragments in front of the
     // opaque layer found in the first sweep (all of them, fewer where a pixel had to drop

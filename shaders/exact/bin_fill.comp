@@ -1,8 +1,8 @@
 #version 450
 // Binning, pass 3: every triangle writes its index into its depth slab's part of the list of
 // each bin it may cover.
-// Entries past the capacity are dropped and flagged: the host renders the frame again with a
-// list as large as the count says.
+// Runs once per band, entering only the band's bins (bandRows, bandColumns), whose offsets
+// the band's scan step placed within the capacity.
 
 #include "exact_bindings.glsl"
 #include "exact_bins.glsl"
@@ -20,14 +20,14 @@ void main() {
     }
     ExactTriangle t = loadTriangle(ti);
     ivec4 r = binRect(t.bounds);
-    ivec2 rows = sliceRows(r);
+    ivec2 rows = bandRows(sliceRows(r));
     uint capacity = g_counters.binEntryCapacity;
     uint slab = slabOf(triangleDepthBits(t).x, lo, range);
     // Do-whiles (raster.comp says why) over the invocation's rows and each row's run of
     // blocks.
     int by = rows.x + binningLane();
     if (by <= rows.y) do {
-        ivec2 run = rowColumns(t, by, r.xz);
+        ivec2 run = bandColumns(by, rowColumns(t, by, r.xz));
         int bx = run.x;
         if (bx <= run.y) do {
             uint b = binIndex(bx, by) * SLABS + slab;

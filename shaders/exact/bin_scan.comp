@@ -1,21 +1,24 @@
 #version 450
 // Binning, pass 2: exclusive prefix sum of the (bin, slab) counts into list offsets, so that
-// each bin's list holds its slabs near to far. Three dispatches (SCAN_STEP):
+// each bin's list holds its slabs near to far. Four dispatches (SCAN_STEP):
 // 0. every invocation sums the counts of one block (BIN_SIZE rows of SLABS slabs) into
 //    g_blockTotals;
 // 1. one workgroup turns the block totals into block offsets in place (each invocation scans
 //    a contiguous run of blocks; the runs' sums are scanned in shared memory) and lists the
-//    blocks with a non-empty bin for the raster;
-// 2. every invocation writes the bin offsets of one listed block, starting from its block
-//    offset. Only those bins are read: fill appends to bins with entries, and the raster
-//    walks the listed blocks (the lamp's scan took 0.5 ms for every block at 1280x720).
+//    blocks with a non-empty bin, in block order, for the raster;
+// then, for each band of listed blocks whose lists fit the capacity together (one band when
+// the frame fits; the host records a few, and fill and raster follow each):
+// 3. one invocation plans the band (planBand);
+// 2. every invocation writes the bin offsets of one listed block of the band, from its block
+//    offset less the band's. Only those bins are read: fill appends to bins with entries,
+//    and the raster walks the listed blocks (the lamp's scan took 0.5 ms for every block at
+//    1280x720).
 // Steps 0 and 2 take whole workgroups of blocks (the arrays are padded, the padding's counts
-// stay zero; step 2's last workgroup repeats the last listed block), so they run without a
+// stay zero; step 2's last workgroup repeats the band's last block), so they run without a
 // branch: on CPU drivers such as lavapipe straight-line loads and stores are vector
 // operations, but per-lane loops inside control flow. One workgroup scanning every bin was
 // single-threaded there.
 
-#extension GL_KHR_shader_subgroup_ballot : require
 #extension GL_EXT_control_flow_attributes : require
 
 #include "exact_bindings.glsl"
@@ -28,6 +31,7 @@ layout(constant_id = 0) const uint SCAN_STEP = 0u;
 const uint BINS_PER_BLOCK = BIN_SIZE * SLABS;
 
 shared uint s_runTotals[SCAN_GROUP_SIZE];
+shared uint s_runListed[SCAN_GROUP_SIZE];
 
 // The per-block loops are unrolled over the block's rows; over the slabs of each row only
 // where the driver chooses to (deep frames have up to MAX_SLABS, too many to unroll).
@@ -48,26 +52,38 @@ void scanBlocks() {
     uint run = (blocks + SCAN_GROUP_SIZE - 1u) / SCAN_GROUP_SIZE;
     uint first = gl_LocalInvocationID.x * run;
     uint sum = 0u;
+    uint listed = 0u;
     for (uint i = 0u; i < run; i++) {
-        sum += first + i < blocks ? texelFetch(u_blockTotalTexels, int(first + i)).r : 0u;
+        uint total = first + i < blocks ? texelFetch(u_blockTotalTexels, int(first + i)).r : 0u;
+        sum += total;
+        listed += total > 0u ? 1u : 0u;
     }
     s_runTotals[gl_LocalInvocationID.x] = sum;
+    s_runListed[gl_LocalInvocationID.x] = listed;
     barrier();
     if (gl_LocalInvocationID.x == 0u) {
         uint total = 0u;
+        uint listedTotal = 0u;
         for (uint i = 0u; i < SCAN_GROUP_SIZE; i++) {
             uint t = s_runTotals[i];
             s_runTotals[i] = total;
             total += t;
+            uint l = s_runListed[i];
+            s_runListed[i] = listedTotal;
+            listedTotal += l;
         }
-        // Every bin's count summed: the entries the frame needs, which the host checks
-        // against the list's capacity.
+        // Every bin's count summed: the entries the frame needs. Past the capacity the frame
+        // is rasterized in bands (planBand) and the host grows the list for later frames.
         g_counters.binEntryCount = total;
+        if (total > g_counters.binEntryCapacity) {
+            g_counters.overflow |= OVERFLOW_BIN_ENTRIES;
+        }
+        g_counters.listedBlocks = listedTotal;
     }
     barrier();
     uint offset = s_runTotals[gl_LocalInvocationID.x];
-    // The same number of iterations for every invocation, so that the listing below can
-    // take one atomic per subgroup.
+    uint slot = s_runListed[gl_LocalInvocationID.x];
+    // Listed in block order, so that a band is a run of the list and of the lists' entries.
     for (uint i = 0u; i < run; i++) {
         uint block = first + i;
         bool inside = block < blocks;
@@ -76,32 +92,19 @@ void scanBlocks() {
             g_blockTotals[block] = offset;
         }
         offset += total;
-        bool listed = total > 0u;
-        uvec4 ballot = subgroupBallot(listed);
-        uint count = subgroupBallotBitCount(ballot);
-        uint slot = 0u;
-        if (subgroupElect() && count > 0u) {
-            slot = atomicAdd(g_dispatch[DISPATCH_RASTER_BINS * 4u], count);
-        }
-        slot = subgroupBroadcastFirst(slot) + subgroupBallotExclusiveBitCount(ballot);
-        if (listed) {
+        if (total > 0u) {
             g_rasterBins[slot] = block;
+            slot++;
         }
-    }
-    // Every invocation has listed its blocks: size step 2 to them.
-    memoryBarrierBuffer();
-    barrier();
-    if (gl_LocalInvocationID.x == 0u) {
-        uint listed = atomicAdd(g_dispatch[DISPATCH_RASTER_BINS * 4u], 0u);  // an atomic read
-        g_dispatch[DISPATCH_BIN_OFFSETS * 4u] = (listed + SCAN_GROUP_SIZE - 1u) / SCAN_GROUP_SIZE;
     }
 }
 
 void writeBinOffsets() {
-    uint listed = g_dispatch[DISPATCH_RASTER_BINS * 4u];
-    uint block = g_rasterBins[min(gl_GlobalInvocationID.x, listed - 1u)];
+    uint count = g_counters.bandCount;
+    uint listed = g_counters.bandFirst + min(gl_GlobalInvocationID.x, count - 1u);
+    uint block = g_rasterBins[listed];
     uint first = block * BINS_PER_BLOCK;
-    uint offset = texelFetch(u_blockTotalTexels, int(block)).r;
+    uint offset = texelFetch(u_blockTotalTexels, int(block)).r - g_counters.bandBase;
     [[unroll]] for (uint row = 0u; row < BIN_SIZE; row++) {
         for (uint k = 0u; k < SLABS; k++) {
             uint bin = first + row * SLABS + k;
@@ -111,12 +114,73 @@ void writeBinOffsets() {
     }
 }
 
+// Where the lists of listed blocks [0, i) end: listed block i's offset, or every entry.
+uint listEnd(uint i, uint listed) {
+    return i < listed ? g_blockTotals[g_rasterBins[i]] : g_counters.binEntryCount;
+}
+
+// The next band: the most listed blocks from bandNext on whose lists fit the capacity
+// together (all of them when the frame fits). A block that alone does not fit is skipped,
+// its pixels left as they are, and counted. A band with blocks drops the rows the previous
+// one left on its pending list (u_push.resumeList), counted, since they cannot resume once
+// the lists are refilled; a band without keeps them, and its continuations resume them.
+void planBand() {
+    if (gl_LocalInvocationID.x != 0u) {
+        return;
+    }
+    uint listed = g_counters.listedBlocks;
+    uint capacity = g_counters.binEntryCapacity;
+    uint start = g_counters.bandNext;
+    uint count = 0u;
+    if (start < listed) {
+        uint base = listEnd(start, listed);
+        if (listEnd(start + 1u, listed) - base > capacity) {
+            g_counters.skippedBlocks += 1u;
+            g_counters.bandNext = start + 1u;
+        } else {
+            // The last end within the capacity, by bisection.
+            uint lo = start + 1u;
+            uint hi = listed;
+            while (lo < hi) {
+                uint mid = (lo + hi + 1u) / 2u;
+                if (listEnd(mid, listed) - base <= capacity) {
+                    lo = mid;
+                } else {
+                    hi = mid - 1u;
+                }
+            }
+            count = lo - start;
+            g_counters.bandNext = lo;
+            g_counters.bandBase = base;
+            g_counters.bandFirstBlock = g_rasterBins[start];
+            g_counters.bandLastBlock = g_rasterBins[lo - 1u];
+            g_counters.bands += 1u;
+        }
+    }
+    if (count > 0u) {
+        uint pending = u_push.resumeList * 4u;
+        g_counters.abandonedRows += g_dispatch[pending];
+        g_dispatch[pending] = 0u;
+    }
+    g_counters.bandFirst = start;
+    g_counters.bandCount = count;
+    g_dispatch[DISPATCH_RASTER_BINS * 4u] = count;
+    g_dispatch[DISPATCH_BIN_OFFSETS * 4u] = (count + SCAN_GROUP_SIZE - 1u) / SCAN_GROUP_SIZE;
+    uint fill = DISPATCH_BAND_FILL * 4u;
+    uint binning = DISPATCH_BINNING * 4u;
+    g_dispatch[fill] = count > 0u ? g_dispatch[binning] : 0u;
+    g_dispatch[fill + 1u] = g_dispatch[binning + 1u];
+    g_dispatch[fill + 2u] = 1u;
+}
+
 void main() {
     if (SCAN_STEP == 0u) {
         sumBlock();
     } else if (SCAN_STEP == 1u) {
         scanBlocks();
-    } else {
+    } else if (SCAN_STEP == 2u) {
         writeBinOffsets();
+    } else {
+        planBand();
     }
 }

@@ -48,8 +48,9 @@
 #include "shading.glsl"
 #include "exact_fragment.glsl"
 
-// The first dispatch covers the rows of every block with a non-empty bin (the other blocks
-// keep the opaque colour): gl_WorkGroupSize.y rows per workgroup (constant 7: BIN_SIZE or 1),
+// The first dispatch of a band covers the rows of the band's blocks with a non-empty bin
+// (g_rasterBins from g_counters.bandFirst; blocks with none keep the opaque colour):
+// gl_WorkGroupSize.y rows per workgroup (constant 7: BIN_SIZE or 1),
 // BIN_SIZE / gl_WorkGroupSize.y workgroups down each block. Continuations have one workgroup
 // per resumed row.
 layout(local_size_x = BIN_SIZE, local_size_y_id = 7) in;
@@ -112,7 +113,7 @@ void main() {
         block = item / BIN_SIZE;
         row = item % BIN_SIZE;
     } else {
-        block = g_rasterBins[gl_WorkGroupID.x];
+        block = g_rasterBins[g_counters.bandFirst + gl_WorkGroupID.x];
         row = gl_WorkGroupID.y * gl_WorkGroupSize.y + gl_LocalInvocationID.y;
     }
     // The row's own bin: its slabs' parts of the list, near to far, each ending where the

@@ -97,6 +97,10 @@ pub struct MethodOptions {
     /// cover triangles split into several slices.
     #[doc(hidden)]
     pub bin_rows_per_slice: Option<u32>,
+    /// `exact`: bands of bins recorded per frame (`None`: exact's default), so that tests can
+    /// reach the frames that need more than it records.
+    #[doc(hidden)]
+    pub bands: Option<u32>,
     /// `wavelet`: Haar rank, 0 to 3 (2^(rank+1) coefficients per colour channel); `None`
     /// is [`wavelet::DEFAULT_RANK`]. A larger rank is an error.
     pub rank: Option<u32>,
@@ -118,6 +122,12 @@ pub struct FrameCheck {
     /// records completes it (on an engine's device, where translucid does not submit, the
     /// frame is rendered again instead).
     pub finish: bool,
+    /// Pixel rows the frame left with the opaque colour, past a documented limit of the
+    /// method (exact: bin lists needing more bands than it records).
+    pub degraded_rows: u64,
+    /// Bands the frame's bins were rasterized in (exact and wavelet's bins: more than one when
+    /// their lists passed the capacity; 0 for other methods).
+    pub bands: u32,
     /// Fragments composited, where the method counts them.
     pub fragments: u64,
     /// Transparent triangles left to rasterize after culling, where the method culls.

@@ -3,9 +3,12 @@
 //!
 //! The frame copies the engine's colour and depth into the frame targets (the opaque layer,
 //! timed as "opaque"), runs the method exactly as a standalone frame does, and copies the
-//! result back into the engine's colour image ("output"). Overflow cannot re-render inside
-//! the recording: [`Renderer::complete_host`] reports it after the fact, with the buffers
-//! already grown, so recording the same frame again renders it correctly.
+//! result back into the engine's colour image ("output"). A frame is meant to be right on its
+//! one recording: bin lists past their capacity are rasterized in bands within it. What the
+//! recording could not answer (more bands than it records, rows still unfinished after its
+//! continuations, other buffers too small) leaves the affected pixels with the engine's
+//! colour, and [`Renderer::complete_host`] reports it once the frame completed, with the
+//! buffers already grown, so that later frames are right.
 
 use super::{method_ms, Renderer};
 use crate::gpu::{memory_barrier, vk, Buffer, Gpu, HostTargets, MemoryLocation};
@@ -24,8 +27,15 @@ pub struct HostFrame {
     pub peak_gpu_bytes: u64,
     /// Fragments composited, for methods that count them (0 otherwise).
     pub fragments: u64,
-    /// A buffer overflowed: the image the frame wrote is wrong. The buffers have grown;
-    /// recording the frame again renders it correctly.
+    /// Bands the bin methods rasterized the frame in: more than one when their bin lists
+    /// passed the capacity within the frame (the lists have grown for later frames).
+    pub bands: u32,
+    /// Pixel rows left with the engine's colour, past a documented limit of the method
+    /// (exact: bin lists needing more bands than it records).
+    pub degraded_rows: u64,
+    /// The image the frame wrote is not all right: rows were left with the engine's colour
+    /// (`degraded_rows`), or some buffer overflowed. The buffers have grown; recording the
+    /// frame again renders it correctly.
     pub overflowed: bool,
 }
 
@@ -181,6 +191,8 @@ impl Renderer {
             stages,
             peak_gpu_bytes: self.gpu.memory_in_use().1,
             fragments: check.fragments,
+            bands: check.bands,
+            degraded_rows: check.degraded_rows,
             overflowed: check.rerender || check.finish,
         }))
     }

@@ -77,6 +77,9 @@ pub struct Frame {
     /// Transparent triangles left to rasterize after culling (back faces, off screen, behind
     /// the opaque layer), for methods that cull them (0 otherwise).
     pub triangles: u64,
+    /// Bands the bin methods rasterized the frame in: more than one when their bin lists
+    /// passed the capacity (they grow for later frames); 0 for other methods.
+    pub bands: u32,
     /// Pipelines created on the renderer's device since its last frame ended, its
     /// `set_frame` included (a shader variant this frame was the first to need): each
     /// compiles a shader, which a frame loop should pay only in its first frames.
@@ -434,6 +437,7 @@ impl Renderer {
             rerenders,
             fragments: check.fragments,
             triangles: check.triangles,
+            bands: check.bands,
             pipelines_created: self.counted.0 - counted.0,
             bytes_allocated: self.counted.1 - counted.1,
             record_ms,

@@ -27,14 +27,16 @@ pub const PIXEL_STATE_BYTES: u64 = 192;
 /// `MAX_SELECT_SIZE` of exact_layout.glsl: fragments a pixel's saved state can hold.
 pub const MAX_SELECT_SIZE: u32 = 16;
 /// Bytes of the indirect dispatch commands (each padded to 16) before the resume items:
-/// resume list 0, resume list 1, non-empty bins, binning, bin offsets.
-pub const DISPATCH_BYTES: u64 = 80;
+/// resume list 0, resume list 1, the band's blocks, binning, bin offsets, the band's fill.
+pub const DISPATCH_BYTES: u64 = 96;
 /// Byte offset of the non-empty bins' dispatch command (`DISPATCH_RASTER_BINS`).
 pub const DISPATCH_RASTER_BINS_OFFSET: u64 = 32;
 /// Byte offset of the binning passes' dispatch command (`DISPATCH_BINNING`).
 pub const DISPATCH_BINNING_OFFSET: u64 = 48;
 /// Byte offset of the scan's last step's dispatch command (`DISPATCH_BIN_OFFSETS`).
 pub const DISPATCH_BIN_OFFSETS_OFFSET: u64 = 64;
+/// Byte offset of the band's fill dispatch command (`DISPATCH_BAND_FILL`).
+pub const DISPATCH_BAND_FILL_OFFSET: u64 = 80;
 /// Invocations per workgroup of the binning passes (`local_size_x`).
 pub const BINNING_GROUP_SIZE: u32 = 64;
 /// Invocations per workgroup of the scan, and the multiple of blocks the bin arrays hold.
@@ -69,7 +71,17 @@ pub struct ExactCounters {
     pub resume_needed: u32,
     pub depth_lo: u32,
     pub depth_hi: u32,
-    pub pad: u32,
+    pub listed_blocks: u32,
+    pub band_first: u32,
+    pub band_count: u32,
+    pub band_base: u32,
+    pub band_first_block: u32,
+    pub band_last_block: u32,
+    pub band_next: u32,
+    pub bands: u32,
+    pub skipped_blocks: u32,
+    pub abandoned_rows: u32,
+    pub pad: [u32; 11],
     pub statistics: [[u32; 16]; STATISTICS_SLOTS as usize],
     pub slab_farthest: [u32; MAX_SLABS as usize],
 }
@@ -90,6 +102,15 @@ impl ExactCounters {
     /// or not (a threshold stops pixels early); fewer where a pixel had to drop some.
     pub fn fragments_in_front(&self) -> u64 {
         self.statistics.iter().map(|slot| u64::from(slot[2])).sum()
+    }
+
+    /// Pixel rows the frame left with the opaque colour: those of blocks its bands did not
+    /// reach or skipped (a block's lists alone past the capacity), and rows a band left
+    /// unfinished.
+    pub fn degraded_rows(&self) -> u64 {
+        let blocks = u64::from(self.skipped_blocks)
+            + u64::from(self.listed_blocks.saturating_sub(self.band_next));
+        blocks * u64::from(BIN_SIZE) + u64::from(self.abandoned_rows)
     }
 
     /// The most sweeps of its row's list any pixel needed (raster.comp).
@@ -220,8 +241,12 @@ mod tests {
         assert_eq!(define("TRIANGLE_MATERIAL_SHIFT"), TRIANGLE_MATERIAL_SHIFT);
         assert_eq!(define("BINNING_GROUP_SIZE"), BINNING_GROUP_SIZE);
         assert_eq!(define("SCAN_GROUP_SIZE"), SCAN_GROUP_SIZE);
-        let commands = u64::from(define("DISPATCH_BIN_OFFSETS")) + 1;
+        let commands = u64::from(define("DISPATCH_BAND_FILL")) + 1;
         assert_eq!(commands * 16, DISPATCH_BYTES);
+        assert_eq!(
+            u64::from(define("DISPATCH_BAND_FILL")) * 16,
+            DISPATCH_BAND_FILL_OFFSET
+        );
         assert_eq!(
             u64::from(define("DISPATCH_BIN_OFFSETS")) * 16,
             DISPATCH_BIN_OFFSETS_OFFSET
@@ -314,6 +339,16 @@ mod tests {
             offset_of!(ExactCounters, resume_needed),
             offset_of!(ExactCounters, depth_lo),
             offset_of!(ExactCounters, depth_hi),
+            offset_of!(ExactCounters, listed_blocks),
+            offset_of!(ExactCounters, band_first),
+            offset_of!(ExactCounters, band_count),
+            offset_of!(ExactCounters, band_base),
+            offset_of!(ExactCounters, band_first_block),
+            offset_of!(ExactCounters, band_last_block),
+            offset_of!(ExactCounters, band_next),
+            offset_of!(ExactCounters, bands),
+            offset_of!(ExactCounters, skipped_blocks),
+            offset_of!(ExactCounters, abandoned_rows),
             offset_of!(ExactCounters, pad),
             offset_of!(ExactCounters, statistics),
             offset_of!(ExactCounters, slab_farthest),

@@ -8,7 +8,8 @@
 //!    pyramid), append visible triangles. Binning runs for as many triangles as setup kept
 //!    (an indirect dispatch setup sizes).
 //! 2. `bin_count`, `bin_scan`, `bin_fill`: per bin (one row of an 8×8-pixel block), count the
-//!    triangles that may cover it, prefix-sum the counts, fill the per-bin triangle lists.
+//!    triangles that may cover it, prefix-sum the counts, fill the per-bin triangle lists
+//!    (per band, with the raster: see below).
 //!    Frames with many fragments per pixel order each list by depth slab (nearest vertex).
 //! 3. `raster`: one workgroup per block with triangles, one invocation per pixel; each pixel
 //!    selects its nearest remaining fragments in registers, composites them front to back
@@ -26,9 +27,16 @@
 //! construction, so no pixel can come out of order and no fallback path is needed.
 //!
 //! Memory is sized from the frame: two triangle records per quad at most, bin lists grown to
-//! what the GPU counted. Counters come back every frame; an overflow renders the frame again
-//! with larger buffers, and rows still unfinished after the last continuation render it
-//! again with twice as many continuations, so an image is never drawn from truncated work.
+//! what the GPU counted. A frame whose lists pass their capacity is right all the same: the
+//! scan lists the blocks in order and the frame is filled and rasterized in bands of blocks
+//! whose lists fit, one after another in the same command buffer (up to `BANDS`; bands
+//! without blocks are near-empty dispatches, and their continuations keep resuming the last
+//! band's rows). Counters come back every frame and grow the buffers for later frames. What
+//! one recording cannot answer leaves pixels untouched, never drawn from truncated work:
+//! blocks past the last band (rendered again when translucid submits; reported on an
+//! engine's device), rows still unfinished after the last continuation (finished by a
+//! further submission of continuations, or reported), and the homogeneous records' and
+//! resume lists' overflow (rendered again, or reported).
 
 #![deny(clippy::unwrap_used)]
 
@@ -44,8 +52,8 @@ use crate::scene::Scene;
 use crate::{Error, Result};
 use features::RasterFeatures;
 use layout::{
-    ExactPush, BIN_SIZE, DISPATCH_BINNING_OFFSET, DISPATCH_BIN_OFFSETS_OFFSET,
-    DISPATCH_RASTER_BINS_OFFSET, LOOP_BUDGET, OVERFLOW_BIN_ENTRIES, OVERFLOW_CROWDED_BIN,
+    ExactPush, BIN_SIZE, DISPATCH_BAND_FILL_OFFSET, DISPATCH_BINNING_OFFSET,
+    DISPATCH_BIN_OFFSETS_OFFSET, DISPATCH_RASTER_BINS_OFFSET, LOOP_BUDGET, OVERFLOW_CROWDED_BIN,
     OVERFLOW_HOMOGENEOUS, OVERFLOW_RESUME,
 };
 use resources::{Capacities, Resources};
@@ -116,6 +124,8 @@ pub struct Exact {
     continuations: u32,
     /// The resume list holding the rows the last submission left unfinished.
     pending_list: u32,
+    /// Bands of bins recorded per frame.
+    bands: u32,
     push: ExactPush,
     /// The constants the stage pipelines are specialized with.
     features: RasterFeatures,
@@ -159,6 +169,12 @@ const FINISHED_SUBMISSION_WRITES: (vk::PipelineStageFlags, vk::AccessFlags) = (
         vk::AccessFlags::MEMORY_READ.as_raw() | vk::AccessFlags::MEMORY_WRITE.as_raw(),
     ),
 );
+/// Bands recorded per frame (MethodOptions::bands for tests). A frame whose bin lists pass their capacity is rasterized in
+/// bands of blocks whose lists fit, one after another in the same command buffer, and the
+/// lists grow for later frames; a frame needing more than BANDS times the capacity leaves the
+/// blocks past the last band untouched (counted, and rendered again when translucid submits).
+/// Bands without blocks cost a tiny dispatch and empty indirect ones.
+pub const BANDS: u32 = 4;
 /// `PYRAMID_GROUP_SIZE` of depth_pyramid.comp.
 const PYRAMID_GROUP_SIZE: u32 = 256;
 /// With about 60,000 loop iterations each, this many continuations finish any pixel this
@@ -177,8 +193,9 @@ struct StagePipelines {
     pyramid_top: Arc<ComputePipeline>,
     setup: Arc<ComputePipeline>,
     bin_count: Arc<ComputePipeline>,
-    /// The scan's steps 0, 1 and 2 (constant 0).
-    scan_steps: [Arc<ComputePipeline>; 3],
+    /// The scan's steps 0 to 3 (constant 0): block sums, block offsets, a band's bin
+    /// offsets, a band's plan.
+    scan_steps: [Arc<ComputePipeline>; 4],
     bin_fill: Arc<ComputePipeline>,
     raster: Arc<ComputePipeline>,
     /// The raster shader again, specialized to resume suspended rows (exact only).
@@ -216,6 +233,7 @@ impl StagePipelines {
             stage(BIN_SCAN, &binning)?,
             stage(BIN_SCAN, &scan_step(1))?,
             stage(BIN_SCAN, &scan_step(2))?,
+            stage(BIN_SCAN, &scan_step(3))?,
         ];
         let bin_fill = stage(BIN_FILL, &binning)?;
         let (raster, continuation) = match program {
@@ -355,6 +373,7 @@ impl Exact {
             ],
             continuations,
             pending_list: 0,
+            bands: options.bands.unwrap_or(BANDS).max(1),
             push,
             features,
         })
@@ -404,7 +423,38 @@ impl Exact {
         );
     }
 
-    /// The raster over every non-empty bin, then the continuations. The first raster fills
+    /// One band: its plan (bin_scan.comp, step 3), its bins' offsets, its fill, its raster and
+    /// continuations. The first band's binning stages are timed on their own.
+    fn record_band(&mut self, ctx: &mut RecordContext<'_>, first: bool) {
+        let cmd = ctx.cmd;
+        let [_, _, write_offsets, plan] = self.stages.scan_steps.clone();
+        let bin_fill = self.stages.bin_fill.clone();
+        let push = ExactPush {
+            resume_list: self.pending_list,
+            ..self.push
+        };
+        plan.dispatch(
+            cmd,
+            &[ctx.scene.set().raw, self.resources.set()],
+            bytemuck::bytes_of(&push),
+            [1, 1, 1],
+        );
+        self.compute_to_compute(cmd);
+        self.dispatch_indirect(ctx, &write_offsets, DISPATCH_BIN_OFFSETS_OFFSET);
+        self.compute_to_compute(cmd);
+        if first {
+            ctx.timestamps.mark(cmd, "bin scan");
+        }
+        self.dispatch_indirect(ctx, &bin_fill, DISPATCH_BAND_FILL_OFFSET);
+        self.compute_to_compute(cmd);
+        if first {
+            ctx.timestamps.mark(cmd, "bin fill");
+        }
+        self.record_raster(ctx);
+        self.compute_to_compute(cmd);
+    }
+
+    /// The raster over the band's blocks, then the continuations. The first raster fills
     /// list 0.
     fn record_raster(&mut self, ctx: &RecordContext<'_>) {
         let push = ExactPush {
@@ -614,19 +664,14 @@ impl Method for Exact {
         self.dispatch_indirect(ctx, &s.bin_count, DISPATCH_BINNING_OFFSET);
         self.compute_to_compute(cmd);
         ctx.timestamps.mark(cmd, "bin count");
-        let [block_sums, list_blocks, write_offsets] = &s.scan_steps;
+        let [block_sums, list_blocks, ..] = &s.scan_steps;
         self.dispatch(ctx, block_sums, [self.resources.scan_groups(), 1, 1]);
         self.compute_to_compute(cmd);
         self.dispatch(ctx, list_blocks, [1, 1, 1]);
         self.compute_to_compute(cmd);
-        self.dispatch_indirect(ctx, write_offsets, DISPATCH_BIN_OFFSETS_OFFSET);
-        self.compute_to_compute(cmd);
-        ctx.timestamps.mark(cmd, "bin scan");
-        self.dispatch_indirect(ctx, &s.bin_fill, DISPATCH_BINNING_OFFSET);
-        self.compute_to_compute(cmd);
-        ctx.timestamps.mark(cmd, "bin fill");
-
-        self.record_raster(ctx);
+        for band in 0..self.bands {
+            self.record_band(ctx, band == 0);
+        }
         self.resources.set_pending_list(self.pending_list);
         self.targets_from_raster(ctx);
         ctx.timestamps.mark(cmd, self.program.stage());
@@ -701,9 +746,10 @@ impl Method for Exact {
                 &self.program,
             )?;
         }
-        let overflowed = counters.overflow
-            & (OVERFLOW_HOMOGENEOUS | OVERFLOW_BIN_ENTRIES | OVERFLOW_RESUME)
-            != 0;
+        // Lists past their capacity were rasterized in bands: right, unless some blocks were
+        // left untouched (degraded).
+        let overflowed = counters.overflow & (OVERFLOW_HOMOGENEOUS | OVERFLOW_RESUME) != 0;
+        let degraded_rows = counters.degraded_rows();
         let grown = self
             .resources
             .capacities
@@ -742,13 +788,24 @@ impl Method for Exact {
         }
         // Unfinished rows are finished by another submission of continuations, unless the
         // frame must be rendered again anyway, or its pipelines changed under the saved rows.
-        let again = rebuild || crowded || overflowed;
+        let again = rebuild || crowded || overflowed || degraded_rows > 0;
         let finish = unfinished > 0 && !again && !features_changed;
         let rerender = again || (unfinished > 0 && !finish);
         let kept = |count: u64| if rerender || finish { 0 } else { count };
+        if degraded_rows > 0 {
+            log::warn!(
+                "{method}: {degraded_rows} pixel rows left with the opaque colour: the frame's \
+                 {} bin entries needed more than {} bands of {}",
+                counters.bin_entry_count,
+                self.bands,
+                recorded.capacities.bin_entries
+            );
+        }
         Ok(FrameCheck {
             rerender,
             finish,
+            degraded_rows,
+            bands: counters.bands,
             fragments: kept(counters.fragments()),
             triangles: kept(u64::from(counters.triangle_count)),
         })

@@ -163,12 +163,14 @@ const RGBA32UI: vk::Format = vk::Format::R32G32B32A32_UINT;
 /// Empty indirect dispatch commands, (x, y, z) and a word of padding each, x counted on the
 /// GPU: resume lists of (items, 1, 1) workgroups, the listed blocks' (blocks, BIN_SIZE /
 /// rows, 1) for raster workgroups of `rows` rows, binning's (triangle groups, slices of the
-/// tallest triangle, 1), and the scan's last step's (groups of listed blocks, 1, 1).
-fn empty_dispatches(rows: u32) -> [[u32; 4]; 5] {
+/// tallest triangle, 1), the scan's offset step's (groups of the band's blocks, 1, 1), and
+/// the band's fill (binning's, or empty).
+fn empty_dispatches(rows: u32) -> [[u32; 4]; 6] {
     [
         [0, 1, 1, 0],
         [0, 1, 1, 0],
         [0, BIN_SIZE / rows, 1, 0],
+        [0, 1, 1, 0],
         [0, 1, 1, 0],
         [0, 1, 1, 0],
     ]
