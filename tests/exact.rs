@@ -598,14 +598,15 @@ fn crowded_bin(count: u32) -> Scene {
     )
 }
 
-/// The 8x8 frame of `crowded_bin(count)` rendered with a transmittance threshold of 0.01,
-/// checked against the reference stopped at the same threshold.
-fn crowded_bin_frame(count: u32, label: &str) -> translucid::renderer::Frame {
+/// The 8x8 frame of `crowded_bin(count)` rendered with a transmittance threshold of 0.01 (and
+/// `bands` recorded), checked against the reference stopped at the same threshold.
+fn crowded_bin_frame(count: u32, label: &str, bands: Option<u32>) -> translucid::renderer::Frame {
     let gpu = gpu();
     let scene = crowded_bin(count);
     let threshold = 0.01;
     let options = MethodOptions {
         threshold,
+        bands,
         ..Default::default()
     };
     let mut renderer =
@@ -631,21 +632,31 @@ fn crowded_bin_frame(count: u32, label: &str) -> translucid::renderer::Frame {
 /// after its first pass; without it each is 100,000 fragments deep.
 #[test]
 fn exact_renders_a_hundred_thousand_triangles_in_one_bin() {
-    let frame = crowded_bin_frame(100_000, "crowded_bin");
+    let frame = crowded_bin_frame(100_000, "crowded_bin", None);
     assert!(frame.fragments >= 64 * 7, "{}", frame.fragments);
 }
 
 /// A quarter of a million triangles over one 8x8-pixel bin at one depth: walking a row's list
-/// takes five budgets, more than the first frame's continuation dispatches, so the rows left
-/// unfinished are finished by more continuations in another submission, not by rendering the
-/// frame again.
+/// takes five budgets, more than the first frame's continuation dispatches (one band's: the
+/// empty bands after it would resume the rows too), so the rows left unfinished are finished
+/// by more continuations in another submission, not by rendering the frame again.
 #[test]
 fn exact_finishes_unfinished_rows_in_another_submission() {
-    let frame = crowded_bin_frame(250_000, "crowded_bin_finished");
+    let frame = crowded_bin_frame(250_000, "crowded_bin_finished", Some(1));
     let stages: Vec<&str> = frame.stages.iter().map(|(stage, _)| *stage).collect();
     assert!(stages.contains(&"raster finished"), "{stages:?}");
     assert_eq!(
         frame.rerenders, 1,
         "one finishing submission, nothing rendered again"
     );
+}
+
+/// The same quarter million with the bands a frame records by default: the bands after the
+/// one with blocks have none, and their continuations go on resuming its rows, which finish
+/// within the frame.
+#[test]
+fn exact_resumes_the_last_bands_rows_in_the_empty_bands_after_it() {
+    let frame = crowded_bin_frame(250_000, "crowded_bin_in_bands", None);
+    assert_eq!(frame.rerenders, 0, "{:?}", frame.stages);
+    assert_eq!(frame.bands, 1);
 }

@@ -175,7 +175,9 @@ struct ExactCounters {
     uint bands;             // bands rasterized
     uint skippedBlocks;     // blocks whose lists alone pass the capacity: left untouched
     uint abandonedRows;     // rows a band left unfinished: left untouched
-    uint pad[11];
+    uint crowdedRows;       // rows whose list no budget could walk (OVERFLOW_CROWDED_BIN)
+    uint droppedRows;       // rows suspended with no room on the resume list (OVERFLOW_RESUME)
+    uint pad[9];
     // Statistics of the raster: slot k holds the fragments composited at [16 k], the most
     // sweeps of its list any pixel needed at [16 k + 1], and the fragments in front of the
     // opaque layer found in the first sweep (all of them, fewer where a pixel had to drop

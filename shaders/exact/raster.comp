@@ -340,9 +340,12 @@ void main() {
     // After the loop, so that the suspension's code, which runs masked whenever it is not
     // taken (an `if` never branches on CPU drivers), runs once a row, not once a stretch.
     if (!PARTIAL_WALKS && outOfBudget && spent == 0u) {
-        // Not even one stretch fits a fresh budget: tell the host instead of drawing a wrong
-        // pixel.
-        atomicOr(g_counters.overflow, OVERFLOW_CROWDED_BIN);
+        // Not even one stretch fits a fresh budget: the row is left untouched, and the host
+        // told, instead of drawing a wrong pixel.
+        if (subgroupElect()) {
+            atomicOr(g_counters.overflow, OVERFLOW_CROWDED_BIN);
+            atomicAdd(g_counters.crowdedRows, 1u);
+        }
     } else if (outOfBudget) {
         uint outList = u_push.resumeList ^ 1u;
         uint slot = 0u;
@@ -351,10 +354,11 @@ void main() {
             if (slot < resumeCapacity) {
                 g_resumeItems[outList * resumeCapacity + slot] = block * BIN_SIZE + row;
             } else {
-                // No room: take the item back; the host grows the lists and renders the frame
-                // again.
+                // No room: take the item back and leave the row untouched; the host grows the
+                // lists for later frames (and renders this one again when it submits).
                 atomicAdd(g_dispatch[outList * 4u], 0xFFFFFFFFu);
                 atomicOr(g_counters.overflow, OVERFLOW_RESUME);
+                atomicAdd(g_counters.droppedRows, 1u);
                 atomicMax(g_counters.resumeNeeded, slot + 1u);
             }
         }

@@ -125,6 +125,9 @@ pub struct FrameCheck {
     /// Pixel rows the frame left with the opaque colour, past a documented limit of the
     /// method (exact: bin lists needing more bands than it records).
     pub degraded_rows: u64,
+    /// Pixel rows still unfinished after the frame's last continuation, untouched so far
+    /// (what `finish` completes).
+    pub unfinished_rows: u64,
     /// Bands the frame's bins were rasterized in (exact and wavelet's bins: more than one when
     /// their lists passed the capacity; 0 for other methods).
     pub bands: u32,

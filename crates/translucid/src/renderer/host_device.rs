@@ -31,7 +31,7 @@ pub struct HostFrame {
     /// passed the capacity within the frame (the lists have grown for later frames).
     pub bands: u32,
     /// Pixel rows left with the engine's colour, past a documented limit of the method
-    /// (exact: bin lists needing more bands than it records).
+    /// (exact: see the README's "When a frame is not right").
     pub degraded_rows: u64,
     /// The image the frame wrote is not all right: rows were left with the engine's colour
     /// (`degraded_rows`), or some buffer overflowed. The buffers have grown; recording the
@@ -192,7 +192,7 @@ impl Renderer {
             peak_gpu_bytes: self.gpu.memory_in_use().1,
             fragments: check.fragments,
             bands: check.bands,
-            degraded_rows: check.degraded_rows,
+            degraded_rows: check.degraded_rows + check.unfinished_rows,
             overflowed: check.rerender || check.finish,
         }))
     }

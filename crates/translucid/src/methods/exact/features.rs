@@ -77,10 +77,8 @@ impl RasterFeatures {
         let lit = |d: &crate::scene::Draw| scene.materials[d.material].lit;
         let view_projection = scene.camera.view_projection(width, height);
         Self {
-            homogeneous: draws().any(|d| {
-                let mvp = view_projection * d.transform;
-                !bounds_on_fixed_path(&mvp, &scene.meshes[d.mesh].positions, width, height)
-            }),
+            homogeneous: draws()
+                .any(|d| leaves_fixed_path(scene, d, &view_projection, width, height)),
             textures: draws().any(|d| scene.materials[d.material].texture.is_some()),
             vertex_normals: draws().any(|d| lit(d) && scene.meshes[d.mesh].normals.is_some()),
             face_normals: draws().any(|d| lit(d) && scene.meshes[d.mesh].normals.is_none()),
@@ -304,6 +302,30 @@ fn flat_colours(mesh: &crate::scene::Mesh) -> bool {
 /// Whether every vertex inside the positions' bounding box lands on the fixed-point path:
 /// in front of the near plane and well inside the guard band. The conditions are linear in
 /// clip space, so checking the box's corners (with a margin for rounding) covers its inside.
+/// Triangles of the frame that may take the homogeneous path: both of every quad of each
+/// draw whose bounds leave the fixed-point path. Setup can write no more homogeneous records.
+pub fn homogeneous_triangles(scene: &Scene, width: u32, height: u32) -> u64 {
+    let view_projection = scene.camera.view_projection(width, height);
+    scene
+        .transparent
+        .iter()
+        .filter(|d| leaves_fixed_path(scene, d, &view_projection, width, height))
+        .map(|d| 2 * scene.meshes[d.mesh].quads.len() as u64)
+        .sum()
+}
+
+/// Whether some triangle of draw `d` may need the homogeneous path.
+fn leaves_fixed_path(
+    scene: &Scene,
+    d: &crate::scene::Draw,
+    view_projection: &Mat4,
+    width: u32,
+    height: u32,
+) -> bool {
+    let mvp = *view_projection * d.transform;
+    !bounds_on_fixed_path(&mvp, &scene.meshes[d.mesh].positions, width, height)
+}
+
 fn bounds_on_fixed_path(mvp: &Mat4, positions: &[Vec3], width: u32, height: u32) -> bool {
     let Some(first) = positions.first() else {
         return true;

@@ -81,7 +81,9 @@ pub struct ExactCounters {
     pub bands: u32,
     pub skipped_blocks: u32,
     pub abandoned_rows: u32,
-    pub pad: [u32; 11],
+    pub crowded_rows: u32,
+    pub dropped_rows: u32,
+    pub pad: [u32; 9],
     pub statistics: [[u32; 16]; STATISTICS_SLOTS as usize],
     pub slab_farthest: [u32; MAX_SLABS as usize],
 }
@@ -105,12 +107,16 @@ impl ExactCounters {
     }
 
     /// Pixel rows the frame left with the opaque colour: those of blocks its bands did not
-    /// reach or skipped (a block's lists alone past the capacity), and rows a band left
-    /// unfinished.
+    /// reach or skipped (a block's lists alone past the capacity), rows a band left
+    /// unfinished, rows whose list no loop budget could walk, and rows suspended with no room
+    /// on the resume list. (Rows the last band left unfinished are counted apart.)
     pub fn degraded_rows(&self) -> u64 {
         let blocks = u64::from(self.skipped_blocks)
             + u64::from(self.listed_blocks.saturating_sub(self.band_next));
-        blocks * u64::from(BIN_SIZE) + u64::from(self.abandoned_rows)
+        blocks * u64::from(BIN_SIZE)
+            + u64::from(self.abandoned_rows)
+            + u64::from(self.crowded_rows)
+            + u64::from(self.dropped_rows)
     }
 
     /// The most sweeps of its row's list any pixel needed (raster.comp).
@@ -349,6 +355,8 @@ mod tests {
             offset_of!(ExactCounters, bands),
             offset_of!(ExactCounters, skipped_blocks),
             offset_of!(ExactCounters, abandoned_rows),
+            offset_of!(ExactCounters, crowded_rows),
+            offset_of!(ExactCounters, dropped_rows),
             offset_of!(ExactCounters, pad),
             offset_of!(ExactCounters, statistics),
             offset_of!(ExactCounters, slab_farthest),

@@ -263,6 +263,13 @@ impl StagePipelines {
     }
 }
 
+/// Homogeneous records a frame of `scene` may need, up to what one storage buffer holds (past
+/// that the frame reports the overflow).
+fn homogeneous_bound(gpu: &Gpu, scene: &Scene, width: u32, height: u32) -> u32 {
+    let most = u64::from(gpu.info().max_storage_buffer_range) / layout::HOMOGENEOUS_BYTES;
+    features::homogeneous_triangles(scene, width, height).min(most) as u32
+}
+
 impl Exact {
     pub fn new(
         gpu: &Gpu,
@@ -321,6 +328,7 @@ impl Exact {
             uploaded.transparent_quads,
             bins_x * bins_y,
             expected,
+            homogeneous_bound(gpu, scene, width, height),
             options,
         );
         let mut features = RasterFeatures::of(scene, width, height, info.subgroup_size);
@@ -450,15 +458,20 @@ impl Exact {
         if first {
             ctx.timestamps.mark(cmd, "bin fill");
         }
-        self.record_raster(ctx);
+        // Later bands take one continuation each: they have blocks only in frames past the
+        // lists' capacity, and when empty they go on resuming the last band's rows.
+        let continuations = if first { self.continuations } else { 1 };
+        self.record_raster(ctx, continuations);
         self.compute_to_compute(cmd);
     }
 
-    /// The raster over the band's blocks, then the continuations. The first raster fills
-    /// list 0.
-    fn record_raster(&mut self, ctx: &RecordContext<'_>) {
+    /// The raster over the band's blocks, then `continuations` continuations. The raster
+    /// suspends rows onto the pending list: the band's plan emptied it if the band has
+    /// blocks; if not, it holds the rows the last band left, which these continuations go on
+    /// resuming.
+    fn record_raster(&mut self, ctx: &RecordContext<'_>, continuations: u32) {
         let push = ExactPush {
-            resume_list: 1,
+            resume_list: self.pending_list ^ 1,
             ..self.push
         };
         self.stages.raster.dispatch_indirect(
@@ -468,14 +481,13 @@ impl Exact {
             self.resources.dispatches(),
             DISPATCH_RASTER_BINS_OFFSET,
         );
-        self.pending_list = 0;
-        self.record_continuations(ctx);
+        self.record_continuations(ctx, continuations);
     }
 
-    /// `self.continuations` continuation dispatches from the pending list: each resumes the
-    /// rows on one list (one workgroup each, counted on the GPU) and suspends rows onto the
-    /// other, which the next reads.
-    fn record_continuations(&mut self, ctx: &RecordContext<'_>) {
+    /// `count` continuation dispatches from the pending list: each resumes the rows on one
+    /// list (one workgroup each, counted on the GPU) and suspends rows onto the other, which
+    /// the next reads.
+    fn record_continuations(&mut self, ctx: &RecordContext<'_>, count: u32) {
         let cmd = ctx.cmd;
         let sets = [ctx.scene.set().raw, self.resources.set()];
         let compute = vk::PipelineStageFlags::COMPUTE_SHADER;
@@ -491,7 +503,7 @@ impl Exact {
         let Some(continuation) = self.stages.continuation.clone() else {
             return;
         };
-        for _ in 0..self.continuations {
+        for _ in 0..count {
             let list = self.pending_list;
             self.compute_to_compute(cmd);
             let push = ExactPush {
@@ -601,12 +613,15 @@ impl Method for Exact {
             .set_frame(f.gpu, f.scene, f.uploaded, f.targets)?;
         self.push.item_count = f.uploaded.transparent_quads;
         self.push.draw_count = f.scene.transparent.len() as u32;
-        // Setup writes at most two triangles per quad.
+        // Setup writes at most two triangles per quad, and homogeneous records for at most
+        // the triangles of draws that leave the fixed-point path.
         let triangles = f.uploaded.transparent_quads.saturating_mul(2);
+        let homogeneous = homogeneous_bound(f.gpu, f.scene, width, height);
         let capacities = self.resources.capacities;
-        if triangles > capacities.triangles {
+        if triangles > capacities.triangles || homogeneous > capacities.homogeneous {
             let grown = resources::Capacities {
-                triangles,
+                triangles: triangles.max(capacities.triangles),
+                homogeneous: homogeneous.max(capacities.homogeneous),
                 ..capacities
             };
             self.resources
@@ -669,6 +684,8 @@ impl Method for Exact {
         self.compute_to_compute(cmd);
         self.dispatch(ctx, list_blocks, [1, 1, 1]);
         self.compute_to_compute(cmd);
+        // Both resume lists start empty.
+        self.pending_list = 0;
         for band in 0..self.bands {
             self.record_band(ctx, band == 0);
         }
@@ -681,7 +698,7 @@ impl Method for Exact {
     fn record_finish(&mut self, ctx: &mut RecordContext<'_>) -> Result<()> {
         self.recorded[ctx.slot].continuations = self.continuations;
         self.targets_to_raster(ctx, FINISHED_SUBMISSION_WRITES);
-        self.record_continuations(ctx);
+        self.record_continuations(ctx, self.continuations);
         self.resources.set_pending_list(self.pending_list);
         self.targets_from_raster(ctx);
         ctx.timestamps.mark(ctx.cmd, "raster finished");
@@ -805,6 +822,7 @@ impl Method for Exact {
             rerender,
             finish,
             degraded_rows,
+            unfinished_rows: u64::from(unfinished),
             bands: counters.bands,
             fragments: kept(counters.fragments()),
             triangles: kept(u64::from(counters.triangle_count)),

@@ -32,8 +32,15 @@ impl Capacities {
     /// (rows of blocks), or, for frames expected to be deep, a bin entry for every row of
     /// BIN_SIZE of the `fragments` expected and a quarter more, for blocks that a quad's
     /// diagonal splits (up to EXPECTED_BIN_ENTRIES).
-    /// Overflow corrects it after one frame.
-    pub fn initial(quads: u32, blocks: u32, fragments: u64, options: &MethodOptions) -> Self {
+    /// Overflow corrects it after one frame. Homogeneous records: `homogeneous`, the most
+    /// the frame can need (features::homogeneous_triangles, within one storage buffer).
+    pub fn initial(
+        quads: u32,
+        blocks: u32,
+        fragments: u64,
+        homogeneous: u32,
+        options: &MethodOptions,
+    ) -> Self {
         /// The most bin entries an expected depth starts with: 128 MB, the least storage
         /// binding every Vulkan device allows.
         const EXPECTED_BIN_ENTRIES: u64 = 1 << 25;
@@ -49,10 +56,7 @@ impl Capacities {
                 .unwrap_or((rows / 16).max(64))
                 .clamp(1, rows.max(1)),
             triangles,
-            homogeneous: options
-                .initial_homogeneous
-                .unwrap_or((triangles / 64).max(64))
-                .max(1),
+            homogeneous: options.initial_homogeneous.unwrap_or(homogeneous).max(1),
             bin_entries: options
                 .initial_bin_entries
                 .unwrap_or(triangles.saturating_mul(8).max(rows).max(expected_entries))
