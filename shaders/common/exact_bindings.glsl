@@ -49,11 +49,13 @@ layout(set = 1, binding = 20) uniform usamplerBuffer u_homogeneousTexels; // g_h
 // DISPATCH_BINNING while a band has blocks, else empty. The band plan (bin_scan.comp, step
 // 3) writes DISPATCH_RASTER_BINS, DISPATCH_BIN_OFFSETS and DISPATCH_BAND_FILL for each band.
 // Items of
-// resume list k start at k * g_counters.resumeCapacity, and item i's pixel states at
-// (k * resumeCapacity + i) * BIN_SIZE.
+// resume list k start at k * g_counters.resumeItemCapacity (room for every row of the
+// frame): (block * BIN_SIZE + row, state slot or NO_STATE). The fourth word of list k's
+// command counts the state slots taken; slot s's pixel states are at
+// (k * resumeCapacity + s) * BIN_SIZE.
 layout(set = 1, binding = 21, std430) buffer DispatchBlock {
     uint g_dispatch[24];
-    uint g_resumeItems[];
+    uvec2 g_resumeItems[];
 };
 layout(set = 1, binding = 22, std430) buffer PixelStateBlock { ExactPixelState g_pixelStates[]; };
 layout(set = 1, binding = 23, std430) buffer RasterBinBlock { uint g_rasterBins[]; };

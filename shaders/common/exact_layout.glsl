@@ -33,6 +33,10 @@
 // a continuation dispatch. Subgroups resume from a list of (bin, row) items, each with the
 // states of its BIN_SIZE pixels.
 #define LOOP_BUDGET 60000u
+// A resume item's state slot when the row saved no state (it starts over), and a saved
+// state's sweep.x when the row resumes with a new sweep (saved between sweeps).
+#define NO_STATE 0xFFFFFFFFu
+#define NEW_SWEEP 0xFFFFFFFFu
 
 // Indirect dispatch commands (see exact_bindings.glsl) and binning's workgroup size.
 #define DISPATCH_RASTER_BINS 2u
@@ -48,7 +52,7 @@
 
 // One pixel's compositing state between raster dispatches (std430, 192 bytes). A row is
 // suspended anywhere in a sweep, even inside one slab's part of its list, so the sweep's
-// selection goes with it.
+// selection goes with it (unless sweep.x is NEW_SWEEP).
 struct ExactPixelState {
     vec4 radiance;          // xyz: radiance so far
     vec4 transmittance;     // xyz: transmittance so far
@@ -159,7 +163,7 @@ struct ExactCounters {
     uint triangleCapacity;
     uint homogeneousCapacity;
     uint binEntryCapacity;
-    uint resumeCapacity;    // items each resume list holds
+    uint resumeCapacity;    // pixel-state slots of each resume list (rows it saves)
     uint resumeNeeded;      // items a resume list needed (counted even when they do not fit)
     uint depthLo;           // bits of the nearest and farthest vertex view depth of the
     uint depthHi;           // fixed-point triangles (positive floats order like their bits)
@@ -175,9 +179,12 @@ struct ExactCounters {
     uint bands;             // bands rasterized
     uint skippedBlocks;     // blocks whose lists alone pass the capacity: left untouched
     uint abandonedRows;     // rows a band left unfinished: left untouched
-    uint crowdedRows;       // rows whose list no budget could walk (OVERFLOW_CROWDED_BIN)
-    uint droppedRows;       // rows suspended with no room on the resume list (OVERFLOW_RESUME)
-    uint pad[9];
+    uint crowdedRows;       // rows of shallow frames whose list no budget could walk in one
+                            // pass (OVERFLOW_CROWDED_BIN): continuations walk it in parts
+    uint restartedRows;     // rows suspended with no state slot left (OVERFLOW_RESUME): they
+                            // start over when resumed
+    uint resumeItemCapacity; // items each resume list holds: every row of the frame
+    uint pad[8];
     // Statistics of the raster: slot k holds the fragments composited at [16 k], the most
     // sweeps of its list any pixel needed at [16 k + 1], and the fragments in front of the
     // opaque layer found in the first sweep (all of them, fewer where a pixel had to drop

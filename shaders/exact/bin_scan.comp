@@ -161,6 +161,7 @@ void planBand() {
         uint pending = u_push.resumeList * 4u;
         g_counters.abandonedRows += g_dispatch[pending];
         g_dispatch[pending] = 0u;
+        g_dispatch[pending + 3u] = 0u;
     }
     g_counters.bandFirst = start;
     g_counters.bandCount = count;

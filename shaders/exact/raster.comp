@@ -70,13 +70,14 @@ uint64_t fragmentKey(uint depthBits, uint order) {
 
 const uint64_t NO_KEY = 0xFFFFFFFFFFFFFFFFul;
 
-// Rows of deep frames (SLABS > 1) are suspended wherever their budget runs out, even inside
-// a stretch too long for one budget, and resumed there with their pixels' selections. Rows
-// of shallow frames are suspended only between stretches and start a new sweep when
-// resumed: saving selections costs every row (the code runs masked when not taken) some 5 %
-// of a textured scene's raster. A shallow frame's stretch that no budget holds is reported
-// (OVERFLOW_CROWDED_BIN), and the host renders it again with slabs.
-const bool PARTIAL_WALKS = SLABS > 1u;
+// Rows of deep frames (SLABS > 1) and of continuations are suspended wherever their budget
+// runs out, even inside a stretch too long for one budget, and resumed there with their
+// pixels' selections. Rows of a shallow frame's first dispatch are suspended only between
+// stretches and start a new sweep when resumed (NEW_SWEEP): saving selections costs every
+// row (the code runs masked when not taken) some 5 % of a textured scene's raster. A
+// shallow row whose stretch no budget holds is suspended before walking it, and the
+// continuations walk it in parts (reported as OVERFLOW_CROWDED_BIN: later frames take slabs).
+const bool PARTIAL_WALKS = SLABS > 1u || CONTINUATION;
 
 // Loop iterations a stretch's shading of `fragments` fragments may take, counted
 // generously: the shading loop and the software sampler's mip loops.
@@ -106,12 +107,15 @@ void main() {
     // subgroup there, but once per lane after a branch (an early return counts).
     FrameInfo frame = u_frame;
     uint resumeCapacity = g_counters.resumeCapacity;
+    uint itemCapacity = g_counters.resumeItemCapacity;
     uint block;
     uint row;
+    uint stateSlot = NO_STATE;
     if (CONTINUATION) {
-        uint item = g_resumeItems[u_push.resumeList * resumeCapacity + gl_WorkGroupID.x];
-        block = item / BIN_SIZE;
-        row = item % BIN_SIZE;
+        uvec2 item = g_resumeItems[u_push.resumeList * itemCapacity + gl_WorkGroupID.x];
+        block = item.x / BIN_SIZE;
+        row = item.x % BIN_SIZE;
+        stateSlot = item.y;
     } else {
         block = g_rasterBins[g_counters.bandFirst + gl_WorkGroupID.x];
         row = gl_WorkGroupID.y * gl_WorkGroupSize.y + gl_LocalInvocationID.y;
@@ -152,19 +156,21 @@ void main() {
     bool resumeSweep = false;
     uint resumeCursor = 0u;
     uint resumeEntry = 0u;
-    if (CONTINUATION) {
-        uint item = u_push.resumeList * resumeCapacity + gl_WorkGroupID.x;
-        ExactPixelState state = g_pixelStates[item * BIN_SIZE + gl_LocalInvocationID.x];
+    // A resumed row without a saved state starts over (its pixels are untouched so far).
+    if (CONTINUATION && stateSlot != NO_STATE) {
+        uint slot = u_push.resumeList * resumeCapacity + stateSlot;
+        ExactPixelState state = g_pixelStates[slot * BIN_SIZE + gl_LocalInvocationID.x];
         radiance = state.radiance.xyz;
         transmittance = state.transmittance.xyz;
         doneKey = fragmentKey(state.done.x, state.done.y);
         finished = state.done.z != 0u;
-        resumeSweep = PARTIAL_WALKS;
+        // Rows saved between sweeps start a new one.
+        resumeSweep = state.sweep.x != NEW_SWEEP;
         resumeCursor = state.sweep.x;
         resumeEntry = state.sweep.y;
-        dropped = packUint2x32(state.sweep.zw);
+        dropped = resumeSweep ? packUint2x32(state.sweep.zw) : NO_KEY;
         [[unroll]] for (int k = 0; k < SELECT_SIZE; k++) {
-            selKey[k] = packUint2x32(state.selection[k]);
+            selKey[k] = resumeSweep ? packUint2x32(state.selection[k]) : NO_KEY;
         }
     }
     uint sweeps = 0u;
@@ -339,31 +345,33 @@ void main() {
     } while (!outOfBudget && subgroupAny(!finished));
     // After the loop, so that the suspension's code, which runs masked whenever it is not
     // taken (an `if` never branches on CPU drivers), runs once a row, not once a stretch.
-    if (!PARTIAL_WALKS && outOfBudget && spent == 0u) {
-        // Not even one stretch fits a fresh budget: the row is left untouched, and the host
-        // told, instead of drawing a wrong pixel.
-        if (subgroupElect()) {
-            atomicOr(g_counters.overflow, OVERFLOW_CROWDED_BIN);
-            atomicAdd(g_counters.crowdedRows, 1u);
-        }
-    } else if (outOfBudget) {
+    if (!PARTIAL_WALKS && outOfBudget && spent == 0u && subgroupElect()) {
+        // Not even one stretch fits a fresh budget: the row is suspended as it is, and the
+        // continuations, which walk lists in parts, go through it. Later frames move to
+        // slabs, where the first dispatch does too.
+        atomicOr(g_counters.overflow, OVERFLOW_CROWDED_BIN);
+        atomicAdd(g_counters.crowdedRows, 1u);
+    }
+    if (outOfBudget) {
         uint outList = u_push.resumeList ^ 1u;
-        uint slot = 0u;
+        uint command = outList * 4u;
+        uint slot = NO_STATE;
         if (subgroupElect()) {
-            slot = atomicAdd(g_dispatch[outList * 4u], 1u);
-            if (slot < resumeCapacity) {
-                g_resumeItems[outList * resumeCapacity + slot] = block * BIN_SIZE + row;
-            } else {
-                // No room: take the item back and leave the row untouched; the host grows the
-                // lists for later frames (and renders this one again when it submits).
-                atomicAdd(g_dispatch[outList * 4u], 0xFFFFFFFFu);
+            // Every row of the frame has room on a list; its state may not.
+            uint item = atomicAdd(g_dispatch[command], 1u);
+            slot = atomicAdd(g_dispatch[command + 3u], 1u);
+            if (slot >= resumeCapacity) {
+                // The row starts over when resumed; the host grows the states for later
+                // frames.
                 atomicOr(g_counters.overflow, OVERFLOW_RESUME);
-                atomicAdd(g_counters.droppedRows, 1u);
                 atomicMax(g_counters.resumeNeeded, slot + 1u);
+                atomicAdd(g_counters.restartedRows, 1u);
+                slot = NO_STATE;
             }
+            g_resumeItems[outList * itemCapacity + item] = uvec2(block * BIN_SIZE + row, slot);
         }
         slot = subgroupBroadcastFirst(slot);
-        if (slot < resumeCapacity) {
+        if (slot != NO_STATE) {
             uint state = (outList * resumeCapacity + slot) * BIN_SIZE + gl_LocalInvocationID.x;
             g_pixelStates[state].radiance = vec4(radiance, 0.0);
             g_pixelStates[state].transmittance = vec4(transmittance, 0.0);
@@ -375,6 +383,8 @@ void main() {
                 [[unroll]] for (int k = 0; k < SELECT_SIZE; k++) {
                     g_pixelStates[state].selection[k] = unpackUint2x32(selKey[k]);
                 }
+            } else {
+                g_pixelStates[state].sweep = uvec4(NEW_SWEEP, 0u, 0u, 0u);
             }
         }
         suspended = true;

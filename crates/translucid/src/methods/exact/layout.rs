@@ -22,6 +22,8 @@ pub const LOOP_BUDGET: u32 = 60_000;
 // The raster may pass its budget by two searches over the slabs (a sweep's start) before it
 // stops; lavapipe ends loops after 65535 iterations.
 const _: () = assert!(LOOP_BUDGET + 2 * MAX_SLABS < 65_000);
+/// Bytes of one resume item: (block * BIN_SIZE + row, state slot).
+pub const RESUME_ITEM_BYTES: u64 = 8;
 /// Bytes of one `ExactPixelState`.
 pub const PIXEL_STATE_BYTES: u64 = 192;
 /// `MAX_SELECT_SIZE` of exact_layout.glsl: fragments a pixel's saved state can hold.
@@ -82,8 +84,9 @@ pub struct ExactCounters {
     pub skipped_blocks: u32,
     pub abandoned_rows: u32,
     pub crowded_rows: u32,
-    pub dropped_rows: u32,
-    pub pad: [u32; 9],
+    pub restarted_rows: u32,
+    pub resume_item_capacity: u32,
+    pub pad: [u32; 8],
     pub statistics: [[u32; 16]; STATISTICS_SLOTS as usize],
     pub slab_farthest: [u32; MAX_SLABS as usize],
 }
@@ -107,16 +110,12 @@ impl ExactCounters {
     }
 
     /// Pixel rows the frame left with the opaque colour: those of blocks its bands did not
-    /// reach or skipped (a block's lists alone past the capacity), rows a band left
-    /// unfinished, rows whose list no loop budget could walk, and rows suspended with no room
-    /// on the resume list. (Rows the last band left unfinished are counted apart.)
+    /// reach or skipped (a block's lists alone past the capacity), and rows a band left
+    /// unfinished. (Rows the last band left unfinished are counted apart.)
     pub fn degraded_rows(&self) -> u64 {
         let blocks = u64::from(self.skipped_blocks)
             + u64::from(self.listed_blocks.saturating_sub(self.band_next));
-        blocks * u64::from(BIN_SIZE)
-            + u64::from(self.abandoned_rows)
-            + u64::from(self.crowded_rows)
-            + u64::from(self.dropped_rows)
+        blocks * u64::from(BIN_SIZE) + u64::from(self.abandoned_rows)
     }
 
     /// The most sweeps of its row's list any pixel needed (raster.comp).
@@ -356,7 +355,8 @@ mod tests {
             offset_of!(ExactCounters, skipped_blocks),
             offset_of!(ExactCounters, abandoned_rows),
             offset_of!(ExactCounters, crowded_rows),
-            offset_of!(ExactCounters, dropped_rows),
+            offset_of!(ExactCounters, restarted_rows),
+            offset_of!(ExactCounters, resume_item_capacity),
             offset_of!(ExactCounters, pad),
             offset_of!(ExactCounters, statistics),
             offset_of!(ExactCounters, slab_farthest),

@@ -54,7 +54,7 @@ use features::RasterFeatures;
 use layout::{
     ExactPush, BIN_SIZE, DISPATCH_BAND_FILL_OFFSET, DISPATCH_BINNING_OFFSET,
     DISPATCH_BIN_OFFSETS_OFFSET, DISPATCH_RASTER_BINS_OFFSET, LOOP_BUDGET, OVERFLOW_CROWDED_BIN,
-    OVERFLOW_HOMOGENEOUS, OVERFLOW_RESUME,
+    OVERFLOW_HOMOGENEOUS,
 };
 use resources::{Capacities, Resources};
 use std::sync::Arc;
@@ -719,13 +719,12 @@ impl Method for Exact {
         // Judged by what the frame was recorded with; fixes go to the current settings.
         let recorded = self.recorded[done.slot % self.recorded.len()];
         let method = self.program.method();
-        // A row whose list is too long for one pass of the loop budget: the exact raster
-        // walks such lists in parts once they are ordered by depth slab (PARTIAL_WALKS in
-        // raster.comp), so the frame moves to slabs; other programs cannot.
+        // A row of a shallow frame whose list is too long for one pass of the loop budget:
+        // the exact raster's continuations walk it in parts (this frame is right), and later
+        // frames bin in depth slabs, where the first dispatch does too. Other programs
+        // cannot.
         let crowded = counters.overflow & OVERFLOW_CROWDED_BIN != 0;
-        let walks_in_parts_with_slabs =
-            self.program == RasterProgram::Exact && recorded.features.slab_bits == 0;
-        if crowded && !walks_in_parts_with_slabs {
+        if crowded && self.program != RasterProgram::Exact {
             return Err(crate::Error::InvalidScene(format!(
                 "{method}: one 8x8-pixel bin of this frame holds so many triangles that a \
                  single pass over them exceeds {}'s shader loop limit; render at a larger size \
@@ -733,7 +732,7 @@ impl Method for Exact {
                 self.gpu.info().name
             )));
         }
-        // Every fix the frame needs, before the one re-render.
+        // What later frames need.
         let mut features = self.features;
         if crowded {
             features = features.deep();
@@ -763,9 +762,10 @@ impl Method for Exact {
                 &self.program,
             )?;
         }
-        // Lists past their capacity were rasterized in bands: right, unless some blocks were
-        // left untouched (degraded).
-        let overflowed = counters.overflow & (OVERFLOW_HOMOGENEOUS | OVERFLOW_RESUME) != 0;
+        // Lists past their capacity were rasterized in bands, and rows with no state slot
+        // started over: right, unless some blocks were left untouched (degraded). Missing
+        // homogeneous records (past one storage buffer's worth) lose triangles.
+        let overflowed = counters.overflow & OVERFLOW_HOMOGENEOUS != 0;
         let degraded_rows = counters.degraded_rows();
         let grown = self
             .resources
@@ -790,7 +790,7 @@ impl Method for Exact {
         // Rows the last dispatch left on the pending list are unfinished.
         let unfinished = self.resources.unfinished_rows(done.slot)?;
         // (Continuations already multiplied since the frame was recorded are left alone.)
-        if unfinished > 0 && !crowded && recorded.continuations == self.continuations {
+        if unfinished > 0 && recorded.continuations == self.continuations {
             if self.continuations >= MAX_CONTINUATIONS {
                 return Err(crate::Error::InvalidScene(format!(
                     "exact: {unfinished} pixel rows still unfinished after {MAX_CONTINUATIONS} \
@@ -805,7 +805,7 @@ impl Method for Exact {
         }
         // Unfinished rows are finished by another submission of continuations, unless the
         // frame must be rendered again anyway, or its pipelines changed under the saved rows.
-        let again = rebuild || crowded || overflowed || degraded_rows > 0;
+        let again = rebuild || overflowed || degraded_rows > 0;
         let finish = unfinished > 0 && !again && !features_changed;
         let rerender = again || (unfinished > 0 && !finish);
         let kept = |count: u64| if rerender || finish { 0 } else { count };

@@ -3,7 +3,7 @@
 use super::layout::{
     sampler_bits, ExactCounters, ExactDraw, ExactTexture, ATTRIBUTES_BYTES, BIN_SIZE,
     DISPATCH_BYTES, HOMOGENEOUS_BYTES, OVERFLOW_BIN_ENTRIES, OVERFLOW_HOMOGENEOUS, OVERFLOW_RESUME,
-    PIXEL_STATE_BYTES, SCAN_GROUP_SIZE, TRIANGLE_BYTES, TRIANGLE_MATERIAL_SHIFT,
+    PIXEL_STATE_BYTES, RESUME_ITEM_BYTES, SCAN_GROUP_SIZE, TRIANGLE_BYTES, TRIANGLE_MATERIAL_SHIFT,
 };
 use crate::assets::GpuScene;
 use crate::frame::FrameTargets;
@@ -23,8 +23,12 @@ pub struct Capacities {
     pub triangles: u32,
     pub homogeneous: u32,
     pub bin_entries: u32,
-    /// Items each of the two resume lists holds (subgroup rows a raster dispatch suspends).
+    /// Pixel-state slots of each of the two resume lists: rows a raster dispatch suspends
+    /// with their state (the others start over when resumed).
     pub resume: u32,
+    /// Items each resume list holds: every row of the frame, so that no suspended row is
+    /// lost (an item is 8 bytes).
+    pub resume_items: u32,
 }
 
 impl Capacities {
@@ -55,6 +59,7 @@ impl Capacities {
                 .initial_resume_rows
                 .unwrap_or((rows / 16).max(64))
                 .clamp(1, rows.max(1)),
+            resume_items: rows.max(1),
             triangles,
             homogeneous: options.initial_homogeneous.unwrap_or(homogeneous).max(1),
             bin_entries: options
@@ -164,8 +169,9 @@ const RESUME_HEADER_BYTES: u64 = 32;
 const STORAGE: vk::BufferUsageFlags = vk::BufferUsageFlags::STORAGE_BUFFER;
 const TEXELS: vk::BufferUsageFlags = vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER;
 const RGBA32UI: vk::Format = vk::Format::R32G32B32A32_UINT;
-/// Empty indirect dispatch commands, (x, y, z) and a word of padding each, x counted on the
-/// GPU: resume lists of (items, 1, 1) workgroups, the listed blocks' (blocks, BIN_SIZE /
+/// Empty indirect dispatch commands, (x, y, z) and a fourth word each, x counted on the
+/// GPU: resume lists of (items, 1, 1) workgroups (the fourth word counting the state slots
+/// taken), the listed blocks' (blocks, BIN_SIZE /
 /// rows, 1) for raster workgroups of `rows` rows, binning's (triangle groups, slices of the
 /// tallest triangle, 1), the scan's offset step's (groups of the band's blocks, 1, 1), and
 /// the band's fill (binning's, or empty).
@@ -214,11 +220,12 @@ fn texel_data(gpu: &Gpu, name: &str, data: &[u8], format: vk::Format) -> Result<
 
 fn growable(gpu: &Gpu, c: Capacities) -> Result<Growable> {
     let triangles = u64::from(c.triangles);
-    let resume_items = 2 * u64::from(c.resume);
+    let resume_items = 2 * u64::from(c.resume_items);
+    let resume_states = 2 * u64::from(c.resume);
     Ok(Growable {
         resume: gpu.create_buffer(
             "resume lists",
-            DISPATCH_BYTES + resume_items * 4,
+            DISPATCH_BYTES + resume_items * RESUME_ITEM_BYTES,
             STORAGE
                 | vk::BufferUsageFlags::INDIRECT_BUFFER
                 | vk::BufferUsageFlags::TRANSFER_DST
@@ -228,7 +235,7 @@ fn growable(gpu: &Gpu, c: Capacities) -> Result<Growable> {
         pixel_states: storage_buffer(
             gpu,
             "suspended pixel states",
-            resume_items * u64::from(BIN_SIZE) * PIXEL_STATE_BYTES,
+            resume_states * u64::from(BIN_SIZE) * PIXEL_STATE_BYTES,
         )?,
         triangles: viewed_storage(
             gpu,
@@ -584,6 +591,7 @@ impl Resources {
             homogeneous_capacity: self.capacities.homogeneous,
             bin_entry_capacity: self.capacities.bin_entries,
             resume_capacity: self.capacities.resume,
+            resume_item_capacity: self.capacities.resume_items,
             depth_lo: u32::MAX,
             ..ExactCounters::default()
         };
@@ -609,13 +617,17 @@ impl Resources {
         );
     }
 
-    /// Empties resume list `list` once a continuation has consumed it, so that the next
-    /// dispatch to append to it starts afresh.
+    /// Empties resume list `list` (its items and state slots) once a continuation has
+    /// consumed it, so that the next dispatch to append to it starts afresh.
     pub fn record_resume_list_reset(&self, cmd: vk::CommandBuffer, list: u32) {
         let resume = &self.growable.resume;
-        resume
-            .gpu()
-            .cmd_update_buffer(cmd, resume, u64::from(list) * 16, &0u32.to_ne_bytes());
+        let empty: [u32; 4] = empty_dispatches(1)[list as usize];
+        resume.gpu().cmd_update_buffer(
+            cmd,
+            resume,
+            u64::from(list) * 16,
+            bytemuck::bytes_of(&empty),
+        );
     }
 
     /// Records the copy of the counters and the resume lists' counts for the host, after
