@@ -795,8 +795,9 @@ typedef struct translucid_frame_statistics {
      */
     uint32_t overflow_rerenders;
     /**
-     * 1 when a buffer overflowed in the rendering the frame's image comes from, so that image
-     * is wrong; else 0. Only host-device frames can end so (`translucid_frame_complete`
+     * 1 when the frame went past a limit of one recording (pixel rows left with the opaque
+     * colour, or near-plane triangles past one storage buffer's worth), so that its image is
+     * not all right; else 0. Only host-device frames can end so (`translucid_frame_complete`
      * returns `TRANSLUCID_RESULT_INCOMPLETE`); standalone frames render again instead.
      */
     uint32_t overflowed;
@@ -1277,9 +1278,13 @@ translucid_result translucid_frame_record(struct translucid_context *context,
  * command buffer. Reads the frame's GPU timings and counters (see
  * `translucid_frame_get_statistics`) and ends the frame's flight. Returns:
  * - `TRANSLUCID_RESULT_SUCCESS`: the colour image holds the frame.
- * - `TRANSLUCID_RESULT_INCOMPLETE`: a buffer overflowed and the colour image holds a wrong
- *   composite. translucid has grown its buffers: restore the opaque colour (draw it
- *   again) and record the same frame again, before presenting.
+ * - `TRANSLUCID_RESULT_INCOMPLETE`: the frame went past one of the limits a single
+ *   recording handles (README, "When a frame is not right"): pixel rows it could not
+ *   finish kept the opaque colour (`translucid_frame_statistics.overflowed`). translucid
+ *   has grown its buffers, so later frames are right; to repair this one, restore the
+ *   opaque colour (draw it again) and record the frame again, before presenting. Bin
+ *   lists too small for the frame do not end so: they are rasterized in bands within
+ *   the frame.
  * - `TRANSLUCID_RESULT_NOT_READY`: the commands have not run (not submitted, or still
  *   running). Nothing changed and the frame stays in flight.
  * - `TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT` for a frame not in flight (completed or

@@ -6,7 +6,9 @@ use translucid::methods::{MethodKind, MethodOptions};
 use translucid::metrics;
 use translucid::renderer::Renderer;
 use translucid::scene::{self, Camera, Draw, Material, Mesh, Scene};
-use translucid_tests::{asset, gpu, one_draw_scene, save_failure, stack_scene};
+use translucid_tests::{
+    asset, crowded_bin, gpu, near_plane_scene, one_draw_scene, save_failure, stack_scene,
+};
 
 const TOLERANCE: f32 = 2.0 / 255.0;
 
@@ -172,50 +174,6 @@ fn exact_interpolates_vertex_colours_that_vary_across_a_quad() {
         ..Scene::default()
     };
     check(&scene, "gradient", 123, 97, &MethodOptions::default());
-}
-
-/// A quad that passes through the camera plane: rasterized homogeneously, clipped by depth.
-fn near_plane_scene() -> Scene {
-    let positions = vec![
-        Vec3::new(-3.0, -1.0, 6.0),
-        Vec3::new(3.0, -1.0, 6.0),
-        Vec3::new(3.0, 0.5, -6.0),
-        Vec3::new(-3.0, 0.5, -6.0),
-    ];
-    let tilted = Mesh::from_quads("through the eye", positions, vec![[0, 1, 2, 3]]);
-    let back = Mesh::from_quads(
-        "back",
-        vec![
-            Vec3::new(-2.0, -2.0, -1.0),
-            Vec3::new(2.0, -2.0, -1.0),
-            Vec3::new(2.0, 2.0, -1.0),
-            Vec3::new(-2.0, 2.0, -1.0),
-        ],
-        vec![[0, 1, 2, 3]],
-    );
-    Scene {
-        name: "near plane".into(),
-        meshes: vec![tilted, back],
-        materials: vec![
-            Material::alpha(Vec3::new(0.9, 0.3, 0.1), 0.6),
-            Material::alpha(Vec3::new(0.1, 0.4, 0.9), 0.5),
-        ],
-        transparent: vec![
-            Draw {
-                mesh: 1,
-                material: 1,
-                transform: Mat4::IDENTITY,
-            },
-            Draw {
-                mesh: 0,
-                material: 0,
-                transform: Mat4::IDENTITY,
-            },
-        ],
-        camera: Camera::look_at(Vec3::new(0.0, 0.0, 2.0), Vec3::ZERO, 1.0, 0.1, 50.0),
-        background: Vec3::splat(0.8),
-        ..Scene::default()
-    }
 }
 
 /// An opaque wall at z = -1 hiding the left half of the view, and three transparent quads:
@@ -569,33 +527,6 @@ fn exact_resumes_rows_where_their_last_sweep_stopped() {
         "rows were not suspended more than once: {:?}",
         frame.stages
     );
-}
-
-/// `count` triangles over all of an 8x8-pixel frame, all at one depth, so that every row's
-/// list holds all of them and no depth slab splits it.
-fn crowded_bin(count: u32) -> Scene {
-    let mut positions = Vec::new();
-    let mut triangles = Vec::new();
-    for i in 0..count {
-        // Each a little turned, so that they are not all the same triangle.
-        let turn = glam::Quat::from_rotation_z(i as f32 * 0.001);
-        let first = positions.len() as u32;
-        positions.extend(
-            [
-                Vec3::new(-6.0, -6.0, -2.0),
-                Vec3::new(6.0, -6.0, -2.0),
-                Vec3::new(0.0, 6.0, -2.0),
-            ]
-            .map(|p| turn * p),
-        );
-        triangles.push([first, first + 1, first + 2]);
-    }
-    one_draw_scene(
-        "crowded bin",
-        Mesh::from_triangles("crowd", positions, &triangles),
-        Material::alpha(Vec3::new(0.2, 0.6, 0.9), 0.5),
-        Camera::look_at(Vec3::ZERO, Vec3::NEG_Z, 1.0, 0.1, 20.0),
-    )
 }
 
 /// The 8x8 frame of `crowded_bin(count)` rendered with a transmittance threshold of 0.01 (and

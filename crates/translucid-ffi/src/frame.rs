@@ -237,8 +237,9 @@ pub struct translucid_frame_statistics {
     /// grown); 0 for methods without such buffers, and always 0 in host-device mode, which
     /// cannot render again inside a recording (see `overflowed`).
     pub overflow_rerenders: u32,
-    /// 1 when a buffer overflowed in the rendering the frame's image comes from, so that image
-    /// is wrong; else 0. Only host-device frames can end so (`translucid_frame_complete`
+    /// 1 when the frame went past a limit of one recording (pixel rows left with the opaque
+    /// colour, or near-plane triangles past one storage buffer's worth), so that its image is
+    /// not all right; else 0. Only host-device frames can end so (`translucid_frame_complete`
     /// returns `TRANSLUCID_RESULT_INCOMPLETE`); standalone frames render again instead.
     pub overflowed: u32,
 }

@@ -6,7 +6,7 @@
 use super::layout::BIN_SIZE;
 use crate::raster::{clip_position, viewport_transform, GUARD_BAND};
 use crate::scene::Scene;
-use glam::{Mat4, Vec3};
+use glam::{Mat4, Vec3, Vec4};
 
 /// How many constants the raster takes: other programs on the same stages (the wavelet bin
 /// raster) number theirs from here.
@@ -204,8 +204,8 @@ impl RasterFeatures {
 const ESTIMATE_QUADS: u64 = 1 << 16;
 
 /// About how many fragments the scene's transparent draws put over a `width` x `height`
-/// frame: their quads' areas on screen, each at most its bounding box's part of the screen.
-/// It ignores what the opaque layer hides, and triangles that reach behind the eye.
+/// frame: their quads' areas on screen (beyond the near plane), each at most its bounding
+/// box's part of the screen. It ignores what the opaque layer hides.
 pub fn estimated_fragments(scene: &Scene, width: u32, height: u32) -> u64 {
     let view_projection = scene.camera.view_projection(width, height);
     let quads: u64 = scene
@@ -224,41 +224,67 @@ pub fn estimated_fragments(scene: &Scene, width: u32, height: u32) -> u64 {
             if index % stride != 0 {
                 continue;
             }
-            let corner = |v: u32| {
-                let clip = clip_position(&mvp, mesh.positions[v as usize]);
-                (clip.w > 0.0).then(|| viewport_transform(clip, width, height))
+            let clip = quad.map(|v| clip_position(&mvp, mesh.positions[v as usize]));
+            area += if clip.iter().all(|c| c.w > 0.0) {
+                let [a, b, c, d] = clip.map(|c| viewport_transform(c, width, height));
+                screen_area(&[a, b, c, d], width, height)
+            } else {
+                // Through the camera plane: its part beyond the near plane, as setup bins it.
+                let beyond = beyond_near_plane(clip);
+                let on_screen: Vec<Vec3> = beyond
+                    .iter()
+                    .map(|&c| viewport_transform(c, width, height))
+                    .collect();
+                screen_area(&on_screen, width, height)
             };
-            let [a, b, c, d] = quad.map(corner);
-            let (Some(a), Some(b), Some(c), Some(d)) = (a, b, c, d) else {
-                continue;
-            };
-            area += screen_area([a, b, c, d], width, height);
         }
     }
     (area * stride as f64) as u64
 }
 
-/// Pixels quad `q` (framebuffer coordinates; its triangles a b c and a c d) covers, at most
-/// its bounding box's overlap with the screen.
-fn screen_area(q: [Vec3; 4], width: u32, height: u32) -> f64 {
-    let [a, b, c, d] = q.map(|p| (f64::from(p.x), f64::from(p.y)));
-    let triangle = |a: (f64, f64), b: (f64, f64), c: (f64, f64)| {
-        ((b.0 - a.0) * (c.1 - a.1) - (c.0 - a.0) * (b.1 - a.1)).abs() / 2.0
+/// The part of the convex polygon `clip` (clip-space corners, in order) beyond the near plane
+/// (z >= 0), where every point has w > 0.
+fn beyond_near_plane(clip: [Vec4; 4]) -> Vec<Vec4> {
+    let mut kept = Vec::with_capacity(5);
+    for (i, &p) in clip.iter().enumerate() {
+        let q = clip[(i + 1) % clip.len()];
+        if p.z >= 0.0 {
+            kept.push(p);
+        }
+        if (p.z >= 0.0) != (q.z >= 0.0) {
+            kept.push(p + (q - p) * (p.z / (p.z - q.z)));
+        }
+    }
+    kept.retain(|p| p.w > 0.0);
+    kept
+}
+
+/// Pixels the convex polygon `points` (framebuffer coordinates, in order) covers, at most its
+/// bounding box's overlap with the screen.
+fn screen_area(points: &[Vec3], width: u32, height: u32) -> f64 {
+    let Some(first) = points.first() else {
+        return 0.0;
     };
-    let area = triangle(a, b, c) + triangle(a, c, d);
+    let xy = |p: &Vec3| (f64::from(p.x), f64::from(p.y));
+    let twice_area: f64 = points
+        .iter()
+        .zip(points.iter().cycle().skip(1))
+        .map(|(p, q)| {
+            let ((px, py), (qx, qy)) = (xy(p), xy(q));
+            px * qy - qx * py
+        })
+        .sum();
+    let area = twice_area.abs() / 2.0;
+    let (mut lo, mut hi) = (xy(first), xy(first));
+    for p in points {
+        let (x, y) = xy(p);
+        lo = (lo.0.min(x), lo.1.min(y));
+        hi = (hi.0.max(x), hi.1.max(y));
+    }
     let overlap = |lo: f64, hi: f64, size: u32| (hi.min(f64::from(size)) - lo.max(0.0)).max(0.0);
-    let box_x = overlap(
-        a.0.min(b.0).min(c.0).min(d.0),
-        a.0.max(b.0).max(c.0).max(d.0),
-        width,
-    );
-    let box_y = overlap(
-        a.1.min(b.1).min(c.1).min(d.1),
-        a.1.max(b.1).max(c.1).max(d.1),
-        height,
-    );
+    let bounded = overlap(lo.0, hi.0, width) * overlap(lo.1, hi.1, height);
     if area.is_finite() {
-        area.min(box_x * box_y)
+        area.min(bounded)
     } else {
         0.0
     }
@@ -452,6 +478,15 @@ mod tests {
         assert!((small / (10.0 * side * side) - 1.0).abs() < 0.05, "{small}");
         // Behind the eye: nothing.
         assert_eq!(estimated_fragments(&quad(5.0, 50.0), 64, 48), 0);
+        // Through the camera plane: what lies beyond the near plane. (Such quads counted
+        // nothing, and a frame of 200 of them started with bin lists 50 bands short.)
+        let mut floor = quad(-1.0, 50.0);
+        floor.camera = crate::scene::Camera::look_at(Vec3::Z * 3.0, Vec3::NEG_Y, 0.8, 0.1, 20.0);
+        let through = estimated_fragments(&floor, 64, 48);
+        assert!(
+            through > 5 * 64 * 48 && through <= 10 * 64 * 48,
+            "{through}"
+        );
     }
 
     #[test]

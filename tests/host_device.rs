@@ -7,6 +7,7 @@
 //! messenger that collects errors), device, command buffers and submissions.
 
 use ash::vk;
+use glam::Vec3;
 use std::ffi::{c_void, CStr};
 use std::sync::Mutex;
 use translucid::gpu::{
@@ -16,7 +17,9 @@ use translucid::gpu::{
 use translucid::methods::{MethodKind, MethodOptions};
 use translucid::renderer::Renderer;
 use translucid::scene::motion::Orbit;
+use translucid::scene::{Camera, Material};
 use translucid::OpaqueLayer;
+use translucid_tests::{crowded_bin, near_plane_scene, stack_scene};
 
 const W: u32 = 96;
 const H: u32 = 64;
@@ -255,6 +258,7 @@ struct EngineImages {
     colour_in: translucid::gpu::Buffer,
     depth_in: translucid::gpu::Buffer,
     outs: Vec<translucid::gpu::Buffer>,
+    extent: vk::Extent2D,
 }
 
 const COLOUR_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
@@ -264,8 +268,8 @@ const DEPTH_ATTACHMENT: vk::ImageLayout = vk::ImageLayout::DEPTH_STENCIL_ATTACHM
 impl EngineImages {
     fn new(gpu: &Gpu, layer: &OpaqueLayer, readbacks: usize) -> Self {
         let extent = vk::Extent2D {
-            width: W,
-            height: H,
+            width: layer.width,
+            height: layer.height,
         };
         let transfer = vk::ImageUsageFlags::TRANSFER_SRC | vk::ImageUsageFlags::TRANSFER_DST;
         let image = |name, format, usage| {
@@ -302,6 +306,7 @@ impl EngineImages {
             colour_in: upload("opaque colour", &colour_texels),
             depth_in: upload("opaque depth", &depth_texels),
             outs,
+            extent,
         }
     }
 
@@ -372,8 +377,8 @@ impl EngineImages {
             })
             .collect();
         translucid::Image {
-            width: W,
-            height: H,
+            width: self.extent.width,
+            height: self.extent.height,
             pixels,
         }
         .to_srgb8()
@@ -500,7 +505,7 @@ fn frames_in_flight_match_the_reference(
         s.camera = orbit.camera(&scene, f as u32);
         orbit.transparent(&scene, f as u32, &mut s.transparent);
         let positions = &mut s.meshes[moving_mesh].positions;
-        let centre = positions.iter().copied().sum::<glam::Vec3>() / positions.len() as f32;
+        let centre = positions.iter().copied().sum::<Vec3>() / positions.len() as f32;
         let scale = 1.0 + 0.2 * (f as f32 * 0.9).sin();
         for p in positions.iter_mut() {
             *p = centre + (*p - centre) * scale;
@@ -669,5 +674,150 @@ fn frames_past_their_bands_keep_the_engines_colour_and_grow_the_lists_once() {
             ..MethodOptions::default()
         },
         FirstBatch::Degraded,
+    );
+}
+
+/// One renderer's first two frames (the scene, then its camera a step along the orbit),
+/// both recorded before either is submitted, each recorded once: both must match the
+/// reference (stopped at `options.threshold`) and report nothing degraded. The renderer is
+/// made with the camera at `made_at` (the scene's own if `None`), which is what it sizes its
+/// buffers and picks its shaders from. Returns the frames' bands and the options the
+/// renderer learned (the buffers it grew).
+fn first_frames_match_the_reference(
+    scene: &translucid::scene::Scene,
+    (width, height): (u32, u32),
+    options: &MethodOptions,
+    made_at: Option<translucid::scene::Camera>,
+) -> (Vec<u32>, MethodOptions) {
+    let mut bands = Vec::new();
+    let learned;
+    let orbit = Orbit::new(scene);
+    let frame_scene = |f: u32| {
+        let mut s = scene.clone();
+        s.camera = orbit.camera(scene, f);
+        s
+    };
+    let layer = OpaqueLayer::clear(width, height, scene.background);
+    let engine = Engine::new();
+    {
+        // SAFETY: the engine's live objects, outliving `gpu` (dropped at the end of this block).
+        let gpu = unsafe { Gpu::from_host(&engine.host_device()) }.expect("host device");
+        let images = EngineImages::new(&gpu, &layer, 2);
+        let mut made_for = scene.clone();
+        made_for.camera = made_at.unwrap_or(scene.camera);
+        let mut renderer = Renderer::with_frames_in_flight(
+            &gpu,
+            &made_for,
+            MethodKind::Exact,
+            width,
+            height,
+            options,
+            2,
+        )
+        .expect("renderer");
+        for k in 0..2 {
+            renderer
+                .set_frame(&frame_scene(k as u32).frame_input())
+                .expect("set frame");
+            engine.begin(k);
+            let cmd = engine.cmds[k];
+            images.record_opaque(&gpu, cmd);
+            // SAFETY: the engine's recording command buffer and images of the frame's size.
+            unsafe { renderer.record_host(&images.targets(cmd)) }.expect("record");
+            images.record_readback(&gpu, cmd, k);
+        }
+        for k in 0..2 {
+            engine.submit(k);
+        }
+        for k in 0..2 {
+            engine.wait(k);
+            let done = renderer
+                .complete_host()
+                .expect("complete")
+                .expect("the submission finished, so the commands ran");
+            assert!(
+                !done.overflowed && done.degraded_rows == 0,
+                "{}, frame {k}: {done:?}",
+                scene.name
+            );
+            let want = translucid::reference::render_until(
+                &frame_scene(k as u32),
+                &layer,
+                options.threshold,
+            )
+            .expect("reference")
+            .to_srgb8();
+            let worst = worst_difference(&images.srgb(k), &want);
+            assert!(worst <= 2, "{}, frame {k}: {worst}/255 off", scene.name);
+            bands.push(done.bands);
+        }
+        learned = renderer.learned_options(options);
+    }
+    let errors = ERRORS.lock().map(|e| e.clone()).unwrap_or_default();
+    assert!(
+        errors.is_empty(),
+        "validation errors:\n{}",
+        errors.join("\n")
+    );
+    (bands, learned)
+}
+
+/// Every way a frame's work can outgrow what its renderer expected, each forced on a
+/// renderer's first frames, recorded once with two frames in flight: the frames are right.
+/// - Bin lists far too small: the frames are rasterized in bands.
+/// - Pixels 1200 fragments deep, past the loop budget, with state slots for 4 of the rows
+///   that suspend: those keep their state, the others start over when resumed.
+/// - One bin whose list no loop budget walks in one pass, in a frame of a renderer made
+///   looking away from it (so expecting shallow pixels): its rows are suspended before
+///   walking and walked in parts by the continuations.
+/// - 200 quads through the camera plane: their homogeneous records are sized from the draws
+///   that cross it (they were a 64th of the frame's triangles, or 64).
+#[test]
+fn every_overflow_on_a_first_and_only_recording_matches_the_reference() {
+    let spheres = translucid::scene::load("spheres").expect("generated scene");
+    let small_lists = MethodOptions {
+        initial_bin_entries: Some(BANDED_ENTRIES),
+        ..MethodOptions::default()
+    };
+    let (bands, _) = first_frames_match_the_reference(&spheres, (W, H), &small_lists, None);
+    assert!(bands.iter().all(|&b| b > 1), "bands {bands:?}");
+
+    let deep = stack_scene(
+        "deep stack",
+        1200,
+        Material::alpha(Vec3::new(0.9, 0.5, 0.2), 0.004),
+    );
+    let few_states = MethodOptions {
+        initial_resume_rows: Some(4),
+        // Lists that fit, so that the rows' continuations are all in one band.
+        initial_bin_entries: Some(1 << 20),
+        ..MethodOptions::default()
+    };
+    let (_, learned) = first_frames_match_the_reference(&deep, (45, 37), &few_states, None);
+    assert!(
+        learned.initial_resume_rows > Some(4),
+        "no row went without a state slot: {learned:?}"
+    );
+
+    let stopped_early = MethodOptions {
+        threshold: 0.01,
+        ..MethodOptions::default()
+    };
+    let crowd = crowded_bin(100_000);
+    let looking_away = Camera::look_at(Vec3::ZERO, Vec3::Z, 1.0, 0.1, 20.0);
+    first_frames_match_the_reference(&crowd, (8, 8), &stopped_early, Some(looking_away));
+    let mut through_the_eye = near_plane_scene();
+    let tilted = through_the_eye.transparent[1].clone();
+    through_the_eye
+        .transparent
+        .extend((0..200).map(|i| translucid::scene::Draw {
+            transform: glam::Mat4::from_translation(Vec3::new(i as f32 * 0.01 - 1.0, 0.0, 0.0)),
+            ..tilted.clone()
+        }));
+    first_frames_match_the_reference(
+        &through_the_eye,
+        (157, 119),
+        &MethodOptions::default(),
+        None,
     );
 }
