@@ -192,6 +192,52 @@ fn engine_projections_match_the_reference() {
     }
 }
 
+/// Orthographic projections (clip w constant): fragments are ordered by device depth, either
+/// way round, and a jittered one too; CAD and tools engines draw so.
+#[test]
+fn orthographic_projections_match_the_reference() {
+    let gpu = gpu();
+    let scene = scene::load("spheres").expect("scene");
+    let Projection::Perspective { near, far, .. } = scene.camera.projection else {
+        panic!("spheres has a perspective camera");
+    };
+    let (half_w, half_h) = (3.0 * WIDTH as f32 / HEIGHT as f32, 3.0);
+    let ortho = flip_y(Mat4::orthographic_rh(
+        -half_w, half_w, -half_h, half_h, near, far,
+    ));
+    let mut reversed = ortho;
+    for column in [&mut reversed.z_axis, &mut reversed.w_axis] {
+        column.z = column.w - column.z;
+    }
+    for method in ["exact", "wavelet", "blend"] {
+        let mut pictures = Vec::new();
+        for (name, projection, jitter) in [
+            ("orthographic", ortho, Vec2::ZERO),
+            ("reversed_orthographic", reversed, Vec2::ZERO),
+            ("orthographic_jittered", ortho, Vec2::new(-0.25, 0.375)),
+        ] {
+            let s = with_projection(&scene, projection, jitter);
+            let frame = translucid_tests::render(&gpu, &s, method, WIDTH, HEIGHT);
+            let label = format!("projection_{name}_{method}");
+            if method == "exact" {
+                assert!(
+                    frame.fragments > 1000,
+                    "{label}: {} fragments",
+                    frame.fragments
+                );
+            }
+            check(&label, method, &s, &frame);
+            pictures.push(frame.image);
+        }
+        let m = metrics::compare(&pictures[0], &pictures[1]).expect("same size");
+        assert!(
+            m.max_error * 255.0 <= 2.0,
+            "{method}: reversed orthographic {:.2}/255 off the orthographic picture",
+            m.max_error * 255.0
+        );
+    }
+}
+
 /// An engine saves the pipeline cache after a run and hands it back on the next: the data
 /// names this device, merges, and other data is turned away without harm.
 #[test]

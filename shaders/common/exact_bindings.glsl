@@ -77,7 +77,8 @@ layout(push_constant) uniform ExactPush {
     float threshold;        // stop once every channel's transmittance is below this; 0: exact
     uint resumeList;        // raster: the list a continuation reads; it appends to the other
     uint binRowsPerSlice;   // binning: bin rows one invocation covers (see exact_bins.glsl)
-    uint pad0;
+    uint orderByZ;          // 1: fragments are ordered by z_ndc (an orthographic camera),
+                            // 0: by clip w (orderDepth in exact_fragment.glsl)
     uint pad1;
     uint pad2;
 } u_push;

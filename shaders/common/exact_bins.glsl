@@ -88,8 +88,9 @@ ivec2 bandColumns(int y, ivec2 run) {
     return ivec2(max(run.x, lo), min(run.y, hi));
 }
 
-// Bits of a triangle's nearest and farthest vertex view depth, widened by a relative 2^-12
-// so that every fragment's interpolated depth, rounded in float, lies between them.
+// Bits of a triangle's nearest and farthest vertex order depth (orderDepth in
+// exact_fragment.glsl: clip w, or z_ndc + 1 within the depth clip), widened by a relative
+// 2^-12 so that every fragment's interpolated depth, rounded in float, lies between them.
 // Homogeneous triangles (a vertex may be behind the eye) span everything.
 uvec2 triangleDepthBits(ExactTriangle t) {
     if (t.edgeB.w >= 0) {
@@ -97,6 +98,10 @@ uvec2 triangleDepthBits(ExactTriangle t) {
     }
     float nearest = 1.0 / max(max(t.invW.x, t.invW.y), t.invW.z);
     float farthest = 1.0 / min(min(t.invW.x, t.invW.y), t.invW.z);
+    if (u_push.orderByZ != 0u) {
+        nearest = max(min(min(t.zNdc.x, t.zNdc.y), t.zNdc.z), 0.0) + 1.0;
+        farthest = min(max(max(t.zNdc.x, t.zNdc.y), t.zNdc.z), 1.0) + 1.0;
+    }
     return uvec2(floatBitsToUint(nearest * (1.0 - 1.0 / 4096.0)),
                  floatBitsToUint(farthest * (1.0 + 1.0 / 4096.0)));
 }

@@ -109,8 +109,15 @@ ExactTriangle loadShadingTriangle(uint i) {
                                 texelFetch(u_triangleTexels, base + 3));
 }
 
-// Whether triangle t covers pixel (x, y), and the sample. The edges decide on both paths
-// (bounds only ever hold every covered sample; raster.rs), so t may come without bounds.
+// The depth fragments are ordered by (raster::order_depth): clip w, or under an orthographic
+// camera, whose w is constant, z_ndc + 1 (positive, and never 0, which keys keep for "none").
+float orderDepth(RasterSample s) {
+    return u_push.orderByZ != 0u ? s.zNdc + 1.0 : s.viewDepth;
+}
+
+// Whether triangle t covers pixel (x, y), and the sample, its viewDepth the order depth. The
+// edges decide on both paths (bounds only ever hold every covered sample; raster.rs), so t
+// may come without bounds.
 bool coverSample(ExactTriangle t, uint x, uint y, out RasterSample s) {
     // One exit: glslang turns early returns in inlined functions into extra flags.
     bool take;
@@ -121,6 +128,7 @@ bool coverSample(ExactTriangle t, uint x, uint y, out RasterSample s) {
         bool covered = coversFixed(t, x, y, edges);
         take = covered && interpolateFixed(t, edges, s);
     }
+    s.viewDepth = orderDepth(s);
     return take;
 }
 

@@ -14,18 +14,7 @@
 #error "define WAVELET_RANK (0 to 3) before including wavelet.glsl"
 #endif
 
-// Specialization constants of every wavelet pass. Host mirror: SpecConstants in
-// crates/translucid/src/methods/wavelet/layout.rs (a test compares the two). They start at
-// WAVELET_CONSTANT_ID: 0 in the graphics passes; the bin raster (wavelet_bins.glsl) puts them
-// after the exact raster's own.
-#ifndef WAVELET_CONSTANT_ID
-#define WAVELET_CONSTANT_ID 0
-#endif
-layout(constant_id = WAVELET_CONSTANT_ID + 0) const int WAVELET_FIRST_TEXEL = 0;  // accumulation: first texel written
-layout(constant_id = WAVELET_CONSTANT_ID + 1) const float WAVELET_NOISE = 0.0;    // depth noise strength, in cells
-layout(constant_id = WAVELET_CONSTANT_ID + 2) const float WAVELET_ABSORBED = 7.6; // absorbance treated as opaque
-layout(constant_id = WAVELET_CONSTANT_ID + 3) const float DEPTH_A = 1.0;          // device depth = A - B / view depth
-layout(constant_id = WAVELET_CONSTANT_ID + 4) const float DEPTH_B = 0.0;
+#include "wavelet_constants.glsl"
 
 const int WAVELET_COUNT = 2 << WAVELET_RANK;
 const int WAVELET_SLOTS = 3 * WAVELET_COUNT;
@@ -240,7 +229,7 @@ float waveletHiddenDepth(vec3 cells[WAVELET_MAX_COUNT], vec2 bounds, uvec2 pixel
     if (p < 0.0 || !(view > bounds.x)) {
         return 2.0;
     }
-    return DEPTH_A - DEPTH_B / view;
+    return DEPTH_A - DEPTH_B / view + DEPTH_C * view;
 }
 
 #endif

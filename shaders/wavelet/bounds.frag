@@ -1,10 +1,12 @@
 #version 450
-// Pass 1, depth bounds: each pixel's nearest and farthest transparent view depth, kept by a
-// MAX blend as (-view depth, view depth).
+// Pass 1, depth bounds: each pixel's nearest and farthest transparent order depth, kept by a
+// MAX blend as (-depth, depth).
+
+#include "wavelet_constants.glsl"
 
 layout(location = 0) out vec2 o_bounds;
 
 void main() {
-    float viewDepth = 1.0 / gl_FragCoord.w;
+    float viewDepth = WAVELET_FRAGMENT_DEPTH;
     o_bounds = vec2(-viewDepth, viewDepth);
 }

@@ -45,6 +45,13 @@
 //! fixed-point edge function of its snapped ends instead, so it stays watertight against
 //! fixed-point neighbours.
 //!
+//! # Order depth
+//!
+//! Fragments are ordered by [`order_depth`]: `view_depth` (clip `w`) under a perspective
+//! projection; `z_ndc + 1` under an orthographic one, where `w` is the same everywhere and
+//! `z_ndc` is linear in view depth (`+ 1` keeps it positive, so that its bits order like
+//! its values, and above 0, which the compute raster keeps for "nothing yet").
+//!
 //! # Depth clip
 //!
 //! Samples with `z_ndc < 0`, `z_ndc > 1` (or NaN) are discarded, as hardware near/far clipping
@@ -114,6 +121,23 @@ impl PixelRect {
             self.x1.min(other.x1),
             self.y1.min(other.y1),
         )
+    }
+}
+
+/// How fragments are ordered along the view axis: see the module's "Order depth".
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DepthOrder {
+    /// By clip w: perspective projections.
+    ClipW,
+    /// By z_ndc: orthographic projections, whose clip w is constant.
+    DeviceZ,
+}
+
+/// The depth sample `s` is ordered by under `order`.
+pub fn order_depth(s: &Sample, order: DepthOrder) -> f32 {
+    match order {
+        DepthOrder::ClipW => s.view_depth,
+        DepthOrder::DeviceZ => s.z_ndc + 1.0,
     }
 }
 

@@ -22,7 +22,7 @@ mod shade;
 mod tests;
 
 use crate::image::{Image, OpaqueLayer};
-use crate::raster::{PixelRect, MAX_VIEWPORT};
+use crate::raster::{order_depth, DepthOrder, PixelRect, MAX_VIEWPORT};
 use crate::scene::Scene;
 use crate::shading::{composite_front_to_back, composite_until, Fragment};
 use glam::Vec3;
@@ -69,7 +69,8 @@ pub fn render_in_submission_order(scene: &Scene, opaque: &OpaqueLayer) -> crate:
 /// One transparent fragment of a pixel, as the reference rasterizes and shades it.
 #[derive(Clone, Copy, Debug)]
 pub struct PixelFragment {
-    /// View depth (clip w) at the pixel centre.
+    /// The depth it is ordered by at the pixel centre (`raster::order_depth`: clip w, or
+    /// device depth + 1 under an orthographic projection).
     pub view_depth: f32,
     /// Depth-buffer value (0 near, 1 far).
     pub device_depth: f32,
@@ -122,6 +123,7 @@ fn render_pixels(
         opaque,
         order,
         resolve,
+        depth_order: scene.camera.depth_order(),
     };
     let tiles: Vec<Vec<Vec3>> = bins
         .tiles
@@ -258,6 +260,7 @@ struct TileContext<'a, 's> {
     opaque: &'a OpaqueLayer,
     order: fn(&Record, &Record) -> Ordering,
     resolve: &'a Resolve<'a>,
+    depth_order: DepthOrder,
 }
 
 impl TileContext<'_, '_> {
@@ -281,7 +284,7 @@ impl TileContext<'_, '_> {
                 if s.z_ndc < self.opaque.depth[i] {
                     frags.push(Record {
                         pixel: (y - rect.y0) * tile_width + (x - rect.x0),
-                        view_depth: s.view_depth,
+                        view_depth: order_depth(&s, self.depth_order),
                         device_depth: s.z_ndc,
                         prim,
                         fragment: shader.shade(&tri, x, y, &s),

@@ -8,8 +8,10 @@
 //! Inside translucid depth always grows away from the eye: a reversed-Z matrix is turned
 //! around (clip z becomes w − z, device depth 1 − d) before anything uses it, so the opaque
 //! pass, every method and the CPU reference depth-test with one convention. Fragments are
-//! ordered by clip w, which is why the projection must be a perspective one.
+//! ordered by clip w under a perspective projection and by device depth under an
+//! orthographic one ([`Camera::depth_order`]); oblique near planes are refused.
 
+use crate::raster::DepthOrder;
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
 /// How view space maps to clip space.
@@ -19,9 +21,9 @@ pub enum Projection {
     /// in radians, near and far distances (`far` may be infinite). Depth 0 at near, 1 at far.
     Perspective { fov_y: f32, near: f32, far: f32 },
     /// The engine's clip-from-view matrix, column-major, in Vulkan clip space (y down, z in
-    /// [0, w]), used as given. Clip w must grow with the distance in front of the eye
-    /// (`w = k · z_view`, k ≠ 0, as every perspective projection has); depth may grow or
-    /// shrink with distance (reversed-Z), and the far plane may be at infinity.
+    /// [0, w]), used as given: perspective (`w = k · z_view`, k ≠ 0; the far plane may be at
+    /// infinity) or orthographic (w a positive constant). Depth may grow or shrink with
+    /// distance (reversed-Z).
     Matrix(Mat4),
 }
 
@@ -89,8 +91,20 @@ impl Camera {
     pub fn reversed_depth(&self) -> bool {
         match self.projection {
             Projection::Perspective { .. } => false,
+            // Orthographic, d = (m22 z + m32) / m33: depth falls with distance (z more
+            // negative) when m22 > 0.
+            Projection::Matrix(m) if is_orthographic(&m) => m.z_axis.z > 0.0,
             // d = m22 / m23 + m32 / w: depth falls as w grows when m32 > 0.
             Projection::Matrix(m) => m.w_axis.z > 0.0,
+        }
+    }
+
+    /// How fragments are ordered along the view axis: by clip w, or, under an orthographic
+    /// projection (constant w), by device depth.
+    pub fn depth_order(&self) -> DepthOrder {
+        match self.projection {
+            Projection::Matrix(m) if is_orthographic(&m) => DepthOrder::DeviceZ,
+            _ => DepthOrder::ClipW,
         }
     }
 
@@ -111,12 +125,19 @@ impl Camera {
         self.clip_from_view(width, height) * self.view
     }
 
-    /// `(a, b)` with device depth `a − b / w` for a point at clip w `w`, in translucid's depth
-    /// convention (see [`Self::clip_from_view`]).
-    pub fn depth_from_w(&self, width: u32, height: u32) -> (f32, f32) {
-        let p = self.clip_from_view(width, height);
-        // z_clip = m22 z + m32 and w = m23 z, so d = m22 / m23 + m32 / w.
-        (p.z_axis.z / p.z_axis.w, -p.w_axis.z)
+    /// `(a, b, c)` with device depth `a − b / d + c · d` for a point at order depth `d`
+    /// ([`crate::raster::order_depth`]), in translucid's depth convention (see
+    /// [`Self::clip_from_view`]).
+    pub fn depth_mapping(&self, width: u32, height: u32) -> (f32, f32, f32) {
+        match self.depth_order() {
+            // The order depth is device depth + 1.
+            DepthOrder::DeviceZ => (-1.0, 0.0, 1.0),
+            DepthOrder::ClipW => {
+                let p = self.clip_from_view(width, height);
+                // z_clip = m22 z + m32 and w = m23 z, so d = m22 / m23 + m32 / w.
+                (p.z_axis.z / p.z_axis.w, -p.w_axis.z, 0.0)
+            }
+        }
     }
 
     pub fn validate(&self) -> Result<(), String> {
@@ -179,29 +200,44 @@ fn add_rows(column: Vec4, shift: Vec2, w: f32) -> Vec4 {
     )
 }
 
+/// Whether `m`'s clip w is the same for every point (an orthographic projection).
+fn is_orthographic(m: &Mat4) -> bool {
+    let w = m.row(3);
+    w.x == 0.0 && w.y == 0.0 && w.z == 0.0
+}
+
 /// What translucid needs of an engine's projection matrix: finite; clip w proportional to the
-/// view depth (no orthographic projection, whose w is constant: fragments are ordered by w);
-/// clip z and w free of view x and y (no oblique near plane); depth that changes with
-/// distance.
+/// view depth (perspective) or a positive constant (orthographic); clip z and w free of view
+/// x and y (no oblique near plane); depth that changes with distance.
 fn check_projection_matrix(m: &Mat4) -> Result<(), String> {
     if !m.is_finite() {
         return Err("projection matrix is not finite".into());
     }
     let (z, w) = (m.row(2), m.row(3));
-    if w.z == 0.0 || w.w != 0.0 {
-        return Err(format!(
-            "projection matrix row 3 is {w}: clip w must be k * view z with k != 0 (a \
-             perspective projection); orthographic projections are not supported, because \
-             fragments are ordered by clip w"
-        ));
-    }
     if w.x != 0.0 || w.y != 0.0 || z.x != 0.0 || z.y != 0.0 {
         return Err(format!(
             "projection matrix rows 2 and 3 ({z}, {w}) depend on view x or y (an oblique \
              near plane), which translucid does not support"
         ));
     }
-    if z.w == 0.0 {
+    let constant_depth = if is_orthographic(m) {
+        if w.w <= 0.0 {
+            return Err(format!(
+                "projection matrix row 3 is {w}: an orthographic projection's clip w must be \
+                 a positive constant"
+            ));
+        }
+        z.z == 0.0
+    } else {
+        if w.w != 0.0 {
+            return Err(format!(
+                "projection matrix row 3 is {w}: clip w must be k * view z with k != 0 (a \
+                 perspective projection) or a positive constant (an orthographic one)"
+            ));
+        }
+        z.w == 0.0
+    };
+    if constant_depth {
         return Err(format!(
             "projection matrix row 2 is {z}: depth does not change with distance"
         ));
@@ -265,7 +301,7 @@ mod tests {
     }
 
     #[test]
-    fn depth_from_w_follows_the_matrix() {
+    fn depth_mapping_follows_the_matrix() {
         let aspect = SIZE.0 as f32 / SIZE.1 as f32;
         for c in [
             Camera::look_at(Vec3::Z * 5.0, Vec3::ZERO, 0.8, 0.5, 50.0),
@@ -273,10 +309,20 @@ mod tests {
                 0.8, aspect, 0.5,
             ))),
         ] {
-            let (a, b) = c.depth_from_w(SIZE.0, SIZE.1);
+            let (a, b, c0) = c.depth_mapping(SIZE.0, SIZE.1);
             for d in [0.7f32, 3.0, 40.0] {
-                assert!((a - b / d - depth(&c, d)).abs() < 1e-6);
+                assert!((a - b / d + c0 * d - depth(&c, d)).abs() < 1e-6);
             }
+        }
+        // Orthographic: order depth is device depth + 1.
+        let ortho = with_matrix(vulkan(Mat4::orthographic_rh(
+            -1.0, 1.0, -1.0, 1.0, 0.5, 20.0,
+        )));
+        let (a, b, c0) = ortho.depth_mapping(SIZE.0, SIZE.1);
+        for d in [0.5f32, 3.0, 20.0] {
+            let device = depth(&ortho, d);
+            let order = device + 1.0;
+            assert!((a - b / order + c0 * order - device).abs() < 1e-6);
         }
     }
 
@@ -297,12 +343,7 @@ mod tests {
     }
 
     #[test]
-    fn orthographic_and_oblique_matrices_are_refused_with_the_reason() {
-        let ortho = with_matrix(Mat4::orthographic_rh(-1.0, 1.0, -1.0, 1.0, 0.1, 10.0));
-        assert!(ortho
-            .validate()
-            .expect_err("refused")
-            .contains("orthographic"));
+    fn oblique_and_degenerate_matrices_are_refused_with_the_reason() {
         let mut oblique = vulkan(Mat4::perspective_rh(0.8, 1.0, 0.1, 10.0));
         oblique.x_axis.z = 0.2;
         assert!(with_matrix(oblique)
@@ -311,5 +352,38 @@ mod tests {
             .contains("oblique"));
         let nan = with_matrix(Mat4::NAN);
         assert!(nan.validate().expect_err("refused").contains("not finite"));
+        let mut mixed = vulkan(Mat4::perspective_rh(0.8, 1.0, 0.1, 10.0));
+        mixed.w_axis.w = 1.0;
+        assert!(with_matrix(mixed)
+            .validate()
+            .expect_err("refused")
+            .contains("row 3"));
+        let mut flat = vulkan(Mat4::orthographic_rh(-1.0, 1.0, -1.0, 1.0, 0.1, 10.0));
+        flat.z_axis.z = 0.0;
+        assert!(with_matrix(flat)
+            .validate()
+            .expect_err("refused")
+            .contains("does not change"));
+    }
+
+    #[test]
+    fn orthographic_matrices_order_by_device_depth_either_way_round() {
+        let ortho = vulkan(Mat4::orthographic_rh(-2.0, 2.0, -1.0, 1.0, 0.5, 20.0));
+        let c = with_matrix(ortho);
+        assert_eq!(c.validate(), Ok(()));
+        assert_eq!(c.depth_order(), DepthOrder::DeviceZ);
+        assert!(!c.reversed_depth());
+        // Reversed: near at 1, far at 0, turned around inside translucid.
+        let mut reversed = ortho;
+        for column in [&mut reversed.z_axis, &mut reversed.w_axis] {
+            column.z = column.w - column.z;
+        }
+        let r = with_matrix(reversed);
+        assert!(r.reversed_depth());
+        for d in [0.5, 3.0, 20.0] {
+            assert!((depth(&c, d) - depth(&r, d)).abs() < 1e-6, "{d}");
+        }
+        assert!(depth(&c, 0.5).abs() < 1e-6 && (depth(&c, 20.0) - 1.0).abs() < 1e-6);
+        assert_eq!(Camera::default().depth_order(), DepthOrder::ClipW);
     }
 }

@@ -78,7 +78,7 @@ pub enum RasterProgram {
     /// resumed by continuations, and it keeps the shallow frames' settings.
     Wavelet {
         spirv: &'static [u8],
-        constants: [u32; 5],
+        constants: [u32; 6],
     },
 }
 
@@ -263,6 +263,11 @@ impl StagePipelines {
     }
 }
 
+/// `ExactPush::order_by_z` for `scene`'s camera.
+fn orders_by_z(scene: &Scene) -> u32 {
+    u32::from(scene.camera.depth_order() == crate::raster::DepthOrder::DeviceZ)
+}
+
 /// Homogeneous records a frame of `scene` may need, up to what one storage buffer holds (past
 /// that the frame reports the overflow).
 fn homogeneous_bound(gpu: &Gpu, scene: &Scene, width: u32, height: u32) -> u32 {
@@ -361,7 +366,8 @@ impl Exact {
             bin_rows_per_slice: (LOOP_BUDGET / (bins_x + 1))
                 .min(options.bin_rows_per_slice.unwrap_or(u32::MAX))
                 .max(1),
-            pad: [0; 3],
+            order_by_z: orders_by_z(scene),
+            pad: [0; 2],
         };
         Ok(Self {
             gpu: gpu.clone(),
@@ -613,6 +619,7 @@ impl Method for Exact {
             .set_frame(f.gpu, f.scene, f.uploaded, f.targets)?;
         self.push.item_count = f.uploaded.transparent_quads;
         self.push.draw_count = f.scene.transparent.len() as u32;
+        self.push.order_by_z = orders_by_z(f.scene);
         // Setup writes at most two triangles per quad, and homogeneous records for at most
         // the triangles of draws that leave the fixed-point path.
         let triangles = f.uploaded.transparent_quads.saturating_mul(2);

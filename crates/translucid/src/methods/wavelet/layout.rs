@@ -1,5 +1,5 @@
 //! The specialization constants every wavelet shader takes, in `constant_id` order; mirrored
-//! by `shaders/common/wavelet.glsl` (a test compares the two). The rank is not among them:
+//! by `shaders/common/wavelet_constants.glsl` (a test compares the two). The rank is not among them:
 //! each rank has its own SPIR-V (see [`super::passes`]).
 
 use bytemuck::{Pod, Zeroable};
@@ -13,23 +13,26 @@ pub struct SpecConstants {
     pub noise: f32,
     /// `WAVELET_ABSORBED`: absorbance from which a pixel counts as opaque.
     pub absorbed: f32,
-    /// `DEPTH_A`, `DEPTH_B`: device depth = A − B / view depth (the camera's projection).
+    /// `DEPTH_A`, `DEPTH_B`, `DEPTH_C`: device depth = A − B / d + C · d at order depth d
+    /// (the camera's projection: [`crate::scene::Camera::depth_mapping`]).
     pub depth_a: f32,
     pub depth_b: f32,
+    pub depth_c: f32,
 }
 
 /// GLSL (type, name) of each field, in order.
-pub const GLSL_NAMES: [(&str, &str); 5] = [
+pub const GLSL_NAMES: [(&str, &str); 6] = [
     ("int", "WAVELET_FIRST_TEXEL"),
     ("float", "WAVELET_NOISE"),
     ("float", "WAVELET_ABSORBED"),
     ("float", "DEPTH_A"),
     ("float", "DEPTH_B"),
+    ("float", "DEPTH_C"),
 ];
 
 impl SpecConstants {
     /// The 32-bit words a pipeline's specialization info takes, constant 0 first.
-    pub fn words(&self) -> [u32; 5] {
+    pub fn words(&self) -> [u32; 6] {
         bytemuck::cast(*self)
     }
 }
@@ -38,7 +41,7 @@ impl SpecConstants {
 mod tests {
     use super::*;
 
-    const SRC: &str = include_str!("../../../../../shaders/common/wavelet.glsl");
+    const SRC: &str = include_str!("../../../../../shaders/common/wavelet_constants.glsl");
 
     /// `(id, type, name)` of every `layout(constant_id = WAVELET_CONSTANT_ID + N) const TYPE NAME`
     /// in the include.

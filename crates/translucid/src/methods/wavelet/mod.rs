@@ -108,13 +108,14 @@ impl Settings {
 
     /// The shaders' specialization constants for a camera and render size.
     pub fn constants(&self, camera: &Camera, width: u32, height: u32) -> SpecConstants {
-        let (depth_a, depth_b) = camera.depth_from_w(width, height);
+        let (depth_a, depth_b, depth_c) = camera.depth_mapping(width, height);
         SpecConstants {
             first_texel: 0,
             noise: self.noise,
             absorbed: -ABSORBED_TRANSMITTANCE.ln(),
             depth_a,
             depth_b,
+            depth_c,
         }
     }
 }

@@ -47,9 +47,10 @@ fn quantized(v: Vec3) -> Vec3 {
 #[derive(Clone, Copy, Debug)]
 pub struct Model {
     pub settings: Settings,
-    /// Device depth = `depth_a − depth_b / view depth`.
+    /// Device depth = `depth_a − depth_b / d + depth_c · d` at order depth `d`.
     pub depth_a: f32,
     pub depth_b: f32,
+    pub depth_c: f32,
 }
 
 impl Model {
@@ -60,6 +61,7 @@ impl Model {
             settings,
             depth_a: c.depth_a,
             depth_b: c.depth_b,
+            depth_c: c.depth_c,
         }
     }
 
@@ -103,7 +105,7 @@ impl Model {
             // A cut that maps back onto the nearest depth (a pixel of one depth) hides
             // nothing: every fragment is in cell 0, in front of it.
             let view = nearest + v * (farthest - nearest);
-            (view > nearest).then(|| self.depth_a - self.depth_b / view)
+            (view > nearest).then(|| self.depth_a - self.depth_b / view + self.depth_c * view)
         });
         // Pass 4: shading.
         let lit = fragments
@@ -163,6 +165,7 @@ mod tests {
                     // Device depth 0.75 at view depth 3: a - b / 3 = 0.75.
                     depth_a: 1.0,
                     depth_b: 0.75,
+                    depth_c: 0.0,
                 };
                 let got = model.resolve(0, 0, &[fragment], Vec3::ONE);
                 assert!(
