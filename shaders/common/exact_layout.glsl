@@ -19,9 +19,11 @@
 #define STATISTICS_WORDS 128u
 
 // Overflow bits in ExactCounters.overflow: a buffer was too small for the frame (the host
-// grows it for later frames). The bin lists' overflow is answered within the frame, by bands.
+// grows it for later frames). The bin lists' overflow is answered within the frame, by bands;
+// a band whose lists did not fit after all (OVERFLOW_BAND_LISTS) lost entries.
 #define OVERFLOW_HOMOGENEOUS 1u
 #define OVERFLOW_BIN_ENTRIES 2u
+#define OVERFLOW_BAND_LISTS 16u
 // A bin so crowded that one pass over it cannot fit the shader loop budget (wavelet's bin
 // raster reports it; the exact raster resumes such rows instead).
 #define OVERFLOW_CROWDED_BIN 4u
@@ -30,8 +32,8 @@
 // Lavapipe (gallivm) stops every loop of a shader invocation once their iterations add up to
 // 65535, silently. The raster counts its iterations against this budget (with room for the
 // few it does not count) and, before it would run out, saves the pixel and leaves the rest to
-// a continuation dispatch. Subgroups resume from a list of (bin, row) items, each with the
-// states of its BIN_SIZE pixels.
+// a continuation dispatch. Subgroups resume from a list of (block row) items, each with the
+// states of its BIN_SIZE pixels where a state slot was left (else the row starts over).
 #define LOOP_BUDGET 60000u
 // A resume item's state slot when the row saved no state (it starts over), and a saved
 // state's sweep.x when the row resumes with a new sweep (saved between sweeps).
@@ -153,7 +155,8 @@ struct ExactHomogeneous {
     ivec4 fixedB;           // xyz: b, w: tie bits of the replacement edges
 };
 
-// Counters the host reads back after every frame and checks (std430, 4688 bytes).
+// Counters the host reads back after every frame and checks (std430; its size is checked
+// against layout.rs).
 struct ExactCounters {
     uint triangleCount;     // triangles setup kept (a statistic: records sit at their order
                             // keys, and binning runs over every record)
@@ -164,8 +167,8 @@ struct ExactCounters {
     uint homogeneousCapacity;
     uint binEntryCapacity;
     uint resumeCapacity;    // pixel-state slots of each resume list (rows it saves)
-    uint resumeNeeded;      // items a resume list needed (counted even when they do not fit)
-    uint depthLo;           // bits of the nearest and farthest vertex view depth of the
+    uint resumeNeeded;      // state slots a resume list needed (counted even past the capacity)
+    uint depthLo;           // bits of the nearest and farthest vertex order depth of the
     uint depthHi;           // fixed-point triangles (positive floats order like their bits)
     // Bands (bin_scan.comp, step 3): the listed blocks are rasterized in runs whose lists fit
     // the capacity together, one band after another within the frame.

@@ -35,7 +35,7 @@ void main() {
             if (slot < capacity) {
                 g_binEntries[slot] = ti;
             } else {
-                atomicOr(g_counters.overflow, OVERFLOW_BIN_ENTRIES);
+                atomicOr(g_counters.overflow, OVERFLOW_BAND_LISTS);
             }
         } while (++bx <= run.y);
     } while ((by += int(ROW_LANES)) <= rows.y);

@@ -116,7 +116,8 @@ pub struct MethodOptions {
 /// What a method reports once its frame has completed.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct FrameCheck {
-    /// The frame is incomplete (a buffer overflowed and has been grown): render it again.
+    /// The frame is not all right (past a limit of one recording; buffers have grown):
+    /// render it again.
     pub rerender: bool,
     /// The frame's work is unfinished but intact: a submission of what `Method::record_finish`
     /// records completes it (on an engine's device, where translucid does not submit, the

@@ -23,7 +23,8 @@ pub enum Projection {
     /// The engine's clip-from-view matrix, column-major, in Vulkan clip space (y down, z in
     /// [0, w]), used as given: perspective (`w = k · z_view`, k ≠ 0; the far plane may be at
     /// infinity) or orthographic (w a positive constant). Depth may grow or shrink with
-    /// distance (reversed-Z).
+    /// distance (reversed-Z). An orthographic matrix must look down view −z, as the view
+    /// matrices of right-handed engines do: its depth direction is read from that.
     Matrix(Mat4),
 }
 

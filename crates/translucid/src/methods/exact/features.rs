@@ -325,9 +325,6 @@ fn flat_colours(mesh: &crate::scene::Mesh) -> bool {
     })
 }
 
-/// Whether every vertex inside the positions' bounding box lands on the fixed-point path:
-/// in front of the near plane and well inside the guard band. The conditions are linear in
-/// clip space, so checking the box's corners (with a margin for rounding) covers its inside.
 /// Triangles of the frame that may take the homogeneous path: both of every quad of each
 /// draw whose bounds leave the fixed-point path. Setup can write no more homogeneous records.
 pub fn homogeneous_triangles(scene: &Scene, width: u32, height: u32) -> u64 {
@@ -352,6 +349,9 @@ fn leaves_fixed_path(
     !bounds_on_fixed_path(&mvp, &scene.meshes[d.mesh].positions, width, height)
 }
 
+/// Whether every vertex inside the positions' bounding box lands on the fixed-point path:
+/// in front of the near plane and well inside the guard band. The conditions are linear in
+/// clip space, so checking the box's corners (with a margin for rounding) covers its inside.
 fn bounds_on_fixed_path(mvp: &Mat4, positions: &[Vec3], width: u32, height: u32) -> bool {
     let Some(first) = positions.first() else {
         return true;

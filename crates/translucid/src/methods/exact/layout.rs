@@ -17,6 +17,7 @@ pub const OVERFLOW_HOMOGENEOUS: u32 = 1;
 pub const OVERFLOW_BIN_ENTRIES: u32 = 2;
 pub const OVERFLOW_CROWDED_BIN: u32 = 4;
 pub const OVERFLOW_RESUME: u32 = 8;
+pub const OVERFLOW_BAND_LISTS: u32 = 16;
 /// `LOOP_BUDGET` of exact_layout.glsl: loop iterations one invocation may spend.
 pub const LOOP_BUDGET: u32 = 60_000;
 // The raster may pass its budget by two searches over the slabs (a sweep's start) before it
@@ -240,6 +241,7 @@ mod tests {
         assert_eq!(define("OVERFLOW_BIN_ENTRIES"), OVERFLOW_BIN_ENTRIES);
         assert_eq!(define("OVERFLOW_CROWDED_BIN"), OVERFLOW_CROWDED_BIN);
         assert_eq!(define("OVERFLOW_RESUME"), OVERFLOW_RESUME);
+        assert_eq!(define("OVERFLOW_BAND_LISTS"), OVERFLOW_BAND_LISTS);
         assert_eq!(define("LOOP_BUDGET"), LOOP_BUDGET);
         assert_eq!(define("MAX_SELECT_SIZE"), MAX_SELECT_SIZE);
         assert_eq!(define("MAX_SLABS"), MAX_SLABS);

@@ -31,12 +31,13 @@
 //! scan lists the blocks in order and the frame is filled and rasterized in bands of blocks
 //! whose lists fit, one after another in the same command buffer (up to `BANDS`; bands
 //! without blocks are near-empty dispatches, and their continuations keep resuming the last
-//! band's rows). Counters come back every frame and grow the buffers for later frames. What
-//! one recording cannot answer leaves pixels untouched, never drawn from truncated work:
-//! blocks past the last band (rendered again when translucid submits; reported on an
-//! engine's device), rows still unfinished after the last continuation (finished by a
-//! further submission of continuations, or reported), and the homogeneous records' and
-//! resume lists' overflow (rendered again, or reported).
+//! band's rows). Suspended rows always find room on the resume lists; those that find no
+//! slot for their pixels' state start over when resumed. Counters come back every frame and
+//! grow the buffers for later frames. What one recording cannot answer leaves pixels
+//! untouched, never drawn from truncated work: blocks past the last band (rendered again
+//! when translucid submits; reported on an engine's device), and rows still unfinished after
+//! the last continuation (finished by a further submission of continuations, or reported).
+//! Homogeneous records past one buffer's worth lose triangles (rendered again, or reported).
 
 #![deny(clippy::unwrap_used)]
 
@@ -53,8 +54,8 @@ use crate::{Error, Result};
 use features::RasterFeatures;
 use layout::{
     ExactPush, BIN_SIZE, DISPATCH_BAND_FILL_OFFSET, DISPATCH_BINNING_OFFSET,
-    DISPATCH_BIN_OFFSETS_OFFSET, DISPATCH_RASTER_BINS_OFFSET, LOOP_BUDGET, OVERFLOW_CROWDED_BIN,
-    OVERFLOW_HOMOGENEOUS,
+    DISPATCH_BIN_OFFSETS_OFFSET, DISPATCH_RASTER_BINS_OFFSET, LOOP_BUDGET, OVERFLOW_BAND_LISTS,
+    OVERFLOW_CROWDED_BIN, OVERFLOW_HOMOGENEOUS,
 };
 use resources::{Capacities, Resources};
 use std::sync::Arc;
@@ -268,10 +269,10 @@ fn orders_by_z(scene: &Scene) -> u32 {
     u32::from(scene.camera.depth_order() == crate::raster::DepthOrder::DeviceZ)
 }
 
-/// Homogeneous records a frame of `scene` may need, up to what one storage buffer holds (past
-/// that the frame reports the overflow).
+/// Homogeneous records a frame of `scene` may need, up to what one buffer binds (past that
+/// the frame reports the overflow).
 fn homogeneous_bound(gpu: &Gpu, scene: &Scene, width: u32, height: u32) -> u32 {
-    let most = u64::from(gpu.info().max_storage_buffer_range) / layout::HOMOGENEOUS_BYTES;
+    let most = u64::from(Capacities::most(gpu).homogeneous);
     features::homogeneous_triangles(scene, width, height).min(most) as u32
 }
 
@@ -771,17 +772,19 @@ impl Method for Exact {
         }
         // Lists past their capacity were rasterized in bands, and rows with no state slot
         // started over: right, unless some blocks were left untouched (degraded). Missing
-        // homogeneous records (past one storage buffer's worth) lose triangles.
-        let overflowed = counters.overflow & OVERFLOW_HOMOGENEOUS != 0;
+        // homogeneous records (past one buffer's worth) lose triangles, and so would a band
+        // whose lists did not fit (the frame's entry count past 2^32).
+        let overflowed = counters.overflow & (OVERFLOW_HOMOGENEOUS | OVERFLOW_BAND_LISTS) != 0;
         let degraded_rows = counters.degraded_rows();
-        let grown = self
-            .resources
-            .capacities
-            .grown_for(&counters, &recorded.capacities);
+        let grown = self.resources.capacities.grown_for(
+            &counters,
+            &recorded.capacities,
+            &Capacities::most(&self.gpu),
+        );
         if let Some(grown) = grown {
             log::info!(
                 "{method}: buffers too small (overflow bits {:#x}: {} homogeneous triangles, \
-                 {} bin entries, {} resume items needed); growing to {grown:?}",
+                 {} bin entries, {} resume state slots needed); growing to {grown:?}",
                 counters.overflow,
                 counters.homogeneous_count,
                 counters.bin_entry_count,
@@ -813,7 +816,8 @@ impl Method for Exact {
         // Unfinished rows are finished by another submission of continuations, unless the
         // frame must be rendered again anyway, or its pipelines changed under the saved rows.
         let again = rebuild || overflowed || degraded_rows > 0;
-        let finish = unfinished > 0 && !again && !features_changed;
+        // (A finishing submission reads the buffers the frame used: not after they grew.)
+        let finish = unfinished > 0 && !again && !features_changed && grown.is_none();
         let rerender = again || (unfinished > 0 && !finish);
         let kept = |count: u64| if rerender || finish { 0 } else { count };
         if degraded_rows > 0 {

@@ -69,23 +69,51 @@ impl Capacities {
         }
     }
 
+    /// The most of each growable buffer `gpu` binds (one storage buffer, one texel view):
+    /// past them, bands and restarting rows answer within the frame.
+    pub fn most(gpu: &Gpu) -> Self {
+        let info = gpu.info();
+        let storage = u64::from(info.max_storage_buffer_range);
+        let texels = u64::from(info.max_texel_buffer_elements);
+        // Items of `bytes` each in a buffer viewed as texels of `texel` bytes (0: no view).
+        let fits = |bytes: u64, texel: u64| {
+            let viewed = if texel == 0 {
+                u64::MAX
+            } else {
+                texels * texel / bytes
+            };
+            (storage / bytes).min(viewed).min(u64::from(u32::MAX)) as u32
+        };
+        Self {
+            triangles: fits(TRIANGLE_BYTES.max(ATTRIBUTES_BYTES), 16),
+            homogeneous: fits(HOMOGENEOUS_BYTES, 16),
+            bin_entries: fits(4, 4),
+            // Both lists' pixel states in one buffer.
+            resume: fits(2 * u64::from(BIN_SIZE) * PIXEL_STATE_BYTES, 0),
+            resume_items: u32::MAX,
+        }
+    }
+
     /// Larger capacities when a frame recorded with capacities `recorded` overflowed, from
-    /// what the GPU counted. A buffer already grown since that frame was recorded (by a
-    /// frame completed before it, with frames in flight) is left alone: frames recorded
-    /// with it will say whether it suffices.
-    pub fn grown_for(&self, c: &ExactCounters, recorded: &Self) -> Option<Self> {
+    /// what the GPU counted, up to `most`. A buffer already grown since that frame was
+    /// recorded (by a frame completed before it, with frames in flight) is left alone:
+    /// frames recorded with it will say whether it suffices.
+    pub fn grown_for(&self, c: &ExactCounters, recorded: &Self, most: &Self) -> Option<Self> {
         let with_headroom =
             |needed: u32, now: u32| needed.saturating_add(needed / 4).max(now.saturating_mul(2));
         let grows = |bit: u32, now: u32, then: u32| c.overflow & bit != 0 && now == then;
         let mut next = *self;
         if grows(OVERFLOW_HOMOGENEOUS, self.homogeneous, recorded.homogeneous) {
-            next.homogeneous = with_headroom(c.homogeneous_count, self.homogeneous);
+            next.homogeneous = with_headroom(c.homogeneous_count, self.homogeneous)
+                .min(most.homogeneous.max(self.homogeneous));
         }
         if grows(OVERFLOW_BIN_ENTRIES, self.bin_entries, recorded.bin_entries) {
-            next.bin_entries = with_headroom(c.bin_entry_count, self.bin_entries);
+            next.bin_entries = with_headroom(c.bin_entry_count, self.bin_entries)
+                .min(most.bin_entries.max(self.bin_entries));
         }
         if grows(OVERFLOW_RESUME, self.resume, recorded.resume) {
-            next.resume = with_headroom(c.resume_needed, self.resume);
+            next.resume =
+                with_headroom(c.resume_needed, self.resume).min(most.resume.max(self.resume));
         }
         (next != *self).then_some(next)
     }
@@ -96,7 +124,7 @@ struct Growable {
     /// Resume lists of the raster's continuation dispatches (see `LOOP_BUDGET` in
     /// exact_layout.glsl): a header of two indirect dispatch commands, then the items.
     resume: Buffer,
-    /// Compositing state of the pixels of every item on the resume lists.
+    /// Compositing state of the pixels of the resume items that took a state slot.
     pixel_states: Buffer,
     triangles: Viewed,
     attributes: Viewed,
