@@ -822,11 +822,12 @@ impl Method for Exact {
         let kept = |count: u64| if rerender || finish { 0 } else { count };
         if degraded_rows > 0 {
             log::warn!(
-                "{method}: {degraded_rows} pixel rows left with the opaque colour: the frame's \
-                 {} bin entries needed more than {} bands of {}",
-                counters.bin_entry_count,
+                "{method}: {degraded_rows} pixel rows left with the opaque colour: blocks past \
+                 {} bands of {} bin entries ({} needed), or rows a band left unfinished ({})",
                 self.bands,
-                recorded.capacities.bin_entries
+                recorded.capacities.bin_entries,
+                counters.bin_entry_count,
+                counters.abandoned_rows
             );
         }
         Ok(FrameCheck {
