@@ -229,12 +229,25 @@ fn orthographic_projections_match_the_reference() {
             check(&label, method, &s, &frame);
             pictures.push(frame.image);
         }
-        let m = metrics::compare(&pictures[0], &pictures[1]).expect("same size");
-        assert!(
-            m.max_error * 255.0 <= 2.0,
-            "{method}: reversed orthographic {:.2}/255 off the orthographic picture",
-            m.max_error * 255.0
-        );
+        // The helper, whose aspect follows the render size, is the same projection.
+        let mut helper = scene.clone();
+        helper.camera.projection = Projection::Orthographic {
+            half_height: half_h,
+            near,
+            far,
+        };
+        pictures.push(translucid_tests::render(&gpu, &helper, method, WIDTH, HEIGHT).image);
+        for (k, name) in [
+            (1, "reversed orthographic"),
+            (3, "Projection::Orthographic"),
+        ] {
+            let m = metrics::compare(&pictures[0], &pictures[k]).expect("same size");
+            assert!(
+                m.max_error * 255.0 <= 2.0,
+                "{method}: {name} {:.2}/255 off the orthographic matrix's picture",
+                m.max_error * 255.0
+            );
+        }
     }
 }
 

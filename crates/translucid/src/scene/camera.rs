@@ -20,6 +20,14 @@ pub enum Projection {
     /// A symmetric perspective whose aspect ratio is the render size's: vertical field of view
     /// in radians, near and far distances (`far` may be infinite). Depth 0 at near, 1 at far.
     Perspective { fov_y: f32, near: f32, far: f32 },
+    /// An orthographic projection whose aspect ratio is the render size's: half the view's
+    /// height (in view-space units), near and far distances (finite). Depth 0 at near, 1 at
+    /// far.
+    Orthographic {
+        half_height: f32,
+        near: f32,
+        far: f32,
+    },
     /// The engine's clip-from-view matrix, column-major, in Vulkan clip space (y down, z in
     /// [0, w]), used as given: perspective (`w = k · z_view`, k ≠ 0; the far plane may be at
     /// infinity) or orthographic (w a positive constant). Depth may grow or shrink with
@@ -69,6 +77,23 @@ impl Camera {
                 p.y_axis.y = -p.y_axis.y;
                 p
             }
+            Projection::Orthographic {
+                half_height,
+                near,
+                far,
+            } => {
+                let half_width = half_height * width as f32 / height as f32;
+                let mut p = Mat4::orthographic_rh(
+                    -half_width,
+                    half_width,
+                    -half_height,
+                    half_height,
+                    near,
+                    far,
+                );
+                p.y_axis.y = -p.y_axis.y;
+                p
+            }
             Projection::Matrix(m) => m,
         };
         if self.jitter != Vec2::ZERO {
@@ -91,7 +116,7 @@ impl Camera {
     /// Whether device depth shrinks with distance (reversed-Z).
     pub fn reversed_depth(&self) -> bool {
         match self.projection {
-            Projection::Perspective { .. } => false,
+            Projection::Perspective { .. } | Projection::Orthographic { .. } => false,
             // Orthographic, d = (m22 z + m32) / m33: depth falls with distance (z more
             // negative) when m22 > 0.
             Projection::Matrix(m) if is_orthographic(&m) => m.z_axis.z > 0.0,
@@ -104,6 +129,7 @@ impl Camera {
     /// projection (constant w), by device depth.
     pub fn depth_order(&self) -> DepthOrder {
         match self.projection {
+            Projection::Orthographic { .. } => DepthOrder::DeviceZ,
             Projection::Matrix(m) if is_orthographic(&m) => DepthOrder::DeviceZ,
             _ => DepthOrder::ClipW,
         }
@@ -157,6 +183,23 @@ impl Camera {
                     return Err(format!(
                         "near {near} and far {far} must satisfy 0 < near < far (far may be \
                          infinite)"
+                    ));
+                }
+                Ok(())
+            }
+            Projection::Orthographic {
+                half_height,
+                near,
+                far,
+            } => {
+                if !(half_height > 0.0 && half_height.is_finite()) {
+                    return Err(format!(
+                        "orthographic half height {half_height} must be positive and finite"
+                    ));
+                }
+                if !(near.is_finite() && far.is_finite() && far > near) {
+                    return Err(format!(
+                        "orthographic near {near} and far {far} must be finite, near < far"
                     ));
                 }
                 Ok(())

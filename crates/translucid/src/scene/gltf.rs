@@ -538,12 +538,8 @@ impl<'p> Importer<'p> {
             return;
         }
         match camera.projection() {
-            gltf::camera::Projection::Perspective(_) => self.camera = Some((camera, world)),
-            gltf::camera::Projection::Orthographic(_) => log::warn!(
-                "{}: orthographic camera {} ignored",
-                self.path.display(),
-                camera.index()
-            ),
+            gltf::camera::Projection::Perspective(_)
+            | gltf::camera::Projection::Orthographic(_) => self.camera = Some((camera, world)),
         }
     }
 
@@ -716,7 +712,8 @@ impl<'p> Importer<'p> {
         Ok(encoded)
     }
 
-    /// The file's first perspective camera, else a camera framing every draw.
+    /// The file's first camera (perspective or orthographic), else a camera framing every
+    /// draw.
     fn camera(&self) -> Result<Camera> {
         let bounds = self.world_bounds();
         let framing = || {
@@ -727,7 +724,7 @@ impl<'p> Importer<'p> {
                 invalid(
                     self.path,
                     format!(
-                        "the file has no perspective camera, and none can frame its vertices \
+                        "the file has no camera, and none can frame its vertices \
                          from {min} to {max} ({e})"
                     ),
                 )
@@ -737,26 +734,34 @@ impl<'p> Importer<'p> {
         let Some((gltf_camera, world)) = &self.camera else {
             return framing();
         };
-        let gltf::camera::Projection::Perspective(p) = gltf_camera.projection() else {
-            return framing();
-        };
         let index = gltf_camera.index();
         // The view is the inverse of the camera node's rigid transform; scale is dropped
         // because glTF cameras are defined unscaled.
         let (_, rotation, translation) = world.to_scale_rotation_translation();
         let camera_to_world = Mat4::from_rotation_translation(rotation.normalize(), translation);
-        let near = p.znear();
-        let far = match p.zfar() {
-            Some(far) => far,
-            None => far_plane_for(translation, near, bounds),
+        let projection = match gltf_camera.projection() {
+            gltf::camera::Projection::Perspective(p) => {
+                let near = p.znear();
+                let far = match p.zfar() {
+                    Some(far) => far,
+                    None => far_plane_for(translation, near, bounds),
+                };
+                Projection::Perspective {
+                    fov_y: p.yfov(),
+                    near,
+                    far,
+                }
+            }
+            // The aspect follows the render size, as the perspective one's does: ymag is kept.
+            gltf::camera::Projection::Orthographic(o) => Projection::Orthographic {
+                half_height: o.ymag(),
+                near: o.znear(),
+                far: o.zfar(),
+            },
         };
         let camera = Camera {
             view: camera_to_world.inverse(),
-            projection: Projection::Perspective {
-                fov_y: p.yfov(),
-                near,
-                far,
-            },
+            projection,
             jitter: Vec2::ZERO,
         };
         camera
