@@ -274,3 +274,24 @@ fn the_pipeline_cache_survives_a_restart() {
         .and_then(|mut r| r.render(false))
         .expect("frame with the merged cache");
 }
+
+/// A mesh moved (`update_mesh`) from in front of the camera to through its plane: the
+/// frame that draws it there knows, from the moved vertices, that it needs the near-plane
+/// path, so it is right without being rendered again.
+#[test]
+fn a_mesh_moved_through_the_camera_plane_is_right_on_its_first_frame() {
+    let gpu = gpu();
+    let mut scene = translucid_tests::near_plane_scene();
+    let through = scene.meshes[0].positions.clone();
+    // The same quad, 20 units further away: wholly in front of the camera.
+    let ahead: Vec<Vec3> = through.iter().map(|p| *p - Vec3::Z * 20.0).collect();
+    scene.meshes[0].positions = ahead;
+    let mut renderer =
+        Renderer::new(&gpu, &scene, MethodKind::Exact, WIDTH, HEIGHT).expect("renderer");
+    renderer.render(false).expect("first frame");
+    renderer.update_mesh(0, &through).expect("move");
+    scene.meshes[0].positions = through;
+    let frame = renderer.render(true).expect("moved frame");
+    check("moved_through_the_camera_plane", "exact", &scene, &frame);
+    assert_eq!(frame.rerenders, 0, "{:?}", frame.stages);
+}

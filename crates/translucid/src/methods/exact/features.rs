@@ -72,13 +72,21 @@ const _: () = assert!(super::layout::MAX_SLABS.is_power_of_two());
 const _: () = assert!(DEEP_SLAB_BITS <= MAX_SLAB_BITS);
 
 impl RasterFeatures {
-    pub fn of(scene: &Scene, width: u32, height: u32, subgroup_size: u32) -> Self {
+    /// The features of a frame of `scene`, whose meshes `meshes` describes
+    /// ([`MeshFacts::of`] each).
+    pub fn of(
+        scene: &Scene,
+        meshes: &[MeshFacts],
+        width: u32,
+        height: u32,
+        subgroup_size: u32,
+    ) -> Self {
         let draws = || scene.transparent.iter();
         let lit = |d: &crate::scene::Draw| scene.materials[d.material].lit;
         let view_projection = scene.camera.view_projection(width, height);
         Self {
             homogeneous: draws()
-                .any(|d| leaves_fixed_path(scene, d, &view_projection, width, height)),
+                .any(|d| leaves_fixed_path(d, &meshes[d.mesh], &view_projection, width, height)),
             textures: draws().any(|d| scene.materials[d.material].texture.is_some()),
             vertex_normals: draws().any(|d| lit(d) && scene.meshes[d.mesh].normals.is_some()),
             face_normals: draws().any(|d| lit(d) && scene.meshes[d.mesh].normals.is_none()),
@@ -91,7 +99,7 @@ impl RasterFeatures {
             },
             transmission: draws().any(|d| scene.materials[d.material].transmission > 0.0),
             vertex_colours: draws().any(|d| scene.meshes[d.mesh].colours.is_some()),
-            flat_colours: draws().all(|d| flat_colours(&scene.meshes[d.mesh])),
+            flat_colours: draws().all(|d| meshes[d.mesh].flat_colours),
             deep_binning_lanes: deep_binning_lanes(
                 draws()
                     .map(|d| scene.meshes[d.mesh].quads.len() as u64)
@@ -314,6 +322,40 @@ fn deep_binning_lanes(quads: u64) -> u32 {
     }
 }
 
+/// What the features need of a mesh, kept between frames: scanning a large mesh's vertices
+/// every frame cost hairball (120,000 vertices) 0.7 ms of recording on lavapipe's host.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MeshFacts {
+    /// The bounding box of its positions (`None` without any).
+    pub bounds: Option<(Vec3, Vec3)>,
+    /// Each quad has one colour at all its corners (true without colours).
+    pub flat_colours: bool,
+}
+
+impl MeshFacts {
+    pub fn of(mesh: &crate::scene::Mesh) -> Self {
+        Self {
+            bounds: bounds(&mesh.positions),
+            flat_colours: flat_colours(mesh),
+        }
+    }
+
+    /// The facts of every mesh of `scene`.
+    pub fn of_scene(scene: &Scene) -> Vec<Self> {
+        scene.meshes.iter().map(Self::of).collect()
+    }
+}
+
+/// The bounding box of `positions`.
+pub fn bounds(positions: &[Vec3]) -> Option<(Vec3, Vec3)> {
+    let first = *positions.first()?;
+    Some(
+        positions
+            .iter()
+            .fold((first, first), |(lo, hi), p| (lo.min(*p), hi.max(*p))),
+    )
+}
+
 /// Whether each quad of `mesh` has one colour at all its corners (true without colours).
 fn flat_colours(mesh: &crate::scene::Mesh) -> bool {
     let Some(colours) = &mesh.colours else {
@@ -327,38 +369,34 @@ fn flat_colours(mesh: &crate::scene::Mesh) -> bool {
 
 /// Triangles of the frame that may take the homogeneous path: both of every quad of each
 /// draw whose bounds leave the fixed-point path. Setup can write no more homogeneous records.
-pub fn homogeneous_triangles(scene: &Scene, width: u32, height: u32) -> u64 {
+pub fn homogeneous_triangles(scene: &Scene, meshes: &[MeshFacts], width: u32, height: u32) -> u64 {
     let view_projection = scene.camera.view_projection(width, height);
     scene
         .transparent
         .iter()
-        .filter(|d| leaves_fixed_path(scene, d, &view_projection, width, height))
+        .filter(|d| leaves_fixed_path(d, &meshes[d.mesh], &view_projection, width, height))
         .map(|d| 2 * scene.meshes[d.mesh].quads.len() as u64)
         .sum()
 }
 
-/// Whether some triangle of draw `d` may need the homogeneous path.
+/// Whether some triangle of draw `d` (of a mesh with `facts`) may need the homogeneous path.
 fn leaves_fixed_path(
-    scene: &Scene,
     d: &crate::scene::Draw,
+    facts: &MeshFacts,
     view_projection: &Mat4,
     width: u32,
     height: u32,
 ) -> bool {
     let mvp = *view_projection * d.transform;
-    !bounds_on_fixed_path(&mvp, &scene.meshes[d.mesh].positions, width, height)
+    facts
+        .bounds
+        .is_some_and(|b| !bounds_on_fixed_path(&mvp, b, width, height))
 }
 
 /// Whether every vertex inside the positions' bounding box lands on the fixed-point path:
 /// in front of the near plane and well inside the guard band. The conditions are linear in
 /// clip space, so checking the box's corners (with a margin for rounding) covers its inside.
-fn bounds_on_fixed_path(mvp: &Mat4, positions: &[Vec3], width: u32, height: u32) -> bool {
-    let Some(first) = positions.first() else {
-        return true;
-    };
-    let (lo, hi) = positions
-        .iter()
-        .fold((*first, *first), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
+fn bounds_on_fixed_path(mvp: &Mat4, (lo, hi): (Vec3, Vec3), width: u32, height: u32) -> bool {
     (0..8).all(|corner| {
         let pick = |bit: u32, a: f32, b: f32| if corner & bit == 0 { a } else { b };
         let p = Vec3::new(
@@ -383,7 +421,7 @@ mod tests {
     fn generated_scenes_need_only_the_fixed_path_and_no_textures() {
         for name in ["layers", "spheres", "planes"] {
             let scene = crate::scene::generated::generate(name).expect("scene");
-            let f = RasterFeatures::of(&scene, 640, 360, 8);
+            let f = RasterFeatures::of(&scene, &MeshFacts::of_scene(&scene), 640, 360, 8);
             assert!(!f.homogeneous && !f.textures, "{name}: {f:?}");
         }
     }
@@ -391,7 +429,7 @@ mod tests {
     #[test]
     fn deep_frames_step_the_selection_up_and_never_down() {
         let scene = crate::scene::generated::generate("spheres").expect("scene");
-        let start = RasterFeatures::of(&scene, 640, 360, 8);
+        let start = RasterFeatures::of(&scene, &MeshFacts::of_scene(&scene), 640, 360, 8);
         assert_eq!(start.select_size, SELECT_SIZE);
         let (w, h) = (640, 360);
         let pixels = u64::from(w * h);
@@ -414,7 +452,7 @@ mod tests {
     fn deeper_frames_take_more_slabs_within_the_arrays_bound() {
         let scene = crate::scene::generated::generate("spheres").expect("scene");
         let bits = |w: u32, h: u32, depth: u64| {
-            let start = RasterFeatures::of(&scene, w, h, 8);
+            let start = RasterFeatures::of(&scene, &MeshFacts::of_scene(&scene), w, h, 8);
             start
                 .after_frame(1, depth * u64::from(w * h), w, h)
                 .slab_bits
@@ -427,14 +465,14 @@ mod tests {
         // Never fewer than deep frames start with, even where the bound is smaller.
         assert_eq!(bits(7680, 4320, 10_000), DEEP_SLAB_BITS);
         // Only ever more.
-        let start = RasterFeatures::of(&scene, 32, 24, 8);
+        let start = RasterFeatures::of(&scene, &MeshFacts::of_scene(&scene), 32, 24, 8);
         let deep = start.after_frame(1, 1000 * 32 * 24, 32, 24);
         assert_eq!(deep.after_frame(1, 9 * 32 * 24, 32, 24).slab_bits, 7);
         assert_eq!(deep.deep().slab_bits, 7);
         // Pixels that still need several sweeps double the slabs, up to the bound.
         assert_eq!(deep.after_frame(3, 9 * 32 * 24, 32, 24).slab_bits, 8);
-        let wide =
-            RasterFeatures::of(&scene, 1280, 720, 8).after_frame(1, 60 * 1280 * 720, 1280, 720);
+        let wide = RasterFeatures::of(&scene, &MeshFacts::of_scene(&scene), 1280, 720, 8)
+            .after_frame(1, 60 * 1280 * 720, 1280, 720);
         assert_eq!(wide.slab_bits, DEEP_SLAB_BITS);
         assert_eq!(wide.after_frame(3, 0, 1280, 720).slab_bits, 5);
         assert_eq!(
@@ -499,7 +537,10 @@ mod tests {
     #[test]
     fn colours_are_flat_only_when_every_quad_has_one() {
         let particles = crate::scene::generated::generate("particles").expect("scene");
-        assert!(RasterFeatures::of(&particles, 640, 360, 8).flat_colours);
+        assert!(
+            RasterFeatures::of(&particles, &MeshFacts::of_scene(&particles), 640, 360, 8)
+                .flat_colours
+        );
         let mut mesh = crate::scene::Mesh::from_quads("q", vec![Vec3::ZERO; 4], vec![[0, 1, 2, 3]]);
         assert!(flat_colours(&mesh), "no colours");
         mesh.colours = Some(vec![glam::Vec4::ONE; 4]);
@@ -514,9 +555,9 @@ mod tests {
     #[test]
     fn a_mesh_around_the_camera_needs_the_homogeneous_path() {
         let mvp = crate::scene::Camera::default().view_projection(64, 64);
-        let around = [Vec3::new(-1.0, -1.0, 4.0), Vec3::new(1.0, 1.0, 6.0)];
-        assert!(!bounds_on_fixed_path(&mvp, &around, 64, 64));
-        let ahead = [Vec3::new(-1.0, -1.0, -1.0), Vec3::new(1.0, 1.0, 1.0)];
-        assert!(bounds_on_fixed_path(&mvp, &ahead, 64, 64));
+        let around = (Vec3::new(-1.0, -1.0, 4.0), Vec3::new(1.0, 1.0, 6.0));
+        assert!(!bounds_on_fixed_path(&mvp, around, 64, 64));
+        let ahead = (Vec3::new(-1.0, -1.0, -1.0), Vec3::new(1.0, 1.0, 1.0));
+        assert!(bounds_on_fixed_path(&mvp, ahead, 64, 64));
     }
 }

@@ -51,7 +51,7 @@ use crate::frame::FrameTargets;
 use crate::gpu::{image_barrier, memory_barrier, vk, ComputePipeline, ComputePipelineCache, Gpu};
 use crate::scene::Scene;
 use crate::{Error, Result};
-use features::RasterFeatures;
+use features::{MeshFacts, RasterFeatures};
 use layout::{
     ExactPush, BIN_SIZE, DISPATCH_BAND_FILL_OFFSET, DISPATCH_BINNING_OFFSET,
     DISPATCH_BIN_OFFSETS_OFFSET, DISPATCH_RASTER_BINS_OFFSET, LOOP_BUDGET, OVERFLOW_BAND_LISTS,
@@ -127,6 +127,8 @@ pub struct Exact {
     pending_list: u32,
     /// Bands of bins recorded per frame.
     bands: u32,
+    /// What the features need of each mesh, its bounds kept up with moved vertices.
+    meshes: Vec<MeshFacts>,
     push: ExactPush,
     /// The constants the stage pipelines are specialized with.
     features: RasterFeatures,
@@ -271,9 +273,15 @@ fn orders_by_z(scene: &Scene) -> u32 {
 
 /// Homogeneous records a frame of `scene` may need, up to what one buffer binds (past that
 /// the frame reports the overflow).
-fn homogeneous_bound(gpu: &Gpu, scene: &Scene, width: u32, height: u32) -> u32 {
+fn homogeneous_bound(
+    gpu: &Gpu,
+    scene: &Scene,
+    meshes: &[MeshFacts],
+    width: u32,
+    height: u32,
+) -> u32 {
     let most = u64::from(Capacities::most(gpu).homogeneous);
-    features::homogeneous_triangles(scene, width, height).min(most) as u32
+    features::homogeneous_triangles(scene, meshes, width, height).min(most) as u32
 }
 
 impl Exact {
@@ -327,6 +335,7 @@ impl Exact {
                 "{method}: {width}x{height} is over the 65535 pixels a side it supports"
             )));
         }
+        let meshes = MeshFacts::of_scene(scene);
         let bins_x = width.div_ceil(BIN_SIZE);
         let bins_y = height.div_ceil(BIN_SIZE);
         let expected = features::estimated_fragments(scene, width, height);
@@ -334,10 +343,10 @@ impl Exact {
             uploaded.transparent_quads,
             bins_x * bins_y,
             expected,
-            homogeneous_bound(gpu, scene, width, height),
+            homogeneous_bound(gpu, scene, &meshes, width, height),
             options,
         );
-        let mut features = RasterFeatures::of(scene, width, height, info.subgroup_size);
+        let mut features = RasterFeatures::of(scene, &meshes, width, height, info.subgroup_size);
         features.homogeneous &= !options.assume_fixed_path;
         if program == RasterProgram::Exact {
             features = features.expecting(expected, width, height);
@@ -389,6 +398,7 @@ impl Exact {
             continuations,
             pending_list: 0,
             bands: options.bands.unwrap_or(BANDS).max(1),
+            meshes,
             push,
             features,
         })
@@ -624,7 +634,10 @@ impl Method for Exact {
         // Setup writes at most two triangles per quad, and homogeneous records for at most
         // the triangles of draws that leave the fixed-point path.
         let triangles = f.uploaded.transparent_quads.saturating_mul(2);
-        let homogeneous = homogeneous_bound(f.gpu, f.scene, width, height);
+        for &moved in f.moved_meshes {
+            self.meshes[moved].bounds = features::bounds(&f.scene.meshes[moved].positions);
+        }
+        let homogeneous = homogeneous_bound(f.gpu, f.scene, &self.meshes, width, height);
         let capacities = self.resources.capacities;
         if triangles > capacities.triangles || homogeneous > capacities.homogeneous {
             let grown = resources::Capacities {
@@ -637,7 +650,8 @@ impl Method for Exact {
                 .map_err(|e| self.program.in_errors(e))?;
             self.resources.refresh_set(f.targets)?;
         }
-        let mut fresh = RasterFeatures::of(f.scene, width, height, self.gpu.info().subgroup_size);
+        let subgroup_size = self.gpu.info().subgroup_size;
+        let mut fresh = RasterFeatures::of(f.scene, &self.meshes, width, height, subgroup_size);
         fresh.homogeneous =
             (fresh.homogeneous && !self.fixed_path_forced) || self.homogeneous_missed;
         let features = self.features.for_frame(fresh);
