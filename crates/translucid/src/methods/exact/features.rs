@@ -81,12 +81,22 @@ impl RasterFeatures {
         height: u32,
         subgroup_size: u32,
     ) -> Self {
+        let near_plane = homogeneous_triangles(scene, meshes, width, height);
+        Self::of_frame(scene, meshes, near_plane, subgroup_size)
+    }
+
+    /// [`Self::of`] with [`homogeneous_triangles`] of the frame already counted
+    /// (`near_plane`), which the caller needs too.
+    pub fn of_frame(
+        scene: &Scene,
+        meshes: &[MeshFacts],
+        near_plane: u64,
+        subgroup_size: u32,
+    ) -> Self {
         let draws = || scene.transparent.iter();
         let lit = |d: &crate::scene::Draw| scene.materials[d.material].lit;
-        let view_projection = scene.camera.view_projection(width, height);
         Self {
-            homogeneous: draws()
-                .any(|d| leaves_fixed_path(d, &meshes[d.mesh], &view_projection, width, height)),
+            homogeneous: near_plane > 0,
             textures: draws().any(|d| scene.materials[d.material].texture.is_some()),
             vertex_normals: draws().any(|d| lit(d) && scene.meshes[d.mesh].normals.is_some()),
             face_normals: draws().any(|d| lit(d) && scene.meshes[d.mesh].normals.is_none()),

@@ -271,17 +271,10 @@ fn orders_by_z(scene: &Scene) -> u32 {
     u32::from(scene.camera.depth_order() == crate::raster::DepthOrder::DeviceZ)
 }
 
-/// Homogeneous records a frame of `scene` may need, up to what one buffer binds (past that
-/// the frame reports the overflow).
-fn homogeneous_bound(
-    gpu: &Gpu,
-    scene: &Scene,
-    meshes: &[MeshFacts],
-    width: u32,
-    height: u32,
-) -> u32 {
-    let most = u64::from(Capacities::most(gpu).homogeneous);
-    features::homogeneous_triangles(scene, meshes, width, height).min(most) as u32
+/// Homogeneous records a frame with `near_plane` triangles that may take the near-plane path
+/// needs, up to what one buffer binds (past that the frame reports the overflow).
+fn homogeneous_bound(gpu: &Gpu, near_plane: u64) -> u32 {
+    near_plane.min(u64::from(Capacities::most(gpu).homogeneous)) as u32
 }
 
 impl Exact {
@@ -336,6 +329,7 @@ impl Exact {
             )));
         }
         let meshes = MeshFacts::of_scene(scene);
+        let near_plane = features::homogeneous_triangles(scene, &meshes, width, height);
         let bins_x = width.div_ceil(BIN_SIZE);
         let bins_y = height.div_ceil(BIN_SIZE);
         let expected = features::estimated_fragments(scene, width, height);
@@ -343,10 +337,10 @@ impl Exact {
             uploaded.transparent_quads,
             bins_x * bins_y,
             expected,
-            homogeneous_bound(gpu, scene, &meshes, width, height),
+            homogeneous_bound(gpu, near_plane),
             options,
         );
-        let mut features = RasterFeatures::of(scene, &meshes, width, height, info.subgroup_size);
+        let mut features = RasterFeatures::of_frame(scene, &meshes, near_plane, info.subgroup_size);
         features.homogeneous &= !options.assume_fixed_path;
         if program == RasterProgram::Exact {
             features = features.expecting(expected, width, height);
@@ -637,7 +631,9 @@ impl Method for Exact {
         for &moved in f.moved_meshes {
             self.meshes[moved].bounds = features::bounds(&f.scene.meshes[moved].positions);
         }
-        let homogeneous = homogeneous_bound(f.gpu, f.scene, &self.meshes, width, height);
+        // Triangles that may take the near-plane path: the records' bound and the feature.
+        let near_plane = features::homogeneous_triangles(f.scene, &self.meshes, width, height);
+        let homogeneous = homogeneous_bound(f.gpu, near_plane);
         let capacities = self.resources.capacities;
         if triangles > capacities.triangles || homogeneous > capacities.homogeneous {
             let grown = resources::Capacities {
@@ -651,7 +647,7 @@ impl Method for Exact {
             self.resources.refresh_set(f.targets)?;
         }
         let subgroup_size = self.gpu.info().subgroup_size;
-        let mut fresh = RasterFeatures::of(f.scene, &self.meshes, width, height, subgroup_size);
+        let mut fresh = RasterFeatures::of_frame(f.scene, &self.meshes, near_plane, subgroup_size);
         fresh.homogeneous =
             (fresh.homogeneous && !self.fixed_path_forced) || self.homogeneous_missed;
         let features = self.features.for_frame(fresh);

@@ -1,6 +1,6 @@
 //! The specialization constants every wavelet shader takes, in `constant_id` order; mirrored
-//! by `shaders/common/wavelet_constants.glsl` (a test compares the two). The rank is not among them:
-//! each rank has its own SPIR-V (see [`super::passes`]).
+//! by `shaders/common/wavelet_constants.glsl` (a test compares the two). The rank is not
+//! among them: each rank has its own SPIR-V (see [`super::passes`]).
 
 use bytemuck::{Pod, Zeroable};
 
