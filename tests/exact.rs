@@ -72,11 +72,9 @@ fn exact_matches_reference_on_vendored_gltf() {
 /// per raster workgroup, as on GPUs whose subgroups are wider than a row.
 #[test]
 fn exact_matches_reference_with_the_deep_frame_settings_and_one_row_workgroups() {
-    let deep = MethodOptions {
-        assume_deep_pixels: true,
-        assume_wide_subgroups: true,
-        ..Default::default()
-    };
+    let mut deep = MethodOptions::default();
+    deep.exact.assume_deep_pixels = true;
+    deep.bins.assume_wide_subgroups = true;
     for name in scene::generated::NAMES {
         let scene = scene::load(name).expect("generated scene");
         check(&scene, &format!("deep_{name}"), 213, 131, &deep);
@@ -86,10 +84,8 @@ fn exact_matches_reference_with_the_deep_frame_settings_and_one_row_workgroups()
     check(&vase, "deep_GlassVaseFlowers", 301, 177, &deep);
     check(&near_plane_scene(), "deep_near_plane", 157, 119, &deep);
     check(&deep_stack_scene(700), "deep_stack_one_row", 45, 37, &deep);
-    let overflowing = MethodOptions {
-        initial_bin_entries: Some(1),
-        ..deep
-    };
+    let mut overflowing = deep;
+    overflowing.bins.initial_bin_entries = Some(1);
     let hairball = scene::load("hairball").expect("hairball");
     let frame = check(&hairball, "deep_overflow_hairball", 199, 143, &overflowing);
     assert!(frame.rerenders >= 1, "the overflow path was not taken");
@@ -100,19 +96,15 @@ fn exact_matches_reference_with_the_deep_frame_settings_and_one_row_workgroups()
 /// large and near-plane ones included.
 #[test]
 fn exact_matches_reference_with_triangles_binned_in_slices() {
-    let sliced = MethodOptions {
-        bin_rows_per_slice: Some(5),
-        ..Default::default()
-    };
+    let mut sliced = MethodOptions::default();
+    sliced.bins.bin_rows_per_slice = Some(5);
     for name in ["layers", "planes", "spheres"] {
         let scene = scene::load(name).expect("generated scene");
         check(&scene, &format!("sliced_{name}"), 213, 131, &sliced);
     }
     check(&near_plane_scene(), "sliced_near_plane", 157, 119, &sliced);
-    let deep = MethodOptions {
-        assume_deep_pixels: true,
-        ..sliced
-    };
+    let mut deep = sliced;
+    deep.exact.assume_deep_pixels = true;
     let particles = scene::load("particles").expect("particles");
     check(&particles, "sliced_deep_particles", 213, 131, &deep);
 }
@@ -234,11 +226,9 @@ fn exact_matches_reference_across_the_near_plane() {
 /// buffers and must still match.
 #[test]
 fn exact_recovers_from_every_overflow() {
-    let options = MethodOptions {
-        initial_bin_entries: Some(1),
-        initial_homogeneous: Some(1),
-        ..Default::default()
-    };
+    let mut options = MethodOptions::default();
+    options.bins.initial_bin_entries = Some(1);
+    options.bins.initial_homogeneous = Some(1);
     let frame = check(
         &near_plane_scene(),
         "overflow_near_plane",
@@ -263,15 +253,13 @@ fn exact_recovers_from_every_overflow() {
 fn exact_passes_learned_buffer_sizes_to_the_next_renderer() {
     let gpu = gpu();
     let scene = scene::load("hairball").expect("hairball");
-    let tiny = MethodOptions {
-        initial_bin_entries: Some(1),
-        ..Default::default()
-    };
+    let mut tiny = MethodOptions::default();
+    tiny.bins.initial_bin_entries = Some(1);
     let mut first =
         Renderer::with_options(&gpu, &scene, MethodKind::Exact, 199, 143, &tiny).expect("renderer");
     assert!(first.render(false).expect("frame").rerenders >= 1);
     let learned = first.learned_options(&tiny);
-    assert!(learned.initial_bin_entries > Some(1), "{learned:?}");
+    assert!(learned.bins.initial_bin_entries > Some(1), "{learned:?}");
     drop(first);
     let mut next = Renderer::with_options(&gpu, &scene, MethodKind::Exact, 199, 143, &learned)
         .expect("renderer");
@@ -306,10 +294,8 @@ fn exact_finishes_pixels_deeper_than_the_loop_limit() {
     // Resume lists of one row force their overflow path too (1200 layers suspend rows, more
     // than one). Both stacks are deep enough that a raster which never suspends fails them:
     // 700 and 600 layers had stopped running out of the loop budget once the walk got cheaper.
-    let options = MethodOptions {
-        initial_resume_rows: Some(1),
-        ..Default::default()
-    };
+    let mut options = MethodOptions::default();
+    options.bins.initial_resume_rows = Some(1);
     let frame = check(
         &deep_stack_scene(1200),
         "deep_stack_small_lists",
@@ -324,10 +310,8 @@ fn exact_finishes_pixels_deeper_than_the_loop_limit() {
 /// and setup meets such a triangle anyway, they are rebuilt and the frame rendered again.
 #[test]
 fn exact_rebuilds_the_raster_shader_for_unexpected_near_plane_triangles() {
-    let options = MethodOptions {
-        assume_fixed_path: true,
-        ..Default::default()
-    };
+    let mut options = MethodOptions::default();
+    options.bins.assume_fixed_path = true;
     let frame = check(
         &near_plane_scene(),
         "assumed_fixed_near_plane",
@@ -376,10 +360,8 @@ fn exact_threshold_stops_where_the_reference_stops() {
     let gpu = gpu();
     for (name, threshold) in [("particles", 0.02), ("particles", 0.3), ("spheres", 0.5)] {
         let scene = scene::load(name).expect("generated scene");
-        let options = MethodOptions {
-            threshold,
-            ..Default::default()
-        };
+        let mut options = MethodOptions::default();
+        options.exact.threshold = threshold;
         let mut with = Renderer::with_options(&gpu, &scene, MethodKind::Exact, 160, 120, &options)
             .expect("renderer");
         let early = with.render(true).expect("frame");
@@ -514,10 +496,8 @@ fn bunched_layers(layers: u32) -> Scene {
 fn exact_resumes_rows_where_their_last_sweep_stopped() {
     // One band: the continuations of further bands would finish the rows within the frame,
     // where the test cannot see how many there were.
-    let one_band = MethodOptions {
-        bands: Some(1),
-        ..MethodOptions::default()
-    };
+    let mut one_band = MethodOptions::default();
+    one_band.bins.bands = Some(1);
     let frame = check(&bunched_layers(6000), "bunched_layers", 16, 12, &one_band);
     assert!(
         frame
@@ -535,11 +515,9 @@ fn crowded_bin_frame(count: u32, label: &str, bands: Option<u32>) -> translucid:
     let gpu = gpu();
     let scene = crowded_bin(count);
     let threshold = 0.01;
-    let options = MethodOptions {
-        threshold,
-        bands,
-        ..Default::default()
-    };
+    let mut options = MethodOptions::default();
+    options.exact.threshold = threshold;
+    options.bins.bands = bands;
     let mut renderer =
         Renderer::with_options(&gpu, &scene, MethodKind::Exact, 8, 8, &options).expect("renderer");
     let frame = renderer.render(true).expect("a crowded bin renders");

@@ -407,10 +407,8 @@ fn an_overflowing_frame_says_so_and_renders_right_when_recorded_again() {
         // SAFETY: the engine's live objects, outliving `gpu` (dropped at the end of this block).
         let gpu = unsafe { Gpu::from_host(&engine.host_device()) }.expect("host device");
         let images = EngineImages::new(&gpu, &layer, 1);
-        let options = MethodOptions {
-            initial_bin_entries: Some(16),
-            ..Default::default()
-        };
+        let mut options = MethodOptions::default();
+        options.bins.initial_bin_entries = Some(16);
         let mut renderer = Renderer::with_options(&gpu, &scene, MethodKind::Exact, W, H, &options)
             .expect("renderer");
         let targets = images.targets(engine.cmds[0]);
@@ -578,7 +576,7 @@ fn frames_in_flight_match_the_reference(
                     .complete_host()
                     .expect("complete")
                     .expect("the submission finished, so the commands ran");
-                let learned = renderer.learned_options(&options).initial_bin_entries;
+                let learned = renderer.learned_options(&options).bins.initial_bin_entries;
                 let got = images.srgb(k);
                 let want = expected(f);
                 if first_batch != FirstBatch::Fits && first == 0 {
@@ -653,28 +651,14 @@ fn three_frames_in_flight_match_the_reference() {
 /// rasterized in bands, with two frames in flight; the lists grow once.
 #[test]
 fn frames_whose_bin_lists_overflow_are_right_on_their_one_recording() {
-    frames_in_flight_match_the_reference(
-        2,
-        MethodOptions {
-            initial_bin_entries: Some(BANDED_ENTRIES),
-            ..MethodOptions::default()
-        },
-        FirstBatch::InBands,
-    );
+    frames_in_flight_match_the_reference(2, with_bin_entries(BANDED_ENTRIES), FirstBatch::InBands);
 }
 
 /// Past the bands a frame records, blocks keep the engine's colour, the frames say so, and
 /// the lists grow once for all the frames in flight.
 #[test]
 fn frames_past_their_bands_keep_the_engines_colour_and_grow_the_lists_once() {
-    frames_in_flight_match_the_reference(
-        3,
-        MethodOptions {
-            initial_bin_entries: Some(16),
-            ..MethodOptions::default()
-        },
-        FirstBatch::Degraded,
-    );
+    frames_in_flight_match_the_reference(3, with_bin_entries(16), FirstBatch::Degraded);
 }
 
 /// One renderer's first two frames (the scene, then its camera a step along the orbit),
@@ -743,7 +727,7 @@ fn first_frames_match_the_reference(
             let want = translucid::reference::render_until(
                 &frame_scene(k as u32),
                 &layer,
-                options.threshold,
+                options.exact.threshold,
             )
             .expect("reference")
             .to_srgb8();
@@ -775,10 +759,7 @@ fn first_frames_match_the_reference(
 #[test]
 fn every_overflow_on_a_first_and_only_recording_matches_the_reference() {
     let spheres = translucid::scene::load("spheres").expect("generated scene");
-    let small_lists = MethodOptions {
-        initial_bin_entries: Some(BANDED_ENTRIES),
-        ..MethodOptions::default()
-    };
+    let small_lists = with_bin_entries(BANDED_ENTRIES);
     let (bands, _) = first_frames_match_the_reference(&spheres, (W, H), &small_lists, None);
     assert!(bands.iter().all(|&b| b > 1), "bands {bands:?}");
 
@@ -787,22 +768,17 @@ fn every_overflow_on_a_first_and_only_recording_matches_the_reference() {
         1200,
         Material::alpha(Vec3::new(0.9, 0.5, 0.2), 0.004),
     );
-    let few_states = MethodOptions {
-        initial_resume_rows: Some(4),
-        // Lists that fit, so that the rows' continuations are all in one band.
-        initial_bin_entries: Some(1 << 20),
-        ..MethodOptions::default()
-    };
+    // Lists that fit, so that the rows' continuations are all in one band.
+    let mut few_states = with_bin_entries(1 << 20);
+    few_states.bins.initial_resume_rows = Some(4);
     let (_, learned) = first_frames_match_the_reference(&deep, (45, 37), &few_states, None);
     assert!(
-        learned.initial_resume_rows > Some(4),
+        learned.bins.initial_resume_rows > Some(4),
         "no row went without a state slot: {learned:?}"
     );
 
-    let stopped_early = MethodOptions {
-        threshold: 0.01,
-        ..MethodOptions::default()
-    };
+    let mut stopped_early = MethodOptions::default();
+    stopped_early.exact.threshold = 0.01;
     let crowd = crowded_bin(100_000);
     let looking_away = Camera::look_at(Vec3::ZERO, Vec3::Z, 1.0, 0.1, 20.0);
     first_frames_match_the_reference(&crowd, (8, 8), &stopped_early, Some(looking_away));
@@ -820,4 +796,11 @@ fn every_overflow_on_a_first_and_only_recording_matches_the_reference() {
         &MethodOptions::default(),
         None,
     );
+}
+
+/// Default options with the bins' lists starting at `entries`.
+fn with_bin_entries(entries: u32) -> MethodOptions {
+    let mut options = MethodOptions::default();
+    options.bins.initial_bin_entries = Some(entries);
+    options
 }

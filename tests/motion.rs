@@ -6,8 +6,8 @@
 
 use glam::{Mat4, Vec2, Vec3};
 use translucid::image::{Image, OpaqueLayer};
-use translucid::methods::wavelet::{model::Model, Settings};
-use translucid::methods::{MethodKind, MethodOptions};
+use translucid::methods::wavelet::{model::Model, Settings, WaveletOptions};
+use translucid::methods::MethodKind;
 use translucid::metrics;
 use translucid::renderer::{Frame, Renderer};
 use translucid::scene::{self, motion::Orbit, Camera, Projection, Scene};
@@ -45,7 +45,7 @@ fn expected(method: &str, scene: &Scene, opaque: &OpaqueLayer) -> Image {
     match method {
         "exact" => translucid::reference::render(scene, opaque),
         "wavelet" => {
-            let settings = Settings::from_options(&MethodOptions::default()).expect("defaults");
+            let settings = Settings::from_options(&WaveletOptions::default()).expect("defaults");
             Model::new(settings, scene, opaque.width, opaque.height).render(scene, opaque)
         }
         _ => translucid::reference::render_in_submission_order(scene, opaque),

@@ -16,8 +16,7 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use translucid::gpu::Gpu;
-use translucid::methods::wavelet::{model::Model, Settings};
-use translucid::methods::MethodOptions;
+use translucid::methods::wavelet::{model::Model, Settings, WaveletOptions};
 use translucid::metrics::{self, Metrics};
 use translucid::reference;
 use translucid::renderer::{Frame, Renderer};
@@ -87,7 +86,7 @@ impl Method {
         match self {
             Method::Exact => reference::render(scene, opaque),
             Method::Wavelet => Model::new(
-                Settings::from_options(&MethodOptions::default())?,
+                Settings::from_options(&WaveletOptions::default())?,
                 scene,
                 opaque.width,
                 opaque.height,

@@ -4,7 +4,7 @@
 
 use glam::Vec3;
 use translucid::gpu::Gpu;
-use translucid::methods::wavelet::{model::Model, Precision, Settings, Storage};
+use translucid::methods::wavelet::{model::Model, Precision, Settings, Storage, WaveletOptions};
 use translucid::methods::{wboit, MethodKind, MethodOptions};
 use translucid::metrics::{self, Metrics};
 use translucid::renderer::{Frame, Renderer};
@@ -34,10 +34,12 @@ fn compare(label: &str, got: &Image, expected: &Image) -> Metrics {
 /// The coefficient-image variant.
 fn wavelet_options(rank: u32, noise: f32, precision: Precision) -> MethodOptions {
     MethodOptions {
-        rank: Some(rank),
-        noise,
-        precision,
-        storage: Storage::Images,
+        wavelet: WaveletOptions {
+            rank: Some(rank),
+            noise,
+            precision,
+            storage: Storage::Images,
+        },
         ..MethodOptions::default()
     }
 }
@@ -72,7 +74,7 @@ fn assert_matches(label: &str, m: &Metrics, deep: bool) {
 fn check_wavelet_model(gpu: &Gpu, scene: &Scene, options: &MethodOptions, deep: bool) {
     let frame = render(gpu, scene, "wavelet", options);
     let opaque = frame.opaque.as_ref().expect("opaque layer");
-    let settings = Settings::from_options(options).expect("valid settings");
+    let settings = Settings::from_options(&options.wavelet).expect("valid settings");
     let expected = Model::new(settings, scene, opaque.width, opaque.height)
         .render(scene, opaque)
         .expect("model");
@@ -138,21 +140,18 @@ fn wavelet_matches_its_cpu_model_under_an_orthographic_camera() {
     ortho.y_axis.y = -ortho.y_axis.y;
     scene.camera.projection = scene::Projection::Matrix(ortho);
     for (storage, hardware_raster) in [(Storage::Images, true), (Storage::Bins, false)] {
-        let options = MethodOptions {
-            storage,
-            ..wavelet_options(3, 0.0, Precision::Single)
-        };
+        let mut options = wavelet_options(3, 0.0, Precision::Single);
+        options.wavelet.storage = storage;
         check_wavelet_model(&gpu, &scene, &options, hardware_raster);
     }
 }
 
 /// The default variant, in the exact method's bins.
 fn bins_options(rank: u32, noise: f32) -> MethodOptions {
-    MethodOptions {
-        rank: Some(rank),
-        noise,
-        ..MethodOptions::default()
-    }
+    let mut options = MethodOptions::default();
+    options.wavelet.rank = Some(rank);
+    options.wavelet.noise = noise;
+    options
 }
 
 /// In the exact method's bins every pixel has the reference's fragments, so the GPU is held
@@ -176,10 +175,8 @@ fn wavelet_in_bins_matches_its_cpu_model() {
 #[test]
 fn wavelet_in_bins_recovers_from_overflow() {
     let gpu = gpu();
-    let options = MethodOptions {
-        initial_bin_entries: Some(1),
-        ..bins_options(3, 0.0)
-    };
+    let mut options = bins_options(3, 0.0);
+    options.bins.initial_bin_entries = Some(1);
     let frame = render(&gpu, &load("planes"), "wavelet", &options);
     assert!(frame.rerenders > 0, "the first frame did not overflow");
     check_wavelet_model(&gpu, &load("planes"), &options, false);
@@ -220,7 +217,10 @@ fn wavelet_in_bins_falls_back_to_images_for_crowded_rows() {
         "the crowded frame was not rendered again"
     );
     // A renderer made for this scene's next input starts on the images.
-    assert_eq!(renderer.learned_options(&options).storage, Storage::Images);
+    assert_eq!(
+        renderer.learned_options(&options).wavelet.storage,
+        Storage::Images
+    );
     assert!(
         frame
             .stages
@@ -230,9 +230,9 @@ fn wavelet_in_bins_falls_back_to_images_for_crowded_rows() {
         frame.stages
     );
     let opaque = frame.opaque.as_ref().expect("opaque layer");
-    let settings = Settings::from_options(&MethodOptions {
+    let settings = Settings::from_options(&WaveletOptions {
         storage: Storage::Images,
-        ..options
+        ..options.wavelet
     })
     .expect("valid settings");
     let expected = Model::new(settings, &scene, opaque.width, opaque.height)
@@ -269,8 +269,8 @@ fn wavelet_frames_repeat_exactly() {
         assert!(
             a.image.pixels == b.image.pixels,
             "{name}: two frames differ ({:?}, noise {})",
-            options.storage,
-            options.noise
+            options.wavelet.storage,
+            options.wavelet.noise
         );
     }
 }
@@ -383,7 +383,10 @@ fn wavelet_draws_a_lone_opaque_surface_exactly() {
             let frame = render(&gpu, &scene, "wavelet", &options);
             let opaque = frame.opaque.as_ref().expect("opaque layer");
             let expected = translucid::reference::render(&scene, opaque).expect("reference");
-            let label = format!("wavelet_lone_opaque_rank{rank}_{:?}", options.storage);
+            let label = format!(
+                "wavelet_lone_opaque_rank{rank}_{:?}",
+                options.wavelet.storage
+            );
             let m = compare(&label, &frame.image, &expected);
             assert!(
                 m.max_error <= TOLERANCE,

@@ -6,7 +6,7 @@
 #ifndef TRANSLUCID_DEPTH_PYRAMID_GLSL
 #define TRANSLUCID_DEPTH_PYRAMID_GLSL
 
-#include "exact_bindings.glsl"
+#include "bins_bindings.glsl"
 
 #extension GL_EXT_control_flow_attributes : require
 

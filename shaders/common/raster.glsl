@@ -4,7 +4,7 @@
 #ifndef TRANSLUCID_RASTER_GLSL
 #define TRANSLUCID_RASTER_GLSL
 
-#include "exact_layout.glsl"
+#include "bins_layout.glsl"
 
 #define SUBPIXEL_BITS 8
 #define HALF_PIXEL 128
@@ -54,7 +54,7 @@ bool depthClip(float z) {
 
 // Coverage of a fixed-point triangle at pixel (x, y): the three edge values, and whether the
 // sample is inside under the tie rule.
-bool coversFixed(ExactTriangle t, uint x, uint y, out i64vec3 e) {
+bool coversFixed(BinTriangle t, uint x, uint y, out i64vec3 e) {
     e.x = edgeAt(t.edgeA.x, t.edgeB.x, t.edgeC.x, x, y);
     e.y = edgeAt(t.edgeA.y, t.edgeB.y, t.edgeC.y, x, y);
     e.z = edgeAt(t.edgeA.z, t.edgeB.z, t.edgeC.z, x, y);
@@ -65,7 +65,7 @@ bool coversFixed(ExactTriangle t, uint x, uint y, out i64vec3 e) {
 
 // Interpolation of a covered fixed-point sample from its edge values; false when the depth
 // clip discards it.
-bool interpolateFixed(ExactTriangle t, i64vec3 e, out RasterSample s) {
+bool interpolateFixed(BinTriangle t, i64vec3 e, out RasterSample s) {
     precise float l0 = float(e.x) * t.zNdc.w;
     precise float l1 = float(e.y) * t.zNdc.w;
     precise float l2 = float(e.z) * t.zNdc.w;
@@ -81,7 +81,7 @@ bool interpolateFixed(ExactTriangle t, i64vec3 e, out RasterSample s) {
     return depthClip(z);
 }
 
-bool sampleFixed(ExactTriangle t, uint x, uint y, out RasterSample s) {
+bool sampleFixed(BinTriangle t, uint x, uint y, out RasterSample s) {
     i64vec3 e;
     return coversFixed(t, x, y, e) && interpolateFixed(t, e, s);
 }
@@ -91,7 +91,7 @@ double lineAt(dvec4 line, uint x, uint y) {
     return v;
 }
 
-bool homogeneousEdgeCovers(ExactHomogeneous h, int k, dvec4 line, uint x, uint y) {
+bool homogeneousEdgeCovers(BinHomogeneous h, int k, dvec4 line, uint x, uint y) {
     if (((h.fixedA.w >> k) & 1) != 0) {
         int64_t e = edgeAt(h.fixedA[k], h.fixedB[k], h.fixedC[k], x, y);
         return e + int64_t((h.fixedB.w >> k) & 1) > 0;
@@ -100,7 +100,7 @@ bool homogeneousEdgeCovers(ExactHomogeneous h, int k, dvec4 line, uint x, uint y
     return v > 0.0 || (v == 0.0 && (line.x > 0.0 || (line.x == 0.0 && line.y > 0.0)));
 }
 
-bool sampleHomogeneous(ExactHomogeneous h, uint x, uint y, out RasterSample s) {
+bool sampleHomogeneous(BinHomogeneous h, uint x, uint y, out RasterSample s) {
     if (!homogeneousEdgeCovers(h, 0, h.line0, x, y) || !homogeneousEdgeCovers(h, 1, h.line1, x, y) ||
         !homogeneousEdgeCovers(h, 2, h.line2, x, y)) {
         return false;

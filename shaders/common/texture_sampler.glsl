@@ -1,6 +1,6 @@
 // Software texture sampling for compute stages, operation for operation like
 // Texture::sample in crates/translucid/src/scene/texture.rs (whose doc states the rules): the
-// texture's sampler word (SAMPLER_* in exact_layout.glsl) picks the wrap mode of each axis,
+// texture's sampler word (SAMPLER_* in bins_layout.glsl) picks the wrap mode of each axis,
 // the mag and min filters and the mipmap mode; sRGB is decoded by table before filtering.
 // Texels are packed RGBA8 in u_texels; u_srgbToLinear is the decode table.
 #ifndef TRANSLUCID_TEXTURE_SAMPLER_GLSL
@@ -38,7 +38,7 @@ uvec2 wrapPair(float c, uint size, uint mode) {
 }
 
 // One level, bilinear or nearest (its texel alone, weighted 1).
-vec4 sampleLevel(ExactTexture t, uint level, vec2 uv, bool linear) {
+vec4 sampleLevel(BinTexture t, uint level, vec2 uv, bool linear) {
     uint first = t.firstTexel;
     uint w = t.width;
     uint h = t.height;
@@ -69,7 +69,7 @@ vec4 sampleLevel(ExactTexture t, uint level, vec2 uv, bool linear) {
 
 // Texture t at uv and level of detail lod: magnified (lod <= 0, or NaN) with the mag filter
 // at level 0; minified with the min filter at the levels the mipmap mode picks.
-vec4 sampleTexture(ExactTexture t, vec2 uv, float lod) {
+vec4 sampleTexture(BinTexture t, vec2 uv, float lod) {
     bool magnified = !(lod > 0.0);
     bool linear = (t.samplerBits & (magnified ? SAMPLER_MAG_LINEAR : SAMPLER_MIN_LINEAR)) != 0u;
     uint mip = magnified ? SAMPLER_MIP_NONE : (t.samplerBits >> SAMPLER_MIP_SHIFT) & SAMPLER_MIP_MASK;

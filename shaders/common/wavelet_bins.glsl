@@ -26,12 +26,12 @@
 #extension GL_EXT_control_flow_attributes : require
 
 #include "scene_bindings_compute.glsl"
-#include "exact_bindings.glsl"
+#include "bins_bindings.glsl"
 #include "raster.glsl"
-#include "exact_bins.glsl"
+#include "bin_lists.glsl"
 #include "texture_sampler.glsl"
 #include "shading.glsl"
-#include "exact_fragment.glsl"
+#include "bin_fragment.glsl"
 // After the exact raster's constants 0 to 11, which the host passes unchanged.
 #define WAVELET_CONSTANT_ID 12
 #include "wavelet.glsl"
@@ -130,7 +130,7 @@ void main() {
     if (i < visits) do {
         uint ti = nextTri;
         nextTri = visitTriangle(shortForm, keptTri, i + 1u, first, lastEntry);
-        ExactTriangle t = loadRasterTriangle(ti);
+        BinTriangle t = loadRasterTriangle(ti);
         RasterSample s;
         bool take = coverSample(t, x, y, s) && s.zNdc < opaqueDepth;
         vec3 a = vec3(0.0);
@@ -159,7 +159,7 @@ void main() {
     if (i < visits) do {
         uint ti = nextTri;
         nextTri = visitTriangle(shortForm, keptTri, i + 1u, first, lastEntry);
-        ExactTriangle t = loadRasterTriangle(ti);
+        BinTriangle t = loadRasterTriangle(ti);
         RasterSample s;
         bool take = coverSample(t, x, y, s) && s.zNdc < opaqueDepth && s.zNdc < cut;
         if (take) {
@@ -174,7 +174,7 @@ void main() {
     if (fragments > 0u) {
         imageStore(u_colour, ivec2(x, y), vec4(behind + lit, 1.0));
     }
-    // Statistics: one atomic per subgroup, in the workgroup's slot (exact_layout.glsl); there
+    // Statistics: one atomic per subgroup, in the workgroup's slot (bins_layout.glsl); there
     // are no passes to count.
     uint subgroupFragments = subgroupAdd(fragments);
     if (subgroupElect()) {

@@ -10,7 +10,7 @@
 // Each pixel keeps, as it walks its row's triangles, the SELECT_SIZE nearest fragments behind
 // the last one it composited, sorted in registers by a fully unrolled insertion (constant
 // indices only). All invocations walk the row's list in step, a stretch at a time: the
-// entries of one depth slab (exact_bins.glsl; shallow frames have one slab, the whole list).
+// entries of one depth slab (bin_lists.glsl; shallow frames have one slab, the whole list).
 // After each stretch a pixel shades and composites, front to back, the fragments it keeps
 // that are nearer than the next slab's floor and than any fragment it had to drop: nothing
 // still unwalked or dropped can come before them. A sweep is the walk over the whole list;
@@ -41,12 +41,12 @@
 #extension GL_EXT_control_flow_attributes : require
 
 #include "scene_bindings_compute.glsl"
-#include "exact_bindings.glsl"
+#include "bins_bindings.glsl"
 #include "raster.glsl"
-#include "exact_bins.glsl"
+#include "bin_lists.glsl"
 #include "texture_sampler.glsl"
 #include "shading.glsl"
-#include "exact_fragment.glsl"
+#include "bin_fragment.glsl"
 
 // The first dispatch of a band covers the rows of the band's blocks with a non-empty bin
 // (g_rasterBins from g_counters.bandFirst; blocks with none keep the opaque colour):
@@ -55,7 +55,7 @@
 // per resumed row.
 layout(local_size_x = BIN_SIZE, local_size_y_id = 7) in;
 
-// Constants 0 to 3 say what the scene needs (exact_fragment.glsl).
+// Constants 0 to 3 say what the scene needs (bin_fragment.glsl).
 layout(constant_id = 4) const bool CONTINUATION = false;     // resume items of a resume list
 // Fragments a pixel keeps. Larger means fewer sweeps for deep pixels, but a longer insertion
 // for every triangle walked: the host starts at 8 and moves to DEEP_SELECT_SIZE
@@ -253,7 +253,7 @@ void main() {
                     break;
                 }
                 uint ti = entry;
-                ExactTriangle t = loadRasterTriangle(ti);
+                BinTriangle t = loadRasterTriangle(ti);
                 RasterSample s;
                 bool take = coverSample(t, x, y, s);
                 uint64_t key = fragmentKey(floatBitsToUint(s.viewDepth), t.order);
@@ -298,7 +298,7 @@ void main() {
             uint composited = 0u;
             if (selKey[0] < final && !finished) do {
                 uint ti = uint(selKey[0]);
-                ExactTriangle t = loadShadingTriangle(ti);
+                BinTriangle t = loadShadingTriangle(ti);
                 RasterSample s;
                 sampleTriangle(t, x, y, s);
                 vec3 l;

@@ -4,7 +4,7 @@
 
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 
-#include "exact_layout.glsl"
+#include "bins_layout.glsl"
 
 layout(local_size_x = 64) in;
 
@@ -16,7 +16,7 @@ struct SamplerCase {
 
 layout(set = 0, binding = 0) uniform usamplerBuffer u_texels;
 layout(set = 0, binding = 1) uniform samplerBuffer u_srgbToLinear;
-layout(set = 0, binding = 2, std430) readonly buffer TextureBlock { ExactTexture g_textures[]; };
+layout(set = 0, binding = 2, std430) readonly buffer TextureBlock { BinTexture g_textures[]; };
 layout(set = 0, binding = 3, std430) readonly buffer CaseBlock { SamplerCase g_cases[]; };
 // Two results a case: the software sampler's, then the hardware's.
 layout(set = 0, binding = 4, std430) writeonly buffer ResultBlock { vec4 g_results[]; };

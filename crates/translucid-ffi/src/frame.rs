@@ -190,10 +190,16 @@ fn method_options(info: &translucid_frame_info) -> FfiResult<translucid::methods
         )));
     }
     Ok(translucid::methods::MethodOptions {
-        rank,
-        noise: info.wavelet_noise,
-        storage: translucid_wavelet_storage::from_raw(info.wavelet_storage)?.core(),
-        threshold,
+        exact: translucid::methods::exact::ExactOptions {
+            threshold,
+            ..Default::default()
+        },
+        wavelet: translucid::methods::wavelet::WaveletOptions {
+            rank,
+            noise: info.wavelet_noise,
+            storage: translucid_wavelet_storage::from_raw(info.wavelet_storage)?.core(),
+            ..Default::default()
+        },
         ..Default::default()
     })
 }

@@ -280,7 +280,7 @@ fn print_json(rows: &[Row], check: &Check<'_>, wavelet: crate::WaveletArgs, agai
     let passed = rows.iter().filter(|r| r.passed()).count();
     let value = serde_json::json!({
         "method": check.method,
-        "threshold": check.options.threshold,
+        "threshold": check.options.exact.threshold,
         "wavelet": wavelet_json(check.method, wavelet),
         "size": { "width": check.size.width, "height": check.size.height },
         "against": against,

@@ -61,16 +61,21 @@ pub fn options(
         )));
     }
     Ok(translucid::methods::MethodOptions {
-        threshold,
-        rank: wavelet.rank,
-        noise: wavelet.noise,
-        precision: match wavelet.precision {
-            crate::Precision::Half => translucid::methods::wavelet::Precision::Half,
-            crate::Precision::Single => translucid::methods::wavelet::Precision::Single,
+        exact: translucid::methods::exact::ExactOptions {
+            threshold,
+            ..Default::default()
         },
-        storage: match wavelet.storage {
-            crate::Storage::Images => translucid::methods::wavelet::Storage::Images,
-            crate::Storage::Bins => translucid::methods::wavelet::Storage::Bins,
+        wavelet: translucid::methods::wavelet::WaveletOptions {
+            rank: wavelet.rank,
+            noise: wavelet.noise,
+            precision: match wavelet.precision {
+                crate::Precision::Half => translucid::methods::wavelet::Precision::Half,
+                crate::Precision::Single => translucid::methods::wavelet::Precision::Single,
+            },
+            storage: match wavelet.storage {
+                crate::Storage::Images => translucid::methods::wavelet::Storage::Images,
+                crate::Storage::Bins => translucid::methods::wavelet::Storage::Bins,
+            },
         },
         ..Default::default()
     })
@@ -109,9 +114,11 @@ impl Expected {
     /// only when the draws happen to be sorted.
     pub fn promised(method: &str, options: &MethodOptions) -> translucid::Result<Option<Self>> {
         Ok(Some(match method {
-            "exact" if options.threshold > 0.0 => Self::ReferenceUntil(options.threshold),
+            "exact" if options.exact.threshold > 0.0 => {
+                Self::ReferenceUntil(options.exact.threshold)
+            }
             "exact" => Self::Reference,
-            "wavelet" => Self::WaveletModel(Settings::from_options(options)?),
+            "wavelet" => Self::WaveletModel(Settings::from_options(&options.wavelet)?),
             "wboit" => Self::WboitModel,
             "blend" => return Ok(None),
             // The renderer's own message, before any file is loaded.

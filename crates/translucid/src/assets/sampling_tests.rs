@@ -8,7 +8,7 @@ use crate::gpu::{
     memory_barrier, vk, BindingKind, ComputePipeline, DescriptorLayout, Gpu, GpuOptions,
     MemoryLocation, Resource, Sampler,
 };
-use crate::methods::exact::resources::texture_data;
+use crate::methods::bins::resources::texture_data;
 use crate::scene::srgb_lut;
 use crate::scene::texture_hand::hand_cases;
 use crate::scene::Texture;

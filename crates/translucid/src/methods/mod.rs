@@ -7,6 +7,7 @@
 //! the same layouts. It marks a timestamp after each of its stages. After the frame completes
 //! it may ask for the frame to be rendered again (a buffer overflowed and was grown).
 
+pub mod bins;
 mod blend;
 pub mod exact;
 pub mod wavelet;
@@ -66,51 +67,16 @@ impl std::str::FromStr for MethodKind {
     }
 }
 
-/// Settings that some methods use; the rest ignore them.
+/// Settings of the methods that have any, one struct each; the other methods ignore them.
 #[derive(Clone, Debug, Default)]
 pub struct MethodOptions {
-    /// `exact`: stop compositing a pixel once every channel of its transmittance is below
-    /// this. 0 (the default) composites every fragment: the exact result.
-    pub threshold: f32,
-    /// `exact`: first capacity of the per-bin triangle lists, in entries. `None` sizes it from
-    /// the frame. Small values force the overflow path (for tests).
-    pub initial_bin_entries: Option<u32>,
-    /// `exact`: first capacity of the homogeneous (near-plane) triangle records.
-    pub initial_homogeneous: Option<u32>,
-    /// `exact`: first capacity of the lists of pixel rows that continue in a later raster
-    /// dispatch (rows hundreds of fragments deep).
-    pub initial_resume_rows: Option<u32>,
-    /// `exact`: start with the raster shader built without the near-plane path, whatever the
-    /// scene looks like, so that tests can exercise the rebuild-and-render-again fallback.
-    #[doc(hidden)]
-    pub assume_fixed_path: bool,
-    /// `exact`: start with the settings frames with deep pixels move to (more fragments per
-    /// pass, bins ordered by depth slab), so that tests can check them on every scene.
-    #[doc(hidden)]
-    pub assume_deep_pixels: bool,
-    /// `exact`: rasterize one row per workgroup, as on devices whose subgroups are wider than
-    /// a row (most GPUs), so that tests cover that path on lavapipe too.
-    #[doc(hidden)]
-    pub assume_wide_subgroups: bool,
-    /// `exact`: bin at most this many rows of a triangle per binning invocation (the shader
-    /// loop budget otherwise decides, about 370 rows at 1280 pixels across), so that tests
-    /// cover triangles split into several slices.
-    #[doc(hidden)]
-    pub bin_rows_per_slice: Option<u32>,
-    /// `exact`: bands of bins recorded per frame (`None`: exact's default), so that tests can
-    /// reach the frames that need more than it records.
-    #[doc(hidden)]
-    pub bands: Option<u32>,
-    /// `wavelet`: Haar rank, 0 to 3 (2^(rank+1) coefficients per colour channel); `None`
-    /// is [`wavelet::DEFAULT_RANK`]. A larger rank is an error.
-    pub rank: Option<u32>,
-    /// `wavelet`: depth noise strength in cells (0, the default, is off); deterministic per
-    /// pixel.
-    pub noise: f32,
-    /// `wavelet`: storage precision of the coefficient images.
-    pub precision: wavelet::Precision,
-    /// `wavelet`: where the coefficients live (images, or registers in the exact bins).
-    pub storage: wavelet::Storage,
+    /// `exact`'s.
+    pub exact: exact::ExactOptions,
+    /// `wavelet`'s.
+    pub wavelet: wavelet::WaveletOptions,
+    /// The bins' (`exact`, and `wavelet` with [`wavelet::Storage::Bins`]): starting
+    /// capacities and test settings.
+    pub bins: bins::BinOptions,
 }
 
 /// What a method reports once its frame has completed.
@@ -210,9 +176,21 @@ pub fn create(
 ) -> Result<Box<dyn Method>> {
     Ok(match kind {
         MethodKind::Blend => Box::new(blend::Blend::new(gpu, uploaded, targets)?),
-        MethodKind::Exact => Box::new(exact::Exact::new(gpu, scene, uploaded, targets, options)?),
+        MethodKind::Exact => Box::new(exact::Exact::new(
+            gpu,
+            scene,
+            uploaded,
+            targets,
+            &options.bins,
+            &options.exact,
+        )?),
         MethodKind::Wavelet => Box::new(wavelet::Wavelet::new(
-            gpu, scene, uploaded, targets, options,
+            gpu,
+            scene,
+            uploaded,
+            targets,
+            &options.bins,
+            &options.wavelet,
         )?),
         MethodKind::Wboit => Box::new(wboit::Wboit::new(gpu, uploaded, targets)?),
     })

@@ -70,7 +70,7 @@ mod tests {
             .find_map(|l| l.trim().strip_prefix("#define WAVELET_CONSTANT_ID "))
             .and_then(|v| v.trim().parse::<usize>().ok())
             .expect("wavelet_bins.glsl defines WAVELET_CONSTANT_ID");
-        assert_eq!(first, crate::methods::exact::features::RASTER_CONSTANTS);
+        assert_eq!(first, crate::methods::bins::features::RASTER_CONSTANTS);
     }
 
     #[test]

@@ -2,8 +2,8 @@
 //! is in [`math`], and [`model`] is the whole method on the CPU). Two variants, by where each
 //! pixel's coefficients live ([`Storage`]):
 //!
-//! **Bins** (the default): the exact method's setup and bins, with a raster of its own
-//! (`shaders/common/wavelet_bins.glsl`) that keeps each pixel's coefficients in registers and
+//! **Bins** (the default): the bins the exact method reads ([`crate::methods::bins`]), with a
+//! raster of its own (`shaders/common/wavelet_bins.glsl`, [`bin_raster`]) that keeps each pixel's coefficients in registers and
 //! walks its row's triangle list three times: bounds, coefficients, shading. No coefficient
 //! images, and every fragment is the CPU reference's.
 //!
@@ -20,21 +20,23 @@
 //!    shading) adds its radiance times the transmittance in front of it, its own share
 //!    removed, to the frame colour (ADD blend).
 //!
-//! Optional depth noise ([`MethodOptions::noise`]) shifts each pixel's cell boundaries by a
+//! Optional depth noise ([`WaveletOptions::noise`]) shifts each pixel's cell boundaries by a
 //! fixed hash, trading banding for noise; it is off by default and in the image tests.
 
+mod bin_raster;
 pub mod layout;
 pub mod math;
 pub mod model;
 mod passes;
 
-use super::exact::{Exact, RasterProgram};
+use super::bins::BinOptions;
 use super::{FrameCheck, FrameDone, FrameSetup, Method, MethodOptions, RecordContext};
 use crate::assets::GpuScene;
 use crate::frame::FrameTargets;
 use crate::gpu::{Gpu, Retirement};
 use crate::scene::{Camera, Scene};
 use crate::{Error, Result};
+use bin_raster::BinRaster;
 use layout::SpecConstants;
 
 /// Rank when none is asked for: 16 coefficients per channel.
@@ -69,6 +71,20 @@ pub enum Storage {
     Images,
 }
 
+/// The wavelet method's settings, as given.
+#[derive(Clone, Debug, Default)]
+pub struct WaveletOptions {
+    /// Haar rank, 0 to 3 (2^(rank+1) coefficients per colour channel); `None` is
+    /// [`DEFAULT_RANK`]. A larger rank is an error.
+    pub rank: Option<u32>,
+    /// Depth noise strength in cells (0, the default, is off); deterministic per pixel.
+    pub noise: f32,
+    /// Storage precision of the coefficient images.
+    pub precision: Precision,
+    /// Where the coefficients live (images, or registers in the bins' raster).
+    pub storage: Storage,
+}
+
 /// The method's settings, checked.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Settings {
@@ -79,7 +95,7 @@ pub struct Settings {
 }
 
 impl Settings {
-    pub fn from_options(options: &MethodOptions) -> Result<Self> {
+    pub fn from_options(options: &WaveletOptions) -> Result<Self> {
         let rank = options.rank.unwrap_or(DEFAULT_RANK);
         if rank > math::MAX_RANK {
             return Err(Error::InvalidOption(format!(
@@ -120,16 +136,6 @@ impl Settings {
     }
 }
 
-/// The bin raster of each rank.
-fn bin_raster(rank: u32) -> &'static [u8] {
-    match rank {
-        0 => crate::spirv!("wavelet/bins_rank0.comp"),
-        1 => crate::spirv!("wavelet/bins_rank1.comp"),
-        2 => crate::spirv!("wavelet/bins_rank2.comp"),
-        _ => crate::spirv!("wavelet/bins_rank3.comp"),
-    }
-}
-
 pub struct Wavelet {
     gpu: Gpu,
     settings: Settings,
@@ -144,7 +150,7 @@ pub struct Wavelet {
 
 enum Variant {
     Images(Box<passes::Passes>),
-    Bins(Box<Exact>),
+    Bins(Box<BinRaster>),
 }
 
 impl Wavelet {
@@ -153,7 +159,8 @@ impl Wavelet {
         scene: &Scene,
         uploaded: &GpuScene,
         targets: &FrameTargets,
-        options: &MethodOptions,
+        bin_options: &BinOptions,
+        options: &WaveletOptions,
     ) -> Result<Self> {
         let mut settings = Settings::from_options(options)?;
         let constants =
@@ -161,12 +168,9 @@ impl Wavelet {
         let bins = match settings.storage {
             Storage::Images => None,
             Storage::Bins => {
-                let program = RasterProgram::Wavelet {
-                    spirv: bin_raster(settings.rank),
-                    constants: constants.words(),
-                };
-                match Exact::with_program(gpu, scene, uploaded, targets, options, program) {
-                    Ok(exact) => Some(exact),
+                let rank = settings.rank;
+                match BinRaster::new(gpu, scene, uploaded, targets, bin_options, rank, constants) {
+                    Ok(raster) => Some(raster),
                     // The images need nothing of the device beyond blending.
                     Err(Error::NoDevice(why)) => {
                         log::warn!("wavelet: {why}; keeping the coefficients in images");
@@ -178,7 +182,7 @@ impl Wavelet {
             }
         };
         let variant = match bins {
-            Some(exact) => Variant::Bins(Box::new(exact)),
+            Some(raster) => Variant::Bins(Box::new(raster)),
             None => Variant::Images(Box::new(passes::Passes::new(
                 gpu, uploaded, targets, &settings, constants,
             )?)),
@@ -209,16 +213,7 @@ impl Method for Wavelet {
         let changed = constants.words() != self.constants.words();
         self.constants = constants;
         match &mut self.variant {
-            Variant::Bins(exact) => {
-                if changed {
-                    let program = RasterProgram::Wavelet {
-                        spirv: bin_raster(self.settings.rank),
-                        constants: constants.words(),
-                    };
-                    exact.set_program(f.uploaded, program)?;
-                }
-                exact.set_frame(f)
-            }
+            Variant::Bins(raster) => raster.set_frame(f, constants),
             Variant::Images(passes) => {
                 if changed {
                     let new = passes::Passes::new(
@@ -245,7 +240,7 @@ impl Method for Wavelet {
         self.recorded_on_bins[ctx.slot] = matches!(self.variant, Variant::Bins(_));
         let p = match &mut self.variant {
             Variant::Images(p) => p,
-            Variant::Bins(exact) => return exact.record(ctx),
+            Variant::Bins(raster) => return raster.record(ctx),
         };
         p.bounds(ctx);
         ctx.timestamps.mark(ctx.cmd, "wavelet bounds");
@@ -265,7 +260,7 @@ impl Method for Wavelet {
             .get(done.slot)
             .copied()
             .unwrap_or(false);
-        let Variant::Bins(exact) = &mut self.variant else {
+        let Variant::Bins(raster) = &mut self.variant else {
             // A frame recorded on the bins before the move to images may be truncated too:
             // its counters went with the bins, so it is reported for drawing again.
             return Ok(FrameCheck {
@@ -273,8 +268,8 @@ impl Method for Wavelet {
                 ..FrameCheck::default()
             });
         };
-        if !exact.crowded(done.slot)? {
-            return exact.frame_done(done);
+        if !raster.crowded(done.slot)? {
+            return raster.frame_done(done);
         }
         // A row's three walks would pass the loop budget (the bins' raster does not resume
         // rows as exact's does): the coefficient images have no such limit. The renderer
@@ -301,9 +296,9 @@ impl Method for Wavelet {
     }
 
     fn learned(&self, options: &mut MethodOptions) {
-        options.storage = self.settings.storage;
-        if let Variant::Bins(exact) = &self.variant {
-            exact.learned(options);
+        options.wavelet.storage = self.settings.storage;
+        if let Variant::Bins(raster) = &self.variant {
+            raster.learned(&mut options.bins);
         }
     }
 }

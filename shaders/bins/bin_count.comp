@@ -7,8 +7,8 @@
 #extension GL_KHR_shader_subgroup_basic : require
 #extension GL_KHR_shader_subgroup_vote : require
 
-#include "exact_bindings.glsl"
-#include "exact_bins.glsl"
+#include "bins_bindings.glsl"
+#include "bin_lists.glsl"
 
 layout(local_size_x = BINNING_GROUP_SIZE) in;
 
@@ -21,7 +21,7 @@ void main() {
     if (ti >= 2u * u_push.itemCount) {
         return;
     }
-    ExactTriangle t = loadTriangle(ti);
+    BinTriangle t = loadTriangle(ti);
     ivec4 r = binRect(t.bounds);
     ivec2 rows = sliceRows(r);
     uvec2 depth = triangleDepthBits(t);

@@ -1,6 +1,6 @@
 // A pixel's fragment in the compute rasterizers (the exact raster, the wavelet bin raster):
 // coverage and sampling of a triangle record at a pixel, and its shading, as the CPU
-// reference does them. Needs scene_bindings_compute.glsl, exact_bindings.glsl, raster.glsl,
+// reference does them. Needs scene_bindings_compute.glsl, bins_bindings.glsl, raster.glsl,
 // texture_sampler.glsl and shading.glsl first.
 #ifndef TRANSLUCID_EXACT_FRAGMENT_GLSL
 #define TRANSLUCID_EXACT_FRAGMENT_GLSL
@@ -16,7 +16,7 @@ layout(constant_id = 0) const bool HOMOGENEOUS_PATH = true;  // near-plane / gua
 layout(constant_id = 1) const bool TEXTURES = true;          // some material has a texture
 layout(constant_id = 2) const bool VERTEX_NORMALS = true;    // some lit draw has vertex normals
 layout(constant_id = 3) const bool FACE_NORMALS = true;      // some lit draw has none
-// (Constants 4 to 7 are the raster's own: raster.comp and exact_bins.glsl.)
+// (Constants 4 to 7 are the raster's own: raster.comp and bin_lists.glsl.)
 layout(constant_id = 8) const bool TRANSMISSION = true;      // some material transmits light
 layout(constant_id = 9) const bool VERTEX_COLOURS = true;    // some mesh has vertex colours
 // Every quad has one colour at all its corners: attribute records keep colour0 alone.
@@ -25,9 +25,9 @@ layout(constant_id = 10) const bool FLAT_COLOURS = false;
 // What shading reads of attribute record i: only the texels the scene's constants let it
 // use. A texel fetch is a call to the driver's sampling code on CPU drivers, which the
 // compiler keeps even when nothing reads its result.
-ExactAttributes loadShadingAttributes(uint i) {
+BinAttributes loadShadingAttributes(uint i) {
     int base = int(i) * ATTRIBUTE_TEXELS;
-    ExactAttributes a;
+    BinAttributes a;
     a.colour0 = vec4(1.0);
     a.colour1 = vec4(1.0);
     a.colour2 = vec4(1.0);
@@ -98,7 +98,7 @@ Material loadShadingMaterial(uint i) {
 // Triangle record i as shading needs it, for a fragment the walk already found: coverage and
 // the depth test are done, so the depths texel is read only for the homogeneous path's index
 // (without it the sample's depth is meaningless and unused).
-ExactTriangle loadShadingTriangle(uint i) {
+BinTriangle loadShadingTriangle(uint i) {
     int base = int(i) * TRIANGLE_TEXELS;
     uvec4 depths = uvec4(0u, 0u, 0u, 0xFFFFFFFFu);
     if (HOMOGENEOUS_PATH) {
@@ -118,7 +118,7 @@ float orderDepth(RasterSample s) {
 // Whether triangle t covers pixel (x, y), and the sample, its viewDepth the order depth. The
 // edges decide on both paths (bounds only ever hold every covered sample; raster.rs), so t
 // may come without bounds.
-bool coverSample(ExactTriangle t, uint x, uint y, out RasterSample s) {
+bool coverSample(BinTriangle t, uint x, uint y, out RasterSample s) {
     // One exit: glslang turns early returns in inlined functions into extra flags.
     bool take;
     if (HOMOGENEOUS_PATH && t.edgeB.w >= 0) {
@@ -132,7 +132,7 @@ bool coverSample(ExactTriangle t, uint x, uint y, out RasterSample s) {
     return take;
 }
 
-bool sampleTriangle(ExactTriangle t, uint x, uint y, out RasterSample s) {
+bool sampleTriangle(BinTriangle t, uint x, uint y, out RasterSample s) {
     if (!HOMOGENEOUS_PATH || t.edgeB.w < 0) {
         return sampleFixed(t, x, y, s);
     }
@@ -140,7 +140,7 @@ bool sampleTriangle(ExactTriangle t, uint x, uint y, out RasterSample s) {
 }
 
 // d(barycentric)/dx and /dy at the pixel, as Triangle::barycentric_gradients computes them.
-void barycentricGradients(ExactTriangle t, uint x, uint y, out vec3 gx, out vec3 gy) {
+void barycentricGradients(BinTriangle t, uint x, uint y, out vec3 gx, out vec3 gy) {
     dvec3 q;
     dvec3 dqx;
     dvec3 dqy;
@@ -156,7 +156,7 @@ void barycentricGradients(ExactTriangle t, uint x, uint y, out vec3 gx, out vec3
             dqy[k] = double(dy);
         }
     } else {
-        ExactHomogeneous h = loadHomogeneous(t.edgeB.w);
+        BinHomogeneous h = loadHomogeneous(t.edgeB.w);
         precise dvec3 qq = dvec3(lineAt(h.line0, x, y), lineAt(h.line1, x, y), lineAt(h.line2, x, y)) *
                            h.zInvDet.w;
         q = qq;
@@ -181,7 +181,7 @@ void barycentricGradients(ExactTriangle t, uint x, uint y, out vec3 gx, out vec3
 }
 
 // Shades the fragment of triangle t (with attributes a) at pixel (x, y).
-void shadeFragment(ExactTriangle t, ExactAttributes a, uint x, uint y, RasterSample s,
+void shadeFragment(BinTriangle t, BinAttributes a, uint x, uint y, RasterSample s,
                    FrameInfo frame, out vec3 radiance, out vec3 transmittance) {
     Material m = loadShadingMaterial(t.materialIndex);
     // Normals are only for lighting: a scene with no lit draw needs neither, and clearing
@@ -205,7 +205,7 @@ void shadeFragment(ExactTriangle t, ExactAttributes a, uint x, uint y, RasterSam
 
     vec4 texel = vec4(1.0);
     if (TEXTURES && m.textureIndex >= 0) {
-        ExactTexture tex = loadTextureInfo(m.textureIndex);
+        BinTexture tex = loadTextureInfo(m.textureIndex);
         // Meshes without UVs read (0, 0) everywhere: level 0 at the origin, like the reference.
         if ((a.flags & ATTRIBUTES_HAS_UVS) == 0u) {
             texel = sampleTexture(tex, vec2(0.0), 0.0);

@@ -5,7 +5,7 @@
 
 #extension GL_EXT_control_flow_attributes : require
 
-#include "exact_bindings.glsl"
+#include "bins_bindings.glsl"
 #include "depth_pyramid.glsl"
 
 #define PYRAMID_GROUP_SIZE 256

@@ -2,12 +2,12 @@
 #ifndef TRANSLUCID_EXACT_BINS_GLSL
 #define TRANSLUCID_EXACT_BINS_GLSL
 
-#include "exact_layout.glsl"
+#include "bins_layout.glsl"
 
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 
 // Each bin's list holds SLABS depth slabs, near to far. Slabs split the frame's range of
-// triangle view depths (ExactCounters.depthLo..depthHi) evenly in float-bit space, which is
+// triangle view depths (BinCounters.depthLo..depthHi) evenly in float-bit space, which is
 // close to logarithmic in depth, and a triangle goes to the slab of its nearest vertex.
 // Walking the slabs in order, a pixel that already holds its nearest fragments can stop at
 // the first slab whose floor is past them. Shallow frames keep one slab, since more cost a
@@ -89,10 +89,10 @@ ivec2 bandColumns(int y, ivec2 run) {
 }
 
 // Bits of a triangle's nearest and farthest vertex order depth (orderDepth in
-// exact_fragment.glsl: clip w, or z_ndc + 1 within the depth clip), widened by a relative
+// bin_fragment.glsl: clip w, or z_ndc + 1 within the depth clip), widened by a relative
 // 2^-12 so that every fragment's interpolated depth, rounded in float, lies between them.
 // Homogeneous triangles (a vertex may be behind the eye) span everything.
-uvec2 triangleDepthBits(ExactTriangle t) {
+uvec2 triangleDepthBits(BinTriangle t) {
     if (t.edgeB.w >= 0) {
         return uvec2(0u, 0x7F800000u);
     }
@@ -154,7 +154,7 @@ void narrowRow(int a, int b, int64_t c, int bias, double py, inout double lo, in
 // narrowRow's slack put 65 % more entries in the dragon's lists, and its raster took a
 // third longer. Thin diagonal triangles (hair) would visit every block of their bounding
 // box without the rows' bounds.
-ivec2 rowColumns(ExactTriangle t, int y, ivec2 cols) {
+ivec2 rowColumns(BinTriangle t, int y, ivec2 cols) {
     if (t.edgeB.w >= 0) {
         return cols;
     }

@@ -21,8 +21,8 @@
 
 #extension GL_EXT_control_flow_attributes : require
 
-#include "exact_bindings.glsl"
-#include "exact_bins.glsl"
+#include "bins_bindings.glsl"
+#include "bin_lists.glsl"
 
 layout(local_size_x = SCAN_GROUP_SIZE) in;
 

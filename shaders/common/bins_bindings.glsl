@@ -5,23 +5,23 @@
 #extension GL_EXT_control_flow_attributes : require
 
 #include "layout.glsl"
-#include "exact_layout.glsl"
+#include "bins_layout.glsl"
 
 // The scene's vertices (GpuVertex, 3 texels each: position and normal.x, normal.yz and uv,
 // colour), its quads, and the exact draws (5 texels each), read as texels (see below).
 layout(set = 1, binding = 0) uniform usamplerBuffer u_vertexTexels;
 layout(set = 1, binding = 1) uniform usamplerBuffer u_quadTexels;
 layout(set = 1, binding = 2) uniform usamplerBuffer u_exactDrawTexels;
-layout(set = 1, binding = 3, std430) buffer TriangleBlock { ExactTriangleRecord g_triangles[]; };
-layout(set = 1, binding = 4, std430) buffer HomogeneousBlock { ExactHomogeneous g_homogeneous[]; };
-layout(set = 1, binding = 5, std430) buffer CounterBlock { ExactCounters g_counters; };
+layout(set = 1, binding = 3, std430) buffer TriangleBlock { BinTriangleRecord g_triangles[]; };
+layout(set = 1, binding = 4, std430) buffer HomogeneousBlock { BinHomogeneous g_homogeneous[]; };
+layout(set = 1, binding = 5, std430) buffer CounterBlock { BinCounters g_counters; };
 // Per (bin, slab), at bin * SLABS + slab: triangle counts, and list offsets, which bin_fill
 // advances as it appends, so that after binning they are where each part of a list ends.
 layout(set = 1, binding = 6, std430) buffer BinCountBlock { uint g_binCounts[]; };
 layout(set = 1, binding = 7, std430) buffer BinOffsetBlock { uint g_binOffsets[]; };
 layout(set = 1, binding = 8) uniform usamplerBuffer u_drawTexels;        // DrawInfo, 9 each
 layout(set = 1, binding = 9, std430) buffer BinEntryBlock { uint g_binEntries[]; };
-layout(set = 1, binding = 10, std430) buffer AttributeBlock { ExactAttributes g_attributes[]; };
+layout(set = 1, binding = 10, std430) buffer AttributeBlock { BinAttributes g_attributes[]; };
 layout(set = 1, binding = 11) uniform sampler2D u_opaqueDepth;
 layout(set = 1, binding = 12, rgba16f) uniform image2D u_colour;
 
@@ -32,7 +32,7 @@ layout(set = 1, binding = 12, rgba16f) uniform image2D u_colour;
 layout(set = 1, binding = 13) uniform usamplerBuffer u_triangleTexels;   // g_triangles, 5 each
 layout(set = 1, binding = 14) uniform usamplerBuffer u_attributeTexels;  // g_attributes, 8 each
 layout(set = 1, binding = 15) uniform usamplerBuffer u_materialTexels;   // Material, 3 each
-layout(set = 1, binding = 16) uniform usamplerBuffer u_textureInfoTexels; // ExactTexture, 2 each
+layout(set = 1, binding = 16) uniform usamplerBuffer u_textureInfoTexels; // BinTexture, 2 each
 layout(set = 1, binding = 17) uniform usamplerBuffer u_texels;           // packed RGBA8
 layout(set = 1, binding = 18) uniform samplerBuffer u_srgbToLinear;      // 256 entries
 layout(set = 1, binding = 19) uniform usamplerBuffer u_binEntryTexels;   // g_binEntries
@@ -67,7 +67,7 @@ layout(set = 1, binding = 26) uniform samplerBuffer u_depthPyramidTexels; // g_d
 layout(set = 1, binding = 27, std430) buffer BlockTotalBlock { uint g_blockTotals[]; };
 layout(set = 1, binding = 28) uniform usamplerBuffer u_blockTotalTexels;
 
-layout(push_constant) uniform ExactPush {
+layout(push_constant) uniform BinPush {
     uint itemCount;         // transparent quads in all draws
     uint drawCount;         // transparent draws
     uint width;
@@ -76,9 +76,9 @@ layout(push_constant) uniform ExactPush {
     uint binsY;             // blocks down
     float threshold;        // stop once every channel's transmittance is below this; 0: exact
     uint resumeList;        // raster: the list a continuation reads; it appends to the other
-    uint binRowsPerSlice;   // binning: bin rows one invocation covers (see exact_bins.glsl)
+    uint binRowsPerSlice;   // binning: bin rows one invocation covers (see bin_lists.glsl)
     uint orderByZ;          // 1: fragments are ordered by z_ndc (an orthographic camera),
-                            // 0: by clip w (orderDepth in exact_fragment.glsl)
+                            // 0: by clip w (orderDepth in bin_fragment.glsl)
     uint pad1;
     uint pad2;
 } u_push;
@@ -95,9 +95,9 @@ mat4 fetchMat4(usamplerBuffer texels, int first) {
                 uintBitsToFloat(texelFetch(texels, first + 3)));
 }
 
-ExactDraw loadExactDraw(uint i) {
+BinDraw loadBinDraw(uint i) {
     int base = int(i) * 5;
-    ExactDraw d;
+    BinDraw d;
     d.mvp = fetchMat4(u_exactDrawTexels, base);
     uvec4 rest = texelFetch(u_exactDrawTexels, base + 4);
     d.drawIndex = rest.x;
@@ -120,14 +120,14 @@ DrawInfo loadDrawInfo(uint i) {
     return d;
 }
 
-// Texels of a triangle record (ExactTriangleRecord) in u_triangleTexels; the walks read the
+// Texels of a triangle record (BinTriangleRecord) in u_triangleTexels; the walks read the
 // first RASTER_TRIANGLE_TEXELS.
 #define TRIANGLE_TEXELS 5
 #define RASTER_TRIANGLE_TEXELS 4
 
 // The fixed-point edges of snapped vertices v, negated when they wind the other way: edge k
 // runs from vertex k + 1 to vertex k + 2. Setup and the record loaders both build them here.
-void unpackEdges(ivec2 v[3], bool negated, out ExactTriangle t) {
+void unpackEdges(ivec2 v[3], bool negated, out BinTriangle t) {
     int s = negated ? -1 : 1;
     int ties = 0;
     [[unroll]] for (int k = 0; k < 3; k++) {
@@ -146,8 +146,8 @@ void unpackEdges(ivec2 v[3], bool negated, out ExactTriangle t) {
 }
 
 // Everything of a record but its bounds, from its first RASTER_TRIANGLE_TEXELS texels.
-ExactTriangle unpackRasterTriangle(uvec4 t0, uvec4 t1, uvec4 t2, uvec4 t3) {
-    ExactTriangle t;
+BinTriangle unpackRasterTriangle(uvec4 t0, uvec4 t1, uvec4 t2, uvec4 t3) {
+    BinTriangle t;
     ivec2 v[3] = ivec2[3](ivec2(t0.xy), ivec2(t0.zw), ivec2(t1.xy));
     unpackEdges(v, (t1.z & TRIANGLE_NEGATED) != 0u, t);
     t.edgeB.w = int(t2.w);
@@ -161,7 +161,7 @@ ExactTriangle unpackRasterTriangle(uvec4 t0, uvec4 t1, uvec4 t2, uvec4 t3) {
 
 // Triangle record i without its bounds: all the raster needs, since the edges alone decide
 // coverage (bounds only spare the binning passes).
-ExactTriangle loadRasterTriangle(uint i) {
+BinTriangle loadRasterTriangle(uint i) {
     int base = int(i) * TRIANGLE_TEXELS;
     return unpackRasterTriangle(texelFetch(u_triangleTexels, base),
                                 texelFetch(u_triangleTexels, base + 1),
@@ -170,8 +170,8 @@ ExactTriangle loadRasterTriangle(uint i) {
 }
 
 // Triangle record i, bounds included.
-ExactTriangle loadTriangle(uint i) {
-    ExactTriangle t = loadRasterTriangle(i);
+BinTriangle loadTriangle(uint i) {
+    BinTriangle t = loadRasterTriangle(i);
     uvec4 b = texelFetch(u_triangleTexels, int(i) * TRIANGLE_TEXELS + 4);
     t.bounds = ivec4(b.x & 0xFFFFu, b.x >> 16u, b.y & 0xFFFFu, b.y >> 16u);
     return t;
@@ -184,9 +184,9 @@ dvec4 fetchDvec4(int texel) {
                  packDouble2x32(b.zw));
 }
 
-ExactHomogeneous loadHomogeneous(int i) {
+BinHomogeneous loadHomogeneous(int i) {
     int base = i * 12;
-    ExactHomogeneous h;
+    BinHomogeneous h;
     h.line0 = fetchDvec4(base);
     h.line1 = fetchDvec4(base + 2);
     h.line2 = fetchDvec4(base + 4);
@@ -200,7 +200,7 @@ ExactHomogeneous loadHomogeneous(int i) {
     return h;
 }
 
-// Texels of an attribute record (ExactAttributes) in u_attributeTexels; exact_fragment.glsl
+// Texels of an attribute record (BinAttributes) in u_attributeTexels; bin_fragment.glsl
 // reads them.
 #define ATTRIBUTE_TEXELS 8
 
@@ -217,10 +217,10 @@ Material loadMaterial(uint i) {
     return m;
 }
 
-ExactTexture loadTextureInfo(int i) {
+BinTexture loadTextureInfo(int i) {
     uvec4 a = texelFetch(u_textureInfoTexels, i * 2);
     uvec4 b = texelFetch(u_textureInfoTexels, i * 2 + 1);
-    ExactTexture t;
+    BinTexture t;
     t.firstTexel = a.x;
     t.width = a.y;
     t.height = a.z;

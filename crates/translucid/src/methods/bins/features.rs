@@ -1,5 +1,5 @@
 //! What a scene needs of the raster shader, decided on the host so that code it cannot reach
-//! is compiled away (specialization constants of `shaders/exact/raster.comp`).
+//! is compiled away (specialization constants of `shaders/exact/raster.comp`, and of the bin stages, which take the ones they share with it).
 
 #![deny(unsafe_code)]
 
@@ -37,7 +37,7 @@ pub struct RasterFeatures {
     /// one colour per triangle instead of three.
     pub flat_colours: bool,
     /// Binning invocations per triangle once bins hold slabs (constant 11 of setup and
-    /// binning; exact_bins.glsl): a row's width of them, unless the dispatch would pass the
+    /// binning; bin_lists.glsl): a row's width of them, unless the dispatch would pass the
     /// workgroups every device allows.
     pub deep_binning_lanes: u32,
 }

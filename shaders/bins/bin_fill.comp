@@ -4,8 +4,8 @@
 // Runs once per band, entering only the band's bins (bandRows, bandColumns), whose offsets
 // the band's scan step placed within the capacity.
 
-#include "exact_bindings.glsl"
-#include "exact_bins.glsl"
+#include "bins_bindings.glsl"
+#include "bin_lists.glsl"
 
 layout(local_size_x = BINNING_GROUP_SIZE) in;
 
@@ -18,7 +18,7 @@ void main() {
     if (ti >= 2u * u_push.itemCount) {
         return;
     }
-    ExactTriangle t = loadTriangle(ti);
+    BinTriangle t = loadTriangle(ti);
     ivec4 r = binRect(t.bounds);
     ivec2 rows = bandRows(sliceRows(r));
     uint capacity = g_counters.binEntryCapacity;

@@ -1,8 +1,9 @@
-//! The exact method's buffers: sized from the frame, grown when the GPU reports an overflow.
+//! The bins' buffers, and the resume lists of the rasters that read them (one descriptor set
+//! for every stage): sized from the frame, grown when the GPU reports an overflow.
 
 use super::layout::{
-    sampler_bits, ExactCounters, ExactDraw, ExactTexture, ATTRIBUTES_BYTES, BIN_SIZE,
-    DISPATCH_BYTES, HOMOGENEOUS_BYTES, OVERFLOW_BIN_ENTRIES, OVERFLOW_HOMOGENEOUS, OVERFLOW_RESUME,
+    sampler_bits, BinCounters, BinDraw, BinTexture, ATTRIBUTES_BYTES, BIN_SIZE, DISPATCH_BYTES,
+    HOMOGENEOUS_BYTES, OVERFLOW_BIN_ENTRIES, OVERFLOW_HOMOGENEOUS, OVERFLOW_RESUME,
     PIXEL_STATE_BYTES, RESUME_ITEM_BYTES, SCAN_GROUP_SIZE, TRIANGLE_BYTES, TRIANGLE_MATERIAL_SHIFT,
 };
 use crate::assets::GpuScene;
@@ -11,7 +12,6 @@ use crate::gpu::{
     memory_barrier, vk, BindingKind, Buffer, BufferView, DescriptorLayout, DescriptorSet, Gpu,
     MemoryLocation, Resource, Retirement, Sampler,
 };
-use crate::methods::MethodOptions;
 use crate::scene::{srgb_lut, Scene, Texture};
 use crate::shader_types::GpuMaterial;
 use crate::{Error, Result};
@@ -43,7 +43,7 @@ impl Capacities {
         blocks: u32,
         fragments: u64,
         homogeneous: u32,
-        options: &MethodOptions,
+        options: &super::BinOptions,
     ) -> Self {
         /// The most bin entries an expected depth starts with: 128 MB, the least storage
         /// binding every Vulkan device allows.
@@ -98,7 +98,7 @@ impl Capacities {
     /// what the GPU counted, up to `most`. A buffer already grown since that frame was
     /// recorded (by a frame completed before it, with frames in flight) is left alone:
     /// frames recorded with it will say whether it suffices.
-    pub fn grown_for(&self, c: &ExactCounters, recorded: &Self, most: &Self) -> Option<Self> {
+    pub fn grown_for(&self, c: &BinCounters, recorded: &Self, most: &Self) -> Option<Self> {
         let with_headroom =
             |needed: u32, now: u32| needed.saturating_add(needed / 4).max(now.saturating_mul(2));
         let grows = |bit: u32, now: u32, then: u32| c.overflow & bit != 0 && now == then;
@@ -122,7 +122,7 @@ impl Capacities {
 /// Buffers that grow, each with the texel view the raster reads it through.
 struct Growable {
     /// Resume lists of the raster's continuation dispatches (see `LOOP_BUDGET` in
-    /// exact_layout.glsl): a header of two indirect dispatch commands, then the items.
+    /// bins_layout.glsl): a header of two indirect dispatch commands, then the items.
     resume: Buffer,
     /// Compositing state of the pixels of the resume items that took a state slot.
     pixel_states: Buffer,
@@ -150,7 +150,7 @@ impl Viewed {
 
 /// One frame slot's share: what a frame writes before it is recorded or reads after it
 /// completed, while other frames are in flight.
-struct ExactSlot {
+struct BinSlot {
     draws: Viewed,
     /// A texel view of the scene's draw buffer of the same slot, and that buffer (replaced
     /// when the draws outgrow it).
@@ -167,7 +167,7 @@ struct ExactSlot {
 pub struct Resources {
     pub capacities: Capacities,
     pub layout: DescriptorLayout,
-    slots: Vec<ExactSlot>,
+    slots: Vec<BinSlot>,
     /// The slot being written and recorded.
     slot: usize,
     /// Bumped whenever a shared buffer is replaced: slot sets of older generations are
@@ -191,7 +191,7 @@ pub struct Resources {
     growable: Growable,
 }
 
-const COUNTER_BYTES: u64 = std::mem::size_of::<ExactCounters>() as u64;
+const COUNTER_BYTES: u64 = std::mem::size_of::<BinCounters>() as u64;
 /// The resume lists' indirect dispatch commands (x is the list's item count).
 const RESUME_HEADER_BYTES: u64 = 32;
 const STORAGE: vk::BufferUsageFlags = vk::BufferUsageFlags::STORAGE_BUFFER;
@@ -339,7 +339,7 @@ fn pyramid_cells(bins_x: u32, bins_y: u32) -> u32 {
 
 /// The transparent draws in the order the reference ranks them, with their model-view-
 /// projection computed on the host exactly as the reference does.
-fn exact_draws(scene: &Scene, width: u32, height: u32) -> Vec<ExactDraw> {
+fn bin_draws(scene: &Scene, width: u32, height: u32) -> Vec<BinDraw> {
     let view_projection = scene.camera.view_projection(width, height);
     let mut first_quad_of_mesh = Vec::with_capacity(scene.meshes.len());
     let mut total = 0u32;
@@ -354,7 +354,7 @@ fn exact_draws(scene: &Scene, width: u32, height: u32) -> Vec<ExactDraw> {
         .enumerate()
         .map(|(i, d)| {
             let quad_count = scene.meshes[d.mesh].quads.len() as u32;
-            let draw = ExactDraw {
+            let draw = BinDraw {
                 mvp: (view_projection * d.transform).to_cols_array(),
                 draw_index: (scene.opaque.len() + i) as u32,
                 first_item,
@@ -368,11 +368,11 @@ fn exact_draws(scene: &Scene, width: u32, height: u32) -> Vec<ExactDraw> {
 }
 
 /// Texture descriptors and every level's texels, packed RGBA8, for the software sampler.
-pub(crate) fn texture_data(textures: &[Texture]) -> (Vec<ExactTexture>, Vec<u32>) {
+pub(crate) fn texture_data(textures: &[Texture]) -> (Vec<BinTexture>, Vec<u32>) {
     let mut infos = Vec::with_capacity(textures.len());
     let mut texels = Vec::new();
     for t in textures {
-        infos.push(ExactTexture {
+        infos.push(BinTexture {
             first_texel: texels.len() as u32,
             width: t.width(),
             height: t.height(),
@@ -408,7 +408,7 @@ impl Resources {
                 1u32 << (32 - TRIANGLE_MATERIAL_SHIFT)
             )));
         }
-        let draws = exact_draws(scene, width, height);
+        let draws = bin_draws(scene, width, height);
         let (texture_infos, texels) = texture_data(&scene.textures);
         let materials: Vec<GpuMaterial> = scene.materials.iter().map(GpuMaterial::new).collect();
         let texel_bytes = texels.len() as u64 * 4;
@@ -421,7 +421,7 @@ impl Resources {
         }
         // Counters and indirect arguments stay in device memory; the host reads a copy.
         let counters = gpu.create_buffer(
-            "exact counters",
+            "bin counters",
             COUNTER_BYTES,
             STORAGE | vk::BufferUsageFlags::TRANSFER_DST | vk::BufferUsageFlags::TRANSFER_SRC,
             MemoryLocation::GpuOnly,
@@ -432,7 +432,7 @@ impl Resources {
             &[
                 BindingKind::TexelBuffer,      // 0 vertices
                 BindingKind::TexelBuffer,      // 1 quads
-                BindingKind::TexelBuffer,      // 2 exact draws
+                BindingKind::TexelBuffer,      // 2 bin draws
                 BindingKind::StorageBuffer,    // 3 triangles
                 BindingKind::StorageBuffer,    // 4 homogeneous
                 BindingKind::StorageBuffer,    // 5 counters
@@ -487,19 +487,19 @@ impl Resources {
             )?,
             materials: texel_data(
                 gpu,
-                "exact materials",
+                "bin materials",
                 bytemuck::cast_slice(&materials),
                 RGBA32UI,
             )?,
             textures: texel_data(
                 gpu,
-                "exact textures",
+                "bin textures",
                 bytemuck::cast_slice(&texture_infos),
                 RGBA32UI,
             )?,
             texels: texel_data(
                 gpu,
-                "exact texels",
+                "bin texels",
                 bytemuck::cast_slice(&texels),
                 vk::Format::R32_UINT,
             )?,
@@ -513,17 +513,17 @@ impl Resources {
             growable: growable(gpu, capacities)?,
         };
         for _ in 0..uploaded.slot_count() {
-            let draws = texel_data(gpu, "exact draws", bytemuck::cast_slice(&draws), RGBA32UI)?;
+            let draws = texel_data(gpu, "bin draws", bytemuck::cast_slice(&draws), RGBA32UI)?;
             let scene_draws = (
                 uploaded.draws().raw,
                 gpu.create_buffer_view(uploaded.draws(), RGBA32UI)?,
             );
             let set = resources.make_set(&draws.view, &scene_draws.1, targets)?;
-            resources.slots.push(ExactSlot {
+            resources.slots.push(BinSlot {
                 draws,
                 scene_draws,
                 readback: gpu.create_buffer(
-                    "exact counters readback",
+                    "bin counters readback",
                     COUNTER_BYTES + RESUME_HEADER_BYTES,
                     vk::BufferUsageFlags::TRANSFER_DST,
                     MemoryLocation::GpuToCpu,
@@ -614,14 +614,14 @@ impl Resources {
         let gpu = self.counters.gpu();
         // One write of the whole record: separate writes to one buffer would need barriers
         // between them.
-        let counters = ExactCounters {
+        let counters = BinCounters {
             triangle_capacity: self.capacities.triangles,
             homogeneous_capacity: self.capacities.homogeneous,
             bin_entry_capacity: self.capacities.bin_entries,
             resume_capacity: self.capacities.resume,
             resume_item_capacity: self.capacities.resume_items,
             depth_lo: u32::MAX,
-            ..ExactCounters::default()
+            ..BinCounters::default()
         };
         gpu.cmd_update_buffer(cmd, &self.counters, 0, bytemuck::bytes_of(&counters));
         gpu.cmd_fill_buffer(cmd, &self.bins.counts.buffer, 0);
@@ -715,9 +715,9 @@ impl Resources {
     }
 
     /// The counters of slot `slot`'s completed frame.
-    pub fn counters(&self, slot: usize) -> Result<ExactCounters> {
+    pub fn counters(&self, slot: usize) -> Result<BinCounters> {
         Ok(bytemuck::pod_read_unaligned(
-            &self.slots[slot].readback.read()?[..std::mem::size_of::<ExactCounters>()],
+            &self.slots[slot].readback.read()?[..std::mem::size_of::<BinCounters>()],
         ))
     }
 
@@ -730,13 +730,13 @@ impl Resources {
         uploaded: &GpuScene,
         targets: &FrameTargets,
     ) -> Result<()> {
-        let draws = exact_draws(scene, targets.extent.width, targets.extent.height);
+        let draws = bin_draws(scene, targets.extent.width, targets.extent.height);
         let bytes: &[u8] = bytemuck::cast_slice(&draws);
         let slot = &mut self.slots[self.slot];
         if bytes.len() as u64 > slot.draws.buffer.size {
             // Room for twice as many, so that a growing draw count reallocates rarely.
             let buffer = gpu.create_buffer(
-                "exact draws",
+                "bin draws",
                 2 * bytes.len() as u64,
                 TEXELS,
                 MemoryLocation::CpuToGpu,

@@ -1,4 +1,4 @@
-//! Host mirrors of `shaders/common/exact_layout.glsl`; `tests::layouts_match_glsl` checks them.
+//! Host mirrors of `shaders/common/bins_layout.glsl`; `tests::layouts_match_glsl` checks them.
 
 #![deny(unsafe_code)]
 
@@ -9,7 +9,7 @@ pub const BIN_SHIFT: u32 = 3;
 pub const BIN_SIZE: u32 = 1 << BIN_SHIFT;
 /// Depth slabs a bin's list may be ordered into; the counters keep a farthest depth for each.
 pub const MAX_SLABS: u32 = 1024;
-/// Slots of `ExactCounters::statistics`, each a cache line (16 words).
+/// Slots of `BinCounters::statistics`, each a cache line (16 words).
 pub const STATISTICS_SLOTS: u32 = 8;
 /// A triangle record's flags keep its material above this bit.
 pub const TRIANGLE_MATERIAL_SHIFT: u32 = 8;
@@ -18,7 +18,7 @@ pub const OVERFLOW_BIN_ENTRIES: u32 = 2;
 pub const OVERFLOW_CROWDED_BIN: u32 = 4;
 pub const OVERFLOW_RESUME: u32 = 8;
 pub const OVERFLOW_BAND_LISTS: u32 = 16;
-/// `LOOP_BUDGET` of exact_layout.glsl: loop iterations one invocation may spend.
+/// `LOOP_BUDGET` of bins_layout.glsl: loop iterations one invocation may spend.
 pub const LOOP_BUDGET: u32 = 60_000;
 // The raster may pass its budget by two searches over the slabs (a sweep's start) before it
 // stops; lavapipe ends loops after 65535 iterations.
@@ -27,7 +27,7 @@ const _: () = assert!(LOOP_BUDGET + 2 * MAX_SLABS < 65_000);
 pub const RESUME_ITEM_BYTES: u64 = 8;
 /// Bytes of one `ExactPixelState`.
 pub const PIXEL_STATE_BYTES: u64 = 192;
-/// `MAX_SELECT_SIZE` of exact_layout.glsl: fragments a pixel's saved state can hold.
+/// `MAX_SELECT_SIZE` of bins_layout.glsl: fragments a pixel's saved state can hold.
 pub const MAX_SELECT_SIZE: u32 = 16;
 /// Bytes of the indirect dispatch commands (each padded to 16) before the resume items:
 /// resume list 0, resume list 1, the band's blocks, binning, bin offsets, the band's fill.
@@ -44,15 +44,15 @@ pub const DISPATCH_BAND_FILL_OFFSET: u64 = 80;
 pub const BINNING_GROUP_SIZE: u32 = 64;
 /// Invocations per workgroup of the scan, and the multiple of blocks the bin arrays hold.
 pub const SCAN_GROUP_SIZE: u32 = 256;
-/// Bytes of one `ExactTriangleRecord` and one `ExactHomogeneous`.
+/// Bytes of one `BinTriangleRecord` and one `BinHomogeneous`.
 pub const TRIANGLE_BYTES: u64 = 80;
 pub const HOMOGENEOUS_BYTES: u64 = 192;
-/// Bytes of one `ExactAttributes`.
+/// Bytes of one `BinAttributes`.
 pub const ATTRIBUTES_BYTES: u64 = 128;
 
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
-pub struct ExactDraw {
+pub struct BinDraw {
     pub mvp: [f32; 16],
     pub draw_index: u32,
     pub first_item: u32,
@@ -62,7 +62,7 @@ pub struct ExactDraw {
 
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq, Eq)]
-pub struct ExactCounters {
+pub struct BinCounters {
     pub triangle_count: u32,
     pub homogeneous_count: u32,
     pub bin_entry_count: u32,
@@ -92,13 +92,13 @@ pub struct ExactCounters {
     pub slab_farthest: [u32; MAX_SLABS as usize],
 }
 
-impl Default for ExactCounters {
+impl Default for BinCounters {
     fn default() -> Self {
         Self::zeroed()
     }
 }
 
-impl ExactCounters {
+impl BinCounters {
     /// Fragments the raster composited.
     pub fn fragments(&self) -> u64 {
         self.statistics.iter().map(|slot| u64::from(slot[0])).sum()
@@ -131,7 +131,7 @@ impl ExactCounters {
 
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
-pub struct ExactTexture {
+pub struct BinTexture {
     pub first_texel: u32,
     pub width: u32,
     pub height: u32,
@@ -154,7 +154,7 @@ pub const SAMPLER_MIP_NONE: u32 = 0;
 pub const SAMPLER_MIP_NEAREST: u32 = 1;
 pub const SAMPLER_MIP_LINEAR: u32 = 2;
 
-/// A texture's sampler as the software sampler's word (`ExactTexture.samplerBits`).
+/// A texture's sampler as the software sampler's word (`BinTexture.samplerBits`).
 pub fn sampler_bits(s: &Sampler) -> u32 {
     let wrap = |w: Wrap| match w {
         Wrap::Repeat => SAMPLER_WRAP_REPEAT,
@@ -174,10 +174,10 @@ pub fn sampler_bits(s: &Sampler) -> u32 {
         | mip << SAMPLER_MIP_SHIFT
 }
 
-/// The push constants of every exact stage.
+/// The push constants of every bin stage and of the rasters that read the bins.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
-pub struct ExactPush {
+pub struct BinPush {
     pub item_count: u32,
     pub draw_count: u32,
     pub width: u32,
@@ -198,13 +198,13 @@ mod tests {
     use crate::glsl_layout::std430_offsets;
     use std::mem::{offset_of, size_of};
 
-    const SRC: &str = include_str!("../../../../../shaders/common/exact_layout.glsl");
+    const SRC: &str = include_str!("../../../../../shaders/common/bins_layout.glsl");
 
     fn define(name: &str) -> u32 {
         let line = SRC
             .lines()
             .find(|l| l.starts_with(&format!("#define {name} ")))
-            .unwrap_or_else(|| panic!("{name} missing from exact_layout.glsl"));
+            .unwrap_or_else(|| panic!("{name} missing from bins_layout.glsl"));
         let value = line.split_whitespace().nth(2).expect("value");
         value.trim_end_matches('u').parse().expect("number")
     }
@@ -219,7 +219,7 @@ mod tests {
 
     #[test]
     fn statistics_add_up_over_the_slots() {
-        let mut c = ExactCounters::default();
+        let mut c = BinCounters::default();
         for (k, slot) in c.statistics.iter_mut().enumerate() {
             let k = k as u32;
             *slot = [0; 16];
@@ -268,35 +268,34 @@ mod tests {
         assert_eq!(bins, DISPATCH_RASTER_BINS_OFFSET);
     }
 
-    /// exact_bindings.glsl and exact_fragment.glsl read these records texel by texel (16 bytes
+    /// bins_bindings.glsl and bin_fragment.glsl read these records texel by texel (16 bytes
     /// each) in field order; their loaders are right only while every field sits where they
     /// expect.
     #[test]
     fn texel_loaders_match_the_records() {
-        let msg =
-            "a record changed: update its loaders (exact_bindings.glsl, exact_fragment.glsl) \
+        let msg = "a record changed: update its loaders (bins_bindings.glsl, bin_fragment.glsl) \
                    and this test";
         assert_eq!(
-            offsets("ExactTriangleRecord"),
+            offsets("BinTriangleRecord"),
             [0, 16, 24, 28, 32, 44, 48, 60, 64, 68, 72, 76],
             "{msg}"
         );
         assert_eq!(
-            offsets("ExactAttributes"),
+            offsets("BinAttributes"),
             [0, 16, 32, 48, 60, 64, 76, 80, 92, 96, 112, 120, 124],
             "{msg}"
         );
         assert_eq!(
-            std430_offsets(SRC, "ExactAttributes").1 as u64,
+            std430_offsets(SRC, "BinAttributes").1 as u64,
             ATTRIBUTES_BYTES,
             "{msg}"
         );
         assert_eq!(
-            offsets("ExactHomogeneous"),
+            offsets("BinHomogeneous"),
             [0, 32, 64, 96, 128, 160, 176],
             "{msg}"
         );
-        assert_eq!(offsets("ExactTexture")[..6], [0, 4, 8, 12, 16, 20], "{msg}");
+        assert_eq!(offsets("BinTexture")[..6], [0, 4, 8, 12, 16, 20], "{msg}");
         let scene = include_str!("../../../../../shaders/common/layout.glsl");
         let material: Vec<usize> = std430_offsets(scene, "Material")
             .0
@@ -309,71 +308,71 @@ mod tests {
 
     #[test]
     fn layouts_match_glsl() {
-        let msg = "methods/exact/layout.rs and exact_layout.glsl disagree; update both";
+        let msg = "methods/bins/layout.rs and bins_layout.glsl disagree; update both";
         assert_eq!(
-            std430_offsets(SRC, "ExactTriangleRecord").1 as u64,
+            std430_offsets(SRC, "BinTriangleRecord").1 as u64,
             TRIANGLE_BYTES,
             "{msg}"
         );
         assert_eq!(
-            std430_offsets(SRC, "ExactHomogeneous").1 as u64,
+            std430_offsets(SRC, "BinHomogeneous").1 as u64,
             HOMOGENEOUS_BYTES,
             "{msg}"
         );
         assert_eq!(
-            offsets("ExactDraw"),
+            offsets("BinDraw"),
             [
-                offset_of!(ExactDraw, mvp),
-                offset_of!(ExactDraw, draw_index),
-                offset_of!(ExactDraw, first_item),
-                offset_of!(ExactDraw, quad_count),
-                offset_of!(ExactDraw, first_quad)
+                offset_of!(BinDraw, mvp),
+                offset_of!(BinDraw, draw_index),
+                offset_of!(BinDraw, first_item),
+                offset_of!(BinDraw, quad_count),
+                offset_of!(BinDraw, first_quad)
             ],
             "{msg}"
         );
         assert_eq!(
-            std430_offsets(SRC, "ExactDraw").1,
-            size_of::<ExactDraw>(),
+            std430_offsets(SRC, "BinDraw").1,
+            size_of::<BinDraw>(),
             "{msg}"
         );
         let counters = [
-            offset_of!(ExactCounters, triangle_count),
-            offset_of!(ExactCounters, homogeneous_count),
-            offset_of!(ExactCounters, bin_entry_count),
-            offset_of!(ExactCounters, overflow),
-            offset_of!(ExactCounters, triangle_capacity),
-            offset_of!(ExactCounters, homogeneous_capacity),
-            offset_of!(ExactCounters, bin_entry_capacity),
-            offset_of!(ExactCounters, resume_capacity),
-            offset_of!(ExactCounters, resume_needed),
-            offset_of!(ExactCounters, depth_lo),
-            offset_of!(ExactCounters, depth_hi),
-            offset_of!(ExactCounters, listed_blocks),
-            offset_of!(ExactCounters, band_first),
-            offset_of!(ExactCounters, band_count),
-            offset_of!(ExactCounters, band_base),
-            offset_of!(ExactCounters, band_first_block),
-            offset_of!(ExactCounters, band_last_block),
-            offset_of!(ExactCounters, band_next),
-            offset_of!(ExactCounters, bands),
-            offset_of!(ExactCounters, skipped_blocks),
-            offset_of!(ExactCounters, abandoned_rows),
-            offset_of!(ExactCounters, crowded_rows),
-            offset_of!(ExactCounters, restarted_rows),
-            offset_of!(ExactCounters, resume_item_capacity),
-            offset_of!(ExactCounters, pad),
-            offset_of!(ExactCounters, statistics),
-            offset_of!(ExactCounters, slab_farthest),
+            offset_of!(BinCounters, triangle_count),
+            offset_of!(BinCounters, homogeneous_count),
+            offset_of!(BinCounters, bin_entry_count),
+            offset_of!(BinCounters, overflow),
+            offset_of!(BinCounters, triangle_capacity),
+            offset_of!(BinCounters, homogeneous_capacity),
+            offset_of!(BinCounters, bin_entry_capacity),
+            offset_of!(BinCounters, resume_capacity),
+            offset_of!(BinCounters, resume_needed),
+            offset_of!(BinCounters, depth_lo),
+            offset_of!(BinCounters, depth_hi),
+            offset_of!(BinCounters, listed_blocks),
+            offset_of!(BinCounters, band_first),
+            offset_of!(BinCounters, band_count),
+            offset_of!(BinCounters, band_base),
+            offset_of!(BinCounters, band_first_block),
+            offset_of!(BinCounters, band_last_block),
+            offset_of!(BinCounters, band_next),
+            offset_of!(BinCounters, bands),
+            offset_of!(BinCounters, skipped_blocks),
+            offset_of!(BinCounters, abandoned_rows),
+            offset_of!(BinCounters, crowded_rows),
+            offset_of!(BinCounters, restarted_rows),
+            offset_of!(BinCounters, resume_item_capacity),
+            offset_of!(BinCounters, pad),
+            offset_of!(BinCounters, statistics),
+            offset_of!(BinCounters, slab_farthest),
         ];
-        assert_eq!(offsets("ExactCounters"), counters, "{msg}");
+        assert_eq!(offsets("BinCounters"), counters, "{msg}");
         assert_eq!(
-            std430_offsets(SRC, "ExactCounters").1,
-            size_of::<ExactCounters>(),
+            std430_offsets(SRC, "BinCounters").1,
+            size_of::<BinCounters>(),
             "{msg}"
         );
         assert_eq!(
-            std430_offsets(SRC, "ExactTexture").1,
-            size_of::<ExactTexture>(),
+            std430_offsets(SRC, "BinTexture").1,
+            size_of::<BinTexture>(),
             "{msg}"
         );
         assert_eq!(
@@ -382,10 +381,10 @@ mod tests {
             "{msg}"
         );
         assert_eq!(
-            offsets("ExactTexture")[4..6],
+            offsets("BinTexture")[4..6],
             [
-                offset_of!(ExactTexture, srgb),
-                offset_of!(ExactTexture, sampler)
+                offset_of!(BinTexture, srgb),
+                offset_of!(BinTexture, sampler)
             ],
             "{msg}"
         );
@@ -418,7 +417,7 @@ mod tests {
             let line = format!("#define {name} {value}\n");
             assert!(
                 SRC.contains(&line),
-                "exact_layout.glsl lacks `{}`: update it and layout.rs together",
+                "bins_layout.glsl lacks `{}`: update it and layout.rs together",
                 line.trim()
             );
         }

@@ -11,14 +11,14 @@
 #define BIN_SHIFT 3
 #define BIN_SIZE 8
 
-// A bin's list may be ordered by depth slab (see exact_bins.glsl), into at most MAX_SLABS.
+// A bin's list may be ordered by depth slab (see bin_lists.glsl), into at most MAX_SLABS.
 #define MAX_SLABS 1024
 
-// Slots of ExactCounters.statistics, and its words: a cache line (16 words) a slot.
+// Slots of BinCounters.statistics, and its words: a cache line (16 words) a slot.
 #define STATISTICS_SLOTS 8u
 #define STATISTICS_WORDS 128u
 
-// Overflow bits in ExactCounters.overflow: a buffer was too small for the frame (the host
+// Overflow bits in BinCounters.overflow: a buffer was too small for the frame (the host
 // grows it for later frames). The bin lists' overflow is answered within the frame, by bands;
 // a band whose lists did not fit after all (OVERFLOW_BAND_LISTS) lost entries.
 #define OVERFLOW_HOMOGENEOUS 1u
@@ -40,7 +40,7 @@
 #define NO_STATE 0xFFFFFFFFu
 #define NEW_SWEEP 0xFFFFFFFFu
 
-// Indirect dispatch commands (see exact_bindings.glsl) and binning's workgroup size.
+// Indirect dispatch commands (see bins_bindings.glsl) and binning's workgroup size.
 #define DISPATCH_RASTER_BINS 2u
 #define DISPATCH_BINNING 3u
 #define DISPATCH_BIN_OFFSETS 4u
@@ -66,7 +66,7 @@ struct ExactPixelState {
 };
 
 // One transparent draw as the exact method sees it (std430, 80 bytes).
-struct ExactDraw {
+struct BinDraw {
     mat4 mvp;               // view-projection x model, computed on the host like the reference
     uint drawIndex;         // into the scene's DrawInfo array
     uint firstItem;         // global index of the draw's first quad, in submission order
@@ -76,8 +76,8 @@ struct ExactDraw {
 
 // A visible triangle after setup, as the stages use it. Fixed-point edges
 // E = a*px + b*py + c are positive inside; on the homogeneous path the lines live in
-// ExactHomogeneous. Stored packed as an ExactTriangleRecord.
-struct ExactTriangle {
+// BinHomogeneous. Stored packed as an BinTriangleRecord.
+struct BinTriangle {
     i64vec4 edgeC;          // xyz: c of edges 0..2
     ivec4 edgeA;            // xyz: a of edges 0..2, w: tie bits (bit k: edge k owns ties)
     ivec4 edgeB;            // xyz: b of edges 0..2, w: index into the homogeneous array or -1
@@ -90,14 +90,14 @@ struct ExactTriangle {
     uint materialIndex;
 };
 
-// An ExactTriangle as stored (std430, 80 bytes: five texels). The walks read a record for
+// An BinTriangle as stored (std430, 80 bytes: five texels). The walks read a record for
 // every triangle they visit, one texel fetch each, so it keeps the snapped vertices instead
 // of the edges (loaders rebuild a, b and c exactly, as setup computes them) and puts the
 // bounds, which coverage does not need, in the last texel, which the walks skip; shading
-// skips the depths too (loadShadingTriangle in exact_fragment.glsl). Fixed-point
+// skips the depths too (loadShadingTriangle in bin_fragment.glsl). Fixed-point
 // vertices fit 32 bits (guard band 2^20 pixels, 8 sub-pixel bits), pixel bounds 16 bits
 // (viewports are at most 65535).
-struct ExactTriangleRecord {
+struct BinTriangleRecord {
     ivec4 vertices01;       // fixed-point x, y of vertices 0 and 1 (zero on the homogeneous path)
     ivec2 vertex2;
     uint flags;             // TRIANGLE_NEGATED, material index << TRIANGLE_MATERIAL_SHIFT
@@ -128,7 +128,7 @@ struct ExactTriangleRecord {
 // the texels its scene can use (loadShadingAttributes): colours with vertex colours, the
 // first normal with lighting, the flags with vertex normals or textures, the other normals
 // with vertex normals, uvs with textures. (The material is in the triangle record.)
-struct ExactAttributes {
+struct BinAttributes {
     vec4 colour0;           // vertex colours
     vec4 colour1;
     vec4 colour2;
@@ -145,7 +145,7 @@ struct ExactAttributes {
 };
 
 // Extra data of a triangle on the homogeneous path (std430, 192 bytes: 176 padded to 32).
-struct ExactHomogeneous {
+struct BinHomogeneous {
     dvec4 line0;            // a, b, c of edge 0 (positive inside)
     dvec4 line1;
     dvec4 line2;
@@ -157,7 +157,7 @@ struct ExactHomogeneous {
 
 // Counters the host reads back after every frame and checks (std430; its size is checked
 // against layout.rs).
-struct ExactCounters {
+struct BinCounters {
     uint triangleCount;     // triangles setup kept (a statistic: records sit at their order
                             // keys, and binning runs over every record)
     uint homogeneousCount;
@@ -200,7 +200,7 @@ struct ExactCounters {
 };
 
 // A texture for the software sampler (std430, 32 bytes).
-struct ExactTexture {
+struct BinTexture {
     uint firstTexel;        // index of level 0's first texel in the texel buffer
     uint width;
     uint height;
@@ -211,7 +211,7 @@ struct ExactTexture {
     uint pad1;
 };
 
-// ExactTexture.sampler: each axis's wrap mode, the filters, the mipmap mode
+// BinTexture.sampler: each axis's wrap mode, the filters, the mipmap mode
 // (methods/exact/layout.rs writes them).
 #define SAMPLER_WRAP_S_SHIFT 0
 #define SAMPLER_WRAP_T_SHIFT 2

@@ -10,9 +10,9 @@
 #extension GL_KHR_shader_subgroup_ballot : require
 
 #include "scene_bindings_compute.glsl"
-#include "exact_bindings.glsl"
+#include "bins_bindings.glsl"
 #include "raster.glsl"
-#include "exact_bins.glsl"
+#include "bin_lists.glsl"
 #include "depth_pyramid.glsl"
 
 layout(local_size_x = 64) in;
@@ -23,7 +23,7 @@ layout(local_size_x = 64) in;
 // the path and renders the frame again.
 layout(constant_id = 0) const bool HOMOGENEOUS_PATH = true;
 // What shading can read of an attribute record, as the raster's constants 1 to 3, 9 and 10
-// (exact_fragment.glsl): setup stores only those fields. Its stores are most of its time,
+// (bin_fragment.glsl): setup stores only those fields. Its stores are most of its time,
 // since a storage-buffer store is a loop over the lanes for every 32-bit component.
 layout(constant_id = 1) const bool TEXTURES = true;          // some material has a texture
 layout(constant_id = 2) const bool VERTEX_NORMALS = true;    // some lit draw has vertex normals
@@ -107,8 +107,8 @@ void fixedEdge(i64vec2 p, i64vec2 q, int64_t s, out int64_t a, out int64_t b, ou
 
 // Sets up one triangle; false when it covers no sample. `front` tells its facing; `vertices`
 // and `negated` are what the record keeps of the edges (zero on the homogeneous path).
-bool setupTriangle(vec4 c[3], out ExactTriangle t, out ivec2 vertices[3], out bool negated,
-                   out ExactHomogeneous h, out bool homogeneous, out bool front) {
+bool setupTriangle(vec4 c[3], out BinTriangle t, out ivec2 vertices[3], out bool negated,
+                   out BinHomogeneous h, out bool homogeneous, out bool front) {
     homogeneous = false;
     front = false;
     negated = false;
@@ -218,7 +218,7 @@ bool setupTriangle(vec4 c[3], out ExactTriangle t, out ivec2 vertices[3], out bo
 // Whether no fragment of fixed-path triangle t can pass the opaque depth test (nearer than
 // the opaque depth). Its fragments' depths are interpolated between its vertices' in float,
 // so none is below the nearest vertex's less a few ulps; 2^-16 of it is far more than that.
-bool behindOpaque(ExactTriangle t) {
+bool behindOpaque(BinTriangle t) {
     float nearest = min(min(t.zNdc.x, t.zNdc.y), t.zNdc.z);
     return nearest - nearest * (1.0 / 65536.0) >= farthestOpaque(t.bounds);
 }
@@ -247,8 +247,8 @@ Corner loadCorner(uint v) {
 // Everything shading needs of the triangle with corners k0, k1, k2 of a quad of `draw`, so
 // that the raster reads one record. Normals are transformed here exactly as the reference
 // transforms them per fragment.
-ExactAttributes gatherAttributes(DrawInfo draw, Corner k0, Corner k1, Corner k2) {
-    ExactAttributes a;
+BinAttributes gatherAttributes(DrawInfo draw, Corner k0, Corner k1, Corner k2) {
+    BinAttributes a;
     a.colour0 = k0.colour;
     a.colour1 = k1.colour;
     a.colour2 = k2.colour;
@@ -282,7 +282,7 @@ ExactAttributes gatherAttributes(DrawInfo draw, Corner k0, Corner k1, Corner k2)
 }
 
 // Record ti, field by field: the padding is never stored.
-void storeTriangle(uint ti, ExactTriangle t, ivec2 v[3], bool negated) {
+void storeTriangle(uint ti, BinTriangle t, ivec2 v[3], bool negated) {
     g_triangles[ti].vertices01 = ivec4(v[0], v[1]);
     g_triangles[ti].vertex2 = v[2];
     g_triangles[ti].flags = (negated ? TRIANGLE_NEGATED : 0u) |
@@ -304,8 +304,8 @@ void storeHole(uint ti) {
 }
 
 // Attribute record ti: only the fields shading can read (loadShadingAttributes in
-// exact_fragment.glsl, under the same constants); the others are never stored.
-void storeAttributes(uint ti, ExactAttributes a) {
+// bin_fragment.glsl, under the same constants); the others are never stored.
+void storeAttributes(uint ti, BinAttributes a) {
     if (VERTEX_COLOURS) {
         g_attributes[ti].colour0 = a.colour0;
     }
@@ -335,7 +335,7 @@ void main() {
         return;
     }
     uint slot = findDraw(item);
-    ExactDraw d = loadExactDraw(slot);
+    BinDraw d = loadBinDraw(slot);
     uint quadIndex = item - d.firstItem;
     uvec4 q = loadQuad(d.firstQuad + quadIndex);
     DrawInfo draw = loadDrawInfo(d.drawIndex);
@@ -362,10 +362,10 @@ void main() {
         c[0] = clip0;
         c[1] = second ? clip2 : clip1;
         c[2] = second ? clip3 : clip2;
-        ExactTriangle t;
+        BinTriangle t;
         ivec2 v[3];
         bool negated;
-        ExactHomogeneous h;
+        BinHomogeneous h;
         bool homogeneous;
         bool front;
         bool visible = setupTriangle(c, t, v, negated, h, homogeneous, front) &&
@@ -380,7 +380,7 @@ void main() {
                 t.edgeB.w = int(hi);
             }
         }
-        // Every triangle has its record at its order key (exact_layout.glsl), culled ones too,
+        // Every triangle has its record at its order key (bins_layout.glsl), culled ones too,
         // as a hole that binning skips: two records per quad, the capacity.
         uint ti = item * 2u + sub;
         if (visible) {
@@ -388,7 +388,7 @@ void main() {
             t.materialIndex = draw.materialIndex;
             // Frame-wide counters take one atomic per subgroup: one per triangle made them the
             // most contended words of the frame. Only the visible lanes are active here. The
-            // depth range only places slabs (exact_bins.glsl): frames of one slab skip it
+            // depth range only places slabs (bin_lists.glsl): frames of one slab skip it
             // (the dragon's setup 4-6 % faster).
             uvec2 depth = homogeneous ? uvec2(0xFFFFFFFFu, 0u) : triangleDepthBits(t);
             uint nearest = SLABS > 1u ? subgroupMin(depth.x) : 0u;

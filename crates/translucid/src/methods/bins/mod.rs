@@ -1,0 +1,737 @@
+//! The bins: the compute stages that sort a frame's transparent triangles into per-bin lists,
+//! which the exact method's raster and the wavelet method's bin raster both read.
+//!
+//! Stages (one compute shader each, `shaders/bins/`):
+//! 0. `depth_pyramid`: the farthest opaque depth per 8×8 block and over ever larger cells.
+//! 1. `setup`: per transparent quad, transform, set up its triangles (fixed-point or
+//!    homogeneous), cull (back faces, off screen, wholly behind the opaque layer by the
+//!    pyramid), append visible triangles. Binning runs for as many triangles as setup kept
+//!    (an indirect dispatch setup sizes).
+//! 2. `bin_count`, `bin_scan`, `bin_fill`: per bin (one row of an 8×8-pixel block), count the
+//!    triangles that may cover it, prefix-sum the counts and list the blocks with entries,
+//!    then, per band, plan the band, write its bins' offsets and fill their triangle lists.
+//!    Frames with many fragments per pixel order each list by depth slab (nearest vertex).
+//!
+//! A raster then runs over each band's blocks (one workgroup per row, from the indirect
+//! command the band's plan wrote) before the next band is filled: [`Bins::record_band`] is
+//! called once per band by the method that owns the raster.
+//!
+//! Memory is sized from the frame: two triangle records per quad at most, bin lists grown to
+//! what the GPU counted. A frame whose lists pass their capacity is right all the same: the
+//! scan lists the blocks in order and the frame is filled and rasterized in bands of blocks
+//! whose lists fit, one after another in the same command buffer (up to `BANDS`; bands
+//! without blocks are near-empty dispatches). Counters come back every frame and grow the
+//! buffers for later frames. What one recording cannot answer leaves pixels untouched, never
+//! drawn from truncated work: blocks past the last band, counted as degraded rows (rendered
+//! again when translucid submits; reported on an engine's device). Homogeneous records past
+//! one buffer's worth lose triangles (rendered again, or reported).
+
+#![deny(clippy::unwrap_used)]
+
+pub mod features;
+pub mod layout;
+pub(crate) mod resources;
+
+use super::{FrameDone, FrameSetup, RecordContext};
+use crate::assets::GpuScene;
+use crate::frame::FrameTargets;
+use crate::gpu::{image_barrier, memory_barrier, vk, ComputePipeline, ComputePipelineCache, Gpu};
+use crate::scene::Scene;
+use crate::{Error, Result};
+use features::{MeshFacts, RasterFeatures};
+use layout::{
+    BinCounters, BinPush, BIN_SIZE, DISPATCH_BAND_FILL_OFFSET, DISPATCH_BINNING_OFFSET,
+    DISPATCH_BIN_OFFSETS_OFFSET, DISPATCH_RASTER_BINS_OFFSET, LOOP_BUDGET, OVERFLOW_BAND_LISTS,
+    OVERFLOW_CROWDED_BIN, OVERFLOW_HOMOGENEOUS,
+};
+use resources::{Capacities, Resources};
+use std::sync::Arc;
+
+/// Settings of the bins, whichever raster reads them. Left at their defaults, the bins size
+/// themselves from the frame; the rest are for tests that reach the bins' limits.
+#[derive(Clone, Debug, Default)]
+pub struct BinOptions {
+    /// First capacity of the per-bin triangle lists, in entries. `None` sizes it from the
+    /// frame. Small values force the bands (for tests).
+    pub initial_bin_entries: Option<u32>,
+    /// First capacity of the homogeneous (near-plane) triangle records.
+    pub initial_homogeneous: Option<u32>,
+    /// First capacity of the pixel states of rows that continue in a later raster dispatch
+    /// (rows hundreds of fragments deep; the exact raster's).
+    pub initial_resume_rows: Option<u32>,
+    /// Start with the stages built without the near-plane path, whatever the scene looks
+    /// like, so that tests can exercise the rebuild-and-render-again fallback.
+    #[doc(hidden)]
+    pub assume_fixed_path: bool,
+    /// Rasterize one row per workgroup, as on devices whose subgroups are wider than a row
+    /// (most GPUs), so that tests cover that path on lavapipe too.
+    #[doc(hidden)]
+    pub assume_wide_subgroups: bool,
+    /// Bin at most this many rows of a triangle per binning invocation (the shader loop
+    /// budget otherwise decides, about 370 rows at 1280 pixels across), so that tests cover
+    /// triangles split into several slices.
+    #[doc(hidden)]
+    pub bin_rows_per_slice: Option<u32>,
+    /// Bands of bins recorded per frame (`None`: [`BANDS`]), so that tests can reach the
+    /// frames that need more than it records.
+    #[doc(hidden)]
+    pub bands: Option<u32>,
+}
+
+/// Bands recorded per frame ([`BinOptions::bands`] for tests). A frame whose bin lists pass
+/// their capacity is rasterized in bands of blocks whose lists fit, one after another in the
+/// same command buffer, and the lists grow for later frames; a frame needing more than BANDS
+/// times the capacity leaves the blocks past the last band untouched (counted, and rendered
+/// again when translucid submits). Bands without blocks cost a tiny dispatch and empty
+/// indirect ones.
+pub const BANDS: u32 = 4;
+/// `PYRAMID_GROUP_SIZE` of depth_pyramid.comp.
+const PYRAMID_GROUP_SIZE: u32 = 256;
+
+/// What last wrote the frame targets before a frame's raster: the opaque pass.
+pub const OPAQUE_PASS_WRITES: (vk::PipelineStageFlags, vk::AccessFlags) = (
+    vk::PipelineStageFlags::ALL_GRAPHICS,
+    vk::AccessFlags::from_raw(
+        vk::AccessFlags::COLOR_ATTACHMENT_WRITE.as_raw()
+            | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE.as_raw(),
+    ),
+);
+/// What last touched them before a finishing submission: the previous one, waited for.
+pub const FINISHED_SUBMISSION_WRITES: (vk::PipelineStageFlags, vk::AccessFlags) = (
+    vk::PipelineStageFlags::ALL_COMMANDS,
+    vk::AccessFlags::from_raw(
+        vk::AccessFlags::MEMORY_READ.as_raw() | vk::AccessFlags::MEMORY_WRITE.as_raw(),
+    ),
+);
+
+/// The bin stages' pipelines for one set of features.
+struct StagePipelines {
+    depth_pyramid: Arc<ComputePipeline>,
+    /// The depth pyramid shader specialized to build the levels above level 0.
+    pyramid_top: Arc<ComputePipeline>,
+    setup: Arc<ComputePipeline>,
+    bin_count: Arc<ComputePipeline>,
+    /// The scan's steps 0 to 3 (constant 0): block sums, block list, a band's bin offsets,
+    /// a band's plan.
+    scan_steps: [Arc<ComputePipeline>; 4],
+    bin_fill: Arc<ComputePipeline>,
+}
+
+impl StagePipelines {
+    /// The stages specialized for `features`, from `cache` (built there on first use).
+    fn select(
+        cache: &mut ComputePipelineCache,
+        gpu: &Gpu,
+        layouts: &[&crate::gpu::DescriptorLayout],
+        features: &RasterFeatures,
+    ) -> Result<Self> {
+        let mut stage =
+            |spirv: &'static [u8], constants: &[u32]| cache.get(gpu, layouts, spirv, constants);
+        // Setup takes the raster's constants 0 to 3, 6 (SLAB_BITS, declared in
+        // bin_lists.glsl, which setup includes), 9 and 10, with the same ids; the rest stay
+        // at their defaults so that setup is shared by the features that differ only there.
+        let mut setup = features.constants(false);
+        setup[4..6].fill(0);
+        setup[7..9].fill(0);
+        let binning = features.binning_constants();
+        let scan_step = |n: u32| {
+            let mut constants = binning;
+            constants[0] = n;
+            constants
+        };
+        let pyramid = crate::spirv!("bins/depth_pyramid.comp");
+        let scan = crate::spirv!("bins/bin_scan.comp");
+        Ok(Self {
+            depth_pyramid: stage(pyramid, &[0])?,
+            pyramid_top: stage(pyramid, &[1])?,
+            setup: stage(crate::spirv!("bins/setup.comp"), &setup)?,
+            bin_count: stage(crate::spirv!("bins/bin_count.comp"), &binning)?,
+            scan_steps: [
+                stage(scan, &binning)?,
+                stage(scan, &scan_step(1))?,
+                stage(scan, &scan_step(2))?,
+                stage(scan, &scan_step(3))?,
+            ],
+            bin_fill: stage(crate::spirv!("bins/bin_fill.comp"), &binning)?,
+        })
+    }
+}
+
+/// What the bins learned from a completed frame.
+#[derive(Clone, Copy, Debug)]
+pub struct BinsDone {
+    pub counters: BinCounters,
+    /// The features changed for later frames: the raster's pipelines must follow.
+    pub features_changed: bool,
+    /// Buffers grew for later frames (a finishing submission cannot reuse the frame's).
+    pub grown: bool,
+    /// The frame is not all right: triangles were lost, the stages missed a feature the
+    /// frame needed, or blocks were left untouched. Render it again.
+    pub again: bool,
+    /// Pixel rows the frame left with the opaque colour (blocks past the last band, or rows
+    /// a band left unfinished).
+    pub degraded_rows: u64,
+}
+
+/// The settings a frame was recorded with.
+#[derive(Clone, Copy, Debug)]
+struct Recorded {
+    features: RasterFeatures,
+    capacities: Capacities,
+}
+
+pub struct Bins {
+    gpu: Gpu,
+    /// The method whose raster reads the bins, in errors and logs.
+    method: &'static str,
+    resources: Resources,
+    /// Every pipeline built so far, by specialization: the bin stages' and the raster's.
+    cache: ComputePipelineCache,
+    /// The variants this frame's features need.
+    stages: StagePipelines,
+    bands: u32,
+    /// What the features need of each mesh, its bounds kept up with moved vertices.
+    meshes: Vec<MeshFacts>,
+    push: BinPush,
+    /// The constants the stage pipelines (and the raster's) are specialized with.
+    features: RasterFeatures,
+    /// Tests start without the near-plane path whatever the frame (BinOptions).
+    fixed_path_forced: bool,
+    /// The GPU found a near-plane triangle the host's estimate missed: later frames keep the
+    /// near-plane path rather than render again.
+    homogeneous_missed: bool,
+    /// Per frame slot, what its last frame was recorded with: with frames in flight, the
+    /// settings may have moved on by the time that frame completes.
+    recorded: Vec<Recorded>,
+}
+
+/// `BinPush::order_by_z` for `scene`'s camera.
+fn orders_by_z(scene: &Scene) -> u32 {
+    u32::from(scene.camera.depth_order() == crate::raster::DepthOrder::DeviceZ)
+}
+
+/// Homogeneous records a frame with `near_plane` triangles that may take the near-plane path
+/// needs, up to what one buffer binds (past that the frame reports the overflow).
+fn homogeneous_bound(gpu: &Gpu, near_plane: u64) -> u32 {
+    near_plane.min(u64::from(Capacities::most(gpu).homogeneous)) as u32
+}
+
+impl Bins {
+    /// The bins of `scene` for `method`'s raster. `shape` adjusts the features the scene
+    /// needs to the raster, given the fragments the frame is expected to have.
+    pub fn new(
+        gpu: &Gpu,
+        scene: &Scene,
+        uploaded: &GpuScene,
+        targets: &FrameTargets,
+        options: &BinOptions,
+        method: &'static str,
+        shape: impl FnOnce(RasterFeatures, u64) -> RasterFeatures,
+    ) -> Result<Self> {
+        let info = gpu.info();
+        if !(info.shader_int64 && info.shader_float64) {
+            return Err(Error::NoDevice(format!(
+                "{} lacks 64-bit shader integers or floats, which the {method} method's edge functions need",
+                info.name
+            )));
+        }
+        // The rasters run a workgroup per row of BIN_SIZE pixels and vote, broadcast and
+        // reduce over it: a subgroup must hold a whole row.
+        if !info.compute_subgroup_operations || info.subgroup_size < BIN_SIZE {
+            return Err(Error::NoDevice(format!(
+                "{} has compute subgroups of {} invocations{}; the {method} method needs at least \
+                 {BIN_SIZE} with vote, ballot and arithmetic operations",
+                info.name,
+                info.subgroup_size,
+                if info.compute_subgroup_operations {
+                    ""
+                } else {
+                    " without all of vote, ballot and arithmetic"
+                }
+            )));
+        }
+        let width = targets.extent.width;
+        let height = targets.extent.height;
+        if width > 0xFFFF || height > 0xFFFF {
+            // Triangle records keep their pixel bounds in 16 bits.
+            return Err(Error::InvalidScene(format!(
+                "{method}: {width}x{height} is over the 65535 pixels a side it supports"
+            )));
+        }
+        let meshes = MeshFacts::of_scene(scene);
+        let near_plane = features::homogeneous_triangles(scene, &meshes, width, height);
+        let bins_x = width.div_ceil(BIN_SIZE);
+        let bins_y = height.div_ceil(BIN_SIZE);
+        let expected = features::estimated_fragments(scene, width, height);
+        let capacities = Capacities::initial(
+            uploaded.transparent_quads,
+            bins_x * bins_y,
+            expected,
+            homogeneous_bound(gpu, near_plane),
+            options,
+        );
+        let mut features = RasterFeatures::of_frame(scene, &meshes, near_plane, info.subgroup_size);
+        features.homogeneous &= !options.assume_fixed_path;
+        features = shape(features, expected);
+        if options.assume_wide_subgroups {
+            features.rows = 1;
+        }
+        let resources = Resources::new(gpu, scene, uploaded, targets, capacities, features.slabs())
+            .map_err(|e| in_errors(method, e))?;
+        let layouts = [&uploaded.layout, &resources.layout];
+        let mut cache = ComputePipelineCache::new(std::mem::size_of::<BinPush>() as u32);
+        let stages = StagePipelines::select(&mut cache, gpu, &layouts, &features)?;
+        let push = BinPush {
+            item_count: uploaded.transparent_quads,
+            draw_count: scene.transparent.len() as u32,
+            width,
+            height,
+            bins_x,
+            bins_y,
+            threshold: 0.0,
+            resume_list: 0,
+            // A row of bins costs at most bins_x + 1 iterations.
+            bin_rows_per_slice: (LOOP_BUDGET / (bins_x + 1))
+                .min(options.bin_rows_per_slice.unwrap_or(u32::MAX))
+                .max(1),
+            order_by_z: orders_by_z(scene),
+            pad: [0; 2],
+        };
+        Ok(Self {
+            gpu: gpu.clone(),
+            method,
+            resources,
+            cache,
+            stages,
+            bands: options.bands.unwrap_or(BANDS).max(1),
+            meshes,
+            push,
+            features,
+            fixed_path_forced: options.assume_fixed_path,
+            homogeneous_missed: false,
+            recorded: vec![
+                Recorded {
+                    features,
+                    capacities,
+                };
+                uploaded.slot_count()
+            ],
+        })
+    }
+
+    /// The raster's transmittance threshold (exact's; 0 composites every fragment).
+    pub fn set_threshold(&mut self, threshold: f32) {
+        self.push.threshold = threshold;
+    }
+
+    /// The features the frames are recorded with.
+    pub fn features(&self) -> RasterFeatures {
+        self.features
+    }
+
+    /// Bands recorded per frame.
+    pub fn bands(&self) -> u32 {
+        self.bands
+    }
+
+    /// Render width and height in pixels.
+    pub fn size(&self) -> (u32, u32) {
+        (self.push.width, self.push.height)
+    }
+
+    /// A raster pipeline over the bins' descriptor sets and push constants, built unless it
+    /// was before.
+    pub fn pipeline(
+        &mut self,
+        uploaded: &GpuScene,
+        spirv: &'static [u8],
+        constants: &[u32],
+    ) -> Result<Arc<ComputePipeline>> {
+        let layouts = [&uploaded.layout, &self.resources.layout];
+        self.cache.get(&self.gpu, &layouts, spirv, constants)
+    }
+
+    /// Takes the frame `f` describes; whether the features changed (the raster's pipelines
+    /// must follow).
+    pub fn set_frame(&mut self, f: &FrameSetup<'_>) -> Result<bool> {
+        let (width, height) = self.size();
+        self.resources.use_slot(f.slot);
+        self.resources
+            .set_frame(f.gpu, f.scene, f.uploaded, f.targets)?;
+        self.push.item_count = f.uploaded.transparent_quads;
+        self.push.draw_count = f.scene.transparent.len() as u32;
+        self.push.order_by_z = orders_by_z(f.scene);
+        // Setup writes at most two triangles per quad, and homogeneous records for at most
+        // the triangles of draws that leave the fixed-point path.
+        let triangles = f.uploaded.transparent_quads.saturating_mul(2);
+        for &moved in f.moved_meshes {
+            self.meshes[moved].bounds = features::bounds(&f.scene.meshes[moved].positions);
+        }
+        // Triangles that may take the near-plane path: the records' bound and the feature.
+        let near_plane = features::homogeneous_triangles(f.scene, &self.meshes, width, height);
+        let homogeneous = homogeneous_bound(f.gpu, near_plane);
+        let capacities = self.resources.capacities;
+        if triangles > capacities.triangles || homogeneous > capacities.homogeneous {
+            let grown = Capacities {
+                triangles: triangles.max(capacities.triangles),
+                homogeneous: homogeneous.max(capacities.homogeneous),
+                ..capacities
+            };
+            self.resources
+                .grow(f.gpu, grown)
+                .map_err(|e| in_errors(self.method, e))?;
+            self.resources.refresh_set(f.targets)?;
+        }
+        let subgroup_size = self.gpu.info().subgroup_size;
+        let mut fresh = RasterFeatures::of_frame(f.scene, &self.meshes, near_plane, subgroup_size);
+        fresh.homogeneous =
+            (fresh.homogeneous && !self.fixed_path_forced) || self.homogeneous_missed;
+        let features = self.features.for_frame(fresh);
+        let changed = features != self.features;
+        if changed {
+            self.select(f.uploaded, features)?;
+        }
+        Ok(changed)
+    }
+
+    /// Makes `features` the frames' from now on, the stages' pipelines built unless made
+    /// before.
+    fn select(&mut self, uploaded: &GpuScene, features: RasterFeatures) -> Result<()> {
+        let layouts = [&uploaded.layout, &self.resources.layout];
+        self.stages = StagePipelines::select(&mut self.cache, &self.gpu, &layouts, &features)?;
+        self.features = features;
+        Ok(())
+    }
+
+    /// Records the frame up to its bands: counters reset, the targets moved to the raster's
+    /// layouts, the depth pyramid, setup, the bin count and scan, and the list of blocks.
+    pub fn record_binning(&mut self, ctx: &mut RecordContext<'_>) -> Result<()> {
+        let cmd = ctx.cmd;
+        self.resources.use_slot(ctx.slot);
+        // Buffers grown after the last frame: the slot's set names the new ones.
+        self.resources.refresh_set(ctx.targets)?;
+        self.resources.retirement.recorded();
+        self.recorded[ctx.slot] = Recorded {
+            features: self.features,
+            capacities: self.resources.capacities,
+        };
+        self.resources.record_reset(cmd, self.features.rows);
+        // Setup's occlusion cull reads the opaque depth (through the pyramid), as does the
+        // raster's depth test.
+        self.targets_to_raster(ctx, OPAQUE_PASS_WRITES);
+        let cells = self.push.bins_x * self.push.bins_y;
+        let s = &self.stages;
+        self.dispatch(
+            ctx,
+            &s.depth_pyramid,
+            [cells.div_ceil(PYRAMID_GROUP_SIZE), 1, 1],
+        );
+        self.compute_to_compute(cmd);
+        self.dispatch(ctx, &s.pyramid_top, [1, 1, 1]);
+        self.compute_to_compute(cmd);
+        ctx.timestamps.mark(cmd, "depth pyramid");
+
+        let items = self.push.item_count;
+        if items > 0 {
+            self.dispatch(ctx, &s.setup, [items.div_ceil(64), 1, 1]);
+        }
+        self.compute_to_compute(cmd);
+        ctx.timestamps.mark(cmd, "setup");
+
+        self.dispatch_indirect(ctx, &s.bin_count, DISPATCH_BINNING_OFFSET, &self.push);
+        self.compute_to_compute(cmd);
+        ctx.timestamps.mark(cmd, "bin count");
+        let [block_sums, list_blocks, ..] = &s.scan_steps;
+        self.dispatch(ctx, block_sums, [self.resources.scan_groups(), 1, 1]);
+        self.compute_to_compute(cmd);
+        self.dispatch(ctx, list_blocks, [1, 1, 1]);
+        self.compute_to_compute(cmd);
+        Ok(())
+    }
+
+    /// One band's bins: its plan (bin_scan.comp, step 3), its bins' offsets and its fill,
+    /// ready for the raster. `pending_list` is the resume list the raster suspends rows
+    /// onto: the plan empties it when the band has blocks (the last band's unfinished rows
+    /// are abandoned, counted as degraded). The first band's stages are timed on their own.
+    pub fn record_band(&self, ctx: &mut RecordContext<'_>, first: bool, pending_list: u32) {
+        let cmd = ctx.cmd;
+        let [_, _, write_offsets, plan] = &self.stages.scan_steps;
+        let push = BinPush {
+            resume_list: pending_list,
+            ..self.push
+        };
+        self.dispatch_with(ctx, plan, &push, [1, 1, 1]);
+        self.compute_to_compute(cmd);
+        self.dispatch_indirect(ctx, write_offsets, DISPATCH_BIN_OFFSETS_OFFSET, &self.push);
+        self.compute_to_compute(cmd);
+        if first {
+            ctx.timestamps.mark(cmd, "bin scan");
+        }
+        self.dispatch_indirect(
+            ctx,
+            &self.stages.bin_fill,
+            DISPATCH_BAND_FILL_OFFSET,
+            &self.push,
+        );
+        self.compute_to_compute(cmd);
+        if first {
+            ctx.timestamps.mark(cmd, "bin fill");
+        }
+    }
+
+    /// `raster` over the band's blocks (the indirect command its plan wrote), suspending rows
+    /// onto resume list `suspend_to`.
+    pub fn record_raster(
+        &self,
+        ctx: &RecordContext<'_>,
+        raster: &ComputePipeline,
+        suspend_to: u32,
+    ) {
+        let push = BinPush {
+            resume_list: suspend_to,
+            ..self.push
+        };
+        self.dispatch_indirect(ctx, raster, DISPATCH_RASTER_BINS_OFFSET, &push);
+    }
+
+    /// `continuation` over the rows on resume list `list` (one workgroup each, counted on
+    /// the GPU), then the list emptied for the rows the next continuation suspends.
+    pub fn record_continuation(
+        &self,
+        ctx: &RecordContext<'_>,
+        continuation: &ComputePipeline,
+        list: u32,
+    ) {
+        let cmd = ctx.cmd;
+        let compute = vk::PipelineStageFlags::COMPUTE_SHADER;
+        let rw = vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE;
+        let transfer = (
+            vk::PipelineStageFlags::TRANSFER,
+            vk::AccessFlags::TRANSFER_WRITE,
+        );
+        let to_next = (
+            compute | vk::PipelineStageFlags::DRAW_INDIRECT,
+            rw | vk::AccessFlags::INDIRECT_COMMAND_READ,
+        );
+        self.compute_to_compute(cmd);
+        let push = BinPush {
+            resume_list: list,
+            ..self.push
+        };
+        self.dispatch_indirect(ctx, continuation, u64::from(list) * 16, &push);
+        memory_barrier(&self.gpu, cmd, (compute, rw), transfer);
+        self.resources.record_resume_list_reset(cmd, list);
+        memory_barrier(&self.gpu, cmd, transfer, to_next);
+    }
+
+    /// Ends a frame's recording: notes which resume list holds the rows left unfinished,
+    /// returns the targets to their attachment layouts and copies the counters for the host.
+    pub fn record_end(&mut self, ctx: &RecordContext<'_>, pending_list: u32) {
+        self.resources.set_pending_list(pending_list);
+        let cmd = ctx.cmd;
+        let shader = (
+            vk::PipelineStageFlags::COMPUTE_SHADER,
+            vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
+        );
+        let after = (
+            vk::PipelineStageFlags::ALL_COMMANDS,
+            vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE,
+        );
+        image_barrier(
+            &self.gpu,
+            cmd,
+            &ctx.targets.colour,
+            vk::ImageLayout::GENERAL,
+            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+            shader,
+            after,
+        );
+        image_barrier(
+            &self.gpu,
+            cmd,
+            &ctx.targets.depth,
+            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+            vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+            shader,
+            after,
+        );
+        self.resources.record_readback(cmd);
+    }
+
+    /// Moves the frame targets to the layouts the stages use (colour written as a storage
+    /// image, depth sampled); `since` is the access that last wrote them.
+    pub fn targets_to_raster(
+        &self,
+        ctx: &RecordContext<'_>,
+        since: (vk::PipelineStageFlags, vk::AccessFlags),
+    ) {
+        let shader = (
+            vk::PipelineStageFlags::COMPUTE_SHADER,
+            vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
+        );
+        image_barrier(
+            &self.gpu,
+            ctx.cmd,
+            &ctx.targets.colour,
+            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+            vk::ImageLayout::GENERAL,
+            since,
+            shader,
+        );
+        image_barrier(
+            &self.gpu,
+            ctx.cmd,
+            &ctx.targets.depth,
+            vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+            since,
+            shader,
+        );
+    }
+
+    /// Makes one stage's writes visible to the next, including the indirect dispatch
+    /// commands the scan and the raster write.
+    pub fn compute_to_compute(&self, cmd: vk::CommandBuffer) {
+        let stage = vk::PipelineStageFlags::COMPUTE_SHADER;
+        let rw = vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE;
+        let next = (
+            stage | vk::PipelineStageFlags::DRAW_INDIRECT,
+            rw | vk::AccessFlags::INDIRECT_COMMAND_READ,
+        );
+        memory_barrier(&self.gpu, cmd, (stage, rw), next);
+    }
+
+    fn dispatch(&self, ctx: &RecordContext<'_>, p: &ComputePipeline, groups: [u32; 3]) {
+        self.dispatch_with(ctx, p, &self.push, groups);
+    }
+
+    fn dispatch_with(
+        &self,
+        ctx: &RecordContext<'_>,
+        p: &ComputePipeline,
+        push: &BinPush,
+        groups: [u32; 3],
+    ) {
+        p.dispatch(
+            ctx.cmd,
+            &[ctx.scene.set().raw, self.resources.set()],
+            bytemuck::bytes_of(push),
+            groups,
+        );
+    }
+
+    /// `p` with the workgroups of the indirect command at `offset`.
+    fn dispatch_indirect(
+        &self,
+        ctx: &RecordContext<'_>,
+        p: &ComputePipeline,
+        offset: u64,
+        push: &BinPush,
+    ) {
+        p.dispatch_indirect(
+            ctx.cmd,
+            &[ctx.scene.set().raw, self.resources.set()],
+            bytemuck::bytes_of(push),
+            self.resources.dispatches(),
+            offset,
+        );
+    }
+
+    /// The counters of the completed frame in `slot`.
+    pub fn counters(&self, slot: usize) -> Result<BinCounters> {
+        self.resources.counters(slot)
+    }
+
+    /// Whether the completed frame had a row whose list was too long for one pass of the
+    /// raster's loop budget.
+    pub fn crowded(&self, slot: usize) -> Result<bool> {
+        Ok(self.counters(slot)?.overflow & OVERFLOW_CROWDED_BIN != 0)
+    }
+
+    /// Rows the completed frame in `slot` left on its pending resume list.
+    pub fn unfinished_rows(&self, slot: usize) -> Result<u32> {
+        self.resources.unfinished_rows(slot)
+    }
+
+    /// The starting capacities a renderer for the next, similar frame should take.
+    pub fn learned(&self, options: &mut BinOptions) {
+        let c = self.resources.capacities;
+        options.initial_bin_entries = Some(c.bin_entries);
+        options.initial_homogeneous = Some(c.homogeneous);
+        options.initial_resume_rows = Some(c.resume);
+    }
+
+    /// Reads the completed frame's counters: grows the buffers for later frames and moves the
+    /// features to what later frames need (`adapt` says what the raster wants of them, from
+    /// the counters).
+    pub fn frame_done(
+        &mut self,
+        done: &FrameDone<'_>,
+        adapt: impl FnOnce(RasterFeatures, &BinCounters) -> RasterFeatures,
+    ) -> Result<BinsDone> {
+        self.resources.retirement.completed();
+        let counters = self.counters(done.slot)?;
+        // Judged by what the frame was recorded with; fixes go to the current settings.
+        let recorded = self.recorded[done.slot % self.recorded.len()];
+        let method = self.method;
+        let mut features = adapt(self.features, &counters);
+        // The host's estimate missed a near-plane triangle: the frame needs the full shaders.
+        let rebuild = counters.homogeneous_count > 0 && !recorded.features.homogeneous;
+        features.homogeneous |= rebuild;
+        self.homogeneous_missed |= rebuild;
+        let features_changed = features != self.features;
+        if features_changed {
+            self.select(done.uploaded, features)?;
+        }
+        // Lists past their capacity were rasterized in bands, and rows with no state slot
+        // started over: right, unless some blocks were left untouched (degraded). Missing
+        // homogeneous records (past one buffer's worth) lose triangles, and so would a band
+        // whose lists did not fit (the frame's entry count past 2^32).
+        let overflowed = counters.overflow & (OVERFLOW_HOMOGENEOUS | OVERFLOW_BAND_LISTS) != 0;
+        let degraded_rows = counters.degraded_rows();
+        let grown = self.resources.capacities.grown_for(
+            &counters,
+            &recorded.capacities,
+            &Capacities::most(&self.gpu),
+        );
+        if let Some(grown) = grown {
+            log::info!(
+                "{method}: buffers too small (overflow bits {:#x}: {} homogeneous triangles, \
+                 {} bin entries, {} resume state slots needed); growing to {grown:?}",
+                counters.overflow,
+                counters.homogeneous_count,
+                counters.bin_entry_count,
+                counters.resume_needed
+            );
+            self.resources
+                .grow(&self.gpu, grown)
+                .map_err(|e| in_errors(method, e))?;
+        }
+        self.resources.set_slabs(&self.gpu, self.features.slabs())?;
+        if degraded_rows > 0 {
+            log::warn!(
+                "{method}: {degraded_rows} pixel rows left with the opaque colour: blocks past \
+                 {} bands of {} bin entries ({} needed), or rows a band left unfinished ({})",
+                self.bands,
+                recorded.capacities.bin_entries,
+                counters.bin_entry_count,
+                counters.abandoned_rows
+            );
+        }
+        Ok(BinsDone {
+            counters,
+            features_changed,
+            grown: grown.is_some(),
+            again: rebuild || overflowed || degraded_rows > 0,
+            degraded_rows,
+        })
+    }
+}
+
+/// A limit `e` the bins' resources hit, said as `method`'s.
+fn in_errors(method: &str, e: Error) -> Error {
+    match e {
+        Error::InvalidScene(message) => Error::InvalidScene(format!("{method}: {message}")),
+        other => other,
+    }
+}

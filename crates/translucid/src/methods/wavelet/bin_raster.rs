@@ -1,0 +1,117 @@
+//! The bins variant: the bins ([`crate::methods::bins`]) read by the wavelet raster
+//! (`shaders/common/wavelet_bins.glsl`), which keeps each pixel's coefficients in registers
+//! and walks its row's list three times: bounds, coefficients, shading.
+
+use super::layout::SpecConstants;
+use crate::assets::GpuScene;
+use crate::frame::FrameTargets;
+use crate::gpu::{ComputePipeline, Gpu};
+use crate::methods::bins::{BinOptions, Bins};
+use crate::methods::{FrameCheck, FrameDone, FrameSetup, RecordContext};
+use crate::scene::Scene;
+use crate::Result;
+use std::sync::Arc;
+
+/// The raster of each rank.
+fn raster_spirv(rank: u32) -> &'static [u8] {
+    match rank {
+        0 => crate::spirv!("wavelet/bins_rank0.comp"),
+        1 => crate::spirv!("wavelet/bins_rank1.comp"),
+        2 => crate::spirv!("wavelet/bins_rank2.comp"),
+        _ => crate::spirv!("wavelet/bins_rank3.comp"),
+    }
+}
+
+pub struct BinRaster {
+    bins: Bins,
+    rank: u32,
+    constants: SpecConstants,
+    raster: Arc<ComputePipeline>,
+}
+
+impl BinRaster {
+    pub fn new(
+        gpu: &Gpu,
+        scene: &Scene,
+        uploaded: &GpuScene,
+        targets: &FrameTargets,
+        options: &BinOptions,
+        rank: u32,
+        constants: SpecConstants,
+    ) -> Result<Self> {
+        // The raster has no selection: it keeps the shallow frames' settings.
+        let mut bins = Bins::new(gpu, scene, uploaded, targets, options, "wavelet", |f, _| f)?;
+        let raster = select(&mut bins, uploaded, rank, constants)?;
+        Ok(Self {
+            bins,
+            rank,
+            constants,
+            raster,
+        })
+    }
+
+    pub fn set_frame(&mut self, f: &FrameSetup<'_>, constants: SpecConstants) -> Result<()> {
+        let features_changed = self.bins.set_frame(f)?;
+        if features_changed || constants.words() != self.constants.words() {
+            self.constants = constants;
+            self.raster = select(&mut self.bins, f.uploaded, self.rank, constants)?;
+        }
+        Ok(())
+    }
+
+    /// The frame: the bins, and the raster over each band. The raster suspends no rows.
+    pub fn record(&mut self, ctx: &mut RecordContext<'_>) -> Result<()> {
+        let cmd = ctx.cmd;
+        self.bins.record_binning(ctx)?;
+        for band in 0..self.bins.bands() {
+            self.bins.record_band(ctx, band == 0, 0);
+            self.bins.record_raster(ctx, &self.raster, 1);
+            self.bins.compute_to_compute(cmd);
+        }
+        self.bins.record_end(ctx, 0);
+        ctx.timestamps.mark(cmd, "wavelet raster");
+        Ok(())
+    }
+
+    /// Whether the completed frame had a row whose three walks would pass the loop budget
+    /// (this raster does not resume rows as exact's does).
+    pub fn crowded(&self, slot: usize) -> Result<bool> {
+        self.bins.crowded(slot)
+    }
+
+    pub fn frame_done(&mut self, done: &FrameDone<'_>) -> Result<FrameCheck> {
+        let bins = self.bins.frame_done(done, |f, _| f)?;
+        if bins.features_changed {
+            self.raster = select(&mut self.bins, done.uploaded, self.rank, self.constants)?;
+        }
+        let kept = |count: u64| if bins.again { 0 } else { count };
+        Ok(FrameCheck {
+            rerender: bins.again,
+            degraded_rows: bins.degraded_rows,
+            bands: bins.counters.bands,
+            fragments: kept(bins.counters.fragments()),
+            triangles: kept(u64::from(bins.counters.triangle_count)),
+            ..FrameCheck::default()
+        })
+    }
+
+    pub fn learned(&self, options: &mut BinOptions) {
+        self.bins.learned(options);
+    }
+}
+
+/// The raster for `bins`' features: its own constants numbered after the exact raster's.
+fn select(
+    bins: &mut Bins,
+    uploaded: &GpuScene,
+    rank: u32,
+    constants: SpecConstants,
+) -> Result<Arc<ComputePipeline>> {
+    let words: Vec<u32> = bins
+        .features()
+        .constants(false)
+        .into_iter()
+        .chain(constants.words())
+        .collect();
+    bins.pipeline(uploaded, raster_spirv(rank), &words)
+}
