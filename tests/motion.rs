@@ -6,8 +6,8 @@
 
 use glam::{Mat4, Vec2, Vec3};
 use translucid::image::{Image, OpaqueLayer};
-use translucid::methods::wavelet::{model::Model, Settings, WaveletOptions};
-use translucid::methods::MethodKind;
+use translucid::methods::wavelet::{model::Model, Settings, Storage, WaveletOptions};
+use translucid::methods::{MethodKind, MethodOptions};
 use translucid::metrics;
 use translucid::renderer::{Frame, Renderer};
 use translucid::scene::{self, motion::Orbit, Camera, Projection, Scene};
@@ -123,6 +123,66 @@ fn exact_follows_motion_over_textured_surfaces() {
 #[test]
 fn wavelet_follows_a_moving_camera_and_moving_draws() {
     moving_sequence("spheres", "wavelet", 12);
+}
+
+/// The wavelet method maps depth with the projection's near and far planes: frames whose
+/// planes move every frame (as engines fit them to what is in view) are each held to the
+/// model and, once warm, build nothing, in either storage.
+#[test]
+fn wavelet_builds_nothing_when_near_and_far_move() {
+    let gpu = gpu();
+    let scene = scene::load("spheres").expect("scene");
+    let orbit = Orbit::new(&scene);
+    for storage in [Storage::Bins, Storage::Images] {
+        let options = MethodOptions {
+            wavelet: WaveletOptions {
+                storage,
+                ..WaveletOptions::default()
+            },
+            ..MethodOptions::default()
+        };
+        let mut renderer =
+            Renderer::with_options(&gpu, &scene, MethodKind::Wavelet, WIDTH, HEIGHT, &options)
+                .expect("renderer");
+        let settings = Settings::from_options(&options.wavelet).expect("settings");
+        for i in 0..8u32 {
+            let mut frame_scene = scene.clone();
+            frame_scene.camera = orbit.camera(&scene, i);
+            let Projection::Perspective { fov_y, .. } = frame_scene.camera.projection else {
+                panic!("the orbit's camera has a perspective projection");
+            };
+            let step = i as f32;
+            frame_scene.camera.projection = Projection::Perspective {
+                fov_y,
+                near: 0.05 + 0.03 * step,
+                far: 12.0 + 4.0 * step,
+            };
+            renderer
+                .set_frame(&frame_scene.frame_input())
+                .expect("set frame");
+            let frame = renderer.render(true).expect("frame");
+            let name = format!("wavelet_near_far_{storage:?}_{i}");
+            let opaque = frame.opaque.as_ref().expect("opaque layer read back");
+            let want = Model::new(settings, &frame_scene, WIDTH, HEIGHT)
+                .render(&frame_scene, opaque)
+                .expect("model");
+            let m = metrics::compare(&frame.image, &want).expect("same size");
+            if m.max_error * 255.0 > 2.0 {
+                let path = save_failure(&name, &frame.image, &want);
+                panic!(
+                    "{name}: {:.2}/255 off the model ({})",
+                    m.max_error * 255.0,
+                    path.display()
+                );
+            }
+            if i > 0 {
+                assert_eq!(
+                    frame.pipelines_created, 0,
+                    "{name}: new near and far planes built pipelines"
+                );
+            }
+        }
+    }
 }
 
 #[test]

@@ -29,13 +29,16 @@ struct DrawInfo {
     uint quadCount;
 };
 
-// Per-frame constants (std140, 128 bytes).
+// Per-frame constants (std140, 144 bytes).
 struct FrameInfo {
     mat4 viewProj;
     vec4 lightDirection;    // xyz, towards the light, normalised
     vec4 lightColour;
     vec4 ambient;
     vec4 viewport;          // width, height, 1/width, 1/height
+    // Device depth = x - y / d + z d at order depth d; w is 1 when the order depth is device
+    // depth + 1 (orthographic projections), 0 when it is clip w.
+    vec4 depthMapping;
 };
 
 #endif

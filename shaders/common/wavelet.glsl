@@ -220,7 +220,8 @@ float waveletOpaquePosition(vec3 cells[WAVELET_MAX_COUNT], float limit) {
 // crossing. The cut is at least a cell behind the nearest fragment; where the pixel's depth
 // range is too thin for that to be a later depth (one fragment, or all at one depth), every
 // fragment sits in cell 0 and none is hidden: mapped back to depth, the cut would fall on them.
-float waveletHiddenDepth(vec3 cells[WAVELET_MAX_COUNT], vec2 bounds, uvec2 pixel) {
+// `mapping` is the frame's FrameInfo.depthMapping.
+float waveletHiddenDepth(vec3 cells[WAVELET_MAX_COUNT], vec2 bounds, uvec2 pixel, vec4 mapping) {
     float p = waveletOpaquePosition(cells, WAVELET_ABSORBED);
     float last = float(WAVELET_COUNT - 1);
     float slack = clamp(WAVELET_NOISE, 0.0, 0.5 * last) * waveletPixelNoise(pixel);
@@ -229,7 +230,7 @@ float waveletHiddenDepth(vec3 cells[WAVELET_MAX_COUNT], vec2 bounds, uvec2 pixel
     if (p < 0.0 || !(view > bounds.x)) {
         return 2.0;
     }
-    return DEPTH_A - DEPTH_B / view + DEPTH_C * view;
+    return mapping.x - mapping.y / view + mapping.z * view;
 }
 
 #endif

@@ -22,7 +22,7 @@ void main() {
     shadeTransparent(m, u_frame, v_colour, sampleBaseTexture(m), fragmentNormal(d), radiance,
                      transmittance);
     vec2 b = texelFetch(u_waveletBounds, ivec2(gl_FragCoord.xy), 0).xy;
-    float v = waveletNormalizedDepth(WAVELET_FRAGMENT_DEPTH, vec2(-b.x, b.y));
+    float v = waveletNormalizedDepth(WAVELET_FRAGMENT_DEPTH(u_frame.depthMapping), vec2(-b.x, b.y));
     float p = waveletCellPosition(v, uvec2(gl_FragCoord.xy));
     vec3 a = waveletAbsorbance(transmittance);
     [[unroll]] for (int k = 0; k < 8; k++) {

@@ -149,7 +149,7 @@ void main() {
     // The opaque layer behind every fragment, and the depth from which nothing is visible.
     vec3 behind = imageLoad(u_colour, ivec2(x, y)).rgb;
     behind *= waveletTransmittance(waveletAbsorbanceBehindAll(cells));
-    float cut = waveletHiddenDepth(cells, bounds, pixel);
+    float cut = waveletHiddenDepth(cells, bounds, pixel, u_frame.depthMapping);
 
     // Walk 3: shading. The fragments' share is summed apart from the opaque colour, so that
     // the sum of quantized addends stays exact.

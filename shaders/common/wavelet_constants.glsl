@@ -1,4 +1,5 @@
-// Specialization constants of every wavelet pass. Host mirror: SpecConstants in
+// Specialization constants of every wavelet pass (nothing that changes with the camera: that
+// is in the frame's FrameInfo). Host mirror: SpecConstants in
 // crates/translucid/src/methods/wavelet/layout.rs (a test compares the two). They start at
 // WAVELET_CONSTANT_ID: 0 in the graphics passes; the bin raster (wavelet_bins.glsl) puts them
 // after the exact raster's own.
@@ -11,12 +12,9 @@
 layout(constant_id = WAVELET_CONSTANT_ID + 0) const int WAVELET_FIRST_TEXEL = 0;  // accumulation: first texel written
 layout(constant_id = WAVELET_CONSTANT_ID + 1) const float WAVELET_NOISE = 0.0;    // depth noise strength, in cells
 layout(constant_id = WAVELET_CONSTANT_ID + 2) const float WAVELET_ABSORBED = 7.6; // absorbance treated as opaque
-// Device depth = A - B / d + C d at order depth d (clip w; z_ndc + 1 when orthographic).
-layout(constant_id = WAVELET_CONSTANT_ID + 3) const float DEPTH_A = 1.0;
-layout(constant_id = WAVELET_CONSTANT_ID + 4) const float DEPTH_B = 0.0;
-layout(constant_id = WAVELET_CONSTANT_ID + 5) const float DEPTH_C = 0.0;
-// The order depth of a graphics pass's fragment (raster::order_depth), for fragment shaders:
-// z_ndc + 1 under an orthographic camera (DEPTH_C != 0), else clip w.
-#define WAVELET_FRAGMENT_DEPTH (DEPTH_C != 0.0 ? gl_FragCoord.z + 1.0 : 1.0 / gl_FragCoord.w)
+// The order depth of a graphics pass's fragment (raster::order_depth), for fragment shaders,
+// given the frame's FrameInfo.depthMapping: z_ndc + 1 under an orthographic camera, else clip w.
+#define WAVELET_FRAGMENT_DEPTH(mapping) \
+    ((mapping).w != 0.0 ? gl_FragCoord.z + 1.0 : 1.0 / gl_FragCoord.w)
 
 #endif

@@ -6,10 +6,13 @@
 // opaque depth, or nearer, the depth at which every channel is absorbed. The shading pass
 // tests against it, so hidden fragments are rejected before they are shaded.
 
-#define WAVELET_READ_SET 0
+#include "layout.glsl"
+#define WAVELET_READ_SET 1
 #include "wavelet_read.glsl"
 
-layout(set = 0, binding = 2) uniform sampler2D u_opaqueDepth;
+// Set 0 is the scene's (only its frame constants are read here).
+layout(set = 0, binding = 0, std140) uniform FrameBlock { FrameInfo u_frame; };
+layout(set = 1, binding = 2) uniform sampler2D u_opaqueDepth;
 
 layout(location = 0) out vec4 o_transmittance;
 
@@ -29,7 +32,7 @@ void main() {
     waveletLoadCells(pixel, cells);
     o_transmittance = vec4(waveletTransmittance(waveletAbsorbanceBehindAll(cells)), 1.0);
 
-    gl_FragDepth = min(depth, waveletHiddenDepth(cells, b, uvec2(pixel)));
+    gl_FragDepth = min(depth, waveletHiddenDepth(cells, b, uvec2(pixel), u_frame.depthMapping));
 }
 
 #endif

@@ -22,7 +22,8 @@ void main() {
     ivec2 pixel = ivec2(gl_FragCoord.xy);
     vec3 cells[WAVELET_MAX_COUNT];
     waveletLoadCells(pixel, cells);
-    float v = waveletNormalizedDepth(WAVELET_FRAGMENT_DEPTH, waveletBounds(pixel));
+    float v = waveletNormalizedDepth(WAVELET_FRAGMENT_DEPTH(u_frame.depthMapping),
+                                     waveletBounds(pixel));
     float p = waveletCellPosition(v, uvec2(pixel));
     vec3 inFront = waveletAbsorbanceAt(cells, p, waveletAbsorbance(transmittance));
     o_radiance = vec4(radiance * waveletTransmittance(inFront), 0.0);

@@ -3,7 +3,7 @@
 
 #![deny(unsafe_code)]
 
-use crate::scene::{Draw, Light, Material, Mesh};
+use crate::scene::{Camera, Draw, Light, Material, Mesh};
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec4};
 
@@ -42,6 +42,9 @@ pub struct GpuFrameInfo {
     pub light_colour: [f32; 4],
     pub ambient: [f32; 4],
     pub viewport: [f32; 4],
+    /// Device depth = x − y / d + z · d at order depth d ([`Camera::depth_mapping`]); w is 1
+    /// when the order depth is device depth + 1 (orthographic), 0 when it is clip w.
+    pub depth_mapping: [f32; 4],
 }
 
 /// One vertex of the mesh pipelines (48 bytes; attribute locations 0–3).
@@ -99,10 +102,15 @@ fn flag(set: bool, bit: u32) -> u32 {
 }
 
 impl GpuFrameInfo {
-    pub fn new(view_proj: Mat4, light: &Light, width: u32, height: u32) -> Self {
+    /// The frame constants of `camera` (jitter and depth direction as
+    /// [`Camera::view_projection`] makes them) and `light` at `width` x `height`.
+    pub fn new(camera: &Camera, light: &Light, width: u32, height: u32) -> Self {
         let (w, h) = (width as f32, height as f32);
+        let (a, b, c) = camera.depth_mapping(width, height);
+        let by_z = camera.depth_order() == crate::raster::DepthOrder::DeviceZ;
         Self {
-            view_proj: view_proj.to_cols_array(),
+            view_proj: camera.view_projection(width, height).to_cols_array(),
+            depth_mapping: [a, b, c, f32::from(u8::from(by_z))],
             light_direction: light.direction.normalize_or_zero().extend(0.0).to_array(),
             light_colour: light.colour.extend(0.0).to_array(),
             ambient: light.ambient.extend(0.0).to_array(),
@@ -172,6 +180,7 @@ mod tests {
                 ("light_colour", offset_of!(GpuFrameInfo, light_colour)),
                 ("ambient", offset_of!(GpuFrameInfo, ambient)),
                 ("viewport", offset_of!(GpuFrameInfo, viewport)),
+                ("depth_mapping", offset_of!(GpuFrameInfo, depth_mapping)),
             ],
             size_of::<GpuFrameInfo>(),
         );

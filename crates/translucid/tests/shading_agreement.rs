@@ -100,7 +100,7 @@ fn glsl_and_rust_shading_agree() {
     let materials = materials();
     let cases = cases(materials.len() as u32);
     let gpu_materials: Vec<GpuMaterial> = materials.iter().map(GpuMaterial::new).collect();
-    let frame = GpuFrameInfo::new(glam::Mat4::IDENTITY, &light, 1, 1);
+    let frame = GpuFrameInfo::new(&translucid::scene::Camera::default(), &light, 1, 1);
 
     let usage = vk::BufferUsageFlags::STORAGE_BUFFER;
     let frame_buf = gpu

@@ -372,12 +372,7 @@ impl GpuScene {
     /// its descriptor set is new. No frame that reads the slot may be in flight.
     pub fn set_frame(&mut self, gpu: &Gpu, scene: &Scene) -> Result<()> {
         let (width, height) = self.extent;
-        let frame_info = GpuFrameInfo::new(
-            scene.camera.view_projection(width, height),
-            &scene.light,
-            width,
-            height,
-        );
+        let frame_info = GpuFrameInfo::new(&scene.camera, &scene.light, width, height);
         let slot = &mut self.slots[self.slot];
         slot.frame.write(0, bytemuck::bytes_of(&frame_info))?;
         let all_draws = scene.opaque.iter().chain(&scene.transparent);

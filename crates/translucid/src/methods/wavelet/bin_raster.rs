@@ -50,11 +50,9 @@ impl BinRaster {
         })
     }
 
-    pub fn set_frame(&mut self, f: &FrameSetup<'_>, constants: SpecConstants) -> Result<()> {
-        let features_changed = self.bins.set_frame(f)?;
-        if features_changed || constants.words() != self.constants.words() {
-            self.constants = constants;
-            self.raster = select(&mut self.bins, f.uploaded, self.rank, constants)?;
+    pub fn set_frame(&mut self, f: &FrameSetup<'_>) -> Result<()> {
+        if self.bins.set_frame(f)? {
+            self.raster = select(&mut self.bins, f.uploaded, self.rank, self.constants)?;
         }
         Ok(())
     }

@@ -1,6 +1,8 @@
 //! The specialization constants every wavelet shader takes, in `constant_id` order; mirrored
 //! by `shaders/common/wavelet_constants.glsl` (a test compares the two). The rank is not
-//! among them: each rank has its own SPIR-V (see [`super::passes`]).
+//! among them: each rank has its own SPIR-V (see [`super::passes`]). None changes with the
+//! camera: the depth mapping is in the frame constants (`FrameInfo.depthMapping`), so a
+//! camera whose near and far planes move builds nothing.
 
 use bytemuck::{Pod, Zeroable};
 
@@ -13,26 +15,18 @@ pub struct SpecConstants {
     pub noise: f32,
     /// `WAVELET_ABSORBED`: absorbance from which a pixel counts as opaque.
     pub absorbed: f32,
-    /// `DEPTH_A`, `DEPTH_B`, `DEPTH_C`: device depth = A − B / d + C · d at order depth d
-    /// (the camera's projection: [`crate::scene::Camera::depth_mapping`]).
-    pub depth_a: f32,
-    pub depth_b: f32,
-    pub depth_c: f32,
 }
 
 /// GLSL (type, name) of each field, in order.
-pub const GLSL_NAMES: [(&str, &str); 6] = [
+pub const GLSL_NAMES: [(&str, &str); 3] = [
     ("int", "WAVELET_FIRST_TEXEL"),
     ("float", "WAVELET_NOISE"),
     ("float", "WAVELET_ABSORBED"),
-    ("float", "DEPTH_A"),
-    ("float", "DEPTH_B"),
-    ("float", "DEPTH_C"),
 ];
 
 impl SpecConstants {
     /// The 32-bit words a pipeline's specialization info takes, constant 0 first.
-    pub fn words(&self) -> [u32; 6] {
+    pub fn words(&self) -> [u32; 3] {
         bytemuck::cast(*self)
     }
 }

@@ -34,7 +34,7 @@ use super::{FrameCheck, FrameDone, FrameSetup, Method, MethodOptions, RecordCont
 use crate::assets::GpuScene;
 use crate::frame::FrameTargets;
 use crate::gpu::{Gpu, Retirement};
-use crate::scene::{Camera, Scene};
+use crate::scene::Scene;
 use crate::{Error, Result};
 use bin_raster::BinRaster;
 use layout::SpecConstants;
@@ -122,16 +122,12 @@ impl Settings {
         (3 * math::coefficient_count(self.rank)).div_ceil(4)
     }
 
-    /// The shaders' specialization constants for a camera and render size.
-    pub fn constants(&self, camera: &Camera, width: u32, height: u32) -> SpecConstants {
-        let (depth_a, depth_b, depth_c) = camera.depth_mapping(width, height);
+    /// The shaders' specialization constants (the same for every frame).
+    pub fn constants(&self) -> SpecConstants {
         SpecConstants {
             first_texel: 0,
             noise: self.noise,
             absorbed: -ABSORBED_TRANSMITTANCE.ln(),
-            depth_a,
-            depth_b,
-            depth_c,
         }
     }
 }
@@ -139,7 +135,6 @@ impl Settings {
 pub struct Wavelet {
     gpu: Gpu,
     settings: Settings,
-    constants: SpecConstants,
     variant: Variant,
     /// Passes replaced while frames in flight may still run them.
     retirement: Retirement,
@@ -163,8 +158,7 @@ impl Wavelet {
         options: &WaveletOptions,
     ) -> Result<Self> {
         let mut settings = Settings::from_options(options)?;
-        let constants =
-            settings.constants(&scene.camera, targets.extent.width, targets.extent.height);
+        let constants = settings.constants();
         let bins = match settings.storage {
             Storage::Images => None,
             Storage::Bins => {
@@ -190,7 +184,6 @@ impl Wavelet {
         Ok(Self {
             gpu: gpu.clone(),
             settings,
-            constants,
             variant,
             retirement: Retirement::default(),
             recorded_on_bins: Vec::new(),
@@ -204,31 +197,11 @@ impl Method for Wavelet {
     }
 
     fn set_frame(&mut self, f: &FrameSetup<'_>) -> Result<()> {
-        let extent = f.targets.extent;
-        let constants = self
-            .settings
-            .constants(&f.scene.camera, extent.width, extent.height);
-        // The depth mapping changes with the projection's near and far planes only: a moving
-        // camera keeps its pipelines.
-        let changed = constants.words() != self.constants.words();
-        self.constants = constants;
+        // The camera's depth mapping is in the frame constants: the coefficient images'
+        // passes take any frame as they are.
         match &mut self.variant {
-            Variant::Bins(raster) => raster.set_frame(f, constants),
-            Variant::Images(passes) => {
-                if changed {
-                    let new = passes::Passes::new(
-                        f.gpu,
-                        f.uploaded,
-                        f.targets,
-                        &self.settings,
-                        constants,
-                    )?;
-                    // Frames in flight may still run the old passes.
-                    self.retirement
-                        .retire(std::mem::replace(passes, Box::new(new)));
-                }
-                Ok(())
-            }
+            Variant::Bins(raster) => raster.set_frame(f),
+            Variant::Images(_) => Ok(()),
         }
     }
 
@@ -284,7 +257,7 @@ impl Method for Wavelet {
             done.uploaded,
             done.targets,
             &self.settings,
-            self.constants,
+            self.settings.constants(),
         )?));
         // Frames in flight may still run the bins' passes.
         self.retirement

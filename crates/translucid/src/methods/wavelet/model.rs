@@ -56,12 +56,12 @@ pub struct Model {
 impl Model {
     /// The model of `settings` for `scene`'s camera at `width` x `height`.
     pub fn new(settings: Settings, scene: &Scene, width: u32, height: u32) -> Self {
-        let c = settings.constants(&scene.camera, width, height);
+        let (depth_a, depth_b, depth_c) = scene.camera.depth_mapping(width, height);
         Self {
             settings,
-            depth_a: c.depth_a,
-            depth_b: c.depth_b,
-            depth_c: c.depth_c,
+            depth_a,
+            depth_b,
+            depth_c,
         }
     }
 

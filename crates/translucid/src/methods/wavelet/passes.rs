@@ -224,7 +224,7 @@ impl Passes {
             gpu,
             resolve_pass.render_pass,
             resolve_spirv,
-            &[&resolve_layout],
+            &[&scene.layout, &resolve_layout],
             &PipelineState {
                 blends: &[Blend::Multiply],
                 depth: DepthMode::WriteAlways,
@@ -328,8 +328,11 @@ impl Passes {
             shader_read,
         );
         self.resolve_pass.begin(ctx.cmd);
-        self.resolve_pass
-            .draw_fullscreen(ctx.cmd, &self.resolve_pipeline, &[self.resolve_set.raw]);
+        self.resolve_pass.draw_fullscreen(
+            ctx.cmd,
+            &self.resolve_pipeline,
+            &[ctx.scene.set().raw, self.resolve_set.raw],
+        );
         self.resolve_pass.end(ctx.cmd);
         let attachment = (
             vk::PipelineStageFlags::EARLY_FRAGMENT_TESTS
