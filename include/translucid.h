@@ -887,8 +887,9 @@ typedef struct translucid_host_frame_targets {
      */
     struct translucid_host_image colour;
     /**
-     * The opaque depth (0 near, 1 far), read only. Needs TRANSFER_SRC usage and
-     * `VK_FORMAT_D32_SFLOAT`.
+     * The opaque depth (0 near, 1 far), read only: `VK_FORMAT_D32_SFLOAT` with TRANSFER_SRC
+     * usage (copied), or `VK_FORMAT_D16_UNORM` or `VK_FORMAT_X8_D24_UNORM_PACK32` with
+     * SAMPLED usage (sampled by a full-screen pass).
      */
     struct translucid_host_image depth;
 } translucid_host_frame_targets;

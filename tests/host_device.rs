@@ -7,7 +7,7 @@
 //! messenger that collects errors), device, command buffers and submissions.
 
 use ash::vk;
-use glam::Vec3;
+use glam::{Mat4, Vec3};
 use std::ffi::{c_void, CStr};
 use std::sync::Mutex;
 use translucid::gpu::{
@@ -17,7 +17,7 @@ use translucid::gpu::{
 use translucid::methods::{MethodKind, MethodOptions};
 use translucid::renderer::Renderer;
 use translucid::scene::motion::Orbit;
-use translucid::scene::{Camera, Material};
+use translucid::scene::{Camera, Material, Projection};
 use translucid::OpaqueLayer;
 use translucid_tests::{crowded_bin, near_plane_scene, stack_scene};
 
@@ -255,6 +255,7 @@ fn worst_difference(got: &[u8], want: &[u8]) -> u8 {
 struct EngineImages {
     colour: GpuImage,
     depth: GpuImage,
+    depth_format: vk::Format,
     colour_in: translucid::gpu::Buffer,
     depth_in: translucid::gpu::Buffer,
     outs: Vec<translucid::gpu::Buffer>,
@@ -267,6 +268,19 @@ const DEPTH_ATTACHMENT: vk::ImageLayout = vk::ImageLayout::DEPTH_STENCIL_ATTACHM
 
 impl EngineImages {
     fn new(gpu: &Gpu, layer: &OpaqueLayer, readbacks: usize) -> Self {
+        let (_, depth) = texels(layer);
+        Self::with_depth(gpu, layer, readbacks, vk::Format::D32_SFLOAT, &depth)
+    }
+
+    /// The images with depth of `depth_format` holding `depth_texels` (the layer's depth
+    /// ignored).
+    fn with_depth(
+        gpu: &Gpu,
+        layer: &OpaqueLayer,
+        readbacks: usize,
+        depth_format: vk::Format,
+        depth_texels: &[u8],
+    ) -> Self {
         let extent = vk::Extent2D {
             width: layer.width,
             height: layer.height,
@@ -276,7 +290,7 @@ impl EngineImages {
             gpu.create_image(name, extent, format, transfer | usage, 1)
                 .expect("engine image")
         };
-        let (colour_texels, depth_texels) = texels(layer);
+        let (colour_texels, _) = texels(layer);
         let upload = |name, bytes: &[u8]| {
             gpu.create_buffer_with_data(name, vk::BufferUsageFlags::TRANSFER_SRC, bytes)
                 .expect("upload buffer")
@@ -300,11 +314,12 @@ impl EngineImages {
             ),
             depth: image(
                 "engine depth",
-                vk::Format::D32_SFLOAT,
-                vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
+                depth_format,
+                vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::SAMPLED,
             ),
+            depth_format,
             colour_in: upload("opaque colour", &colour_texels),
-            depth_in: upload("opaque depth", &depth_texels),
+            depth_in: upload("opaque depth", depth_texels),
             outs,
             extent,
         }
@@ -322,7 +337,7 @@ impl EngineImages {
             },
             depth: HostImage {
                 image: self.depth.raw,
-                format: vk::Format::D32_SFLOAT,
+                format: self.depth_format,
                 layout: DEPTH_ATTACHMENT,
                 final_layout: DEPTH_ATTACHMENT,
             },
@@ -436,23 +451,6 @@ fn an_overflowing_frame_says_so_and_renders_right_when_recorded_again() {
             "16 bin entries should overflow the first frame: {overflows:?}"
         );
         assert_eq!(overflows.last(), Some(&false), "{overflows:?}");
-
-        // A reversed-Z camera is refused here: the engine's depth image is taken as it is.
-        let mut reversed = scene.clone();
-        reversed.camera.projection = translucid::scene::Projection::Matrix({
-            let mut p = glam::Mat4::perspective_infinite_reverse_rh(0.8, W as f32 / H as f32, 0.1);
-            p.y_axis.y = -p.y_axis.y;
-            p
-        });
-        renderer
-            .set_frame(&reversed.frame_input())
-            .expect("a reversed-Z frame is valid");
-        engine.begin(0);
-        // SAFETY: as above; refused before anything is recorded.
-        let refused = unsafe { renderer.record_host(&targets) }.expect_err("reversed-Z refused");
-        assert!(refused.to_string().contains("reversed-Z"), "{refused}");
-        // SAFETY: ended unsubmitted, reset by the next begin.
-        unsafe { engine.device.end_command_buffer(engine.cmds[0]) }.expect("end");
 
         let got = images.srgb(0);
         let want = expected.image.to_srgb8();
@@ -803,4 +801,121 @@ fn with_bin_entries(entries: u32) -> MethodOptions {
     let mut options = MethodOptions::default();
     options.bins.initial_bin_entries = Some(entries);
     options
+}
+
+/// One engine depth format: its texel bytes for device depth `v`, and the depth translucid
+/// reads back from them.
+fn encode_depth(format: vk::Format, v: f32) -> (Vec<u8>, f32) {
+    match format {
+        vk::Format::D16_UNORM => {
+            let k = (v * 65535.0).round() as u16;
+            (k.to_le_bytes().to_vec(), f32::from(k) / 65535.0)
+        }
+        vk::Format::X8_D24_UNORM_PACK32 => {
+            let k = (v * 16_777_215.0).round() as u32;
+            (k.to_le_bytes().to_vec(), k as f32 / 16_777_215.0)
+        }
+        _ => (v.to_le_bytes().to_vec(), v),
+    }
+}
+
+/// The engine's depth in each format translucid reads, growing away from the eye and
+/// reversed-Z (sampled and turned around): each frame is the reference's over the depth the
+/// image holds. The opaque depth is a wall slanting through the spheres, so that it hides
+/// part of them.
+#[test]
+fn engine_depth_in_every_format_and_direction_matches_the_reference() {
+    let scene = translucid::scene::load("spheres").expect("generated scene");
+    let Projection::Perspective { fov_y, near, far } = scene.camera.projection else {
+        panic!("spheres has a perspective camera");
+    };
+    // The wall: at view distances from the nearest to the farthest transparent vertex,
+    // left to right.
+    let eye = scene.camera.view.inverse().w_axis.truncate();
+    let distances: Vec<f32> = scene
+        .transparent
+        .iter()
+        .flat_map(|d| {
+            let positions = &scene.meshes[d.mesh].positions;
+            positions
+                .iter()
+                .map(move |&p| d.transform.transform_point3(p))
+        })
+        .map(|p| p.distance(eye))
+        .collect();
+    let nearest = distances.iter().copied().fold(f32::MAX, f32::min);
+    let farthest = distances.iter().copied().fold(0.0, f32::max);
+    let (a, b, _) = scene.camera.depth_mapping(W, H);
+    let wall = |x: u32| {
+        let z = nearest + (farthest - nearest) * (x as f32 + 0.5) / W as f32;
+        a - b / z
+    };
+    let far_layer = OpaqueLayer::clear(W, H, scene.background);
+    let reversed_camera = Camera {
+        projection: Projection::Matrix({
+            let mut p = Mat4::perspective_rh(fov_y, W as f32 / H as f32, far, near);
+            p.y_axis.y = -p.y_axis.y;
+            p
+        }),
+        ..scene.camera
+    };
+    let engine = Engine::new();
+    {
+        // SAFETY: the engine's live objects, outliving `gpu` (dropped at the end of this block).
+        let gpu = unsafe { Gpu::from_host(&engine.host_device()) }.expect("host device");
+        for format in translucid::gpu::HOST_DEPTH_FORMATS {
+            for reversed in [false, true] {
+                let mut frame_scene = scene.clone();
+                if reversed {
+                    frame_scene.camera = reversed_camera;
+                }
+                let mut layer = far_layer.clone();
+                let mut bytes = Vec::new();
+                for (i, depth) in layer.depth.iter_mut().enumerate() {
+                    let d = wall(i as u32 % W);
+                    let (texel, read) = encode_depth(format, if reversed { 1.0 - d } else { d });
+                    bytes.extend(texel);
+                    *depth = if reversed { 1.0 - read } else { read };
+                }
+                let label = format!("{format:?}{}", if reversed { " reversed" } else { "" });
+                let images = EngineImages::with_depth(&gpu, &layer, 1, format, &bytes);
+                let mut renderer =
+                    Renderer::new(&gpu, &frame_scene, MethodKind::Exact, W, H).expect("renderer");
+                engine.begin(0);
+                let cmd = engine.cmds[0];
+                images.record_opaque(&gpu, cmd);
+                // SAFETY: the engine's recording command buffer and images of the frame's size.
+                unsafe { renderer.record_host(&images.targets(cmd)) }.expect("record");
+                images.record_readback(&gpu, cmd, 0);
+                engine.submit_and_wait();
+                let done = renderer
+                    .complete_host()
+                    .expect("complete")
+                    .expect("the submission finished, so the commands ran");
+                assert!(!done.overflowed, "{label}: {done:?}");
+                let want = translucid::reference::render(&frame_scene, &layer).expect("reference");
+                let worst = worst_difference(&images.srgb(0), &want.to_srgb8());
+                assert!(worst <= 2, "{label}: {worst}/255 off the reference");
+                // The wall hides part of the spheres: the depth read matters.
+                let unhidden = translucid::reference::render(&frame_scene, &far_layer)
+                    .expect("reference")
+                    .to_srgb8();
+                let hidden = pixels(&want.to_srgb8())
+                    .iter()
+                    .zip(pixels(&unhidden))
+                    .filter(|(a, b)| worst_difference(a, b) > 8)
+                    .count();
+                assert!(
+                    hidden > (W * H / 20) as usize,
+                    "{label}: {hidden} pixels hidden"
+                );
+            }
+        }
+    }
+    let errors = ERRORS.lock().map(|e| e.clone()).unwrap_or_default();
+    assert!(
+        errors.is_empty(),
+        "validation errors:\n{}",
+        errors.join("\n")
+    );
 }

@@ -116,8 +116,9 @@ pub struct translucid_host_frame_targets {
     /// TRANSFER_SRC and TRANSFER_DST usage and a format that can be blitted both ways
     /// (UNORM, SRGB or float; not integer).
     pub colour: translucid_host_image,
-    /// The opaque depth (0 near, 1 far), read only. Needs TRANSFER_SRC usage and
-    /// `VK_FORMAT_D32_SFLOAT`.
+    /// The opaque depth (0 near, 1 far), read only: `VK_FORMAT_D32_SFLOAT` with TRANSFER_SRC
+    /// usage (copied), or `VK_FORMAT_D16_UNORM` or `VK_FORMAT_X8_D24_UNORM_PACK32` with
+    /// SAMPLED usage (sampled by a full-screen pass).
     pub depth: translucid_host_image,
 }
 

@@ -683,7 +683,7 @@ static void frame_errors(const scene *s) {
     EXPECT(g_host, translucid_frame_record(g_host, &info, &targets, &frame),
            TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
     targets = frame_targets();
-    targets.depth.format = VK_FORMAT_D16_UNORM;
+    targets.depth.format = VK_FORMAT_D24_UNORM_S8_UINT;
     EXPECT(g_host, translucid_frame_record(g_host, &info, &targets, &frame),
            TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
     TRUE_OR_FAIL(strstr(translucid_context_last_error(g_host), "D32_SFLOAT") != NULL);

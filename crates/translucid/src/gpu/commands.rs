@@ -111,6 +111,7 @@ impl Gpu {
     ) {
         let texel_bytes = match image.format {
             vk::Format::R16G16B16A16_SFLOAT => 8,
+            vk::Format::D16_UNORM => 2,
             _ => 4,
         };
         let end = |r: &vk::BufferImageCopy| {

@@ -203,7 +203,9 @@ pub struct HostTargets {
     /// Read (the opaque layer) and written (the result): TRANSFER_SRC and TRANSFER_DST usage,
     /// a format that supports blits both ways (not an integer format).
     pub colour: HostImage,
-    /// Read only: `D32_SFLOAT`, with TRANSFER_SRC usage.
+    /// Read only: one of [`HOST_DEPTH_FORMATS`] (stencil ignored). `D32_SFLOAT` with depth
+    /// growing away from the eye is copied as it is and needs TRANSFER_SRC usage; other
+    /// formats, and reversed-Z depth, are sampled and need SAMPLED usage.
     pub depth: HostImage,
 }
 
@@ -227,8 +229,17 @@ const DEPTH_LAYOUTS: [vk::ImageLayout; 8] = [
     vk::ImageLayout::TRANSFER_DST_OPTIMAL,
 ];
 
-/// The only depth format translucid reads (copied as is into its own depth target).
+/// The depth format translucid copies as it is into its own depth target (when depth grows
+/// away from the eye).
 pub const HOST_DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
+
+/// The depth formats translucid reads: [`HOST_DEPTH_FORMAT`], and those it samples.
+/// (Formats with stencil are not among them yet.)
+pub const HOST_DEPTH_FORMATS: [vk::Format; 3] = [
+    vk::Format::D32_SFLOAT,
+    vk::Format::D16_UNORM,
+    vk::Format::X8_D24_UNORM_PACK32,
+];
 
 fn check_layouts(what: &str, image: &HostImage, allowed: &[vk::ImageLayout]) -> Result<()> {
     for (field, layout) in [
@@ -265,20 +276,25 @@ impl Gpu {
         }
         check_layouts("colour", &t.colour, &COLOUR_LAYOUTS)?;
         check_layouts("depth", &t.depth, &DEPTH_LAYOUTS)?;
-        if t.depth.format != HOST_DEPTH_FORMAT {
+        let sampled = vk::FormatFeatureFlags::SAMPLED_IMAGE;
+        if !HOST_DEPTH_FORMATS.contains(&t.depth.format)
+            || !self.format_features(t.depth.format).contains(sampled)
+        {
+            let names: Vec<String> = HOST_DEPTH_FORMATS
+                .iter()
+                .map(|f| format!("VK_FORMAT_{f:?}"))
+                .collect();
             return Err(Error::HostFrame(format!(
-                "depth format is {:?}; translucid reads {HOST_DEPTH_FORMAT:?} depth images",
-                t.depth.format
+                "depth format is VK_FORMAT_{:?}; translucid reads depth images of {} that \
+                 this device can sample",
+                t.depth.format,
+                names.join(", ")
             )));
         }
         let blit = vk::FormatFeatureFlags::BLIT_SRC | vk::FormatFeatureFlags::BLIT_DST;
-        // SAFETY: a physical-device query on a live instance.
-        let props = unsafe {
-            self.instance()
-                .get_physical_device_format_properties(self.physical_device(), t.colour.format)
-        };
+        let props = self.format_features(t.colour.format);
         if t.colour.format == vk::Format::UNDEFINED
-            || !props.optimal_tiling_features.contains(blit)
+            || !props.contains(blit)
             || is_integer_or_depth(t.colour.format)
         {
             return Err(Error::HostFrame(format!(
@@ -288,6 +304,18 @@ impl Gpu {
             )));
         }
         Ok(())
+    }
+}
+
+impl Gpu {
+    /// What images of `format` with optimal tiling support on this device.
+    fn format_features(&self, format: vk::Format) -> vk::FormatFeatureFlags {
+        // SAFETY: a physical-device query on a live instance.
+        unsafe {
+            self.instance()
+                .get_physical_device_format_properties(self.physical_device(), format)
+        }
+        .optimal_tiling_features
     }
 }
 
@@ -318,7 +346,7 @@ fn layers(aspect: vk::ImageAspectFlags) -> vk::ImageSubresourceLayers {
 
 /// Anything any earlier command did, in any stage: the engine's work before ours (or ours
 /// before the engine's, in the other direction) is not known more precisely.
-const ANY: (vk::PipelineStageFlags, vk::AccessFlags) = (
+pub(super) const ANY: (vk::PipelineStageFlags, vk::AccessFlags) = (
     vk::PipelineStageFlags::ALL_COMMANDS,
     vk::AccessFlags::from_raw(
         vk::AccessFlags::MEMORY_READ.as_raw() | vk::AccessFlags::MEMORY_WRITE.as_raw(),
@@ -335,16 +363,16 @@ const TRANSFER_WRITE: (vk::PipelineStageFlags, vk::AccessFlags) = (
 
 /// One layout transition of a raw image: the image, its aspect, (old, new) layouts, and the
 /// source and destination stages and accesses.
-struct Transition(
-    vk::Image,
-    vk::ImageAspectFlags,
-    (L, L),
-    (vk::PipelineStageFlags, vk::AccessFlags),
-    (vk::PipelineStageFlags, vk::AccessFlags),
+pub(super) struct Transition(
+    pub vk::Image,
+    pub vk::ImageAspectFlags,
+    pub (L, L),
+    pub (vk::PipelineStageFlags, vk::AccessFlags),
+    pub (vk::PipelineStageFlags, vk::AccessFlags),
 );
 
 impl Gpu {
-    fn transitions(&self, cmd: vk::CommandBuffer, list: &[Transition]) {
+    pub(super) fn transitions(&self, cmd: vk::CommandBuffer, list: &[Transition]) {
         let barriers: Vec<vk::ImageMemoryBarrier> = list
             .iter()
             .map(|Transition(image, aspect, layouts, src, dst)| {
@@ -406,62 +434,87 @@ impl Gpu {
         };
     }
 
-    /// Records the copies of the engine's colour and depth into `colour` and `depth` (the
-    /// frame targets, left in COLOR_ATTACHMENT_OPTIMAL and DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
-    /// the engine's colour is left in TRANSFER_SRC_OPTIMAL for [`Gpu::record_host_output`],
-    /// its depth in its final layout.
-    pub(crate) fn record_host_input(&self, t: &HostTargets, colour: &GpuImage, depth: &GpuImage) {
+    /// Records the copy of the engine's colour into `colour` (a frame target, left in
+    /// COLOR_ATTACHMENT_OPTIMAL), and of its depth into `depth` when given (left in
+    /// DEPTH_STENCIL_ATTACHMENT_OPTIMAL; `None` when [`super::DepthImport`] samples it
+    /// instead). The engine's colour is left in TRANSFER_SRC_OPTIMAL for
+    /// [`Gpu::record_host_output`], its depth in its final layout.
+    pub(crate) fn record_host_input(
+        &self,
+        t: &HostTargets,
+        colour: &GpuImage,
+        depth: Option<&GpuImage>,
+    ) {
         let (c, d) = (vk::ImageAspectFlags::COLOR, vk::ImageAspectFlags::DEPTH);
         let (src, dst) = (L::TRANSFER_SRC_OPTIMAL, L::TRANSFER_DST_OPTIMAL);
-        self.transitions(
-            t.cmd,
-            &[
-                Transition(
-                    t.colour.image,
-                    c,
-                    (t.colour.layout, src),
-                    ANY,
-                    TRANSFER_READ,
-                ),
-                Transition(t.depth.image, d, (t.depth.layout, src), ANY, TRANSFER_READ),
-                Transition(colour.raw, c, (L::UNDEFINED, dst), ANY, TRANSFER_WRITE),
-                Transition(depth.raw, d, (L::UNDEFINED, dst), ANY, TRANSFER_WRITE),
-            ],
-        );
+        let mut before = vec![
+            Transition(
+                t.colour.image,
+                c,
+                (t.colour.layout, src),
+                ANY,
+                TRANSFER_READ,
+            ),
+            Transition(colour.raw, c, (L::UNDEFINED, dst), ANY, TRANSFER_WRITE),
+        ];
+        if let Some(depth) = depth {
+            before.push(Transition(
+                t.depth.image,
+                d,
+                (t.depth.layout, src),
+                ANY,
+                TRANSFER_READ,
+            ));
+            before.push(Transition(
+                depth.raw,
+                d,
+                (L::UNDEFINED, dst),
+                ANY,
+                TRANSFER_WRITE,
+            ));
+        }
+        self.transitions(t.cmd, &before);
         self.blit(t.cmd, t.colour.image, colour.raw, colour.extent);
-        let extent = vk::Extent3D {
-            width: depth.extent.width,
-            height: depth.extent.height,
-            depth: 1,
-        };
-        let copy = vk::ImageCopy::default()
-            .src_subresource(layers(d))
-            .dst_subresource(layers(d))
-            .extent(extent);
-        // SAFETY: both depth images are D32_SFLOAT (checked), in the layouts named, and at
-        // least `extent` large (the frame's size, the engine's contract).
-        unsafe {
-            self.device
-                .cmd_copy_image(t.cmd, t.depth.image, src, depth.raw, dst, &[copy])
-        };
-        let attachment = (
-            L::COLOR_ATTACHMENT_OPTIMAL,
-            L::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
-        );
-        self.transitions(
-            t.cmd,
-            &[
-                Transition(
-                    t.depth.image,
-                    d,
-                    (src, t.depth.final_layout),
-                    TRANSFER_READ,
-                    ANY,
-                ),
-                Transition(colour.raw, c, (dst, attachment.0), TRANSFER_WRITE, ANY),
-                Transition(depth.raw, d, (dst, attachment.1), TRANSFER_WRITE, ANY),
-            ],
-        );
+        let mut after = vec![Transition(
+            colour.raw,
+            c,
+            (dst, L::COLOR_ATTACHMENT_OPTIMAL),
+            TRANSFER_WRITE,
+            ANY,
+        )];
+        if let Some(depth) = depth {
+            let extent = vk::Extent3D {
+                width: depth.extent.width,
+                height: depth.extent.height,
+                depth: 1,
+            };
+            let copy = vk::ImageCopy::default()
+                .src_subresource(layers(d))
+                .dst_subresource(layers(d))
+                .extent(extent);
+            // SAFETY: both depth images are D32_SFLOAT (checked by the caller), in the
+            // layouts named, and at least `extent` large (the frame's size, the engine's
+            // contract).
+            unsafe {
+                self.device
+                    .cmd_copy_image(t.cmd, t.depth.image, src, depth.raw, dst, &[copy])
+            };
+            after.push(Transition(
+                t.depth.image,
+                d,
+                (src, t.depth.final_layout),
+                TRANSFER_READ,
+                ANY,
+            ));
+            after.push(Transition(
+                depth.raw,
+                d,
+                (dst, L::DEPTH_STENCIL_ATTACHMENT_OPTIMAL),
+                TRANSFER_WRITE,
+                ANY,
+            ));
+        }
+        self.transitions(t.cmd, &after);
     }
 
     /// Records the copy of the composited `colour` (a frame target in

@@ -148,7 +148,13 @@ impl Gpu {
         usage: vk::ImageUsageFlags,
         mip_levels: u32,
     ) -> Result<GpuImage> {
-        let aspect = if format == vk::Format::D32_SFLOAT {
+        // Depth formats without stencil (translucid's own, and the engine formats tests make).
+        let depth_only = [
+            vk::Format::D32_SFLOAT,
+            vk::Format::D16_UNORM,
+            vk::Format::X8_D24_UNORM_PACK32,
+        ];
+        let aspect = if depth_only.contains(&format) {
             vk::ImageAspectFlags::DEPTH
         } else {
             vk::ImageAspectFlags::COLOR

@@ -23,6 +23,7 @@ mod commands;
 mod device;
 mod error;
 mod host;
+mod host_depth;
 mod memory;
 mod pipeline;
 mod pipeline_cache;
@@ -36,8 +37,9 @@ pub use commands::{image_barrier, memory_barrier, mip_region, whole_image_region
 pub use device::{list_devices, DeviceInfo, Gpu, GpuOptions, Shared};
 pub use host::{
     host_requirements, HostDevice, HostImage, HostRequirements, HostTargets, HOST_API_VERSION,
-    HOST_DEPTH_FORMAT,
+    HOST_DEPTH_FORMAT, HOST_DEPTH_FORMATS,
 };
+pub use host_depth::DepthImport;
 pub use memory::MemoryLocation;
 pub use memory::{Buffer, BufferView, GpuImage, MemoryStats};
 pub use pipeline::{

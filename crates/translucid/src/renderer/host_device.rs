@@ -11,7 +11,9 @@
 //! buffers already grown, so that later frames are right.
 
 use super::{method_ms, Renderer};
-use crate::gpu::{memory_barrier, vk, Buffer, Gpu, HostTargets, MemoryLocation};
+use crate::gpu::{
+    memory_barrier, vk, Buffer, DepthImport, Gpu, HostTargets, MemoryLocation, HOST_DEPTH_FORMAT,
+};
 use crate::methods::FrameDone;
 use crate::{Error, Result};
 
@@ -117,16 +119,6 @@ impl Renderer {
             ));
         }
         gpu.check_host_targets(targets)?;
-        if self.frame_scene.camera.reversed_depth() {
-            // The engine's depth image is copied as it is; translucid tests depth growing
-            // away from the eye.
-            return Err(Error::HostFrame(
-                "the camera's projection is reversed-Z, but frames on the engine's device take \
-                 its depth image as it is, near 0 and far 1: reversed depth images are not \
-                 supported yet"
-                    .into(),
-            ));
-        }
         let slots = self.timestamps.len();
         if self.in_flight.len() >= slots {
             return Err(Error::HostFrame(format!(
@@ -153,7 +145,20 @@ impl Renderer {
         memory_barrier(&gpu, cmd, any, any);
         self.scene
             .record_moved_vertices(&gpu, cmd, &self.frame_scene)?;
-        gpu.record_host_input(targets, &self.targets.colour, &self.targets.depth);
+        // translucid tests depth growing away from the eye, in D32_SFLOAT: other depth is
+        // sampled and converted.
+        let reversed = self.frame_scene.camera.reversed_depth();
+        if reversed || targets.depth.format != HOST_DEPTH_FORMAT {
+            gpu.record_host_input(targets, &self.targets.colour, None);
+            if self.depth_import.is_none() {
+                self.depth_import = Some(DepthImport::new(&gpu, &self.targets.depth, slots)?);
+            }
+            if let Some(import) = &mut self.depth_import {
+                import.record(cmd, slot, &targets.depth, reversed)?;
+            }
+        } else {
+            gpu.record_host_input(targets, &self.targets.colour, Some(&self.targets.depth));
+        }
         self.timestamps[slot].mark(cmd, "opaque");
         self.record_method(&gpu, cmd)?;
         gpu.record_host_output(targets, &self.targets.colour);

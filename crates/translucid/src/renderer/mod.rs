@@ -143,6 +143,9 @@ pub struct Renderer {
     /// never ran; and the slots of the frames in flight, oldest first.
     completions: Vec<host_device::Completion>,
     in_flight: std::collections::VecDeque<usize>,
+    /// Host-device mode: the pass that samples engine depth images it cannot copy, made
+    /// for the first frame that needs it.
+    depth_import: Option<crate::gpu::DepthImport>,
     /// The device's pipelines created and bytes allocated when the last frame ended (the
     /// renderer was made), readbacks for the opaque layer not counted.
     counted: (u64, u64),
@@ -247,6 +250,7 @@ impl Renderer {
             slot_serials,
             moved_meshes: Vec::new(),
             completions: Vec::new(),
+            depth_import: None,
             in_flight: std::collections::VecDeque::new(),
             counted: (gpu.pipelines_created(), gpu.bytes_allocated()),
         })

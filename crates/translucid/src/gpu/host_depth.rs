@@ -1,0 +1,163 @@
+//! The engine's depth image into translucid's depth target, when it cannot be copied as it
+//! is: a reversed-Z depth (turned around, `1 − d`), or a format other than D32_SFLOAT. A
+//! full-screen pass samples the engine's image (which then needs SAMPLED usage) and writes
+//! every texel of the target with `gl_FragDepth`.
+
+use super::error::vk_err;
+use super::host::{Transition, ANY};
+use super::{
+    fullscreen_pipeline, Attachment, AttachmentPass, BindingKind, DepthAttachment, DepthMode,
+    DescriptorLayout, DescriptorSet, Gpu, GpuImage, GraphicsPipeline, HostImage, Load,
+    PipelineState, Resource, Sampler,
+};
+use crate::Result;
+use ash::vk;
+use ash::vk::ImageLayout as L;
+
+/// A view of one of the engine's depth images, destroyed with it.
+struct EngineDepthView {
+    gpu: Gpu,
+    raw: vk::ImageView,
+}
+
+impl Drop for EngineDepthView {
+    fn drop(&mut self) {
+        // SAFETY: kept until the frame that sampled it completed (see `DepthImport::slots`).
+        unsafe { self.gpu.device.destroy_image_view(self.raw, None) };
+    }
+}
+
+/// What one frame slot's import sampled: kept until that slot is recorded again, when the
+/// frame that used them has completed.
+struct SlotInput {
+    // Declared first: the set is freed before the view it names.
+    _set: DescriptorSet,
+    _view: EngineDepthView,
+}
+
+pub struct DepthImport {
+    gpu: Gpu,
+    slots: Vec<Option<SlotInput>>,
+    /// Writing depth as sampled, and as sampled turned around (reversed-Z).
+    pipelines: [GraphicsPipeline; 2],
+    pass: AttachmentPass,
+    sampler: Sampler,
+    layout: DescriptorLayout,
+}
+
+const SAMPLED: (vk::PipelineStageFlags, vk::AccessFlags) = (
+    vk::PipelineStageFlags::FRAGMENT_SHADER,
+    vk::AccessFlags::SHADER_READ,
+);
+
+impl DepthImport {
+    /// The pass into `target` (translucid's depth target), for `slots` frames in flight.
+    pub fn new(gpu: &Gpu, target: &GpuImage, slots: usize) -> Result<Self> {
+        let layout = DescriptorLayout::new(
+            gpu,
+            &[BindingKind::SampledImages(1)],
+            vk::ShaderStageFlags::FRAGMENT,
+        )?;
+        let pass = AttachmentPass::new(
+            gpu,
+            &[],
+            Some(&DepthAttachment {
+                attachment: Attachment {
+                    image: target,
+                    load: Load::Discard,
+                    layouts: (L::UNDEFINED, L::DEPTH_STENCIL_ATTACHMENT_OPTIMAL),
+                },
+                write: true,
+            }),
+        )?;
+        let pipeline = |reversed: bool| {
+            fullscreen_pipeline(
+                gpu,
+                pass.render_pass,
+                crate::spirv!("host/depth_import.frag"),
+                &[&layout],
+                &PipelineState {
+                    blends: &[],
+                    depth: DepthMode::WriteAlways,
+                    fragment_constants: &[u32::from(reversed)],
+                    vertex_input: false,
+                },
+            )
+        };
+        let pipelines = [pipeline(false)?, pipeline(true)?];
+        Ok(Self {
+            gpu: gpu.clone(),
+            slots: (0..slots).map(|_| None).collect(),
+            pipelines,
+            pass,
+            sampler: Sampler::nearest_clamp(gpu)?,
+            layout,
+        })
+    }
+
+    /// Records the import of `depth` (the engine's, checked) into the target, for the frame
+    /// recorded in `slot` (whose last frame has completed). The engine's image ends in its
+    /// final layout, the target in DEPTH_STENCIL_ATTACHMENT_OPTIMAL.
+    pub fn record(
+        &mut self,
+        cmd: vk::CommandBuffer,
+        slot: usize,
+        depth: &HostImage,
+        reversed: bool,
+    ) -> Result<()> {
+        let aspects = vk::ImageAspectFlags::DEPTH;
+        let info = vk::ImageViewCreateInfo::default()
+            .image(depth.image)
+            .view_type(vk::ImageViewType::TYPE_2D)
+            .format(depth.format)
+            .subresource_range(vk::ImageSubresourceRange {
+                aspect_mask: aspects,
+                base_mip_level: 0,
+                level_count: 1,
+                base_array_layer: 0,
+                layer_count: 1,
+            });
+        // SAFETY: the engine's live depth image of this device, of the format named (the
+        // record_host contract), with one level and one layer.
+        let raw = unsafe { self.gpu.device.create_image_view(&info, None) }
+            .map_err(vk_err("vkCreateImageView"))?;
+        let view = EngineDepthView {
+            gpu: self.gpu.clone(),
+            raw,
+        };
+        let set = self
+            .layout
+            .create_set(&[Resource::Images(&[view.raw], self.sampler.raw)])?;
+        let read = L::SHADER_READ_ONLY_OPTIMAL;
+        self.gpu.transitions(
+            cmd,
+            &[Transition(
+                depth.image,
+                aspects,
+                (depth.layout, read),
+                ANY,
+                SAMPLED,
+            )],
+        );
+        self.pass.begin(cmd);
+        self.pass
+            .draw_fullscreen(cmd, &self.pipelines[usize::from(reversed)], &[set.raw]);
+        self.pass.end(cmd);
+        self.gpu.transitions(
+            cmd,
+            &[Transition(
+                depth.image,
+                aspects,
+                (read, depth.final_layout),
+                SAMPLED,
+                ANY,
+            )],
+        );
+        // The slot's last frame completed: what it sampled can go.
+        self.slots[slot] = Some(SlotInput {
+            _set: set,
+            _view: view,
+        });
+        Ok(())
+    }
+}
