@@ -1,5 +1,7 @@
 //! What a scene needs of the raster shader, decided on the host so that code it cannot reach
-//! is compiled away (specialization constants of `shaders/exact/raster.comp`, and of the bin stages, which take the ones they share with it).
+//! is compiled away: specialization constants of `shaders/exact/raster.comp` (and of the
+//! wavelet bin raster, which takes them first), and of the bin stages, which take the ones
+//! they share with it.
 
 #![deny(unsafe_code)]
 

@@ -3,9 +3,10 @@
 //! pixel's coefficients live ([`Storage`]):
 //!
 //! **Bins** (the default): the bins the exact method reads ([`crate::methods::bins`]), with a
-//! raster of its own (`shaders/common/wavelet_bins.glsl`, [`bin_raster`]) that keeps each pixel's coefficients in registers and
-//! walks its row's triangle list three times: bounds, coefficients, shading. No coefficient
-//! images, and every fragment is the CPU reference's.
+//! raster of its own (`shaders/common/wavelet_bins.glsl`, driven by `bin_raster.rs`) that
+//! keeps each pixel's coefficients in registers and walks its row's triangle list three
+//! times: bounds, coefficients, shading. No coefficient images, and every fragment is the CPU
+//! reference's.
 //!
 //! **Images**: four passes, each one draw of the scene or one full-screen triangle:
 //! 1. **bounds**: each pixel's nearest and farthest transparent view depth (MAX blend).
@@ -59,7 +60,7 @@ pub enum Precision {
 /// Where each pixel's coefficients live.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Storage {
-    /// Registers of the exact method's bin raster, in single precision (`precision` is the
+    /// Registers of its own raster over the bins, in single precision (`precision` is the
     /// images' and does not apply). The default: 1.8 to 5.9 times faster than the images on
     /// lavapipe, a third of their memory, and every fragment the reference's. It needs what
     /// the exact method needs of the device (64-bit shader arithmetic, subgroups of 8 or
