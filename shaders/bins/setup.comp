@@ -37,7 +37,7 @@ uint findDraw(uint item) {
     uint hi = u_push.drawCount - 1u;
     while (lo < hi) {
         uint mid = (lo + hi + 1u) >> 1;
-        if (texelFetch(u_exactDrawTexels, int(mid) * 5 + 4).y <= item) {
+        if (texelFetch(u_binDrawTexels, int(mid) * 5 + 4).y <= item) {
             lo = mid;
         } else {
             hi = mid - 1u;

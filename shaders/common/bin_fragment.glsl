@@ -2,8 +2,8 @@
 // coverage and sampling of a triangle record at a pixel, and its shading, as the CPU
 // reference does them. Needs scene_bindings_compute.glsl, bins_bindings.glsl, raster.glsl,
 // texture_sampler.glsl and shading.glsl first.
-#ifndef TRANSLUCID_EXACT_FRAGMENT_GLSL
-#define TRANSLUCID_EXACT_FRAGMENT_GLSL
+#ifndef TRANSLUCID_BIN_FRAGMENT_GLSL
+#define TRANSLUCID_BIN_FRAGMENT_GLSL
 
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_control_flow_attributes : require

@@ -1,6 +1,6 @@
 // The bins a triangle's bounds touch.
-#ifndef TRANSLUCID_EXACT_BINS_GLSL
-#define TRANSLUCID_EXACT_BINS_GLSL
+#ifndef TRANSLUCID_BIN_LISTS_GLSL
+#define TRANSLUCID_BIN_LISTS_GLSL
 
 #include "bins_layout.glsl"
 

@@ -1,6 +1,6 @@
-// Descriptor set 1 of the exact method's stages (set 0 is the scene's: frame, draws, materials).
-#ifndef TRANSLUCID_EXACT_BINDINGS_GLSL
-#define TRANSLUCID_EXACT_BINDINGS_GLSL
+// Descriptor set 1 of the bin stages and the rasters that read them (set 0 is the scene's: frame, draws, materials).
+#ifndef TRANSLUCID_BINS_BINDINGS_GLSL
+#define TRANSLUCID_BINS_BINDINGS_GLSL
 
 #extension GL_EXT_control_flow_attributes : require
 
@@ -8,10 +8,10 @@
 #include "bins_layout.glsl"
 
 // The scene's vertices (GpuVertex, 3 texels each: position and normal.x, normal.yz and uv,
-// colour), its quads, and the exact draws (5 texels each), read as texels (see below).
+// colour), its quads, and the bins' draws (5 texels each), read as texels (see below).
 layout(set = 1, binding = 0) uniform usamplerBuffer u_vertexTexels;
 layout(set = 1, binding = 1) uniform usamplerBuffer u_quadTexels;
-layout(set = 1, binding = 2) uniform usamplerBuffer u_exactDrawTexels;
+layout(set = 1, binding = 2) uniform usamplerBuffer u_binDrawTexels;
 layout(set = 1, binding = 3, std430) buffer TriangleBlock { BinTriangleRecord g_triangles[]; };
 layout(set = 1, binding = 4, std430) buffer HomogeneousBlock { BinHomogeneous g_homogeneous[]; };
 layout(set = 1, binding = 5, std430) buffer CounterBlock { BinCounters g_counters; };
@@ -98,8 +98,8 @@ mat4 fetchMat4(usamplerBuffer texels, int first) {
 BinDraw loadBinDraw(uint i) {
     int base = int(i) * 5;
     BinDraw d;
-    d.mvp = fetchMat4(u_exactDrawTexels, base);
-    uvec4 rest = texelFetch(u_exactDrawTexels, base + 4);
+    d.mvp = fetchMat4(u_binDrawTexels, base);
+    uvec4 rest = texelFetch(u_binDrawTexels, base + 4);
     d.drawIndex = rest.x;
     d.firstItem = rest.y;
     d.quadCount = rest.z;

@@ -1,6 +1,7 @@
-// Buffers of the exact bin rasterizer (host mirror: crates/translucid/src/methods/exact/layout.rs).
-#ifndef TRANSLUCID_EXACT_LAYOUT_GLSL
-#define TRANSLUCID_EXACT_LAYOUT_GLSL
+// Buffers of the bins and of the rasters that read them (host mirror:
+// crates/translucid/src/methods/bins/layout.rs).
+#ifndef TRANSLUCID_BINS_LAYOUT_GLSL
+#define TRANSLUCID_BINS_LAYOUT_GLSL
 
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 
@@ -65,7 +66,7 @@ struct ExactPixelState {
     uvec2 selection[MAX_SELECT_SIZE]; // the sweep's kept keys (low, high word)
 };
 
-// One transparent draw as the exact method sees it (std430, 80 bytes).
+// One transparent draw as the bins see it (std430, 80 bytes).
 struct BinDraw {
     mat4 mvp;               // view-projection x model, computed on the host like the reference
     uint drawIndex;         // into the scene's DrawInfo array
@@ -212,7 +213,7 @@ struct BinTexture {
 };
 
 // BinTexture.sampler: each axis's wrap mode, the filters, the mipmap mode
-// (methods/exact/layout.rs writes them).
+// (methods/bins/layout.rs writes them).
 #define SAMPLER_WRAP_S_SHIFT 0
 #define SAMPLER_WRAP_T_SHIFT 2
 #define SAMPLER_WRAP_MASK 3u
