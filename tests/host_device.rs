@@ -820,8 +820,8 @@ fn encode_depth(format: vk::Format, v: f32) -> (Vec<u8>, f32) {
 }
 
 /// The engine's depth in each format translucid reads, growing away from the eye and
-/// reversed-Z (sampled and turned around): each frame is the reference's over the depth the
-/// image holds. The opaque depth is a wall slanting through the spheres, so that it hides
+/// reversed-Z (sampled and turned around), one frame of each on a renderer per direction:
+/// each frame is the reference's over the depth the image holds. The opaque depth is a wall slanting through the spheres, so that it hides
 /// part of them.
 #[test]
 fn engine_depth_in_every_format_and_direction_matches_the_reference() {
@@ -863,12 +863,16 @@ fn engine_depth_in_every_format_and_direction_matches_the_reference() {
     {
         // SAFETY: the engine's live objects, outliving `gpu` (dropped at the end of this block).
         let gpu = unsafe { Gpu::from_host(&engine.host_device()) }.expect("host device");
-        for format in translucid::gpu::HOST_DEPTH_FORMATS {
-            for reversed in [false, true] {
-                let mut frame_scene = scene.clone();
-                if reversed {
-                    frame_scene.camera = reversed_camera;
-                }
+        for reversed in [false, true] {
+            let mut frame_scene = scene.clone();
+            if reversed {
+                frame_scene.camera = reversed_camera;
+            }
+            // One renderer for the formats, a frame each: its slot's import is made, then
+            // rewritten for another image.
+            let mut renderer =
+                Renderer::new(&gpu, &frame_scene, MethodKind::Exact, W, H).expect("renderer");
+            for format in translucid::gpu::HOST_DEPTH_FORMATS {
                 let mut layer = far_layer.clone();
                 let mut bytes = Vec::new();
                 for (i, depth) in layer.depth.iter_mut().enumerate() {
@@ -879,8 +883,6 @@ fn engine_depth_in_every_format_and_direction_matches_the_reference() {
                 }
                 let label = format!("{format:?}{}", if reversed { " reversed" } else { "" });
                 let images = EngineImages::with_depth(&gpu, &layer, 1, format, &bytes);
-                let mut renderer =
-                    Renderer::new(&gpu, &frame_scene, MethodKind::Exact, W, H).expect("renderer");
                 engine.begin(0);
                 let cmd = engine.cmds[0];
                 images.record_opaque(&gpu, cmd);

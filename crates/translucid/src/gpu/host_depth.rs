@@ -1,7 +1,9 @@
 //! The engine's depth image into translucid's depth target, when it cannot be copied as it
 //! is: a reversed-Z depth (turned around, `1 − d`), or a format other than D32_SFLOAT. A
 //! full-screen pass samples the engine's image (which then needs SAMPLED usage) and writes
-//! every texel of the target with `gl_FragDepth`.
+//! every texel of the target with `gl_FragDepth`. Each frame makes a view of the engine's
+//! image (the engine may hand a different one every frame) and writes it into its slot's
+//! descriptor set.
 
 use super::error::vk_err;
 use super::host::{Transition, ANY};
@@ -27,11 +29,12 @@ impl Drop for EngineDepthView {
     }
 }
 
-/// What one frame slot's import sampled: kept until that slot is recorded again, when the
-/// frame that used them has completed.
+/// What one frame slot's import samples through: its set, and the view of the engine's
+/// image its last frame sampled, kept until the slot is recorded again, when that frame has
+/// completed.
 struct SlotInput {
-    // Declared first: the set is freed before the view it names.
-    _set: DescriptorSet,
+    set: DescriptorSet,
+    /// Kept alive for the frame that samples it.
     _view: EngineDepthView,
 }
 
@@ -125,9 +128,23 @@ impl DepthImport {
             gpu: self.gpu.clone(),
             raw,
         };
-        let set = self
-            .layout
-            .create_set(&[Resource::Images(&[view.raw], self.sampler.raw)])?;
+        let resources = [Resource::Images(&[view.raw], self.sampler.raw)];
+        // The slot's last frame completed: its set can be written, and the view it named can
+        // go.
+        let input = match self.slots[slot].take() {
+            Some(input) => {
+                self.layout.write_set(&input.set, &resources)?;
+                SlotInput {
+                    _view: view,
+                    ..input
+                }
+            }
+            None => SlotInput {
+                set: self.layout.create_set(&resources)?,
+                _view: view,
+            },
+        };
+        let set = input.set.raw;
         let read = L::SHADER_READ_ONLY_OPTIMAL;
         self.gpu.transitions(
             cmd,
@@ -141,7 +158,7 @@ impl DepthImport {
         );
         self.pass.begin(cmd);
         self.pass
-            .draw_fullscreen(cmd, &self.pipelines[usize::from(reversed)], &[set.raw]);
+            .draw_fullscreen(cmd, &self.pipelines[usize::from(reversed)], &[set]);
         self.pass.end(cmd);
         self.gpu.transitions(
             cmd,
@@ -153,11 +170,7 @@ impl DepthImport {
                 ANY,
             )],
         );
-        // The slot's last frame completed: what it sampled can go.
-        self.slots[slot] = Some(SlotInput {
-            _set: set,
-            _view: view,
-        });
+        self.slots[slot] = Some(input);
         Ok(())
     }
 }

@@ -79,27 +79,6 @@ impl DescriptorLayout {
 
     /// Allocates a set and writes `resources[i]` to binding `i`.
     pub fn create_set(&self, resources: &[Resource<'_>]) -> Result<DescriptorSet> {
-        assert_eq!(
-            resources.len(),
-            self.kinds.len(),
-            "one resource per binding"
-        );
-        // A binding over the device's range is refused before anything is made: writing
-        // one is invalid, and the shader would read past its end.
-        let range = u64::from(self.gpu.info().max_storage_buffer_range);
-        for (kind, resource) in self.kinds.iter().zip(resources) {
-            if let (BindingKind::StorageBuffer, Resource::Buffer(b)) = (kind, resource) {
-                if b.size > range {
-                    return Err(crate::Error::InvalidScene(format!(
-                        "{} takes {} MB, over the {} MB this device binds as one storage \
-                         buffer",
-                        b.name,
-                        b.size >> 20,
-                        range >> 20
-                    )));
-                }
-            }
-        }
         let sizes: Vec<_> = self
             .kinds
             .iter()
@@ -129,7 +108,34 @@ impl DescriptorLayout {
         // SAFETY: the pool has room for exactly this set.
         set.raw = unsafe { self.gpu.device.allocate_descriptor_sets(&alloc) }
             .map_err(vk_err("vkAllocateDescriptorSets"))?[0];
+        self.write_set(&set, resources)?;
+        Ok(set)
+    }
 
+    /// Writes `resources[i]` to binding `i` of `set`, a set of this layout that no pending
+    /// work uses.
+    pub fn write_set(&self, set: &DescriptorSet, resources: &[Resource<'_>]) -> Result<()> {
+        assert_eq!(
+            resources.len(),
+            self.kinds.len(),
+            "one resource per binding"
+        );
+        // A binding over the device's range is refused before it is written: writing one
+        // is invalid, and the shader would read past its end.
+        let range = u64::from(self.gpu.info().max_storage_buffer_range);
+        for (kind, resource) in self.kinds.iter().zip(resources) {
+            if let (BindingKind::StorageBuffer, Resource::Buffer(b)) = (kind, resource) {
+                if b.size > range {
+                    return Err(crate::Error::InvalidScene(format!(
+                        "{} takes {} MB, over the {} MB this device binds as one storage \
+                         buffer",
+                        b.name,
+                        b.size >> 20,
+                        range >> 20
+                    )));
+                }
+            }
+        }
         let buffer_infos: Vec<Vec<vk::DescriptorBufferInfo>> = resources
             .iter()
             .map(|r| match r {
@@ -192,9 +198,10 @@ impl DescriptorLayout {
                 "binding {i}: resource does not match its layout"
             );
         }
-        // SAFETY: every write targets a binding of this set's layout with matching type/count.
+        // SAFETY: every write targets a binding of this set's layout with matching type/count,
+        // and no pending work uses the set (the caller's contract).
         unsafe { self.gpu.device.update_descriptor_sets(&writes, &[]) };
-        Ok(set)
+        Ok(())
     }
 }
 
