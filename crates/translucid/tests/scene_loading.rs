@@ -77,6 +77,7 @@ fn spec_picks_generated_scene_or_file() {
         Err(Error::UnknownScene(name, known)) => {
             assert_eq!(name, "no-such-scene");
             assert!(known.contains("particles") && known.contains("polychrome"));
+            assert!(known.contains("draws<N>"), "{known}");
         }
         other => panic!("expected UnknownScene, got {other:?}"),
     }

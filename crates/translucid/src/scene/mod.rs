@@ -224,6 +224,10 @@ pub fn load(spec: &str) -> crate::Result<Scene> {
     }
     Err(crate::Error::UnknownScene(
         spec.to_string(),
-        generated::NAMES.join(", "),
+        format!(
+            "{}, draws<N> for N of 1 to {}",
+            generated::NAMES.join(", "),
+            generated::MAX_DRAWS
+        ),
     ))
 }

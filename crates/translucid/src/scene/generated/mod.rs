@@ -12,6 +12,10 @@
 //! | `layers`     | screen-facing quads submitted back to front: unsorted blend is exact |
 //! | `polychrome` | transmissive quads with coloured (per-channel) transmittance         |
 //! | `textured`   | textured quads: every sampler mode, mips, steep angles, texture alpha |
+//!
+//! Besides these, `draws<N>` (for example `draws1000`) is N small quads, each its own draw of
+//! one shared mesh, over a wall: what an engine's many draw calls cost to record
+//! (`translucid bench draws1000 draws10000`). N is 1 to [`MAX_DRAWS`].
 
 mod textured;
 
@@ -19,7 +23,10 @@ use super::{Camera, Draw, Material, Mesh, Scene};
 use glam::{Mat4, Quat, Vec2, Vec3, Vec4};
 use std::f32::consts::{PI, TAU};
 
-/// Names accepted by [`generate`].
+/// The most draws a `draws<N>` scene has.
+pub const MAX_DRAWS: u32 = 100_000;
+
+/// Names accepted by [`generate`], besides `draws<N>`.
 pub const NAMES: &[&str] = &[
     "boxes",
     "spheres",
@@ -43,7 +50,7 @@ pub fn generate(name: &str) -> Option<Scene> {
         "layers" => layers(),
         "polychrome" => polychrome(),
         "textured" => textured::textured(),
-        _ => return None,
+        other => draws(other.strip_prefix("draws")?.parse().ok()?)?,
     };
     Some(scene)
 }
@@ -530,6 +537,59 @@ fn layers() -> Scene {
     b.finish()
 }
 
+/// `count` small quads in a square grid facing the camera, each its own draw of one shared
+/// quad mesh (the materials cycle through eight), slightly apart in depth, over a wall.
+/// `None` unless `count` is 1 to MAX_DRAWS.
+fn draws(count: u32) -> Option<Scene> {
+    if !(1..=MAX_DRAWS).contains(&count) {
+        return None;
+    }
+    let camera = Camera::look_at(Vec3::new(0.0, 0.0, 3.0), Vec3::ZERO, 0.8, 0.1, 20.0);
+    let mut b = Builder::new(
+        &format!("draws{count}"),
+        camera,
+        Vec3::new(0.05, 0.05, 0.08),
+    );
+    b.opaque(
+        back_wall(-1.0, 8.0, 0.75, 0.35),
+        vertex_coloured("wall", false),
+    );
+    let columns = (count as f32).sqrt().ceil() as u32;
+    // The grid spans 2 units at the origin; each quad is a column's width across.
+    let step = 2.0 / columns as f32;
+    let mut soup = QuadSoup::default();
+    let half = 0.5 * step;
+    soup.quad(
+        [
+            Vec3::new(-half, -half, 0.0),
+            Vec3::new(half, -half, 0.0),
+            Vec3::new(half, half, 0.0),
+            Vec3::new(-half, half, 0.0),
+        ],
+        Vec4::ONE,
+    );
+    // The first draw's mesh and material; every draw is pushed below.
+    let first = b.draw(soup.into_mesh("quad"), Material::alpha(hue(0.0), 0.5));
+    let materials: Vec<usize> = std::iter::once(first.material)
+        .chain((1..8).map(|i| b.material(Material::alpha(hue(i as f32 * 0.37), 0.5))))
+        .collect();
+    for i in 0..count {
+        let (column, row) = (i % columns, i / columns);
+        let centre = Vec3::new(
+            -1.0 + (column as f32 + 0.5) * step,
+            -1.0 + (row as f32 + 0.5) * step,
+            // Overlapping neighbours (the quads are 1.5 steps wide) differ in depth.
+            -0.5 * i as f32 / count as f32,
+        );
+        b.scene.transparent.push(Draw {
+            material: materials[i as usize % materials.len()],
+            transform: Mat4::from_translation(centre) * Mat4::from_scale(Vec3::splat(1.5)),
+            ..first
+        });
+    }
+    Some(b.finish())
+}
+
 /// Five overlapping transmissive filters with coloured tints over a light grey wall,
 /// submitted back to front: per-channel transmittance, beyond plain alpha.
 fn polychrome() -> Scene {
@@ -643,6 +703,22 @@ mod tests {
                 })
             })
             .count()
+    }
+
+    #[test]
+    fn draws_scenes_have_their_draws_of_one_mesh() {
+        for count in [1, 1000, 10_000] {
+            let s = generate(&format!("draws{count}")).expect("a draws scene");
+            assert_eq!(s.transparent.len(), count);
+            assert!(s
+                .transparent
+                .iter()
+                .all(|d| d.mesh == s.transparent[0].mesh));
+            assert!(s.validate().is_ok());
+        }
+        for name in ["draws0", "draws100001", "draws", "drawsx", "draws-1"] {
+            assert!(generate(name).is_none(), "{name}");
+        }
     }
 
     #[test]
