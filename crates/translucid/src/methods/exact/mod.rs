@@ -63,13 +63,51 @@ pub struct Exact {
     raster: Arc<ComputePipeline>,
     /// The raster shader again, specialized to resume suspended rows.
     continuation: Arc<ComputePipeline>,
-    /// Continuation dispatches recorded after the first band's raster; multiplied when some
-    /// row was still unfinished after the last one.
-    continuations: u32,
+    continuations: Continuations,
     /// The resume list holding the rows the last submission left unfinished.
     pending_list: u32,
-    /// Per frame slot, the continuations its last frame was recorded with.
-    recorded_continuations: Vec<u32>,
+    /// Per frame slot, the continuations its last submission was recorded with, and whether
+    /// that submission was a frame's finishing one.
+    recorded: Vec<(Continuations, bool)>,
+}
+
+/// Continuation dispatches recorded after each band's raster, each multiplied when the rows
+/// of its band were still unfinished after the last one.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Continuations {
+    /// After the first band's raster, and in a finishing submission.
+    first_band: u32,
+    /// After each later band's: they have blocks only in frames past the lists' capacity (and
+    /// when empty they go on resuming the last band's rows).
+    later_bands: u32,
+}
+
+impl Continuations {
+    const START: Self = Self {
+        first_band: 1,
+        later_bands: 1,
+    };
+
+    /// The continuations after a submission that left rows unfinished: more for the band
+    /// whose rows they were (the last band with blocks, of `bands`; the first band's for a
+    /// finishing submission). `None` past MAX_CONTINUATIONS.
+    fn grown(self, bands: u32, finishing: bool) -> Option<Self> {
+        let grow = |count: u32| {
+            (count < MAX_CONTINUATIONS)
+                .then(|| (count * CONTINUATION_GROWTH).min(MAX_CONTINUATIONS))
+        };
+        Some(if finishing || bands <= 1 {
+            Self {
+                first_band: grow(self.first_band)?,
+                ..self
+            }
+        } else {
+            Self {
+                later_bands: grow(self.later_bands)?,
+                ..self
+            }
+        })
+    }
 }
 
 impl Exact {
@@ -98,9 +136,9 @@ impl Exact {
             bins,
             raster,
             continuation,
-            continuations: 1,
+            continuations: Continuations::START,
             pending_list: 0,
-            recorded_continuations: vec![1; uploaded.slot_count()],
+            recorded: vec![(Continuations::START, false); uploaded.slot_count()],
         })
     }
 
@@ -158,15 +196,17 @@ impl Method for Exact {
     fn record(&mut self, ctx: &mut RecordContext<'_>) -> Result<()> {
         let cmd = ctx.cmd;
         self.bins.record_binning(ctx)?;
-        self.recorded_continuations[ctx.slot] = self.continuations;
+        self.recorded[ctx.slot] = (self.continuations, false);
         // Both resume lists start empty.
         self.pending_list = 0;
         for band in 0..self.bins.bands() {
             let first = band == 0;
             self.bins.record_band(ctx, first, self.pending_list);
-            // Later bands take one continuation each: they have blocks only in frames past
-            // the lists' capacity, and when empty they go on resuming the last band's rows.
-            let continuations = if first { self.continuations } else { 1 };
+            let continuations = if first {
+                self.continuations.first_band
+            } else {
+                self.continuations.later_bands
+            };
             self.record_raster(ctx, continuations);
             self.bins.compute_to_compute(cmd);
         }
@@ -176,17 +216,16 @@ impl Method for Exact {
     }
 
     fn record_finish(&mut self, ctx: &mut RecordContext<'_>) -> Result<()> {
-        self.recorded_continuations[ctx.slot] = self.continuations;
+        self.recorded[ctx.slot] = (self.continuations, true);
         self.bins.targets_to_raster(ctx, FINISHED_SUBMISSION_WRITES);
-        self.record_continuations(ctx, self.continuations);
+        self.record_continuations(ctx, self.continuations.first_band);
         self.bins.record_end(ctx, self.pending_list);
         ctx.timestamps.mark(ctx.cmd, "raster finished");
         Ok(())
     }
 
     fn frame_done(&mut self, done: &FrameDone<'_>) -> Result<FrameCheck> {
-        let recorded_continuations =
-            self.recorded_continuations[done.slot % self.recorded_continuations.len()];
+        let (recorded, finishing) = self.recorded[done.slot % self.recorded.len()];
         let (width, height) = self.bins.size();
         // A row of a shallow frame whose list is too long for one pass of the loop budget:
         // the continuations walked it in parts (this frame is right), and later frames bin
@@ -213,16 +252,16 @@ impl Method for Exact {
         // Rows the last dispatch left on the pending list are unfinished.
         let unfinished = self.bins.unfinished_rows(done.slot)?;
         // (Continuations already multiplied since the frame was recorded are left alone.)
-        if unfinished > 0 && recorded_continuations == self.continuations {
-            if self.continuations >= MAX_CONTINUATIONS {
+        if unfinished > 0 && recorded == self.continuations {
+            let Some(grown) = self.continuations.grown(counters.bands, finishing) else {
                 return Err(crate::Error::InvalidScene(format!(
                     "exact: {unfinished} pixel rows still unfinished after {MAX_CONTINUATIONS} \
                      continuation dispatches; the frame is too deep for this driver"
                 )));
-            }
-            self.continuations = (self.continuations * CONTINUATION_GROWTH).min(MAX_CONTINUATIONS);
+            };
+            self.continuations = grown;
             log::info!(
-                "exact: {unfinished} rows unfinished; {} continuations next",
+                "exact: {unfinished} rows unfinished; {:?} continuations next",
                 self.continuations
             );
         }
@@ -245,5 +284,31 @@ impl Method for Exact {
 
     fn learned(&self, options: &mut super::MethodOptions) {
         self.bins.learned(&mut options.bins);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn continuations_grow_for_the_band_that_left_rows_unfinished() {
+        let start = Continuations::START;
+        let first = start.grown(1, false).expect("room");
+        assert_eq!((first.first_band, first.later_bands), (8, 1));
+        // Rows a later band left: its continuations grow, not the first band's, which would
+        // otherwise climb to the limit in frames that stay banded.
+        let later = start.grown(3, false).expect("room");
+        assert_eq!((later.first_band, later.later_bands), (1, 8));
+        // A finishing submission records the first band's count.
+        let finishing = start.grown(3, true).expect("room");
+        assert_eq!((finishing.first_band, finishing.later_bands), (8, 1));
+        let mut c = start;
+        for _ in 0..4 {
+            c = c.grown(2, false).expect("room");
+        }
+        assert_eq!(c.later_bands, MAX_CONTINUATIONS);
+        assert_eq!(c.grown(2, false), None);
+        assert_eq!(c.grown(1, false).map(|c| c.first_band), Some(8));
     }
 }
