@@ -433,8 +433,8 @@ enum translucid_wavelet_storage
 #endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
  {
     /**
-     * In registers, on the exact method's bins (the default): faster and smaller; needs the
-     * device features the exact method needs.
+     * In registers, on the bins the exact method's raster reads too (the default): faster
+     * and smaller; needs the device features the exact method needs.
      */
     TRANSLUCID_WAVELET_STORAGE_BINS = 0,
     /**

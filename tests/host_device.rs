@@ -236,12 +236,12 @@ fn texels(layer: &OpaqueLayer) -> (Vec<u8>, Vec<u8>) {
     (colour, depth)
 }
 
-/// The largest difference between two images' bytes.
 /// An 8-bit RGBA image's pixels.
 fn pixels(image: &[u8]) -> Vec<&[u8]> {
     image.chunks_exact(4).collect()
 }
 
+/// The largest difference between two images' bytes.
 fn worst_difference(got: &[u8], want: &[u8]) -> u8 {
     got.iter()
         .zip(want)
@@ -661,7 +661,7 @@ fn frames_past_their_bands_keep_the_engines_colour_and_grow_the_lists_once() {
 
 /// One renderer's first two frames (the scene, then its camera a step along the orbit),
 /// both recorded before either is submitted, each recorded once: both must match the
-/// reference (stopped at `options.threshold`) and report nothing degraded. The renderer is
+/// reference (stopped at `options.exact.threshold`) and report nothing degraded. The renderer is
 /// made with the camera at `made_at` (the scene's own if `None`), which is what it sizes its
 /// buffers and picks its shaders from. Returns the frames' bands and the options the
 /// renderer learned (the buffers it grew).

@@ -2,7 +2,7 @@
 //! the CPU model of its own math over the frame's opaque layer:
 //!
 //! - `exact` against the reference ([`reference::render`]): every pixel within 2/255;
-//! - `wavelet`, default options (the exact method's bins), against its CPU model: every pixel
+//! - `wavelet`, default options (on the bins), against its CPU model: every pixel
 //!   within 2/255;
 //! - `blend` against the reference's fragments composited in submission order
 //!   ([`reference::render_in_submission_order`]): a bounded share of pixels over 2/255 and a

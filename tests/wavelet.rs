@@ -146,7 +146,7 @@ fn wavelet_matches_its_cpu_model_under_an_orthographic_camera() {
     }
 }
 
-/// The default variant, in the exact method's bins.
+/// The default variant, on the bins.
 fn bins_options(rank: u32, noise: f32) -> MethodOptions {
     let mut options = MethodOptions::default();
     options.wavelet.rank = Some(rank);
@@ -154,7 +154,7 @@ fn bins_options(rank: u32, noise: f32) -> MethodOptions {
     options
 }
 
-/// In the exact method's bins every pixel has the reference's fragments, so the GPU is held
+/// On the bins every pixel has the reference's fragments, so the GPU is held
 /// to 2/255 everywhere, deep scenes and textures included.
 #[test]
 fn wavelet_in_bins_matches_its_cpu_model() {
@@ -302,7 +302,7 @@ fn wboit_matches_its_cpu_model() {
 
 /// (scene, method, wavelet rank, PSNR floor in dB, PSNR measured when the floor was set) at
 /// 213×131 against the exact reference. Floors sit 1 dB under the measurement. "wavelet" is
-/// the default variant, in the exact bins; "wavelet images" the coefficient images.
+/// the default variant, on the bins; "wavelet images" the coefficient images.
 const FLOORS: &[(&str, &str, u32, f32, f32)] = &[
     ("spheres", "wavelet", 3, 45.2, 46.25),
     ("spheres", "wavelet", 1, 38.0, 39.00),

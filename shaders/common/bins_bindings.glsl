@@ -40,9 +40,9 @@ layout(set = 1, binding = 20) uniform usamplerBuffer u_homogeneousTexels; // g_h
 
 // Indirect dispatches written on the GPU, each a VkDispatchIndirectCommand padded to 16
 // bytes (x = count): k = 0, 1 count the items of resume list k, the rows a raster dispatch
-// left unfinished, one workgroup each; DISPATCH_RASTER_BINS counts the blocks with a
-// non-empty bin (listed in g_rasterBins) for the first raster dispatch (y = BIN_SIZE rows
-// each); DISPATCH_BINNING counts the binning passes' workgroups of BINNING_GROUP_SIZE
+// left unfinished, one workgroup each; DISPATCH_RASTER_BINS counts the current band's
+// blocks with a non-empty bin (listed in g_rasterBins from the band's first) for its raster
+// dispatch (y = BIN_SIZE / rows per workgroup); DISPATCH_BINNING counts the binning passes' workgroups of BINNING_GROUP_SIZE
 // triangles, so that they run for the triangles setup kept, not for every quad;
 // DISPATCH_BIN_OFFSETS counts the scan's offset step's workgroups of SCAN_GROUP_SIZE listed
 // blocks, so that it writes offsets only where some bin has an entry; DISPATCH_BAND_FILL is

@@ -1,11 +1,12 @@
 // The body of the wavelet bin raster; shaders/wavelet/bins_rank<N>.comp set the rank.
 #ifndef TRANSLUCID_WAVELET_BINS_GLSL
 #define TRANSLUCID_WAVELET_BINS_GLSL
-// The wavelet method on the exact method's bins, with each pixel's coefficients in registers
-// instead of full-screen images. It runs where exact's raster runs, after the same setup and
-// binning, one invocation per pixel and rows of BIN_SIZE pixels that walk their row's list in
-// step (raster.comp says why a subgroup must see one row). Three walks over the list:
-// 1. bounds: the nearest and farthest view depth of the pixel's fragments;
+// The wavelet method on the bins (shaders/bins/, which exact's raster reads too), with each
+// pixel's coefficients in registers instead of full-screen images. It runs per band, as
+// exact's raster does, one invocation per pixel and rows of BIN_SIZE pixels that walk their
+// row's list in step (raster.comp says why a subgroup must see one row). Three walks over the
+// list:
+// 1. bounds: the nearest and farthest order depth of the pixel's fragments;
 // 2. transmittance: each fragment adds its absorbance's Haar coefficients;
 // 3. shading: each fragment in front of full absorption adds its radiance times the
 //    transmittance in front of it, its own share removed;

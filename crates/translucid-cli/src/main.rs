@@ -55,8 +55,8 @@ pub struct WaveletArgs {
     /// wavelet: storage precision of the coefficients
     #[arg(long, value_enum, default_value_t = Precision::Half)]
     pub precision: Precision,
-    /// wavelet: where the coefficients live: registers in the exact method's bins, or
-    /// full-screen images
+    /// wavelet: where the coefficients live: registers, on the bins exact's raster reads too,
+    /// or full-screen images
     #[arg(long, value_enum, default_value_t = Storage::Bins)]
     pub storage: Storage,
 }

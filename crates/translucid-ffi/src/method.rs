@@ -12,8 +12,8 @@ use translucid::methods::MethodKind;
 #[repr(u32)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum translucid_wavelet_storage {
-    /// In registers, on the exact method's bins (the default): faster and smaller; needs the
-    /// device features the exact method needs.
+    /// In registers, on the bins the exact method's raster reads too (the default): faster
+    /// and smaller; needs the device features the exact method needs.
     Bins = 0,
     /// In full-screen coefficient images, drawn by the graphics pipeline.
     Images = 1,

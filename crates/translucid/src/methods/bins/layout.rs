@@ -32,7 +32,7 @@ pub const MAX_SELECT_SIZE: u32 = 16;
 /// Bytes of the indirect dispatch commands (each padded to 16) before the resume items:
 /// resume list 0, resume list 1, the band's blocks, binning, bin offsets, the band's fill.
 pub const DISPATCH_BYTES: u64 = 96;
-/// Byte offset of the non-empty bins' dispatch command (`DISPATCH_RASTER_BINS`).
+/// Byte offset of the current band's raster dispatch command (`DISPATCH_RASTER_BINS`).
 pub const DISPATCH_RASTER_BINS_OFFSET: u64 = 32;
 /// Byte offset of the binning passes' dispatch command (`DISPATCH_BINNING`).
 pub const DISPATCH_BINNING_OFFSET: u64 = 48;

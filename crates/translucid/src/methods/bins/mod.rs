@@ -380,7 +380,6 @@ impl Bins {
             self.resources
                 .grow(f.gpu, grown)
                 .map_err(|e| in_errors(self.method, e))?;
-            self.resources.refresh_set(f.targets)?;
         }
         let subgroup_size = self.gpu.info().subgroup_size;
         let mut fresh = RasterFeatures::of_frame(f.scene, &self.meshes, near_plane, subgroup_size);
@@ -487,8 +486,9 @@ impl Bins {
         raster: &ComputePipeline,
         suspend_to: u32,
     ) {
+        // A raster appends to the list after the one it is pushed (the one it would resume).
         let push = BinPush {
-            resume_list: suspend_to,
+            resume_list: suspend_to ^ 1,
             ..self.push
         };
         self.dispatch_indirect(ctx, raster, DISPATCH_RASTER_BINS_OFFSET, &push);

@@ -122,7 +122,8 @@ impl Capacities {
 /// Buffers that grow, each with the texel view the raster reads it through.
 struct Growable {
     /// Resume lists of the raster's continuation dispatches (see `LOOP_BUDGET` in
-    /// bins_layout.glsl): a header of two indirect dispatch commands, then the items.
+    /// bins_layout.glsl): a header of six indirect dispatch commands (DISPATCH_BYTES), then
+    /// the items.
     resume: Buffer,
     /// Compositing state of the pixels of the resume items that took a state slot.
     pixel_states: Buffer,
@@ -649,7 +650,7 @@ impl Resources {
     /// consumed it, so that the next dispatch to append to it starts afresh.
     pub fn record_resume_list_reset(&self, cmd: vk::CommandBuffer, list: u32) {
         let resume = &self.growable.resume;
-        let empty: [u32; 4] = empty_dispatches(1)[list as usize];
+        let empty: [u32; 4] = [0, 1, 1, 0];
         resume.gpu().cmd_update_buffer(
             cmd,
             resume,
@@ -752,7 +753,8 @@ impl Resources {
             );
             slot.generation = u64::MAX;
         }
-        self.refresh_set(targets)
+        // (The slot's set is made anew when the frame is recorded: Self::refresh_set.)
+        Ok(())
     }
 
     /// Makes room for `slabs` depth slabs per bin; the old arrays stay until the frames in

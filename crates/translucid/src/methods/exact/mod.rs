@@ -154,7 +154,7 @@ impl Exact {
     /// resuming.
     fn record_raster(&mut self, ctx: &RecordContext<'_>, continuations: u32) {
         self.bins
-            .record_raster(ctx, &self.raster, self.pending_list ^ 1);
+            .record_raster(ctx, &self.raster, self.pending_list);
         self.record_continuations(ctx, continuations);
     }
 

@@ -63,7 +63,7 @@ impl BinRaster {
         self.bins.record_binning(ctx)?;
         for band in 0..self.bins.bands() {
             self.bins.record_band(ctx, band == 0, 0);
-            self.bins.record_raster(ctx, &self.raster, 1);
+            self.bins.record_raster(ctx, &self.raster, 0);
             self.bins.compute_to_compute(cmd);
         }
         self.bins.record_end(ctx, 0);
