@@ -661,17 +661,17 @@ fn frames_past_their_bands_keep_the_engines_colour_and_grow_the_lists_once() {
 
 /// One renderer's first two frames (the scene, then its camera a step along the orbit),
 /// both recorded before either is submitted, each recorded once: both must match the
-/// reference (stopped at `options.exact.threshold`) and report nothing degraded. The renderer is
-/// made with the camera at `made_at` (the scene's own if `None`), which is what it sizes its
-/// buffers and picks its shaders from. Returns the frames' bands and the options the
-/// renderer learned (the buffers it grew).
+/// reference (stopped at `options.exact.threshold`) and report nothing degraded. The
+/// renderer is made with the camera at `made_at` (the scene's own if `None`), which is what it
+/// sizes its buffers and picks its shaders from.
 fn first_frames_match_the_reference(
     scene: &translucid::scene::Scene,
     (width, height): (u32, u32),
     options: &MethodOptions,
     made_at: Option<translucid::scene::Camera>,
-) -> (Vec<u32>, MethodOptions) {
+) -> FirstFrames {
     let mut bands = Vec::new();
+    let mut fragments = Vec::new();
     let learned;
     let orbit = Orbit::new(scene);
     let frame_scene = |f: u32| {
@@ -732,6 +732,7 @@ fn first_frames_match_the_reference(
             let worst = worst_difference(&images.srgb(k), &want);
             assert!(worst <= 2, "{}, frame {k}: {worst}/255 off", scene.name);
             bands.push(done.bands);
+            fragments.push(done.fragments);
         }
         learned = renderer.learned_options(options);
     }
@@ -741,7 +742,20 @@ fn first_frames_match_the_reference(
         "validation errors:\n{}",
         errors.join("\n")
     );
-    (bands, learned)
+    FirstFrames {
+        bands,
+        fragments,
+        learned,
+    }
+}
+
+/// What [`first_frames_match_the_reference`] saw of its two frames.
+struct FirstFrames {
+    bands: Vec<u32>,
+    /// Fragments composited, as each frame reported them.
+    fragments: Vec<u64>,
+    /// The options the renderer learned (the buffers it grew).
+    learned: MethodOptions,
 }
 
 /// Every way a frame's work can outgrow what its renderer expected, each forced on a
@@ -758,7 +772,7 @@ fn first_frames_match_the_reference(
 fn every_overflow_on_a_first_and_only_recording_matches_the_reference() {
     let spheres = translucid::scene::load("spheres").expect("generated scene");
     let small_lists = with_bin_entries(BANDED_ENTRIES);
-    let (bands, _) = first_frames_match_the_reference(&spheres, (W, H), &small_lists, None);
+    let bands = first_frames_match_the_reference(&spheres, (W, H), &small_lists, None).bands;
     assert!(bands.iter().all(|&b| b > 1), "bands {bands:?}");
 
     let deep = stack_scene(
@@ -769,11 +783,17 @@ fn every_overflow_on_a_first_and_only_recording_matches_the_reference() {
     // Lists that fit, so that the rows' continuations are all in one band.
     let mut few_states = with_bin_entries(1 << 20);
     few_states.bins.initial_resume_rows = Some(4);
-    let (_, learned) = first_frames_match_the_reference(&deep, (45, 37), &few_states, None);
+    let restarted = first_frames_match_the_reference(&deep, (45, 37), &few_states, None);
     assert!(
-        learned.bins.initial_resume_rows > Some(4),
-        "no row went without a state slot: {learned:?}"
+        restarted.learned.bins.initial_resume_rows > Some(4),
+        "no row went without a state slot: {:?}",
+        restarted.learned
     );
+    // A row that started over counts its fragments once, as with a state slot for every row.
+    let mut every_state = few_states.clone();
+    every_state.bins.initial_resume_rows = Some(1 << 12);
+    let kept = first_frames_match_the_reference(&deep, (45, 37), &every_state, None);
+    assert_eq!(restarted.fragments, kept.fragments);
 
     let mut stopped_early = MethodOptions::default();
     stopped_early.exact.threshold = 0.01;

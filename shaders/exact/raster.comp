@@ -371,6 +371,8 @@ void main() {
             g_resumeItems[outList * itemCapacity + item] = uvec2(block * BIN_SIZE + row, slot);
         }
         slot = subgroupBroadcastFirst(slot);
+        // A row without a state starts over: what it composited here is counted then.
+        fragments = slot == NO_STATE ? 0u : fragments;
         if (slot != NO_STATE) {
             uint state = (outList * resumeCapacity + slot) * BIN_SIZE + gl_LocalInvocationID.x;
             g_pixelStates[state].radiance = vec4(radiance, 0.0);

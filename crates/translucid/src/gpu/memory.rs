@@ -148,13 +148,9 @@ impl Gpu {
         usage: vk::ImageUsageFlags,
         mip_levels: u32,
     ) -> Result<GpuImage> {
-        // Depth formats without stencil (translucid's own, and the engine formats tests make).
-        let depth_only = [
-            vk::Format::D32_SFLOAT,
-            vk::Format::D16_UNORM,
-            vk::Format::X8_D24_UNORM_PACK32,
-        ];
-        let aspect = if depth_only.contains(&format) {
+        // The depth formats translucid reads from engines, its own D32 among them (tests make
+        // engine images of each).
+        let aspect = if super::HOST_DEPTH_FORMATS.contains(&format) {
             vk::ImageAspectFlags::DEPTH
         } else {
             vk::ImageAspectFlags::COLOR
