@@ -581,7 +581,7 @@ fn visible_bounds(clip: [Vec4; 3], width: u32, height: u32) -> Option<PixelRect>
 }
 
 /// One Sutherland–Hodgman step: the part of a polygon where `dist >= 0`.
-fn clip_polygon(poly: &[[f64; 4]], dist: impl Fn(&[f64; 4]) -> f64) -> Vec<[f64; 4]> {
+pub(crate) fn clip_polygon(poly: &[[f64; 4]], dist: impl Fn(&[f64; 4]) -> f64) -> Vec<[f64; 4]> {
     let mut out = Vec::with_capacity(poly.len() + 1);
     for (i, cur) in poly.iter().enumerate() {
         let next = &poly[(i + 1) % poly.len()];

@@ -265,18 +265,12 @@ pub fn estimated_fragments(scene: &Scene, width: u32, height: u32) -> u64 {
 /// The part of the convex polygon `clip` (clip-space corners, in order) beyond the near plane
 /// (z >= 0), where every point has w > 0.
 fn beyond_near_plane(clip: [Vec4; 4]) -> Vec<Vec4> {
-    let mut kept = Vec::with_capacity(5);
-    for (i, &p) in clip.iter().enumerate() {
-        let q = clip[(i + 1) % clip.len()];
-        if p.z >= 0.0 {
-            kept.push(p);
-        }
-        if (p.z >= 0.0) != (q.z >= 0.0) {
-            kept.push(p + (q - p) * (p.z / (p.z - q.z)));
-        }
-    }
-    kept.retain(|p| p.w > 0.0);
-    kept
+    let corners = clip.map(|c| c.as_dvec4().to_array());
+    crate::raster::clip_polygon(&corners, |v| v[2])
+        .into_iter()
+        .map(|v| glam::DVec4::from_array(v).as_vec4())
+        .filter(|p| p.w > 0.0)
+        .collect()
 }
 
 /// Pixels the convex polygon `points` (framebuffer coordinates, in order) covers, at most its
