@@ -276,6 +276,12 @@ impl GpuScene {
         Ok(uploaded)
     }
 
+    /// Meshes whose vertices moved since the last frame was recorded (methods renew what they
+    /// keep of them when they are given the next frame).
+    pub fn moved_meshes(&self) -> &[usize] {
+        &self.moved_meshes
+    }
+
     /// Notes that mesh `index` moved: the next frame recorded copies its vertices in (see
     /// [`Self::record_moved_vertices`]).
     pub fn mesh_moved(&mut self, index: usize) {

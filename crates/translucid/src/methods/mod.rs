@@ -134,9 +134,6 @@ pub struct FrameSetup<'a> {
     pub targets: &'a FrameTargets,
     /// The frame slot the frame is written into (no frame of it in flight).
     pub slot: usize,
-    /// Meshes whose vertices moved (`Renderer::update_mesh`) since the method's last
-    /// `set_frame`.
-    pub moved_meshes: &'a [usize],
 }
 
 pub trait Method {

@@ -137,8 +137,6 @@ pub struct Renderer {
     /// each slot remembers the one its data was written for.
     frame_serial: u64,
     slot_serials: Vec<u64>,
-    /// Meshes moved by `update_mesh` since the method was last given a frame.
-    moved_meshes: Vec<usize>,
     /// Host-device mode: per slot, how a completed frame is told from one whose commands
     /// never ran; and the slots of the frames in flight, oldest first.
     completions: Vec<host_device::Completion>,
@@ -248,7 +246,6 @@ impl Renderer {
             slot: 0,
             frame_serial: 0,
             slot_serials,
-            moved_meshes: Vec::new(),
             completions: Vec::new(),
             depth_import: None,
             in_flight: std::collections::VecDeque::new(),
@@ -292,9 +289,7 @@ impl Renderer {
             uploaded: &self.scene,
             targets: &self.targets,
             slot,
-            moved_meshes: &self.moved_meshes,
         })?;
-        self.moved_meshes.clear();
         self.slot_serials[slot] = self.frame_serial;
         Ok(())
     }
@@ -324,11 +319,9 @@ impl Renderer {
             )));
         }
         target.positions.copy_from_slice(positions);
+        // The uploads and the method's view of the frame (near-plane estimate, bounds) follow
+        // the vertices.
         self.scene.mesh_moved(mesh);
-        // The method's view of the frame (near-plane estimate, bounds) follows the vertices.
-        if !self.moved_meshes.contains(&mesh) {
-            self.moved_meshes.push(mesh);
-        }
         self.frame_serial += 1;
         Ok(())
     }

@@ -364,7 +364,7 @@ impl Bins {
         // Setup writes at most two triangles per quad, and homogeneous records for at most
         // the triangles of draws that leave the fixed-point path.
         let triangles = f.uploaded.transparent_quads.saturating_mul(2);
-        for &moved in f.moved_meshes {
+        for &moved in f.uploaded.moved_meshes() {
             self.meshes[moved].bounds = features::bounds(&f.scene.meshes[moved].positions);
         }
         // Triangles that may take the near-plane path: the records' bound and the feature.
