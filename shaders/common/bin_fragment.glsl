@@ -112,7 +112,7 @@ BinTriangle loadShadingTriangle(uint i) {
 // The depth fragments are ordered by (raster::order_depth): clip w, or under an orthographic
 // camera, whose w is constant, z_ndc + 1 (positive, and never 0, which keys keep for "none").
 float orderDepth(RasterSample s) {
-    return u_push.orderByZ != 0u ? s.zNdc + 1.0 : s.viewDepth;
+    return ordersByZ() ? s.zNdc + 1.0 : s.viewDepth;
 }
 
 // Whether triangle t covers pixel (x, y), and the sample, its viewDepth the order depth. The

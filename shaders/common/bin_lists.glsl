@@ -3,6 +3,7 @@
 #define TRANSLUCID_BIN_LISTS_GLSL
 
 #include "bins_layout.glsl"
+#include "scene_bindings_compute.glsl"
 
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 
@@ -88,6 +89,12 @@ ivec2 bandColumns(int y, ivec2 run) {
     return ivec2(max(run.x, lo), min(run.y, hi));
 }
 
+// Whether fragments are ordered by z_ndc (an orthographic camera) rather than clip w: the
+// frame's FrameInfo.depthMapping.w.
+bool ordersByZ() {
+    return u_frame.depthMapping.w != 0.0;
+}
+
 // Bits of a triangle's nearest and farthest vertex order depth (orderDepth in
 // bin_fragment.glsl: clip w, or z_ndc + 1 within the depth clip), widened by a relative
 // 2^-12 so that every fragment's interpolated depth, rounded in float, lies between them.
@@ -98,7 +105,7 @@ uvec2 triangleDepthBits(BinTriangle t) {
     }
     float nearest = 1.0 / max(max(t.invW.x, t.invW.y), t.invW.z);
     float farthest = 1.0 / min(min(t.invW.x, t.invW.y), t.invW.z);
-    if (u_push.orderByZ != 0u) {
+    if (ordersByZ()) {
         nearest = max(min(min(t.zNdc.x, t.zNdc.y), t.zNdc.z), 0.0) + 1.0;
         farthest = min(max(max(t.zNdc.x, t.zNdc.y), t.zNdc.z), 1.0) + 1.0;
     }

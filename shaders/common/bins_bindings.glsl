@@ -77,10 +77,9 @@ layout(push_constant) uniform BinPush {
     float threshold;        // stop once every channel's transmittance is below this; 0: exact
     uint resumeList;        // raster: the list a continuation reads; it appends to the other
     uint binRowsPerSlice;   // binning: bin rows one invocation covers (see bin_lists.glsl)
-    uint orderByZ;          // 1: fragments are ordered by z_ndc (an orthographic camera),
-                            // 0: by clip w (orderDepth in bin_fragment.glsl)
     uint pad1;
     uint pad2;
+    uint pad3;
 } u_push;
 
 uvec4 loadQuad(uint i) {

@@ -187,9 +187,7 @@ pub struct BinPush {
     pub threshold: f32,
     pub resume_list: u32,
     pub bin_rows_per_slice: u32,
-    /// 1 when fragments are ordered by device depth (an orthographic camera), 0 by clip w.
-    pub order_by_z: u32,
-    pub pad: [u32; 2],
+    pub pad: [u32; 3],
 }
 
 #[cfg(test)]

@@ -205,11 +205,6 @@ pub struct Bins {
     recorded: Vec<Recorded>,
 }
 
-/// `BinPush::order_by_z` for `scene`'s camera.
-fn orders_by_z(scene: &Scene) -> u32 {
-    u32::from(scene.camera.depth_order() == crate::raster::DepthOrder::DeviceZ)
-}
-
 /// Homogeneous records a frame with `near_plane` triangles that may take the near-plane path
 /// needs, up to what one buffer binds (past that the frame reports the overflow).
 fn homogeneous_bound(gpu: &Gpu, near_plane: u64) -> u32 {
@@ -294,8 +289,7 @@ impl Bins {
             bin_rows_per_slice: (LOOP_BUDGET / (bins_x + 1))
                 .min(options.bin_rows_per_slice.unwrap_or(u32::MAX))
                 .max(1),
-            order_by_z: orders_by_z(scene),
-            pad: [0; 2],
+            pad: [0; 3],
         };
         Ok(Self {
             gpu: gpu.clone(),
@@ -360,7 +354,6 @@ impl Bins {
             .set_frame(f.gpu, f.scene, f.uploaded, f.targets)?;
         self.push.item_count = f.uploaded.transparent_quads;
         self.push.draw_count = f.scene.transparent.len() as u32;
-        self.push.order_by_z = orders_by_z(f.scene);
         // Setup writes at most two triangles per quad, and homogeneous records for at most
         // the triangles of draws that leave the fixed-point path.
         let triangles = f.uploaded.transparent_quads.saturating_mul(2);
