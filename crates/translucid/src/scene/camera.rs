@@ -216,7 +216,10 @@ impl Camera {
         let distance = radius / (fov_y * 0.5).sin() * 1.05;
         let dir = Vec3::new(0.35, 0.3, 1.0).normalize();
         let eye = centre + dir * distance;
-        let near = (distance - radius).max(distance * 1e-3);
+        // Half the gap to the bounding sphere: a near plane tangent to it is reached by the
+        // bounding box's corners as the scene turns or moves, and then every triangle of the
+        // mesh may cross it as far as the host can tell.
+        let near = ((distance - radius) * 0.5).max(distance * 1e-3);
         let far = distance + radius * 2.0;
         Self::look_at(eye, centre, fov_y, near, far)
     }
