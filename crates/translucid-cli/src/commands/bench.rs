@@ -1,4 +1,4 @@
-use super::open_gpu;
+use super::{open_gpu, open_gpu_quietly};
 use crate::Motion;
 use crate::Size;
 use indicatif::{ProgressBar, ProgressStyle};
@@ -45,6 +45,68 @@ pub struct FrameLoop {
     pub motion: Motion,
 }
 
+/// One method's timed frames of one scene.
+#[derive(Default)]
+struct Timings {
+    per_stage: BTreeMap<&'static str, Vec<f64>>,
+    stage_order: Vec<&'static str>,
+    totals: Vec<f64>,
+    method_totals: Vec<f64>,
+    walls: Vec<f64>,
+    cpu: Vec<f64>,
+    peak: u64,
+    fragments: u64,
+    triangles: u64,
+    rerenders: u32,
+    pipelines: u64,
+    allocated: u64,
+}
+
+impl Timings {
+    fn add(&mut self, cpu_ms: f64, frame: &translucid::renderer::Frame) {
+        self.cpu.push(cpu_ms);
+        self.allocated += frame.bytes_allocated;
+        for (name, ms) in &frame.stages {
+            if !self.stage_order.contains(name) {
+                self.stage_order.push(*name);
+            }
+            self.per_stage.entry(name).or_default().push(*ms);
+        }
+        self.totals
+            .push(frame.stages.iter().map(|(_, ms)| ms).sum());
+        self.method_totals.push(frame.method_ms());
+        self.peak = self.peak.max(frame.peak_gpu_bytes);
+        self.fragments = frame.fragments;
+        self.triangles = frame.triangles;
+        self.rerenders += frame.rerenders;
+        self.pipelines += frame.pipelines_created;
+        self.walls.push(frame.wall_ms);
+    }
+
+    fn result(mut self, scene: &str, method: &str, frames: u32) -> Result {
+        Result {
+            scene: scene.to_string(),
+            method: method.to_string(),
+            frames,
+            total_ms: median(self.totals),
+            method_ms: median(self.method_totals),
+            stages: self
+                .stage_order
+                .iter()
+                .map(|s| (*s, median(self.per_stage.remove(s).unwrap_or_default())))
+                .collect(),
+            peak_gpu_bytes: self.peak,
+            fragments: self.fragments,
+            triangles: self.triangles,
+            rerenders: self.rerenders,
+            pipelines_created: self.pipelines,
+            bytes_allocated: self.allocated,
+            wall_ms: median(self.walls),
+            cpu_ms: median(self.cpu),
+        }
+    }
+}
+
 pub fn run(
     scenes: &[String],
     methods: &[String],
@@ -60,10 +122,22 @@ pub fn run(
     } = frame_loop;
     let options = super::options(threshold, wavelet)?;
     let frames = frames.max(1);
-    let gpu = open_gpu()?;
     // blend is always measured: every ratio is against it, from this same run.
     let mut order: Vec<&str> = vec!["blend"];
     order.extend(methods.iter().map(String::as_str).filter(|m| *m != "blend"));
+    // Each method on a device of its own, so that its memory and pipeline counts are its own
+    // while the methods take turns.
+    let gpus = order
+        .iter()
+        .enumerate()
+        .map(|(i, _)| {
+            if i == 0 {
+                open_gpu()
+            } else {
+                open_gpu_quietly()
+            }
+        })
+        .collect::<translucid::Result<Vec<_>>>()?;
     let warmup = 2;
     let bar = ProgressBar::new(u64::from(frames + warmup) * (scenes.len() * order.len()) as u64);
     bar.set_style(
@@ -92,65 +166,40 @@ pub fn run(
             let frame = renderer.render(false)?;
             Ok((set_ms + frame.record_ms, frame))
         };
-        for method in &order {
-            bar.set_message(format!("{spec} / {method}"));
-            let mut renderer = Renderer::with_options(
-                &gpu,
-                &scene,
-                method.parse()?,
-                size.width,
-                size.height,
-                &options,
-            )?;
-            // Lavapipe compiles pipelines on first use: warm up before timing.
-            for index in 0..warmup {
-                next_frame(&mut renderer, index)?;
+        bar.set_message(spec.clone());
+        let mut renderers = order
+            .iter()
+            .zip(&gpus)
+            .map(|(method, gpu)| {
+                Renderer::with_options(
+                    gpu,
+                    &scene,
+                    method.parse()?,
+                    size.width,
+                    size.height,
+                    &options,
+                )
+            })
+            .collect::<translucid::Result<Vec<_>>>()?;
+        // The methods take turns frame by frame, so that the machine's drift (other loads,
+        // clocks) falls on all of them alike and the ratios compare frames of the same moment.
+        // Lavapipe compiles pipelines on first use: warm up before timing.
+        for index in 0..warmup {
+            for renderer in &mut renderers {
+                next_frame(renderer, index)?;
                 bar.inc(1);
             }
-            let mut per_stage: BTreeMap<&'static str, Vec<f64>> = BTreeMap::new();
-            let mut stage_order = Vec::new();
-            let (mut totals, mut method_totals, mut peak) = (Vec::new(), Vec::new(), 0);
-            let (mut fragments, mut triangles, mut rerenders, mut pipelines) = (0, 0, 0, 0);
-            let (mut walls, mut cpu, mut allocated) = (Vec::new(), Vec::new(), 0);
-            for index in warmup..warmup + frames {
-                let (cpu_ms, frame) = next_frame(&mut renderer, index)?;
-                cpu.push(cpu_ms);
-                allocated += frame.bytes_allocated;
-                for (name, ms) in &frame.stages {
-                    if !stage_order.contains(name) {
-                        stage_order.push(*name);
-                    }
-                    per_stage.entry(name).or_default().push(*ms);
-                }
-                totals.push(frame.stages.iter().map(|(_, ms)| ms).sum());
-                method_totals.push(frame.method_ms());
-                peak = peak.max(frame.peak_gpu_bytes);
-                fragments = frame.fragments;
-                triangles = frame.triangles;
-                rerenders += frame.rerenders;
-                pipelines += frame.pipelines_created;
-                walls.push(frame.wall_ms);
+        }
+        let mut timings: Vec<Timings> = order.iter().map(|_| Timings::default()).collect();
+        for index in warmup..warmup + frames {
+            for (renderer, timing) in renderers.iter_mut().zip(&mut timings) {
+                let (cpu_ms, frame) = next_frame(renderer, index)?;
+                timing.add(cpu_ms, &frame);
                 bar.inc(1);
             }
-            results.push(Result {
-                scene: spec.clone(),
-                method: method.to_string(),
-                frames,
-                total_ms: median(totals),
-                method_ms: median(method_totals),
-                stages: stage_order
-                    .iter()
-                    .map(|s| (*s, median(per_stage.remove(s).unwrap_or_default())))
-                    .collect(),
-                peak_gpu_bytes: peak,
-                fragments,
-                triangles,
-                rerenders,
-                pipelines_created: pipelines,
-                bytes_allocated: allocated,
-                wall_ms: median(walls),
-                cpu_ms: median(cpu),
-            });
+        }
+        for (method, timing) in order.iter().zip(timings) {
+            results.push(timing.result(spec, method, frames));
         }
     }
     bar.finish_and_clear();

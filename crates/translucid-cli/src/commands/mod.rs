@@ -16,9 +16,14 @@ use translucid::{reference, Image, OpaqueLayer};
 
 /// The device chosen by `TRANSLUCID_DEVICE` / `TRANSLUCID_VALIDATION`, named on stderr.
 pub fn open_gpu() -> translucid::Result<Gpu> {
-    let gpu = Gpu::new(&GpuOptions::from_env())?;
+    let gpu = open_gpu_quietly()?;
     eprintln!("device: {} ({})", gpu.info().name, gpu.info().kind);
     Ok(gpu)
+}
+
+/// [`open_gpu`] without naming the device.
+pub fn open_gpu_quietly() -> translucid::Result<Gpu> {
+    Gpu::new(&GpuOptions::from_env())
 }
 
 /// A renderer for one scene on the chosen device.
