@@ -25,9 +25,14 @@
  *   context create-info. translucid_frame_record records a frame into the engine's command
  *   buffer over the engine's colour and depth images (never submitting); after the engine's
  *   submission finished, translucid_frame_complete reads the statistics and says whether the
- *   frame overflowed (TRANSLUCID_RESULT_INCOMPLETE: record it again). One frame in flight per
- *   context. translucid loads Vulkan through the engine's vkGetInstanceProcAddr and never
- *   destroys the engine's objects.
+ *   frame went past a documented limit (TRANSLUCID_RESULT_INCOMPLETE). Up to the context's
+ *   frames_in_flight frames may be recorded and not completed. translucid loads Vulkan
+ *   through the engine's vkGetInstanceProcAddr and never destroys the engine's objects.
+ *
+ * Assets and frames: meshes, textures and materials are created once and stay uploaded; a
+ * frame names the ones it draws by handle, with its own camera, light and transforms, and
+ * builds nothing (translucid_mesh_update moves a mesh's vertices). Creating or destroying an
+ * asset makes the next frame upload the context's assets again: do it while loading.
  */
 
 #ifndef TRANSLUCID_H
@@ -106,7 +111,7 @@
 
 #define TRANSLUCID_VERSION_MAJOR 0
 
-#define TRANSLUCID_VERSION_MINOR 3
+#define TRANSLUCID_VERSION_MINOR 4
 
 #define TRANSLUCID_VERSION_PATCH 0
 
@@ -195,9 +200,11 @@ enum translucid_result
      */
     TRANSLUCID_RESULT_ERROR_NOT_SUPPORTED = -11,
     /**
-     * Host-device mode: a frame is recorded and not yet completed. Call
-     * `translucid_frame_complete` after the engine's submission finished (or destroy the
-     * frame to abandon it) before recording another; a frame's statistics wait for it too.
+     * Host-device mode: as many frames as the context was made for
+     * (`translucid_context_create_info::frames_in_flight`) are recorded and not completed:
+     * complete the oldest after its submission finished before recording another. Also
+     * returned for the statistics of a frame in flight, and for destroying one (complete
+     * it, or abandon it with `translucid_frame_abandon`).
      */
     TRANSLUCID_RESULT_ERROR_FRAME_IN_FLIGHT = -12,
     /**
@@ -555,29 +562,57 @@ typedef struct translucid_context_create_info {
      * (discrete, integrated, then CPU). Must be NULL in host-device mode.
      */
     const char *device;
+    /**
+     * Host-device mode: the most frames recorded and not yet completed at any time, 1 to
+     * `TRANSLUCID_MAX_FRAMES_IN_FLIGHT`: the engine's frames in flight times the views it
+     * records in each. 0 means 1. Standalone frames complete within their call: 0 or 1.
+     */
+    uint32_t frames_in_flight;
 } translucid_context_create_info;
 
 /**
- * A perspective camera with Vulkan conventions: right-handed view space looking down -Z,
- * framebuffer Y down, depth 0 at the near plane and 1 at the far plane.
+ * Where the frame is seen from, in Vulkan conventions: clip space with framebuffer Y down and
+ * depth z/w in [0, 1]. Give the engine's own `projection` matrix (reversed-Z, an infinite far
+ * plane and orthographic projections are taken as they are), or leave it all zero for a
+ * symmetric perspective from `fov_y`, `z_near` and `z_far` whose aspect is the frame's
+ * width / height.
+ *
+ * Depth: with the engine's matrix, the engine's depth image must hold that matrix's depth;
+ * whether depth grows or shrinks with distance (reversed-Z) is read from the matrix. With
+ * `fov_y`, depth is 0 at `z_near` and 1 at `z_far`, as `glm::perspectiveRH_ZO` with its Y
+ * axis flipped.
  */
 typedef struct translucid_camera {
     /**
-     * World-to-view matrix, column-major (as GLM, glam and most engines store it).
+     * World-to-view matrix, column-major (as GLM, glam and most engines store it), finite;
+     * right-handed view space looking down -Z.
      */
     float view[16];
     /**
-     * Vertical field of view in radians, in (0, pi).
+     * Clip-from-view matrix, column-major, as the engine rasterizes with it (without the
+     * jitter): perspective (`w` proportional to view z, the far plane may be at infinity)
+     * or orthographic (`w` constant, looking down -Z). All zero: `fov_y`, `z_near`, `z_far`.
+     */
+    float projection[16];
+    /**
+     * Without `projection`: vertical field of view in radians, in (0, pi).
      */
     float fov_y;
     /**
-     * Near plane distance, > 0.
+     * Without `projection`: near plane distance, > 0 and finite.
      */
     float z_near;
     /**
-     * Far plane distance, > `z_near` and finite.
+     * Without `projection`: far plane distance, > `z_near`; `INFINITY` for an infinite far
+     * plane.
      */
     float z_far;
+    /**
+     * Sub-pixel offset of the whole image in pixels (x right, y down), applied after the
+     * projection as temporal anti-aliasing jitters it; 0, 0 for none. The engine's depth
+     * must have been rendered with the same jitter.
+     */
+    float jitter[2];
 } translucid_camera;
 
 /**
@@ -1255,18 +1290,27 @@ translucid_result translucid_host_requirements_get(struct translucid_host_requir
  *   `vkWaitSemaphores`, or `vkDeviceWaitIdle`); a semaphore another queue waits on is
  *   not enough.
  * - Colour in a UNORM format is taken as linear, in an SRGB format as sRGB; its alpha is
- *   overwritten. Depth is 0 near, 1 far, from translucid's projection of the camera.
+ *   overwritten. Depth is the frame camera's (`translucid_camera`): the engine's
+ *   projection matrix, or the field-of-view perspective, with the same jitter.
  *
- * One frame in flight per context: until that frame is completed or abandoned
- * (`translucid_frame_abandon`), recording returns
- * `TRANSLUCID_RESULT_ERROR_FRAME_IN_FLIGHT` and the context's resources the frame uses
- * stay alive. So the host waits for each frame before recording the next with the same
- * context (use one context per frame in flight to overlap them). A frame that draws the
- * same meshes and materials with the same method, size and settings as the last one
- * reuses its uploads, pipelines and buffers, whatever its camera, light and transforms
- * (a moving camera builds nothing); other draws or settings build them anew. Arguments
- * are checked before anything is recorded; an error from the method itself may leave
- * commands recorded, so reset the command buffer after any error.
+ * Frames in flight: up to the context's `frames_in_flight` frames may be recorded and
+ * not completed, in one command buffer or several (two views of one engine frame are
+ * two frames); past that, recording returns `TRANSLUCID_RESULT_ERROR_FRAME_IN_FLIGHT`.
+ * Submit them to one queue in the order they were recorded. Each frame's own data
+ * (draws, constants, counters, timestamps) has a slot of its own; the working buffers
+ * are shared, so the frames run one after another on the GPU. A frame uses the
+ * context's assets as they were when it was recorded: updating or destroying them
+ * afterwards does not change it.
+ *
+ * What a frame builds: nothing, once a frame with the same method, size and settings
+ * has been drawn over the same assets (its pipelines, uploads and buffers are reused
+ * whatever the camera, light, draws and transforms; buffers grow when a frame needs
+ * more). Arguments are checked before anything is recorded; an error from the method
+ * itself may leave commands recorded, so reset the command buffer after any error.
+ *
+ * Barriers: the recorded commands wait for the engine's earlier writes of both images
+ * (any stage) and make their own writes available to whatever the engine records
+ * after them, so the engine needs no barrier of its own around the call.
  */
 TRANSLUCID_MUST_USE
 translucid_result translucid_frame_record(struct translucid_context *context,
@@ -1313,6 +1357,10 @@ translucid_result translucid_material_destroy(struct translucid_context *context
 
 /**
  * Creates a mesh from `info` (copying every array) and writes its handle to `*out_mesh`.
+ * It is uploaded once, with the context's other assets, when the next frame is recorded
+ * or rendered: create assets while loading, not every frame (each creation or
+ * destruction of a mesh, texture or material makes the next frame upload the context's
+ * assets again). Frames draw it by handle.
  */
 TRANSLUCID_MUST_USE
 translucid_result translucid_mesh_create(struct translucid_context *context,
@@ -1320,8 +1368,22 @@ translucid_result translucid_mesh_create(struct translucid_context *context,
                                          struct translucid_mesh *out_mesh);
 
 /**
- * Destroys a mesh; its handle becomes stale. Frames already rendered are unaffected.
+ * Destroys a mesh; its handle becomes stale. Frames already rendered are unaffected, and
+ * host-device frames in flight that draw it keep their copy until they are completed or
+ * abandoned: destroying it never waits and never breaks a frame in flight.
+ * Moves `vertex_count` vertices of a mesh, from `first_vertex` on, to `positions`
+ * (`vertex_count` x 3 floats, finite), as particle systems and skinned meshes do every
+ * frame; its indices, normals, colours and texture coordinates stay. Frames recorded
+ * after the call draw the new positions; frames in flight keep the old ones. Nothing is
+ * uploaded again but the mesh's vertices.
  */
+TRANSLUCID_MUST_USE
+translucid_result translucid_mesh_update(struct translucid_context *context,
+                                         struct translucid_mesh mesh,
+                                         uint32_t first_vertex,
+                                         uint32_t vertex_count,
+                                         const float *positions);
+
 translucid_result translucid_mesh_destroy(struct translucid_context *context,
                                           struct translucid_mesh mesh);
 
@@ -1368,7 +1430,7 @@ translucid_result translucid_texture_destroy(struct translucid_context *context,
 uint32_t translucid_version(void);
 
 /**
- * The library's version as a static string, e.g. "0.3.0".
+ * The library's version as a static string, e.g. "0.4.0".
  */
 const char *translucid_version_string(void);
 

@@ -5,13 +5,14 @@ use crate::cast::{
 };
 use crate::frame::FrameRecord;
 use crate::handle::{next_context_tag, Kind, Slots};
-use crate::host::{host_gpu, translucid_host_device_create_info, HostFrames};
-use crate::kept_renderer::KeptRenderer;
+use crate::host::{host_gpu, translucid_host_device_create_info};
 use crate::material::MaterialRecord;
 use crate::panic::{self, CallState};
+use crate::renderers::Renderers;
 use crate::result::{translucid_result, Failure, FfiResult};
 use crate::structure::translucid_structure_type;
 use crate::version;
+use std::collections::VecDeque;
 use std::ffi::{c_char, c_void, CString};
 use translucid::gpu::{Gpu, GpuOptions};
 use translucid::scene::{Mesh, Texture};
@@ -54,7 +55,14 @@ pub struct translucid_context_create_info {
     /// name. NULL uses `TRANSLUCID_DEVICE` from the environment, else the best device
     /// (discrete, integrated, then CPU). Must be NULL in host-device mode.
     pub device: *const c_char,
+    /// Host-device mode: the most frames recorded and not yet completed at any time, 1 to
+    /// `TRANSLUCID_MAX_FRAMES_IN_FLIGHT`: the engine's frames in flight times the views it
+    /// records in each. 0 means 1. Standalone frames complete within their call: 0 or 1.
+    pub frames_in_flight: u32,
 }
+
+/// Most frames in flight a host-device context takes.
+pub const TRANSLUCID_MAX_FRAMES_IN_FLIGHT: u32 = translucid::renderer::MAX_FRAMES_IN_FLIGHT;
 
 /// What the boundary guards: everything a call can touch.
 pub struct Objects {
@@ -64,10 +72,43 @@ pub struct Objects {
     pub textures: Slots<Texture>,
     pub materials: Slots<MaterialRecord>,
     pub frames: Slots<FrameRecord>,
-    /// Host-device mode's frame in flight and last renderer; `None` in standalone mode.
-    pub host: Option<HostFrames>,
-    /// Standalone mode's last renderer, kept for the next frame.
-    pub standalone: Option<KeptRenderer>,
+    /// Counts the creations and destructions of assets: a renderer drawing an older
+    /// generation takes no new frame.
+    pub generation: u64,
+    pub renderers: Renderers,
+    /// Host-device frames recorded and not yet completed, oldest first.
+    pub in_flight: VecDeque<u64>,
+    /// The most frames in flight (`translucid_context_create_info::frames_in_flight`).
+    pub frames_in_flight: u32,
+}
+
+/// The context's assets, as renderers take them.
+pub struct Assets<'a> {
+    pub meshes: &'a Slots<Mesh>,
+    pub textures: &'a Slots<Texture>,
+    pub materials: &'a Slots<MaterialRecord>,
+    pub generation: u64,
+}
+
+impl Objects {
+    /// The assets, the renderers and the device, borrowed apart.
+    pub fn split(&mut self) -> (Assets<'_>, &mut Renderers, &Gpu) {
+        (
+            Assets {
+                meshes: &self.meshes,
+                textures: &self.textures,
+                materials: &self.materials,
+                generation: self.generation,
+            },
+            &mut self.renderers,
+            &self.gpu,
+        )
+    }
+
+    /// Notes that an asset was created or destroyed.
+    pub fn assets_changed(&mut self) {
+        self.generation += 1;
+    }
 }
 
 /// The object behind `translucid_context *`.
@@ -137,6 +178,17 @@ impl Context {
                     || from_env.validation,
             })?
         };
+        let frames_in_flight = match info.frames_in_flight {
+            0 => 1,
+            n if n <= TRANSLUCID_MAX_FRAMES_IN_FLIGHT && (host_mode || n == 1) => n,
+            n => {
+                return Err(Failure::argument(format!(
+                    "translucid_context_create_info.frames_in_flight is {n}; it must be 0 or 1 \
+                     in standalone mode, 0 to {TRANSLUCID_MAX_FRAMES_IN_FLIGHT} in host-device \
+                     mode"
+                )))
+            }
+        };
         let tag = next_context_tag();
         let device_name = CString::new(gpu.info().name.replace('\0', "")).unwrap_or_default();
         Ok(Self {
@@ -148,8 +200,10 @@ impl Context {
                 textures: Slots::new(Kind::Texture, tag),
                 materials: Slots::new(Kind::Material, tag),
                 frames: Slots::new(Kind::Frame, tag),
-                host: host_mode.then(HostFrames::default),
-                standalone: None,
+                generation: 0,
+                renderers: Renderers::new(frames_in_flight),
+                in_flight: VecDeque::new(),
+                frames_in_flight,
             },
         })
     }

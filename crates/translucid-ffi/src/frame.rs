@@ -2,12 +2,10 @@
 //! at the statistics. Exports `translucid_frame_*`.
 
 use crate::cast::{
-    check_header, translucid_context, try_out, try_out_slice, try_out_structure, try_ref,
-    try_slice, try_str, OutStructure,
+    translucid_context, try_out, try_out_slice, try_out_structure, try_ref, try_str, OutStructure,
 };
 use crate::context::Objects;
-use crate::frame_input::{build_scene, opaque_layer_from};
-use crate::kept_renderer::renderer_for;
+use crate::frame_input::{frame_request, opaque_layer_from};
 use crate::material::translucid_material;
 use crate::mesh::translucid_mesh;
 use crate::method::{translucid_method, translucid_wavelet_storage};
@@ -15,7 +13,6 @@ use crate::panic;
 use crate::result::{translucid_result, Failure, FfiResult};
 use crate::structure::translucid_structure_type;
 use std::ffi::{c_char, c_void};
-use translucid::renderer::check_viewport;
 use translucid::Image;
 
 /// Most draws in one frame.
@@ -25,20 +22,38 @@ pub const TRANSLUCID_MAX_STAGES: usize = 16;
 /// Size of a stage name, NUL included.
 pub const TRANSLUCID_STAGE_NAME_SIZE: usize = 32;
 
-/// A perspective camera with Vulkan conventions: right-handed view space looking down -Z,
-/// framebuffer Y down, depth 0 at the near plane and 1 at the far plane.
+/// Where the frame is seen from, in Vulkan conventions: clip space with framebuffer Y down and
+/// depth z/w in [0, 1]. Give the engine's own `projection` matrix (reversed-Z, an infinite far
+/// plane and orthographic projections are taken as they are), or leave it all zero for a
+/// symmetric perspective from `fov_y`, `z_near` and `z_far` whose aspect is the frame's
+/// width / height.
+///
+/// Depth: with the engine's matrix, the engine's depth image must hold that matrix's depth;
+/// whether depth grows or shrinks with distance (reversed-Z) is read from the matrix. With
+/// `fov_y`, depth is 0 at `z_near` and 1 at `z_far`, as `glm::perspectiveRH_ZO` with its Y
+/// axis flipped.
 #[allow(non_camel_case_types)]
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 pub struct translucid_camera {
-    /// World-to-view matrix, column-major (as GLM, glam and most engines store it).
+    /// World-to-view matrix, column-major (as GLM, glam and most engines store it), finite;
+    /// right-handed view space looking down -Z.
     pub view: [f32; 16],
-    /// Vertical field of view in radians, in (0, pi).
+    /// Clip-from-view matrix, column-major, as the engine rasterizes with it (without the
+    /// jitter): perspective (`w` proportional to view z, the far plane may be at infinity)
+    /// or orthographic (`w` constant, looking down -Z). All zero: `fov_y`, `z_near`, `z_far`.
+    pub projection: [f32; 16],
+    /// Without `projection`: vertical field of view in radians, in (0, pi).
     pub fov_y: f32,
-    /// Near plane distance, > 0.
+    /// Without `projection`: near plane distance, > 0 and finite.
     pub z_near: f32,
-    /// Far plane distance, > `z_near` and finite.
+    /// Without `projection`: far plane distance, > `z_near`; `INFINITY` for an infinite far
+    /// plane.
     pub z_far: f32,
+    /// Sub-pixel offset of the whole image in pixels (x right, y down), applied after the
+    /// projection as temporal anti-aliasing jitters it; 0, 0 for none. The engine's depth
+    /// must have been rendered with the same jitter.
+    pub jitter: [f32; 2],
 }
 
 /// Ambient light plus one directional light, for lit materials.
@@ -170,7 +185,9 @@ pub struct translucid_frame_info {
 }
 
 /// The core's method options from a frame's settings.
-fn method_options(info: &translucid_frame_info) -> FfiResult<translucid::methods::MethodOptions> {
+pub(crate) fn method_options(
+    info: &translucid_frame_info,
+) -> FfiResult<translucid::methods::MethodOptions> {
     let rank = match info.wavelet_coefficients {
         0 => None,
         2 => Some(0),
@@ -275,6 +292,10 @@ pub struct FrameRecord {
     pub(crate) image: Option<Image>,
     /// A host-device frame recorded and not yet completed: no statistics yet.
     pub(crate) in_flight: bool,
+    /// The renderer that drew it (`Renderers`).
+    pub(crate) renderer: u64,
+    /// Ended without completing, by the abandonment of an earlier frame: no statistics.
+    pub(crate) abandoned: bool,
     pub(crate) stages: Vec<(&'static str, f64)>,
     pub(crate) method_ms: f64,
     pub(crate) peak_gpu_bytes: u64,
@@ -296,68 +317,6 @@ impl FrameRecord {
     }
 }
 
-/// A frame's input, checked and built into what the core renders.
-pub(crate) struct FrameInput {
-    pub method: translucid_method,
-    pub scene: translucid::scene::Scene,
-    pub options: translucid::methods::MethodOptions,
-}
-
-/// Checks `info` and builds the scene it describes (with the host's opaque layer, when it
-/// has one, in the second value).
-pub(crate) fn frame_input<'a>(
-    objects: &Objects,
-    info: &'a translucid_frame_info,
-) -> FfiResult<(FrameInput, Option<&'a translucid_opaque_layer>)> {
-    check_header(
-        info.s_type,
-        info.next,
-        translucid_structure_type::FrameInfo,
-        "translucid_frame_info",
-    )?;
-    let method = translucid_method::from_raw(info.method)?;
-    check_viewport(&objects.gpu, info.width, info.height)?;
-    if info.draw_count > TRANSLUCID_MAX_DRAWS {
-        return Err(Failure::size(format!(
-            "draw_count {} is over TRANSLUCID_MAX_DRAWS ({TRANSLUCID_MAX_DRAWS})",
-            info.draw_count
-        )));
-    }
-    let count = usize::try_from(info.draw_count).map_err(|_| Failure::size("too many draws"))?;
-    let draws = try_slice(info.draws, count, "draws")?;
-    let light = if info.light.is_null() {
-        None
-    } else {
-        Some(try_ref(info.light, "light")?)
-    };
-    let scene = build_scene(objects, info, light, draws)?;
-    let layer = if info.opaque_layer.is_null() {
-        None
-    } else {
-        Some(try_ref(info.opaque_layer, "opaque_layer")?)
-    };
-    if let Some(i) = draws
-        .iter()
-        .position(|d| d.layer == translucid_layer::Opaque as u32)
-        .filter(|_| layer.is_some() || objects.gpu.is_host_device())
-    {
-        return Err(Failure::argument(format!(
-            "draw {i} is opaque, but the frame has the host's opaque layer: draw opaque \
-             geometry into that layer (host-device mode: into your colour and depth images), \
-             or leave opaque_layer NULL"
-        )));
-    }
-    let options = method_options(info)?;
-    Ok((
-        FrameInput {
-            method,
-            scene,
-            options,
-        },
-        layer,
-    ))
-}
-
 fn render(objects: &mut Objects, info: &translucid_frame_info) -> FfiResult<FrameRecord> {
     if objects.gpu.is_host_device() {
         return Err(Failure::new(
@@ -366,24 +325,28 @@ fn render(objects: &mut Objects, info: &translucid_frame_info) -> FfiResult<Fram
              records with translucid_frame_record",
         ));
     }
-    let (input, layer) = frame_input(objects, info)?;
+    let (request, layer) = frame_request(objects, info)?;
     let layer = layer
         .map(|l| opaque_layer_from(l, info.width, info.height))
         .transpose()?;
-    let renderer = renderer_for(&mut objects.standalone, &objects.gpu, &input, info)?;
+    let (assets, renderers, gpu) = objects.split();
+    let kept = renderers.for_frame(gpu, &assets, &request)?;
     let rendered = match &layer {
-        Some(layer) => renderer.render_over(layer),
-        None => renderer.render(false),
+        Some(layer) => kept.renderer.render_over(layer),
+        None => kept.renderer.render(false),
     };
     // A renderer whose frame failed is not kept: the next frame starts afresh.
-    let frame = rendered.inspect_err(|_| objects.standalone = None)?;
+    let id = kept.id;
+    let frame = rendered.inspect_err(|_| objects.renderers.retire(id))?;
     Ok(FrameRecord {
-        method: input.method,
+        method: translucid_method::from_raw(info.method)?,
         width: frame.image.width,
         height: frame.image.height,
         method_ms: frame.method_ms(),
         image: Some(frame.image),
         in_flight: false,
+        renderer: id,
+        abandoned: false,
         stages: frame.stages,
         peak_gpu_bytes: frame.peak_gpu_bytes,
         fragments: frame.fragments,
@@ -524,6 +487,12 @@ impl translucid_frame {
     ) -> translucid_result {
         panic::with_context(context, |objects| {
             let record = objects.frames.get(frame.id)?;
+            if record.abandoned {
+                return Err(Failure::argument(
+                    "the frame was abandoned (translucid_frame_abandon of it or of an earlier \
+                     frame): it has no statistics",
+                ));
+            }
             if record.in_flight {
                 return Err(Failure::new(
                     translucid_result::ErrorFrameInFlight,
@@ -569,15 +538,8 @@ impl translucid_frame {
         frame: translucid_frame,
     ) -> translucid_result {
         panic::with_context(context, |objects| {
-            if !objects.frames.get(frame.id)?.in_flight {
-                return Err(Failure::argument(
-                    "the frame is not in flight: destroy it with translucid_frame_destroy",
-                ));
-            }
-            objects.frames.remove(frame.id)?;
-            if let Some(host) = objects.host.as_mut() {
-                host.abandon();
-            }
+            objects.frames.get(frame.id)?;
+            crate::host::abandon(objects, frame.id)?;
             Ok(translucid_result::Success)
         })
     }

@@ -1,146 +1,143 @@
-//! Turning a frame's C description into the core's `Scene` and `OpaqueLayer`: resolve every
-//! handle, check every value, copy only the objects the frame draws.
+//! Turning a frame's C description into what a renderer takes (`FrameRequest`) and the
+//! core's `OpaqueLayer`: check every value, convert the camera and light. The draws' handles
+//! are resolved by the renderer that draws them (`renderers`).
 
-use crate::cast::{check_header, try_slice};
+use crate::cast::{check_header, try_ref, try_slice};
 use crate::context::Objects;
 use crate::frame::{
-    translucid_draw, translucid_frame_info, translucid_layer, translucid_light,
-    translucid_opaque_layer, translucid_pixel_format,
+    method_options, translucid_camera, translucid_frame_info, translucid_layer, translucid_light,
+    translucid_opaque_layer, translucid_pixel_format, TRANSLUCID_MAX_DRAWS,
 };
+use crate::method::translucid_method;
+use crate::renderers::{FrameRequest, SettingsKey};
 use crate::result::{Failure, FfiResult};
 use crate::structure::translucid_structure_type;
-use glam::{Mat4, Vec3};
-use std::collections::HashMap;
+use glam::{Mat4, Vec2, Vec3};
 use translucid::image::srgb_to_linear;
-use translucid::scene::{Camera, Draw, Light, Projection, Scene};
+use translucid::renderer::check_viewport;
+use translucid::scene::{Camera, Light, Projection};
 use translucid::OpaqueLayer;
-
-/// Maps handles to indices in the scene being built, copying each object once.
-struct Interner<T> {
-    index: HashMap<u64, usize>,
-    items: Vec<T>,
-}
-
-impl<T> Interner<T> {
-    fn new() -> Self {
-        Self {
-            index: HashMap::new(),
-            items: Vec::new(),
-        }
-    }
-
-    fn intern(&mut self, id: u64, make: impl FnOnce() -> FfiResult<T>) -> FfiResult<usize> {
-        if let Some(&i) = self.index.get(&id) {
-            return Ok(i);
-        }
-        let i = self.items.len();
-        self.items.push(make()?);
-        self.index.insert(id, i);
-        Ok(i)
-    }
-}
 
 fn rgb(v: [f32; 3], what: &str) -> FfiResult<Vec3> {
     let v = Vec3::from_array(v);
     if !v.is_finite() || v.min_element() < 0.0 {
         return Err(Failure::argument(format!(
-            "{what} {v:?} must be finite and non-negative"
+            "{what} {{{}, {}, {}}} must be finite and non-negative",
+            v.x, v.y, v.z
         )));
     }
     Ok(v)
 }
 
-pub fn build_scene(
-    objects: &Objects,
-    info: &translucid_frame_info,
-    light: Option<&translucid_light>,
-    draws: &[translucid_draw],
-) -> FfiResult<Scene> {
-    let c = &info.camera;
-    if !c.z_far.is_finite() {
-        return Err(Failure::argument(format!(
-            "camera: far {} must be finite",
-            c.z_far
-        )));
-    }
-    let camera = Camera {
-        view: Mat4::from_cols_array(&c.view),
-        projection: Projection::Perspective {
+/// The core's camera from the C one: the engine's projection matrix when it gave one, else
+/// the field-of-view helper.
+fn camera_from(c: &translucid_camera) -> FfiResult<Camera> {
+    let projection = if c.projection.iter().all(|&v| v == 0.0) {
+        Projection::Perspective {
             fov_y: c.fov_y,
             near: c.z_near,
             far: c.z_far,
-        },
-        jitter: glam::Vec2::ZERO,
+        }
+    } else {
+        Projection::Matrix(Mat4::from_cols_array(&c.projection))
+    };
+    let camera = Camera {
+        view: Mat4::from_cols_array(&c.view),
+        projection,
+        jitter: Vec2::from_array(c.jitter),
     };
     camera
         .validate()
-        .map_err(|e| Failure::argument(format!("camera: {e}")))?;
-    let light = match light {
-        None => Light::default(),
-        Some(l) => {
-            let direction = Vec3::from_array(l.direction);
-            if !direction.is_finite() || direction.length_squared() == 0.0 {
-                return Err(Failure::argument(
-                    "light direction must be finite and non-zero",
-                ));
-            }
-            Light {
-                direction: direction.normalize(),
-                colour: rgb(l.colour, "light colour")?,
-                ambient: rgb(l.ambient, "light ambient")?,
-            }
-        }
+        .map_err(|e| Failure::argument(format!("translucid_camera: {e}")))?;
+    Ok(camera)
+}
+
+fn light_from(light: Option<&translucid_light>) -> FfiResult<Light> {
+    let Some(l) = light else {
+        return Ok(Light::default());
     };
-    let mut meshes = Interner::new();
-    let mut materials = Interner::new();
-    let mut textures = Interner::new();
-    let mut scene = Scene {
-        name: "C API frame".into(),
-        camera,
-        light,
-        background: rgb(info.background, "background")?,
-        ..Scene::default()
-    };
-    for (i, d) in draws.iter().enumerate() {
-        let context = |f: Failure| Failure::new(f.code, format!("draw {i}: {}", f.message));
-        let mesh = meshes
-            .intern(d.mesh.id, || Ok(objects.meshes.get(d.mesh.id)?.clone()))
-            .map_err(context)?;
-        let material = materials
-            .intern(d.material.id, || {
-                let record = objects.materials.get(d.material.id)?;
-                let mut material = record.material.clone();
-                if let Some(t) = record.texture {
-                    let texture = textures.intern(t, || Ok(objects.textures.get(t)?.clone()));
-                    material.texture = Some(texture.map_err(|f| {
-                        Failure::new(f.code, format!("its material's texture: {}", f.message))
-                    })?);
-                }
-                Ok(material)
-            })
-            .map_err(context)?;
-        let transform = Mat4::from_cols_array(&d.transform);
-        if !transform.is_finite() {
-            return Err(Failure::argument(format!(
-                "draw {i}: transform is not finite"
-            )));
-        }
-        let draw = Draw {
-            mesh,
-            material,
-            transform,
-        };
-        match d.layer {
-            l if l == translucid_layer::Transparent as u32 => scene.transparent.push(draw),
-            l if l == translucid_layer::Opaque as u32 => scene.opaque.push(draw),
-            l => return Err(context(Failure::enumeration("layer", l))),
-        }
+    let direction = Vec3::from_array(l.direction);
+    if !direction.is_finite() || direction.length_squared() == 0.0 {
+        return Err(Failure::argument(
+            "translucid_light.direction must be finite and non-zero",
+        ));
     }
-    scene.meshes = meshes.items;
-    scene.materials = materials.items;
-    scene.textures = textures.items;
-    scene.validate()?;
-    Ok(scene)
+    Ok(Light {
+        direction: direction.normalize(),
+        colour: rgb(l.colour, "translucid_light.colour")?,
+        ambient: rgb(l.ambient, "translucid_light.ambient")?,
+    })
+}
+
+/// The words that decide which renderer draws a frame: method, size and the method's
+/// settings (the assets are the context's; cameras, lights and draws are the frame's own).
+fn settings_key(info: &translucid_frame_info) -> SettingsKey {
+    vec![
+        u64::from(info.method),
+        u64::from(info.width),
+        u64::from(info.height),
+        u64::from(info.wavelet_coefficients),
+        u64::from(info.wavelet_noise.to_bits()),
+        u64::from(info.wavelet_storage),
+        u64::from(info.exact_threshold.to_bits()),
+    ]
+}
+
+/// Checks `info` and turns it into a renderer's request (with the host's opaque layer, when
+/// it has one, in the second value).
+pub(crate) fn frame_request<'a>(
+    objects: &Objects,
+    info: &'a translucid_frame_info,
+) -> FfiResult<(FrameRequest<'a>, Option<&'a translucid_opaque_layer>)> {
+    check_header(
+        info.s_type,
+        info.next,
+        translucid_structure_type::FrameInfo,
+        "translucid_frame_info",
+    )?;
+    let method = translucid_method::from_raw(info.method)?;
+    check_viewport(&objects.gpu, info.width, info.height)?;
+    if info.draw_count > TRANSLUCID_MAX_DRAWS {
+        return Err(Failure::size(format!(
+            "draw_count {} is over TRANSLUCID_MAX_DRAWS ({TRANSLUCID_MAX_DRAWS})",
+            info.draw_count
+        )));
+    }
+    let count = usize::try_from(info.draw_count).map_err(|_| Failure::size("too many draws"))?;
+    let draws = try_slice(info.draws, count, "draws")?;
+    let light = if info.light.is_null() {
+        None
+    } else {
+        Some(try_ref(info.light, "light")?)
+    };
+    let layer = if info.opaque_layer.is_null() {
+        None
+    } else {
+        Some(try_ref(info.opaque_layer, "opaque_layer")?)
+    };
+    if let Some(i) = draws
+        .iter()
+        .position(|d| d.layer == translucid_layer::Opaque as u32)
+        .filter(|_| layer.is_some() || objects.gpu.is_host_device())
+    {
+        return Err(Failure::argument(format!(
+            "draws[{i}] is in TRANSLUCID_LAYER_OPAQUE, but the frame has the host's opaque \
+             layer: draw opaque geometry into that layer (host-device mode: into your colour \
+             and depth images), or leave opaque_layer NULL"
+        )));
+    }
+    let request = FrameRequest {
+        key: settings_key(info),
+        method: method.kind(),
+        width: info.width,
+        height: info.height,
+        options: method_options(info)?,
+        camera: camera_from(&info.camera)?,
+        light: light_from(light)?,
+        background: rgb(info.background, "background")?,
+        draws,
+    };
+    Ok((request, layer))
 }
 
 /// The host's opaque layer, converted to linear colour.

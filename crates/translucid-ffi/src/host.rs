@@ -16,8 +16,9 @@ use crate::cast::{
     check_header, translucid_context, try_out, try_out_structure, try_ref, try_slice, OutStructure,
 };
 use crate::context::Objects;
-use crate::frame::{frame_input, translucid_frame, translucid_frame_info, FrameRecord};
-use crate::kept_renderer::{renderer_for, KeptRenderer};
+use crate::frame::{translucid_frame, translucid_frame_info, FrameRecord};
+use crate::frame_input::frame_request;
+use crate::method::translucid_method;
 use crate::panic;
 use crate::result::{translucid_result, Failure, FfiResult};
 use crate::structure::translucid_structure_type;
@@ -122,24 +123,6 @@ pub struct translucid_host_frame_targets {
     pub depth: translucid_host_image,
 }
 
-/// A host-device context's frames: the renderer of the last one, and whether it is in flight.
-#[derive(Default)]
-pub struct HostFrames {
-    /// The last recorded frame's renderer.
-    renderer: Option<KeptRenderer>,
-    /// The frame recorded and not yet completed.
-    in_flight: Option<u64>,
-}
-
-impl HostFrames {
-    /// Forgets the frame in flight (the engine says the GPU is not running it) and the
-    /// renderer it used, whose counters can no longer be trusted.
-    pub fn abandon(&mut self) {
-        self.in_flight = None;
-        self.renderer = None;
-    }
-}
-
 /// The engine's device description as the core takes it.
 pub(crate) fn host_device(info: &translucid_host_device_create_info) -> FfiResult<HostDevice> {
     let get_instance_proc_addr = info
@@ -216,32 +199,34 @@ fn record(
         translucid_structure_type::HostFrameTargets,
         "translucid_host_frame_targets",
     )?;
-    let host = objects
-        .host
-        .as_ref()
-        .ok_or_else(|| not_host("translucid_frame_record"))?;
-    if let Some(frame) = host.in_flight {
+    if !objects.gpu.is_host_device() {
+        return Err(not_host("translucid_frame_record"));
+    }
+    let most = objects.frames_in_flight;
+    if let Some(&oldest) = objects
+        .in_flight
+        .front()
+        .filter(|_| objects.in_flight.len() >= most as usize)
+    {
         return Err(Failure::new(
             translucid_result::ErrorFrameInFlight,
             format!(
-                "frame {{{frame:#x}}} is recorded and not completed: call \
-                 translucid_frame_complete after its submission finished (one frame in flight \
-                 per context)"
+                "{most} frame(s) recorded and not completed, as many as the context was made \
+                 for (translucid_context_create_info.frames_in_flight): call \
+                 translucid_frame_complete for the oldest, {{{oldest:#x}}}, once its \
+                 submission finished"
             ),
         ));
     }
-    let (input, _) = frame_input(objects, info)?;
+    let (request, _) = frame_request(objects, info)?;
     if !info.opaque_layer.is_null() {
         return Err(Failure::argument(
-            "opaque_layer must be NULL in host-device mode: the opaque layer is the colour and \
-             depth images of the frame targets",
+            "translucid_frame_info.opaque_layer must be NULL in host-device mode: the opaque \
+             layer is the colour and depth images of the translucid_host_frame_targets",
         ));
     }
-    let host = objects
-        .host
-        .as_mut()
-        .ok_or_else(|| not_host("translucid_frame_record"))?;
-    let renderer = renderer_for(&mut host.renderer, &objects.gpu, &input, info)?;
+    let (assets, renderers, gpu) = objects.split();
+    let kept = renderers.for_frame(gpu, &assets, &request)?;
     let t = HostTargets {
         cmd: targets.command_buffer,
         colour: host_image(&targets.colour),
@@ -250,18 +235,22 @@ fn record(
     // SAFETY: the header documents the engine's side: a recording command buffer outside a
     // render pass and images of the frame's size with the usages listed, all of the device
     // this context wraps. Handles, formats and layouts are checked first.
-    if let Err(e) = unsafe { renderer.record_host(&t) } {
+    let id = kept.id;
+    if let Err(e) = unsafe { kept.renderer.record_host(&t) } {
         // Part of the frame may be recorded (the engine resets its command buffer), and the
-        // renderer believes it: build the next one afresh.
-        host.renderer = None;
+        // renderer believes it: it takes no new frame.
+        renderers.retire(id);
         return Err(e.into());
     }
+    kept.in_flight += 1;
     Ok(FrameRecord {
-        method: input.method,
+        method: translucid_method::from_raw(info.method)?,
         width: info.width,
         height: info.height,
         image: None,
         in_flight: true,
+        renderer: id,
+        abandoned: false,
         stages: Vec::new(),
         method_ms: 0.0,
         peak_gpu_bytes: 0,
@@ -271,32 +260,43 @@ fn record(
     })
 }
 
-fn complete(objects: &mut Objects, frame: translucid_frame) -> FfiResult<translucid_result> {
-    let host = objects
-        .host
-        .as_mut()
-        .ok_or_else(|| not_host("translucid_frame_complete"))?;
-    let record = objects.frames.get(frame.id)?;
-    if host.in_flight != Some(frame.id) || !record.in_flight {
-        return Err(Failure::argument(
-            "the frame is not in flight: it was completed or abandoned already",
-        ));
-    }
-    let renderer = host
-        .renderer
-        .as_mut()
-        .ok_or_else(|| Failure::argument("the frame's renderer is gone"))?
-        .renderer_mut();
-    let done = match renderer.complete_host() {
-        Ok(None) => return Ok(translucid_result::NotReady),
-        Ok(Some(done)) => Ok(done),
-        Err(e) => Err(e),
+/// Completes the oldest frame in flight, whose commands the engine says have run.
+fn complete_oldest(objects: &mut Objects) -> FfiResult<translucid_result> {
+    let Some(&frame) = objects.in_flight.front() else {
+        return Err(Failure::argument("no frame is in flight"));
+    };
+    let renderer = objects.frames.get(frame)?.renderer;
+    let kept = objects
+        .renderers
+        .get_mut(renderer)
+        .ok_or_else(|| Failure::argument("the frame's renderer is gone"))?;
+    let done = if kept.failed {
+        Err(Failure::argument(
+            "an earlier frame recorded with the same renderer failed to complete; this frame's \
+             image is not known to be right",
+        ))
+    } else {
+        match kept.renderer.complete_host() {
+            Ok(None) => return Ok(translucid_result::NotReady),
+            Ok(Some(done)) => Ok(done),
+            Err(e) => {
+                kept.failed = true;
+                Err(e.into())
+            }
+        }
     };
     // The commands ran: the frame's flight is over whatever the method reports.
-    host.in_flight = None;
-    objects.frames.get_mut(frame.id)?.in_flight = false;
-    let done = done.inspect_err(|_| host.renderer = None)?;
-    let record = objects.frames.get_mut(frame.id)?;
+    kept.in_flight -= 1;
+    let failed = kept.failed;
+    objects.in_flight.pop_front();
+    if failed {
+        objects.renderers.retire(renderer);
+    } else {
+        objects.renderers.free_unused(None);
+    }
+    let record = objects.frames.get_mut(frame)?;
+    record.in_flight = false;
+    let done = done?;
     record.method_ms = done.method_ms;
     record.stages = done.stages;
     record.peak_gpu_bytes = done.peak_gpu_bytes;
@@ -307,6 +307,61 @@ fn complete(objects: &mut Objects, frame: translucid_frame) -> FfiResult<translu
     } else {
         translucid_result::Success
     })
+}
+
+fn complete(objects: &mut Objects, frame: translucid_frame) -> FfiResult<translucid_result> {
+    if !objects.gpu.is_host_device() {
+        return Err(not_host("translucid_frame_complete"));
+    }
+    objects.frames.get(frame.id)?;
+    if !objects.in_flight.contains(&frame.id) {
+        return Err(Failure::argument(
+            "the frame is not in flight: it was completed or abandoned already",
+        ));
+    }
+    // Frames run in the order they were recorded (one queue): the older ones have run too.
+    loop {
+        let oldest = objects.in_flight.front().copied();
+        let result = complete_oldest(objects);
+        if oldest == Some(frame.id) {
+            return result;
+        }
+        match result {
+            Ok(translucid_result::NotReady) => return Ok(translucid_result::NotReady),
+            Err(e) => {
+                return Err(Failure::new(
+                    e.code,
+                    format!("completing an older frame in flight first: {}", e.message),
+                ))
+            }
+            Ok(_) => {}
+        }
+    }
+}
+
+/// Ends `frame` and every frame recorded after it without completing them. Their renderers
+/// take no new frame, and are freed once the older frames they serve are completed.
+pub(crate) fn abandon(objects: &mut Objects, frame: u64) -> FfiResult {
+    let Some(at) = objects.in_flight.iter().position(|&f| f == frame) else {
+        return Err(Failure::argument(
+            "the frame is not in flight: destroy it with translucid_frame_destroy",
+        ));
+    };
+    for f in objects.in_flight.split_off(at) {
+        let renderer = objects.frames.get(f)?.renderer;
+        if let Some(kept) = objects.renderers.get_mut(renderer) {
+            kept.in_flight -= 1;
+        }
+        objects.renderers.retire(renderer);
+        if f == frame {
+            objects.frames.remove(f)?;
+        } else {
+            let record = objects.frames.get_mut(f)?;
+            record.in_flight = false;
+            record.abandoned = true;
+        }
+    }
+    Ok(())
 }
 
 impl OutStructure for translucid_host_requirements {
@@ -363,18 +418,27 @@ impl translucid_frame {
     ///   `vkWaitSemaphores`, or `vkDeviceWaitIdle`); a semaphore another queue waits on is
     ///   not enough.
     /// - Colour in a UNORM format is taken as linear, in an SRGB format as sRGB; its alpha is
-    ///   overwritten. Depth is 0 near, 1 far, from translucid's projection of the camera.
+    ///   overwritten. Depth is the frame camera's (`translucid_camera`): the engine's
+    ///   projection matrix, or the field-of-view perspective, with the same jitter.
     ///
-    /// One frame in flight per context: until that frame is completed or abandoned
-    /// (`translucid_frame_abandon`), recording returns
-    /// `TRANSLUCID_RESULT_ERROR_FRAME_IN_FLIGHT` and the context's resources the frame uses
-    /// stay alive. So the host waits for each frame before recording the next with the same
-    /// context (use one context per frame in flight to overlap them). A frame that draws the
-    /// same meshes and materials with the same method, size and settings as the last one
-    /// reuses its uploads, pipelines and buffers, whatever its camera, light and transforms
-    /// (a moving camera builds nothing); other draws or settings build them anew. Arguments
-    /// are checked before anything is recorded; an error from the method itself may leave
-    /// commands recorded, so reset the command buffer after any error.
+    /// Frames in flight: up to the context's `frames_in_flight` frames may be recorded and
+    /// not completed, in one command buffer or several (two views of one engine frame are
+    /// two frames); past that, recording returns `TRANSLUCID_RESULT_ERROR_FRAME_IN_FLIGHT`.
+    /// Submit them to one queue in the order they were recorded. Each frame's own data
+    /// (draws, constants, counters, timestamps) has a slot of its own; the working buffers
+    /// are shared, so the frames run one after another on the GPU. A frame uses the
+    /// context's assets as they were when it was recorded: updating or destroying them
+    /// afterwards does not change it.
+    ///
+    /// What a frame builds: nothing, once a frame with the same method, size and settings
+    /// has been drawn over the same assets (its pipelines, uploads and buffers are reused
+    /// whatever the camera, light, draws and transforms; buffers grow when a frame needs
+    /// more). Arguments are checked before anything is recorded; an error from the method
+    /// itself may leave commands recorded, so reset the command buffer after any error.
+    ///
+    /// Barriers: the recorded commands wait for the engine's earlier writes of both images
+    /// (any stage) and make their own writes available to whatever the engine records
+    /// after them, so the engine needs no barrier of its own around the call.
     #[no_mangle]
     #[must_use]
     pub extern "C" fn translucid_frame_record(
@@ -388,15 +452,15 @@ impl translucid_frame {
             let targets = try_ref(targets, "targets")?;
             let out = try_out(out_frame, "out_frame")?;
             let record = record(objects, info, targets)?;
+            let renderer = record.renderer;
             let id = objects.frames.insert(record).inspect_err(|_| {
                 // Recorded but untracked: the renderer must not be trusted again.
-                if let Some(host) = objects.host.as_mut() {
-                    host.abandon();
+                if let Some(kept) = objects.renderers.get_mut(renderer) {
+                    kept.in_flight -= 1;
                 }
+                objects.renderers.retire(renderer);
             })?;
-            if let Some(host) = objects.host.as_mut() {
-                host.in_flight = Some(id);
-            }
+            objects.in_flight.push_back(id);
             out.write(translucid_frame { id });
             Ok(translucid_result::Success)
         })

@@ -117,6 +117,7 @@ impl translucid_material {
             let id = objects
                 .materials
                 .insert(MaterialRecord { material, texture })?;
+            objects.assets_changed();
             out.write(translucid_material { id });
             Ok(translucid_result::Success)
         })
@@ -130,6 +131,7 @@ impl translucid_material {
     ) -> translucid_result {
         panic::with_context(context, |objects| {
             objects.materials.remove(material.id)?;
+            objects.assets_changed();
             Ok(translucid_result::Success)
         })
     }

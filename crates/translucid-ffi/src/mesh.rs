@@ -124,6 +124,10 @@ fn mesh_from_info(info: &translucid_mesh_create_info) -> FfiResult<Mesh> {
 
 impl translucid_mesh {
     /// Creates a mesh from `info` (copying every array) and writes its handle to `*out_mesh`.
+    /// It is uploaded once, with the context's other assets, when the next frame is recorded
+    /// or rendered: create assets while loading, not every frame (each creation or
+    /// destruction of a mesh, texture or material makes the next frame upload the context's
+    /// assets again). Frames draw it by handle.
     #[no_mangle]
     #[must_use]
     pub extern "C" fn translucid_mesh_create(
@@ -135,12 +139,60 @@ impl translucid_mesh {
             let info = try_ref(info, "info")?;
             let out = try_out(out_mesh, "out_mesh")?;
             let id = objects.meshes.insert(mesh_from_info(info)?)?;
+            objects.assets_changed();
             out.write(translucid_mesh { id });
             Ok(translucid_result::Success)
         })
     }
 
-    /// Destroys a mesh; its handle becomes stale. Frames already rendered are unaffected.
+    /// Destroys a mesh; its handle becomes stale. Frames already rendered are unaffected, and
+    /// host-device frames in flight that draw it keep their copy until they are completed or
+    /// abandoned: destroying it never waits and never breaks a frame in flight.
+    /// Moves `vertex_count` vertices of a mesh, from `first_vertex` on, to `positions`
+    /// (`vertex_count` x 3 floats, finite), as particle systems and skinned meshes do every
+    /// frame; its indices, normals, colours and texture coordinates stay. Frames recorded
+    /// after the call draw the new positions; frames in flight keep the old ones. Nothing is
+    /// uploaded again but the mesh's vertices.
+    #[no_mangle]
+    #[must_use]
+    pub extern "C" fn translucid_mesh_update(
+        context: *mut translucid_context,
+        mesh: translucid_mesh,
+        first_vertex: u32,
+        vertex_count: u32,
+        positions: *const f32,
+    ) -> translucid_result {
+        panic::with_context(context, |objects| {
+            let target = objects.meshes.get_mut(mesh.id)?;
+            let total = target.positions.len();
+            let first = first_vertex as usize;
+            let count = vertex_count as usize;
+            if count == 0 || first.checked_add(count).is_none_or(|end| end > total) {
+                return Err(Failure::size(format!(
+                    "vertices {first_vertex} to {} of a mesh of {total}: vertex_count must be \
+                     at least 1 and first_vertex + vertex_count at most the mesh's vertex_count",
+                    u64::from(first_vertex) + u64::from(vertex_count)
+                )));
+            }
+            let given = try_slice(positions, count * 3, "positions")?;
+            if let Some(i) = given.iter().position(|v| !v.is_finite()) {
+                return Err(Failure::argument(format!(
+                    "positions[{i}] is {}; positions must be finite",
+                    given[i]
+                )));
+            }
+            for (p, v) in target.positions[first..first + count]
+                .iter_mut()
+                .zip(given.chunks_exact(3))
+            {
+                *p = Vec3::from_slice(v);
+            }
+            let positions = target.positions.clone();
+            objects.renderers.update_mesh(mesh.id, &positions)?;
+            Ok(translucid_result::Success)
+        })
+    }
+
     #[no_mangle]
     pub extern "C" fn translucid_mesh_destroy(
         context: *mut translucid_context,
@@ -148,6 +200,7 @@ impl translucid_mesh {
     ) -> translucid_result {
         panic::with_context(context, |objects| {
             objects.meshes.remove(mesh.id)?;
+            objects.assets_changed();
             Ok(translucid_result::Success)
         })
     }

@@ -53,9 +53,11 @@ pub enum translucid_result {
     /// host-device context, `translucid_frame_record` on a standalone one, reading the pixels
     /// of a host-device frame), or a feature the API defines but this build lacks.
     ErrorNotSupported = -11,
-    /// Host-device mode: a frame is recorded and not yet completed. Call
-    /// `translucid_frame_complete` after the engine's submission finished (or destroy the
-    /// frame to abandon it) before recording another; a frame's statistics wait for it too.
+    /// Host-device mode: as many frames as the context was made for
+    /// (`translucid_context_create_info::frames_in_flight`) are recorded and not completed:
+    /// complete the oldest after its submission finished before recording another. Also
+    /// returned for the statistics of a frame in flight, and for destroying one (complete
+    /// it, or abandon it with `translucid_frame_abandon`).
     ErrorFrameInFlight = -12,
 
     /// No Vulkan loader, no usable device, or the requested device does not exist.

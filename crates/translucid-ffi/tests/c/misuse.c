@@ -441,7 +441,7 @@ static void frames(translucid_context *ctx, translucid_context *other) {
     info = frame_info(&draw);
     draw.mesh = stale_mesh;
     EXPECT(ctx, translucid_frame_render(ctx, &info, &frame), TRANSLUCID_RESULT_ERROR_STALE_HANDLE);
-    TRUE_OR_FAIL(strstr(translucid_context_last_error(ctx), "draw 0") != NULL);
+    TRUE_OR_FAIL(strstr(translucid_context_last_error(ctx), "draws[0]") != NULL);
     draw.mesh = foreign_mesh;
     EXPECT(ctx, translucid_frame_render(ctx, &info, &frame),
            TRANSLUCID_RESULT_ERROR_FOREIGN_HANDLE);
