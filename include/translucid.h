@@ -60,6 +60,11 @@
 #define TRANSLUCID_CONTEXT_CREATE_VALIDATION 1
 
 /**
+ * Most frames in flight a host-device context takes.
+ */
+#define TRANSLUCID_MAX_FRAMES_IN_FLIGHT 4
+
+/**
  * Most draws in one frame.
  */
 #define TRANSLUCID_MAX_DRAWS (1 << 20)

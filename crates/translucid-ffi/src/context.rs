@@ -62,7 +62,9 @@ pub struct translucid_context_create_info {
 }
 
 /// Most frames in flight a host-device context takes.
-pub const TRANSLUCID_MAX_FRAMES_IN_FLIGHT: u32 = translucid::renderer::MAX_FRAMES_IN_FLIGHT;
+pub const TRANSLUCID_MAX_FRAMES_IN_FLIGHT: u32 = 4;
+const _: () =
+    assert!(TRANSLUCID_MAX_FRAMES_IN_FLIGHT == translucid::renderer::MAX_FRAMES_IN_FLIGHT);
 
 /// What the boundary guards: everything a call can touch.
 pub struct Objects {

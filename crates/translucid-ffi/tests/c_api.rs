@@ -112,7 +112,8 @@ fn run(program: &Path, args: &[&Path], sanitized: bool) -> String {
 
 struct Program {
     name: &'static str,
-    source: PathBuf,
+    /// The program's source, then the sources it shares with others.
+    sources: Vec<PathBuf>,
     /// Linked besides translucid.
     libs: &'static [&'static str],
 }
@@ -122,23 +123,29 @@ fn c_programs() -> Vec<Program> {
     vec![
         Program {
             name: "example",
-            source: repo().join("examples-c/example.c"),
+            sources: vec![repo().join("examples-c/example.c")],
             libs: &[],
         },
         Program {
             name: "misuse",
-            source: tests.join("misuse.c"),
+            sources: vec![tests.join("misuse.c")],
             libs: &[],
         },
         Program {
             name: "render",
-            source: tests.join("render.c"),
+            sources: vec![tests.join("render.c")],
             libs: &[],
         },
         // An engine with its own Vulkan device, in host-device mode.
         Program {
             name: "host",
-            source: tests.join("host.c"),
+            sources: vec![tests.join("host.c"), tests.join("engine.c")],
+            libs: &["-lvulkan"],
+        },
+        // The same engine's frame loop: frames in flight, views, moving meshes, projections.
+        Program {
+            name: "frames",
+            sources: vec![tests.join("frames.c"), tests.join("engine.c")],
             libs: &["-lvulkan"],
         },
     ]
@@ -149,13 +156,7 @@ fn c_programs_pass_with_validation() {
     for program in c_programs() {
         let dir = out_dir(program.name);
         let binary = dir.join(program.name);
-        compile(
-            "cc",
-            C_FLAGS,
-            std::slice::from_ref(&program.source),
-            &binary,
-            program.libs,
-        );
+        compile("cc", C_FLAGS, &program.sources, &binary, program.libs);
         let output = run(&binary, &[&dir], false);
         if program.name == "example" {
             for method in ["blend", "exact"] {
@@ -181,7 +182,7 @@ fn c_programs_pass_under_address_sanitizer() {
         compile(
             "cc",
             &flags,
-            &[program.source.clone(), keep_modules.clone()],
+            &[program.sources.as_slice(), &[keep_modules.clone()]].concat(),
             &binary,
             program.libs,
         );

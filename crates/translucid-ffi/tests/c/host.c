@@ -13,30 +13,16 @@
  * validation (the test harness turns it on, except under the sanitizers: the layer's own
  * allocations then count as leaks).
  */
-#include <stdio.h>
-#include <stdlib.h>
-#include <string.h>
-
-#include <vulkan/vulkan.h>
-
-#include "translucid.h"
+#include "engine.h"
 
 #define W 64
 #define H 48
 
-static int g_failed = 0, g_passed = 0, g_validation_messages = 0;
 static translucid_context *g_host = NULL, *g_standalone = NULL;
 
-static VkInstance g_instance;
-static VkPhysicalDevice g_physical;
-static VkDevice g_device;
-static VkQueue g_queue;
-static uint32_t g_family;
 static VkCommandPool g_pool;
 static VkCommandBuffer g_cmd;
 static VkFence g_fence;
-static VkDebugUtilsMessengerEXT g_messenger;
-static VkPhysicalDeviceFeatures g_features;
 
 /* The engine's frame: colour and depth images, and one host-visible buffer for uploads
  * (colour bytes, then depth floats) and readback. */
@@ -48,202 +34,6 @@ static void *g_mapped;
 #define DEPTH_BYTES (W * H * 4)
 /* Where the depth image is read back to, after the upload's colour and depth. */
 #define DEPTH_READBACK (COLOUR_BYTES + DEPTH_BYTES)
-
-static void fail(const char *what, int line) {
-    printf("FAIL line %d: %s\n", line, what);
-    exit(1);
-}
-
-#define VK_CHECK(call)                                                                          \
-    do {                                                                                        \
-        if ((call) != VK_SUCCESS) fail(#call, __LINE__);                                        \
-    } while (0)
-
-static void check(translucid_context *ctx, translucid_result got, translucid_result want,
-                  const char *call, int line) {
-    if (got != want) {
-        printf("FAIL line %d: %s returned %s (%d), expected %s: %s\n", line, call,
-               translucid_result_string(got), got, translucid_result_string(want),
-               translucid_context_last_error(ctx));
-        g_failed++;
-        if (want == TRANSLUCID_RESULT_SUCCESS) exit(1);
-    } else {
-        g_passed++;
-    }
-}
-#define EXPECT(ctx, call, want) check((ctx), (call), (want), #call, __LINE__)
-#define CHECK(ctx, call) EXPECT(ctx, call, TRANSLUCID_RESULT_SUCCESS)
-
-#define TRUE_OR_FAIL(cond)                                                                      \
-    do {                                                                                        \
-        if (cond) {                                                                             \
-            g_passed++;                                                                         \
-        } else {                                                                                \
-            printf("FAIL line %d: %s\n", __LINE__, #cond);                                      \
-            g_failed++;                                                                         \
-        }                                                                                       \
-    } while (0)
-
-static VKAPI_ATTR VkBool32 VKAPI_CALL on_validation(
-    VkDebugUtilsMessageSeverityFlagBitsEXT severity, VkDebugUtilsMessageTypeFlagsEXT type,
-    const VkDebugUtilsMessengerCallbackDataEXT *data, void *user) {
-    (void)type;
-    (void)user;
-    if (severity >= VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) {
-        printf("VALIDATION: %s\n", data->pMessage);
-        g_validation_messages++;
-    }
-    return VK_FALSE;
-}
-
-static int env_is_1(const char *name) {
-    const char *v = getenv(name);
-    return v != NULL && strcmp(v, "1") == 0;
-}
-
-static void create_instance(uint32_t api_version) {
-    const char *layers[] = {"VK_LAYER_KHRONOS_validation"};
-    const char *extensions[] = {VK_EXT_DEBUG_UTILS_EXTENSION_NAME};
-    VkValidationFeatureEnableEXT enables[] = {
-        VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT};
-    VkValidationFeaturesEXT features;
-    VkApplicationInfo app;
-    VkInstanceCreateInfo info;
-    VkDebugUtilsMessengerCreateInfoEXT messenger;
-    int validate = env_is_1("TRANSLUCID_VALIDATION");
-
-    memset(&app, 0, sizeof app);
-    app.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO;
-    app.pApplicationName = "translucid host test";
-    app.apiVersion = api_version;
-    memset(&features, 0, sizeof features);
-    features.sType = VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT;
-    features.enabledValidationFeatureCount = 1;
-    features.pEnabledValidationFeatures = enables;
-    memset(&info, 0, sizeof info);
-    info.sType = VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO;
-    info.pApplicationInfo = &app;
-    if (validate) {
-        info.pNext = env_is_1("TRANSLUCID_SYNC_VALIDATION") ? &features : NULL;
-        info.enabledLayerCount = 1;
-        info.ppEnabledLayerNames = layers;
-        info.enabledExtensionCount = 1;
-        info.ppEnabledExtensionNames = extensions;
-    }
-    VK_CHECK(vkCreateInstance(&info, NULL, &g_instance));
-    if (validate) {
-        PFN_vkCreateDebugUtilsMessengerEXT create =
-            (PFN_vkCreateDebugUtilsMessengerEXT)vkGetInstanceProcAddr(
-                g_instance, "vkCreateDebugUtilsMessengerEXT");
-        memset(&messenger, 0, sizeof messenger);
-        messenger.sType = VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT;
-        messenger.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT |
-                                    VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
-        messenger.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
-                                VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT;
-        messenger.pfnUserCallback = on_validation;
-        if (create == NULL) fail("vkCreateDebugUtilsMessengerEXT not found", __LINE__);
-        VK_CHECK(create(g_instance, &messenger, NULL, &g_messenger));
-    }
-}
-
-/* The first device and queue family that meet the requirements, and the device made with
- * exactly the features translucid asks for. */
-static void create_device(const translucid_host_requirements *req) {
-    VkPhysicalDevice devices[8];
-    uint32_t count = 8, i;
-    VkQueueFamilyProperties families[16];
-    uint32_t family_count = 16;
-    VkPhysicalDeviceProperties properties;
-    VkPhysicalDeviceFeatures supported;
-    float priority = 1.0f;
-    VkDeviceQueueCreateInfo queue;
-    VkDeviceCreateInfo info;
-    VkResult r = vkEnumeratePhysicalDevices(g_instance, &count, devices);
-
-    if ((r != VK_SUCCESS && r != VK_INCOMPLETE) || count == 0) fail("no Vulkan device", __LINE__);
-    g_physical = devices[0];
-    vkGetPhysicalDeviceProperties(g_physical, &properties);
-    TRUE_OR_FAIL(properties.apiVersion >= req->api_version);
-    vkGetPhysicalDeviceQueueFamilyProperties(g_physical, &family_count, families);
-    g_family = family_count;
-    for (i = 0; i < family_count; i++) {
-        if ((families[i].queueFlags & req->queue_flags) == req->queue_flags &&
-            families[i].timestampValidBits > 0) {
-            g_family = i;
-            break;
-        }
-    }
-    if (g_family == family_count) fail("no queue family meets the requirements", __LINE__);
-
-    /* An engine ORs the requirements into its own features; this one has none of its own. */
-    vkGetPhysicalDeviceFeatures(g_physical, &supported);
-    g_features = req->features;
-    TRUE_OR_FAIL(g_features.shaderInt64 == VK_TRUE && supported.shaderInt64 == VK_TRUE);
-    TRUE_OR_FAIL(g_features.dualSrcBlend == VK_TRUE && supported.dualSrcBlend == VK_TRUE);
-
-    memset(&queue, 0, sizeof queue);
-    queue.sType = VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO;
-    queue.queueFamilyIndex = g_family;
-    queue.queueCount = 1;
-    queue.pQueuePriorities = &priority;
-    memset(&info, 0, sizeof info);
-    info.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO;
-    info.queueCreateInfoCount = 1;
-    info.pQueueCreateInfos = &queue;
-    info.pEnabledFeatures = &g_features;
-    info.enabledExtensionCount = req->extension_count;
-    info.ppEnabledExtensionNames = req->extensions;
-    VK_CHECK(vkCreateDevice(g_physical, &info, NULL, &g_device));
-    vkGetDeviceQueue(g_device, g_family, 0, &g_queue);
-}
-
-static uint32_t memory_type(uint32_t bits, VkMemoryPropertyFlags wanted) {
-    VkPhysicalDeviceMemoryProperties props;
-    uint32_t i;
-    vkGetPhysicalDeviceMemoryProperties(g_physical, &props);
-    for (i = 0; i < props.memoryTypeCount; i++) {
-        if ((bits & (1u << i)) && (props.memoryTypes[i].propertyFlags & wanted) == wanted) {
-            return i;
-        }
-    }
-    fail("no suitable memory type", __LINE__);
-    return 0;
-}
-
-static VkDeviceMemory bind_image(VkImage image) {
-    VkMemoryRequirements req;
-    VkMemoryAllocateInfo info;
-    VkDeviceMemory memory;
-    vkGetImageMemoryRequirements(g_device, image, &req);
-    memset(&info, 0, sizeof info);
-    info.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
-    info.allocationSize = req.size;
-    info.memoryTypeIndex = memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-    VK_CHECK(vkAllocateMemory(g_device, &info, NULL, &memory));
-    VK_CHECK(vkBindImageMemory(g_device, image, memory, 0));
-    return memory;
-}
-
-static VkImage create_image(VkFormat format, VkImageUsageFlags usage) {
-    VkImageCreateInfo info;
-    VkImage image;
-    memset(&info, 0, sizeof info);
-    info.sType = VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO;
-    info.imageType = VK_IMAGE_TYPE_2D;
-    info.format = format;
-    info.extent.width = W;
-    info.extent.height = H;
-    info.extent.depth = 1;
-    info.mipLevels = 1;
-    info.arrayLayers = 1;
-    info.samples = VK_SAMPLE_COUNT_1_BIT;
-    info.tiling = VK_IMAGE_TILING_OPTIMAL;
-    info.usage = usage;
-    info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-    VK_CHECK(vkCreateImage(g_device, &info, NULL, &image));
-    return image;
-}
 
 static void create_frame_resources(void) {
     VkCommandPoolCreateInfo pool;
@@ -270,10 +60,10 @@ static void create_frame_resources(void) {
     VK_CHECK(vkCreateFence(g_device, &fence, NULL, &g_fence));
 
     g_colour = create_image(VK_FORMAT_R8G8B8A8_SRGB,
-                            transfer | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT);
+                            transfer | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT, W, H);
     g_colour_memory = bind_image(g_colour);
     g_depth = create_image(VK_FORMAT_D32_SFLOAT,
-                           transfer | VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT);
+                           transfer | VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, W, H);
     g_depth_memory = bind_image(g_depth);
 
     memset(&buffer, 0, sizeof buffer);
@@ -294,37 +84,6 @@ static void create_frame_resources(void) {
     VK_CHECK(vkMapMemory(g_device, g_buffer_memory, 0, VK_WHOLE_SIZE, 0, &g_mapped));
 }
 
-static void barrier(VkImage image, VkImageAspectFlags aspect, VkImageLayout from,
-                    VkImageLayout to, VkPipelineStageFlags src_stage, VkAccessFlags src,
-                    VkPipelineStageFlags dst_stage, VkAccessFlags dst) {
-    VkImageMemoryBarrier b;
-    memset(&b, 0, sizeof b);
-    b.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER;
-    b.srcAccessMask = src;
-    b.dstAccessMask = dst;
-    b.oldLayout = from;
-    b.newLayout = to;
-    b.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    b.image = image;
-    b.subresourceRange.aspectMask = aspect;
-    b.subresourceRange.levelCount = 1;
-    b.subresourceRange.layerCount = 1;
-    vkCmdPipelineBarrier(g_cmd, src_stage, dst_stage, 0, 0, NULL, 0, NULL, 1, &b);
-}
-
-static VkBufferImageCopy region(VkImageAspectFlags aspect, VkDeviceSize offset) {
-    VkBufferImageCopy r;
-    memset(&r, 0, sizeof r);
-    r.bufferOffset = offset;
-    r.imageSubresource.aspectMask = aspect;
-    r.imageSubresource.layerCount = 1;
-    r.imageExtent.width = W;
-    r.imageExtent.height = H;
-    r.imageExtent.depth = 1;
-    return r;
-}
-
 static void begin(void) {
     VkCommandBufferBeginInfo info;
     memset(&info, 0, sizeof info);
@@ -337,14 +96,14 @@ static void begin(void) {
 /* The engine's "opaque pass": its colour and depth, copied from the upload buffer, left in
  * the attachment layouts an opaque pass would leave them in. */
 static void record_opaque_layer(void) {
-    VkBufferImageCopy colour = region(VK_IMAGE_ASPECT_COLOR_BIT, 0);
-    VkBufferImageCopy depth = region(VK_IMAGE_ASPECT_DEPTH_BIT, COLOUR_BYTES);
+    VkBufferImageCopy colour = region(VK_IMAGE_ASPECT_COLOR_BIT, 0, W, H);
+    VkBufferImageCopy depth = region(VK_IMAGE_ASPECT_DEPTH_BIT, COLOUR_BYTES, W, H);
     VkPipelineStageFlags transfer = VK_PIPELINE_STAGE_TRANSFER_BIT;
-    barrier(g_colour, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+    barrier(g_cmd, g_colour, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
             VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
             VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT, transfer,
             VK_ACCESS_TRANSFER_WRITE_BIT);
-    barrier(g_depth, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+    barrier(g_cmd, g_depth, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
             VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
             VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT, transfer,
             VK_ACCESS_TRANSFER_WRITE_BIT);
@@ -352,11 +111,11 @@ static void record_opaque_layer(void) {
                            &colour);
     vkCmdCopyBufferToImage(g_cmd, g_buffer, g_depth, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1,
                            &depth);
-    barrier(g_colour, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+    barrier(g_cmd, g_colour, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
             VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, transfer, VK_ACCESS_TRANSFER_WRITE_BIT,
             VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
             VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT);
-    barrier(g_depth, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+    barrier(g_cmd, g_depth, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
             VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL, transfer,
             VK_ACCESS_TRANSFER_WRITE_BIT,
             VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT |
@@ -369,10 +128,10 @@ static void record_opaque_layer(void) {
  * image into the buffer, for the host to read. The depth image's transition starts from the
  * final layout the frame asked for, so validation checks translucid left it there. */
 static void record_readback(void) {
-    VkBufferImageCopy colour = region(VK_IMAGE_ASPECT_COLOR_BIT, 0);
-    VkBufferImageCopy depth = region(VK_IMAGE_ASPECT_DEPTH_BIT, DEPTH_READBACK);
+    VkBufferImageCopy colour = region(VK_IMAGE_ASPECT_COLOR_BIT, 0, W, H);
+    VkBufferImageCopy depth = region(VK_IMAGE_ASPECT_DEPTH_BIT, DEPTH_READBACK, W, H);
     VkMemoryBarrier host;
-    barrier(g_depth, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL,
+    barrier(g_cmd, g_depth, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL,
             VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
             VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT,
             VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
@@ -576,23 +335,6 @@ static void compare_with_standalone(uint32_t method, const scene *host_scene,
     TRUE_OR_FAIL(stats.gpu_milliseconds >= stats.method_milliseconds);
     TRUE_OR_FAIL(stats.peak_gpu_bytes > 0);
     TRUE_OR_FAIL(stats.overflow_rerenders == 0);
-}
-
-static translucid_host_device_create_info host_device_info(void) {
-    static const char *none[1];
-    translucid_host_device_create_info hd;
-    memset(&hd, 0, sizeof hd);
-    hd.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_CREATE_INFO;
-    hd.api_version = VK_API_VERSION_1_2;
-    hd.instance = g_instance;
-    hd.physical_device = g_physical;
-    hd.device = g_device;
-    hd.queue_family_index = g_family;
-    hd.get_instance_proc_addr = vkGetInstanceProcAddr;
-    hd.enabled_features = &g_features;
-    hd.enabled_extension_count = 0;
-    hd.enabled_extensions = none;
-    return hd;
 }
 
 static translucid_context_create_info context_info(const void *next) {
@@ -800,14 +542,7 @@ int main(void) {
     vkFreeMemory(g_device, g_depth_memory, NULL);
     vkDestroyFence(g_device, g_fence, NULL);
     vkDestroyCommandPool(g_device, g_pool, NULL);
-    vkDestroyDevice(g_device, NULL);
-    if (g_messenger != VK_NULL_HANDLE) {
-        PFN_vkDestroyDebugUtilsMessengerEXT destroy =
-            (PFN_vkDestroyDebugUtilsMessengerEXT)vkGetInstanceProcAddr(
-                g_instance, "vkDestroyDebugUtilsMessengerEXT");
-        destroy(g_instance, g_messenger, NULL);
-    }
-    vkDestroyInstance(g_instance, NULL);
+    destroy_engine();
 
     printf("host: %d checks passed, %d failed, %d validation messages, %u methods\n", g_passed,
            g_failed, g_validation_messages, (unsigned)count);

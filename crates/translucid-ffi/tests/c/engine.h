@@ -1,0 +1,73 @@
+/*
+ * A small Vulkan engine for the host-device tests: an instance (with the Khronos validation
+ * layer when TRANSLUCID_VALIDATION=1, and synchronization validation when
+ * TRANSLUCID_SYNC_VALIDATION=1), a device made with exactly what translucid asks for, images,
+ * and the test's checks. Any validation error counts as a failure.
+ */
+#ifndef TRANSLUCID_TEST_ENGINE_H
+#define TRANSLUCID_TEST_ENGINE_H
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <vulkan/vulkan.h>
+
+#include "translucid.h"
+
+extern int g_failed, g_passed, g_validation_messages;
+extern VkInstance g_instance;
+extern VkPhysicalDevice g_physical;
+extern VkDevice g_device;
+extern VkQueue g_queue;
+extern uint32_t g_family;
+extern VkPhysicalDeviceFeatures g_features;
+
+/* Prints the failure and exits. */
+void fail(const char *what, int line);
+
+#define VK_CHECK(call)                                                                          \
+    do {                                                                                        \
+        if ((call) != VK_SUCCESS) fail(#call, __LINE__);                                        \
+    } while (0)
+
+/* Counts a call's result against the one wanted (a wrong success exits). */
+void check(translucid_context *ctx, translucid_result got, translucid_result want,
+           const char *call, int line);
+#define EXPECT(ctx, call, want) check((ctx), (call), (want), #call, __LINE__)
+#define CHECK(ctx, call) EXPECT(ctx, call, TRANSLUCID_RESULT_SUCCESS)
+
+#define TRUE_OR_FAIL(cond)                                                                      \
+    do {                                                                                        \
+        if (cond) {                                                                             \
+            g_passed++;                                                                         \
+        } else {                                                                                \
+            printf("FAIL line %d: %s\n", __LINE__, #cond);                                      \
+            g_failed++;                                                                         \
+        }                                                                                       \
+    } while (0)
+
+int env_is_1(const char *name);
+
+/* The instance, and the first device and queue family that meet the requirements, made with
+ * exactly the features translucid asks for. */
+void create_instance(uint32_t api_version);
+void create_device(const translucid_host_requirements *req);
+/* Destroys the device, the validation messenger and the instance. */
+void destroy_engine(void);
+
+uint32_t memory_type(uint32_t bits, VkMemoryPropertyFlags wanted);
+VkDeviceMemory bind_image(VkImage image);
+VkImage create_image(VkFormat format, VkImageUsageFlags usage, uint32_t width, uint32_t height);
+
+void barrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, VkImageLayout from,
+             VkImageLayout to, VkPipelineStageFlags src_stage, VkAccessFlags src,
+             VkPipelineStageFlags dst_stage, VkAccessFlags dst);
+/* A copy region of a whole width x height image's aspect, at `offset` in a buffer. */
+VkBufferImageCopy region(VkImageAspectFlags aspect, VkDeviceSize offset, uint32_t width,
+                         uint32_t height);
+
+/* The engine's device, as the context create-info's `next` takes it. */
+translucid_host_device_create_info host_device_info(void);
+
+#endif

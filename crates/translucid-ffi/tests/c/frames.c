@@ -1,0 +1,676 @@
+/*
+ * An engine's frame loop in host-device mode (engine.c), held against a standalone context
+ * that renders the same frames over the same opaque layer: every pixel within 2/255.
+ *
+ * 1. 2 and 3 frames in flight on one context: each frame moves the camera, moves one mesh's
+ *    vertices (translucid_mesh_update) and one draw; the engine keeps a command buffer,
+ *    fence, images and readback per frame in flight and completes a frame when its fence
+ *    signalled (the last ones newest first: completing a frame completes the older ones).
+ * 2. Two views (cameras) in one command buffer, each over its own images.
+ * 3. The engine's own projection: reversed-Z with an infinite far plane, and a jitter.
+ * 4. A mesh destroyed while a frame that draws it is in flight.
+ * 5. Misuse: too many frames in flight, abandoning a frame between others, bad updates.
+ * And first, in the standalone context: an updated mesh draws as one created so.
+ */
+#include <math.h>
+
+#include "engine.h"
+
+#define W 48
+#define H 36
+#define MOST_IN_FLIGHT 3
+#define FRAMES 9
+#define COLOUR_BYTES (W * H * 4)
+#define DEPTH_BYTES (W * H * 4)
+
+static translucid_context *g_standalone;
+
+/* One frame in flight's resources. */
+typedef struct slot {
+    VkCommandBuffer cmd;
+    VkFence fence;
+    VkImage colour, depth;
+    VkDeviceMemory colour_memory, depth_memory, buffer_memory;
+    /* Upload (colour bytes, then depth floats), then the colour readback. */
+    VkBuffer buffer;
+    uint8_t *mapped;
+    translucid_frame frame;
+    int busy;
+    uint8_t expected[COLOUR_BYTES];
+} slot;
+
+static VkCommandPool g_pool;
+static slot g_slots[MOST_IN_FLIGHT];
+
+static void create_slot(slot *s) {
+    VkCommandBufferAllocateInfo alloc;
+    VkFenceCreateInfo fence;
+    VkBufferCreateInfo buffer;
+    VkMemoryRequirements req;
+    VkMemoryAllocateInfo info;
+    VkImageUsageFlags transfer = VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+    void *mapped;
+
+    memset(&alloc, 0, sizeof alloc);
+    alloc.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO;
+    alloc.commandPool = g_pool;
+    alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+    alloc.commandBufferCount = 1;
+    VK_CHECK(vkAllocateCommandBuffers(g_device, &alloc, &s->cmd));
+    memset(&fence, 0, sizeof fence);
+    fence.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO;
+    VK_CHECK(vkCreateFence(g_device, &fence, NULL, &s->fence));
+    s->colour = create_image(VK_FORMAT_R8G8B8A8_SRGB,
+                             transfer | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT, W, H);
+    s->colour_memory = bind_image(s->colour);
+    /* Sampled too: reversed-Z depth is read by a full-screen pass, not copied. */
+    s->depth = create_image(VK_FORMAT_D32_SFLOAT,
+                            transfer | VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT |
+                                VK_IMAGE_USAGE_SAMPLED_BIT,
+                            W, H);
+    s->depth_memory = bind_image(s->depth);
+    memset(&buffer, 0, sizeof buffer);
+    buffer.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO;
+    buffer.size = 2 * COLOUR_BYTES + DEPTH_BYTES;
+    buffer.usage = VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    buffer.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+    VK_CHECK(vkCreateBuffer(g_device, &buffer, NULL, &s->buffer));
+    vkGetBufferMemoryRequirements(g_device, s->buffer, &req);
+    memset(&info, 0, sizeof info);
+    info.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
+    info.allocationSize = req.size;
+    info.memoryTypeIndex = memory_type(
+        req.memoryTypeBits,
+        VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
+    VK_CHECK(vkAllocateMemory(g_device, &info, NULL, &s->buffer_memory));
+    VK_CHECK(vkBindBufferMemory(g_device, s->buffer, s->buffer_memory, 0));
+    VK_CHECK(vkMapMemory(g_device, s->buffer_memory, 0, VK_WHOLE_SIZE, 0, &mapped));
+    s->mapped = mapped;
+    s->busy = 0;
+}
+
+static void destroy_slot(slot *s) {
+    vkDestroyBuffer(g_device, s->buffer, NULL);
+    vkFreeMemory(g_device, s->buffer_memory, NULL);
+    vkDestroyImage(g_device, s->colour, NULL);
+    vkFreeMemory(g_device, s->colour_memory, NULL);
+    vkDestroyImage(g_device, s->depth, NULL);
+    vkFreeMemory(g_device, s->depth_memory, NULL);
+    vkDestroyFence(g_device, s->fence, NULL);
+}
+
+/* ---- the opaque layer and the scene, alike in both contexts ---- */
+
+static uint8_t g_opaque_colour[COLOUR_BYTES];
+/* The engine's depth; translucid's convention (what a standalone layer takes) is the same
+ * for forward depth and 1 - d for reversed-Z. */
+static float g_engine_depth[W * H], g_layer_depth[W * H];
+
+/* A gradient, with depth in three bands across: `bands` near to far. */
+static void make_opaque_layer(const float bands[3], int reversed) {
+    size_t x, y;
+    for (y = 0; y < H; y++) {
+        for (x = 0; x < W; x++) {
+            size_t i = y * W + x;
+            float d = x < W / 4 ? bands[0] : x < W / 2 ? bands[1] : bands[2];
+            g_opaque_colour[i * 4 + 0] = (uint8_t)(40 + 3 * x);
+            g_opaque_colour[i * 4 + 1] = (uint8_t)(200 - 3 * y);
+            g_opaque_colour[i * 4 + 2] = 90;
+            g_opaque_colour[i * 4 + 3] = 255;
+            g_engine_depth[i] = d;
+            g_layer_depth[i] = reversed ? 1.0f - d : d;
+        }
+    }
+}
+
+#define QUADS 3
+/* Quads 0-1 face the camera, quad 2 (the "particles") is moved every frame, quad 3 is the
+ * one destroyed in flight. */
+typedef struct scene {
+    translucid_mesh meshes[QUADS + 1];
+    translucid_material materials[QUADS + 1];
+    translucid_draw draws[QUADS + 1];
+} scene;
+
+static const float g_quads[QUADS + 1][12] = {
+    {-1.2f, -0.9f, -2.0f, 0.4f, -0.9f, -2.0f, 0.4f, 0.6f, -2.0f, -1.2f, 0.6f, -2.0f},
+    {-0.6f, -0.5f, -3.0f, 1.4f, -0.5f, -3.0f, 1.4f, 1.0f, -3.0f, -0.6f, 1.0f, -3.0f},
+    {-1.5f, -0.2f, -1.6f, 1.5f, -0.2f, -3.6f, 1.5f, 0.3f, -3.6f, -1.5f, 0.3f, -1.6f},
+    {-0.3f, -1.0f, -2.5f, 0.3f, -1.0f, -2.5f, 0.3f, 1.0f, -2.5f, -0.3f, 1.0f, -2.5f},
+};
+
+static void make_scene(translucid_context *ctx, scene *s) {
+    static const float colours[QUADS + 1][4] = {{1.0f, 0.1f, 0.1f, 0.5f},
+                                                {0.1f, 0.3f, 1.0f, 0.7f},
+                                                {0.2f, 1.0f, 0.3f, 0.6f},
+                                                {1.0f, 1.0f, 0.2f, 0.4f}};
+    static const uint32_t triangles[] = {0, 1, 2, 0, 2, 3};
+    size_t i;
+    for (i = 0; i < QUADS + 1; i++) {
+        translucid_mesh_create_info mesh;
+        translucid_material_create_info material;
+        memset(&mesh, 0, sizeof mesh);
+        mesh.s_type = TRANSLUCID_STRUCTURE_TYPE_MESH_CREATE_INFO;
+        mesh.primitive = TRANSLUCID_PRIMITIVE_TRIANGLES;
+        mesh.vertex_count = 4;
+        mesh.positions = g_quads[i];
+        mesh.index_count = 6;
+        mesh.indices = triangles;
+        CHECK(ctx, translucid_mesh_create(ctx, &mesh, &s->meshes[i]));
+        memset(&material, 0, sizeof material);
+        material.s_type = TRANSLUCID_STRUCTURE_TYPE_MATERIAL_CREATE_INFO;
+        memcpy(material.base_colour, colours[i], sizeof colours[i]);
+        material.flags = TRANSLUCID_MATERIAL_LIT;
+        CHECK(ctx, translucid_material_create(ctx, &material, &s->materials[i]));
+        memset(&s->draws[i], 0, sizeof s->draws[i]);
+        s->draws[i].mesh = s->meshes[i];
+        s->draws[i].material = s->materials[i];
+        s->draws[i].layer = TRANSLUCID_LAYER_TRANSPARENT;
+        s->draws[i].transform[0] = s->draws[i].transform[5] = s->draws[i].transform[10] =
+            s->draws[i].transform[15] = 1.0f;
+    }
+}
+
+/* Frame `k`'s motion, in both contexts: quad 2's vertices sway, quad 1 slides. */
+static void move_scene(translucid_context *host_ctx, scene *host, scene *standalone, int k) {
+    float positions[12];
+    size_t v;
+    memcpy(positions, g_quads[2], sizeof positions);
+    for (v = 0; v < 4; v++) {
+        positions[v * 3 + 1] += 0.08f * (float)k * (v < 2 ? 1.0f : -0.5f);
+    }
+    CHECK(host_ctx, translucid_mesh_update(host_ctx, host->meshes[2], 0, 4, positions));
+    CHECK(g_standalone,
+          translucid_mesh_update(g_standalone, standalone->meshes[2], 0, 4, positions));
+    host->draws[1].transform[12] = standalone->draws[1].transform[12] = 0.05f * (float)k;
+}
+
+/* A camera at `angle` radians around the scene's centre (0, 0, -2.6), looking at it. */
+static translucid_camera orbit_camera(float angle) {
+    translucid_camera c;
+    float s = sinf(angle), co = cosf(angle), d = 2.6f;
+    memset(&c, 0, sizeof c);
+    /* View = rotate(-angle about y) * translate(-eye), eye = centre + d (sin, 0, cos). */
+    c.view[0] = co;
+    c.view[2] = s;
+    c.view[5] = 1.0f;
+    c.view[8] = -s;
+    c.view[10] = co;
+    c.view[15] = 1.0f;
+    {
+        float ex = d * s, ez = -2.6f + d * co;
+        c.view[12] = -(co * ex - s * ez);
+        c.view[14] = -(s * ex + co * ez);
+    }
+    c.fov_y = 0.9f;
+    c.z_near = 1.0f;
+    c.z_far = 10.0f;
+    return c;
+}
+
+static translucid_frame_info frame_info(const scene *s, uint32_t draw_count,
+                                        translucid_camera camera) {
+    translucid_frame_info info;
+    memset(&info, 0, sizeof info);
+    info.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_INFO;
+    info.method = TRANSLUCID_METHOD_EXACT;
+    info.width = W;
+    info.height = H;
+    info.camera = camera;
+    info.draws = s->draws;
+    info.draw_count = draw_count;
+    return info;
+}
+
+/* The standalone context's frame of `info` (drawn from `s`) over the opaque layer. */
+static void render_expected(translucid_frame_info info, const scene *s, uint8_t *out) {
+    translucid_opaque_layer layer;
+    translucid_frame frame;
+    memset(&layer, 0, sizeof layer);
+    layer.s_type = TRANSLUCID_STRUCTURE_TYPE_OPAQUE_LAYER;
+    layer.colour_format = TRANSLUCID_PIXEL_FORMAT_RGBA8_SRGB;
+    layer.colour = g_opaque_colour;
+    layer.depth = g_layer_depth;
+    info.opaque_layer = &layer;
+    info.draws = s->draws;
+    CHECK(g_standalone, translucid_frame_render(g_standalone, &info, &frame));
+    CHECK(g_standalone, translucid_frame_read(g_standalone, frame,
+                                              TRANSLUCID_PIXEL_FORMAT_RGBA8_SRGB, out,
+                                              COLOUR_BYTES));
+    CHECK(g_standalone, translucid_frame_destroy(g_standalone, frame));
+}
+
+static void begin(VkCommandBuffer cmd) {
+    VkCommandBufferBeginInfo info;
+    memset(&info, 0, sizeof info);
+    info.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
+    info.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    VK_CHECK(vkResetCommandBuffer(cmd, 0));
+    VK_CHECK(vkBeginCommandBuffer(cmd, &info));
+}
+
+/* The engine's opaque pass into the slot's images (uploaded from its buffer). */
+static void record_opaque(VkCommandBuffer cmd, slot *s) {
+    VkBufferImageCopy colour = region(VK_IMAGE_ASPECT_COLOR_BIT, 0, W, H);
+    VkBufferImageCopy depth = region(VK_IMAGE_ASPECT_DEPTH_BIT, COLOUR_BYTES, W, H);
+    VkPipelineStageFlags all = VK_PIPELINE_STAGE_ALL_COMMANDS_BIT;
+    VkAccessFlags any = VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT;
+    VkPipelineStageFlags transfer = VK_PIPELINE_STAGE_TRANSFER_BIT;
+    memcpy(s->mapped, g_opaque_colour, COLOUR_BYTES);
+    memcpy(s->mapped + COLOUR_BYTES, g_engine_depth, DEPTH_BYTES);
+    barrier(cmd, s->colour, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+            VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, all, any, transfer,
+            VK_ACCESS_TRANSFER_WRITE_BIT);
+    barrier(cmd, s->depth, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+            VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, all, any, transfer,
+            VK_ACCESS_TRANSFER_WRITE_BIT);
+    vkCmdCopyBufferToImage(cmd, s->buffer, s->colour, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1,
+                           &colour);
+    vkCmdCopyBufferToImage(cmd, s->buffer, s->depth, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1,
+                           &depth);
+    barrier(cmd, s->colour, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+            VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, transfer, VK_ACCESS_TRANSFER_WRITE_BIT,
+            all, any);
+    barrier(cmd, s->depth, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+            VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL, transfer,
+            VK_ACCESS_TRANSFER_WRITE_BIT, all, any);
+}
+
+/* After translucid: the slot's colour (left in TRANSFER_SRC_OPTIMAL) into its buffer. */
+static void record_readback(VkCommandBuffer cmd, slot *s) {
+    VkBufferImageCopy colour = region(VK_IMAGE_ASPECT_COLOR_BIT, COLOUR_BYTES + DEPTH_BYTES, W, H);
+    VkMemoryBarrier host;
+    vkCmdCopyImageToBuffer(cmd, s->colour, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, s->buffer, 1,
+                           &colour);
+    memset(&host, 0, sizeof host);
+    host.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
+    host.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    host.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1,
+                         &host, 0, NULL, 0, NULL);
+}
+
+static translucid_host_frame_targets targets_of(VkCommandBuffer cmd, const slot *s) {
+    translucid_host_frame_targets t;
+    memset(&t, 0, sizeof t);
+    t.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_FRAME_TARGETS;
+    t.command_buffer = cmd;
+    t.colour.image = s->colour;
+    t.colour.format = VK_FORMAT_R8G8B8A8_SRGB;
+    t.colour.layout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+    t.colour.final_layout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+    t.depth.image = s->depth;
+    t.depth.format = VK_FORMAT_D32_SFLOAT;
+    t.depth.layout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
+    t.depth.final_layout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
+    return t;
+}
+
+/* Records the slot's whole frame (opaque, translucid, readback) into `cmd`. */
+static void record_frame(translucid_context *ctx, VkCommandBuffer cmd, slot *s,
+                         const translucid_frame_info *info) {
+    translucid_host_frame_targets t = targets_of(cmd, s);
+    record_opaque(cmd, s);
+    CHECK(ctx, translucid_frame_record(ctx, info, &t, &s->frame));
+    record_readback(cmd, s);
+    s->busy = 1;
+}
+
+static void submit(VkCommandBuffer cmd, VkFence fence) {
+    VkSubmitInfo submit;
+    VK_CHECK(vkEndCommandBuffer(cmd));
+    memset(&submit, 0, sizeof submit);
+    submit.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;
+    submit.commandBufferCount = 1;
+    submit.pCommandBuffers = &cmd;
+    VK_CHECK(vkQueueSubmit(g_queue, 1, &submit, fence));
+}
+
+static void wait(VkFence fence) {
+    VK_CHECK(vkWaitForFences(g_device, 1, &fence, VK_TRUE, UINT64_MAX));
+    VK_CHECK(vkResetFences(g_device, 1, &fence));
+}
+
+static int worst_difference(const uint8_t *a, const uint8_t *b);
+
+/* The slot's readback against what the standalone context rendered; its frame destroyed. */
+static void compare(translucid_context *ctx, slot *s, const char *what) {
+    translucid_frame_statistics stats;
+    int worst = worst_difference(s->mapped + COLOUR_BYTES + DEPTH_BYTES, s->expected);
+    memset(&stats, 0, sizeof stats);
+    stats.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_STATISTICS;
+    CHECK(ctx, translucid_frame_get_statistics(ctx, s->frame, &stats));
+    TRUE_OR_FAIL(stats.overflowed == 0 && stats.fragments > 0);
+    if (worst > 2) printf("FAIL %s: %d/255 off the standalone frame\n", what, worst);
+    TRUE_OR_FAIL(worst <= 2);
+    CHECK(ctx, translucid_frame_destroy(ctx, s->frame));
+    s->busy = 0;
+}
+
+/* Worst channel difference of two RGBA8 frames, alpha aside. */
+static int worst_difference(const uint8_t *a, const uint8_t *b) {
+    int worst = 0;
+    size_t i;
+    for (i = 0; i < COLOUR_BYTES; i++) {
+        int d = abs((int)a[i] - (int)b[i]);
+        if (i % 4 != 3 && d > worst) worst = d;
+    }
+    return worst;
+}
+
+/* 0. An updated mesh draws as a mesh created with those positions does (the standalone
+ * context, which the other parts hold the engine's frames against). */
+static void updates_move_the_mesh(void) {
+    static uint8_t before[COLOUR_BYTES], updated[COLOUR_BYTES], created[COLOUR_BYTES];
+    static const uint32_t triangles[] = {0, 1, 2, 0, 2, 3};
+    scene s;
+    translucid_frame_info info;
+    translucid_mesh_create_info mesh;
+    translucid_mesh moved;
+    float positions[12];
+    size_t v;
+    make_scene(g_standalone, &s);
+    info = frame_info(&s, QUADS, orbit_camera(0.1f));
+    render_expected(info, &s, before);
+    memcpy(positions, g_quads[2], sizeof positions);
+    for (v = 0; v < 4; v++) positions[v * 3 + 1] += 0.4f;
+    CHECK(g_standalone, translucid_mesh_update(g_standalone, s.meshes[2], 0, 4, positions));
+    render_expected(info, &s, updated);
+    memset(&mesh, 0, sizeof mesh);
+    mesh.s_type = TRANSLUCID_STRUCTURE_TYPE_MESH_CREATE_INFO;
+    mesh.primitive = TRANSLUCID_PRIMITIVE_TRIANGLES;
+    mesh.vertex_count = 4;
+    mesh.positions = positions;
+    mesh.index_count = 6;
+    mesh.indices = triangles;
+    CHECK(g_standalone, translucid_mesh_create(g_standalone, &mesh, &moved));
+    s.draws[2].mesh = moved;
+    render_expected(info, &s, created);
+    TRUE_OR_FAIL(worst_difference(before, updated) > 8);
+    TRUE_OR_FAIL(worst_difference(updated, created) <= 2);
+    for (v = 0; v < QUADS + 1; v++) {
+        CHECK(g_standalone, translucid_mesh_destroy(g_standalone, s.meshes[v]));
+        CHECK(g_standalone, translucid_material_destroy(g_standalone, s.materials[v]));
+    }
+    CHECK(g_standalone, translucid_mesh_destroy(g_standalone, moved));
+}
+
+static translucid_context *host_context(uint32_t frames_in_flight) {
+    translucid_host_device_create_info hd = host_device_info();
+    translucid_context_create_info info;
+    translucid_context *ctx = NULL;
+    memset(&info, 0, sizeof info);
+    info.s_type = TRANSLUCID_STRUCTURE_TYPE_CONTEXT_CREATE_INFO;
+    info.header_version = TRANSLUCID_HEADER_VERSION;
+    info.mode = TRANSLUCID_CONTEXT_MODE_HOST_DEVICE;
+    info.next = &hd;
+    info.frames_in_flight = frames_in_flight;
+    CHECK(NULL, translucid_context_create(&info, &ctx));
+    return ctx;
+}
+
+/* 1. FRAMES moving frames with `in_flight` of them in flight: a frame is completed when the
+ * engine comes back to its slot, after waiting for its fence; the last ones are completed
+ * newest first, which completes the older ones too. */
+static void frame_loop(uint32_t in_flight) {
+    translucid_context *ctx = host_context(in_flight);
+    scene host, standalone;
+    int k;
+    uint32_t n;
+    char what[64];
+    make_scene(ctx, &host);
+    make_scene(g_standalone, &standalone);
+    for (k = 0; k < FRAMES; k++) {
+        slot *s = &g_slots[k % in_flight];
+        translucid_frame_info info;
+        if (s->busy) {
+            wait(s->fence);
+            CHECK(ctx, translucid_frame_complete(ctx, s->frame));
+            snprintf(what, sizeof what, "%u in flight, frame %d", in_flight, k - (int)in_flight);
+            compare(ctx, s, what);
+        }
+        move_scene(ctx, &host, &standalone, k);
+        info = frame_info(&host, QUADS, orbit_camera(0.15f * (float)k));
+        render_expected(info, &standalone, s->expected);
+        begin(s->cmd);
+        record_frame(ctx, s->cmd, s, &info);
+        submit(s->cmd, s->fence);
+    }
+    /* Every slot is in flight: wait for them all, complete the newest (the older ones
+     * complete with it: they ran first, on the same queue), then check each. */
+    for (n = 0; n < in_flight; n++) wait(g_slots[n].fence);
+    CHECK(ctx, translucid_frame_complete(ctx, g_slots[(FRAMES - 1) % in_flight].frame));
+    for (n = 0; n < in_flight; n++) {
+        slot *s = &g_slots[(FRAMES + n) % in_flight];
+        EXPECT(ctx, translucid_frame_complete(ctx, s->frame),
+               TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+        snprintf(what, sizeof what, "%u in flight, last frames, slot %u", in_flight, n);
+        compare(ctx, s, what);
+    }
+    printf("%u frames in flight: %d moving frames as the standalone context renders them\n",
+           in_flight, FRAMES);
+    translucid_context_destroy(ctx);
+}
+
+/* 2. Two views of one frame, recorded into one command buffer over their own images. */
+static void two_views(void) {
+    translucid_context *ctx = host_context(2);
+    scene host, standalone;
+    translucid_frame_info left, right;
+    make_scene(ctx, &host);
+    make_scene(g_standalone, &standalone);
+    left = frame_info(&host, QUADS + 1, orbit_camera(-0.3f));
+    right = frame_info(&host, QUADS + 1, orbit_camera(0.3f));
+    render_expected(left, &standalone, g_slots[0].expected);
+    render_expected(right, &standalone, g_slots[1].expected);
+    begin(g_slots[0].cmd);
+    record_frame(ctx, g_slots[0].cmd, &g_slots[0], &left);
+    record_frame(ctx, g_slots[0].cmd, &g_slots[1], &right);
+    submit(g_slots[0].cmd, g_slots[0].fence);
+    wait(g_slots[0].fence);
+    CHECK(ctx, translucid_frame_complete(ctx, g_slots[0].frame));
+    CHECK(ctx, translucid_frame_complete(ctx, g_slots[1].frame));
+    compare(ctx, &g_slots[0], "left view");
+    compare(ctx, &g_slots[1], "right view");
+    printf("two views in one command buffer as the standalone context renders them\n");
+    translucid_context_destroy(ctx);
+}
+
+/* 3. The engine's projection: reversed-Z, infinite far plane, and a jitter. Its depth image
+ * holds that projection's depth (near 1, far 0); the standalone layer takes 1 - d. */
+static void engine_projection(void) {
+    static const float reversed_bands[3] = {0.7f, 0.35f, 0.0f};
+    translucid_context *ctx = host_context(1);
+    scene host, standalone;
+    translucid_frame_info info;
+    translucid_camera camera = orbit_camera(0.2f);
+    float f = 1.0f / tanf(0.45f), aspect = (float)W / (float)H, near = 1.0f;
+    make_opaque_layer(reversed_bands, 1);
+    memset(camera.projection, 0, sizeof camera.projection);
+    /* Vulkan clip space, Y down: depth = near / distance. */
+    camera.projection[0] = f / aspect;
+    camera.projection[5] = -f;
+    camera.projection[11] = -1.0f;
+    camera.projection[14] = near;
+    camera.jitter[0] = 0.3f;
+    camera.jitter[1] = -0.4f;
+    make_scene(ctx, &host);
+    make_scene(g_standalone, &standalone);
+    info = frame_info(&host, QUADS + 1, camera);
+    render_expected(info, &standalone, g_slots[0].expected);
+    begin(g_slots[0].cmd);
+    record_frame(ctx, g_slots[0].cmd, &g_slots[0], &info);
+    submit(g_slots[0].cmd, g_slots[0].fence);
+    wait(g_slots[0].fence);
+    CHECK(ctx, translucid_frame_complete(ctx, g_slots[0].frame));
+    compare(ctx, &g_slots[0], "reversed-Z, infinite far, jittered");
+    printf("reversed-Z, infinite far plane and jitter as the standalone context renders them\n");
+    translucid_context_destroy(ctx);
+}
+
+/* 4. A mesh destroyed while the frame drawing it is in flight: the frame keeps it. */
+static void destroy_in_flight(void) {
+    static const float forward_bands[3] = {0.3f, 0.75f, 1.0f};
+    translucid_context *ctx = host_context(2);
+    scene host, standalone;
+    translucid_frame_info info;
+    make_opaque_layer(forward_bands, 0);
+    make_scene(ctx, &host);
+    make_scene(g_standalone, &standalone);
+    info = frame_info(&host, QUADS + 1, orbit_camera(0.0f));
+    render_expected(info, &standalone, g_slots[0].expected);
+    begin(g_slots[0].cmd);
+    record_frame(ctx, g_slots[0].cmd, &g_slots[0], &info);
+    CHECK(ctx, translucid_mesh_destroy(ctx, host.meshes[QUADS]));
+    submit(g_slots[0].cmd, g_slots[0].fence);
+    /* The next frame, without it, while the first is in flight. */
+    info.draw_count = QUADS;
+    render_expected(info, &standalone, g_slots[1].expected);
+    begin(g_slots[1].cmd);
+    record_frame(ctx, g_slots[1].cmd, &g_slots[1], &info);
+    submit(g_slots[1].cmd, g_slots[1].fence);
+    wait(g_slots[0].fence);
+    wait(g_slots[1].fence);
+    CHECK(ctx, translucid_frame_complete(ctx, g_slots[0].frame));
+    CHECK(ctx, translucid_frame_complete(ctx, g_slots[1].frame));
+    compare(ctx, &g_slots[0], "frame drawing a mesh destroyed in flight");
+    compare(ctx, &g_slots[1], "frame after the destruction");
+    info.draw_count = QUADS + 1;
+    begin(g_slots[0].cmd);
+    {
+        translucid_host_frame_targets t = targets_of(g_slots[0].cmd, &g_slots[0]);
+        EXPECT(ctx, translucid_frame_record(ctx, &info, &t, &g_slots[0].frame),
+               TRANSLUCID_RESULT_ERROR_STALE_HANDLE);
+        TRUE_OR_FAIL(strstr(translucid_context_last_error(ctx), "draws[3]") != NULL);
+    }
+    VK_CHECK(vkEndCommandBuffer(g_slots[0].cmd));
+    printf("a mesh destroyed in flight stays with the frame that draws it\n");
+    translucid_context_destroy(ctx);
+}
+
+/* 5. Misuse in the frame loop. */
+static void misuse(void) {
+    translucid_host_device_create_info hd = host_device_info();
+    translucid_context_create_info create;
+    translucid_context *ctx = NULL;
+    scene host;
+    translucid_frame_info info;
+    translucid_frame_statistics stats;
+    translucid_frame extra;
+    float positions[12];
+    uint32_t n;
+
+    memset(&create, 0, sizeof create);
+    create.s_type = TRANSLUCID_STRUCTURE_TYPE_CONTEXT_CREATE_INFO;
+    create.header_version = TRANSLUCID_HEADER_VERSION;
+    create.mode = TRANSLUCID_CONTEXT_MODE_HOST_DEVICE;
+    create.next = &hd;
+    create.frames_in_flight = TRANSLUCID_MAX_FRAMES_IN_FLIGHT + 1;
+    EXPECT(NULL, translucid_context_create(&create, &ctx), TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    TRUE_OR_FAIL(strstr(translucid_context_last_error(NULL), "frames_in_flight") != NULL);
+    create.mode = TRANSLUCID_CONTEXT_MODE_STANDALONE;
+    create.next = NULL;
+    create.frames_in_flight = 2;
+    EXPECT(NULL, translucid_context_create(&create, &ctx), TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+
+    ctx = host_context(MOST_IN_FLIGHT);
+    make_scene(ctx, &host);
+    info = frame_info(&host, QUADS, orbit_camera(0.0f));
+    /* Updates: a range past the mesh, a NaN, a destroyed mesh. */
+    memcpy(positions, g_quads[0], sizeof positions);
+    EXPECT(ctx, translucid_mesh_update(ctx, host.meshes[0], 2, 4, positions),
+           TRANSLUCID_RESULT_ERROR_INVALID_SIZE);
+    EXPECT(ctx, translucid_mesh_update(ctx, host.meshes[0], 0, 0, positions),
+           TRANSLUCID_RESULT_ERROR_INVALID_SIZE);
+    positions[4] = (float)NAN;
+    EXPECT(ctx, translucid_mesh_update(ctx, host.meshes[0], 0, 4, positions),
+           TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    EXPECT(ctx, translucid_mesh_update(ctx, host.meshes[0], 0, 4, NULL),
+           TRANSLUCID_RESULT_ERROR_NULL_POINTER);
+    CHECK(ctx, translucid_mesh_destroy(ctx, host.meshes[QUADS]));
+    EXPECT(ctx, translucid_mesh_update(ctx, host.meshes[QUADS], 0, 4, g_quads[QUADS]),
+           TRANSLUCID_RESULT_ERROR_STALE_HANDLE);
+
+    /* As many frames in flight as the context takes; one more is refused. The first is
+     * submitted, the others are not: abandoning the second ends it and the third, and the
+     * first completes as usual. */
+    for (n = 0; n < MOST_IN_FLIGHT; n++) {
+        begin(g_slots[n].cmd);
+        record_frame(ctx, g_slots[n].cmd, &g_slots[n], &info);
+    }
+    {
+        translucid_host_frame_targets t = targets_of(g_slots[0].cmd, &g_slots[0]);
+        EXPECT(ctx, translucid_frame_record(ctx, &info, &t, &extra),
+               TRANSLUCID_RESULT_ERROR_FRAME_IN_FLIGHT);
+        TRUE_OR_FAIL(strstr(translucid_context_last_error(ctx), "frames_in_flight") != NULL);
+    }
+    submit(g_slots[0].cmd, g_slots[0].fence);
+    CHECK(ctx, translucid_frame_abandon(ctx, g_slots[1].frame));
+    EXPECT(ctx, translucid_frame_destroy(ctx, g_slots[1].frame), TRANSLUCID_RESULT_ERROR_STALE_HANDLE);
+    memset(&stats, 0, sizeof stats);
+    stats.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_STATISTICS;
+    EXPECT(ctx, translucid_frame_get_statistics(ctx, g_slots[2].frame, &stats),
+           TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    EXPECT(ctx, translucid_frame_complete(ctx, g_slots[2].frame),
+           TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    CHECK(ctx, translucid_frame_destroy(ctx, g_slots[2].frame));
+    /* Their command buffers are dropped, never submitted. */
+    VK_CHECK(vkEndCommandBuffer(g_slots[1].cmd));
+    VK_CHECK(vkEndCommandBuffer(g_slots[2].cmd));
+    g_slots[1].busy = g_slots[2].busy = 0;
+    wait(g_slots[0].fence);
+    CHECK(ctx, translucid_frame_complete(ctx, g_slots[0].frame));
+    CHECK(ctx, translucid_frame_destroy(ctx, g_slots[0].frame));
+    g_slots[0].busy = 0;
+    /* And the loop goes on. */
+    begin(g_slots[1].cmd);
+    record_frame(ctx, g_slots[1].cmd, &g_slots[1], &info);
+    submit(g_slots[1].cmd, g_slots[1].fence);
+    wait(g_slots[1].fence);
+    CHECK(ctx, translucid_frame_complete(ctx, g_slots[1].frame));
+    CHECK(ctx, translucid_frame_destroy(ctx, g_slots[1].frame));
+    g_slots[1].busy = 0;
+    translucid_context_destroy(ctx);
+}
+
+int main(void) {
+    static const float forward_bands[3] = {0.3f, 0.75f, 1.0f};
+    translucid_host_requirements req;
+    translucid_context_create_info info;
+    VkCommandPoolCreateInfo pool;
+    uint32_t n;
+
+    memset(&req, 0, sizeof req);
+    req.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_REQUIREMENTS;
+    CHECK(NULL, translucid_host_requirements_get(&req));
+    create_instance(req.api_version);
+    create_device(&req);
+    memset(&pool, 0, sizeof pool);
+    pool.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO;
+    pool.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+    pool.queueFamilyIndex = g_family;
+    VK_CHECK(vkCreateCommandPool(g_device, &pool, NULL, &g_pool));
+    for (n = 0; n < MOST_IN_FLIGHT; n++) create_slot(&g_slots[n]);
+
+    memset(&info, 0, sizeof info);
+    info.s_type = TRANSLUCID_STRUCTURE_TYPE_CONTEXT_CREATE_INFO;
+    info.header_version = TRANSLUCID_HEADER_VERSION;
+    CHECK(NULL, translucid_context_create(&info, &g_standalone));
+
+    make_opaque_layer(forward_bands, 0);
+    updates_move_the_mesh();
+    frame_loop(2);
+    frame_loop(3);
+    two_views();
+    engine_projection();
+    destroy_in_flight();
+    misuse();
+
+    translucid_context_destroy(g_standalone);
+    for (n = 0; n < MOST_IN_FLIGHT; n++) destroy_slot(&g_slots[n]);
+    vkDestroyCommandPool(g_device, g_pool, NULL);
+    destroy_engine();
+    printf("frames: %d checks passed, %d failed, %d validation messages\n", g_passed, g_failed,
+           g_validation_messages);
+    return g_failed == 0 && g_validation_messages == 0 ? 0 : 1;
+}
