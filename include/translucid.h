@@ -691,8 +691,9 @@ typedef struct translucid_opaque_layer {
      */
     const void *colour;
     /**
-     * Required: width x height floats, the Vulkan depth buffer (0 near, 1 far), each in
-     * [0, 1].
+     * Required: width x height floats, each in [0, 1]: the depth buffer of the frame's
+     * camera, in the convention where depth grows away from the eye (0 near, 1 far). With a
+     * reversed-Z projection, hand over 1 - d.
      */
     const float *depth;
 } translucid_opaque_layer;
@@ -1171,11 +1172,6 @@ typedef struct translucid_host_device_create_info {
      */
     const char *const *enabled_extensions;
 } translucid_host_device_create_info;
-
-/**
- * Every code, for the to-string function and tests.
- */
-#define translucid_result_ALL { translucid_result_Success, translucid_result_Incomplete, translucid_result_NotReady, translucid_result_ErrorNullPointer, translucid_result_ErrorInvalidStructureType, translucid_result_ErrorInvalidArgument, translucid_result_ErrorInvalidEnum, translucid_result_ErrorInvalidSize, translucid_result_ErrorInvalidHandle, translucid_result_ErrorStaleHandle, translucid_result_ErrorForeignHandle, translucid_result_ErrorHeaderVersionMismatch, translucid_result_ErrorMethodUnavailable, translucid_result_ErrorNotSupported, translucid_result_ErrorFrameInFlight, translucid_result_ErrorNoDevice, translucid_result_ErrorVulkan, translucid_result_ErrorOutOfMemory, translucid_result_ErrorDeviceLost, translucid_result_ErrorValidation, translucid_result_ErrorIo, translucid_result_ErrorDeviceRequirements, translucid_result_ErrorPanic, translucid_result_ErrorContextPoisoned, }
 
 #ifdef __cplusplus
 extern "C" {

@@ -82,6 +82,19 @@ pub struct translucid_base_in_structure {
 
 /// Checks a struct's `s_type` and that its `next` chain is empty: the only extension structure
 /// (the host device, chained to the context create-info) is looked for by the context.
+/// An enum value's name as the header spells it: `prefix`, then the Rust variant's words in
+/// capitals (`MeshCreateInfo` -> `PREFIX_MESH_CREATE_INFO`), as cbindgen writes them.
+pub(crate) fn c_enum_name(prefix: &str, variant: &str) -> String {
+    let mut name = String::from(prefix);
+    for c in variant.chars() {
+        if c.is_ascii_uppercase() {
+            name.push('_');
+        }
+        name.push(c.to_ascii_uppercase());
+    }
+    name
+}
+
 pub(crate) fn check_header(
     s_type: u32,
     next: *const c_void,
@@ -90,13 +103,14 @@ pub(crate) fn check_header(
 ) -> FfiResult {
     if s_type != expected as u32 {
         let found = translucid_structure_type::from_raw(s_type).map_or_else(
-            || format!("{s_type} (no such structure)"),
-            |t| format!("{t:?}"),
+            || format!("{s_type} (no such structure type)"),
+            |t| format!("{} ({s_type})", t.c_name()),
         );
         return Err(Failure::new(
             translucid_result::ErrorInvalidStructureType,
             format!(
-                "{what}.s_type is {found}; set it to {expected:?} ({})",
+                "{what}.s_type is {found}; set it to {} ({})",
+                expected.c_name(),
                 expected as u32
             ),
         ));

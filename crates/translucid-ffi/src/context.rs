@@ -174,10 +174,22 @@ impl Context {
             )?)?
         } else {
             let from_env = GpuOptions::from_env();
+            // Say where the device name that matched nothing came from.
+            let source = if device.is_some() {
+                "translucid_context_create_info.device"
+            } else {
+                "TRANSLUCID_DEVICE (environment)"
+            };
             Gpu::new(&GpuOptions {
                 device: device.map(str::to_string).or(from_env.device),
                 validation: info.flags & TRANSLUCID_CONTEXT_CREATE_VALIDATION != 0
                     || from_env.validation,
+            })
+            .map_err(|e| match e {
+                translucid::Error::NoDevice(m) if m.starts_with("no device matches") => {
+                    translucid::Error::NoDevice(format!("{source}: {m}"))
+                }
+                other => other,
             })?
         };
         let frames_in_flight = match info.frames_in_flight {

@@ -135,8 +135,9 @@ pub struct translucid_opaque_layer {
     /// Required: width x height pixels in `colour_format` (alpha ignored); linear colour must
     /// be finite and non-negative.
     pub colour: *const c_void,
-    /// Required: width x height floats, the Vulkan depth buffer (0 near, 1 far), each in
-    /// [0, 1].
+    /// Required: width x height floats, each in [0, 1]: the depth buffer of the frame's
+    /// camera, in the convention where depth grows away from the eye (0 near, 1 far). With a
+    /// reversed-Z projection, hand over 1 - d.
     pub depth: *const f32,
 }
 
@@ -447,8 +448,10 @@ impl translucid_frame {
             let needed = image.pixels.len() * format.bytes_per_pixel();
             if size < needed {
                 return Err(Failure::size(format!(
-                    "the {}x{} frame needs {needed} bytes in {format:?}, the buffer has {size}",
-                    image.width, image.height
+                    "the {}x{} frame needs {needed} bytes in {}, the buffer has {size}",
+                    image.width,
+                    image.height,
+                    crate::cast::c_enum_name("TRANSLUCID_PIXEL_FORMAT", &format!("{format:?}"))
                 )));
             }
             let out = try_out_slice(pixels.cast::<u8>(), needed, "pixels")?;

@@ -90,7 +90,7 @@ fn material_from_info(info: &translucid_material_create_info) -> FfiResult<Mater
     };
     material
         .validate()
-        .map_err(|e| Failure::argument(format!("material {:?}: {e}", material.name)))?;
+        .map_err(|e| Failure::argument(format!("material \"{}\": {e}", material.name)))?;
     Ok(material)
 }
 

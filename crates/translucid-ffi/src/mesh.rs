@@ -118,7 +118,7 @@ fn mesh_from_info(info: &translucid_mesh_create_info) -> FfiResult<Mesh> {
     mesh.colours = colours.map(|v| v.chunks_exact(4).map(Vec4::from_slice).collect());
     mesh.uvs = uvs.map(|v| v.chunks_exact(2).map(Vec2::from_slice).collect());
     mesh.validate()
-        .map_err(|e| Failure::argument(format!("mesh {:?}: {e}", mesh.name)))?;
+        .map_err(|e| Failure::argument(format!("mesh \"{}\": {e}", mesh.name)))?;
     Ok(mesh)
 }
 

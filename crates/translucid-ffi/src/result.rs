@@ -86,8 +86,9 @@ pub enum translucid_result {
 }
 
 impl translucid_result {
-    /// Every code, for the to-string function and tests.
-    pub const ALL: [translucid_result; 24] = [
+    /// Every code, for the to-string function and tests. (Not in the header: cbindgen would
+    /// write it as a macro of Rust names.)
+    pub(crate) const ALL: [translucid_result; 24] = [
         Self::Success,
         Self::Incomplete,
         Self::NotReady,

@@ -42,4 +42,28 @@ impl translucid_structure_type {
     pub fn from_raw(value: u32) -> Option<Self> {
         Self::ALL.into_iter().find(|t| *t as u32 == value)
     }
+
+    /// The value's name in the header, such as `TRANSLUCID_STRUCTURE_TYPE_FRAME_INFO`.
+    pub fn c_name(self) -> String {
+        crate::cast::c_enum_name("TRANSLUCID_STRUCTURE_TYPE", &format!("{self:?}"))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn messages_name_structure_types_as_the_header_does() {
+        let header = include_str!(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../include/translucid.h"
+        ));
+        for t in translucid_structure_type::ALL {
+            let line = format!("{} = {},", t.c_name(), t as u32);
+            assert!(header.contains(&line), "the header lacks {line}");
+        }
+        let format = crate::cast::c_enum_name("TRANSLUCID_PIXEL_FORMAT", "Rgba32fLinear");
+        assert!(header.contains(&format!("{format} = 1,")), "{format}");
+    }
 }

@@ -182,7 +182,7 @@ fn c_programs_pass_under_address_sanitizer() {
         compile(
             "cc",
             &flags,
-            &[program.sources.as_slice(), &[keep_modules.clone()]].concat(),
+            &[program.sources.as_slice(), std::slice::from_ref(&keep_modules)].concat(),
             &binary,
             program.libs,
         );
@@ -197,6 +197,53 @@ fn cpp_wrapper_compiles_and_works() {
     let source = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/cpp/wrapper.cpp");
     compile("g++", CXX_FLAGS, &[source], &binary, &[]);
     run(&binary, &[], false);
+}
+
+/// The README's C snippets, one after another in a function with the engine's objects
+/// declared, compile and link cleanly under the test flags (`-Wall -Wextra -Werror
+/// -pedantic`).
+#[test]
+fn readme_c_snippets_compile_cleanly() {
+    let readme = std::fs::read_to_string(repo().join("README.md")).expect("read the README");
+    let mut body = String::new();
+    let mut in_c = false;
+    for line in readme.lines() {
+        match (in_c, line) {
+            (false, "```c") => in_c = true,
+            (true, "```") => in_c = false,
+            (true, l) if l.starts_with("#include") => {}
+            (true, l) => {
+                body.push_str(l);
+                body.push('\n');
+            }
+            _ => {}
+        }
+    }
+    assert!(
+        body.contains("translucid_frame_record"),
+        "no C snippets found"
+    );
+    let dir = out_dir("readme");
+    let source = dir.join("readme.c");
+    std::fs::write(
+        &source,
+        format!(
+            "#include <stdio.h>\n#include \"translucid.h\"\n\
+             int main(void) {{\n\
+             VkInstance instance = VK_NULL_HANDLE;\n\
+             VkPhysicalDevice gpu = VK_NULL_HANDLE;\n\
+             VkDevice device = VK_NULL_HANDLE;\n\
+             uint32_t family = 0;\n\
+             VkPhysicalDeviceFeatures enabled_features = {{0}};\n\
+             VkCommandBuffer cmd = VK_NULL_HANDLE;\n\
+             VkImage colour = VK_NULL_HANDLE, depth = VK_NULL_HANDLE;\n\
+             VkImageLayout current = VK_IMAGE_LAYOUT_GENERAL;\n\
+             VkImageLayout wanted_after = VK_IMAGE_LAYOUT_GENERAL;\n\
+             {body}\nreturn 0;\n}}\n"
+        ),
+    )
+    .expect("write the snippets");
+    compile("cc", C_FLAGS, &[source], &dir.join("readme"), &["-lvulkan"]);
 }
 
 #[test]

@@ -282,7 +282,7 @@ fn choose(
                 })
                 .ok_or_else(|| {
                     Error::NoDevice(format!(
-                        "TRANSLUCID_DEVICE={w:?} matches none of: {}",
+                        "no device matches {w:?} (by index or name); the devices are: {}",
                         names()
                     ))
                 })?

@@ -55,8 +55,8 @@ impl Material {
         let in_unit = |v: f32| (0.0..=1.0).contains(&v);
         if !self.base_colour.is_finite() || self.base_colour.cmplt(Vec4::ZERO).any() {
             return Err(format!(
-                "base colour {:?} must be finite and non-negative",
-                self.base_colour
+                "base_colour {:?} must be finite and non-negative",
+                self.base_colour.to_array()
             ));
         }
         if !in_unit(self.base_colour.w) {
@@ -70,8 +70,8 @@ impl Material {
             || self.transmission_tint.cmpgt(Vec3::ONE).any()
         {
             return Err(format!(
-                "transmission tint {:?} is not in [0, 1]",
-                self.transmission_tint
+                "transmission_tint {:?} is not in [0, 1]",
+                self.transmission_tint.to_array()
             ));
         }
         Ok(())

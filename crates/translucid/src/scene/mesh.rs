@@ -63,7 +63,7 @@ impl Mesh {
         if let Some(i) = self.positions.iter().position(|p| !p.is_finite()) {
             return Err(format!(
                 "position {i} is not finite: {:?}",
-                self.positions[i]
+                self.positions[i].to_array()
             ));
         }
         let check_len = |what: &str, len: Option<usize>| match len {
