@@ -126,6 +126,12 @@ fn c_programs() -> Vec<Program> {
             sources: vec![repo().join("examples-c/example.c")],
             libs: &[],
         },
+        // The engine's frame loop example: host-device mode, 2 frames in flight.
+        Program {
+            name: "frame_loop",
+            sources: vec![repo().join("examples-c/frame_loop.c")],
+            libs: &["-lvulkan"],
+        },
         Program {
             name: "misuse",
             sources: vec![tests.join("misuse.c")],
@@ -169,6 +175,20 @@ fn c_programs_pass_with_validation() {
             }
             assert!(dir.join("example-blend.png").exists(), "{output}");
         }
+        if program.name == "frame_loop" {
+            for method in ["exact", "blend"] {
+                let png = dir.join(format!("frame_loop-{method}.png"));
+                let image = image::open(&png)
+                    .unwrap_or_else(|e| panic!("{}: {e}\n{output}", png.display()))
+                    .to_rgba8();
+                assert_eq!(image.dimensions(), (480, 270), "{}", png.display());
+                assert!(
+                    output.contains(&format!("{method}: median record")),
+                    "{output}"
+                );
+            }
+            assert!(!output.contains("Validation Error"), "{output}");
+        }
     }
 }
 
@@ -182,7 +202,11 @@ fn c_programs_pass_under_address_sanitizer() {
         compile(
             "cc",
             &flags,
-            &[program.sources.as_slice(), std::slice::from_ref(&keep_modules)].concat(),
+            &[
+                program.sources.as_slice(),
+                std::slice::from_ref(&keep_modules),
+            ]
+            .concat(),
             &binary,
             program.libs,
         );

@@ -144,9 +144,11 @@ fn example_builds_with_the_cmake_package() {
         Command::new("cmake").arg("--build").arg(&build),
         "cmake --build",
     );
-    assert!(
-        build.join("example").exists(),
-        "no example in {}",
-        build.display()
-    );
+    for example in ["example", "frame_loop"] {
+        assert!(
+            build.join(example).exists(),
+            "no {example} in {}",
+            build.display()
+        );
+    }
 }

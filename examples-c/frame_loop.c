@@ -1,0 +1,667 @@
+/*
+ * translucid in an engine's frame loop (host-device mode): the engine owns the Vulkan
+ * instance, device, images and command buffers, keeps 2 frames in flight, and each frame
+ * moves its camera, sways a cloud of particles (translucid_mesh_update) and turns three glass
+ * panes. translucid records the transparent pass into the engine's command buffer; the
+ * engine submits, and completes each frame when it comes back to its slot.
+ *
+ *   frame_loop [OUTPUT_DIR] [FRAMES]      (default: out 120)
+ *
+ * For exact and blend it prints each frame's CPU time in translucid_frame_record, its GPU
+ * time and the loop's wall time per frame, and writes the last frame as
+ * OUTPUT_DIR/frame_loop-<method>.png (read back by the engine). With TRANSLUCID_VALIDATION=1
+ * the engine's instance runs the Khronos validation layer.
+ */
+#define _POSIX_C_SOURCE 199309L
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include <vulkan/vulkan.h>
+
+#include "translucid.h"
+
+#define WIDTH 480
+#define HEIGHT 270
+#define IN_FLIGHT 2
+#define PARTICLES 96
+#define PIXEL_BYTES (WIDTH * HEIGHT * 4)
+
+static translucid_context *g_context = NULL;
+
+static void check(translucid_result result, const char *call) {
+    if (result < 0) {
+        fprintf(stderr, "%s failed: %s (%d)\n  %s\n", call, translucid_result_string(result),
+                (int)result, translucid_context_last_error(g_context));
+        exit(1);
+    }
+}
+#define CHECK(call) check((call), #call)
+
+static void vk_check(VkResult result, const char *call) {
+    if (result != VK_SUCCESS) {
+        fprintf(stderr, "%s failed: VkResult %d\n", call, (int)result);
+        exit(1);
+    }
+}
+#define VK_CHECK(call) vk_check((call), #call)
+
+static double now_ms(void) {
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec * 1e3 + (double)t.tv_nsec / 1e6;
+}
+
+/* ---- the engine: device, images, command buffers ---- */
+
+static VkInstance g_instance;
+static VkPhysicalDevice g_physical;
+static VkDevice g_device;
+static VkQueue g_queue;
+static uint32_t g_family;
+static VkPhysicalDeviceFeatures g_features;
+static VkCommandPool g_pool;
+
+/* One frame in flight: its command buffer, fence, images and readback. */
+typedef struct frame_slot {
+    VkCommandBuffer cmd;
+    VkFence fence;
+    VkImage colour, depth;
+    VkDeviceMemory colour_memory, depth_memory, readback_memory;
+    VkBuffer readback;
+    void *pixels;
+    translucid_frame frame;
+    int in_flight;
+    double record_ms;
+} frame_slot;
+
+static frame_slot g_slots[IN_FLIGHT];
+
+static void create_device(void) {
+    translucid_host_requirements req;
+    VkApplicationInfo app;
+    VkInstanceCreateInfo instance;
+    VkPhysicalDevice devices[8];
+    uint32_t count = 8, families = 16, i;
+    VkQueueFamilyProperties props[16];
+    float priority = 1.0f;
+    VkDeviceQueueCreateInfo queue;
+    VkDeviceCreateInfo device;
+    const char *layer = "VK_LAYER_KHRONOS_validation";
+    const char *validate = getenv("TRANSLUCID_VALIDATION");
+
+    memset(&req, 0, sizeof req);
+    req.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_REQUIREMENTS;
+    CHECK(translucid_host_requirements_get(&req));
+    memset(&app, 0, sizeof app);
+    app.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO;
+    app.pApplicationName = "translucid frame loop";
+    app.apiVersion = req.api_version;
+    memset(&instance, 0, sizeof instance);
+    instance.sType = VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO;
+    instance.pApplicationInfo = &app;
+    if (validate != NULL && strcmp(validate, "1") == 0) {
+        instance.enabledLayerCount = 1;
+        instance.ppEnabledLayerNames = &layer;
+    }
+    VK_CHECK(vkCreateInstance(&instance, NULL, &g_instance));
+    VK_CHECK(vkEnumeratePhysicalDevices(g_instance, &count, devices) < 0 ? VK_ERROR_UNKNOWN
+                                                                           : VK_SUCCESS);
+    if (count == 0) vk_check(VK_ERROR_INITIALIZATION_FAILED, "no Vulkan device");
+    g_physical = devices[0];
+    vkGetPhysicalDeviceQueueFamilyProperties(g_physical, &families, props);
+    g_family = families;
+    for (i = 0; i < families; i++) {
+        if ((props[i].queueFlags & req.queue_flags) == req.queue_flags &&
+            props[i].timestampValidBits > 0) {
+            g_family = i;
+            break;
+        }
+    }
+    if (g_family == families) vk_check(VK_ERROR_FEATURE_NOT_PRESENT, "a queue family");
+    /* An engine ORs translucid's features into its own; this one has none of its own. */
+    g_features = req.features;
+    memset(&queue, 0, sizeof queue);
+    queue.sType = VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO;
+    queue.queueFamilyIndex = g_family;
+    queue.queueCount = 1;
+    queue.pQueuePriorities = &priority;
+    memset(&device, 0, sizeof device);
+    device.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO;
+    device.queueCreateInfoCount = 1;
+    device.pQueueCreateInfos = &queue;
+    device.pEnabledFeatures = &g_features;
+    device.enabledExtensionCount = req.extension_count;
+    device.ppEnabledExtensionNames = req.extensions;
+    VK_CHECK(vkCreateDevice(g_physical, &device, NULL, &g_device));
+    vkGetDeviceQueue(g_device, g_family, 0, &g_queue);
+}
+
+static VkDeviceMemory allocate(VkMemoryRequirements req, VkMemoryPropertyFlags wanted) {
+    VkPhysicalDeviceMemoryProperties props;
+    VkMemoryAllocateInfo info;
+    VkDeviceMemory memory;
+    uint32_t i;
+    vkGetPhysicalDeviceMemoryProperties(g_physical, &props);
+    memset(&info, 0, sizeof info);
+    info.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
+    info.allocationSize = req.size;
+    info.memoryTypeIndex = props.memoryTypeCount;
+    for (i = 0; i < props.memoryTypeCount; i++) {
+        if ((req.memoryTypeBits & (1u << i)) &&
+            (props.memoryTypes[i].propertyFlags & wanted) == wanted) {
+            info.memoryTypeIndex = i;
+            break;
+        }
+    }
+    if (info.memoryTypeIndex == props.memoryTypeCount) {
+        vk_check(VK_ERROR_OUT_OF_DEVICE_MEMORY, "a memory type");
+    }
+    VK_CHECK(vkAllocateMemory(g_device, &info, NULL, &memory));
+    return memory;
+}
+
+static VkImage create_image(VkFormat format, VkImageUsageFlags usage, VkDeviceMemory *memory) {
+    VkImageCreateInfo info;
+    VkMemoryRequirements req;
+    VkImage image;
+    memset(&info, 0, sizeof info);
+    info.sType = VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO;
+    info.imageType = VK_IMAGE_TYPE_2D;
+    info.format = format;
+    info.extent.width = WIDTH;
+    info.extent.height = HEIGHT;
+    info.extent.depth = 1;
+    info.mipLevels = 1;
+    info.arrayLayers = 1;
+    info.samples = VK_SAMPLE_COUNT_1_BIT;
+    info.tiling = VK_IMAGE_TILING_OPTIMAL;
+    info.usage = usage;
+    VK_CHECK(vkCreateImage(g_device, &info, NULL, &image));
+    vkGetImageMemoryRequirements(g_device, image, &req);
+    *memory = allocate(req, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+    VK_CHECK(vkBindImageMemory(g_device, image, *memory, 0));
+    return image;
+}
+
+static void create_slots(void) {
+    VkCommandPoolCreateInfo pool;
+    VkCommandBufferAllocateInfo alloc;
+    VkFenceCreateInfo fence;
+    VkBufferCreateInfo buffer;
+    VkMemoryRequirements req;
+    VkImageUsageFlags transfer = VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+    int i;
+
+    memset(&pool, 0, sizeof pool);
+    pool.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO;
+    pool.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+    pool.queueFamilyIndex = g_family;
+    VK_CHECK(vkCreateCommandPool(g_device, &pool, NULL, &g_pool));
+    for (i = 0; i < IN_FLIGHT; i++) {
+        frame_slot *s = &g_slots[i];
+        memset(&alloc, 0, sizeof alloc);
+        alloc.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO;
+        alloc.commandPool = g_pool;
+        alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+        alloc.commandBufferCount = 1;
+        VK_CHECK(vkAllocateCommandBuffers(g_device, &alloc, &s->cmd));
+        memset(&fence, 0, sizeof fence);
+        fence.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO;
+        VK_CHECK(vkCreateFence(g_device, &fence, NULL, &s->fence));
+        s->colour = create_image(VK_FORMAT_R8G8B8A8_SRGB,
+                                 transfer | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT,
+                                 &s->colour_memory);
+        s->depth = create_image(VK_FORMAT_D32_SFLOAT,
+                                transfer | VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
+                                &s->depth_memory);
+        memset(&buffer, 0, sizeof buffer);
+        buffer.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO;
+        buffer.size = PIXEL_BYTES;
+        buffer.usage = VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+        VK_CHECK(vkCreateBuffer(g_device, &buffer, NULL, &s->readback));
+        vkGetBufferMemoryRequirements(g_device, s->readback, &req);
+        s->readback_memory = allocate(req, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
+                                               VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
+        VK_CHECK(vkBindBufferMemory(g_device, s->readback, s->readback_memory, 0));
+        VK_CHECK(vkMapMemory(g_device, s->readback_memory, 0, VK_WHOLE_SIZE, 0, &s->pixels));
+        s->in_flight = 0;
+    }
+}
+
+static void destroy_engine(void) {
+    int i;
+    for (i = 0; i < IN_FLIGHT; i++) {
+        frame_slot *s = &g_slots[i];
+        vkDestroyBuffer(g_device, s->readback, NULL);
+        vkFreeMemory(g_device, s->readback_memory, NULL);
+        vkDestroyImage(g_device, s->colour, NULL);
+        vkFreeMemory(g_device, s->colour_memory, NULL);
+        vkDestroyImage(g_device, s->depth, NULL);
+        vkFreeMemory(g_device, s->depth_memory, NULL);
+        vkDestroyFence(g_device, s->fence, NULL);
+    }
+    vkDestroyCommandPool(g_device, g_pool, NULL);
+    vkDestroyDevice(g_device, NULL);
+    vkDestroyInstance(g_instance, NULL);
+}
+
+static void transition(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect,
+                       VkImageLayout from, VkImageLayout to) {
+    VkImageMemoryBarrier b;
+    memset(&b, 0, sizeof b);
+    b.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER;
+    b.srcAccessMask = VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT;
+    b.dstAccessMask = VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT;
+    b.oldLayout = from;
+    b.newLayout = to;
+    b.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    b.image = image;
+    b.subresourceRange.aspectMask = aspect;
+    b.subresourceRange.levelCount = 1;
+    b.subresourceRange.layerCount = 1;
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
+                         VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 0, NULL, 0, NULL, 1, &b);
+}
+
+/* The engine's opaque pass, here a clear: a dark sky, nothing in the way. */
+static void record_opaque(VkCommandBuffer cmd, const frame_slot *s) {
+    VkClearColorValue sky;
+    VkClearDepthStencilValue far;
+    VkImageSubresourceRange colour, depth;
+    memset(&sky, 0, sizeof sky);
+    sky.float32[0] = 0.02f;
+    sky.float32[1] = 0.03f;
+    sky.float32[2] = 0.06f;
+    sky.float32[3] = 1.0f;
+    far.depth = 1.0f;
+    far.stencil = 0;
+    memset(&colour, 0, sizeof colour);
+    colour.aspectMask = VK_IMAGE_ASPECT_COLOR_BIT;
+    colour.levelCount = 1;
+    colour.layerCount = 1;
+    depth = colour;
+    depth.aspectMask = VK_IMAGE_ASPECT_DEPTH_BIT;
+    transition(cmd, s->colour, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+               VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL);
+    transition(cmd, s->depth, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+               VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL);
+    vkCmdClearColorImage(cmd, s->colour, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &sky, 1, &colour);
+    vkCmdClearDepthStencilImage(cmd, s->depth, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &far, 1,
+                                &depth);
+}
+
+/* ---- a PNG of the read-back frame (stored deflate blocks: no compression library) ---- */
+
+static uint32_t crc32_of(const uint8_t *data, size_t n, uint32_t crc) {
+    size_t i;
+    int k;
+    crc = ~crc;
+    for (i = 0; i < n; i++) {
+        crc ^= data[i];
+        for (k = 0; k < 8; k++) crc = (crc >> 1) ^ (0xEDB88320u & (0u - (crc & 1u)));
+    }
+    return ~crc;
+}
+
+static void put_u32(uint8_t *p, uint32_t v) {
+    p[0] = (uint8_t)(v >> 24);
+    p[1] = (uint8_t)(v >> 16);
+    p[2] = (uint8_t)(v >> 8);
+    p[3] = (uint8_t)v;
+}
+
+static void write_chunk(FILE *f, const char *type, const uint8_t *data, uint32_t n) {
+    uint8_t word[4];
+    uint32_t crc = crc32_of((const uint8_t *)type, 4, 0);
+    crc = crc32_of(data, n, crc);
+    put_u32(word, n);
+    fwrite(word, 1, 4, f);
+    fwrite(type, 1, 4, f);
+    if (n > 0) fwrite(data, 1, n, f);
+    put_u32(word, crc);
+    fwrite(word, 1, 4, f);
+}
+
+static void write_png(const char *path, const uint8_t *rgba) {
+    static const uint8_t signature[8] = {137, 80, 78, 71, 13, 10, 26, 10};
+    const size_t row = 1 + WIDTH * 4, raw = row * HEIGHT;
+    const size_t blocks = (raw + 65534) / 65535;
+    uint8_t header[13];
+    uint8_t *zlib = malloc(2 + raw + 5 * blocks + 4), *out;
+    uint8_t *scanlines = malloc(raw);
+    uint32_t a = 1, b = 0;
+    size_t y, i, done;
+    FILE *f = fopen(path, "wb");
+    if (zlib == NULL || scanlines == NULL || f == NULL) {
+        fprintf(stderr, "cannot write %s\n", path);
+        exit(1);
+    }
+    for (y = 0; y < HEIGHT; y++) {
+        scanlines[y * row] = 0; /* filter: none */
+        memcpy(scanlines + y * row + 1, rgba + y * WIDTH * 4, WIDTH * 4);
+    }
+    out = zlib;
+    *out++ = 0x78;
+    *out++ = 0x01;
+    for (done = 0; done < raw;) {
+        size_t n = raw - done < 65535 ? raw - done : 65535;
+        *out++ = done + n == raw ? 1 : 0;
+        *out++ = (uint8_t)n;
+        *out++ = (uint8_t)(n >> 8);
+        *out++ = (uint8_t)~n;
+        *out++ = (uint8_t)(~n >> 8);
+        memcpy(out, scanlines + done, n);
+        out += n;
+        done += n;
+    }
+    for (i = 0; i < raw; i++) {
+        a = (a + scanlines[i]) % 65521;
+        b = (b + a) % 65521;
+    }
+    put_u32(out, (b << 16) | a);
+    out += 4;
+    put_u32(header, WIDTH);
+    put_u32(header + 4, HEIGHT);
+    header[8] = 8;  /* bits per channel */
+    header[9] = 6;  /* RGBA */
+    header[10] = 0; /* deflate */
+    header[11] = 0; /* adaptive filters */
+    header[12] = 0; /* not interlaced */
+    fwrite(signature, 1, 8, f);
+    write_chunk(f, "IHDR", header, 13);
+    write_chunk(f, "IDAT", zlib, (uint32_t)(out - zlib));
+    write_chunk(f, "IEND", NULL, 0);
+    fclose(f);
+    free(zlib);
+    free(scanlines);
+}
+
+/* ---- the scene: assets created once, moved every frame ---- */
+
+typedef struct scene {
+    translucid_mesh pane, particles;
+    translucid_material glass[3], smoke;
+    float particle_positions[PARTICLES * 4 * 3];
+    translucid_draw draws[4];
+} scene;
+
+static float hash01(uint32_t i) {
+    i = (i ^ 61u) ^ (i >> 16);
+    i *= 9u;
+    i ^= i >> 4;
+    i *= 0x27d4eb2du;
+    i ^= i >> 15;
+    return (float)(i & 0xFFFFu) / 65535.0f;
+}
+
+/* Frame `k`'s particles: small quads facing +Z, rising and swaying. */
+static void place_particles(scene *s, int k) {
+    int p, c;
+    for (p = 0; p < PARTICLES; p++) {
+        float x = -1.2f + 2.4f * hash01((uint32_t)p * 3u);
+        float z = -0.8f + 1.6f * hash01((uint32_t)p * 3u + 1u);
+        float rise = fmodf(hash01((uint32_t)p * 3u + 2u) * 2.4f + 0.02f * (float)k, 2.4f);
+        float y = -1.2f + rise, sway = 0.1f * sinf(0.1f * (float)k + (float)p);
+        float size = 0.12f;
+        for (c = 0; c < 4; c++) {
+            float *v = &s->particle_positions[(p * 4 + c) * 3];
+            v[0] = x + sway + (c == 1 || c == 2 ? size : -size);
+            v[1] = y + (c >= 2 ? size : -size);
+            v[2] = z;
+        }
+    }
+}
+
+static translucid_material make_material(float r, float g, float b, float a, uint32_t flags) {
+    translucid_material_create_info info;
+    translucid_material material;
+    memset(&info, 0, sizeof info);
+    info.s_type = TRANSLUCID_STRUCTURE_TYPE_MATERIAL_CREATE_INFO;
+    info.base_colour[0] = r;
+    info.base_colour[1] = g;
+    info.base_colour[2] = b;
+    info.base_colour[3] = a;
+    info.flags = flags;
+    CHECK(translucid_material_create(g_context, &info, &material));
+    return material;
+}
+
+static void make_scene(scene *s) {
+    static const float pane[] = {-0.7f, -0.7f, 0, 0.7f, -0.7f, 0, 0.7f, 0.7f, 0, -0.7f, 0.7f, 0};
+    static const uint32_t quad[] = {0, 1, 2, 3};
+    static uint32_t particle_quads[PARTICLES * 4];
+    translucid_mesh_create_info mesh;
+    int i;
+
+    memset(&mesh, 0, sizeof mesh);
+    mesh.s_type = TRANSLUCID_STRUCTURE_TYPE_MESH_CREATE_INFO;
+    mesh.primitive = TRANSLUCID_PRIMITIVE_QUADS;
+    mesh.vertex_count = 4;
+    mesh.positions = pane;
+    mesh.index_count = 4;
+    mesh.indices = quad;
+    mesh.name = "pane";
+    CHECK(translucid_mesh_create(g_context, &mesh, &s->pane));
+    for (i = 0; i < PARTICLES * 4; i++) particle_quads[i] = (uint32_t)i;
+    place_particles(s, 0);
+    mesh.vertex_count = PARTICLES * 4;
+    mesh.positions = s->particle_positions;
+    mesh.index_count = PARTICLES * 4;
+    mesh.indices = particle_quads;
+    mesh.name = "particles";
+    CHECK(translucid_mesh_create(g_context, &mesh, &s->particles));
+    s->glass[0] = make_material(1.0f, 0.15f, 0.1f, 0.5f, 0);
+    s->glass[1] = make_material(0.1f, 1.0f, 0.2f, 0.5f, 0);
+    s->glass[2] = make_material(0.1f, 0.3f, 1.0f, 0.5f, 0);
+    s->smoke = make_material(0.9f, 0.8f, 0.7f, 0.15f, 0);
+    memset(s->draws, 0, sizeof s->draws);
+    for (i = 0; i < 3; i++) {
+        s->draws[i].mesh = s->pane;
+        s->draws[i].material = s->glass[i];
+    }
+    s->draws[3].mesh = s->particles;
+    s->draws[3].material = s->smoke;
+    s->draws[3].transform[0] = s->draws[3].transform[5] = s->draws[3].transform[10] =
+        s->draws[3].transform[15] = 1.0f;
+}
+
+/* Frame `k`: the panes turn about y, each about its own spot. */
+static void move_panes(scene *s, int k) {
+    int i;
+    for (i = 0; i < 3; i++) {
+        float a = 0.03f * (float)k + 2.1f * (float)i, c = cosf(a), sn = sinf(a);
+        float *m = s->draws[i].transform;
+        memset(m, 0, 16 * sizeof(float));
+        m[0] = c;
+        m[2] = -sn;
+        m[5] = 1.0f;
+        m[8] = sn;
+        m[10] = c;
+        m[12] = -0.6f + 0.6f * (float)i;
+        m[13] = -0.2f + 0.2f * (float)i;
+        m[14] = -0.3f + 0.3f * (float)i;
+        m[15] = 1.0f;
+    }
+}
+
+/* A camera circling the scene at 4 units, 0.8 radians of vertical field of view. */
+static translucid_camera orbit_camera(int k) {
+    translucid_camera camera;
+    float a = 0.02f * (float)k, c = cosf(a), sn = sinf(a), d = 4.0f;
+    memset(&camera, 0, sizeof camera);
+    /* Rows of the view's rotation: right (c, 0, -s), up (0, 1, 0), back (s, 0, c). */
+    camera.view[0] = c;
+    camera.view[8] = -sn;
+    camera.view[5] = 1.0f;
+    camera.view[2] = sn;
+    camera.view[10] = c;
+    camera.view[14] = -d;
+    camera.view[15] = 1.0f;
+    camera.fov_y = 0.8f;
+    camera.z_near = 0.1f;
+    camera.z_far = 50.0f;
+    return camera;
+}
+
+static int compare_doubles(const void *a, const void *b) {
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static double median(double *v, int n) {
+    qsort(v, (size_t)n, sizeof *v, compare_doubles);
+    return v[n / 2];
+}
+
+/* Ends the frame in flight in `s`: waits for its fence, completes it, prints its times. */
+static void finish(frame_slot *s, int k, double *gpu_ms) {
+    translucid_frame_statistics stats;
+    translucid_result done;
+    VK_CHECK(vkWaitForFences(g_device, 1, &s->fence, VK_TRUE, UINT64_MAX));
+    VK_CHECK(vkResetFences(g_device, 1, &s->fence));
+    done = translucid_frame_complete(g_context, s->frame);
+    CHECK(done);
+    memset(&stats, 0, sizeof stats);
+    stats.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_STATISTICS;
+    CHECK(translucid_frame_get_statistics(g_context, s->frame, &stats));
+    *gpu_ms = stats.gpu_milliseconds;
+    printf("  frame %3d: record %.3f ms (CPU), GPU %.3f ms (method %.3f)%s\n", k, s->record_ms,
+           stats.gpu_milliseconds, stats.method_milliseconds,
+           done == TRANSLUCID_RESULT_INCOMPLETE ? ", past a limit: see the README" : "");
+    CHECK(translucid_frame_destroy(g_context, s->frame));
+    s->in_flight = 0;
+}
+
+/* `frames` frames of the loop with `method`; the last one written to `png`. */
+static void run(uint32_t method, int frames, const char *png) {
+    scene sc;
+    double *record = malloc(sizeof(double) * (size_t)frames);
+    double *gpu = malloc(sizeof(double) * (size_t)frames);
+    double *wall = malloc(sizeof(double) * (size_t)frames);
+    double last = now_ms();
+    int k;
+    if (record == NULL || gpu == NULL || wall == NULL) exit(1);
+    make_scene(&sc);
+    printf("%s, %d frames at %dx%d, %d in flight:\n", translucid_method_name(method), frames, WIDTH,
+           HEIGHT, IN_FLIGHT);
+    for (k = 0; k < frames + IN_FLIGHT; k++) {
+        frame_slot *s = &g_slots[k % IN_FLIGHT];
+        translucid_frame_info info;
+        translucid_host_frame_targets targets;
+        VkCommandBufferBeginInfo begin;
+        VkSubmitInfo submit;
+        double started;
+        /* Back at this slot: its frame (two frames ago) has to finish first. */
+        if (s->in_flight) finish(s, k - IN_FLIGHT, &gpu[k - IN_FLIGHT]);
+        if (k >= frames) continue;
+
+        place_particles(&sc, k);
+        CHECK(translucid_mesh_update(g_context, sc.particles, 0, PARTICLES * 4,
+                                     sc.particle_positions));
+        move_panes(&sc, k);
+        memset(&info, 0, sizeof info);
+        info.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_INFO;
+        info.method = method;
+        info.width = WIDTH;
+        info.height = HEIGHT;
+        info.camera = orbit_camera(k);
+        info.draws = sc.draws;
+        info.draw_count = 4;
+
+        memset(&begin, 0, sizeof begin);
+        begin.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
+        begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+        VK_CHECK(vkResetCommandBuffer(s->cmd, 0));
+        VK_CHECK(vkBeginCommandBuffer(s->cmd, &begin));
+        record_opaque(s->cmd, s);
+        memset(&targets, 0, sizeof targets);
+        targets.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_FRAME_TARGETS;
+        targets.command_buffer = s->cmd;
+        targets.colour.image = s->colour;
+        targets.colour.format = VK_FORMAT_R8G8B8A8_SRGB;
+        targets.colour.layout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+        targets.colour.final_layout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+        targets.depth.image = s->depth;
+        targets.depth.format = VK_FORMAT_D32_SFLOAT;
+        targets.depth.layout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+        targets.depth.final_layout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
+        started = now_ms();
+        CHECK(translucid_frame_record(g_context, &info, &targets, &s->frame));
+        s->record_ms = now_ms() - started;
+        record[k] = s->record_ms;
+        if (k == frames - 1) {
+            /* The engine reads its last frame back (translucid left it in TRANSFER_SRC). */
+            VkBufferImageCopy copy;
+            memset(&copy, 0, sizeof copy);
+            copy.imageSubresource.aspectMask = VK_IMAGE_ASPECT_COLOR_BIT;
+            copy.imageSubresource.layerCount = 1;
+            copy.imageExtent.width = WIDTH;
+            copy.imageExtent.height = HEIGHT;
+            copy.imageExtent.depth = 1;
+            vkCmdCopyImageToBuffer(s->cmd, s->colour, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                                   s->readback, 1, &copy);
+        }
+        VK_CHECK(vkEndCommandBuffer(s->cmd));
+        memset(&submit, 0, sizeof submit);
+        submit.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;
+        submit.commandBufferCount = 1;
+        submit.pCommandBuffers = &s->cmd;
+        VK_CHECK(vkQueueSubmit(g_queue, 1, &submit, s->fence));
+        s->in_flight = 1;
+        wall[k] = now_ms() - last;
+        last = now_ms();
+    }
+    /* The readback's memory is host-coherent and the fence was waited for. */
+    write_png(png, g_slots[(frames - 1) % IN_FLIGHT].pixels);
+    printf("%s: median record %.3f ms (CPU), GPU %.3f ms, wall %.3f ms a frame; wrote %s\n",
+           translucid_method_name(method), median(record, frames), median(gpu, frames),
+           median(wall, frames), png);
+    free(record);
+    free(gpu);
+    free(wall);
+}
+
+int main(int argc, char **argv) {
+    const char *out_dir = argc > 1 ? argv[1] : "out";
+    int frames = argc > 2 ? atoi(argv[2]) : 120;
+    static const uint32_t methods[2] = {TRANSLUCID_METHOD_EXACT, TRANSLUCID_METHOD_BLEND};
+    translucid_host_device_create_info host;
+    translucid_context_create_info info;
+    char path[1024];
+    int m;
+
+    if (frames < 1) frames = 1;
+    create_device();
+    create_slots();
+    memset(&host, 0, sizeof host);
+    host.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_CREATE_INFO;
+    host.api_version = VK_API_VERSION_1_2;
+    host.instance = g_instance;
+    host.physical_device = g_physical;
+    host.device = g_device;
+    host.queue_family_index = g_family;
+    host.get_instance_proc_addr = vkGetInstanceProcAddr;
+    host.enabled_features = &g_features;
+    memset(&info, 0, sizeof info);
+    info.s_type = TRANSLUCID_STRUCTURE_TYPE_CONTEXT_CREATE_INFO;
+    info.header_version = TRANSLUCID_HEADER_VERSION;
+    info.mode = TRANSLUCID_CONTEXT_MODE_HOST_DEVICE;
+    info.next = &host;
+    info.frames_in_flight = IN_FLIGHT;
+    CHECK(translucid_context_create(&info, &g_context));
+    printf("translucid %s on %s\n", translucid_version_string(),
+           translucid_context_device_name(g_context));
+    for (m = 0; m < 2; m++) {
+        snprintf(path, sizeof path, "%s/frame_loop-%s.png", out_dir,
+                 translucid_method_name(methods[m]));
+        run(methods[m], frames, path);
+    }
+    /* Every frame was completed: the GPU is done with translucid's commands. */
+    translucid_context_destroy(g_context);
+    destroy_engine();
+    return 0;
+}
