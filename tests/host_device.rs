@@ -831,7 +831,7 @@ fn encode_depth(format: vk::Format, v: f32) -> (Vec<u8>, f32) {
             let k = (v * 65535.0).round() as u16;
             (k.to_le_bytes().to_vec(), f32::from(k) / 65535.0)
         }
-        vk::Format::X8_D24_UNORM_PACK32 => {
+        vk::Format::X8_D24_UNORM_PACK32 | vk::Format::D24_UNORM_S8_UINT => {
             let k = (v * 16_777_215.0).round() as u32;
             (k.to_le_bytes().to_vec(), k as f32 / 16_777_215.0)
         }

@@ -117,9 +117,13 @@ pub struct translucid_host_frame_targets {
     /// TRANSFER_SRC and TRANSFER_DST usage and a format that can be blitted both ways
     /// (UNORM, SRGB or float; not integer).
     pub colour: translucid_host_image,
-    /// The opaque depth (0 near, 1 far), read only: `VK_FORMAT_D32_SFLOAT` with TRANSFER_SRC
-    /// usage (copied), or `VK_FORMAT_D16_UNORM` or `VK_FORMAT_X8_D24_UNORM_PACK32` with
-    /// SAMPLED usage (sampled by a full-screen pass).
+    /// The opaque depth, read only (the stencil of a format that has one is ignored), as the
+    /// frame's camera projects it (forward or reversed-Z): `VK_FORMAT_D32_SFLOAT` with
+    /// TRANSFER_SRC usage is copied when depth grows away from the eye; reversed-Z depth and
+    /// `VK_FORMAT_D16_UNORM`, `VK_FORMAT_X8_D24_UNORM_PACK32`, `VK_FORMAT_D24_UNORM_S8_UINT`
+    /// and `VK_FORMAT_D32_SFLOAT_S8_UINT` need SAMPLED usage (read by a full-screen pass). A
+    /// format with stencil must be in a layout of both aspects (not DEPTH_ATTACHMENT_OPTIMAL
+    /// or DEPTH_READ_ONLY_OPTIMAL).
     pub depth: translucid_host_image,
 }
 

@@ -425,10 +425,16 @@ static void frame_errors(const scene *s) {
     EXPECT(g_host, translucid_frame_record(g_host, &info, &targets, &frame),
            TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
     targets = frame_targets();
-    targets.depth.format = VK_FORMAT_D24_UNORM_S8_UINT;
+    targets.depth.format = VK_FORMAT_S8_UINT;
     EXPECT(g_host, translucid_frame_record(g_host, &info, &targets, &frame),
            TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
     TRUE_OR_FAIL(strstr(translucid_context_last_error(g_host), "D32_SFLOAT") != NULL);
+    /* A format with stencil in a layout of its depth alone: its stencil's layout is unknown. */
+    targets.depth.format = VK_FORMAT_D24_UNORM_S8_UINT;
+    targets.depth.layout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
+    EXPECT(g_host, translucid_frame_record(g_host, &info, &targets, &frame),
+           TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    TRUE_OR_FAIL(strstr(translucid_context_last_error(g_host), "stencil") != NULL);
     targets = frame_targets();
     targets.colour.format = VK_FORMAT_R8G8B8A8_UINT;
     EXPECT(g_host, translucid_frame_record(g_host, &info, &targets, &frame),

@@ -231,7 +231,7 @@ pub fn mip_region(image: &GpuImage, level: u32, buffer_offset: u64) -> vk::Buffe
     vk::BufferImageCopy::default()
         .buffer_offset(buffer_offset)
         .image_subresource(vk::ImageSubresourceLayers {
-            aspect_mask: image.aspect,
+            aspect_mask: image.read_aspect(),
             mip_level: level,
             base_array_layer: 0,
             layer_count: 1,

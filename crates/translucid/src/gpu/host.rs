@@ -233,12 +233,36 @@ const DEPTH_LAYOUTS: [vk::ImageLayout; 8] = [
 /// away from the eye).
 pub const HOST_DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 
-/// The depth formats translucid reads: [`HOST_DEPTH_FORMAT`], and those it samples.
-/// (Formats with stencil are not among them yet.)
-pub const HOST_DEPTH_FORMATS: [vk::Format; 3] = [
+/// The depth formats translucid reads: [`HOST_DEPTH_FORMAT`], and those it samples (the
+/// stencil of the last two is ignored).
+pub const HOST_DEPTH_FORMATS: [vk::Format; 5] = [
     vk::Format::D32_SFLOAT,
     vk::Format::D16_UNORM,
     vk::Format::X8_D24_UNORM_PACK32,
+    vk::Format::D24_UNORM_S8_UINT,
+    vk::Format::D32_SFLOAT_S8_UINT,
+];
+
+/// The aspects a layout transition of an image of depth `format` names: depth, and stencil
+/// when the format has one (both aspects change layout together without
+/// `separateDepthStencilLayouts`, which translucid does not ask for).
+pub fn depth_format_aspects(format: vk::Format) -> vk::ImageAspectFlags {
+    match format {
+        vk::Format::D24_UNORM_S8_UINT
+        | vk::Format::D32_SFLOAT_S8_UINT
+        | vk::Format::D16_UNORM_S8_UINT => {
+            vk::ImageAspectFlags::DEPTH | vk::ImageAspectFlags::STENCIL
+        }
+        _ => vk::ImageAspectFlags::DEPTH,
+    }
+}
+
+/// Layouts that name the depth aspect alone (synchronization2 and separate depth/stencil
+/// layouts): a depth image with stencil in one of them has its stencil in a layout
+/// translucid is not told.
+const DEPTH_ONLY_LAYOUTS: [vk::ImageLayout; 2] = [
+    vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+    vk::ImageLayout::DEPTH_READ_ONLY_OPTIMAL,
 ];
 
 fn check_layouts(what: &str, image: &HostImage, allowed: &[vk::ImageLayout]) -> Result<()> {
@@ -276,6 +300,19 @@ impl Gpu {
         }
         check_layouts("colour", &t.colour, &COLOUR_LAYOUTS)?;
         check_layouts("depth", &t.depth, &DEPTH_LAYOUTS)?;
+        if depth_format_aspects(t.depth.format).contains(vk::ImageAspectFlags::STENCIL) {
+            for layout in [t.depth.layout, t.depth.final_layout] {
+                if DEPTH_ONLY_LAYOUTS.contains(&layout) {
+                    return Err(Error::HostFrame(format!(
+                        "depth layout {layout:?} names the depth aspect alone, but \
+                         VK_FORMAT_{:?} has stencil too: use a layout of both aspects \
+                         (DEPTH_STENCIL_ATTACHMENT_OPTIMAL, DEPTH_STENCIL_READ_ONLY_OPTIMAL, \
+                         GENERAL...)",
+                        t.depth.format
+                    )));
+                }
+            }
+        }
         let sampled = vk::FormatFeatureFlags::SAMPLED_IMAGE;
         if !HOST_DEPTH_FORMATS.contains(&t.depth.format)
             || !self.format_features(t.depth.format).contains(sampled)

@@ -108,13 +108,14 @@ impl DepthImport {
         depth: &HostImage,
         reversed: bool,
     ) -> Result<()> {
-        let aspects = vk::ImageAspectFlags::DEPTH;
+        // The view reads depth; transitions name every aspect of the format.
+        let aspects = super::host::depth_format_aspects(depth.format);
         let info = vk::ImageViewCreateInfo::default()
             .image(depth.image)
             .view_type(vk::ImageViewType::TYPE_2D)
             .format(depth.format)
             .subresource_range(vk::ImageSubresourceRange {
-                aspect_mask: aspects,
+                aspect_mask: vk::ImageAspectFlags::DEPTH,
                 base_mip_level: 0,
                 level_count: 1,
                 base_array_layer: 0,

@@ -151,7 +151,7 @@ impl Gpu {
         // The depth formats translucid reads from engines, its own D32 among them (tests make
         // engine images of each).
         let aspect = if super::HOST_DEPTH_FORMATS.contains(&format) {
-            vk::ImageAspectFlags::DEPTH
+            super::host::depth_format_aspects(format)
         } else {
             vk::ImageAspectFlags::COLOR
         };
@@ -198,7 +198,11 @@ impl Gpu {
             .image(raw)
             .view_type(vk::ImageViewType::TYPE_2D)
             .format(format)
-            .subresource_range(image.full_range());
+            .subresource_range(vk::ImageSubresourceRange {
+                // A view reads one aspect: the depth of a depth/stencil format.
+                aspect_mask: image.read_aspect(),
+                ..image.full_range()
+            });
         // SAFETY: the image is bound to memory; the range is within it.
         image.view = unsafe { self.device.create_image_view(&view_info, None) }
             .map_err(vk_err("vkCreateImageView"))?;
@@ -351,6 +355,15 @@ pub struct GpuImage {
 }
 
 impl GpuImage {
+    /// The aspect views and copies read: the image's, or the depth of a depth/stencil one.
+    pub fn read_aspect(&self) -> vk::ImageAspectFlags {
+        if self.aspect.contains(vk::ImageAspectFlags::DEPTH) {
+            vk::ImageAspectFlags::DEPTH
+        } else {
+            self.aspect
+        }
+    }
+
     pub fn full_range(&self) -> vk::ImageSubresourceRange {
         vk::ImageSubresourceRange {
             aspect_mask: self.aspect,
