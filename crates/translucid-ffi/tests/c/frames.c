@@ -10,6 +10,7 @@
  * 3. The engine's own projection: reversed-Z with an infinite far plane, and a jitter.
  * 4. A mesh destroyed while a frame that draws it is in flight.
  * 5. Misuse: too many frames in flight, abandoning a frame between others, bad updates.
+ * 6. Every depth format an engine may hand over, with forward and reversed-Z depth.
  * And first, in the standalone context: an updated mesh draws as one created so.
  */
 #include <math.h>
@@ -249,31 +250,38 @@ static void begin(VkCommandBuffer cmd) {
     VK_CHECK(vkBeginCommandBuffer(cmd, &info));
 }
 
-/* The engine's opaque pass into the slot's images (uploaded from its buffer). */
-static void record_opaque(VkCommandBuffer cmd, slot *s) {
+/* The engine's opaque pass into the slot's colour and `depth` (of `aspects`), uploaded from
+ * the slot's buffer: colour bytes, then the depth texels the caller wrote after them. */
+static void record_opaque_into(VkCommandBuffer cmd, slot *s, VkImage depth_image,
+                               VkImageAspectFlags aspects) {
     VkBufferImageCopy colour = region(VK_IMAGE_ASPECT_COLOR_BIT, 0, W, H);
     VkBufferImageCopy depth = region(VK_IMAGE_ASPECT_DEPTH_BIT, COLOUR_BYTES, W, H);
     VkPipelineStageFlags all = VK_PIPELINE_STAGE_ALL_COMMANDS_BIT;
     VkAccessFlags any = VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT;
     VkPipelineStageFlags transfer = VK_PIPELINE_STAGE_TRANSFER_BIT;
     memcpy(s->mapped, g_opaque_colour, COLOUR_BYTES);
-    memcpy(s->mapped + COLOUR_BYTES, g_engine_depth, DEPTH_BYTES);
     barrier(cmd, s->colour, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
             VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, all, any, transfer,
             VK_ACCESS_TRANSFER_WRITE_BIT);
-    barrier(cmd, s->depth, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+    barrier(cmd, depth_image, aspects, VK_IMAGE_LAYOUT_UNDEFINED,
             VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, all, any, transfer,
             VK_ACCESS_TRANSFER_WRITE_BIT);
     vkCmdCopyBufferToImage(cmd, s->buffer, s->colour, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1,
                            &colour);
-    vkCmdCopyBufferToImage(cmd, s->buffer, s->depth, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1,
+    vkCmdCopyBufferToImage(cmd, s->buffer, depth_image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1,
                            &depth);
     barrier(cmd, s->colour, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
             VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, transfer, VK_ACCESS_TRANSFER_WRITE_BIT,
             all, any);
-    barrier(cmd, s->depth, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+    barrier(cmd, depth_image, aspects, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
             VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL, transfer,
             VK_ACCESS_TRANSFER_WRITE_BIT, all, any);
+}
+
+/* The engine's opaque pass into the slot's own images (D32 depth). */
+static void record_opaque(VkCommandBuffer cmd, slot *s) {
+    memcpy(s->mapped + COLOUR_BYTES, g_engine_depth, DEPTH_BYTES);
+    record_opaque_into(cmd, s, s->depth, VK_IMAGE_ASPECT_DEPTH_BIT);
 }
 
 /* After translucid: the slot's colour (left in TRANSFER_SRC_OPTIMAL) into its buffer. */
@@ -548,6 +556,90 @@ static void destroy_in_flight(void) {
     translucid_context_destroy(ctx);
 }
 
+/* One engine depth format: writes the engine's depth as its texels at `out` and the depth
+ * they hold (what translucid reads) into g_layer_depth, turned around when reversed. */
+static void encode_depth(VkFormat format, int reversed, uint8_t *out) {
+    size_t i;
+    for (i = 0; i < W * H; i++) {
+        float d = g_engine_depth[i], held = d;
+        if (format == VK_FORMAT_D16_UNORM) {
+            uint16_t k = (uint16_t)((double)d * 65535.0 + 0.5);
+            memcpy(out + i * 2, &k, 2);
+            held = (float)k / 65535.0f;
+        } else if (format == VK_FORMAT_X8_D24_UNORM_PACK32 ||
+                   format == VK_FORMAT_D24_UNORM_S8_UINT) {
+            uint32_t k = (uint32_t)((double)d * 16777215.0 + 0.5);
+            memcpy(out + i * 4, &k, 4);
+            held = (float)((double)k / 16777215.0);
+        } else {
+            memcpy(out + i * 4, &d, 4);
+        }
+        g_layer_depth[i] = reversed ? 1.0f - held : held;
+    }
+}
+
+/* 6. Every depth format an engine may hand over, forward and reversed-Z: the opaque bands
+ * hide part of the quads, read from each format (the stencil of D24S8 and D32S8 ignored). */
+static void depth_formats(void) {
+    static const VkFormat formats[5] = {VK_FORMAT_D16_UNORM, VK_FORMAT_X8_D24_UNORM_PACK32,
+                                        VK_FORMAT_D24_UNORM_S8_UINT, VK_FORMAT_D32_SFLOAT,
+                                        VK_FORMAT_D32_SFLOAT_S8_UINT};
+    static const float forward_bands[3] = {0.3f, 0.75f, 1.0f};
+    static const float reversed_bands[3] = {0.7f, 0.35f, 0.0f};
+    translucid_context *ctx = host_context(1);
+    scene host, standalone;
+    slot *s = &g_slots[0];
+    int f, reversed;
+    make_scene(ctx, &host);
+    make_scene(g_standalone, &standalone);
+    for (reversed = 0; reversed < 2; reversed++) {
+        translucid_camera camera = orbit_camera(0.1f);
+        translucid_frame_info info;
+        if (reversed) {
+            float focal = 1.0f / tanf(0.45f);
+            camera.projection[0] = focal * (float)H / (float)W;
+            camera.projection[5] = -focal;
+            camera.projection[11] = -1.0f;
+            camera.projection[14] = 1.0f;
+        }
+        make_opaque_layer(reversed ? reversed_bands : forward_bands, reversed);
+        info = frame_info(&host, QUADS + 1, camera);
+        for (f = 0; f < 5; f++) {
+            VkFormat format = formats[f];
+            int stencil = format == VK_FORMAT_D24_UNORM_S8_UINT ||
+                          format == VK_FORMAT_D32_SFLOAT_S8_UINT;
+            VkImageAspectFlags aspects =
+                VK_IMAGE_ASPECT_DEPTH_BIT | (stencil ? VK_IMAGE_ASPECT_STENCIL_BIT : 0);
+            VkImage depth = create_image(
+                format,
+                VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT |
+                    VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
+                W, H);
+            VkDeviceMemory memory = bind_image(depth);
+            translucid_host_frame_targets t = targets_of(s->cmd, s);
+            char what[64];
+            encode_depth(format, reversed, s->mapped + COLOUR_BYTES);
+            render_expected(info, &standalone, s->expected);
+            t.depth.image = depth;
+            t.depth.format = format;
+            begin(s->cmd);
+            record_opaque_into(s->cmd, s, depth, aspects);
+            CHECK(ctx, translucid_frame_record(ctx, &info, &t, &s->frame));
+            record_readback(s->cmd, s);
+            submit(s->cmd, s->fence);
+            wait(s->fence);
+            CHECK(ctx, translucid_frame_complete(ctx, s->frame));
+            snprintf(what, sizeof what, "depth format %d%s", (int)format,
+                     reversed ? ", reversed-Z" : "");
+            compare(ctx, s, what);
+            vkDestroyImage(g_device, depth, NULL);
+            vkFreeMemory(g_device, memory, NULL);
+        }
+    }
+    printf("every depth format, forward and reversed-Z, as the standalone context renders it\n");
+    translucid_context_destroy(ctx);
+}
+
 /* 5. Misuse in the frame loop. */
 static void misuse(void) {
     translucid_host_device_create_info hd = host_device_info();
@@ -664,6 +756,8 @@ int main(void) {
     two_views();
     engine_projection();
     destroy_in_flight();
+    depth_formats();
+    make_opaque_layer(forward_bands, 0);
     misuse();
 
     translucid_context_destroy(g_standalone);
