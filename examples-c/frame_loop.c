@@ -5,7 +5,9 @@
  * panes. translucid records the transparent pass into the engine's command buffer; the
  * engine submits, and completes each frame when it comes back to its slot.
  *
- *   frame_loop [OUTPUT_DIR] [FRAMES]      (default: out 120)
+ *   frame_loop [OUTPUT_DIR] [FRAMES] [DRAWS]      (default: out 120 0)
+ *
+ * DRAWS adds that many small moving panes, one draw each (a draw-call-heavy frame).
  *
  * For exact and blend it prints each frame's CPU time in translucid_frame_record, its GPU
  * time and the loop's wall time per frame, and writes the last frame as
@@ -386,7 +388,8 @@ typedef struct scene {
     translucid_mesh pane, particles;
     translucid_material glass[3], smoke;
     float particle_positions[PARTICLES * 4 * 3];
-    translucid_draw draws[4];
+    translucid_draw *draws;
+    uint32_t draw_count;
 } scene;
 
 static float hash01(uint32_t i) {
@@ -430,7 +433,7 @@ static translucid_material make_material(float r, float g, float b, float a, uin
     return material;
 }
 
-static void make_scene(scene *s) {
+static void make_scene(scene *s, uint32_t extra_draws) {
     static const float pane[] = {-0.7f, -0.7f, 0, 0.7f, -0.7f, 0, 0.7f, 0.7f, 0, -0.7f, 0.7f, 0};
     static const uint32_t quad[] = {0, 1, 2, 3};
     static uint32_t particle_quads[PARTICLES * 4];
@@ -458,7 +461,9 @@ static void make_scene(scene *s) {
     s->glass[1] = make_material(0.1f, 1.0f, 0.2f, 0.5f, 0);
     s->glass[2] = make_material(0.1f, 0.3f, 1.0f, 0.5f, 0);
     s->smoke = make_material(0.9f, 0.8f, 0.7f, 0.15f, 0);
-    memset(s->draws, 0, sizeof s->draws);
+    s->draw_count = 4 + extra_draws;
+    s->draws = calloc(s->draw_count, sizeof *s->draws);
+    if (s->draws == NULL) exit(1);
     for (i = 0; i < 3; i++) {
         s->draws[i].mesh = s->pane;
         s->draws[i].material = s->glass[i];
@@ -469,9 +474,9 @@ static void make_scene(scene *s) {
         s->draws[3].transform[15] = 1.0f;
 }
 
-/* Frame `k`: the panes turn about y, each about its own spot. */
+/* Frame `k`: the panes turn about y, each about its own spot; the small ones drift. */
 static void move_panes(scene *s, int k) {
-    int i;
+    uint32_t i;
     for (i = 0; i < 3; i++) {
         float a = 0.03f * (float)k + 2.1f * (float)i, c = cosf(a), sn = sinf(a);
         float *m = s->draws[i].transform;
@@ -484,6 +489,15 @@ static void move_panes(scene *s, int k) {
         m[12] = -0.6f + 0.6f * (float)i;
         m[13] = -0.2f + 0.2f * (float)i;
         m[14] = -0.3f + 0.3f * (float)i;
+        m[15] = 1.0f;
+    }
+    for (i = 4; i < s->draw_count; i++) {
+        float *m = s->draws[i].transform;
+        memset(m, 0, 16 * sizeof(float));
+        m[0] = m[5] = m[10] = 0.05f;
+        m[12] = -2.0f + 4.0f * hash01(i * 5u) + 0.01f * (float)k;
+        m[13] = -1.2f + 2.4f * hash01(i * 5u + 1u);
+        m[14] = -1.5f + 3.0f * hash01(i * 5u + 2u);
         m[15] = 1.0f;
     }
 }
@@ -537,7 +551,7 @@ static void finish(frame_slot *s, int k, double *gpu_ms) {
 }
 
 /* `frames` frames of the loop with `method`; the last one written to `png`. */
-static void run(uint32_t method, int frames, const char *png) {
+static void run(uint32_t method, int frames, uint32_t extra_draws, const char *png) {
     scene sc;
     double *record = malloc(sizeof(double) * (size_t)frames);
     double *gpu = malloc(sizeof(double) * (size_t)frames);
@@ -545,9 +559,13 @@ static void run(uint32_t method, int frames, const char *png) {
     double last = now_ms();
     int k;
     if (record == NULL || gpu == NULL || wall == NULL) exit(1);
-    make_scene(&sc);
-    printf("%s, %d frames at %dx%d, %d in flight:\n", translucid_method_name(method), frames, WIDTH,
-           HEIGHT, IN_FLIGHT);
+    make_scene(&sc, extra_draws);
+    for (k = 4; k < (int)sc.draw_count; k++) {
+        sc.draws[k].mesh = sc.pane;
+        sc.draws[k].material = sc.glass[k % 3];
+    }
+    printf("%s, %d frames at %dx%d, %u draws, %d in flight:\n", translucid_method_name(method),
+           frames, WIDTH, HEIGHT, sc.draw_count, IN_FLIGHT);
     for (k = 0; k < frames + IN_FLIGHT; k++) {
         frame_slot *s = &g_slots[k % IN_FLIGHT];
         translucid_frame_info info;
@@ -570,7 +588,7 @@ static void run(uint32_t method, int frames, const char *png) {
         info.height = HEIGHT;
         info.camera = orbit_camera(k);
         info.draws = sc.draws;
-        info.draw_count = 4;
+        info.draw_count = sc.draw_count;
 
         memset(&begin, 0, sizeof begin);
         begin.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
@@ -623,11 +641,13 @@ static void run(uint32_t method, int frames, const char *png) {
     free(record);
     free(gpu);
     free(wall);
+    free(sc.draws);
 }
 
 int main(int argc, char **argv) {
     const char *out_dir = argc > 1 ? argv[1] : "out";
     int frames = argc > 2 ? atoi(argv[2]) : 120;
+    long draws = argc > 3 ? atol(argv[3]) : 0;
     static const uint32_t methods[2] = {TRANSLUCID_METHOD_EXACT, TRANSLUCID_METHOD_BLEND};
     translucid_host_device_create_info host;
     translucid_context_create_info info;
@@ -635,6 +655,7 @@ int main(int argc, char **argv) {
     int m;
 
     if (frames < 1) frames = 1;
+    if (draws < 0 || draws > (long)TRANSLUCID_MAX_DRAWS - 4) draws = 0;
     create_device();
     create_slots();
     memset(&host, 0, sizeof host);
@@ -658,7 +679,7 @@ int main(int argc, char **argv) {
     for (m = 0; m < 2; m++) {
         snprintf(path, sizeof path, "%s/frame_loop-%s.png", out_dir,
                  translucid_method_name(methods[m]));
-        run(methods[m], frames, path);
+        run(methods[m], frames, (uint32_t)draws, path);
     }
     /* Every frame was completed: the GPU is done with translucid's commands. */
     translucid_context_destroy(g_context);
