@@ -103,7 +103,19 @@ private:
 
 }  // namespace detail
 
-using Mesh = detail::Object<translucid_mesh, translucid_mesh_destroy>;
+/// A mesh: uploaded once, drawn by handle; its vertices can move every frame.
+class Mesh : public detail::Object<translucid_mesh, translucid_mesh_destroy> {
+public:
+    using Object::Object;
+
+    /// Moves `count` vertices from `first` to `positions` (count x 3 floats) for the frames
+    /// recorded after the call (translucid_mesh_update).
+    void update(std::uint32_t first, std::uint32_t count, const float *positions) {
+        detail::check(translucid_mesh_update(context(), handle(), first, count, positions),
+                      context(), "translucid_mesh_update");
+    }
+};
+
 using Texture = detail::Object<translucid_texture, translucid_texture_destroy>;
 using Material = detail::Object<translucid_material, translucid_material_destroy>;
 
@@ -130,9 +142,11 @@ public:
         overflowed, ///< translucid grew its buffers: restore the opaque colour, record again
         not_ready,  ///< the commands have not run: the frame stays in flight
     };
-    /// Host-device mode: call once the host waited for the engine's submission of the frame.
-    /// A frame in flight is not freed by its destructor (the GPU may be running it): complete
-    /// it, or abandon() it; the context frees it otherwise.
+    /// Host-device mode: call once the host waited for the engine's submission of the frame
+    /// (completing it completes the older frames in flight too). A frame in flight must be
+    /// completed or abandoned: its destructor cannot free it (the GPU may be running it), so
+    /// a frame dropped in flight stays in flight, and counts against the context's
+    /// frames_in_flight, until the context is destroyed.
     Completion complete() {
         const translucid_result r = translucid_frame_complete(context(), handle());
         detail::check(r, context(), "translucid_frame_complete");
@@ -140,7 +154,8 @@ public:
         return r == TRANSLUCID_RESULT_SUCCESS ? Completion::done : Completion::overflowed;
     }
     /// Host-device mode: ends the flight of a frame the GPU is not running and never will
-    /// (never submitted, or its results unwanted), and frees it.
+    /// (never submitted, or its results unwanted), and frees it; the frames recorded after
+    /// it end too (translucid_frame_abandon).
     void abandon() {
         detail::check(translucid_frame_abandon(context(), handle()), context(),
                       "translucid_frame_abandon");
@@ -186,15 +201,18 @@ public:
                       "translucid_host_requirements_get");
         return req;
     }
-    /// A context on the engine's device; `s_type` is filled in for you. Destroy the context
-    /// (and every object from it) before the engine's device.
-    static Context host(translucid_host_device_create_info device) {
+    /// A context on the engine's device, taking up to `frames_in_flight` frames recorded and
+    /// not completed (the engine's frames in flight times its views); `s_type` is filled in
+    /// for you. Destroy the context (and every object from it) before the engine's device.
+    static Context host(translucid_host_device_create_info device,
+                        std::uint32_t frames_in_flight = 1) {
         device.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_CREATE_INFO;
         translucid_context_create_info info{};
         info.s_type = TRANSLUCID_STRUCTURE_TYPE_CONTEXT_CREATE_INFO;
         info.header_version = TRANSLUCID_HEADER_VERSION;
         info.mode = TRANSLUCID_CONTEXT_MODE_HOST_DEVICE;
         info.next = &device;
+        info.frames_in_flight = frames_in_flight;
         return Context(info);
     }
 
@@ -248,8 +266,9 @@ public:
         return Frame(context_, frame);
     }
 
-    /// Host-device mode: records a frame into `targets.command_buffer`; submit it, wait, then
-    /// call Frame::complete. One frame in flight per context.
+    /// Host-device mode: records a frame into `targets.command_buffer`; submit it, and call
+    /// Frame::complete once you waited for it. Up to the context's frames_in_flight frames may
+    /// be in flight.
     Frame record(translucid_frame_info info, translucid_host_frame_targets targets) {
         info.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_INFO;
         targets.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_FRAME_TARGETS;

@@ -66,6 +66,16 @@ int main() {
             kept = std::move(frame);  // outlives the Context wrapper below
         }
 
+        // A mesh moved by update() draws where it was moved: off screen, the pixel is clear.
+        {
+            static const float away[] = {20, 20, -2, 30, 20, -2, 30, 30, -2, 20, 30, -2};
+            frame_info.method = TRANSLUCID_METHOD_EXACT;
+            moved.update(0, 4, away);
+            EXPECT(context.render(frame_info).read_rgba32f()[2] < 1e-3f);
+            moved.update(0, 4, positions);
+            EXPECT(std::fabs(context.render(frame_info).read_rgba32f()[2] - 0.5f) < 2e-3f);
+        }
+
         // Errors arrive as exceptions carrying the code and the message.
         mesh_info.vertex_count = 0;
         try {
@@ -96,7 +106,8 @@ int main() {
             EXPECT(e.code() == TRANSLUCID_RESULT_ERROR_NOT_SUPPORTED);
         }
         try {
-            translucid::Context bad = translucid::Context::host(translucid_host_device_create_info{});
+            translucid::Context bad =
+                translucid::Context::host(translucid_host_device_create_info{}, 2);
             EXPECT(false);
         } catch (const translucid::Error &e) {
             EXPECT(e.code() == TRANSLUCID_RESULT_ERROR_NULL_POINTER);
