@@ -573,6 +573,14 @@ typedef struct translucid_context_create_info {
      * records in each. 0 means 1. Standalone frames complete within their call: 0 or 1.
      */
     uint32_t frames_in_flight;
+    /**
+     * Optional: `pipeline_cache_size` bytes that `translucid_context_get_pipeline_cache_data`
+     * gave on an earlier run, merged into the context's pipeline cache so that its first
+     * frames skip the shader compilation the driver cached (copied; NULL and 0 for none).
+     * Data from another driver or device is ignored.
+     */
+    const void *pipeline_cache_data;
+    size_t pipeline_cache_size;
 } translucid_context_create_info;
 
 /**
@@ -1205,6 +1213,19 @@ void translucid_context_destroy(struct translucid_context *context);
  * same context (or, for NULL, the next failing context-less call on this thread).
  */
 const char *translucid_context_last_error(const struct translucid_context *context);
+
+/**
+ * The context's pipeline cache, for the engine to save and pass back in
+ * `translucid_context_create_info::pipeline_cache_data` on its next run (with the same
+ * driver and device). `*size` is in and out: with `data` NULL, the call writes the size
+ * the data needs; otherwise it copies up to `*size` bytes, writes how many it copied, and
+ * returns `TRANSLUCID_RESULT_INCOMPLETE` when that is not all of it. Call it after the
+ * frames whose pipelines should be kept (a context builds them on first use).
+ */
+TRANSLUCID_MUST_USE
+translucid_result translucid_context_get_pipeline_cache_data(struct translucid_context *context,
+                                                             void *data,
+                                                             size_t *size);
 
 /**
  * The name of the context's Vulkan device; "" for a NULL context. Valid as long as the

@@ -59,6 +59,12 @@ pub struct translucid_context_create_info {
     /// `TRANSLUCID_MAX_FRAMES_IN_FLIGHT`: the engine's frames in flight times the views it
     /// records in each. 0 means 1. Standalone frames complete within their call: 0 or 1.
     pub frames_in_flight: u32,
+    /// Optional: `pipeline_cache_size` bytes that `translucid_context_get_pipeline_cache_data`
+    /// gave on an earlier run, merged into the context's pipeline cache so that its first
+    /// frames skip the shader compilation the driver cached (copied; NULL and 0 for none).
+    /// Data from another driver or device is ignored.
+    pub pipeline_cache_data: *const c_void,
+    pub pipeline_cache_size: usize,
 }
 
 /// Most frames in flight a host-device context takes.
@@ -203,6 +209,15 @@ impl Context {
                 )))
             }
         };
+        if info.pipeline_cache_size > 0 {
+            let data = cast::try_slice(
+                info.pipeline_cache_data.cast::<u8>(),
+                info.pipeline_cache_size,
+                "translucid_context_create_info.pipeline_cache_data",
+            )?;
+            // False for another driver's or device's data, which is documented as ignored.
+            let _merged = gpu.merge_pipeline_cache(data)?;
+        }
         let tag = next_context_tag();
         let device_name = CString::new(gpu.info().name.replace('\0', "")).unwrap_or_default();
         Ok(Self {
@@ -263,6 +278,41 @@ impl translucid_context {
         panic::or_fallback(c"".as_ptr(), || match cast::context_ref(context) {
             Some(context) => context.state.last_error(),
             None => panic::thread_last_error(),
+        })
+    }
+
+    /// The context's pipeline cache, for the engine to save and pass back in
+    /// `translucid_context_create_info::pipeline_cache_data` on its next run (with the same
+    /// driver and device). `*size` is in and out: with `data` NULL, the call writes the size
+    /// the data needs; otherwise it copies up to `*size` bytes, writes how many it copied, and
+    /// returns `TRANSLUCID_RESULT_INCOMPLETE` when that is not all of it. Call it after the
+    /// frames whose pipelines should be kept (a context builds them on first use).
+    #[no_mangle]
+    #[must_use]
+    pub extern "C" fn translucid_context_get_pipeline_cache_data(
+        context: *mut translucid_context,
+        data: *mut c_void,
+        size: *mut usize,
+    ) -> translucid_result {
+        panic::with_context(context, |objects| {
+            let capacity = *try_ref(size.cast_const(), "size")?;
+            let out_size = try_out(size, "size")?;
+            let bytes = objects.gpu.pipeline_cache_data()?;
+            if data.is_null() {
+                out_size.write(bytes.len());
+                return Ok(translucid_result::Success);
+            }
+            let n = bytes.len().min(capacity);
+            let out = cast::try_out_slice(data.cast::<u8>(), n, "data")?;
+            for (slot, &b) in out.iter_mut().zip(&bytes) {
+                slot.write(b);
+            }
+            out_size.write(n);
+            Ok(if n < bytes.len() {
+                translucid_result::Incomplete
+            } else {
+                translucid_result::Success
+            })
         })
     }
 

@@ -6,7 +6,8 @@
  * - exact with a threshold stops under it: of two stacked quads, only the front one shows;
  * - over a background colour with no draws at all;
  * - a quad moved, then the camera moved, frame after frame on one context;
- * - both pixel formats agree; statistics are filled in; frames outlive their meshes.
+ * - both pixel formats agree; statistics are filled in; frames outlive their meshes;
+ * - the pipeline cache is read out and handed to a new context.
  */
 #include <math.h>
 #include <stdio.h>
@@ -290,6 +291,59 @@ static void moving_draws(uint32_t method, translucid_mesh quad, translucid_mater
     }
 }
 
+/* Counts `got` against `want`. */
+static void expect_result(translucid_result got, translucid_result want, const char *what) {
+    if (got != want) {
+        printf("FAIL %s: %s, expected %s: %s\n", what, translucid_result_string(got),
+               translucid_result_string(want), translucid_context_last_error(g_ctx));
+        g_failed++;
+    } else {
+        g_passed++;
+    }
+}
+
+/* The pipeline cache an engine saves and hands back: read in two calls (or cut short), and
+ * taken by a new context; data from elsewhere is ignored. */
+static void pipeline_cache(void) {
+    translucid_context_create_info info;
+    translucid_context *second = NULL;
+    unsigned char garbage[64];
+    unsigned char *data;
+    size_t size = 0, got;
+    CHECK(translucid_context_get_pipeline_cache_data(g_ctx, NULL, &size));
+    data = malloc(size + 1);
+    if (data == NULL) exit(1);
+    got = size + 1;
+    CHECK(translucid_context_get_pipeline_cache_data(g_ctx, data, &got));
+    if (got != size) g_failed++;
+    if (size > 0) {
+        got = size - 1;
+        expect_result(translucid_context_get_pipeline_cache_data(g_ctx, data, &got),
+                      TRANSLUCID_RESULT_INCOMPLETE, "pipeline cache data cut short");
+        if (got != size - 1) g_failed++;
+    }
+    expect_result(translucid_context_get_pipeline_cache_data(g_ctx, data, NULL),
+                  TRANSLUCID_RESULT_ERROR_NULL_POINTER, "pipeline cache size NULL");
+
+    memset(&info, 0, sizeof info);
+    info.s_type = TRANSLUCID_STRUCTURE_TYPE_CONTEXT_CREATE_INFO;
+    info.header_version = TRANSLUCID_HEADER_VERSION;
+    info.pipeline_cache_data = data;
+    info.pipeline_cache_size = size;
+    CHECK(translucid_context_create(&info, &second));
+    translucid_context_destroy(second);
+    memset(garbage, 0xAB, sizeof garbage);
+    info.pipeline_cache_data = garbage;
+    info.pipeline_cache_size = sizeof garbage;
+    CHECK(translucid_context_create(&info, &second));
+    translucid_context_destroy(second);
+    info.pipeline_cache_data = NULL;
+    expect_result(translucid_context_create(&info, &second), TRANSLUCID_RESULT_ERROR_NULL_POINTER,
+                  "pipeline cache size without data");
+    free(data);
+    printf("pipeline cache: %u bytes saved and handed back\n", (unsigned)size);
+}
+
 int main(int argc, char **argv) {
     static const float positions[] = {-5, -5, -2, 5, -5, -2, 5, 5, -2, -5, 5, -2};
     static const uint32_t triangles[] = {0, 1, 2, 0, 2, 3};
@@ -348,6 +402,8 @@ int main(int argc, char **argv) {
             exact_threshold(0.6f, 0.5f, quad, red);
         }
     }
+
+    pipeline_cache();
 
     /* A frame keeps its pixels after the objects it drew are gone. */
     {
