@@ -601,6 +601,8 @@ static void run(uint32_t method, int frames, uint32_t extra_draws, const char *p
         targets.command_buffer = s->cmd;
         targets.colour.image = s->colour;
         targets.colour.format = VK_FORMAT_R8G8B8A8_SRGB;
+        targets.colour.width = targets.depth.width = WIDTH;
+        targets.colour.height = targets.depth.height = HEIGHT;
         targets.colour.layout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
         targets.colour.final_layout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
         targets.depth.image = s->depth;

@@ -893,8 +893,9 @@ typedef struct translucid_host_requirements {
 /**
  * One of the engine's images: a single-sample 2D image of the frame's size (width x height)
  * with one mip level and one array layer, owned by the queue family named at context
- * creation (or created with concurrent sharing). translucid cannot query an image's size:
- * a smaller image is undefined behaviour, as in Vulkan.
+ * creation (or created with concurrent sharing). translucid cannot query an image's size,
+ * so it checks the `width` and `height` given against the frame's; an image smaller than
+ * it says is undefined behaviour, as in Vulkan.
  */
 typedef struct translucid_host_image {
     VkImage image;
@@ -908,6 +909,12 @@ typedef struct translucid_host_image {
      * The layout the recorded commands leave the image in.
      */
     VkImageLayout final_layout;
+    /**
+     * The image's width and height, which must be the frame's (translucid cannot query an
+     * image's size, so it checks these).
+     */
+    uint32_t width;
+    uint32_t height;
 } translucid_host_image;
 
 /**

@@ -85,8 +85,9 @@ pub struct translucid_host_device_create_info {
 
 /// One of the engine's images: a single-sample 2D image of the frame's size (width x height)
 /// with one mip level and one array layer, owned by the queue family named at context
-/// creation (or created with concurrent sharing). translucid cannot query an image's size:
-/// a smaller image is undefined behaviour, as in Vulkan.
+/// creation (or created with concurrent sharing). translucid cannot query an image's size,
+/// so it checks the `width` and `height` given against the frame's; an image smaller than
+/// it says is undefined behaviour, as in Vulkan.
 #[allow(non_camel_case_types)]
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
@@ -98,6 +99,10 @@ pub struct translucid_host_image {
     pub layout: VkImageLayout,
     /// The layout the recorded commands leave the image in.
     pub final_layout: VkImageLayout,
+    /// The image's width and height, which must be the frame's (translucid cannot query an
+    /// image's size, so it checks these).
+    pub width: u32,
+    pub height: u32,
 }
 
 /// Where a host-device frame is recorded. A `VK_NULL_HANDLE` command buffer or image, an
@@ -223,6 +228,15 @@ fn record(
         ));
     }
     let (request, _) = frame_request(objects, info)?;
+    for (what, image) in [("colour", &targets.colour), ("depth", &targets.depth)] {
+        if (image.width, image.height) != (info.width, info.height) {
+            return Err(Failure::size(format!(
+                "translucid_host_frame_targets.{what} is {}x{} (width, height), but the frame \
+                 is {}x{}: the images must be the frame's size",
+                image.width, image.height, info.width, info.height
+            )));
+        }
+    }
     if !info.opaque_layer.is_null() {
         return Err(Failure::argument(
             "translucid_frame_info.opaque_layer must be NULL in host-device mode: the opaque \

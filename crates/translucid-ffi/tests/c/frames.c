@@ -305,6 +305,8 @@ static translucid_host_frame_targets targets_of(VkCommandBuffer cmd, const slot 
     t.command_buffer = cmd;
     t.colour.image = s->colour;
     t.colour.format = VK_FORMAT_R8G8B8A8_SRGB;
+    t.colour.width = t.depth.width = W;
+    t.colour.height = t.depth.height = H;
     t.colour.layout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
     t.colour.final_layout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
     t.depth.image = s->depth;

@@ -243,6 +243,8 @@ static translucid_host_frame_targets frame_targets(void) {
     t.command_buffer = g_cmd;
     t.colour.image = g_colour;
     t.colour.format = VK_FORMAT_R8G8B8A8_SRGB;
+    t.colour.width = t.depth.width = W;
+    t.colour.height = t.depth.height = H;
     t.colour.layout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
     t.colour.final_layout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
     t.depth.image = g_depth;
@@ -439,6 +441,16 @@ static void frame_errors(const scene *s) {
     targets.colour.format = VK_FORMAT_R8G8B8A8_UINT;
     EXPECT(g_host, translucid_frame_record(g_host, &info, &targets, &frame),
            TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    /* An image of another size than the frame's (as the engine says it), or no size given. */
+    targets = frame_targets();
+    targets.depth.width = W / 2;
+    EXPECT(g_host, translucid_frame_record(g_host, &info, &targets, &frame),
+           TRANSLUCID_RESULT_ERROR_INVALID_SIZE);
+    TRUE_OR_FAIL(strstr(translucid_context_last_error(g_host), "translucid_host_frame_targets.depth") != NULL);
+    targets = frame_targets();
+    targets.colour.height = 0;
+    EXPECT(g_host, translucid_frame_record(g_host, &info, &targets, &frame),
+           TRANSLUCID_RESULT_ERROR_INVALID_SIZE);
     targets = frame_targets();
     memset(&layer, 0, sizeof layer);
     info.opaque_layer = &layer;
