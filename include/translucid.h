@@ -674,6 +674,11 @@ typedef struct translucid_draw {
      * A `translucid_layer`; 0 is transparent.
      */
     uint32_t layer;
+    /**
+     * Linear RGBA multiplied into this instance's colour, as a vertex colour is (alpha into
+     * its coverage), finite and non-negative; all zero (the default) is no tint.
+     */
+    float tint[4];
 } translucid_draw;
 
 /**

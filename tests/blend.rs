@@ -1,27 +1,31 @@
 //! The unsorted-blending baseline against the CPU reference.
 
 use translucid::{metrics, reference, scene};
-use translucid_tests::{against_reference, gpu, save_failure};
+use translucid_tests::{against_reference, gpu, save_failure, tinted};
 
 /// Where submission order is back to front and nothing interpenetrates, unsorted blending
 /// is exact: every pixel within 2/255 of the reference. Sizes are not multiples of anything.
 #[test]
 fn blend_matches_reference_on_sorted_layers() {
     let gpu = gpu();
-    let scene = scene::load("layers").expect("layers scene");
-    let (m, got, expected) = against_reference(&gpu, &scene, "blend", 253, 190);
-    let failure = || {
-        save_failure("blend_layers", &got, &expected)
-            .display()
-            .to_string()
-    };
-    assert!(
-        m.max_error <= 2.0 / 255.0,
-        "blend off by {:.1}/255 on {} pixels of sorted layers; see {}",
-        m.max_error * 255.0,
-        m.pixels_over,
-        failure()
-    );
+    let plain = scene::load("layers").expect("layers scene");
+    // Tinted too: the vertex shader multiplies each draw's tint in.
+    for scene in [plain.clone(), tinted(&plain)] {
+        let (m, got, expected) = against_reference(&gpu, &scene, "blend", 253, 190);
+        let failure = || {
+            save_failure("blend_layers", &got, &expected)
+                .display()
+                .to_string()
+        };
+        assert!(
+            m.max_error <= 2.0 / 255.0,
+            "blend off by {:.1}/255 on {} pixels of {}; see {}",
+            m.max_error * 255.0,
+            m.pixels_over,
+            scene.name,
+            failure()
+        );
+    }
 }
 
 /// Polychrome transmittance goes through dual-source blending; sorted, it must match too.

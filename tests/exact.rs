@@ -7,7 +7,7 @@ use translucid::metrics;
 use translucid::renderer::Renderer;
 use translucid::scene::{self, Camera, Draw, Material, Mesh, Scene};
 use translucid_tests::{
-    asset, crowded_bin, gpu, near_plane_scene, one_draw_scene, save_failure, stack_scene,
+    asset, crowded_bin, gpu, near_plane_scene, one_draw_scene, save_failure, stack_scene, tinted,
 };
 
 const TOLERANCE: f32 = 2.0 / 255.0;
@@ -44,6 +44,25 @@ fn exact_matches_reference_on_generated_scenes() {
     for name in scene::generated::NAMES {
         let scene = scene::load(name).expect("generated scene");
         check(&scene, name, 213, 131, &MethodOptions::default());
+    }
+}
+
+/// Tinted draws (an engine's per-instance colour): vertex colours, flat colours, textures
+/// and plain materials each multiplied by their draw's tint, as the reference does it.
+#[test]
+fn exact_matches_reference_with_tinted_draws() {
+    for name in ["spheres", "polychrome", "particles", "textured"] {
+        let plain = scene::load(name).expect("generated scene");
+        let scene = tinted(&plain);
+        let frame = check(&scene, &scene.name, 213, 131, &MethodOptions::default());
+        // The tint shows: the untinted scene's reference differs.
+        let opaque = frame.opaque.as_ref().expect("opaque layer");
+        let untinted = translucid::reference::render(&plain, opaque).expect("reference");
+        let m = metrics::compare(&frame.image, &untinted).expect("same size");
+        assert!(
+            m.max_error > 8.0 / 255.0,
+            "{name}: the tint changed nothing"
+        );
     }
 }
 
@@ -136,6 +155,7 @@ fn exact_interpolates_vertex_colours_that_vary_across_a_quad() {
         mesh,
         material: 0,
         transform: Mat4::from_rotation_z(0.3 * mesh as f32),
+        tint: glam::Vec4::ONE,
     };
     let scene = Scene {
         name: "gradient".into(),
@@ -175,6 +195,7 @@ fn occluded_scene() -> Scene {
         mesh,
         material,
         transform: Mat4::IDENTITY,
+        tint: glam::Vec4::ONE,
     };
     Scene {
         name: "occluded".into(),

@@ -28,6 +28,7 @@ fn draws_past_a_storage_binding_are_refused_by_name() {
                 mesh: 0,
                 material: 0,
                 transform: Mat4::from_translation(Vec3::new(0.0, 0.0, -3.0)),
+                tint: glam::Vec4::ONE,
             };
             count
         ],
@@ -95,6 +96,7 @@ fn limits_of_the_shared_bin_stages_name_the_method() {
             mesh: 0,
             material: 0,
             transform: Mat4::from_translation(Vec3::new(0.0, 0.0, -3.0)),
+            tint: glam::Vec4::ONE,
         }],
         ..Scene::default()
     };

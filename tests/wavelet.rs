@@ -10,7 +10,7 @@ use translucid::metrics::{self, Metrics};
 use translucid::renderer::{Frame, Renderer};
 use translucid::scene::{self, Material, Scene, Texture};
 use translucid::Image;
-use translucid_tests::{asset, gpu, save_failure, stack_scene};
+use translucid_tests::{asset, gpu, save_failure, stack_scene, tinted};
 
 const TOLERANCE: f32 = 2.0 / 255.0;
 /// Not a multiple of anything.
@@ -169,6 +169,23 @@ fn wavelet_in_bins_matches_its_cpu_model() {
         check_wavelet_model(&gpu, &load(name), &bins_options(3, 0.0), false);
     }
     check_wavelet_model(&gpu, &load("particles"), &bins_options(2, 1.0), false);
+}
+
+/// Tinted draws, in both storages: the bins' setup and the images' vertex shader each
+/// multiply the tint in.
+#[test]
+fn wavelet_matches_its_cpu_model_with_tinted_draws() {
+    let gpu = gpu();
+    for name in ["spheres", "polychrome"] {
+        let scene = tinted(&load(name));
+        check_wavelet_model(&gpu, &scene, &bins_options(3, 0.0), false);
+        check_wavelet_model(
+            &gpu,
+            &scene,
+            &wavelet_options(3, 0.0, Precision::Half),
+            false,
+        );
+    }
 }
 
 /// The bins' lists overflow on the first frame and grow; the second frame is right.

@@ -249,9 +249,9 @@ Corner loadCorner(uint v) {
 // transforms them per fragment.
 BinAttributes gatherAttributes(DrawInfo draw, Corner k0, Corner k1, Corner k2) {
     BinAttributes a;
-    a.colour0 = k0.colour;
-    a.colour1 = k1.colour;
-    a.colour2 = k2.colour;
+    a.colour0 = k0.colour * draw.tint;
+    a.colour1 = k1.colour * draw.tint;
+    a.colour2 = k2.colour * draw.tint;
     a.flags = 0u;
     if ((draw.flags & DRAW_HAS_NORMALS) != 0u) {
         mat3 nm = mat3(draw.normalMatrix);

@@ -19,7 +19,7 @@ layout(set = 1, binding = 5, std430) buffer CounterBlock { BinCounters g_counter
 // advances as it appends, so that after binning they are where each part of a list ends.
 layout(set = 1, binding = 6, std430) buffer BinCountBlock { uint g_binCounts[]; };
 layout(set = 1, binding = 7, std430) buffer BinOffsetBlock { uint g_binOffsets[]; };
-layout(set = 1, binding = 8) uniform usamplerBuffer u_drawTexels;        // DrawInfo, 9 each
+layout(set = 1, binding = 8) uniform usamplerBuffer u_drawTexels;        // DrawInfo, 10 each
 layout(set = 1, binding = 9, std430) buffer BinEntryBlock { uint g_binEntries[]; };
 layout(set = 1, binding = 10, std430) buffer AttributeBlock { BinAttributes g_attributes[]; };
 layout(set = 1, binding = 11) uniform sampler2D u_opaqueDepth;
@@ -107,7 +107,7 @@ BinDraw loadBinDraw(uint i) {
 }
 
 DrawInfo loadDrawInfo(uint i) {
-    int base = int(i) * 9;
+    int base = int(i) * 10;
     DrawInfo d;
     d.model = fetchMat4(u_drawTexels, base);
     d.normalMatrix = fetchMat4(u_drawTexels, base + 4);
@@ -116,6 +116,7 @@ DrawInfo loadDrawInfo(uint i) {
     d.flags = rest.y;
     d.firstQuad = rest.z;
     d.quadCount = rest.w;
+    d.tint = uintBitsToFloat(texelFetch(u_drawTexels, base + 9));
     return d;
 }
 

@@ -27,6 +27,7 @@ struct DrawInfo {
     uint flags;             // DRAW_*
     uint firstQuad;         // index of the draw's first quad in the scene's quad buffer
     uint quadCount;
+    vec4 tint;              // multiplied into the draw's vertex colours
 };
 
 // Per-frame constants (std140, 144 bytes).

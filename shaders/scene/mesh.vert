@@ -19,6 +19,6 @@ void main() {
     v_worldPos = world.xyz;
     v_normal = mat3(d.normalMatrix) * a_normal;
     v_uv = a_uv;
-    v_colour = a_colour;
+    v_colour = a_colour * d.tint;
     gl_Position = u_frame.viewProj * world;
 }

@@ -95,6 +95,7 @@ pub fn one_draw_scene(name: &str, mesh: Mesh, material: Material, camera: Camera
             mesh: 0,
             material: 0,
             transform: Mat4::IDENTITY,
+            tint: glam::Vec4::ONE,
         }],
         camera,
         background: Vec3::splat(0.2),
@@ -133,11 +134,13 @@ pub fn near_plane_scene() -> Scene {
                 mesh: 1,
                 material: 1,
                 transform: Mat4::IDENTITY,
+                tint: glam::Vec4::ONE,
             },
             Draw {
                 mesh: 0,
                 material: 0,
                 transform: Mat4::IDENTITY,
+                tint: glam::Vec4::ONE,
             },
         ],
         camera: Camera::look_at(Vec3::new(0.0, 0.0, 2.0), Vec3::ZERO, 1.0, 0.1, 50.0),
@@ -171,4 +174,22 @@ pub fn crowded_bin(count: u32) -> Scene {
         Material::alpha(Vec3::new(0.2, 0.6, 0.9), 0.5),
         Camera::look_at(Vec3::ZERO, Vec3::NEG_Z, 1.0, 0.1, 20.0),
     )
+}
+
+/// `scene` with every transparent draw tinted a colour of its own (linear RGB from 0.2 to 1,
+/// alpha from 0.5 to 1), as an engine tints instances.
+pub fn tinted(scene: &Scene) -> Scene {
+    let mut tinted = scene.clone();
+    tinted.name = format!("{} tinted", scene.name);
+    for (i, d) in tinted.transparent.iter_mut().enumerate() {
+        let k = i as f32;
+        let wave = |phase: f32| 0.6 + 0.4 * (1.7 * k + phase).sin();
+        d.tint = glam::Vec4::new(
+            wave(0.0),
+            wave(2.1),
+            wave(4.2),
+            0.75 + 0.25 * (0.9 * k).cos(),
+        );
+    }
+    tinted
 }

@@ -91,6 +91,9 @@ pub struct translucid_draw {
     pub transform: [f32; 16],
     /// A `translucid_layer`; 0 is transparent.
     pub layer: u32,
+    /// Linear RGBA multiplied into this instance's colour, as a vertex colour is (alpha into
+    /// its coverage), finite and non-negative; all zero (the default) is no tint.
+    pub tint: [f32; 4],
 }
 
 /// Pixel layouts for reading frames and passing opaque layers. Rows top first, tightly

@@ -281,10 +281,21 @@ fn resolve_draws(
         if !transform.is_finite() {
             return Err(in_draw(Failure::argument("transform is not finite")));
         }
+        let tint = match glam::Vec4::from_array(d.tint) {
+            t if t == glam::Vec4::ZERO => glam::Vec4::ONE,
+            t if t.is_finite() && t.min_element() >= 0.0 => t,
+            t => {
+                return Err(in_draw(Failure::argument(format!(
+                    "tint {:?} must be finite and non-negative",
+                    t.to_array()
+                ))))
+            }
+        };
         let draw = Draw {
             mesh,
             material,
             transform,
+            tint,
         };
         match d.layer {
             l if l == translucid_layer::Transparent as u32 => transparent.push(draw),

@@ -32,6 +32,8 @@ pub struct GpuDrawInfo {
     pub flags: u32,
     pub first_quad: u32,
     pub quad_count: u32,
+    /// The draw's tint, multiplied into its vertex colours.
+    pub tint: [f32; 4],
 }
 
 #[repr(C)]
@@ -89,6 +91,7 @@ impl GpuDrawInfo {
                 | flag(mesh.uvs.is_some(), DRAW_HAS_UVS),
             first_quad,
             quad_count: mesh.quads.len() as u32,
+            tint: draw.tint.to_array(),
         }
     }
 }
@@ -169,6 +172,7 @@ mod tests {
                 ("flags", offset_of!(GpuDrawInfo, flags)),
                 ("first_quad", offset_of!(GpuDrawInfo, first_quad)),
                 ("quad_count", offset_of!(GpuDrawInfo, quad_count)),
+                ("tint", offset_of!(GpuDrawInfo, tint)),
             ],
             size_of::<GpuDrawInfo>(),
         );

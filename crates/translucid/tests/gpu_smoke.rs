@@ -40,11 +40,13 @@ fn two_layer_scene() -> Scene {
             mesh: 0,
             material: 0,
             transform: Mat4::IDENTITY,
+            tint: glam::Vec4::ONE,
         }],
         transparent: vec![Draw {
             mesh: 1,
             material: 1,
             transform: Mat4::IDENTITY,
+            tint: glam::Vec4::ONE,
         }],
         camera: Camera::look_at(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, 1.0, 0.1, 10.0),
         background: Vec3::new(0.0, 1.0, 0.0),

@@ -6,6 +6,7 @@
  * - exact with a threshold stops under it: of two stacked quads, only the front one shows;
  * - over a background colour with no draws at all;
  * - a quad moved, then the camera moved, frame after frame on one context;
+ * - a tinted instance;
  * - both pixel formats agree; statistics are filled in; frames outlive their meshes;
  * - the pipeline cache is read out and handed to a new context.
  */
@@ -291,6 +292,35 @@ static void moving_draws(uint32_t method, translucid_mesh quad, translucid_mater
     }
 }
 
+/* A tinted instance: red at alpha 0.5, tinted (0.5, 1, 1, 0.5), over black: coverage 0.25,
+ * red 0.25 x 0.5. Every method composites one layer exactly. */
+static void tinted_draw(uint32_t method, translucid_mesh quad, translucid_material red) {
+    translucid_frame_info info = base_frame(method);
+    translucid_draw draw;
+    translucid_frame frame;
+    float pixels[W * H * 4];
+    memset(&draw, 0, sizeof draw);
+    draw.mesh = quad;
+    draw.material = red;
+    draw.transform[0] = draw.transform[5] = draw.transform[10] = draw.transform[15] = 1.0f;
+    draw.tint[0] = 0.5f;
+    draw.tint[1] = draw.tint[2] = 1.0f;
+    draw.tint[3] = 0.5f;
+    info.draws = &draw;
+    info.draw_count = 1;
+    CHECK(translucid_frame_render(g_ctx, &info, &frame));
+    CHECK(translucid_frame_read(g_ctx, frame, TRANSLUCID_PIXEL_FORMAT_RGBA32F_LINEAR, pixels,
+                                sizeof pixels));
+    near_or_fail(pixels[0], 0.125f, 2e-3f, "tinted draw: red", 0);
+    CHECK(translucid_frame_destroy(g_ctx, frame));
+    draw.tint[1] = -1.0f;
+    if (translucid_frame_render(g_ctx, &info, &frame) != TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT ||
+        strstr(translucid_context_last_error(g_ctx), "draws[0]: tint") == NULL) {
+        printf("FAIL a negative tint was not refused with its draw named\n");
+        g_failed++;
+    }
+}
+
 /* Counts `got` against `want`. */
 static void expect_result(translucid_result got, translucid_result want, const char *what) {
     if (got != want) {
@@ -382,6 +412,7 @@ int main(int argc, char **argv) {
         over_host_layer(info, quad, red);
         background_only(methods[m]);
         moving_draws(methods[m], quad, red);
+        tinted_draw(methods[m], quad, red);
         /* u -0.29 is texel -1 and u 1.29 texel 2, wrapped: */
         sampled_texture(methods[m], TRANSLUCID_WRAP_REPEAT, 1.0f, 0.0f);
         sampled_texture(methods[m], TRANSLUCID_WRAP_CLAMP_TO_EDGE, 0.0f, 1.0f);

@@ -34,7 +34,7 @@ impl<'s> TriangleShader<'s> {
             scene,
             material,
             texture: material.texture.map(|t| &scene.textures[t]),
-            colours: mesh.colours.as_deref().map(|c| pick(c, vertices)),
+            colours: tinted_colours(mesh.colours.as_deref(), data.draw.tint, vertices),
             normals,
             uvs: mesh.uvs.as_deref().map(|u| pick(u, vertices)),
         }
@@ -73,6 +73,16 @@ impl<'s> TriangleShader<'s> {
         let size = Vec2::new(t.width() as f32, t.height() as f32);
         let rho = (mix(dbx) * size).length().max((mix(dby) * size).length());
         t.sample(mix(b), rho.log2())
+    }
+}
+
+/// A triangle's vertex colours times the draw's tint, as setup writes them (a mesh without
+/// colours has white ones); `None` when there are neither colours nor a tint.
+fn tinted_colours(colours: Option<&[Vec4]>, tint: Vec4, vertices: [u32; 3]) -> Option<[Vec4; 3]> {
+    match colours {
+        Some(c) => Some(pick(c, vertices).map(|c| c * tint)),
+        None if tint != Vec4::ONE => Some([Vec4::ONE * tint; 3]),
+        None => None,
     }
 }
 

@@ -50,6 +50,7 @@ fn scene(near: f32, layers: Vec<(Mesh, Material)>) -> Scene {
             mesh: i,
             material: i,
             transform: Mat4::IDENTITY,
+            tint: glam::Vec4::ONE,
         });
     }
     s

@@ -554,6 +554,7 @@ impl<'p> Importer<'p> {
                 mesh: mesh_index,
                 material,
                 transform: world,
+                tint: glam::Vec4::ONE,
             };
             if transparent {
                 self.scene.transparent.push(draw);

@@ -25,12 +25,15 @@ pub use texture::{
 
 use glam::{Mat4, Vec3};
 
-/// One instance of a mesh with a material and a model-to-world transform.
+/// One instance of a mesh with a material, a model-to-world transform and a tint.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Draw {
     pub mesh: usize,
     pub material: usize,
     pub transform: Mat4,
+    /// Linear RGBA multiplied into the instance's colour, as a vertex colour is (alpha into
+    /// coverage); `Vec4::ONE` for none. Finite and non-negative.
+    pub tint: glam::Vec4,
 }
 
 /// Ambient light plus one directional light, used by lit materials.
@@ -179,6 +182,12 @@ impl Scene {
                 }
                 if !d.transform.is_finite() {
                     return bad(format!("{layer} draw {i} has a non-finite transform"));
+                }
+                if !d.tint.is_finite() || d.tint.min_element() < 0.0 {
+                    return bad(format!(
+                        "{layer} draw {i}: tint {:?} must be finite and non-negative",
+                        d.tint.to_array()
+                    ));
                 }
             }
         }

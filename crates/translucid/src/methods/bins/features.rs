@@ -110,7 +110,8 @@ impl RasterFeatures {
                 1
             },
             transmission: draws().any(|d| scene.materials[d.material].transmission > 0.0),
-            vertex_colours: draws().any(|d| scene.meshes[d.mesh].colours.is_some()),
+            vertex_colours: draws()
+                .any(|d| scene.meshes[d.mesh].colours.is_some() || d.tint != glam::Vec4::ONE),
             flat_colours: draws().all(|d| meshes[d.mesh].flat_colours),
             deep_binning_lanes: deep_binning_lanes(
                 draws()
@@ -449,6 +450,7 @@ mod tests {
             mesh: 0,
             material: 0,
             transform: Mat4::IDENTITY,
+            tint: glam::Vec4::ONE,
         });
         let facts = MeshFacts::of_scene(&scene);
         let orbit = Orbit::new(&scene);

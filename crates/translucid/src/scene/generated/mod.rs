@@ -213,6 +213,7 @@ impl Builder {
             mesh: self.mesh(mesh),
             material: self.material(material),
             transform: Mat4::IDENTITY,
+            tint: glam::Vec4::ONE,
         }
     }
 
