@@ -1293,10 +1293,14 @@ translucid_result translucid_frame_destroy(struct translucid_context *context,
                                            struct translucid_frame frame);
 
 /**
- * Host-device mode: ends a frame in flight without completing it, and destroys it. You
- * state that the GPU is not running its commands and never will: they were never
- * submitted, or their submission finished and you do not want the frame's results.
- * translucid frees what the recording used; the next recording builds it anew.
+ * Host-device mode: ends a frame in flight without completing it, and destroys it; the
+ * frames recorded after it end too (their handles stay, without statistics: destroy
+ * them). You state that the GPU is not running the commands of any of them and never
+ * will: they were never submitted, or their submissions finished and you do not want
+ * their results. translucid frees what their recordings used once no older frame in
+ * flight needs it; later frames build it anew. Reset their command buffers
+ * (`vkResetCommandBuffer` or the pool) instead of ending or submitting them: the
+ * objects they name may be destroyed.
  */
 translucid_result translucid_frame_abandon(struct translucid_context *context,
                                            struct translucid_frame frame);
