@@ -238,6 +238,81 @@ translucid_host_device_create_info host_device_info(void) {
 }
 
 
+void begin_commands(VkCommandBuffer cmd) {
+    VkCommandBufferBeginInfo info;
+    memset(&info, 0, sizeof info);
+    info.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
+    info.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    VK_CHECK(vkResetCommandBuffer(cmd, 0));
+    VK_CHECK(vkBeginCommandBuffer(cmd, &info));
+}
+
+void submit_commands(VkCommandBuffer cmd, VkFence fence) {
+    VkSubmitInfo submit;
+    VK_CHECK(vkEndCommandBuffer(cmd));
+    memset(&submit, 0, sizeof submit);
+    submit.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;
+    submit.commandBufferCount = 1;
+    submit.pCommandBuffers = &cmd;
+    VK_CHECK(vkQueueSubmit(g_queue, 1, &submit, fence));
+}
+
+void wait_fence(VkFence fence) {
+    VK_CHECK(vkWaitForFences(g_device, 1, &fence, VK_TRUE, UINT64_MAX));
+    VK_CHECK(vkResetFences(g_device, 1, &fence));
+}
+
+const float g_test_quads[TEST_QUADS][12] = {
+    {-1.2f, -0.9f, -2.0f, 0.4f, -0.9f, -2.0f, 0.4f, 0.6f, -2.0f, -1.2f, 0.6f, -2.0f},
+    {-0.6f, -0.5f, -3.0f, 1.4f, -0.5f, -3.0f, 1.4f, 1.0f, -3.0f, -0.6f, 1.0f, -3.0f},
+    {-1.5f, -0.2f, -1.6f, 1.5f, -0.2f, -3.6f, 1.5f, 0.3f, -3.6f, -1.5f, 0.3f, -1.6f},
+    {-0.3f, -1.0f, -2.5f, 0.3f, -1.0f, -2.5f, 0.3f, 1.0f, -2.5f, -0.3f, 1.0f, -2.5f},
+};
+
+void make_quad(translucid_context *ctx, size_t i, uint32_t material_flags,
+               translucid_mesh *mesh, translucid_material *material, translucid_draw *draw) {
+    static const float colours[TEST_QUADS][4] = {{1.0f, 0.1f, 0.1f, 0.5f},
+                                                 {0.1f, 0.3f, 1.0f, 0.7f},
+                                                 {0.2f, 1.0f, 0.3f, 0.6f},
+                                                 {1.0f, 1.0f, 0.2f, 0.4f}};
+    static const uint32_t triangles[] = {0, 1, 2, 0, 2, 3};
+    translucid_mesh_create_info mesh_info;
+    translucid_material_create_info material_info;
+    memset(&mesh_info, 0, sizeof mesh_info);
+    mesh_info.s_type = TRANSLUCID_STRUCTURE_TYPE_MESH_CREATE_INFO;
+    mesh_info.primitive = TRANSLUCID_PRIMITIVE_TRIANGLES;
+    mesh_info.vertex_count = 4;
+    mesh_info.positions = g_test_quads[i];
+    mesh_info.index_count = 6;
+    mesh_info.indices = triangles;
+    CHECK(ctx, translucid_mesh_create(ctx, &mesh_info, mesh));
+    memset(&material_info, 0, sizeof material_info);
+    material_info.s_type = TRANSLUCID_STRUCTURE_TYPE_MATERIAL_CREATE_INFO;
+    memcpy(material_info.base_colour, colours[i], sizeof colours[i]);
+    material_info.flags = material_flags;
+    CHECK(ctx, translucid_material_create(ctx, &material_info, material));
+    memset(draw, 0, sizeof *draw);
+    draw->mesh = *mesh;
+    draw->material = *material;
+    draw->layer = TRANSLUCID_LAYER_TRANSPARENT;
+    draw->transform[0] = draw->transform[5] = draw->transform[10] = draw->transform[15] = 1.0f;
+}
+
+void fill_opaque_layer(uint8_t *colour, float *depth, size_t width, size_t height,
+                       const float bands[3]) {
+    size_t x, y;
+    for (y = 0; y < height; y++) {
+        for (x = 0; x < width; x++) {
+            size_t i = y * width + x;
+            colour[i * 4 + 0] = (uint8_t)(40 + 3 * x);
+            colour[i * 4 + 1] = (uint8_t)(200 - 3 * y);
+            colour[i * 4 + 2] = 90;
+            colour[i * 4 + 3] = 255;
+            depth[i] = x < width / 4 ? bands[0] : x < width / 2 ? bands[1] : bands[2];
+        }
+    }
+}
+
 void destroy_engine(void) {
     vkDestroyDevice(g_device, NULL);
     if (g_messenger != VK_NULL_HANDLE) {

@@ -70,4 +70,24 @@ VkBufferImageCopy region(VkImageAspectFlags aspect, VkDeviceSize offset, uint32_
 /* The engine's device, as the context create-info's `next` takes it. */
 translucid_host_device_create_info host_device_info(void);
 
+/* Command buffers: reset and begun for one submission; submitted with a fence; waited for. */
+void begin_commands(VkCommandBuffer cmd);
+void submit_commands(VkCommandBuffer cmd, VkFence fence);
+void wait_fence(VkFence fence);
+
+/* The tests' transparent quads (view space, camera at the origin looking down -Z): two facing
+ * the camera at different depths, one tilted through both, and a narrow upright one. */
+#define TEST_QUADS 4
+extern const float g_test_quads[TEST_QUADS][12];
+
+/* Quad `i` as a mesh and a material (its own colour, `material_flags`), and a transparent
+ * draw of them with an identity transform. */
+void make_quad(translucid_context *ctx, size_t i, uint32_t material_flags,
+               translucid_mesh *mesh, translucid_material *material, translucid_draw *draw);
+
+/* An opaque layer of width x height: an sRGB gradient, depth in three bands across, from
+ * `bands[0]` on the left to `bands[2]` on the right. */
+void fill_opaque_layer(uint8_t *colour, float *depth, size_t width, size_t height,
+                       const float bands[3]);
+
 #endif

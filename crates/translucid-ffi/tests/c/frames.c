@@ -107,20 +107,12 @@ static uint8_t g_opaque_colour[COLOUR_BYTES];
  * for forward depth and 1 - d for reversed-Z. */
 static float g_engine_depth[W * H], g_layer_depth[W * H];
 
-/* A gradient, with depth in three bands across: `bands` near to far. */
+/* The opaque layer, its depth in three bands across: `bands` near to far. */
 static void make_opaque_layer(const float bands[3], int reversed) {
-    size_t x, y;
-    for (y = 0; y < H; y++) {
-        for (x = 0; x < W; x++) {
-            size_t i = y * W + x;
-            float d = x < W / 4 ? bands[0] : x < W / 2 ? bands[1] : bands[2];
-            g_opaque_colour[i * 4 + 0] = (uint8_t)(40 + 3 * x);
-            g_opaque_colour[i * 4 + 1] = (uint8_t)(200 - 3 * y);
-            g_opaque_colour[i * 4 + 2] = 90;
-            g_opaque_colour[i * 4 + 3] = 255;
-            g_engine_depth[i] = d;
-            g_layer_depth[i] = reversed ? 1.0f - d : d;
-        }
+    size_t i;
+    fill_opaque_layer(g_opaque_colour, g_engine_depth, W, H, bands);
+    for (i = 0; i < W * H; i++) {
+        g_layer_depth[i] = reversed ? 1.0f - g_engine_depth[i] : g_engine_depth[i];
     }
 }
 
@@ -133,42 +125,10 @@ typedef struct scene {
     translucid_draw draws[QUADS + 1];
 } scene;
 
-static const float g_quads[QUADS + 1][12] = {
-    {-1.2f, -0.9f, -2.0f, 0.4f, -0.9f, -2.0f, 0.4f, 0.6f, -2.0f, -1.2f, 0.6f, -2.0f},
-    {-0.6f, -0.5f, -3.0f, 1.4f, -0.5f, -3.0f, 1.4f, 1.0f, -3.0f, -0.6f, 1.0f, -3.0f},
-    {-1.5f, -0.2f, -1.6f, 1.5f, -0.2f, -3.6f, 1.5f, 0.3f, -3.6f, -1.5f, 0.3f, -1.6f},
-    {-0.3f, -1.0f, -2.5f, 0.3f, -1.0f, -2.5f, 0.3f, 1.0f, -2.5f, -0.3f, 1.0f, -2.5f},
-};
-
 static void make_scene(translucid_context *ctx, scene *s) {
-    static const float colours[QUADS + 1][4] = {{1.0f, 0.1f, 0.1f, 0.5f},
-                                                {0.1f, 0.3f, 1.0f, 0.7f},
-                                                {0.2f, 1.0f, 0.3f, 0.6f},
-                                                {1.0f, 1.0f, 0.2f, 0.4f}};
-    static const uint32_t triangles[] = {0, 1, 2, 0, 2, 3};
     size_t i;
     for (i = 0; i < QUADS + 1; i++) {
-        translucid_mesh_create_info mesh;
-        translucid_material_create_info material;
-        memset(&mesh, 0, sizeof mesh);
-        mesh.s_type = TRANSLUCID_STRUCTURE_TYPE_MESH_CREATE_INFO;
-        mesh.primitive = TRANSLUCID_PRIMITIVE_TRIANGLES;
-        mesh.vertex_count = 4;
-        mesh.positions = g_quads[i];
-        mesh.index_count = 6;
-        mesh.indices = triangles;
-        CHECK(ctx, translucid_mesh_create(ctx, &mesh, &s->meshes[i]));
-        memset(&material, 0, sizeof material);
-        material.s_type = TRANSLUCID_STRUCTURE_TYPE_MATERIAL_CREATE_INFO;
-        memcpy(material.base_colour, colours[i], sizeof colours[i]);
-        material.flags = TRANSLUCID_MATERIAL_LIT;
-        CHECK(ctx, translucid_material_create(ctx, &material, &s->materials[i]));
-        memset(&s->draws[i], 0, sizeof s->draws[i]);
-        s->draws[i].mesh = s->meshes[i];
-        s->draws[i].material = s->materials[i];
-        s->draws[i].layer = TRANSLUCID_LAYER_TRANSPARENT;
-        s->draws[i].transform[0] = s->draws[i].transform[5] = s->draws[i].transform[10] =
-            s->draws[i].transform[15] = 1.0f;
+        make_quad(ctx, i, TRANSLUCID_MATERIAL_LIT, &s->meshes[i], &s->materials[i], &s->draws[i]);
     }
 }
 
@@ -176,7 +136,7 @@ static void make_scene(translucid_context *ctx, scene *s) {
 static void move_scene(translucid_context *host_ctx, scene *host, scene *standalone, int k) {
     float positions[12];
     size_t v;
-    memcpy(positions, g_quads[2], sizeof positions);
+    memcpy(positions, g_test_quads[2], sizeof positions);
     for (v = 0; v < 4; v++) {
         positions[v * 3 + 1] += 0.08f * (float)k * (v < 2 ? 1.0f : -0.5f);
     }
@@ -241,14 +201,6 @@ static void render_expected(translucid_frame_info info, const scene *s, uint8_t 
     CHECK(g_standalone, translucid_frame_destroy(g_standalone, frame));
 }
 
-static void begin(VkCommandBuffer cmd) {
-    VkCommandBufferBeginInfo info;
-    memset(&info, 0, sizeof info);
-    info.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
-    info.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    VK_CHECK(vkResetCommandBuffer(cmd, 0));
-    VK_CHECK(vkBeginCommandBuffer(cmd, &info));
-}
 
 /* The engine's opaque pass into the slot's colour and `depth` (of `aspects`), uploaded from
  * the slot's buffer: colour bytes, then the depth texels the caller wrote after them. */
@@ -326,20 +278,7 @@ static void record_frame(translucid_context *ctx, VkCommandBuffer cmd, slot *s,
     s->busy = 1;
 }
 
-static void submit(VkCommandBuffer cmd, VkFence fence) {
-    VkSubmitInfo submit;
-    VK_CHECK(vkEndCommandBuffer(cmd));
-    memset(&submit, 0, sizeof submit);
-    submit.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;
-    submit.commandBufferCount = 1;
-    submit.pCommandBuffers = &cmd;
-    VK_CHECK(vkQueueSubmit(g_queue, 1, &submit, fence));
-}
 
-static void wait(VkFence fence) {
-    VK_CHECK(vkWaitForFences(g_device, 1, &fence, VK_TRUE, UINT64_MAX));
-    VK_CHECK(vkResetFences(g_device, 1, &fence));
-}
 
 static int worst_difference(const uint8_t *a, const uint8_t *b);
 
@@ -382,7 +321,7 @@ static void updates_move_the_mesh(void) {
     make_scene(g_standalone, &s);
     info = frame_info(&s, QUADS, orbit_camera(0.1f));
     render_expected(info, &s, before);
-    memcpy(positions, g_quads[2], sizeof positions);
+    memcpy(positions, g_test_quads[2], sizeof positions);
     for (v = 0; v < 4; v++) positions[v * 3 + 1] += 0.4f;
     CHECK(g_standalone, translucid_mesh_update(g_standalone, s.meshes[2], 0, 4, positions));
     render_expected(info, &s, updated);
@@ -434,7 +373,7 @@ static void frame_loop(uint32_t in_flight) {
         slot *s = &g_slots[k % in_flight];
         translucid_frame_info info;
         if (s->busy) {
-            wait(s->fence);
+            wait_fence(s->fence);
             CHECK(ctx, translucid_frame_complete(ctx, s->frame));
             snprintf(what, sizeof what, "%u in flight, frame %d", in_flight, k - (int)in_flight);
             compare(ctx, s, what);
@@ -442,13 +381,13 @@ static void frame_loop(uint32_t in_flight) {
         move_scene(ctx, &host, &standalone, k);
         info = frame_info(&host, QUADS, orbit_camera(0.15f * (float)k));
         render_expected(info, &standalone, s->expected);
-        begin(s->cmd);
+        begin_commands(s->cmd);
         record_frame(ctx, s->cmd, s, &info);
-        submit(s->cmd, s->fence);
+        submit_commands(s->cmd, s->fence);
     }
     /* Every slot is in flight: wait for them all, complete the newest (the older ones
      * complete with it: they ran first, on the same queue), then check each. */
-    for (n = 0; n < in_flight; n++) wait(g_slots[n].fence);
+    for (n = 0; n < in_flight; n++) wait_fence(g_slots[n].fence);
     CHECK(ctx, translucid_frame_complete(ctx, g_slots[(FRAMES - 1) % in_flight].frame));
     for (n = 0; n < in_flight; n++) {
         slot *s = &g_slots[(FRAMES + n) % in_flight];
@@ -473,11 +412,11 @@ static void two_views(void) {
     right = frame_info(&host, QUADS + 1, orbit_camera(0.3f));
     render_expected(left, &standalone, g_slots[0].expected);
     render_expected(right, &standalone, g_slots[1].expected);
-    begin(g_slots[0].cmd);
+    begin_commands(g_slots[0].cmd);
     record_frame(ctx, g_slots[0].cmd, &g_slots[0], &left);
     record_frame(ctx, g_slots[0].cmd, &g_slots[1], &right);
-    submit(g_slots[0].cmd, g_slots[0].fence);
-    wait(g_slots[0].fence);
+    submit_commands(g_slots[0].cmd, g_slots[0].fence);
+    wait_fence(g_slots[0].fence);
     CHECK(ctx, translucid_frame_complete(ctx, g_slots[0].frame));
     CHECK(ctx, translucid_frame_complete(ctx, g_slots[1].frame));
     compare(ctx, &g_slots[0], "left view");
@@ -508,10 +447,10 @@ static void engine_projection(void) {
     make_scene(g_standalone, &standalone);
     info = frame_info(&host, QUADS + 1, camera);
     render_expected(info, &standalone, g_slots[0].expected);
-    begin(g_slots[0].cmd);
+    begin_commands(g_slots[0].cmd);
     record_frame(ctx, g_slots[0].cmd, &g_slots[0], &info);
-    submit(g_slots[0].cmd, g_slots[0].fence);
-    wait(g_slots[0].fence);
+    submit_commands(g_slots[0].cmd, g_slots[0].fence);
+    wait_fence(g_slots[0].fence);
     CHECK(ctx, translucid_frame_complete(ctx, g_slots[0].frame));
     compare(ctx, &g_slots[0], "reversed-Z, infinite far, jittered");
     printf("reversed-Z, infinite far plane and jitter as the standalone context renders them\n");
@@ -529,24 +468,24 @@ static void destroy_in_flight(void) {
     make_scene(g_standalone, &standalone);
     info = frame_info(&host, QUADS + 1, orbit_camera(0.0f));
     render_expected(info, &standalone, g_slots[0].expected);
-    begin(g_slots[0].cmd);
+    begin_commands(g_slots[0].cmd);
     record_frame(ctx, g_slots[0].cmd, &g_slots[0], &info);
     CHECK(ctx, translucid_mesh_destroy(ctx, host.meshes[QUADS]));
-    submit(g_slots[0].cmd, g_slots[0].fence);
+    submit_commands(g_slots[0].cmd, g_slots[0].fence);
     /* The next frame, without it, while the first is in flight. */
     info.draw_count = QUADS;
     render_expected(info, &standalone, g_slots[1].expected);
-    begin(g_slots[1].cmd);
+    begin_commands(g_slots[1].cmd);
     record_frame(ctx, g_slots[1].cmd, &g_slots[1], &info);
-    submit(g_slots[1].cmd, g_slots[1].fence);
-    wait(g_slots[0].fence);
-    wait(g_slots[1].fence);
+    submit_commands(g_slots[1].cmd, g_slots[1].fence);
+    wait_fence(g_slots[0].fence);
+    wait_fence(g_slots[1].fence);
     CHECK(ctx, translucid_frame_complete(ctx, g_slots[0].frame));
     CHECK(ctx, translucid_frame_complete(ctx, g_slots[1].frame));
     compare(ctx, &g_slots[0], "frame drawing a mesh destroyed in flight");
     compare(ctx, &g_slots[1], "frame after the destruction");
     info.draw_count = QUADS + 1;
-    begin(g_slots[0].cmd);
+    begin_commands(g_slots[0].cmd);
     {
         translucid_host_frame_targets t = targets_of(g_slots[0].cmd, &g_slots[0]);
         EXPECT(ctx, translucid_frame_record(ctx, &info, &t, &g_slots[0].frame),
@@ -624,12 +563,12 @@ static void depth_formats(void) {
             render_expected(info, &standalone, s->expected);
             t.depth.image = depth;
             t.depth.format = format;
-            begin(s->cmd);
+            begin_commands(s->cmd);
             record_opaque_into(s->cmd, s, depth, aspects);
             CHECK(ctx, translucid_frame_record(ctx, &info, &t, &s->frame));
             record_readback(s->cmd, s);
-            submit(s->cmd, s->fence);
-            wait(s->fence);
+            submit_commands(s->cmd, s->fence);
+            wait_fence(s->fence);
             CHECK(ctx, translucid_frame_complete(ctx, s->frame));
             snprintf(what, sizeof what, "depth format %d%s", (int)format,
                      reversed ? ", reversed-Z" : "");
@@ -671,7 +610,7 @@ static void misuse(void) {
     make_scene(ctx, &host);
     info = frame_info(&host, QUADS, orbit_camera(0.0f));
     /* Updates: a range past the mesh, a NaN, a destroyed mesh. */
-    memcpy(positions, g_quads[0], sizeof positions);
+    memcpy(positions, g_test_quads[0], sizeof positions);
     EXPECT(ctx, translucid_mesh_update(ctx, host.meshes[0], 2, 4, positions),
            TRANSLUCID_RESULT_ERROR_INVALID_SIZE);
     EXPECT(ctx, translucid_mesh_update(ctx, host.meshes[0], 0, 0, positions),
@@ -682,14 +621,14 @@ static void misuse(void) {
     EXPECT(ctx, translucid_mesh_update(ctx, host.meshes[0], 0, 4, NULL),
            TRANSLUCID_RESULT_ERROR_NULL_POINTER);
     CHECK(ctx, translucid_mesh_destroy(ctx, host.meshes[QUADS]));
-    EXPECT(ctx, translucid_mesh_update(ctx, host.meshes[QUADS], 0, 4, g_quads[QUADS]),
+    EXPECT(ctx, translucid_mesh_update(ctx, host.meshes[QUADS], 0, 4, g_test_quads[QUADS]),
            TRANSLUCID_RESULT_ERROR_STALE_HANDLE);
 
     /* As many frames in flight as the context takes; one more is refused. The first is
      * submitted, the others are not: abandoning the second ends it and the third, and the
      * first completes as usual. */
     for (n = 0; n < MOST_IN_FLIGHT; n++) {
-        begin(g_slots[n].cmd);
+        begin_commands(g_slots[n].cmd);
         record_frame(ctx, g_slots[n].cmd, &g_slots[n], &info);
     }
     {
@@ -698,7 +637,7 @@ static void misuse(void) {
                TRANSLUCID_RESULT_ERROR_FRAME_IN_FLIGHT);
         TRUE_OR_FAIL(strstr(translucid_context_last_error(ctx), "frames_in_flight") != NULL);
     }
-    submit(g_slots[0].cmd, g_slots[0].fence);
+    submit_commands(g_slots[0].cmd, g_slots[0].fence);
     CHECK(ctx, translucid_frame_abandon(ctx, g_slots[1].frame));
     EXPECT(ctx, translucid_frame_destroy(ctx, g_slots[1].frame), TRANSLUCID_RESULT_ERROR_STALE_HANDLE);
     memset(&stats, 0, sizeof stats);
@@ -712,15 +651,15 @@ static void misuse(void) {
     VK_CHECK(vkEndCommandBuffer(g_slots[1].cmd));
     VK_CHECK(vkEndCommandBuffer(g_slots[2].cmd));
     g_slots[1].busy = g_slots[2].busy = 0;
-    wait(g_slots[0].fence);
+    wait_fence(g_slots[0].fence);
     CHECK(ctx, translucid_frame_complete(ctx, g_slots[0].frame));
     CHECK(ctx, translucid_frame_destroy(ctx, g_slots[0].frame));
     g_slots[0].busy = 0;
     /* And the loop goes on. */
-    begin(g_slots[1].cmd);
+    begin_commands(g_slots[1].cmd);
     record_frame(ctx, g_slots[1].cmd, &g_slots[1], &info);
-    submit(g_slots[1].cmd, g_slots[1].fence);
-    wait(g_slots[1].fence);
+    submit_commands(g_slots[1].cmd, g_slots[1].fence);
+    wait_fence(g_slots[1].fence);
     CHECK(ctx, translucid_frame_complete(ctx, g_slots[1].frame));
     CHECK(ctx, translucid_frame_destroy(ctx, g_slots[1].frame));
     g_slots[1].busy = 0;

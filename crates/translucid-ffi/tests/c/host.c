@@ -84,14 +84,7 @@ static void create_frame_resources(void) {
     VK_CHECK(vkMapMemory(g_device, g_buffer_memory, 0, VK_WHOLE_SIZE, 0, &g_mapped));
 }
 
-static void begin(void) {
-    VkCommandBufferBeginInfo info;
-    memset(&info, 0, sizeof info);
-    info.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
-    info.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    VK_CHECK(vkResetCommandBuffer(g_cmd, 0));
-    VK_CHECK(vkBeginCommandBuffer(g_cmd, &info));
-}
+static void begin(void) { begin_commands(g_cmd); }
 
 /* The engine's "opaque pass": its colour and depth, copied from the upload buffer, left in
  * the attachment layouts an opaque pass would leave them in. */
@@ -148,15 +141,8 @@ static void record_readback(void) {
 }
 
 static void submit_and_wait(void) {
-    VkSubmitInfo submit;
-    VK_CHECK(vkEndCommandBuffer(g_cmd));
-    memset(&submit, 0, sizeof submit);
-    submit.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;
-    submit.commandBufferCount = 1;
-    submit.pCommandBuffers = &g_cmd;
-    VK_CHECK(vkQueueSubmit(g_queue, 1, &submit, g_fence));
-    VK_CHECK(vkWaitForFences(g_device, 1, &g_fence, VK_TRUE, UINT64_MAX));
-    VK_CHECK(vkResetFences(g_device, 1, &g_fence));
+    submit_commands(g_cmd, g_fence);
+    wait_fence(g_fence);
 }
 
 /* ---- the scene, the same in both contexts ---- */
@@ -166,17 +152,8 @@ static float g_opaque_depth[W * H];
 
 /* A gradient; depth in three bands: in front of every quad, cutting through them, far. */
 static void make_opaque_layer(void) {
-    size_t x, y;
-    for (y = 0; y < H; y++) {
-        for (x = 0; x < W; x++) {
-            size_t i = y * W + x;
-            g_opaque_colour[i * 4 + 0] = (uint8_t)(40 + 3 * x);
-            g_opaque_colour[i * 4 + 1] = (uint8_t)(200 - 3 * y);
-            g_opaque_colour[i * 4 + 2] = 90;
-            g_opaque_colour[i * 4 + 3] = 255;
-            g_opaque_depth[i] = x < W / 4 ? 0.3f : x < W / 2 ? 0.75f : 1.0f;
-        }
-    }
+    static const float bands[3] = {0.3f, 0.75f, 1.0f};
+    fill_opaque_layer(g_opaque_colour, g_opaque_depth, W, H, bands);
 }
 
 typedef struct scene {
@@ -187,37 +164,8 @@ typedef struct scene {
 
 /* Three quads: two facing the camera at different depths, and one tilted through both. */
 static void make_scene(translucid_context *ctx, scene *s) {
-    static const float quads[3][12] = {
-        {-1.2f, -0.9f, -2.0f, 0.4f, -0.9f, -2.0f, 0.4f, 0.6f, -2.0f, -1.2f, 0.6f, -2.0f},
-        {-0.6f, -0.5f, -3.0f, 1.4f, -0.5f, -3.0f, 1.4f, 1.0f, -3.0f, -0.6f, 1.0f, -3.0f},
-        {-1.5f, -0.2f, -1.6f, 1.5f, -0.2f, -3.6f, 1.5f, 0.3f, -3.6f, -1.5f, 0.3f, -1.6f},
-    };
-    static const float colours[3][4] = {
-        {1.0f, 0.1f, 0.1f, 0.5f}, {0.1f, 0.3f, 1.0f, 0.7f}, {0.2f, 1.0f, 0.3f, 0.6f}};
-    static const uint32_t triangles[] = {0, 1, 2, 0, 2, 3};
     size_t i;
-    for (i = 0; i < 3; i++) {
-        translucid_mesh_create_info mesh;
-        translucid_material_create_info material;
-        memset(&mesh, 0, sizeof mesh);
-        mesh.s_type = TRANSLUCID_STRUCTURE_TYPE_MESH_CREATE_INFO;
-        mesh.primitive = TRANSLUCID_PRIMITIVE_TRIANGLES;
-        mesh.vertex_count = 4;
-        mesh.positions = quads[i];
-        mesh.index_count = 6;
-        mesh.indices = triangles;
-        CHECK(ctx, translucid_mesh_create(ctx, &mesh, &s->meshes[i]));
-        memset(&material, 0, sizeof material);
-        material.s_type = TRANSLUCID_STRUCTURE_TYPE_MATERIAL_CREATE_INFO;
-        memcpy(material.base_colour, colours[i], sizeof colours[i]);
-        CHECK(ctx, translucid_material_create(ctx, &material, &s->materials[i]));
-        memset(&s->draws[i], 0, sizeof s->draws[i]);
-        s->draws[i].mesh = s->meshes[i];
-        s->draws[i].material = s->materials[i];
-        s->draws[i].layer = TRANSLUCID_LAYER_TRANSPARENT;
-        s->draws[i].transform[0] = s->draws[i].transform[5] = s->draws[i].transform[10] =
-            s->draws[i].transform[15] = 1.0f;
-    }
+    for (i = 0; i < 3; i++) make_quad(ctx, i, 0, &s->meshes[i], &s->materials[i], &s->draws[i]);
 }
 
 static translucid_frame_info frame_info(uint32_t method, const scene *s) {
