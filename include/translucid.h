@@ -907,7 +907,9 @@ typedef struct translucid_host_image {
     VkFormat format;
     /**
      * The layout the image is in when the recorded commands run (not UNDEFINED: its contents
-     * are the opaque layer).
+     * are the opaque layer): GENERAL, an attachment, read-only, shader-read or transfer
+     * layout, or synchronization2's ATTACHMENT_OPTIMAL and READ_ONLY_OPTIMAL when the device
+     * has that feature enabled (PRESENT_SRC_KHR for colour too).
      */
     VkImageLayout layout;
     /**

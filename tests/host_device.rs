@@ -58,16 +58,28 @@ struct Engine {
     cmds: Vec<vk::CommandBuffer>,
     fences: Vec<vk::Fence>,
     features: vk::PhysicalDeviceFeatures,
+    api_version: u32,
 }
 
 impl Engine {
     fn new() -> Self {
+        Self::with_synchronization2(false)
+    }
+
+    /// An engine on Vulkan 1.3 with synchronization2 enabled when `sync2`, whose images may
+    /// then be in its layouts (ATTACHMENT_OPTIMAL, READ_ONLY_OPTIMAL).
+    fn with_synchronization2(sync2: bool) -> Self {
         let wanted = host_requirements();
+        let api_version = if sync2 {
+            vk::API_VERSION_1_3
+        } else {
+            wanted.api_version
+        };
         // SAFETY: plain Vulkan object creation, each call given live parents and create infos
         // that outlive it; this is test code standing in for an engine.
         unsafe {
             let entry = ash::Entry::load().expect("the Vulkan loader");
-            let app = vk::ApplicationInfo::default().api_version(wanted.api_version);
+            let app = vk::ApplicationInfo::default().api_version(api_version);
             let layers = [c"VK_LAYER_KHRONOS_validation".as_ptr()];
             let extensions = [ash::ext::debug_utils::NAME.as_ptr()];
             let instance = entry
@@ -103,14 +115,15 @@ impl Engine {
                 .queue_family_index(family)
                 .queue_priorities(&priorities)];
             let features = wanted.features;
+            let mut vulkan13 = vk::PhysicalDeviceVulkan13Features::default().synchronization2(true);
+            let mut info = vk::DeviceCreateInfo::default()
+                .queue_create_infos(&queues)
+                .enabled_features(&features);
+            if sync2 {
+                info = info.push_next(&mut vulkan13);
+            }
             let device = instance
-                .create_device(
-                    physical,
-                    &vk::DeviceCreateInfo::default()
-                        .queue_create_infos(&queues)
-                        .enabled_features(&features),
-                    None,
-                )
+                .create_device(physical, &info, None)
                 .expect("device");
             let queue = device.get_device_queue(family, 0);
             let pool = device
@@ -147,6 +160,7 @@ impl Engine {
                 cmds,
                 fences,
                 features,
+                api_version,
             }
         }
     }
@@ -158,7 +172,7 @@ impl Engine {
             physical_device: self.physical,
             device: self.device.handle(),
             queue_family: self.family,
-            api_version: host_requirements().api_version,
+            api_version: self.api_version,
             features: self.features,
             extensions: Vec::new(),
         }
@@ -260,6 +274,9 @@ struct EngineImages {
     depth_in: translucid::gpu::Buffer,
     outs: Vec<translucid::gpu::Buffer>,
     extent: vk::Extent2D,
+    /// The layouts the engine's opaque pass leaves colour and depth in, and translucid leaves
+    /// depth in.
+    layouts: (vk::ImageLayout, vk::ImageLayout),
 }
 
 const COLOUR_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
@@ -322,6 +339,15 @@ impl EngineImages {
             depth_in: upload("opaque depth", depth_texels),
             outs,
             extent,
+            layouts: (ATTACHMENT, DEPTH_ATTACHMENT),
+        }
+    }
+
+    /// The images with the engine leaving colour and depth in `colour` and `depth` layouts.
+    fn in_layouts(self, colour: vk::ImageLayout, depth: vk::ImageLayout) -> Self {
+        Self {
+            layouts: (colour, depth),
+            ..self
         }
     }
 
@@ -332,14 +358,14 @@ impl EngineImages {
             colour: HostImage {
                 image: self.colour.raw,
                 format: COLOUR_FORMAT,
-                layout: ATTACHMENT,
+                layout: self.layouts.0,
                 final_layout: vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
             },
             depth: HostImage {
                 image: self.depth.raw,
                 format: self.depth_format,
-                layout: DEPTH_ATTACHMENT,
-                final_layout: DEPTH_ATTACHMENT,
+                layout: self.layouts.1,
+                final_layout: self.layouts.1,
             },
         }
     }
@@ -355,8 +381,8 @@ impl EngineImages {
             vk::AccessFlags::TRANSFER_WRITE,
         );
         for (image, buffer, layout) in [
-            (&self.colour, &self.colour_in, ATTACHMENT),
-            (&self.depth, &self.depth_in, DEPTH_ATTACHMENT),
+            (&self.colour, &self.colour_in, self.layouts.0),
+            (&self.depth, &self.depth_in, self.layouts.1),
         ] {
             let undefined = vk::ImageLayout::UNDEFINED;
             let dst = vk::ImageLayout::TRANSFER_DST_OPTIMAL;
@@ -932,6 +958,84 @@ fn engine_depth_in_every_format_and_direction_matches_the_reference() {
                     "{label}: {hidden} pixels hidden"
                 );
             }
+        }
+    }
+    let errors = ERRORS.lock().map(|e| e.clone()).unwrap_or_default();
+    assert!(
+        errors.is_empty(),
+        "validation errors:\n{}",
+        errors.join("\n")
+    );
+}
+
+/// An engine on synchronization2 leaves its images in ATTACHMENT_OPTIMAL (colour) and
+/// READ_ONLY_OPTIMAL (depth): translucid takes them from and back to those layouts, copying
+/// D32 depth and sampling D16, and the frames match the standalone ones.
+#[test]
+fn engine_images_in_synchronization2_layouts() {
+    let scene = translucid::scene::load("spheres").expect("generated scene");
+    let standalone = Gpu::new(&GpuOptions {
+        device: None,
+        validation: true,
+    })
+    .expect("a Vulkan device with the validation layer");
+    let mut reference =
+        Renderer::new(&standalone, &scene, MethodKind::Exact, W, H).expect("renderer");
+    let layer = reference
+        .render(true)
+        .expect("frame")
+        .opaque
+        .expect("opaque");
+    let expected = reference
+        .render_over(&layer)
+        .expect("frame over the layer")
+        .image
+        .to_srgb8();
+    let engine = Engine::with_synchronization2(true);
+    {
+        // SAFETY: the engine's live objects, outliving `gpu` (dropped at the end of this block).
+        let gpu = unsafe { Gpu::from_host(&engine.host_device()) }.expect("host device");
+        let mut renderer = Renderer::new(&gpu, &scene, MethodKind::Exact, W, H).expect("renderer");
+        let (_, d32) = texels(&layer);
+        // D16 holds the layer's depth rounded: the reference is rendered over what it holds.
+        for format in [vk::Format::D32_SFLOAT, vk::Format::D16_UNORM] {
+            let mut held = layer.clone();
+            let mut bytes = Vec::new();
+            for depth in held.depth.iter_mut() {
+                let (texel, read) = encode_depth(format, *depth);
+                bytes.extend(texel);
+                *depth = read;
+            }
+            let depth_texels = if format == vk::Format::D32_SFLOAT {
+                d32.clone()
+            } else {
+                bytes
+            };
+            let images = EngineImages::with_depth(&gpu, &held, 1, format, &depth_texels)
+                .in_layouts(
+                    vk::ImageLayout::ATTACHMENT_OPTIMAL,
+                    vk::ImageLayout::READ_ONLY_OPTIMAL,
+                );
+            engine.begin(0);
+            images.record_opaque(&gpu, engine.cmds[0]);
+            // SAFETY: the engine's recording command buffer and images of the frame's size.
+            unsafe { renderer.record_host(&images.targets(engine.cmds[0])) }.expect("record");
+            images.record_readback(&gpu, engine.cmds[0], 0);
+            engine.submit_and_wait();
+            let done = renderer
+                .complete_host()
+                .expect("complete")
+                .expect("the submission finished, so the commands ran");
+            assert!(!done.overflowed, "{format:?}: {done:?}");
+            let want = if format == vk::Format::D32_SFLOAT {
+                expected.clone()
+            } else {
+                translucid::reference::render(&scene, &held)
+                    .expect("reference")
+                    .to_srgb8()
+            };
+            let worst = worst_difference(&images.srgb(0), &want);
+            assert!(worst <= 2, "{format:?}: {worst}/255 off");
         }
     }
     let errors = ERRORS.lock().map(|e| e.clone()).unwrap_or_default();

@@ -209,8 +209,12 @@ pub struct HostTargets {
     pub depth: HostImage,
 }
 
-const COLOUR_LAYOUTS: [vk::ImageLayout; 6] = [
+// ATTACHMENT_OPTIMAL and READ_ONLY_OPTIMAL are synchronization2's (Vulkan 1.3): an engine
+// whose images are in them has the feature enabled, which translucid's barriers then use.
+const COLOUR_LAYOUTS: [vk::ImageLayout; 8] = [
     vk::ImageLayout::GENERAL,
+    vk::ImageLayout::ATTACHMENT_OPTIMAL,
+    vk::ImageLayout::READ_ONLY_OPTIMAL,
     vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
     vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
     vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
@@ -218,8 +222,10 @@ const COLOUR_LAYOUTS: [vk::ImageLayout; 6] = [
     vk::ImageLayout::PRESENT_SRC_KHR,
 ];
 
-const DEPTH_LAYOUTS: [vk::ImageLayout; 8] = [
+const DEPTH_LAYOUTS: [vk::ImageLayout; 10] = [
     vk::ImageLayout::GENERAL,
+    vk::ImageLayout::ATTACHMENT_OPTIMAL,
+    vk::ImageLayout::READ_ONLY_OPTIMAL,
     vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
     vk::ImageLayout::DEPTH_STENCIL_READ_ONLY_OPTIMAL,
     vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
