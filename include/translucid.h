@@ -54,8 +54,8 @@
 /**
  * Turn on the Khronos validation layer; every validation error then fails the call that
  * caused it with `TRANSLUCID_RESULT_ERROR_VALIDATION`. (`TRANSLUCID_VALIDATION=1` in the
- * environment does the same.) Ignored in host-device mode: enable the layer on the engine's
- * instance.
+ * environment does the same.) Both are ignored in host-device mode: enable the layer on the
+ * engine's instance.
  */
 #define TRANSLUCID_CONTEXT_CREATE_VALIDATION 1
 
@@ -173,8 +173,9 @@ enum translucid_result
      */
     TRANSLUCID_RESULT_ERROR_INVALID_ENUM = -4,
     /**
-     * A size is zero or over its documented limit (viewport, texture, vertex or index count,
-     * caller buffer too small for the output).
+     * A size is zero, over its documented limit (viewport, texture, vertex or index count,
+     * caller buffer too small for the output), or not the size it must be (a host image's
+     * width and height against the frame's).
      */
     TRANSLUCID_RESULT_ERROR_INVALID_SIZE = -5,
     /**
@@ -1223,8 +1224,9 @@ void translucid_context_destroy(struct translucid_context *context);
 /**
  * The message of the last failed call on `context`, or of the last failed call without a
  * context on this thread (`translucid_context_create`, calls given a NULL context) when
- * `context` is NULL. Never NULL; "" when nothing failed. Valid until the next call on the
- * same context (or, for NULL, the next failing context-less call on this thread).
+ * `context` is NULL. Never NULL; "" when nothing has failed yet (a successful call does
+ * not clear it). Valid until the next call on the same context (or, for NULL, the next
+ * failing context-less call on this thread).
  */
 const char *translucid_context_last_error(const struct translucid_context *context);
 
@@ -1365,7 +1367,11 @@ translucid_result translucid_frame_record(struct translucid_context *context,
 /**
  * Host-device mode: call once the host waited for the engine's submission of the frame's
  * command buffer. Reads the frame's GPU timings and counters (see
- * `translucid_frame_get_statistics`) and ends the frame's flight. Returns:
+ * `translucid_frame_get_statistics`) and ends the frame's flight. Frames in flight
+ * recorded before it are completed first, in order (on one queue they ran before it), so
+ * completing only the newest after waiting for it is enough; each keeps its own
+ * statistics, and completing one of them afterwards is the error for a frame not in
+ * flight. Returns:
  * - `TRANSLUCID_RESULT_SUCCESS`: the colour image holds the frame.
  * - `TRANSLUCID_RESULT_INCOMPLETE`: the frame went past one of the limits a single
  *   recording handles (README, "When a frame is not right"): pixel rows it could not
@@ -1376,8 +1382,9 @@ translucid_result translucid_frame_record(struct translucid_context *context,
  *   the frame.
  * - `TRANSLUCID_RESULT_NOT_READY`: the commands have not run (not submitted, or still
  *   running). Nothing changed and the frame stays in flight.
- * - `TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT` for a frame not in flight (completed or
- *   abandoned already), or another error from the method (such as a bin too crowded for
+ * - `TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT` for a frame not in flight (completed,
+ *   also by the completion of a newer frame, or abandoned already), or another error from
+ *   the method (such as a bin too crowded for
  *   this device): the frame's flight is over either way, and the next recording builds
  *   its resources anew.
  */
@@ -1412,9 +1419,6 @@ translucid_result translucid_mesh_create(struct translucid_context *context,
                                          struct translucid_mesh *out_mesh);
 
 /**
- * Destroys a mesh; its handle becomes stale. Frames already rendered are unaffected, and
- * host-device frames in flight that draw it keep their copy until they are completed or
- * abandoned: destroying it never waits and never breaks a frame in flight.
  * Moves `vertex_count` vertices of a mesh, from `first_vertex` on, to `positions`
  * (`vertex_count` x 3 floats, finite), as particle systems and skinned meshes do every
  * frame; its indices, normals, colours and texture coordinates stay. Frames recorded
@@ -1428,6 +1432,11 @@ translucid_result translucid_mesh_update(struct translucid_context *context,
                                          uint32_t vertex_count,
                                          const float *positions);
 
+/**
+ * Destroys a mesh; its handle becomes stale. Frames already rendered are unaffected, and
+ * host-device frames in flight that draw it keep their copy until they are completed or
+ * abandoned: destroying it never waits and never breaks a frame in flight.
+ */
 translucid_result translucid_mesh_destroy(struct translucid_context *context,
                                           struct translucid_mesh mesh);
 

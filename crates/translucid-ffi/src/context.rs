@@ -31,8 +31,8 @@ pub enum translucid_context_mode {
 
 /// Turn on the Khronos validation layer; every validation error then fails the call that
 /// caused it with `TRANSLUCID_RESULT_ERROR_VALIDATION`. (`TRANSLUCID_VALIDATION=1` in the
-/// environment does the same.) Ignored in host-device mode: enable the layer on the engine's
-/// instance.
+/// environment does the same.) Both are ignored in host-device mode: enable the layer on the
+/// engine's instance.
 pub const TRANSLUCID_CONTEXT_CREATE_VALIDATION: u32 = 1;
 const CONTEXT_CREATE_FLAGS: u32 = TRANSLUCID_CONTEXT_CREATE_VALIDATION;
 
@@ -150,6 +150,27 @@ impl Context {
             )));
         }
         let device = try_str(info.device, "device")?;
+        let frames_in_flight = match info.frames_in_flight {
+            0 => 1,
+            n if n <= TRANSLUCID_MAX_FRAMES_IN_FLIGHT && (host_mode || n == 1) => n,
+            n => {
+                return Err(Failure::argument(format!(
+                    "translucid_context_create_info.frames_in_flight is {n}; it must be 0 or 1 \
+                     in standalone mode, 0 to {TRANSLUCID_MAX_FRAMES_IN_FLIGHT} in host-device \
+                     mode"
+                )))
+            }
+        };
+        // Checked before a device is made.
+        let cache_data = (info.pipeline_cache_size > 0)
+            .then(|| {
+                cast::try_slice(
+                    info.pipeline_cache_data.cast::<u8>(),
+                    info.pipeline_cache_size,
+                    "translucid_context_create_info.pipeline_cache_data",
+                )
+            })
+            .transpose()?;
         let gpu = if host_mode {
             if device.is_some() {
                 return Err(Failure::argument(
@@ -198,23 +219,7 @@ impl Context {
                 other => other,
             })?
         };
-        let frames_in_flight = match info.frames_in_flight {
-            0 => 1,
-            n if n <= TRANSLUCID_MAX_FRAMES_IN_FLIGHT && (host_mode || n == 1) => n,
-            n => {
-                return Err(Failure::argument(format!(
-                    "translucid_context_create_info.frames_in_flight is {n}; it must be 0 or 1 \
-                     in standalone mode, 0 to {TRANSLUCID_MAX_FRAMES_IN_FLIGHT} in host-device \
-                     mode"
-                )))
-            }
-        };
-        if info.pipeline_cache_size > 0 {
-            let data = cast::try_slice(
-                info.pipeline_cache_data.cast::<u8>(),
-                info.pipeline_cache_size,
-                "translucid_context_create_info.pipeline_cache_data",
-            )?;
+        if let Some(data) = cache_data {
             // False for another driver's or device's data, which is documented as ignored.
             let _merged = gpu.merge_pipeline_cache(data)?;
         }
@@ -269,8 +274,9 @@ impl translucid_context {
 
     /// The message of the last failed call on `context`, or of the last failed call without a
     /// context on this thread (`translucid_context_create`, calls given a NULL context) when
-    /// `context` is NULL. Never NULL; "" when nothing failed. Valid until the next call on the
-    /// same context (or, for NULL, the next failing context-less call on this thread).
+    /// `context` is NULL. Never NULL; "" when nothing has failed yet (a successful call does
+    /// not clear it). Valid until the next call on the same context (or, for NULL, the next
+    /// failing context-less call on this thread).
     #[no_mangle]
     pub extern "C" fn translucid_context_last_error(
         context: *const translucid_context,

@@ -2,15 +2,11 @@
 //! recorded into the engine's command buffer. Exports `translucid_host_requirements_get`,
 //! `translucid_frame_record` and `translucid_frame_complete`.
 //!
-//! The frame rule: a host-device context has at most one frame in flight. Recording makes the
-//! frame in flight; `translucid_frame_complete`, called once the engine's submission of that
-//! command buffer finished, ends it (destroying the frame abandons it). Until then every
-//! resource the recording uses stays alive, and recording another frame fails with
-//! `TRANSLUCID_RESULT_ERROR_FRAME_IN_FLIGHT`. The context keeps the last frame's renderer
-//! (uploaded scene, pipelines, grown buffers) and reuses it when the next frame draws the same
-//! meshes and materials with the same settings, whatever its camera, light and transforms
-//! (`kept_renderer`): so a moving camera builds nothing, and a frame recorded again after an
-//! overflow renders correctly.
+//! The frame rule: up to the context's `frames_in_flight` frames are recorded and not yet
+//! completed, kept oldest first (`Objects::in_flight`). Completing a frame completes the older
+//! ones first, since one queue runs them in order; abandoning one ends it and every newer one.
+//! Until a frame's flight ends, the renderer that recorded it stays alive (`renderers`), even
+//! when the assets it drew were destroyed meanwhile.
 
 use crate::cast::{
     check_header, translucid_context, try_out, try_out_structure, try_ref, try_slice, OutStructure,
@@ -336,7 +332,8 @@ fn complete(objects: &mut Objects, frame: translucid_frame) -> FfiResult<translu
     objects.frames.get(frame.id)?;
     if !objects.in_flight.contains(&frame.id) {
         return Err(Failure::argument(
-            "the frame is not in flight: it was completed or abandoned already",
+            "the frame is not in flight: it was completed (completing a newer frame completes \
+             the older ones) or abandoned already",
         ));
     }
     // Frames run in the order they were recorded (one queue): the older ones have run too.
@@ -488,7 +485,11 @@ impl translucid_frame {
 
     /// Host-device mode: call once the host waited for the engine's submission of the frame's
     /// command buffer. Reads the frame's GPU timings and counters (see
-    /// `translucid_frame_get_statistics`) and ends the frame's flight. Returns:
+    /// `translucid_frame_get_statistics`) and ends the frame's flight. Frames in flight
+    /// recorded before it are completed first, in order (on one queue they ran before it), so
+    /// completing only the newest after waiting for it is enough; each keeps its own
+    /// statistics, and completing one of them afterwards is the error for a frame not in
+    /// flight. Returns:
     /// - `TRANSLUCID_RESULT_SUCCESS`: the colour image holds the frame.
     /// - `TRANSLUCID_RESULT_INCOMPLETE`: the frame went past one of the limits a single
     ///   recording handles (README, "When a frame is not right"): pixel rows it could not
@@ -499,8 +500,9 @@ impl translucid_frame {
     ///   the frame.
     /// - `TRANSLUCID_RESULT_NOT_READY`: the commands have not run (not submitted, or still
     ///   running). Nothing changed and the frame stays in flight.
-    /// - `TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT` for a frame not in flight (completed or
-    ///   abandoned already), or another error from the method (such as a bin too crowded for
+    /// - `TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT` for a frame not in flight (completed,
+    ///   also by the completion of a newer frame, or abandoned already), or another error from
+    ///   the method (such as a bin too crowded for
     ///   this device): the frame's flight is over either way, and the next recording builds
     ///   its resources anew.
     #[no_mangle]

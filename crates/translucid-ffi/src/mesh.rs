@@ -145,9 +145,6 @@ impl translucid_mesh {
         })
     }
 
-    /// Destroys a mesh; its handle becomes stale. Frames already rendered are unaffected, and
-    /// host-device frames in flight that draw it keep their copy until they are completed or
-    /// abandoned: destroying it never waits and never breaks a frame in flight.
     /// Moves `vertex_count` vertices of a mesh, from `first_vertex` on, to `positions`
     /// (`vertex_count` x 3 floats, finite), as particle systems and skinned meshes do every
     /// frame; its indices, normals, colours and texture coordinates stay. Frames recorded
@@ -193,6 +190,9 @@ impl translucid_mesh {
         })
     }
 
+    /// Destroys a mesh; its handle becomes stale. Frames already rendered are unaffected, and
+    /// host-device frames in flight that draw it keep their copy until they are completed or
+    /// abandoned: destroying it never waits and never breaks a frame in flight.
     #[no_mangle]
     pub extern "C" fn translucid_mesh_destroy(
         context: *mut translucid_context,

@@ -35,8 +35,9 @@ pub enum translucid_result {
     /// An enum argument (method, primitive, layer, pixel format, mode) has a value no version of
     /// the API defines.
     ErrorInvalidEnum = -4,
-    /// A size is zero or over its documented limit (viewport, texture, vertex or index count,
-    /// caller buffer too small for the output).
+    /// A size is zero, over its documented limit (viewport, texture, vertex or index count,
+    /// caller buffer too small for the output), or not the size it must be (a host image's
+    /// width and height against the frame's).
     ErrorInvalidSize = -5,
     /// A handle that is NULL, of the wrong object type, or never issued.
     ErrorInvalidHandle = -6,
@@ -130,7 +131,7 @@ impl translucid_result {
             Self::ErrorInvalidStructureType => c"wrong or unknown structure type (s_type)",
             Self::ErrorInvalidArgument => c"invalid argument",
             Self::ErrorInvalidEnum => c"unknown enum value",
-            Self::ErrorInvalidSize => c"size zero or over its limit",
+            Self::ErrorInvalidSize => c"size zero, over its limit, or not the size required",
             Self::ErrorInvalidHandle => c"invalid handle",
             Self::ErrorStaleHandle => c"handle to a destroyed object",
             Self::ErrorForeignHandle => c"handle from another context",
