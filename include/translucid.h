@@ -780,6 +780,11 @@ typedef struct translucid_frame_info {
      * result. Must be in [0, 1] whatever the method; only exact uses it.
      */
     float exact_threshold;
+    /**
+     * Optional: the engine's frame number, which the frame's statistics report back. It may
+     * not go backwards on a context (views of one engine frame share it); 0 is none.
+     */
+    uint64_t frame_index;
 } translucid_frame_info;
 
 /**
@@ -856,6 +861,10 @@ typedef struct translucid_frame_statistics {
      * returns `TRANSLUCID_RESULT_INCOMPLETE`); standalone frames render again instead.
      */
     uint32_t overflowed;
+    /**
+     * The frame's `translucid_frame_info::frame_index`.
+     */
+    uint64_t frame_index;
 } translucid_frame_statistics;
 
 /**

@@ -88,6 +88,8 @@ pub struct Objects {
     pub in_flight: VecDeque<u64>,
     /// The most frames in flight (`translucid_context_create_info::frames_in_flight`).
     pub frames_in_flight: u32,
+    /// The largest `translucid_frame_info::frame_index` of a frame made so far.
+    pub last_frame_index: u64,
 }
 
 /// The context's assets, as renderers take them.
@@ -238,6 +240,7 @@ impl Context {
                 renderers: Renderers::new(frames_in_flight),
                 in_flight: VecDeque::new(),
                 frames_in_flight,
+                last_frame_index: 0,
             },
         })
     }

@@ -186,6 +186,9 @@ pub struct translucid_frame_info {
     /// transmittance is below this; 0 (the default) composites every fragment: the exact
     /// result. Must be in [0, 1] whatever the method; only exact uses it.
     pub exact_threshold: f32,
+    /// Optional: the engine's frame number, which the frame's statistics report back. It may
+    /// not go backwards on a context (views of one engine frame share it); 0 is none.
+    pub frame_index: u64,
 }
 
 /// The core's method options from a frame's settings.
@@ -269,6 +272,8 @@ pub struct translucid_frame_statistics {
     /// not all right; else 0. Only host-device frames can end so (`translucid_frame_complete`
     /// returns `TRANSLUCID_RESULT_INCOMPLETE`); standalone frames render again instead.
     pub overflowed: u32,
+    /// The frame's `translucid_frame_info::frame_index`.
+    pub frame_index: u64,
 }
 
 impl OutStructure for translucid_frame_statistics {
@@ -300,6 +305,7 @@ pub struct FrameRecord {
     pub(crate) renderer: u64,
     /// Ended without completing, by the abandonment of an earlier frame: no statistics.
     pub(crate) abandoned: bool,
+    pub(crate) frame_index: u64,
     pub(crate) stages: Vec<(&'static str, f64)>,
     pub(crate) method_ms: f64,
     pub(crate) peak_gpu_bytes: u64,
@@ -351,6 +357,7 @@ fn render(objects: &mut Objects, info: &translucid_frame_info) -> FfiResult<Fram
         in_flight: false,
         renderer: id,
         abandoned: false,
+        frame_index: info.frame_index,
         stages: frame.stages,
         peak_gpu_bytes: frame.peak_gpu_bytes,
         fragments: frame.fragments,
@@ -391,6 +398,7 @@ fn statistics_of(record: &FrameRecord, header: (u32, *mut c_void)) -> translucid
         fragments: record.fragments,
         overflow_rerenders: record.rerenders,
         overflowed: u32::from(record.overflowed),
+        frame_index: record.frame_index,
     }
 }
 
@@ -428,6 +436,7 @@ impl translucid_frame {
             let out = try_out(out_frame, "out_frame")?;
             let record = render(objects, info)?;
             let id = objects.frames.insert(record)?;
+            objects.last_frame_index = objects.last_frame_index.max(info.frame_index);
             out.write(translucid_frame { id });
             Ok(translucid_result::Success)
         })

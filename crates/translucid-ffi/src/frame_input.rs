@@ -97,6 +97,13 @@ pub(crate) fn frame_request<'a>(
     )?;
     let method = translucid_method::from_raw(info.method)?;
     check_viewport(&objects.gpu, info.width, info.height)?;
+    if info.frame_index != 0 && info.frame_index < objects.last_frame_index {
+        return Err(Failure::argument(format!(
+            "translucid_frame_info.frame_index {} after {}: frame indices may not go backwards \
+             on a context (views of one frame share theirs; 0 is none)",
+            info.frame_index, objects.last_frame_index
+        )));
+    }
     if info.draw_count > TRANSLUCID_MAX_DRAWS {
         return Err(Failure::size(format!(
             "draw_count {} is over TRANSLUCID_MAX_DRAWS ({TRANSLUCID_MAX_DRAWS})",

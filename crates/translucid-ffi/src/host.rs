@@ -267,6 +267,7 @@ fn record(
         in_flight: true,
         renderer: id,
         abandoned: false,
+        frame_index: info.frame_index,
         stages: Vec::new(),
         method_ms: 0.0,
         peak_gpu_bytes: 0,
@@ -478,6 +479,7 @@ impl translucid_frame {
                 objects.renderers.retire(renderer);
             })?;
             objects.in_flight.push_back(id);
+            objects.last_frame_index = objects.last_frame_index.max(info.frame_index);
             out.write(translucid_frame { id });
             Ok(translucid_result::Success)
         })

@@ -624,6 +624,32 @@ static void misuse(void) {
     EXPECT(ctx, translucid_mesh_update(ctx, host.meshes[QUADS], 0, 4, g_test_quads[QUADS]),
            TRANSLUCID_RESULT_ERROR_STALE_HANDLE);
 
+    /* Frame indices come back in the statistics, and may not go backwards (views of one
+     * frame share theirs; 0 is none). */
+    info.frame_index = 7;
+    begin_commands(g_slots[0].cmd);
+    record_frame(ctx, g_slots[0].cmd, &g_slots[0], &info);
+    record_frame(ctx, g_slots[0].cmd, &g_slots[1], &info);
+    info.frame_index = 6;
+    {
+        translucid_host_frame_targets t = targets_of(g_slots[0].cmd, &g_slots[2]);
+        EXPECT(ctx, translucid_frame_record(ctx, &info, &t, &extra),
+               TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+        TRUE_OR_FAIL(strstr(translucid_context_last_error(ctx), "frame_index 6 after 7") != NULL);
+    }
+    submit_commands(g_slots[0].cmd, g_slots[0].fence);
+    wait_fence(g_slots[0].fence);
+    CHECK(ctx, translucid_frame_complete(ctx, g_slots[1].frame));
+    for (n = 0; n < 2; n++) {
+        memset(&stats, 0, sizeof stats);
+        stats.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_STATISTICS;
+        CHECK(ctx, translucid_frame_get_statistics(ctx, g_slots[n].frame, &stats));
+        TRUE_OR_FAIL(stats.frame_index == 7);
+        CHECK(ctx, translucid_frame_destroy(ctx, g_slots[n].frame));
+        g_slots[n].busy = 0;
+    }
+    info.frame_index = 0;
+
     /* As many frames in flight as the context takes; one more is refused. The first is
      * submitted, the others are not: abandoning the second ends it and the third, and the
      * first completes as usual. */
