@@ -173,9 +173,10 @@ enum Command {
         size: Size,
         #[arg(long, default_value_t = 20)]
         frames: u32,
-        /// What changes from frame to frame, as in an engine's frame loop.
-        #[arg(long, value_enum, default_value = "orbit")]
-        motion: Motion,
+        /// What changes from frame to frame, as in an engine's frame loop; `orbit,static`
+        /// runs both, taking turns, and reports moving over static from the same run.
+        #[arg(long, value_enum, value_delimiter = ',', default_value = "orbit")]
+        motion: Vec<Motion>,
         /// Print one JSON object per (scene, method) line instead of a table.
         #[arg(long)]
         json: bool,

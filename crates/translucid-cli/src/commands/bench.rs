@@ -19,6 +19,7 @@ fn median(mut v: Vec<f64>) -> f64 {
 struct Result {
     scene: String,
     method: String,
+    motion: Motion,
     frames: u32,
     total_ms: f64,
     method_ms: f64,
@@ -42,7 +43,8 @@ pub struct FrameLoop {
     pub size: Size,
     /// Frames timed, after two of warm-up.
     pub frames: u32,
-    pub motion: Motion,
+    /// Each motion is run with every method, all taking turns.
+    pub motion: Vec<Motion>,
 }
 
 /// One method's timed frames of one scene.
@@ -83,10 +85,11 @@ impl Timings {
         self.walls.push(frame.wall_ms);
     }
 
-    fn result(mut self, scene: &str, method: &str, frames: u32) -> Result {
+    fn result(mut self, scene: &str, method: &str, motion: Motion, frames: u32) -> Result {
         Result {
             scene: scene.to_string(),
             method: method.to_string(),
+            motion,
             frames,
             total_ms: median(self.totals),
             method_ms: median(self.method_totals),
@@ -123,10 +126,20 @@ pub fn run(
     let options = super::options(threshold, wavelet)?;
     let frames = frames.max(1);
     // blend is always measured: every ratio is against it, from this same run.
-    let mut order: Vec<&str> = vec!["blend"];
-    order.extend(methods.iter().map(String::as_str).filter(|m| *m != "blend"));
-    // Each method on a device of its own, so that its memory and pipeline counts are its own
-    // while the methods take turns.
+    let mut names: Vec<&str> = vec!["blend"];
+    names.extend(methods.iter().map(String::as_str).filter(|m| *m != "blend"));
+    let mut motions: Vec<Motion> = Vec::new();
+    for m in motion {
+        if !motions.contains(&m) {
+            motions.push(m);
+        }
+    }
+    // Every (method, motion) pair, on a device of its own so that its memory and pipeline
+    // counts are its own while they take turns.
+    let order: Vec<(&str, Motion)> = motions
+        .iter()
+        .flat_map(|&m| names.iter().map(move |&n| (n, m)))
+        .collect();
     let gpus = order
         .iter()
         .enumerate()
@@ -151,6 +164,7 @@ pub fn run(
         let mut draws = Vec::new();
         // The frame's host work: the new camera and draws, then recording (and submission).
         let mut next_frame = |renderer: &mut Renderer,
+                              motion: Motion,
                               index: u32|
          -> translucid::Result<(f64, translucid::renderer::Frame)> {
             let started = Instant::now();
@@ -170,7 +184,7 @@ pub fn run(
         let mut renderers = order
             .iter()
             .zip(&gpus)
-            .map(|(method, gpu)| {
+            .map(|((method, _), gpu)| {
                 Renderer::with_options(
                     gpu,
                     &scene,
@@ -185,30 +199,42 @@ pub fn run(
         // clocks) falls on all of them alike and the ratios compare frames of the same moment.
         // Lavapipe compiles pipelines on first use: warm up before timing.
         for index in 0..warmup {
-            for renderer in &mut renderers {
-                next_frame(renderer, index)?;
+            for (renderer, (_, motion)) in renderers.iter_mut().zip(&order) {
+                next_frame(renderer, *motion, index)?;
                 bar.inc(1);
             }
         }
         let mut timings: Vec<Timings> = order.iter().map(|_| Timings::default()).collect();
         for index in warmup..warmup + frames {
-            for (renderer, timing) in renderers.iter_mut().zip(&mut timings) {
-                let (cpu_ms, frame) = next_frame(renderer, index)?;
+            for ((renderer, timing), (_, motion)) in
+                renderers.iter_mut().zip(&mut timings).zip(&order)
+            {
+                let (cpu_ms, frame) = next_frame(renderer, *motion, index)?;
                 timing.add(cpu_ms, &frame);
                 bar.inc(1);
             }
         }
-        for (method, timing) in order.iter().zip(timings) {
-            results.push(timing.result(spec, method, frames));
+        for ((method, motion), timing) in order.iter().zip(timings) {
+            results.push(timing.result(spec, method, *motion, frames));
         }
     }
     bar.finish_and_clear();
     for r in results.iter().filter(|r| methods.contains(&r.method)) {
         let blend = results
             .iter()
-            .find(|b| b.scene == r.scene && b.method == "blend");
+            .find(|b| b.scene == r.scene && b.method == "blend" && b.motion == r.motion);
         let ratio = r.method_ms / blend.map_or(f64::NAN, |b| b.method_ms);
         let wall_ratio = r.wall_ms / blend.map_or(f64::NAN, |b| b.wall_ms);
+        // Moving over static from the same run, when both were.
+        let over_static = results
+            .iter()
+            .find(|s| {
+                r.motion == Motion::Orbit
+                    && s.scene == r.scene
+                    && s.method == r.method
+                    && s.motion == Motion::Static
+            })
+            .map(|s| r.wall_ms / s.wall_ms);
         if json {
             let stages: serde_json::Map<String, serde_json::Value> = r
                 .stages
@@ -236,12 +262,17 @@ pub fn run(
                 "pipelines_created": r.pipelines_created,
                 "bytes_allocated": r.bytes_allocated,
                 "cpu_record_ms": r.cpu_ms,
-                "motion": format!("{motion:?}").to_lowercase(),
+                "motion": format!("{:?}", r.motion).to_lowercase(),
+                "moving_over_static_wall": over_static,
             });
             println!("{line}");
         } else {
+            let motion = match over_static {
+                Some(x) => format!("orbit (x{x:.2} static)"),
+                None => format!("{:?}", r.motion).to_lowercase(),
+            };
             println!(
-                "{:<40} {:<8} total {:>9.3} ms  method {:>9.3} ms  x{:.2} blend  \
+                "{:<40} {:<8} {motion}  total {:>9.3} ms  method {:>9.3} ms  x{:.2} blend  \
                  frame wall {:>9.3} ms  x{:.2} blend  CPU record {:.3} ms  peak {:.1} MB  \
                  pipelines created {}  bytes allocated {}",
                 r.scene,
