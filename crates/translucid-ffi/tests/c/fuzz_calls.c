@@ -145,6 +145,8 @@ static void check_out(translucid_result got, uint64_t out, const translucid_cont
 typedef struct {
     uint64_t id;
     int live;
+    /* Meshes: their vertex count. */
+    uint32_t vertices;
 } object;
 
 typedef struct {
@@ -152,12 +154,16 @@ typedef struct {
     int count;
 } objects;
 
-static void remember(objects *list, uint64_t id) {
-    if (list->count < MAX_OBJECTS) {
-        list->items[list->count].id = id;
-        list->items[list->count].live = 1;
-        list->count++;
+/* The object remembered, or NULL when the list is full. */
+static object *remember(objects *list, uint64_t id) {
+    if (list->count >= MAX_OBJECTS) {
+        return NULL;
     }
+    object *o = &list->items[list->count++];
+    o->id = id;
+    o->live = 1;
+    o->vertices = 0;
+    return o;
 }
 
 /* A random remembered object (NULL if none). */
@@ -191,6 +197,8 @@ typedef struct {
     objects meshes, textures, materials, frames;
     uint32_t methods[8];
     size_t method_count;
+    /* The largest frame index of a frame made so far. */
+    uint64_t frame_index;
 } state;
 
 /* Handle faults: which handle a call gets instead of a live one, and what it must answer. */
@@ -313,8 +321,55 @@ static void mesh_create(state *s) {
     check(got, want, ctx, "translucid_mesh_create", __LINE__);
     check_out(got, out ? mesh.id : UNTOUCHED, ctx, "translucid_mesh_create", __LINE__);
     if (got == TRANSLUCID_RESULT_SUCCESS && out) {
-        remember(&s->meshes, mesh.id);
+        object *o = remember(&s->meshes, mesh.id);
+        if (o != NULL) {
+            o->vertices = info.vertex_count;
+        }
     }
+}
+
+/* A range of a mesh's vertices moved, or a bad range, pointer, value or handle. */
+static void mesh_update(state *s) {
+    object *o = pick_live(&s->meshes);
+    if (o == NULL) {
+        return;
+    }
+    uint32_t first = below(o->vertices), count = 1 + below(o->vertices - first);
+    for (uint32_t i = 0; i < count * 3; i++) {
+        g_positions[i] = unit() * 2.0f - 1.0f - (i % 3 == 2 ? 3.0f : 0.0f);
+    }
+    const float *positions = g_positions;
+    translucid_mesh mesh = {o->id};
+    int want = TRANSLUCID_RESULT_SUCCESS;
+    switch (below(8)) {
+    case 0: count = 0; want = TRANSLUCID_RESULT_ERROR_INVALID_SIZE; break;
+    case 1: first = o->vertices - count + 1 + below(5); want = TRANSLUCID_RESULT_ERROR_INVALID_SIZE;
+            break;
+    case 2: positions = NULL; want = TRANSLUCID_RESULT_ERROR_NULL_POINTER; break;
+    case 3: g_positions[below(count * 3)] = chance(50) ? NAN : -INFINITY;
+            want = TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT; break;
+    case 4: {
+        enum handle_fault fault = any_handle_fault();
+        if (fault == HANDLE_FOREIGN) {
+            other_context(s);
+        }
+        mesh.id = handle_for(&s->meshes, s->other_mesh, &fault, &want);
+        /* Without such a handle to hand, another live mesh stands in, whose vertex count the
+         * range may not fit. */
+        if (want == TRANSLUCID_RESULT_SUCCESS) {
+            want = ANY;
+        }
+        break;
+    }
+    case 5: /* Scrambled. */
+        first = chance(50) ? first : any_u32();
+        count = chance(50) ? count : any_u32() % (MAX_VERTICES + 2);
+        want = ANY;
+        break;
+    default: break;
+    }
+    translucid_result got = translucid_mesh_update(s->ctx, mesh, first, count, positions);
+    check(got, want, s->ctx, "translucid_mesh_update", __LINE__);
 }
 
 static void texture_create(state *s) {
@@ -507,6 +562,9 @@ static void frame_render(state *s) {
         d->transform[15] = 1.0f;
         d->transform[12] = unit() - 0.5f;
         d->layer = chance(80) ? TRANSLUCID_LAYER_TRANSPARENT : TRANSLUCID_LAYER_OPAQUE;
+        if (chance(30)) {
+            for (int c = 0; c < 4; c++) d->tint[c] = unit() * 1.5f;
+        }
     }
     /* A material whose texture was destroyed cannot be drawn; which materials use which
      * textures is not kept here. */
@@ -533,18 +591,33 @@ static void frame_render(state *s) {
     translucid_light light = {{0.3f, -1.0f, -0.2f}, {1, 1, 1}, {0.1f, 0.1f, 0.1f}};
     info.light = chance(50) ? &light : NULL;
     info.exact_threshold = chance(20) ? unit() * 0.2f : 0.0f;
+    if (chance(30)) {
+        /* The engine's own matrix: reversed-Z with an infinite far plane, and a jitter. */
+        float f = 1.0f / tanf(0.4f);
+        info.camera.projection[0] = f * (float)info.height / (float)info.width;
+        info.camera.projection[5] = -f;
+        info.camera.projection[11] = -1.0f;
+        info.camera.projection[14] = 0.1f;
+        info.camera.jitter[0] = unit() - 0.5f;
+        info.camera.jitter[1] = unit() - 0.5f;
+    }
+    if (chance(30)) {
+        info.frame_index = s->frame_index + below(3);
+    }
 
     translucid_frame frame = {UNTOUCHED};
     translucid_frame *out = &frame;
     if (want == TRANSLUCID_RESULT_SUCCESS) {
-        switch (below(12)) {
+        switch (below(14)) {
         case 0: out = NULL; want = TRANSLUCID_RESULT_ERROR_NULL_POINTER; break;
         case 1: info.method = 4 + below(1000); want = TRANSLUCID_RESULT_ERROR_INVALID_ENUM; break;
         case 2: if (chance(50)) info.width = 0; else info.height = 1u << (16 + below(16));
                 want = TRANSLUCID_RESULT_ERROR_INVALID_SIZE; break;
         case 3: info.camera.view[below(16)] = NAN; want = TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT;
                 break;
-        case 4: info.camera.z_near = chance(50) ? 0.0f : info.camera.z_far * 2.0f;
+        case 4: /* Near and far are read without a projection matrix only. */
+                memset(info.camera.projection, 0, sizeof info.camera.projection);
+                info.camera.z_near = chance(50) ? 0.0f : info.camera.z_far * 2.0f;
                 want = TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT; break;
         case 5: if (draw_count > 0) {
                     info.draws = NULL;
@@ -561,6 +634,19 @@ static void frame_render(state *s) {
                     want = TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT;
                 }
                 break;
+        case 9: if (draw_count > 0) {
+                    draws[below(draw_count)].tint[below(4)] = chance(50) ? -0.5f : NAN;
+                    want = TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT;
+                }
+                break;
+        case 10: if (s->frame_index > 1) {
+                    info.frame_index = 1 + below((uint32_t)(s->frame_index - 1));
+                    want = TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT;
+                }
+                break;
+        case 11: info.camera.jitter[below(2)] = chance(50) ? NAN : INFINITY;
+                want = TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT;
+                break;
         case 8: /* Scrambled. */
             info.camera.fov_y = chance(50) ? info.camera.fov_y : any_float();
             info.camera.z_far = chance(50) ? info.camera.z_far : any_float();
@@ -569,6 +655,7 @@ static void frame_render(state *s) {
             info.wavelet_storage = chance(50) ? 0 : any_u32();
             info.wavelet_noise = chance(50) ? 0.0f : any_float();
             info.background[below(3)] = any_float();
+            info.camera.projection[below(16)] = any_float();
             if (draw_count > 0 && chance(50)) {
                 draws[below(draw_count)].transform[below(16)] = any_float();
             }
@@ -584,6 +671,9 @@ static void frame_render(state *s) {
         return;
     }
     remember(&s->frames, frame.id);
+    if (info.frame_index > s->frame_index) {
+        s->frame_index = info.frame_index;
+    }
     /* A rendered frame reads back whole, with finite pixels. */
     size_t pixels = (size_t)info.width * info.height;
     float *linear = malloc(pixels * 16);
@@ -816,8 +906,10 @@ static void run_case(uint64_t seed, uint64_t number, unsigned calls) {
             texture_create(&s);
         } else if (op < 45) {
             material_create(&s);
-        } else if (op < 60) {
+        } else if (op < 55) {
             destroy(&s);
+        } else if (op < 60) {
+            mesh_update(&s);
         } else if (op < 78) {
             frame_render(&s);
         } else if (op < 90) {
