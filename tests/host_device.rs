@@ -17,7 +17,7 @@ use translucid::gpu::{
 use translucid::methods::{MethodKind, MethodOptions};
 use translucid::renderer::Renderer;
 use translucid::scene::motion::Orbit;
-use translucid::scene::{Camera, Material, Projection};
+use translucid::scene::{Camera, Material, Projection, Scene};
 use translucid::OpaqueLayer;
 use translucid_tests::{crowded_bin, near_plane_scene, stack_scene};
 
@@ -426,8 +426,8 @@ impl EngineImages {
     }
 }
 
-#[test]
-fn an_overflowing_frame_says_so_and_renders_right_when_recorded_again() {
+/// `spheres`, its opaque layer and exact's standalone frame over it, at the tests' size.
+fn spheres_standalone() -> (Scene, OpaqueLayer, translucid::renderer::Frame) {
     let scene = translucid::scene::load("spheres").expect("generated scene");
     let standalone = Gpu::new(&GpuOptions {
         device: None,
@@ -442,6 +442,12 @@ fn an_overflowing_frame_says_so_and_renders_right_when_recorded_again() {
         .opaque
         .expect("opaque");
     let expected = reference.render_over(&layer).expect("frame over the layer");
+    (scene, layer, expected)
+}
+
+#[test]
+fn an_overflowing_frame_says_so_and_renders_right_when_recorded_again() {
+    let (scene, layer, expected) = spheres_standalone();
 
     let engine = Engine::new();
     {
@@ -970,33 +976,15 @@ fn engine_depth_in_every_format_and_direction_matches_the_reference() {
 
 /// An engine on synchronization2 leaves its images in ATTACHMENT_OPTIMAL (colour) and
 /// READ_ONLY_OPTIMAL (depth): translucid takes them from and back to those layouts, copying
-/// D32 depth and sampling D16, and the frames match the standalone ones.
+/// D32 depth and sampling D16, and the frames match the reference.
 #[test]
 fn engine_images_in_synchronization2_layouts() {
-    let scene = translucid::scene::load("spheres").expect("generated scene");
-    let standalone = Gpu::new(&GpuOptions {
-        device: None,
-        validation: true,
-    })
-    .expect("a Vulkan device with the validation layer");
-    let mut reference =
-        Renderer::new(&standalone, &scene, MethodKind::Exact, W, H).expect("renderer");
-    let layer = reference
-        .render(true)
-        .expect("frame")
-        .opaque
-        .expect("opaque");
-    let expected = reference
-        .render_over(&layer)
-        .expect("frame over the layer")
-        .image
-        .to_srgb8();
+    let (scene, layer, _) = spheres_standalone();
     let engine = Engine::with_synchronization2(true);
     {
         // SAFETY: the engine's live objects, outliving `gpu` (dropped at the end of this block).
         let gpu = unsafe { Gpu::from_host(&engine.host_device()) }.expect("host device");
         let mut renderer = Renderer::new(&gpu, &scene, MethodKind::Exact, W, H).expect("renderer");
-        let (_, d32) = texels(&layer);
         // D16 holds the layer's depth rounded: the reference is rendered over what it holds.
         for format in [vk::Format::D32_SFLOAT, vk::Format::D16_UNORM] {
             let mut held = layer.clone();
@@ -1006,16 +994,10 @@ fn engine_images_in_synchronization2_layouts() {
                 bytes.extend(texel);
                 *depth = read;
             }
-            let depth_texels = if format == vk::Format::D32_SFLOAT {
-                d32.clone()
-            } else {
-                bytes
-            };
-            let images = EngineImages::with_depth(&gpu, &held, 1, format, &depth_texels)
-                .in_layouts(
-                    vk::ImageLayout::ATTACHMENT_OPTIMAL,
-                    vk::ImageLayout::READ_ONLY_OPTIMAL,
-                );
+            let images = EngineImages::with_depth(&gpu, &held, 1, format, &bytes).in_layouts(
+                vk::ImageLayout::ATTACHMENT_OPTIMAL,
+                vk::ImageLayout::READ_ONLY_OPTIMAL,
+            );
             engine.begin(0);
             images.record_opaque(&gpu, engine.cmds[0]);
             // SAFETY: the engine's recording command buffer and images of the frame's size.
@@ -1027,13 +1009,9 @@ fn engine_images_in_synchronization2_layouts() {
                 .expect("complete")
                 .expect("the submission finished, so the commands ran");
             assert!(!done.overflowed, "{format:?}: {done:?}");
-            let want = if format == vk::Format::D32_SFLOAT {
-                expected.clone()
-            } else {
-                translucid::reference::render(&scene, &held)
-                    .expect("reference")
-                    .to_srgb8()
-            };
+            let want = translucid::reference::render(&scene, &held)
+                .expect("reference")
+                .to_srgb8();
             let worst = worst_difference(&images.srgb(0), &want);
             assert!(worst <= 2, "{format:?}: {worst}/255 off");
         }
