@@ -298,6 +298,21 @@ void make_quad(translucid_context *ctx, size_t i, uint32_t material_flags,
     draw->transform[0] = draw->transform[5] = draw->transform[10] = draw->transform[15] = 1.0f;
 }
 
+void render_standalone(translucid_context *ctx, translucid_frame_info info, const uint8_t *colour,
+                       const float *depth, uint8_t *out, size_t size) {
+    translucid_opaque_layer layer;
+    translucid_frame frame;
+    memset(&layer, 0, sizeof layer);
+    layer.s_type = TRANSLUCID_STRUCTURE_TYPE_OPAQUE_LAYER;
+    layer.colour_format = TRANSLUCID_PIXEL_FORMAT_RGBA8_SRGB;
+    layer.colour = colour;
+    layer.depth = depth;
+    info.opaque_layer = &layer;
+    CHECK(ctx, translucid_frame_render(ctx, &info, &frame));
+    CHECK(ctx, translucid_frame_read(ctx, frame, TRANSLUCID_PIXEL_FORMAT_RGBA8_SRGB, out, size));
+    CHECK(ctx, translucid_frame_destroy(ctx, frame));
+}
+
 void fill_opaque_layer(uint8_t *colour, float *depth, size_t width, size_t height,
                        const float bands[3]) {
     size_t x, y;

@@ -85,6 +85,11 @@ extern const float g_test_quads[TEST_QUADS][12];
 void make_quad(translucid_context *ctx, size_t i, uint32_t material_flags,
                translucid_mesh *mesh, translucid_material *material, translucid_draw *draw);
 
+/* `ctx`'s standalone frame of `info` over an opaque layer of sRGB `colour` and `depth`, read
+ * back as RGBA8 into `out` (`size` bytes). */
+void render_standalone(translucid_context *ctx, translucid_frame_info info, const uint8_t *colour,
+                       const float *depth, uint8_t *out, size_t size);
+
 /* An opaque layer of width x height: an sRGB gradient, depth in three bands across, from
  * `bands[0]` on the left to `bands[2]` on the right. */
 void fill_opaque_layer(uint8_t *colour, float *depth, size_t width, size_t height,

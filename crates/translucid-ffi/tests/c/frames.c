@@ -185,20 +185,8 @@ static translucid_frame_info frame_info(const scene *s, uint32_t draw_count,
 
 /* The standalone context's frame of `info` (drawn from `s`) over the opaque layer. */
 static void render_expected(translucid_frame_info info, const scene *s, uint8_t *out) {
-    translucid_opaque_layer layer;
-    translucid_frame frame;
-    memset(&layer, 0, sizeof layer);
-    layer.s_type = TRANSLUCID_STRUCTURE_TYPE_OPAQUE_LAYER;
-    layer.colour_format = TRANSLUCID_PIXEL_FORMAT_RGBA8_SRGB;
-    layer.colour = g_opaque_colour;
-    layer.depth = g_layer_depth;
-    info.opaque_layer = &layer;
     info.draws = s->draws;
-    CHECK(g_standalone, translucid_frame_render(g_standalone, &info, &frame));
-    CHECK(g_standalone, translucid_frame_read(g_standalone, frame,
-                                              TRANSLUCID_PIXEL_FORMAT_RGBA8_SRGB, out,
-                                              COLOUR_BYTES));
-    CHECK(g_standalone, translucid_frame_destroy(g_standalone, frame));
+    render_standalone(g_standalone, info, g_opaque_colour, g_layer_depth, out, COLOUR_BYTES);
 }
 
 

@@ -227,7 +227,6 @@ static translucid_result engine_frame(const translucid_frame_info *info,
 static void compare_with_standalone(uint32_t method, const scene *host_scene,
                                     const scene *standalone_scene) {
     translucid_frame_info info = frame_info(method, standalone_scene);
-    translucid_opaque_layer layer;
     translucid_frame frame;
     translucid_frame_statistics stats;
     static uint8_t expected[COLOUR_BYTES];
@@ -236,16 +235,8 @@ static void compare_with_standalone(uint32_t method, const scene *host_scene,
     size_t i;
     translucid_result completed;
 
-    memset(&layer, 0, sizeof layer);
-    layer.s_type = TRANSLUCID_STRUCTURE_TYPE_OPAQUE_LAYER;
-    layer.colour_format = TRANSLUCID_PIXEL_FORMAT_RGBA8_SRGB;
-    layer.colour = g_opaque_colour;
-    layer.depth = g_opaque_depth;
-    info.opaque_layer = &layer;
-    CHECK(g_standalone, translucid_frame_render(g_standalone, &info, &frame));
-    CHECK(g_standalone, translucid_frame_read(g_standalone, frame, TRANSLUCID_PIXEL_FORMAT_RGBA8_SRGB,
-                                              expected, sizeof expected));
-    CHECK(g_standalone, translucid_frame_destroy(g_standalone, frame));
+    render_standalone(g_standalone, info, g_opaque_colour, g_opaque_depth, expected,
+                      sizeof expected);
 
     info = frame_info(method, host_scene);
     /* An overflow says "record it again"; the grown buffers then suffice. */
