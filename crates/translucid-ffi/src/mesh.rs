@@ -184,8 +184,9 @@ impl translucid_mesh {
             {
                 *p = Vec3::from_slice(v);
             }
-            let positions = target.positions.clone();
-            objects.renderers.update_mesh(mesh.id, &positions)?;
+            // The mesh's positions, not a copy: particles update every frame.
+            let positions = &objects.meshes.get(mesh.id)?.positions;
+            objects.renderers.update_mesh(mesh.id, positions)?;
             Ok(translucid_result::Success)
         })
     }

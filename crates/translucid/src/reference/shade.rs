@@ -81,7 +81,7 @@ impl<'s> TriangleShader<'s> {
 fn tinted_colours(colours: Option<&[Vec4]>, tint: Vec4, vertices: [u32; 3]) -> Option<[Vec4; 3]> {
     match colours {
         Some(c) => Some(pick(c, vertices).map(|c| c * tint)),
-        None if tint != Vec4::ONE => Some([Vec4::ONE * tint; 3]),
+        None if tint != Vec4::ONE => Some([tint; 3]),
         None => None,
     }
 }
