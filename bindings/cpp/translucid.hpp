@@ -11,6 +11,12 @@
 // the C context is destroyed when the last wrapper using it is gone. As with the C API, one
 // context and its objects must be used by one thread at a time.
 //
+// Frames in flight (host-device mode) must be completed or abandoned: the wrapper cannot tell
+// whether the GPU still runs a recorded frame, so it can neither free one nor end its flight.
+// Destroying a Frame that is still in flight prints why to stderr and calls std::abort(), as
+// destroying a joinable std::thread terminates; while an exception unwinds, the frame is left
+// in flight in its context instead (freed with the context).
+//
 //   translucid::Context context;                       // standalone mode, own device
 //   translucid::Mesh quad = context.create_mesh(mesh_info);
 //   translucid::Frame frame = context.render(frame_info);
@@ -20,6 +26,9 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -78,8 +87,8 @@ public:
     explicit operator bool() const noexcept { return handle_.id != 0; }
 
     /// Destroys the object now. Errors are ignored: destroying fails only for a handle the
-    /// wrapper never hands out, or for a host-device frame in flight, which is then left to
-    /// its context (the GPU may be running it).
+    /// wrapper never hands out, or for a host-device frame in flight (see the top of this
+    /// file).
     void reset() noexcept {
         if (context_ && handle_.id != 0) {
             Destroy(context_.get(), handle_);
@@ -101,6 +110,20 @@ private:
     Handle handle_;
 };
 
+/// Frees a frame, unless it is in flight: then, outside exception unwinding, stops the
+/// program, since a frame dropped in flight is a bug the engine would otherwise find as a
+/// frame-in-flight error many frames later.
+inline translucid_result destroy_frame(translucid_context *context, translucid_frame frame) {
+    const translucid_result r = translucid_frame_destroy(context, frame);
+    if (r == TRANSLUCID_RESULT_ERROR_FRAME_IN_FLIGHT && std::uncaught_exceptions() == 0) {
+        std::fprintf(stderr,
+                     "translucid::Frame destroyed while in flight: call complete() once its "
+                     "submission finished, or abandon() if the GPU never runs it\n");
+        std::abort();
+    }
+    return r;
+}
+
 }  // namespace detail
 
 /// A mesh: uploaded once, drawn by handle; its vertices can move every frame.
@@ -119,8 +142,9 @@ public:
 using Texture = detail::Object<translucid_texture, translucid_texture_destroy>;
 using Material = detail::Object<translucid_material, translucid_material_destroy>;
 
-/// A rendered frame: its pixels, a PNG writer and its statistics.
-class Frame : public detail::Object<translucid_frame, translucid_frame_destroy> {
+/// A rendered frame (its pixels, a PNG writer and its statistics), or a recorded one in
+/// flight until complete() or abandon().
+class Frame : public detail::Object<translucid_frame, detail::destroy_frame> {
 public:
     using Object::Object;
 
@@ -143,11 +167,10 @@ public:
         not_ready,  ///< the commands have not run: the frame stays in flight
     };
     /// Host-device mode: call once the host waited for the engine's submission of the frame
-    /// (completing it completes the older frames in flight too). A frame in flight must be
-    /// completed or abandoned: its destructor cannot free it (the GPU may be running it), so
-    /// a frame dropped in flight stays in flight, and counts against the context's
-    /// frames_in_flight, until the context is destroyed.
-    Completion complete() {
+    /// (completing it completes the older frames in flight too, whose Frames then need no
+    /// call of their own). Throws for a frame not in flight, or when the method failed (the
+    /// flight is over either way).
+    [[nodiscard]] Completion complete() {
         const translucid_result r = translucid_frame_complete(context(), handle());
         detail::check(r, context(), "translucid_frame_complete");
         if (r == TRANSLUCID_RESULT_NOT_READY) return Completion::not_ready;
@@ -267,9 +290,10 @@ public:
     }
 
     /// Host-device mode: records a frame into `targets.command_buffer`; submit it, and call
-    /// Frame::complete once you waited for it. Up to the context's frames_in_flight frames may
-    /// be in flight.
-    Frame record(translucid_frame_info info, translucid_host_frame_targets targets) {
+    /// Frame::complete once you waited for it (or Frame::abandon if you never submit it)
+    /// before the Frame is destroyed. Up to the context's frames_in_flight frames may be in
+    /// flight.
+    [[nodiscard]] Frame record(translucid_frame_info info, translucid_host_frame_targets targets) {
         info.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_INFO;
         targets.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_FRAME_TARGETS;
         translucid_frame frame{0};

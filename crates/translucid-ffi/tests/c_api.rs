@@ -223,6 +223,78 @@ fn cpp_wrapper_compiles_and_works() {
     run(&binary, &[], false);
 }
 
+/// The wrapper on an engine's own device: RAII frames in flight, completed or abandoned
+/// (tests/cpp/host_frames.cpp with tests/c/engine.c), with validation and then under the
+/// sanitizers; and a frame destroyed in flight stops the program with a message.
+#[test]
+fn cpp_wrapper_frames_in_flight() {
+    let tests = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests");
+    let keep_modules = tests.join("c/keep_modules.c");
+    for sanitized in [false, true] {
+        let dir = out_dir(if sanitized {
+            "cpp-host-asan"
+        } else {
+            "cpp-host"
+        });
+        let engine = dir.join("engine.o");
+        let extra: &[&str] = if sanitized { SANITIZE } else { &[] };
+        let c_flags: Vec<&str> = C_FLAGS
+            .iter()
+            .chain(extra)
+            .chain(&["-c"])
+            .copied()
+            .collect();
+        compile_object(&c_flags, &tests.join("c/engine.c"), &engine);
+        let mut objects = vec![engine];
+        if sanitized {
+            let keep = dir.join("keep_modules.o");
+            compile_object(&c_flags, &keep_modules, &keep);
+            objects.push(keep);
+        }
+        let binary = dir.join("host_frames");
+        let flags: Vec<&str> = CXX_FLAGS.iter().chain(extra).copied().collect();
+        let sources = [vec![tests.join("cpp/host_frames.cpp")], objects].concat();
+        compile("g++", &flags, &sources, &binary, &["-lvulkan"]);
+        let output = run(&binary, &[], sanitized);
+        assert!(
+            output.contains("0 failed, 0 validation messages"),
+            "{output}"
+        );
+        if !sanitized {
+            let dropped = Command::new(&binary)
+                .arg("drop")
+                .env("LD_LIBRARY_PATH", library_dir())
+                .output()
+                .expect("run the compiled program");
+            let stderr = String::from_utf8_lossy(&dropped.stderr);
+            assert!(
+                !dropped.status.success() && stderr.contains("destroyed while in flight"),
+                "a Frame dropped in flight must stop the program ({}):\n{}{stderr}",
+                dropped.status,
+                String::from_utf8_lossy(&dropped.stdout)
+            );
+        }
+    }
+}
+
+/// Compiles one C source into an object file (`flags` end in `-c`).
+fn compile_object(flags: &[&str], source: &Path, object: &Path) {
+    let result = Command::new("cc")
+        .args(flags)
+        .arg(format!("-I{}", repo().join("include").display()))
+        .arg(source)
+        .arg("-o")
+        .arg(object)
+        .output()
+        .unwrap_or_else(|e| panic!("cannot run cc ({e}): install gcc (scripts/install-deps.sh)"));
+    assert!(
+        result.status.success(),
+        "cc {} failed:\n{}",
+        source.display(),
+        String::from_utf8_lossy(&result.stderr)
+    );
+}
+
 /// The README's C snippets, one after another in a function with the engine's objects
 /// declared, compile and link cleanly under the test flags (`-Wall -Wextra -Werror
 /// -pedantic`).

@@ -188,6 +188,30 @@ VkImage create_image(VkFormat format, VkImageUsageFlags usage, uint32_t width, u
     return image;
 }
 
+VkBuffer create_host_buffer(VkDeviceSize size, VkDeviceMemory *memory, void **mapped) {
+    VkBufferCreateInfo buffer;
+    VkMemoryRequirements req;
+    VkMemoryAllocateInfo info;
+    VkBuffer made;
+    memset(&buffer, 0, sizeof buffer);
+    buffer.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO;
+    buffer.size = size;
+    buffer.usage = VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    buffer.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+    VK_CHECK(vkCreateBuffer(g_device, &buffer, NULL, &made));
+    vkGetBufferMemoryRequirements(g_device, made, &req);
+    memset(&info, 0, sizeof info);
+    info.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
+    info.allocationSize = req.size;
+    info.memoryTypeIndex = memory_type(
+        req.memoryTypeBits,
+        VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
+    VK_CHECK(vkAllocateMemory(g_device, &info, NULL, memory));
+    VK_CHECK(vkBindBufferMemory(g_device, made, *memory, 0));
+    VK_CHECK(vkMapMemory(g_device, *memory, 0, VK_WHOLE_SIZE, 0, mapped));
+    return made;
+}
+
 void barrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, VkImageLayout from,
              VkImageLayout to, VkPipelineStageFlags src_stage, VkAccessFlags src,
              VkPipelineStageFlags dst_stage, VkAccessFlags dst) {

@@ -15,6 +15,10 @@
 
 #include "translucid.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 extern int g_failed, g_passed, g_validation_messages;
 extern VkInstance g_instance;
 extern VkPhysicalDevice g_physical;
@@ -59,6 +63,8 @@ void destroy_engine(void);
 uint32_t memory_type(uint32_t bits, VkMemoryPropertyFlags wanted);
 VkDeviceMemory bind_image(VkImage image);
 VkImage create_image(VkFormat format, VkImageUsageFlags usage, uint32_t width, uint32_t height);
+/* A host-visible, coherent transfer buffer of `size` bytes, mapped at `*mapped`. */
+VkBuffer create_host_buffer(VkDeviceSize size, VkDeviceMemory *memory, void **mapped);
 
 void barrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, VkImageLayout from,
              VkImageLayout to, VkPipelineStageFlags src_stage, VkAccessFlags src,
@@ -94,5 +100,9 @@ void render_standalone(translucid_context *ctx, translucid_frame_info info, cons
  * `bands[0]` on the left to `bands[2]` on the right. */
 void fill_opaque_layer(uint8_t *colour, float *depth, size_t width, size_t height,
                        const float bands[3]);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

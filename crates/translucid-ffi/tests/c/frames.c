@@ -46,9 +46,6 @@ static slot g_slots[MOST_IN_FLIGHT];
 static void create_slot(slot *s) {
     VkCommandBufferAllocateInfo alloc;
     VkFenceCreateInfo fence;
-    VkBufferCreateInfo buffer;
-    VkMemoryRequirements req;
-    VkMemoryAllocateInfo info;
     VkImageUsageFlags transfer = VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
     void *mapped;
 
@@ -70,22 +67,7 @@ static void create_slot(slot *s) {
                                 VK_IMAGE_USAGE_SAMPLED_BIT,
                             W, H);
     s->depth_memory = bind_image(s->depth);
-    memset(&buffer, 0, sizeof buffer);
-    buffer.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO;
-    buffer.size = 2 * COLOUR_BYTES + DEPTH_BYTES;
-    buffer.usage = VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
-    buffer.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
-    VK_CHECK(vkCreateBuffer(g_device, &buffer, NULL, &s->buffer));
-    vkGetBufferMemoryRequirements(g_device, s->buffer, &req);
-    memset(&info, 0, sizeof info);
-    info.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
-    info.allocationSize = req.size;
-    info.memoryTypeIndex = memory_type(
-        req.memoryTypeBits,
-        VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
-    VK_CHECK(vkAllocateMemory(g_device, &info, NULL, &s->buffer_memory));
-    VK_CHECK(vkBindBufferMemory(g_device, s->buffer, s->buffer_memory, 0));
-    VK_CHECK(vkMapMemory(g_device, s->buffer_memory, 0, VK_WHOLE_SIZE, 0, &mapped));
+    s->buffer = create_host_buffer(2 * COLOUR_BYTES + DEPTH_BYTES, &s->buffer_memory, &mapped);
     s->mapped = mapped;
     s->busy = 0;
 }

@@ -39,9 +39,6 @@ static void create_frame_resources(void) {
     VkCommandPoolCreateInfo pool;
     VkCommandBufferAllocateInfo alloc;
     VkFenceCreateInfo fence;
-    VkBufferCreateInfo buffer;
-    VkMemoryRequirements req;
-    VkMemoryAllocateInfo info;
     VkImageUsageFlags transfer = VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
 
     memset(&pool, 0, sizeof pool);
@@ -66,22 +63,7 @@ static void create_frame_resources(void) {
                            transfer | VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, W, H);
     g_depth_memory = bind_image(g_depth);
 
-    memset(&buffer, 0, sizeof buffer);
-    buffer.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO;
-    buffer.size = COLOUR_BYTES + 2 * DEPTH_BYTES;
-    buffer.usage = VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
-    buffer.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
-    VK_CHECK(vkCreateBuffer(g_device, &buffer, NULL, &g_buffer));
-    vkGetBufferMemoryRequirements(g_device, g_buffer, &req);
-    memset(&info, 0, sizeof info);
-    info.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
-    info.allocationSize = req.size;
-    info.memoryTypeIndex = memory_type(
-        req.memoryTypeBits,
-        VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
-    VK_CHECK(vkAllocateMemory(g_device, &info, NULL, &g_buffer_memory));
-    VK_CHECK(vkBindBufferMemory(g_device, g_buffer, g_buffer_memory, 0));
-    VK_CHECK(vkMapMemory(g_device, g_buffer_memory, 0, VK_WHOLE_SIZE, 0, &g_mapped));
+    g_buffer = create_host_buffer(COLOUR_BYTES + 2 * DEPTH_BYTES, &g_buffer_memory, &g_mapped);
 }
 
 static void begin(void) { begin_commands(g_cmd); }
