@@ -865,6 +865,20 @@ typedef struct translucid_frame_statistics {
      * The frame's `translucid_frame_info::frame_index`.
      */
     uint64_t frame_index;
+    /**
+     * Pipelines the call that made the frame (`translucid_frame_render` or
+     * `translucid_frame_record`) created, each a shader compilation: a new method, size or
+     * settings may need some; a frame loop past its first frames needs none, also when
+     * assets are created or destroyed (a renderer made for new assets takes the pipelines
+     * of the one it replaces).
+     */
+    uint64_t pipelines_created;
+    /**
+     * GPU memory that call allocated, in bytes: the first frames of a renderer, frames
+     * that need larger buffers, and new or destroyed assets (each renderer uploads every
+     * asset of the context again); 0 in a warm frame loop.
+     */
+    uint64_t bytes_allocated;
 } translucid_frame_statistics;
 
 /**
@@ -1360,7 +1374,8 @@ translucid_result translucid_host_requirements_get(struct translucid_host_requir
  * What a frame builds: nothing, once a frame with the same method, size and settings
  * has been drawn over the same assets (its pipelines, uploads and buffers are reused
  * whatever the camera, light, draws and transforms; buffers grow when a frame needs
- * more). Arguments are checked before anything is recorded; an error from the method
+ * more); after assets were created or destroyed, the uploads
+ * (`translucid_frame_statistics` counts both). Arguments are checked before anything is recorded; an error from the method
  * itself may leave commands recorded, so reset the command buffer after any error.
  *
  * Barriers: the recorded commands wait for the engine's earlier writes of both images

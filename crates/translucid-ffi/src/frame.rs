@@ -274,6 +274,16 @@ pub struct translucid_frame_statistics {
     pub overflowed: u32,
     /// The frame's `translucid_frame_info::frame_index`.
     pub frame_index: u64,
+    /// Pipelines the call that made the frame (`translucid_frame_render` or
+    /// `translucid_frame_record`) created, each a shader compilation: a new method, size or
+    /// settings may need some; a frame loop past its first frames needs none, also when
+    /// assets are created or destroyed (a renderer made for new assets takes the pipelines
+    /// of the one it replaces).
+    pub pipelines_created: u64,
+    /// GPU memory that call allocated, in bytes: the first frames of a renderer, frames
+    /// that need larger buffers, and new or destroyed assets (each renderer uploads every
+    /// asset of the context again); 0 in a warm frame loop.
+    pub bytes_allocated: u64,
 }
 
 impl OutStructure for translucid_frame_statistics {
@@ -312,6 +322,19 @@ pub struct FrameRecord {
     pub(crate) fragments: u64,
     pub(crate) rerenders: u32,
     pub(crate) overflowed: bool,
+    /// What the call that made the frame built: pipelines, and bytes of GPU memory.
+    pub(crate) built: (u64, u64),
+}
+
+/// What the device has built so far: pipelines created, and bytes of GPU memory allocated.
+pub(crate) fn built_so_far(gpu: &translucid::gpu::Gpu) -> (u64, u64) {
+    (gpu.pipelines_created(), gpu.bytes_allocated())
+}
+
+/// What the device built since `before` ([`built_so_far`]).
+pub(crate) fn built_since(gpu: &translucid::gpu::Gpu, before: (u64, u64)) -> (u64, u64) {
+    let now = built_so_far(gpu);
+    (now.0 - before.0, now.1 - before.1)
 }
 
 impl FrameRecord {
@@ -339,6 +362,7 @@ fn render(objects: &mut Objects, info: &translucid_frame_info) -> FfiResult<Fram
     let layer = layer
         .map(|l| opaque_layer_from(l, info.width, info.height))
         .transpose()?;
+    let before = built_so_far(&objects.gpu);
     let (assets, renderers, gpu) = objects.split();
     let kept = renderers.for_frame(gpu, &assets, &request)?;
     let rendered = match &layer {
@@ -363,6 +387,7 @@ fn render(objects: &mut Objects, info: &translucid_frame_info) -> FfiResult<Fram
         fragments: frame.fragments,
         rerenders: frame.rerenders,
         overflowed: false,
+        built: built_since(&objects.gpu, before),
     })
 }
 
@@ -399,6 +424,8 @@ fn statistics_of(record: &FrameRecord, header: (u32, *mut c_void)) -> translucid
         overflow_rerenders: record.rerenders,
         overflowed: u32::from(record.overflowed),
         frame_index: record.frame_index,
+        pipelines_created: record.built.0,
+        bytes_allocated: record.built.1,
     }
 }
 

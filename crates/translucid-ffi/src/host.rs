@@ -12,7 +12,9 @@ use crate::cast::{
     check_header, translucid_context, try_out, try_out_structure, try_ref, try_slice, OutStructure,
 };
 use crate::context::Objects;
-use crate::frame::{translucid_frame, translucid_frame_info, FrameRecord};
+use crate::frame::{
+    built_since, built_so_far, translucid_frame, translucid_frame_info, FrameRecord,
+};
 use crate::frame_input::frame_request;
 use crate::method::translucid_method;
 use crate::panic;
@@ -241,6 +243,7 @@ fn record(
              layer is the colour and depth images of the translucid_host_frame_targets",
         ));
     }
+    let before = built_so_far(&objects.gpu);
     let (assets, renderers, gpu) = objects.split();
     let kept = renderers.for_frame(gpu, &assets, &request)?;
     let t = HostTargets {
@@ -274,6 +277,7 @@ fn record(
         fragments: 0,
         rerenders: 0,
         overflowed: false,
+        built: built_since(&objects.gpu, before),
     })
 }
 
@@ -451,7 +455,8 @@ impl translucid_frame {
     /// What a frame builds: nothing, once a frame with the same method, size and settings
     /// has been drawn over the same assets (its pipelines, uploads and buffers are reused
     /// whatever the camera, light, draws and transforms; buffers grow when a frame needs
-    /// more). Arguments are checked before anything is recorded; an error from the method
+    /// more); after assets were created or destroyed, the uploads
+    /// (`translucid_frame_statistics` counts both). Arguments are checked before anything is recorded; an error from the method
     /// itself may leave commands recorded, so reset the command buffer after any error.
     ///
     /// Barriers: the recorded commands wait for the engine's earlier writes of both images

@@ -2,9 +2,10 @@
 //! the context holds (meshes, materials, textures: uploaded once), and draws any frame with
 //! those settings: a frame only names which assets it draws, where, and from which camera
 //! (`Renderer::set_frame`: nothing rebuilt, no shader compiled). Creating or destroying an
-//! asset makes the renderers stale: each frame after it gets a new renderer, while a stale
-//! one lives on until no frame in flight uses it (so that destroying an asset a frame in
-//! flight draws is safe). A context keeps a few renderers, so that views of different sizes
+//! asset makes the renderers stale: each frame after it gets a new renderer (made before the
+//! stale one is freed, so that it takes its compute pipelines), while a stale one lives on
+//! until no frame in flight uses it (so that destroying an asset a frame in flight draws is
+//! safe). A context keeps a few renderers, so that views of different sizes
 //! or methods in one frame loop each keep theirs.
 
 use crate::context::Assets;
@@ -135,8 +136,8 @@ impl Renderers {
                         || request.options.clone(),
                         |k| k.renderer.learned_options(&request.options),
                     );
-                // Make room first, so that at most MAX_RENDERERS live at once.
-                self.free_unused(Some(MAX_RENDERERS - 1));
+                // The renderers it replaces are freed only after it is made: it takes the
+                // compute pipelines they hold instead of compiling its own.
                 let renderer = Renderer::with_frames_in_flight(
                     gpu,
                     &scene,
@@ -155,9 +156,10 @@ impl Renderers {
                     in_flight: 0,
                     usable: true,
                     failed: false,
-                    last_used: 0,
+                    last_used: self.uses,
                 });
                 self.next_id += 1;
+                self.free_unused(Some(MAX_RENDERERS));
                 self.kept.len() - 1
             }
         };
@@ -175,16 +177,17 @@ impl Renderers {
     }
 
     /// Frees the renderers that take no new frame and serve none in flight; with `keep`, also
-    /// the least recently used idle ones past that many.
+    /// the least recently used idle ones past that many, the last one made aside.
     pub fn free_unused(&mut self, keep: Option<usize>) {
         self.kept.retain(|k| k.usable || k.in_flight > 0);
         if let Some(keep) = keep {
+            let newest = self.next_id - 1;
             while self.kept.len() > keep {
                 let Some(oldest) = self
                     .kept
                     .iter()
                     .enumerate()
-                    .filter(|(_, k)| k.in_flight == 0)
+                    .filter(|(_, k)| k.in_flight == 0 && k.id != newest)
                     .min_by_key(|(_, k)| k.last_used)
                     .map(|(i, _)| i)
                 else {

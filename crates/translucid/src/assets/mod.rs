@@ -316,19 +316,31 @@ impl GpuScene {
             });
             bytes.extend_from_slice(bytemuck::cast_slice(&vertices));
         }
-        let slot = &mut self.slots[self.slot];
-        if slot
-            .staging
-            .as_ref()
-            .is_none_or(|s| s.size < bytes.len() as u64)
-        {
-            slot.staging = Some(gpu.create_buffer(
+        let needed = bytes.len() as u64;
+        let staging_of = || {
+            gpu.create_buffer(
                 "moved vertices",
-                (bytes.len() as u64).next_power_of_two(),
+                needed.next_power_of_two(),
                 vk::BufferUsageFlags::TRANSFER_SRC,
                 MemoryLocation::CpuToGpu,
-            )?);
+            )
+        };
+        if self.slots[self.slot]
+            .staging
+            .as_ref()
+            .is_none_or(|s| s.size < needed)
+        {
+            self.slots[self.slot].staging = Some(staging_of()?);
+            // The other slots' first moves then allocate nothing either: a frame loop
+            // allocates once, on its first move. (A slot in flight may be given a buffer,
+            // never have its own replaced.)
+            for slot in &mut self.slots {
+                if slot.staging.is_none() {
+                    slot.staging = Some(staging_of()?);
+                }
+            }
         }
+        let slot = &mut self.slots[self.slot];
         let Some(staging) = slot.staging.as_mut() else {
             return Ok(());
         };

@@ -97,6 +97,9 @@ pub struct Shared {
     /// Pipelines are made under the read side; a merge into the cache, which Vulkan wants
     /// externally synchronised, under the write side.
     pipeline_cache_lock: RwLock<()>,
+    /// The compute pipelines the device's renderers use, shared between them (see
+    /// `pipeline_cache.rs`).
+    pub(crate) compute_pipelines: super::pipeline_cache::SharedPipelines,
     /// Held while a submission records, submits and waits: the queue, the command pool and
     /// the reused command buffer and fence are externally synchronised objects.
     pub(crate) submitting: Mutex<()>,
@@ -349,6 +352,7 @@ impl Gpu {
                 pipelines_created: AtomicU64::new(0),
                 pipeline_cache: OnceLock::new(),
                 pipeline_cache_lock: RwLock::new(()),
+                compute_pipelines: Default::default(),
                 submitting: Mutex::new(()),
                 info,
             }))),
@@ -386,6 +390,7 @@ impl Gpu {
             pipelines_created: AtomicU64::new(0),
             pipeline_cache: OnceLock::new(),
             pipeline_cache_lock: RwLock::new(()),
+            compute_pipelines: Default::default(),
             submitting: Mutex::new(()),
             info,
         })))

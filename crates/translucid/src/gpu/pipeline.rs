@@ -6,7 +6,7 @@ use crate::{scene, Result};
 use ash::vk;
 
 /// What a descriptor binding holds.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum BindingKind {
     StorageBuffer,
     UniformBuffer,
@@ -34,6 +34,7 @@ pub struct DescriptorLayout {
     gpu: Gpu,
     pub raw: vk::DescriptorSetLayout,
     kinds: Vec<BindingKind>,
+    stages: vk::ShaderStageFlags,
 }
 
 /// What to bind at one binding of a [`DescriptorSet`].
@@ -74,7 +75,14 @@ impl DescriptorLayout {
             gpu: gpu.clone(),
             raw,
             kinds: kinds.to_vec(),
+            stages,
         })
+    }
+
+    /// What makes two layouts interchangeable: Vulkan lets a set allocated with one be bound
+    /// to a pipeline made with another that is identically defined.
+    pub fn definition(&self) -> (&[BindingKind], vk::ShaderStageFlags) {
+        (&self.kinds, self.stages)
     }
 
     /// Allocates a set and writes `resources[i]` to binding `i`.

@@ -1,17 +1,19 @@
 //! Compute pipelines kept by their specialization: a frame that needs a variant built before
-//! builds nothing.
+//! builds nothing, and neither does a renderer made while another on the same device holds
+//! the variant (a new size or new assets in the C API, for instance).
 
 #![deny(unsafe_code)]
 
-use super::{ComputePipeline, DescriptorLayout, Gpu};
+use super::{BindingKind, ComputePipeline, DescriptorLayout, Gpu};
 use crate::Result;
+use ash::vk;
 use std::collections::HashMap;
-use std::sync::Arc;
+use std::sync::{Arc, Mutex, Weak};
 
 /// The pipelines of one shader family over one set of descriptor layouts and one push
 /// constant size, each built on first use for its (shader, constants) and kept for the
 /// owner's life. Every call must pass the same layouts and push size: they are not part of
-/// the key.
+/// the key here (they are in the device's [`SharedPipelines`]).
 pub struct ComputePipelineCache {
     push_bytes: u32,
     built: HashMap<Key, Arc<ComputePipeline>>,
@@ -23,6 +25,35 @@ pub struct ComputePipelineCache {
 struct Key {
     spirv: (usize, u64),
     constants: Vec<u32>,
+}
+
+/// A pipeline as the device knows it: the shader and constants, and the definitions of the
+/// descriptor layouts and push constants it was made with, so that a renderer whose own
+/// (identically defined) layouts differ in handle only binds its sets to it.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+struct SharedKey {
+    shader: Key,
+    layouts: Vec<(Vec<BindingKind>, u32)>,
+    push_bytes: u32,
+}
+
+/// The compute pipelines alive on a device, by what they were made from. Held weakly:
+/// a pipeline lives as long as a renderer holds it (holding it strongly here would keep the
+/// device alive through the pipeline's own reference to it).
+#[derive(Default)]
+pub(crate) struct SharedPipelines(Mutex<HashMap<SharedKey, Weak<ComputePipeline>>>);
+
+impl SharedPipelines {
+    fn get(&self, key: &SharedKey) -> Option<Arc<ComputePipeline>> {
+        let map = self.0.lock().unwrap_or_else(|e| e.into_inner());
+        map.get(key).and_then(Weak::upgrade)
+    }
+
+    fn insert(&self, key: SharedKey, pipeline: &Arc<ComputePipeline>) {
+        let mut map = self.0.lock().unwrap_or_else(|e| e.into_inner());
+        map.retain(|_, p| p.strong_count() > 0);
+        map.insert(key, Arc::downgrade(pipeline));
+    }
 }
 
 fn spirv_hash(spirv: &[u8]) -> u64 {
@@ -40,8 +71,8 @@ impl ComputePipelineCache {
         }
     }
 
-    /// The pipeline of `spirv` with `constants` (constant_id i = constants[i]), built now if
-    /// this cache has not built it before.
+    /// The pipeline of `spirv` with `constants` (constant_id i = constants[i]): this cache's,
+    /// else one another renderer on the device holds, else built now.
     pub fn get(
         &mut self,
         gpu: &Gpu,
@@ -56,13 +87,31 @@ impl ComputePipelineCache {
         if let Some(p) = self.built.get(&key) {
             return Ok(p.clone());
         }
-        let p = Arc::new(ComputePipeline::specialized(
-            gpu,
-            spirv,
-            layouts,
-            self.push_bytes,
-            constants,
-        )?);
+        let shared_key = SharedKey {
+            shader: key.clone(),
+            layouts: layouts
+                .iter()
+                .map(|l| {
+                    let (kinds, stages): (&[BindingKind], vk::ShaderStageFlags) = l.definition();
+                    (kinds.to_vec(), stages.as_raw())
+                })
+                .collect(),
+            push_bytes: self.push_bytes,
+        };
+        let p = match gpu.compute_pipelines.get(&shared_key) {
+            Some(p) => p,
+            None => {
+                let p = Arc::new(ComputePipeline::specialized(
+                    gpu,
+                    spirv,
+                    layouts,
+                    self.push_bytes,
+                    constants,
+                )?);
+                gpu.compute_pipelines.insert(shared_key, &p);
+                p
+            }
+        };
         self.built.insert(key, p.clone());
         Ok(p)
     }

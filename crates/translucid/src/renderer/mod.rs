@@ -124,7 +124,9 @@ pub struct Renderer {
     frame_scene: Scene,
     scene: GpuScene,
     targets: FrameTargets,
-    opaque_pass: OpaquePass,
+    /// Made for the first frame that draws the scene's opaque layer itself (none on an
+    /// engine's device, or over an opaque layer given).
+    opaque_pass: Option<OpaquePass>,
     /// Where standalone frames are read back; none on an engine's device, whose frames stay
     /// in the engine's images (12 bytes a pixel saved).
     readback: Option<Readback>,
@@ -220,7 +222,6 @@ impl Renderer {
         check_viewport(gpu, width, height)?;
         let uploaded = GpuScene::new(gpu, scene, width, height, slots)?;
         let targets = FrameTargets::new(gpu, width, height)?;
-        let opaque_pass = OpaquePass::new(gpu, &targets, &uploaded)?;
         let readback = if gpu.is_host_device() {
             None
         } else {
@@ -239,7 +240,7 @@ impl Renderer {
             frame_scene: scene.without_texels(),
             scene: uploaded,
             targets,
-            opaque_pass,
+            opaque_pass: None,
             readback,
             method,
             timestamps,
@@ -357,6 +358,9 @@ impl Renderer {
         let gpu = self.gpu.clone();
         // Fail before submitting anything.
         self.readback()?;
+        if matches!(source, OpaqueSource::Scene { .. }) && self.opaque_pass.is_none() {
+            self.opaque_pass = Some(OpaquePass::new(&gpu, &self.targets, &self.scene)?);
+        }
         // Standalone frames complete before the call returns: one slot serves them all.
         let slot = self.slot;
         let preparing = std::time::Instant::now();
@@ -383,12 +387,10 @@ impl Renderer {
                     .record_moved_vertices(&gpu, cmd, &self.frame_scene)?;
                 match &source {
                     OpaqueSource::Scene { readback } => {
-                        self.opaque_pass.record(
-                            &gpu,
-                            cmd,
-                            &self.scene,
-                            self.frame_scene.background,
-                        );
+                        // Made above.
+                        if let Some(pass) = &self.opaque_pass {
+                            pass.record(&gpu, cmd, &self.scene, self.frame_scene.background);
+                        }
                         self.timestamps[slot].mark(cmd, "opaque");
                         if let Some(r) = readback {
                             r.record(&gpu, cmd, &self.targets, true);
