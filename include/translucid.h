@@ -730,11 +730,14 @@ typedef struct translucid_frame_info {
      */
     uint32_t method;
     /**
-     * 1 to the device's largest image size.
+     * 1 to the device's largest image side (`VkPhysicalDeviceLimits::maxImageDimension2D`,
+     * at least 4096); past it, `TRANSLUCID_RESULT_ERROR_INVALID_SIZE`. Frames of any size
+     * may follow one another: each size keeps a renderer of its own (see
+     * `translucid_frame_record`), sharing the context's compiled pipelines.
      */
     uint32_t width;
     /**
-     * 1 to the device's largest image size.
+     * As `width`.
      */
     uint32_t height;
     struct translucid_camera camera;

@@ -155,9 +155,12 @@ pub struct translucid_frame_info {
     pub next: *const c_void,
     /// A `translucid_method`; see `translucid_methods_available`.
     pub method: u32,
-    /// 1 to the device's largest image size.
+    /// 1 to the device's largest image side (`VkPhysicalDeviceLimits::maxImageDimension2D`,
+    /// at least 4096); past it, `TRANSLUCID_RESULT_ERROR_INVALID_SIZE`. Frames of any size
+    /// may follow one another: each size keeps a renderer of its own (see
+    /// `translucid_frame_record`), sharing the context's compiled pipelines.
     pub width: u32,
-    /// 1 to the device's largest image size.
+    /// As `width`.
     pub height: u32,
     pub camera: translucid_camera,
     /// Optional: NULL uses a default light.

@@ -14,7 +14,6 @@ use crate::result::{Failure, FfiResult};
 use crate::structure::translucid_structure_type;
 use glam::{Mat4, Vec2, Vec3};
 use translucid::image::srgb_to_linear;
-use translucid::renderer::check_viewport;
 use translucid::scene::{Camera, Light, Projection};
 use translucid::OpaqueLayer;
 
@@ -96,7 +95,7 @@ pub(crate) fn frame_request<'a>(
         "translucid_frame_info",
     )?;
     let method = translucid_method::from_raw(info.method)?;
-    check_viewport(&objects.gpu, info.width, info.height)?;
+    check_frame_size(&objects.gpu, info.width, info.height)?;
     if info.frame_index != 0 && info.frame_index < objects.last_frame_index {
         return Err(Failure::argument(format!(
             "translucid_frame_info.frame_index {} after {}: frame indices may not go backwards \
@@ -186,4 +185,22 @@ pub fn opaque_layer_from(
     };
     layer.validate(width, height)?;
     Ok(layer)
+}
+
+/// A frame's size, in the header's terms: 1 to the device's largest image on each side.
+fn check_frame_size(gpu: &translucid::gpu::Gpu, width: u32, height: u32) -> FfiResult {
+    let most = gpu.info().max_image_dimension_2d;
+    for (field, value) in [("width", width), ("height", height)] {
+        if value == 0 {
+            return Err(Failure::size(format!(
+                "translucid_frame_info.{field} is 0: a frame is at least 1x1"
+            )));
+        }
+        if value > most {
+            return Err(Failure::size(format!(
+                "translucid_frame_info.{field} {value} is over {most}, the largest frame this                  device renders (VkPhysicalDeviceLimits::maxImageDimension2D)"
+            )));
+        }
+    }
+    Ok(())
 }

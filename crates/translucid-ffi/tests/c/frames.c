@@ -660,6 +660,22 @@ static void misuse(void) {
     }
     info.frame_index = 0;
 
+    /* A view over the largest frame the device renders, its images as large: refused for
+     * its size, in the header's terms. */
+    {
+        translucid_frame_info big = info;
+        translucid_host_frame_targets t = targets_of(g_slots[0].cmd, &g_slots[0]);
+        VkPhysicalDeviceProperties props;
+        const char *message;
+        vkGetPhysicalDeviceProperties(g_physical, &props);
+        big.width = t.colour.width = t.depth.width = props.limits.maxImageDimension2D + 1;
+        EXPECT(ctx, translucid_frame_record(ctx, &big, &t, &extra),
+               TRANSLUCID_RESULT_ERROR_INVALID_SIZE);
+        message = translucid_context_last_error(ctx);
+        TRUE_OR_FAIL(strstr(message, "translucid_frame_info.width") != NULL &&
+                     strstr(message, "maxImageDimension2D") != NULL);
+    }
+
     /* As many frames in flight as the context takes; one more is refused. The first is
      * submitted, the others are not: abandoning the second ends it and the third, and the
      * first completes as usual. */
