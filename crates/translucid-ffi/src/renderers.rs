@@ -1,5 +1,6 @@
 //! The context's renderers. Each is made for one method, size and settings over every asset
-//! the context holds (meshes, materials, textures: uploaded once), and draws any frame with
+//! the context holds (meshes, materials, textures: uploaded once for all the renderers of a
+//! generation, `ResidentAssets`), and draws any frame with
 //! those settings: a frame only names which assets it draws, where, and from which camera
 //! (`Renderer::set_frame`: nothing rebuilt, no shader compiled). Creating or destroying an
 //! asset makes the renderers stale: each frame after it gets a new renderer (made before the
@@ -12,10 +13,11 @@ use crate::context::Assets;
 use crate::frame::translucid_draw;
 use crate::frame::translucid_layer;
 use crate::result::{translucid_result, Failure, FfiResult};
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
+use std::sync::Arc;
 use translucid::gpu::Gpu;
 use translucid::methods::{MethodKind, MethodOptions};
-use translucid::renderer::Renderer;
+use translucid::renderer::{FrameShape, Renderer, ResidentAssets};
 use translucid::scene::{Camera, Draw, FrameInput, Light, Scene};
 
 /// Renderers kept per context; past this, the least recently used one no frame in flight
@@ -63,9 +65,20 @@ pub struct Kept {
     last_used: u64,
 }
 
+/// The context's assets on the GPU, as the renderers of one generation share them.
+struct Resident {
+    generation: u64,
+    assets: Arc<ResidentAssets>,
+    /// Meshes moved (`translucid_mesh_update`) since the assets were uploaded: a renderer
+    /// made later copies their vertices in with its first frame.
+    moved: HashSet<u64>,
+}
+
 /// The context's renderers.
 pub struct Renderers {
     kept: Vec<Kept>,
+    /// The assets the renderers of the current generation share.
+    resident: Option<Resident>,
     next_id: u64,
     uses: u64,
     /// The most frames in flight each renderer serves (the context's).
@@ -76,6 +89,7 @@ impl Renderers {
     pub fn new(frames_in_flight: u32) -> Self {
         Self {
             kept: Vec::new(),
+            resident: None,
             next_id: 1,
             uses: 0,
             frames_in_flight,
@@ -138,15 +152,51 @@ impl Renderers {
                     );
                 // The renderers it replaces are freed only after it is made: it takes the
                 // compute pipelines they hold instead of compiling its own.
-                let renderer = Renderer::with_frames_in_flight(
-                    gpu,
-                    &scene,
-                    request.method,
-                    request.width,
-                    request.height,
-                    &options,
-                    self.frames_in_flight,
-                )?;
+                let shape = FrameShape {
+                    width: request.width,
+                    height: request.height,
+                    frames_in_flight: self.frames_in_flight,
+                };
+                let renderer = match self
+                    .resident
+                    .as_ref()
+                    .filter(|r| r.generation == assets.generation)
+                {
+                    Some(resident) => {
+                        let assets = resident.assets.clone();
+                        let mut renderer = Renderer::sharing(
+                            gpu,
+                            assets,
+                            &scene,
+                            request.method,
+                            shape,
+                            &options,
+                        )?;
+                        for mesh in &resident.moved {
+                            if let Some(&i) = index.meshes.get(mesh) {
+                                renderer.update_mesh(i, &scene.meshes[i].positions)?;
+                            }
+                        }
+                        renderer
+                    }
+                    None => {
+                        let renderer = Renderer::with_frames_in_flight(
+                            gpu,
+                            &scene,
+                            request.method,
+                            request.width,
+                            request.height,
+                            &options,
+                            self.frames_in_flight,
+                        )?;
+                        self.resident = Some(Resident {
+                            generation: assets.generation,
+                            assets: renderer.resident().clone(),
+                            moved: HashSet::new(),
+                        });
+                        renderer
+                    }
+                };
                 self.kept.push(Kept {
                     id: self.next_id,
                     key: request.key.clone(),
@@ -201,6 +251,9 @@ impl Renderers {
     /// Moves mesh `handle`'s vertices in every renderer that takes new frames (the others
     /// draw what they were recorded with and are freed once done).
     pub fn update_mesh(&mut self, handle: u64, positions: &[glam::Vec3]) -> FfiResult {
+        if let Some(resident) = &mut self.resident {
+            resident.moved.insert(handle);
+        }
         for k in self.kept.iter_mut().filter(|k| k.usable) {
             if let Some(&mesh) = k.index.meshes.get(&handle) {
                 k.renderer.update_mesh(mesh, positions)?;

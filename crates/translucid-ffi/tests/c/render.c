@@ -238,6 +238,65 @@ static void sampled_texture(uint32_t method, uint32_t wrap, float left, float ri
     CHECK(translucid_mesh_destroy(g_ctx, mesh));
 }
 
+/* GPU bytes the call that rendered `frame` allocated (destroying the frame). */
+static uint64_t allocated_by(translucid_frame frame) {
+    translucid_frame_statistics stats;
+    memset(&stats, 0, sizeof stats);
+    stats.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_STATISTICS;
+    CHECK(translucid_frame_get_statistics(g_ctx, frame, &stats));
+    CHECK(translucid_frame_destroy(g_ctx, frame));
+    return stats.bytes_allocated;
+}
+
+/* Frames of two sizes (two views, or a dynamic resolution) keep a renderer each over the
+ * context's assets, uploaded once: a 512x512 texture (1 MB, and as much again for the
+ * compute rasters' copy) is allocated for the first size only. */
+static void sizes_share_the_uploads(uint32_t method, translucid_mesh quad) {
+    enum { SIDE = 512 };
+    const uint64_t texture_bytes = SIDE * SIDE * 4;
+    uint8_t *texels = calloc(texture_bytes, 1);
+    translucid_texture_create_info texture_info;
+    translucid_material_create_info material_info;
+    translucid_frame_info info = base_frame(method);
+    translucid_texture texture;
+    translucid_material material;
+    translucid_draw draw;
+    translucid_frame frame;
+    uint64_t first, second;
+    memset(&texture_info, 0, sizeof texture_info);
+    texture_info.s_type = TRANSLUCID_STRUCTURE_TYPE_TEXTURE_CREATE_INFO;
+    texture_info.width = texture_info.height = SIDE;
+    texture_info.texels = texels;
+    CHECK(translucid_texture_create(g_ctx, &texture_info, &texture));
+    free(texels);
+    memset(&material_info, 0, sizeof material_info);
+    material_info.s_type = TRANSLUCID_STRUCTURE_TYPE_MATERIAL_CREATE_INFO;
+    material_info.base_colour[0] = material_info.base_colour[3] = 0.5f;
+    material_info.texture = texture;
+    CHECK(translucid_material_create(g_ctx, &material_info, &material));
+    memset(&draw, 0, sizeof draw);
+    draw.mesh = quad;
+    draw.material = material;
+    draw.transform[0] = draw.transform[5] = draw.transform[10] = draw.transform[15] = 1.0f;
+    info.draws = &draw;
+    info.draw_count = 1;
+    CHECK(translucid_frame_render(g_ctx, &info, &frame));
+    first = allocated_by(frame);
+    info.width = W + 8;
+    info.height = H + 4;
+    CHECK(translucid_frame_render(g_ctx, &info, &frame));
+    second = allocated_by(frame);
+    if (first < texture_bytes || second >= texture_bytes) {
+        printf("FAIL method %u: the first size allocated %llu bytes, the second %llu\n",
+               (unsigned)method, (unsigned long long)first, (unsigned long long)second);
+        g_failed++;
+    } else {
+        g_passed++;
+    }
+    CHECK(translucid_material_destroy(g_ctx, material));
+    CHECK(translucid_texture_destroy(g_ctx, texture));
+}
+
 static void background_only(uint32_t method) {
     translucid_frame_info info = base_frame(method);
     translucid_frame frame;
@@ -413,6 +472,7 @@ int main(int argc, char **argv) {
         background_only(methods[m]);
         moving_draws(methods[m], quad, red);
         tinted_draw(methods[m], quad, red);
+        sizes_share_the_uploads(methods[m], quad);
         /* u -0.29 is texel -1 and u 1.29 texel 2, wrapped: */
         sampled_texture(methods[m], TRANSLUCID_WRAP_REPEAT, 1.0f, 0.0f);
         sampled_texture(methods[m], TRANSLUCID_WRAP_CLAMP_TO_EDGE, 0.0f, 1.0f);

@@ -1,21 +1,25 @@
-//! A scene's assets on the GPU, uploaded once and resident: vertices (rewritten in place when
-//! a mesh moves), triangle indices, quads, materials, textures with their samplers; and, per
-//! frame slot, the frame info and draws with the descriptor set every mesh pipeline binds as
-//! set 0.
+//! A scene's assets on the GPU (`resident`: uploaded once, shared by the renderers made over
+//! them) and, per frame slot, the frame info and draws with the descriptor set every mesh
+//! pipeline binds as set 0.
 
 #![deny(unsafe_code)]
 
+mod resident;
 #[cfg(test)]
 mod sampling_tests;
+pub mod texture_records;
+
+pub use resident::ResidentAssets;
 
 use crate::gpu::{
     vk, BindingKind, Buffer, DepthMode, DescriptorLayout, DescriptorSet, Gpu, GpuImage,
-    GraphicsPipeline, GraphicsPipelineDesc, MemoryLocation, PipelineState, Resource, Sampler,
+    GraphicsPipeline, GraphicsPipelineDesc, MemoryLocation, PipelineState, Resource,
 };
-use crate::scene::{self, Mesh, Scene, Texture};
-use crate::shader_types::{GpuDrawInfo, GpuFrameInfo, GpuMaterial, GpuVertex};
+use crate::scene::{Scene, Texture};
+use crate::shader_types::{GpuDrawInfo, GpuFrameInfo, GpuVertex};
 use crate::Result;
-use glam::{Vec2, Vec3, Vec4};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Arc;
 
 /// Vertex attributes of [`GpuVertex`]: (location, format, offset).
 pub const VERTEX_ATTRIBUTES: [(u32, vk::Format, u32); 4] = [
@@ -47,7 +51,7 @@ pub struct DrawCall {
     pub draw_index: u32,
     pub range: MeshRange,
     pub cull_back: bool,
-    /// Index into `GpuScene::texture_sets` (the last one is a white texture).
+    /// Index into `ResidentAssets::texture_sets` (the last one is a white texture).
     pub texture_set: usize,
 }
 
@@ -94,53 +98,27 @@ impl SceneSlot {
     }
 }
 
+/// Tells apart the users of one [`ResidentAssets`], for its uploads on the engine's device.
+static NEXT_SCENE_ID: AtomicU64 = AtomicU64::new(1);
+
 pub struct GpuScene {
-    pub vertices: Buffer,
-    pub indices: Buffer,
-    /// Every mesh's quads with absolute vertex indices (`DrawInfo::first_quad` points here).
-    pub quads: Buffer,
+    /// The assets, shared with the other renderers made over them.
+    pub resident: Arc<ResidentAssets>,
+    id: u64,
     /// Total quads of the transparent draws.
     pub transparent_quads: u32,
-    pub materials: Buffer,
     /// Per frame slot, what a frame writes and reads while others are in flight.
     slots: Vec<SceneSlot>,
     /// The slot frames write and record now.
     slot: usize,
-    textures: Vec<GpuImage>,
-    /// On the engine's device (which translucid never submits to), the textures' staging
-    /// buffers: recorded into the first frame's command buffer, kept until it completes.
-    texture_staging: Vec<Buffer>,
-    textures_recorded: bool,
-    /// The texture sets' samplers, kept alive with them.
-    _samplers: Vec<Sampler>,
     /// Set 0: frame, draws, materials.
     pub layout: DescriptorLayout,
-    /// Set 1: one base-colour texture.
-    pub texture_layout: DescriptorLayout,
-    pub texture_sets: Vec<DescriptorSet>,
     pub opaque_calls: Vec<DrawCall>,
     pub transparent_calls: Vec<DrawCall>,
-    /// Each mesh's triangles in the index buffer (and its first vertex), and its first quad
-    /// in the quad buffer.
-    ranges: Vec<MeshRange>,
-    first_quads: Vec<u32>,
     /// The frame size the frame info is written for.
     extent: (u32, u32),
-    /// Meshes whose vertices moved since the last frame recorded.
+    /// Meshes whose vertices moved since the last frame was recorded.
     moved_meshes: Vec<usize>,
-}
-
-fn vertices_of(mesh: &Mesh) -> impl Iterator<Item = GpuVertex> + '_ {
-    (0..mesh.positions.len()).map(move |i| GpuVertex {
-        position: mesh.positions[i].to_array(),
-        normal: mesh
-            .normals
-            .as_ref()
-            .map_or(Vec3::ZERO, |n| n[i])
-            .to_array(),
-        uv: mesh.uvs.as_ref().map_or(Vec2::ZERO, |u| u[i]).to_array(),
-        colour: mesh.colours.as_ref().map_or(Vec4::ONE, |c| c[i]).to_array(),
-    })
 }
 
 impl GpuScene {
@@ -153,78 +131,21 @@ impl GpuScene {
         height: u32,
         frame_slots: usize,
     ) -> Result<Self> {
+        let resident = Arc::new(ResidentAssets::new(gpu, scene)?);
+        Self::over(gpu, resident, scene, width, height, frame_slots)
+    }
+
+    /// Like [`Self::new`] over assets uploaded before, from a scene with the same assets.
+    pub fn over(
+        gpu: &Gpu,
+        resident: Arc<ResidentAssets>,
+        scene: &Scene,
+        width: u32,
+        height: u32,
+        frame_slots: usize,
+    ) -> Result<Self> {
         scene.validate()?;
-        let mut vertices = Vec::new();
-        let mut indices: Vec<u32> = Vec::new();
-        let mut quads: Vec<[u32; 4]> = Vec::new();
-        let mut ranges = Vec::with_capacity(scene.meshes.len());
-        let mut first_quads = Vec::with_capacity(scene.meshes.len());
-        let mut quad_total = 0u32;
-        for mesh in &scene.meshes {
-            let first_index = indices.len() as u32;
-            let vertex_offset = vertices.len() as i32;
-            vertices.extend(vertices_of(mesh));
-            for &q in &mesh.quads {
-                indices.extend(Mesh::quad_triangles(q).into_iter().flatten().flatten());
-                quads.push(q.map(|i| i + vertex_offset as u32));
-            }
-            ranges.push(MeshRange {
-                first_index,
-                index_count: indices.len() as u32 - first_index,
-                vertex_offset,
-            });
-            first_quads.push(quad_total);
-            quad_total += mesh.quads.len() as u32;
-        }
-
-        let materials: Vec<GpuMaterial> = scene.materials.iter().map(GpuMaterial::new).collect();
-
-        let storage = SCENE_STORAGE;
-        // Moved vertices are copied in by the frame that first draws them.
-        let vertices = gpu.create_buffer_with_data(
-            "scene vertices",
-            vk::BufferUsageFlags::VERTEX_BUFFER | vk::BufferUsageFlags::TRANSFER_DST | storage,
-            bytemuck::cast_slice(&vertices),
-        )?;
-        let indices = gpu.create_buffer_with_data(
-            "scene indices",
-            vk::BufferUsageFlags::INDEX_BUFFER | storage,
-            bytemuck::cast_slice(&indices),
-        )?;
-        let quads =
-            gpu.create_buffer_with_data("scene quads", storage, bytemuck::cast_slice(&quads))?;
-        let materials = gpu.create_buffer_with_data(
-            "scene materials",
-            storage,
-            bytemuck::cast_slice(&materials),
-        )?;
-        let white = Texture::new("white", 1, 1, vec![[255; 4]], false);
-        let (textures, staging) =
-            create_textures(gpu, scene.textures.iter().chain(std::iter::once(&white)))?;
-        // A device of translucid's own uploads now; on the engine's, the first frame does.
-        let textures_recorded = !gpu.is_host_device();
-        let texture_staging = if textures_recorded {
-            gpu.submit_and_wait(|cmd| {
-                record_texture_uploads(gpu, cmd, &textures, &staging);
-                Ok(())
-            })?;
-            Vec::new()
-        } else {
-            staging
-        };
-        // One hardware sampler for each distinct sampler the textures use.
-        let mut samplers: Vec<(scene::Sampler, Sampler)> = Vec::new();
-        for t in scene.textures.iter().chain(std::iter::once(&white)) {
-            if !samplers.iter().any(|(s, _)| *s == t.sampler) {
-                samplers.push((t.sampler, Sampler::for_texture(gpu, &t.sampler)?));
-            }
-        }
-        let sampler_of = |t: &Texture| {
-            samplers
-                .iter()
-                .find(|(s, _)| *s == t.sampler)
-                .map_or(vk::Sampler::null(), |(_, made)| made.raw)
-        };
+        resident.check_scene(scene)?;
         let stages = vk::ShaderStageFlags::VERTEX
             | vk::ShaderStageFlags::FRAGMENT
             | vk::ShaderStageFlags::COMPUTE;
@@ -240,35 +161,17 @@ impl GpuScene {
         let draw_bytes = (scene.opaque.len() + scene.transparent.len()) as u64
             * std::mem::size_of::<GpuDrawInfo>() as u64;
         let slots = (0..frame_slots.max(1))
-            .map(|_| SceneSlot::new(gpu, &layout, &materials, draw_bytes))
-            .collect::<Result<Vec<_>>>()?;
-        let texture_layout = DescriptorLayout::new(gpu, &[BindingKind::SampledImages(1)], stages)?;
-        let texture_sets = textures
-            .iter()
-            .zip(scene.textures.iter().chain(std::iter::once(&white)))
-            .map(|(image, t)| {
-                texture_layout.create_set(&[Resource::Images(&[image.view], sampler_of(t))])
-            })
+            .map(|_| SceneSlot::new(gpu, &layout, &resident.materials, draw_bytes))
             .collect::<Result<Vec<_>>>()?;
         let mut uploaded = Self {
-            vertices,
-            indices,
-            quads,
+            resident,
+            id: NEXT_SCENE_ID.fetch_add(1, Ordering::Relaxed),
             transparent_quads: 0,
-            materials,
             slots,
             slot: 0,
-            textures,
-            texture_staging,
-            textures_recorded,
-            _samplers: samplers.into_iter().map(|(_, made)| made).collect(),
             layout,
-            texture_layout,
-            texture_sets,
             opaque_calls: Vec::new(),
             transparent_calls: Vec::new(),
-            ranges,
-            first_quads,
             extent: (width, height),
             moved_meshes: Vec::new(),
         };
@@ -307,8 +210,8 @@ impl GpuScene {
         let mut bytes: Vec<u8> = Vec::new();
         let mut regions = Vec::with_capacity(self.moved_meshes.len());
         for &mesh in &self.moved_meshes {
-            let vertices: Vec<GpuVertex> = vertices_of(&scene.meshes[mesh]).collect();
-            let first = u64::try_from(self.ranges[mesh].vertex_offset).unwrap_or(0);
+            let vertices = resident::gpu_vertices(&scene.meshes[mesh]);
+            let first = u64::try_from(self.resident.ranges[mesh].vertex_offset).unwrap_or(0);
             regions.push(vk::BufferCopy {
                 src_offset: bytes.len() as u64,
                 dst_offset: first * u64::from(VERTEX_STRIDE),
@@ -354,7 +257,7 @@ impl GpuScene {
             vk::AccessFlags::TRANSFER_WRITE,
         );
         crate::gpu::memory_barrier(gpu, cmd, any, transfer);
-        gpu.cmd_copy_buffer_regions(cmd, staging, &self.vertices, &regions);
+        gpu.cmd_copy_buffer_regions(cmd, staging, &self.resident.vertices, &regions);
         crate::gpu::memory_barrier(gpu, cmd, transfer, any);
         Ok(())
     }
@@ -396,18 +299,19 @@ impl GpuScene {
         let all_draws = scene.opaque.iter().chain(&scene.transparent);
         let draw_infos: Vec<GpuDrawInfo> = all_draws
             .clone()
-            .map(|d| GpuDrawInfo::new(d, &scene.meshes[d.mesh], self.first_quads[d.mesh]))
+            .map(|d| GpuDrawInfo::new(d, &scene.meshes[d.mesh], self.resident.first_quads[d.mesh]))
             .collect();
         let bytes: &[u8] = bytemuck::cast_slice(&draw_infos);
         if bytes.len() as u64 > slot.draws.size {
             // Room for twice as many, so that a growing draw count reallocates rarely.
-            *slot = SceneSlot::new(gpu, &self.layout, &self.materials, 2 * bytes.len() as u64)?;
+            let materials = &self.resident.materials;
+            *slot = SceneSlot::new(gpu, &self.layout, materials, 2 * bytes.len() as u64)?;
             slot.frame.write(0, bytemuck::bytes_of(&frame_info))?;
         }
         slot.draws.write(0, bytes)?;
         let calls = all_draws.enumerate().map(|(i, d)| DrawCall {
             draw_index: i as u32,
-            range: self.ranges[d.mesh],
+            range: self.resident.ranges[d.mesh],
             cull_back: !scene.materials[d.material].double_sided,
             texture_set: scene.materials[d.material]
                 .texture
@@ -455,7 +359,7 @@ impl GpuScene {
         extra_sets: &[&DescriptorLayout],
         state: &PipelineState<'_>,
     ) -> Result<(GraphicsPipeline, GraphicsPipeline)> {
-        let mut sets = vec![&self.layout, &self.texture_layout];
+        let mut sets = vec![&self.layout, &self.resident.texture_layout];
         sets.extend_from_slice(extra_sets);
         let pipeline = |cull_back| {
             GraphicsPipeline::with_state(
@@ -489,7 +393,7 @@ impl GpuScene {
     ) {
         // The render pass is compatible with both pipelines, whose layouts take this scene's
         // sets 0 and 1 and a 4-byte push constant.
-        gpu.cmd_bind_mesh_buffers(cmd, &self.vertices, &self.indices);
+        gpu.cmd_bind_mesh_buffers(cmd, &self.resident.vertices, &self.resident.indices);
         let mut bound: Option<bool> = None;
         let mut bound_texture: Option<usize> = None;
         for call in calls {
@@ -505,7 +409,7 @@ impl GpuScene {
                 bound_texture = None;
             }
             if bound_texture != Some(call.texture_set) {
-                let set = self.texture_sets[call.texture_set].raw;
+                let set = self.resident.texture_sets[call.texture_set].raw;
                 gpu.cmd_bind_graphics_set(cmd, pipeline.layout, 1, set);
                 bound_texture = Some(call.texture_set);
             }
@@ -523,27 +427,32 @@ impl GpuScene {
 }
 
 impl GpuScene {
-    /// On the engine's device: records the texture uploads into the first frame's command
-    /// buffer (later calls record nothing).
-    pub fn record_pending_uploads(&mut self, gpu: &Gpu, cmd: vk::CommandBuffer) {
-        if !self.textures_recorded {
-            record_texture_uploads(gpu, cmd, &self.textures, &self.texture_staging);
-        }
+    /// On the engine's device: records the texture uploads into this frame's command buffer
+    /// unless a frame (of any renderer over the same assets) recorded them.
+    pub fn record_pending_uploads(&self, gpu: &Gpu, cmd: vk::CommandBuffer) {
+        self.resident.record_pending_uploads(gpu, cmd);
     }
 
     /// The frame that recorded the pending uploads (textures, moved vertices) was recorded
     /// whole (and submitted, or handed to the engine): later frames need not record them.
     /// A recording that failed leaves them pending.
     pub fn uploads_recorded(&mut self) {
-        self.textures_recorded = true;
+        self.resident.uploads_recorded(self.id);
         self.moved_meshes.clear();
     }
 
-    /// Frees the texture staging once the frame that recorded the uploads completed.
+    /// A frame recorded with this scene completed: the texture staging goes if its uploads
+    /// were recorded here.
     pub fn uploads_completed(&mut self) {
-        if self.textures_recorded {
-            self.texture_staging.clear();
-        }
+        self.resident.uploads_completed(self.id);
+    }
+}
+
+impl Drop for GpuScene {
+    fn drop(&mut self) {
+        // Uploads recorded into a frame that never completed here (abandoned) are recorded
+        // again by the next frame over the same assets.
+        self.resident.uploads_lost(self.id);
     }
 }
 

@@ -3,12 +3,12 @@
 //! hardware sampler the graphics passes bind (`Sampler::for_texture`, on textures uploaded as
 //! the renderer uploads them), both run by `shaders/test/sampler.comp`.
 
+use super::texture_records::texture_data;
 use super::{create_textures, record_texture_uploads};
 use crate::gpu::{
     memory_barrier, vk, BindingKind, ComputePipeline, DescriptorLayout, Gpu, GpuOptions,
     MemoryLocation, Resource, Sampler,
 };
-use crate::methods::bins::resources::texture_data;
 use crate::scene::srgb_lut;
 use crate::scene::texture_hand::hand_cases;
 use crate::scene::Texture;

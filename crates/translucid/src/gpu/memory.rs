@@ -300,6 +300,29 @@ pub struct BufferView {
     pub raw: vk::BufferView,
 }
 
+/// A buffer and a texel view of it (see [`BufferView`] for why shaders read views).
+pub struct ViewedBuffer {
+    // Declared first so that it is destroyed before its buffer.
+    pub view: BufferView,
+    pub buffer: Buffer,
+}
+
+impl ViewedBuffer {
+    pub fn new(gpu: &Gpu, buffer: Buffer, format: vk::Format) -> Result<Self> {
+        Ok(Self {
+            view: gpu.create_buffer_view(&buffer, format)?,
+            buffer,
+        })
+    }
+
+    /// Read-only `data`, uploaded once, viewed as texels of `format`.
+    pub fn with_data(gpu: &Gpu, name: &str, data: &[u8], format: vk::Format) -> Result<Self> {
+        let buffer =
+            gpu.create_buffer_with_data(name, vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER, data)?;
+        Self::new(gpu, buffer, format)
+    }
+}
+
 impl Gpu {
     /// A view of all of `buffer` as texels of `format` (a 32-bit-per-channel format with one
     /// or four channels). The buffer must have been made with UNIFORM_TEXEL_BUFFER usage.

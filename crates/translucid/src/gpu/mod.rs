@@ -41,7 +41,7 @@ pub use host::{
 };
 pub use host_depth::DepthImport;
 pub use memory::MemoryLocation;
-pub use memory::{Buffer, BufferView, GpuImage, MemoryStats};
+pub use memory::{Buffer, BufferView, GpuImage, MemoryStats, ViewedBuffer};
 pub use pipeline::{
     BindingKind, Blend, ComputePipeline, DepthMode, DescriptorLayout, DescriptorSet,
     GraphicsPipeline, GraphicsPipelineDesc, PipelineState, RenderTarget, RenderTargetDesc,

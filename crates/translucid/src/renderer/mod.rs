@@ -43,7 +43,7 @@ mod host_device;
 mod host_opaque;
 mod targets;
 
-pub use crate::assets::GpuScene;
+pub use crate::assets::{GpuScene, ResidentAssets};
 pub use crate::frame::{FrameTargets, COLOUR_FORMAT, DEPTH_FORMAT};
 pub use host_device::HostFrame;
 pub use targets::Readback;
@@ -56,6 +56,7 @@ use crate::methods::{
 use crate::scene::{FrameInput, Scene};
 use crate::{Error, Result};
 use glam::Vec3;
+use std::sync::Arc;
 use targets::OpaquePass;
 
 /// What one rendered frame produced.
@@ -170,6 +171,15 @@ pub fn check_viewport(gpu: &Gpu, width: u32, height: u32) -> Result<()> {
     Ok(())
 }
 
+/// The frames a renderer draws: their size, and how many may be in flight at once (1 to
+/// [`MAX_FRAMES_IN_FLIGHT`]; more than 1 only on an engine's device).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct FrameShape {
+    pub width: u32,
+    pub height: u32,
+    pub frames_in_flight: u32,
+}
+
 /// The most frames an engine may keep recorded and not completed on one renderer.
 pub const MAX_FRAMES_IN_FLIGHT: u32 = 4;
 
@@ -213,6 +223,46 @@ impl Renderer {
         options: &MethodOptions,
         frames: u32,
     ) -> Result<Self> {
+        let shape = FrameShape {
+            width,
+            height,
+            frames_in_flight: frames,
+        };
+        Self::build(gpu, scene, None, method, shape, options)
+    }
+
+    /// A renderer over assets uploaded before (for a scene with the same meshes, materials
+    /// and textures: checked), shared with the renderers made over them: it uploads nothing,
+    /// and takes the compute pipelines they hold.
+    pub fn sharing(
+        gpu: &Gpu,
+        resident: Arc<ResidentAssets>,
+        scene: &Scene,
+        method: MethodKind,
+        shape: FrameShape,
+        options: &MethodOptions,
+    ) -> Result<Self> {
+        Self::build(gpu, scene, Some(resident), method, shape, options)
+    }
+
+    /// The assets this renderer draws from, for a renderer made to share them.
+    pub fn resident(&self) -> &Arc<ResidentAssets> {
+        &self.scene.resident
+    }
+
+    fn build(
+        gpu: &Gpu,
+        scene: &Scene,
+        resident: Option<Arc<ResidentAssets>>,
+        method: MethodKind,
+        shape: FrameShape,
+        options: &MethodOptions,
+    ) -> Result<Self> {
+        let FrameShape {
+            width,
+            height,
+            frames_in_flight: frames,
+        } = shape;
         if !(1..=MAX_FRAMES_IN_FLIGHT).contains(&frames) {
             return Err(Error::InvalidOption(format!(
                 "{frames} frames in flight; 1 to {MAX_FRAMES_IN_FLIGHT} are supported"
@@ -220,7 +270,11 @@ impl Renderer {
         }
         let slots = frames as usize;
         check_viewport(gpu, width, height)?;
-        let uploaded = GpuScene::new(gpu, scene, width, height, slots)?;
+        let resident = match resident {
+            Some(r) => r,
+            None => Arc::new(ResidentAssets::new(gpu, scene)?),
+        };
+        let uploaded = GpuScene::over(gpu, resident, scene, width, height, slots)?;
         let targets = FrameTargets::new(gpu, width, height)?;
         let readback = if gpu.is_host_device() {
             None

@@ -2,7 +2,7 @@
 
 #![deny(unsafe_code)]
 
-use crate::scene::{Filter, MipFilter, Sampler, Wrap};
+pub use crate::assets::texture_records::*;
 use bytemuck::{Pod, Zeroable};
 
 pub const BIN_SHIFT: u32 = 3;
@@ -129,51 +129,6 @@ impl BinCounters {
     }
 }
 
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Pod, Zeroable)]
-pub struct BinTexture {
-    pub first_texel: u32,
-    pub width: u32,
-    pub height: u32,
-    pub levels: u32,
-    pub srgb: u32,
-    /// `SAMPLER_*` bits: [`sampler_bits`].
-    pub sampler: u32,
-    pub pad: [u32; 2],
-}
-
-pub const SAMPLER_WRAP_S_SHIFT: u32 = 0;
-pub const SAMPLER_WRAP_T_SHIFT: u32 = 2;
-pub const SAMPLER_WRAP_REPEAT: u32 = 0;
-pub const SAMPLER_WRAP_CLAMP_TO_EDGE: u32 = 1;
-pub const SAMPLER_WRAP_MIRRORED_REPEAT: u32 = 2;
-pub const SAMPLER_MAG_LINEAR: u32 = 16;
-pub const SAMPLER_MIN_LINEAR: u32 = 32;
-pub const SAMPLER_MIP_SHIFT: u32 = 6;
-pub const SAMPLER_MIP_NONE: u32 = 0;
-pub const SAMPLER_MIP_NEAREST: u32 = 1;
-pub const SAMPLER_MIP_LINEAR: u32 = 2;
-
-/// A texture's sampler as the software sampler's word (`BinTexture.samplerBits`).
-pub fn sampler_bits(s: &Sampler) -> u32 {
-    let wrap = |w: Wrap| match w {
-        Wrap::Repeat => SAMPLER_WRAP_REPEAT,
-        Wrap::ClampToEdge => SAMPLER_WRAP_CLAMP_TO_EDGE,
-        Wrap::MirroredRepeat => SAMPLER_WRAP_MIRRORED_REPEAT,
-    };
-    let linear = |f: Filter, bit: u32| if f == Filter::Linear { bit } else { 0 };
-    let mip = match s.mip_filter {
-        MipFilter::None => SAMPLER_MIP_NONE,
-        MipFilter::Nearest => SAMPLER_MIP_NEAREST,
-        MipFilter::Linear => SAMPLER_MIP_LINEAR,
-    };
-    wrap(s.wrap_s) << SAMPLER_WRAP_S_SHIFT
-        | wrap(s.wrap_t) << SAMPLER_WRAP_T_SHIFT
-        | linear(s.mag_filter, SAMPLER_MAG_LINEAR)
-        | linear(s.min_filter, SAMPLER_MIN_LINEAR)
-        | mip << SAMPLER_MIP_SHIFT
-}
-
 /// The push constants of every bin stage and of the rasters that read the bins.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
@@ -194,6 +149,7 @@ pub struct BinPush {
 mod tests {
     use super::*;
     use crate::glsl_layout::std430_offsets;
+    use crate::scene::{Filter, MipFilter, Sampler, Wrap};
     use std::mem::{offset_of, size_of};
 
     const SRC: &str = include_str!("../../../../../shaders/common/bins_layout.glsl");

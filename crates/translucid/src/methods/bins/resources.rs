@@ -2,18 +2,18 @@
 //! for every stage): sized from the frame, grown when the GPU reports an overflow.
 
 use super::layout::{
-    sampler_bits, BinCounters, BinDraw, BinTexture, ATTRIBUTES_BYTES, BIN_SIZE, DISPATCH_BYTES,
-    HOMOGENEOUS_BYTES, OVERFLOW_BIN_ENTRIES, OVERFLOW_HOMOGENEOUS, OVERFLOW_RESUME,
-    PIXEL_STATE_BYTES, RESUME_ITEM_BYTES, SCAN_GROUP_SIZE, TRIANGLE_BYTES, TRIANGLE_MATERIAL_SHIFT,
+    BinCounters, BinDraw, ATTRIBUTES_BYTES, BIN_SIZE, DISPATCH_BYTES, HOMOGENEOUS_BYTES,
+    OVERFLOW_BIN_ENTRIES, OVERFLOW_HOMOGENEOUS, OVERFLOW_RESUME, PIXEL_STATE_BYTES,
+    RESUME_ITEM_BYTES, SCAN_GROUP_SIZE, TRIANGLE_BYTES, TRIANGLE_MATERIAL_SHIFT,
 };
 use crate::assets::GpuScene;
+use crate::assets::ResidentAssets;
 use crate::frame::FrameTargets;
 use crate::gpu::{
     memory_barrier, vk, BindingKind, Buffer, BufferView, DescriptorLayout, DescriptorSet, Gpu,
-    MemoryLocation, Resource, Retirement, Sampler,
+    MemoryLocation, Resource, Retirement, Sampler, ViewedBuffer as Viewed,
 };
-use crate::scene::{srgb_lut, Scene, Texture};
-use crate::shader_types::GpuMaterial;
+use crate::scene::Scene;
 use crate::{Error, Result};
 
 /// Entries the growable buffers hold.
@@ -133,22 +133,6 @@ struct Growable {
     bin_entries: Viewed,
 }
 
-/// A buffer and a texel view of it (see [`BufferView`] for why the raster reads views).
-struct Viewed {
-    // Declared first so that it is destroyed before its buffer.
-    view: BufferView,
-    buffer: Buffer,
-}
-
-impl Viewed {
-    fn new(gpu: &Gpu, buffer: Buffer, format: vk::Format) -> Result<Self> {
-        Ok(Self {
-            view: gpu.create_buffer_view(&buffer, format)?,
-            buffer,
-        })
-    }
-}
-
 /// One frame slot's share: what a frame writes before it is recorded or reads after it
 /// completed, while other frames are in flight.
 struct BinSlot {
@@ -176,18 +160,15 @@ pub struct Resources {
     generation: u64,
     /// Replaced buffers that frames in flight may still use.
     pub retirement: Retirement,
-    /// Texel views of the uploaded scene's vertices and quads.
-    scene_views: [BufferView; 2],
+    /// The scene's assets: vertices, quads, materials and textures, read through their
+    /// texel views.
+    resident: std::sync::Arc<ResidentAssets>,
     counters: Buffer,
     bins: BinArrays,
     /// The blocks with a non-empty bin, listed by the scan for the raster.
     raster_bins: Buffer,
     /// The farthest opaque depth over ever larger cells, for setup's occlusion cull.
     depth_pyramid: Viewed,
-    materials: Viewed,
-    textures: Viewed,
-    texels: Viewed,
-    srgb: Viewed,
     depth_sampler: Sampler,
     growable: Growable,
 }
@@ -236,15 +217,6 @@ fn storage_buffer(gpu: &Gpu, name: &str, bytes: u64) -> Result<Buffer> {
 /// A storage buffer with a view for the raster to read it through.
 fn viewed_storage(gpu: &Gpu, name: &str, bytes: u64, format: vk::Format) -> Result<Viewed> {
     Viewed::new(gpu, storage_buffer(gpu, name, bytes)?, format)
-}
-
-/// Read-only data uploaded once, viewed as texels of `format`.
-fn texel_data(gpu: &Gpu, name: &str, data: &[u8], format: vk::Format) -> Result<Viewed> {
-    Viewed::new(
-        gpu,
-        gpu.create_buffer_with_data(name, TEXELS, data)?,
-        format,
-    )
 }
 
 fn growable(gpu: &Gpu, c: Capacities) -> Result<Growable> {
@@ -368,27 +340,6 @@ fn bin_draws(scene: &Scene, width: u32, height: u32) -> Vec<BinDraw> {
         .collect()
 }
 
-/// Texture descriptors and every level's texels, packed RGBA8, for the software sampler.
-pub(crate) fn texture_data(textures: &[Texture]) -> (Vec<BinTexture>, Vec<u32>) {
-    let mut infos = Vec::with_capacity(textures.len());
-    let mut texels = Vec::new();
-    for t in textures {
-        infos.push(BinTexture {
-            first_texel: texels.len() as u32,
-            width: t.width(),
-            height: t.height(),
-            levels: t.levels.len() as u32,
-            srgb: u32::from(t.srgb),
-            sampler: sampler_bits(&t.sampler),
-            pad: [0; 2],
-        });
-        for level in &t.levels {
-            texels.extend(level.texels.iter().map(|&t| u32::from_le_bytes(t)));
-        }
-    }
-    (infos, texels)
-}
-
 impl Resources {
     /// The buffers for `scene` (uploaded as `uploaded`, whose frame slots it takes) over
     /// `targets`, every slot holding the scene's own frame.
@@ -410,16 +361,6 @@ impl Resources {
             )));
         }
         let draws = bin_draws(scene, width, height);
-        let (texture_infos, texels) = texture_data(&scene.textures);
-        let materials: Vec<GpuMaterial> = scene.materials.iter().map(GpuMaterial::new).collect();
-        let texel_bytes = texels.len() as u64 * 4;
-        if texel_bytes > u64::from(gpu.info().max_storage_buffer_range) {
-            return Err(Error::InvalidScene(format!(
-                "the scene's textures take {} MB, over this device's {} MB storage-buffer limit",
-                texel_bytes >> 20,
-                gpu.info().max_storage_buffer_range >> 20
-            )));
-        }
         // Counters and indirect arguments stay in device memory; the host reads a copy.
         let counters = gpu.create_buffer(
             "bin counters",
@@ -470,10 +411,7 @@ impl Resources {
             slot: 0,
             generation: 0,
             retirement: Retirement::default(),
-            scene_views: [
-                gpu.create_buffer_view(&uploaded.vertices, RGBA32UI)?,
-                gpu.create_buffer_view(&uploaded.quads, RGBA32UI)?,
-            ],
+            resident: uploaded.resident.clone(),
             counters,
             bins: BinArrays::new(gpu, blocks, slabs)?,
             raster_bins: storage_buffer(gpu, "non-empty blocks", blocks * 4)?,
@@ -486,35 +424,12 @@ impl Resources {
                 )) * 4,
                 vk::Format::R32_SFLOAT,
             )?,
-            materials: texel_data(
-                gpu,
-                "bin materials",
-                bytemuck::cast_slice(&materials),
-                RGBA32UI,
-            )?,
-            textures: texel_data(
-                gpu,
-                "bin textures",
-                bytemuck::cast_slice(&texture_infos),
-                RGBA32UI,
-            )?,
-            texels: texel_data(
-                gpu,
-                "bin texels",
-                bytemuck::cast_slice(&texels),
-                vk::Format::R32_UINT,
-            )?,
-            srgb: texel_data(
-                gpu,
-                "sRGB table",
-                bytemuck::cast_slice(srgb_lut()),
-                vk::Format::R32_SFLOAT,
-            )?,
             depth_sampler: Sampler::nearest_clamp(gpu)?,
             growable: growable(gpu, capacities)?,
         };
         for _ in 0..uploaded.slot_count() {
-            let draws = texel_data(gpu, "bin draws", bytemuck::cast_slice(&draws), RGBA32UI)?;
+            let draws =
+                Viewed::with_data(gpu, "bin draws", bytemuck::cast_slice(&draws), RGBA32UI)?;
             let scene_draws = (
                 uploaded.draws().raw,
                 gpu.create_buffer_view(uploaded.draws(), RGBA32UI)?,
@@ -576,8 +491,8 @@ impl Resources {
     ) -> Result<DescriptorSet> {
         let g = &self.growable;
         self.layout.create_set(&[
-            Resource::TexelBuffer(self.scene_views[0].raw),
-            Resource::TexelBuffer(self.scene_views[1].raw),
+            Resource::TexelBuffer(self.resident.vertex_view.raw),
+            Resource::TexelBuffer(self.resident.quad_view.raw),
             Resource::TexelBuffer(draws.raw),
             Resource::Buffer(&g.triangles.buffer),
             Resource::Buffer(&g.homogeneous.buffer),
@@ -591,10 +506,10 @@ impl Resources {
             Resource::StorageImage(targets.colour.view),
             Resource::TexelBuffer(g.triangles.view.raw),
             Resource::TexelBuffer(g.attributes.view.raw),
-            Resource::TexelBuffer(self.materials.view.raw),
-            Resource::TexelBuffer(self.textures.view.raw),
-            Resource::TexelBuffer(self.texels.view.raw),
-            Resource::TexelBuffer(self.srgb.view.raw),
+            Resource::TexelBuffer(self.resident.material_view.raw),
+            Resource::TexelBuffer(self.resident.bin_textures.view.raw),
+            Resource::TexelBuffer(self.resident.bin_texels.view.raw),
+            Resource::TexelBuffer(self.resident.srgb.view.raw),
             Resource::TexelBuffer(g.bin_entries.view.raw),
             Resource::TexelBuffer(g.homogeneous.view.raw),
             Resource::Buffer(&g.resume),

@@ -1,0 +1,74 @@
+//! The software sampler's texture records (`BinTexture` of `shaders/common/bins_layout.glsl`,
+//! checked there by `methods::bins::layout`'s tests): how the compute rasters find a
+//! texture's texels and sample it.
+
+#![deny(unsafe_code)]
+
+use crate::scene::{Filter, MipFilter, Sampler, Texture, Wrap};
+use bytemuck::{Pod, Zeroable};
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct BinTexture {
+    pub first_texel: u32,
+    pub width: u32,
+    pub height: u32,
+    pub levels: u32,
+    pub srgb: u32,
+    /// `SAMPLER_*` bits: [`sampler_bits`].
+    pub sampler: u32,
+    pub pad: [u32; 2],
+}
+
+pub const SAMPLER_WRAP_S_SHIFT: u32 = 0;
+pub const SAMPLER_WRAP_T_SHIFT: u32 = 2;
+pub const SAMPLER_WRAP_REPEAT: u32 = 0;
+pub const SAMPLER_WRAP_CLAMP_TO_EDGE: u32 = 1;
+pub const SAMPLER_WRAP_MIRRORED_REPEAT: u32 = 2;
+pub const SAMPLER_MAG_LINEAR: u32 = 16;
+pub const SAMPLER_MIN_LINEAR: u32 = 32;
+pub const SAMPLER_MIP_SHIFT: u32 = 6;
+pub const SAMPLER_MIP_NONE: u32 = 0;
+pub const SAMPLER_MIP_NEAREST: u32 = 1;
+pub const SAMPLER_MIP_LINEAR: u32 = 2;
+
+/// A texture's sampler as the software sampler's word (`BinTexture.samplerBits`).
+pub fn sampler_bits(s: &Sampler) -> u32 {
+    let wrap = |w: Wrap| match w {
+        Wrap::Repeat => SAMPLER_WRAP_REPEAT,
+        Wrap::ClampToEdge => SAMPLER_WRAP_CLAMP_TO_EDGE,
+        Wrap::MirroredRepeat => SAMPLER_WRAP_MIRRORED_REPEAT,
+    };
+    let linear = |f: Filter, bit: u32| if f == Filter::Linear { bit } else { 0 };
+    let mip = match s.mip_filter {
+        MipFilter::None => SAMPLER_MIP_NONE,
+        MipFilter::Nearest => SAMPLER_MIP_NEAREST,
+        MipFilter::Linear => SAMPLER_MIP_LINEAR,
+    };
+    wrap(s.wrap_s) << SAMPLER_WRAP_S_SHIFT
+        | wrap(s.wrap_t) << SAMPLER_WRAP_T_SHIFT
+        | linear(s.mag_filter, SAMPLER_MAG_LINEAR)
+        | linear(s.min_filter, SAMPLER_MIN_LINEAR)
+        | mip << SAMPLER_MIP_SHIFT
+}
+
+/// Texture descriptors and every level's texels, packed RGBA8, for the software sampler.
+pub(crate) fn texture_data(textures: &[Texture]) -> (Vec<BinTexture>, Vec<u32>) {
+    let mut infos = Vec::with_capacity(textures.len());
+    let mut texels = Vec::new();
+    for t in textures {
+        infos.push(BinTexture {
+            first_texel: texels.len() as u32,
+            width: t.width(),
+            height: t.height(),
+            levels: t.levels.len() as u32,
+            srgb: u32::from(t.srgb),
+            sampler: sampler_bits(&t.sampler),
+            pad: [0; 2],
+        });
+        for level in &t.levels {
+            texels.extend(level.texels.iter().map(|&t| u32::from_le_bytes(t)));
+        }
+    }
+    (infos, texels)
+}
