@@ -83,6 +83,8 @@ pub struct Objects {
     /// Counts the creations and destructions of assets: a renderer drawing an older
     /// generation takes no new frame.
     pub generation: u64,
+    /// The generation the last destruction of an asset began.
+    pub last_destroyed: u64,
     pub renderers: Renderers,
     /// Host-device frames recorded and not yet completed, oldest first.
     pub in_flight: VecDeque<u64>,
@@ -98,6 +100,7 @@ pub struct Assets<'a> {
     pub textures: &'a Slots<Texture>,
     pub materials: &'a Slots<MaterialRecord>,
     pub generation: u64,
+    pub last_destroyed: u64,
 }
 
 impl Objects {
@@ -109,15 +112,22 @@ impl Objects {
                 textures: &self.textures,
                 materials: &self.materials,
                 generation: self.generation,
+                last_destroyed: self.last_destroyed,
             },
             &mut self.renderers,
             &self.gpu,
         )
     }
 
-    /// Notes that an asset was created or destroyed.
-    pub fn assets_changed(&mut self) {
+    /// Notes that an asset was created.
+    pub fn asset_created(&mut self) {
         self.generation += 1;
+    }
+
+    /// Notes that an asset was destroyed.
+    pub fn asset_destroyed(&mut self) {
+        self.generation += 1;
+        self.last_destroyed = self.generation;
     }
 }
 
@@ -237,6 +247,7 @@ impl Context {
                 materials: Slots::new(Kind::Material, tag),
                 frames: Slots::new(Kind::Frame, tag),
                 generation: 0,
+                last_destroyed: 0,
                 renderers: Renderers::new(frames_in_flight),
                 in_flight: VecDeque::new(),
                 frames_in_flight,

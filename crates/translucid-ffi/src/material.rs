@@ -117,7 +117,7 @@ impl translucid_material {
             let id = objects
                 .materials
                 .insert(MaterialRecord { material, texture })?;
-            objects.assets_changed();
+            objects.asset_created();
             out.write(translucid_material { id });
             Ok(translucid_result::Success)
         })
@@ -131,7 +131,7 @@ impl translucid_material {
     ) -> translucid_result {
         panic::with_context(context, |objects| {
             objects.materials.remove(material.id)?;
-            objects.assets_changed();
+            objects.asset_destroyed();
             Ok(translucid_result::Success)
         })
     }

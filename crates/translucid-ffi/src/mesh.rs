@@ -139,7 +139,7 @@ impl translucid_mesh {
             let info = try_ref(info, "info")?;
             let out = try_out(out_mesh, "out_mesh")?;
             let id = objects.meshes.insert(mesh_from_info(info)?)?;
-            objects.assets_changed();
+            objects.asset_created();
             out.write(translucid_mesh { id });
             Ok(translucid_result::Success)
         })
@@ -201,7 +201,7 @@ impl translucid_mesh {
     ) -> translucid_result {
         panic::with_context(context, |objects| {
             objects.meshes.remove(mesh.id)?;
-            objects.assets_changed();
+            objects.asset_destroyed();
             Ok(translucid_result::Success)
         })
     }

@@ -42,10 +42,11 @@ pub struct FrameRequest<'a> {
 }
 
 /// Where each asset handle sits in a renderer's scene.
-#[derive(Default)]
+#[derive(Clone, Default)]
 struct AssetIndex {
     meshes: HashMap<u64, usize>,
     materials: HashMap<u64, usize>,
+    textures: HashMap<u64, usize>,
 }
 
 /// One renderer and what it was made for.
@@ -69,6 +70,8 @@ pub struct Kept {
 struct Resident {
     generation: u64,
     assets: Arc<ResidentAssets>,
+    /// Where each asset sits in them.
+    index: AssetIndex,
     /// Meshes moved (`translucid_mesh_update`) since the assets were uploaded: a renderer
     /// made later copies their vertices in with its first frame.
     moved: HashSet<u64>,
@@ -140,7 +143,14 @@ impl Renderers {
                 self.position(id)
             }
             None => {
-                let (scene, index) = asset_scene(assets, request)?;
+                // Assets only added since the resident ones were made keep their places, so
+                // that the new ones are appended to them.
+                let base = self
+                    .resident
+                    .as_ref()
+                    .filter(|r| assets.last_destroyed <= r.generation)
+                    .map(|r| &r.index);
+                let (scene, index) = asset_scene(assets, request, base)?;
                 let options = self
                     .kept
                     .iter()
@@ -150,6 +160,7 @@ impl Renderers {
                         || request.options.clone(),
                         |k| k.renderer.learned_options(&request.options),
                     );
+                let (resident, moved) = self.resident_for(gpu, assets, &scene, &index)?;
                 // The renderers it replaces are freed only after it is made: it takes the
                 // compute pipelines they hold instead of compiling its own.
                 let shape = FrameShape {
@@ -157,46 +168,14 @@ impl Renderers {
                     height: request.height,
                     frames_in_flight: self.frames_in_flight,
                 };
-                let renderer = match self
-                    .resident
-                    .as_ref()
-                    .filter(|r| r.generation == assets.generation)
-                {
-                    Some(resident) => {
-                        let assets = resident.assets.clone();
-                        let mut renderer = Renderer::sharing(
-                            gpu,
-                            assets,
-                            &scene,
-                            request.method,
-                            shape,
-                            &options,
-                        )?;
-                        for mesh in &resident.moved {
-                            if let Some(&i) = index.meshes.get(mesh) {
-                                renderer.update_mesh(i, &scene.meshes[i].positions)?;
-                            }
-                        }
-                        renderer
+                let mut renderer =
+                    Renderer::sharing(gpu, resident, &scene, request.method, shape, &options)?;
+                // Vertices moved since the upload are copied in by its first frame.
+                for mesh in &moved {
+                    if let Some(&i) = index.meshes.get(mesh) {
+                        renderer.update_mesh(i, &scene.meshes[i].positions)?;
                     }
-                    None => {
-                        let renderer = Renderer::with_frames_in_flight(
-                            gpu,
-                            &scene,
-                            request.method,
-                            request.width,
-                            request.height,
-                            &options,
-                            self.frames_in_flight,
-                        )?;
-                        self.resident = Some(Resident {
-                            generation: assets.generation,
-                            assets: renderer.resident().clone(),
-                            moved: HashSet::new(),
-                        });
-                        renderer
-                    }
-                };
+                }
                 self.kept.push(Kept {
                     id: self.next_id,
                     key: request.key.clone(),
@@ -216,6 +195,47 @@ impl Renderers {
         let k = &mut self.kept[position];
         k.last_used = self.uses;
         Ok(k)
+    }
+
+    /// The assets on the GPU for `scene` (the context's assets in `index`'s places): those
+    /// of its generation, else the last ones extended with the assets created since (none
+    /// destroyed), else all of them uploaded anew; and the meshes moved since the upload.
+    fn resident_for(
+        &mut self,
+        gpu: &Gpu,
+        assets: &Assets<'_>,
+        scene: &Scene,
+        index: &AssetIndex,
+    ) -> FfiResult<(Arc<ResidentAssets>, HashSet<u64>)> {
+        let current = self.resident.as_ref().map(|r| r.generation);
+        if current != Some(assets.generation) {
+            let extended = match self
+                .resident
+                .as_ref()
+                .filter(|r| assets.last_destroyed <= r.generation)
+            {
+                Some(r) => r.assets.extended(gpu, scene)?,
+                None => None,
+            };
+            let moved = match (&extended, self.resident.take()) {
+                (Some(_), Some(r)) => r.moved,
+                _ => HashSet::new(),
+            };
+            let uploaded = match extended {
+                Some(assets) => assets,
+                None => ResidentAssets::new(gpu, scene)?,
+            };
+            self.resident = Some(Resident {
+                generation: assets.generation,
+                assets: Arc::new(uploaded),
+                index: index.clone(),
+                moved,
+            });
+        }
+        self.resident
+            .as_ref()
+            .map(|r| (r.assets.clone(), r.moved.clone()))
+            .ok_or_else(|| Failure::argument("no resident assets"))
     }
 
     /// Makes the renderer take no new frame (freed once no frame in flight uses it).
@@ -266,7 +286,11 @@ impl Renderers {
 /// The context's assets as one scene, with the frame of `request`: every mesh and texture,
 /// and every material whose texture is alive (drawing one whose texture was destroyed is an
 /// error of the frame).
-fn asset_scene(assets: &Assets<'_>, request: &FrameRequest<'_>) -> FfiResult<(Scene, AssetIndex)> {
+fn asset_scene(
+    assets: &Assets<'_>,
+    request: &FrameRequest<'_>,
+    base: Option<&AssetIndex>,
+) -> FfiResult<(Scene, AssetIndex)> {
     let mut index = AssetIndex::default();
     let mut scene = Scene {
         name: "C API assets".into(),
@@ -275,19 +299,18 @@ fn asset_scene(assets: &Assets<'_>, request: &FrameRequest<'_>) -> FfiResult<(Sc
         background: request.background,
         ..Scene::default()
     };
-    for (handle, mesh) in assets.meshes.iter() {
+    for (handle, mesh) in in_place(assets.meshes.iter(), base.map(|b| &b.meshes)) {
         index.meshes.insert(handle, scene.meshes.len());
         scene.meshes.push(mesh.clone());
     }
-    let mut textures = HashMap::new();
-    for (handle, texture) in assets.textures.iter() {
-        textures.insert(handle, scene.textures.len());
+    for (handle, texture) in in_place(assets.textures.iter(), base.map(|b| &b.textures)) {
+        index.textures.insert(handle, scene.textures.len());
         scene.textures.push(texture.clone());
     }
-    for (handle, record) in assets.materials.iter() {
+    for (handle, record) in in_place(assets.materials.iter(), base.map(|b| &b.materials)) {
         let texture = match record.texture {
             None => None,
-            Some(t) => match textures.get(&t) {
+            Some(t) => match index.textures.get(&t) {
                 Some(&i) => Some(i),
                 None => continue,
             },
@@ -360,4 +383,18 @@ fn resolve_draws(
         }
     }
     Ok((opaque, transparent))
+}
+
+/// `items` (handle, asset) with those `base` places first, in its order, then the others as
+/// they come.
+fn in_place<'a, T>(
+    items: impl Iterator<Item = (u64, &'a T)>,
+    base: Option<&HashMap<u64, usize>>,
+) -> Vec<(u64, &'a T)> {
+    let mut items: Vec<_> = items.collect();
+    if let Some(base) = base {
+        // A stable sort: the new ones keep their order after the placed ones.
+        items.sort_by_key(|(handle, _)| base.get(handle).map_or((1, 0), |&i| (0, i)));
+    }
+    items
 }

@@ -240,7 +240,7 @@ impl translucid_texture {
             let info = try_ref(info, "info")?;
             let out = try_out(out_texture, "out_texture")?;
             let id = objects.textures.insert(texture_from_info(info)?)?;
-            objects.assets_changed();
+            objects.asset_created();
             out.write(translucid_texture { id });
             Ok(translucid_result::Success)
         })
@@ -255,7 +255,7 @@ impl translucid_texture {
     ) -> translucid_result {
         panic::with_context(context, |objects| {
             objects.textures.remove(texture.id)?;
-            objects.assets_changed();
+            objects.asset_destroyed();
             Ok(translucid_result::Success)
         })
     }

@@ -250,8 +250,18 @@ static uint64_t allocated_by(translucid_frame frame) {
 
 /* Frames of two sizes (two views, or a dynamic resolution) keep a renderer each over the
  * context's assets, uploaded once: a 512x512 texture (1 MB, and as much again for the
- * compute rasters' copy) is allocated for the first size only. */
-static void sizes_share_the_uploads(uint32_t method, translucid_mesh quad) {
+ * compute rasters' copy) is allocated for the first size only. Then a mesh and a material
+ * created are appended to the uploads: the next frame draws them without uploading the
+ * texture again. */
+static void uploads_are_shared_and_extended(uint32_t method, translucid_mesh quad) {
+    static const float small[] = {-1, -1, -2, 1, -1, -2, 1, 1, -2, -1, 1, -2};
+    static const uint32_t triangles[] = {0, 1, 2, 0, 2, 3};
+    translucid_mesh_create_info mesh_info;
+    translucid_mesh added_mesh;
+    translucid_material added_material;
+    translucid_draw draws[2];
+    float *pixels;
+    uint64_t extended;
     enum { SIDE = 512 };
     const uint64_t texture_bytes = SIDE * SIDE * 4;
     uint8_t *texels = calloc(texture_bytes, 1);
@@ -293,6 +303,45 @@ static void sizes_share_the_uploads(uint32_t method, translucid_mesh quad) {
     } else {
         g_passed++;
     }
+
+    memset(&mesh_info, 0, sizeof mesh_info);
+    mesh_info.s_type = TRANSLUCID_STRUCTURE_TYPE_MESH_CREATE_INFO;
+    mesh_info.primitive = TRANSLUCID_PRIMITIVE_TRIANGLES;
+    mesh_info.vertex_count = 4;
+    mesh_info.positions = small;
+    mesh_info.index_count = 6;
+    mesh_info.indices = triangles;
+    CHECK(translucid_mesh_create(g_ctx, &mesh_info, &added_mesh));
+    memset(&material_info, 0, sizeof material_info);
+    material_info.s_type = TRANSLUCID_STRUCTURE_TYPE_MATERIAL_CREATE_INFO;
+    material_info.base_colour[1] = 1.0f;
+    material_info.base_colour[3] = 0.5f;
+    CHECK(translucid_material_create(g_ctx, &material_info, &added_material));
+    draws[0] = draw;
+    draws[1] = draw;
+    draws[1].mesh = added_mesh;
+    draws[1].material = added_material;
+    info.draws = draws;
+    info.draw_count = 2;
+    info.width = W;
+    info.height = H;
+    CHECK(translucid_frame_render(g_ctx, &info, &frame));
+    /* The texture's texels are transparent: the added quad, green at half coverage over
+     * black, is what shows in the middle. */
+    pixels = read_both(frame);
+    near_or_fail(pixels[((H / 2) * W + W / 2) * 4 + 1], 0.5f, 2e-3f, "added quad, green",
+                 (H / 2) * W + W / 2);
+    free(pixels);
+    extended = allocated_by(frame);
+    if (extended >= texture_bytes) {
+        printf("FAIL method %u: a frame after a mesh was created allocated %llu bytes\n",
+               (unsigned)method, (unsigned long long)extended);
+        g_failed++;
+    } else {
+        g_passed++;
+    }
+    CHECK(translucid_mesh_destroy(g_ctx, added_mesh));
+    CHECK(translucid_material_destroy(g_ctx, added_material));
     CHECK(translucid_material_destroy(g_ctx, material));
     CHECK(translucid_texture_destroy(g_ctx, texture));
 }
@@ -472,7 +521,7 @@ int main(int argc, char **argv) {
         background_only(methods[m]);
         moving_draws(methods[m], quad, red);
         tinted_draw(methods[m], quad, red);
-        sizes_share_the_uploads(methods[m], quad);
+        uploads_are_shared_and_extended(methods[m], quad);
         /* u -0.29 is texel -1 and u 1.29 texel 2, wrapped: */
         sampled_texture(methods[m], TRANSLUCID_WRAP_REPEAT, 1.0f, 0.0f);
         sampled_texture(methods[m], TRANSLUCID_WRAP_CLAMP_TO_EDGE, 0.0f, 1.0f);

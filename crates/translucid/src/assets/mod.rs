@@ -161,7 +161,7 @@ impl GpuScene {
         let draw_bytes = (scene.opaque.len() + scene.transparent.len()) as u64
             * std::mem::size_of::<GpuDrawInfo>() as u64;
         let slots = (0..frame_slots.max(1))
-            .map(|_| SceneSlot::new(gpu, &layout, &resident.materials, draw_bytes))
+            .map(|_| SceneSlot::new(gpu, &layout, resident.materials(), draw_bytes))
             .collect::<Result<Vec<_>>>()?;
         let mut uploaded = Self {
             resident,
@@ -257,7 +257,7 @@ impl GpuScene {
             vk::AccessFlags::TRANSFER_WRITE,
         );
         crate::gpu::memory_barrier(gpu, cmd, any, transfer);
-        gpu.cmd_copy_buffer_regions(cmd, staging, &self.resident.vertices, &regions);
+        gpu.cmd_copy_buffer_regions(cmd, staging, self.resident.vertices(), &regions);
         crate::gpu::memory_barrier(gpu, cmd, transfer, any);
         Ok(())
     }
@@ -304,7 +304,7 @@ impl GpuScene {
         let bytes: &[u8] = bytemuck::cast_slice(&draw_infos);
         if bytes.len() as u64 > slot.draws.size {
             // Room for twice as many, so that a growing draw count reallocates rarely.
-            let materials = &self.resident.materials;
+            let materials = self.resident.materials();
             *slot = SceneSlot::new(gpu, &self.layout, materials, 2 * bytes.len() as u64)?;
             slot.frame.write(0, bytemuck::bytes_of(&frame_info))?;
         }
@@ -393,7 +393,7 @@ impl GpuScene {
     ) {
         // The render pass is compatible with both pipelines, whose layouts take this scene's
         // sets 0 and 1 and a 4-byte push constant.
-        gpu.cmd_bind_mesh_buffers(cmd, &self.resident.vertices, &self.resident.indices);
+        gpu.cmd_bind_mesh_buffers(cmd, self.resident.vertices(), self.resident.indices());
         let mut bound: Option<bool> = None;
         let mut bound_texture: Option<usize> = None;
         for call in calls {
@@ -409,7 +409,7 @@ impl GpuScene {
                 bound_texture = None;
             }
             if bound_texture != Some(call.texture_set) {
-                let set = self.resident.texture_sets[call.texture_set].raw;
+                let set = self.resident.texture_set(call.texture_set);
                 gpu.cmd_bind_graphics_set(cmd, pipeline.layout, 1, set);
                 bound_texture = Some(call.texture_set);
             }
@@ -512,9 +512,11 @@ pub(crate) fn record_texture_uploads(
     staging: &[Buffer],
 ) {
     for (image, buffer) in images.iter().zip(staging) {
-        let top = (
-            vk::PipelineStageFlags::TOP_OF_PIPE,
-            vk::AccessFlags::empty(),
+        // After every command before it: an upload recorded again (its first frame was
+        // abandoned while another was in flight) waits for the frames that read the image.
+        let before = (
+            vk::PipelineStageFlags::ALL_COMMANDS,
+            vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE,
         );
         let transfer = (
             vk::PipelineStageFlags::TRANSFER,
@@ -526,7 +528,7 @@ pub(crate) fn record_texture_uploads(
             image,
             vk::ImageLayout::UNDEFINED,
             vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-            top,
+            before,
             transfer,
         );
         let mut offset = 0u64;

@@ -3,45 +3,135 @@
 //! hardware samplers for the graphics passes, packed texels for the compute rasters'
 //! software sampler). Shared (`Arc`) by every renderer made over the same assets, so that a
 //! renderer for another size, method or view uploads nothing.
+//!
+//! Assets added later extend them ([`ResidentAssets::extended`]): the new version appends
+//! the new data to the same buffers (which have room to spare) and keeps the textures made
+//! before, so that adding a mesh uploads that mesh, not every asset again.
 
 #![deny(unsafe_code)]
 
 use super::texture_records::texture_data;
 use super::{MeshRange, SCENE_STORAGE};
 use crate::gpu::{
-    vk, BindingKind, Buffer, BufferView, DescriptorLayout, DescriptorSet, Gpu, GpuImage, Resource,
-    Sampler, ViewedBuffer,
+    vk, AppendBuffer, BindingKind, Buffer, BufferView, DescriptorLayout, DescriptorSet, Gpu,
+    GpuImage, Resource, Sampler, ViewedBuffer,
 };
 use crate::scene::{self, srgb_lut, Mesh, Scene, Texture};
 use crate::shader_types::{GpuMaterial, GpuVertex};
 use crate::{Error, Result};
 use glam::{Vec2, Vec3, Vec4};
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex};
 
 const RGBA32UI: vk::Format = vk::Format::R32G32B32A32_UINT;
+const BIN_TEXTURE_BYTES: u64 = std::mem::size_of::<super::texture_records::BinTexture>() as u64;
+const MATERIAL_BYTES: u64 = std::mem::size_of::<GpuMaterial>() as u64;
+
+/// The buffers every version of a context's assets appends to.
+struct Buffers {
+    vertices: AppendBuffer,
+    indices: AppendBuffer,
+    /// Every mesh's quads with absolute vertex indices (`DrawInfo::first_quad` points here).
+    quads: AppendBuffer,
+    materials: AppendBuffer,
+    /// Texel views of the vertices and quads, as the compute stages read them.
+    vertex_view: BufferView,
+    quad_view: BufferView,
+    /// The textures as the compute rasters' software sampler reads them, made for the first
+    /// renderer whose method has one.
+    sampled: Mutex<Option<SampledTextures>>,
+}
+
+/// The software sampler's texture records, every level's texels (RGBA8), and its sRGB
+/// decoding table.
+struct SampledTextures {
+    records: AppendBuffer,
+    texels: AppendBuffer,
+    srgb: ViewedBuffer,
+    /// Textures they hold: the first ones of the assets.
+    count: usize,
+}
+
+impl SampledTextures {
+    fn new(gpu: &Gpu, textures: &[Texture]) -> Result<Self> {
+        let (records, texels) = texture_data(textures);
+        check_texels(gpu, texels.len() as u64 * 4)?;
+        let texels: &[u8] = bytemuck::cast_slice(&texels);
+        let info = gpu.info();
+        // The texel view may not pass the device's limits, whatever room is left.
+        let most = (u64::from(info.max_texel_buffer_elements) * 4)
+            .min(u64::from(info.max_storage_buffer_range));
+        Ok(Self {
+            records: AppendBuffer::new(
+                gpu,
+                "bin textures",
+                SCENE_STORAGE,
+                with_room(records.len() * BIN_TEXTURE_BYTES as usize),
+                Some(RGBA32UI),
+                bytemuck::cast_slice(&records),
+            )?,
+            texels: AppendBuffer::new(
+                gpu,
+                "bin texels",
+                SCENE_STORAGE,
+                with_room(texels.len()).min(most.max(texels.len() as u64)),
+                Some(vk::Format::R32_UINT),
+                texels,
+            )?,
+            srgb: ViewedBuffer::with_data(
+                gpu,
+                "sRGB table",
+                bytemuck::cast_slice(srgb_lut()),
+                vk::Format::R32_SFLOAT,
+            )?,
+            count: textures.len(),
+        })
+    }
+
+    /// Appends `textures`, which follow the ones held; false (with room wasted) when they
+    /// do not fit.
+    fn append(&mut self, textures: &[Texture]) -> bool {
+        let (records, texels) = texture_data(textures);
+        let Some(texel_at) = self.texels.append(bytemuck::cast_slice(&texels), 4) else {
+            return false;
+        };
+        let records: Vec<_> = records
+            .iter()
+            .map(|r| super::texture_records::BinTexture {
+                first_texel: r.first_texel + (texel_at / 4) as u32,
+                ..*r
+            })
+            .collect();
+        let at = self.count as u64 * BIN_TEXTURE_BYTES;
+        // Records are found by texture index: they follow the ones before without a gap.
+        if self.records.used() != at
+            || self
+                .records
+                .append(bytemuck::cast_slice(&records), BIN_TEXTURE_BYTES)
+                != Some(at)
+        {
+            return false;
+        }
+        self.count += textures.len();
+        true
+    }
+}
+
+/// A texture's image and the descriptor set that binds it with its sampler.
+struct ResidentTexture {
+    // Declared first so that it is freed before the image its view names.
+    set: DescriptorSet,
+    image: GpuImage,
+}
 
 pub struct ResidentAssets {
-    pub vertices: Buffer,
-    pub indices: Buffer,
-    /// Every mesh's quads with absolute vertex indices (`DrawInfo::first_quad` points here).
-    pub quads: Buffer,
-    pub materials: Buffer,
-    /// Texel views of the vertices, quads and materials, as the compute stages read them.
-    pub vertex_view: BufferView,
-    pub quad_view: BufferView,
-    pub material_view: BufferView,
-    /// The software sampler's texture records, every level's texels (RGBA8), and its sRGB
-    /// decoding table.
-    pub bin_textures: ViewedBuffer,
-    pub bin_texels: ViewedBuffer,
-    pub srgb: ViewedBuffer,
-    textures: Vec<GpuImage>,
-    /// The texture sets' samplers, kept alive with them.
-    _samplers: Vec<Sampler>,
+    buffers: Arc<Buffers>,
+    textures: Vec<Arc<ResidentTexture>>,
+    /// Bound for materials without a texture.
+    white: Arc<ResidentTexture>,
+    /// One hardware sampler for each distinct sampler the textures use.
+    samplers: Vec<(scene::Sampler, Arc<Sampler>)>,
     /// Set 1 of the mesh pipelines: one base-colour texture.
-    pub texture_layout: DescriptorLayout,
-    /// One set per texture, then one for a white texture (materials without one).
-    pub texture_sets: Vec<DescriptorSet>,
+    pub texture_layout: Arc<DescriptorLayout>,
     /// Each mesh's triangles in the index buffer (and its first vertex), and its first quad
     /// in the quad buffer.
     pub ranges: Vec<MeshRange>,
@@ -55,18 +145,24 @@ pub struct ResidentAssets {
     uploads: Mutex<Uploads>,
 }
 
-/// Texture uploads on the engine's device: their staging buffers, kept until the frame that
-/// recorded the copies completed.
+/// Texture uploads on the engine's device: the images and their staging buffers, kept until
+/// the frame that recorded the copies completed.
 struct Uploads {
-    staging: Vec<Buffer>,
+    pending: Vec<Arc<Upload>>,
     state: UploadState,
+}
+
+/// A texture and the staging buffer its texels are copied from.
+struct Upload {
+    texture: Arc<ResidentTexture>,
+    staging: Buffer,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum UploadState {
     /// No frame recorded the copies yet, or the one that did never ran.
     Pending,
-    /// Recorded into a frame of the renderer with this id, not yet completed.
+    /// Recorded into a frame of the scene with this id, not yet completed.
     Recorded(u64),
     Done,
 }
@@ -98,148 +194,357 @@ pub(crate) fn gpu_vertices(mesh: &Mesh) -> Vec<GpuVertex> {
     vertices_of(mesh).collect()
 }
 
+/// Some meshes and materials in the layout of the assets' buffers: vertices, triangle
+/// indices (local to their mesh), quads (with vertex indices from `first_vertex`) and
+/// materials.
+struct Packed {
+    vertices: Vec<GpuVertex>,
+    indices: Vec<u32>,
+    quads: Vec<[u32; 4]>,
+    materials: Vec<GpuMaterial>,
+    /// Per mesh: its index range and first vertex (relative to the packed data), its first
+    /// quad.
+    ranges: Vec<MeshRange>,
+    first_quads: Vec<u32>,
+}
+
+impl Packed {
+    fn new(meshes: &[Mesh], materials: &[scene::Material], first_vertex: u32) -> Self {
+        let mut p = Packed {
+            vertices: Vec::new(),
+            indices: Vec::new(),
+            quads: Vec::new(),
+            materials: materials.iter().map(GpuMaterial::new).collect(),
+            ranges: Vec::with_capacity(meshes.len()),
+            first_quads: Vec::with_capacity(meshes.len()),
+        };
+        for mesh in meshes {
+            let first_index = p.indices.len() as u32;
+            let vertex_offset = p.vertices.len() as u32;
+            p.vertices.extend(vertices_of(mesh));
+            p.first_quads.push(p.quads.len() as u32);
+            for &q in &mesh.quads {
+                p.indices
+                    .extend(Mesh::quad_triangles(q).into_iter().flatten().flatten());
+                p.quads.push(q.map(|i| i + first_vertex + vertex_offset));
+            }
+            p.ranges.push(MeshRange {
+                first_index,
+                index_count: p.indices.len() as u32 - first_index,
+                vertex_offset: vertex_offset as i32,
+            });
+        }
+        p
+    }
+}
+
+/// Room the buffers are made with beyond what they hold first, for assets added later:
+/// a quarter more, and at least this many bytes.
+const SPARE_BYTES: u64 = 1 << 16;
+
+fn with_room(bytes: usize) -> u64 {
+    let bytes = bytes as u64;
+    bytes + (bytes / 4).max(SPARE_BYTES)
+}
+
+/// The textures' images (with their sets over `layout` and a sampler from `samplers`,
+/// made there when new) and their filled staging buffers.
+fn make_textures(
+    gpu: &Gpu,
+    layout: &DescriptorLayout,
+    samplers: &mut Vec<(scene::Sampler, Arc<Sampler>)>,
+    textures: &[Texture],
+) -> Result<Vec<Arc<Upload>>> {
+    let (images, staging) = super::create_textures(gpu, textures.iter())?;
+    let mut made = Vec::with_capacity(textures.len());
+    for ((image, staging), t) in images.into_iter().zip(staging).zip(textures) {
+        let sampler = match samplers.iter().find(|(s, _)| *s == t.sampler) {
+            Some((_, sampler)) => sampler.clone(),
+            None => {
+                let sampler = Arc::new(Sampler::for_texture(gpu, &t.sampler)?);
+                samplers.push((t.sampler, sampler.clone()));
+                sampler
+            }
+        };
+        let set = layout.create_set(&[Resource::Images(&[image.view], sampler.raw)])?;
+        made.push(Arc::new(Upload {
+            texture: Arc::new(ResidentTexture { set, image }),
+            staging,
+        }));
+    }
+    Ok(made)
+}
+
+/// Copies the textures' staging into their images: now on translucid's own device; on the
+/// engine's, by the first frame recorded (the returned uploads).
+fn upload(gpu: &Gpu, made: Vec<Arc<Upload>>) -> Result<Vec<Arc<Upload>>> {
+    if gpu.is_host_device() || made.is_empty() {
+        return Ok(made);
+    }
+    gpu.submit_and_wait(|cmd| {
+        record_uploads(gpu, cmd, &made);
+        Ok(())
+    })?;
+    Ok(Vec::new())
+}
+
+fn record_uploads(gpu: &Gpu, cmd: vk::CommandBuffer, uploads: &[Arc<Upload>]) {
+    for u in uploads {
+        super::record_texture_uploads(
+            gpu,
+            cmd,
+            std::slice::from_ref(&u.texture.image),
+            std::slice::from_ref(&u.staging),
+        );
+    }
+}
+
+fn check_texels(gpu: &Gpu, bytes: u64) -> Result<()> {
+    if bytes > u64::from(gpu.info().max_storage_buffer_range) {
+        return Err(Error::InvalidScene(format!(
+            "the scene's textures take {} MB, over this device's {} MB storage-buffer limit",
+            bytes >> 20,
+            gpu.info().max_storage_buffer_range >> 20
+        )));
+    }
+    Ok(())
+}
+
 impl ResidentAssets {
     /// Uploads `scene`'s assets (validated first): on translucid's own device now, on the
     /// engine's with the first frame recorded.
     pub fn new(gpu: &Gpu, scene: &Scene) -> Result<Self> {
         scene.validate()?;
-        let mut vertices = Vec::new();
-        let mut indices: Vec<u32> = Vec::new();
-        let mut quads: Vec<[u32; 4]> = Vec::new();
-        let mut ranges = Vec::with_capacity(scene.meshes.len());
-        let mut first_quads = Vec::with_capacity(scene.meshes.len());
-        let mut quad_total = 0u32;
-        for mesh in &scene.meshes {
-            let first_index = indices.len() as u32;
-            let vertex_offset = vertices.len() as i32;
-            vertices.extend(vertices_of(mesh));
-            for &q in &mesh.quads {
-                indices.extend(Mesh::quad_triangles(q).into_iter().flatten().flatten());
-                quads.push(q.map(|i| i + vertex_offset as u32));
-            }
-            ranges.push(MeshRange {
-                first_index,
-                index_count: indices.len() as u32 - first_index,
-                vertex_offset,
-            });
-            first_quads.push(quad_total);
-            quad_total += mesh.quads.len() as u32;
-        }
-        let materials: Vec<GpuMaterial> = scene.materials.iter().map(GpuMaterial::new).collect();
-
-        // Moved vertices are copied in by the frame that first draws them.
-        let vertices = gpu.create_buffer_with_data(
+        let packed = Packed::new(&scene.meshes, &scene.materials, 0);
+        let append = |name: &str, usage, data: &[u8], format| {
+            AppendBuffer::new(gpu, name, usage, with_room(data.len()), format, data)
+        };
+        let vertices = append(
             "scene vertices",
             vk::BufferUsageFlags::VERTEX_BUFFER
                 | vk::BufferUsageFlags::TRANSFER_DST
                 | SCENE_STORAGE,
-            bytemuck::cast_slice(&vertices),
+            bytemuck::cast_slice(&packed.vertices),
+            None,
         )?;
-        let indices = gpu.create_buffer_with_data(
-            "scene indices",
-            vk::BufferUsageFlags::INDEX_BUFFER | SCENE_STORAGE,
-            bytemuck::cast_slice(&indices),
-        )?;
-        let quads = gpu.create_buffer_with_data(
+        let quads = append(
             "scene quads",
             SCENE_STORAGE,
-            bytemuck::cast_slice(&quads),
+            bytemuck::cast_slice(&packed.quads),
+            None,
         )?;
-        let materials = gpu.create_buffer_with_data(
-            "scene materials",
-            SCENE_STORAGE,
-            bytemuck::cast_slice(&materials),
-        )?;
-
-        let white = Texture::new("white", 1, 1, vec![[255; 4]], false);
-        let all_textures = || scene.textures.iter().chain(std::iter::once(&white));
-        let (textures, staging) = super::create_textures(gpu, all_textures())?;
-        // A device of translucid's own uploads now; on the engine's, the first frame does.
-        let uploads = if gpu.is_host_device() {
-            Uploads {
-                staging,
-                state: UploadState::Pending,
-            }
-        } else {
-            gpu.submit_and_wait(|cmd| {
-                super::record_texture_uploads(gpu, cmd, &textures, &staging);
-                Ok(())
-            })?;
-            Uploads {
-                staging: Vec::new(),
-                state: UploadState::Done,
-            }
-        };
-        // One hardware sampler for each distinct sampler the textures use.
-        let mut samplers: Vec<(scene::Sampler, Sampler)> = Vec::new();
-        for t in all_textures() {
-            if !samplers.iter().any(|(s, _)| *s == t.sampler) {
-                samplers.push((t.sampler, Sampler::for_texture(gpu, &t.sampler)?));
-            }
-        }
-        let sampler_of = |t: &Texture| {
-            samplers
-                .iter()
-                .find(|(s, _)| *s == t.sampler)
-                .map_or(vk::Sampler::null(), |(_, made)| made.raw)
+        let buffers = Buffers {
+            vertex_view: gpu.create_buffer_view(vertices.buffer(), RGBA32UI)?,
+            quad_view: gpu.create_buffer_view(quads.buffer(), RGBA32UI)?,
+            vertices,
+            quads,
+            indices: append(
+                "scene indices",
+                vk::BufferUsageFlags::INDEX_BUFFER | SCENE_STORAGE,
+                bytemuck::cast_slice(&packed.indices),
+                None,
+            )?,
+            materials: append(
+                "scene materials",
+                SCENE_STORAGE,
+                bytemuck::cast_slice(&packed.materials),
+                Some(RGBA32UI),
+            )?,
+            sampled: Mutex::new(None),
         };
         let stages = vk::ShaderStageFlags::VERTEX
             | vk::ShaderStageFlags::FRAGMENT
             | vk::ShaderStageFlags::COMPUTE;
-        let texture_layout = DescriptorLayout::new(gpu, &[BindingKind::SampledImages(1)], stages)?;
-        let texture_sets = textures
-            .iter()
-            .zip(all_textures())
-            .map(|(image, t)| {
-                texture_layout.create_set(&[Resource::Images(&[image.view], sampler_of(t))])
-            })
-            .collect::<Result<Vec<_>>>()?;
-
-        let (texture_infos, texels) = texture_data(&scene.textures);
-        let texel_bytes = texels.len() as u64 * 4;
-        if texel_bytes > u64::from(gpu.info().max_storage_buffer_range) {
-            return Err(Error::InvalidScene(format!(
-                "the scene's textures take {} MB, over this device's {} MB storage-buffer limit",
-                texel_bytes >> 20,
-                gpu.info().max_storage_buffer_range >> 20
-            )));
-        }
+        let texture_layout = Arc::new(DescriptorLayout::new(
+            gpu,
+            &[BindingKind::SampledImages(1)],
+            stages,
+        )?);
+        let mut samplers = Vec::new();
+        let white = Texture::new("white", 1, 1, vec![[255; 4]], false);
+        let mut made = make_textures(gpu, &texture_layout, &mut samplers, &[white])?;
+        made.extend(make_textures(
+            gpu,
+            &texture_layout,
+            &mut samplers,
+            &scene.textures,
+        )?);
+        let white = made[0].texture.clone();
+        let textures = made[1..].iter().map(|u| u.texture.clone()).collect();
+        let pending = upload(gpu, made)?;
         Ok(Self {
-            vertex_view: gpu.create_buffer_view(&vertices, RGBA32UI)?,
-            quad_view: gpu.create_buffer_view(&quads, RGBA32UI)?,
-            material_view: gpu.create_buffer_view(&materials, RGBA32UI)?,
-            vertices,
-            indices,
-            quads,
-            materials,
-            bin_textures: ViewedBuffer::with_data(
-                gpu,
-                "bin textures",
-                bytemuck::cast_slice(&texture_infos),
-                RGBA32UI,
-            )?,
-            bin_texels: ViewedBuffer::with_data(
-                gpu,
-                "bin texels",
-                bytemuck::cast_slice(&texels),
-                vk::Format::R32_UINT,
-            )?,
-            srgb: ViewedBuffer::with_data(
-                gpu,
-                "sRGB table",
-                bytemuck::cast_slice(srgb_lut()),
-                vk::Format::R32_SFLOAT,
-            )?,
+            buffers: Arc::new(buffers),
             textures,
-            _samplers: samplers.into_iter().map(|(_, made)| made).collect(),
+            white,
+            samplers,
             texture_layout,
-            texture_sets,
-            ranges,
-            first_quads,
+            ranges: packed.ranges,
+            first_quads: packed.first_quads,
             mesh_sizes: mesh_sizes(scene),
             counts: [scene.materials.len(), scene.textures.len()],
-            uploads: Mutex::new(uploads),
+            uploads: Mutex::new(Uploads {
+                state: if pending.is_empty() {
+                    UploadState::Done
+                } else {
+                    UploadState::Pending
+                },
+                pending,
+            }),
         })
+    }
+
+    /// These assets and those `scene` adds after them (its first meshes, materials and
+    /// textures being these ones), appended to the same buffers: only the new ones are
+    /// uploaded. `None` when the buffers have no room left for them (upload `scene` anew,
+    /// with [`Self::new`]). The frames recorded over these assets stay right; those recorded
+    /// over the new ones take over the uploads still pending here.
+    pub fn extended(&self, gpu: &Gpu, scene: &Scene) -> Result<Option<Self>> {
+        scene.validate()?;
+        let [materials, textures] = self.counts;
+        let meshes = self.mesh_sizes.len();
+        let sizes = mesh_sizes(scene);
+        if sizes.len() < meshes
+            || sizes[..meshes] != self.mesh_sizes[..]
+            || scene.materials.len() < materials
+            || scene.textures.len() < textures
+        {
+            return Err(Error::InvalidScene(
+                "the scene does not start with the assets it extends".into(),
+            ));
+        }
+        let b = &self.buffers;
+        let vertex_stride = std::mem::size_of::<GpuVertex>() as u64;
+        // The next free vertex, quad and texel: appends land there or later.
+        let first_vertex = b.vertices.used().div_ceil(vertex_stride);
+        let packed = Packed::new(
+            &scene.meshes[meshes..],
+            &scene.materials[materials..],
+            first_vertex as u32,
+        );
+        let at = |buffer: &AppendBuffer, data: &[u8], align: u64| buffer.append(data, align);
+        let Some(vertex_at) = at(
+            &b.vertices,
+            bytemuck::cast_slice(&packed.vertices),
+            vertex_stride,
+        ) else {
+            return Ok(None);
+        };
+        let Some(index_at) = at(&b.indices, bytemuck::cast_slice(&packed.indices), 4) else {
+            return Ok(None);
+        };
+        let Some(quad_at) = at(&b.quads, bytemuck::cast_slice(&packed.quads), 16) else {
+            return Ok(None);
+        };
+        // Materials are found by their index: they follow the ones before without a gap.
+        let material_at = materials as u64 * MATERIAL_BYTES;
+        if vertex_at != first_vertex * vertex_stride
+            || b.materials.used() != material_at
+            || b.materials
+                .append(bytemuck::cast_slice(&packed.materials), MATERIAL_BYTES)
+                != Some(material_at)
+        {
+            return Ok(None);
+        }
+        {
+            let mut sampled = b.sampled.lock().unwrap_or_else(|e| e.into_inner());
+            if let Some(s) = sampled.as_mut() {
+                if s.count != textures || !s.append(&scene.textures[textures..]) {
+                    return Ok(None);
+                }
+            }
+        }
+        let mut samplers = self.samplers.clone();
+        let made = make_textures(
+            gpu,
+            &self.texture_layout,
+            &mut samplers,
+            &scene.textures[textures..],
+        )?;
+        let mut all_textures = self.textures.clone();
+        all_textures.extend(made.iter().map(|u| u.texture.clone()));
+        let mut pending = upload(gpu, made)?;
+        // Uploads no completed frame carried go with the first frame over the new version
+        // too: recorded into a frame in flight, they may yet be abandoned. (Copying them
+        // twice is safe: an upload waits for the frames before it.)
+        let state = {
+            let before = self.uploads();
+            if before.state != UploadState::Done {
+                pending.extend(before.pending.iter().cloned());
+            }
+            if pending.is_empty() {
+                UploadState::Done
+            } else {
+                UploadState::Pending
+            }
+        };
+        let first_index = (index_at / 4) as u32;
+        let first_quad = (quad_at / 16) as u32;
+        let mut ranges = self.ranges.clone();
+        ranges.extend(packed.ranges.iter().map(|r| MeshRange {
+            first_index: r.first_index + first_index,
+            index_count: r.index_count,
+            vertex_offset: r.vertex_offset + first_vertex as i32,
+        }));
+        let mut first_quads = self.first_quads.clone();
+        first_quads.extend(packed.first_quads.iter().map(|q| q + first_quad));
+        Ok(Some(Self {
+            buffers: self.buffers.clone(),
+            textures: all_textures,
+            white: self.white.clone(),
+            samplers,
+            texture_layout: self.texture_layout.clone(),
+            ranges,
+            first_quads,
+            mesh_sizes: sizes,
+            counts: [scene.materials.len(), scene.textures.len()],
+            uploads: Mutex::new(Uploads { pending, state }),
+        }))
+    }
+
+    pub fn vertices(&self) -> &Buffer {
+        self.buffers.vertices.buffer()
+    }
+
+    pub fn indices(&self) -> &Buffer {
+        self.buffers.indices.buffer()
+    }
+
+    pub fn materials(&self) -> &Buffer {
+        self.buffers.materials.buffer()
+    }
+
+    /// Texel views of the vertices, quads, materials, texture records, texels and sRGB
+    /// table, as the compute stages bind them: the textures as the software sampler reads
+    /// them are made on the first call, from `scene` (with its texels, and the assets'
+    /// textures).
+    pub fn texel_views(&self, gpu: &Gpu, scene: &Scene) -> Result<[vk::BufferView; 6]> {
+        let b = &self.buffers;
+        let mut sampled = b.sampled.lock().unwrap_or_else(|e| e.into_inner());
+        if sampled.is_none() {
+            *sampled = Some(SampledTextures::new(gpu, &scene.textures)?);
+        }
+        let view = |a: &AppendBuffer| a.view().map_or(vk::BufferView::null(), |v| v.raw);
+        let Some(s) = sampled.as_ref().filter(|s| s.count >= self.counts[1]) else {
+            return Err(Error::InvalidScene(
+                "the software sampler's textures were made for fewer textures than these \
+                 assets have"
+                    .into(),
+            ));
+        };
+        Ok([
+            b.vertex_view.raw,
+            b.quad_view.raw,
+            view(&b.materials),
+            view(&s.records),
+            view(&s.texels),
+            s.srgb.view.raw,
+        ])
+    }
+
+    /// The set binding texture `index`, or the white texture for `index` = the number of
+    /// textures.
+    pub fn texture_set(&self, index: usize) -> vk::DescriptorSet {
+        self.textures.get(index).unwrap_or(&self.white).set.raw
     }
 
     /// Checks that `scene` has the assets these were made from: as many meshes, of as many
@@ -266,40 +571,40 @@ impl ResidentAssets {
         self.uploads.lock().unwrap_or_else(|e| e.into_inner())
     }
 
-    /// On the engine's device: records the texture uploads into the command buffer of a frame
-    /// of renderer `renderer`, unless a frame recorded them already.
+    /// On the engine's device: records the texture uploads into the command buffer of a
+    /// frame, unless a frame recorded them already.
     pub fn record_pending_uploads(&self, gpu: &Gpu, cmd: vk::CommandBuffer) {
         let uploads = self.uploads();
         if uploads.state == UploadState::Pending {
-            super::record_texture_uploads(gpu, cmd, &self.textures, &uploads.staging);
+            record_uploads(gpu, cmd, &uploads.pending);
         }
     }
 
-    /// The frame of renderer `renderer` that recorded the pending uploads was recorded
-    /// whole: later frames, of any renderer, need not record them. A recording that failed
-    /// leaves them pending.
-    pub fn uploads_recorded(&self, renderer: u64) {
+    /// The frame of scene `scene` that recorded the pending uploads was recorded whole:
+    /// later frames, of any renderer, need not record them. A recording that failed leaves
+    /// them pending.
+    pub fn uploads_recorded(&self, scene: u64) {
         let mut uploads = self.uploads();
         if uploads.state == UploadState::Pending {
-            uploads.state = UploadState::Recorded(renderer);
+            uploads.state = UploadState::Recorded(scene);
         }
     }
 
-    /// A frame of renderer `renderer` completed: if that renderer recorded the uploads, they
-    /// ran (its frames complete in order), and their staging goes.
-    pub fn uploads_completed(&self, renderer: u64) {
+    /// A frame of scene `scene` completed: if that scene recorded the uploads, they ran (its
+    /// frames complete in order), and their staging goes.
+    pub fn uploads_completed(&self, scene: u64) {
         let mut uploads = self.uploads();
-        if uploads.state == UploadState::Recorded(renderer) {
+        if uploads.state == UploadState::Recorded(scene) {
             uploads.state = UploadState::Done;
-            uploads.staging.clear();
+            uploads.pending.clear();
         }
     }
 
-    /// Renderer `renderer` is gone without completing the frame that recorded the uploads
-    /// (it was abandoned): the next frame recorded over these assets records them again.
-    pub fn uploads_lost(&self, renderer: u64) {
+    /// Scene `scene` is gone without completing the frame that recorded the uploads (it was
+    /// abandoned): the next frame recorded over these assets records them again.
+    pub fn uploads_lost(&self, scene: u64) {
         let mut uploads = self.uploads();
-        if uploads.state == UploadState::Recorded(renderer) {
+        if uploads.state == UploadState::Recorded(scene) {
             uploads.state = UploadState::Pending;
         }
     }

@@ -229,6 +229,39 @@ impl Buffer {
         &self.gpu
     }
 
+    /// Copies `data` into a host-visible buffer at `offset`, through a shared reference.
+    ///
+    /// # Safety
+    /// Nothing else reads or writes `[offset, offset + data.len())` of the mapping while it
+    /// runs: no other call of this, no reference from [`Self::write`] or [`Self::read`],
+    /// and no GPU work.
+    pub(crate) unsafe fn write_unaliased(&self, offset: u64, data: &[u8]) -> Result<()> {
+        let mapped = self
+            .allocation
+            .as_ref()
+            .and_then(|a| a.mapped_ptr())
+            .ok_or_else(|| {
+                crate::Error::InvalidScene("write to a buffer that is not host-visible".into())
+            })?;
+        let end = offset + data.len() as u64;
+        if end > self.size {
+            return Err(crate::Error::InvalidScene(format!(
+                "write of {end} bytes past a {}-byte buffer",
+                self.size
+            )));
+        }
+        // SAFETY: the range is within the mapping (checked), and the caller guarantees
+        // that nothing else accesses it meanwhile.
+        unsafe {
+            std::ptr::copy_nonoverlapping(
+                data.as_ptr(),
+                mapped.as_ptr().cast::<u8>().add(offset as usize),
+                data.len(),
+            );
+        }
+        Ok(())
+    }
+
     /// Copies `data` into a host-visible buffer at `offset`.
     pub fn write(&mut self, offset: u64, data: &[u8]) -> Result<()> {
         let mapped = self

@@ -5,7 +5,8 @@
 //!   names one, and with `TRANSLUCID_VALIDATION=1` turns on the Khronos validation layer and
 //!   fails every submission that produced a validation error (`validation.rs`).
 //! - `memory.rs`: buffers and images from `gpu-allocator`, with a running count of live bytes
-//!   and its peak so a frame can report its GPU memory.
+//!   and its peak so a frame can report its GPU memory; `append.rs`: buffers that grow by
+//!   appending, shared by the versions of a context's assets.
 //! - `commands.rs`: one-shot command buffers (record, submit, wait) and barrier helpers.
 //! - `pipeline.rs`: shader modules from build.rs's SPIR-V, descriptor layouts, pipelines.
 //! - `attachments.rs`: render passes over a method's own sets of attachments.
@@ -18,6 +19,7 @@
 //! engine's device the engine submits and waits instead, and tells translucid when the frame
 //! completed.
 
+mod append;
 mod attachments;
 mod commands;
 mod device;
@@ -31,6 +33,7 @@ mod retirement;
 mod timestamps;
 mod validation;
 
+pub use append::AppendBuffer;
 pub use ash::vk;
 pub use attachments::{fullscreen_pipeline, Attachment, AttachmentPass, DepthAttachment, Load};
 pub use commands::{image_barrier, memory_barrier, mip_region, whole_image_region};

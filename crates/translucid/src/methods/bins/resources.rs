@@ -160,9 +160,10 @@ pub struct Resources {
     generation: u64,
     /// Replaced buffers that frames in flight may still use.
     pub retirement: Retirement,
-    /// The scene's assets: vertices, quads, materials and textures, read through their
-    /// texel views.
-    resident: std::sync::Arc<ResidentAssets>,
+    /// The scene's assets, kept alive for their texel views: vertices, quads, materials,
+    /// texture records, texels and the sRGB table.
+    _resident: std::sync::Arc<ResidentAssets>,
+    asset_views: [vk::BufferView; 6],
     counters: Buffer,
     bins: BinArrays,
     /// The blocks with a non-empty bin, listed by the scan for the raster.
@@ -411,7 +412,8 @@ impl Resources {
             slot: 0,
             generation: 0,
             retirement: Retirement::default(),
-            resident: uploaded.resident.clone(),
+            _resident: uploaded.resident.clone(),
+            asset_views: uploaded.resident.texel_views(gpu, scene)?,
             counters,
             bins: BinArrays::new(gpu, blocks, slabs)?,
             raster_bins: storage_buffer(gpu, "non-empty blocks", blocks * 4)?,
@@ -490,9 +492,10 @@ impl Resources {
         targets: &FrameTargets,
     ) -> Result<DescriptorSet> {
         let g = &self.growable;
+        let [vertices, quads, materials, texture_records, texels, srgb] = self.asset_views;
         self.layout.create_set(&[
-            Resource::TexelBuffer(self.resident.vertex_view.raw),
-            Resource::TexelBuffer(self.resident.quad_view.raw),
+            Resource::TexelBuffer(vertices),
+            Resource::TexelBuffer(quads),
             Resource::TexelBuffer(draws.raw),
             Resource::Buffer(&g.triangles.buffer),
             Resource::Buffer(&g.homogeneous.buffer),
@@ -506,10 +509,10 @@ impl Resources {
             Resource::StorageImage(targets.colour.view),
             Resource::TexelBuffer(g.triangles.view.raw),
             Resource::TexelBuffer(g.attributes.view.raw),
-            Resource::TexelBuffer(self.resident.material_view.raw),
-            Resource::TexelBuffer(self.resident.bin_textures.view.raw),
-            Resource::TexelBuffer(self.resident.bin_texels.view.raw),
-            Resource::TexelBuffer(self.resident.srgb.view.raw),
+            Resource::TexelBuffer(materials),
+            Resource::TexelBuffer(texture_records),
+            Resource::TexelBuffer(texels),
+            Resource::TexelBuffer(srgb),
             Resource::TexelBuffer(g.bin_entries.view.raw),
             Resource::TexelBuffer(g.homogeneous.view.raw),
             Resource::Buffer(&g.resume),
