@@ -878,9 +878,9 @@ typedef struct translucid_frame_statistics {
     uint64_t pipelines_created;
     /**
      * GPU memory that call allocated, in bytes: the first frames of a renderer, frames
-     * that need larger buffers, and the first frame after assets were created or destroyed
-     * (which uploads the context's assets again, for every renderer); 0 in a warm frame
-     * loop.
+     * that need larger buffers, the first frame after assets were created (their images;
+     * meshes and materials go into room left for them) or destroyed (the other assets
+     * uploaded anew); 0 in a warm frame loop.
      */
     uint64_t bytes_allocated;
 } translucid_frame_statistics;

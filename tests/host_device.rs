@@ -1023,3 +1023,89 @@ fn engine_images_in_synchronization2_layouts() {
         errors.join("\n")
     );
 }
+
+/// Records one frame of `renderer` on the engine, submits it, waits, completes it and
+/// returns its pixels.
+fn one_engine_frame(
+    engine: &Engine,
+    gpu: &Gpu,
+    images: &EngineImages,
+    renderer: &mut Renderer,
+) -> Vec<u8> {
+    engine.begin(0);
+    let cmd = engine.cmds[0];
+    images.record_opaque(gpu, cmd);
+    // SAFETY: the engine's recording command buffer and images of the frame's size.
+    unsafe { renderer.record_host(&images.targets(cmd)) }.expect("record");
+    images.record_readback(gpu, cmd, 0);
+    engine.submit(0);
+    engine.wait(0);
+    renderer
+        .complete_host()
+        .expect("complete")
+        .expect("the submission finished");
+    images.srgb(0)
+}
+
+/// On the engine's device, a texture added after the first frame (`ResidentAssets::extended`)
+/// is copied into its image by the next frame recorded over the grown assets, and again by a
+/// later one when the frame that carried it was never submitted. `blend` samples the images
+/// (the compute methods read the texels from a host-visible buffer): its frame over the
+/// copies is the frame over the originals.
+#[test]
+fn textures_added_later_are_uploaded_by_the_next_frame() {
+    let scene = translucid::scene::load("textured").expect("generated scene");
+    let grown = translucid_tests::with_copied_assets(&scene);
+    let layer = OpaqueLayer::clear(W, H, scene.background);
+    let engine = Engine::new();
+    {
+        // SAFETY: the engine's live objects, outliving `gpu` (dropped at the end of this block).
+        let gpu = unsafe { Gpu::from_host(&engine.host_device()) }.expect("host device");
+        let images = EngineImages::new(&gpu, &layer, 1);
+        let mut first = Renderer::new(&gpu, &scene, MethodKind::Blend, W, H).expect("renderer");
+        let expected = one_engine_frame(&engine, &gpu, &images, &mut first);
+        let extended = std::sync::Arc::new(
+            first
+                .resident()
+                .extended(&gpu, &grown)
+                .expect("extended")
+                .expect("room for one more texture"),
+        );
+        let shape = translucid::renderer::FrameShape {
+            width: W,
+            height: H,
+            frames_in_flight: 1,
+        };
+        let options = MethodOptions::default();
+        let sharing = || {
+            Renderer::sharing(
+                &gpu,
+                extended.clone(),
+                &grown,
+                MethodKind::Blend,
+                shape,
+                &options,
+            )
+            .expect("renderer over the grown assets")
+        };
+        // A frame that carries the texture's upload is recorded, never submitted, and its
+        // renderer dropped: the next renderer's frame uploads it.
+        {
+            let mut abandoned = sharing();
+            engine.begin(0);
+            images.record_opaque(&gpu, engine.cmds[0]);
+            // SAFETY: as above; the commands are never submitted.
+            unsafe { abandoned.record_host(&images.targets(engine.cmds[0])) }.expect("record");
+            // SAFETY: ended unsubmitted, reset by the next begin.
+            unsafe { engine.device.end_command_buffer(engine.cmds[0]) }.expect("end");
+        }
+        let got = one_engine_frame(&engine, &gpu, &images, &mut sharing());
+        let worst = worst_difference(&got, &expected);
+        assert_eq!(
+            worst, 0,
+            "{worst}/255 off the frame over the original assets"
+        );
+    }
+    let errors = ERRORS.lock().map(|e| e.clone()).unwrap_or_default();
+    assert!(errors.is_empty(), "validation errors: {errors:#?}");
+}

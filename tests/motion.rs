@@ -9,9 +9,9 @@ use translucid::image::{Image, OpaqueLayer};
 use translucid::methods::wavelet::{model::Model, Settings, Storage, WaveletOptions};
 use translucid::methods::{MethodKind, MethodOptions};
 use translucid::metrics;
-use translucid::renderer::{Frame, Renderer};
+use translucid::renderer::{Frame, FrameShape, Renderer};
 use translucid::scene::{self, motion::Orbit, Camera, Projection, Scene};
-use translucid_tests::{gpu, save_failure};
+use translucid_tests::{gpu, save_failure, with_copied_assets};
 
 const WIDTH: u32 = 96;
 const HEIGHT: u32 = 64;
@@ -384,5 +384,53 @@ fn a_renderer_takes_the_pipelines_another_holds() {
             m.max_error * 255.0,
             save_failure(&format!("shared_pipelines_{method}"), &frame.image, &want).display()
         );
+    }
+}
+
+/// Assets added after a renderer's are appended to its uploads (`ResidentAssets::extended`):
+/// a renderer over the grown assets draws the copies (other vertices, quads, materials and
+/// textures, at other places in the same buffers) exactly as the first renderer draws the
+/// originals, with every method, and `exact` and `wavelet` as their references do.
+#[test]
+fn assets_added_later_draw_like_the_first_ones() {
+    let gpu = gpu();
+    let scene = scene::load("textured").expect("scene");
+    let grown = with_copied_assets(&scene);
+    for method in ["exact", "wavelet", "blend", "wboit"] {
+        let kind: MethodKind = method.parse().expect("a method name");
+        let mut first = Renderer::new(&gpu, &scene, kind, WIDTH, HEIGHT).expect("renderer");
+        let before = first.render(false).expect("frame");
+        let extended = first
+            .resident()
+            .extended(&gpu, &grown)
+            .expect("extended")
+            .expect("room for the copies");
+        let shape = FrameShape {
+            width: WIDTH,
+            height: HEIGHT,
+            frames_in_flight: 1,
+        };
+        let options = MethodOptions::default();
+        let mut second = Renderer::sharing(
+            &gpu,
+            std::sync::Arc::new(extended),
+            &grown,
+            kind,
+            shape,
+            &options,
+        )
+        .expect("renderer over the grown assets");
+        let frame = second.render(true).expect("frame");
+        let name = format!("appended_assets_{method}");
+        let m = metrics::compare(&frame.image, &before.image).expect("same size");
+        assert!(
+            m.max_error == 0.0,
+            "{name}: {:.2}/255 off the frame over the original assets ({})",
+            m.max_error * 255.0,
+            save_failure(&name, &frame.image, &before.image).display()
+        );
+        if method == "exact" || method == "wavelet" {
+            check(&name, method, &grown, &frame);
+        }
     }
 }

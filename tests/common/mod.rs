@@ -193,3 +193,29 @@ pub fn tinted(scene: &Scene) -> Scene {
     }
     tinted
 }
+
+/// `scene` with a copy of the mesh, material and texture of a textured transparent draw (the
+/// one with the last texture, whose texels are not the first ones) added after its own
+/// assets, and that draw drawing the copies: the same picture, from assets appended later.
+pub fn with_copied_assets(scene: &Scene) -> Scene {
+    let mut grown = scene.clone();
+    let (i, draw) = scene
+        .transparent
+        .iter()
+        .enumerate()
+        .filter(|(_, d)| scene.materials[d.material].texture.is_some())
+        .max_by_key(|(_, d)| scene.materials[d.material].texture)
+        .expect("a textured transparent draw");
+    assert!(scene.materials[draw.material].texture > Some(0));
+    let material = &scene.materials[draw.material];
+    let texture = material.texture.expect("textured");
+    grown.meshes.push(scene.meshes[draw.mesh].clone());
+    grown.textures.push(scene.textures[texture].clone());
+    grown.materials.push(translucid::scene::Material {
+        texture: Some(scene.textures.len()),
+        ..material.clone()
+    });
+    grown.transparent[i].mesh = scene.meshes.len();
+    grown.transparent[i].material = scene.materials.len();
+    grown
+}

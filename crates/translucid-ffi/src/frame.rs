@@ -284,9 +284,9 @@ pub struct translucid_frame_statistics {
     /// of the one it replaces).
     pub pipelines_created: u64,
     /// GPU memory that call allocated, in bytes: the first frames of a renderer, frames
-    /// that need larger buffers, and the first frame after assets were created or destroyed
-    /// (which uploads the context's assets again, for every renderer); 0 in a warm frame
-    /// loop.
+    /// that need larger buffers, the first frame after assets were created (their images;
+    /// meshes and materials go into room left for them) or destroyed (the other assets
+    /// uploaded anew); 0 in a warm frame loop.
     pub bytes_allocated: u64,
 }
 

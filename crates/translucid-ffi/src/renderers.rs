@@ -4,9 +4,10 @@
 //! those settings: a frame only names which assets it draws, where, and from which camera
 //! (`Renderer::set_frame`: nothing rebuilt, no shader compiled). Creating or destroying an
 //! asset makes the renderers stale: each frame after it gets a new renderer (made before the
-//! stale one is freed, so that it takes its compute pipelines), while a stale one lives on
-//! until no frame in flight uses it (so that destroying an asset a frame in flight draws is
-//! safe). A context keeps a few renderers, so that views of different sizes
+//! stale one is freed, so that it takes its compute pipelines) over the uploads extended
+//! with the assets created since (after a destruction, over a new upload), while a stale one
+//! lives on until no frame in flight uses it (so that destroying an asset a frame in flight
+//! draws is safe). A context keeps a few renderers, so that views of different sizes
 //! or methods in one frame loop each keep theirs.
 
 use crate::context::Assets;

@@ -73,7 +73,7 @@ impl SampledTextures {
                 gpu,
                 "bin texels",
                 SCENE_STORAGE,
-                with_room(texels.len()).min(most.max(texels.len() as u64)),
+                texels_with_room(texels.len()).min(most.max(texels.len() as u64)),
                 Some(vk::Format::R32_UINT),
                 texels,
             )?,
@@ -238,11 +238,18 @@ impl Packed {
     }
 }
 
-/// Room the buffers are made with beyond what they hold first, for assets added later:
-/// a quarter more, and at least this many bytes.
-const SPARE_BYTES: u64 = 1 << 16;
+/// Room the buffers are made with beyond what they hold first, for assets added later: at
+/// least this many bytes, and half as much again (a quarter for texels, the largest). Past
+/// it, the assets are uploaded anew with room again, so that a context growing one asset
+/// at a time uploads everything a few times (logarithmically often), not every time.
+const SPARE_BYTES: u64 = 1 << 20;
 
 fn with_room(bytes: usize) -> u64 {
+    let bytes = bytes as u64;
+    bytes + (bytes / 2).max(SPARE_BYTES)
+}
+
+fn texels_with_room(bytes: usize) -> u64 {
     let bytes = bytes as u64;
     bytes + (bytes / 4).max(SPARE_BYTES)
 }
