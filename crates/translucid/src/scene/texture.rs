@@ -92,7 +92,7 @@ impl Texture {
                 .map(|l| MipLevel {
                     width: l.width,
                     height: l.height,
-                    texels: Vec::new(),
+                    texels: Default::default(),
                 })
                 .collect(),
         }
@@ -103,7 +103,9 @@ impl Texture {
 pub struct MipLevel {
     pub width: u32,
     pub height: u32,
-    pub texels: Vec<[u8; 4]>,
+    /// Shared: a scene (or a C context's assets, each time a renderer is made over them)
+    /// clones its textures without copying their texels.
+    pub texels: std::sync::Arc<Vec<[u8; 4]>>,
 }
 
 impl Texture {
@@ -119,7 +121,7 @@ impl Texture {
         let mut levels = vec![MipLevel {
             width,
             height,
-            texels,
+            texels: texels.into(),
         }];
         while let Some(prev) = levels.last().filter(|l| l.width > 1 || l.height > 1) {
             levels.push(downsample(prev, srgb));
@@ -338,7 +340,7 @@ fn downsample(prev: &MipLevel, srgb: bool) -> MipLevel {
     MipLevel {
         width,
         height,
-        texels,
+        texels: texels.into(),
     }
 }
 
@@ -409,7 +411,7 @@ mod tests {
     fn lod_blends_levels_and_clamps() {
         // 2x2 level 0 of one value, 1x1 level 1 of another (set by hand).
         let mut t = Texture::new("t", 2, 2, vec![[0, 0, 0, 255]; 4], false);
-        t.levels[1].texels[0] = [255, 255, 255, 255];
+        std::sync::Arc::make_mut(&mut t.levels[1].texels)[0] = [255, 255, 255, 255];
         let uv = Vec2::new(0.3, 0.8);
         assert!(close(t.sample(uv, -3.0), Vec4::new(0.0, 0.0, 0.0, 1.0)));
         assert!(close(t.sample(uv, f32::NAN), Vec4::new(0.0, 0.0, 0.0, 1.0)));
@@ -472,8 +474,8 @@ pub(crate) mod hand_cases {
     /// 4×4 with levels of one value each, set by hand: 0, 0.4, 1.
     pub(crate) fn levels(mip_filter: MipFilter) -> Texture {
         let mut t = Texture::new("levels", 4, 4, vec![[0, 0, 0, 255]; 16], false);
-        t.levels[1].texels.fill([102, 102, 102, 255]);
-        t.levels[2].texels.fill([255, 255, 255, 255]);
+        std::sync::Arc::make_mut(&mut t.levels[1].texels).fill([102, 102, 102, 255]);
+        std::sync::Arc::make_mut(&mut t.levels[2].texels).fill([255, 255, 255, 255]);
         t.with_sampler(Sampler {
             mip_filter,
             ..Sampler::default()
