@@ -76,6 +76,8 @@ struct Resident {
     /// Meshes moved (`translucid_mesh_update`) since the assets were uploaded: a renderer
     /// made later copies their vertices in with its first frame.
     moved: HashSet<u64>,
+    /// Their buffers had no room for the assets created since: upload everything anew.
+    full: bool,
 }
 
 /// The context's renderers.
@@ -121,6 +123,7 @@ impl Renderers {
         request: &FrameRequest<'_>,
     ) -> FfiResult<&mut Kept> {
         self.uses += 1;
+        self.adopt_created_assets(gpu, assets, request)?;
         for k in &mut self.kept {
             k.usable &= k.generation == assets.generation;
         }
@@ -198,6 +201,46 @@ impl Renderers {
         Ok(k)
     }
 
+    /// When assets were only created since the uploads were made, extends the uploads with
+    /// them and has every renderer of the uploads' generation draw from the extended ones:
+    /// nothing is rebuilt, and the new assets alone are uploaded. (Past the uploads' room,
+    /// the renderers go stale and the next ones upload everything anew.)
+    fn adopt_created_assets(
+        &mut self,
+        gpu: &Gpu,
+        assets: &Assets<'_>,
+        request: &FrameRequest<'_>,
+    ) -> FfiResult {
+        let Some(resident) = self
+            .resident
+            .as_mut()
+            .filter(|r| r.generation != assets.generation && !r.full)
+            .filter(|r| assets.last_destroyed <= r.generation)
+        else {
+            return Ok(());
+        };
+        let (scene, index) = asset_scene(assets, request, Some(&resident.index))?;
+        let Some(extended) = resident.assets.extended(gpu, &scene)? else {
+            resident.full = true;
+            return Ok(());
+        };
+        let extended = Arc::new(extended);
+        let before = resident.generation;
+        for k in self
+            .kept
+            .iter_mut()
+            .filter(|k| k.usable && k.generation == before)
+        {
+            k.renderer.adopt_assets(extended.clone(), &scene)?;
+            k.index = index.clone();
+            k.generation = assets.generation;
+        }
+        resident.generation = assets.generation;
+        resident.assets = extended;
+        resident.index = index;
+        Ok(())
+    }
+
     /// The assets on the GPU for `scene` (the context's assets in `index`'s places): those
     /// of its generation, else the last ones extended with the assets created since (none
     /// destroyed), else all of them uploaded anew; and the meshes moved since the upload.
@@ -213,7 +256,7 @@ impl Renderers {
             let extended = match self
                 .resident
                 .as_ref()
-                .filter(|r| assets.last_destroyed <= r.generation)
+                .filter(|r| assets.last_destroyed <= r.generation && !r.full)
             {
                 Some(r) => r.assets.extended(gpu, scene)?,
                 None => None,
@@ -231,6 +274,7 @@ impl Renderers {
                 assets: Arc::new(uploaded),
                 index: index.clone(),
                 moved,
+                full: false,
             });
         }
         self.resident

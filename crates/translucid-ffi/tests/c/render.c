@@ -252,7 +252,7 @@ static uint64_t allocated_by(translucid_frame frame) {
  * context's assets, uploaded once: a 512x512 texture (1 MB, and as much again for the
  * compute rasters' copy) is allocated for the first size only. Then a mesh and a material
  * created are appended to the uploads: the next frame draws them without uploading the
- * texture again. */
+ * texture again; and a mesh created and not drawn costs the frame after it nothing. */
 static void uploads_are_shared_and_extended(uint32_t method, translucid_mesh quad) {
     static const float small[] = {-1, -1, -2, 1, -1, -2, 1, 1, -2, -1, 1, -2};
     static const uint32_t triangles[] = {0, 1, 2, 0, 2, 3};
@@ -261,7 +261,8 @@ static void uploads_are_shared_and_extended(uint32_t method, translucid_mesh qua
     translucid_material added_material;
     translucid_draw draws[2];
     float *pixels;
-    uint64_t extended;
+    uint64_t extended, idle;
+    translucid_mesh unused;
     enum { SIDE = 512 };
     const uint64_t texture_bytes = SIDE * SIDE * 4;
     uint8_t *texels = calloc(texture_bytes, 1);
@@ -340,6 +341,18 @@ static void uploads_are_shared_and_extended(uint32_t method, translucid_mesh qua
     } else {
         g_passed++;
     }
+    CHECK(translucid_mesh_create(g_ctx, &mesh_info, &unused));
+    CHECK(translucid_frame_render(g_ctx, &info, &frame));
+    idle = allocated_by(frame);
+    if (idle != 0) {
+        printf("FAIL method %u: a frame after a mesh it does not draw was created allocated "
+               "%llu bytes\n",
+               (unsigned)method, (unsigned long long)idle);
+        g_failed++;
+    } else {
+        g_passed++;
+    }
+    CHECK(translucid_mesh_destroy(g_ctx, unused));
     CHECK(translucid_mesh_destroy(g_ctx, added_mesh));
     CHECK(translucid_material_destroy(g_ctx, added_material));
     CHECK(translucid_material_destroy(g_ctx, material));

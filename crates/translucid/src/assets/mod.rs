@@ -98,6 +98,9 @@ impl SceneSlot {
     }
 }
 
+/// Draws a frame slot has room for at first, at least.
+pub const FIRST_DRAWS: usize = 256;
+
 /// Tells apart the users of one [`ResidentAssets`], for its uploads on the engine's device.
 static NEXT_SCENE_ID: AtomicU64 = AtomicU64::new(1);
 
@@ -158,7 +161,10 @@ impl GpuScene {
             ],
             stages,
         )?;
-        let draw_bytes = (scene.opaque.len() + scene.transparent.len()) as u64
+        // Room for twice the draws and at least FIRST_DRAWS: frames that draw more do not
+        // grow every slot's buffer one after another.
+        let draw_bytes = (2 * (scene.opaque.len() + scene.transparent.len())).max(FIRST_DRAWS)
+            as u64
             * std::mem::size_of::<GpuDrawInfo>() as u64;
         let slots = (0..frame_slots.max(1))
             .map(|_| SceneSlot::new(gpu, &layout, resident.materials(), draw_bytes))
@@ -177,6 +183,23 @@ impl GpuScene {
         };
         uploaded.set_frame(gpu, scene)?;
         Ok(uploaded)
+    }
+
+    /// Draws from `resident`, these assets extended (checked), for `scene`, which has them:
+    /// the buffers and descriptor sets stay, since the assets added were appended to them.
+    pub fn adopt(&mut self, resident: Arc<ResidentAssets>, scene: &Scene) -> Result<()> {
+        if !resident.extends(&self.resident) {
+            return Err(crate::Error::InvalidScene(
+                "the assets to draw from do not extend the ones drawn from".into(),
+            ));
+        }
+        resident.check_scene(scene)?;
+        // Uploads this scene recorded into a frame still in flight are carried by the new
+        // version (recorded again by the next frame, which is safe), and their staging with
+        // them: the old version may go now.
+        self.resident.uploads_lost(self.id);
+        self.resident = resident;
+        Ok(())
     }
 
     /// Meshes whose vertices moved since the last frame was recorded (methods renew what they

@@ -508,6 +508,15 @@ impl ResidentAssets {
         }))
     }
 
+    /// Whether these assets are `earlier` ones extended ([`Self::extended`]): the same
+    /// buffers, with the same assets first.
+    pub fn extends(&self, earlier: &Self) -> bool {
+        Arc::ptr_eq(&self.buffers, &earlier.buffers)
+            && self.mesh_sizes.starts_with(&earlier.mesh_sizes)
+            && self.counts[0] >= earlier.counts[0]
+            && self.counts[1] >= earlier.counts[1]
+    }
+
     pub fn vertices(&self) -> &Buffer {
         self.buffers.vertices.buffer()
     }

@@ -245,6 +245,19 @@ impl Renderer {
         Self::build(gpu, scene, Some(resident), method, shape, options)
     }
 
+    /// Draws from `resident` from now on: these assets extended with others
+    /// ([`ResidentAssets::extended`]), uploaded for `scene` (which has them all, and whose
+    /// camera, light and draws become the frame's). Nothing is rebuilt: the assets added
+    /// were appended to the buffers this renderer binds. Frames in flight keep drawing what
+    /// they were recorded with.
+    pub fn adopt_assets(&mut self, resident: Arc<ResidentAssets>, scene: &Scene) -> Result<()> {
+        scene.validate()?;
+        self.scene.adopt(resident, scene)?;
+        self.frame_scene = scene.without_texels();
+        self.frame_serial += 1;
+        Ok(())
+    }
+
     /// The assets this renderer draws from, for a renderer made to share them.
     pub fn resident(&self) -> &Arc<ResidentAssets> {
         &self.scene.resident

@@ -357,6 +357,10 @@ impl Bins {
         // Setup writes at most two triangles per quad, and homogeneous records for at most
         // the triangles of draws that leave the fixed-point path.
         let triangles = f.uploaded.transparent_quads.saturating_mul(2);
+        // Meshes added since (the renderer adopted extended assets).
+        let known = self.meshes.len();
+        self.meshes
+            .extend(f.scene.meshes[known..].iter().map(MeshFacts::of));
         for &moved in f.uploaded.moved_meshes() {
             self.meshes[moved].bounds = features::bounds(&f.scene.meshes[moved].positions);
         }
@@ -365,9 +369,17 @@ impl Bins {
         let homogeneous = homogeneous_bound(f.gpu, near_plane);
         let capacities = self.resources.capacities;
         if triangles > capacities.triangles || homogeneous > capacities.homogeneous {
+            // A quarter to spare: draws and meshes added one after another regrow rarely.
+            let with_room = |needed: u32, now: u32| {
+                if needed > now {
+                    needed.saturating_add(needed / 4)
+                } else {
+                    now
+                }
+            };
             let grown = Capacities {
-                triangles: triangles.max(capacities.triangles),
-                homogeneous: homogeneous.max(capacities.homogeneous),
+                triangles: with_room(triangles, capacities.triangles),
+                homogeneous: with_room(homogeneous, capacities.homogeneous),
                 ..capacities
             };
             self.resources

@@ -312,15 +312,10 @@ fn pyramid_cells(bins_x: u32, bins_y: u32) -> u32 {
 }
 
 /// The transparent draws in the order the reference ranks them, with their model-view-
-/// projection computed on the host exactly as the reference does.
-fn bin_draws(scene: &Scene, width: u32, height: u32) -> Vec<BinDraw> {
+/// projection computed on the host exactly as the reference does, and their meshes' first
+/// quads in the uploaded quads (`first_quad_of_mesh`).
+fn bin_draws(scene: &Scene, first_quad_of_mesh: &[u32], width: u32, height: u32) -> Vec<BinDraw> {
     let view_projection = scene.camera.view_projection(width, height);
-    let mut first_quad_of_mesh = Vec::with_capacity(scene.meshes.len());
-    let mut total = 0u32;
-    for mesh in &scene.meshes {
-        first_quad_of_mesh.push(total);
-        total += mesh.quads.len() as u32;
-    }
     let mut first_item = 0u32;
     scene
         .transparent
@@ -361,7 +356,7 @@ impl Resources {
                 1u32 << (32 - TRIANGLE_MATERIAL_SHIFT)
             )));
         }
-        let draws = bin_draws(scene, width, height);
+        let draws = bin_draws(scene, &uploaded.resident.first_quads, width, height);
         // Counters and indirect arguments stay in device memory; the host reads a copy.
         let counters = gpu.create_buffer(
             "bin counters",
@@ -429,9 +424,14 @@ impl Resources {
             depth_sampler: Sampler::nearest_clamp(gpu)?,
             growable: growable(gpu, capacities)?,
         };
+        // Room for twice the draws, as the scene's draws have (GpuScene).
+        let draw_bytes = (2 * draws.len()).max(crate::assets::FIRST_DRAWS) as u64
+            * std::mem::size_of::<BinDraw>() as u64;
         for _ in 0..uploaded.slot_count() {
-            let draws =
-                Viewed::with_data(gpu, "bin draws", bytemuck::cast_slice(&draws), RGBA32UI)?;
+            let mut buffer =
+                gpu.create_buffer("bin draws", draw_bytes, TEXELS, MemoryLocation::CpuToGpu)?;
+            buffer.write(0, bytemuck::cast_slice(&draws))?;
+            let draws = Viewed::new(gpu, buffer, RGBA32UI)?;
             let scene_draws = (
                 uploaded.draws().raw,
                 gpu.create_buffer_view(uploaded.draws(), RGBA32UI)?,
@@ -649,7 +649,8 @@ impl Resources {
         uploaded: &GpuScene,
         targets: &FrameTargets,
     ) -> Result<()> {
-        let draws = bin_draws(scene, targets.extent.width, targets.extent.height);
+        let (width, height) = (targets.extent.width, targets.extent.height);
+        let draws = bin_draws(scene, &uploaded.resident.first_quads, width, height);
         let bytes: &[u8] = bytemuck::cast_slice(&draws);
         let slot = &mut self.slots[self.slot];
         if bytes.len() as u64 > slot.draws.buffer.size {
