@@ -2,12 +2,12 @@
 //! the context holds (meshes, materials, textures: uploaded once for all the renderers of a
 //! generation, `ResidentAssets`), and draws any frame with
 //! those settings: a frame only names which assets it draws, where, and from which camera
-//! (`Renderer::set_frame`: nothing rebuilt, no shader compiled). Creating or destroying an
-//! asset makes the renderers stale: each frame after it gets a new renderer (made before the
-//! stale one is freed, so that it takes its compute pipelines) over the uploads extended
-//! with the assets created since (after a destruction, over a new upload), while a stale one
-//! lives on until no frame in flight uses it (so that destroying an asset a frame in flight
-//! draws is safe). A context keeps a few renderers, so that views of different sizes
+//! (`Renderer::set_frame`: nothing rebuilt, no shader compiled). Creating assets extends the
+//! uploads, and the renderers adopt the extended ones (`Renderer::adopt_assets`). Destroying
+//! an asset makes the renderers stale: each frame after it gets a new renderer over a new
+//! upload (made before the stale one is freed, so that it takes its compute pipelines),
+//! while a stale one lives on until no frame in flight uses it (so that destroying an asset
+//! a frame in flight draws is safe). A context keeps a few renderers, so that views of different sizes
 //! or methods in one frame loop each keep theirs.
 
 use crate::context::Assets;
