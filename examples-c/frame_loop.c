@@ -2,8 +2,9 @@
  * translucid in an engine's frame loop (host-device mode): the engine owns the Vulkan
  * instance, device, images and command buffers, keeps 2 frames in flight, and each frame
  * moves its camera, sways a cloud of particles (translucid_mesh_update) and turns three glass
- * panes. translucid records the transparent pass into the engine's command buffer; the
- * engine submits, and completes each frame when it comes back to its slot.
+ * panes; halfway through, a fourth pane is streamed in (a mesh and a material created, and
+ * drawn from then on). translucid records the transparent pass into the engine's command
+ * buffer; the engine submits, and completes each frame when it comes back to its slot.
  *
  *   frame_loop [OUTPUT_DIR] [FRAMES] [DRAWS]      (default: out 120 0)
  *
@@ -385,11 +386,12 @@ static void write_png(const char *path, const uint8_t *rgba) {
 /* ---- the scene: assets created once, moved every frame ---- */
 
 typedef struct scene {
-    translucid_mesh pane, particles;
-    translucid_material glass[3], smoke;
+    translucid_mesh pane, particles, streamed;
+    translucid_material glass[3], smoke, amber;
     float particle_positions[PARTICLES * 4 * 3];
     translucid_draw *draws;
-    uint32_t draw_count;
+    /* The draws: three panes, the particles, the small panes, then the streamed pane. */
+    uint32_t draw_count, small_panes;
 } scene;
 
 static float hash01(uint32_t i) {
@@ -462,7 +464,8 @@ static void make_scene(scene *s, uint32_t extra_draws) {
     s->glass[2] = make_material(0.1f, 0.3f, 1.0f, 0.5f, 0);
     s->smoke = make_material(0.9f, 0.8f, 0.7f, 0.15f, 0);
     s->draw_count = 4 + extra_draws;
-    s->draws = calloc(s->draw_count, sizeof *s->draws);
+    s->small_panes = extra_draws;
+    s->draws = calloc(s->draw_count + 1, sizeof *s->draws);
     if (s->draws == NULL) exit(1);
     for (i = 0; i < 3; i++) {
         s->draws[i].mesh = s->pane;
@@ -491,7 +494,7 @@ static void move_panes(scene *s, int k) {
         m[14] = -0.3f + 0.3f * (float)i;
         m[15] = 1.0f;
     }
-    for (i = 4; i < s->draw_count; i++) {
+    for (i = 4; i < 4 + s->small_panes; i++) {
         float *m = s->draws[i].transform;
         memset(m, 0, 16 * sizeof(float));
         m[0] = m[5] = m[10] = 0.05f;
@@ -500,6 +503,31 @@ static void move_panes(scene *s, int k) {
         m[14] = -1.5f + 3.0f * hash01(i * 5u + 2u);
         m[15] = 1.0f;
     }
+}
+
+/* An asset streamed in mid-loop, as an engine loads a level's parts: a smaller amber pane
+ * (its own mesh and material, created now), drawn from the next frame on. */
+static void stream_in_pane(scene *s) {
+    static const float pane[] = {-0.3f, -0.5f, 0, 0.3f, -0.5f, 0, 0.3f, 0.5f, 0, -0.3f, 0.5f, 0};
+    static const uint32_t quad[] = {0, 1, 2, 3};
+    translucid_mesh_create_info mesh;
+    translucid_draw *d = &s->draws[s->draw_count];
+    memset(&mesh, 0, sizeof mesh);
+    mesh.s_type = TRANSLUCID_STRUCTURE_TYPE_MESH_CREATE_INFO;
+    mesh.primitive = TRANSLUCID_PRIMITIVE_QUADS;
+    mesh.vertex_count = 4;
+    mesh.positions = pane;
+    mesh.index_count = 4;
+    mesh.indices = quad;
+    mesh.name = "streamed pane";
+    CHECK(translucid_mesh_create(g_context, &mesh, &s->streamed));
+    s->amber = make_material(1.0f, 0.6f, 0.1f, 0.45f, 0);
+    d->mesh = s->streamed;
+    d->material = s->amber;
+    d->transform[0] = d->transform[5] = d->transform[10] = d->transform[15] = 1.0f;
+    d->transform[12] = 0.9f;
+    d->transform[14] = 0.6f;
+    s->draw_count++;
 }
 
 /* A camera circling the scene at 4 units, 0.8 radians of vertical field of view. */
@@ -543,9 +571,15 @@ static void finish(frame_slot *s, int k, double *gpu_ms) {
     stats.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_STATISTICS;
     CHECK(translucid_frame_get_statistics(g_context, s->frame, &stats));
     *gpu_ms = stats.gpu_milliseconds;
-    printf("  frame %3d: record %.3f ms (CPU), GPU %.3f ms (method %.3f)%s\n", k, s->record_ms,
+    printf("  frame %3d: record %.3f ms (CPU), GPU %.3f ms (method %.3f)%s", k, s->record_ms,
            stats.gpu_milliseconds, stats.method_milliseconds,
            done == TRANSLUCID_RESULT_INCOMPLETE ? ", past a limit: see the README" : "");
+    /* What recording it built: the first frames' pipelines and buffers, uploads. */
+    if (stats.pipelines_created != 0 || stats.bytes_allocated != 0) {
+        printf(", built %llu pipelines and %.1f KB of GPU memory",
+               (unsigned long long)stats.pipelines_created, stats.bytes_allocated / 1024.0);
+    }
+    printf("\n");
     CHECK(translucid_frame_destroy(g_context, s->frame));
     s->in_flight = 0;
 }
@@ -577,6 +611,12 @@ static void run(uint32_t method, int frames, uint32_t extra_draws, const char *p
         if (s->in_flight) finish(s, k - IN_FLIGHT, &gpu[k - IN_FLIGHT]);
         if (k >= frames) continue;
 
+        if (k == frames / 2) {
+            stream_in_pane(&sc);
+            printf("  frame %3d: a pane streamed in (translucid_mesh_create, "
+                   "translucid_material_create)\n",
+                   k);
+        }
         place_particles(&sc, k);
         CHECK(translucid_mesh_update(g_context, sc.particles, 0, PARTICLES * 4,
                                      sc.particle_positions));
