@@ -8,7 +8,7 @@ use crate::handle::{next_context_tag, Kind, Slots};
 use crate::host::{host_gpu, translucid_host_device_create_info};
 use crate::material::MaterialRecord;
 use crate::panic::{self, CallState};
-use crate::renderers::Renderers;
+use crate::renderers::{Destroyed, Renderers};
 use crate::result::{translucid_result, Failure, FfiResult};
 use crate::structure::translucid_structure_type;
 use crate::version;
@@ -83,7 +83,7 @@ pub struct Objects {
     /// Counts the creations and destructions of assets: a renderer drawing an older
     /// generation takes no new frame.
     pub generation: u64,
-    /// The generation the last destruction of an asset began.
+    /// The generation the last destruction of an asset the uploads could not keep began.
     pub last_destroyed: u64,
     pub renderers: Renderers,
     /// Host-device frames recorded and not yet completed, oldest first.
@@ -124,10 +124,13 @@ impl Objects {
         self.generation += 1;
     }
 
-    /// Notes that an asset was destroyed.
-    pub fn asset_destroyed(&mut self) {
+    /// Notes that an asset was destroyed (removed from its slots): the uploads keep its
+    /// place while most of them is alive, else the next frame uploads the assets anew.
+    pub fn asset_destroyed(&mut self, destroyed: Destroyed) {
         self.generation += 1;
-        self.last_destroyed = self.generation;
+        if !self.renderers.bury(destroyed) {
+            self.last_destroyed = self.generation;
+        }
     }
 }
 

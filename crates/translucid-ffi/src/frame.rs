@@ -285,8 +285,8 @@ pub struct translucid_frame_statistics {
     pub pipelines_created: u64,
     /// GPU memory that call allocated, in bytes: the first frames of a renderer, frames
     /// that need larger buffers, the first frame after assets were created (their images;
-    /// meshes and materials go into room left for them) or destroyed (the other assets
-    /// uploaded anew); 0 in a warm frame loop.
+    /// meshes and materials go into room left for them) or after so many were destroyed
+    /// that the live ones are uploaded anew; 0 in a warm frame loop.
     pub bytes_allocated: u64,
 }
 

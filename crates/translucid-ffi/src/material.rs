@@ -2,6 +2,7 @@
 
 use crate::cast::{check_header, translucid_context, try_out, try_ref, try_str};
 use crate::panic;
+use crate::renderers::Destroyed;
 use crate::result::{translucid_result, Failure, FfiResult};
 use crate::structure::translucid_structure_type;
 use crate::texture::translucid_texture;
@@ -130,8 +131,8 @@ impl translucid_material {
         material: translucid_material,
     ) -> translucid_result {
         panic::with_context(context, |objects| {
-            objects.materials.remove(material.id)?;
-            objects.asset_destroyed();
+            let removed = objects.materials.remove(material.id)?;
+            objects.asset_destroyed(Destroyed::Material(material.id, removed));
             Ok(translucid_result::Success)
         })
     }

@@ -2,6 +2,7 @@
 
 use crate::cast::{check_header, translucid_context, try_out, try_ref, try_slice, try_str};
 use crate::panic;
+use crate::renderers::Destroyed;
 use crate::result::{translucid_result, Failure, FfiResult};
 use crate::structure::translucid_structure_type;
 use glam::{Vec2, Vec3, Vec4};
@@ -200,8 +201,8 @@ impl translucid_mesh {
         mesh: translucid_mesh,
     ) -> translucid_result {
         panic::with_context(context, |objects| {
-            objects.meshes.remove(mesh.id)?;
-            objects.asset_destroyed();
+            let removed = objects.meshes.remove(mesh.id)?;
+            objects.asset_destroyed(Destroyed::Mesh(mesh.id, removed));
             Ok(translucid_result::Success)
         })
     }

@@ -3,9 +3,10 @@
 //! generation, `ResidentAssets`), and draws any frame with
 //! those settings: a frame only names which assets it draws, where, and from which camera
 //! (`Renderer::set_frame`: nothing rebuilt, no shader compiled). Creating assets extends the
-//! uploads, and the renderers adopt the extended ones (`Renderer::adopt_assets`). Destroying
-//! an asset makes the renderers stale: each frame after it gets a new renderer over a new
-//! upload (made before the stale one is freed, so that it takes its compute pipelines),
+//! uploads, and the renderers adopt the extended ones (`Renderer::adopt_assets`). A destroyed
+//! asset keeps its place in the uploads (its data in a graveyard) while most of them is
+//! alive; past that, the renderers go stale: each frame after it gets a new renderer over a
+//! new upload (made before the stale one is freed, so that it takes its compute pipelines),
 //! while a stale one lives on until no frame in flight uses it (so that destroying an asset
 //! a frame in flight draws is safe). A context keeps a few renderers, so that views of different sizes
 //! or methods in one frame loop each keep theirs.
@@ -13,13 +14,14 @@
 use crate::context::Assets;
 use crate::frame::translucid_draw;
 use crate::frame::translucid_layer;
+use crate::material::MaterialRecord;
 use crate::result::{translucid_result, Failure, FfiResult};
 use std::collections::{HashMap, HashSet};
 use std::sync::Arc;
 use translucid::gpu::Gpu;
 use translucid::methods::{MethodKind, MethodOptions};
 use translucid::renderer::{FrameShape, Renderer, ResidentAssets};
-use translucid::scene::{Camera, Draw, FrameInput, Light, Scene};
+use translucid::scene::{Camera, Draw, FrameInput, Light, Mesh, Scene, Texture};
 
 /// Renderers kept per context; past this, the least recently used one no frame in flight
 /// uses is freed.
@@ -67,12 +69,52 @@ pub struct Kept {
     last_used: u64,
 }
 
+/// An asset just destroyed, with its data, for the uploads to keep its place.
+pub enum Destroyed {
+    Mesh(u64, Mesh),
+    Texture(u64, Texture),
+    Material(u64, MaterialRecord),
+}
+
+/// Destroyed assets the uploads still hold, by handle: a scene over the uploads keeps them
+/// in their places (never drawn), so that the uploads stay valid and go on growing.
+#[derive(Default)]
+struct Graveyard {
+    meshes: HashMap<u64, Mesh>,
+    textures: HashMap<u64, Texture>,
+    materials: HashMap<u64, MaterialRecord>,
+    /// Their vertices' and texels' bytes.
+    bytes: u64,
+}
+
+/// Bytes of a mesh's vertices and quads as uploaded, and of a texture's texels (every
+/// level).
+fn mesh_bytes(mesh: &Mesh) -> u64 {
+    mesh.positions.len() as u64 * 48 + mesh.quads.len() as u64 * 40
+}
+
+fn texture_bytes(texture: &Texture) -> u64 {
+    texture
+        .levels
+        .iter()
+        .map(|l| l.texels.len() as u64 * 4)
+        .sum()
+}
+
+fn scene_bytes(scene: &Scene) -> u64 {
+    scene.meshes.iter().map(mesh_bytes).sum::<u64>()
+        + scene.textures.iter().map(texture_bytes).sum::<u64>()
+}
+
 /// The context's assets on the GPU, as the renderers of one generation share them.
 struct Resident {
     generation: u64,
     assets: Arc<ResidentAssets>,
-    /// Where each asset sits in them.
-    index: AssetIndex,
+    /// Where each asset sits in them, destroyed ones kept in place included.
+    places: AssetIndex,
+    /// The destroyed ones, kept while most of the uploads' bytes (`bytes`) are alive.
+    graveyard: Graveyard,
+    bytes: u64,
     /// Meshes moved (`translucid_mesh_update`) since the assets were uploaded: a renderer
     /// made later copies their vertices in with its first frame.
     moved: HashSet<u64>,
@@ -147,14 +189,13 @@ impl Renderers {
                 self.position(id)
             }
             None => {
-                // Assets only added since the resident ones were made keep their places, so
-                // that the new ones are appended to them.
+                // The uploads' assets keep their places, so that new ones are appended.
                 let base = self
                     .resident
                     .as_ref()
                     .filter(|r| assets.last_destroyed <= r.generation)
-                    .map(|r| &r.index);
-                let (scene, index) = asset_scene(assets, request, base)?;
+                    .map(|r| (&r.places, &r.graveyard));
+                let built = asset_scene(assets, request, base)?;
                 let options = self
                     .kept
                     .iter()
@@ -164,7 +205,12 @@ impl Renderers {
                         || request.options.clone(),
                         |k| k.renderer.learned_options(&request.options),
                     );
-                let (resident, moved) = self.resident_for(gpu, assets, &scene, &index)?;
+                let (resident, moved) = self.resident_for(gpu, assets, &built)?;
+                let AssetScene {
+                    scene,
+                    lookup: index,
+                    ..
+                } = built;
                 // The renderers it replaces are freed only after it is made: it takes the
                 // compute pipelines they hold instead of compiling its own.
                 let shape = FrameShape {
@@ -201,10 +247,11 @@ impl Renderers {
         Ok(k)
     }
 
-    /// When assets were only created since the uploads were made, extends the uploads with
-    /// them and has every renderer of the uploads' generation draw from the extended ones:
-    /// nothing is rebuilt, and the new assets alone are uploaded. (Past the uploads' room,
-    /// the renderers go stale and the next ones upload everything anew.)
+    /// When assets were created, or destroyed with the uploads keeping their places, since
+    /// the uploads were made, extends the uploads with the new ones and has every renderer
+    /// of the uploads' generation draw from the extended ones: nothing is rebuilt, and the
+    /// new assets alone are uploaded. (Past the uploads' room, the renderers go stale and
+    /// the next ones upload everything anew.)
     fn adopt_created_assets(
         &mut self,
         gpu: &Gpu,
@@ -219,8 +266,15 @@ impl Renderers {
         else {
             return Ok(());
         };
-        let (scene, index) = asset_scene(assets, request, Some(&resident.index))?;
-        let Some(extended) = resident.assets.extended(gpu, &scene)? else {
+        let built = asset_scene(
+            assets,
+            request,
+            Some((&resident.places, &resident.graveyard)),
+        )?;
+        if !built.on_base {
+            return Ok(());
+        }
+        let Some(extended) = resident.assets.extended(gpu, &built.scene)? else {
             resident.full = true;
             return Ok(());
         };
@@ -231,48 +285,50 @@ impl Renderers {
             .iter_mut()
             .filter(|k| k.usable && k.generation == before)
         {
-            k.renderer.adopt_assets(extended.clone(), &scene)?;
-            k.index = index.clone();
+            k.renderer.adopt_assets(extended.clone(), &built.scene)?;
+            k.index = built.lookup.clone();
             k.generation = assets.generation;
         }
         resident.generation = assets.generation;
         resident.assets = extended;
-        resident.index = index;
+        resident.bytes = scene_bytes(&built.scene);
+        resident.places = built.places;
         Ok(())
     }
 
-    /// The assets on the GPU for `scene` (the context's assets in `index`'s places): those
-    /// of its generation, else the last ones extended with the assets created since (none
-    /// destroyed), else all of them uploaded anew; and the meshes moved since the upload.
+    /// The assets on the GPU for `built`: those of its generation, else the last ones
+    /// extended with the assets created since (when `built` keeps their places), else all of
+    /// them uploaded anew; and the meshes moved since the upload.
     fn resident_for(
         &mut self,
         gpu: &Gpu,
         assets: &Assets<'_>,
-        scene: &Scene,
-        index: &AssetIndex,
+        built: &AssetScene,
     ) -> FfiResult<(Arc<ResidentAssets>, HashSet<u64>)> {
         let current = self.resident.as_ref().map(|r| r.generation);
         if current != Some(assets.generation) {
             let extended = match self
                 .resident
                 .as_ref()
-                .filter(|r| assets.last_destroyed <= r.generation && !r.full)
+                .filter(|r| built.on_base && assets.last_destroyed <= r.generation && !r.full)
             {
-                Some(r) => r.assets.extended(gpu, scene)?,
+                Some(r) => r.assets.extended(gpu, &built.scene)?,
                 None => None,
             };
-            let moved = match (&extended, self.resident.take()) {
-                (Some(_), Some(r)) => r.moved,
-                _ => HashSet::new(),
+            let (moved, graveyard) = match (&extended, self.resident.take()) {
+                (Some(_), Some(r)) => (r.moved, r.graveyard),
+                _ => (HashSet::new(), Graveyard::default()),
             };
             let uploaded = match extended {
                 Some(assets) => assets,
-                None => ResidentAssets::new(gpu, scene)?,
+                None => ResidentAssets::new(gpu, &built.scene)?,
             };
             self.resident = Some(Resident {
                 generation: assets.generation,
                 assets: Arc::new(uploaded),
-                index: index.clone(),
+                places: built.places.clone(),
+                graveyard,
+                bytes: scene_bytes(&built.scene),
                 moved,
                 full: false,
             });
@@ -281,6 +337,35 @@ impl Renderers {
             .as_ref()
             .map(|r| (r.assets.clone(), r.moved.clone()))
             .ok_or_else(|| Failure::argument("no resident assets"))
+    }
+
+    /// Keeps a destroyed asset's place in the uploads. False when the uploads should be
+    /// made anew: most of their bytes are destroyed assets.
+    pub fn bury(&mut self, destroyed: Destroyed) -> bool {
+        let Some(r) = &mut self.resident else {
+            return true;
+        };
+        let g = &mut r.graveyard;
+        let bytes = match destroyed {
+            Destroyed::Mesh(h, m) if r.places.meshes.contains_key(&h) => {
+                let bytes = mesh_bytes(&m);
+                g.meshes.insert(h, m);
+                bytes
+            }
+            Destroyed::Texture(h, t) if r.places.textures.contains_key(&h) => {
+                let bytes = texture_bytes(&t);
+                g.textures.insert(h, t);
+                bytes
+            }
+            Destroyed::Material(h, m) if r.places.materials.contains_key(&h) => {
+                g.materials.insert(h, m);
+                0
+            }
+            // Never uploaded: nothing to keep.
+            _ => return true,
+        };
+        g.bytes += bytes;
+        2 * g.bytes <= r.bytes
     }
 
     /// Makes the renderer take no new frame (freed once no frame in flight uses it).
@@ -328,14 +413,54 @@ impl Renderers {
     }
 }
 
+/// The context's assets as one scene, and where each handle sits in it.
+struct AssetScene {
+    scene: Scene,
+    /// Every asset of the scene, the destroyed ones kept in place included.
+    places: AssetIndex,
+    /// What a frame may draw: live assets, and materials whose texture is live.
+    lookup: AssetIndex,
+    /// Whether the uploads' assets (`base`) are first, in their places.
+    on_base: bool,
+}
+
 /// The context's assets as one scene, with the frame of `request`: every mesh and texture,
-/// and every material whose texture is alive (drawing one whose texture was destroyed is an
-/// error of the frame).
+/// and every material (drawing one whose texture was destroyed is an error of the frame).
+/// With `base` (the uploads' places and the destroyed assets they keep), those assets come
+/// first in their places, then the others.
 fn asset_scene(
     assets: &Assets<'_>,
     request: &FrameRequest<'_>,
-    base: Option<&AssetIndex>,
-) -> FfiResult<(Scene, AssetIndex)> {
+    base: Option<(&AssetIndex, &Graveyard)>,
+) -> FfiResult<AssetScene> {
+    let places = base.map(|(p, _)| p);
+    let graveyard = base.map(|(_, g)| g);
+    let meshes = in_place(
+        assets.meshes.iter(),
+        places.map(|p| &p.meshes),
+        graveyard.map(|g| &g.meshes),
+    );
+    let textures = in_place(
+        assets.textures.iter(),
+        places.map(|p| &p.textures),
+        graveyard.map(|g| &g.textures),
+    );
+    let materials = in_place(
+        assets.materials.iter(),
+        places.map(|p| &p.materials),
+        graveyard.map(|g| &g.materials),
+    );
+    let on_base = base.is_some() && meshes.is_some() && textures.is_some() && materials.is_some();
+    let (meshes, textures, materials) = match (meshes, textures, materials) {
+        (Some(m), Some(t), Some(ma)) => (m, t, ma),
+        // A place the uploads had is lost: the assets as they come.
+        _ => (
+            in_place(assets.meshes.iter(), None, None).unwrap_or_default(),
+            in_place(assets.textures.iter(), None, None).unwrap_or_default(),
+            in_place(assets.materials.iter(), None, None).unwrap_or_default(),
+        ),
+    };
+    let mut places = AssetIndex::default();
     let mut index = AssetIndex::default();
     let mut scene = Scene {
         name: "C API assets".into(),
@@ -344,23 +469,35 @@ fn asset_scene(
         background: request.background,
         ..Scene::default()
     };
-    for (handle, mesh) in in_place(assets.meshes.iter(), base.map(|b| &b.meshes)) {
-        index.meshes.insert(handle, scene.meshes.len());
+    for (handle, mesh, live) in meshes {
+        places.meshes.insert(handle, scene.meshes.len());
+        if live {
+            index.meshes.insert(handle, scene.meshes.len());
+        }
         scene.meshes.push(mesh.clone());
     }
-    for (handle, texture) in in_place(assets.textures.iter(), base.map(|b| &b.textures)) {
-        index.textures.insert(handle, scene.textures.len());
+    for (handle, texture, live) in textures {
+        places.textures.insert(handle, scene.textures.len());
+        if live {
+            index.textures.insert(handle, scene.textures.len());
+        }
         scene.textures.push(texture.clone());
     }
-    for (handle, record) in in_place(assets.materials.iter(), base.map(|b| &b.materials)) {
-        let texture = match record.texture {
-            None => None,
-            Some(t) => match index.textures.get(&t) {
-                Some(&i) => Some(i),
-                None => continue,
+    for (handle, record, live) in materials {
+        // A material whose texture is gone keeps its place over the uploads (the texture
+        // kept too); a scene made anew leaves it out.
+        let (texture, drawable) = match record.texture {
+            None => (None, true),
+            Some(t) => match (index.textures.get(&t), places.textures.get(&t)) {
+                (Some(&i), _) => (Some(i), true),
+                (None, Some(&i)) => (Some(i), false),
+                _ => continue,
             },
         };
-        index.materials.insert(handle, scene.materials.len());
+        places.materials.insert(handle, scene.materials.len());
+        if live && drawable {
+            index.materials.insert(handle, scene.materials.len());
+        }
         scene.materials.push(translucid::scene::Material {
             texture,
             ..record.material.clone()
@@ -370,7 +507,12 @@ fn asset_scene(
     scene.opaque = opaque;
     scene.transparent = transparent;
     scene.validate()?;
-    Ok((scene, index))
+    Ok(AssetScene {
+        scene,
+        places,
+        lookup: index,
+        on_base,
+    })
 }
 
 /// The frame's draws as indices into a renderer's scene, opaque and transparent.
@@ -430,16 +572,33 @@ fn resolve_draws(
     Ok((opaque, transparent))
 }
 
-/// `items` (handle, asset) with those `base` places first, in its order, then the others as
-/// they come.
+/// `live` (handle, asset) with, when `places` are given, the assets placed there first in
+/// their order (live, or from `buried`), then the others as they come; each marked live or
+/// not. `None` when a place is neither.
 fn in_place<'a, T>(
-    items: impl Iterator<Item = (u64, &'a T)>,
-    base: Option<&HashMap<u64, usize>>,
-) -> Vec<(u64, &'a T)> {
-    let mut items: Vec<_> = items.collect();
-    if let Some(base) = base {
-        // A stable sort: the new ones keep their order after the placed ones.
-        items.sort_by_key(|(handle, _)| base.get(handle).map_or((1, 0), |&i| (0, i)));
+    live: impl Iterator<Item = (u64, &'a T)>,
+    places: Option<&HashMap<u64, usize>>,
+    buried: Option<&'a HashMap<u64, T>>,
+) -> Option<Vec<(u64, &'a T, bool)>> {
+    let live: Vec<(u64, &T)> = live.collect();
+    let Some(places) = places else {
+        return Some(live.into_iter().map(|(h, t)| (h, t, true)).collect());
+    };
+    let by_handle: HashMap<u64, &T> = live.iter().copied().collect();
+    let mut placed: Vec<(usize, u64)> = places.iter().map(|(&h, &i)| (i, h)).collect();
+    placed.sort_unstable();
+    let mut out = Vec::with_capacity(live.len().max(placed.len()));
+    for (_, handle) in placed {
+        match (by_handle.get(&handle), buried.and_then(|b| b.get(&handle))) {
+            (Some(t), _) => out.push((handle, *t, true)),
+            (None, Some(t)) => out.push((handle, t, false)),
+            (None, None) => return None,
+        }
     }
-    items
+    out.extend(
+        live.into_iter()
+            .filter(|(h, _)| !places.contains_key(h))
+            .map(|(h, t)| (h, t, true)),
+    );
+    Some(out)
 }

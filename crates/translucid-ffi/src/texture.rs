@@ -5,6 +5,7 @@ use crate::cast::{
     try_str,
 };
 use crate::panic;
+use crate::renderers::Destroyed;
 use crate::result::{translucid_result, Failure, FfiResult};
 use crate::structure::translucid_structure_type;
 use std::ffi::{c_char, c_void};
@@ -254,8 +255,8 @@ impl translucid_texture {
         texture: translucid_texture,
     ) -> translucid_result {
         panic::with_context(context, |objects| {
-            objects.textures.remove(texture.id)?;
-            objects.asset_destroyed();
+            let removed = objects.textures.remove(texture.id)?;
+            objects.asset_destroyed(Destroyed::Texture(texture.id, removed));
             Ok(translucid_result::Success)
         })
     }

@@ -252,7 +252,8 @@ static uint64_t allocated_by(translucid_frame frame) {
  * context's assets, uploaded once: a 512x512 texture (1 MB, and as much again for the
  * compute rasters' copy) is allocated for the first size only. Then a mesh and a material
  * created are appended to the uploads: the next frame draws them without uploading the
- * texture again; and a mesh created and not drawn costs the frame after it nothing. */
+ * texture again; and a mesh created and not drawn costs the frame after it nothing, nor does
+ * destroying it (the uploads keep its place while most of them is alive). */
 static void uploads_are_shared_and_extended(uint32_t method, translucid_mesh quad) {
     static const float small[] = {-1, -1, -2, 1, -1, -2, 1, 1, -2, -1, 1, -2};
     static const uint32_t triangles[] = {0, 1, 2, 0, 2, 3};
@@ -261,7 +262,7 @@ static void uploads_are_shared_and_extended(uint32_t method, translucid_mesh qua
     translucid_material added_material;
     translucid_draw draws[2];
     float *pixels;
-    uint64_t extended, idle;
+    uint64_t extended, idle, destroyed;
     translucid_mesh unused;
     enum { SIDE = 512 };
     const uint64_t texture_bytes = SIDE * SIDE * 4;
@@ -353,6 +354,20 @@ static void uploads_are_shared_and_extended(uint32_t method, translucid_mesh qua
         g_passed++;
     }
     CHECK(translucid_mesh_destroy(g_ctx, unused));
+    CHECK(translucid_frame_render(g_ctx, &info, &frame));
+    pixels = read_both(frame);
+    near_or_fail(pixels[((H / 2) * W + W / 2) * 4 + 1], 0.5f, 2e-3f,
+                 "added quad after a mesh was destroyed, green", (H / 2) * W + W / 2);
+    free(pixels);
+    destroyed = allocated_by(frame);
+    if (destroyed != 0) {
+        printf("FAIL method %u: a frame after a mesh it does not draw was destroyed allocated "
+               "%llu bytes\n",
+               (unsigned)method, (unsigned long long)destroyed);
+        g_failed++;
+    } else {
+        g_passed++;
+    }
     CHECK(translucid_mesh_destroy(g_ctx, added_mesh));
     CHECK(translucid_material_destroy(g_ctx, added_material));
     CHECK(translucid_material_destroy(g_ctx, material));
