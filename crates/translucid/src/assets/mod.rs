@@ -357,7 +357,7 @@ impl GpuScene {
         fragment: &[u8],
         depth_write: bool,
         blend: crate::gpu::Blend,
-    ) -> Result<(GraphicsPipeline, GraphicsPipeline)> {
+    ) -> Result<(Arc<GraphicsPipeline>, Arc<GraphicsPipeline>)> {
         self.mesh_pipelines_with(
             gpu,
             render_pass,
@@ -381,11 +381,11 @@ impl GpuScene {
         fragment: &[u8],
         extra_sets: &[&DescriptorLayout],
         state: &PipelineState<'_>,
-    ) -> Result<(GraphicsPipeline, GraphicsPipeline)> {
+    ) -> Result<(Arc<GraphicsPipeline>, Arc<GraphicsPipeline>)> {
         let mut sets = vec![&self.layout, &self.resident.texture_layout];
         sets.extend_from_slice(extra_sets);
         let pipeline = |cull_back| {
-            GraphicsPipeline::with_state(
+            GraphicsPipeline::shared(
                 gpu,
                 &GraphicsPipelineDesc {
                     vertex: crate::spirv!("scene/mesh.vert"),

@@ -136,6 +136,14 @@ impl AttachmentPass {
         // SAFETY: valid device; every pointee lives for the call.
         let render_pass = unsafe { gpu.device.create_render_pass(&info, None) }
             .map_err(vk_err("vkCreateRenderPass"))?;
+        gpu.note_render_pass(
+            render_pass,
+            super::pipeline::render_pass_definition(
+                &descriptions,
+                colour_refs.len(),
+                depth_ref.is_some(),
+            ),
+        );
         let views: Vec<_> = colours
             .iter()
             .chain(depth.map(|d| &d.attachment))
@@ -151,6 +159,7 @@ impl AttachmentPass {
         let framebuffer = match unsafe { gpu.device.create_framebuffer(&fb_info, None) } {
             Ok(f) => f,
             Err(e) => {
+                gpu.forget_render_pass(render_pass);
                 // SAFETY: unused render pass.
                 unsafe { gpu.device.destroy_render_pass(render_pass, None) };
                 return Err(vk_err("vkCreateFramebuffer")(e));
@@ -214,6 +223,7 @@ impl Drop for AttachmentPass {
         // SAFETY: no pending work uses them.
         unsafe {
             self.gpu.device.destroy_framebuffer(self.framebuffer, None);
+            self.gpu.forget_render_pass(self.render_pass);
             self.gpu.device.destroy_render_pass(self.render_pass, None);
         }
     }
@@ -227,8 +237,8 @@ pub fn fullscreen_pipeline(
     fragment: &[u8],
     sets: &[&super::DescriptorLayout],
     state: &super::PipelineState<'_>,
-) -> Result<super::GraphicsPipeline> {
-    super::GraphicsPipeline::with_state(
+) -> Result<std::sync::Arc<super::GraphicsPipeline>> {
+    super::GraphicsPipeline::shared(
         gpu,
         &super::GraphicsPipelineDesc {
             vertex: crate::spirv!("scene/fullscreen.vert"),

@@ -99,7 +99,11 @@ pub struct Shared {
     pipeline_cache_lock: RwLock<()>,
     /// The compute pipelines the device's renderers use, shared between them (see
     /// `pipeline_cache.rs`).
-    pub(crate) compute_pipelines: super::pipeline_cache::SharedPipelines,
+    pub(crate) compute_pipelines: super::pipeline_cache::SharedComputePipelines,
+    /// The same for graphics pipelines, and the render passes they may be made for, by the
+    /// definition that makes passes compatible (attachment formats and samples).
+    pub(crate) graphics_pipelines: super::pipeline::SharedGraphicsPipelines,
+    pub(crate) render_passes: Mutex<std::collections::HashMap<vk::RenderPass, Vec<i64>>>,
     /// Held while a submission records, submits and waits: the queue, the command pool and
     /// the reused command buffer and fence are externally synchronised objects.
     pub(crate) submitting: Mutex<()>,
@@ -353,6 +357,8 @@ impl Gpu {
                 pipeline_cache: OnceLock::new(),
                 pipeline_cache_lock: RwLock::new(()),
                 compute_pipelines: Default::default(),
+                graphics_pipelines: Default::default(),
+                render_passes: Default::default(),
                 submitting: Mutex::new(()),
                 info,
             }))),
@@ -391,6 +397,8 @@ impl Gpu {
             pipeline_cache: OnceLock::new(),
             pipeline_cache_lock: RwLock::new(()),
             compute_pipelines: Default::default(),
+            graphics_pipelines: Default::default(),
+            render_passes: Default::default(),
             submitting: Mutex::new(()),
             info,
         })))

@@ -42,7 +42,7 @@ pub struct DepthImport {
     gpu: Gpu,
     slots: Vec<Option<SlotInput>>,
     /// Writing depth as sampled, and as sampled turned around (reversed-Z).
-    pipelines: [GraphicsPipeline; 2],
+    pipelines: [std::sync::Arc<GraphicsPipeline>; 2],
     pass: AttachmentPass,
     sampler: Sampler,
     layout: DescriptorLayout,

@@ -4,6 +4,7 @@ use super::error::vk_err;
 use super::{Buffer, Gpu};
 use crate::{scene, Result};
 use ash::vk;
+use std::sync::Arc;
 
 /// What a descriptor binding holds.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -460,7 +461,7 @@ impl Drop for ComputePipeline {
 }
 
 /// How a graphics pipeline blends into its single colour attachment.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Blend {
     /// Overwrite.
     None,
@@ -512,7 +513,7 @@ impl Blend {
 }
 
 /// How a pipeline tests and writes depth.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum DepthMode {
     /// No depth test (the pass may still have a depth attachment).
     Off,
@@ -549,6 +550,58 @@ pub struct GraphicsPipelineDesc<'a> {
     pub push_bytes: u32,
 }
 
+/// A graphics pipeline as the device knows it (see `pipeline_cache.rs`): its shaders, state,
+/// descriptor layouts' definitions and its render pass's definition.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub(crate) struct GraphicsKey {
+    vertex: (usize, u64),
+    fragment: (usize, u64),
+    vertex_stride: u32,
+    attributes: Vec<(u32, i32, u32)>,
+    cull_back: bool,
+    blends: Vec<Blend>,
+    depth: DepthMode,
+    fragment_constants: Vec<u32>,
+    vertex_input: bool,
+    render_pass: Vec<i64>,
+    sets: Vec<(Vec<BindingKind>, u32)>,
+    push_bytes: u32,
+}
+
+/// The graphics pipelines of a device.
+pub(crate) type SharedGraphicsPipelines =
+    super::pipeline_cache::SharedPipelines<GraphicsKey, GraphicsPipeline>;
+
+/// What makes render passes compatible, as pipeline keys take it: each attachment's format
+/// and samples, and the subpass's colour attachments and depth.
+pub(crate) fn render_pass_definition(
+    attachments: &[vk::AttachmentDescription],
+    colours: usize,
+    depth: bool,
+) -> Vec<i64> {
+    let mut words = vec![colours as i64, i64::from(depth)];
+    for a in attachments {
+        words.push(i64::from(a.format.as_raw()));
+        words.push(i64::from(a.samples.as_raw()));
+    }
+    words
+}
+
+impl Gpu {
+    /// Notes `render_pass`'s definition, so that pipelines made for it are shared with the
+    /// passes it is compatible with.
+    pub(crate) fn note_render_pass(&self, render_pass: vk::RenderPass, definition: Vec<i64>) {
+        let mut passes = self.render_passes.lock().unwrap_or_else(|e| e.into_inner());
+        passes.insert(render_pass, definition);
+    }
+
+    /// Forgets `render_pass`, about to be destroyed.
+    pub(crate) fn forget_render_pass(&self, render_pass: vk::RenderPass) {
+        let mut passes = self.render_passes.lock().unwrap_or_else(|e| e.into_inner());
+        passes.remove(&render_pass);
+    }
+}
+
 /// A graphics pipeline (dynamic viewport and scissor) and its layout.
 pub struct GraphicsPipeline {
     gpu: Gpu,
@@ -568,6 +621,48 @@ impl GraphicsPipeline {
                 vertex_input: true,
             },
         )
+    }
+
+    /// Like [`Self::with_state`], but shared: a renderer on the same device holding a pipeline
+    /// made from the same shaders and state, for a compatible render pass and identically
+    /// defined descriptor layouts, hands it over instead of a new one being compiled.
+    pub fn shared(
+        gpu: &Gpu,
+        desc: &GraphicsPipelineDesc<'_>,
+        state: &PipelineState<'_>,
+    ) -> Result<Arc<Self>> {
+        let pass = {
+            let passes = gpu.render_passes.lock().unwrap_or_else(|e| e.into_inner());
+            passes.get(&desc.render_pass).cloned()
+        };
+        let Some(render_pass) = pass else {
+            return Ok(Arc::new(Self::with_state(gpu, desc, state)?));
+        };
+        use super::pipeline_cache::{layout_definitions, spirv_hash};
+        let key = GraphicsKey {
+            vertex: (desc.vertex.len(), spirv_hash(desc.vertex)),
+            fragment: (desc.fragment.len(), spirv_hash(desc.fragment)),
+            vertex_stride: desc.vertex_stride,
+            attributes: desc
+                .attributes
+                .iter()
+                .map(|&(l, f, o)| (l, f.as_raw(), o))
+                .collect(),
+            cull_back: desc.cull_back,
+            blends: state.blends.to_vec(),
+            depth: state.depth,
+            fragment_constants: state.fragment_constants.to_vec(),
+            vertex_input: state.vertex_input,
+            render_pass,
+            sets: layout_definitions(desc.sets),
+            push_bytes: desc.push_bytes,
+        };
+        if let Some(p) = gpu.graphics_pipelines.get(&key) {
+            return Ok(p);
+        }
+        let p = Arc::new(Self::with_state(gpu, desc, state)?);
+        gpu.graphics_pipelines.insert(key, &p);
+        Ok(p)
     }
 
     /// A pipeline with several colour attachments, another depth mode, specialization
@@ -884,6 +979,7 @@ impl RenderTarget {
         // SAFETY: valid device; pointees live for the call.
         let render_pass = unsafe { gpu.device.create_render_pass(&info, None) }
             .map_err(vk_err("vkCreateRenderPass"))?;
+        gpu.note_render_pass(render_pass, render_pass_definition(&attachments, 1, true));
         let views = [colour.view, depth.view];
         let fb_info = vk::FramebufferCreateInfo::default()
             .render_pass(render_pass)
@@ -895,6 +991,7 @@ impl RenderTarget {
         let framebuffer = match unsafe { gpu.device.create_framebuffer(&fb_info, None) } {
             Ok(f) => f,
             Err(e) => {
+                gpu.forget_render_pass(render_pass);
                 // SAFETY: unused render pass.
                 unsafe { gpu.device.destroy_render_pass(render_pass, None) };
                 return Err(vk_err("vkCreateFramebuffer")(e));
@@ -944,6 +1041,7 @@ impl Drop for RenderTarget {
         // SAFETY: no pending work uses them.
         unsafe {
             self.gpu.device.destroy_framebuffer(self.framebuffer, None);
+            self.gpu.forget_render_pass(self.render_pass);
             self.gpu.device.destroy_render_pass(self.render_pass, None);
         }
     }

@@ -31,32 +31,40 @@ struct Key {
 /// descriptor layouts and push constants it was made with, so that a renderer whose own
 /// (identically defined) layouts differ in handle only binds its sets to it.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
-struct SharedKey {
+pub(crate) struct SharedKey {
     shader: Key,
     layouts: Vec<(Vec<BindingKind>, u32)>,
     push_bytes: u32,
 }
 
-/// The compute pipelines alive on a device, by what they were made from. Held weakly:
-/// a pipeline lives as long as a renderer holds it (holding it strongly here would keep the
-/// device alive through the pipeline's own reference to it).
-#[derive(Default)]
-pub(crate) struct SharedPipelines(Mutex<HashMap<SharedKey, Weak<ComputePipeline>>>);
+/// The pipelines alive on a device, by what they were made from. Held weakly: a pipeline
+/// lives as long as a renderer holds it (holding it strongly here would keep the device
+/// alive through the pipeline's own reference to it).
+pub(crate) struct SharedPipelines<K, P>(Mutex<HashMap<K, Weak<P>>>);
 
-impl SharedPipelines {
-    fn get(&self, key: &SharedKey) -> Option<Arc<ComputePipeline>> {
+impl<K, P> Default for SharedPipelines<K, P> {
+    fn default() -> Self {
+        Self(Mutex::new(HashMap::new()))
+    }
+}
+
+impl<K: Eq + std::hash::Hash, P> SharedPipelines<K, P> {
+    pub(crate) fn get(&self, key: &K) -> Option<Arc<P>> {
         let map = self.0.lock().unwrap_or_else(|e| e.into_inner());
         map.get(key).and_then(Weak::upgrade)
     }
 
-    fn insert(&self, key: SharedKey, pipeline: &Arc<ComputePipeline>) {
+    pub(crate) fn insert(&self, key: K, pipeline: &Arc<P>) {
         let mut map = self.0.lock().unwrap_or_else(|e| e.into_inner());
         map.retain(|_, p| p.strong_count() > 0);
         map.insert(key, Arc::downgrade(pipeline));
     }
 }
 
-fn spirv_hash(spirv: &[u8]) -> u64 {
+/// The compute pipelines of a device.
+pub(crate) type SharedComputePipelines = SharedPipelines<SharedKey, ComputePipeline>;
+
+pub(crate) fn spirv_hash(spirv: &[u8]) -> u64 {
     use std::hash::{Hash, Hasher};
     let mut h = std::collections::hash_map::DefaultHasher::new();
     spirv.hash(&mut h);
@@ -89,13 +97,7 @@ impl ComputePipelineCache {
         }
         let shared_key = SharedKey {
             shader: key.clone(),
-            layouts: layouts
-                .iter()
-                .map(|l| {
-                    let (kinds, stages): (&[BindingKind], vk::ShaderStageFlags) = l.definition();
-                    (kinds.to_vec(), stages.as_raw())
-                })
-                .collect(),
+            layouts: layout_definitions(layouts),
             push_bytes: self.push_bytes,
         };
         let p = match gpu.compute_pipelines.get(&shared_key) {
@@ -115,4 +117,15 @@ impl ComputePipelineCache {
         self.built.insert(key, p.clone());
         Ok(p)
     }
+}
+
+/// The definitions of descriptor set layouts, as pipeline keys take them.
+pub(crate) fn layout_definitions(layouts: &[&DescriptorLayout]) -> Vec<(Vec<BindingKind>, u32)> {
+    layouts
+        .iter()
+        .map(|l| {
+            let (kinds, stages): (&[BindingKind], vk::ShaderStageFlags) = l.definition();
+            (kinds.to_vec(), stages.as_raw())
+        })
+        .collect()
 }

@@ -12,7 +12,10 @@ use crate::{Error, Result};
 pub struct Blend {
     target: RenderTarget,
     /// (back faces kept, back faces culled)
-    pipelines: (GraphicsPipeline, GraphicsPipeline),
+    pipelines: (
+        std::sync::Arc<GraphicsPipeline>,
+        std::sync::Arc<GraphicsPipeline>,
+    ),
 }
 
 impl Blend {

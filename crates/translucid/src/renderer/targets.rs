@@ -12,7 +12,10 @@ use glam::{Vec3, Vec4};
 /// Renders the opaque draws into cleared colour and depth.
 pub struct OpaquePass {
     target: RenderTarget,
-    pipelines: (GraphicsPipeline, GraphicsPipeline),
+    pipelines: (
+        std::sync::Arc<GraphicsPipeline>,
+        std::sync::Arc<GraphicsPipeline>,
+    ),
 }
 
 impl OpaquePass {

@@ -10,6 +10,7 @@ use crate::gpu::{
 };
 use crate::methods::RecordContext;
 use crate::Result;
+use std::sync::Arc;
 
 /// Colour attachments one draw may write (the Vulkan minimum, and lavapipe's limit).
 const MAX_ATTACHMENTS: usize = 8;
@@ -18,7 +19,7 @@ const MAX_TEXELS: usize = 12;
 
 const BOUNDS_FORMAT: vk::Format = vk::Format::R32G32_SFLOAT;
 
-type Pair = (GraphicsPipeline, GraphicsPipeline);
+type Pair = (Arc<GraphicsPipeline>, Arc<GraphicsPipeline>);
 
 /// SPIR-V of the rank's accumulate, resolve and shade shaders: the rank is compiled in, so
 /// that every loop over coefficients unrolls to constant indices.
@@ -64,7 +65,7 @@ pub struct Passes {
     bounds_set: DescriptorSet,
     accumulations: Vec<Accumulation>,
     resolve_pass: AttachmentPass,
-    resolve_pipeline: GraphicsPipeline,
+    resolve_pipeline: Arc<GraphicsPipeline>,
     resolve_set: DescriptorSet,
     shade_pass: AttachmentPass,
     shade_pipelines: Pair,

@@ -20,6 +20,7 @@ use crate::gpu::{
     PipelineState, Resource, Sampler,
 };
 use crate::Result;
+use std::sync::Arc;
 
 const SUM_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
 
@@ -27,9 +28,9 @@ pub struct Wboit {
     /// Weighted radiance, weighted opacity, absorbance.
     _images: [GpuImage; 3],
     accumulate: AttachmentPass,
-    accumulate_pipelines: (GraphicsPipeline, GraphicsPipeline),
+    accumulate_pipelines: (Arc<GraphicsPipeline>, Arc<GraphicsPipeline>),
     composite: AttachmentPass,
-    composite_pipeline: GraphicsPipeline,
+    composite_pipeline: Arc<GraphicsPipeline>,
     _sampler: Sampler,
     _layout: DescriptorLayout,
     set: DescriptorSet,
