@@ -378,7 +378,12 @@ fn a_renderer_takes_the_pipelines_another_holds() {
             "{method}: a second renderer compiled its own pipelines"
         );
         if method == "exact" || method == "wavelet" {
-            check(&format!("shared_pipelines_{method}"), method, &scene, &frame);
+            check(
+                &format!("shared_pipelines_{method}"),
+                method,
+                &scene,
+                &frame,
+            );
         }
     }
 }
