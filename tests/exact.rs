@@ -590,3 +590,42 @@ fn exact_resumes_the_last_bands_rows_in_the_empty_bands_after_it() {
     assert_eq!(frame.rerenders, 0, "{:?}", frame.stages);
     assert_eq!(frame.bands, 1);
 }
+
+/// Frames recorded without setup's occlusion cull (it is left out while it drops less than
+/// a 32nd of the triangles: its depth pyramid costs more than it saves on CPU drivers) are
+/// as right as culled ones: the raster depth-tests every fragment. Over opaque layers with a
+/// near patch: a large one (the cull drops many triangles and stays), a small one (it drops
+/// a few and is left out), then the small one moved, where a cull reading the last frame's
+/// pyramid would drop visible triangles.
+#[test]
+fn frames_with_and_without_the_occlusion_cull_match_the_reference() {
+    let gpu = gpu();
+    let scene = scene::load("particles").expect("scene");
+    let (width, height) = (96u32, 64u32);
+    let mut renderer =
+        Renderer::new(&gpu, &scene, MethodKind::Exact, width, height).expect("renderer");
+    let patches = [
+        (8, 8, 80, 56),
+        (8, 24, 32, 40),
+        (40, 24, 64, 40),
+        (60, 8, 84, 24),
+    ];
+    for (i, &(x0, y0, x1, y1)) in patches.iter().enumerate() {
+        let mut layer = translucid::OpaqueLayer::clear(width, height, Vec3::new(0.1, 0.2, 0.3));
+        for y in y0..y1 {
+            for x in x0..x1 {
+                layer.depth[(y * width + x) as usize] = 0.0;
+            }
+        }
+        let frame = renderer.render_over(&layer).expect("frame");
+        let expected = translucid::reference::render(&scene, &layer).expect("reference");
+        let m = metrics::compare(&frame.image, &expected).expect("same size");
+        assert!(
+            m.max_error <= TOLERANCE,
+            "frame {i} off by {:.1}/255 on {} pixels; see {}",
+            m.max_error * 255.0,
+            m.pixels_over,
+            save_failure(&format!("exact_occlusion_{i}"), &frame.image, &expected).display()
+        );
+    }
+}

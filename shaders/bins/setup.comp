@@ -30,6 +30,10 @@ layout(constant_id = 2) const bool VERTEX_NORMALS = true;    // some lit draw ha
 layout(constant_id = 3) const bool FACE_NORMALS = true;      // some lit draw has none
 layout(constant_id = 9) const bool VERTEX_COLOURS = true;    // some mesh has vertex colours
 layout(constant_id = 10) const bool FLAT_COLOURS = false;    // each quad has one colour
+// Setup without the occlusion cull (and without the depth pyramid it reads), which the host
+// records while the cull drops next to nothing: on CPU drivers the pyramid costs about a
+// millisecond a frame (methods/bins/mod.rs). The raster depth-tests every fragment anyway.
+layout(constant_id = 4) const bool SKIP_OCCLUSION_CULL = false;
 
 // The transparent draw holding global quad `item` (draws are sorted by firstItem).
 uint findDraw(uint item) {
@@ -368,8 +372,17 @@ void main() {
         BinHomogeneous h;
         bool homogeneous;
         bool front;
-        bool visible = setupTriangle(c, t, v, negated, h, homogeneous, front) &&
-                       !(cullBack && !front) && (homogeneous || !behindOpaque(t));
+        bool drawn = setupTriangle(c, t, v, negated, h, homogeneous, front) &&
+                     !(cullBack && !front);
+        bool occluded = !SKIP_OCCLUSION_CULL && drawn && !homogeneous && behindOpaque(t);
+        bool visible = drawn && !occluded;
+        if (!SKIP_OCCLUSION_CULL) {
+            // What the cull is worth, for the host's choice: one atomic per subgroup.
+            uint dropped = subgroupBallotBitCount(subgroupBallot(occluded));
+            if (dropped > 0u && subgroupElect()) {
+                atomicAdd(g_counters.occludedCount, dropped);
+            }
+        }
         if (visible && homogeneous) {
             uint hi = atomicAdd(g_counters.homogeneousCount, 1u);
             if (hi >= g_counters.homogeneousCapacity) {

@@ -5,7 +5,9 @@
 //! 0. `depth_pyramid`: the farthest opaque depth per 8×8 block and over ever larger cells.
 //! 1. `setup`: per transparent quad, transform, set up its triangles (fixed-point or
 //!    homogeneous), cull (back faces, off screen, wholly behind the opaque layer by the
-//!    pyramid), append visible triangles. Binning runs for as many triangles as setup kept
+//!    pyramid), append visible triangles. The occlusion cull, and the pyramid with it, is
+//!    left out of the next `OCCLUSION_REST` frames when a frame's dropped less than a
+//!    `OCCLUSION_WORTH`th of the triangles it kept (the raster depth-tests every fragment). Binning runs for as many triangles as setup kept
 //!    (an indirect dispatch setup sizes).
 //! 2. `bin_count`, `bin_scan`, `bin_fill`: per bin (one row of an 8×8-pixel block), count the
 //!    triangles that may cover it, prefix-sum the counts and list the blocks with entries,
@@ -115,6 +117,8 @@ struct StagePipelines {
     /// a band's plan.
     scan_steps: [Arc<ComputePipeline>; 4],
     bin_fill: Arc<ComputePipeline>,
+    /// Setup without the occlusion cull, for frames recorded without the depth pyramid.
+    setup_unculled: Arc<ComputePipeline>,
 }
 
 impl StagePipelines {
@@ -133,6 +137,9 @@ impl StagePipelines {
         let mut setup = features.constants(false);
         setup[4..6].fill(0);
         setup[7..9].fill(0);
+        // Constant 4 of setup: SKIP_OCCLUSION_CULL.
+        let mut setup_unculled = setup;
+        setup_unculled[4] = 1;
         let binning = features.binning_constants();
         let scan_step = |n: u32| {
             let mut constants = binning;
@@ -153,6 +160,7 @@ impl StagePipelines {
                 stage(scan, &scan_step(3))?,
             ],
             bin_fill: stage(crate::spirv!("bins/bin_fill.comp"), &binning)?,
+            setup_unculled: stage(crate::spirv!("bins/setup.comp"), &setup_unculled)?,
         })
     }
 }
@@ -178,7 +186,16 @@ pub struct BinsDone {
 struct Recorded {
     features: RasterFeatures,
     capacities: Capacities,
+    /// With setup's occlusion cull (and the depth pyramid it reads).
+    culled: bool,
 }
+
+/// Frames recorded without the occlusion cull once a frame's cull dropped less than
+/// 1/OCCLUSION_WORTH of the triangles it kept, before one is recorded with it again to
+/// see whether it has become worth its depth pyramid (about a millisecond a frame at
+/// 1280x720 on lavapipe; microseconds on a GPU, where the rule seldom matters).
+const OCCLUSION_REST: u32 = 30;
+const OCCLUSION_WORTH: u32 = 32;
 
 pub struct Bins {
     gpu: Gpu,
@@ -197,6 +214,8 @@ pub struct Bins {
     features: RasterFeatures,
     /// Tests start without the near-plane path whatever the frame (BinOptions).
     fixed_path_forced: bool,
+    /// Frames still to record without the occlusion cull.
+    unculled_frames: u32,
     /// The GPU found a near-plane triangle the host's estimate missed: later frames keep the
     /// near-plane path rather than render again.
     homogeneous_missed: bool,
@@ -302,11 +321,13 @@ impl Bins {
             push,
             features,
             fixed_path_forced: options.assume_fixed_path,
+            unculled_frames: 0,
             homogeneous_missed: false,
             recorded: vec![
                 Recorded {
                     features,
                     capacities,
+                    culled: true,
                 };
                 uploaded.slot_count()
             ],
@@ -415,9 +436,12 @@ impl Bins {
         // Buffers grown after the last frame: the slot's set names the new ones.
         self.resources.refresh_set(ctx.targets)?;
         self.resources.retirement.recorded();
+        let culled = self.unculled_frames == 0;
+        self.unculled_frames = self.unculled_frames.saturating_sub(1);
         self.recorded[ctx.slot] = Recorded {
             features: self.features,
             capacities: self.resources.capacities,
+            culled,
         };
         self.resources.record_reset(cmd, self.features.rows);
         // Setup's occlusion cull reads the opaque depth (through the pyramid), as does the
@@ -425,19 +449,22 @@ impl Bins {
         self.targets_to_raster(ctx, OPAQUE_PASS_WRITES);
         let cells = self.push.bins_x * self.push.bins_y;
         let s = &self.stages;
-        self.dispatch(
-            ctx,
-            &s.depth_pyramid,
-            [cells.div_ceil(PYRAMID_GROUP_SIZE), 1, 1],
-        );
-        self.compute_to_compute(cmd);
-        self.dispatch(ctx, &s.pyramid_top, [1, 1, 1]);
-        self.compute_to_compute(cmd);
+        if culled {
+            self.dispatch(
+                ctx,
+                &s.depth_pyramid,
+                [cells.div_ceil(PYRAMID_GROUP_SIZE), 1, 1],
+            );
+            self.compute_to_compute(cmd);
+            self.dispatch(ctx, &s.pyramid_top, [1, 1, 1]);
+            self.compute_to_compute(cmd);
+        }
         ctx.timestamps.mark(cmd, "depth pyramid");
 
         let items = self.push.item_count;
         if items > 0 {
-            self.dispatch(ctx, &s.setup, [items.div_ceil(64), 1, 1]);
+            let setup = if culled { &s.setup } else { &s.setup_unculled };
+            self.dispatch(ctx, setup, [items.div_ceil(64), 1, 1]);
         }
         self.compute_to_compute(cmd);
         ctx.timestamps.mark(cmd, "setup");
@@ -687,6 +714,11 @@ impl Bins {
         let features_changed = features != self.features;
         if features_changed {
             self.select(done.uploaded, features)?;
+        }
+        if recorded.culled
+            && counters.occluded_count.saturating_mul(OCCLUSION_WORTH) < counters.triangle_count
+        {
+            self.unculled_frames = OCCLUSION_REST;
         }
         // Lists past their capacity were rasterized in bands, and rows with no state slot
         // started over: right, unless some blocks were left untouched (degraded). Missing
