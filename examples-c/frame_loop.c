@@ -435,30 +435,33 @@ static translucid_material make_material(float r, float g, float b, float a, uin
     return material;
 }
 
-static void make_scene(scene *s, uint32_t extra_draws) {
-    static const float pane[] = {-0.7f, -0.7f, 0, 0.7f, -0.7f, 0, 0.7f, 0.7f, 0, -0.7f, 0.7f, 0};
-    static const uint32_t quad[] = {0, 1, 2, 3};
-    static uint32_t particle_quads[PARTICLES * 4];
+/* A mesh of `vertex_count` vertices, one quad for each four of them in order. */
+static translucid_mesh make_quads(const float *positions, uint32_t vertex_count,
+                                  const char *name) {
+    static uint32_t corners[PARTICLES * 4];
     translucid_mesh_create_info mesh;
-    int i;
-
+    translucid_mesh made;
+    uint32_t i;
+    for (i = 0; i < vertex_count; i++) corners[i] = i;
     memset(&mesh, 0, sizeof mesh);
     mesh.s_type = TRANSLUCID_STRUCTURE_TYPE_MESH_CREATE_INFO;
     mesh.primitive = TRANSLUCID_PRIMITIVE_QUADS;
-    mesh.vertex_count = 4;
-    mesh.positions = pane;
-    mesh.index_count = 4;
-    mesh.indices = quad;
-    mesh.name = "pane";
-    CHECK(translucid_mesh_create(g_context, &mesh, &s->pane));
-    for (i = 0; i < PARTICLES * 4; i++) particle_quads[i] = (uint32_t)i;
+    mesh.vertex_count = vertex_count;
+    mesh.positions = positions;
+    mesh.index_count = vertex_count;
+    mesh.indices = corners;
+    mesh.name = name;
+    CHECK(translucid_mesh_create(g_context, &mesh, &made));
+    return made;
+}
+
+static void make_scene(scene *s, uint32_t extra_draws) {
+    static const float pane[] = {-0.7f, -0.7f, 0, 0.7f, -0.7f, 0, 0.7f, 0.7f, 0, -0.7f, 0.7f, 0};
+    int i;
+
+    s->pane = make_quads(pane, 4, "pane");
     place_particles(s, 0);
-    mesh.vertex_count = PARTICLES * 4;
-    mesh.positions = s->particle_positions;
-    mesh.index_count = PARTICLES * 4;
-    mesh.indices = particle_quads;
-    mesh.name = "particles";
-    CHECK(translucid_mesh_create(g_context, &mesh, &s->particles));
+    s->particles = make_quads(s->particle_positions, PARTICLES * 4, "particles");
     s->glass[0] = make_material(1.0f, 0.15f, 0.1f, 0.5f, 0);
     s->glass[1] = make_material(0.1f, 1.0f, 0.2f, 0.5f, 0);
     s->glass[2] = make_material(0.1f, 0.3f, 1.0f, 0.5f, 0);
@@ -509,18 +512,8 @@ static void move_panes(scene *s, int k) {
  * (its own mesh and material, created now), drawn from the next frame on. */
 static void stream_in_pane(scene *s) {
     static const float pane[] = {-0.3f, -0.5f, 0, 0.3f, -0.5f, 0, 0.3f, 0.5f, 0, -0.3f, 0.5f, 0};
-    static const uint32_t quad[] = {0, 1, 2, 3};
-    translucid_mesh_create_info mesh;
     translucid_draw *d = &s->draws[s->draw_count];
-    memset(&mesh, 0, sizeof mesh);
-    mesh.s_type = TRANSLUCID_STRUCTURE_TYPE_MESH_CREATE_INFO;
-    mesh.primitive = TRANSLUCID_PRIMITIVE_QUADS;
-    mesh.vertex_count = 4;
-    mesh.positions = pane;
-    mesh.index_count = 4;
-    mesh.indices = quad;
-    mesh.name = "streamed pane";
-    CHECK(translucid_mesh_create(g_context, &mesh, &s->streamed));
+    s->streamed = make_quads(pane, 4, "streamed pane");
     s->amber = make_material(1.0f, 0.6f, 0.1f, 0.45f, 0);
     d->mesh = s->streamed;
     d->material = s->amber;

@@ -25,21 +25,10 @@ fn main() -> translucid::Result<()> {
         for method in [MethodKind::Exact, MethodKind::Wavelet, MethodKind::Blend] {
             let mut previous: Option<Renderer> = None;
             for round in 0..3 {
-                let pipelines = gpu.pipelines_created();
-                let started = Instant::now();
+                let started = start(&gpu);
                 let mut renderer = Renderer::new(&gpu, &scene, method, 1280, 720)?;
-                let made = ms(started);
-                let started = Instant::now();
-                renderer.render(false)?;
-                let first = ms(started);
-                let started = Instant::now();
-                renderer.render(false)?;
-                let second = ms(started);
-                println!(
-                    "{path} {method:?} renderer {round}: made in {made:.1} ms, first frame \
-                     {first:.1} ms, second {second:.1} ms, {} pipelines compiled",
-                    gpu.pipelines_created() - pipelines
-                );
+                let what = format!("{round}, uploading the scene");
+                report(&gpu, &path, method, &what, started, &mut renderer)?;
                 // The next renderer is made while this one lives, as in the C API.
                 previous.replace(renderer);
             }
@@ -52,10 +41,11 @@ fn main() -> translucid::Result<()> {
                 frames_in_flight: 1,
             };
             let options = MethodOptions::default();
-            let started = Instant::now();
+            let started = start(&gpu);
             let shared = last.resident().clone();
             let mut renderer = Renderer::sharing(&gpu, shared, &scene, method, shape, &options)?;
             report(
+                &gpu,
                 &path,
                 method,
                 "sharing the uploads, 960x540",
@@ -72,7 +62,7 @@ fn main() -> translucid::Result<()> {
                     .push(scene.meshes[scene.transparent[i].mesh].clone());
                 grown.transparent[i].mesh = scene.meshes.len();
             }
-            let started = Instant::now();
+            let started = start(&gpu);
             let Some(extended) = last.resident().extended(&gpu, &grown)? else {
                 println!("{path} {method:?}: no room to extend the uploads");
                 continue;
@@ -85,6 +75,7 @@ fn main() -> translucid::Result<()> {
             let mut renderer =
                 Renderer::sharing(&gpu, Arc::new(extended), &grown, method, shape, &options)?;
             report(
+                &gpu,
                 &path,
                 method,
                 "over the uploads and one more mesh",
@@ -96,24 +87,40 @@ fn main() -> translucid::Result<()> {
     Ok(())
 }
 
-/// Prints the time since `started` (the renderer made) and of its first two frames.
+/// When a renderer began to be made, and the device's pipelines then.
+struct Started {
+    at: Instant,
+    pipelines: u64,
+}
+
+fn start(gpu: &Gpu) -> Started {
+    Started {
+        at: Instant::now(),
+        pipelines: gpu.pipelines_created(),
+    }
+}
+
+/// Prints the time since `started` (the renderer made) and of its first two frames, and the
+/// pipelines compiled since.
 fn report(
+    gpu: &Gpu,
     path: &str,
     method: MethodKind,
     what: &str,
-    started: Instant,
+    started: Started,
     renderer: &mut Renderer,
 ) -> translucid::Result<()> {
-    let made = ms(started);
-    let started = Instant::now();
+    let made = ms(started.at);
+    let started_frame = Instant::now();
     renderer.render(false)?;
-    let first = ms(started);
-    let started = Instant::now();
+    let first = ms(started_frame);
+    let started_frame = Instant::now();
     renderer.render(false)?;
     println!(
         "{path} {method:?} renderer {what}: made in {made:.1} ms, first frame {first:.1} ms, \
-         second {:.1} ms",
-        ms(started)
+         second {:.1} ms, {} pipelines compiled",
+        ms(started_frame),
+        gpu.pipelines_created() - started.pipelines
     );
     Ok(())
 }

@@ -165,20 +165,54 @@ static void exact_threshold(float threshold, float want, translucid_mesh quad,
     CHECK(translucid_frame_destroy(g_ctx, frame));
 }
 
+/* A quad of four corners (12 floats) as two triangles, with texture coordinates (8 floats)
+ * or none. */
+static translucid_mesh quad_mesh(const float *positions, const float *uvs) {
+    static const uint32_t triangles[] = {0, 1, 2, 0, 2, 3};
+    translucid_mesh_create_info info;
+    translucid_mesh mesh;
+    memset(&info, 0, sizeof info);
+    info.s_type = TRANSLUCID_STRUCTURE_TYPE_MESH_CREATE_INFO;
+    info.primitive = TRANSLUCID_PRIMITIVE_TRIANGLES;
+    info.vertex_count = 4;
+    info.positions = positions;
+    info.uvs = uvs;
+    info.index_count = 6;
+    info.indices = triangles;
+    CHECK(translucid_mesh_create(g_ctx, &info, &mesh));
+    return mesh;
+}
+
+static const translucid_texture NO_TEXTURE = {0};
+
+/* An unlit material of linear base colour (r, g, b) and coverage a, with `texture`
+ * (NO_TEXTURE for none). */
+static translucid_material plain_material(float r, float g, float b, float a,
+                                          translucid_texture texture) {
+    translucid_material_create_info info;
+    translucid_material material;
+    memset(&info, 0, sizeof info);
+    info.s_type = TRANSLUCID_STRUCTURE_TYPE_MATERIAL_CREATE_INFO;
+    info.base_colour[0] = r;
+    info.base_colour[1] = g;
+    info.base_colour[2] = b;
+    info.base_colour[3] = a;
+    info.texture = texture;
+    CHECK(translucid_material_create(g_ctx, &info, &material));
+    return material;
+}
+
 /* A 2x1 black and white texture, nearest, on a quad whose u runs from -0.29 at the left pixel
    to 1.29 at the right one (u = 0.5 + x / 2 at z = -2): columns 7 and 8 straddle u = 0.5, and
    the wrap mode decides the outer ones. Opaque texels over black: the pixel is the texel. */
 static void sampled_texture(uint32_t method, uint32_t wrap, float left, float right) {
     static const float positions[] = {-5, -5, -2, 5, -5, -2, 5, 5, -2, -5, 5, -2};
     static const float uvs[] = {-2, 0, 3, 0, 3, 1, -2, 1};
-    static const uint32_t triangles[] = {0, 1, 2, 0, 2, 3};
     static const uint8_t texels[] = {0, 0, 0, 255, 255, 255, 255, 255};
     translucid_frame_info info = base_frame(method);
-    translucid_mesh_create_info mesh_info;
     translucid_sampler_info sampler;
     translucid_texture_create_info texture_info;
-    translucid_material_create_info material_info;
-    translucid_mesh mesh;
+    translucid_mesh mesh = quad_mesh(positions, uvs);
     translucid_texture texture;
     translucid_material material;
     translucid_draw draw;
@@ -187,15 +221,6 @@ static void sampled_texture(uint32_t method, uint32_t wrap, float left, float ri
     size_t row;
     char what[64], text[96];
 
-    memset(&mesh_info, 0, sizeof mesh_info);
-    mesh_info.s_type = TRANSLUCID_STRUCTURE_TYPE_MESH_CREATE_INFO;
-    mesh_info.primitive = TRANSLUCID_PRIMITIVE_TRIANGLES;
-    mesh_info.vertex_count = 4;
-    mesh_info.positions = positions;
-    mesh_info.uvs = uvs;
-    mesh_info.index_count = 6;
-    mesh_info.indices = triangles;
-    CHECK(translucid_mesh_create(g_ctx, &mesh_info, &mesh));
     memset(&sampler, 0, sizeof sampler);
     sampler.s_type = TRANSLUCID_STRUCTURE_TYPE_SAMPLER_INFO;
     sampler.wrap_s = wrap;
@@ -208,12 +233,7 @@ static void sampled_texture(uint32_t method, uint32_t wrap, float left, float ri
     texture_info.height = 1;
     texture_info.texels = texels;
     CHECK(translucid_texture_create(g_ctx, &texture_info, &texture));
-    memset(&material_info, 0, sizeof material_info);
-    material_info.s_type = TRANSLUCID_STRUCTURE_TYPE_MATERIAL_CREATE_INFO;
-    material_info.base_colour[0] = material_info.base_colour[1] = 1.0f;
-    material_info.base_colour[2] = material_info.base_colour[3] = 1.0f;
-    material_info.texture = texture;
-    CHECK(translucid_material_create(g_ctx, &material_info, &material));
+    material = plain_material(1.0f, 1.0f, 1.0f, 1.0f, texture);
     memset(&draw, 0, sizeof draw);
     draw.mesh = mesh;
     draw.material = material;
@@ -248,6 +268,19 @@ static uint64_t allocated_by(translucid_frame frame) {
     return stats.bytes_allocated;
 }
 
+/* `got` bytes allocated by the frame after `what`: at least `low`, under `high`. */
+static void allocated_within(uint32_t method, const char *what, uint64_t got, uint64_t low,
+                             uint64_t high) {
+    if (got < low || got >= high) {
+        printf("FAIL method %u: %s: %llu bytes allocated, not in [%llu, %llu)\n",
+               (unsigned)method, what, (unsigned long long)got, (unsigned long long)low,
+               (unsigned long long)high);
+        g_failed++;
+    } else {
+        g_passed++;
+    }
+}
+
 /* Frames of two sizes (two views, or a dynamic resolution) keep a renderer each over the
  * context's assets, uploaded once: a 512x512 texture (1 MB, and as much again for the
  * compute rasters' copy) is allocated for the first size only. Then a mesh and a material
@@ -256,19 +289,15 @@ static uint64_t allocated_by(translucid_frame frame) {
  * destroying it (the uploads keep its place while most of them is alive). */
 static void uploads_are_shared_and_extended(uint32_t method, translucid_mesh quad) {
     static const float small[] = {-1, -1, -2, 1, -1, -2, 1, 1, -2, -1, 1, -2};
-    static const uint32_t triangles[] = {0, 1, 2, 0, 2, 3};
-    translucid_mesh_create_info mesh_info;
     translucid_mesh added_mesh;
     translucid_material added_material;
     translucid_draw draws[2];
     float *pixels;
-    uint64_t extended, idle, destroyed;
     translucid_mesh unused;
     enum { SIDE = 512 };
     const uint64_t texture_bytes = SIDE * SIDE * 4;
     uint8_t *texels = calloc(texture_bytes, 1);
     translucid_texture_create_info texture_info;
-    translucid_material_create_info material_info;
     translucid_frame_info info = base_frame(method);
     translucid_texture texture;
     translucid_material material;
@@ -281,11 +310,7 @@ static void uploads_are_shared_and_extended(uint32_t method, translucid_mesh qua
     texture_info.texels = texels;
     CHECK(translucid_texture_create(g_ctx, &texture_info, &texture));
     free(texels);
-    memset(&material_info, 0, sizeof material_info);
-    material_info.s_type = TRANSLUCID_STRUCTURE_TYPE_MATERIAL_CREATE_INFO;
-    material_info.base_colour[0] = material_info.base_colour[3] = 0.5f;
-    material_info.texture = texture;
-    CHECK(translucid_material_create(g_ctx, &material_info, &material));
+    material = plain_material(0.5f, 0.0f, 0.0f, 0.5f, texture);
     memset(&draw, 0, sizeof draw);
     draw.mesh = quad;
     draw.material = material;
@@ -298,27 +323,11 @@ static void uploads_are_shared_and_extended(uint32_t method, translucid_mesh qua
     info.height = H + 4;
     CHECK(translucid_frame_render(g_ctx, &info, &frame));
     second = allocated_by(frame);
-    if (first < texture_bytes || second >= texture_bytes) {
-        printf("FAIL method %u: the first size allocated %llu bytes, the second %llu\n",
-               (unsigned)method, (unsigned long long)first, (unsigned long long)second);
-        g_failed++;
-    } else {
-        g_passed++;
-    }
+    allocated_within(method, "the first size", first, texture_bytes, UINT64_MAX);
+    allocated_within(method, "another size", second, 0, texture_bytes);
 
-    memset(&mesh_info, 0, sizeof mesh_info);
-    mesh_info.s_type = TRANSLUCID_STRUCTURE_TYPE_MESH_CREATE_INFO;
-    mesh_info.primitive = TRANSLUCID_PRIMITIVE_TRIANGLES;
-    mesh_info.vertex_count = 4;
-    mesh_info.positions = small;
-    mesh_info.index_count = 6;
-    mesh_info.indices = triangles;
-    CHECK(translucid_mesh_create(g_ctx, &mesh_info, &added_mesh));
-    memset(&material_info, 0, sizeof material_info);
-    material_info.s_type = TRANSLUCID_STRUCTURE_TYPE_MATERIAL_CREATE_INFO;
-    material_info.base_colour[1] = 1.0f;
-    material_info.base_colour[3] = 0.5f;
-    CHECK(translucid_material_create(g_ctx, &material_info, &added_material));
+    added_mesh = quad_mesh(small, NULL);
+    added_material = plain_material(0.0f, 1.0f, 0.0f, 0.5f, NO_TEXTURE);
     draws[0] = draw;
     draws[1] = draw;
     draws[1].mesh = added_mesh;
@@ -334,40 +343,17 @@ static void uploads_are_shared_and_extended(uint32_t method, translucid_mesh qua
     near_or_fail(pixels[((H / 2) * W + W / 2) * 4 + 1], 0.5f, 2e-3f, "added quad, green",
                  (H / 2) * W + W / 2);
     free(pixels);
-    extended = allocated_by(frame);
-    if (extended >= texture_bytes) {
-        printf("FAIL method %u: a frame after a mesh was created allocated %llu bytes\n",
-               (unsigned)method, (unsigned long long)extended);
-        g_failed++;
-    } else {
-        g_passed++;
-    }
-    CHECK(translucid_mesh_create(g_ctx, &mesh_info, &unused));
+    allocated_within(method, "a mesh created", allocated_by(frame), 0, texture_bytes);
+    unused = quad_mesh(small, NULL);
     CHECK(translucid_frame_render(g_ctx, &info, &frame));
-    idle = allocated_by(frame);
-    if (idle != 0) {
-        printf("FAIL method %u: a frame after a mesh it does not draw was created allocated "
-               "%llu bytes\n",
-               (unsigned)method, (unsigned long long)idle);
-        g_failed++;
-    } else {
-        g_passed++;
-    }
+    allocated_within(method, "a mesh not drawn created", allocated_by(frame), 0, 1);
     CHECK(translucid_mesh_destroy(g_ctx, unused));
     CHECK(translucid_frame_render(g_ctx, &info, &frame));
     pixels = read_both(frame);
     near_or_fail(pixels[((H / 2) * W + W / 2) * 4 + 1], 0.5f, 2e-3f,
                  "added quad after a mesh was destroyed, green", (H / 2) * W + W / 2);
     free(pixels);
-    destroyed = allocated_by(frame);
-    if (destroyed != 0) {
-        printf("FAIL method %u: a frame after a mesh it does not draw was destroyed allocated "
-               "%llu bytes\n",
-               (unsigned)method, (unsigned long long)destroyed);
-        g_failed++;
-    } else {
-        g_passed++;
-    }
+    allocated_within(method, "a mesh not drawn destroyed", allocated_by(frame), 0, 1);
     CHECK(translucid_mesh_destroy(g_ctx, added_mesh));
     CHECK(translucid_material_destroy(g_ctx, added_material));
     CHECK(translucid_material_destroy(g_ctx, material));
@@ -512,10 +498,7 @@ static void pipeline_cache(void) {
 
 int main(int argc, char **argv) {
     static const float positions[] = {-5, -5, -2, 5, -5, -2, 5, 5, -2, -5, 5, -2};
-    static const uint32_t triangles[] = {0, 1, 2, 0, 2, 3};
     translucid_context_create_info context_info;
-    translucid_mesh_create_info mesh_info;
-    translucid_material_create_info material_info;
     translucid_mesh quad;
     translucid_material red;
     uint32_t methods[8];
@@ -528,19 +511,8 @@ int main(int argc, char **argv) {
     context_info.flags = TRANSLUCID_CONTEXT_CREATE_VALIDATION;
     CHECK(translucid_context_create(&context_info, &g_ctx));
 
-    memset(&mesh_info, 0, sizeof mesh_info);
-    mesh_info.s_type = TRANSLUCID_STRUCTURE_TYPE_MESH_CREATE_INFO;
-    mesh_info.primitive = TRANSLUCID_PRIMITIVE_TRIANGLES;
-    mesh_info.vertex_count = 4;
-    mesh_info.positions = positions;
-    mesh_info.index_count = 6;
-    mesh_info.indices = triangles;
-    CHECK(translucid_mesh_create(g_ctx, &mesh_info, &quad));
-    memset(&material_info, 0, sizeof material_info);
-    material_info.s_type = TRANSLUCID_STRUCTURE_TYPE_MATERIAL_CREATE_INFO;
-    material_info.base_colour[0] = 1.0f;
-    material_info.base_colour[3] = 0.5f;
-    CHECK(translucid_material_create(g_ctx, &material_info, &red));
+    quad = quad_mesh(positions, NULL);
+    red = plain_material(1.0f, 0.0f, 0.0f, 0.5f, NO_TEXTURE);
 
     CHECK(translucid_methods_available(methods, 8, &count));
     for (m = 0; m < count; m++) {

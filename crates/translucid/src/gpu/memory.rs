@@ -232,9 +232,9 @@ impl Buffer {
     /// Copies `data` into a host-visible buffer at `offset`, through a shared reference.
     ///
     /// # Safety
-    /// Nothing else reads or writes `[offset, offset + data.len())` of the mapping while it
-    /// runs: no other call of this, no reference from [`Self::write`] or [`Self::read`],
-    /// and no GPU work.
+    /// Nothing else on the host reads or writes `[offset, offset + data.len())` of the
+    /// mapping while it runs (no other call of this, no reference from [`Self::read`]). (The
+    /// GPU must not use the range meanwhile either, as for any write to mapped memory.)
     pub(crate) unsafe fn write_unaliased(&self, offset: u64, data: &[u8]) -> Result<()> {
         let mapped = self
             .allocation
@@ -264,25 +264,8 @@ impl Buffer {
 
     /// Copies `data` into a host-visible buffer at `offset`.
     pub fn write(&mut self, offset: u64, data: &[u8]) -> Result<()> {
-        let mapped = self
-            .allocation
-            .as_mut()
-            .and_then(|a| a.mapped_slice_mut())
-            .ok_or_else(|| {
-                crate::Error::InvalidScene("write to a buffer that is not host-visible".into())
-            })?;
-        let start = offset as usize;
-        let end = start + data.len();
-        mapped
-            .get_mut(start..end)
-            .ok_or_else(|| {
-                crate::Error::InvalidScene(format!(
-                    "write of {end} bytes past a {}-byte buffer",
-                    self.size
-                ))
-            })?
-            .copy_from_slice(data);
-        Ok(())
+        // SAFETY: `&mut self` rules out every other host access to the mapping.
+        unsafe { self.write_unaliased(offset, data) }
     }
 
     /// The first word of a host-visible buffer the GPU may be writing right now (a frame the
