@@ -426,6 +426,27 @@ impl EngineImages {
     }
 }
 
+/// Records one frame of `renderer` on the engine into `images` (slot 0), submits it, waits,
+/// and completes it: what the frame reported.
+fn one_engine_frame(
+    engine: &Engine,
+    gpu: &Gpu,
+    images: &EngineImages,
+    renderer: &mut Renderer,
+) -> translucid::renderer::HostFrame {
+    engine.begin(0);
+    let cmd = engine.cmds[0];
+    images.record_opaque(gpu, cmd);
+    // SAFETY: the engine's recording command buffer and images of the frame's size.
+    unsafe { renderer.record_host(&images.targets(cmd)) }.expect("record");
+    images.record_readback(gpu, cmd, 0);
+    engine.submit_and_wait();
+    renderer
+        .complete_host()
+        .expect("complete")
+        .expect("the submission finished, so the commands ran")
+}
+
 /// `spheres`, its opaque layer and exact's standalone frame over it, at the tests' size.
 fn spheres_standalone() -> (Scene, OpaqueLayer, translucid::renderer::Frame) {
     let scene = translucid::scene::load("spheres").expect("generated scene");
@@ -458,19 +479,9 @@ fn an_overflowing_frame_says_so_and_renders_right_when_recorded_again() {
         options.bins.initial_bin_entries = Some(16);
         let mut renderer = Renderer::with_options(&gpu, &scene, MethodKind::Exact, W, H, &options)
             .expect("renderer");
-        let targets = images.targets(engine.cmds[0]);
         let mut overflows = Vec::new();
         for _ in 0..3 {
-            engine.begin(0);
-            images.record_opaque(&gpu, engine.cmds[0]);
-            // SAFETY: the engine's recording command buffer and images of the frame's size.
-            unsafe { renderer.record_host(&targets) }.expect("record");
-            images.record_readback(&gpu, engine.cmds[0], 0);
-            engine.submit_and_wait();
-            let done = renderer
-                .complete_host()
-                .expect("complete")
-                .expect("the submission finished, so the commands ran");
+            let done = one_engine_frame(&engine, &gpu, &images, &mut renderer);
             overflows.push(done.overflowed);
             if !done.overflowed {
                 assert!(done.fragments > 0 && done.stages.len() >= 3, "{done:?}");
@@ -935,17 +946,7 @@ fn engine_depth_in_every_format_and_direction_matches_the_reference() {
                 }
                 let label = format!("{format:?}{}", if reversed { " reversed" } else { "" });
                 let images = EngineImages::with_depth(&gpu, &layer, 1, format, &bytes);
-                engine.begin(0);
-                let cmd = engine.cmds[0];
-                images.record_opaque(&gpu, cmd);
-                // SAFETY: the engine's recording command buffer and images of the frame's size.
-                unsafe { renderer.record_host(&images.targets(cmd)) }.expect("record");
-                images.record_readback(&gpu, cmd, 0);
-                engine.submit_and_wait();
-                let done = renderer
-                    .complete_host()
-                    .expect("complete")
-                    .expect("the submission finished, so the commands ran");
+                let done = one_engine_frame(&engine, &gpu, &images, &mut renderer);
                 assert!(!done.overflowed, "{label}: {done:?}");
                 let want = translucid::reference::render(&frame_scene, &layer).expect("reference");
                 let worst = worst_difference(&images.srgb(0), &want.to_srgb8());
@@ -998,16 +999,7 @@ fn engine_images_in_synchronization2_layouts() {
                 vk::ImageLayout::ATTACHMENT_OPTIMAL,
                 vk::ImageLayout::READ_ONLY_OPTIMAL,
             );
-            engine.begin(0);
-            images.record_opaque(&gpu, engine.cmds[0]);
-            // SAFETY: the engine's recording command buffer and images of the frame's size.
-            unsafe { renderer.record_host(&images.targets(engine.cmds[0])) }.expect("record");
-            images.record_readback(&gpu, engine.cmds[0], 0);
-            engine.submit_and_wait();
-            let done = renderer
-                .complete_host()
-                .expect("complete")
-                .expect("the submission finished, so the commands ran");
+            let done = one_engine_frame(&engine, &gpu, &images, &mut renderer);
             assert!(!done.overflowed, "{format:?}: {done:?}");
             let want = translucid::reference::render(&scene, &held)
                 .expect("reference")
@@ -1022,29 +1014,6 @@ fn engine_images_in_synchronization2_layouts() {
         "validation errors:\n{}",
         errors.join("\n")
     );
-}
-
-/// Records one frame of `renderer` on the engine, submits it, waits, completes it and
-/// returns its pixels.
-fn one_engine_frame(
-    engine: &Engine,
-    gpu: &Gpu,
-    images: &EngineImages,
-    renderer: &mut Renderer,
-) -> Vec<u8> {
-    engine.begin(0);
-    let cmd = engine.cmds[0];
-    images.record_opaque(gpu, cmd);
-    // SAFETY: the engine's recording command buffer and images of the frame's size.
-    unsafe { renderer.record_host(&images.targets(cmd)) }.expect("record");
-    images.record_readback(gpu, cmd, 0);
-    engine.submit(0);
-    engine.wait(0);
-    renderer
-        .complete_host()
-        .expect("complete")
-        .expect("the submission finished");
-    images.srgb(0)
 }
 
 /// On the engine's device, a texture added after the first frame (`ResidentAssets::extended`)
@@ -1063,7 +1032,8 @@ fn textures_added_later_are_uploaded_by_the_next_frame() {
         let gpu = unsafe { Gpu::from_host(&engine.host_device()) }.expect("host device");
         let images = EngineImages::new(&gpu, &layer, 1);
         let mut first = Renderer::new(&gpu, &scene, MethodKind::Blend, W, H).expect("renderer");
-        let expected = one_engine_frame(&engine, &gpu, &images, &mut first);
+        one_engine_frame(&engine, &gpu, &images, &mut first);
+        let expected = images.srgb(0);
         let extended = std::sync::Arc::new(
             first
                 .resident()
@@ -1099,7 +1069,8 @@ fn textures_added_later_are_uploaded_by_the_next_frame() {
             // SAFETY: ended unsubmitted, reset by the next begin.
             unsafe { engine.device.end_command_buffer(engine.cmds[0]) }.expect("end");
         }
-        let got = one_engine_frame(&engine, &gpu, &images, &mut sharing());
+        one_engine_frame(&engine, &gpu, &images, &mut sharing());
+        let got = images.srgb(0);
         let worst = worst_difference(&got, &expected);
         assert_eq!(
             worst, 0,

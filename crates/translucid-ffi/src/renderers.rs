@@ -118,8 +118,6 @@ struct Resident {
     /// Meshes moved (`translucid_mesh_update`) since the assets were uploaded: a renderer
     /// made later copies their vertices in with its first frame.
     moved: HashSet<u64>,
-    /// Their buffers had no room for the assets created since: upload everything anew.
-    full: bool,
 }
 
 /// The context's renderers.
@@ -189,11 +187,12 @@ impl Renderers {
                 self.position(id)
             }
             None => {
-                // The uploads' assets keep their places, so that new ones are appended.
+                // Over the current uploads, the scene keeps their places (destroyed assets'
+                // included); otherwise it is made, and uploaded, anew.
                 let base = self
                     .resident
                     .as_ref()
-                    .filter(|r| assets.last_destroyed <= r.generation)
+                    .filter(|r| r.generation == assets.generation)
                     .map(|r| (&r.places, &r.graveyard));
                 let built = asset_scene(assets, request, base)?;
                 let options = self
@@ -261,7 +260,7 @@ impl Renderers {
         let Some(resident) = self
             .resident
             .as_mut()
-            .filter(|r| r.generation != assets.generation && !r.full)
+            .filter(|r| r.generation != assets.generation)
             .filter(|r| assets.last_destroyed <= r.generation)
         else {
             return Ok(());
@@ -275,7 +274,6 @@ impl Renderers {
             return Ok(());
         }
         let Some(extended) = resident.assets.extended(gpu, &built.scene)? else {
-            resident.full = true;
             return Ok(());
         };
         let extended = Arc::new(extended);
@@ -296,9 +294,10 @@ impl Renderers {
         Ok(())
     }
 
-    /// The assets on the GPU for `built`: those of its generation, else the last ones
-    /// extended with the assets created since (when `built` keeps their places), else all of
-    /// them uploaded anew; and the meshes moved since the upload.
+    /// The assets on the GPU for `built`: those of its generation when `built` keeps their
+    /// places, else `built`'s assets uploaded anew; and the meshes moved since the upload.
+    /// (Assets created since the uploads were extended with them before, when they fit:
+    /// `adopt_created_assets`.)
     fn resident_for(
         &mut self,
         gpu: &Gpu,
@@ -306,31 +305,14 @@ impl Renderers {
         built: &AssetScene,
     ) -> FfiResult<(Arc<ResidentAssets>, HashSet<u64>)> {
         let current = self.resident.as_ref().map(|r| r.generation);
-        if current != Some(assets.generation) {
-            let extended = match self
-                .resident
-                .as_ref()
-                .filter(|r| built.on_base && assets.last_destroyed <= r.generation && !r.full)
-            {
-                Some(r) => r.assets.extended(gpu, &built.scene)?,
-                None => None,
-            };
-            let (moved, graveyard) = match (&extended, self.resident.take()) {
-                (Some(_), Some(r)) => (r.moved, r.graveyard),
-                _ => (HashSet::new(), Graveyard::default()),
-            };
-            let uploaded = match extended {
-                Some(assets) => assets,
-                None => ResidentAssets::new(gpu, &built.scene)?,
-            };
+        if current != Some(assets.generation) || !built.on_base {
             self.resident = Some(Resident {
                 generation: assets.generation,
-                assets: Arc::new(uploaded),
+                assets: Arc::new(ResidentAssets::new(gpu, &built.scene)?),
                 places: built.places.clone(),
-                graveyard,
+                graveyard: Graveyard::default(),
                 bytes: scene_bytes(&built.scene),
-                moved,
-                full: false,
+                moved: HashSet::new(),
             });
         }
         self.resident

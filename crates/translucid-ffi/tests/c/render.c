@@ -63,6 +63,17 @@ static translucid_frame_info base_frame(uint32_t method) {
     return info;
 }
 
+/* A transparent draw of `mesh` with `material`, where the mesh is (identity transform). */
+static translucid_draw draw_of(translucid_mesh mesh, translucid_material material) {
+    translucid_draw draw;
+    memset(&draw, 0, sizeof draw);
+    draw.mesh = mesh;
+    draw.material = material;
+    draw.layer = TRANSLUCID_LAYER_TRANSPARENT;
+    draw.transform[0] = draw.transform[5] = draw.transform[10] = draw.transform[15] = 1.0f;
+    return draw;
+}
+
 /* Both formats of one frame must agree; returns the linear pixels (caller frees). */
 static float *read_both(translucid_frame frame) {
     float *linear = malloc(W * H * 16);
@@ -103,11 +114,7 @@ static void over_host_layer(translucid_frame_info info, translucid_mesh quad,
     layer.colour_format = TRANSLUCID_PIXEL_FORMAT_RGBA32F_LINEAR;
     layer.colour = colour;
     layer.depth = depth;
-    memset(&draw, 0, sizeof draw);
-    draw.mesh = quad;
-    draw.material = red;
-    draw.layer = TRANSLUCID_LAYER_TRANSPARENT;
-    draw.transform[0] = draw.transform[5] = draw.transform[10] = draw.transform[15] = 1.0f;
+    draw = draw_of(quad, red);
     info.draws = &draw;
     info.draw_count = 1;
     info.opaque_layer = &layer;
@@ -234,10 +241,7 @@ static void sampled_texture(uint32_t method, uint32_t wrap, float left, float ri
     texture_info.texels = texels;
     CHECK(translucid_texture_create(g_ctx, &texture_info, &texture));
     material = plain_material(1.0f, 1.0f, 1.0f, 1.0f, texture);
-    memset(&draw, 0, sizeof draw);
-    draw.mesh = mesh;
-    draw.material = material;
-    draw.transform[0] = draw.transform[5] = draw.transform[10] = draw.transform[15] = 1.0f;
+    draw = draw_of(mesh, material);
     info.draws = &draw;
     info.draw_count = 1;
     CHECK(translucid_frame_render(g_ctx, &info, &frame));
@@ -311,10 +315,7 @@ static void uploads_are_shared_and_extended(uint32_t method, translucid_mesh qua
     CHECK(translucid_texture_create(g_ctx, &texture_info, &texture));
     free(texels);
     material = plain_material(0.5f, 0.0f, 0.0f, 0.5f, texture);
-    memset(&draw, 0, sizeof draw);
-    draw.mesh = quad;
-    draw.material = material;
-    draw.transform[0] = draw.transform[5] = draw.transform[10] = draw.transform[15] = 1.0f;
+    draw = draw_of(quad, material);
     info.draws = &draw;
     info.draw_count = 1;
     CHECK(translucid_frame_render(g_ctx, &info, &frame));
@@ -421,10 +422,7 @@ static void tinted_draw(uint32_t method, translucid_mesh quad, translucid_materi
     translucid_draw draw;
     translucid_frame frame;
     float pixels[W * H * 4];
-    memset(&draw, 0, sizeof draw);
-    draw.mesh = quad;
-    draw.material = red;
-    draw.transform[0] = draw.transform[5] = draw.transform[10] = draw.transform[15] = 1.0f;
+    draw = draw_of(quad, red);
     draw.tint[0] = 0.5f;
     draw.tint[1] = draw.tint[2] = 1.0f;
     draw.tint[3] = 0.5f;
@@ -551,10 +549,7 @@ int main(int argc, char **argv) {
         translucid_draw draw;
         translucid_frame frame;
         uint8_t pixel[W * H * 4];
-        memset(&draw, 0, sizeof draw);
-        draw.mesh = quad;
-        draw.material = red;
-        draw.transform[0] = draw.transform[5] = draw.transform[10] = draw.transform[15] = 1.0f;
+        draw = draw_of(quad, red);
         info.draws = &draw;
         info.draw_count = 1;
         CHECK(translucid_frame_render(g_ctx, &info, &frame));

@@ -194,10 +194,8 @@ impl GpuScene {
             ));
         }
         resident.check_scene(scene)?;
-        // Uploads this scene recorded into a frame still in flight are carried by the new
-        // version (recorded again by the next frame, which is safe), and their staging with
-        // them: the old version may go now.
-        self.resident.uploads_lost(self.id);
+        // Uploads recorded into a frame still in flight are carried by the new version
+        // (`ResidentAssets::extended`), staging and all: the old version may go now.
         self.resident = resident;
         Ok(())
     }
