@@ -115,18 +115,41 @@ impl Method {
     }
 }
 
-/// One frame with the method's default options, its opaque layer read back.
-fn frame(gpu: &Gpu, scene: &Scene, method: Method) -> translucid::Result<Frame> {
-    Renderer::new(gpu, scene, method.name().parse()?, SIZE.0, SIZE.1)?.render(true)
+/// Two frames of one renderer with the method's default options, their opaque layers read
+/// back: the second may run setup without its occlusion cull (left out after a frame where
+/// it dropped little).
+fn frames(gpu: &Gpu, scene: &Scene, method: Method) -> translucid::Result<[Frame; 2]> {
+    let mut renderer = Renderer::new(gpu, scene, method.name().parse()?, SIZE.0, SIZE.1)?;
+    Ok([renderer.render(true)?, renderer.render(true)?])
 }
 
-/// Renders `scene` with `method`, compares it with the method's model and prints the numbers.
-/// `Err` says why it fails, with the numbers and where the pictures are; `Ok` carries the
-/// frame.
+/// Renders `scene` with `method` (two frames: [`frames`]), compares each with the method's
+/// model and prints the numbers. `Err` says why it fails, with the numbers and where the
+/// pictures are; `Ok` carries the first frame.
 fn check(gpu: &Gpu, scene: &Scene, label: &str, method: Method) -> Result<Frame, String> {
     let fail = |e: translucid::Error| format!("{label}: {}: {e}", method.name());
     let started = Instant::now();
-    let frame = frame(gpu, scene, method).map_err(fail)?;
+    let [first, second] = frames(gpu, scene, method).map_err(fail)?;
+    check_frame(
+        &second,
+        scene,
+        &format!("{label} (second frame)"),
+        method,
+        started,
+    )?;
+    check_frame(&first, scene, label, method, started)?;
+    Ok(first)
+}
+
+/// One frame of [`check`].
+fn check_frame(
+    frame: &Frame,
+    scene: &Scene,
+    label: &str,
+    method: Method,
+    started: Instant,
+) -> Result<(), String> {
+    let fail = |e: translucid::Error| format!("{label}: {}: {e}", method.name());
     let opaque = frame.opaque.as_ref().expect("opaque layer read back");
     let expected = method.model(scene, opaque).map_err(fail)?;
     let m = metrics::compare(&frame.image, &expected).expect("same size");
@@ -141,7 +164,7 @@ fn check(gpu: &Gpu, scene: &Scene, label: &str, method: Method) -> Result<Frame,
     );
     eprintln!("{numbers} ({:.1} s)", started.elapsed().as_secs_f32());
     match method.judge(&m) {
-        None => Ok(frame),
+        None => Ok(()),
         Some(bound) => {
             let name = format!(
                 "real_{}_{}",
