@@ -377,10 +377,13 @@ void main() {
         bool occluded = !SKIP_OCCLUSION_CULL && drawn && !homogeneous && behindOpaque(t);
         bool visible = drawn && !occluded;
         if (!SKIP_OCCLUSION_CULL) {
-            // What the cull is worth, for the host's choice: one atomic per subgroup.
-            uint dropped = subgroupBallotBitCount(subgroupBallot(occluded));
+            // What the cull is worth, for the host's choice: the blocks the dropped triangles
+            // would have been binned into, one atomic per subgroup.
+            ivec4 r = binRect(t.bounds);
+            uint blocks = uint(r.z - r.x + 1) * uint(((r.w >> BIN_SHIFT) - (r.y >> BIN_SHIFT)) + 1);
+            uint dropped = subgroupAdd(occluded ? blocks : 0u);
             if (dropped > 0u && subgroupElect()) {
-                atomicAdd(g_counters.occludedCount, dropped);
+                atomicAdd(g_counters.occludedBlocks, dropped);
             }
         }
         if (visible && homogeneous) {

@@ -188,7 +188,8 @@ struct BinCounters {
     uint restartedRows;     // rows suspended with no state slot left (OVERFLOW_RESUME): they
                             // start over when resumed
     uint resumeItemCapacity; // items each resume list holds: every row of the frame
-    uint occludedCount;     // triangles setup's occlusion cull dropped (behind the opaque layer)
+    uint occludedBlocks;    // blocks under the bounds of the triangles setup's occlusion cull
+                            // dropped (behind the opaque layer): what the cull saved binning
     uint pad[7];
     // Statistics of the raster: slot k holds the fragments composited at [16 k], the most
     // sweeps of its list any pixel needed at [16 k + 1], and the fragments in front of the

@@ -87,8 +87,8 @@ pub struct BinCounters {
     pub crowded_rows: u32,
     pub restarted_rows: u32,
     pub resume_item_capacity: u32,
-    /// Triangles setup's occlusion cull dropped.
-    pub occluded_count: u32,
+    /// Blocks under the bounds of the triangles setup's occlusion cull dropped.
+    pub occluded_blocks: u32,
     pub pad: [u32; 7],
     pub statistics: [[u32; 16]; STATISTICS_SLOTS as usize],
     pub slab_farthest: [u32; MAX_SLABS as usize],
@@ -316,7 +316,7 @@ mod tests {
             offset_of!(BinCounters, crowded_rows),
             offset_of!(BinCounters, restarted_rows),
             offset_of!(BinCounters, resume_item_capacity),
-            offset_of!(BinCounters, occluded_count),
+            offset_of!(BinCounters, occluded_blocks),
             offset_of!(BinCounters, pad),
             offset_of!(BinCounters, statistics),
             offset_of!(BinCounters, slab_farthest),
