@@ -732,8 +732,9 @@ typedef struct translucid_frame_info {
     /**
      * 1 to the device's largest image side (`VkPhysicalDeviceLimits::maxImageDimension2D`,
      * at least 4096); past it, `TRANSLUCID_RESULT_ERROR_INVALID_SIZE`. Frames of any size
-     * may follow one another: each size keeps a renderer of its own (see
-     * `translucid_frame_record`), sharing the context's compiled pipelines.
+     * may follow one another, as a dynamic resolution moves it: a frame no larger in either
+     * side than the largest one drawn with the method and settings builds and allocates
+     * nothing for its size; a larger one allocates that size's buffers once.
      */
     uint32_t width;
     /**
@@ -870,15 +871,15 @@ typedef struct translucid_frame_statistics {
     uint64_t frame_index;
     /**
      * Pipelines the call that made the frame (`translucid_frame_render` or
-     * `translucid_frame_record`) created, each a shader compilation: a new method, size or
+     * `translucid_frame_record`) created, each a shader compilation: a new method or new
      * settings may need some; a frame loop past its first frames needs none, also when
      * assets are created or destroyed (a renderer made for new assets takes the pipelines
      * of the one it replaces).
      */
     uint64_t pipelines_created;
     /**
-     * GPU memory that call allocated, in bytes: the first frames of a renderer, frames
-     * that need larger buffers, the first frame after assets were created (their images;
+     * GPU memory that call allocated, in bytes: the first frames of a renderer, a frame
+     * larger than any before with its method and settings, frames that need larger buffers, the first frame after assets were created (their images;
      * meshes and materials go into room left for them) or after so many were destroyed
      * that the live ones are uploaded anew; 0 in a warm frame loop.
      */
@@ -924,11 +925,13 @@ typedef struct translucid_host_requirements {
 } translucid_host_requirements;
 
 /**
- * One of the engine's images: a single-sample 2D image of the frame's size (width x height)
- * with one mip level and one array layer, owned by the queue family named at context
- * creation (or created with concurrent sharing). translucid cannot query an image's size,
- * so it checks the `width` and `height` given against the frame's; an image smaller than
- * it says is undefined behaviour, as in Vulkan.
+ * One of the engine's images: a single-sample 2D image at least the frame's size (width x
+ * height) with one mip level and one array layer, owned by the queue family named at
+ * context creation (or created with concurrent sharing). A larger image holds the frame in
+ * its top-left corner (a dynamic resolution drawing into images made for the largest
+ * size); translucid reads and writes only that corner. translucid cannot query an image's
+ * size, so it checks the `width` and `height` given against the frame's; an image smaller
+ * than it says is undefined behaviour, as in Vulkan.
  */
 typedef struct translucid_host_image {
     VkImage image;
@@ -945,7 +948,7 @@ typedef struct translucid_host_image {
      */
     VkImageLayout final_layout;
     /**
-     * The image's width and height, which must be the frame's (translucid cannot query an
+     * The image's width and height, at least the frame's (translucid cannot query an
      * image's size, so it checks these).
      */
     uint32_t width;
@@ -1351,7 +1354,8 @@ translucid_result translucid_host_requirements_get(struct translucid_host_requir
  * colour and depth from the engine's images, composite the transparent draws over the
  * colour, copy the result into the colour image and leave both images in their
  * `final_layout`. `info->opaque_layer` must be NULL and no draw opaque; `info->width` and
- * `height` are the images' size.
+ * `height` are the frame's size, which covers the top-left corner of the images (all of
+ * them when they are that size).
  *
  * The engine's obligations:
  * - The command buffer is recording, outside any render pass, and its pool is not used

@@ -597,19 +597,31 @@ fn exact_resumes_the_last_bands_rows_in_the_empty_bands_after_it() {
 /// 18,816 blocks, against the frame's 96, and stays), an 8x8 one (15 blocks: less than a
 /// fifth of the frame's, so the cull is left out), then that one moved, where a cull reading
 /// the last pyramid would drop triangles now in view, then the large one again, unculled.
+/// Then the same from a renderer made for larger frames, which draws these into the corner
+/// of its targets (the pyramid reads only the frame's part of the depth).
 #[test]
 fn frames_with_and_without_the_occlusion_cull_match_the_reference() {
     let gpu = gpu();
     let scene = scene::load("particles").expect("scene");
     let (width, height) = (96u32, 64u32);
-    let mut renderer =
-        Renderer::new(&gpu, &scene, MethodKind::Exact, width, height).expect("renderer");
     let patches = [
         (8, 8, 80, 56),
         (24, 16, 32, 24),
         (40, 56, 56, 64),
         (8, 8, 80, 56),
     ];
+    for (max_width, max_height) in [(width, height), (width + 40, height + 24)] {
+        let mut renderer = Renderer::new(&gpu, &scene, MethodKind::Exact, max_width, max_height)
+            .expect("renderer");
+        renderer.set_size(width, height).expect("a smaller frame");
+        occlusion_patches(&scene, &mut renderer, &patches);
+    }
+}
+
+/// Renders `scene` over opaque layers whose depth is 0 in each of `patches` (x0, y0, x1, y1)
+/// in turn, each frame held to the reference.
+fn occlusion_patches(scene: &Scene, renderer: &mut Renderer, patches: &[(u32, u32, u32, u32)]) {
+    let (width, height) = renderer.size();
     for (i, &(x0, y0, x1, y1)) in patches.iter().enumerate() {
         let mut layer = translucid::OpaqueLayer::clear(width, height, Vec3::new(0.1, 0.2, 0.3));
         for y in y0..y1 {
@@ -618,11 +630,13 @@ fn frames_with_and_without_the_occlusion_cull_match_the_reference() {
             }
         }
         let frame = renderer.render_over(&layer).expect("frame");
-        let expected = translucid::reference::render(&scene, &layer).expect("reference");
+        let expected = translucid::reference::render(scene, &layer).expect("reference");
         let m = metrics::compare(&frame.image, &expected).expect("same size");
+        let (max_width, max_height) = renderer.max_size();
         assert!(
             m.max_error <= TOLERANCE,
-            "frame {i} off by {:.1}/255 on {} pixels; see {}",
+            "frame {i} (renderer for {max_width}x{max_height}) off by {:.1}/255 on {} pixels; \
+             see {}",
             m.max_error * 255.0,
             m.pixels_over,
             save_failure(&format!("exact_occlusion_{i}"), &frame.image, &expected).display()

@@ -387,7 +387,7 @@ impl EngineImages {
             let undefined = vk::ImageLayout::UNDEFINED;
             let dst = vk::ImageLayout::TRANSFER_DST_OPTIMAL;
             image_barrier(gpu, cmd, image, undefined, dst, any, write);
-            gpu.cmd_copy_buffer_to_image(cmd, buffer, image);
+            gpu.cmd_copy_buffer_to_image(cmd, buffer, image, self.extent);
             image_barrier(gpu, cmd, image, dst, layout, write, any);
         }
     }
@@ -395,7 +395,7 @@ impl EngineImages {
     /// Copies the colour image (left in TRANSFER_SRC_OPTIMAL by the frame) into readback `k`
     /// for the host.
     fn record_readback(&self, gpu: &Gpu, cmd: vk::CommandBuffer, k: usize) {
-        gpu.cmd_copy_image_to_buffer(cmd, &self.colour, &self.outs[k]);
+        gpu.cmd_copy_image_to_buffer(cmd, &self.colour, &self.outs[k], self.extent);
         translucid::gpu::memory_barrier(
             gpu,
             cmd,
@@ -700,6 +700,139 @@ fn frames_whose_bin_lists_overflow_are_right_on_their_one_recording() {
 #[test]
 fn frames_past_their_bands_keep_the_engines_colour_and_grow_the_lists_once() {
     frames_in_flight_match_the_reference(3, with_bin_entries(16), FirstBatch::Degraded);
+}
+
+/// An engine's dynamic resolution: one renderer, made for the largest frame, draws frames of
+/// other sizes (other aspect ratios, a single pixel), two in flight at different sizes, each
+/// within 2/255 of the reference, under validation: every other frame into the engine's
+/// images of its size, the others into the top-left corner of images of the largest size,
+/// whose other pixels keep the engine's colour. Once the first frames at the largest size
+/// completed, nothing is built or allocated.
+#[test]
+fn frames_in_flight_at_different_sizes_match_the_reference() {
+    /// The top-left `width` x `height` of RGBA8 `pixels`, `stride` pixels a row.
+    fn corner_of(pixels: &[u8], stride: u32, (width, height): (u32, u32)) -> Vec<u8> {
+        (0..height as usize)
+            .flat_map(|y| {
+                let row = y * stride as usize * 4;
+                pixels[row..row + width as usize * 4].iter().copied()
+            })
+            .collect()
+    }
+    const IN_FLIGHT: usize = 2;
+    let scene = translucid::scene::load("spheres").expect("generated scene");
+    let orbit = Orbit::new(&scene);
+    let sizes = [
+        (W, H),
+        (W, H),
+        (W, H),
+        (W, H),
+        (72, 40),
+        (33, 61),
+        (W, 20),
+        (1, 1),
+        (50, 50),
+        (W, H),
+    ];
+    let frame_scene = |f: usize| {
+        let mut s = scene.clone();
+        s.camera = orbit.camera(&scene, f as u32);
+        orbit.transparent(&scene, f as u32, &mut s.transparent);
+        s
+    };
+    let layers: Vec<OpaqueLayer> = sizes
+        .iter()
+        .map(|&(w, h)| OpaqueLayer::clear(w, h, scene.background))
+        .collect();
+    let engine = Engine::new();
+    {
+        // SAFETY: the engine's live objects, outliving `gpu` (dropped at the end of this block).
+        let gpu = unsafe { Gpu::from_host(&engine.host_device()) }.expect("host device");
+        let sized: Vec<EngineImages> = layers
+            .iter()
+            .map(|layer| EngineImages::new(&gpu, layer, IN_FLIGHT))
+            .collect();
+        let largest = OpaqueLayer::clear(W, H, scene.background);
+        let shared = EngineImages::new(&gpu, &largest, IN_FLIGHT);
+        let images = |f: usize| if f % 2 == 0 { &sized[f] } else { &shared };
+        let options = MethodOptions::default();
+        let mut renderer = Renderer::with_frames_in_flight(
+            &gpu,
+            &scene,
+            MethodKind::Exact,
+            W,
+            H,
+            &options,
+            IN_FLIGHT as u32,
+        )
+        .expect("renderer");
+        let mut warm = None;
+        for first in (0..sizes.len()).step_by(IN_FLIGHT) {
+            let batch = first..(first + IN_FLIGHT).min(sizes.len());
+            for (k, f) in batch.clone().enumerate() {
+                let (width, height) = sizes[f];
+                renderer
+                    .set_frame(&frame_scene(f).frame_input())
+                    .expect("set frame");
+                renderer.set_size(width, height).expect("a size within");
+                engine.begin(k);
+                let cmd = engine.cmds[k];
+                images(f).record_opaque(&gpu, cmd);
+                // SAFETY: the engine's recording command buffer and images of at least the
+                // frame's size.
+                unsafe { renderer.record_host(&images(f).targets(cmd)) }.expect("record");
+                images(f).record_readback(&gpu, cmd, k);
+            }
+            for k in 0..batch.len() {
+                engine.submit(k);
+            }
+            for (k, f) in batch.enumerate() {
+                engine.wait(k);
+                let done = renderer
+                    .complete_host()
+                    .expect("complete")
+                    .expect("the submission finished, so the commands ran");
+                assert!(!done.overflowed, "frame {f}: {done:?}");
+                let want = translucid::reference::render(&frame_scene(f), &layers[f])
+                    .expect("reference")
+                    .to_srgb8();
+                let (width, height) = sizes[f];
+                let image = images(f);
+                let got = image.srgb(k);
+                let corner = corner_of(&got, image.extent.width, (width, height));
+                let worst = worst_difference(&corner, &want);
+                assert!(
+                    worst <= 2,
+                    "frame {f} at {width}x{height}: {worst}/255 off the reference"
+                );
+                let engine_colour = largest.to_image().to_srgb8();
+                let outside = (0..got.len() / 4).filter(|&i| {
+                    let (x, y) = (i as u32 % image.extent.width, i as u32 / image.extent.width);
+                    x >= width || y >= height
+                });
+                for i in outside {
+                    let (got, kept) = (&got[4 * i..4 * i + 4], &engine_colour[4 * i..4 * i + 4]);
+                    assert_eq!(
+                        got, kept,
+                        "frame {f}: pixel {i}, outside the frame, changed"
+                    );
+                }
+            }
+            // Warm after the frames at the largest size.
+            let built = (gpu.pipelines_created(), gpu.bytes_allocated());
+            if let Some(warm) = warm {
+                assert_eq!(built, warm, "frames {first} and on built or allocated");
+            } else if first + IN_FLIGHT >= 4 {
+                warm = Some(built);
+            }
+        }
+    }
+    let errors = ERRORS.lock().map(|e| e.clone()).unwrap_or_default();
+    assert!(
+        errors.is_empty(),
+        "validation errors:\n{}",
+        errors.join("\n")
+    );
 }
 
 /// One renderer's first two frames (the scene, then its camera a step along the orbit),

@@ -435,3 +435,65 @@ fn assets_added_later_draw_like_the_first_ones() {
         }
     }
 }
+
+/// One renderer, made for the largest frame, draws smaller ones as an engine's dynamic
+/// resolution asks, with every method: each size (other aspect ratios, a single pixel) as a
+/// renderer made for it alone draws it, `exact` and `wavelet` also as their references do,
+/// while the camera and draws move; once the frames at the largest size are warm, nothing
+/// is built or allocated for the others. A size past the largest is refused, and the
+/// renderer keeps its size.
+#[test]
+fn a_renderer_draws_every_size_up_to_its_largest() {
+    let gpu = gpu();
+    // The renderers of one size each, on a device of their own: what they allocate is not
+    // the frames'.
+    let other_gpu = translucid_tests::gpu();
+    let scene = scene::load("textured").expect("scene");
+    let orbit = Orbit::new(&scene);
+    let warm = [(WIDTH, HEIGHT); WARM_UP];
+    let sizes = [(72, 40), (33, 61), (WIDTH, 20), (1, 1), (WIDTH, HEIGHT)];
+    for method in ["exact", "wavelet", "blend", "wboit"] {
+        let kind: MethodKind = method.parse().expect("a method name");
+        let mut renderer = Renderer::new(&gpu, &scene, kind, WIDTH, HEIGHT).expect("renderer");
+        for (i, &(width, height)) in warm.iter().chain(&sizes).enumerate() {
+            let mut frame_scene = scene.clone();
+            frame_scene.camera = orbit.camera(&scene, i as u32);
+            orbit.transparent(&scene, i as u32, &mut frame_scene.transparent);
+            renderer
+                .set_frame(&frame_scene.frame_input())
+                .expect("set frame");
+            renderer.set_size(width, height).expect("a size within");
+            let frame = renderer.render(true).expect("frame");
+            let name = format!("sizes_{method}_{i}_{width}x{height}");
+            assert_eq!((frame.image.width, frame.image.height), (width, height));
+            if i >= WARM_UP {
+                assert_eq!(
+                    (frame.pipelines_created, frame.bytes_allocated),
+                    (0, 0),
+                    "{name}: a new size built pipelines or allocated GPU memory"
+                );
+            }
+            let alone = Renderer::new(&other_gpu, &frame_scene, kind, width, height)
+                .and_then(|mut r| r.render(false))
+                .expect("frame alone");
+            let m = metrics::compare(&frame.image, &alone.image).expect("same size");
+            assert!(
+                m.max_error * 255.0 <= 0.01,
+                "{name}: {:.3}/255 off the same frame from a renderer of that size ({})",
+                m.max_error * 255.0,
+                save_failure(&name, &frame.image, &alone.image).display()
+            );
+            if method == "exact" || method == "wavelet" {
+                check(&name, method, &frame_scene, &frame);
+            }
+        }
+        let err = renderer
+            .set_size(WIDTH + 1, HEIGHT)
+            .expect_err("a size past the largest");
+        assert!(
+            err.to_string().contains(&format!("up to {WIDTH}x{HEIGHT}")),
+            "{err}"
+        );
+        assert_eq!(renderer.size(), (WIDTH, HEIGHT));
+    }
+}

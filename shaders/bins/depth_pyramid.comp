@@ -15,21 +15,27 @@ layout(local_size_x = PYRAMID_GROUP_SIZE) in;
 layout(constant_id = 0) const bool UPPER_LEVELS = false;
 
 // A gather of four texels costs about as much as one fetch on lavapipe, so level 0 gathers each
-// 2x2 quad of its cell; the clamp-to-edge sampler repeats the last row and column where the
-// image ends mid-cell, which leaves the farthest depth unchanged.
+// 2x2 quad of its cell. Where the frame ends mid-cell, the quads past it move back onto its
+// last row and column, which leaves the farthest depth unchanged: the depth image may be
+// larger than the frame (a renderer draws smaller frames into its top-left corner), and what
+// lies past the frame is not this frame's.
 void buildLevelZero() {
     uint cell = gl_GlobalInvocationID.x;
     if (cell >= u_push.binsX * u_push.binsY) {
         return;
     }
     vec2 origin = vec2(cell % u_push.binsX, cell / u_push.binsX) * BIN_SIZE;
-    vec2 texelSize = 1.0 / vec2(u_push.width, u_push.height);
+    vec2 texelSize = 1.0 / vec2(textureSize(u_opaqueDepth, 0));
+    // The corner between the frame's last two texels (or the only one's, with the clamp-to-
+    // edge sampler repeating it) along each side.
+    vec2 lastCorner = max(vec2(u_push.width, u_push.height) - 1.0, vec2(0.0));
     float farthest = 0.0;
     [[unroll]] for (int y = 0; y < BIN_SIZE; y += 2) {
         [[unroll]] for (int x = 0; x < BIN_SIZE; x += 2) {
             // The shared corner of texels (x, y) .. (x + 1, y + 1): half a texel from any
             // other choice, so rounding cannot move the gather.
-            vec4 quad = textureGather(u_opaqueDepth, (origin + vec2(x + 1, y + 1)) * texelSize, 0);
+            vec2 corner = min(origin + vec2(x + 1, y + 1), lastCorner);
+            vec4 quad = textureGather(u_opaqueDepth, corner * texelSize, 0);
             farthest = max(farthest, max(max(quad.x, quad.y), max(quad.z, quad.w)));
         }
     }

@@ -157,8 +157,9 @@ pub struct translucid_frame_info {
     pub method: u32,
     /// 1 to the device's largest image side (`VkPhysicalDeviceLimits::maxImageDimension2D`,
     /// at least 4096); past it, `TRANSLUCID_RESULT_ERROR_INVALID_SIZE`. Frames of any size
-    /// may follow one another: each size keeps a renderer of its own (see
-    /// `translucid_frame_record`), sharing the context's compiled pipelines.
+    /// may follow one another, as a dynamic resolution moves it: a frame no larger in either
+    /// side than the largest one drawn with the method and settings builds and allocates
+    /// nothing for its size; a larger one allocates that size's buffers once.
     pub width: u32,
     /// As `width`.
     pub height: u32,
@@ -278,13 +279,13 @@ pub struct translucid_frame_statistics {
     /// The frame's `translucid_frame_info::frame_index`.
     pub frame_index: u64,
     /// Pipelines the call that made the frame (`translucid_frame_render` or
-    /// `translucid_frame_record`) created, each a shader compilation: a new method, size or
+    /// `translucid_frame_record`) created, each a shader compilation: a new method or new
     /// settings may need some; a frame loop past its first frames needs none, also when
     /// assets are created or destroyed (a renderer made for new assets takes the pipelines
     /// of the one it replaces).
     pub pipelines_created: u64,
-    /// GPU memory that call allocated, in bytes: the first frames of a renderer, frames
-    /// that need larger buffers, the first frame after assets were created (their images;
+    /// GPU memory that call allocated, in bytes: the first frames of a renderer, a frame
+    /// larger than any before with its method and settings, frames that need larger buffers, the first frame after assets were created (their images;
     /// meshes and materials go into room left for them) or after so many were destroyed
     /// that the live ones are uploaded anew; 0 in a warm frame loop.
     pub bytes_allocated: u64,

@@ -68,13 +68,11 @@ fn light_from(light: Option<&translucid_light>) -> FfiResult<Light> {
     })
 }
 
-/// The words that decide which renderer draws a frame: method, size and the method's
-/// settings (the assets are the context's; cameras, lights and draws are the frame's own).
+/// The words that decide which renderer draws a frame: method and the method's settings (the
+/// assets are the context's; sizes, cameras, lights and draws are the frame's own).
 fn settings_key(info: &translucid_frame_info) -> SettingsKey {
     vec![
         u64::from(info.method),
-        u64::from(info.width),
-        u64::from(info.height),
         u64::from(info.wavelet_coefficients),
         u64::from(info.wavelet_noise.to_bits()),
         u64::from(info.wavelet_storage),

@@ -81,11 +81,13 @@ pub struct translucid_host_device_create_info {
     pub enabled_extensions: *const *const c_char,
 }
 
-/// One of the engine's images: a single-sample 2D image of the frame's size (width x height)
-/// with one mip level and one array layer, owned by the queue family named at context
-/// creation (or created with concurrent sharing). translucid cannot query an image's size,
-/// so it checks the `width` and `height` given against the frame's; an image smaller than
-/// it says is undefined behaviour, as in Vulkan.
+/// One of the engine's images: a single-sample 2D image at least the frame's size (width x
+/// height) with one mip level and one array layer, owned by the queue family named at
+/// context creation (or created with concurrent sharing). A larger image holds the frame in
+/// its top-left corner (a dynamic resolution drawing into images made for the largest
+/// size); translucid reads and writes only that corner. translucid cannot query an image's
+/// size, so it checks the `width` and `height` given against the frame's; an image smaller
+/// than it says is undefined behaviour, as in Vulkan.
 #[allow(non_camel_case_types)]
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
@@ -99,7 +101,7 @@ pub struct translucid_host_image {
     pub layout: VkImageLayout,
     /// The layout the recorded commands leave the image in.
     pub final_layout: VkImageLayout,
-    /// The image's width and height, which must be the frame's (translucid cannot query an
+    /// The image's width and height, at least the frame's (translucid cannot query an
     /// image's size, so it checks these).
     pub width: u32,
     pub height: u32,
@@ -229,10 +231,10 @@ fn record(
     }
     let (request, _) = frame_request(objects, info)?;
     for (what, image) in [("colour", &targets.colour), ("depth", &targets.depth)] {
-        if (image.width, image.height) != (info.width, info.height) {
+        if image.width < info.width || image.height < info.height {
             return Err(Failure::size(format!(
                 "translucid_host_frame_targets.{what} is {}x{} (width, height), but the frame \
-                 is {}x{}: the images must be the frame's size",
+                 is {}x{}: the images must be at least the frame's size",
                 image.width, image.height, info.width, info.height
             )));
         }
@@ -252,7 +254,7 @@ fn record(
         depth: host_image(&targets.depth),
     };
     // SAFETY: the header documents the engine's side: a recording command buffer outside a
-    // render pass and images of the frame's size with the usages listed, all of the device
+    // render pass and images of at least the frame's size with the usages listed, all of the device
     // this context wraps. Handles, formats and layouts are checked first.
     let id = kept.id;
     if let Err(e) = unsafe { kept.renderer.record_host(&t) } {
@@ -428,7 +430,8 @@ impl translucid_frame {
     /// colour and depth from the engine's images, composite the transparent draws over the
     /// colour, copy the result into the colour image and leave both images in their
     /// `final_layout`. `info->opaque_layer` must be NULL and no draw opaque; `info->width` and
-    /// `height` are the images' size.
+    /// `height` are the frame's size, which covers the top-left corner of the images (all of
+    /// them when they are that size).
     ///
     /// The engine's obligations:
     /// - The command buffer is recording, outside any render pass, and its pool is not used

@@ -1,15 +1,17 @@
-//! The context's renderers. Each is made for one method, size and settings over every asset
-//! the context holds (meshes, materials, textures: uploaded once for all the renderers of a
-//! generation, `ResidentAssets`), and draws any frame with
-//! those settings: a frame only names which assets it draws, where, and from which camera
-//! (`Renderer::set_frame`: nothing rebuilt, no shader compiled). Creating assets extends the
+//! The context's renderers. Each is made for one method and its settings over every asset the
+//! context holds (meshes, materials, textures: uploaded once for all the renderers of a
+//! generation, `ResidentAssets`), and draws any frame with those settings up to the largest
+//! size it was made for: a frame only names its size, which assets it draws, where, and from
+//! which camera (`Renderer::set_size`, `Renderer::set_frame`: nothing rebuilt, no shader
+//! compiled). A frame larger than the renderer in either side gets a new renderer for the
+//! larger of both sizes, which then serves both. Creating assets extends the
 //! uploads, and the renderers adopt the extended ones (`Renderer::adopt_assets`). A destroyed
 //! asset keeps its place in the uploads (its data in a graveyard) while most of them is
 //! alive; past that, the renderers go stale: each frame after it gets a new renderer over a
 //! new upload (made before the stale one is freed, so that it takes its compute pipelines),
 //! while a stale one lives on until no frame in flight uses it (so that destroying an asset
-//! a frame in flight draws is safe). A context keeps a few renderers, so that views of different sizes
-//! or methods in one frame loop each keep theirs.
+//! a frame in flight draws is safe). A context keeps a few renderers, so that views of
+//! different methods in one frame loop each keep theirs.
 
 use crate::context::Assets;
 use crate::frame::translucid_draw;
@@ -27,8 +29,8 @@ use translucid::scene::{Camera, Draw, FrameInput, Light, Mesh, Scene, Texture};
 /// uses is freed.
 const MAX_RENDERERS: usize = 4;
 
-/// What decides whether a renderer can draw a frame, besides the assets: method, size and
-/// the method's settings, as words.
+/// What decides whether a renderer can draw a frame, besides the assets and its size: the
+/// method and its settings, as words.
 pub type SettingsKey = Vec<u64>;
 
 /// A frame as a renderer takes it: the settings it needs, and what it draws.
@@ -62,7 +64,7 @@ pub struct Kept {
     /// Host-device frames recorded with it and not yet completed or abandoned.
     pub in_flight: usize,
     /// False once it must take no new frame: its assets are stale, a frame recorded with it
-    /// was abandoned, or a recording failed.
+    /// was abandoned, a recording failed, or a larger renderer with its settings replaced it.
     usable: bool,
     /// A completion failed: the core renderer must not be asked again.
     pub failed: bool,
@@ -167,13 +169,24 @@ impl Renderers {
         for k in &mut self.kept {
             k.usable &= k.generation == assets.generation;
         }
-        let found = self
-            .kept
-            .iter()
-            .position(|k| k.usable && k.key == request.key);
+        // A renderer with the settings serves frames up to its size; a larger frame makes one
+        // for the larger of both, which replaces it.
+        let size = (request.width, request.height);
+        let mut largest = size;
+        let mut found = None;
+        for (i, k) in self.kept.iter().enumerate() {
+            if k.usable && k.key == request.key {
+                let (width, height) = k.renderer.max_size();
+                if width >= size.0 && height >= size.1 {
+                    found = Some(i);
+                }
+                largest = (largest.0.max(width), largest.1.max(height));
+            }
+        }
         let position = match found {
             Some(i) => {
                 let k = &mut self.kept[i];
+                k.renderer.set_size(size.0, size.1)?;
                 let (opaque, transparent) = resolve_draws(&k.index, assets, request.draws)?;
                 k.renderer.set_frame(&FrameInput {
                     camera: request.camera,
@@ -213,12 +226,18 @@ impl Renderers {
                 // The renderers it replaces are freed only after it is made: it takes the
                 // compute pipelines they hold instead of compiling its own.
                 let shape = FrameShape {
-                    width: request.width,
-                    height: request.height,
+                    width: largest.0,
+                    height: largest.1,
                     frames_in_flight: self.frames_in_flight,
                 };
                 let mut renderer =
                     Renderer::sharing(gpu, resident, &scene, request.method, shape, &options)?;
+                renderer.set_size(size.0, size.1)?;
+                // The smaller ones with the settings take no new frame (and go once none in
+                // flight uses them).
+                for k in &mut self.kept {
+                    k.usable &= k.key != request.key;
+                }
                 // Vertices moved since the upload are copied in by its first frame.
                 for mesh in &moved {
                     if let Some(&i) = index.meshes.get(mesh) {

@@ -7,6 +7,8 @@
  * - over a background colour with no draws at all;
  * - a quad moved, then the camera moved, frame after frame on one context;
  * - a tinted instance;
+ * - frames of other sizes on one context (a dynamic resolution), each as a context that drew
+ *   only that size draws it;
  * - both pixel formats agree; statistics are filled in; frames outlive their meshes;
  * - the pipeline cache is read out and handed to a new context.
  */
@@ -285,9 +287,9 @@ static void allocated_within(uint32_t method, const char *what, uint64_t got, ui
     }
 }
 
-/* Frames of two sizes (two views, or a dynamic resolution) keep a renderer each over the
- * context's assets, uploaded once: a 512x512 texture (1 MB, and as much again for the
- * compute rasters' copy) is allocated for the first size only. Then a mesh and a material
+/* A frame larger than the ones before gets a renderer of its own over the context's assets,
+ * uploaded once: a 512x512 texture (1 MB, and as much again for the compute rasters' copy) is
+ * allocated for the first size only. Then a mesh and a material
  * created are appended to the uploads: the next frame draws them without uploading the
  * texture again; and a mesh created and not drawn costs the frame after it nothing, nor does
  * destroying it (the uploads keep its place while most of them is alive). */
@@ -359,6 +361,82 @@ static void uploads_are_shared_and_extended(uint32_t method, translucid_mesh qua
     CHECK(translucid_material_destroy(g_ctx, added_material));
     CHECK(translucid_material_destroy(g_ctx, material));
     CHECK(translucid_texture_destroy(g_ctx, texture));
+}
+
+/* A context that draws nothing but frames of one size, for frames to be held to. */
+static translucid_context *fresh_context(void) {
+    translucid_context_create_info info;
+    translucid_context *ctx = NULL;
+    memset(&info, 0, sizeof info);
+    info.s_type = TRANSLUCID_STRUCTURE_TYPE_CONTEXT_CREATE_INFO;
+    info.header_version = TRANSLUCID_HEADER_VERSION;
+    info.flags = TRANSLUCID_CONTEXT_CREATE_VALIDATION;
+    CHECK(translucid_context_create(&info, &ctx));
+    return ctx;
+}
+
+/* The linear pixels of a frame of `info` drawing `quad` in `red`, rendered on `g_ctx`
+ * (caller frees), and the GPU bytes the call allocated. */
+static float *red_quad_frame(translucid_frame_info info, translucid_mesh quad,
+                             translucid_material red, uint64_t *allocated) {
+    size_t bytes = (size_t)info.width * info.height * 16;
+    float *pixels = malloc(bytes);
+    translucid_draw draw = draw_of(quad, red);
+    translucid_frame frame;
+    info.draws = &draw;
+    info.draw_count = 1;
+    CHECK(translucid_frame_render(g_ctx, &info, &frame));
+    CHECK(translucid_frame_read(g_ctx, frame, TRANSLUCID_PIXEL_FORMAT_RGBA32F_LINEAR, pixels,
+                                bytes));
+    *allocated = allocated_by(frame);
+    return pixels;
+}
+
+/* A dynamic resolution: frames of other sizes (and aspect ratios) follow one another on one
+ * context. A frame no larger in either side than one before allocates nothing; a larger one
+ * allocates once, after which the smaller sizes are free again. Each frame is what a
+ * context that only ever drew its size draws, pixel for pixel. */
+static void dynamic_resolution(uint32_t method, translucid_material red) {
+    /* Off-centre, so that a frame drawn at the wrong place or aspect shows. */
+    static const float off_centre[] = {-1.5f, -0.5f, -2, 0.5f, -0.5f, -2,
+                                       0.5f,  1.0f,  -2, -1.5f, 1.0f, -2};
+    static const uint32_t sizes[][2] = {{W, H},     {W - 5, H - 3}, {W / 2, H}, {1, 1},
+                                        {W + 6, H + 4}, {W, H},     {W - 1, H + 4}};
+    /* -1: the first frame, which allocates its renderer. */
+    static const int allocates[] = {-1, 0, 0, 0, 1, 0, 0};
+    translucid_context *shared = g_ctx;
+    translucid_mesh quad = quad_mesh(off_centre, NULL);
+    size_t k;
+    for (k = 0; k < sizeof sizes / sizeof sizes[0]; k++) {
+        translucid_frame_info info = base_frame(method);
+        translucid_context *fresh = fresh_context();
+        translucid_mesh fresh_quad;
+        translucid_material fresh_red;
+        float *got, *want;
+        uint64_t allocated, ignored;
+        size_t i;
+        char what[96];
+        info.width = sizes[k][0];
+        info.height = sizes[k][1];
+        got = red_quad_frame(info, quad, red, &allocated);
+        g_ctx = fresh;
+        fresh_quad = quad_mesh(off_centre, NULL);
+        fresh_red = plain_material(1.0f, 0.0f, 0.0f, 0.5f, NO_TEXTURE);
+        want = red_quad_frame(info, fresh_quad, fresh_red, &ignored);
+        g_ctx = shared;
+        translucid_context_destroy(fresh);
+        snprintf(what, sizeof what, "dynamic resolution, %ux%u", info.width, info.height);
+        for (i = 0; i < (size_t)info.width * info.height * 4; i++) {
+            near_or_fail(got[i], want[i], 1e-6f, what, i / 4);
+        }
+        if (allocates[k] >= 0) {
+            allocated_within(method, what, allocated, allocates[k] ? 1 : 0,
+                             allocates[k] ? UINT64_MAX : 1);
+        }
+        free(got);
+        free(want);
+    }
+    CHECK(translucid_mesh_destroy(g_ctx, quad));
 }
 
 static void background_only(uint32_t method) {
@@ -520,6 +598,7 @@ int main(int argc, char **argv) {
         moving_draws(methods[m], quad, red);
         tinted_draw(methods[m], quad, red);
         uploads_are_shared_and_extended(methods[m], quad);
+        dynamic_resolution(methods[m], red);
         /* u -0.29 is texel -1 and u 1.29 texel 2, wrapped: */
         sampled_texture(methods[m], TRANSLUCID_WRAP_REPEAT, 1.0f, 0.0f);
         sampled_texture(methods[m], TRANSLUCID_WRAP_CLAMP_TO_EDGE, 0.0f, 1.0f);

@@ -298,6 +298,12 @@ impl GpuScene {
         self.slots.len()
     }
 
+    /// Makes `width` x `height` the size of the frames written from now on (their
+    /// viewport and the look-at cameras' aspect).
+    pub fn set_extent(&mut self, width: u32, height: u32) {
+        self.extent = (width, height);
+    }
+
     /// The current slot's set 0 (frame, draws, materials).
     pub fn set(&self) -> &DescriptorSet {
         &self.slots[self.slot].set

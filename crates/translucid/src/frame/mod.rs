@@ -9,16 +9,21 @@ use crate::Result;
 pub const COLOUR_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
 pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 
-/// Colour and depth of one frame. Between passes the colour image is in
-/// COLOR_ATTACHMENT_OPTIMAL and depth in DEPTH_STENCIL_ATTACHMENT_OPTIMAL: every method
-/// receives and returns them so.
+/// Colour and depth of the frames, made for the largest. Between passes the colour image is
+/// in COLOR_ATTACHMENT_OPTIMAL and depth in DEPTH_STENCIL_ATTACHMENT_OPTIMAL: every method
+/// receives and returns them so. A frame smaller than the images draws into their top-left
+/// corner; the pixels outside it are undefined.
 pub struct FrameTargets {
     pub colour: GpuImage,
     pub depth: GpuImage,
+    /// The size of the frame being drawn: what passes cover and dispatches span.
     pub extent: vk::Extent2D,
+    /// The size of the images, the largest frame: what buffers per pixel are made for.
+    pub capacity: vk::Extent2D,
 }
 
 impl FrameTargets {
+    /// Targets for frames of up to `width` x `height`, the current frame that large.
     pub fn new(gpu: &Gpu, width: u32, height: u32) -> Result<Self> {
         let extent = vk::Extent2D { width, height };
         let colour = gpu.create_image(
@@ -46,7 +51,30 @@ impl FrameTargets {
             colour,
             depth,
             extent,
+            capacity: extent,
         })
+    }
+
+    /// Makes `extent` the size of the frames drawn from now on: at least 1x1, and within the
+    /// images' size.
+    pub fn set_extent(&mut self, extent: vk::Extent2D) -> Result<()> {
+        let capacity = self.capacity;
+        if extent.width == 0
+            || extent.height == 0
+            || extent.width > capacity.width
+            || extent.height > capacity.height
+        {
+            return Err(crate::Error::InvalidViewport {
+                width: extent.width,
+                height: extent.height,
+                reason: format!(
+                    "the renderer was made for frames of 1x1 up to {}x{}",
+                    capacity.width, capacity.height
+                ),
+            });
+        }
+        self.extent = extent;
+        Ok(())
     }
 
     /// A render pass and framebuffer over these targets that leaves them in the between-pass
@@ -77,7 +105,8 @@ impl FrameTargets {
         )
     }
 
-    pub fn pixel_count(&self) -> u64 {
-        u64::from(self.extent.width) * u64::from(self.extent.height)
+    /// Pixels of the largest frame.
+    pub fn capacity_pixels(&self) -> u64 {
+        u64::from(self.capacity.width) * u64::from(self.capacity.height)
     }
 }

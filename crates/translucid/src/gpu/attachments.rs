@@ -174,13 +174,14 @@ impl AttachmentPass {
         })
     }
 
-    /// Begins the pass with its clears and sets the full-target viewport and scissor.
-    pub fn begin(&self, cmd: vk::CommandBuffer) {
+    /// Begins the pass over the top-left `area` of its attachments, with its clears, and
+    /// sets the matching viewport and scissor.
+    pub fn begin(&self, cmd: vk::CommandBuffer, area: vk::Extent2D) {
         super::pipeline::begin_render_pass(
             &self.gpu,
             cmd,
             (self.render_pass, self.framebuffer),
-            self.extent,
+            (area, self.extent),
             &self.clears,
         );
     }

@@ -77,15 +77,18 @@ impl Gpu {
         Ok(value)
     }
 
-    /// Copies a whole single-mip 2D image (in TRANSFER_SRC_OPTIMAL) into a buffer.
+    /// Copies the top-left `extent` of a single-mip 2D image (in TRANSFER_SRC_OPTIMAL) into
+    /// a buffer, tightly packed.
     pub fn cmd_copy_image_to_buffer(
         &self,
         cmd: vk::CommandBuffer,
         image: &GpuImage,
         buffer: &Buffer,
+        extent: vk::Extent2D,
     ) {
-        let region = whole_image_region(image);
-        // SAFETY: caller guarantees the image layout and that the buffer is large enough.
+        let region = corner_region(image, extent);
+        // SAFETY: caller guarantees the image layout and that the buffer is large enough;
+        // the region lies within the image (corner_region).
         unsafe {
             self.device.cmd_copy_image_to_buffer(
                 cmd,
@@ -136,15 +139,16 @@ impl Gpu {
         };
     }
 
-    /// Copies `buffer` (exactly mip 0's texels, tightly packed) into `image`, which must be in
-    /// TRANSFER_DST_OPTIMAL.
+    /// Copies `buffer` (texels tightly packed) into the top-left `extent` of `image`'s first
+    /// level, which must be in TRANSFER_DST_OPTIMAL.
     pub fn cmd_copy_buffer_to_image(
         &self,
         cmd: vk::CommandBuffer,
         buffer: &Buffer,
         image: &GpuImage,
+        extent: vk::Extent2D,
     ) {
-        self.cmd_copy_buffer_to_image_levels(cmd, buffer, image, &[whole_image_region(image)]);
+        self.cmd_copy_buffer_to_image_levels(cmd, buffer, image, &[corner_region(image, extent)]);
     }
 
     /// Copies `bytes` bytes from the start of `src` to `dst` at `dst_offset` (TRANSFER_SRC and
@@ -224,6 +228,23 @@ impl Gpu {
 /// A copy region covering mip 0 of `image`, tightly packed in the buffer.
 pub fn whole_image_region(image: &GpuImage) -> vk::BufferImageCopy {
     mip_region(image, 0, 0)
+}
+
+/// A copy region covering the top-left `extent` of `image`'s first level, tightly packed.
+fn corner_region(image: &GpuImage, extent: vk::Extent2D) -> vk::BufferImageCopy {
+    assert!(
+        extent.width <= image.extent.width && extent.height <= image.extent.height,
+        "a {}x{} copy of a {}x{} image",
+        extent.width,
+        extent.height,
+        image.extent.width,
+        image.extent.height
+    );
+    whole_image_region(image).image_extent(vk::Extent3D {
+        width: extent.width,
+        height: extent.height,
+        depth: 1,
+    })
 }
 
 /// A copy region covering mip `level` of `image`, tightly packed at `buffer_offset`.

@@ -477,14 +477,15 @@ impl Gpu {
         };
     }
 
-    /// Records the copy of the engine's colour into `colour` (a frame target, left in
-    /// COLOR_ATTACHMENT_OPTIMAL), and of its depth into `depth` when given (left in
-    /// DEPTH_STENCIL_ATTACHMENT_OPTIMAL; `None` when [`super::DepthImport`] samples it
-    /// instead). The engine's colour is left in TRANSFER_SRC_OPTIMAL for
-    /// [`Gpu::record_host_output`], its depth in its final layout.
+    /// Records the copy of the engine's colour (`extent` large, the frame's size) into the
+    /// top-left `extent` of `colour` (a frame target, left in COLOR_ATTACHMENT_OPTIMAL), and
+    /// of its depth into `depth` when given (left in DEPTH_STENCIL_ATTACHMENT_OPTIMAL; `None`
+    /// when [`super::DepthImport`] samples it instead). The engine's colour is left in
+    /// TRANSFER_SRC_OPTIMAL for [`Gpu::record_host_output`], its depth in its final layout.
     pub(crate) fn record_host_input(
         &self,
         t: &HostTargets,
+        extent: vk::Extent2D,
         colour: &GpuImage,
         depth: Option<&GpuImage>,
     ) {
@@ -517,7 +518,7 @@ impl Gpu {
             ));
         }
         self.transitions(t.cmd, &before);
-        self.blit(t.cmd, t.colour.image, colour.raw, colour.extent);
+        self.blit(t.cmd, t.colour.image, colour.raw, extent);
         let mut after = vec![Transition(
             colour.raw,
             c,
@@ -526,18 +527,17 @@ impl Gpu {
             ANY,
         )];
         if let Some(depth) = depth {
-            let extent = vk::Extent3D {
-                width: depth.extent.width,
-                height: depth.extent.height,
-                depth: 1,
-            };
             let copy = vk::ImageCopy::default()
                 .src_subresource(layers(d))
                 .dst_subresource(layers(d))
-                .extent(extent);
+                .extent(vk::Extent3D {
+                    width: extent.width,
+                    height: extent.height,
+                    depth: 1,
+                });
             // SAFETY: both depth images are D32_SFLOAT (checked by the caller), in the
-            // layouts named, and at least `extent` large (the frame's size, the engine's
-            // contract).
+            // layouts named, and at least `extent` large (the frame's size: the engine's
+            // contract, and within the target's, which the renderer checks).
             unsafe {
                 self.device
                     .cmd_copy_image(t.cmd, t.depth.image, src, depth.raw, dst, &[copy])
@@ -560,10 +560,15 @@ impl Gpu {
         self.transitions(t.cmd, &after);
     }
 
-    /// Records the copy of the composited `colour` (a frame target in
-    /// COLOR_ATTACHMENT_OPTIMAL, left in TRANSFER_SRC_OPTIMAL) back into the engine's colour
-    /// image, which ends in its final layout.
-    pub(crate) fn record_host_output(&self, t: &HostTargets, colour: &GpuImage) {
+    /// Records the copy of the top-left `extent` of the composited `colour` (a frame target
+    /// in COLOR_ATTACHMENT_OPTIMAL, left in TRANSFER_SRC_OPTIMAL) back into the engine's
+    /// colour image, which ends in its final layout.
+    pub(crate) fn record_host_output(
+        &self,
+        t: &HostTargets,
+        extent: vk::Extent2D,
+        colour: &GpuImage,
+    ) {
         let c = vk::ImageAspectFlags::COLOR;
         let (src, dst) = (L::TRANSFER_SRC_OPTIMAL, L::TRANSFER_DST_OPTIMAL);
         let attachment = L::COLOR_ATTACHMENT_OPTIMAL;
@@ -574,7 +579,7 @@ impl Gpu {
                 Transition(t.colour.image, c, (src, dst), TRANSFER_READ, TRANSFER_WRITE),
             ],
         );
-        self.blit(t.cmd, colour.raw, t.colour.image, colour.extent);
+        self.blit(t.cmd, colour.raw, t.colour.image, extent);
         let last = Transition(
             t.colour.image,
             c,

@@ -98,15 +98,16 @@ impl DepthImport {
         })
     }
 
-    /// Records the import of `depth` (the engine's, checked) into the target, for the frame
-    /// recorded in `slot` (whose last frame has completed). The engine's image ends in its
-    /// final layout, the target in DEPTH_STENCIL_ATTACHMENT_OPTIMAL.
+    /// Records the import of `depth` (the engine's, checked, `extent` large: the frame's
+    /// size) into the target's top-left `extent`, for the frame recorded in `slot` (whose
+    /// last frame has completed), turned around when `reversed`. The engine's image ends in
+    /// its final layout, the target in DEPTH_STENCIL_ATTACHMENT_OPTIMAL.
     pub fn record(
         &mut self,
         cmd: vk::CommandBuffer,
         slot: usize,
         depth: &HostImage,
-        reversed: bool,
+        (extent, reversed): (vk::Extent2D, bool),
     ) -> Result<()> {
         // The view reads depth; transitions name every aspect of the format.
         let aspects = super::host::depth_format_aspects(depth.format);
@@ -157,7 +158,7 @@ impl DepthImport {
                 SAMPLED,
             )],
         );
-        self.pass.begin(cmd);
+        self.pass.begin(cmd, extent);
         self.pass
             .draw_fullscreen(cmd, &self.pipelines[usize::from(reversed)], &[set]);
         self.pass.end(cmd);

@@ -232,15 +232,24 @@ impl Drop for DescriptorSet {
     }
 }
 
-/// Begins `pass` on `framebuffer` over all of `extent` with `clears`, and sets the matching
-/// viewport and scissor (every pipeline here takes them as dynamic state).
+/// Begins `pass` on `framebuffer` (of size `framebuffer_extent`) over its top-left `extent`
+/// with `clears`, and sets the matching viewport and scissor (every pipeline here takes them
+/// as dynamic state).
 pub(super) fn begin_render_pass(
     gpu: &Gpu,
     cmd: vk::CommandBuffer,
     (pass, framebuffer): (vk::RenderPass, vk::Framebuffer),
-    extent: vk::Extent2D,
+    (extent, framebuffer_extent): (vk::Extent2D, vk::Extent2D),
     clears: &[vk::ClearValue],
 ) {
+    assert!(
+        extent.width <= framebuffer_extent.width && extent.height <= framebuffer_extent.height,
+        "a {}x{} render area in a {}x{} framebuffer",
+        extent.width,
+        extent.height,
+        framebuffer_extent.width,
+        framebuffer_extent.height
+    );
     let area = vk::Rect2D {
         offset: vk::Offset2D::default(),
         extent,
@@ -1005,9 +1014,9 @@ impl RenderTarget {
         })
     }
 
-    /// Begins the pass (clearing to `clear_colour` and depth 1 when it clears) and sets the
-    /// full-target viewport and scissor.
-    pub fn begin(&self, cmd: vk::CommandBuffer, clear_colour: [f32; 4]) {
+    /// Begins the pass over the top-left `area` of the targets (clearing it to `clear_colour`
+    /// and depth 1 when the pass clears) and sets the matching viewport and scissor.
+    pub fn begin(&self, cmd: vk::CommandBuffer, area: vk::Extent2D, clear_colour: [f32; 4]) {
         let clears = [
             vk::ClearValue {
                 color: vk::ClearColorValue {
@@ -1025,7 +1034,7 @@ impl RenderTarget {
             &self.gpu,
             cmd,
             (self.render_pass, self.framebuffer),
-            self.extent,
+            (area, self.extent),
             &clears,
         );
     }

@@ -44,7 +44,7 @@ impl Method for Blend {
     }
 
     fn record(&mut self, ctx: &mut RecordContext<'_>) -> Result<()> {
-        self.target.begin(ctx.cmd, [0.0; 4]);
+        self.target.begin(ctx.cmd, ctx.targets.extent, [0.0; 4]);
         ctx.scene.draw(
             ctx.gpu,
             ctx.cmd,

@@ -104,8 +104,8 @@ impl Renderer {
     /// # Safety
     /// `targets` names live objects of the engine's device this renderer's [`Gpu`] wraps:
     /// a command buffer in the recording state outside any render pass, and colour and depth
-    /// images of the renderer's size, in the layouts named, with the usages
-    /// [`HostTargets`] lists. The renderer must not be dropped while the GPU may run the
+    /// images of at least the frame's size ([`Renderer::size`]), in the layouts named, with
+    /// the usages [`HostTargets`] lists. The renderer must not be dropped while the GPU may run the
     /// recorded commands: submit them at most once, and complete or discard them first.
     ///
     /// [`Gpu`]: crate::gpu::Gpu
@@ -148,20 +148,22 @@ impl Renderer {
         // translucid tests depth growing away from the eye, in D32_SFLOAT: other depth is
         // sampled and converted.
         let reversed = self.frame_scene.camera.reversed_depth();
+        let extent = self.targets.extent;
         if reversed || targets.depth.format != HOST_DEPTH_FORMAT {
-            gpu.record_host_input(targets, &self.targets.colour, None);
+            gpu.record_host_input(targets, extent, &self.targets.colour, None);
             if self.depth_import.is_none() {
                 self.depth_import = Some(DepthImport::new(&gpu, &self.targets.depth, slots)?);
             }
             if let Some(import) = &mut self.depth_import {
-                import.record(cmd, slot, &targets.depth, reversed)?;
+                import.record(cmd, slot, &targets.depth, (extent, reversed))?;
             }
         } else {
-            gpu.record_host_input(targets, &self.targets.colour, Some(&self.targets.depth));
+            let depth = Some(&self.targets.depth);
+            gpu.record_host_input(targets, extent, &self.targets.colour, depth);
         }
         self.timestamps[slot].mark(cmd, "opaque");
         self.record_method(&gpu, cmd)?;
-        gpu.record_host_output(targets, &self.targets.colour);
+        gpu.record_host_output(targets, extent, &self.targets.colour);
         self.timestamps[slot].mark(cmd, "output");
         self.completions[slot].record(&gpu, cmd)?;
         self.scene.uploads_recorded();

@@ -84,23 +84,31 @@ pub(super) fn record_upload(
     colour: &Buffer,
     depth: &Buffer,
 ) {
+    let colour_layout = vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL;
     upload(
         gpu,
         cmd,
-        &targets.colour,
+        (&targets.colour, targets.extent),
         colour,
-        vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+        colour_layout,
     );
     let depth_layout = vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
-    upload(gpu, cmd, &targets.depth, depth, depth_layout);
+    upload(
+        gpu,
+        cmd,
+        (&targets.depth, targets.extent),
+        depth,
+        depth_layout,
+    );
 }
 
-/// Records a whole-image copy from `buffer` (tightly packed texels of the image's format),
-/// leaving the image in `layout` for the passes that follow.
+/// Records a copy from `buffer` (tightly packed texels of the image's format) into the
+/// frame's top-left `extent` of the image, leaving the image in `layout` for the passes that
+/// follow.
 fn upload(
     gpu: &Gpu,
     cmd: vk::CommandBuffer,
-    image: &GpuImage,
+    (image, extent): (&GpuImage, vk::Extent2D),
     buffer: &Buffer,
     layout: vk::ImageLayout,
 ) {
@@ -120,7 +128,7 @@ fn upload(
         ),
         transfer_write,
     );
-    gpu.cmd_copy_buffer_to_image(cmd, buffer, image);
+    gpu.cmd_copy_buffer_to_image(cmd, buffer, image, extent);
     image_barrier(
         gpu,
         cmd,

@@ -171,7 +171,8 @@ pub fn check_viewport(gpu: &Gpu, width: u32, height: u32) -> Result<()> {
     Ok(())
 }
 
-/// The frames a renderer draws: their size, and how many may be in flight at once (1 to
+/// The frames a renderer draws: their largest size (the first frame's; later ones may be
+/// smaller, [`Renderer::set_size`]), and how many may be in flight at once (1 to
 /// [`MAX_FRAMES_IN_FLIGHT`]; more than 1 only on an engine's device).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct FrameShape {
@@ -341,6 +342,29 @@ impl Renderer {
         Ok(())
     }
 
+    /// Makes `width` x `height` the size of the frames from the next one recorded: any size
+    /// from 1x1 up to the one the renderer was made for, as an engine's dynamic resolution
+    /// moves it. Nothing is rebuilt or allocated for it: the frames draw into the top-left
+    /// corner of targets and buffers made for the largest. Frames in flight keep their size.
+    pub fn set_size(&mut self, width: u32, height: u32) -> Result<()> {
+        let extent = vk::Extent2D { width, height };
+        if extent != self.targets.extent {
+            self.targets.set_extent(extent)?;
+            self.frame_serial += 1;
+        }
+        Ok(())
+    }
+
+    /// The size of the frames recorded next.
+    pub fn size(&self) -> (u32, u32) {
+        (self.targets.extent.width, self.targets.extent.height)
+    }
+
+    /// The largest frame this renderer draws: the size it was made for.
+    pub fn max_size(&self) -> (u32, u32) {
+        (self.targets.capacity.width, self.targets.capacity.height)
+    }
+
     /// Writes the current frame into `slot` unless the slot holds it already, and makes it
     /// the slot recorded from. No frame of that slot may be in flight.
     fn prepare_slot(&mut self, slot: usize) -> Result<()> {
@@ -350,6 +374,8 @@ impl Renderer {
         }
         // A failure below leaves the slot to be written again.
         self.slot_serials[slot] = u64::MAX;
+        let extent = self.targets.extent;
+        self.scene.set_extent(extent.width, extent.height);
         self.scene.set_frame(&self.gpu, &self.frame_scene)?;
         self.method.set_frame(&FrameSetup {
             gpu: &self.gpu,
@@ -456,7 +482,12 @@ impl Renderer {
                     OpaqueSource::Scene { readback } => {
                         // Made above.
                         if let Some(pass) = &self.opaque_pass {
-                            pass.record(&gpu, cmd, &self.scene, self.frame_scene.background);
+                            pass.record(
+                                &gpu,
+                                cmd,
+                                (&self.scene, &self.targets),
+                                self.frame_scene.background,
+                            );
                         }
                         self.timestamps[slot].mark(cmd, "opaque");
                         if let Some(r) = readback {

@@ -31,8 +31,15 @@ impl OpaquePass {
         Ok(Self { target, pipelines })
     }
 
-    pub fn record(&self, gpu: &Gpu, cmd: vk::CommandBuffer, scene: &GpuScene, background: Vec3) {
-        self.target.begin(cmd, background.extend(1.0).to_array());
+    pub fn record(
+        &self,
+        gpu: &Gpu,
+        cmd: vk::CommandBuffer,
+        (scene, targets): (&GpuScene, &FrameTargets),
+        background: Vec3,
+    ) {
+        self.target
+            .begin(cmd, targets.extent, background.extend(1.0).to_array());
         scene.draw(
             gpu,
             cmd,
@@ -43,16 +50,18 @@ impl OpaquePass {
     }
 }
 
-/// Host-visible copies of the frame's colour (and optionally depth).
+/// Host-visible copies of the frame's colour (and optionally depth), with room for the
+/// largest frame.
 pub struct Readback {
     colour: Buffer,
     depth: Buffer,
-    extent: vk::Extent2D,
+    /// The size of the frame last recorded into the copies.
+    extent: std::cell::Cell<vk::Extent2D>,
 }
 
 impl Readback {
     pub fn new(gpu: &Gpu, targets: &FrameTargets) -> Result<Self> {
-        let pixels = targets.pixel_count();
+        let pixels = targets.capacity_pixels();
         let dst = vk::BufferUsageFlags::TRANSFER_DST;
         Ok(Self {
             colour: gpu.create_buffer(
@@ -67,12 +76,12 @@ impl Readback {
                 dst,
                 MemoryLocation::GpuToCpu,
             )?,
-            extent: targets.extent,
+            extent: std::cell::Cell::new(targets.extent),
         })
     }
 
-    /// Records copies of colour (and depth when `with_depth`) into the readback buffers,
-    /// returning the targets to their between-pass layouts.
+    /// Records copies of the frame's colour (and depth when `with_depth`) into the readback
+    /// buffers, returning the targets to their between-pass layouts.
     pub fn record(
         &self,
         gpu: &Gpu,
@@ -100,6 +109,7 @@ impl Readback {
                 vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
             ));
         }
+        self.extent.set(targets.extent);
         for (image, buffer, layout) in images {
             image_barrier(
                 gpu,
@@ -110,7 +120,7 @@ impl Readback {
                 attachment_write,
                 transfer_read,
             );
-            gpu.cmd_copy_image_to_buffer(cmd, image, buffer);
+            gpu.cmd_copy_image_to_buffer(cmd, image, buffer, targets.extent);
             image_barrier(
                 gpu,
                 cmd,
@@ -134,7 +144,9 @@ impl Readback {
 
     /// The colour copy as a linear image (alpha forced to 1).
     pub fn colour(&self) -> Result<Image> {
-        let bytes = self.colour.read()?;
+        let extent = self.extent.get();
+        let pixels = extent.width as usize * extent.height as usize;
+        let bytes = &self.colour.read()?[..pixels * 8];
         let pixels = bytes
             .chunks_exact(8)
             .map(|p| {
@@ -143,8 +155,8 @@ impl Readback {
             })
             .collect();
         Ok(Image {
-            width: self.extent.width,
-            height: self.extent.height,
+            width: extent.width,
+            height: extent.height,
             pixels,
         })
     }
@@ -152,9 +164,8 @@ impl Readback {
     /// The colour and depth copies as an opaque layer.
     pub fn opaque_layer(&self) -> Result<OpaqueLayer> {
         let colour = self.colour()?;
-        let depth = self
-            .depth
-            .read()?
+        let pixels = colour.pixels.len();
+        let depth = self.depth.read()?[..pixels * 4]
             .chunks_exact(4)
             .map(|d| f32::from_le_bytes([d[0], d[1], d[2], d[3]]))
             .collect();

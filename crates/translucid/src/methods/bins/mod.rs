@@ -44,7 +44,7 @@ use features::{MeshFacts, RasterFeatures};
 use layout::{
     BinCounters, BinPush, BIN_SIZE, DISPATCH_BAND_FILL_OFFSET, DISPATCH_BINNING_OFFSET,
     DISPATCH_BIN_OFFSETS_OFFSET, DISPATCH_RASTER_BINS_OFFSET, LOOP_BUDGET, OVERFLOW_BAND_LISTS,
-    OVERFLOW_CROWDED_BIN, OVERFLOW_HOMOGENEOUS,
+    OVERFLOW_CROWDED_BIN, OVERFLOW_HOMOGENEOUS, SCAN_GROUP_SIZE,
 };
 use resources::{Capacities, Resources};
 use std::sync::Arc;
@@ -181,6 +181,21 @@ pub struct BinsDone {
     pub degraded_rows: u64,
 }
 
+impl BinPush {
+    /// Sizes the stages for a frame of `width` x `height`, binning slices of at most
+    /// `slice_rows_limit` rows.
+    fn set_size(&mut self, width: u32, height: u32, slice_rows_limit: u32) {
+        self.width = width;
+        self.height = height;
+        self.bins_x = width.div_ceil(BIN_SIZE);
+        self.bins_y = height.div_ceil(BIN_SIZE);
+        // A row of bins costs at most bins_x + 1 iterations.
+        self.bin_rows_per_slice = (LOOP_BUDGET / (self.bins_x + 1))
+            .min(slice_rows_limit)
+            .max(1);
+    }
+}
+
 /// The settings a frame was recorded with.
 #[derive(Clone, Copy, Debug)]
 struct Recorded {
@@ -188,6 +203,8 @@ struct Recorded {
     capacities: Capacities,
     /// With setup's occlusion cull (and the depth pyramid it reads).
     culled: bool,
+    /// The frame's width and height.
+    size: (u32, u32),
 }
 
 /// Frames recorded without the occlusion cull once a frame's cull saved less than its depth
@@ -214,6 +231,8 @@ pub struct Bins {
     /// What the features need of each mesh, its bounds kept up with moved vertices.
     meshes: Vec<MeshFacts>,
     push: BinPush,
+    /// The most rows a slice of binning may take (BinOptions; normally no limit).
+    slice_rows_limit: u32,
     /// The constants the stage pipelines (and the raster's) are specialized with.
     features: RasterFeatures,
     /// Tests start without the near-plane path whatever the frame (BinOptions).
@@ -268,22 +287,22 @@ impl Bins {
                 }
             )));
         }
-        let width = targets.extent.width;
-        let height = targets.extent.height;
-        if width > 0xFFFF || height > 0xFFFF {
+        let capacity = targets.capacity;
+        if capacity.width > 0xFFFF || capacity.height > 0xFFFF {
             // Triangle records keep their pixel bounds in 16 bits.
             return Err(Error::InvalidScene(format!(
-                "{method}: {width}x{height} is over the 65535 pixels a side it supports"
+                "{method}: {}x{} is over the 65535 pixels a side it supports",
+                capacity.width, capacity.height
             )));
         }
+        let (width, height) = (targets.extent.width, targets.extent.height);
         let meshes = MeshFacts::of_scene(scene);
         let near_plane = features::homogeneous_triangles(scene, &meshes, width, height);
-        let bins_x = width.div_ceil(BIN_SIZE);
-        let bins_y = height.div_ceil(BIN_SIZE);
         let expected = features::estimated_fragments(scene, width, height);
+        // Buffers per block and row are made for the largest frame.
         let capacities = Capacities::initial(
             uploaded.transparent_quads,
-            bins_x * bins_y,
+            capacity.width.div_ceil(BIN_SIZE) * capacity.height.div_ceil(BIN_SIZE),
             expected,
             homogeneous_bound(gpu, near_plane),
             options,
@@ -299,21 +318,16 @@ impl Bins {
         let layouts = [&uploaded.layout, &resources.layout];
         let mut cache = ComputePipelineCache::new(std::mem::size_of::<BinPush>() as u32);
         let stages = StagePipelines::select(&mut cache, gpu, &layouts, &features)?;
-        let push = BinPush {
+        let slice_rows_limit = options.bin_rows_per_slice.unwrap_or(u32::MAX);
+        let mut push = BinPush {
             item_count: uploaded.transparent_quads,
             draw_count: scene.transparent.len() as u32,
-            width,
-            height,
-            bins_x,
-            bins_y,
             threshold: 0.0,
             resume_list: 0,
-            // A row of bins costs at most bins_x + 1 iterations.
-            bin_rows_per_slice: (LOOP_BUDGET / (bins_x + 1))
-                .min(options.bin_rows_per_slice.unwrap_or(u32::MAX))
-                .max(1),
             pad: [0; 3],
+            ..bytemuck::Zeroable::zeroed()
         };
+        push.set_size(width, height, slice_rows_limit);
         Ok(Self {
             gpu: gpu.clone(),
             method,
@@ -323,6 +337,7 @@ impl Bins {
             bands: options.bands.unwrap_or(BANDS).max(1),
             meshes,
             push,
+            slice_rows_limit,
             features,
             fixed_path_forced: options.assume_fixed_path,
             unculled_frames: 0,
@@ -332,6 +347,7 @@ impl Bins {
                     features,
                     capacities,
                     culled: true,
+                    size: (width, height),
                 };
                 uploaded.slot_count()
             ],
@@ -373,7 +389,8 @@ impl Bins {
     /// Takes the frame `f` describes; whether the features changed (the raster's pipelines
     /// must follow).
     pub fn set_frame(&mut self, f: &FrameSetup<'_>) -> Result<bool> {
-        let (width, height) = self.size();
+        let (width, height) = (f.targets.extent.width, f.targets.extent.height);
+        self.push.set_size(width, height, self.slice_rows_limit);
         self.resources.use_slot(f.slot);
         self.resources
             .set_frame(f.gpu, f.scene, f.uploaded, f.targets)?;
@@ -446,6 +463,7 @@ impl Bins {
             features: self.features,
             capacities: self.resources.capacities,
             culled,
+            size: self.size(),
         };
         self.resources.record_reset(cmd, self.features.rows);
         // Setup's occlusion cull reads the opaque depth (through the pyramid), as does the
@@ -477,7 +495,9 @@ impl Bins {
         self.compute_to_compute(cmd);
         ctx.timestamps.mark(cmd, "bin count");
         let [block_sums, list_blocks, ..] = &s.scan_steps;
-        self.dispatch(ctx, block_sums, [self.resources.scan_groups(), 1, 1]);
+        // The frame's blocks, in whole workgroups (the arrays are padded for the largest).
+        let scan_groups = cells.div_ceil(SCAN_GROUP_SIZE);
+        self.dispatch(ctx, block_sums, [scan_groups, 1, 1]);
         self.compute_to_compute(cmd);
         self.dispatch(ctx, list_blocks, [1, 1, 1]);
         self.compute_to_compute(cmd);
@@ -699,18 +719,19 @@ impl Bins {
 
     /// Reads the completed frame's counters: grows the buffers for later frames and moves the
     /// features to what later frames need (`adapt` says what the raster wants of them, from
-    /// the counters).
+    /// the counters and the size the frame was recorded at).
     pub fn frame_done(
         &mut self,
         done: &FrameDone<'_>,
-        adapt: impl FnOnce(RasterFeatures, &BinCounters) -> RasterFeatures,
+        adapt: impl FnOnce(RasterFeatures, &BinCounters, (u32, u32)) -> RasterFeatures,
     ) -> Result<BinsDone> {
         self.resources.retirement.completed();
         let counters = self.counters(done.slot)?;
         // Judged by what the frame was recorded with; fixes go to the current settings.
         let recorded = self.recorded[done.slot % self.recorded.len()];
         let method = self.method;
-        let mut features = adapt(self.features, &counters);
+        // (With frames in flight, later frames may have another size.)
+        let mut features = adapt(self.features, &counters, recorded.size);
         // The host's estimate missed a near-plane triangle: the frame needs the full shaders.
         let rebuild = counters.homogeneous_count > 0 && !recorded.features.homogeneous;
         features.homogeneous |= rebuild;

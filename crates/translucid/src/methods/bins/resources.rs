@@ -291,11 +291,6 @@ impl BinArrays {
             block_totals: viewed_storage(gpu, "block totals", blocks * 4, r32)?,
         })
     }
-
-    /// Workgroups of the scan's per-block steps.
-    fn scan_groups(&self) -> u32 {
-        (self.blocks / u64::from(SCAN_GROUP_SIZE)) as u32
-    }
 }
 
 /// Cells of every level of the opaque depth pyramid over a frame of `bins_x` x `bins_y`
@@ -347,8 +342,14 @@ impl Resources {
         capacities: Capacities,
         slabs: u32,
     ) -> Result<Self> {
+        // Arrays per block for the largest frame; the draws for the current one.
+        let capacity = targets.capacity;
+        let (blocks_x, blocks_y) = (
+            capacity.width.div_ceil(BIN_SIZE),
+            capacity.height.div_ceil(BIN_SIZE),
+        );
+        let blocks = u64::from(blocks_x) * u64::from(blocks_y);
         let (width, height) = (targets.extent.width, targets.extent.height);
-        let blocks = u64::from(width.div_ceil(BIN_SIZE)) * u64::from(height.div_ceil(BIN_SIZE));
         if scene.materials.len() as u64 > 1 << (32 - TRIANGLE_MATERIAL_SHIFT) {
             return Err(Error::InvalidScene(format!(
                 "{} materials; triangle records address at most {}",
@@ -415,10 +416,7 @@ impl Resources {
             depth_pyramid: viewed_storage(
                 gpu,
                 "opaque depth pyramid",
-                u64::from(pyramid_cells(
-                    width.div_ceil(BIN_SIZE),
-                    height.div_ceil(BIN_SIZE),
-                )) * 4,
+                u64::from(pyramid_cells(blocks_x, blocks_y)) * 4,
                 vk::Format::R32_SFLOAT,
             )?,
             depth_sampler: Sampler::nearest_clamp(gpu)?,
@@ -621,11 +619,6 @@ impl Resources {
         Ok(bytemuck::pod_read_unaligned(
             &slot.readback.read()?[at..at + 4],
         ))
-    }
-
-    /// Workgroups of the scan's per-block steps (0 and 2).
-    pub fn scan_groups(&self) -> u32 {
-        self.bins.scan_groups()
     }
 
     /// The buffer holding the indirect dispatch commands.

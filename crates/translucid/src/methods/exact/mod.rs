@@ -226,25 +226,27 @@ impl Method for Exact {
 
     fn frame_done(&mut self, done: &FrameDone<'_>) -> Result<FrameCheck> {
         let (recorded, finishing) = self.recorded[done.slot % self.recorded.len()];
-        let (width, height) = self.bins.size();
         // A row of a shallow frame whose list is too long for one pass of the loop budget:
         // the continuations walked it in parts (this frame is right), and later frames bin
         // in depth slabs, where the first dispatch does too. Deep pixels: select more
         // fragments per pass, or order the bins by depth slab, from the next frame on (this
         // one is right either way).
-        let bins = self.bins.frame_done(done, |features, counters| {
-            let features = if counters.overflow & super::bins::layout::OVERFLOW_CROWDED_BIN != 0 {
-                features.deep()
-            } else {
-                features
-            };
-            features.after_frame(
-                counters.sweeps(),
-                counters.fragments_in_front(),
-                width,
-                height,
-            )
-        })?;
+        let bins = self
+            .bins
+            .frame_done(done, |features, counters, (width, height)| {
+                let features = if counters.overflow & super::bins::layout::OVERFLOW_CROWDED_BIN != 0
+                {
+                    features.deep()
+                } else {
+                    features
+                };
+                features.after_frame(
+                    counters.sweeps(),
+                    counters.fragments_in_front(),
+                    width,
+                    height,
+                )
+            })?;
         if bins.features_changed {
             self.select_raster(done.uploaded)?;
         }

@@ -78,7 +78,7 @@ impl BinRaster {
     }
 
     pub fn frame_done(&mut self, done: &FrameDone<'_>) -> Result<FrameCheck> {
-        let bins = self.bins.frame_done(done, |f, _| f)?;
+        let bins = self.bins.frame_done(done, |f, _, _| f)?;
         if bins.features_changed {
             self.raster = select(&mut self.bins, done.uploaded, self.rank, self.constants)?;
         }

@@ -87,7 +87,8 @@ impl Passes {
         constants: super::SpecConstants,
     ) -> Result<Self> {
         let [accumulate_spirv, resolve_spirv, shade_spirv] = shaders(settings.rank);
-        let extent = targets.extent;
+        // The images hold the largest frame; smaller ones use their top-left corner.
+        let extent = targets.capacity;
         let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED;
         let bounds = gpu.create_image("wavelet bounds", extent, BOUNDS_FORMAT, usage, 1)?;
         let format = match settings.precision {
@@ -294,14 +295,14 @@ impl Passes {
     }
 
     pub fn bounds(&self, ctx: &mut RecordContext<'_>) {
-        self.bounds_pass.begin(ctx.cmd);
+        self.bounds_pass.begin(ctx.cmd, ctx.targets.extent);
         Self::draw_scene(ctx, &self.bounds_pipelines, None);
         self.bounds_pass.end(ctx.cmd);
     }
 
     pub fn transmittance(&self, ctx: &mut RecordContext<'_>) {
         for a in &self.accumulations {
-            a.pass.begin(ctx.cmd);
+            a.pass.begin(ctx.cmd, ctx.targets.extent);
             Self::draw_scene(ctx, &a.pipelines, Some(&self.bounds_set));
             a.pass.end(ctx.cmd);
         }
@@ -328,7 +329,7 @@ impl Passes {
             attachment_read,
             shader_read,
         );
-        self.resolve_pass.begin(ctx.cmd);
+        self.resolve_pass.begin(ctx.cmd, ctx.targets.extent);
         self.resolve_pass.draw_fullscreen(
             ctx.cmd,
             &self.resolve_pipeline,
@@ -353,7 +354,7 @@ impl Passes {
     }
 
     pub fn shade(&self, ctx: &mut RecordContext<'_>) {
-        self.shade_pass.begin(ctx.cmd);
+        self.shade_pass.begin(ctx.cmd, ctx.targets.extent);
         Self::draw_scene(ctx, &self.shade_pipelines, Some(&self.read_set));
         self.shade_pass.end(ctx.cmd);
     }

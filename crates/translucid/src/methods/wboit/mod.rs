@@ -39,7 +39,7 @@ pub struct Wboit {
 impl Wboit {
     pub fn new(gpu: &Gpu, scene: &GpuScene, targets: &FrameTargets) -> Result<Self> {
         let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED;
-        let image = |name, format| gpu.create_image(name, targets.extent, format, usage, 1);
+        let image = |name, format| gpu.create_image(name, targets.capacity, format, usage, 1);
         let images = [
             image("wboit weighted radiance", SUM_FORMAT)?,
             image("wboit weighted opacity", SUM_FORMAT)?,
@@ -125,7 +125,7 @@ impl Method for Wboit {
     }
 
     fn record(&mut self, ctx: &mut RecordContext<'_>) -> Result<()> {
-        self.accumulate.begin(ctx.cmd);
+        self.accumulate.begin(ctx.cmd, ctx.targets.extent);
         ctx.scene.draw(
             ctx.gpu,
             ctx.cmd,
@@ -134,7 +134,7 @@ impl Method for Wboit {
         );
         self.accumulate.end(ctx.cmd);
         ctx.timestamps.mark(ctx.cmd, "wboit accumulate");
-        self.composite.begin(ctx.cmd);
+        self.composite.begin(ctx.cmd, ctx.targets.extent);
         self.composite
             .draw_fullscreen(ctx.cmd, &self.composite_pipeline, &[self.set.raw]);
         self.composite.end(ctx.cmd);
