@@ -3,8 +3,10 @@
  * instance, device, images and command buffers, keeps 2 frames in flight, and each frame
  * moves its camera, sways a cloud of particles (translucid_mesh_update) and turns three glass
  * panes; halfway through, a fourth pane is streamed in (a mesh and a material created, and
- * drawn from then on). translucid records the transparent pass into the engine's command
- * buffer; the engine submits, and completes each frame when it comes back to its slot.
+ * drawn from then on), and in the last quarter a dynamic resolution renders the frames at 70
+ * to 90 % of the images' size (translucid draws their top-left corner). translucid records
+ * the transparent pass into the engine's command buffer; the engine submits, and completes
+ * each frame when it comes back to its slot.
  *
  *   frame_loop [OUTPUT_DIR] [FRAMES] [DRAWS]      (default: out 120 0)
  *
@@ -577,6 +579,14 @@ static void finish(frame_slot *s, int k, double *gpu_ms) {
     s->in_flight = 0;
 }
 
+/* The share of the images' size frame `k` of `frames` renders at: all of it, but for a
+ * dynamic resolution in the last quarter (the last frame, which is written out, whole). */
+static float render_scale(int k, int frames) {
+    static const float steps[4] = {0.9f, 0.8f, 0.7f, 0.8f};
+    if (k < frames * 3 / 4 || k == frames - 1) return 1.0f;
+    return steps[k % 4];
+}
+
 /* `frames` frames of the loop with `method`; the last one written to `png`. */
 static void run(uint32_t method, int frames, uint32_t extra_draws, const char *png) {
     scene sc;
@@ -610,6 +620,11 @@ static void run(uint32_t method, int frames, uint32_t extra_draws, const char *p
                    "translucid_material_create)\n",
                    k);
         }
+        if (k == frames * 3 / 4 && k < frames - 1) {
+            printf("  frame %3d: a dynamic resolution from here on (70-90 %% of %dx%d, "
+                   "into the same images)\n",
+                   k, WIDTH, HEIGHT);
+        }
         place_particles(&sc, k);
         CHECK(translucid_mesh_update(g_context, sc.particles, 0, PARTICLES * 4,
                                      sc.particle_positions));
@@ -617,8 +632,8 @@ static void run(uint32_t method, int frames, uint32_t extra_draws, const char *p
         memset(&info, 0, sizeof info);
         info.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_INFO;
         info.method = method;
-        info.width = WIDTH;
-        info.height = HEIGHT;
+        info.width = (uint32_t)(WIDTH * render_scale(k, frames));
+        info.height = (uint32_t)(HEIGHT * render_scale(k, frames));
         info.camera = orbit_camera(k);
         info.draws = sc.draws;
         info.draw_count = sc.draw_count;

@@ -188,6 +188,13 @@ fn c_programs_pass_with_validation() {
                 );
             }
             assert!(!output.contains("Validation Error"), "{output}");
+            // The frames of the dynamic resolution build and allocate nothing.
+            let resized = output.split("a dynamic resolution from here on").skip(1);
+            assert_eq!(resized.clone().count(), 2, "{output}");
+            for part in resized {
+                let frames = part.split("median record").next().unwrap_or(part);
+                assert!(!frames.contains(", built"), "{output}");
+            }
         }
     }
 }
