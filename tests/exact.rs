@@ -66,6 +66,30 @@ fn exact_matches_reference_with_tinted_draws() {
     }
 }
 
+/// A glTF's opaque surfaces made transparent (`--blend-alpha`: the stress load of the cost
+/// sweeps), the glass vase's textured and masked ones among them, match the reference.
+#[test]
+fn exact_matches_reference_with_opaque_surfaces_blended() {
+    let file = asset("GlassVaseFlowers/GlassVaseFlowers.glb");
+    let vase = scene::load(file.to_str().expect("utf-8 path")).expect("vendored scene");
+    let blended = vase.opaque_as_transparent(0.4).expect("alpha in range");
+    assert!(blended.opaque.is_empty());
+    assert_eq!(
+        blended.transparent.len(),
+        vase.opaque.len() + vase.transparent.len()
+    );
+    check(
+        &blended,
+        "vase_blended",
+        160,
+        120,
+        &MethodOptions::default(),
+    );
+    for bad in [0.0, 1.5, f32::NAN] {
+        assert!(vase.opaque_as_transparent(bad).is_err(), "alpha {bad}");
+    }
+}
+
 #[test]
 fn exact_matches_reference_on_vendored_gltf() {
     for path in [

@@ -89,6 +89,37 @@ pub struct FrameInput<'a> {
 }
 
 impl Scene {
+    /// The scene with its opaque draws made transparent at coverage `alpha` (0 < alpha <= 1),
+    /// drawn first, then its own transparent draws: each opaque material gets a copy with base
+    /// alpha `alpha` (times its texture's alpha) and no alpha cutoff. Turns any glTF into a
+    /// load for the transparent methods (`--blend-alpha`), e.g. a million opaque triangles.
+    pub fn opaque_as_transparent(&self, alpha: f32) -> crate::Result<Scene> {
+        if !(alpha > 0.0 && alpha <= 1.0) {
+            return Err(crate::Error::InvalidOption(format!(
+                "blend alpha {alpha} is not in (0, 1]"
+            )));
+        }
+        let mut scene = self.clone();
+        let mut copies = std::collections::HashMap::new();
+        let mut made = Vec::new();
+        for draw in &mut scene.opaque {
+            let first = self.materials.len();
+            let material = *copies.entry(draw.material).or_insert_with(|| {
+                let mut copy = self.materials[draw.material].clone();
+                copy.base_colour.w = alpha;
+                copy.alpha_cutoff = None;
+                copy.name = format!("{} at alpha {alpha}", copy.name);
+                made.push(copy);
+                first + made.len() - 1
+            });
+            draw.material = material;
+        }
+        scene.materials.extend(made);
+        scene.transparent = std::mem::take(&mut scene.opaque);
+        scene.transparent.extend_from_slice(&self.transparent);
+        Ok(scene)
+    }
+
     /// The frame the scene itself describes.
     pub fn frame_input(&self) -> FrameInput<'_> {
         FrameInput {
@@ -215,7 +246,8 @@ impl Scene {
     }
 }
 
-/// A scene by name: one of the [`generated::NAMES`], else a path to a `.gltf`/`.glb` file.
+/// A scene by name: one of the [`generated::NAMES`], a sized one (`hairball:100k`,
+/// [`generated::SIZED`]), else a path to a `.gltf`/`.glb` file.
 ///
 /// A spec that names an existing file, or ends in `.gltf`/`.glb`, is loaded as glTF (so a
 /// mistyped path reports the missing file); anything else gives
@@ -223,6 +255,9 @@ impl Scene {
 pub fn load(spec: &str) -> crate::Result<Scene> {
     if let Some(scene) = generated::generate(spec) {
         return Ok(scene);
+    }
+    if let Some(sized) = generated::generate_sized(spec) {
+        return sized.map_err(crate::Error::InvalidScene);
     }
     let path = std::path::Path::new(spec);
     let gltf_extension = path
@@ -234,9 +269,14 @@ pub fn load(spec: &str) -> crate::Result<Scene> {
     Err(crate::Error::UnknownScene(
         spec.to_string(),
         format!(
-            "{}, draws<N> for N of 1 to {}",
+            "{}, draws<N> for N of 1 to {}, {}",
             generated::NAMES.join(", "),
-            generated::MAX_DRAWS
+            generated::MAX_DRAWS,
+            generated::SIZED
+                .iter()
+                .map(|(name, counts)| format!("{name}:N for N {counts}"))
+                .collect::<Vec<_>>()
+                .join(", ")
         ),
     ))
 }

@@ -38,21 +38,82 @@ pub const NAMES: &[&str] = &[
     "textured",
 ];
 
+/// The generated scenes that take a size, `NAME:N`, and what N counts. Their triangles (or
+/// planes) change with N, not the area they cover on screen, so that a sweep over N measures
+/// what the triangles cost: `hairball:60000`, `particles:8192` and `planes:6` are
+/// `hairball`, `particles` and `planes`.
+pub const SIZED: &[(&str, &str)] = &[
+    ("hairball", "transparent triangles, 2 to 20,000,000"),
+    ("particles", "transparent triangles, 2 to 20,000,000"),
+    ("planes", "intersecting planes of 512 triangles, 1 to 1,000"),
+];
+
+/// The most triangles a sized scene takes: 20 M, past the frames' limits.
+const MOST_SIZED_TRIANGLES: u64 = 20_000_000;
+
 /// The generated scene called `name`, or `None` when there is no such scene.
 /// The same name always gives the same scene.
 pub fn generate(name: &str) -> Option<Scene> {
     let scene = match name {
         "boxes" => boxes(),
         "spheres" => spheres(),
-        "particles" => particles(),
-        "planes" => planes(),
-        "hairball" => hairball(),
+        "particles" => particles(8192),
+        "planes" => planes(6),
+        "hairball" => hairball(60_000),
         "layers" => layers(),
         "polychrome" => polychrome(),
         "textured" => textured::textured(),
         other => draws(other.strip_prefix("draws")?.parse().ok()?)?,
     };
     Some(scene)
+}
+
+/// The sized scene `spec` (`NAME:N`, see [`SIZED`]): `None` when `spec` names none, an error
+/// when its N is not a count it takes.
+pub fn generate_sized(spec: &str) -> Option<Result<Scene, String>> {
+    let (name, count) = spec.split_once(':')?;
+    let (_, counts) = SIZED.iter().find(|(n, _)| *n == name)?;
+    let n = match parse_count(count) {
+        Some(n) => n,
+        None => {
+            return Some(Err(format!(
+                "{spec}: {count:?} is not a count (digits, optionally ending in k or m)"
+            )))
+        }
+    };
+    let most = if name == "planes" {
+        1_000
+    } else {
+        MOST_SIZED_TRIANGLES
+    };
+    let least = if name == "planes" { 1 } else { 2 };
+    if !(least..=most).contains(&n) {
+        return Some(Err(format!("{spec}: {name} takes {counts}")));
+    }
+    let n = n as u32;
+    let mut scene = match name {
+        "hairball" => hairball(n),
+        "particles" => particles(n),
+        _ => planes(n),
+    };
+    scene.name = spec.to_string();
+    Some(Ok(scene))
+}
+
+/// `10`, `30k`, `1m`: a count, in thousands or millions with a suffix.
+pub fn parse_count(text: &str) -> Option<u64> {
+    let lower = text.trim().to_ascii_lowercase();
+    let (digits, scale) = match lower.strip_suffix('k') {
+        Some(d) => (d, 1_000),
+        None => match lower.strip_suffix('m') {
+            Some(d) => (d, 1_000_000),
+            None => (lower.as_str(), 1),
+        },
+    };
+    if digits.is_empty() || !digits.bytes().all(|b| b.is_ascii_digit()) {
+        return None;
+    }
+    digits.parse::<u64>().ok()?.checked_mul(scale)
 }
 
 /// splitmix64: tiny, fast, and the same on every platform.
@@ -404,21 +465,24 @@ fn push_sphere(
     }
 }
 
-/// 4096 camera-facing quads at low alpha in a disc-shaped cloud seen face on, so that the
-/// interior of the cloud is about 70 layers deep (at least 32 over most covered pixels).
-fn particles() -> Scene {
+/// Camera-facing quads (4096, `triangles` 8192) at low alpha in a disc-shaped cloud seen face
+/// on, so that the interior of the cloud is about 70 layers deep (at least 32 over most
+/// covered pixels). With more quads each is smaller, covering as much of the screen in all.
+fn particles(triangles: u32) -> Scene {
     let eye = Vec3::new(0.0, 0.0, 10.0);
     let camera = Camera::look_at(eye, Vec3::ZERO, 0.8, 1.0, 30.0);
     let mut b = Builder::new("particles", camera, Vec3::new(0.02, 0.02, 0.04));
     b.opaque(back_wall(-4.0, 14.0, 0.5, 0.25), lit_ground());
     let mut rng = Rng(3);
     let mut soup = QuadSoup::default();
-    for _ in 0..4096 {
+    let quads = (triangles / 2).max(1);
+    let scale = (4096.0 / quads as f32).sqrt();
+    for _ in 0..quads {
         // Uniform in a disc across the view, uniform in depth: even depth complexity.
         let r = 3.0 * rng.unit().sqrt();
         let phi = rng.range(0.0, TAU);
         let centre = Vec3::new(r * phi.cos(), r * phi.sin(), rng.range(-2.5, 2.5));
-        let half = rng.range(0.25, 0.45);
+        let half = rng.range(0.25, 0.45) * scale;
         let forward = (eye - centre).normalize();
         let right = Vec3::Y.cross(forward).normalize() * half;
         let up = forward.cross(right).normalize() * half;
@@ -440,21 +504,22 @@ fn particles() -> Scene {
     b.finish()
 }
 
-/// Six large planes through the origin at different angles, each cutting the others, so
-/// that every plane is partly behind and partly in front of every other: any draw order is
-/// wrong somewhere. Each plane is 16 × 16 quads (1536 in all); odd planes are lit.
-fn planes() -> Scene {
+/// Large planes (six, or `count`) through the origin at different angles, each cutting the
+/// others, so that every plane is partly behind and partly in front of every other: any draw
+/// order is wrong somewhere. Each plane is 16 × 16 quads (1536 in all for six); odd planes
+/// are lit.
+fn planes(count: u32) -> Scene {
     let camera = Camera::look_at(Vec3::new(3.5, 2.5, 7.0), Vec3::ZERO, 0.8, 0.5, 30.0);
     let mut b = Builder::new("planes", camera, Vec3::new(0.05, 0.05, 0.08));
     b.opaque(ground(-2.6, 16.0), lit_ground());
     let mut rng = Rng(4);
-    for i in 0..6 {
-        let rotation = Quat::from_rotation_y(i as f32 * PI / 6.0)
+    for i in 0..count {
+        let rotation = Quat::from_rotation_y(i as f32 * PI / count as f32)
             * Quat::from_rotation_x(rng.range(-0.7, 0.7))
             * Quat::from_rotation_z(rng.range(-0.4, 0.4));
         let u = rotation * Vec3::new(4.4, 0.0, 0.0);
         let v = rotation * Vec3::new(0.0, 3.6, 0.0);
-        let colour = hue(i as f32 / 6.0)
+        let colour = hue(i as f32 / count as f32)
             .lerp(Vec3::ONE, 0.15)
             .extend(rng.range(0.35, 0.6));
         let mut soup = QuadSoup::default();
@@ -468,24 +533,32 @@ fn planes() -> Scene {
     b.finish()
 }
 
-/// 3000 strands of 10 thin ribbons each (30 000 quads) curling out of a ball, at low alpha.
-fn hairball() -> Scene {
+/// 3000 strands of 10 thin ribbons each (30 000 quads, `triangles` 60 000) curling out of a
+/// ball, at low alpha. Other counts cut the same strands into more or fewer ribbons (and use
+/// fewer strands below 3000 quads).
+fn hairball(triangles: u32) -> Scene {
     let eye = Vec3::new(0.0, 0.4, 5.0);
     let camera = Camera::look_at(eye, Vec3::ZERO, 0.8, 0.5, 20.0);
     let mut b = Builder::new("hairball", camera, Vec3::new(0.03, 0.03, 0.05));
     b.opaque(ground(-1.9, 10.0), lit_ground());
     let mut rng = Rng(5);
     let mut soup = QuadSoup::default();
-    for _ in 0..3000 {
+    let quads = (triangles / 2).max(1);
+    let strands = quads.min(3000);
+    for strand in 0..strands {
+        // The strands share the quads out; each is as long, its turns as sharp, however many
+        // ribbons it is cut into.
+        let ribbons = quads / strands + u32::from(strand < quads % strands);
+        let step = 10.0 / ribbons as f32;
         let root = rng.direction();
         let colour = hue(rng.range(0.0, 0.15)).lerp(Vec3::new(0.9, 0.8, 0.6), rng.unit());
         let alpha = rng.range(0.08, 0.25);
         let curl = rng.direction() * 0.35;
         let mut at = root * 0.6;
         let mut dir = root;
-        for _ in 0..10 {
-            dir = (dir + curl + rng.direction() * 0.15).normalize();
-            let next = at + dir * 0.12;
+        for _ in 0..ribbons {
+            dir = (dir + curl * step + rng.direction() * (0.15 * step)).normalize();
+            let next = at + dir * (0.12 * step);
             // Ribbons face the eye so they stay visible however they turn.
             let side = (next - at).cross(eye - at).normalize_or(Vec3::X) * 0.006;
             soup.quad_with_normals(
@@ -656,6 +729,82 @@ mod tests {
     fn scenes_are_deterministic() {
         for name in NAMES {
             assert_eq!(scene(name).meshes, scene(name).meshes, "{name}");
+        }
+    }
+
+    #[test]
+    fn sized_scenes_have_the_triangles_asked_for() {
+        let triangles = |spec: &str| {
+            generate_sized(spec)
+                .expect("a sized scene")
+                .expect("a count it takes")
+                .transparent_quads()
+                * 2
+        };
+        assert_eq!(triangles("hairball:1000"), 1_000);
+        assert_eq!(triangles("hairball:30k"), 30_000);
+        assert_eq!(triangles("hairball:100001"), 100_000);
+        assert_eq!(triangles("particles:2"), 2);
+        assert_eq!(triangles("particles:1m"), 1_000_000);
+        assert_eq!(triangles("planes:10"), 10 * 512);
+        // The unsized names are these sizes.
+        for (name, spec) in [
+            ("hairball", "hairball:60000"),
+            ("particles", "particles:8192"),
+            ("planes", "planes:6"),
+        ] {
+            let sized = generate_sized(spec).expect("sized").expect("valid");
+            assert_eq!(sized.meshes, scene(name).meshes, "{spec}");
+            assert_eq!(sized.name, spec);
+        }
+        for bad in [
+            "hairball:0",
+            "hairball:1",
+            "particles:21m",
+            "planes:0",
+            "planes:1001",
+        ] {
+            let err = generate_sized(bad)
+                .expect("sized")
+                .expect_err("out of range");
+            assert!(err.contains(bad), "{err}");
+        }
+        assert!(generate_sized("hairball:ten")
+            .expect("sized")
+            .is_err_and(|e| e.contains("not a count")));
+        assert!(generate_sized("boxes:10").is_none());
+        assert_eq!(parse_count("30K"), Some(30_000));
+        assert_eq!(parse_count("k"), None);
+        assert_eq!(parse_count("-3"), None);
+    }
+
+    /// More triangles, the same surface: the sweep over triangles measures them, not deeper
+    /// pixels.
+    #[test]
+    fn sized_scenes_keep_their_area() {
+        let area = |spec: &str| {
+            let s = generate_sized(spec).expect("sized").expect("valid");
+            let mut total = 0.0f64;
+            for d in &s.transparent {
+                let mesh = &s.meshes[d.mesh];
+                for &q in &mesh.quads {
+                    for [a, b, c] in Mesh::quad_triangles(q).into_iter().flatten() {
+                        let p = |i: u32| mesh.positions[i as usize];
+                        total += f64::from((p(b) - p(a)).cross(p(c) - p(a)).length() / 2.0);
+                    }
+                }
+            }
+            total
+        };
+        for (small, large) in [
+            ("particles:2000", "particles:200k"),
+            ("hairball:6k", "hairball:600k"),
+        ] {
+            let (a, b) = (area(small), area(large));
+            assert!(
+                (a / b).max(b / a) < 1.1,
+                "{small}: area {a:.2}, {large}: {b:.2}"
+            );
         }
     }
 
