@@ -43,6 +43,62 @@ impl std::str::FromStr for Size {
     }
 }
 
+/// How a scene named on the command line is drawn.
+#[derive(clap::Args, Clone, Copy, Debug, Default)]
+pub struct SceneArgs {
+    /// Draw the scene's opaque surfaces as transparent ones of this alpha (in (0, 1]): any
+    /// glTF becomes a load for the transparent methods
+    #[arg(long, value_name = "A", value_parser = blend_alpha)]
+    pub blend_alpha: Option<f32>,
+}
+
+fn blend_alpha(text: &str) -> Result<f32, String> {
+    match text.parse::<f32>() {
+        Ok(a) if a > 0.0 && a <= 1.0 => Ok(a),
+        _ => Err(format!("{text:?} is not an alpha in (0, 1]")),
+    }
+}
+
+/// What a bench sweep varies: `triangles=10k,30k,100k` (sized scenes, `hairball:N`) or
+/// `size=512,1024,2048` (square frames of that side).
+#[derive(Clone, Debug)]
+pub struct Sweep {
+    pub over: SweepOver,
+    pub points: Vec<u64>,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SweepOver {
+    Triangles,
+    Size,
+}
+
+impl std::str::FromStr for Sweep {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        let (over, list) = s
+            .split_once('=')
+            .ok_or_else(|| format!("sweep {s:?} is not triangles=N,N,... or size=N,N,..."))?;
+        let over = match over {
+            "triangles" => SweepOver::Triangles,
+            "size" => SweepOver::Size,
+            other => return Err(format!("sweep over {other:?}: triangles or size")),
+        };
+        let points = list
+            .split(',')
+            .map(|p| {
+                translucid::scene::generated::parse_count(p)
+                    .filter(|&n| n > 0)
+                    .ok_or_else(|| format!("sweep point {p:?} is not a count (10k, 1m, 512)"))
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        if points.len() < 2 {
+            return Err(format!("sweep {s:?}: at least two points, for a slope"));
+        }
+        Ok(Self { over, points })
+    }
+}
+
 /// Settings of the `wavelet` method (other methods ignore them).
 #[derive(clap::Args, Clone, Copy, Debug)]
 pub struct WaveletArgs {
@@ -106,6 +162,8 @@ enum Command {
         /// first frame's include building pipelines and compiling shaders.
         #[arg(long)]
         warm: bool,
+        #[command(flatten)]
+        scene_args: SceneArgs,
     },
     /// Render with a method and with the CPU reference, and measure the difference.
     Compare {
@@ -126,6 +184,8 @@ enum Command {
         /// Print one JSON object instead of text.
         #[arg(long)]
         json: bool,
+        #[command(flatten)]
+        scene_args: SceneArgs,
     },
     /// Check that translucid renders glTF files right, each within 2/255 of what its method
     /// promises.
@@ -180,6 +240,17 @@ enum Command {
         /// Print one JSON object per (scene, method) line instead of a table.
         #[arg(long)]
         json: bool,
+        #[command(flatten)]
+        scene_args: SceneArgs,
+        /// How the methods' cost grows: `triangles=10k,30k,100k,300k,1m` (scenes hairball or
+        /// particles, cut into that many triangles) or `size=512,1024,2048,4096` (square
+        /// frames). Prints each method's GPU ms per point and the log-log slope over
+        /// triangles or pixels, and writes a plot (--plot)
+        #[arg(long)]
+        sweep: Option<Sweep>,
+        /// Where a sweep's plot goes (SVG)
+        #[arg(long, default_value = "out/sweep.svg")]
+        plot: PathBuf,
     },
 }
 
@@ -210,8 +281,15 @@ fn run(command: Command) -> translucid::Result<ExitCode> {
             size,
             output,
             warm,
+            scene_args,
         } => done(commands::render::run(
-            &scene, &method, threshold, wavelet, size, &output, warm,
+            (&scene, scene_args),
+            &method,
+            threshold,
+            wavelet,
+            size,
+            &output,
+            warm,
         )),
         Command::Compare {
             scene,
@@ -221,8 +299,9 @@ fn run(command: Command) -> translucid::Result<ExitCode> {
             size,
             output,
             json,
+            scene_args,
         } => commands::compare::run(
-            &scene,
+            (&scene, scene_args),
             &method,
             threshold,
             wavelet,
@@ -247,17 +326,25 @@ fn run(command: Command) -> translucid::Result<ExitCode> {
             frames,
             motion,
             json,
-        } => done(commands::bench::run(
-            &scenes,
-            &methods,
-            threshold,
-            wavelet,
-            commands::bench::FrameLoop {
-                size,
-                frames,
-                motion,
-            },
-            json,
-        )),
+            scene_args,
+            sweep,
+            plot,
+        } => {
+            let bench = commands::bench::Bench {
+                methods: &methods,
+                threshold,
+                wavelet,
+                scene_args,
+                frame_loop: commands::bench::FrameLoop {
+                    size,
+                    frames,
+                    motion,
+                },
+            };
+            match sweep {
+                Some(sweep) => commands::sweep::run(&scenes, &bench, &sweep, &plot, json),
+                None => done(commands::bench::run(&scenes, &bench, json)),
+            }
+        }
     }
 }

@@ -316,3 +316,100 @@ fn conformance_reports_blend_without_failing_on_its_error() {
         "{stdout}"
     );
 }
+
+/// A sweep prints, per method, its GPU time at every point and the log-log slope, and plots
+/// them: over triangles (a sized scene) and over square frame sizes (a scene whose opaque
+/// surfaces are blended).
+#[test]
+fn bench_sweeps_report_slopes_and_write_a_plot() {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("sweeps");
+    let _ = std::fs::remove_dir_all(&dir);
+    for (args, points) in [
+        (
+            vec!["hairball", "--sweep", "triangles=2k,8k"],
+            [2_000.0, 8_000.0],
+        ),
+        (
+            vec!["boxes", "--blend-alpha", "0.5", "--sweep", "size=32,64"],
+            [1024.0, 4096.0],
+        ),
+    ] {
+        let plot = dir.join(format!("{}.svg", args[0]));
+        let mut all = vec![
+            "bench", "--method", "exact", "--size", "64x48", "--frames", "2",
+        ];
+        all.extend(&args);
+        all.extend(["--json", "--plot", plot.to_str().expect("utf-8 path")]);
+        let (ok, stdout, stderr) = translucid(&all);
+        assert!(ok, "{args:?}: {stderr}");
+        let lines = json_lines(&stdout);
+        let methods: Vec<&str> = lines.iter().filter_map(|v| v["method"].as_str()).collect();
+        assert_eq!(methods, ["blend", "exact"], "{stdout}");
+        for v in &lines {
+            let xs: Vec<f64> = v["points"]
+                .as_array()
+                .expect("points")
+                .iter()
+                .map(|p| {
+                    assert!(p["method_ms"].as_f64().is_some_and(|ms| ms > 0.0), "{v}");
+                    p["x"].as_f64().expect("x")
+                })
+                .collect();
+            assert_eq!(xs, points, "{v}");
+            assert!(v["slope"].as_f64().is_some_and(f64::is_finite), "{v}");
+        }
+        let svg = std::fs::read_to_string(&plot).expect("the plot was written");
+        assert!(
+            svg.starts_with("<svg") && svg.contains("exact (slope") && svg.contains("blend"),
+            "{}",
+            plot.display()
+        );
+    }
+}
+
+#[test]
+fn bad_sweeps_and_blend_alphas_are_refused() {
+    for (args, says) in [
+        (
+            vec!["boxes", "--sweep", "triangles=1k,2k"],
+            "hairball, particles",
+        ),
+        (
+            vec!["hairball", "--sweep", "triangles=1k"],
+            "at least two points",
+        ),
+        (
+            vec!["hairball", "--sweep", "pixels=1,2"],
+            "triangles or size",
+        ),
+        (vec!["hairball", "--sweep", "size=64,x"], "not a count"),
+        (vec!["boxes", "--blend-alpha", "0"], "not an alpha"),
+        (vec!["hairball:0"], "hairball takes"),
+    ] {
+        let mut all = vec!["bench", "--frames", "1", "--size", "32x32"];
+        all.extend(&args);
+        let (ok, _, stderr) = translucid(&all);
+        assert!(!ok, "{args:?} was accepted");
+        assert!(stderr.contains(says), "{args:?}: {stderr}");
+    }
+}
+
+/// Blended opaque surfaces are right with exact, as compare measures it.
+#[test]
+fn compare_takes_a_blend_alpha() {
+    let (ok, stdout, stderr) = translucid(&[
+        "compare",
+        "boxes",
+        "--blend-alpha",
+        "0.5",
+        "--size",
+        "80x60",
+        "--json",
+    ]);
+    assert!(ok, "{stderr}");
+    let v = &json_lines(&stdout)[0];
+    assert!(
+        v["max_error"].as_f64().is_some_and(|e| e <= 2.0 / 255.0),
+        "{v}"
+    );
+}

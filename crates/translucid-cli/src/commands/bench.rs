@@ -16,13 +16,15 @@ fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
-struct Result {
-    scene: String,
-    method: String,
-    motion: Motion,
+/// One method's frame loop over one scene: medians of its timed frames.
+pub struct Measured {
+    pub scene: String,
+    pub method: String,
+    pub motion: Motion,
     frames: u32,
     total_ms: f64,
-    method_ms: f64,
+    /// GPU time of the method's own stages.
+    pub method_ms: f64,
     stages: Vec<(&'static str, f64)>,
     peak_gpu_bytes: u64,
     fragments: u64,
@@ -33,7 +35,8 @@ struct Result {
     pipelines_created: u64,
     /// GPU memory the timed frames allocated, after the warm-up.
     bytes_allocated: u64,
-    wall_ms: f64,
+    /// Host time from submission to completion of the whole frame.
+    pub wall_ms: f64,
     /// Median host time per frame in `set_frame` and recording.
     cpu_ms: f64,
 }
@@ -85,8 +88,8 @@ impl Timings {
         self.walls.push(frame.wall_ms);
     }
 
-    fn result(mut self, scene: &str, method: &str, motion: Motion, frames: u32) -> Result {
-        Result {
+    fn result(mut self, scene: &str, method: &str, motion: Motion, frames: u32) -> Measured {
+        Measured {
             scene: scene.to_string(),
             method: method.to_string(),
             motion,
@@ -110,26 +113,38 @@ impl Timings {
     }
 }
 
-pub fn run(
+/// What a bench runs: the methods (blend always too, for the ratios), their settings, how
+/// scenes are drawn, and the frame loop.
+pub struct Bench<'a> {
+    pub methods: &'a [String],
+    pub threshold: f32,
+    pub wavelet: crate::WaveletArgs,
+    pub scene_args: crate::SceneArgs,
+    pub frame_loop: FrameLoop,
+}
+
+pub fn run(scenes: &[String], bench: &Bench<'_>, json: bool) -> translucid::Result<()> {
+    let results = measure(scenes, bench, bench.frame_loop.size)?;
+    print_results(&results, bench, json);
+    Ok(())
+}
+
+/// Runs the frame loop of every scene at `size`, every method taking turns: blend first,
+/// then `bench.methods`, for each motion.
+pub fn measure(
     scenes: &[String],
-    methods: &[String],
-    threshold: f32,
-    wavelet: crate::WaveletArgs,
-    frame_loop: FrameLoop,
-    json: bool,
-) -> translucid::Result<()> {
-    let FrameLoop {
-        size,
-        frames,
-        motion,
-    } = frame_loop;
-    let options = super::options(threshold, wavelet)?;
-    let frames = frames.max(1);
+    bench: &Bench<'_>,
+    size: Size,
+) -> translucid::Result<Vec<Measured>> {
+    let methods = bench.methods;
+    let FrameLoop { frames, motion, .. } = &bench.frame_loop;
+    let options = super::options(bench.threshold, bench.wavelet)?;
+    let frames = (*frames).max(1);
     // blend is always measured: every ratio is against it, from this same run.
     let mut names: Vec<&str> = vec!["blend"];
     names.extend(methods.iter().map(String::as_str).filter(|m| *m != "blend"));
     let mut motions: Vec<Motion> = Vec::new();
-    for m in motion {
+    for &m in motion {
         if !motions.contains(&m) {
             motions.push(m);
         }
@@ -159,7 +174,7 @@ pub fn run(
     );
     let mut results = Vec::new();
     for spec in scenes {
-        let scene = translucid::scene::load(spec)?;
+        let scene = super::load_scene(spec, bench.scene_args)?;
         let orbit = Orbit::new(&scene);
         let mut draws = Vec::new();
         // The frame's host work: the new camera and draws, then recording (and submission).
@@ -219,6 +234,13 @@ pub fn run(
         }
     }
     bar.finish_and_clear();
+    Ok(results)
+}
+
+/// One line (or JSON object) per scene and method of `bench.methods`, with ratios to blend.
+fn print_results(results: &[Measured], bench: &Bench<'_>, json: bool) {
+    let (methods, threshold, wavelet) = (bench.methods, bench.threshold, bench.wavelet);
+    let size = bench.frame_loop.size;
     for r in results.iter().filter(|r| methods.contains(&r.method)) {
         let blend = results
             .iter()
@@ -290,5 +312,4 @@ pub fn run(
             println!("{:<40} {}", "", super::stage_text(&r.stages));
         }
     }
-    Ok(())
 }

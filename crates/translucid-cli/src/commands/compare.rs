@@ -5,7 +5,7 @@ use std::process::ExitCode;
 use translucid::metrics;
 
 pub fn run(
-    scene_spec: &str,
+    (scene_spec, scene_args): (&str, crate::SceneArgs),
     method: &str,
     threshold: f32,
     wavelet: crate::WaveletArgs,
@@ -13,7 +13,7 @@ pub fn run(
     output: Option<&Path>,
     json: bool,
 ) -> translucid::Result<ExitCode> {
-    let scene = translucid::scene::load(scene_spec)?;
+    let scene = super::load_scene(scene_spec, scene_args)?;
     let mut renderer = open_renderer(&scene, method, threshold, wavelet, size)?;
     // Every method against the exact answer: how far it is from right, threshold included.
     let against = Expected::Reference;

@@ -5,6 +5,7 @@ pub mod compare;
 pub mod conformance;
 pub mod info;
 pub mod render;
+pub mod sweep;
 
 use translucid::gpu::{Gpu, GpuOptions};
 use translucid::methods::wavelet::{model::Model, Settings};
@@ -27,6 +28,16 @@ pub fn open_gpu_quietly() -> translucid::Result<Gpu> {
 }
 
 /// A renderer for one scene on the chosen device.
+/// The scene `spec` names (a generated name, `hairball:100k`, or a glTF path), drawn as
+/// `args` say.
+pub fn load_scene(spec: &str, args: crate::SceneArgs) -> translucid::Result<Scene> {
+    let scene = translucid::scene::load(spec)?;
+    match args.blend_alpha {
+        Some(alpha) => scene.opaque_as_transparent(alpha),
+        None => Ok(scene),
+    }
+}
+
 pub fn open_renderer(
     scene: &translucid::scene::Scene,
     method: &str,

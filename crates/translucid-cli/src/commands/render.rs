@@ -7,7 +7,7 @@ use std::time::Instant;
 /// reports that frame's stage times, which leave out building pipelines and compiling shaders
 /// (with a cold shader cache, most of a first frame's time on lavapipe).
 pub fn run(
-    scene: &str,
+    (scene, scene_args): (&str, crate::SceneArgs),
     method: &str,
     threshold: f32,
     wavelet: crate::WaveletArgs,
@@ -15,7 +15,7 @@ pub fn run(
     output: &Path,
     warm: bool,
 ) -> translucid::Result<()> {
-    let scene = translucid::scene::load(scene)?;
+    let scene = super::load_scene(scene, scene_args)?;
     let mut renderer = open_renderer(&scene, method, threshold, wavelet, size)?;
     let start = Instant::now();
     let frame = renderer.render(false)?;

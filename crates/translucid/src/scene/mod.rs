@@ -95,7 +95,7 @@ impl Scene {
     /// load for the transparent methods (`--blend-alpha`), e.g. a million opaque triangles.
     pub fn opaque_as_transparent(&self, alpha: f32) -> crate::Result<Scene> {
         if !(alpha > 0.0 && alpha <= 1.0) {
-            return Err(crate::Error::InvalidOption(format!(
+            return Err(crate::Error::InvalidScene(format!(
                 "blend alpha {alpha} is not in (0, 1]"
             )));
         }
