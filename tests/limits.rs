@@ -118,3 +118,34 @@ fn limits_of_the_shared_bin_stages_name_the_method() {
         );
     }
 }
+
+/// A 4096x4096 frame with `exact`: its buffers start within one storage binding (the states
+/// of suspended rows, a sixteenth of the frame's rows, would need 384 MB on lavapipe, where a
+/// binding holds 128 MB; past it, rows restart instead), and the frame is right: `layers` is
+/// the scene unsorted blending draws right, so exact must match blend.
+#[test]
+fn a_4096_square_frame_starts_within_the_bindings() {
+    let gpu = gpu();
+    let scene = translucid::scene::load("layers").expect("generated scene");
+    let side = 4096;
+    let frame = |method: &str| {
+        Renderer::new(
+            &gpu,
+            &scene,
+            method.parse().expect("a method name"),
+            side,
+            side,
+        )
+        .and_then(|mut r| r.render(false))
+        .unwrap_or_else(|e| panic!("{method} at {side}x{side}: {e}"))
+    };
+    let exact = frame("exact");
+    let blend = frame("blend");
+    let m = translucid::metrics::compare(&exact.image, &blend.image).expect("same size");
+    assert!(
+        m.max_error <= 2.0 / 255.0,
+        "exact {:.1}/255 off blend on {} pixels",
+        m.max_error * 255.0,
+        m.pixels_over
+    );
+}

@@ -306,7 +306,8 @@ impl Bins {
             expected,
             homogeneous_bound(gpu, near_plane),
             options,
-        );
+        )
+        .within(&Capacities::most(gpu));
         let mut features = RasterFeatures::of_frame(scene, &meshes, near_plane, info.subgroup_size);
         features.homogeneous &= !options.assume_fixed_path;
         features = shape(features, expected);

@@ -94,6 +94,19 @@ impl Capacities {
         }
     }
 
+    /// These capacities within `most`, where a frame has an answer past it: bin lists past
+    /// the capacity are rasterized in bands, suspended rows with no state slot restart, and
+    /// near-plane records past it are counted. (Triangle records have none: they are not
+    /// clamped.) A large frame then starts within one binding instead of being refused.
+    pub fn within(self, most: &Self) -> Self {
+        Self {
+            resume: self.resume.min(most.resume),
+            bin_entries: self.bin_entries.min(most.bin_entries),
+            homogeneous: self.homogeneous.min(most.homogeneous),
+            ..self
+        }
+    }
+
     /// Larger capacities when a frame recorded with capacities `recorded` overflowed, from
     /// what the GPU counted, up to `most`. A buffer already grown since that frame was
     /// recorded (by a frame completed before it, with frames in flight) is left alone:
