@@ -56,6 +56,11 @@ pub struct DeviceInfo {
     /// 64-bit integers and floats in shaders (the exact method's edge functions need them).
     pub shader_int64: bool,
     pub shader_float64: bool,
+    /// Stores and atomics in fragment shaders (the linked_list method appends its nodes so).
+    pub fragment_stores_and_atomics: bool,
+    /// The geometry-shader feature, which fragment shaders need to read `gl_PrimitiveID`
+    /// (the linked_list method's tie-break).
+    pub geometry_shader: bool,
 }
 
 /// A Vulkan device: either a headless one translucid made, with one graphics+compute queue
@@ -228,6 +233,8 @@ pub(super) fn describe(
         dual_source_blend: features.dual_src_blend == vk::TRUE,
         shader_int64: features.shader_int64 == vk::TRUE,
         shader_float64: features.shader_float64 == vk::TRUE,
+        fragment_stores_and_atomics: features.fragment_stores_and_atomics == vk::TRUE,
+        geometry_shader: features.geometry_shader == vk::TRUE,
     }
 }
 
@@ -627,7 +634,9 @@ fn create_device(
     let features = vk::PhysicalDeviceFeatures::default()
         .dual_src_blend(info.dual_source_blend)
         .shader_int64(info.shader_int64)
-        .shader_float64(info.shader_float64);
+        .shader_float64(info.shader_float64)
+        .fragment_stores_and_atomics(info.fragment_stores_and_atomics)
+        .geometry_shader(info.geometry_shader);
     let create = vk::DeviceCreateInfo::default()
         .queue_create_infos(&queues)
         .enabled_features(&features);

@@ -178,6 +178,9 @@ impl Gpu {
         info.dual_source_blend = true;
         info.shader_int64 = true;
         info.shader_float64 = true;
+        // Optional: only the linked_list method needs them, and says so when they are off.
+        info.fragment_stores_and_atomics = host.features.fragment_stores_and_atomics == vk::TRUE;
+        info.geometry_shader = host.features.geometry_shader == vk::TRUE;
         // SAFETY: a live device of this instance (caller's guarantee).
         let device = unsafe { ash::Device::load(instance.fp_v1_0(), host.device) };
         Self::wrap_host(entry, instance, device, host.physical_device, info)

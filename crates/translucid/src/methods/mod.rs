@@ -10,6 +10,7 @@
 pub mod bins;
 mod blend;
 pub mod exact;
+pub mod linked_list;
 pub mod wavelet;
 pub mod wboit;
 
@@ -20,7 +21,7 @@ use crate::scene::Scene;
 use crate::{Error, Result};
 
 /// Every method's name, as the CLI and the C API spell it.
-pub const NAMES: &[&str] = &["blend", "exact", "wavelet", "wboit"];
+pub const NAMES: &[&str] = &["blend", "exact", "wavelet", "wboit", "linked_list"];
 
 /// The transparency methods.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -33,10 +34,19 @@ pub enum MethodKind {
     Wavelet,
     /// Weighted blended OIT, approximate.
     Wboit,
+    /// Per-pixel linked lists sorted in a full-screen pass: exact while its node pool holds
+    /// the frame's fragments.
+    LinkedList,
 }
 
 impl MethodKind {
-    pub const ALL: [Self; 4] = [Self::Blend, Self::Exact, Self::Wavelet, Self::Wboit];
+    pub const ALL: [Self; 5] = [
+        Self::Blend,
+        Self::Exact,
+        Self::Wavelet,
+        Self::Wboit,
+        Self::LinkedList,
+    ];
 
     /// The name the CLI and the C API use.
     pub fn name(self) -> &'static str {
@@ -45,6 +55,7 @@ impl MethodKind {
             Self::Exact => "exact",
             Self::Wavelet => "wavelet",
             Self::Wboit => "wboit",
+            Self::LinkedList => "linked_list",
         }
     }
 }
@@ -74,6 +85,8 @@ pub struct MethodOptions {
     pub exact: exact::ExactOptions,
     /// `wavelet`'s.
     pub wavelet: wavelet::WaveletOptions,
+    /// `linked_list`'s.
+    pub linked_list: linked_list::LinkedListOptions,
     /// The bins' (`exact`, and `wavelet` with [`wavelet::Storage::Bins`]): starting
     /// capacities and test settings.
     pub bins: bins::BinOptions,
@@ -102,6 +115,9 @@ pub struct FrameCheck {
     pub fragments: u64,
     /// Transparent triangles left to rasterize after culling, where the method culls.
     pub triangles: u64,
+    /// Fragments blended unsorted because they found no room (linked_list past its node
+    /// pool): the frame is not exact where they fell.
+    pub tail_fragments: u64,
 }
 
 /// What a method is told when a frame it recorded has completed.
@@ -190,6 +206,13 @@ pub fn create(
             &options.wavelet,
         )?),
         MethodKind::Wboit => Box::new(wboit::Wboit::new(gpu, uploaded, targets)?),
+        MethodKind::LinkedList => Box::new(linked_list::LinkedList::new(
+            gpu,
+            scene,
+            uploaded,
+            targets,
+            &options.linked_list,
+        )?),
     })
 }
 

@@ -81,6 +81,9 @@ pub struct Frame {
     /// Bands the bin methods rasterized the frame in: more than one when their bin lists
     /// passed the capacity (they grow for later frames); 0 for other methods.
     pub bands: u32,
+    /// Fragments blended unsorted for want of room (linked_list past a fixed node budget):
+    /// where they fell the frame is not exact; 0 for other methods.
+    pub tail_fragments: u64,
     /// Pipelines created on the renderer's device since its last frame ended, its
     /// `set_frame` included (a shader variant this frame was the first to need): each
     /// compiles a shader, which a frame loop should pay only in its first frames.
@@ -543,6 +546,7 @@ impl Renderer {
             fragments: check.fragments,
             triangles: check.triangles,
             bands: check.bands,
+            tail_fragments: check.tail_fragments,
             pipelines_created: self.counted.0 - counted.0,
             bytes_allocated: self.counted.1 - counted.1,
             record_ms,

@@ -1,0 +1,336 @@
+//! `linked_list`: per-pixel linked lists (the A-buffer), the exact method engines ship today.
+//!
+//! The transparent draws are rasterized by the hardware; every fragment nearer than the opaque
+//! layer is shaded and pushed onto its pixel's list: a node from a pool (radiance and
+//! transmittance in halves, order depth, draw, primitive, next), its index swapped into the
+//! pixel's head (`shaders/linked_list/append.frag`). A compute pass then composites each
+//! pixel's nodes in the reference's order, front to back, over the frame (`resolve.comp`).
+//!
+//! The pool holds `capacity` nodes. A fragment past it is blended at once, unsorted, over the
+//! opaque layer (a tail the sorted nodes are then composited over) and counted
+//! ([`super::FrameCheck::tail_fragments`]). By default the pool is sized from the frame's
+//! expected fragments and grows for later frames when a frame finds it too small (that frame
+//! is rendered again, standalone, or reported overflowed); with
+//! [`LinkedListOptions::node_budget`] it stays as given. Within its pool the result is exact.
+//! One storage binding bounds the pool (128 MB: 4.8 million nodes on lavapipe).
+
+use super::{FrameCheck, FrameDone, Method, RecordContext};
+use crate::assets::GpuScene;
+use crate::frame::FrameTargets;
+use crate::gpu::{
+    image_barrier, memory_barrier, vk, BindingKind, Blend, Buffer, ComputePipeline,
+    ComputePipelineCache, DepthMode, DescriptorLayout, DescriptorSet, Gpu, GraphicsPipeline,
+    MemoryLocation, PipelineState, RenderTarget, Resource, Retirement,
+};
+use crate::scene::Scene;
+use crate::{Error, Result};
+use std::sync::Arc;
+
+/// Words of a node (`NODE_WORDS` of linked_list.glsl).
+const NODE_BYTES: u64 = 7 * 4;
+/// The counters' words: fragments, capacity, width, height (`ListCounters`).
+const COUNTER_BYTES: u64 = 16;
+
+/// The linked_list method's settings.
+#[derive(Clone, Debug, Default)]
+pub struct LinkedListOptions {
+    /// Nodes in the pool, fixed: fragments past it are blended unsorted (the tail). `None`
+    /// sizes the pool from the frame and grows it as frames need.
+    pub node_budget: Option<u64>,
+}
+
+/// The pool and the heads, replaced together when the pool grows, with the passes' sets.
+struct Lists {
+    heads: Buffer,
+    /// Named by the sets only.
+    _nodes: Buffer,
+    append_set: DescriptorSet,
+    resolve_set: DescriptorSet,
+    capacity: u32,
+}
+
+/// The append pass's set (heads, nodes, counters) and the resolve's (the same, and the
+/// frame's colour).
+struct Layouts {
+    append: DescriptorLayout,
+    resolve: DescriptorLayout,
+}
+
+pub struct LinkedList {
+    gpu: Gpu,
+    append: RenderTarget,
+    /// (back faces kept, back faces culled)
+    append_pipelines: (Arc<GraphicsPipeline>, Arc<GraphicsPipeline>),
+    resolve: Arc<ComputePipeline>,
+    layouts: Layouts,
+    lists: Lists,
+    counters: Buffer,
+    /// Per frame slot, the host's copy of the counters.
+    readbacks: Vec<Buffer>,
+    /// Per frame slot, the pool its frame was recorded with.
+    recorded: Vec<u32>,
+    fixed: bool,
+    retirement: Retirement,
+}
+
+/// The most nodes one storage binding holds.
+fn most_nodes(gpu: &Gpu) -> u64 {
+    (u64::from(gpu.info().max_storage_buffer_range) / NODE_BYTES).min(u64::from(u32::MAX))
+}
+
+impl LinkedList {
+    pub fn new(
+        gpu: &Gpu,
+        scene: &Scene,
+        uploaded: &GpuScene,
+        targets: &FrameTargets,
+        options: &LinkedListOptions,
+    ) -> Result<Self> {
+        let info = gpu.info();
+        if !(info.dual_source_blend && info.fragment_stores_and_atomics && info.geometry_shader) {
+            return Err(Error::NoDevice(format!(
+                "{} lacks one of dualSrcBlend, fragmentStoresAndAtomics and geometryShader \
+                 (for gl_PrimitiveID in fragment shaders), which the linked_list method needs",
+                info.name
+            )));
+        }
+        let most = most_nodes(gpu);
+        let capacity = match options.node_budget {
+            Some(0) => {
+                return Err(Error::InvalidOption(
+                    "linked_list: a node budget of 0; give at least 1".into(),
+                ))
+            }
+            Some(budget) if budget > most => {
+                return Err(Error::InvalidOption(format!(
+                    "linked_list: a budget of {budget} nodes; one storage binding of {} holds \
+                     {most}",
+                    info.name
+                )))
+            }
+            Some(budget) => budget,
+            None => {
+                let (width, height) = (targets.extent.width, targets.extent.height);
+                let expected = super::bins::features::estimated_fragments(scene, width, height);
+                (expected + expected / 4)
+                    .max(targets.capacity_pixels())
+                    .min(most)
+            }
+        } as u32;
+        let storage = BindingKind::StorageBuffer;
+        let layouts = Layouts {
+            append: DescriptorLayout::new(gpu, &[storage; 3], vk::ShaderStageFlags::FRAGMENT)?,
+            resolve: DescriptorLayout::new(
+                gpu,
+                &[storage, storage, storage, BindingKind::StorageImage],
+                vk::ShaderStageFlags::COMPUTE,
+            )?,
+        };
+        let counters = gpu.create_buffer(
+            "linked list counters",
+            COUNTER_BYTES,
+            vk::BufferUsageFlags::STORAGE_BUFFER
+                | vk::BufferUsageFlags::TRANSFER_DST
+                | vk::BufferUsageFlags::TRANSFER_SRC,
+            MemoryLocation::GpuOnly,
+        )?;
+        let lists = Self::lists(gpu, &layouts, &counters, targets, capacity)?;
+        let append = targets.render_target(gpu, false)?;
+        let append_pipelines = uploaded.mesh_pipelines_with(
+            gpu,
+            append.render_pass,
+            crate::spirv!("linked_list/append.frag"),
+            &[&layouts.append],
+            &PipelineState {
+                blends: &[Blend::PremultipliedTransmittance],
+                depth: DepthMode::Less(false),
+                fragment_constants: &[],
+                vertex_input: true,
+            },
+        )?;
+        let resolve = ComputePipelineCache::new(0).get(
+            gpu,
+            &[&layouts.resolve],
+            crate::spirv!("linked_list/resolve.comp"),
+            &[],
+        )?;
+        let readbacks = (0..uploaded.slot_count())
+            .map(|_| {
+                gpu.create_buffer(
+                    "linked list counters readback",
+                    COUNTER_BYTES,
+                    vk::BufferUsageFlags::TRANSFER_DST,
+                    MemoryLocation::GpuToCpu,
+                )
+            })
+            .collect::<Result<Vec<_>>>()?;
+        Ok(Self {
+            gpu: gpu.clone(),
+            append,
+            append_pipelines,
+            resolve,
+            layouts,
+            recorded: vec![capacity; readbacks.len()],
+            readbacks,
+            lists,
+            counters,
+            fixed: options.node_budget.is_some(),
+            retirement: Retirement::default(),
+        })
+    }
+
+    /// Heads for the largest frame and a pool of `capacity` nodes, with their set.
+    fn lists(
+        gpu: &Gpu,
+        layouts: &Layouts,
+        counters: &Buffer,
+        targets: &FrameTargets,
+        capacity: u32,
+    ) -> Result<Lists> {
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST;
+        let heads = gpu.create_buffer(
+            "linked list heads",
+            targets.capacity_pixels() * 4,
+            storage,
+            MemoryLocation::GpuOnly,
+        )?;
+        let nodes = gpu.create_buffer(
+            "linked list nodes",
+            u64::from(capacity) * NODE_BYTES,
+            storage,
+            MemoryLocation::GpuOnly,
+        )?;
+        let buffers = || {
+            [
+                Resource::Buffer(&heads),
+                Resource::Buffer(&nodes),
+                Resource::Buffer(counters),
+            ]
+        };
+        let append_set = layouts.append.create_set(&buffers())?;
+        let [h, n, c] = buffers();
+        let resolve_set =
+            layouts
+                .resolve
+                .create_set(&[h, n, c, Resource::StorageImage(targets.colour.view)])?;
+        Ok(Lists {
+            heads,
+            _nodes: nodes,
+            append_set,
+            resolve_set,
+            capacity,
+        })
+    }
+}
+
+impl Method for LinkedList {
+    fn name(&self) -> &'static str {
+        "linked_list"
+    }
+
+    fn record(&mut self, ctx: &mut RecordContext<'_>) -> Result<()> {
+        let (gpu, cmd) = (ctx.gpu, ctx.cmd);
+        self.retirement.recorded();
+        self.recorded[ctx.slot] = self.lists.capacity;
+        let transfer = (
+            vk::PipelineStageFlags::TRANSFER,
+            vk::AccessFlags::TRANSFER_WRITE,
+        );
+        let fragment = (
+            vk::PipelineStageFlags::FRAGMENT_SHADER,
+            vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
+        );
+        // The frames before this one finished reading the lists.
+        memory_barrier(gpu, cmd, fragment, transfer);
+        gpu.cmd_fill_buffer(cmd, &self.lists.heads, u32::MAX);
+        let extent = ctx.targets.extent;
+        let counters = [0, self.lists.capacity, extent.width, extent.height];
+        gpu.cmd_update_buffer(cmd, &self.counters, 0, bytemuck::cast_slice(&counters));
+        memory_barrier(gpu, cmd, transfer, fragment);
+
+        self.append.begin(cmd, extent, [0.0; 4]);
+        let set = self.lists.append_set.raw;
+        gpu.cmd_bind_graphics_set(cmd, self.append_pipelines.0.layout, 2, set);
+        ctx.scene.draw(
+            gpu,
+            cmd,
+            &ctx.scene.transparent_calls,
+            (&self.append_pipelines.0, &self.append_pipelines.1),
+        );
+        self.append.end(cmd);
+        ctx.timestamps.mark(cmd, "linked list append");
+
+        // The resolve reads what every fragment wrote, and composites into the colour.
+        let compute = (
+            vk::PipelineStageFlags::COMPUTE_SHADER,
+            vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
+        );
+        let attachment = (
+            vk::PipelineStageFlags::ALL_COMMANDS,
+            vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE,
+        );
+        memory_barrier(gpu, cmd, fragment, compute);
+        let colour = &ctx.targets.colour;
+        let (attached, general) = (
+            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+            vk::ImageLayout::GENERAL,
+        );
+        image_barrier(gpu, cmd, colour, attached, general, attachment, compute);
+        self.resolve.dispatch(
+            cmd,
+            &[self.lists.resolve_set.raw],
+            &[],
+            [extent.width.div_ceil(8), extent.height.div_ceil(8), 1],
+        );
+        image_barrier(gpu, cmd, colour, general, attached, compute, attachment);
+
+        let readback = &self.readbacks[ctx.slot];
+        let transfer_read = (
+            vk::PipelineStageFlags::TRANSFER,
+            vk::AccessFlags::TRANSFER_READ,
+        );
+        memory_barrier(gpu, cmd, compute, transfer_read);
+        gpu.cmd_copy_buffer(cmd, &self.counters, readback, 0, COUNTER_BYTES);
+        memory_barrier(
+            gpu,
+            cmd,
+            transfer,
+            (vk::PipelineStageFlags::HOST, vk::AccessFlags::HOST_READ),
+        );
+        ctx.timestamps.mark(cmd, "linked list resolve");
+        Ok(())
+    }
+
+    fn frame_done(&mut self, done: &FrameDone<'_>) -> Result<FrameCheck> {
+        self.retirement.completed();
+        let slot = done.slot % self.readbacks.len();
+        let fragments = self.readbacks[slot].read_word_volatile()?;
+        let recorded = self.recorded[slot];
+        let tail = fragments.saturating_sub(recorded);
+        let mut check = FrameCheck {
+            fragments: u64::from(fragments),
+            tail_fragments: u64::from(tail),
+            ..FrameCheck::default()
+        };
+        if tail > 0 && !self.fixed {
+            let most = most_nodes(&self.gpu) as u32;
+            // Grown once for the frames recorded with the pool that was too small.
+            if recorded == self.lists.capacity && recorded < most {
+                let capacity = fragments.saturating_add(fragments / 4).min(most);
+                let lists = Self::lists(
+                    &self.gpu,
+                    &self.layouts,
+                    &self.counters,
+                    done.targets,
+                    capacity,
+                )?;
+                let old = std::mem::replace(&mut self.lists, lists);
+                self.retirement.retire(old);
+                log::info!("linked_list: {fragments} fragments; the pool grows to {capacity}");
+            }
+            // Rendered again with the grown pool; past one binding the tail stays.
+            check.rerender = recorded < most;
+        }
+        Ok(check)
+    }
+}

@@ -1,0 +1,33 @@
+// The linked_list method's buffers (set LIST_SET: 2 in the append pass, after the scene's,
+// 0 in the resolve, which also binds the frame's colour, methods/linked_list): a head per
+// pixel of the frame, the pool of nodes, and the counters. A node is NODE_WORDS words: the
+// fragment's radiance and transmittance as six halves, its order depth, the draw and the
+// primitive that break depth ties, and the next node of its pixel's list.
+#ifndef TRANSLUCID_LINKED_LIST_GLSL
+#define TRANSLUCID_LINKED_LIST_GLSL
+
+#ifndef LIST_SET
+#define LIST_SET 2
+#endif
+
+#define LIST_END 0xFFFFFFFFu
+#define NODE_WORDS 7u
+#define NODE_DEPTH 3u
+#define NODE_NEXT 6u
+
+layout(set = LIST_SET, binding = 0, std430) buffer HeadBlock { uint g_heads[]; };
+layout(set = LIST_SET, binding = 1, std430) buffer NodeBlock { uint g_nodes[]; };
+// Fragments that asked for a node (all of them: past `capacity`, the rest found none), the
+// nodes the pool holds, and the frame's size in pixels (heads are rows of its width).
+layout(set = LIST_SET, binding = 2, std430) buffer ListCounters {
+    uint fragments;
+    uint capacity;
+    uint width;
+    uint height;
+} g_list;
+
+uint headIndex(uvec2 pixel) {
+    return pixel.y * g_list.width + pixel.x;
+}
+
+#endif
