@@ -53,6 +53,27 @@ fn expected(method: &str, scene: &Scene, opaque: &OpaqueLayer) -> Image {
     .expect("CPU image")
 }
 
+/// `frame` against the same frame from a renderer made for it alone (on `gpu`), within
+/// 0.01/255: what a renderer's earlier frames left behind changes nothing.
+fn check_against_alone(
+    name: &str,
+    gpu: &translucid::gpu::Gpu,
+    (scene, kind): (&Scene, MethodKind),
+    frame: &Frame,
+) {
+    let (width, height) = (frame.image.width, frame.image.height);
+    let alone = Renderer::new(gpu, scene, kind, width, height)
+        .and_then(|mut r| r.render(false))
+        .expect("frame alone");
+    let m = metrics::compare(&frame.image, &alone.image).expect("same size");
+    assert!(
+        m.max_error * 255.0 <= 0.01,
+        "{name}: {:.3}/255 off the same frame from a renderer made for it alone ({})",
+        m.max_error * 255.0,
+        save_failure(name, &frame.image, &alone.image).display()
+    );
+}
+
 /// The frame against its CPU image, within 2/255 on every pixel.
 fn check(name: &str, method: &str, scene: &Scene, frame: &Frame) {
     let opaque = frame.opaque.as_ref().expect("opaque layer read back");
@@ -98,16 +119,8 @@ fn moving_sequence(scene_name: &str, method: &str, frames: usize) {
     }
     // The last frame is what a renderer made for it alone draws.
     let (frame_scene, frame) = last.expect("frames");
-    let alone = Renderer::new(&gpu, &frame_scene, kind, WIDTH, HEIGHT)
-        .and_then(|mut r| r.render(false))
-        .expect("frame alone");
-    let m = metrics::compare(&frame.image, &alone.image).expect("same size");
-    assert!(
-        m.max_error * 255.0 <= 0.01,
-        "{scene_name} {method}: the sequence's last frame is {:.3}/255 off the same frame \
-         rendered alone",
-        m.max_error * 255.0
-    );
+    let name = format!("motion_{scene_name}_{method}_last");
+    check_against_alone(&name, &gpu, (&frame_scene, kind), &frame);
 }
 
 #[test]
@@ -473,16 +486,7 @@ fn a_renderer_draws_every_size_up_to_its_largest() {
                     "{name}: a new size built pipelines or allocated GPU memory"
                 );
             }
-            let alone = Renderer::new(&other_gpu, &frame_scene, kind, width, height)
-                .and_then(|mut r| r.render(false))
-                .expect("frame alone");
-            let m = metrics::compare(&frame.image, &alone.image).expect("same size");
-            assert!(
-                m.max_error * 255.0 <= 0.01,
-                "{name}: {:.3}/255 off the same frame from a renderer of that size ({})",
-                m.max_error * 255.0,
-                save_failure(&name, &frame.image, &alone.image).display()
-            );
+            check_against_alone(&name, &other_gpu, (&frame_scene, kind), &frame);
             if method == "exact" || method == "wavelet" {
                 check(&name, method, &frame_scene, &frame);
             }

@@ -363,7 +363,7 @@ static void uploads_are_shared_and_extended(uint32_t method, translucid_mesh qua
     CHECK(translucid_texture_destroy(g_ctx, texture));
 }
 
-/* A context that draws nothing but frames of one size, for frames to be held to. */
+/* A new standalone context with the validation layer on. */
 static translucid_context *fresh_context(void) {
     translucid_context_create_info info;
     translucid_context *ctx = NULL;
@@ -574,18 +574,13 @@ static void pipeline_cache(void) {
 
 int main(int argc, char **argv) {
     static const float positions[] = {-5, -5, -2, 5, -5, -2, 5, 5, -2, -5, 5, -2};
-    translucid_context_create_info context_info;
     translucid_mesh quad;
     translucid_material red;
     uint32_t methods[8];
     size_t count = 0, m;
     const char *out_dir = argc > 1 ? argv[1] : NULL;
 
-    memset(&context_info, 0, sizeof context_info);
-    context_info.s_type = TRANSLUCID_STRUCTURE_TYPE_CONTEXT_CREATE_INFO;
-    context_info.header_version = TRANSLUCID_HEADER_VERSION;
-    context_info.flags = TRANSLUCID_CONTEXT_CREATE_VALIDATION;
-    CHECK(translucid_context_create(&context_info, &g_ctx));
+    g_ctx = fresh_context();
 
     quad = quad_mesh(positions, NULL);
     red = plain_material(1.0f, 0.0f, 0.0f, 0.5f, NO_TEXTURE);
