@@ -116,7 +116,7 @@
 
 #define TRANSLUCID_VERSION_MAJOR 0
 
-#define TRANSLUCID_VERSION_MINOR 4
+#define TRANSLUCID_VERSION_MINOR 5
 
 #define TRANSLUCID_VERSION_PATCH 0
 
@@ -263,6 +263,45 @@ typedef int32_t translucid_result;
 #endif // __cplusplus
 
 /**
+ * A transparency method.
+ */
+enum translucid_method
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+    /**
+     * Unsorted alpha blending in submission order: the fast, wrong baseline.
+     */
+    TRANSLUCID_METHOD_BLEND = 0,
+    /**
+     * Exact order-independent transparency (the compute bin rasterizer).
+     */
+    TRANSLUCID_METHOD_EXACT = 1,
+    /**
+     * Wavelet OIT: approximate, bounded memory.
+     */
+    TRANSLUCID_METHOD_WAVELET = 2,
+    /**
+     * Weighted blended OIT: approximate, cheapest.
+     */
+    TRANSLUCID_METHOD_WBOIT = 3,
+    /**
+     * Per-pixel linked lists, sorted per pixel: exact while the node pool holds the frame's
+     * fragments (`translucid_frame_info::linked_list_node_budget`). On an engine's device it
+     * needs the features `translucid_host_method_requirements_get` lists for it.
+     */
+    TRANSLUCID_METHOD_LINKED_LIST = 4,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum translucid_method translucid_method;
+#else
+typedef uint32_t translucid_method;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
+/**
  * Values of the `s_type` field. 0 is never valid, so a zeroed struct is always rejected.
  */
 enum translucid_structure_type
@@ -401,39 +440,6 @@ enum translucid_pixel_format
 typedef enum translucid_pixel_format translucid_pixel_format;
 #else
 typedef uint32_t translucid_pixel_format;
-#endif // __STDC_VERSION__ >= 202311L
-#endif // __cplusplus
-
-/**
- * A transparency method.
- */
-enum translucid_method
-#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
-  : uint32_t
-#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
- {
-    /**
-     * Unsorted alpha blending in submission order: the fast, wrong baseline.
-     */
-    TRANSLUCID_METHOD_BLEND = 0,
-    /**
-     * Exact order-independent transparency (the compute bin rasterizer).
-     */
-    TRANSLUCID_METHOD_EXACT = 1,
-    /**
-     * Wavelet OIT: approximate, bounded memory.
-     */
-    TRANSLUCID_METHOD_WAVELET = 2,
-    /**
-     * Weighted blended OIT: approximate, cheapest.
-     */
-    TRANSLUCID_METHOD_WBOIT = 3,
-};
-#ifndef __cplusplus
-#if __STDC_VERSION__ >= 202311L
-typedef enum translucid_method translucid_method;
-#else
-typedef uint32_t translucid_method;
 #endif // __STDC_VERSION__ >= 202311L
 #endif // __cplusplus
 
@@ -785,6 +791,15 @@ typedef struct translucid_frame_info {
      */
     float exact_threshold;
     /**
+     * `TRANSLUCID_METHOD_LINKED_LIST`: the node pool, in fragments (28 bytes each). 0 (the
+     * default) sizes the pool from the frame and grows it when a frame overflows: the frame
+     * is rendered again (standalone) or completes with `TRANSLUCID_RESULT_INCOMPLETE`
+     * (host device), and later frames are exact. A budget stays as given: the fragments past
+     * it are blended unsorted and counted (`translucid_frame_statistics::tail_fragments`). At
+     * most one storage buffer's worth of nodes; past it, `TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT`.
+     */
+    uint32_t linked_list_node_budget;
+    /**
      * Optional: the engine's frame number, which the frame's statistics report back. It may
      * not go backwards on a context (views of one engine frame share it); 0 is none.
      */
@@ -884,6 +899,12 @@ typedef struct translucid_frame_statistics {
      * that the live ones are uploaded anew; 0 in a warm frame loop.
      */
     uint64_t bytes_allocated;
+    /**
+     * Fragments blended unsorted because they found no room (`TRANSLUCID_METHOD_LINKED_LIST`
+     * past its `linked_list_node_budget`): the image is not exact where they fell. 0 for an
+     * exact frame and for other methods.
+     */
+    uint64_t tail_fragments;
 } translucid_frame_statistics;
 
 /**
@@ -1230,6 +1251,11 @@ typedef struct translucid_host_device_create_info {
     const char *const *enabled_extensions;
 } translucid_host_device_create_info;
 
+/**
+ * Every value, in order.
+ */
+#define translucid_method_ALL { translucid_method_Blend, translucid_method_Exact, translucid_method_Wavelet, translucid_method_Wboit, translucid_method_LinkedList, }
+
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -1346,6 +1372,18 @@ translucid_result translucid_frame_abandon(struct translucid_context *context,
  */
 TRANSLUCID_MUST_USE
 translucid_result translucid_host_requirements_get(struct translucid_host_requirements *out_requirements);
+
+/**
+ * Like `translucid_host_requirements_get`, for an engine that will use `method` (a
+ * `translucid_method`): the features every method needs and those `method` needs
+ * besides (`TRANSLUCID_METHOD_LINKED_LIST`: `fragmentStoresAndAtomics` and
+ * `geometryShader`). OR together the features of the methods the engine uses. A frame
+ * with a method whose features the engine's device lacks fails with
+ * `TRANSLUCID_RESULT_ERROR_DEVICE_REQUIREMENTS`, naming them. Needs no context.
+ */
+TRANSLUCID_MUST_USE
+translucid_result translucid_host_method_requirements_get(uint32_t method,
+                                                          struct translucid_host_requirements *out_requirements);
 
 /**
  * Host-device mode: records a frame into the engine's command buffer and writes its
@@ -1515,7 +1553,7 @@ translucid_result translucid_texture_destroy(struct translucid_context *context,
 uint32_t translucid_version(void);
 
 /**
- * The library's version as a static string, e.g. "0.4.0".
+ * The library's version as a static string, e.g. "0.5.0".
  */
 const char *translucid_version_string(void);
 

@@ -224,6 +224,15 @@ public:
                       "translucid_host_requirements_get");
         return req;
     }
+    /// The same for an engine that uses `method`: every method's features and the method's
+    /// own (OR together those of the methods you use).
+    static translucid_host_requirements host_requirements(std::uint32_t method) {
+        translucid_host_requirements req{};
+        req.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_REQUIREMENTS;
+        detail::check(translucid_host_method_requirements_get(method, &req), nullptr,
+                      "translucid_host_method_requirements_get");
+        return req;
+    }
     /// A context on the engine's device, taking up to `frames_in_flight` frames recorded and
     /// not completed (the engine's frames in flight times its views); `s_type` is filled in
     /// for you. Destroy the context (and every object from it) before the engine's device.

@@ -190,6 +190,13 @@ pub struct translucid_frame_info {
     /// transmittance is below this; 0 (the default) composites every fragment: the exact
     /// result. Must be in [0, 1] whatever the method; only exact uses it.
     pub exact_threshold: f32,
+    /// `TRANSLUCID_METHOD_LINKED_LIST`: the node pool, in fragments (28 bytes each). 0 (the
+    /// default) sizes the pool from the frame and grows it when a frame overflows: the frame
+    /// is rendered again (standalone) or completes with `TRANSLUCID_RESULT_INCOMPLETE`
+    /// (host device), and later frames are exact. A budget stays as given: the fragments past
+    /// it are blended unsorted and counted (`translucid_frame_statistics::tail_fragments`). At
+    /// most one storage buffer's worth of nodes; past it, `TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT`.
+    pub linked_list_node_budget: u32,
     /// Optional: the engine's frame number, which the frame's statistics report back. It may
     /// not go backwards on a context (views of one engine frame share it); 0 is none.
     pub frame_index: u64,
@@ -227,6 +234,12 @@ pub(crate) fn method_options(
             noise: info.wavelet_noise,
             storage: translucid_wavelet_storage::from_raw(info.wavelet_storage)?.core(),
             ..Default::default()
+        },
+        linked_list: translucid::methods::linked_list::LinkedListOptions {
+            node_budget: match info.linked_list_node_budget {
+                0 => None,
+                budget => Some(u64::from(budget)),
+            },
         },
         ..Default::default()
     })
@@ -289,6 +302,10 @@ pub struct translucid_frame_statistics {
     /// meshes and materials go into room left for them) or after so many were destroyed
     /// that the live ones are uploaded anew; 0 in a warm frame loop.
     pub bytes_allocated: u64,
+    /// Fragments blended unsorted because they found no room (`TRANSLUCID_METHOD_LINKED_LIST`
+    /// past its `linked_list_node_budget`): the image is not exact where they fell. 0 for an
+    /// exact frame and for other methods.
+    pub tail_fragments: u64,
 }
 
 impl OutStructure for translucid_frame_statistics {
@@ -325,6 +342,7 @@ pub struct FrameRecord {
     pub(crate) method_ms: f64,
     pub(crate) peak_gpu_bytes: u64,
     pub(crate) fragments: u64,
+    pub(crate) tail_fragments: u64,
     pub(crate) rerenders: u32,
     pub(crate) overflowed: bool,
     /// What the call that made the frame built: pipelines, and bytes of GPU memory.
@@ -390,6 +408,7 @@ fn render(objects: &mut Objects, info: &translucid_frame_info) -> FfiResult<Fram
         stages: frame.stages,
         peak_gpu_bytes: frame.peak_gpu_bytes,
         fragments: frame.fragments,
+        tail_fragments: frame.tail_fragments,
         rerenders: frame.rerenders,
         overflowed: false,
         built: built_since(&objects.gpu, before),
@@ -431,6 +450,7 @@ fn statistics_of(record: &FrameRecord, header: (u32, *mut c_void)) -> translucid
         frame_index: record.frame_index,
         pipelines_created: record.built.0,
         bytes_allocated: record.built.1,
+        tail_fragments: record.tail_fragments,
     }
 }
 

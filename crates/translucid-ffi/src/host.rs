@@ -25,7 +25,10 @@ use crate::vulkan::{
     VkInstance, VkPhysicalDevice, VkPhysicalDeviceFeatures, VkQueueFlags,
 };
 use std::ffi::{c_char, c_void, CStr, CString};
-use translucid::gpu::{host_requirements, Gpu, HostDevice, HostImage, HostTargets};
+use translucid::gpu::{
+    host_requirements, host_requirements_with, Gpu, HostDevice, HostImage, HostRequirements,
+    HostTargets,
+};
 
 /// What the engine must give its instance and device before translucid can use them. The
 /// caller sets `s_type` (and `next` to NULL); translucid fills the rest.
@@ -277,6 +280,7 @@ fn record(
         method_ms: 0.0,
         peak_gpu_bytes: 0,
         fragments: 0,
+        tail_fragments: 0,
         rerenders: 0,
         overflowed: false,
         built: built_since(&objects.gpu, before),
@@ -324,6 +328,7 @@ fn complete_oldest(objects: &mut Objects) -> FfiResult<translucid_result> {
     record.stages = done.stages;
     record.peak_gpu_bytes = done.peak_gpu_bytes;
     record.fragments = done.fragments;
+    record.tail_fragments = done.tail_fragments;
     record.overflowed = done.overflowed;
     Ok(if done.overflowed {
         translucid_result::Incomplete
@@ -405,22 +410,47 @@ impl translucid_host_requirements {
     pub extern "C" fn translucid_host_requirements_get(
         out_requirements: *mut translucid_host_requirements,
     ) -> translucid_result {
+        panic::without_context(|| write_requirements(out_requirements, host_requirements()))
+    }
+
+    /// Like `translucid_host_requirements_get`, for an engine that will use `method` (a
+    /// `translucid_method`): the features every method needs and those `method` needs
+    /// besides (`TRANSLUCID_METHOD_LINKED_LIST`: `fragmentStoresAndAtomics` and
+    /// `geometryShader`). OR together the features of the methods the engine uses. A frame
+    /// with a method whose features the engine's device lacks fails with
+    /// `TRANSLUCID_RESULT_ERROR_DEVICE_REQUIREMENTS`, naming them. Needs no context.
+    #[no_mangle]
+    #[must_use]
+    pub extern "C" fn translucid_host_method_requirements_get(
+        method: u32,
+        out_requirements: *mut translucid_host_requirements,
+    ) -> translucid_result {
         panic::without_context(|| {
-            let (header, out) = try_out_structure(out_requirements, "out_requirements")?;
-            let wanted = host_requirements();
-            debug_assert!(wanted.extensions.is_empty(), "list them in a static array");
-            out.write(translucid_host_requirements {
-                s_type: header.0,
-                next: header.1,
-                api_version: wanted.api_version,
-                queue_flags: wanted.queue_flags,
-                features: wanted.features,
-                extension_count: 0,
-                extensions: std::ptr::null(),
-            });
-            Ok(translucid_result::Success)
+            let method = translucid_method::from_raw(method)?;
+            write_requirements(
+                out_requirements,
+                host_requirements_with(method.kind().optional_features()),
+            )
         })
     }
+}
+
+fn write_requirements(
+    out_requirements: *mut translucid_host_requirements,
+    wanted: HostRequirements,
+) -> FfiResult<translucid_result> {
+    let (header, out) = try_out_structure(out_requirements, "out_requirements")?;
+    debug_assert!(wanted.extensions.is_empty(), "list them in a static array");
+    out.write(translucid_host_requirements {
+        s_type: header.0,
+        next: header.1,
+        api_version: wanted.api_version,
+        queue_flags: wanted.queue_flags,
+        features: wanted.features,
+        extension_count: 0,
+        extensions: std::ptr::null(),
+    });
+    Ok(translucid_result::Success)
 }
 
 impl translucid_frame {

@@ -48,10 +48,21 @@ pub enum translucid_method {
     Wavelet = 2,
     /// Weighted blended OIT: approximate, cheapest.
     Wboit = 3,
+    /// Per-pixel linked lists, sorted per pixel: exact while the node pool holds the frame's
+    /// fragments (`translucid_frame_info::linked_list_node_budget`). On an engine's device it
+    /// needs the features `translucid_host_method_requirements_get` lists for it.
+    LinkedList = 4,
 }
 
 impl translucid_method {
-    const ALL: [Self; 4] = [Self::Blend, Self::Exact, Self::Wavelet, Self::Wboit];
+    /// Every value, in order.
+    pub const ALL: [Self; 5] = [
+        Self::Blend,
+        Self::Exact,
+        Self::Wavelet,
+        Self::Wboit,
+        Self::LinkedList,
+    ];
 
     /// The core library's method.
     pub fn kind(self) -> MethodKind {
@@ -60,6 +71,7 @@ impl translucid_method {
             Self::Exact => MethodKind::Exact,
             Self::Wavelet => MethodKind::Wavelet,
             Self::Wboit => MethodKind::Wboit,
+            Self::LinkedList => MethodKind::LinkedList,
         }
     }
 
@@ -74,6 +86,7 @@ impl translucid_method {
             Self::Exact => c"exact",
             Self::Wavelet => c"wavelet",
             Self::Wboit => c"wboit",
+            Self::LinkedList => c"linked_list",
         }
         .as_ptr()
     }
@@ -143,5 +156,25 @@ impl translucid_method {
                 translucid_result::Success
             })
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::ffi::CStr;
+
+    #[test]
+    fn every_core_method_has_a_value_named_as_the_core_names_it() {
+        for kind in MethodKind::ALL {
+            let method = translucid_method::ALL
+                .into_iter()
+                .find(|m| m.kind() == kind)
+                .unwrap_or_else(|| panic!("{kind} has no C enum value"));
+            // SAFETY: c_name returns a static NUL-terminated literal.
+            let c_name = unsafe { CStr::from_ptr(method.c_name()) };
+            assert_eq!(c_name.to_str(), Ok(kind.name()));
+            assert!(method.available(), "{kind}");
+        }
     }
 }

@@ -129,6 +129,8 @@ static void check(translucid_result got, int want, const translucid_context *ctx
 
 /* An out-parameter a failed call must not touch. */
 #define UNTOUCHED 0x5EED5EED5EED5EEDull
+/* The first method value no version defines yet. */
+#define METHOD_END (TRANSLUCID_METHOD_LINKED_LIST + 1)
 
 static void check_out(translucid_result got, uint64_t out, const translucid_context *ctx,
                       const char *call, int line) {
@@ -610,7 +612,7 @@ static void frame_render(state *s) {
     if (want == TRANSLUCID_RESULT_SUCCESS) {
         switch (below(14)) {
         case 0: out = NULL; want = TRANSLUCID_RESULT_ERROR_NULL_POINTER; break;
-        case 1: info.method = 4 + below(1000); want = TRANSLUCID_RESULT_ERROR_INVALID_ENUM; break;
+        case 1: info.method = METHOD_END + below(1000); want = TRANSLUCID_RESULT_ERROR_INVALID_ENUM; break;
         case 2: if (chance(50)) info.width = 0; else info.height = 1u << (16 + below(16));
                 want = TRANSLUCID_RESULT_ERROR_INVALID_SIZE; break;
         case 3: info.camera.view[below(16)] = NAN; want = TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT;
@@ -755,7 +757,7 @@ static void misc(state *s) {
     case 1: {
         uint32_t method = any_u32();
         const char *name = translucid_method_name(method);
-        if ((method < 4) != (name != NULL)) {
+        if ((method < METHOD_END) != (name != NULL)) {
             broken("translucid_method_name", __LINE__, "a name for no method, or none for one",
                    0, NULL);
         }

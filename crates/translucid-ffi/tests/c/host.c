@@ -314,6 +314,41 @@ static void context_errors(void) {
     TRUE_OR_FAIL(ctx == sentinel);
 }
 
+/* A method whose features the engine left off is refused by name, before anything is
+ * recorded; the other methods do not need them. */
+static void method_without_its_features(void) {
+    translucid_host_device_create_info hd = host_device_info();
+    translucid_context_create_info info = context_info(&hd);
+    VkPhysicalDeviceFeatures fewer = g_features;
+    translucid_host_frame_targets targets = frame_targets();
+    translucid_context *ctx;
+    translucid_frame_info frame;
+    translucid_frame handle;
+    scene s;
+
+    fewer.geometryShader = VK_FALSE;
+    hd.enabled_features = &fewer;
+    CHECK(NULL, translucid_context_create(&info, &ctx));
+    make_scene(ctx, &s);
+    frame = frame_info(TRANSLUCID_METHOD_LINKED_LIST, &s);
+    begin();
+    EXPECT(ctx, translucid_frame_record(ctx, &frame, &targets, &handle),
+           TRANSLUCID_RESULT_ERROR_DEVICE_REQUIREMENTS);
+    TRUE_OR_FAIL(strstr(translucid_context_last_error(ctx), "geometryShader") != NULL);
+    TRUE_OR_FAIL(strstr(translucid_context_last_error(ctx), "fragmentStoresAndAtomics") == NULL);
+    VK_CHECK(vkEndCommandBuffer(g_cmd));
+    translucid_context_destroy(ctx);
+}
+
+/* The features of `extra` ORed into `features`: what an engine does with the requirements of
+ * each method it uses. */
+static void or_features(VkPhysicalDeviceFeatures *features, const VkPhysicalDeviceFeatures *extra) {
+    VkBool32 *to = (VkBool32 *)features;
+    const VkBool32 *from = (const VkBool32 *)extra;
+    size_t i;
+    for (i = 0; i < sizeof *features / sizeof(VkBool32); i++) to[i] |= from[i];
+}
+
 /* Frame misuse on a working host-device context. */
 static void frame_errors(const scene *s) {
     translucid_frame_info info = frame_info(TRANSLUCID_METHOD_BLEND, s);
@@ -445,6 +480,30 @@ int main(void) {
     CHECK(NULL, translucid_host_requirements_get(&req));
     TRUE_OR_FAIL(req.api_version >= VK_API_VERSION_1_2);
     TRUE_OR_FAIL(req.queue_flags & VK_QUEUE_GRAPHICS_BIT);
+    TRUE_OR_FAIL(req.features.geometryShader == VK_FALSE);
+
+    /* A method's own list: every method's features, and its own; an engine using several ORs
+     * their features together. */
+    {
+        translucid_host_requirements per_method = req;
+        EXPECT(NULL, translucid_host_method_requirements_get(TRANSLUCID_METHOD_BLEND, NULL),
+               TRANSLUCID_RESULT_ERROR_NULL_POINTER);
+        EXPECT(NULL, translucid_host_method_requirements_get(1000, &per_method),
+               TRANSLUCID_RESULT_ERROR_INVALID_ENUM);
+        CHECK(NULL, translucid_host_method_requirements_get(TRANSLUCID_METHOD_EXACT, &per_method));
+        TRUE_OR_FAIL(memcmp(&per_method.features, &req.features, sizeof req.features) == 0);
+        CHECK(NULL,
+              translucid_host_method_requirements_get(TRANSLUCID_METHOD_LINKED_LIST, &per_method));
+        TRUE_OR_FAIL(per_method.features.geometryShader == VK_TRUE);
+        TRUE_OR_FAIL(per_method.features.fragmentStoresAndAtomics == VK_TRUE);
+        TRUE_OR_FAIL(per_method.features.shaderInt64 == VK_TRUE);
+        TRUE_OR_FAIL(per_method.api_version == req.api_version);
+        CHECK(NULL, translucid_methods_available(methods, 8, &count));
+        for (m = 0; m < count; m++) {
+            CHECK(NULL, translucid_host_method_requirements_get(methods[m], &per_method));
+            or_features(&req.features, &per_method.features);
+        }
+    }
 
     /* 2. The engine's instance and device. */
     create_instance(req.api_version);
@@ -453,6 +512,7 @@ int main(void) {
 
     /* 3. The context on the engine's device, and a standalone one to compare with. */
     context_errors();
+    method_without_its_features();
     hd = host_device_info();
     info = context_info(&hd);
     CHECK(NULL, translucid_context_create(&info, &g_host));

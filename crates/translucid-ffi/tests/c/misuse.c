@@ -374,7 +374,7 @@ static void frames(translucid_context *ctx, translucid_context *other) {
     info.method = 99;
     EXPECT(ctx, translucid_frame_render(ctx, &info, &frame), TRANSLUCID_RESULT_ERROR_INVALID_ENUM);
     EXPECT(NULL, translucid_methods_available(methods, 16, &count), TRANSLUCID_RESULT_SUCCESS);
-    for (info.method = TRANSLUCID_METHOD_BLEND; info.method <= TRANSLUCID_METHOD_WBOIT;
+    for (info.method = TRANSLUCID_METHOD_BLEND; info.method <= TRANSLUCID_METHOD_LINKED_LIST;
          info.method++) {
         int available = 0;
         for (i = 0; i < count; i++) available |= methods[i] == info.method;
@@ -383,6 +383,12 @@ static void frames(translucid_context *ctx, translucid_context *other) {
                    TRANSLUCID_RESULT_ERROR_METHOD_UNAVAILABLE);
         }
     }
+    info = frame_info(&draw);
+    info.method = TRANSLUCID_METHOD_LINKED_LIST;
+    info.linked_list_node_budget = UINT32_MAX; /* past one storage buffer's worth of nodes */
+    EXPECT(ctx, translucid_frame_render(ctx, &info, &frame),
+           TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    TRUE_OR_FAIL(strstr(translucid_context_last_error(ctx), "budget") != NULL);
     info = frame_info(&draw);
     info.method = TRANSLUCID_METHOD_WAVELET;
     info.wavelet_coefficients = 3;

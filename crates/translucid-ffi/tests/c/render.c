@@ -174,6 +174,37 @@ static void exact_threshold(float threshold, float want, translucid_mesh quad,
     CHECK(translucid_frame_destroy(g_ctx, frame));
 }
 
+/* linked_list's node pool: by default it holds the frame (two full-frame quads, every pixel
+ * red over red over black); a budget below the frame's fragments blends the rest unsorted and
+ * counts them, exactly. */
+static void linked_list_budget(uint32_t budget, translucid_mesh quad, translucid_material red) {
+    translucid_frame_info info = base_frame(TRANSLUCID_METHOD_LINKED_LIST);
+    translucid_frame_statistics stats;
+    translucid_draw draws[2];
+    translucid_frame frame;
+    float *pixels;
+    size_t i, d;
+    for (d = 0; d < 2; d++) {
+        draws[d] = draw_of(quad, red);
+        draws[d].transform[14] = -0.5f * (float)d;
+    }
+    info.draws = draws;
+    info.draw_count = 2;
+    info.linked_list_node_budget = budget;
+    CHECK(translucid_frame_render(g_ctx, &info, &frame));
+    memset(&stats, 0, sizeof stats);
+    stats.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_STATISTICS;
+    CHECK(translucid_frame_get_statistics(g_ctx, frame, &stats));
+    near_or_fail((float)stats.fragments, 2 * W * H, 0.0f, "linked_list: fragments", 0);
+    near_or_fail((float)stats.tail_fragments, budget == 0 ? 0.0f : (float)(2 * W * H - budget),
+                 0.0f, "linked_list: fragments past the budget", 0);
+    /* Two equal layers: the order does not show, so the tail is right here too. */
+    pixels = read_both(frame);
+    for (i = 0; i < W * H; i++) near_or_fail(pixels[i * 4], 0.75f, 2e-3f, "linked_list", i);
+    free(pixels);
+    CHECK(translucid_frame_destroy(g_ctx, frame));
+}
+
 /* A quad of four corners (12 floats) as two triangles, with texture coordinates (8 floats)
  * or none. */
 static translucid_mesh quad_mesh(const float *positions, const float *uvs) {
@@ -608,6 +639,10 @@ int main(int argc, char **argv) {
                 info.wavelet_storage = TRANSLUCID_WAVELET_STORAGE_IMAGES;
                 over_host_layer(info, quad, red);
             }
+        }
+        if (methods[m] == TRANSLUCID_METHOD_LINKED_LIST) {
+            linked_list_budget(0, quad, red);
+            linked_list_budget(W * H + W * H / 2, quad, red);
         }
         if (methods[m] == TRANSLUCID_METHOD_EXACT) {
             exact_threshold(0.0f, 0.75f, quad, red);

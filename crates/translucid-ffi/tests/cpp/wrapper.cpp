@@ -98,6 +98,15 @@ int main() {
         // context needs real handles.
         const translucid_host_requirements req = translucid::Context::host_requirements();
         EXPECT(req.api_version >= VK_API_VERSION_1_2 && req.features.shaderInt64 == VK_TRUE);
+        const translucid_host_requirements lists =
+            translucid::Context::host_requirements(TRANSLUCID_METHOD_LINKED_LIST);
+        EXPECT(lists.features.shaderInt64 == VK_TRUE && lists.features.geometryShader == VK_TRUE);
+        try {
+            translucid::Context::host_requirements(1000);
+            EXPECT(false);
+        } catch (const translucid::Error &e) {
+            EXPECT(e.code() == TRANSLUCID_RESULT_ERROR_INVALID_ENUM);
+        }
         frame_info.method = 0;
         try {
             translucid::Frame bad = context.record(frame_info, translucid_host_frame_targets{});

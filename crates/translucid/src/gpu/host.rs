@@ -45,6 +45,77 @@ pub fn host_requirements() -> HostRequirements {
     }
 }
 
+/// A device feature only some methods need, beyond [`host_requirements`]'s: a method that
+/// needs one says so by name when the device lacks it (an engine enables it only for the
+/// methods it uses).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OptionalFeature {
+    FragmentStoresAndAtomics,
+    GeometryShader,
+}
+
+impl OptionalFeature {
+    /// The feature's Vulkan name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::FragmentStoresAndAtomics => "fragmentStoresAndAtomics",
+            Self::GeometryShader => "geometryShader",
+        }
+    }
+
+    fn enable(self, features: vk::PhysicalDeviceFeatures) -> vk::PhysicalDeviceFeatures {
+        match self {
+            Self::FragmentStoresAndAtomics => features.fragment_stores_and_atomics(true),
+            Self::GeometryShader => features.geometry_shader(true),
+        }
+    }
+
+    fn enabled(self, info: &super::DeviceInfo) -> bool {
+        match self {
+            Self::FragmentStoresAndAtomics => info.fragment_stores_and_atomics,
+            Self::GeometryShader => info.geometry_shader,
+        }
+    }
+}
+
+/// What the engine must enable for a method that needs `optional` features: [`host_requirements`]
+/// with those features on too.
+pub fn host_requirements_with(optional: &[OptionalFeature]) -> HostRequirements {
+    let mut wanted = host_requirements();
+    for feature in optional {
+        wanted.features = feature.enable(wanted.features);
+    }
+    wanted
+}
+
+impl Gpu {
+    /// Checks that the device has `optional` enabled, for the method named `method`: the
+    /// error names each one missing (on an engine's device, as a requirement to enable).
+    pub fn require_features(&self, method: &str, optional: &[OptionalFeature]) -> Result<()> {
+        let info = self.info();
+        let missing: Vec<&str> = optional
+            .iter()
+            .filter(|f| !f.enabled(info))
+            .map(|f| f.name())
+            .collect();
+        if missing.is_empty() {
+            return Ok(());
+        }
+        let missing = missing.join(", ");
+        Err(if self.is_host_device() {
+            Error::HostRequirements(format!(
+                "the {method} method needs {missing} enabled on the engine's device; enable \
+                 what translucid_host_method_requirements_get lists for it"
+            ))
+        } else {
+            Error::NoDevice(format!(
+                "{} lacks {missing}, which the {method} method needs",
+                info.name
+            ))
+        })
+    }
+}
+
 /// The features of `f` that are on, by their Vulkan names (only those translucid may need).
 fn features_on(f: &vk::PhysicalDeviceFeatures) -> Vec<&'static str> {
     [
@@ -178,7 +249,7 @@ impl Gpu {
         info.dual_source_blend = true;
         info.shader_int64 = true;
         info.shader_float64 = true;
-        // Optional: only the linked_list method needs them, and says so when they are off.
+        // Optional (`OptionalFeature`): the methods that need them say so when they are off.
         info.fragment_stores_and_atomics = host.features.fragment_stores_and_atomics == vk::TRUE;
         info.geometry_shader = host.features.geometry_shader == vk::TRUE;
         // SAFETY: a live device of this instance (caller's guarantee).

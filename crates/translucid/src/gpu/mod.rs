@@ -39,8 +39,8 @@ pub use attachments::{fullscreen_pipeline, Attachment, AttachmentPass, DepthAtta
 pub use commands::{image_barrier, memory_barrier, mip_region, whole_image_region};
 pub use device::{list_devices, DeviceInfo, Gpu, GpuOptions, Shared};
 pub use host::{
-    host_requirements, HostDevice, HostImage, HostRequirements, HostTargets, HOST_API_VERSION,
-    HOST_DEPTH_FORMAT, HOST_DEPTH_FORMATS,
+    host_requirements, host_requirements_with, HostDevice, HostImage, HostRequirements,
+    HostTargets, OptionalFeature, HOST_API_VERSION, HOST_DEPTH_FORMAT, HOST_DEPTH_FORMATS,
 };
 pub use host_depth::DepthImport;
 pub use memory::MemoryLocation;

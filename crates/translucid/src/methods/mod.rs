@@ -16,7 +16,7 @@ pub mod wboit;
 
 use crate::assets::GpuScene;
 use crate::frame::FrameTargets;
-use crate::gpu::{vk, Gpu, Timestamps};
+use crate::gpu::{vk, Gpu, OptionalFeature, Timestamps};
 use crate::scene::Scene;
 use crate::{Error, Result};
 
@@ -47,6 +47,19 @@ impl MethodKind {
         Self::Wboit,
         Self::LinkedList,
     ];
+
+    /// Device features the method needs beyond what every method needs.
+    pub fn optional_features(self) -> &'static [OptionalFeature] {
+        match self {
+            // Stores from fragments for the lists; gl_PrimitiveID in fragment shaders for
+            // the reference's tie-break.
+            Self::LinkedList => &[
+                OptionalFeature::FragmentStoresAndAtomics,
+                OptionalFeature::GeometryShader,
+            ],
+            Self::Blend | Self::Exact | Self::Wavelet | Self::Wboit => &[],
+        }
+    }
 
     /// The name the CLI and the C API use.
     pub fn name(self) -> &'static str {

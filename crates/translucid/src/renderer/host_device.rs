@@ -29,6 +29,8 @@ pub struct HostFrame {
     pub peak_gpu_bytes: u64,
     /// Fragments composited, for methods that count them (0 otherwise).
     pub fragments: u64,
+    /// Fragments blended unsorted for want of room (linked_list past a fixed node budget).
+    pub tail_fragments: u64,
     /// Bands the bin methods rasterized the frame in: more than one when their bin lists
     /// passed the capacity within the frame (the lists have grown for later frames).
     pub bands: u32,
@@ -198,6 +200,7 @@ impl Renderer {
             stages,
             peak_gpu_bytes: self.gpu.memory_in_use().1,
             fragments: check.fragments,
+            tail_fragments: check.tail_fragments,
             bands: check.bands,
             degraded_rows: check.degraded_rows + check.unfinished_rows,
             overflowed: check.rerender || check.finish,

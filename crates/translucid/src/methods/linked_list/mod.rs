@@ -87,13 +87,16 @@ impl LinkedList {
         options: &LinkedListOptions,
     ) -> Result<Self> {
         let info = gpu.info();
-        if !(info.dual_source_blend && info.fragment_stores_and_atomics && info.geometry_shader) {
+        if !info.dual_source_blend {
             return Err(Error::NoDevice(format!(
-                "{} lacks one of dualSrcBlend, fragmentStoresAndAtomics and geometryShader \
-                 (for gl_PrimitiveID in fragment shaders), which the linked_list method needs",
+                "{} lacks dualSrcBlend, which the linked_list method's tail needs",
                 info.name
             )));
         }
+        gpu.require_features(
+            "linked_list",
+            super::MethodKind::LinkedList.optional_features(),
+        )?;
         let most = most_nodes(gpu);
         let capacity = match options.node_budget {
             Some(0) => {
