@@ -22,4 +22,10 @@ vec3 fragmentNormal(DrawInfo d) {
     return cross(dFdx(v_worldPos), dFdy(v_worldPos));
 }
 
+// The fragment's depth in the reference's order (raster::order_depth): view depth (clip w)
+// under a perspective, device depth plus one under an orthographic projection.
+float fragmentOrderDepth() {
+    return u_frame.depthMapping.w > 0.5 ? gl_FragCoord.z + 1.0 : 1.0 / gl_FragCoord.w;
+}
+
 #endif

@@ -14,12 +14,6 @@ layout(early_fragment_tests) in;
 layout(location = 0, index = 0) out vec4 o_radiance;
 layout(location = 0, index = 1) out vec4 o_transmittance;
 
-// The fragment's depth in the reference's order: view depth (clip w) under a perspective,
-// device depth (plus one) under an orthographic projection.
-float orderDepth() {
-    return u_frame.depthMapping.w > 0.5 ? gl_FragCoord.z + 1.0 : 1.0 / gl_FragCoord.w;
-}
-
 void main() {
     DrawInfo d = g_draws[u_push.drawIndex];
     Material m = g_materials[d.materialIndex];
@@ -33,7 +27,7 @@ void main() {
         g_nodes[at] = packHalf2x16(radiance.rg);
         g_nodes[at + 1u] = packHalf2x16(vec2(radiance.b, transmittance.r));
         g_nodes[at + 2u] = packHalf2x16(transmittance.gb);
-        g_nodes[at + NODE_DEPTH] = floatBitsToUint(orderDepth());
+        g_nodes[at + NODE_DEPTH] = floatBitsToUint(fragmentOrderDepth());
         g_nodes[at + 4u] = u_push.drawIndex;
         g_nodes[at + 5u] = uint(gl_PrimitiveID);
         g_nodes[at + NODE_NEXT] = atomicExchange(g_heads[headIndex(uvec2(gl_FragCoord.xy))], node);

@@ -146,7 +146,7 @@ enum Command {
     Render {
         /// A glTF path or a generated scene's name (boxes, spheres, particles, planes, ...).
         scene: String,
-        /// blend, exact, wavelet, wboit or linked_list
+        /// blend, exact, wavelet, wboit, linked_list or depth_peeling
         #[arg(long, short, default_value = "exact")]
         method: String,
         /// exact: stop a pixel once its transmittance is under T in every channel (0: exact).
@@ -168,7 +168,7 @@ enum Command {
     /// Render with a method and with the CPU reference, and measure the difference.
     Compare {
         scene: String,
-        /// blend, exact, wavelet, wboit or linked_list
+        /// blend, exact, wavelet, wboit, linked_list or depth_peeling
         #[arg(long, short, default_value = "exact")]
         method: String,
         /// exact: stop a pixel once its transmittance is under T in every channel (0: exact).
@@ -203,7 +203,7 @@ enum Command {
         /// Folders (searched recursively for .gltf and .glb files) or glTF files.
         #[arg(required = true)]
         paths: Vec<PathBuf>,
-        /// blend, exact, wavelet, wboit or linked_list (blend's image errors never fail the run)
+        /// blend, exact, wavelet, wboit, linked_list or depth_peeling (blend's image errors never fail the run)
         #[arg(long, short, default_value = "exact")]
         method: String,
         /// exact: stop a pixel once its transmittance is under T in every channel (0: exact);

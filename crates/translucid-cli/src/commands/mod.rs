@@ -133,7 +133,7 @@ impl Expected {
             "exact" if options.exact.threshold > 0.0 => {
                 Self::ReferenceUntil(options.exact.threshold)
             }
-            "exact" | "linked_list" => Self::Reference,
+            "exact" | "linked_list" | "depth_peeling" => Self::Reference,
             "wavelet" => Self::WaveletModel(Settings::from_options(&options.wavelet)?),
             "wboit" => Self::WboitModel,
             "blend" => return Ok(None),

@@ -61,6 +61,9 @@ pub struct DeviceInfo {
     /// The geometry-shader feature, which fragment shaders need to read `gl_PrimitiveID`
     /// (the linked_list method's tie-break).
     pub geometry_shader: bool,
+    /// A blend state per colour attachment (the depth_peeling method keeps its depth range
+    /// with MAX and its layers with sums and products in one pass).
+    pub independent_blend: bool,
 }
 
 /// A Vulkan device: either a headless one translucid made, with one graphics+compute queue
@@ -235,6 +238,7 @@ pub(super) fn describe(
         shader_float64: features.shader_float64 == vk::TRUE,
         fragment_stores_and_atomics: features.fragment_stores_and_atomics == vk::TRUE,
         geometry_shader: features.geometry_shader == vk::TRUE,
+        independent_blend: features.independent_blend == vk::TRUE,
     }
 }
 
@@ -636,7 +640,8 @@ fn create_device(
         .shader_int64(info.shader_int64)
         .shader_float64(info.shader_float64)
         .fragment_stores_and_atomics(info.fragment_stores_and_atomics)
-        .geometry_shader(info.geometry_shader);
+        .geometry_shader(info.geometry_shader)
+        .independent_blend(info.independent_blend);
     let create = vk::DeviceCreateInfo::default()
         .queue_create_infos(&queues)
         .enabled_features(&features);

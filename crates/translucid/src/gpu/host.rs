@@ -52,6 +52,7 @@ pub fn host_requirements() -> HostRequirements {
 pub enum OptionalFeature {
     FragmentStoresAndAtomics,
     GeometryShader,
+    IndependentBlend,
 }
 
 impl OptionalFeature {
@@ -60,6 +61,7 @@ impl OptionalFeature {
         match self {
             Self::FragmentStoresAndAtomics => "fragmentStoresAndAtomics",
             Self::GeometryShader => "geometryShader",
+            Self::IndependentBlend => "independentBlend",
         }
     }
 
@@ -67,6 +69,7 @@ impl OptionalFeature {
         match self {
             Self::FragmentStoresAndAtomics => features.fragment_stores_and_atomics(true),
             Self::GeometryShader => features.geometry_shader(true),
+            Self::IndependentBlend => features.independent_blend(true),
         }
     }
 
@@ -74,6 +77,7 @@ impl OptionalFeature {
         match self {
             Self::FragmentStoresAndAtomics => info.fragment_stores_and_atomics,
             Self::GeometryShader => info.geometry_shader,
+            Self::IndependentBlend => info.independent_blend,
         }
     }
 }
@@ -252,6 +256,7 @@ impl Gpu {
         // Optional (`OptionalFeature`): the methods that need them say so when they are off.
         info.fragment_stores_and_atomics = host.features.fragment_stores_and_atomics == vk::TRUE;
         info.geometry_shader = host.features.geometry_shader == vk::TRUE;
+        info.independent_blend = host.features.independent_blend == vk::TRUE;
         // SAFETY: a live device of this instance (caller's guarantee).
         let device = unsafe { ash::Device::load(instance.fp_v1_0(), host.device) };
         Self::wrap_host(entry, instance, device, host.physical_device, info)
@@ -426,7 +431,7 @@ impl Gpu {
 
 impl Gpu {
     /// What images of `format` with optimal tiling support on this device.
-    fn format_features(&self, format: vk::Format) -> vk::FormatFeatureFlags {
+    pub(crate) fn format_features(&self, format: vk::Format) -> vk::FormatFeatureFlags {
         // SAFETY: a physical-device query on a live instance.
         unsafe {
             self.instance()

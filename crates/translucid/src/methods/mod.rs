@@ -9,6 +9,7 @@
 
 pub mod bins;
 mod blend;
+pub mod depth_peeling;
 pub mod exact;
 pub mod linked_list;
 pub mod wavelet;
@@ -21,7 +22,14 @@ use crate::scene::Scene;
 use crate::{Error, Result};
 
 /// Every method's name, as the CLI and the C API spell it.
-pub const NAMES: &[&str] = &["blend", "exact", "wavelet", "wboit", "linked_list"];
+pub const NAMES: &[&str] = &[
+    "blend",
+    "exact",
+    "wavelet",
+    "wboit",
+    "linked_list",
+    "depth_peeling",
+];
 
 /// The transparency methods.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -37,15 +45,18 @@ pub enum MethodKind {
     /// Per-pixel linked lists sorted in a full-screen pass: exact while its node pool holds
     /// the frame's fragments.
     LinkedList,
+    /// Dual depth peeling: N passes peel 2N layers, exact while the frame has no more.
+    DepthPeeling,
 }
 
 impl MethodKind {
-    pub const ALL: [Self; 5] = [
+    pub const ALL: [Self; 6] = [
         Self::Blend,
         Self::Exact,
         Self::Wavelet,
         Self::Wboit,
         Self::LinkedList,
+        Self::DepthPeeling,
     ];
 
     /// Device features the method needs beyond what every method needs.
@@ -57,6 +68,8 @@ impl MethodKind {
                 OptionalFeature::FragmentStoresAndAtomics,
                 OptionalFeature::GeometryShader,
             ],
+            // MAX for the depth range, sums and products for the layers, in one pass.
+            Self::DepthPeeling => &[OptionalFeature::IndependentBlend],
             Self::Blend | Self::Exact | Self::Wavelet | Self::Wboit => &[],
         }
     }
@@ -69,6 +82,7 @@ impl MethodKind {
             Self::Wavelet => "wavelet",
             Self::Wboit => "wboit",
             Self::LinkedList => "linked_list",
+            Self::DepthPeeling => "depth_peeling",
         }
     }
 }
@@ -100,6 +114,8 @@ pub struct MethodOptions {
     pub wavelet: wavelet::WaveletOptions,
     /// `linked_list`'s.
     pub linked_list: linked_list::LinkedListOptions,
+    /// `depth_peeling`'s.
+    pub depth_peeling: depth_peeling::DepthPeelingOptions,
     /// The bins' (`exact`, and `wavelet` with [`wavelet::Storage::Bins`]): starting
     /// capacities and test settings.
     pub bins: bins::BinOptions,
@@ -131,6 +147,9 @@ pub struct FrameCheck {
     /// Fragments blended unsorted because they found no room (linked_list past its node
     /// pool): the frame is not exact where they fell.
     pub tail_fragments: u64,
+    /// Pixels with more layers than the passes peeled (depth_peeling past its passes): their
+    /// middle layers are missing.
+    pub unpeeled_pixels: u64,
 }
 
 /// What a method is told when a frame it recorded has completed.
@@ -225,6 +244,12 @@ pub fn create(
             uploaded,
             targets,
             &options.linked_list,
+        )?),
+        MethodKind::DepthPeeling => Box::new(depth_peeling::DepthPeeling::new(
+            gpu,
+            uploaded,
+            targets,
+            &options.depth_peeling,
         )?),
     })
 }

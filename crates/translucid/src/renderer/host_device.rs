@@ -31,6 +31,8 @@ pub struct HostFrame {
     pub fragments: u64,
     /// Fragments blended unsorted for want of room (linked_list past a fixed node budget).
     pub tail_fragments: u64,
+    /// Pixels with more layers than depth_peeling's fixed passes peel.
+    pub unpeeled_pixels: u64,
     /// Bands the bin methods rasterized the frame in: more than one when their bin lists
     /// passed the capacity within the frame (the lists have grown for later frames).
     pub bands: u32,
@@ -201,6 +203,7 @@ impl Renderer {
             peak_gpu_bytes: self.gpu.memory_in_use().1,
             fragments: check.fragments,
             tail_fragments: check.tail_fragments,
+            unpeeled_pixels: check.unpeeled_pixels,
             bands: check.bands,
             degraded_rows: check.degraded_rows + check.unfinished_rows,
             overflowed: check.rerender || check.finish,

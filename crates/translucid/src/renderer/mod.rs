@@ -84,6 +84,9 @@ pub struct Frame {
     /// Fragments blended unsorted for want of room (linked_list past a fixed node budget):
     /// where they fell the frame is not exact; 0 for other methods.
     pub tail_fragments: u64,
+    /// Pixels with more layers than depth_peeling's fixed passes peel: their middle layers
+    /// are missing; 0 for other methods.
+    pub unpeeled_pixels: u64,
     /// Pipelines created on the renderer's device since its last frame ended, its
     /// `set_frame` included (a shader variant this frame was the first to need): each
     /// compiles a shader, which a frame loop should pay only in its first frames.
@@ -547,6 +550,7 @@ impl Renderer {
             triangles: check.triangles,
             bands: check.bands,
             tail_fragments: check.tail_fragments,
+            unpeeled_pixels: check.unpeeled_pixels,
             pipelines_created: self.counted.0 - counted.0,
             bytes_allocated: self.counted.1 - counted.1,
             record_ms,

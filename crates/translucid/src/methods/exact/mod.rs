@@ -281,7 +281,7 @@ impl Method for Exact {
             bands: counters.bands,
             fragments: kept(counters.fragments()),
             triangles: kept(u64::from(counters.triangle_count)),
-            tail_fragments: 0,
+            ..FrameCheck::default()
         })
     }
 

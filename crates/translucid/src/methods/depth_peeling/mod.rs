@@ -1,0 +1,461 @@
+//! `depth_peeling`: dual depth peeling (Bavoil and Myers), the exact method that needs no
+//! per-pixel lists: each pass of the transparent draws peels the nearest and the farthest
+//! layer a pixel has left, so N passes peel 2N layers.
+//!
+//! A first pass keeps each pixel's depth range, (-near, far) in one MAX-blended RG32F image
+//! (`shaders/depth_peeling/first.frag`). Each peeling pass reads the range the pass before it
+//! left (the two range images take turns) and writes the fragments at its near end into a
+//! front layer, those at its far end into a back layer, and the depths of the rest into the
+//! next range (`peel.frag`). A compute pass after each peeling pass puts the front layer
+//! under the front layers so far and the back layer over the back ones, and notes whether
+//! any pixel has fragments left (`composite.comp`); a last one composites front over back
+//! over the frame (`resolve.comp`).
+//!
+//! Layers are depths: fragments at one depth in one pixel peel together and are summed
+//! without covering one another, so the result is exact where the frame's pixels have at
+//! most 2N distinct depths and no two surfaces meet at one depth. Past 2N, the middle layers
+//! are left out and the pixels counted ([`super::FrameCheck::unpeeled_pixels`]). With
+//! [`DepthPeelingOptions::passes`] N stays as given; by default it starts small and doubles,
+//! the frame rendered again, until the frame's layers fit (up to [`MOST_PASSES`]).
+
+use super::{FrameCheck, FrameDone, Method, MethodOptions, RecordContext};
+use crate::assets::GpuScene;
+use crate::frame::FrameTargets;
+use crate::gpu::{
+    image_barrier, memory_barrier, vk, Attachment, AttachmentPass, BindingKind, Blend, Buffer,
+    ComputePipeline, ComputePipelineCache, DepthAttachment, DepthMode, DescriptorLayout,
+    DescriptorSet, Gpu, GpuImage, GraphicsPipeline, Load, MemoryLocation, PipelineState, Resource,
+    Sampler,
+};
+use crate::{Error, Result};
+use std::sync::Arc;
+
+/// The most peeling passes a frame may take (`2 * MOST_PASSES` layers).
+pub const MOST_PASSES: u32 = 128;
+/// Where the pass count starts when it is not fixed.
+const FIRST_PASSES: u32 = 4;
+
+/// (-near, far): one MAX blend keeps both ends. 32-bit, so that the next pass finds each
+/// fragment's depth exactly.
+const RANGE_FORMAT: vk::Format = vk::Format::R32G32_SFLOAT;
+/// One pass's layer: radiance sums and transmittance products of its fragments.
+const LAYER_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
+/// The layers composited so far: 32-bit, as they gather up to 2N layers.
+const SUM_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
+/// The range's clear value, an empty range (`NO_RANGE` in depth_peeling.glsl).
+const NO_RANGE: [f32; 4] = [-f32::MAX; 4];
+/// Words of the peeling buffer: pixels unpeeled, then a flag per pass.
+const PEELING_WORDS: u64 = 1 + MOST_PASSES as u64 + 1;
+
+/// The depth_peeling method's settings.
+#[derive(Clone, Debug, Default)]
+pub struct DepthPeelingOptions {
+    /// Peeling passes, fixed (each peels two layers). `None` starts at a few and doubles
+    /// them while a frame has more layers.
+    pub passes: Option<u32>,
+    /// Where a count that is not fixed starts (what an earlier renderer learned).
+    pub initial_passes: Option<u32>,
+}
+
+/// The images the passes write, each the largest frame's size.
+struct Images {
+    /// The two ranges the passes take turns reading and writing.
+    ranges: [GpuImage; 2],
+    /// Front radiance, front transmittance, back radiance, back transmittance of one pass.
+    layers: [GpuImage; 4],
+    /// The same, composited over the passes so far.
+    sums: [GpuImage; 4],
+}
+
+impl Images {
+    fn new(gpu: &Gpu, targets: &FrameTargets) -> Result<Self> {
+        let size = targets.capacity;
+        let attached = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED;
+        let range = |name| gpu.create_image(name, size, RANGE_FORMAT, attached, 1);
+        let layer = |name| gpu.create_image(name, size, LAYER_FORMAT, attached, 1);
+        let storage = vk::ImageUsageFlags::STORAGE;
+        let sum = |name| gpu.create_image(name, size, SUM_FORMAT, storage, 1);
+        Ok(Self {
+            ranges: [
+                range("depth peeling range 0")?,
+                range("depth peeling range 1")?,
+            ],
+            layers: [
+                layer("depth peeling front radiance")?,
+                layer("depth peeling front transmittance")?,
+                layer("depth peeling back radiance")?,
+                layer("depth peeling back transmittance")?,
+            ],
+            sums: [
+                sum("depth peeling front radiance so far")?,
+                sum("depth peeling front transmittance so far")?,
+                sum("depth peeling back radiance so far")?,
+                sum("depth peeling back transmittance so far")?,
+            ],
+        })
+    }
+}
+
+pub struct DepthPeeling {
+    images: Images,
+    first: AttachmentPass,
+    first_pipelines: (Arc<GraphicsPipeline>, Arc<GraphicsPipeline>),
+    /// Peeling into range 0 and into range 1 (each reading the other).
+    peel: [AttachmentPass; 2],
+    peel_pipelines: (Arc<GraphicsPipeline>, Arc<GraphicsPipeline>),
+    /// The peeling pass's set reading range i.
+    peel_sets: [DescriptorSet; 2],
+    composite: Arc<ComputePipeline>,
+    resolve: Arc<ComputePipeline>,
+    /// The composite's set reading range i (the one the pass just wrote); the resolve's too.
+    composite_sets: [DescriptorSet; 2],
+    _layouts: [DescriptorLayout; 2],
+    _sampler: Sampler,
+    /// Pixels left unpeeled and per-pass flags (`Peeling` of composite.comp).
+    peeling: Buffer,
+    /// The peeling buffer of each frame slot, read once the frame completes.
+    readbacks: Vec<Buffer>,
+    /// Passes recorded from now on, and per slot those its frame was recorded with.
+    passes: u32,
+    recorded: Vec<u32>,
+    fixed: bool,
+}
+
+impl DepthPeeling {
+    pub fn new(
+        gpu: &Gpu,
+        uploaded: &GpuScene,
+        targets: &FrameTargets,
+        options: &DepthPeelingOptions,
+    ) -> Result<Self> {
+        gpu.require_features(
+            "depth_peeling",
+            super::MethodKind::DepthPeeling.optional_features(),
+        )?;
+        if !gpu
+            .format_features(RANGE_FORMAT)
+            .contains(vk::FormatFeatureFlags::COLOR_ATTACHMENT_BLEND)
+        {
+            return Err(Error::NoDevice(format!(
+                "{} cannot blend R32G32_SFLOAT attachments, which the depth_peeling method's \
+                 depth range needs",
+                gpu.info().name
+            )));
+        }
+        let passes = match options.passes {
+            Some(n) if n == 0 || n > MOST_PASSES => {
+                return Err(Error::InvalidOption(format!(
+                    "depth_peeling: {n} passes; give 1 to {MOST_PASSES}"
+                )))
+            }
+            Some(n) => n,
+            None => options
+                .initial_passes
+                .unwrap_or(FIRST_PASSES)
+                .clamp(1, MOST_PASSES),
+        };
+        let images = Images::new(gpu, targets)?;
+        let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
+        let depth = DepthAttachment {
+            attachment: Attachment::kept(
+                &targets.depth,
+                vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+            ),
+            write: false,
+        };
+        let cleared = |image, value| Attachment {
+            image,
+            load: Load::Clear(value),
+            layouts: (vk::ImageLayout::UNDEFINED, read),
+        };
+        let first =
+            AttachmentPass::new(gpu, &[cleared(&images.ranges[0], NO_RANGE)], Some(&depth))?;
+        let peel_into = |range| {
+            let [fl, ft, bl, bt] = &images.layers;
+            AttachmentPass::new(
+                gpu,
+                &[
+                    cleared(range, NO_RANGE),
+                    cleared(fl, [0.0; 4]),
+                    cleared(ft, [1.0; 4]),
+                    cleared(bl, [0.0; 4]),
+                    cleared(bt, [1.0; 4]),
+                ],
+                Some(&depth),
+            )
+        };
+        let peel = [peel_into(&images.ranges[0])?, peel_into(&images.ranges[1])?];
+
+        let sampler = Sampler::nearest_clamp(gpu)?;
+        let peel_layout = DescriptorLayout::new(
+            gpu,
+            &[BindingKind::SampledImages(1)],
+            vk::ShaderStageFlags::FRAGMENT,
+        )?;
+        let sampled = BindingKind::SampledImages(1);
+        let storage = BindingKind::StorageImage;
+        let composite_layout = DescriptorLayout::new(
+            gpu,
+            &[
+                sampled,
+                sampled,
+                sampled,
+                sampled,
+                sampled,
+                storage,
+                storage,
+                storage,
+                storage,
+                BindingKind::StorageBuffer,
+                storage,
+            ],
+            vk::ShaderStageFlags::COMPUTE,
+        )?;
+        let first_pipelines = uploaded.mesh_pipelines_with(
+            gpu,
+            first.render_pass,
+            crate::spirv!("depth_peeling/first.frag"),
+            &[],
+            &PipelineState {
+                blends: &[Blend::Max],
+                depth: DepthMode::Less(false),
+                fragment_constants: &[],
+                vertex_input: true,
+            },
+        )?;
+        let peel_pipelines = uploaded.mesh_pipelines_with(
+            gpu,
+            peel[0].render_pass,
+            crate::spirv!("depth_peeling/peel.frag"),
+            &[&peel_layout],
+            &PipelineState {
+                blends: &[
+                    Blend::Max,
+                    Blend::Add,
+                    Blend::Multiply,
+                    Blend::Add,
+                    Blend::Multiply,
+                ],
+                depth: DepthMode::Less(false),
+                fragment_constants: &[],
+                vertex_input: true,
+            },
+        )?;
+        let mut computes = ComputePipelineCache::new(16);
+        let composite = computes.get(
+            gpu,
+            &[&composite_layout],
+            crate::spirv!("depth_peeling/composite.comp"),
+            &[],
+        )?;
+        let resolve = computes.get(
+            gpu,
+            &[&composite_layout],
+            crate::spirv!("depth_peeling/resolve.comp"),
+            &[],
+        )?;
+        let peeling = gpu.create_buffer(
+            "depth peeling flags",
+            PEELING_WORDS * 4,
+            vk::BufferUsageFlags::STORAGE_BUFFER
+                | vk::BufferUsageFlags::TRANSFER_DST
+                | vk::BufferUsageFlags::TRANSFER_SRC,
+            MemoryLocation::GpuOnly,
+        )?;
+        let peel_set = |range: &GpuImage| {
+            peel_layout.create_set(&[Resource::Images(&[range.view], sampler.raw)])
+        };
+        let peel_sets = [peel_set(&images.ranges[0])?, peel_set(&images.ranges[1])?];
+        let composite_set = |range: &GpuImage| {
+            let image = |i: &GpuImage| [i.view];
+            let views = [
+                image(range),
+                image(&images.layers[0]),
+                image(&images.layers[1]),
+                image(&images.layers[2]),
+                image(&images.layers[3]),
+            ];
+            let mut resources: Vec<Resource<'_>> = views
+                .iter()
+                .map(|v| Resource::Images(v, sampler.raw))
+                .collect();
+            resources.extend(images.sums.iter().map(|s| Resource::StorageImage(s.view)));
+            resources.push(Resource::Buffer(&peeling));
+            resources.push(Resource::StorageImage(targets.colour.view));
+            composite_layout.create_set(&resources)
+        };
+        let composite_sets = [
+            composite_set(&images.ranges[0])?,
+            composite_set(&images.ranges[1])?,
+        ];
+        let readbacks = (0..uploaded.slot_count())
+            .map(|_| {
+                gpu.create_buffer(
+                    "depth peeling flags readback",
+                    PEELING_WORDS * 4,
+                    vk::BufferUsageFlags::TRANSFER_DST,
+                    MemoryLocation::GpuToCpu,
+                )
+            })
+            .collect::<Result<Vec<_>>>()?;
+        Ok(Self {
+            images,
+            first,
+            first_pipelines,
+            peel,
+            peel_pipelines,
+            peel_sets,
+            composite,
+            resolve,
+            composite_sets,
+            _layouts: [peel_layout, composite_layout],
+            _sampler: sampler,
+            peeling,
+            recorded: vec![passes; readbacks.len()],
+            readbacks,
+            passes,
+            fixed: options.passes.is_some(),
+        })
+    }
+
+    /// Passes the next frame is recorded with.
+    pub fn passes(&self) -> u32 {
+        self.passes
+    }
+}
+
+/// `Push` of composite.comp and resolve.comp.
+fn push(pass: u32, last: bool, extent: vk::Extent2D) -> [u8; 16] {
+    let words = [pass, u32::from(last), extent.width, extent.height];
+    bytemuck::cast(words)
+}
+
+impl Method for DepthPeeling {
+    fn name(&self) -> &'static str {
+        "depth_peeling"
+    }
+
+    fn record(&mut self, ctx: &mut RecordContext<'_>) -> Result<()> {
+        let (gpu, cmd) = (ctx.gpu, ctx.cmd);
+        let extent = ctx.targets.extent;
+        let passes = self.passes;
+        self.recorded[ctx.slot] = passes;
+        let transfer = (
+            vk::PipelineStageFlags::TRANSFER,
+            vk::AccessFlags::TRANSFER_WRITE,
+        );
+        let compute = (
+            vk::PipelineStageFlags::COMPUTE_SHADER,
+            vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
+        );
+        // The frames before this one are done with the flags and the sums.
+        memory_barrier(gpu, cmd, compute, transfer);
+        gpu.cmd_fill_buffer(cmd, &self.peeling, 0);
+        memory_barrier(gpu, cmd, transfer, compute);
+        for sum in &self.images.sums {
+            // The first composite writes every pixel of the frame before any is read.
+            let undefined = vk::ImageLayout::UNDEFINED;
+            image_barrier(
+                gpu,
+                cmd,
+                sum,
+                undefined,
+                vk::ImageLayout::GENERAL,
+                compute,
+                compute,
+            );
+        }
+
+        let draws = &ctx.scene.transparent_calls;
+        self.first.begin(cmd, extent);
+        ctx.scene.draw(
+            gpu,
+            cmd,
+            draws,
+            (&self.first_pipelines.0, &self.first_pipelines.1),
+        );
+        self.first.end(cmd);
+        ctx.timestamps.mark(cmd, "depth peeling range");
+
+        let groups = [extent.width.div_ceil(8), extent.height.div_ceil(8), 1];
+        for pass in 1..=passes {
+            // Range `pass % 2` is written, the other one read.
+            let (into, from) = ((pass % 2) as usize, ((pass + 1) % 2) as usize);
+            let pipelines = &self.peel_pipelines;
+            self.peel[into].begin(cmd, extent);
+            gpu.cmd_bind_graphics_set(cmd, pipelines.0.layout, 2, self.peel_sets[from].raw);
+            ctx.scene
+                .draw(gpu, cmd, draws, (&pipelines.0, &pipelines.1));
+            self.peel[into].end(cmd);
+            self.composite.dispatch(
+                cmd,
+                &[self.composite_sets[into].raw],
+                &push(pass, pass == passes, extent),
+                groups,
+            );
+            memory_barrier(gpu, cmd, compute, compute);
+        }
+        ctx.timestamps.mark(cmd, "depth peeling passes");
+
+        let colour = &ctx.targets.colour;
+        let (attached, general) = (
+            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+            vk::ImageLayout::GENERAL,
+        );
+        let attachment = (
+            vk::PipelineStageFlags::ALL_COMMANDS,
+            vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE,
+        );
+        image_barrier(gpu, cmd, colour, attached, general, attachment, compute);
+        self.resolve.dispatch(
+            cmd,
+            &[self.composite_sets[0].raw],
+            &push(0, true, extent),
+            groups,
+        );
+        image_barrier(gpu, cmd, colour, general, attached, compute, attachment);
+
+        let transfer_read = (
+            vk::PipelineStageFlags::TRANSFER,
+            vk::AccessFlags::TRANSFER_READ,
+        );
+        memory_barrier(gpu, cmd, compute, transfer_read);
+        let readback = &self.readbacks[ctx.slot];
+        gpu.cmd_copy_buffer(cmd, &self.peeling, readback, 0, PEELING_WORDS * 4);
+        memory_barrier(
+            gpu,
+            cmd,
+            transfer,
+            (vk::PipelineStageFlags::HOST, vk::AccessFlags::HOST_READ),
+        );
+        ctx.timestamps.mark(cmd, "depth peeling resolve");
+        Ok(())
+    }
+
+    fn frame_done(&mut self, done: &FrameDone<'_>) -> Result<FrameCheck> {
+        let slot = done.slot % self.readbacks.len();
+        let unpeeled = self.readbacks[slot].read_word_volatile()?;
+        let recorded = self.recorded[slot];
+        let mut check = FrameCheck {
+            unpeeled_pixels: u64::from(unpeeled),
+            ..FrameCheck::default()
+        };
+        if unpeeled > 0 && !self.fixed && recorded < MOST_PASSES {
+            // Grown once for the frames recorded with too few passes.
+            if recorded == self.passes {
+                self.passes = (recorded * 2).min(MOST_PASSES);
+                log::info!(
+                    "depth_peeling: {unpeeled} pixels had more than {} layers; {} passes from now on",
+                    2 * recorded,
+                    self.passes
+                );
+            }
+            check.rerender = true;
+        }
+        Ok(check)
+    }
+
+    fn learned(&self, options: &mut MethodOptions) {
+        options.depth_peeling.initial_passes = Some(self.passes);
+    }
+}

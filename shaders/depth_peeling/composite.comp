@@ -1,0 +1,65 @@
+#version 450
+// After each peeling pass, one invocation per pixel: the pass's front layer goes under the
+// layers peeled from the front so far, its back layer over those peeled from the back; and
+// whether the pixel has fragments left is noted for the next pass (which is skipped when no
+// pixel has any) and, after the last pass, counted.
+
+#include "depth_peeling.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+layout(push_constant) uniform Push {
+    uint pass;   // 1 for the first peeling pass
+    uint last;   // 1 for the last pass recorded
+    uint width;
+    uint height;
+} u_push;
+
+layout(set = 0, binding = 0) uniform sampler2D u_range;
+layout(set = 0, binding = 1) uniform sampler2D u_frontRadiance;
+layout(set = 0, binding = 2) uniform sampler2D u_frontTransmittance;
+layout(set = 0, binding = 3) uniform sampler2D u_backRadiance;
+layout(set = 0, binding = 4) uniform sampler2D u_backTransmittance;
+// Front to back: radiance and transmittance of the front layers so far; back to front: the
+// same of the back layers.
+layout(set = 0, binding = 5, rgba32f) uniform image2D u_front;
+layout(set = 0, binding = 6, rgba32f) uniform image2D u_frontT;
+layout(set = 0, binding = 7, rgba32f) uniform image2D u_back;
+layout(set = 0, binding = 8, rgba32f) uniform image2D u_backT;
+// Pixels left with fragments after the last pass, then per pass whether any pixel was.
+layout(set = 0, binding = 9, std430) buffer Peeling {
+    uint unpeeledPixels;
+    uint fragmentsLeft[];
+} g_peeling;
+
+void main() {
+    ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+    if (pixel.x >= int(u_push.width) || pixel.y >= int(u_push.height)) {
+        return;
+    }
+    vec3 frontL = texelFetch(u_frontRadiance, pixel, 0).rgb;
+    vec3 frontT = texelFetch(u_frontTransmittance, pixel, 0).rgb;
+    vec3 backL = texelFetch(u_backRadiance, pixel, 0).rgb;
+    vec3 backT = texelFetch(u_backTransmittance, pixel, 0).rgb;
+    if (u_push.pass > 1u) {
+        vec3 front = imageLoad(u_front, pixel).rgb;
+        vec3 frontSoFar = imageLoad(u_frontT, pixel).rgb;
+        vec3 back = imageLoad(u_back, pixel).rgb;
+        vec3 backSoFar = imageLoad(u_backT, pixel).rgb;
+        frontL = front + frontSoFar * frontL;
+        frontT = frontSoFar * frontT;
+        backL = backL + backT * back;
+        backT = backT * backSoFar;
+    }
+    imageStore(u_front, pixel, vec4(frontL, 0.0));
+    imageStore(u_frontT, pixel, vec4(frontT, 0.0));
+    imageStore(u_back, pixel, vec4(backL, 0.0));
+    imageStore(u_backT, pixel, vec4(backT, 0.0));
+
+    if (rangeHolds(texelFetch(u_range, pixel, 0).xy)) {
+        g_peeling.fragmentsLeft[u_push.pass] = 1u;
+        if (u_push.last != 0u) {
+            atomicAdd(g_peeling.unpeeledPixels, 1u);
+        }
+    }
+}
