@@ -99,9 +99,9 @@ impl std::str::FromStr for Sweep {
     }
 }
 
-/// Settings of the `wavelet` method (other methods ignore them).
+/// Settings of the methods that have any (other methods ignore them).
 #[derive(clap::Args, Clone, Copy, Debug)]
-pub struct WaveletArgs {
+pub struct MethodArgs {
     /// wavelet: Haar rank 0 to 3 (2^(rank+1) coefficients per colour channel) [default: 3]
     #[arg(long)]
     pub rank: Option<u32>,
@@ -115,6 +115,10 @@ pub struct WaveletArgs {
     /// or full-screen images
     #[arg(long, value_enum, default_value_t = Storage::Bins)]
     pub storage: Storage,
+    /// depth_peeling: peeling passes, fixed (each peels two layers; pixels with more are
+    /// counted) [default: as many as the frame needs]
+    #[arg(long)]
+    pub passes: Option<u32>,
 }
 
 /// What changes between a bench's frames.
@@ -153,7 +157,7 @@ enum Command {
         #[arg(long, default_value_t = 0.0)]
         threshold: f32,
         #[command(flatten)]
-        wavelet: WaveletArgs,
+        method_args: MethodArgs,
         #[arg(long, default_value = "1280x720")]
         size: Size,
         #[arg(short, long, default_value = "out/render.png")]
@@ -175,7 +179,7 @@ enum Command {
         #[arg(long, default_value_t = 0.0)]
         threshold: f32,
         #[command(flatten)]
-        wavelet: WaveletArgs,
+        method_args: MethodArgs,
         #[arg(long, default_value = "640x360")]
         size: Size,
         /// Write method | reference | error heat map side by side.
@@ -211,7 +215,7 @@ enum Command {
         #[arg(long, default_value_t = 0.0)]
         threshold: f32,
         #[command(flatten)]
-        wavelet: WaveletArgs,
+        method_args: MethodArgs,
         #[arg(long, default_value = "480x270")]
         size: Size,
         /// Print one JSON document instead of text.
@@ -228,7 +232,7 @@ enum Command {
         #[arg(long, default_value_t = 0.0)]
         threshold: f32,
         #[command(flatten)]
-        wavelet: WaveletArgs,
+        method_args: MethodArgs,
         #[arg(long, default_value = "1280x720")]
         size: Size,
         #[arg(long, default_value_t = 20)]
@@ -277,7 +281,7 @@ fn run(command: Command) -> translucid::Result<ExitCode> {
             scene,
             method,
             threshold,
-            wavelet,
+            method_args,
             size,
             output,
             warm,
@@ -286,7 +290,7 @@ fn run(command: Command) -> translucid::Result<ExitCode> {
             (&scene, scene_args),
             &method,
             threshold,
-            wavelet,
+            method_args,
             size,
             &output,
             warm,
@@ -295,7 +299,7 @@ fn run(command: Command) -> translucid::Result<ExitCode> {
             scene,
             method,
             threshold,
-            wavelet,
+            method_args,
             size,
             output,
             json,
@@ -304,7 +308,7 @@ fn run(command: Command) -> translucid::Result<ExitCode> {
             (&scene, scene_args),
             &method,
             threshold,
-            wavelet,
+            method_args,
             size,
             output.as_deref(),
             json,
@@ -313,15 +317,15 @@ fn run(command: Command) -> translucid::Result<ExitCode> {
             paths,
             method,
             threshold,
-            wavelet,
+            method_args,
             size,
             json,
-        } => commands::conformance::run(&paths, &method, threshold, wavelet, size, json),
+        } => commands::conformance::run(&paths, &method, threshold, method_args, size, json),
         Command::Bench {
             scenes,
             methods,
             threshold,
-            wavelet,
+            method_args,
             size,
             frames,
             motion,
@@ -333,7 +337,7 @@ fn run(command: Command) -> translucid::Result<ExitCode> {
             let bench = commands::bench::Bench {
                 methods: &methods,
                 threshold,
-                wavelet,
+                method_args,
                 scene_args,
                 frame_loop: commands::bench::FrameLoop {
                     size,

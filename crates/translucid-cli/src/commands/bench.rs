@@ -118,7 +118,7 @@ impl Timings {
 pub struct Bench<'a> {
     pub methods: &'a [String],
     pub threshold: f32,
-    pub wavelet: crate::WaveletArgs,
+    pub method_args: crate::MethodArgs,
     pub scene_args: crate::SceneArgs,
     pub frame_loop: FrameLoop,
 }
@@ -138,7 +138,7 @@ pub fn measure(
 ) -> translucid::Result<Vec<Measured>> {
     let methods = bench.methods;
     let FrameLoop { frames, motion, .. } = &bench.frame_loop;
-    let options = super::options(bench.threshold, bench.wavelet)?;
+    let options = super::options(bench.threshold, bench.method_args)?;
     let frames = (*frames).max(1);
     // blend is always measured: every ratio is against it, from this same run.
     let mut names: Vec<&str> = vec!["blend"];
@@ -239,7 +239,7 @@ pub fn measure(
 
 /// One line (or JSON object) per scene and method of `bench.methods`, with ratios to blend.
 fn print_results(results: &[Measured], bench: &Bench<'_>, json: bool) {
-    let (methods, threshold, wavelet) = (bench.methods, bench.threshold, bench.wavelet);
+    let (methods, threshold, method_args) = (bench.methods, bench.threshold, bench.method_args);
     let size = bench.frame_loop.size;
     for r in results.iter().filter(|r| methods.contains(&r.method)) {
         let blend = results
@@ -267,7 +267,7 @@ fn print_results(results: &[Measured], bench: &Bench<'_>, json: bool) {
                 "scene": r.scene,
                 "method": r.method,
                 "threshold": threshold,
-                "wavelet": super::wavelet_json(&r.method, wavelet),
+                "wavelet": super::wavelet_json(&r.method, method_args),
                 "fragments": r.fragments,
                 "triangles": r.triangles,
                 "rerenders": r.rerenders,

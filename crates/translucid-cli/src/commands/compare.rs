@@ -8,13 +8,13 @@ pub fn run(
     (scene_spec, scene_args): (&str, crate::SceneArgs),
     method: &str,
     threshold: f32,
-    wavelet: crate::WaveletArgs,
+    method_args: crate::MethodArgs,
     size: Size,
     output: Option<&Path>,
     json: bool,
 ) -> translucid::Result<ExitCode> {
     let scene = super::load_scene(scene_spec, scene_args)?;
-    let mut renderer = open_renderer(&scene, method, threshold, wavelet, size)?;
+    let mut renderer = open_renderer(&scene, method, threshold, method_args, size)?;
     // Every method against the exact answer: how far it is from right, threshold included.
     let against = Expected::Reference;
     let measured = measure(&mut renderer, &scene, &against)?;
@@ -34,10 +34,12 @@ pub fn run(
                 ("scene", serde_json::json!(scene_spec)),
                 ("method", serde_json::json!(method)),
                 ("threshold", serde_json::json!(threshold)),
-                ("wavelet", super::wavelet_json(method, wavelet)),
+                ("wavelet", super::wavelet_json(method, method_args)),
                 ("width", serde_json::json!(size.width)),
                 ("height", serde_json::json!(size.height)),
                 ("reference_seconds", serde_json::json!(reference_s)),
+                ("tail_fragments", serde_json::json!(frame.tail_fragments)),
+                ("unpeeled_pixels", serde_json::json!(frame.unpeeled_pixels)),
             ]
             .map(|(k, v)| (k.to_string(), v)),
         );
@@ -61,6 +63,18 @@ pub fn run(
             m.pixels_over,
             m.share_over * 100.0
         );
+        if frame.tail_fragments > 0 {
+            println!(
+                "  unsorted    {} fragments past the node budget",
+                frame.tail_fragments
+            );
+        }
+        if frame.unpeeled_pixels > 0 {
+            println!(
+                "  unpeeled    {} pixels with more layers than the passes",
+                frame.unpeeled_pixels
+            );
+        }
         println!("  GPU time    {}", stage_text(&frame.stages));
         println!("  reference   {reference_s:.2} s on the CPU");
         if let Some(path) = output {

@@ -48,11 +48,11 @@ pub fn run(
     paths: &[PathBuf],
     method: &str,
     threshold: f32,
-    wavelet: crate::WaveletArgs,
+    method_args: crate::MethodArgs,
     size: Size,
     json: bool,
 ) -> translucid::Result<ExitCode> {
-    let options = super::options(threshold, wavelet)?;
+    let options = super::options(threshold, method_args)?;
     // Bad options are one error up front, not one per file.
     let promised = Expected::promised(method, &options)?;
     let check = Check {
@@ -75,7 +75,7 @@ pub fn run(
     let rows = check_all(&assets, gpu, &check, json);
     let against = check.expected.description();
     if json {
-        print_json(&rows, &check, wavelet, &against);
+        print_json(&rows, &check, method_args, &against);
     } else {
         print_summary(&rows, &check, promised.is_some(), &against);
     }
@@ -275,13 +275,13 @@ fn print_summary(rows: &[Row], check: &Check<'_>, promised: bool, against: &str)
     }
 }
 
-fn print_json(rows: &[Row], check: &Check<'_>, wavelet: crate::WaveletArgs, against: &str) {
+fn print_json(rows: &[Row], check: &Check<'_>, method_args: crate::MethodArgs, against: &str) {
     let files: Vec<serde_json::Value> = rows.iter().map(row_json).collect();
     let passed = rows.iter().filter(|r| r.passed()).count();
     let value = serde_json::json!({
         "method": check.method,
         "threshold": check.options.exact.threshold,
-        "wavelet": wavelet_json(check.method, wavelet),
+        "wavelet": wavelet_json(check.method, method_args),
         "size": { "width": check.size.width, "height": check.size.height },
         "against": against,
         "files": files,

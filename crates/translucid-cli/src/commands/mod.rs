@@ -42,10 +42,10 @@ pub fn open_renderer(
     scene: &translucid::scene::Scene,
     method: &str,
     threshold: f32,
-    wavelet: crate::WaveletArgs,
+    method_args: crate::MethodArgs,
     size: crate::Size,
 ) -> translucid::Result<translucid::renderer::Renderer> {
-    let options = options(threshold, wavelet)?;
+    let options = options(threshold, method_args)?;
     let gpu = open_gpu()?;
     translucid::renderer::Renderer::with_options(
         &gpu,
@@ -69,7 +69,7 @@ pub fn stage_text(stages: &[(&str, f64)]) -> String {
 /// Method options from the command line, checked.
 pub fn options(
     threshold: f32,
-    wavelet: crate::WaveletArgs,
+    method_args: crate::MethodArgs,
 ) -> translucid::Result<translucid::methods::MethodOptions> {
     if !(0.0..=1.0).contains(&threshold) {
         return Err(translucid::Error::InvalidScene(format!(
@@ -82,33 +82,37 @@ pub fn options(
             ..Default::default()
         },
         wavelet: translucid::methods::wavelet::WaveletOptions {
-            rank: wavelet.rank,
-            noise: wavelet.noise,
-            precision: match wavelet.precision {
+            rank: method_args.rank,
+            noise: method_args.noise,
+            precision: match method_args.precision {
                 crate::Precision::Half => translucid::methods::wavelet::Precision::Half,
                 crate::Precision::Single => translucid::methods::wavelet::Precision::Single,
             },
-            storage: match wavelet.storage {
+            storage: match method_args.storage {
                 crate::Storage::Images => translucid::methods::wavelet::Storage::Images,
                 crate::Storage::Bins => translucid::methods::wavelet::Storage::Bins,
             },
+        },
+        depth_peeling: translucid::methods::depth_peeling::DepthPeelingOptions {
+            passes: method_args.passes,
+            ..Default::default()
         },
         ..Default::default()
     })
 }
 
 /// The wavelet settings as JSON fields, for the method's output lines.
-pub fn wavelet_json(method: &str, wavelet: crate::WaveletArgs) -> serde_json::Value {
+pub fn wavelet_json(method: &str, method_args: crate::MethodArgs) -> serde_json::Value {
     if method != "wavelet" {
         return serde_json::Value::Null;
     }
     serde_json::json!({
-        "rank": wavelet.rank.unwrap_or(translucid::methods::wavelet::DEFAULT_RANK),
-        "noise": wavelet.noise,
+        "rank": method_args.rank.unwrap_or(translucid::methods::wavelet::DEFAULT_RANK),
+        "noise": method_args.noise,
         // Only the images have a storage precision.
-        "precision": (wavelet.storage == crate::Storage::Images)
-            .then(|| format!("{:?}", wavelet.precision).to_lowercase()),
-        "storage": format!("{:?}", wavelet.storage).to_lowercase(),
+        "precision": (method_args.storage == crate::Storage::Images)
+            .then(|| format!("{:?}", method_args.precision).to_lowercase()),
+        "storage": format!("{:?}", method_args.storage).to_lowercase(),
     })
 }
 

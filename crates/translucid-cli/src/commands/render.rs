@@ -10,13 +10,13 @@ pub fn run(
     (scene, scene_args): (&str, crate::SceneArgs),
     method: &str,
     threshold: f32,
-    wavelet: crate::WaveletArgs,
+    method_args: crate::MethodArgs,
     size: Size,
     output: &Path,
     warm: bool,
 ) -> translucid::Result<()> {
     let scene = super::load_scene(scene, scene_args)?;
-    let mut renderer = open_renderer(&scene, method, threshold, wavelet, size)?;
+    let mut renderer = open_renderer(&scene, method, threshold, method_args, size)?;
     let start = Instant::now();
     let frame = renderer.render(false)?;
     let first_ms = start.elapsed().as_secs_f64() * 1000.0;

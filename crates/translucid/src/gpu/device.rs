@@ -64,6 +64,10 @@ pub struct DeviceInfo {
     /// A blend state per colour attachment (the depth_peeling method keeps its depth range
     /// with MAX and its layers with sums and products in one pass).
     pub independent_blend: bool,
+    /// `VK_EXT_conditional_rendering`, on the devices translucid makes (depth_peeling skips
+    /// the passes a frame does not need with it). Not used on an engine's device, whose
+    /// enabled features translucid cannot see past the core ones.
+    pub conditional_rendering: bool,
 }
 
 /// A Vulkan device: either a headless one translucid made, with one graphics+compute queue
@@ -89,6 +93,8 @@ pub struct Shared {
     /// Boxed so its address, handed to the messenger, never moves.
     validation: Box<ValidationLog>,
     pub(crate) device: ash::Device,
+    /// `VK_EXT_conditional_rendering`'s commands, where it is enabled.
+    pub(crate) conditional_rendering: Option<ash::ext::conditional_rendering::Device>,
     /// The queue and command pool translucid submits with; `None` on the engine's device,
     /// where translucid only records into the engine's command buffers.
     pub(crate) submission: Option<Submission>,
@@ -199,6 +205,18 @@ pub(super) fn describe(
     };
     let p = props2.properties;
     let limits = p.limits;
+    let mut conditional = vk::PhysicalDeviceConditionalRenderingFeaturesEXT::default();
+    let mut features2 = vk::PhysicalDeviceFeatures2::default().push_next(&mut conditional);
+    // SAFETY: as above.
+    let extensions = unsafe {
+        instance.get_physical_device_features2(pd, &mut features2);
+        instance.enumerate_device_extension_properties(pd)
+    }
+    .unwrap_or_default();
+    let conditional_rendering = conditional.conditional_rendering == vk::TRUE
+        && extensions
+            .iter()
+            .any(|e| e.extension_name_as_c_str() == Ok(ash::ext::conditional_rendering::NAME));
     let v = p.api_version;
     DeviceInfo {
         index,
@@ -239,6 +257,7 @@ pub(super) fn describe(
         fragment_stores_and_atomics: features.fragment_stores_and_atomics == vk::TRUE,
         geometry_shader: features.geometry_shader == vk::TRUE,
         independent_blend: features.independent_blend == vk::TRUE,
+        conditional_rendering,
     }
 }
 
@@ -354,6 +373,9 @@ impl Gpu {
         };
         match create_device(&instance, physical, &info) {
             Ok((device, allocator, submission)) => Ok(Self(Arc::new(Shared {
+                conditional_rendering: info
+                    .conditional_rendering
+                    .then(|| ash::ext::conditional_rendering::Device::new(&instance, &device)),
                 _entry: entry,
                 instance,
                 physical,
@@ -399,6 +421,7 @@ impl Gpu {
             physical,
             messenger: None,
             validation: Box::default(),
+            conditional_rendering: None,
             device,
             submission: None,
             owns_device: false,
@@ -642,9 +665,17 @@ fn create_device(
         .fragment_stores_and_atomics(info.fragment_stores_and_atomics)
         .geometry_shader(info.geometry_shader)
         .independent_blend(info.independent_blend);
-    let create = vk::DeviceCreateInfo::default()
+    let mut conditional =
+        vk::PhysicalDeviceConditionalRenderingFeaturesEXT::default().conditional_rendering(true);
+    let conditional_name = [ash::ext::conditional_rendering::NAME.as_ptr()];
+    let mut create = vk::DeviceCreateInfo::default()
         .queue_create_infos(&queues)
         .enabled_features(&features);
+    if info.conditional_rendering {
+        create = create
+            .enabled_extension_names(&conditional_name)
+            .push_next(&mut conditional);
+    }
     // SAFETY: create info and its pointees live until the call returns.
     let device = unsafe { instance.create_device(physical, &create, None) }
         .map_err(vk_err("vkCreateDevice"))?;

@@ -257,6 +257,7 @@ impl Gpu {
         info.fragment_stores_and_atomics = host.features.fragment_stores_and_atomics == vk::TRUE;
         info.geometry_shader = host.features.geometry_shader == vk::TRUE;
         info.independent_blend = host.features.independent_blend == vk::TRUE;
+        info.conditional_rendering = false;
         // SAFETY: a live device of this instance (caller's guarantee).
         let device = unsafe { ash::Device::load(instance.fp_v1_0(), host.device) };
         Self::wrap_host(entry, instance, device, host.physical_device, info)

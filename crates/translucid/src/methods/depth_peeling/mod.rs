@@ -254,12 +254,16 @@ impl DepthPeeling {
             crate::spirv!("depth_peeling/resolve.comp"),
             &[],
         )?;
+        let mut usage = vk::BufferUsageFlags::STORAGE_BUFFER
+            | vk::BufferUsageFlags::TRANSFER_DST
+            | vk::BufferUsageFlags::TRANSFER_SRC;
+        if gpu.info().conditional_rendering {
+            usage |= vk::BufferUsageFlags::CONDITIONAL_RENDERING_EXT;
+        }
         let peeling = gpu.create_buffer(
             "depth peeling flags",
             PEELING_WORDS * 4,
-            vk::BufferUsageFlags::STORAGE_BUFFER
-                | vk::BufferUsageFlags::TRANSFER_DST
-                | vk::BufferUsageFlags::TRANSFER_SRC,
+            usage,
             MemoryLocation::GpuOnly,
         )?;
         let peel_set = |range: &GpuImage| {
@@ -378,22 +382,41 @@ impl Method for DepthPeeling {
         ctx.timestamps.mark(cmd, "depth peeling range");
 
         let groups = [extent.width.div_ceil(8), extent.height.div_ceil(8), 1];
+        let conditional = gpu.info().conditional_rendering;
         for pass in 1..=passes {
             // Range `pass % 2` is written, the other one read.
             let (into, from) = ((pass % 2) as usize, ((pass + 1) % 2) as usize);
+            // A pass after the first runs only when the one before it left fragments (its
+            // flag, word 1 + pass - 1); without conditional rendering every pass runs, and
+            // one with nothing left to peel adds nothing.
+            let flag = 4 * u64::from(pass);
+            let skippable = pass > 1;
             let pipelines = &self.peel_pipelines;
             self.peel[into].begin(cmd, extent);
+            let skipping = skippable && gpu.cmd_begin_conditional(cmd, &self.peeling, flag);
             gpu.cmd_bind_graphics_set(cmd, pipelines.0.layout, 2, self.peel_sets[from].raw);
             ctx.scene
                 .draw(gpu, cmd, draws, (&pipelines.0, &pipelines.1));
+            if skipping {
+                gpu.cmd_end_conditional(cmd);
+            }
             self.peel[into].end(cmd);
+            let skipping = skippable && gpu.cmd_begin_conditional(cmd, &self.peeling, flag);
             self.composite.dispatch(
                 cmd,
                 &[self.composite_sets[into].raw],
                 &push(pass, pass == passes, extent),
                 groups,
             );
-            memory_barrier(gpu, cmd, compute, compute);
+            if skipping {
+                gpu.cmd_end_conditional(cmd);
+            }
+            let mut next = compute;
+            if conditional {
+                next.0 |= vk::PipelineStageFlags::CONDITIONAL_RENDERING_EXT;
+                next.1 |= vk::AccessFlags::CONDITIONAL_RENDERING_READ_EXT;
+            }
+            memory_barrier(gpu, cmd, compute, next);
         }
         ctx.timestamps.mark(cmd, "depth peeling passes");
 
