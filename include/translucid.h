@@ -292,6 +292,12 @@ enum translucid_method
      * needs the features `translucid_host_method_requirements_get` lists for it.
      */
     TRANSLUCID_METHOD_LINKED_LIST = 4,
+    /**
+     * Dual depth peeling: N passes peel 2N layers, exact while every pixel has at most 2N
+     * (`translucid_frame_info::depth_peeling_passes`). On an engine's device it needs
+     * `independentBlend`.
+     */
+    TRANSLUCID_METHOD_DEPTH_PEELING = 5,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -800,6 +806,15 @@ typedef struct translucid_frame_info {
      */
     uint32_t linked_list_node_budget;
     /**
+     * `TRANSLUCID_METHOD_DEPTH_PEELING`: peeling passes, each peeling a pixel's nearest and
+     * farthest layer left, 1 to 128. 0 (the default) starts with a few and doubles them
+     * while a frame has pixels with more layers (rendered again, or completed with
+     * `TRANSLUCID_RESULT_INCOMPLETE` on an engine's device). A count stays as given: pixels
+     * with more than twice as many layers lose their middle ones and are counted
+     * (`translucid_frame_statistics::unpeeled_pixels`).
+     */
+    uint32_t depth_peeling_passes;
+    /**
      * Optional: the engine's frame number, which the frame's statistics report back. It may
      * not go backwards on a context (views of one engine frame share it); 0 is none.
      */
@@ -905,6 +920,12 @@ typedef struct translucid_frame_statistics {
      * exact frame and for other methods.
      */
     uint64_t tail_fragments;
+    /**
+     * Pixels with more layers than `TRANSLUCID_METHOD_DEPTH_PEELING`'s passes peel (twice
+     * `depth_peeling_passes`): their middle layers are missing. 0 for an exact frame and for
+     * other methods.
+     */
+    uint64_t unpeeled_pixels;
 } translucid_frame_statistics;
 
 /**
@@ -1254,7 +1275,7 @@ typedef struct translucid_host_device_create_info {
 /**
  * Every value, in order.
  */
-#define translucid_method_ALL { translucid_method_Blend, translucid_method_Exact, translucid_method_Wavelet, translucid_method_Wboit, translucid_method_LinkedList, }
+#define translucid_method_ALL { translucid_method_Blend, translucid_method_Exact, translucid_method_Wavelet, translucid_method_Wboit, translucid_method_LinkedList, translucid_method_DepthPeeling, }
 
 #ifdef __cplusplus
 extern "C" {
@@ -1377,7 +1398,7 @@ translucid_result translucid_host_requirements_get(struct translucid_host_requir
  * Like `translucid_host_requirements_get`, for an engine that will use `method` (a
  * `translucid_method`): the features every method needs and those `method` needs
  * besides (`TRANSLUCID_METHOD_LINKED_LIST`: `fragmentStoresAndAtomics` and
- * `geometryShader`). OR together the features of the methods the engine uses. A frame
+ * `geometryShader`; `TRANSLUCID_METHOD_DEPTH_PEELING`: `independentBlend`). OR together the features of the methods the engine uses. A frame
  * with a method whose features the engine's device lacks fails with
  * `TRANSLUCID_RESULT_ERROR_DEVICE_REQUIREMENTS`, naming them. Needs no context.
  */

@@ -43,7 +43,7 @@ fn breathing(positions: &[Vec3], i: usize) -> Vec<Vec3> {
 /// What `method`'s frame is held to, over that frame's opaque layer.
 fn expected(method: &str, scene: &Scene, opaque: &OpaqueLayer) -> Image {
     match method {
-        "exact" => translucid::reference::render(scene, opaque),
+        "exact" | "linked_list" | "depth_peeling" => translucid::reference::render(scene, opaque),
         "wavelet" => {
             let settings = Settings::from_options(&WaveletOptions::default()).expect("defaults");
             Model::new(settings, scene, opaque.width, opaque.height).render(scene, opaque)
@@ -74,16 +74,23 @@ fn check_against_alone(
     );
 }
 
-/// The frame against its CPU image, within 2/255 on every pixel.
+/// The frame against its CPU image, within 2/255 on every pixel; the exact peers the
+/// driver rasterizes (linked_list, depth_peeling) may take crossing surfaces in the other
+/// order on up to 4 pixels where they meet within its rounding (as in their own tests).
 fn check(name: &str, method: &str, scene: &Scene, frame: &Frame) {
     let opaque = frame.opaque.as_ref().expect("opaque layer read back");
     let want = expected(method, scene, opaque);
     let m = metrics::compare(&frame.image, &want).expect("same size");
-    if m.max_error * 255.0 > 2.0 {
+    let driver_pixels = match method {
+        "linked_list" | "depth_peeling" => 4,
+        _ => 0,
+    };
+    if m.pixels_over > driver_pixels || (driver_pixels > 0 && m.psnr < 50.0) {
         let path = save_failure(name, &frame.image, &want);
         panic!(
-            "{name}: {:.2}/255 off the CPU image ({})",
+            "{name}: {:.2}/255 off the CPU image on {} pixels ({})",
             m.max_error * 255.0,
+            m.pixels_over,
             path.display()
         );
     }
@@ -126,6 +133,14 @@ fn moving_sequence(scene_name: &str, method: &str, frames: usize) {
 #[test]
 fn exact_follows_a_moving_camera_and_moving_draws() {
     moving_sequence("spheres", "exact", 30);
+}
+
+/// The exact peers on the frame path: linked_list's pool and depth_peeling's passes, grown
+/// in the first frames, follow the camera.
+#[test]
+fn linked_list_and_depth_peeling_follow_a_moving_camera_and_moving_draws() {
+    moving_sequence("spheres", "linked_list", 16);
+    moving_sequence("spheres", "depth_peeling", 16);
 }
 
 #[test]
@@ -377,7 +392,14 @@ fn a_mesh_moved_through_the_camera_plane_is_right_on_its_first_frame() {
 fn a_renderer_takes_the_pipelines_another_holds() {
     let gpu = gpu();
     let scene = scene::load("particles").expect("scene");
-    for method in ["exact", "wavelet", "blend", "wboit", "linked_list"] {
+    for method in [
+        "exact",
+        "wavelet",
+        "blend",
+        "wboit",
+        "linked_list",
+        "depth_peeling",
+    ] {
         let kind: MethodKind = method.parse().expect("a method name");
         let mut first = Renderer::new(&gpu, &scene, kind, WIDTH, HEIGHT).expect("renderer");
         first.render(true).expect("frame");
@@ -410,7 +432,14 @@ fn assets_added_later_draw_like_the_first_ones() {
     let gpu = gpu();
     let scene = scene::load("textured").expect("scene");
     let grown = with_copied_assets(&scene);
-    for method in ["exact", "wavelet", "blend", "wboit", "linked_list"] {
+    for method in [
+        "exact",
+        "wavelet",
+        "blend",
+        "wboit",
+        "linked_list",
+        "depth_peeling",
+    ] {
         let kind: MethodKind = method.parse().expect("a method name");
         let mut first = Renderer::new(&gpu, &scene, kind, WIDTH, HEIGHT).expect("renderer");
         let before = first.render(false).expect("frame");
@@ -465,7 +494,14 @@ fn a_renderer_draws_every_size_up_to_its_largest() {
     let orbit = Orbit::new(&scene);
     let warm = [(WIDTH, HEIGHT); WARM_UP];
     let sizes = [(72, 40), (33, 61), (WIDTH, 20), (1, 1), (WIDTH, HEIGHT)];
-    for method in ["exact", "wavelet", "blend", "wboit", "linked_list"] {
+    for method in [
+        "exact",
+        "wavelet",
+        "blend",
+        "wboit",
+        "linked_list",
+        "depth_peeling",
+    ] {
         let kind: MethodKind = method.parse().expect("a method name");
         let mut renderer = Renderer::new(&gpu, &scene, kind, WIDTH, HEIGHT).expect("renderer");
         for (i, &(width, height)) in warm.iter().chain(&sizes).enumerate() {

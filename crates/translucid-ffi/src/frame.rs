@@ -197,6 +197,13 @@ pub struct translucid_frame_info {
     /// it are blended unsorted and counted (`translucid_frame_statistics::tail_fragments`). At
     /// most one storage buffer's worth of nodes; past it, `TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT`.
     pub linked_list_node_budget: u32,
+    /// `TRANSLUCID_METHOD_DEPTH_PEELING`: peeling passes, each peeling a pixel's nearest and
+    /// farthest layer left, 1 to 128. 0 (the default) starts with a few and doubles them
+    /// while a frame has pixels with more layers (rendered again, or completed with
+    /// `TRANSLUCID_RESULT_INCOMPLETE` on an engine's device). A count stays as given: pixels
+    /// with more than twice as many layers lose their middle ones and are counted
+    /// (`translucid_frame_statistics::unpeeled_pixels`).
+    pub depth_peeling_passes: u32,
     /// Optional: the engine's frame number, which the frame's statistics report back. It may
     /// not go backwards on a context (views of one engine frame share it); 0 is none.
     pub frame_index: u64,
@@ -240,6 +247,13 @@ pub(crate) fn method_options(
                 0 => None,
                 budget => Some(u64::from(budget)),
             },
+        },
+        depth_peeling: translucid::methods::depth_peeling::DepthPeelingOptions {
+            passes: match info.depth_peeling_passes {
+                0 => None,
+                passes => Some(passes),
+            },
+            ..Default::default()
         },
         ..Default::default()
     })
@@ -306,6 +320,10 @@ pub struct translucid_frame_statistics {
     /// past its `linked_list_node_budget`): the image is not exact where they fell. 0 for an
     /// exact frame and for other methods.
     pub tail_fragments: u64,
+    /// Pixels with more layers than `TRANSLUCID_METHOD_DEPTH_PEELING`'s passes peel (twice
+    /// `depth_peeling_passes`): their middle layers are missing. 0 for an exact frame and for
+    /// other methods.
+    pub unpeeled_pixels: u64,
 }
 
 impl OutStructure for translucid_frame_statistics {
@@ -343,6 +361,7 @@ pub struct FrameRecord {
     pub(crate) peak_gpu_bytes: u64,
     pub(crate) fragments: u64,
     pub(crate) tail_fragments: u64,
+    pub(crate) unpeeled_pixels: u64,
     pub(crate) rerenders: u32,
     pub(crate) overflowed: bool,
     /// What the call that made the frame built: pipelines, and bytes of GPU memory.
@@ -409,6 +428,7 @@ fn render(objects: &mut Objects, info: &translucid_frame_info) -> FfiResult<Fram
         peak_gpu_bytes: frame.peak_gpu_bytes,
         fragments: frame.fragments,
         tail_fragments: frame.tail_fragments,
+        unpeeled_pixels: frame.unpeeled_pixels,
         rerenders: frame.rerenders,
         overflowed: false,
         built: built_since(&objects.gpu, before),
@@ -451,6 +471,7 @@ fn statistics_of(record: &FrameRecord, header: (u32, *mut c_void)) -> translucid
         pipelines_created: record.built.0,
         bytes_allocated: record.built.1,
         tail_fragments: record.tail_fragments,
+        unpeeled_pixels: record.unpeeled_pixels,
     }
 }
 

@@ -77,6 +77,7 @@ fn settings_key(info: &translucid_frame_info) -> SettingsKey {
         u64::from(info.wavelet_noise.to_bits()),
         u64::from(info.wavelet_storage),
         u64::from(info.linked_list_node_budget),
+        u64::from(info.depth_peeling_passes),
         u64::from(info.exact_threshold.to_bits()),
     ]
 }

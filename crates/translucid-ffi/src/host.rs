@@ -281,6 +281,7 @@ fn record(
         peak_gpu_bytes: 0,
         fragments: 0,
         tail_fragments: 0,
+        unpeeled_pixels: 0,
         rerenders: 0,
         overflowed: false,
         built: built_since(&objects.gpu, before),
@@ -329,6 +330,7 @@ fn complete_oldest(objects: &mut Objects) -> FfiResult<translucid_result> {
     record.peak_gpu_bytes = done.peak_gpu_bytes;
     record.fragments = done.fragments;
     record.tail_fragments = done.tail_fragments;
+    record.unpeeled_pixels = done.unpeeled_pixels;
     record.overflowed = done.overflowed;
     Ok(if done.overflowed {
         translucid_result::Incomplete
@@ -416,7 +418,7 @@ impl translucid_host_requirements {
     /// Like `translucid_host_requirements_get`, for an engine that will use `method` (a
     /// `translucid_method`): the features every method needs and those `method` needs
     /// besides (`TRANSLUCID_METHOD_LINKED_LIST`: `fragmentStoresAndAtomics` and
-    /// `geometryShader`). OR together the features of the methods the engine uses. A frame
+    /// `geometryShader`; `TRANSLUCID_METHOD_DEPTH_PEELING`: `independentBlend`). OR together the features of the methods the engine uses. A frame
     /// with a method whose features the engine's device lacks fails with
     /// `TRANSLUCID_RESULT_ERROR_DEVICE_REQUIREMENTS`, naming them. Needs no context.
     #[no_mangle]

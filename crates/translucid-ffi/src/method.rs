@@ -52,16 +52,21 @@ pub enum translucid_method {
     /// fragments (`translucid_frame_info::linked_list_node_budget`). On an engine's device it
     /// needs the features `translucid_host_method_requirements_get` lists for it.
     LinkedList = 4,
+    /// Dual depth peeling: N passes peel 2N layers, exact while every pixel has at most 2N
+    /// (`translucid_frame_info::depth_peeling_passes`). On an engine's device it needs
+    /// `independentBlend`.
+    DepthPeeling = 5,
 }
 
 impl translucid_method {
     /// Every value, in order.
-    pub const ALL: [Self; 5] = [
+    pub const ALL: [Self; 6] = [
         Self::Blend,
         Self::Exact,
         Self::Wavelet,
         Self::Wboit,
         Self::LinkedList,
+        Self::DepthPeeling,
     ];
 
     /// The core library's method.
@@ -72,6 +77,7 @@ impl translucid_method {
             Self::Wavelet => MethodKind::Wavelet,
             Self::Wboit => MethodKind::Wboit,
             Self::LinkedList => MethodKind::LinkedList,
+            Self::DepthPeeling => MethodKind::DepthPeeling,
         }
     }
 
@@ -87,6 +93,7 @@ impl translucid_method {
             Self::Wavelet => c"wavelet",
             Self::Wboit => c"wboit",
             Self::LinkedList => c"linked_list",
+            Self::DepthPeeling => c"depth_peeling",
         }
         .as_ptr()
     }

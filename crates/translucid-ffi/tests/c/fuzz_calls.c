@@ -130,7 +130,7 @@ static void check(translucid_result got, int want, const translucid_context *ctx
 /* An out-parameter a failed call must not touch. */
 #define UNTOUCHED 0x5EED5EED5EED5EEDull
 /* The first method value no version defines yet. */
-#define METHOD_END (TRANSLUCID_METHOD_LINKED_LIST + 1)
+#define METHOD_END (TRANSLUCID_METHOD_DEPTH_PEELING + 1)
 
 static void check_out(translucid_result got, uint64_t out, const translucid_context *ctx,
                       const char *call, int line) {

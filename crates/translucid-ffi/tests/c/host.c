@@ -327,6 +327,7 @@ static void method_without_its_features(void) {
     scene s;
 
     fewer.geometryShader = VK_FALSE;
+    fewer.independentBlend = VK_FALSE;
     hd.enabled_features = &fewer;
     CHECK(NULL, translucid_context_create(&info, &ctx));
     make_scene(ctx, &s);
@@ -336,6 +337,10 @@ static void method_without_its_features(void) {
            TRANSLUCID_RESULT_ERROR_DEVICE_REQUIREMENTS);
     TRUE_OR_FAIL(strstr(translucid_context_last_error(ctx), "geometryShader") != NULL);
     TRUE_OR_FAIL(strstr(translucid_context_last_error(ctx), "fragmentStoresAndAtomics") == NULL);
+    frame.method = TRANSLUCID_METHOD_DEPTH_PEELING;
+    EXPECT(ctx, translucid_frame_record(ctx, &frame, &targets, &handle),
+           TRANSLUCID_RESULT_ERROR_DEVICE_REQUIREMENTS);
+    TRUE_OR_FAIL(strstr(translucid_context_last_error(ctx), "independentBlend") != NULL);
     VK_CHECK(vkEndCommandBuffer(g_cmd));
     translucid_context_destroy(ctx);
 }
@@ -498,6 +503,10 @@ int main(void) {
         TRUE_OR_FAIL(per_method.features.fragmentStoresAndAtomics == VK_TRUE);
         TRUE_OR_FAIL(per_method.features.shaderInt64 == VK_TRUE);
         TRUE_OR_FAIL(per_method.api_version == req.api_version);
+        CHECK(NULL,
+              translucid_host_method_requirements_get(TRANSLUCID_METHOD_DEPTH_PEELING, &per_method));
+        TRUE_OR_FAIL(per_method.features.independentBlend == VK_TRUE);
+        TRUE_OR_FAIL(per_method.features.geometryShader == VK_FALSE);
         CHECK(NULL, translucid_methods_available(methods, 8, &count));
         for (m = 0; m < count; m++) {
             CHECK(NULL, translucid_host_method_requirements_get(methods[m], &per_method));

@@ -374,7 +374,7 @@ static void frames(translucid_context *ctx, translucid_context *other) {
     info.method = 99;
     EXPECT(ctx, translucid_frame_render(ctx, &info, &frame), TRANSLUCID_RESULT_ERROR_INVALID_ENUM);
     EXPECT(NULL, translucid_methods_available(methods, 16, &count), TRANSLUCID_RESULT_SUCCESS);
-    for (info.method = TRANSLUCID_METHOD_BLEND; info.method <= TRANSLUCID_METHOD_LINKED_LIST;
+    for (info.method = TRANSLUCID_METHOD_BLEND; info.method <= TRANSLUCID_METHOD_DEPTH_PEELING;
          info.method++) {
         int available = 0;
         for (i = 0; i < count; i++) available |= methods[i] == info.method;
@@ -389,6 +389,12 @@ static void frames(translucid_context *ctx, translucid_context *other) {
     EXPECT(ctx, translucid_frame_render(ctx, &info, &frame),
            TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
     TRUE_OR_FAIL(strstr(translucid_context_last_error(ctx), "budget") != NULL);
+    info = frame_info(&draw);
+    info.method = TRANSLUCID_METHOD_DEPTH_PEELING;
+    info.depth_peeling_passes = 129;
+    EXPECT(ctx, translucid_frame_render(ctx, &info, &frame),
+           TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    TRUE_OR_FAIL(strstr(translucid_context_last_error(ctx), "passes") != NULL);
     info = frame_info(&draw);
     info.method = TRANSLUCID_METHOD_WAVELET;
     info.wavelet_coefficients = 3;

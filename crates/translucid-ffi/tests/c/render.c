@@ -205,6 +205,37 @@ static void linked_list_budget(uint32_t budget, translucid_mesh quad, translucid
     CHECK(translucid_frame_destroy(g_ctx, frame));
 }
 
+/* depth_peeling's passes: three full-frame quads, each pixel red over red over red over black
+ * (0.875). By default the passes cover the three layers; one pass peels the front and the back
+ * layer only, and every pixel, missing its middle layer (0.75), is counted. */
+static void depth_peeling_passes(uint32_t passes, translucid_mesh quad, translucid_material red) {
+    translucid_frame_info info = base_frame(TRANSLUCID_METHOD_DEPTH_PEELING);
+    translucid_frame_statistics stats;
+    translucid_draw draws[3];
+    translucid_frame frame;
+    float *pixels;
+    size_t i, d;
+    for (d = 0; d < 3; d++) {
+        draws[d] = draw_of(quad, red);
+        draws[d].transform[14] = -0.4f * (float)d; /* z -2, -2.4, -2.8: before the far plane */
+    }
+    info.draws = draws;
+    info.draw_count = 3;
+    info.depth_peeling_passes = passes;
+    CHECK(translucid_frame_render(g_ctx, &info, &frame));
+    memset(&stats, 0, sizeof stats);
+    stats.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_STATISTICS;
+    CHECK(translucid_frame_get_statistics(g_ctx, frame, &stats));
+    near_or_fail((float)stats.unpeeled_pixels, passes == 1 ? (float)(W * H) : 0.0f, 0.0f,
+                 "depth_peeling: pixels left unpeeled", 0);
+    pixels = read_both(frame);
+    for (i = 0; i < W * H; i++) {
+        near_or_fail(pixels[i * 4], passes == 1 ? 0.75f : 0.875f, 2e-3f, "depth_peeling", i);
+    }
+    free(pixels);
+    CHECK(translucid_frame_destroy(g_ctx, frame));
+}
+
 /* A quad of four corners (12 floats) as two triangles, with texture coordinates (8 floats)
  * or none. */
 static translucid_mesh quad_mesh(const float *positions, const float *uvs) {
@@ -639,6 +670,11 @@ int main(int argc, char **argv) {
                 info.wavelet_storage = TRANSLUCID_WAVELET_STORAGE_IMAGES;
                 over_host_layer(info, quad, red);
             }
+        }
+        if (methods[m] == TRANSLUCID_METHOD_DEPTH_PEELING) {
+            depth_peeling_passes(0, quad, red);
+            depth_peeling_passes(1, quad, red);
+            depth_peeling_passes(2, quad, red);
         }
         if (methods[m] == TRANSLUCID_METHOD_LINKED_LIST) {
             linked_list_budget(0, quad, red);
