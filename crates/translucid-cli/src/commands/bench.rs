@@ -30,6 +30,10 @@ pub struct Measured {
     fragments: u64,
     /// Triangles left after culling (exact).
     triangles: u64,
+    /// The most any timed frame left out of its order: linked_list's fragments past its
+    /// pool, depth_peeling's pixels past its passes (0 when every frame was exact).
+    tail_fragments: u64,
+    unpeeled_pixels: u64,
     rerenders: u32,
     /// Pipelines the timed frames created, after the warm-up (0 where nothing is rebuilt).
     pipelines_created: u64,
@@ -62,6 +66,8 @@ struct Timings {
     peak: u64,
     fragments: u64,
     triangles: u64,
+    tail_fragments: u64,
+    unpeeled_pixels: u64,
     rerenders: u32,
     pipelines: u64,
     allocated: u64,
@@ -83,6 +89,8 @@ impl Timings {
         self.peak = self.peak.max(frame.peak_gpu_bytes);
         self.fragments = frame.fragments;
         self.triangles = frame.triangles;
+        self.tail_fragments = self.tail_fragments.max(frame.tail_fragments);
+        self.unpeeled_pixels = self.unpeeled_pixels.max(frame.unpeeled_pixels);
         self.rerenders += frame.rerenders;
         self.pipelines += frame.pipelines_created;
         self.walls.push(frame.wall_ms);
@@ -104,6 +112,8 @@ impl Timings {
             peak_gpu_bytes: self.peak,
             fragments: self.fragments,
             triangles: self.triangles,
+            tail_fragments: self.tail_fragments,
+            unpeeled_pixels: self.unpeeled_pixels,
             rerenders: self.rerenders,
             pipelines_created: self.pipelines,
             bytes_allocated: self.allocated,
@@ -270,6 +280,8 @@ fn print_results(results: &[Measured], bench: &Bench<'_>, json: bool) {
                 "wavelet": super::wavelet_json(&r.method, method_args),
                 "fragments": r.fragments,
                 "triangles": r.triangles,
+                "tail_fragments": r.tail_fragments,
+                "unpeeled_pixels": r.unpeeled_pixels,
                 "rerenders": r.rerenders,
                 "wall_ms": r.wall_ms,
                 "wall_ratio_to_blend": wall_ratio,
@@ -310,6 +322,18 @@ fn print_results(results: &[Measured], bench: &Bench<'_>, json: bool) {
                 r.bytes_allocated
             );
             println!("{:<40} {}", "", super::stage_text(&r.stages));
+            if r.tail_fragments > 0 {
+                println!(
+                    "{:<40} not exact: {} fragments past the node pool, blended unsorted",
+                    "", r.tail_fragments
+                );
+            }
+            if r.unpeeled_pixels > 0 {
+                println!(
+                    "{:<40} not exact: {} pixels with more layers than the passes",
+                    "", r.unpeeled_pixels
+                );
+            }
         }
     }
 }
