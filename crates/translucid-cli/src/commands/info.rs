@@ -25,9 +25,20 @@ pub fn run() -> translucid::Result<()> {
         );
         println!("    largest image            {}", d.max_image_dimension_2d);
         println!("    timestamp period         {} ns", d.timestamp_period_ns);
+        let yes = |on: bool| if on { "yes" } else { "no" };
+        println!("    dual-source blending     {}", yes(d.dual_source_blend));
+        // What the exact peers need, and what lets depth_peeling skip passes.
         println!(
-            "    dual-source blending     {}",
-            if d.dual_source_blend { "yes" } else { "no" }
+            "    linked_list features     {} (fragmentStoresAndAtomics, geometryShader)",
+            yes(d.fragment_stores_and_atomics && d.geometry_shader)
+        );
+        println!(
+            "    independent blending     {} (depth_peeling)",
+            yes(d.independent_blend)
+        );
+        println!(
+            "    conditional rendering    {} (depth_peeling skips passes with it)",
+            yes(d.conditional_rendering)
         );
     }
     Ok(())

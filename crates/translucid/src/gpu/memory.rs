@@ -71,6 +71,7 @@ impl Gpu {
                 source,
             })?;
         self.memory.add(allocation.size());
+        log::trace!("allocated {name}: {} bytes", allocation.size());
         Ok(allocation)
     }
 
