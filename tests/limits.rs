@@ -2,10 +2,12 @@
 //! in a validation error, a crash or minutes of work.
 
 use glam::{Mat4, Vec3};
+use translucid::methods::{MethodKind, MethodOptions};
+use translucid::metrics;
 use translucid::renderer::Renderer;
 use translucid::scene::{Draw, Material, Mesh, Scene};
 use translucid::Error;
-use translucid_tests::gpu;
+use translucid_tests::{gpu, save_failure};
 
 /// Two million draws of one triangle (a node hierarchy that doubles 21 times gives as
 /// many): their per-draw records pass the 128 MB one storage binding holds on lavapipe.
@@ -148,4 +150,52 @@ fn a_4096_square_frame_starts_within_the_bindings() {
         m.max_error * 255.0,
         m.pixels_over
     );
+}
+
+/// Setup and binning dispatch a workgroup per 64 triangles (and binning lanes); past the
+/// 65535 workgroups every device allows in x they go on in z. With the row lowered to 3
+/// workgroups, so that every frame splits, exact and wavelet draw what they draw unsplit,
+/// and exact stays within 2/255 of the reference: shallow and deep frames (particles bins
+/// with a lane per row), from 1,800 to 60,000 triangles.
+#[test]
+fn dispatches_over_triangles_go_on_in_z_past_the_workgroups_in_x() {
+    let gpu = gpu();
+    let (width, height) = (160, 120);
+    for name in ["spheres", "particles", "hairball"] {
+        let scene = translucid::scene::load(name).expect("generated scene");
+        for method in [MethodKind::Exact, MethodKind::Wavelet] {
+            let frame = |groups_x: Option<u32>| {
+                let mut options = MethodOptions::default();
+                options.bins.groups_x = groups_x;
+                Renderer::with_options(&gpu, &scene, method, width, height, &options)
+                    .and_then(|mut r| r.render(true))
+                    .unwrap_or_else(|e| panic!("{name} with {method}: {e}"))
+            };
+            let whole = frame(None);
+            let split = frame(Some(3));
+            let m = metrics::compare(&split.image, &whole.image).expect("same size");
+            assert!(
+                m.max_error * 255.0 <= 0.01,
+                "{name} with {method}: split {:.3}/255 off unsplit on {} pixels ({})",
+                m.max_error * 255.0,
+                m.pixels_over,
+                save_failure(
+                    &format!("split_{name}_{method}"),
+                    &split.image,
+                    &whole.image
+                )
+                .display()
+            );
+            if method == MethodKind::Exact {
+                let opaque = split.opaque.as_ref().expect("opaque layer");
+                let reference = translucid::reference::render(&scene, opaque).expect("reference");
+                let m = metrics::compare(&split.image, &reference).expect("same size");
+                assert!(
+                    m.max_error <= 2.0 / 255.0,
+                    "{name}: {:.1}/255",
+                    m.max_error * 255.0
+                );
+            }
+        }
+    }
 }

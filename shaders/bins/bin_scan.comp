@@ -171,7 +171,7 @@ void planBand() {
     uint binning = DISPATCH_BINNING * 4u;
     g_dispatch[fill] = count > 0u ? g_dispatch[binning] : 0u;
     g_dispatch[fill + 1u] = g_dispatch[binning + 1u];
-    g_dispatch[fill + 2u] = 1u;
+    g_dispatch[fill + 2u] = g_dispatch[binning + 2u];
 }
 
 void main() {

@@ -15,7 +15,7 @@
 #include "bin_lists.glsl"
 #include "depth_pyramid.glsl"
 
-layout(local_size_x = 64) in;
+layout(local_size_x = BINNING_GROUP_SIZE) in;
 
 // Whether the homogeneous (near-plane, guard-band) path is compiled in. Both sides of an `if`
 // run on CPU drivers, so the host leaves it out when no mesh can need it; a triangle that
@@ -334,7 +334,7 @@ void storeAttributes(uint ti, BinAttributes a) {
 }
 
 void main() {
-    uint item = gl_GlobalInvocationID.x;
+    uint item = linearInvocation();
     if (item >= u_push.itemCount) {
         return;
     }
@@ -421,8 +421,10 @@ void main() {
                     atomicMax(g_counters.depthHi, farthest);
                 }
                 atomicAdd(g_counters.triangleCount, keptCount);
-                atomicMax(g_dispatch[DISPATCH_BINNING * 4u],
-                          ((last + 1u) * ROW_LANES + BINNING_GROUP_SIZE - 1u) / BINNING_GROUP_SIZE);
+                uvec2 groups = splitGroups(
+                    ((last + 1u) * ROW_LANES + BINNING_GROUP_SIZE - 1u) / BINNING_GROUP_SIZE);
+                atomicMax(g_dispatch[DISPATCH_BINNING * 4u], groups.x);
+                atomicMax(g_dispatch[DISPATCH_BINNING * 4u + 2u], groups.y);
             }
             storeTriangle(ti, t, v, negated);
             storeAttributes(ti, gatherAttributes(draw, k0, second ? k2 : k1, second ? k3 : k2));

@@ -51,18 +51,19 @@ ivec2 sliceRows(ivec4 r) {
 // subgroup's lanes on one triangle's consecutive rows also append to neighbouring bins
 // (particles' fill 36 to 24 ms, its count 17 to 15). Small triangles would leave most of
 // the lanes idle instead, so shallow frames keep one. The host sets DEEP_BINNING_LANES to
-// BIN_SIZE, or 1 where the dispatch would pass the workgroups a device must allow.
+// BIN_SIZE, or 1 for frames so large that BIN_SIZE lanes a triangle would pass 65535
+// workgroups in x (deep_binning_lanes in features.rs).
 layout(constant_id = 11) const uint DEEP_BINNING_LANES = 1u;
 const uint ROW_LANES = SLABS > 1u ? DEEP_BINNING_LANES : 1u;
 
 // The triangle record a binning invocation bins, and the first of its rows (of every
 // ROW_LANES) within its slice.
 uint binningTriangle() {
-    return gl_GlobalInvocationID.x / ROW_LANES;
+    return linearInvocation() / ROW_LANES;
 }
 
 int binningLane() {
-    return int(gl_GlobalInvocationID.x % ROW_LANES);
+    return int(linearInvocation() % ROW_LANES);
 }
 
 // The slices a triangle with pixel bounds `bounds` needs (sliceRows).

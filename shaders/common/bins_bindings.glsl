@@ -77,10 +77,24 @@ layout(push_constant) uniform BinPush {
     float threshold;        // stop once every channel's transmittance is below this; 0: exact
     uint resumeList;        // raster: the list a continuation reads; it appends to the other
     uint binRowsPerSlice;   // binning: bin rows one invocation covers (see bin_lists.glsl)
-    uint pad1;
+    uint groupsX;           // setup and binning: workgroups in x, the rest in z (splitGroups)
     uint pad2;
     uint pad3;
 } u_push;
+
+// Dispatches over triangles (setup and binning, BINNING_GROUP_SIZE invocations a workgroup
+// in x) may need more workgroups than a device allows in x (65535): they go on in z,
+// u_push.groupsX to a row. An invocation's place in the whole, and the (x, z) counts of
+// `groups` workgroups (split_groups in bins/mod.rs). The last row may hold workgroups past
+// the items, which their bounds checks skip. (gl_WorkGroupSize is not used: these functions
+// come before the shaders declare their size.)
+uint linearInvocation() {
+    return gl_GlobalInvocationID.x + gl_WorkGroupID.z * gl_NumWorkGroups.x * BINNING_GROUP_SIZE;
+}
+
+uvec2 splitGroups(uint groups) {
+    return uvec2(min(groups, u_push.groupsX), (groups + u_push.groupsX - 1u) / u_push.groupsX);
+}
 
 uvec4 loadQuad(uint i) {
     return texelFetch(u_quadTexels, int(i));

@@ -318,7 +318,9 @@ fn max_slab_bits(width: u32, height: u32) -> u32 {
 
 /// Binning lanes per triangle for a frame of `quads` transparent quads: BIN_SIZE, unless two
 /// triangles a quad would then need more than the 65 535 binning workgroups (of 64) every
-/// Vulkan device must allow in one dimension.
+/// Vulkan device allows in x. Such dispatches now go on in z (`split_groups`), so this only
+/// keeps the binning of very large frames as it was measured; whether BIN_SIZE lanes would
+/// serve them better is not measured.
 fn deep_binning_lanes(quads: u64) -> u32 {
     const MAX_GROUPS: u64 = 65_535;
     if quads * 2 * u64::from(BIN_SIZE) <= MAX_GROUPS * u64::from(super::layout::BINNING_GROUP_SIZE)

@@ -144,7 +144,9 @@ pub struct BinPush {
     pub threshold: f32,
     pub resume_list: u32,
     pub bin_rows_per_slice: u32,
-    pub pad: [u32; 3],
+    /// Workgroups the dispatches over triangles take in x; past it they go on in z.
+    pub groups_x: u32,
+    pub pad: [u32; 2],
 }
 
 #[cfg(test)]

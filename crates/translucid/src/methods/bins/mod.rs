@@ -78,7 +78,16 @@ pub struct BinOptions {
     /// frames that need more than it records.
     #[doc(hidden)]
     pub bands: Option<u32>,
+    /// Workgroups the dispatches over triangles (setup, binning) take in x before they go
+    /// on in z (`None`: [`MOST_GROUPS_X`]), so that tests cover the split with small frames.
+    #[doc(hidden)]
+    pub groups_x: Option<u32>,
 }
+
+/// The workgroups in x every Vulkan device allows in one dispatch
+/// (`maxComputeWorkGroupCount`): setup and binning dispatches over more triangles go on in
+/// z (4.2 million triangles of 64 a workgroup fill one row).
+pub const MOST_GROUPS_X: u32 = 65_535;
 
 /// Bands recorded per frame ([`BinOptions::bands`] for tests). A frame whose bin lists pass
 /// their capacity is rasterized in bands of blocks whose lists fit, one after another in the
@@ -87,6 +96,13 @@ pub struct BinOptions {
 /// again when translucid submits). Bands without blocks cost a tiny dispatch and empty
 /// indirect ones.
 pub const BANDS: u32 = 4;
+/// A dispatch of `groups` workgroups as (x, z) with at most `most_x` in x
+/// (`splitGroups` of bins_bindings.glsl, which the shaders' `linearWorkGroup` undoes; the
+/// last row in z may hold workgroups past `groups`, which find no item).
+fn split_groups(groups: u32, most_x: u32) -> (u32, u32) {
+    (groups.min(most_x), groups.div_ceil(most_x))
+}
+
 /// `PYRAMID_GROUP_SIZE` of depth_pyramid.comp.
 const PYRAMID_GROUP_SIZE: u32 = 256;
 
@@ -325,7 +341,11 @@ impl Bins {
             draw_count: scene.transparent.len() as u32,
             threshold: 0.0,
             resume_list: 0,
-            pad: [0; 3],
+            groups_x: options
+                .groups_x
+                .unwrap_or(MOST_GROUPS_X)
+                .clamp(1, MOST_GROUPS_X),
+            pad: [0; 2],
             ..bytemuck::Zeroable::zeroed()
         };
         push.set_size(width, height, slice_rows_limit);
@@ -487,7 +507,9 @@ impl Bins {
         let items = self.push.item_count;
         if items > 0 {
             let setup = if culled { &s.setup } else { &s.setup_unculled };
-            self.dispatch(ctx, setup, [items.div_ceil(64), 1, 1]);
+            let groups = items.div_ceil(layout::BINNING_GROUP_SIZE);
+            let (x, z) = split_groups(groups, self.push.groups_x);
+            self.dispatch(ctx, setup, [x, 1, z]);
         }
         self.compute_to_compute(cmd);
         ctx.timestamps.mark(cmd, "setup");
