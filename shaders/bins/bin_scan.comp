@@ -150,6 +150,12 @@ void planBand() {
                 }
             }
             count = lo - start;
+            // A workgroup a block, u_push.groupsX to a row: past one row the band ends on a
+            // whole row, and the next band takes the rest.
+            if (count > u_push.groupsX) {
+                count -= count % u_push.groupsX;
+                lo = start + count;
+            }
             g_counters.bandNext = lo;
             g_counters.bandBase = base;
             g_counters.bandFirstBlock = g_rasterBins[start];
@@ -165,7 +171,9 @@ void planBand() {
     }
     g_counters.bandFirst = start;
     g_counters.bandCount = count;
-    g_dispatch[DISPATCH_RASTER_BINS * 4u] = count;
+    uvec2 rasterGroups = splitGroups(count);
+    g_dispatch[DISPATCH_RASTER_BINS * 4u] = rasterGroups.x;
+    g_dispatch[DISPATCH_RASTER_BINS * 4u + 2u] = max(rasterGroups.y, 1u);
     g_dispatch[DISPATCH_BIN_OFFSETS * 4u] = (count + SCAN_GROUP_SIZE - 1u) / SCAN_GROUP_SIZE;
     uint fill = DISPATCH_BAND_FILL * 4u;
     uint binning = DISPATCH_BINNING * 4u;

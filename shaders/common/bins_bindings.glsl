@@ -83,13 +83,18 @@ layout(push_constant) uniform BinPush {
 } u_push;
 
 // Dispatches over triangles (setup and binning, BINNING_GROUP_SIZE invocations a workgroup
-// in x) may need more workgroups than a device allows in x (65535): they go on in z,
-// u_push.groupsX to a row. An invocation's place in the whole, and the (x, z) counts of
-// `groups` workgroups (split_groups in bins/mod.rs). The last row may hold workgroups past
-// the items, which their bounds checks skip. (gl_WorkGroupSize is not used: these functions
-// come before the shaders declare their size.)
+// in x) and over a band's blocks (the rasters) may need more workgroups than a device allows
+// in x (65535): they go on in z, u_push.groupsX to a row. A workgroup's and a triangle
+// dispatch's invocation's place in the whole, and the (x, z) counts of `groups` workgroups
+// (split_groups in bins/mod.rs). The last row of a triangle dispatch may hold workgroups past
+// the items, which their bounds checks skip; a band fills whole rows (planBand). (Not
+// gl_WorkGroupSize: these come before the shaders declare their size.)
+uint linearWorkGroup() {
+    return gl_WorkGroupID.z * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+}
+
 uint linearInvocation() {
-    return gl_GlobalInvocationID.x + gl_WorkGroupID.z * gl_NumWorkGroups.x * BINNING_GROUP_SIZE;
+    return linearWorkGroup() * BINNING_GROUP_SIZE + gl_LocalInvocationID.x;
 }
 
 uvec2 splitGroups(uint groups) {

@@ -63,7 +63,7 @@ uint visitTriangle(bool shortForm, uint keptTri[KEPT], uint i, uint first, uint 
 void main() {
     // Loads first, outside all control flow (raster.comp says why).
     FrameInfo frame = u_frame;
-    uint block = g_rasterBins[g_counters.bandFirst + gl_WorkGroupID.x];
+    uint block = g_rasterBins[g_counters.bandFirst + linearWorkGroup()];
     uint row = gl_WorkGroupID.y * gl_WorkGroupSize.y + gl_LocalInvocationID.y;
     uint bin = (block * BIN_SIZE + row) * SLABS;
     uint first = g_binOffsets[bin] - g_binCounts[bin];

@@ -117,7 +117,7 @@ void main() {
         row = item.x % BIN_SIZE;
         stateSlot = item.y;
     } else {
-        block = g_rasterBins[g_counters.bandFirst + gl_WorkGroupID.x];
+        block = g_rasterBins[g_counters.bandFirst + linearWorkGroup()];
         row = gl_WorkGroupID.y * gl_WorkGroupSize.y + gl_LocalInvocationID.y;
     }
     // The row's own bin: its slabs' parts of the list, near to far, each ending where the
