@@ -807,9 +807,9 @@ typedef struct translucid_frame_info {
     uint32_t linked_list_node_budget;
     /**
      * `TRANSLUCID_METHOD_DEPTH_PEELING`: peeling passes, each peeling a pixel's nearest and
-     * farthest layer left, 1 to 128. 0 (the default) starts with a few and doubles them
-     * while a frame has pixels with more layers (rendered again, or completed with
-     * `TRANSLUCID_RESULT_INCOMPLETE` on an engine's device). A count stays as given: pixels
+     * farthest layer left, 1 to 128. 0 (the default) starts with a few; a frame with more
+     * layers grows them to half its deepest pixel's fragments (it is rendered again, or
+     * completes with `TRANSLUCID_RESULT_INCOMPLETE` on an engine's device). A count stays as given: pixels
      * with more than twice as many layers lose their middle ones and are counted
      * (`translucid_frame_statistics::unpeeled_pixels`).
      */

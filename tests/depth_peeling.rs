@@ -110,6 +110,20 @@ fn fixed_passes_are_exact_when_they_cover_the_layers_and_count_the_pixels_they_d
         short.unpeeled_pixels
     );
 
+    // A frame deeper than the first passes grows them in one step, from its deepest
+    // pixel's fragment count: 60-deep particles are rendered again once, not once a doubling.
+    let particles = scene::load("particles").expect("generated scene");
+    let deep = Renderer::new(&gpu, &particles, MethodKind::DepthPeeling, 96, 64)
+        .and_then(|mut r| r.render(false))
+        .expect("frame");
+    assert_eq!(
+        (deep.rerenders, deep.unpeeled_pixels),
+        (1, 0),
+        "particles: rendered again {} times, {} pixels unpeeled",
+        deep.rerenders,
+        deep.unpeeled_pixels
+    );
+
     for bad in [0, MOST_PASSES + 1] {
         let err = Renderer::with_options(
             &gpu,

@@ -4,6 +4,9 @@
 // whether the pixel has fragments left is noted for the next pass (which is skipped when no
 // pixel has any) and, after the last pass, counted.
 
+#extension GL_KHR_shader_subgroup_arithmetic : require
+#extension GL_KHR_shader_subgroup_basic : require
+
 #include "depth_peeling.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -26,11 +29,15 @@ layout(set = 0, binding = 5, rgba32f) uniform image2D u_front;
 layout(set = 0, binding = 6, rgba32f) uniform image2D u_frontT;
 layout(set = 0, binding = 7, rgba32f) uniform image2D u_back;
 layout(set = 0, binding = 8, rgba32f) uniform image2D u_backT;
-// Pixels left with fragments after the last pass, then per pass whether any pixel was.
+// Pixels left with fragments after the last pass, the most fragments a pixel has, then per
+// pass whether any pixel has fragments left (word 2 + pass: its next pass's condition).
 layout(set = 0, binding = 9, std430) buffer Peeling {
     uint unpeeledPixels;
+    uint mostFragments;
     uint fragmentsLeft[];
 } g_peeling;
+// The first pass's count of each pixel's fragments.
+layout(set = 0, binding = 11) uniform sampler2D u_fragments;
 
 void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
@@ -41,7 +48,13 @@ void main() {
     vec3 frontT = texelFetch(u_frontTransmittance, pixel, 0).rgb;
     vec3 backL = texelFetch(u_backRadiance, pixel, 0).rgb;
     vec3 backT = texelFetch(u_backTransmittance, pixel, 0).rgb;
-    if (u_push.pass > 1u) {
+    if (u_push.pass == 1u) {
+        // One atomic a subgroup: one a pixel made a single word the frame's most contended.
+        uint most = subgroupMax(uint(texelFetch(u_fragments, pixel, 0).r));
+        if (subgroupElect()) {
+            atomicMax(g_peeling.mostFragments, most);
+        }
+    } else {
         vec3 front = imageLoad(u_front, pixel).rgb;
         vec3 frontSoFar = imageLoad(u_frontT, pixel).rgb;
         vec3 back = imageLoad(u_back, pixel).rgb;

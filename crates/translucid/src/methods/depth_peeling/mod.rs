@@ -15,8 +15,9 @@
 //! without covering one another, so the result is exact where the frame's pixels have at
 //! most 2N distinct depths and no two surfaces meet at one depth. Past 2N, the middle layers
 //! are left out and the pixels counted ([`super::FrameCheck::unpeeled_pixels`]). With
-//! [`DepthPeelingOptions::passes`] N stays as given; by default it starts small and doubles,
-//! the frame rendered again, until the frame's layers fit (up to [`MOST_PASSES`]).
+//! [`DepthPeelingOptions::passes`] N stays as given; by default it starts small and, when a
+//! frame has more layers, grows to half the most fragments a pixel has (the first pass counts
+//! them; a layer holds at least one), the frame rendered again (up to [`MOST_PASSES`]).
 
 use super::{FrameCheck, FrameDone, Method, MethodOptions, RecordContext};
 use crate::assets::GpuScene;
@@ -44,14 +45,17 @@ const LAYER_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
 const SUM_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
 /// The range's clear value, an empty range (`NO_RANGE` in depth_peeling.glsl).
 const NO_RANGE: [f32; 4] = [-f32::MAX; 4];
-/// Words of the peeling buffer: pixels unpeeled, then a flag per pass.
-const PEELING_WORDS: u64 = 1 + MOST_PASSES as u64 + 1;
+/// Each pixel's fragments, counted by the first pass (exact in floats to 2^24).
+const COUNT_FORMAT: vk::Format = vk::Format::R32_SFLOAT;
+/// Words of the peeling buffer (`Peeling` of composite.comp): pixels unpeeled, the most
+/// fragments a pixel has, then a flag per pass.
+const PEELING_WORDS: u64 = 2 + MOST_PASSES as u64 + 1;
 
 /// The depth_peeling method's settings.
 #[derive(Clone, Debug, Default)]
 pub struct DepthPeelingOptions {
-    /// Peeling passes, fixed (each peels two layers). `None` starts at a few and doubles
-    /// them while a frame has more layers.
+    /// Peeling passes, fixed (each peels two layers). `None` starts at a few and grows them
+    /// to what a frame with more layers needs.
     pub passes: Option<u32>,
     /// Where a count that is not fixed starts (what an earlier renderer learned).
     pub initial_passes: Option<u32>,
@@ -61,6 +65,8 @@ pub struct DepthPeelingOptions {
 struct Images {
     /// The two ranges the passes take turns reading and writing.
     ranges: [GpuImage; 2],
+    /// The first pass's count of each pixel's fragments.
+    count: GpuImage,
     /// Front radiance, front transmittance, back radiance, back transmittance of one pass.
     layers: [GpuImage; 4],
     /// The same, composited over the passes so far.
@@ -80,6 +86,13 @@ impl Images {
                 range("depth peeling range 0")?,
                 range("depth peeling range 1")?,
             ],
+            count: gpu.create_image(
+                "depth peeling fragment count",
+                size,
+                COUNT_FORMAT,
+                attached,
+                1,
+            )?,
             layers: [
                 layer("depth peeling front radiance")?,
                 layer("depth peeling front transmittance")?,
@@ -168,8 +181,14 @@ impl DepthPeeling {
             load: Load::Clear(value),
             layouts: (vk::ImageLayout::UNDEFINED, read),
         };
-        let first =
-            AttachmentPass::new(gpu, &[cleared(&images.ranges[0], NO_RANGE)], Some(&depth))?;
+        let first = AttachmentPass::new(
+            gpu,
+            &[
+                cleared(&images.ranges[0], NO_RANGE),
+                cleared(&images.count, [0.0; 4]),
+            ],
+            Some(&depth),
+        )?;
         let peel_into = |range| {
             let [fl, ft, bl, bt] = &images.layers;
             AttachmentPass::new(
@@ -208,6 +227,7 @@ impl DepthPeeling {
                 storage,
                 BindingKind::StorageBuffer,
                 storage,
+                sampled,
             ],
             vk::ShaderStageFlags::COMPUTE,
         )?;
@@ -217,7 +237,7 @@ impl DepthPeeling {
             crate::spirv!("depth_peeling/first.frag"),
             &[],
             &PipelineState {
-                blends: &[Blend::Max],
+                blends: &[Blend::Max, Blend::Add],
                 depth: DepthMode::Less(false),
                 fragment_constants: &[],
                 vertex_input: true,
@@ -270,6 +290,7 @@ impl DepthPeeling {
             peel_layout.create_set(&[Resource::Images(&[range.view], sampler.raw)])
         };
         let peel_sets = [peel_set(&images.ranges[0])?, peel_set(&images.ranges[1])?];
+        let count_view = [images.count.view];
         let composite_set = |range: &GpuImage| {
             let image = |i: &GpuImage| [i.view];
             let views = [
@@ -286,6 +307,7 @@ impl DepthPeeling {
             resources.extend(images.sums.iter().map(|s| Resource::StorageImage(s.view)));
             resources.push(Resource::Buffer(&peeling));
             resources.push(Resource::StorageImage(targets.colour.view));
+            resources.push(Resource::Images(&count_view, sampler.raw));
             composite_layout.create_set(&resources)
         };
         let composite_sets = [
@@ -387,9 +409,9 @@ impl Method for DepthPeeling {
             // Range `pass % 2` is written, the other one read.
             let (into, from) = ((pass % 2) as usize, ((pass + 1) % 2) as usize);
             // A pass after the first runs only when the one before it left fragments (its
-            // flag, word 1 + pass - 1); without conditional rendering every pass runs, and
+            // flag, word 2 + pass - 1); without conditional rendering every pass runs, and
             // one with nothing left to peel adds nothing.
-            let flag = 4 * u64::from(pass);
+            let flag = 4 * u64::from(pass + 1);
             let skippable = pass > 1;
             let pipelines = &self.peel_pipelines;
             self.peel[into].begin(cmd, extent);
@@ -457,18 +479,22 @@ impl Method for DepthPeeling {
 
     fn frame_done(&mut self, done: &FrameDone<'_>) -> Result<FrameCheck> {
         let slot = done.slot % self.readbacks.len();
-        let unpeeled = self.readbacks[slot].read_word_volatile()?;
+        let words: &[u8] = self.readbacks[slot].read()?;
+        let word = |i: usize| u32::from_le_bytes([0, 1, 2, 3].map(|b| words[4 * i + b]));
+        let (unpeeled, most_fragments) = (word(0), word(1));
         let recorded = self.recorded[slot];
         let mut check = FrameCheck {
             unpeeled_pixels: u64::from(unpeeled),
             ..FrameCheck::default()
         };
         if unpeeled > 0 && !self.fixed && recorded < MOST_PASSES {
-            // Grown once for the frames recorded with too few passes.
+            // Grown once for the frames recorded with too few passes: a layer holds at least
+            // one fragment, so half the deepest pixel's fragments peel it.
             if recorded == self.passes {
-                self.passes = (recorded * 2).min(MOST_PASSES);
+                self.passes = most_fragments.div_ceil(2).clamp(recorded + 1, MOST_PASSES);
                 log::info!(
-                    "depth_peeling: {unpeeled} pixels had more than {} layers; {} passes from now on",
+                    "depth_peeling: {unpeeled} pixels had more than {} layers (up to \
+                     {most_fragments} fragments); {} passes from now on",
                     2 * recorded,
                     self.passes
                 );
