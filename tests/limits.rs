@@ -203,3 +203,34 @@ fn dispatches_go_on_in_z_past_the_workgroups_in_x() {
         }
     }
 }
+
+/// Five million transparent triangles in one frame (`hairball:5m`, 2.5 million quads): their
+/// records (1 GB) are written through texel views, past the 128 MB one storage binding holds
+/// on lavapipe, and binning, sized to the last triangle setup keeps (its record at the
+/// triangle's place among the five million), takes about 78,000 workgroups, which go on in z
+/// past the 65,535 a device allows in x. The frame matches the CPU reference. (At 320x180
+/// setup keeps about half a million: the rest are back faces or cover no pixel centre.)
+#[test]
+fn a_five_million_triangle_frame_is_right() {
+    let gpu = gpu();
+    let scene = translucid::scene::load("hairball:5m").expect("generated scene");
+    let (width, height) = (320, 180);
+    let frame = Renderer::new(&gpu, &scene, MethodKind::Exact, width, height)
+        .and_then(|mut r| r.render(true))
+        .expect("a 5 M-triangle frame");
+    assert!(
+        frame.triangles > 100_000,
+        "{} triangles rasterized",
+        frame.triangles
+    );
+    let opaque = frame.opaque.as_ref().expect("opaque layer");
+    let reference = translucid::reference::render(&scene, opaque).expect("reference");
+    let m = metrics::compare(&frame.image, &reference).expect("same size");
+    assert!(
+        m.max_error <= 2.0 / 255.0,
+        "{:.1}/255 on {} pixels ({})",
+        m.max_error * 255.0,
+        m.pixels_over,
+        save_failure("five_million", &frame.image, &reference).display()
+    );
+}

@@ -285,51 +285,50 @@ BinAttributes gatherAttributes(DrawInfo draw, Corner k0, Corner k1, Corner k2) {
     return a;
 }
 
-// Record ti, field by field: the padding is never stored.
+// Record ti (BinTriangleRecord), a texel per 16 bytes of its std430 layout.
 void storeTriangle(uint ti, BinTriangle t, ivec2 v[3], bool negated) {
-    g_triangles[ti].vertices01 = ivec4(v[0], v[1]);
-    g_triangles[ti].vertex2 = v[2];
-    g_triangles[ti].flags = (negated ? TRIANGLE_NEGATED : 0u) |
-                              t.materialIndex << TRIANGLE_MATERIAL_SHIFT;
-    g_triangles[ti].order = t.order;
-    g_triangles[ti].zNdc = t.zNdc.xyz;
-    g_triangles[ti].homogeneous = t.edgeB.w;
-    g_triangles[ti].invW = t.invW.xyz;
-    g_triangles[ti].invArea = t.zNdc.w;
-    g_triangles[ti].boundsMin = uint(t.bounds.x) | uint(t.bounds.y) << 16u;
-    g_triangles[ti].boundsEnd = uint(t.bounds.z) | uint(t.bounds.w) << 16u;
+    int base = int(ti) * TRIANGLE_TEXELS;
+    uint flags = (negated ? TRIANGLE_NEGATED : 0u) | t.materialIndex << TRIANGLE_MATERIAL_SHIFT;
+    imageStore(u_triangleRecords, base, uvec4(ivec4(v[0], v[1])));
+    imageStore(u_triangleRecords, base + 1, uvec4(uvec2(v[2]), flags, t.order));
+    imageStore(u_triangleRecords, base + 2, uvec4(floatBitsToUint(t.zNdc.xyz), uint(t.edgeB.w)));
+    imageStore(u_triangleRecords, base + 3,
+               uvec4(floatBitsToUint(t.invW.xyz), floatBitsToUint(t.zNdc.w)));
+    imageStore(u_triangleRecords, base + 4,
+               uvec4(uint(t.bounds.x) | uint(t.bounds.y) << 16u,
+                     uint(t.bounds.z) | uint(t.bounds.w) << 16u, 0u, 0u));
 }
 
-// Record ti as a hole: empty bounds, so that binning enters it nowhere. Its other fields are
+// Record ti as a hole: empty bounds, so that binning enters it nowhere. Its other texels are
 // never read.
 void storeHole(uint ti) {
-    g_triangles[ti].boundsMin = 0u;
-    g_triangles[ti].boundsEnd = 0u;
+    imageStore(u_triangleRecords, int(ti) * TRIANGLE_TEXELS + 4, uvec4(0u));
 }
 
 // Attribute record ti: only the fields shading can read (loadShadingAttributes in
 // bin_fragment.glsl, under the same constants); the others are never stored.
 void storeAttributes(uint ti, BinAttributes a) {
+    int base = int(ti) * ATTRIBUTE_TEXELS;
     if (VERTEX_COLOURS) {
-        g_attributes[ti].colour0 = a.colour0;
+        imageStore(u_attributeRecords, base, floatBitsToUint(a.colour0));
     }
     if (VERTEX_COLOURS && !FLAT_COLOURS) {
-        g_attributes[ti].colour1 = a.colour1;
-        g_attributes[ti].colour2 = a.colour2;
+        imageStore(u_attributeRecords, base + 1, floatBitsToUint(a.colour1));
+        imageStore(u_attributeRecords, base + 2, floatBitsToUint(a.colour2));
     }
     if (VERTEX_NORMALS || FACE_NORMALS) {
-        g_attributes[ti].normal0 = a.normal0;
+        imageStore(u_attributeRecords, base + 3, uvec4(floatBitsToUint(a.normal0), 0u));
     }
     if (VERTEX_NORMALS || TEXTURES) {
-        g_attributes[ti].flags = a.flags;
+        // normal1 shares its texel with the flags (zero or unread without vertex normals).
+        imageStore(u_attributeRecords, base + 4, uvec4(floatBitsToUint(a.normal1), a.flags));
     }
     if (VERTEX_NORMALS) {
-        g_attributes[ti].normal1 = a.normal1;
-        g_attributes[ti].normal2 = a.normal2;
+        imageStore(u_attributeRecords, base + 5, uvec4(floatBitsToUint(a.normal2), 0u));
     }
     if (TEXTURES) {
-        g_attributes[ti].uv01 = a.uv01;
-        g_attributes[ti].uv2 = a.uv2;
+        imageStore(u_attributeRecords, base + 6, floatBitsToUint(a.uv01));
+        imageStore(u_attributeRecords, base + 7, uvec4(floatBitsToUint(a.uv2), 0u, 0u));
     }
 }
 

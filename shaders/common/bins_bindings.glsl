@@ -12,7 +12,10 @@
 layout(set = 1, binding = 0) uniform usamplerBuffer u_vertexTexels;
 layout(set = 1, binding = 1) uniform usamplerBuffer u_quadTexels;
 layout(set = 1, binding = 2) uniform usamplerBuffer u_binDrawTexels;
-layout(set = 1, binding = 3, std430) buffer TriangleBlock { BinTriangleRecord g_triangles[]; };
+// Triangle and attribute records (BinTriangleRecord, BinAttributes), written by setup
+// through texels so that only a view's texels bound them (not a storage binding's range);
+// read through u_triangleTexels and u_attributeTexels.
+layout(set = 1, binding = 3, rgba32ui) uniform writeonly uimageBuffer u_triangleRecords;
 layout(set = 1, binding = 4, std430) buffer HomogeneousBlock { BinHomogeneous g_homogeneous[]; };
 layout(set = 1, binding = 5, std430) buffer CounterBlock { BinCounters g_counters; };
 // Per (bin, slab), at bin * SLABS + slab: triangle counts, and list offsets, which bin_fill
@@ -21,7 +24,7 @@ layout(set = 1, binding = 6, std430) buffer BinCountBlock { uint g_binCounts[]; 
 layout(set = 1, binding = 7, std430) buffer BinOffsetBlock { uint g_binOffsets[]; };
 layout(set = 1, binding = 8) uniform usamplerBuffer u_drawTexels;        // DrawInfo, 10 each
 layout(set = 1, binding = 9, std430) buffer BinEntryBlock { uint g_binEntries[]; };
-layout(set = 1, binding = 10, std430) buffer AttributeBlock { BinAttributes g_attributes[]; };
+layout(set = 1, binding = 10, rgba32ui) uniform writeonly uimageBuffer u_attributeRecords;
 layout(set = 1, binding = 11) uniform sampler2D u_opaqueDepth;
 layout(set = 1, binding = 12, rgba16f) uniform image2D u_colour;
 
@@ -29,8 +32,8 @@ layout(set = 1, binding = 12, rgba16f) uniform image2D u_colour;
 // lavapipe fetch texels with straight-line vector loads, where a storage-buffer load inside
 // divergent control flow is a per-lane loop with a branch per component. Records are read
 // texel by texel in field order (a layout test checks every field's offset).
-layout(set = 1, binding = 13) uniform usamplerBuffer u_triangleTexels;   // g_triangles, 5 each
-layout(set = 1, binding = 14) uniform usamplerBuffer u_attributeTexels;  // g_attributes, 8 each
+layout(set = 1, binding = 13) uniform usamplerBuffer u_triangleTexels;   // the same, 5 each
+layout(set = 1, binding = 14) uniform usamplerBuffer u_attributeTexels;  // the same, 8 each
 layout(set = 1, binding = 15) uniform usamplerBuffer u_materialTexels;   // Material, 3 each
 layout(set = 1, binding = 16) uniform usamplerBuffer u_textureInfoTexels; // BinTexture, 2 each
 layout(set = 1, binding = 17) uniform usamplerBuffer u_texels;           // packed RGBA8

@@ -16,6 +16,9 @@ pub enum BindingKind {
     StorageImage,
     /// A uniform texel buffer (`usamplerBuffer` and the like).
     TexelBuffer,
+    /// A storage texel buffer (`uimageBuffer` and the like): written through texels, so that
+    /// only the device's texels a view (not its storage-buffer range) bound it.
+    StorageTexelBuffer,
 }
 
 impl BindingKind {
@@ -26,6 +29,7 @@ impl BindingKind {
             Self::SampledImages(n) => (vk::DescriptorType::COMBINED_IMAGE_SAMPLER, n),
             Self::StorageImage => (vk::DescriptorType::STORAGE_IMAGE, 1),
             Self::TexelBuffer => (vk::DescriptorType::UNIFORM_TEXEL_BUFFER, 1),
+            Self::StorageTexelBuffer => (vk::DescriptorType::STORAGE_TEXEL_BUFFER, 1),
         }
     }
 }
@@ -44,6 +48,7 @@ pub enum Resource<'a> {
     /// Image views (in SHADER_READ_ONLY_OPTIMAL) with one sampler.
     Images(&'a [vk::ImageView], vk::Sampler),
     StorageImage(vk::ImageView),
+    /// A texel buffer's view, for a `TexelBuffer` or a `StorageTexelBuffer` binding.
     TexelBuffer(vk::BufferView),
 }
 
@@ -191,7 +196,10 @@ impl DescriptorLayout {
                     .dst_set(set.raw)
                     .dst_binding(i as u32)
                     .descriptor_type(k.descriptor_type().0);
-                if *k == BindingKind::TexelBuffer {
+                if matches!(
+                    k,
+                    BindingKind::TexelBuffer | BindingKind::StorageTexelBuffer
+                ) {
                     w.texel_buffer_view(&texel_views[i])
                 } else if buffer_infos[i].is_empty() {
                     w.image_info(&image_infos[i])

@@ -85,7 +85,9 @@ impl Capacities {
             (storage / bytes).min(viewed).min(u64::from(u32::MAX)) as u32
         };
         Self {
-            triangles: fits(TRIANGLE_BYTES.max(ATTRIBUTES_BYTES), 16),
+            // Written and read through texel views, not storage bindings.
+            triangles: (texels * 16 / TRIANGLE_BYTES.max(ATTRIBUTES_BYTES)).min(u64::from(u32::MAX))
+                as u32,
             homogeneous: fits(HOMOGENEOUS_BYTES, 16),
             bin_entries: fits(4, 4),
             // Both lists' pixel states in one buffer.
@@ -233,6 +235,19 @@ fn viewed_storage(gpu: &Gpu, name: &str, bytes: u64, format: vk::Format) -> Resu
     Viewed::new(gpu, storage_buffer(gpu, name, bytes)?, format)
 }
 
+/// A device-local buffer the stages write and read through texel views of `format`: only the
+/// device's texels a view bound it (2 GB of RGBA32 on lavapipe, against 128 MB a storage
+/// binding), which is what lets a frame hold millions of triangle records.
+fn texel_storage(gpu: &Gpu, name: &str, bytes: u64, format: vk::Format) -> Result<Viewed> {
+    let buffer = gpu.create_buffer(
+        name,
+        bytes,
+        TEXELS | vk::BufferUsageFlags::STORAGE_TEXEL_BUFFER,
+        MemoryLocation::GpuOnly,
+    )?;
+    Viewed::new(gpu, buffer, format)
+}
+
 fn growable(gpu: &Gpu, c: Capacities) -> Result<Growable> {
     let triangles = u64::from(c.triangles);
     let resume_items = 2 * u64::from(c.resume_items);
@@ -252,13 +267,13 @@ fn growable(gpu: &Gpu, c: Capacities) -> Result<Growable> {
             "suspended pixel states",
             resume_states * u64::from(BIN_SIZE) * PIXEL_STATE_BYTES,
         )?,
-        triangles: viewed_storage(
+        triangles: texel_storage(
             gpu,
             "triangle records",
             triangles * TRIANGLE_BYTES,
             RGBA32UI,
         )?,
-        attributes: viewed_storage(
+        attributes: texel_storage(
             gpu,
             "triangle attributes",
             triangles * ATTRIBUTES_BYTES,
@@ -382,35 +397,35 @@ impl Resources {
         let layout = DescriptorLayout::new(
             gpu,
             &[
-                BindingKind::TexelBuffer,      // 0 vertices
-                BindingKind::TexelBuffer,      // 1 quads
-                BindingKind::TexelBuffer,      // 2 bin draws
-                BindingKind::StorageBuffer,    // 3 triangles
-                BindingKind::StorageBuffer,    // 4 homogeneous
-                BindingKind::StorageBuffer,    // 5 counters
-                BindingKind::StorageBuffer,    // 6 bin counts
-                BindingKind::StorageBuffer,    // 7 bin offsets
-                BindingKind::TexelBuffer,      // 8 draws
-                BindingKind::StorageBuffer,    // 9 bin entries
-                BindingKind::StorageBuffer,    // 10 attributes
-                BindingKind::SampledImages(1), // 11 opaque depth
-                BindingKind::StorageImage,     // 12 colour
-                BindingKind::TexelBuffer,      // 13 triangles
-                BindingKind::TexelBuffer,      // 14 attributes
-                BindingKind::TexelBuffer,      // 15 materials
-                BindingKind::TexelBuffer,      // 16 texture infos
-                BindingKind::TexelBuffer,      // 17 texels
-                BindingKind::TexelBuffer,      // 18 sRGB table
-                BindingKind::TexelBuffer,      // 19 bin entries
-                BindingKind::TexelBuffer,      // 20 homogeneous
-                BindingKind::StorageBuffer,    // 21 resume lists
-                BindingKind::StorageBuffer,    // 22 pixel states
-                BindingKind::StorageBuffer,    // 23 non-empty bins
-                BindingKind::StorageBuffer,    // 24 opaque depth pyramid
-                BindingKind::TexelBuffer,      // 25 bin counts
-                BindingKind::TexelBuffer,      // 26 opaque depth pyramid
-                BindingKind::StorageBuffer,    // 27 block totals
-                BindingKind::TexelBuffer,      // 28 block totals
+                BindingKind::TexelBuffer,        // 0 vertices
+                BindingKind::TexelBuffer,        // 1 quads
+                BindingKind::TexelBuffer,        // 2 bin draws
+                BindingKind::StorageTexelBuffer, // 3 triangles
+                BindingKind::StorageBuffer,      // 4 homogeneous
+                BindingKind::StorageBuffer,      // 5 counters
+                BindingKind::StorageBuffer,      // 6 bin counts
+                BindingKind::StorageBuffer,      // 7 bin offsets
+                BindingKind::TexelBuffer,        // 8 draws
+                BindingKind::StorageBuffer,      // 9 bin entries
+                BindingKind::StorageTexelBuffer, // 10 attributes
+                BindingKind::SampledImages(1),   // 11 opaque depth
+                BindingKind::StorageImage,       // 12 colour
+                BindingKind::TexelBuffer,        // 13 triangles
+                BindingKind::TexelBuffer,        // 14 attributes
+                BindingKind::TexelBuffer,        // 15 materials
+                BindingKind::TexelBuffer,        // 16 texture infos
+                BindingKind::TexelBuffer,        // 17 texels
+                BindingKind::TexelBuffer,        // 18 sRGB table
+                BindingKind::TexelBuffer,        // 19 bin entries
+                BindingKind::TexelBuffer,        // 20 homogeneous
+                BindingKind::StorageBuffer,      // 21 resume lists
+                BindingKind::StorageBuffer,      // 22 pixel states
+                BindingKind::StorageBuffer,      // 23 non-empty bins
+                BindingKind::StorageBuffer,      // 24 opaque depth pyramid
+                BindingKind::TexelBuffer,        // 25 bin counts
+                BindingKind::TexelBuffer,        // 26 opaque depth pyramid
+                BindingKind::StorageBuffer,      // 27 block totals
+                BindingKind::TexelBuffer,        // 28 block totals
             ],
             vk::ShaderStageFlags::COMPUTE,
         )?;
@@ -508,14 +523,14 @@ impl Resources {
             Resource::TexelBuffer(vertices),
             Resource::TexelBuffer(quads),
             Resource::TexelBuffer(draws.raw),
-            Resource::Buffer(&g.triangles.buffer),
+            Resource::TexelBuffer(g.triangles.view.raw),
             Resource::Buffer(&g.homogeneous.buffer),
             Resource::Buffer(&self.counters),
             Resource::Buffer(&self.bins.counts.buffer),
             Resource::Buffer(&self.bins.offsets),
             Resource::TexelBuffer(scene_draws.raw),
             Resource::Buffer(&g.bin_entries.buffer),
-            Resource::Buffer(&g.attributes.buffer),
+            Resource::TexelBuffer(g.attributes.view.raw),
             Resource::Images(&[targets.depth.view], self.depth_sampler.raw),
             Resource::StorageImage(targets.colour.view),
             Resource::TexelBuffer(g.triangles.view.raw),
