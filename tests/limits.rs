@@ -234,3 +234,94 @@ fn a_five_million_triangle_frame_is_right() {
         save_failure("five_million", &frame.image, &reference).display()
     );
 }
+
+/// Textures past one storage binding: three 4096x4096 textures with their mips (256 MB of
+/// texels, twice what one binding holds on lavapipe) on three overlapping transparent quads.
+/// The software sampler reads them through one texel view, which only the device's texels a
+/// view bound; the frame matches the CPU reference.
+#[test]
+fn textures_past_a_storage_binding_are_sampled_right() {
+    let gpu = gpu();
+    let side = 4096u32;
+    let texture = |k: u32| {
+        let texels = (0..side * side)
+            .map(|i| {
+                let (x, y) = (i % side, i / side);
+                let cell = ((x >> (4 + k)) ^ (y >> 5)) & 1;
+                [
+                    (x >> 4) as u8,
+                    (y >> 4) as u8,
+                    (cell * 200 + 40 * k) as u8,
+                    255,
+                ]
+            })
+            .collect();
+        translucid::scene::Texture::new(format!("large {k}"), side, side, texels, false)
+    };
+    let mut positions = Vec::new();
+    let mut uvs = Vec::new();
+    let mut meshes = Vec::new();
+    for k in 0..3 {
+        let (x, z) = (k as f32 * 0.3 - 0.3, -(k as f32) * 0.1);
+        positions.clear();
+        positions.extend([
+            Vec3::new(x - 0.5, -0.4, z),
+            Vec3::new(x + 0.5, -0.4, z),
+            Vec3::new(x + 0.5, 0.4, z),
+            Vec3::new(x - 0.5, 0.4, z),
+        ]);
+        uvs.clear();
+        uvs.extend([
+            glam::Vec2::new(0.0, 1.0),
+            glam::Vec2::new(1.0, 1.0),
+            glam::Vec2::new(1.0, 0.0),
+            glam::Vec2::new(0.0, 0.0),
+        ]);
+        let mut mesh = Mesh::from_quads("quad", positions.clone(), vec![[0, 1, 2, 3]]);
+        mesh.uvs = Some(uvs.clone());
+        meshes.push(mesh);
+    }
+    let scene = Scene {
+        name: "large textures".into(),
+        transparent: (0..3)
+            .map(|k| Draw {
+                mesh: k,
+                material: k,
+                transform: Mat4::IDENTITY,
+                tint: glam::Vec4::ONE,
+            })
+            .collect(),
+        materials: (0..3)
+            .map(|k| Material {
+                name: format!("large {k}"),
+                base_colour: glam::Vec4::new(1.0, 1.0, 1.0, 0.6),
+                texture: Some(k),
+                ..Material::default()
+            })
+            .collect(),
+        textures: (0..3).map(|k| texture(k as u32)).collect(),
+        meshes,
+        camera: translucid::scene::Camera::look_at(
+            Vec3::new(0.0, 0.0, 2.0),
+            Vec3::ZERO,
+            0.8,
+            0.1,
+            20.0,
+        ),
+        background: Vec3::splat(0.2),
+        ..Scene::default()
+    };
+    let frame = Renderer::new(&gpu, &scene, MethodKind::Exact, 160, 120)
+        .and_then(|mut r| r.render(true))
+        .expect("a frame over 256 MB of textures");
+    let opaque = frame.opaque.as_ref().expect("opaque layer");
+    let reference = translucid::reference::render(&scene, opaque).expect("reference");
+    let m = metrics::compare(&frame.image, &reference).expect("same size");
+    assert!(
+        m.max_error <= 2.0 / 255.0,
+        "{:.1}/255 on {} pixels ({})",
+        m.max_error * 255.0,
+        m.pixels_over,
+        save_failure("large_textures", &frame.image, &reference).display()
+    );
+}

@@ -56,10 +56,9 @@ impl SampledTextures {
         let (records, texels) = texture_data(textures);
         check_texels(gpu, texels.len() as u64 * 4)?;
         let texels: &[u8] = bytemuck::cast_slice(&texels);
-        let info = gpu.info();
-        // The texel view may not pass the device's limits, whatever room is left.
-        let most = (u64::from(info.max_texel_buffer_elements) * 4)
-            .min(u64::from(info.max_storage_buffer_range));
+        // The texel view may not pass the device's limit, whatever room is left (a view, not
+        // a storage binding, reads them).
+        let most = most_texel_bytes(gpu);
         Ok(Self {
             records: AppendBuffer::new(
                 gpu,
@@ -306,12 +305,18 @@ fn record_uploads(gpu: &Gpu, cmd: vk::CommandBuffer, uploads: &[Arc<Upload>]) {
     }
 }
 
+/// The most bytes of texels the software sampler reads: one texel view of R32 texels.
+fn most_texel_bytes(gpu: &Gpu) -> u64 {
+    u64::from(gpu.info().max_texel_buffer_elements) * 4
+}
+
 fn check_texels(gpu: &Gpu, bytes: u64) -> Result<()> {
-    if bytes > u64::from(gpu.info().max_storage_buffer_range) {
+    let most = most_texel_bytes(gpu);
+    if bytes > most {
         return Err(Error::InvalidScene(format!(
-            "the scene's textures take {} MB, over this device's {} MB storage-buffer limit",
+            "the scene's textures take {} MB, over the {} MB this device's texel views hold",
             bytes >> 20,
-            gpu.info().max_storage_buffer_range >> 20
+            most >> 20
         )));
     }
     Ok(())
