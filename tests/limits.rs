@@ -71,12 +71,13 @@ fn tiny_frames_read_back_their_own_pixels() {
 }
 
 /// A limit of the bin stages that wavelet shares with exact is said as wavelet's own, and
-/// as exact's under exact: textures over what the software sampler's texel buffer binds.
+/// as exact's under exact: textures over what the software sampler's texel view holds.
 #[test]
 fn limits_of_the_shared_bin_stages_name_the_method() {
     let gpu = gpu();
-    let range = u64::from(gpu.info().max_storage_buffer_range);
-    // RGBA8 texels with mips take 4/3 of level 0: enough textures of 4096² to pass the range.
+    // The software sampler reads its texels (RGBA8 in R32 texels) through one texel view.
+    let range = u64::from(gpu.info().max_texel_buffer_elements) * 4;
+    // RGBA8 texels with mips take 4/3 of level 0: enough textures of 4096² to pass the view.
     let side = 4096u32;
     let per_texture = u64::from(side) * u64::from(side) * 4 * 4 / 3;
     let count = range / per_texture + 1;

@@ -285,10 +285,31 @@ BinAttributes gatherAttributes(DrawInfo draw, Corner k0, Corner k1, Corner k2) {
     return a;
 }
 
-// Record ti (BinTriangleRecord), a texel per 16 bytes of its std430 layout.
+// The records as storage buffers, as far as one binding reaches: setup writes them so while
+// they fit (faster on lavapipe than texel stores), else through u_triangleRecords and
+// u_attributeRecords (RECORDS_AS_TEXELS, set by the host from the records' size).
+layout(set = 1, binding = 29, std430) buffer TriangleBlock { BinTriangleRecord g_triangles[]; };
+layout(set = 1, binding = 30, std430) buffer AttributeBlock { BinAttributes g_attributes[]; };
+layout(constant_id = 12) const bool RECORDS_AS_TEXELS = false;
+
+// Record ti (BinTriangleRecord): through texels, one per 16 bytes of its std430 layout, or
+// field by field, the padding never stored.
 void storeTriangle(uint ti, BinTriangle t, ivec2 v[3], bool negated) {
-    int base = int(ti) * TRIANGLE_TEXELS;
     uint flags = (negated ? TRIANGLE_NEGATED : 0u) | t.materialIndex << TRIANGLE_MATERIAL_SHIFT;
+    if (!RECORDS_AS_TEXELS) {
+        g_triangles[ti].vertices01 = ivec4(v[0], v[1]);
+        g_triangles[ti].vertex2 = v[2];
+        g_triangles[ti].flags = flags;
+        g_triangles[ti].order = t.order;
+        g_triangles[ti].zNdc = t.zNdc.xyz;
+        g_triangles[ti].homogeneous = t.edgeB.w;
+        g_triangles[ti].invW = t.invW.xyz;
+        g_triangles[ti].invArea = t.zNdc.w;
+        g_triangles[ti].boundsMin = uint(t.bounds.x) | uint(t.bounds.y) << 16u;
+        g_triangles[ti].boundsEnd = uint(t.bounds.z) | uint(t.bounds.w) << 16u;
+        return;
+    }
+    int base = int(ti) * TRIANGLE_TEXELS;
     imageStore(u_triangleRecords, base, uvec4(ivec4(v[0], v[1])));
     imageStore(u_triangleRecords, base + 1, uvec4(uvec2(v[2]), flags, t.order));
     imageStore(u_triangleRecords, base + 2, uvec4(floatBitsToUint(t.zNdc.xyz), uint(t.edgeB.w)));
@@ -302,12 +323,46 @@ void storeTriangle(uint ti, BinTriangle t, ivec2 v[3], bool negated) {
 // Record ti as a hole: empty bounds, so that binning enters it nowhere. Its other texels are
 // never read.
 void storeHole(uint ti) {
-    imageStore(u_triangleRecords, int(ti) * TRIANGLE_TEXELS + 4, uvec4(0u));
+    if (RECORDS_AS_TEXELS) {
+        imageStore(u_triangleRecords, int(ti) * TRIANGLE_TEXELS + 4, uvec4(0u));
+    } else {
+        g_triangles[ti].boundsMin = 0u;
+        g_triangles[ti].boundsEnd = 0u;
+    }
+}
+
+// Attribute record ti through the storage buffer: the fields storeAttributes stores.
+void storeAttributeFields(uint ti, BinAttributes a) {
+    if (VERTEX_COLOURS) {
+        g_attributes[ti].colour0 = a.colour0;
+    }
+    if (VERTEX_COLOURS && !FLAT_COLOURS) {
+        g_attributes[ti].colour1 = a.colour1;
+        g_attributes[ti].colour2 = a.colour2;
+    }
+    if (VERTEX_NORMALS || FACE_NORMALS) {
+        g_attributes[ti].normal0 = a.normal0;
+    }
+    if (VERTEX_NORMALS || TEXTURES) {
+        g_attributes[ti].flags = a.flags;
+    }
+    if (VERTEX_NORMALS) {
+        g_attributes[ti].normal1 = a.normal1;
+        g_attributes[ti].normal2 = a.normal2;
+    }
+    if (TEXTURES) {
+        g_attributes[ti].uv01 = a.uv01;
+        g_attributes[ti].uv2 = a.uv2;
+    }
 }
 
 // Attribute record ti: only the fields shading can read (loadShadingAttributes in
 // bin_fragment.glsl, under the same constants); the others are never stored.
 void storeAttributes(uint ti, BinAttributes a) {
+    if (!RECORDS_AS_TEXELS) {
+        storeAttributeFields(ti, a);
+        return;
+    }
     int base = int(ti) * ATTRIBUTE_TEXELS;
     if (VERTEX_COLOURS) {
         imageStore(u_attributeRecords, base, floatBitsToUint(a.colour0));

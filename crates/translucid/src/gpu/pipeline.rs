@@ -45,6 +45,9 @@ pub struct DescriptorLayout {
 /// What to bind at one binding of a [`DescriptorSet`].
 pub enum Resource<'a> {
     Buffer(&'a Buffer),
+    /// As much of a buffer as one storage binding holds, from its start: for a buffer the
+    /// shaders reach past that only another way (through a texel view).
+    BufferPrefix(&'a Buffer),
     /// Image views (in SHADER_READ_ONLY_OPTIMAL) with one sampler.
     Images(&'a [vk::ImageView], vk::Sampler),
     StorageImage(vk::ImageView),
@@ -158,6 +161,11 @@ impl DescriptorLayout {
                     offset: 0,
                     range: vk::WHOLE_SIZE,
                 }],
+                Resource::BufferPrefix(b) => vec![vk::DescriptorBufferInfo {
+                    buffer: b.raw,
+                    offset: 0,
+                    range: b.size.min(range),
+                }],
                 _ => Vec::new(),
             })
             .collect();
@@ -177,7 +185,9 @@ impl DescriptorLayout {
                     image_view: *v,
                     image_layout: vk::ImageLayout::GENERAL,
                 }],
-                Resource::Buffer(_) | Resource::TexelBuffer(_) => Vec::new(),
+                Resource::Buffer(_) | Resource::BufferPrefix(_) | Resource::TexelBuffer(_) => {
+                    Vec::new()
+                }
             })
             .collect();
         let texel_views: Vec<[vk::BufferView; 1]> = resources

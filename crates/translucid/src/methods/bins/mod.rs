@@ -144,6 +144,7 @@ impl StagePipelines {
         gpu: &Gpu,
         layouts: &[&crate::gpu::DescriptorLayout],
         features: &RasterFeatures,
+        records_as_texels: bool,
     ) -> Result<Self> {
         let mut stage =
             |spirv: &'static [u8], constants: &[u32]| cache.get(gpu, layouts, spirv, constants);
@@ -153,8 +154,13 @@ impl StagePipelines {
         let mut setup = features.constants(false);
         setup[4..6].fill(0);
         setup[7..9].fill(0);
-        // Constant 4 of setup: SKIP_OCCLUSION_CULL.
-        let mut setup_unculled = setup;
+        // Constant 4 of setup: SKIP_OCCLUSION_CULL; constant 12, setup's own:
+        // RECORDS_AS_TEXELS.
+        let setup: Vec<u32> = setup
+            .into_iter()
+            .chain([u32::from(records_as_texels)])
+            .collect();
+        let mut setup_unculled = setup.clone();
         setup_unculled[4] = 1;
         let binning = features.binning_constants();
         let scan_step = |n: u32| {
@@ -251,6 +257,9 @@ pub struct Bins {
     slice_rows_limit: u32,
     /// The constants the stage pipelines (and the raster's) are specialized with.
     features: RasterFeatures,
+    /// Setup writes the triangle records through texel views: they pass what one storage
+    /// binding holds (`Resources::records_pass_a_binding`).
+    records_as_texels: bool,
     /// Tests start without the near-plane path whatever the frame (BinOptions).
     fixed_path_forced: bool,
     /// Frames still to record without the occlusion cull.
@@ -334,7 +343,9 @@ impl Bins {
             .map_err(|e| in_errors(method, e))?;
         let layouts = [&uploaded.layout, &resources.layout];
         let mut cache = ComputePipelineCache::new(std::mem::size_of::<BinPush>() as u32);
-        let stages = StagePipelines::select(&mut cache, gpu, &layouts, &features)?;
+        let records_as_texels = resources.records_pass_a_binding(gpu);
+        let stages =
+            StagePipelines::select(&mut cache, gpu, &layouts, &features, records_as_texels)?;
         let slice_rows_limit = options.bin_rows_per_slice.unwrap_or(u32::MAX);
         let mut push = BinPush {
             item_count: uploaded.transparent_quads,
@@ -360,6 +371,7 @@ impl Bins {
             push,
             slice_rows_limit,
             features,
+            records_as_texels,
             fixed_path_forced: options.assume_fixed_path,
             unculled_frames: 0,
             homogeneous_missed: false,
@@ -455,7 +467,9 @@ impl Bins {
             (fresh.homogeneous && !self.fixed_path_forced) || self.homogeneous_missed;
         let features = self.features.for_frame(fresh);
         let changed = features != self.features;
-        if changed {
+        let texels = self.resources.records_pass_a_binding(f.gpu);
+        if changed || texels != self.records_as_texels {
+            self.records_as_texels = texels;
             self.select(f.uploaded, features)?;
         }
         Ok(changed)
@@ -465,7 +479,13 @@ impl Bins {
     /// before.
     fn select(&mut self, uploaded: &GpuScene, features: RasterFeatures) -> Result<()> {
         let layouts = [&uploaded.layout, &self.resources.layout];
-        self.stages = StagePipelines::select(&mut self.cache, &self.gpu, &layouts, &features)?;
+        self.stages = StagePipelines::select(
+            &mut self.cache,
+            &self.gpu,
+            &layouts,
+            &features,
+            self.records_as_texels,
+        )?;
         self.features = features;
         Ok(())
     }

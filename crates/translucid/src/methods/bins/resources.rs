@@ -235,14 +235,16 @@ fn viewed_storage(gpu: &Gpu, name: &str, bytes: u64, format: vk::Format) -> Resu
     Viewed::new(gpu, storage_buffer(gpu, name, bytes)?, format)
 }
 
-/// A device-local buffer the stages write and read through texel views of `format`: only the
-/// device's texels a view bound it (2 GB of RGBA32 on lavapipe, against 128 MB a storage
-/// binding), which is what lets a frame hold millions of triangle records.
+/// A device-local buffer the stages read through texel views of `format`, which only the
+/// device's texels a view bound (2 GB of RGBA32 on lavapipe, against 128 MB a storage
+/// binding): what lets a frame hold millions of triangle records. Setup writes it as a
+/// storage buffer while it fits one binding, else through a storage texel view
+/// (`RECORDS_AS_TEXELS` of setup.comp; slower on lavapipe).
 fn texel_storage(gpu: &Gpu, name: &str, bytes: u64, format: vk::Format) -> Result<Viewed> {
     let buffer = gpu.create_buffer(
         name,
         bytes,
-        TEXELS | vk::BufferUsageFlags::STORAGE_TEXEL_BUFFER,
+        STORAGE | TEXELS | vk::BufferUsageFlags::STORAGE_TEXEL_BUFFER,
         MemoryLocation::GpuOnly,
     )?;
     Viewed::new(gpu, buffer, format)
@@ -426,6 +428,8 @@ impl Resources {
                 BindingKind::TexelBuffer,        // 26 opaque depth pyramid
                 BindingKind::StorageBuffer,      // 27 block totals
                 BindingKind::TexelBuffer,        // 28 block totals
+                BindingKind::StorageBuffer,      // 29 triangles, as far as a binding reaches
+                BindingKind::StorageBuffer,      // 30 attributes, as far as a binding reaches
             ],
             vk::ShaderStageFlags::COMPUTE,
         )?;
@@ -478,6 +482,13 @@ impl Resources {
             });
         }
         Ok(resources)
+    }
+
+    /// Whether the triangle records pass what one storage binding holds, so that setup must
+    /// write them through texel views.
+    pub fn records_pass_a_binding(&self, gpu: &Gpu) -> bool {
+        let bytes = u64::from(self.capacities.triangles) * TRIANGLE_BYTES.max(ATTRIBUTES_BYTES);
+        bytes > u64::from(gpu.info().max_storage_buffer_range)
     }
 
     /// Makes `slot` the frame slot the next frame is written into and recorded from. No frame
@@ -549,6 +560,8 @@ impl Resources {
             Resource::TexelBuffer(self.depth_pyramid.view.raw),
             Resource::Buffer(&self.bins.block_totals.buffer),
             Resource::TexelBuffer(self.bins.block_totals.view.raw),
+            Resource::BufferPrefix(&g.triangles.buffer),
+            Resource::BufferPrefix(&g.attributes.buffer),
         ])
     }
 

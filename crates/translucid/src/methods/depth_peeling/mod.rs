@@ -145,15 +145,20 @@ impl DepthPeeling {
             "depth_peeling",
             super::MethodKind::DepthPeeling.optional_features(),
         )?;
-        if !gpu
-            .format_features(RANGE_FORMAT)
-            .contains(vk::FormatFeatureFlags::COLOR_ATTACHMENT_BLEND)
-        {
-            return Err(Error::NoDevice(format!(
-                "{} cannot blend R32G32_SFLOAT attachments, which the depth_peeling method's \
-                 depth range needs",
-                gpu.info().name
-            )));
+        for (format, what) in [
+            (RANGE_FORMAT, "depth range"),
+            (COUNT_FORMAT, "fragment count"),
+        ] {
+            if !gpu
+                .format_features(format)
+                .contains(vk::FormatFeatureFlags::COLOR_ATTACHMENT_BLEND)
+            {
+                return Err(Error::NoDevice(format!(
+                    "{} cannot blend {format:?} attachments, which the depth_peeling method's \
+                     {what} needs",
+                    gpu.info().name
+                )));
+            }
         }
         let passes = match options.passes {
             Some(n) if n == 0 || n > MOST_PASSES => {
