@@ -12,9 +12,10 @@
 layout(set = 1, binding = 0) uniform usamplerBuffer u_vertexTexels;
 layout(set = 1, binding = 1) uniform usamplerBuffer u_quadTexels;
 layout(set = 1, binding = 2) uniform usamplerBuffer u_binDrawTexels;
-// Triangle and attribute records (BinTriangleRecord, BinAttributes), written by setup
-// through texels so that only a view's texels bound them (not a storage binding's range);
-// read through u_triangleTexels and u_attributeTexels.
+// Triangle and attribute records (BinTriangleRecord, BinAttributes), read through
+// u_triangleTexels and u_attributeTexels. Setup writes them through these texel views when
+// they pass what one storage binding holds (a view's texels bound only these), else through
+// the storage buffers setup.comp declares (bindings 29 and 30).
 layout(set = 1, binding = 3, rgba32ui) uniform writeonly uimageBuffer u_triangleRecords;
 layout(set = 1, binding = 4, std430) buffer HomogeneousBlock { BinHomogeneous g_homogeneous[]; };
 layout(set = 1, binding = 5, std430) buffer CounterBlock { BinCounters g_counters; };
