@@ -7,7 +7,9 @@ use translucid::methods::{MethodKind, MethodOptions};
 use translucid::metrics;
 use translucid::renderer::Renderer;
 use translucid::scene;
-use translucid_tests::{against_reference, asset, gpu, save_failure};
+use translucid_tests::{
+    assert_every_pixel_matches, assert_within_the_drivers_rasterization, asset, gpu,
+};
 
 const WIDTH: u32 = 160;
 const HEIGHT: u32 = 120;
@@ -17,18 +19,12 @@ const HEIGHT: u32 = 120;
 /// up to the dozens of spheres and boxes.
 #[test]
 fn depth_peeling_matches_the_reference_on_every_pixel() {
-    let gpu = gpu();
-    for name in ["layers", "spheres", "boxes", "polychrome"] {
-        let scene = scene::load(name).expect("generated scene");
-        let (m, got, want) = against_reference(&gpu, &scene, "depth_peeling", WIDTH, HEIGHT);
-        assert!(
-            m.max_error <= 2.0 / 255.0,
-            "{name}: {:.1}/255 off on {} pixels ({})",
-            m.max_error * 255.0,
-            m.pixels_over,
-            save_failure(&format!("depth_peeling_{name}"), &got, &want).display()
-        );
-    }
+    assert_every_pixel_matches(
+        &gpu(),
+        "depth_peeling",
+        &["layers", "spheres", "boxes", "polychrome"],
+        (WIDTH, HEIGHT),
+    );
 }
 
 /// As linked_list's test of the same name: the driver rasterizes these fragments, so where
@@ -39,24 +35,17 @@ fn depth_peeling_matches_the_reference_on_every_pixel() {
 fn depth_peeling_matches_the_reference_but_where_the_driver_rasterizes() {
     let gpu = gpu();
     let vase = asset("GlassVaseFlowers/GlassVaseFlowers.glb");
-    for (spec, most_over, (width, height)) in [
-        ("planes", 4, (WIDTH, HEIGHT)),
-        ("hairball", 4, (WIDTH, HEIGHT)),
-        ("particles", 4, (96, 64)),
-        (vase.to_str().expect("utf-8 path"), 16, (WIDTH, HEIGHT)),
-        ("textured", 480 * 270 / 400, (480, 270)),
-    ] {
-        let scene = scene::load(spec).expect("scene");
-        let (m, got, want) = against_reference(&gpu, &scene, "depth_peeling", width, height);
-        assert!(
-            m.pixels_over <= most_over && m.psnr >= 50.0,
-            "{spec}: {} pixels over 2/255 (at most {most_over}), up to {:.1}/255, {:.1} dB ({})",
-            m.pixels_over,
-            m.max_error * 255.0,
-            m.psnr,
-            save_failure("depth_peeling_driver", &got, &want).display()
-        );
-    }
+    assert_within_the_drivers_rasterization(
+        &gpu,
+        "depth_peeling",
+        &[
+            ("planes", 4, (WIDTH, HEIGHT)),
+            ("hairball", 4, (WIDTH, HEIGHT)),
+            ("particles", 4, (96, 64)),
+            (vase.to_str().expect("utf-8 path"), 16, (WIDTH, HEIGHT)),
+            ("textured", 480 * 270 / 400, (480, 270)),
+        ],
+    );
 }
 
 fn with_passes(passes: Option<u32>) -> MethodOptions {

@@ -7,7 +7,7 @@ use translucid::metrics;
 use translucid::renderer::Renderer;
 use translucid::scene::{Draw, Material, Mesh, Scene};
 use translucid::Error;
-use translucid_tests::{gpu, save_failure};
+use translucid_tests::{assert_matches_reference, gpu, save_failure};
 
 /// Two million draws of one triangle (a node hierarchy that doubles 21 times gives as
 /// many): their per-draw records pass the 128 MB one storage binding holds on lavapipe.
@@ -190,15 +190,7 @@ fn dispatches_go_on_in_z_past_the_workgroups_in_x() {
                     .display()
                 );
                 if method == MethodKind::Exact {
-                    let opaque = split.opaque.as_ref().expect("opaque layer");
-                    let reference =
-                        translucid::reference::render(&scene, opaque).expect("reference");
-                    let m = metrics::compare(&split.image, &reference).expect("same size");
-                    assert!(
-                        m.max_error <= 2.0 / 255.0,
-                        "{name}, rows of {row}: {:.1}/255",
-                        m.max_error * 255.0
-                    );
+                    assert_matches_reference(&format!("split_{name}_{row}"), &scene, &split);
                 }
             }
         }
@@ -224,16 +216,7 @@ fn a_five_million_triangle_frame_is_right() {
         "{} triangles rasterized",
         frame.triangles
     );
-    let opaque = frame.opaque.as_ref().expect("opaque layer");
-    let reference = translucid::reference::render(&scene, opaque).expect("reference");
-    let m = metrics::compare(&frame.image, &reference).expect("same size");
-    assert!(
-        m.max_error <= 2.0 / 255.0,
-        "{:.1}/255 on {} pixels ({})",
-        m.max_error * 255.0,
-        m.pixels_over,
-        save_failure("five_million", &frame.image, &reference).display()
-    );
+    assert_matches_reference("five_million", &scene, &frame);
 }
 
 /// Textures past one storage binding: three 4096x4096 textures with their mips (256 MB of
@@ -315,14 +298,5 @@ fn textures_past_a_storage_binding_are_sampled_right() {
     let frame = Renderer::new(&gpu, &scene, MethodKind::Exact, 160, 120)
         .and_then(|mut r| r.render(true))
         .expect("a frame over 256 MB of textures");
-    let opaque = frame.opaque.as_ref().expect("opaque layer");
-    let reference = translucid::reference::render(&scene, opaque).expect("reference");
-    let m = metrics::compare(&frame.image, &reference).expect("same size");
-    assert!(
-        m.max_error <= 2.0 / 255.0,
-        "{:.1}/255 on {} pixels ({})",
-        m.max_error * 255.0,
-        m.pixels_over,
-        save_failure("large_textures", &frame.image, &reference).display()
-    );
+    assert_matches_reference("large_textures", &scene, &frame);
 }

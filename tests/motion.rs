@@ -392,15 +392,8 @@ fn a_mesh_moved_through_the_camera_plane_is_right_on_its_first_frame() {
 fn a_renderer_takes_the_pipelines_another_holds() {
     let gpu = gpu();
     let scene = scene::load("particles").expect("scene");
-    for method in [
-        "exact",
-        "wavelet",
-        "blend",
-        "wboit",
-        "linked_list",
-        "depth_peeling",
-    ] {
-        let kind: MethodKind = method.parse().expect("a method name");
+    for kind in MethodKind::ALL {
+        let method = kind.name();
         let mut first = Renderer::new(&gpu, &scene, kind, WIDTH, HEIGHT).expect("renderer");
         first.render(true).expect("frame");
         let before = gpu.pipelines_created();
@@ -432,15 +425,8 @@ fn assets_added_later_draw_like_the_first_ones() {
     let gpu = gpu();
     let scene = scene::load("textured").expect("scene");
     let grown = with_copied_assets(&scene);
-    for method in [
-        "exact",
-        "wavelet",
-        "blend",
-        "wboit",
-        "linked_list",
-        "depth_peeling",
-    ] {
-        let kind: MethodKind = method.parse().expect("a method name");
+    for kind in MethodKind::ALL {
+        let method = kind.name();
         let mut first = Renderer::new(&gpu, &scene, kind, WIDTH, HEIGHT).expect("renderer");
         let before = first.render(false).expect("frame");
         let extended = first
@@ -494,15 +480,8 @@ fn a_renderer_draws_every_size_up_to_its_largest() {
     let orbit = Orbit::new(&scene);
     let warm = [(WIDTH, HEIGHT); WARM_UP];
     let sizes = [(72, 40), (33, 61), (WIDTH, 20), (1, 1), (WIDTH, HEIGHT)];
-    for method in [
-        "exact",
-        "wavelet",
-        "blend",
-        "wboit",
-        "linked_list",
-        "depth_peeling",
-    ] {
-        let kind: MethodKind = method.parse().expect("a method name");
+    for kind in MethodKind::ALL {
+        let method = kind.name();
         let mut renderer = Renderer::new(&gpu, &scene, kind, WIDTH, HEIGHT).expect("renderer");
         for (i, &(width, height)) in warm.iter().chain(&sizes).enumerate() {
             let mut frame_scene = scene.clone();

@@ -219,3 +219,51 @@ pub fn with_copied_assets(scene: &Scene) -> Scene {
     grown.transparent[i].material = scene.materials.len();
     grown
 }
+
+/// `frame` (rendered with its opaque layer read back) against the CPU reference over that
+/// layer: every pixel within 2/255, else the pictures are saved as `name`.
+pub fn assert_matches_reference(name: &str, scene: &Scene, frame: &Frame) {
+    let opaque = frame.opaque.as_ref().expect("opaque layer read back");
+    let reference = translucid::reference::render(scene, opaque).expect("reference");
+    let m = metrics::compare(&frame.image, &reference).expect("same size");
+    assert!(
+        m.max_error <= 2.0 / 255.0,
+        "{name}: {:.1}/255 off the reference on {} pixels ({})",
+        m.max_error * 255.0,
+        m.pixels_over,
+        save_failure(name, &frame.image, &reference).display()
+    );
+}
+
+/// Every generated scene of `names` with `method` at `width` x `height`, every pixel within
+/// 2/255 of the reference.
+pub fn assert_every_pixel_matches(gpu: &Gpu, method: &str, names: &[&str], size: (u32, u32)) {
+    for name in names {
+        let scene = translucid::scene::load(name).expect("generated scene");
+        let frame = render(gpu, &scene, method, size.0, size.1);
+        assert_matches_reference(&format!("{method}_{name}"), &scene, &frame);
+    }
+}
+
+/// The exact peers the driver rasterizes (linked_list, depth_peeling) on scenes where that
+/// shows: each `(scene, most pixels over 2/255, size)` case has at most that many pixels over
+/// and a PSNR of at least 50 dB.
+pub fn assert_within_the_drivers_rasterization(
+    gpu: &Gpu,
+    method: &str,
+    cases: &[(&str, u64, (u32, u32))],
+) {
+    for &(spec, most_over, (width, height)) in cases {
+        let scene = translucid::scene::load(spec).expect("scene");
+        let (m, got, want) = against_reference(gpu, &scene, method, width, height);
+        assert!(
+            m.pixels_over <= most_over && m.psnr >= 50.0,
+            "{method} on {spec}: {} pixels over 2/255 (at most {most_over}), up to {:.1}/255, \
+             {:.1} dB ({})",
+            m.pixels_over,
+            m.max_error * 255.0,
+            m.psnr,
+            save_failure(&format!("{method}_driver"), &got, &want).display()
+        );
+    }
+}

@@ -76,6 +76,26 @@ static translucid_draw draw_of(translucid_mesh mesh, translucid_material materia
     return draw;
 }
 
+/* `count` draws of `quad` in `material`, each `step` further from the camera than the one
+ * before. */
+static void stacked_draws(translucid_draw *draws, size_t count, translucid_mesh quad,
+                          translucid_material material, float step) {
+    size_t d;
+    for (d = 0; d < count; d++) {
+        draws[d] = draw_of(quad, material);
+        draws[d].transform[14] = -step * (float)d;
+    }
+}
+
+/* What `frame` cost, as translucid_frame_get_statistics reports it. */
+static translucid_frame_statistics statistics_of(translucid_frame frame) {
+    translucid_frame_statistics stats;
+    memset(&stats, 0, sizeof stats);
+    stats.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_STATISTICS;
+    CHECK(translucid_frame_get_statistics(g_ctx, frame, &stats));
+    return stats;
+}
+
 /* Both formats of one frame must agree; returns the linear pixels (caller frees). */
 static float *read_both(translucid_frame frame) {
     float *linear = malloc(W * H * 16);
@@ -133,9 +153,7 @@ static void over_host_layer(translucid_frame_info info, translucid_mesh quad,
     }
     free(pixels);
 
-    memset(&stats, 0, sizeof stats);
-    stats.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_STATISTICS;
-    CHECK(translucid_frame_get_statistics(g_ctx, frame, &stats));
+    stats = statistics_of(frame);
     near_or_fail((float)stats.method, (float)method, 0.0f, "statistics: method", 0);
     near_or_fail((float)stats.width, W, 0.0f, "statistics: width", 0);
     near_or_fail((float)stats.stage_count >= 2.0f, 1.0f, 0.0f, "statistics: at least 2 stages", 0);
@@ -155,15 +173,8 @@ static void exact_threshold(float threshold, float want, translucid_mesh quad,
     translucid_draw draws[2];
     translucid_frame frame;
     float *pixels;
-    size_t i, d;
-    memset(draws, 0, sizeof draws);
-    for (d = 0; d < 2; d++) {
-        draws[d].mesh = quad;
-        draws[d].material = red;
-        draws[d].transform[0] = draws[d].transform[5] = draws[d].transform[10] = 1.0f;
-        draws[d].transform[15] = 1.0f;
-        draws[d].transform[14] = -0.5f * (float)d; /* the second behind the first */
-    }
+    size_t i;
+    stacked_draws(draws, 2, quad, red, 0.5f); /* the second behind the first */
     info.draws = draws;
     info.draw_count = 2;
     info.exact_threshold = threshold;
@@ -183,18 +194,13 @@ static void linked_list_budget(uint32_t budget, translucid_mesh quad, translucid
     translucid_draw draws[2];
     translucid_frame frame;
     float *pixels;
-    size_t i, d;
-    for (d = 0; d < 2; d++) {
-        draws[d] = draw_of(quad, red);
-        draws[d].transform[14] = -0.5f * (float)d;
-    }
+    size_t i;
+    stacked_draws(draws, 2, quad, red, 0.5f);
     info.draws = draws;
     info.draw_count = 2;
     info.linked_list_node_budget = budget;
     CHECK(translucid_frame_render(g_ctx, &info, &frame));
-    memset(&stats, 0, sizeof stats);
-    stats.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_STATISTICS;
-    CHECK(translucid_frame_get_statistics(g_ctx, frame, &stats));
+    stats = statistics_of(frame);
     near_or_fail((float)stats.fragments, 2 * W * H, 0.0f, "linked_list: fragments", 0);
     near_or_fail((float)stats.tail_fragments, budget == 0 ? 0.0f : (float)(2 * W * H - budget),
                  0.0f, "linked_list: fragments past the budget", 0);
@@ -214,18 +220,13 @@ static void depth_peeling_passes(uint32_t passes, translucid_mesh quad, transluc
     translucid_draw draws[3];
     translucid_frame frame;
     float *pixels;
-    size_t i, d;
-    for (d = 0; d < 3; d++) {
-        draws[d] = draw_of(quad, red);
-        draws[d].transform[14] = -0.4f * (float)d; /* z -2, -2.4, -2.8: before the far plane */
-    }
+    size_t i;
+    stacked_draws(draws, 3, quad, red, 0.4f); /* z -2, -2.4, -2.8: before the far plane */
     info.draws = draws;
     info.draw_count = 3;
     info.depth_peeling_passes = passes;
     CHECK(translucid_frame_render(g_ctx, &info, &frame));
-    memset(&stats, 0, sizeof stats);
-    stats.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_STATISTICS;
-    CHECK(translucid_frame_get_statistics(g_ctx, frame, &stats));
+    stats = statistics_of(frame);
     near_or_fail((float)stats.unpeeled_pixels, passes == 1 ? (float)(W * H) : 0.0f, 0.0f,
                  "depth_peeling: pixels left unpeeled", 0);
     pixels = read_both(frame);
@@ -328,10 +329,7 @@ static void sampled_texture(uint32_t method, uint32_t wrap, float left, float ri
 
 /* GPU bytes the call that rendered `frame` allocated (destroying the frame). */
 static uint64_t allocated_by(translucid_frame frame) {
-    translucid_frame_statistics stats;
-    memset(&stats, 0, sizeof stats);
-    stats.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_STATISTICS;
-    CHECK(translucid_frame_get_statistics(g_ctx, frame, &stats));
+    translucid_frame_statistics stats = statistics_of(frame);
     CHECK(translucid_frame_destroy(g_ctx, frame));
     return stats.bytes_allocated;
 }
