@@ -11,7 +11,7 @@ use glam::{Mat4, Vec3};
 use std::ffi::{c_void, CStr};
 use std::sync::Mutex;
 use translucid::gpu::{
-    host_requirements, image_barrier, Gpu, GpuImage, GpuOptions, HostDevice, HostImage,
+    host_requirements_with, image_barrier, Gpu, GpuImage, GpuOptions, HostDevice, HostImage,
     HostTargets, MemoryLocation,
 };
 use translucid::methods::{MethodKind, MethodOptions};
@@ -69,7 +69,13 @@ impl Engine {
     /// An engine on Vulkan 1.3 with synchronization2 enabled when `sync2`, whose images may
     /// then be in its layouts (ATTACHMENT_OPTIMAL, READ_ONLY_OPTIMAL).
     fn with_synchronization2(sync2: bool) -> Self {
-        let wanted = host_requirements();
+        // An engine that uses every method: each one's features ORed in.
+        let optional: Vec<_> = MethodKind::ALL
+            .iter()
+            .flat_map(|kind| kind.optional_features())
+            .copied()
+            .collect();
+        let wanted = host_requirements_with(&optional);
         let api_version = if sync2 {
             vk::API_VERSION_1_3
         } else {
@@ -710,6 +716,23 @@ fn frames_past_their_bands_keep_the_engines_colour_and_grow_the_lists_once() {
 /// completed, nothing is built or allocated.
 #[test]
 fn frames_in_flight_at_different_sizes_match_the_reference() {
+    frames_in_flight_at_different_sizes(MethodKind::Exact, "spheres");
+}
+
+/// The exact peers on an engine's device, two frames in flight, the camera moving and the
+/// size changing: their first frames may find the pool or the passes too small (reported
+/// overflowed, grown for the frames after), every later frame is within 2/255 of the
+/// reference, and nothing is built or allocated once warm.
+#[test]
+fn the_exact_peers_in_flight_at_different_sizes_match_the_reference() {
+    for kind in [MethodKind::LinkedList, MethodKind::DepthPeeling] {
+        frames_in_flight_at_different_sizes(kind, "layers");
+    }
+}
+
+/// Frames of `kind` over `scene_name` orbiting, two in flight, at sizes from 1x1 to the
+/// renderer's largest, every other one into engine images larger than the frame.
+fn frames_in_flight_at_different_sizes(kind: MethodKind, scene_name: &str) {
     /// The top-left `width` x `height` of RGBA8 `pixels`, `stride` pixels a row.
     fn corner_of(pixels: &[u8], stride: u32, (width, height): (u32, u32)) -> Vec<u8> {
         (0..height as usize)
@@ -720,7 +743,7 @@ fn frames_in_flight_at_different_sizes_match_the_reference() {
             .collect()
     }
     const IN_FLIGHT: usize = 2;
-    let scene = translucid::scene::load("spheres").expect("generated scene");
+    let scene = translucid::scene::load(scene_name).expect("generated scene");
     let orbit = Orbit::new(&scene);
     let sizes = [
         (W, H),
@@ -756,16 +779,9 @@ fn frames_in_flight_at_different_sizes_match_the_reference() {
         let shared = EngineImages::new(&gpu, &largest, IN_FLIGHT);
         let images = |f: usize| if f % 2 == 0 { &sized[f] } else { &shared };
         let options = MethodOptions::default();
-        let mut renderer = Renderer::with_frames_in_flight(
-            &gpu,
-            &scene,
-            MethodKind::Exact,
-            W,
-            H,
-            &options,
-            IN_FLIGHT as u32,
-        )
-        .expect("renderer");
+        let mut renderer =
+            Renderer::with_frames_in_flight(&gpu, &scene, kind, W, H, &options, IN_FLIGHT as u32)
+                .expect("renderer");
         let mut warm = None;
         for first in (0..sizes.len()).step_by(IN_FLIGHT) {
             let batch = first..(first + IN_FLIGHT).min(sizes.len());
@@ -792,7 +808,14 @@ fn frames_in_flight_at_different_sizes_match_the_reference() {
                     .complete_host()
                     .expect("complete")
                     .expect("the submission finished, so the commands ran");
-                assert!(!done.overflowed, "frame {f}: {done:?}");
+                if done.overflowed {
+                    // Only the exact peers' first frames, whose buffers then grow.
+                    assert!(
+                        kind != MethodKind::Exact && f < IN_FLIGHT,
+                        "{kind} frame {f}: {done:?}"
+                    );
+                    continue;
+                }
                 let want = translucid::reference::render(&frame_scene(f), &layers[f])
                     .expect("reference")
                     .to_srgb8();
@@ -803,7 +826,7 @@ fn frames_in_flight_at_different_sizes_match_the_reference() {
                 let worst = worst_difference(&corner, &want);
                 assert!(
                     worst <= 2,
-                    "frame {f} at {width}x{height}: {worst}/255 off the reference"
+                    "{kind} frame {f} at {width}x{height}: {worst}/255 off the reference"
                 );
                 let engine_colour = largest.to_image().to_srgb8();
                 let outside = (0..got.len() / 4).filter(|&i| {
@@ -821,7 +844,10 @@ fn frames_in_flight_at_different_sizes_match_the_reference() {
             // Warm after the frames at the largest size.
             let built = (gpu.pipelines_created(), gpu.bytes_allocated());
             if let Some(warm) = warm {
-                assert_eq!(built, warm, "frames {first} and on built or allocated");
+                assert_eq!(
+                    built, warm,
+                    "{kind}: frames {first} and on built or allocated"
+                );
             } else if first + IN_FLIGHT >= 4 {
                 warm = Some(built);
             }
