@@ -66,6 +66,7 @@ fn bench_json_has_one_line_per_scene_and_method() {
             "wall_ms",
             "wall_ratio_to_blend",
             "peak_gpu_bytes",
+            "peak_over_blend_bytes",
             "pipelines_created",
             "bytes_allocated",
             "cpu_record_ms",
@@ -86,6 +87,7 @@ fn bench_json_has_one_line_per_scene_and_method() {
             "blend over blend is 1: {v}"
         );
         assert!(v["peak_gpu_bytes"].as_u64().is_some_and(|b| b > 0));
+        assert_eq!(v["peak_over_blend_bytes"], 0, "blend over itself: {v}");
     }
 }
 

@@ -257,6 +257,9 @@ fn print_results(results: &[Measured], bench: &Bench<'_>, json: bool) {
             .find(|b| b.scene == r.scene && b.method == "blend" && b.motion == r.motion);
         let ratio = r.method_ms / blend.map_or(f64::NAN, |b| b.method_ms);
         let wall_ratio = r.wall_ms / blend.map_or(f64::NAN, |b| b.wall_ms);
+        // The method's own memory: its peak over blend's, which holds the same scene and
+        // frame targets (each pair runs on a device of its own).
+        let over_blend = blend.map(|b| r.peak_gpu_bytes as i64 - b.peak_gpu_bytes as i64);
         // Moving over static from the same run, when both were.
         let over_static = results
             .iter()
@@ -293,6 +296,7 @@ fn print_results(results: &[Measured], bench: &Bench<'_>, json: bool) {
                 "stages": stages,
                 "ratio_to_blend": ratio,
                 "peak_gpu_bytes": r.peak_gpu_bytes,
+                "peak_over_blend_bytes": over_blend,
                 "pipelines_created": r.pipelines_created,
                 "bytes_allocated": r.bytes_allocated,
                 "cpu_record_ms": r.cpu_ms,
@@ -307,8 +311,8 @@ fn print_results(results: &[Measured], bench: &Bench<'_>, json: bool) {
             };
             println!(
                 "{:<40} {:<8} {motion}  total {:>9.3} ms  method {:>9.3} ms  x{:.2} blend  \
-                 frame wall {:>9.3} ms  x{:.2} blend  CPU record {:.3} ms  peak {:.1} MB  \
-                 pipelines created {}  bytes allocated {}",
+                 frame wall {:>9.3} ms  x{:.2} blend  CPU record {:.3} ms  peak {:.1} MB \
+                 ({:+.1} over blend)  pipelines created {}  bytes allocated {}",
                 r.scene,
                 r.method,
                 r.total_ms,
@@ -318,6 +322,7 @@ fn print_results(results: &[Measured], bench: &Bench<'_>, json: bool) {
                 wall_ratio,
                 r.cpu_ms,
                 r.peak_gpu_bytes as f64 / (1 << 20) as f64,
+                over_blend.map_or(f64::NAN, |b| b as f64 / (1 << 20) as f64),
                 r.pipelines_created,
                 r.bytes_allocated
             );

@@ -16,6 +16,14 @@ use crate::gpu::{
 use crate::scene::Scene;
 use crate::{Error, Result};
 
+/// State slots each resume list starts with. Rows suspend only where one walks tens of
+/// thousands of list entries (pixels hundreds of fragments deep): none of the bench's six
+/// scenes at 1280x720 suspends one. A slot holds a row's pixels (1.5 KB, and as much again on
+/// the other list), so slots for a sixteenth of a 720p frame's rows took 21 MB that no frame
+/// used. A deeper frame restarts the rows it finds no slot for and grows the slots from what
+/// the GPU counted.
+const INITIAL_RESUME_ROWS: u32 = 256;
+
 /// Entries the growable buffers hold.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Capacities {
@@ -53,11 +61,9 @@ impl Capacities {
         let rows_expected = fragments / u64::from(BIN_SIZE);
         let expected_entries = (rows_expected + rows_expected / 4).min(EXPECTED_BIN_ENTRIES) as u32;
         Self {
-            // Rows only suspend where pixels are hundreds of fragments deep: a sixteenth of
-            // the frame's rows to start with.
             resume: options
                 .initial_resume_rows
-                .unwrap_or((rows / 16).max(64))
+                .unwrap_or(INITIAL_RESUME_ROWS)
                 .clamp(1, rows.max(1)),
             resume_items: rows.max(1),
             triangles,
