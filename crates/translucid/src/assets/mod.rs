@@ -5,11 +5,13 @@
 #![deny(unsafe_code)]
 
 mod resident;
+mod sampled;
 #[cfg(test)]
 mod sampling_tests;
 pub mod texture_records;
 
 pub use resident::ResidentAssets;
+pub use sampled::SampledViews;
 
 use crate::gpu::{
     vk, BindingKind, Buffer, DepthMode, DescriptorLayout, DescriptorSet, Gpu, GpuImage,

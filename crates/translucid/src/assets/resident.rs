@@ -10,20 +10,19 @@
 
 #![deny(unsafe_code)]
 
-use super::texture_records::texture_data;
+use super::sampled::{SampledTextures, SampledViews};
 use super::{MeshRange, SCENE_STORAGE};
 use crate::gpu::{
     vk, AppendBuffer, BindingKind, Buffer, BufferView, DescriptorLayout, DescriptorSet, Gpu,
-    GpuImage, Resource, Sampler, ViewedBuffer,
+    GpuImage, Resource, Sampler,
 };
-use crate::scene::{self, srgb_lut, Mesh, Scene, Texture};
+use crate::scene::{self, Mesh, Scene, Texture};
 use crate::shader_types::{GpuMaterial, GpuVertex};
 use crate::{Error, Result};
 use glam::{Vec2, Vec3, Vec4};
 use std::sync::{Arc, Mutex};
 
 const RGBA32UI: vk::Format = vk::Format::R32G32B32A32_UINT;
-const BIN_TEXTURE_BYTES: u64 = std::mem::size_of::<super::texture_records::BinTexture>() as u64;
 const MATERIAL_BYTES: u64 = std::mem::size_of::<GpuMaterial>() as u64;
 
 /// The buffers every version of a context's assets appends to.
@@ -37,82 +36,8 @@ struct Buffers {
     vertex_view: BufferView,
     quad_view: BufferView,
     /// The textures as the compute rasters' software sampler reads them, made for the first
-    /// renderer whose method has one.
+    /// renderer whose method has one, holding those transparent draws use.
     sampled: Mutex<Option<SampledTextures>>,
-}
-
-/// The software sampler's texture records, every level's texels (RGBA8), and its sRGB
-/// decoding table.
-struct SampledTextures {
-    records: AppendBuffer,
-    texels: AppendBuffer,
-    srgb: ViewedBuffer,
-    /// Textures they hold: the first ones of the assets.
-    count: usize,
-}
-
-impl SampledTextures {
-    fn new(gpu: &Gpu, textures: &[Texture]) -> Result<Self> {
-        let (records, texels) = texture_data(textures);
-        check_texels(gpu, texels.len() as u64 * 4)?;
-        let texels: &[u8] = bytemuck::cast_slice(&texels);
-        // The texel view may not pass the device's limit, whatever room is left (a view, not
-        // a storage binding, reads them).
-        let most = most_texel_bytes(gpu);
-        Ok(Self {
-            records: AppendBuffer::new(
-                gpu,
-                "bin textures",
-                SCENE_STORAGE,
-                with_room(records.len() * BIN_TEXTURE_BYTES as usize),
-                Some(RGBA32UI),
-                bytemuck::cast_slice(&records),
-            )?,
-            texels: AppendBuffer::new(
-                gpu,
-                "bin texels",
-                SCENE_STORAGE,
-                texels_with_room(texels.len()).min(most.max(texels.len() as u64)),
-                Some(vk::Format::R32_UINT),
-                texels,
-            )?,
-            srgb: ViewedBuffer::with_data(
-                gpu,
-                "sRGB table",
-                bytemuck::cast_slice(srgb_lut()),
-                vk::Format::R32_SFLOAT,
-            )?,
-            count: textures.len(),
-        })
-    }
-
-    /// Appends `textures`, which follow the ones held; false (with room wasted) when they
-    /// do not fit.
-    fn append(&mut self, textures: &[Texture]) -> bool {
-        let (records, texels) = texture_data(textures);
-        let Some(texel_at) = self.texels.append(bytemuck::cast_slice(&texels), 4) else {
-            return false;
-        };
-        let records: Vec<_> = records
-            .iter()
-            .map(|r| super::texture_records::BinTexture {
-                first_texel: r.first_texel + (texel_at / 4) as u32,
-                ..*r
-            })
-            .collect();
-        let at = self.count as u64 * BIN_TEXTURE_BYTES;
-        // Records are found by texture index: they follow the ones before without a gap.
-        if self.records.used() != at
-            || self
-                .records
-                .append(bytemuck::cast_slice(&records), BIN_TEXTURE_BYTES)
-                != Some(at)
-        {
-            return false;
-        }
-        self.count += textures.len();
-        true
-    }
 }
 
 /// A texture's image and the descriptor set that binds it with its sampler.
@@ -238,7 +163,7 @@ impl Packed {
 }
 
 /// Room the buffers are made with beyond what they hold first, for assets added later: at
-/// least this many bytes, and half as much again (a quarter for texels, the largest). Past
+/// least this many bytes, and half as much again. Past
 /// it, the assets are uploaded anew with room again, so that a context growing one asset
 /// at a time uploads everything a few times (logarithmically often), not every time.
 const SPARE_BYTES: u64 = 1 << 20;
@@ -246,11 +171,6 @@ const SPARE_BYTES: u64 = 1 << 20;
 fn with_room(bytes: usize) -> u64 {
     let bytes = bytes as u64;
     bytes + (bytes / 2).max(SPARE_BYTES)
-}
-
-fn texels_with_room(bytes: usize) -> u64 {
-    let bytes = bytes as u64;
-    bytes + (bytes / 4).max(SPARE_BYTES)
 }
 
 /// The textures' images (with their sets over `layout` and a sampler from `samplers`,
@@ -303,23 +223,6 @@ fn record_uploads(gpu: &Gpu, cmd: vk::CommandBuffer, uploads: &[Arc<Upload>]) {
             std::slice::from_ref(&u.staging),
         );
     }
-}
-
-/// The most bytes of texels the software sampler reads: one texel view of R32 texels.
-fn most_texel_bytes(gpu: &Gpu) -> u64 {
-    u64::from(gpu.info().max_texel_buffer_elements) * 4
-}
-
-fn check_texels(gpu: &Gpu, bytes: u64) -> Result<()> {
-    let most = most_texel_bytes(gpu);
-    if bytes > most {
-        return Err(Error::InvalidScene(format!(
-            "the scene's textures take {} MB, over the {} MB this device's texel views hold",
-            bytes >> 20,
-            most >> 20
-        )));
-    }
-    Ok(())
 }
 
 impl ResidentAssets {
@@ -457,14 +360,7 @@ impl ResidentAssets {
         {
             return Ok(None);
         }
-        {
-            let mut sampled = b.sampled.lock().unwrap_or_else(|e| e.into_inner());
-            if let Some(s) = sampled.as_mut() {
-                if s.count != textures || !s.append(&scene.textures[textures..]) {
-                    return Ok(None);
-                }
-            }
-        }
+        // (The software sampler's copies are made as frames first use the new textures.)
         let mut samplers = self.samplers.clone();
         let made = make_textures(
             gpu,
@@ -534,32 +430,33 @@ impl ResidentAssets {
         self.buffers.materials.buffer()
     }
 
-    /// Texel views of the vertices, quads, materials, texture records, texels and sRGB
-    /// table, as the compute stages bind them: the textures as the software sampler reads
-    /// them are made on the first call, from `scene` (with its texels, and the assets'
-    /// textures).
-    pub fn texel_views(&self, gpu: &Gpu, scene: &Scene) -> Result<[vk::BufferView; 6]> {
+    /// Texel views of the vertices, quads and materials, as the compute stages bind them.
+    pub fn texel_views(&self) -> [vk::BufferView; 3] {
         let b = &self.buffers;
-        let mut sampled = b.sampled.lock().unwrap_or_else(|e| e.into_inner());
-        if sampled.is_none() {
-            *sampled = Some(SampledTextures::new(gpu, &scene.textures)?);
-        }
-        let view = |a: &AppendBuffer| a.view().map_or(vk::BufferView::null(), |v| v.raw);
-        let Some(s) = sampled.as_ref().filter(|s| s.count >= self.counts[1]) else {
-            return Err(Error::InvalidScene(
-                "the software sampler's textures were made for fewer textures than these \
-                 assets have"
-                    .into(),
-            ));
-        };
-        Ok([
+        [
             b.vertex_view.raw,
             b.quad_view.raw,
-            view(&b.materials),
-            view(&s.records),
-            view(&s.texels),
-            s.srgb.view.raw,
-        ])
+            b.materials.view().map_or(vk::BufferView::null(), |v| v.raw),
+        ]
+    }
+
+    /// The textures as the software sampler reads them, holding every texture `scene`'s
+    /// transparent draws use (copied now when they were not), shared by every renderer over
+    /// these assets. `scene` has these assets, or more ([`Self::extended`]).
+    pub fn sampled_views(&self, gpu: &Gpu, scene: &Scene) -> Result<SampledViews> {
+        let mut sampled = self
+            .buffers
+            .sampled
+            .lock()
+            .unwrap_or_else(|e| e.into_inner());
+        let sampled = match sampled.as_mut() {
+            Some(s) => {
+                s.hold_used(gpu, scene)?;
+                s
+            }
+            None => sampled.insert(SampledTextures::new(gpu, scene)?),
+        };
+        Ok(sampled.views())
     }
 
     /// The set binding texture `index`, or the white texture for `index` = the number of

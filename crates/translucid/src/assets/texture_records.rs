@@ -52,23 +52,34 @@ pub fn sampler_bits(s: &Sampler) -> u32 {
         | mip << SAMPLER_MIP_SHIFT
 }
 
-/// Texture descriptors and every level's texels, packed RGBA8, for the software sampler.
+/// Texture `t`'s record, its texels starting at texel `first_texel` of the packed buffer.
+pub(crate) fn bin_texture(t: &Texture, first_texel: u32) -> BinTexture {
+    BinTexture {
+        first_texel,
+        width: t.width(),
+        height: t.height(),
+        levels: t.levels.len() as u32,
+        srgb: u32::from(t.srgb),
+        sampler: sampler_bits(&t.sampler),
+        pad: [0; 2],
+    }
+}
+
+/// Every level's texels of `t`, packed RGBA8, level 0 first.
+pub(crate) fn level_texels(t: &Texture) -> impl Iterator<Item = u32> + '_ {
+    t.levels
+        .iter()
+        .flat_map(|level| level.texels.iter().map(|&t| u32::from_le_bytes(t)))
+}
+
+/// Records and texels of `textures`, packed one after another.
+#[cfg(test)]
 pub(crate) fn texture_data(textures: &[Texture]) -> (Vec<BinTexture>, Vec<u32>) {
     let mut infos = Vec::with_capacity(textures.len());
     let mut texels = Vec::new();
     for t in textures {
-        infos.push(BinTexture {
-            first_texel: texels.len() as u32,
-            width: t.width(),
-            height: t.height(),
-            levels: t.levels.len() as u32,
-            srgb: u32::from(t.srgb),
-            sampler: sampler_bits(&t.sampler),
-            pad: [0; 2],
-        });
-        for level in &t.levels {
-            texels.extend(level.texels.iter().map(|&t| u32::from_le_bytes(t)));
-        }
+        infos.push(bin_texture(t, texels.len() as u32));
+        texels.extend(level_texels(t));
     }
     (infos, texels)
 }

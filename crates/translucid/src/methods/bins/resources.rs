@@ -6,8 +6,8 @@ use super::layout::{
     OVERFLOW_BIN_ENTRIES, OVERFLOW_HOMOGENEOUS, OVERFLOW_RESUME, PIXEL_STATE_BYTES,
     RESUME_ITEM_BYTES, SCAN_GROUP_SIZE, TRIANGLE_BYTES, TRIANGLE_MATERIAL_SHIFT,
 };
-use crate::assets::GpuScene;
 use crate::assets::ResidentAssets;
+use crate::assets::{GpuScene, SampledViews};
 use crate::frame::FrameTargets;
 use crate::gpu::{
     memory_barrier, vk, BindingKind, Buffer, BufferView, DescriptorLayout, DescriptorSet, Gpu,
@@ -184,7 +184,9 @@ pub struct Resources {
     /// The scene's assets, kept alive for their texel views: vertices, quads, materials,
     /// texture records, texels and the sRGB table.
     _resident: std::sync::Arc<ResidentAssets>,
-    asset_views: [vk::BufferView; 6],
+    asset_views: [vk::BufferView; 3],
+    /// The software sampler's textures this renderer binds (kept alive while it does).
+    sampled: SampledViews,
     counters: Buffer,
     bins: BinArrays,
     /// The blocks with a non-empty bin, listed by the scan for the raster.
@@ -447,7 +449,8 @@ impl Resources {
             generation: 0,
             retirement: Retirement::default(),
             _resident: uploaded.resident.clone(),
-            asset_views: uploaded.resident.texel_views(gpu, scene)?,
+            asset_views: uploaded.resident.texel_views(),
+            sampled: uploaded.resident.sampled_views(gpu, scene)?,
             counters,
             bins: BinArrays::new(gpu, blocks, slabs)?,
             raster_bins: storage_buffer(gpu, "non-empty blocks", blocks * 4)?,
@@ -535,7 +538,13 @@ impl Resources {
         targets: &FrameTargets,
     ) -> Result<DescriptorSet> {
         let g = &self.growable;
-        let [vertices, quads, materials, texture_records, texels, srgb] = self.asset_views;
+        let [vertices, quads, materials] = self.asset_views;
+        let SampledViews {
+            records: texture_records,
+            texels,
+            srgb,
+            ..
+        } = self.sampled;
         self.layout.create_set(&[
             Resource::TexelBuffer(vertices),
             Resource::TexelBuffer(quads),
@@ -705,6 +714,15 @@ impl Resources {
             slot.generation = u64::MAX;
         }
         slot.draws.buffer.write(0, bytes)?;
+        // Textures the frame's transparent draws use for the first time are copied for the
+        // software sampler; when they took a new set of buffers, every slot binds it.
+        let sampled = uploaded.resident.sampled_views(gpu, scene)?;
+        if !sampled.same_buffers(&self.sampled) {
+            let old = std::mem::replace(&mut self.sampled, sampled);
+            self.retirement.retire(old);
+            self.generation += 1;
+        }
+        let slot = &mut self.slots[self.slot];
         if slot.scene_draws.0 != uploaded.draws().raw {
             slot.scene_draws = (
                 uploaded.draws().raw,

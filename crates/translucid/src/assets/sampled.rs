@@ -1,0 +1,216 @@
+//! The textures as the compute rasters' software sampler reads them: a record per texture,
+//! found by texture index, and every level's texels packed RGBA8 into one buffer read through
+//! a texel view. Only textures a frame's transparent draws use are copied, when a frame first
+//! uses them: an engine's textures are mostly on opaque surfaces, which the graphics passes
+//! sample from their images, and a second copy of them all cost exact more memory than a
+//! linked-list method uses in all (48 MB of StainedGlassLamp's 77, none of it sampled).
+//!
+//! One set of buffers is shared by every renderer over the same assets. A texture is added
+//! in place when it fits: its texels go past every byte written before and its record was
+//! never read, so no frame in flight is written under. One that does not fit makes a new,
+//! larger set, which each renderer binds from its next frame on, keeping the old one until
+//! its frames in flight have completed.
+
+use super::texture_records::{bin_texture, level_texels, BinTexture};
+use super::SCENE_STORAGE;
+use crate::gpu::{vk, AppendBuffer, Gpu, MemoryLocation, ViewedBuffer};
+use crate::scene::{srgb_lut, Scene, Texture};
+use crate::{Error, Result};
+use bytemuck::Zeroable;
+use std::sync::Arc;
+
+const RECORD_BYTES: u64 = std::mem::size_of::<BinTexture>() as u64;
+/// Texel room a set is made with beyond what it holds, at least: textures a later frame
+/// first uses are added in place until it runs out.
+const SPARE_TEXEL_BYTES: u64 = 64 << 10;
+
+/// The buffers one set of sampled textures lives in.
+pub struct SampledBuffers {
+    /// One record per texture index up to the capacity: zero until the texture is packed.
+    records: ViewedBuffer,
+    record_capacity: usize,
+    texels: AppendBuffer,
+    srgb: ViewedBuffer,
+}
+
+/// What a renderer binds: the views of one set of buffers, which it keeps alive while bound.
+#[derive(Clone)]
+pub struct SampledViews {
+    pub records: vk::BufferView,
+    pub texels: vk::BufferView,
+    pub srgb: vk::BufferView,
+    pub buffers: Arc<SampledBuffers>,
+}
+
+impl SampledViews {
+    /// Whether these are the views of `other`'s buffers.
+    pub fn same_buffers(&self, other: &Self) -> bool {
+        Arc::ptr_eq(&self.buffers, &other.buffers)
+    }
+}
+
+/// The current set of buffers and which textures it holds (kept behind the assets' lock).
+pub struct SampledTextures {
+    buffers: Arc<SampledBuffers>,
+    /// Per texture index: whether its texels are in `buffers`.
+    packed: Vec<bool>,
+}
+
+impl SampledTextures {
+    /// A set holding the textures `scene`'s transparent draws use.
+    pub fn new(gpu: &Gpu, scene: &Scene) -> Result<Self> {
+        let used: Vec<usize> = used_textures(scene).collect();
+        Self::holding(gpu, &scene.textures, &used)
+    }
+
+    /// A set holding the textures of `used` (indices into `textures`).
+    fn holding(gpu: &Gpu, textures: &[Texture], used: &[usize]) -> Result<Self> {
+        let mut packed = vec![false; textures.len()];
+        for &t in used {
+            packed[t] = true;
+        }
+        let bytes: u64 = packed_textures(textures, &packed).map(texel_bytes).sum();
+        let most = most_texel_bytes(gpu);
+        if bytes > most {
+            return Err(Error::InvalidScene(format!(
+                "the textures of the transparent draws take {} MB, over the {} MB this \
+                 device's texel views hold",
+                bytes >> 20,
+                most >> 20
+            )));
+        }
+        let record_capacity = textures.len() + textures.len() / 2 + 16;
+        let mut records = vec![BinTexture::zeroed(); record_capacity];
+        let mut texels = Vec::with_capacity((bytes / 4) as usize);
+        for (index, texture) in textures.iter().enumerate().filter(|(i, _)| packed[*i]) {
+            records[index] = bin_texture(texture, texels.len() as u32);
+            texels.extend(level_texels(texture));
+        }
+        let texel_capacity = (bytes + bytes / 4 + SPARE_TEXEL_BYTES).min(most.max(bytes));
+        // Host-visible: records are written in place as textures are added.
+        let mut record_buffer = gpu.create_buffer(
+            "sampled texture records",
+            record_capacity as u64 * RECORD_BYTES,
+            vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER,
+            MemoryLocation::CpuToGpu,
+        )?;
+        record_buffer.write(0, bytemuck::cast_slice(&records))?;
+        let buffers = SampledBuffers {
+            records: ViewedBuffer::new(gpu, record_buffer, vk::Format::R32G32B32A32_UINT)?,
+            record_capacity,
+            texels: AppendBuffer::new(
+                gpu,
+                "sampled texels",
+                SCENE_STORAGE,
+                texel_capacity,
+                Some(vk::Format::R32_UINT),
+                bytemuck::cast_slice(&texels),
+            )?,
+            srgb: ViewedBuffer::with_data(
+                gpu,
+                "sRGB table",
+                bytemuck::cast_slice(srgb_lut()),
+                vk::Format::R32_SFLOAT,
+            )?,
+        };
+        Ok(Self {
+            buffers: Arc::new(buffers),
+            packed,
+        })
+    }
+
+    /// Makes sure the textures `scene`'s transparent draws use are held: added in place, or,
+    /// when they do not fit, in a new set with every texture held so far.
+    pub fn hold_used(&mut self, gpu: &Gpu, scene: &Scene) -> Result<()> {
+        let missing = |packed: &[bool], t: usize| !packed.get(t).copied().unwrap_or(false);
+        if !used_textures(scene).any(|t| missing(&self.packed, t)) {
+            return Ok(());
+        }
+        self.packed
+            .resize(scene.textures.len().max(self.packed.len()), false);
+        let mut new: Vec<usize> = used_textures(scene)
+            .filter(|&t| missing(&self.packed, t))
+            .collect();
+        new.sort_unstable();
+        new.dedup();
+        if !self.add_in_place(scene, &new)? {
+            let mut used = new;
+            used.extend((0..self.packed.len()).filter(|&t| self.packed[t]));
+            *self = Self::holding(gpu, &scene.textures, &used)?;
+        }
+        Ok(())
+    }
+
+    /// Adds textures `new` to the current set; false when they do not fit (some may have
+    /// been added, their room wasted: the caller makes a new set).
+    // The one write to a buffer frames in flight may be reading (other records of it): why
+    // that is sound is said where it is written.
+    #[allow(unsafe_code)]
+    fn add_in_place(&mut self, scene: &Scene, new: &[usize]) -> Result<bool> {
+        let b = &self.buffers;
+        if new.iter().any(|&t| t >= b.record_capacity) {
+            return Ok(false);
+        }
+        for &t in new {
+            let texture = &scene.textures[t];
+            let texels: Vec<u32> = level_texels(texture).collect();
+            let Some(at) = b.texels.append(bytemuck::cast_slice(&texels), 4) else {
+                return Ok(false);
+            };
+            let record = bin_texture(texture, (at / 4) as u32);
+            // SAFETY: every writer of the records holds the assets' lock (we hold `&mut
+            // self`, which lives behind it), and the host never reads them. Record `t` is
+            // read only by frames whose transparent draws use texture `t`, and no frame was
+            // recorded with one yet: it would have added the texture.
+            unsafe {
+                b.records
+                    .buffer
+                    .write_unaliased(t as u64 * RECORD_BYTES, bytemuck::bytes_of(&record))?;
+            }
+            self.packed[t] = true;
+        }
+        Ok(true)
+    }
+
+    pub fn views(&self) -> SampledViews {
+        let b = &self.buffers;
+        SampledViews {
+            records: b.records.view.raw,
+            texels: b.texels.view().map_or(vk::BufferView::null(), |v| v.raw),
+            srgb: b.srgb.view.raw,
+            buffers: b.clone(),
+        }
+    }
+}
+
+/// The textures of the materials of `scene`'s transparent draws (repeated as often as drawn).
+fn used_textures(scene: &Scene) -> impl Iterator<Item = usize> + '_ {
+    scene
+        .transparent
+        .iter()
+        .filter_map(|d| scene.materials.get(d.material).and_then(|m| m.texture))
+}
+
+fn packed_textures<'a>(
+    textures: &'a [Texture],
+    packed: &'a [bool],
+) -> impl Iterator<Item = &'a Texture> + 'a {
+    textures
+        .iter()
+        .zip(packed)
+        .filter(|(_, p)| **p)
+        .map(|(t, _)| t)
+}
+
+fn texel_bytes(texture: &Texture) -> u64 {
+    texture
+        .levels
+        .iter()
+        .map(|l| l.texels.len() as u64 * 4)
+        .sum()
+}
+
+/// The most bytes of texels the software sampler reads: one texel view of R32 texels.
+pub fn most_texel_bytes(gpu: &Gpu) -> u64 {
+    u64::from(gpu.info().max_texel_buffer_elements) * 4
+}
