@@ -7,7 +7,8 @@ use translucid::metrics;
 use translucid::renderer::Renderer;
 use translucid::scene::{self, Camera, Draw, Material, Mesh, Scene};
 use translucid_tests::{
-    asset, crowded_bin, gpu, near_plane_scene, one_draw_scene, save_failure, stack_scene, tinted,
+    assert_matches_reference, asset, crowded_bin, gpu, near_plane_scene, one_draw_scene,
+    save_failure, stack_scene, tinted, with_large_texture,
 };
 
 const TOLERANCE: f32 = 2.0 / 255.0;
@@ -381,6 +382,43 @@ fn exact_rebuilds_the_raster_shader_for_unexpected_near_plane_triangles() {
 
 /// A frame rendered again unchanged creates no pipeline: everything it needs was built with
 /// the renderer or by the frames before.
+/// The software sampler copies only the textures transparent draws use, when a frame first
+/// uses one: a large texture on an opaque draw costs exact nothing over blend; the first
+/// frame whose transparent draws use it copies it, and draws it as the reference does.
+#[test]
+fn exact_copies_only_the_textures_transparent_draws_use() {
+    const SIZE: u32 = 1024;
+    // Level 0 alone.
+    let texture_bytes = u64::from(SIZE * SIZE * 4);
+    let (mut scene, large) = with_large_texture(&scene::load("textured").expect("scene"), SIZE);
+    scene.opaque.push(large.clone());
+    let first_frame = |kind| {
+        let gpu = gpu();
+        let mut renderer = Renderer::new(&gpu, &scene, kind, 96, 64).expect("renderer");
+        renderer.render(false).expect("frame").peak_gpu_bytes
+    };
+    let over_blend = first_frame(MethodKind::Exact) as i64 - first_frame(MethodKind::Blend) as i64;
+    assert!(
+        over_blend < texture_bytes as i64 / 2,
+        "exact takes {over_blend} bytes over blend: a {texture_bytes}-byte texture only an \
+         opaque draw uses was copied"
+    );
+
+    let gpu = gpu();
+    let mut renderer = Renderer::new(&gpu, &scene, MethodKind::Exact, 96, 64).expect("renderer");
+    renderer.render(false).expect("frame");
+    let mut drawn = scene.clone();
+    drawn.transparent.push(large);
+    renderer.set_frame(&drawn.frame_input()).expect("set frame");
+    let frame = renderer.render(true).expect("frame");
+    assert!(
+        frame.bytes_allocated >= texture_bytes,
+        "the frame that first draws the texture transparent allocated {} bytes",
+        frame.bytes_allocated
+    );
+    assert_matches_reference("exact_large_texture_drawn_transparent", &drawn, &frame);
+}
+
 #[test]
 fn exact_creates_no_pipeline_in_a_warm_frame() {
     let gpu = gpu();

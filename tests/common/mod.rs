@@ -220,6 +220,39 @@ pub fn with_copied_assets(scene: &Scene) -> Scene {
     grown
 }
 
+/// `scene` (`textured`) with one more texture, `size`² texels of a hue and alpha gradient,
+/// and a material like that of its first transparent draw sampling it; and a draw of that
+/// material, the first draw's quad moved towards the camera, to add to either layer.
+pub fn with_large_texture(scene: &Scene, size: u32) -> (Scene, Draw) {
+    assert!(size >= 2);
+    let mut grown = scene.clone();
+    let texels = (0..size * size)
+        .map(|i| {
+            let (x, y) = (i % size, i / size);
+            let byte = |v: u32| (v * 255 / (size - 1)) as u8;
+            [byte(x), byte(y), byte(size - 1 - x), 96 + byte(y) / 2]
+        })
+        .collect();
+    grown.textures.push(translucid::scene::Texture::new(
+        "large gradient",
+        size,
+        size,
+        texels,
+        true,
+    ));
+    let first = &scene.transparent[0];
+    grown.materials.push(Material {
+        texture: Some(scene.textures.len()),
+        ..scene.materials[first.material].clone()
+    });
+    let draw = Draw {
+        material: scene.materials.len(),
+        transform: Mat4::from_translation(Vec3::new(0.05, 0.1, 0.3)) * first.transform,
+        ..first.clone()
+    };
+    (grown, draw)
+}
+
 /// `frame` (rendered with its opaque layer read back) against the CPU reference over that
 /// layer: every pixel within 2/255, else the pictures are saved as `name`.
 pub fn assert_matches_reference(name: &str, scene: &Scene, frame: &Frame) {

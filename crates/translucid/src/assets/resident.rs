@@ -50,6 +50,10 @@ struct ResidentTexture {
 pub struct ResidentAssets {
     buffers: Arc<Buffers>,
     textures: Vec<Arc<ResidentTexture>>,
+    /// The same textures on the host, their texels shared with the scene's (not copied):
+    /// what the software sampler copies when a transparent draw first uses one. (Renderers
+    /// keep their scenes without texels.)
+    host_textures: Vec<Texture>,
     /// Bound for materials without a texture.
     white: Arc<ResidentTexture>,
     /// One hardware sampler for each distinct sampler the textures use.
@@ -290,6 +294,7 @@ impl ResidentAssets {
         Ok(Self {
             buffers: Arc::new(buffers),
             textures,
+            host_textures: scene.textures.clone(),
             white,
             samplers,
             texture_layout,
@@ -398,6 +403,7 @@ impl ResidentAssets {
         Ok(Some(Self {
             buffers: self.buffers.clone(),
             textures: all_textures,
+            host_textures: scene.textures.clone(),
             white: self.white.clone(),
             samplers,
             texture_layout: self.texture_layout.clone(),
@@ -451,10 +457,10 @@ impl ResidentAssets {
             .unwrap_or_else(|e| e.into_inner());
         let sampled = match sampled.as_mut() {
             Some(s) => {
-                s.hold_used(gpu, scene)?;
+                s.hold_used(gpu, &self.host_textures, scene)?;
                 s
             }
-            None => sampled.insert(SampledTextures::new(gpu, scene)?),
+            None => sampled.insert(SampledTextures::new(gpu, &self.host_textures, scene)?),
         };
         Ok(sampled.views())
     }

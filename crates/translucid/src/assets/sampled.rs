@@ -57,10 +57,11 @@ pub struct SampledTextures {
 }
 
 impl SampledTextures {
-    /// A set holding the textures `scene`'s transparent draws use.
-    pub fn new(gpu: &Gpu, scene: &Scene) -> Result<Self> {
-        let used: Vec<usize> = used_textures(scene).collect();
-        Self::holding(gpu, &scene.textures, &used)
+    /// A set holding the textures of `textures` (the assets', with their texels) that
+    /// `scene`'s transparent draws use.
+    pub fn new(gpu: &Gpu, textures: &[Texture], scene: &Scene) -> Result<Self> {
+        let used = used_textures(textures, scene)?;
+        Self::holding(gpu, textures, &used)
     }
 
     /// A set holding the textures of `used` (indices into `textures`).
@@ -120,23 +121,26 @@ impl SampledTextures {
     }
 
     /// Makes sure the textures `scene`'s transparent draws use are held: added in place, or,
-    /// when they do not fit, in a new set with every texture held so far.
-    pub fn hold_used(&mut self, gpu: &Gpu, scene: &Scene) -> Result<()> {
+    /// when they do not fit, in a new set with every texture held so far. `textures` are
+    /// the assets' (with their texels): a renderer's version of them, which may be older
+    /// (fewer) than the version that made the set.
+    pub fn hold_used(&mut self, gpu: &Gpu, textures: &[Texture], scene: &Scene) -> Result<()> {
         let missing = |packed: &[bool], t: usize| !packed.get(t).copied().unwrap_or(false);
-        if !used_textures(scene).any(|t| missing(&self.packed, t)) {
+        if !scene_textures(scene)
+            .flatten()
+            .any(|t| missing(&self.packed, t))
+        {
             return Ok(());
         }
+        let mut new = used_textures(textures, scene)?;
+        new.retain(|&t| missing(&self.packed, t));
         self.packed
-            .resize(scene.textures.len().max(self.packed.len()), false);
-        let mut new: Vec<usize> = used_textures(scene)
-            .filter(|&t| missing(&self.packed, t))
-            .collect();
-        new.sort_unstable();
-        new.dedup();
-        if !self.add_in_place(scene, &new)? {
-            let mut used = new;
-            used.extend((0..self.packed.len()).filter(|&t| self.packed[t]));
-            *self = Self::holding(gpu, &scene.textures, &used)?;
+            .resize(textures.len().max(self.packed.len()), false);
+        if !self.add_in_place(textures, &new)? {
+            // Textures a newer version of the assets added are left out here, and added
+            // again by the frames that use them.
+            new.extend((0..textures.len()).filter(|&t| self.packed[t]));
+            *self = Self::holding(gpu, textures, &new)?;
         }
         Ok(())
     }
@@ -146,13 +150,13 @@ impl SampledTextures {
     // The one write to a buffer frames in flight may be reading (other records of it): why
     // that is sound is said where it is written.
     #[allow(unsafe_code)]
-    fn add_in_place(&mut self, scene: &Scene, new: &[usize]) -> Result<bool> {
+    fn add_in_place(&mut self, textures: &[Texture], new: &[usize]) -> Result<bool> {
         let b = &self.buffers;
         if new.iter().any(|&t| t >= b.record_capacity) {
             return Ok(false);
         }
         for &t in new {
-            let texture = &scene.textures[t];
+            let texture = &textures[t];
             let texels: Vec<u32> = level_texels(texture).collect();
             let Some(at) = b.texels.append(bytemuck::cast_slice(&texels), 4) else {
                 return Ok(false);
@@ -183,12 +187,26 @@ impl SampledTextures {
     }
 }
 
-/// The textures of the materials of `scene`'s transparent draws (repeated as often as drawn).
-fn used_textures(scene: &Scene) -> impl Iterator<Item = usize> + '_ {
+/// The texture of each of `scene`'s transparent draws' materials, if it has one.
+fn scene_textures(scene: &Scene) -> impl Iterator<Item = Option<usize>> + '_ {
     scene
         .transparent
         .iter()
-        .filter_map(|d| scene.materials.get(d.material).and_then(|m| m.texture))
+        .map(|d| scene.materials.get(d.material).and_then(|m| m.texture))
+}
+
+/// The textures (indices into `textures`) `scene`'s transparent draws use, each once.
+fn used_textures(textures: &[Texture], scene: &Scene) -> Result<Vec<usize>> {
+    let mut used: Vec<usize> = scene_textures(scene).flatten().collect();
+    used.sort_unstable();
+    used.dedup();
+    match used.last() {
+        Some(&t) if t >= textures.len() => Err(Error::InvalidScene(format!(
+            "a transparent draw samples texture {t}, past the {} the assets hold",
+            textures.len()
+        ))),
+        _ => Ok(used),
+    }
 }
 
 fn packed_textures<'a>(
