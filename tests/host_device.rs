@@ -1239,3 +1239,84 @@ fn textures_added_later_are_uploaded_by_the_next_frame() {
     let errors = ERRORS.lock().map(|e| e.clone()).unwrap_or_default();
     assert!(errors.is_empty(), "validation errors: {errors:#?}");
 }
+
+/// The software sampler copies a texture when a frame's transparent draws first use it, on an
+/// engine's device, two frames in flight: `textured`'s draws join one a frame, each with its
+/// own texture, added in place while the frame before is recorded and not yet submitted;
+/// then a 256² texture too large for the room left, which takes a new set of buffers while
+/// a frame recorded with the old set is in flight. Every frame is within 2/255 of the
+/// reference, under validation.
+#[test]
+fn textures_first_used_by_frames_in_flight_match_the_reference() {
+    const IN_FLIGHT: usize = 2;
+    let textured = translucid::scene::load("textured").expect("generated scene");
+    let (scene, large) = translucid_tests::with_large_texture(&textured, 256);
+    let joined = scene.transparent.len();
+    // Frame f draws the first f + 1 transparent draws, and the last frames the large one too.
+    let frames = joined + 3;
+    let frame_scene = |f: usize| {
+        let mut s = scene.clone();
+        s.transparent.truncate(f + 1);
+        if f >= joined {
+            s.transparent.push(large.clone());
+        }
+        s
+    };
+    let layer = OpaqueLayer::clear(W, H, scene.background);
+    let engine = Engine::new();
+    {
+        // SAFETY: the engine's live objects, outliving `gpu` (dropped at the end of this block).
+        let gpu = unsafe { Gpu::from_host(&engine.host_device()) }.expect("host device");
+        let images = EngineImages::new(&gpu, &layer, IN_FLIGHT);
+        let mut renderer = Renderer::with_frames_in_flight(
+            &gpu,
+            &frame_scene(0),
+            MethodKind::Exact,
+            W,
+            H,
+            &MethodOptions::default(),
+            IN_FLIGHT as u32,
+        )
+        .expect("renderer");
+        for first in (0..frames).step_by(IN_FLIGHT) {
+            let batch = first..(first + IN_FLIGHT).min(frames);
+            for (k, f) in batch.clone().enumerate() {
+                let allocated = gpu.bytes_allocated();
+                renderer
+                    .set_frame(&frame_scene(f).frame_input())
+                    .expect("set frame");
+                engine.begin(k);
+                let cmd = engine.cmds[k];
+                images.record_opaque(&gpu, cmd);
+                // SAFETY: the engine's recording command buffer and images of the frame's size.
+                unsafe { renderer.record_host(&images.targets(cmd)) }.expect("record");
+                images.record_readback(&gpu, cmd, k);
+                if f == joined {
+                    // Level 0 alone: the large texture was copied, into a new set.
+                    assert!(
+                        gpu.bytes_allocated() - allocated >= 256 * 256 * 4,
+                        "frame {f} first draws the large texture and copied none of it"
+                    );
+                }
+            }
+            for k in 0..batch.len() {
+                engine.submit(k);
+            }
+            for (k, f) in batch.enumerate() {
+                engine.wait(k);
+                let done = renderer
+                    .complete_host()
+                    .expect("complete")
+                    .expect("the submission finished, so the commands ran");
+                assert!(!done.overflowed, "frame {f}: {done:?}");
+                let want = translucid::reference::render(&frame_scene(f), &layer)
+                    .expect("reference")
+                    .to_srgb8();
+                let worst = worst_difference(&images.srgb(k), &want);
+                assert!(worst <= 2, "frame {f}: {worst}/255 off the reference");
+            }
+        }
+    }
+    let errors = ERRORS.lock().map(|e| e.clone()).unwrap_or_default();
+    assert!(errors.is_empty(), "validation errors: {errors:#?}");
+}
