@@ -125,3 +125,64 @@ fn past_a_fixed_budget_the_tail_is_blended_and_counted() {
         assert!(err.to_string().contains("linked_list"), "{err}");
     }
 }
+
+/// The pool reached through its texel view, as pools past one storage binding are, forced on
+/// small frames: the same picture as through the storage binding, bit for bit, on lists
+/// dozens deep, crossing hair and textured surfaces.
+#[test]
+fn the_pool_through_its_texel_view_draws_what_its_storage_binding_draws() {
+    let gpu = gpu();
+    for name in ["spheres", "hairball", "particles", "textured"] {
+        let scene = scene::load(name).expect("generated scene");
+        let frame = |nodes_as_texels: bool| {
+            let mut options = MethodOptions::default();
+            options.linked_list.nodes_as_texels = nodes_as_texels;
+            Renderer::with_options(
+                &gpu,
+                &scene,
+                MethodKind::LinkedList,
+                WIDTH,
+                HEIGHT,
+                &options,
+            )
+            .and_then(|mut r| r.render(false))
+            .expect("frame")
+        };
+        let (through_texels, through_binding) = (frame(true), frame(false));
+        assert_eq!(through_texels.tail_fragments, 0, "{name}");
+        let m = metrics::compare(&through_texels.image, &through_binding.image).expect("size");
+        assert!(
+            m.max_error == 0.0,
+            "{name}: {:.2}/255 off the frame through the storage binding",
+            m.max_error * 255.0
+        );
+    }
+}
+
+/// Particles at 1280x720, 16 million fragments: a pool past one storage binding, grown to
+/// hold them all, so that every pixel is the reference's but where the driver rasterizes
+/// (surfaces crossing within its rounding, as above).
+#[test]
+fn a_pool_past_one_storage_binding_holds_every_fragment() {
+    let gpu = gpu();
+    let scene = scene::load("particles").expect("generated scene");
+    let mut renderer =
+        Renderer::new(&gpu, &scene, MethodKind::LinkedList, 1280, 720).expect("renderer");
+    let frame = renderer.render(true).expect("frame");
+    let binding_nodes = u64::from(gpu.info().max_storage_buffer_range) / 28;
+    assert!(
+        frame.fragments > binding_nodes,
+        "{} fragments fit one storage binding of {binding_nodes} nodes",
+        frame.fragments
+    );
+    assert_eq!(frame.tail_fragments, 0, "{} fragments", frame.fragments);
+    let opaque = frame.opaque.as_ref().expect("opaque layer");
+    let reference = translucid::reference::render(&scene, opaque).expect("reference");
+    let m = metrics::compare(&frame.image, &reference).expect("same size");
+    assert!(
+        m.pixels_over <= 16,
+        "{} pixels over 2/255 (worst {:.1}/255)",
+        m.pixels_over,
+        m.max_error * 255.0
+    );
+}

@@ -3,6 +3,12 @@
 // pixel of the frame, the pool of nodes, and the counters. A node is NODE_WORDS words: the
 // fragment's radiance and transmittance as six halves, its order depth, the draw and the
 // primitive that break depth ties, and the next node of its pixel's list.
+//
+// The pool is one buffer, bound twice: as a storage buffer, as far as one binding reaches,
+// and as a storage texel buffer, which reaches further (512 MB of words on lavapipe against
+// 128 MB). A pool past one storage binding is read and written through the texel view
+// (constant 0); one within it through the storage buffer, whose stores are cheaper on
+// lavapipe.
 #ifndef TRANSLUCID_LINKED_LIST_GLSL
 #define TRANSLUCID_LINKED_LIST_GLSL
 
@@ -17,6 +23,8 @@
 
 layout(set = LIST_SET, binding = 0, std430) buffer HeadBlock { uint g_heads[]; };
 layout(set = LIST_SET, binding = 1, std430) buffer NodeBlock { uint g_nodes[]; };
+layout(set = LIST_SET, binding = 3, r32ui) uniform uimageBuffer u_nodeTexels;
+layout(constant_id = 0) const bool NODES_AS_TEXELS = false;
 // Fragments that asked for a node (all of them: past `capacity`, the rest found none), the
 // nodes the pool holds, and the frame's size in pixels (heads are rows of its width).
 layout(set = LIST_SET, binding = 2, std430) buffer ListCounters {
@@ -28,6 +36,18 @@ layout(set = LIST_SET, binding = 2, std430) buffer ListCounters {
 
 uint headIndex(uvec2 pixel) {
     return pixel.y * g_list.width + pixel.x;
+}
+
+uint nodeWord(uint at) {
+    return NODES_AS_TEXELS ? imageLoad(u_nodeTexels, int(at)).r : g_nodes[at];
+}
+
+void setNodeWord(uint at, uint word) {
+    if (NODES_AS_TEXELS) {
+        imageStore(u_nodeTexels, int(at), uvec4(word));
+    } else {
+        g_nodes[at] = word;
+    }
 }
 
 #endif

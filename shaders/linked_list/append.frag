@@ -24,13 +24,14 @@ void main() {
     uint node = atomicAdd(g_list.fragments, 1u);
     if (node < g_list.capacity) {
         uint at = node * NODE_WORDS;
-        g_nodes[at] = packHalf2x16(radiance.rg);
-        g_nodes[at + 1u] = packHalf2x16(vec2(radiance.b, transmittance.r));
-        g_nodes[at + 2u] = packHalf2x16(transmittance.gb);
-        g_nodes[at + NODE_DEPTH] = floatBitsToUint(fragmentOrderDepth());
-        g_nodes[at + 4u] = u_push.drawIndex;
-        g_nodes[at + 5u] = uint(gl_PrimitiveID);
-        g_nodes[at + NODE_NEXT] = atomicExchange(g_heads[headIndex(uvec2(gl_FragCoord.xy))], node);
+        setNodeWord(at, packHalf2x16(radiance.rg));
+        setNodeWord(at + 1u, packHalf2x16(vec2(radiance.b, transmittance.r)));
+        setNodeWord(at + 2u, packHalf2x16(transmittance.gb));
+        setNodeWord(at + NODE_DEPTH, floatBitsToUint(fragmentOrderDepth()));
+        setNodeWord(at + 4u, u_push.drawIndex);
+        setNodeWord(at + 5u, uint(gl_PrimitiveID));
+        setNodeWord(at + NODE_NEXT,
+                    atomicExchange(g_heads[headIndex(uvec2(gl_FragCoord.xy))], node));
         // Nothing blended now: the resolve composites it in order.
         o_radiance = vec4(0.0);
         o_transmittance = vec4(1.0);

@@ -19,7 +19,7 @@
 layout(local_size_x = 8, local_size_y = 8) in;
 
 // The frame's colour, composited in place.
-layout(set = 0, binding = 3, rgba16f) uniform image2D u_colour;
+layout(set = 0, binding = 4, rgba16f) uniform image2D u_colour;
 
 #define SELECT 16u
 // Greater than every key: a depth's bits are never all ones (a NaN).
@@ -27,7 +27,7 @@ const uvec3 NO_KEY = uvec3(0xFFFFFFFFu);
 
 uvec3 nodeKey(uint node) {
     uint at = node * NODE_WORDS;
-    return uvec3(g_nodes[at + NODE_DEPTH], g_nodes[at + 4u], g_nodes[at + 5u]);
+    return uvec3(nodeWord(at + NODE_DEPTH), nodeWord(at + 4u), nodeWord(at + 5u));
 }
 
 // Depths are positive floats, whose bits order as they do.
@@ -57,7 +57,7 @@ void main() {
             do {
                 uvec3 key = nodeKey(n);
                 uint node = n;
-                n = g_nodes[n * NODE_WORDS + NODE_NEXT];
+                n = nodeWord(n * NODE_WORDS + NODE_NEXT);
                 if (!started || before(last, key)) {
                     found++;
                     // Into the sorted selection; what falls off the end is dropped.
@@ -75,9 +75,9 @@ void main() {
             [[unroll]] for (uint j = 0u; j < SELECT; j++) {
                 if (j < found) {
                     uint at = nodes[j] * NODE_WORDS;
-                    vec2 rg = unpackHalf2x16(g_nodes[at]);
-                    vec2 bt = unpackHalf2x16(g_nodes[at + 1u]);
-                    vec2 gb = unpackHalf2x16(g_nodes[at + 2u]);
+                    vec2 rg = unpackHalf2x16(nodeWord(at));
+                    vec2 bt = unpackHalf2x16(nodeWord(at + 1u));
+                    vec2 gb = unpackHalf2x16(nodeWord(at + 2u));
                     radiance += transmittance * vec3(rg, bt.x);
                     transmittance *= vec3(bt.y, gb);
                 }

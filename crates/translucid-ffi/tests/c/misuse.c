@@ -385,7 +385,7 @@ static void frames(translucid_context *ctx, translucid_context *other) {
     }
     info = frame_info(&draw);
     info.method = TRANSLUCID_METHOD_LINKED_LIST;
-    info.linked_list_node_budget = UINT32_MAX; /* past one storage buffer's worth of nodes */
+    info.linked_list_node_budget = UINT32_MAX; /* past the nodes one texel view reaches */
     EXPECT(ctx, translucid_frame_render(ctx, &info, &frame),
            TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
     TRUE_OR_FAIL(strstr(translucid_context_last_error(ctx), "budget") != NULL);

@@ -12,7 +12,9 @@
 //! expected fragments and grows for later frames when a frame finds it too small (that frame
 //! is rendered again, standalone, or reported overflowed); with
 //! [`LinkedListOptions::node_budget`] it stays as given. Within its pool the result is exact.
-//! One storage binding bounds the pool (128 MB: 4.8 million nodes on lavapipe).
+//! The passes reach the pool through a storage binding while it fits one (128 MB: 4.8
+//! million nodes on lavapipe), and through a storage texel view past it, whose stores cost
+//! more there: one view bounds the pool (512 MB: 19 million nodes on lavapipe).
 
 use super::{FrameCheck, FrameDone, Method, RecordContext};
 use crate::assets::GpuScene;
@@ -20,14 +22,15 @@ use crate::frame::FrameTargets;
 use crate::gpu::{
     image_barrier, memory_barrier, vk, BindingKind, Blend, Buffer, ComputePipeline,
     ComputePipelineCache, DepthMode, DescriptorLayout, DescriptorSet, Gpu, GraphicsPipeline,
-    MemoryLocation, PipelineState, RenderTarget, Resource, Retirement,
+    MemoryLocation, PipelineState, RenderTarget, Resource, Retirement, ViewedBuffer,
 };
 use crate::scene::Scene;
 use crate::{Error, Result};
 use std::sync::Arc;
 
 /// Words of a node (`NODE_WORDS` of linked_list.glsl).
-const NODE_BYTES: u64 = 7 * 4;
+const NODE_WORDS: u64 = 7;
+const NODE_BYTES: u64 = NODE_WORDS * 4;
 /// The counters' words: fragments, capacity, width, height (`ListCounters`).
 const COUNTER_BYTES: u64 = 16;
 
@@ -37,13 +40,17 @@ pub struct LinkedListOptions {
     /// Nodes in the pool, fixed: fragments past it are blended unsorted (the tail). `None`
     /// sizes the pool from the frame and grows it as frames need.
     pub node_budget: Option<u64>,
+    /// Reach the pool through its texel view whatever its size, as pools past one storage
+    /// binding are, so that tests can check that path on small frames.
+    #[doc(hidden)]
+    pub nodes_as_texels: bool,
 }
 
 /// The pool and the heads, replaced together when the pool grows, with the passes' sets.
 struct Lists {
     heads: Buffer,
     /// Named by the sets only.
-    _nodes: Buffer,
+    _nodes: ViewedBuffer,
     append_set: DescriptorSet,
     resolve_set: DescriptorSet,
     capacity: u32,
@@ -56,12 +63,54 @@ struct Layouts {
     resolve: DescriptorLayout,
 }
 
+/// The two passes' pipelines, for a pool reached through its storage binding or through its
+/// texel view (`NODES_AS_TEXELS`).
+struct Passes {
+    nodes_as_texels: bool,
+    /// (back faces kept, back faces culled)
+    append: (Arc<GraphicsPipeline>, Arc<GraphicsPipeline>),
+    resolve: Arc<ComputePipeline>,
+}
+
+impl Passes {
+    fn new(
+        gpu: &Gpu,
+        uploaded: &GpuScene,
+        render_pass: vk::RenderPass,
+        layouts: &Layouts,
+        nodes_as_texels: bool,
+    ) -> Result<Self> {
+        let constants = [u32::from(nodes_as_texels)];
+        let append = uploaded.mesh_pipelines_with(
+            gpu,
+            render_pass,
+            crate::spirv!("linked_list/append.frag"),
+            &[&layouts.append],
+            &PipelineState {
+                blends: &[Blend::PremultipliedTransmittance],
+                depth: DepthMode::Less(false),
+                fragment_constants: &constants,
+                vertex_input: true,
+            },
+        )?;
+        let resolve = ComputePipelineCache::new(0).get(
+            gpu,
+            &[&layouts.resolve],
+            crate::spirv!("linked_list/resolve.comp"),
+            &constants,
+        )?;
+        Ok(Self {
+            nodes_as_texels,
+            append,
+            resolve,
+        })
+    }
+}
+
 pub struct LinkedList {
     gpu: Gpu,
     append: RenderTarget,
-    /// (back faces kept, back faces culled)
-    append_pipelines: (Arc<GraphicsPipeline>, Arc<GraphicsPipeline>),
-    resolve: Arc<ComputePipeline>,
+    passes: Passes,
     layouts: Layouts,
     lists: Lists,
     counters: Buffer,
@@ -70,12 +119,20 @@ pub struct LinkedList {
     /// Per frame slot, the pool its frame was recorded with.
     recorded: Vec<u32>,
     fixed: bool,
+    /// `LinkedListOptions::nodes_as_texels`.
+    texels_forced: bool,
     retirement: Retirement,
 }
 
-/// The most nodes one storage binding holds.
+/// The most nodes the pool holds: what one texel view of its words reaches.
 fn most_nodes(gpu: &Gpu) -> u64 {
-    (u64::from(gpu.info().max_storage_buffer_range) / NODE_BYTES).min(u64::from(u32::MAX))
+    (u64::from(gpu.info().max_texel_buffer_elements) / NODE_WORDS).min(u64::from(u32::MAX))
+}
+
+/// Whether a pool of `capacity` nodes passes what one storage binding holds, so that the
+/// passes must reach it through its texel view.
+fn nodes_pass_a_binding(gpu: &Gpu, capacity: u32) -> bool {
+    u64::from(capacity) * NODE_BYTES > u64::from(gpu.info().max_storage_buffer_range)
 }
 
 impl LinkedList {
@@ -106,7 +163,7 @@ impl LinkedList {
             }
             Some(budget) if budget > most => {
                 return Err(Error::InvalidOption(format!(
-                    "linked_list: a budget of {budget} nodes; one storage binding of {} holds \
+                    "linked_list: a budget of {budget} nodes; the pool {} binds holds at most \
                      {most}",
                     info.name
                 )))
@@ -121,11 +178,16 @@ impl LinkedList {
             }
         } as u32;
         let storage = BindingKind::StorageBuffer;
+        let texels = BindingKind::StorageTexelBuffer;
         let layouts = Layouts {
-            append: DescriptorLayout::new(gpu, &[storage; 3], vk::ShaderStageFlags::FRAGMENT)?,
+            append: DescriptorLayout::new(
+                gpu,
+                &[storage, storage, storage, texels],
+                vk::ShaderStageFlags::FRAGMENT,
+            )?,
             resolve: DescriptorLayout::new(
                 gpu,
-                &[storage, storage, storage, BindingKind::StorageImage],
+                &[storage, storage, storage, texels, BindingKind::StorageImage],
                 vk::ShaderStageFlags::COMPUTE,
             )?,
         };
@@ -139,23 +201,12 @@ impl LinkedList {
         )?;
         let lists = Self::lists(gpu, &layouts, &counters, targets, capacity)?;
         let append = targets.render_target(gpu, false)?;
-        let append_pipelines = uploaded.mesh_pipelines_with(
+        let passes = Passes::new(
             gpu,
+            uploaded,
             append.render_pass,
-            crate::spirv!("linked_list/append.frag"),
-            &[&layouts.append],
-            &PipelineState {
-                blends: &[Blend::PremultipliedTransmittance],
-                depth: DepthMode::Less(false),
-                fragment_constants: &[],
-                vertex_input: true,
-            },
-        )?;
-        let resolve = ComputePipelineCache::new(0).get(
-            gpu,
-            &[&layouts.resolve],
-            crate::spirv!("linked_list/resolve.comp"),
-            &[],
+            &layouts,
+            options.nodes_as_texels || nodes_pass_a_binding(gpu, capacity),
         )?;
         let readbacks = (0..uploaded.slot_count())
             .map(|_| {
@@ -170,14 +221,14 @@ impl LinkedList {
         Ok(Self {
             gpu: gpu.clone(),
             append,
-            append_pipelines,
-            resolve,
+            passes,
             layouts,
             recorded: vec![capacity; readbacks.len()],
             readbacks,
             lists,
             counters,
             fixed: options.node_budget.is_some(),
+            texels_forced: options.nodes_as_texels,
             retirement: Retirement::default(),
         })
     }
@@ -197,25 +248,33 @@ impl LinkedList {
             storage,
             MemoryLocation::GpuOnly,
         )?;
-        let nodes = gpu.create_buffer(
-            "linked list nodes",
-            u64::from(capacity) * NODE_BYTES,
-            storage,
-            MemoryLocation::GpuOnly,
+        let nodes = ViewedBuffer::new(
+            gpu,
+            gpu.create_buffer(
+                "linked list nodes",
+                u64::from(capacity) * NODE_BYTES,
+                storage | vk::BufferUsageFlags::STORAGE_TEXEL_BUFFER,
+                MemoryLocation::GpuOnly,
+            )?,
+            vk::Format::R32_UINT,
         )?;
         let buffers = || {
             [
                 Resource::Buffer(&heads),
-                Resource::Buffer(&nodes),
+                Resource::BufferPrefix(&nodes.buffer),
                 Resource::Buffer(counters),
+                Resource::TexelBuffer(nodes.view.raw),
             ]
         };
         let append_set = layouts.append.create_set(&buffers())?;
-        let [h, n, c] = buffers();
-        let resolve_set =
-            layouts
-                .resolve
-                .create_set(&[h, n, c, Resource::StorageImage(targets.colour.view)])?;
+        let [h, n, c, t] = buffers();
+        let resolve_set = layouts.resolve.create_set(&[
+            h,
+            n,
+            c,
+            t,
+            Resource::StorageImage(targets.colour.view),
+        ])?;
         Ok(Lists {
             heads,
             _nodes: nodes,
@@ -253,12 +312,13 @@ impl Method for LinkedList {
 
         self.append.begin(cmd, extent, [0.0; 4]);
         let set = self.lists.append_set.raw;
-        gpu.cmd_bind_graphics_set(cmd, self.append_pipelines.0.layout, 2, set);
+        let (keep_back, cull_back) = &self.passes.append;
+        gpu.cmd_bind_graphics_set(cmd, keep_back.layout, 2, set);
         ctx.scene.draw(
             gpu,
             cmd,
             &ctx.scene.transparent_calls,
-            (&self.append_pipelines.0, &self.append_pipelines.1),
+            (keep_back, cull_back),
         );
         self.append.end(cmd);
         ctx.timestamps.mark(cmd, "linked list append");
@@ -279,7 +339,7 @@ impl Method for LinkedList {
             vk::ImageLayout::GENERAL,
         );
         image_barrier(gpu, cmd, colour, attached, general, attachment, compute);
-        self.resolve.dispatch(
+        self.passes.resolve.dispatch(
             cmd,
             &[self.lists.resolve_set.raw],
             &[],
@@ -329,9 +389,21 @@ impl Method for LinkedList {
                 )?;
                 let old = std::mem::replace(&mut self.lists, lists);
                 self.retirement.retire(old);
+                let as_texels = self.texels_forced || nodes_pass_a_binding(&self.gpu, capacity);
+                if as_texels != self.passes.nodes_as_texels {
+                    let passes = Passes::new(
+                        &self.gpu,
+                        done.uploaded,
+                        self.append.render_pass,
+                        &self.layouts,
+                        as_texels,
+                    )?;
+                    let old = std::mem::replace(&mut self.passes, passes);
+                    self.retirement.retire(old);
+                }
                 log::info!("linked_list: {fragments} fragments; the pool grows to {capacity}");
             }
-            // Rendered again with the grown pool; past one binding the tail stays.
+            // Rendered again with the grown pool; past its most the tail stays.
             check.rerender = recorded < most;
         }
         Ok(check)
