@@ -247,6 +247,7 @@ pub(crate) fn method_options(
                 0 => None,
                 budget => Some(u64::from(budget)),
             },
+            ..Default::default()
         },
         depth_peeling: translucid::methods::depth_peeling::DepthPeelingOptions {
             passes: match info.depth_peeling_passes {
