@@ -85,7 +85,7 @@ impl SampledTextures {
         let mut texels = Vec::with_capacity((bytes / 4) as usize);
         for (index, texture) in textures.iter().enumerate().filter(|(i, _)| packed[*i]) {
             records[index] = bin_texture(texture, texels.len() as u32);
-            texels.extend(level_texels(texture));
+            texels.extend(texels_of(texture)?);
         }
         let texel_capacity = (bytes + bytes / 4 + SPARE_TEXEL_BYTES).min(most.max(bytes));
         // Host-visible: records are written in place as textures are added.
@@ -157,7 +157,7 @@ impl SampledTextures {
         }
         for &t in new {
             let texture = &textures[t];
-            let texels: Vec<u32> = level_texels(texture).collect();
+            let texels = texels_of(texture)?;
             let Some(at) = b.texels.append(bytemuck::cast_slice(&texels), 4) else {
                 return Ok(false);
             };
@@ -220,6 +220,26 @@ fn packed_textures<'a>(
         .map(|(t, _)| t)
 }
 
+/// Every level's texels of `texture`, packed; an error for a texture whose texels the host
+/// no longer holds (a renderer's scene keeps none), which would be sampled as garbage.
+fn texels_of(texture: &Texture) -> Result<Vec<u32>> {
+    let texels: Vec<u32> = level_texels(texture).collect();
+    let expected: u64 = texture
+        .levels
+        .iter()
+        .map(|l| u64::from(l.width) * u64::from(l.height))
+        .sum();
+    if texels.len() as u64 != expected {
+        return Err(Error::InvalidScene(format!(
+            "texture '{}' has {} of its {expected} texels on the host: the software sampler \
+             cannot copy it",
+            texture.name,
+            texels.len()
+        )));
+    }
+    Ok(texels)
+}
+
 fn texel_bytes(texture: &Texture) -> u64 {
     texture
         .levels
@@ -229,6 +249,6 @@ fn texel_bytes(texture: &Texture) -> u64 {
 }
 
 /// The most bytes of texels the software sampler reads: one texel view of R32 texels.
-pub fn most_texel_bytes(gpu: &Gpu) -> u64 {
+fn most_texel_bytes(gpu: &Gpu) -> u64 {
     u64::from(gpu.info().max_texel_buffer_elements) * 4
 }
