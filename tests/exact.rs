@@ -350,6 +350,18 @@ fn exact_finishes_pixels_deeper_than_the_loop_limit() {
         &options,
     );
     assert!(frame.rerenders >= 1, "the resume lists did not overflow");
+
+    // Resume lists dispatched 3 workgroups to a row (65535 on devices), the rest in z, as
+    // lists of more rows than a row of workgroups holds are: the 240 rows all suspend.
+    let mut options = MethodOptions::default();
+    options.bins.groups_x = Some(3);
+    check(
+        &deep_stack_scene(2000),
+        "deep_stack_split_lists",
+        45,
+        37,
+        &options,
+    );
 }
 
 /// When the host's estimate leaves the near-plane path out of the setup and raster shaders

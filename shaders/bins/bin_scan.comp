@@ -165,8 +165,9 @@ void planBand() {
     }
     if (count > 0u) {
         uint pending = u_push.resumeList * 4u;
-        g_counters.abandonedRows += g_dispatch[pending];
+        g_counters.abandonedRows += g_dispatch[pending + 3u];
         g_dispatch[pending] = 0u;
+        g_dispatch[pending + 2u] = 1u;
         g_dispatch[pending + 3u] = 0u;
     }
     g_counters.bandFirst = start;

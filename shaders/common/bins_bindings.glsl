@@ -43,8 +43,9 @@ layout(set = 1, binding = 19) uniform usamplerBuffer u_binEntryTexels;   // g_bi
 layout(set = 1, binding = 20) uniform usamplerBuffer u_homogeneousTexels; // g_homogeneous, 12 each
 
 // Indirect dispatches written on the GPU, each a VkDispatchIndirectCommand padded to 16
-// bytes (x = count): k = 0, 1 count the items of resume list k, the rows a raster dispatch
-// left unfinished, one workgroup each; DISPATCH_RASTER_BINS counts the current band's
+// bytes (x = count): k = 0, 1 dispatch the items of resume list k, the rows a raster
+// dispatch left unfinished, one workgroup each, u_push.groupsX to a row in x and the rest in
+// z (the fourth word counts them); DISPATCH_RASTER_BINS counts the current band's
 // blocks with a non-empty bin (listed in g_rasterBins from the band's first) for its raster
 // dispatch (y = BIN_SIZE / rows per workgroup); DISPATCH_BINNING counts the binning passes' workgroups of BINNING_GROUP_SIZE
 // triangles, so that they run for the triangles setup kept, not for every quad;
@@ -54,9 +55,8 @@ layout(set = 1, binding = 20) uniform usamplerBuffer u_homogeneousTexels; // g_h
 // 3) writes DISPATCH_RASTER_BINS, DISPATCH_BIN_OFFSETS and DISPATCH_BAND_FILL for each band.
 // Items of
 // resume list k start at k * g_counters.resumeItemCapacity (room for every row of the
-// frame): (block * BIN_SIZE + row, state slot or NO_STATE). The fourth word of list k's
-// command counts the state slots taken; slot s's pixel states are at
-// (k * resumeCapacity + s) * BIN_SIZE.
+// frame): (block * BIN_SIZE + row, state slot or NO_STATE). Item i takes state slot i while
+// there is one; slot s's pixel states are at (k * resumeCapacity + s) * BIN_SIZE.
 layout(set = 1, binding = 21, std430) buffer DispatchBlock {
     uint g_dispatch[24];
     uvec2 g_resumeItems[];

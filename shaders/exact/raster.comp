@@ -112,7 +112,12 @@ void main() {
     uint row;
     uint stateSlot = NO_STATE;
     if (CONTINUATION) {
-        uvec2 item = g_resumeItems[u_push.resumeList * itemCapacity + gl_WorkGroupID.x];
+        // The list's last row of workgroups may run past its items (see the suspension).
+        uint index = linearWorkGroup();
+        if (index >= g_dispatch[u_push.resumeList * 4u + 3u]) {
+            return;
+        }
+        uvec2 item = g_resumeItems[u_push.resumeList * itemCapacity + index];
         block = item.x / BIN_SIZE;
         row = item.x % BIN_SIZE;
         stateSlot = item.y;
@@ -357,9 +362,14 @@ void main() {
         uint command = outList * 4u;
         uint slot = NO_STATE;
         if (subgroupElect()) {
-            // Every row of the frame has room on a list; its state may not.
-            uint item = atomicAdd(g_dispatch[command], 1u);
-            slot = atomicAdd(g_dispatch[command + 3u], 1u);
+            // Every row of the frame has room on a list; its state may not. The fourth word
+            // counts the list's rows, which take the state slots in their order; its
+            // dispatch is a workgroup a row, u_push.groupsX to a row of workgroups in x and
+            // the rest in z, so that lists past 65535 rows dispatch.
+            uint item = atomicAdd(g_dispatch[command + 3u], 1u);
+            atomicMax(g_dispatch[command], min(item + 1u, u_push.groupsX));
+            atomicMax(g_dispatch[command + 2u], item / u_push.groupsX + 1u);
+            slot = item;
             if (slot >= resumeCapacity) {
                 // The row starts over when resumed; the host grows the states for later
                 // frames.

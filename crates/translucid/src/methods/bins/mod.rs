@@ -78,8 +78,9 @@ pub struct BinOptions {
     /// frames that need more than it records.
     #[doc(hidden)]
     pub bands: Option<u32>,
-    /// Workgroups the dispatches over triangles (setup, binning) take in x before they go
-    /// on in z (`None`: [`MOST_GROUPS_X`]), so that tests cover the split with small frames.
+    /// Workgroups the dispatches over triangles (setup, binning), blocks (the rasters) and
+    /// resumed rows (exact's continuations) take in x before they go on in z (`None`:
+    /// [`MOST_GROUPS_X`]), so that tests cover the split with small frames.
     #[doc(hidden)]
     pub groups_x: Option<u32>,
 }

@@ -203,9 +203,9 @@ const RESUME_HEADER_BYTES: u64 = 32;
 const STORAGE: vk::BufferUsageFlags = vk::BufferUsageFlags::STORAGE_BUFFER;
 const TEXELS: vk::BufferUsageFlags = vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER;
 const RGBA32UI: vk::Format = vk::Format::R32G32B32A32_UINT;
-/// Empty indirect dispatch commands, (x, y, z) and a fourth word each, x counted on the
-/// GPU: resume lists of (items, 1, 1) workgroups (the fourth word counting the state slots
-/// taken), the listed blocks' (blocks, BIN_SIZE /
+/// Empty indirect dispatch commands, (x, y, z) and a fourth word each, counted on the GPU:
+/// resume lists of a workgroup per item (the fourth word counting the items, which take the
+/// state slots in order; x and z split them past the workgroups a row), the listed blocks' (blocks, BIN_SIZE /
 /// rows, 1) for raster workgroups of `rows` rows, binning's (triangle groups, slices of the
 /// tallest triangle, 1), the scan's offset step's (groups of the band's blocks, 1, 1), and
 /// the band's fill (binning's, or empty).
@@ -671,7 +671,8 @@ impl Resources {
     /// Rows slot `slot`'s completed frame left unfinished (on its pending resume list).
     pub fn unfinished_rows(&self, slot: usize) -> Result<u32> {
         let slot = &self.slots[slot];
-        let at = (COUNTER_BYTES + u64::from(slot.pending_list) * 16) as usize;
+        // The list's item count: its command's fourth word.
+        let at = (COUNTER_BYTES + u64::from(slot.pending_list) * 16 + 12) as usize;
         Ok(bytemuck::pod_read_unaligned(
             &slot.readback.read()?[at..at + 4],
         ))
