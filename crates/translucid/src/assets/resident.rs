@@ -167,9 +167,9 @@ impl Packed {
 }
 
 /// Room the buffers are made with beyond what they hold first, for assets added later: at
-/// least this many bytes, and half as much again. Past
-/// it, the assets are uploaded anew with room again, so that a context growing one asset
-/// at a time uploads everything a few times (logarithmically often), not every time.
+/// least this many bytes, and half as much again. Past it, the assets are uploaded anew
+/// with room again, so that a context growing one asset at a time uploads everything a few
+/// times (logarithmically often), not every time.
 const SPARE_BYTES: u64 = 1 << 20;
 
 fn with_room(bytes: usize) -> u64 {

@@ -359,11 +359,34 @@ impl Gpu {
                 buffer.name
             )));
         }
+        self.texel_view(buffer, format, texels * texel_bytes)
+    }
+
+    /// A view of as much of `buffer` as one texel view holds, from its start, as texels of
+    /// `format` (R32_UINT, R32_SINT or R32_SFLOAT): for a buffer the shaders reach past that
+    /// only another way (through a storage binding).
+    pub fn create_buffer_view_prefix(
+        &self,
+        buffer: &Buffer,
+        format: vk::Format,
+    ) -> Result<BufferView> {
+        assert!(
+            matches!(
+                format,
+                vk::Format::R32_UINT | vk::Format::R32_SINT | vk::Format::R32_SFLOAT
+            ),
+            "create_buffer_view_prefix: unsupported format {format:?}"
+        );
+        let texels = (buffer.size / 4).min(u64::from(self.info().max_texel_buffer_elements));
+        self.texel_view(buffer, format, texels * 4)
+    }
+
+    fn texel_view(&self, buffer: &Buffer, format: vk::Format, bytes: u64) -> Result<BufferView> {
         let info = vk::BufferViewCreateInfo::default()
             .buffer(buffer.raw)
             .format(format)
             .offset(0)
-            .range(texels * texel_bytes);
+            .range(bytes);
         // SAFETY: valid device, a live buffer, and a range within it of whole texels.
         let raw = unsafe { self.device.create_buffer_view(&info, None) }
             .map_err(vk_err("vkCreateBufferView"))?;

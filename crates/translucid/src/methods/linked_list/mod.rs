@@ -14,7 +14,8 @@
 //! [`LinkedListOptions::node_budget`] it stays as given. Within its pool the result is exact.
 //! The passes reach the pool through a storage binding while it fits one (128 MB: 4.8
 //! million nodes on lavapipe), and through a storage texel view past it, whose stores cost
-//! more there: one view bounds the pool (512 MB: 19 million nodes on lavapipe).
+//! more there: the larger of the two bounds the pool (on lavapipe the view, 512 MB: 19
+//! million nodes; on devices whose storage bindings reach further, the binding).
 
 use super::{FrameCheck, FrameDone, Method, RecordContext};
 use crate::assets::GpuScene;
@@ -124,15 +125,22 @@ pub struct LinkedList {
     retirement: Retirement,
 }
 
-/// The most nodes the pool holds: what one texel view of its words reaches.
+/// The most nodes one storage binding holds.
+fn binding_nodes(gpu: &Gpu) -> u64 {
+    u64::from(gpu.info().max_storage_buffer_range) / NODE_BYTES
+}
+
+/// The most nodes the pool holds: what one storage binding or one texel view of its words
+/// reaches, whichever is more.
 fn most_nodes(gpu: &Gpu) -> u64 {
-    (u64::from(gpu.info().max_texel_buffer_elements) / NODE_WORDS).min(u64::from(u32::MAX))
+    let view_nodes = u64::from(gpu.info().max_texel_buffer_elements) / NODE_WORDS;
+    binding_nodes(gpu).max(view_nodes).min(u64::from(u32::MAX))
 }
 
 /// Whether a pool of `capacity` nodes passes what one storage binding holds, so that the
-/// passes must reach it through its texel view.
+/// passes must reach it through its texel view (which then holds it: `most_nodes`).
 fn nodes_pass_a_binding(gpu: &Gpu, capacity: u32) -> bool {
-    u64::from(capacity) * NODE_BYTES > u64::from(gpu.info().max_storage_buffer_range)
+    u64::from(capacity) > binding_nodes(gpu)
 }
 
 impl LinkedList {
@@ -248,16 +256,18 @@ impl LinkedList {
             storage,
             MemoryLocation::GpuOnly,
         )?;
-        let nodes = ViewedBuffer::new(
-            gpu,
-            gpu.create_buffer(
-                "linked list nodes",
-                u64::from(capacity) * NODE_BYTES,
-                storage | vk::BufferUsageFlags::STORAGE_TEXEL_BUFFER,
-                MemoryLocation::GpuOnly,
-            )?,
-            vk::Format::R32_UINT,
+        let buffer = gpu.create_buffer(
+            "linked list nodes",
+            u64::from(capacity) * NODE_BYTES,
+            storage | vk::BufferUsageFlags::STORAGE_TEXEL_BUFFER,
+            MemoryLocation::GpuOnly,
         )?;
+        // Each binding reaches as far as it can; the passes read through the one that
+        // reaches the whole pool.
+        let nodes = ViewedBuffer {
+            view: gpu.create_buffer_view_prefix(&buffer, vk::Format::R32_UINT)?,
+            buffer,
+        };
         let buffers = || {
             [
                 Resource::Buffer(&heads),
