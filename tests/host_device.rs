@@ -440,17 +440,50 @@ fn one_engine_frame(
     images: &EngineImages,
     renderer: &mut Renderer,
 ) -> translucid::renderer::HostFrame {
-    engine.begin(0);
-    let cmd = engine.cmds[0];
-    images.record_opaque(gpu, cmd);
-    // SAFETY: the engine's recording command buffer and images of the frame's size.
-    unsafe { renderer.record_host(&images.targets(cmd)) }.expect("record");
-    images.record_readback(gpu, cmd, 0);
+    record_engine_frame(engine, gpu, images, renderer, 0);
     engine.submit_and_wait();
     renderer
         .complete_host()
         .expect("complete")
         .expect("the submission finished, so the commands ran")
+}
+
+/// Records `renderer`'s next frame into the engine's command buffer `k`: the opaque layer
+/// into `images` (of at least the frame's size), the frame, and the colour's readback `k`.
+fn record_engine_frame(
+    engine: &Engine,
+    gpu: &Gpu,
+    images: &EngineImages,
+    renderer: &mut Renderer,
+    k: usize,
+) {
+    engine.begin(k);
+    let cmd = engine.cmds[k];
+    images.record_opaque(gpu, cmd);
+    // SAFETY: the engine's recording command buffer and images of at least the frame's size.
+    unsafe { renderer.record_host(&images.targets(cmd)) }.expect("record");
+    images.record_readback(gpu, cmd, k);
+}
+
+/// Submits the engine's command buffers 0 to `count`, then waits for each and completes its
+/// frame: what the frames reported, oldest first.
+fn submit_and_complete(
+    engine: &Engine,
+    renderer: &mut Renderer,
+    count: usize,
+) -> Vec<translucid::renderer::HostFrame> {
+    for k in 0..count {
+        engine.submit(k);
+    }
+    (0..count)
+        .map(|k| {
+            engine.wait(k);
+            renderer
+                .complete_host()
+                .expect("complete")
+                .expect("the submission finished, so the commands ran")
+        })
+        .collect()
 }
 
 /// `spheres`, its opaque layer and exact's standalone frame over it, at the tests' size.
@@ -594,12 +627,7 @@ fn frames_in_flight_match_the_reference(
             // its own camera and draws.
             for (k, f) in batch.clone().enumerate() {
                 set(&mut renderer, f);
-                engine.begin(k);
-                let cmd = engine.cmds[k];
-                images.record_opaque(&gpu, cmd);
-                // SAFETY: the engine's recording command buffer and images of the frame's size.
-                unsafe { renderer.record_host(&images.targets(cmd)) }.expect("record");
-                images.record_readback(&gpu, cmd, k);
+                record_engine_frame(&engine, &gpu, &images, &mut renderer, k);
             }
             if batch.len() == in_flight {
                 assert_eq!(renderer.frames_in_flight(), in_flight);
@@ -791,23 +819,10 @@ fn frames_in_flight_at_different_sizes(kind: MethodKind, scene_name: &str) {
                     .set_frame(&frame_scene(f).frame_input())
                     .expect("set frame");
                 renderer.set_size(width, height).expect("a size within");
-                engine.begin(k);
-                let cmd = engine.cmds[k];
-                images(f).record_opaque(&gpu, cmd);
-                // SAFETY: the engine's recording command buffer and images of at least the
-                // frame's size.
-                unsafe { renderer.record_host(&images(f).targets(cmd)) }.expect("record");
-                images(f).record_readback(&gpu, cmd, k);
+                record_engine_frame(&engine, &gpu, images(f), &mut renderer, k);
             }
-            for k in 0..batch.len() {
-                engine.submit(k);
-            }
-            for (k, f) in batch.enumerate() {
-                engine.wait(k);
-                let done = renderer
-                    .complete_host()
-                    .expect("complete")
-                    .expect("the submission finished, so the commands ran");
+            let completed = submit_and_complete(&engine, &mut renderer, batch.len());
+            for ((k, f), done) in batch.enumerate().zip(completed) {
                 if done.overflowed {
                     // Only the exact peers' first frames, whose buffers then grow.
                     assert!(
@@ -903,22 +918,12 @@ fn first_frames_match_the_reference(
             renderer
                 .set_frame(&frame_scene(k as u32).frame_input())
                 .expect("set frame");
-            engine.begin(k);
-            let cmd = engine.cmds[k];
-            images.record_opaque(&gpu, cmd);
-            // SAFETY: the engine's recording command buffer and images of the frame's size.
-            unsafe { renderer.record_host(&images.targets(cmd)) }.expect("record");
-            images.record_readback(&gpu, cmd, k);
+            record_engine_frame(&engine, &gpu, &images, &mut renderer, k);
         }
-        for k in 0..2 {
-            engine.submit(k);
-        }
-        for k in 0..2 {
-            engine.wait(k);
-            let done = renderer
-                .complete_host()
-                .expect("complete")
-                .expect("the submission finished, so the commands ran");
+        for (k, done) in submit_and_complete(&engine, &mut renderer, 2)
+            .into_iter()
+            .enumerate()
+        {
             assert!(
                 !done.overflowed && done.degraded_rows == 0,
                 "{}, frame {k}: {done:?}",
@@ -1285,12 +1290,7 @@ fn textures_first_used_by_frames_in_flight_match_the_reference() {
                 renderer
                     .set_frame(&frame_scene(f).frame_input())
                     .expect("set frame");
-                engine.begin(k);
-                let cmd = engine.cmds[k];
-                images.record_opaque(&gpu, cmd);
-                // SAFETY: the engine's recording command buffer and images of the frame's size.
-                unsafe { renderer.record_host(&images.targets(cmd)) }.expect("record");
-                images.record_readback(&gpu, cmd, k);
+                record_engine_frame(&engine, &gpu, &images, &mut renderer, k);
                 if f == joined {
                     // Level 0 alone: the large texture was copied, into a new set.
                     assert!(
@@ -1299,15 +1299,8 @@ fn textures_first_used_by_frames_in_flight_match_the_reference() {
                     );
                 }
             }
-            for k in 0..batch.len() {
-                engine.submit(k);
-            }
-            for (k, f) in batch.enumerate() {
-                engine.wait(k);
-                let done = renderer
-                    .complete_host()
-                    .expect("complete")
-                    .expect("the submission finished, so the commands ran");
+            let completed = submit_and_complete(&engine, &mut renderer, batch.len());
+            for ((k, f), done) in batch.enumerate().zip(completed) {
                 assert!(!done.overflowed, "frame {f}: {done:?}");
                 let want = translucid::reference::render(&frame_scene(f), &layer)
                     .expect("reference")

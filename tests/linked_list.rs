@@ -3,10 +3,11 @@
 //! every fragment, and its tail past a budget fixed too small.
 
 use glam::Vec3;
+use translucid::gpu::Gpu;
 use translucid::methods::{MethodKind, MethodOptions};
 use translucid::metrics;
-use translucid::renderer::Renderer;
-use translucid::scene;
+use translucid::renderer::{Frame, Renderer};
+use translucid::scene::{self, Scene};
 use translucid_tests::{
     assert_every_pixel_matches, assert_within_the_drivers_rasterization, asset, gpu,
 };
@@ -51,6 +52,13 @@ fn linked_list_matches_the_reference_but_where_the_driver_rasterizes() {
     );
 }
 
+/// A frame of `scene` with `options`, its opaque layer read back.
+fn frame_with(gpu: &Gpu, scene: &Scene, options: &MethodOptions) -> Frame {
+    Renderer::with_options(gpu, scene, MethodKind::LinkedList, WIDTH, HEIGHT, options)
+        .and_then(|mut r| r.render(true))
+        .expect("frame")
+}
+
 fn with_budget(budget: Option<u64>) -> MethodOptions {
     let mut options = MethodOptions::default();
     options.linked_list.node_budget = budget;
@@ -59,23 +67,12 @@ fn with_budget(budget: Option<u64>) -> MethodOptions {
 
 /// A pool fixed too small: the fragments past it are blended unsorted under the sorted ones
 /// and counted, the frame is not rendered again, and nothing is garbage; a pool that holds
-/// them all is exact, and budgets of 0 or past one binding are refused.
+/// them all is exact, and budgets of 0 or past what the pool can bind are refused.
 #[test]
 fn past_a_fixed_budget_the_tail_is_blended_and_counted() {
     let gpu = gpu();
     let scene = scene::load("spheres").expect("generated scene");
-    let frame = |budget: Option<u64>| {
-        Renderer::with_options(
-            &gpu,
-            &scene,
-            MethodKind::LinkedList,
-            WIDTH,
-            HEIGHT,
-            &with_budget(budget),
-        )
-        .and_then(|mut r| r.render(true))
-        .expect("frame")
-    };
+    let frame = |budget: Option<u64>| frame_with(&gpu, &scene, &with_budget(budget));
     let whole = frame(None);
     assert_eq!(whole.tail_fragments, 0);
     let fragments = whole.fragments;
@@ -137,16 +134,7 @@ fn the_pool_through_its_texel_view_draws_what_its_storage_binding_draws() {
         let frame = |nodes_as_texels: bool| {
             let mut options = MethodOptions::default();
             options.linked_list.nodes_as_texels = nodes_as_texels;
-            Renderer::with_options(
-                &gpu,
-                &scene,
-                MethodKind::LinkedList,
-                WIDTH,
-                HEIGHT,
-                &options,
-            )
-            .and_then(|mut r| r.render(false))
-            .expect("frame")
+            frame_with(&gpu, &scene, &options)
         };
         let (through_texels, through_binding) = (frame(true), frame(false));
         assert_eq!(through_texels.tail_fragments, 0, "{name}");
