@@ -14,6 +14,7 @@
 #include "raster.glsl"
 #include "bin_lists.glsl"
 #include "depth_pyramid.glsl"
+#include "quad_attributes.glsl"
 
 layout(local_size_x = BINNING_GROUP_SIZE) in;
 
@@ -22,14 +23,10 @@ layout(local_size_x = BINNING_GROUP_SIZE) in;
 // needs it anyway is only counted, and the host rebuilds this shader and the raster with
 // the path and renders the frame again.
 layout(constant_id = 0) const bool HOMOGENEOUS_PATH = true;
-// What shading can read of an attribute record, as the raster's constants 1 to 3, 9 and 10
-// (bin_fragment.glsl): setup stores only those fields. Its stores are most of its time,
-// since a storage-buffer store is a loop over the lanes for every 32-bit component.
-layout(constant_id = 1) const bool TEXTURES = true;          // some material has a texture
-layout(constant_id = 2) const bool VERTEX_NORMALS = true;    // some lit draw has vertex normals
-layout(constant_id = 3) const bool FACE_NORMALS = true;      // some lit draw has none
-layout(constant_id = 9) const bool VERTEX_COLOURS = true;    // some mesh has vertex colours
-layout(constant_id = 10) const bool FLAT_COLOURS = false;    // each quad has one colour
+// What shading can read of an attribute record is constants 1 to 3, 9 and 10, shared with
+// the rasters (quad_attributes.glsl): setup stores only those sections. Its stores are most
+// of its time, since a storage-buffer store is a loop over the lanes for every 32-bit
+// component.
 // Setup without the occlusion cull (and without the depth pyramid it reads), which the host
 // records while the cull drops next to nothing: on CPU drivers the pyramid costs about a
 // millisecond a frame (methods/bins/mod.rs). The raster depth-tests every fragment anyway.
@@ -248,54 +245,18 @@ Corner loadCorner(uint v) {
     return c;
 }
 
-// Everything shading needs of the triangle with corners k0, k1, k2 of a quad of `draw`, so
-// that the raster reads one record. Normals are transformed here exactly as the reference
-// transforms them per fragment.
-BinAttributes gatherAttributes(DrawInfo draw, Corner k0, Corner k1, Corner k2) {
-    BinAttributes a;
-    a.colour0 = k0.colour * draw.tint;
-    a.colour1 = k1.colour * draw.tint;
-    a.colour2 = k2.colour * draw.tint;
-    a.flags = 0u;
-    if ((draw.flags & DRAW_HAS_NORMALS) != 0u) {
-        mat3 nm = mat3(draw.normalMatrix);
-        precise vec3 n0 = nm * k0.normal;
-        precise vec3 n1 = nm * k1.normal;
-        precise vec3 n2 = nm * k2.normal;
-        a.normal0 = n0;
-        a.normal1 = n1;
-        a.normal2 = n2;
-    } else {
-        vec3 p0 = (draw.model * vec4(k0.position, 1.0)).xyz;
-        vec3 p1 = (draw.model * vec4(k1.position, 1.0)).xyz;
-        vec3 p2 = (draw.model * vec4(k2.position, 1.0)).xyz;
-        a.normal0 = cross(p1 - p0, p2 - p0);
-        a.normal1 = vec3(0.0);
-        a.normal2 = vec3(0.0);
-        a.flags |= ATTRIBUTES_FACE_NORMAL;
-    }
-    if ((draw.flags & DRAW_HAS_UVS) != 0u) {
-        a.uv01 = vec4(k0.uv, k1.uv);
-        a.uv2 = k2.uv;
-        a.flags |= ATTRIBUTES_HAS_UVS;
-    } else {
-        a.uv01 = vec4(0.0);
-        a.uv2 = vec2(0.0);
-    }
-    return a;
-}
-
 // The records as storage buffers, as far as one binding reaches: setup writes them so while
 // they fit (faster on lavapipe than texel stores), else through u_triangleRecords and
 // u_attributeRecords (RECORDS_AS_TEXELS, set by the host from the records' size).
 layout(set = 1, binding = 29, std430) buffer TriangleBlock { BinTriangleRecord g_triangles[]; };
-layout(set = 1, binding = 30, std430) buffer AttributeBlock { BinAttributes g_attributes[]; };
+layout(set = 1, binding = 30, std430) buffer AttributeBlock { uvec4 g_attributes[]; };
 layout(constant_id = 12) const bool RECORDS_AS_TEXELS = false;
 
 // Record ti (BinTriangleRecord): through texels, one per 16 bytes of its std430 layout, or
 // field by field, the padding never stored.
 void storeTriangle(uint ti, BinTriangle t, ivec2 v[3], bool negated) {
-    uint flags = (negated ? TRIANGLE_NEGATED : 0u) | t.materialIndex << TRIANGLE_MATERIAL_SHIFT;
+    uint flags = (negated ? TRIANGLE_NEGATED : 0u) | t.attributeFlags |
+                 t.materialIndex << TRIANGLE_MATERIAL_SHIFT;
     if (!RECORDS_AS_TEXELS) {
         g_triangles[ti].vertices01 = ivec4(v[0], v[1]);
         g_triangles[ti].vertex2 = v[2];
@@ -331,59 +292,55 @@ void storeHole(uint ti) {
     }
 }
 
-// Attribute record ti through the storage buffer: the fields storeAttributes stores.
-void storeAttributeFields(uint ti, BinAttributes a) {
-    if (VERTEX_COLOURS) {
-        g_attributes[ti].colour0 = a.colour0;
-    }
-    if (VERTEX_COLOURS && !FLAT_COLOURS) {
-        g_attributes[ti].colour1 = a.colour1;
-        g_attributes[ti].colour2 = a.colour2;
-    }
-    if (VERTEX_NORMALS || FACE_NORMALS) {
-        g_attributes[ti].normal0 = a.normal0;
-    }
-    if (VERTEX_NORMALS || TEXTURES) {
-        g_attributes[ti].flags = a.flags;
-    }
-    if (VERTEX_NORMALS) {
-        g_attributes[ti].normal1 = a.normal1;
-        g_attributes[ti].normal2 = a.normal2;
-    }
-    if (TEXTURES) {
-        g_attributes[ti].uv01 = a.uv01;
-        g_attributes[ti].uv2 = a.uv2;
+// Texel `at` of the attribute records.
+void storeAttributeTexel(int at, uvec4 texel) {
+    if (RECORDS_AS_TEXELS) {
+        imageStore(u_attributeRecords, at, texel);
+    } else {
+        g_attributes[at] = texel;
     }
 }
 
-// Attribute record ti: only the fields shading can read (loadShadingAttributes in
-// bin_fragment.glsl, under the same constants); the others are never stored.
-void storeAttributes(uint ti, BinAttributes a) {
-    if (!RECORDS_AS_TEXELS) {
-        storeAttributeFields(ti, a);
-        return;
-    }
-    int base = int(ti) * ATTRIBUTE_TEXELS;
+// The attribute record of quad `quad` of `draw`, with corners k0 to k3 (bins_layout.glsl):
+// only the sections shading can read under the same constants (quad_attributes.glsl).
+// Normals are transformed here exactly as the reference transforms them per fragment. Quads
+// of draws without normals keep their triangles' face normals, the others' are read only by
+// unlit draws, when the scene has no lit draw with vertex normals: never.
+void storeAttributes(uint quad, DrawInfo draw, Corner k0, Corner k1, Corner k2, Corner k3) {
     if (VERTEX_COLOURS) {
-        imageStore(u_attributeRecords, base, floatBitsToUint(a.colour0));
+        int at = colourTexel(quad);
+        storeAttributeTexel(at, floatBitsToUint(k0.colour * draw.tint));
+        if (!FLAT_COLOURS) {
+            storeAttributeTexel(at + 1, floatBitsToUint(k1.colour * draw.tint));
+            storeAttributeTexel(at + 2, floatBitsToUint(k2.colour * draw.tint));
+            storeAttributeTexel(at + 3, floatBitsToUint(k3.colour * draw.tint));
+        }
     }
-    if (VERTEX_COLOURS && !FLAT_COLOURS) {
-        imageStore(u_attributeRecords, base + 1, floatBitsToUint(a.colour1));
-        imageStore(u_attributeRecords, base + 2, floatBitsToUint(a.colour2));
+    bool hasNormals = (draw.flags & DRAW_HAS_NORMALS) != 0u;
+    if (VERTEX_NORMALS && hasNormals) {
+        mat3 nm = mat3(draw.normalMatrix);
+        precise vec3 n0 = nm * k0.normal;
+        precise vec3 n1 = nm * k1.normal;
+        precise vec3 n2 = nm * k2.normal;
+        precise vec3 n3 = nm * k3.normal;
+        int at = normalTexel(quad);
+        storeAttributeTexel(at, floatBitsToUint(vec4(n0, n1.x)));
+        storeAttributeTexel(at + 1, floatBitsToUint(vec4(n1.yz, n2.xy)));
+        storeAttributeTexel(at + 2, floatBitsToUint(vec4(n2.z, n3)));
     }
-    if (VERTEX_NORMALS || FACE_NORMALS) {
-        imageStore(u_attributeRecords, base + 3, uvec4(floatBitsToUint(a.normal0), 0u));
+    if (FACE_NORMALS && !hasNormals) {
+        vec3 p0 = (draw.model * vec4(k0.position, 1.0)).xyz;
+        vec3 p1 = (draw.model * vec4(k1.position, 1.0)).xyz;
+        vec3 p2 = (draw.model * vec4(k2.position, 1.0)).xyz;
+        vec3 p3 = (draw.model * vec4(k3.position, 1.0)).xyz;
+        int at = normalTexel(quad);
+        storeAttributeTexel(at, uvec4(floatBitsToUint(cross(p1 - p0, p2 - p0)), 0u));
+        storeAttributeTexel(at + 1, uvec4(floatBitsToUint(cross(p2 - p0, p3 - p0)), 0u));
     }
-    if (VERTEX_NORMALS || TEXTURES) {
-        // normal1 shares its texel with the flags (zero or unread without vertex normals).
-        imageStore(u_attributeRecords, base + 4, uvec4(floatBitsToUint(a.normal1), a.flags));
-    }
-    if (VERTEX_NORMALS) {
-        imageStore(u_attributeRecords, base + 5, uvec4(floatBitsToUint(a.normal2), 0u));
-    }
-    if (TEXTURES) {
-        imageStore(u_attributeRecords, base + 6, floatBitsToUint(a.uv01));
-        imageStore(u_attributeRecords, base + 7, uvec4(floatBitsToUint(a.uv2), 0u, 0u));
+    if (TEXTURES && (draw.flags & DRAW_HAS_UVS) != 0u) {
+        int at = uvTexel(quad);
+        storeAttributeTexel(at, floatBitsToUint(vec4(k0.uv, k1.uv)));
+        storeAttributeTexel(at + 1, floatBitsToUint(vec4(k2.uv, k3.uv)));
     }
 }
 
@@ -414,6 +371,7 @@ void main() {
     uint subCount = (q.w != q.z && q.w != q.x) ? 2u : 1u;
     // A do-while, and `if`s rather than `continue`s (bin_count.comp says why).
     uint sub = 0u;
+    bool kept = false;
     do {
         bool second = sub != 0u;
         vec4 c[3];
@@ -456,6 +414,10 @@ void main() {
         if (visible) {
             t.order = ti;
             t.materialIndex = draw.materialIndex;
+            t.attributeFlags =
+                ((draw.flags & DRAW_HAS_NORMALS) == 0u ? TRIANGLE_FACE_NORMAL : 0u) |
+                ((draw.flags & DRAW_HAS_UVS) != 0u ? TRIANGLE_HAS_UVS : 0u);
+            kept = true;
             // Frame-wide counters take one atomic per subgroup: one per triangle made them the
             // most contended words of the frame. Only the visible lanes are active here. The
             // depth range only places slabs (bin_lists.glsl): frames of one slab skip it
@@ -481,12 +443,14 @@ void main() {
                 atomicMax(g_dispatch[DISPATCH_BINNING * 4u + 2u], groups.y);
             }
             storeTriangle(ti, t, v, negated);
-            storeAttributes(ti, gatherAttributes(draw, k0, second ? k2 : k1, second ? k3 : k2));
         } else {
             storeHole(ti);
         }
     } while (++sub < subCount);
     if (subCount == 1u) {
         storeHole(item * 2u + 1u);
+    }
+    if (kept) {
+        storeAttributes(item, draw, k0, k1, k2, k3);
     }
 }

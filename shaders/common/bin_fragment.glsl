@@ -8,63 +8,81 @@
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_control_flow_attributes : require
 
+#include "quad_attributes.glsl"
+
 // What the scene needs, fixed when the pipeline is made. CPU drivers such as lavapipe run
 // both sides of a divergent `if` under a mask, so code a scene cannot reach still costs on
 // every fragment there; constants compile it away. The host sets them from the scene and
 // falls back to the full shader if setup ever reports a triangle the constants excluded.
+// Constants 1 to 3, 9 and 10 (what a quad's attributes hold) are in quad_attributes.glsl.
 layout(constant_id = 0) const bool HOMOGENEOUS_PATH = true;  // near-plane / guard-band triangles
-layout(constant_id = 1) const bool TEXTURES = true;          // some material has a texture
-layout(constant_id = 2) const bool VERTEX_NORMALS = true;    // some lit draw has vertex normals
-layout(constant_id = 3) const bool FACE_NORMALS = true;      // some lit draw has none
 // (Constants 4 to 7 are the raster's own: raster.comp and bin_lists.glsl.)
 layout(constant_id = 8) const bool TRANSMISSION = true;      // some material transmits light
-layout(constant_id = 9) const bool VERTEX_COLOURS = true;    // some mesh has vertex colours
-// Every quad has one colour at all its corners: attribute records keep colour0 alone.
-layout(constant_id = 10) const bool FLAT_COLOURS = false;
 
-// What shading reads of attribute record i: only the texels the scene's constants let it
-// use. A texel fetch is a call to the driver's sampling code on CPU drivers, which the
-// compiler keeps even when nothing reads its result.
-BinAttributes loadShadingAttributes(uint i) {
-    int base = int(i) * ATTRIBUTE_TEXELS;
-    BinAttributes a;
+// A triangle's attributes at its three corners, as shading interpolates them.
+struct ShadingAttributes {
+    vec4 colour0;           // vertex colours
+    vec4 colour1;
+    vec4 colour2;
+    vec3 normal0;           // world-space vertex normals, or the face normal alone
+    vec3 normal1;           // (TRIANGLE_FACE_NORMAL)
+    vec3 normal2;
+    vec2 uv0;
+    vec2 uv1;
+    vec2 uv2;
+};
+
+// What shading reads of triangle t's attributes, from its quad's record: only the texels the
+// scene's constants let it use. A texel fetch is a call to the driver's sampling code on CPU
+// drivers, which the compiler keeps even when nothing reads its result. The second triangle
+// of a quad takes corners 0, 2 and 3; selects pick them, an array would be indexed at run
+// time.
+ShadingAttributes loadShadingAttributes(BinTriangle t) {
+    uint quad = t.order >> 1;
+    bool second = (t.order & 1u) != 0u;
+    ShadingAttributes a;
     a.colour0 = vec4(1.0);
     a.colour1 = vec4(1.0);
     a.colour2 = vec4(1.0);
     if (VERTEX_COLOURS) {
         // Flat colours are interpolated all the same, so that the sum is the reference's.
-        a.colour0 = uintBitsToFloat(texelFetch(u_attributeTexels, base));
+        int at = colourTexel(quad);
+        a.colour0 = uintBitsToFloat(texelFetch(u_attributeTexels, at));
         a.colour1 = a.colour0;
         a.colour2 = a.colour0;
         if (!FLAT_COLOURS) {
-            a.colour1 = uintBitsToFloat(texelFetch(u_attributeTexels, base + 1));
-            a.colour2 = uintBitsToFloat(texelFetch(u_attributeTexels, base + 2));
+            a.colour1 = uintBitsToFloat(texelFetch(u_attributeTexels, at + (second ? 2 : 1)));
+            a.colour2 = uintBitsToFloat(texelFetch(u_attributeTexels, at + (second ? 3 : 2)));
         }
     }
     a.normal0 = vec3(0.0);
-    a.pad3 = 0u;
-    if (VERTEX_NORMALS || FACE_NORMALS) {
-        a.normal0 = uintBitsToFloat(texelFetch(u_attributeTexels, base + 3).xyz);
-    }
     a.normal1 = vec3(0.0);
-    a.flags = 0u;
     a.normal2 = vec3(0.0);
-    a.uv01 = vec4(0.0);
-    a.uv2 = vec2(0.0);
-    a.pad0 = 0u;
-    a.pad1 = 0u;
-    a.pad2 = 0u;
-    if (VERTEX_NORMALS || TEXTURES) {
-        uvec4 n1 = texelFetch(u_attributeTexels, base + 4);
-        a.normal1 = uintBitsToFloat(n1.xyz);
-        a.flags = n1.w;
-    }
     if (VERTEX_NORMALS) {
-        a.normal2 = uintBitsToFloat(texelFetch(u_attributeTexels, base + 5).xyz);
+        // Corners 0 to 3: n.xyz, (n.w, m.xy), (m.zw, r.x), r.yzw; a face normal per triangle
+        // in n.xyz and m.xyz.
+        int at = normalTexel(quad);
+        vec4 n = uintBitsToFloat(texelFetch(u_attributeTexels, at));
+        vec4 m = uintBitsToFloat(texelFetch(u_attributeTexels, at + 1));
+        vec4 r = uintBitsToFloat(texelFetch(u_attributeTexels, at + 2));
+        vec3 corner2 = vec3(m.zw, r.x);
+        bool face = FACE_NORMALS && (t.attributeFlags & TRIANGLE_FACE_NORMAL) != 0u;
+        a.normal0 = face && second ? m.xyz : n.xyz;
+        a.normal1 = second ? corner2 : vec3(n.w, m.xy);
+        a.normal2 = second ? r.yzw : corner2;
+    } else if (FACE_NORMALS) {
+        a.normal0 = uintBitsToFloat(texelFetch(u_attributeTexels, normalTexel(quad) + (second ? 1 : 0)).xyz);
     }
+    a.uv0 = vec2(0.0);
+    a.uv1 = vec2(0.0);
+    a.uv2 = vec2(0.0);
     if (TEXTURES) {
-        a.uv01 = uintBitsToFloat(texelFetch(u_attributeTexels, base + 6));
-        a.uv2 = uintBitsToFloat(texelFetch(u_attributeTexels, base + 7).xy);
+        int at = uvTexel(quad);
+        vec4 uv01 = uintBitsToFloat(texelFetch(u_attributeTexels, at));
+        vec4 uv23 = uintBitsToFloat(texelFetch(u_attributeTexels, at + 1));
+        a.uv0 = uv01.xy;
+        a.uv1 = second ? uv23.xy : uv01.zw;
+        a.uv2 = second ? uv23.zw : uv23.xy;
     }
     return a;
 }
@@ -180,10 +198,11 @@ void barycentricGradients(BinTriangle t, uint x, uint y, out vec3 gx, out vec3 g
     gy = vec3(ry);
 }
 
-// Shades the fragment of triangle t (with attributes a) at pixel (x, y).
-void shadeFragment(BinTriangle t, BinAttributes a, uint x, uint y, RasterSample s,
-                   FrameInfo frame, out vec3 radiance, out vec3 transmittance) {
+// Shades the fragment of triangle t at pixel (x, y).
+void shadeFragment(BinTriangle t, uint x, uint y, RasterSample s, FrameInfo frame,
+                   out vec3 radiance, out vec3 transmittance) {
     Material m = loadShadingMaterial(t.materialIndex);
+    ShadingAttributes a = loadShadingAttributes(t);
     // Normals are only for lighting: a scene with no lit draw needs neither, and clearing
     // the flag compiles the lighting away (an `if` runs both sides on CPU drivers).
     if (!VERTEX_NORMALS && !FACE_NORMALS) {
@@ -196,7 +215,7 @@ void shadeFragment(BinTriangle t, BinAttributes a, uint x, uint y, RasterSample 
                                          : vec4((b.x + b.y) + b.z);
 
     vec3 normal;
-    if (FACE_NORMALS && (!VERTEX_NORMALS || (a.flags & ATTRIBUTES_FACE_NORMAL) != 0u)) {
+    if (FACE_NORMALS && (!VERTEX_NORMALS || (t.attributeFlags & TRIANGLE_FACE_NORMAL) != 0u)) {
         normal = a.normal0.xyz;
     } else {
         precise vec3 n = (a.normal0.xyz * b.x + a.normal1.xyz * b.y) + a.normal2.xyz * b.z;
@@ -207,11 +226,11 @@ void shadeFragment(BinTriangle t, BinAttributes a, uint x, uint y, RasterSample 
     if (TEXTURES && m.textureIndex >= 0) {
         BinTexture tex = loadTextureInfo(m.textureIndex);
         // Meshes without UVs read (0, 0) everywhere: level 0 at the origin, like the reference.
-        if ((a.flags & ATTRIBUTES_HAS_UVS) == 0u) {
+        if ((t.attributeFlags & TRIANGLE_HAS_UVS) == 0u) {
             texel = sampleTexture(tex, vec2(0.0), 0.0);
         } else {
-            vec2 uv0 = a.uv01.xy;
-            vec2 uv1 = a.uv01.zw;
+            vec2 uv0 = a.uv0;
+            vec2 uv1 = a.uv1;
             vec2 uv2 = a.uv2;
             vec3 gx;
             vec3 gy;

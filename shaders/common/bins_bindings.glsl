@@ -12,10 +12,10 @@
 layout(set = 1, binding = 0) uniform usamplerBuffer u_vertexTexels;
 layout(set = 1, binding = 1) uniform usamplerBuffer u_quadTexels;
 layout(set = 1, binding = 2) uniform usamplerBuffer u_binDrawTexels;
-// Triangle and attribute records (BinTriangleRecord, BinAttributes), read through
-// u_triangleTexels and u_attributeTexels. Setup writes them through these texel views when
-// they pass what one storage binding holds (a view's texels bound only these), else through
-// the storage buffers setup.comp declares (bindings 29 and 30).
+// Triangle records (BinTriangleRecord) and quad attribute records (bins_layout.glsl), read
+// through u_triangleTexels and u_attributeTexels. Setup writes them through these texel views
+// when they pass what one storage binding holds (a view's texels bound only these), else
+// through the storage buffers setup.comp declares (bindings 29 and 30).
 layout(set = 1, binding = 3, rgba32ui) uniform writeonly uimageBuffer u_triangleRecords;
 layout(set = 1, binding = 4, std430) buffer HomogeneousBlock { BinHomogeneous g_homogeneous[]; };
 layout(set = 1, binding = 5, std430) buffer CounterBlock { BinCounters g_counters; };
@@ -34,7 +34,7 @@ layout(set = 1, binding = 12, rgba16f) uniform image2D u_colour;
 // divergent control flow is a per-lane loop with a branch per component. Records are read
 // texel by texel in field order (a layout test checks every field's offset).
 layout(set = 1, binding = 13) uniform usamplerBuffer u_triangleTexels;   // the same, 5 each
-layout(set = 1, binding = 14) uniform usamplerBuffer u_attributeTexels;  // the same, 8 each
+layout(set = 1, binding = 14) uniform usamplerBuffer u_attributeTexels;  // the same
 layout(set = 1, binding = 15) uniform usamplerBuffer u_materialTexels;   // Material, 3 each
 layout(set = 1, binding = 16) uniform usamplerBuffer u_textureInfoTexels; // BinTexture, 2 each
 layout(set = 1, binding = 17) uniform usamplerBuffer u_texels;           // packed RGBA8
@@ -55,11 +55,12 @@ layout(set = 1, binding = 20) uniform usamplerBuffer u_homogeneousTexels; // g_h
 // 3) writes DISPATCH_RASTER_BINS, DISPATCH_BIN_OFFSETS and DISPATCH_BAND_FILL for each band.
 // Items of
 // resume list k start at k * g_counters.resumeItemCapacity (room for every row of the
-// frame): (block * BIN_SIZE + row, state slot or NO_STATE). Item i takes state slot i while
-// there is one; slot s's pixel states are at (k * resumeCapacity + s) * BIN_SIZE.
+// frame): block * BIN_SIZE + row. Item i takes state slot i while there is one (below
+// resumeCapacity; the rows past them start over); slot s's pixel states are at
+// (k * resumeCapacity + s) * BIN_SIZE.
 layout(set = 1, binding = 21, std430) buffer DispatchBlock {
     uint g_dispatch[24];
-    uvec2 g_resumeItems[];
+    uint g_resumeItems[];
 };
 layout(set = 1, binding = 22, std430) buffer PixelStateBlock { ExactPixelState g_pixelStates[]; };
 layout(set = 1, binding = 23, std430) buffer RasterBinBlock { uint g_rasterBins[]; };
@@ -176,6 +177,7 @@ BinTriangle unpackRasterTriangle(uvec4 t0, uvec4 t1, uvec4 t2, uvec4 t3) {
     t.edgeB.w = int(t2.w);
     t.order = t1.w;
     t.materialIndex = t1.z >> TRIANGLE_MATERIAL_SHIFT;
+    t.attributeFlags = t1.z & (TRIANGLE_FACE_NORMAL | TRIANGLE_HAS_UVS);
     t.zNdc = vec4(uintBitsToFloat(t2.xyz), uintBitsToFloat(t3.w));
     t.invW = vec4(uintBitsToFloat(t3.xyz), 0.0);
     t.bounds = ivec4(0);
@@ -222,10 +224,6 @@ BinHomogeneous loadHomogeneous(int i) {
     h.fixedB = ivec4(texelFetch(u_homogeneousTexels, base + 11));
     return h;
 }
-
-// Texels of an attribute record (BinAttributes) in u_attributeTexels; bin_fragment.glsl
-// reads them.
-#define ATTRIBUTE_TEXELS 8
 
 Material loadMaterial(uint i) {
     int base = int(i) * 3;

@@ -89,6 +89,7 @@ struct BinTriangle {
                             // also the index of the record (setup.comp), so that a
                             // fragment's rank names its triangle
     uint materialIndex;
+    uint attributeFlags;    // TRIANGLE_FACE_NORMAL, TRIANGLE_HAS_UVS
 };
 
 // An BinTriangle as stored (std430, 80 bytes: five texels). The walks read a record for
@@ -101,7 +102,7 @@ struct BinTriangle {
 struct BinTriangleRecord {
     ivec4 vertices01;       // fixed-point x, y of vertices 0 and 1 (zero on the homogeneous path)
     ivec2 vertex2;
-    uint flags;             // TRIANGLE_NEGATED, material index << TRIANGLE_MATERIAL_SHIFT
+    uint flags;             // TRIANGLE_*, material index << TRIANGLE_MATERIAL_SHIFT
     uint order;
     vec3 zNdc;              // depth-buffer value of each vertex
     int homogeneous;        // index into the homogeneous array, or -1
@@ -116,34 +117,34 @@ struct BinTriangleRecord {
 // Set when the edges are those of the vertices in order, negated: the triangle winds the
 // other way in fixed-point framebuffer coordinates, and edges are positive inside.
 #define TRIANGLE_NEGATED 1u
-// The material sits in the same texel as the coverage data, so that shading an unlit,
-// untextured fragment needs no attribute texel besides its colours.
+// The material and the attribute flags sit in the same texel as the coverage data, so that
+// shading reads no attribute texel it does not use.
 #define TRIANGLE_MATERIAL_SHIFT 8
 
-#define ATTRIBUTES_FACE_NORMAL 1u   // normal0 is the face normal, used uninterpolated
-#define ATTRIBUTES_HAS_UVS 2u
+// Set when the triangle's attributes (below) hold its face normal, not vertex normals: its
+// draw is lit and its mesh has no normals.
+#define TRIANGLE_FACE_NORMAL 2u
+// Set when the triangle's mesh has uvs; a textured fragment without them samples (0, 0).
+#define TRIANGLE_HAS_UVS 4u
 
-// What shading needs of a visible triangle, gathered by setup so that the raster reads one
-// record instead of following draw, quad and vertex indices per fragment (std430, 128 bytes,
-// read as texels). Fields are grouped by what needs them, so that the raster fetches only
-// the texels its scene can use (loadShadingAttributes): colours with vertex colours, the
-// first normal with lighting, the flags with vertex normals or textures, the other normals
-// with vertex normals, uvs with textures. (The material is in the triangle record.)
-struct BinAttributes {
-    vec4 colour0;           // vertex colours
-    vec4 colour1;
-    vec4 colour2;
-    vec3 normal0;           // world-space normal of each vertex (normal matrix applied), or
-    uint pad3;              // the face normal alone (ATTRIBUTES_FACE_NORMAL)
-    vec3 normal1;
-    uint flags;             // ATTRIBUTES_*
-    vec3 normal2;
-    uint pad0;
-    vec4 uv01;              // xy: uv of vertex 0, zw: of vertex 1
-    vec2 uv2;
-    uint pad1;
-    uint pad2;
-};
+// What shading needs of a transparent quad besides its triangles' records, gathered by setup
+// so that a fragment reads a few texels instead of following draw, quad and vertex indices.
+// One record per quad, at its index in the frame (a triangle's order key >> 1), shared by its
+// two triangles: triangle 0 has corners 0, 1, 2 and triangle 1 corners 0, 2, 3, as in the
+// reference. A record holds only the sections the scene's constants let shading read
+// (quad_attributes.glsl), each whole texels of 16 bytes, in this order:
+// - colours (VERTEX_COLOURS): each corner's vertex colour times the draw's tint, a texel
+//   each; one texel for the quad with FLAT_COLOURS.
+// - normals (VERTEX_NORMALS): the corners' world-space normals (normal matrix applied),
+//   x, y, z of corner 0, then of corner 1, and so on, packed in three texels. Quads of a draw
+//   without normals (TRIANGLE_FACE_NORMAL) hold each triangle's face normal instead, in the
+//   xyz of a texel of its own; with FACE_NORMALS alone the section is those two texels.
+// - uvs (TEXTURES): corners 0 and 1 in one texel, 2 and 3 in the next.
+#define COLOUR_TEXELS 4
+#define FLAT_COLOUR_TEXELS 1
+#define NORMAL_TEXELS 3
+#define FACE_NORMAL_TEXELS 2
+#define UV_TEXELS 2
 
 // Extra data of a triangle on the homogeneous path (std430, 192 bytes: 176 padded to 32).
 struct BinHomogeneous {

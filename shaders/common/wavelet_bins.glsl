@@ -138,7 +138,7 @@ void main() {
         if (take) {
             vec3 l;
             vec3 tr;
-            shadeFragment(t, loadShadingAttributes(ti), x, y, s, frame, l, tr);
+            shadeFragment(t, x, y, s, frame, l, tr);
             a = waveletAbsorbance(tr);
         }
         float p = waveletCellPosition(waveletNormalizedDepth(s.viewDepth, bounds), pixel);
@@ -166,7 +166,7 @@ void main() {
         if (take) {
             vec3 l;
             vec3 tr;
-            shadeFragment(t, loadShadingAttributes(ti), x, y, s, frame, l, tr);
+            shadeFragment(t, x, y, s, frame, l, tr);
             float p = waveletCellPosition(waveletNormalizedDepth(s.viewDepth, bounds), pixel);
             vec3 inFront = waveletAbsorbanceAt(cells, p, waveletAbsorbance(tr));
             lit += waveletQuantize(l * waveletTransmittance(inFront));

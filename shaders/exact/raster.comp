@@ -117,10 +117,10 @@ void main() {
         if (index >= g_dispatch[u_push.resumeList * 4u + 3u]) {
             return;
         }
-        uvec2 item = g_resumeItems[u_push.resumeList * itemCapacity + index];
-        block = item.x / BIN_SIZE;
-        row = item.x % BIN_SIZE;
-        stateSlot = item.y;
+        uint item = g_resumeItems[u_push.resumeList * itemCapacity + index];
+        block = item / BIN_SIZE;
+        row = item % BIN_SIZE;
+        stateSlot = index < resumeCapacity ? index : NO_STATE;
     } else {
         block = g_rasterBins[g_counters.bandFirst + linearWorkGroup()];
         row = gl_WorkGroupID.y * gl_WorkGroupSize.y + gl_LocalInvocationID.y;
@@ -308,7 +308,7 @@ void main() {
                 sampleTriangle(t, x, y, s);
                 vec3 l;
                 vec3 tr;
-                shadeFragment(t, loadShadingAttributes(ti), x, y, s, frame, l, tr);
+                shadeFragment(t, x, y, s, frame, l, tr);
                 radiance += transmittance * l;
                 transmittance *= tr;
                 doneKey = selKey[0];
@@ -378,7 +378,7 @@ void main() {
                 atomicAdd(g_counters.restartedRows, 1u);
                 slot = NO_STATE;
             }
-            g_resumeItems[outList * itemCapacity + item] = uvec2(block * BIN_SIZE + row, slot);
+            g_resumeItems[outList * itemCapacity + item] = block * BIN_SIZE + row;
         }
         slot = subgroupBroadcastFirst(slot);
         // A row without a state starts over: what it composited here is counted then.

@@ -187,6 +187,24 @@ impl RasterFeatures {
         }
     }
 
+    /// Texels of a quad's attribute record: the sections shading can read with these
+    /// features, as quad_attributes.glsl adds them up.
+    pub fn attribute_texels(&self) -> u32 {
+        use super::layout::*;
+        let colours = match (self.vertex_colours, self.flat_colours) {
+            (false, _) => 0,
+            (true, true) => FLAT_COLOUR_TEXELS,
+            (true, false) => COLOUR_TEXELS,
+        };
+        let normals = match (self.vertex_normals, self.face_normals) {
+            (true, _) => NORMAL_TEXELS,
+            (false, true) => FACE_NORMAL_TEXELS,
+            (false, false) => 0,
+        };
+        let uvs = if self.textures { UV_TEXELS } else { 0 };
+        colours + normals + uvs
+    }
+
     /// Depth slabs per bin.
     pub fn slabs(&self) -> u32 {
         1 << self.slab_bits
@@ -220,14 +238,31 @@ impl RasterFeatures {
     }
 }
 
-/// Quads the estimate of [`estimated_fragments`] looks at, at most: every k-th of larger
-/// scenes, scaled.
+/// Quads the estimate of [`estimate`] looks at, at most: every k-th of larger scenes, scaled.
 const ESTIMATE_QUADS: u64 = 1 << 16;
 
+/// What a frame of a scene is expected to put in the bins, before any frame has counted it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrameEstimate {
+    /// Fragments of the transparent draws.
+    pub fragments: u64,
+    /// Bin entries: a triangle takes one for each block its span on each pixel row touches.
+    pub bin_entries: u64,
+}
+
 /// About how many fragments the scene's transparent draws put over a `width` x `height`
-/// frame: their quads' areas on screen (beyond the near plane), each at most its bounding
-/// box's part of the screen. It ignores what the opaque layer hides.
+/// frame ([`estimate`]).
 pub fn estimated_fragments(scene: &Scene, width: u32, height: u32) -> u64 {
+    estimate(scene, width, height).fragments
+}
+
+/// What the scene's transparent draws put over a `width` x `height` frame, about: their
+/// triangles' areas on screen (a quad's beyond the near plane where it crosses it), each at
+/// most its bounding box's part of the screen, and the pixel rows each of their triangles spans. A triangle's span on a row
+/// of w pixels touches about (w + BIN_SIZE - 1) / BIN_SIZE blocks, so its bin entries are
+/// about its area / BIN_SIZE and a block per row. It ignores what the opaque layer hides
+/// and what faces away.
+pub fn estimate(scene: &Scene, width: u32, height: u32) -> FrameEstimate {
     let view_projection = scene.camera.view_projection(width, height);
     let quads: u64 = scene
         .transparent
@@ -236,6 +271,7 @@ pub fn estimated_fragments(scene: &Scene, width: u32, height: u32) -> u64 {
         .sum();
     let stride = quads.div_ceil(ESTIMATE_QUADS).max(1);
     let mut area = 0.0f64;
+    let mut triangle_rows = 0.0f64;
     let mut index = 0u64;
     for draw in &scene.transparent {
         let mvp = view_projection * draw.transform;
@@ -246,9 +282,20 @@ pub fn estimated_fragments(scene: &Scene, width: u32, height: u32) -> u64 {
                 continue;
             }
             let clip = quad.map(|v| clip_position(&mvp, mesh.positions[v as usize]));
-            area += if clip.iter().all(|c| c.w > 0.0) {
+            let lone = quad[3] == quad[2] || quad[3] == quad[0];
+            let footprint = if clip.iter().all(|c| c.w > 0.0) {
+                // Triangle 0 has corners 0, 1, 2 and triangle 1 corners 0, 2, 3.
                 let [a, b, c, d] = clip.map(|c| viewport_transform(c, width, height));
-                screen_area(&[a, b, c, d], width, height)
+                let first = screen_footprint(&[a, b, c], width, height);
+                if lone {
+                    first
+                } else {
+                    let second = screen_footprint(&[a, c, d], width, height);
+                    Footprint {
+                        area: first.area + second.area,
+                        rows: first.rows + second.rows,
+                    }
+                }
             } else {
                 // Through the camera plane: its part beyond the near plane, as setup bins it.
                 let beyond = beyond_near_plane(clip);
@@ -256,11 +303,21 @@ pub fn estimated_fragments(scene: &Scene, width: u32, height: u32) -> u64 {
                     .iter()
                     .map(|&c| viewport_transform(c, width, height))
                     .collect();
-                screen_area(&on_screen, width, height)
+                let quad = screen_footprint(&on_screen, width, height);
+                Footprint {
+                    area: quad.area,
+                    rows: quad.rows * if lone { 1.0 } else { 2.0 },
+                }
             };
+            area += footprint.area;
+            triangle_rows += footprint.rows;
         }
     }
-    (area * stride as f64) as u64
+    let scaled = |v: f64| (v * stride as f64) as u64;
+    FrameEstimate {
+        fragments: scaled(area),
+        bin_entries: scaled(area / f64::from(BIN_SIZE) + triangle_rows),
+    }
 }
 
 /// The part of the convex polygon `clip` (clip-space corners, in order) beyond the near plane
@@ -274,11 +331,22 @@ fn beyond_near_plane(clip: [Vec4; 4]) -> Vec<Vec4> {
         .collect()
 }
 
-/// Pixels the convex polygon `points` (framebuffer coordinates, in order) covers, at most its
-/// bounding box's overlap with the screen.
-fn screen_area(points: &[Vec3], width: u32, height: u32) -> f64 {
+/// What a convex polygon covers of the screen.
+struct Footprint {
+    /// Pixels, at most its bounding box's overlap with the screen.
+    area: f64,
+    /// Pixel rows its bounding box spans on the screen.
+    rows: f64,
+}
+
+/// What the convex polygon `points` (framebuffer coordinates, in order) covers of a
+/// `width` x `height` screen.
+fn screen_footprint(points: &[Vec3], width: u32, height: u32) -> Footprint {
     let Some(first) = points.first() else {
-        return 0.0;
+        return Footprint {
+            area: 0.0,
+            rows: 0.0,
+        };
     };
     let xy = |p: &Vec3| (f64::from(p.x), f64::from(p.y));
     let twice_area: f64 = points
@@ -297,11 +365,18 @@ fn screen_area(points: &[Vec3], width: u32, height: u32) -> f64 {
         hi = (hi.0.max(x), hi.1.max(y));
     }
     let overlap = |lo: f64, hi: f64, size: u32| (hi.min(f64::from(size)) - lo.max(0.0)).max(0.0);
-    let bounded = overlap(lo.0, hi.0, width) * overlap(lo.1, hi.1, height);
+    let rows = overlap(lo.1, hi.1, height);
+    let bounded = overlap(lo.0, hi.0, width) * rows;
     if area.is_finite() {
-        area.min(bounded)
+        Footprint {
+            area: area.min(bounded),
+            rows,
+        }
     } else {
-        0.0
+        Footprint {
+            area: 0.0,
+            rows: 0.0,
+        }
     }
 }
 
@@ -425,6 +500,55 @@ fn bounds_on_fixed_path(mvp: &Mat4, (lo, hi): (Vec3, Vec3), width: u32, height: 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A quad's attribute record holds the sections its frame's shading reads, and no more:
+    /// the dragon (lit, vertex normals) only normals, particles (flat colours, textured)
+    /// one colour and uvs.
+    #[test]
+    fn attribute_records_hold_what_shading_reads() {
+        let none = RasterFeatures {
+            homogeneous: false,
+            textures: false,
+            vertex_normals: false,
+            face_normals: false,
+            select_size: SELECT_SIZE,
+            slab_bits: 0,
+            rows: 1,
+            transmission: false,
+            vertex_colours: false,
+            flat_colours: false,
+            deep_binning_lanes: 1,
+        };
+        assert_eq!(none.attribute_texels(), 0);
+        let lit = RasterFeatures {
+            vertex_normals: true,
+            ..none
+        };
+        assert_eq!(lit.attribute_texels(), 3);
+        let faces = RasterFeatures {
+            face_normals: true,
+            ..none
+        };
+        assert_eq!(faces.attribute_texels(), 2);
+        let particles = RasterFeatures {
+            textures: true,
+            vertex_colours: true,
+            flat_colours: true,
+            ..none
+        };
+        assert_eq!(particles.attribute_texels(), 3);
+        let everything = RasterFeatures {
+            textures: true,
+            vertex_normals: true,
+            face_normals: true,
+            vertex_colours: true,
+            ..none
+        };
+        assert_eq!(
+            everything.attribute_texels(),
+            super::super::layout::MOST_ATTRIBUTE_TEXELS
+        );
+    }
 
     /// A mesh that a file without a camera is framed by (`Camera::framing`) stays on the
     /// fixed path all around the bench's orbit, its draw moving too. (The framing's near

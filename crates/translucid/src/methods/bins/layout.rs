@@ -23,8 +23,8 @@ pub const LOOP_BUDGET: u32 = 60_000;
 // The raster may pass its budget by two searches over the slabs (a sweep's start) before it
 // stops; lavapipe ends loops after 65535 iterations.
 const _: () = assert!(LOOP_BUDGET + 2 * MAX_SLABS < 65_000);
-/// Bytes of one resume item: (block * BIN_SIZE + row, state slot).
-pub const RESUME_ITEM_BYTES: u64 = 8;
+/// Bytes of one resume item: block * BIN_SIZE + row (its index is its state slot).
+pub const RESUME_ITEM_BYTES: u64 = 4;
 /// Bytes of one `ExactPixelState`.
 pub const PIXEL_STATE_BYTES: u64 = 192;
 /// `MAX_SELECT_SIZE` of bins_layout.glsl: fragments a pixel's saved state can hold.
@@ -47,8 +47,18 @@ pub const SCAN_GROUP_SIZE: u32 = 256;
 /// Bytes of one `BinTriangleRecord` and one `BinHomogeneous`.
 pub const TRIANGLE_BYTES: u64 = 80;
 pub const HOMOGENEOUS_BYTES: u64 = 192;
-/// Bytes of one `BinAttributes`.
-pub const ATTRIBUTES_BYTES: u64 = 128;
+/// Texels (16 bytes) of each section of a quad's attribute record (bins_layout.glsl):
+/// colours, one colour with flat colours, vertex normals, face normals alone, uvs.
+pub const COLOUR_TEXELS: u32 = 4;
+pub const FLAT_COLOUR_TEXELS: u32 = 1;
+pub const NORMAL_TEXELS: u32 = 3;
+pub const FACE_NORMAL_TEXELS: u32 = 2;
+pub const UV_TEXELS: u32 = 2;
+/// The most texels a quad's attribute record takes.
+pub const MOST_ATTRIBUTE_TEXELS: u32 = COLOUR_TEXELS + NORMAL_TEXELS + UV_TEXELS;
+// A quad's attributes take no more than its two triangle records: what bounds the triangles
+// one texel view holds bounds its attributes too.
+const _: () = assert!(MOST_ATTRIBUTE_TEXELS as u64 * 16 <= 2 * TRIANGLE_BYTES);
 
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
@@ -208,6 +218,11 @@ mod tests {
         assert_eq!(define("TRIANGLE_MATERIAL_SHIFT"), TRIANGLE_MATERIAL_SHIFT);
         assert_eq!(define("BINNING_GROUP_SIZE"), BINNING_GROUP_SIZE);
         assert_eq!(define("SCAN_GROUP_SIZE"), SCAN_GROUP_SIZE);
+        assert_eq!(define("COLOUR_TEXELS"), COLOUR_TEXELS);
+        assert_eq!(define("FLAT_COLOUR_TEXELS"), FLAT_COLOUR_TEXELS);
+        assert_eq!(define("NORMAL_TEXELS"), NORMAL_TEXELS);
+        assert_eq!(define("FACE_NORMAL_TEXELS"), FACE_NORMAL_TEXELS);
+        assert_eq!(define("UV_TEXELS"), UV_TEXELS);
         let commands = u64::from(define("DISPATCH_BAND_FILL")) + 1;
         assert_eq!(commands * 16, DISPATCH_BYTES);
         assert_eq!(
@@ -236,16 +251,6 @@ mod tests {
         assert_eq!(
             offsets("BinTriangleRecord"),
             [0, 16, 24, 28, 32, 44, 48, 60, 64, 68, 72, 76],
-            "{msg}"
-        );
-        assert_eq!(
-            offsets("BinAttributes"),
-            [0, 16, 32, 48, 60, 64, 76, 80, 92, 96, 112, 120, 124],
-            "{msg}"
-        );
-        assert_eq!(
-            std430_offsets(SRC, "BinAttributes").1 as u64,
-            ATTRIBUTES_BYTES,
             "{msg}"
         );
         assert_eq!(

@@ -324,22 +324,23 @@ impl Bins {
         let (width, height) = (targets.extent.width, targets.extent.height);
         let meshes = MeshFacts::of_scene(scene);
         let near_plane = features::homogeneous_triangles(scene, &meshes, width, height);
-        let expected = features::estimated_fragments(scene, width, height);
+        let expected = features::estimate(scene, width, height);
+        let mut features = RasterFeatures::of_frame(scene, &meshes, near_plane, info.subgroup_size);
+        features.homogeneous &= !options.assume_fixed_path;
+        features = shape(features, expected.fragments);
+        if options.assume_wide_subgroups {
+            features.rows = 1;
+        }
         // Buffers per block and row are made for the largest frame.
         let capacities = Capacities::initial(
             uploaded.transparent_quads,
+            features.attribute_texels(),
             capacity.width.div_ceil(BIN_SIZE) * capacity.height.div_ceil(BIN_SIZE),
-            expected,
+            &expected,
             homogeneous_bound(gpu, near_plane),
             options,
         )
         .within(&Capacities::most(gpu));
-        let mut features = RasterFeatures::of_frame(scene, &meshes, near_plane, info.subgroup_size);
-        features.homogeneous &= !options.assume_fixed_path;
-        features = shape(features, expected);
-        if options.assume_wide_subgroups {
-            features.rows = 1;
-        }
         let resources = Resources::new(gpu, scene, uploaded, targets, capacities, features.slabs())
             .map_err(|e| in_errors(method, e))?;
         let layouts = [&uploaded.layout, &resources.layout];
@@ -443,8 +444,18 @@ impl Bins {
         // Triangles that may take the near-plane path: the records' bound and the feature.
         let near_plane = features::homogeneous_triangles(f.scene, &self.meshes, width, height);
         let homogeneous = homogeneous_bound(f.gpu, near_plane);
+        let subgroup_size = self.gpu.info().subgroup_size;
+        let mut fresh = RasterFeatures::of_frame(f.scene, &self.meshes, near_plane, subgroup_size);
+        fresh.homogeneous =
+            (fresh.homogeneous && !self.fixed_path_forced) || self.homogeneous_missed;
+        let features = self.features.for_frame(fresh);
+        // Draws that joined may need more of each quad's attributes (a first textured draw).
+        let attribute_texels = features.attribute_texels();
         let capacities = self.resources.capacities;
-        if triangles > capacities.triangles || homogeneous > capacities.homogeneous {
+        if triangles > capacities.triangles
+            || homogeneous > capacities.homogeneous
+            || attribute_texels > capacities.attribute_texels
+        {
             // A quarter to spare: draws and meshes added one after another regrow rarely.
             let with_room = |needed: u32, now: u32| {
                 if needed > now {
@@ -456,17 +467,13 @@ impl Bins {
             let grown = Capacities {
                 triangles: with_room(triangles, capacities.triangles),
                 homogeneous: with_room(homogeneous, capacities.homogeneous),
+                attribute_texels: attribute_texels.max(capacities.attribute_texels),
                 ..capacities
             };
             self.resources
                 .grow(f.gpu, grown)
                 .map_err(|e| in_errors(self.method, e))?;
         }
-        let subgroup_size = self.gpu.info().subgroup_size;
-        let mut fresh = RasterFeatures::of_frame(f.scene, &self.meshes, near_plane, subgroup_size);
-        fresh.homogeneous =
-            (fresh.homogeneous && !self.fixed_path_forced) || self.homogeneous_missed;
-        let features = self.features.for_frame(fresh);
         let changed = features != self.features;
         let texels = self.resources.records_pass_a_binding(f.gpu);
         if changed || texels != self.records_as_texels {
@@ -479,6 +486,9 @@ impl Bins {
     /// Makes `features` the frames' from now on, the stages' pipelines built unless made
     /// before.
     fn select(&mut self, uploaded: &GpuScene, features: RasterFeatures) -> Result<()> {
+        // set_frame grows the records for what the frame's shading reads; nothing after it
+        // changes that.
+        debug_assert!(features.attribute_texels() <= self.resources.capacities.attribute_texels);
         let layouts = [&uploaded.layout, &self.resources.layout];
         self.stages = StagePipelines::select(
             &mut self.cache,

@@ -2,7 +2,7 @@
 //! for every stage): sized from the frame, grown when the GPU reports an overflow.
 
 use super::layout::{
-    BinCounters, BinDraw, ATTRIBUTES_BYTES, BIN_SIZE, DISPATCH_BYTES, HOMOGENEOUS_BYTES,
+    BinCounters, BinDraw, BIN_SIZE, DISPATCH_BYTES, HOMOGENEOUS_BYTES, MOST_ATTRIBUTE_TEXELS,
     OVERFLOW_BIN_ENTRIES, OVERFLOW_HOMOGENEOUS, OVERFLOW_RESUME, PIXEL_STATE_BYTES,
     RESUME_ITEM_BYTES, SCAN_GROUP_SIZE, TRIANGLE_BYTES, TRIANGLE_MATERIAL_SHIFT,
 };
@@ -29,27 +29,29 @@ const INITIAL_RESUME_ROWS: u32 = 256;
 pub struct Capacities {
     /// Two per quad: setup can never write more.
     pub triangles: u32,
+    /// Texels of each quad's attribute record (one record per two triangles): what the
+    /// features' shading reads (`RasterFeatures::attribute_texels`).
+    pub attribute_texels: u32,
     pub homogeneous: u32,
     pub bin_entries: u32,
     /// Pixel-state slots of each of the two resume lists: rows a raster dispatch suspends
     /// with their state (the others start over when resumed).
     pub resume: u32,
     /// Items each resume list holds: every row of the frame, so that no suspended row is
-    /// lost (an item is 8 bytes).
+    /// lost (an item is 4 bytes).
     pub resume_items: u32,
 }
 
 impl Capacities {
-    /// A first guess from the frame: every quad's two triangles, each touching a few bins
-    /// (rows of blocks), or, for frames expected to be deep, a bin entry for every row of
-    /// BIN_SIZE of the `fragments` expected and a quarter more, for blocks that a quad's
-    /// diagonal splits (up to EXPECTED_BIN_ENTRIES).
+    /// A first guess from the frame: two triangles per quad, and the bin entries `expected`
+    /// and a quarter more (up to EXPECTED_BIN_ENTRIES), at least one per bin.
     /// Overflow corrects it after one frame. Homogeneous records: `homogeneous`, the most
     /// the frame can need (features::homogeneous_triangles, within one storage buffer).
     pub fn initial(
         quads: u32,
+        attribute_texels: u32,
         blocks: u32,
-        fragments: u64,
+        expected: &super::features::FrameEstimate,
         homogeneous: u32,
         options: &super::BinOptions,
     ) -> Self {
@@ -58,8 +60,8 @@ impl Capacities {
         const EXPECTED_BIN_ENTRIES: u64 = 1 << 25;
         let triangles = quads.saturating_mul(2).max(1);
         let rows = blocks.saturating_mul(BIN_SIZE);
-        let rows_expected = fragments / u64::from(BIN_SIZE);
-        let expected_entries = (rows_expected + rows_expected / 4).min(EXPECTED_BIN_ENTRIES) as u32;
+        let entries = expected.bin_entries;
+        let expected_entries = (entries + entries / 4).min(EXPECTED_BIN_ENTRIES) as u32;
         Self {
             resume: options
                 .initial_resume_rows
@@ -67,10 +69,11 @@ impl Capacities {
                 .clamp(1, rows.max(1)),
             resume_items: rows.max(1),
             triangles,
+            attribute_texels,
             homogeneous: options.initial_homogeneous.unwrap_or(homogeneous).max(1),
             bin_entries: options
                 .initial_bin_entries
-                .unwrap_or(triangles.saturating_mul(8).max(rows).max(expected_entries))
+                .unwrap_or(expected_entries.max(rows))
                 .max(1),
         }
     }
@@ -91,9 +94,10 @@ impl Capacities {
             (storage / bytes).min(viewed).min(u64::from(u32::MAX)) as u32
         };
         Self {
-            // Written and read through texel views, not storage bindings.
-            triangles: (texels * 16 / TRIANGLE_BYTES.max(ATTRIBUTES_BYTES)).min(u64::from(u32::MAX))
-                as u32,
+            // Written and read through texel views, not storage bindings; a quad's attributes
+            // take less than its two triangle records (layout.rs).
+            triangles: (texels * 16 / TRIANGLE_BYTES).min(u64::from(u32::MAX)) as u32,
+            attribute_texels: MOST_ATTRIBUTE_TEXELS,
             homogeneous: fits(HOMOGENEOUS_BYTES, 16),
             bin_entries: fits(4, 4),
             // Both lists' pixel states in one buffer.
@@ -285,8 +289,8 @@ fn growable(gpu: &Gpu, c: Capacities) -> Result<Growable> {
         )?,
         attributes: texel_storage(
             gpu,
-            "triangle attributes",
-            triangles * ATTRIBUTES_BYTES,
+            "quad attributes",
+            triangles.div_ceil(2) * u64::from(c.attribute_texels) * 16,
             RGBA32UI,
         )?,
         homogeneous: viewed_storage(
@@ -496,7 +500,7 @@ impl Resources {
     /// Whether the triangle records pass what one storage binding holds, so that setup must
     /// write them through texel views.
     pub fn records_pass_a_binding(&self, gpu: &Gpu) -> bool {
-        let bytes = u64::from(self.capacities.triangles) * TRIANGLE_BYTES.max(ATTRIBUTES_BYTES);
+        let bytes = u64::from(self.capacities.triangles) * TRIANGLE_BYTES;
         bytes > u64::from(gpu.info().max_storage_buffer_range)
     }
 
