@@ -252,42 +252,40 @@ layout(set = 1, binding = 29, std430) buffer TriangleBlock { BinTriangleRecord g
 layout(set = 1, binding = 30, std430) buffer AttributeBlock { uvec4 g_attributes[]; };
 layout(constant_id = 12) const bool RECORDS_AS_TEXELS = false;
 
-// Record ti (BinTriangleRecord): through texels, one per 16 bytes of its std430 layout, or
-// field by field, the padding never stored.
+// Record ti (BinTriangleRecord), whose order key is ti: through texels, one per 16 bytes of
+// its std430 layout, or field by field.
 void storeTriangle(uint ti, BinTriangle t, ivec2 v[3], bool negated) {
-    uint flags = (negated ? TRIANGLE_NEGATED : 0u) | t.attributeFlags |
-                 t.materialIndex << TRIANGLE_MATERIAL_SHIFT;
+    bool homogeneous = t.edgeB.w >= 0;
+    uint flags = (negated ? TRIANGLE_NEGATED : 0u) | (homogeneous ? TRIANGLE_HOMOGENEOUS : 0u) |
+                 t.attributeFlags | t.materialIndex << TRIANGLE_MATERIAL_SHIFT;
+    ivec4 vertices01 = homogeneous ? ivec4(t.edgeB.w, 0, 0, 0) : ivec4(v[0], v[1]);
+    uint boundsMin = uint(t.bounds.x) | uint(t.bounds.y) << 16u;
+    uint boundsEnd = uint(t.bounds.z) | uint(t.bounds.w) << 16u;
     if (!RECORDS_AS_TEXELS) {
-        g_triangles[ti].vertices01 = ivec4(v[0], v[1]);
+        g_triangles[ti].vertices01 = vertices01;
         g_triangles[ti].vertex2 = v[2];
         g_triangles[ti].flags = flags;
-        g_triangles[ti].order = t.order;
+        g_triangles[ti].boundsMin = boundsMin;
         g_triangles[ti].zNdc = t.zNdc.xyz;
-        g_triangles[ti].homogeneous = t.edgeB.w;
+        g_triangles[ti].boundsEnd = boundsEnd;
         g_triangles[ti].invW = t.invW.xyz;
         g_triangles[ti].invArea = t.zNdc.w;
-        g_triangles[ti].boundsMin = uint(t.bounds.x) | uint(t.bounds.y) << 16u;
-        g_triangles[ti].boundsEnd = uint(t.bounds.z) | uint(t.bounds.w) << 16u;
         return;
     }
     int base = int(ti) * TRIANGLE_TEXELS;
-    imageStore(u_triangleRecords, base, uvec4(ivec4(v[0], v[1])));
-    imageStore(u_triangleRecords, base + 1, uvec4(uvec2(v[2]), flags, t.order));
-    imageStore(u_triangleRecords, base + 2, uvec4(floatBitsToUint(t.zNdc.xyz), uint(t.edgeB.w)));
+    imageStore(u_triangleRecords, base, uvec4(vertices01));
+    imageStore(u_triangleRecords, base + 1, uvec4(uvec2(v[2]), flags, boundsMin));
+    imageStore(u_triangleRecords, base + 2, uvec4(floatBitsToUint(t.zNdc.xyz), boundsEnd));
     imageStore(u_triangleRecords, base + 3,
                uvec4(floatBitsToUint(t.invW.xyz), floatBitsToUint(t.zNdc.w)));
-    imageStore(u_triangleRecords, base + 4,
-               uvec4(uint(t.bounds.x) | uint(t.bounds.y) << 16u,
-                     uint(t.bounds.z) | uint(t.bounds.w) << 16u, 0u, 0u));
 }
 
-// Record ti as a hole: empty bounds, so that binning enters it nowhere. Its other texels are
-// never read.
+// Record ti as a hole: empty bounds (an end of 0), so that binning enters it nowhere. Its
+// other fields are never read.
 void storeHole(uint ti) {
     if (RECORDS_AS_TEXELS) {
-        imageStore(u_triangleRecords, int(ti) * TRIANGLE_TEXELS + 4, uvec4(0u));
+        imageStore(u_triangleRecords, int(ti) * TRIANGLE_TEXELS + 2, uvec4(0u));
     } else {
-        g_triangles[ti].boundsMin = 0u;
         g_triangles[ti].boundsEnd = 0u;
     }
 }

@@ -114,17 +114,13 @@ Material loadShadingMaterial(uint i) {
 }
 
 // Triangle record i as shading needs it, for a fragment the walk already found: coverage and
-// the depth test are done, so the depths texel is read only for the homogeneous path's index
-// (without it the sample's depth is meaningless and unused).
+// the depth test are done, so it skips the depths texel (without it the sample's depth is
+// meaningless and unused).
 BinTriangle loadShadingTriangle(uint i) {
     int base = int(i) * TRIANGLE_TEXELS;
-    uvec4 depths = uvec4(0u, 0u, 0u, 0xFFFFFFFFu);
-    if (HOMOGENEOUS_PATH) {
-        depths = texelFetch(u_triangleTexels, base + 2);
-    }
-    return unpackRasterTriangle(texelFetch(u_triangleTexels, base),
-                                texelFetch(u_triangleTexels, base + 1), depths,
-                                texelFetch(u_triangleTexels, base + 3));
+    return unpackTriangle(i, texelFetch(u_triangleTexels, base),
+                          texelFetch(u_triangleTexels, base + 1), uvec4(0u),
+                          texelFetch(u_triangleTexels, base + 3));
 }
 
 // The depth fragments are ordered by (raster::order_depth): clip w, or under an orthographic

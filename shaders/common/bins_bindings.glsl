@@ -33,7 +33,7 @@ layout(set = 1, binding = 12, rgba16f) uniform image2D u_colour;
 // lavapipe fetch texels with straight-line vector loads, where a storage-buffer load inside
 // divergent control flow is a per-lane loop with a branch per component. Records are read
 // texel by texel in field order (a layout test checks every field's offset).
-layout(set = 1, binding = 13) uniform usamplerBuffer u_triangleTexels;   // the same, 5 each
+layout(set = 1, binding = 13) uniform usamplerBuffer u_triangleTexels;   // the same, 4 each
 layout(set = 1, binding = 14) uniform usamplerBuffer u_attributeTexels;  // the same
 layout(set = 1, binding = 15) uniform usamplerBuffer u_materialTexels;   // Material, 3 each
 layout(set = 1, binding = 16) uniform usamplerBuffer u_textureInfoTexels; // BinTexture, 2 each
@@ -144,10 +144,8 @@ DrawInfo loadDrawInfo(uint i) {
     return d;
 }
 
-// Texels of a triangle record (BinTriangleRecord) in u_triangleTexels; the walks read the
-// first RASTER_TRIANGLE_TEXELS.
-#define TRIANGLE_TEXELS 5
-#define RASTER_TRIANGLE_TEXELS 4
+// Texels of a triangle record (BinTriangleRecord) in u_triangleTexels.
+#define TRIANGLE_TEXELS 4
 
 // The fixed-point edges of snapped vertices v, negated when they wind the other way: edge k
 // runs from vertex k + 1 to vertex k + 2. Setup and the record loaders both build them here.
@@ -169,37 +167,28 @@ void unpackEdges(ivec2 v[3], bool negated, out BinTriangle t) {
     t.edgeC.w = 0l;
 }
 
-// Everything of a record but its bounds, from its first RASTER_TRIANGLE_TEXELS texels.
-BinTriangle unpackRasterTriangle(uvec4 t0, uvec4 t1, uvec4 t2, uvec4 t3) {
+// Record i from its texels t0 to t3. What a caller does not use of it compiles away.
+BinTriangle unpackTriangle(uint i, uvec4 t0, uvec4 t1, uvec4 t2, uvec4 t3) {
     BinTriangle t;
     ivec2 v[3] = ivec2[3](ivec2(t0.xy), ivec2(t0.zw), ivec2(t1.xy));
     unpackEdges(v, (t1.z & TRIANGLE_NEGATED) != 0u, t);
-    t.edgeB.w = int(t2.w);
-    t.order = t1.w;
+    t.edgeB.w = (t1.z & TRIANGLE_HOMOGENEOUS) != 0u ? int(t0.x) : -1;
+    t.order = i;
     t.materialIndex = t1.z >> TRIANGLE_MATERIAL_SHIFT;
     t.attributeFlags = t1.z & (TRIANGLE_FACE_NORMAL | TRIANGLE_HAS_UVS);
     t.zNdc = vec4(uintBitsToFloat(t2.xyz), uintBitsToFloat(t3.w));
     t.invW = vec4(uintBitsToFloat(t3.xyz), 0.0);
-    t.bounds = ivec4(0);
+    t.bounds = ivec4(t1.w & 0xFFFFu, t1.w >> 16u, t2.w & 0xFFFFu, t2.w >> 16u);
     return t;
 }
 
-// Triangle record i without its bounds: all the raster needs, since the edges alone decide
-// coverage (bounds only spare the binning passes).
-BinTriangle loadRasterTriangle(uint i) {
-    int base = int(i) * TRIANGLE_TEXELS;
-    return unpackRasterTriangle(texelFetch(u_triangleTexels, base),
-                                texelFetch(u_triangleTexels, base + 1),
-                                texelFetch(u_triangleTexels, base + 2),
-                                texelFetch(u_triangleTexels, base + 3));
-}
-
-// Triangle record i, bounds included.
+// Triangle record i.
 BinTriangle loadTriangle(uint i) {
-    BinTriangle t = loadRasterTriangle(i);
-    uvec4 b = texelFetch(u_triangleTexels, int(i) * TRIANGLE_TEXELS + 4);
-    t.bounds = ivec4(b.x & 0xFFFFu, b.x >> 16u, b.y & 0xFFFFu, b.y >> 16u);
-    return t;
+    int base = int(i) * TRIANGLE_TEXELS;
+    return unpackTriangle(i, texelFetch(u_triangleTexels, base),
+                          texelFetch(u_triangleTexels, base + 1),
+                          texelFetch(u_triangleTexels, base + 2),
+                          texelFetch(u_triangleTexels, base + 3));
 }
 
 dvec4 fetchDvec4(int texel) {

@@ -92,26 +92,23 @@ struct BinTriangle {
     uint attributeFlags;    // TRIANGLE_FACE_NORMAL, TRIANGLE_HAS_UVS
 };
 
-// An BinTriangle as stored (std430, 80 bytes: five texels). The walks read a record for
+// An BinTriangle as stored (std430, 64 bytes: four texels). The walks read a record for
 // every triangle they visit, one texel fetch each, so it keeps the snapped vertices instead
-// of the edges (loaders rebuild a, b and c exactly, as setup computes them) and puts the
-// bounds, which coverage does not need, in the last texel, which the walks skip; shading
-// skips the depths too (loadShadingTriangle in bin_fragment.glsl). Fixed-point
-// vertices fit 32 bits (guard band 2^20 pixels, 8 sub-pixel bits), pixel bounds 16 bits
-// (viewports are at most 65535).
+// of the edges (loaders rebuild a, b and c exactly, as setup computes them). Its order key
+// is its index, and a homogeneous-path triangle, which has no fixed-point vertices, keeps its
+// index into the homogeneous array in their place. Shading skips the depths texel
+// (loadShadingTriangle in bin_fragment.glsl). Fixed-point vertices fit 32 bits (guard band
+// 2^20 pixels, 8 sub-pixel bits), pixel bounds 16 bits (viewports are at most 65535).
 struct BinTriangleRecord {
-    ivec4 vertices01;       // fixed-point x, y of vertices 0 and 1 (zero on the homogeneous path)
+    ivec4 vertices01;       // fixed-point x, y of vertices 0 and 1; on the homogeneous path
+                            // (TRIANGLE_HOMOGENEOUS) x: the homogeneous index, the rest 0
     ivec2 vertex2;
     uint flags;             // TRIANGLE_*, material index << TRIANGLE_MATERIAL_SHIFT
-    uint order;
+    uint boundsMin;         // x0 | y0 << 16
     vec3 zNdc;              // depth-buffer value of each vertex
-    int homogeneous;        // index into the homogeneous array, or -1
+    uint boundsEnd;         // x1 | y1 << 16 (0 for a hole, which binning skips)
     vec3 invW;              // 1 / clip w of each vertex
     float invArea;          // 1 / |double area|, with invW: what shading's sample needs
-    uint boundsMin;         // x0 | y0 << 16
-    uint boundsEnd;         // x1 | y1 << 16
-    uint pad0;
-    uint pad1;
 };
 
 // Set when the edges are those of the vertices in order, negated: the triangle winds the
@@ -126,6 +123,8 @@ struct BinTriangleRecord {
 #define TRIANGLE_FACE_NORMAL 2u
 // Set when the triangle's mesh has uvs; a textured fragment without them samples (0, 0).
 #define TRIANGLE_HAS_UVS 4u
+// Set when the triangle takes the homogeneous path (BinHomogeneous).
+#define TRIANGLE_HOMOGENEOUS 8u
 
 // What shading needs of a transparent quad besides its triangles' records, gathered by setup
 // so that a fragment reads a few texels instead of following draw, quad and vertex indices.

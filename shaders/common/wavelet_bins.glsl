@@ -102,7 +102,7 @@ void main() {
         uint ti = nextTri;
         nextTri = entryTriangle(e + 1u, lastEntry);
         RasterSample s;
-        bool take = coverSample(loadRasterTriangle(ti), x, y, s) && s.zNdc < opaqueDepth;
+        bool take = coverSample(loadTriangle(ti), x, y, s) && s.zNdc < opaqueDepth;
         nearest = take ? min(nearest, s.viewDepth) : nearest;
         farthest = take ? max(farthest, s.viewDepth) : farthest;
         fragments += take ? 1u : 0u;
@@ -131,7 +131,7 @@ void main() {
     if (i < visits) do {
         uint ti = nextTri;
         nextTri = visitTriangle(shortForm, keptTri, i + 1u, first, lastEntry);
-        BinTriangle t = loadRasterTriangle(ti);
+        BinTriangle t = loadTriangle(ti);
         RasterSample s;
         bool take = coverSample(t, x, y, s) && s.zNdc < opaqueDepth;
         vec3 a = vec3(0.0);
@@ -160,7 +160,7 @@ void main() {
     if (i < visits) do {
         uint ti = nextTri;
         nextTri = visitTriangle(shortForm, keptTri, i + 1u, first, lastEntry);
-        BinTriangle t = loadRasterTriangle(ti);
+        BinTriangle t = loadTriangle(ti);
         RasterSample s;
         bool take = coverSample(t, x, y, s) && s.zNdc < opaqueDepth && s.zNdc < cut;
         if (take) {

@@ -258,7 +258,7 @@ void main() {
                     break;
                 }
                 uint ti = entry;
-                BinTriangle t = loadRasterTriangle(ti);
+                BinTriangle t = loadTriangle(ti);
                 RasterSample s;
                 bool take = coverSample(t, x, y, s);
                 uint64_t key = fragmentKey(floatBitsToUint(s.viewDepth), t.order);

@@ -257,8 +257,8 @@ pub fn estimated_fragments(scene: &Scene, width: u32, height: u32) -> u64 {
 }
 
 /// What the scene's transparent draws put over a `width` x `height` frame, about: their
-/// triangles' areas on screen (a quad's beyond the near plane where it crosses it), each at
-/// most its bounding box's part of the screen, and the pixel rows each of their triangles spans. A triangle's span on a row
+/// quads' areas on screen (beyond the near plane), each at most its bounding box's part of
+/// the screen, and the pixel rows each of their triangles spans. A triangle's span on a row
 /// of w pixels touches about (w + BIN_SIZE - 1) / BIN_SIZE blocks, so its bin entries are
 /// about its area / BIN_SIZE and a block per row. It ignores what the opaque layer hides
 /// and what faces away.
@@ -284,17 +284,20 @@ pub fn estimate(scene: &Scene, width: u32, height: u32) -> FrameEstimate {
             let clip = quad.map(|v| clip_position(&mvp, mesh.positions[v as usize]));
             let lone = quad[3] == quad[2] || quad[3] == quad[0];
             let footprint = if clip.iter().all(|c| c.w > 0.0) {
-                // Triangle 0 has corners 0, 1, 2 and triangle 1 corners 0, 2, 3.
+                // The quad's area (each triangle's bounding box would count a quad wider
+                // than the screen twice), its triangles' rows: triangle 0 has corners 0, 1, 2
+                // and triangle 1 corners 0, 2, 3.
                 let [a, b, c, d] = clip.map(|c| viewport_transform(c, width, height));
-                let first = screen_footprint(&[a, b, c], width, height);
-                if lone {
-                    first
+                let quad = screen_footprint(&[a, b, c, d], width, height);
+                let first = screen_footprint(&[a, b, c], width, height).rows;
+                let second = if lone {
+                    0.0
                 } else {
-                    let second = screen_footprint(&[a, c, d], width, height);
-                    Footprint {
-                        area: first.area + second.area,
-                        rows: first.rows + second.rows,
-                    }
+                    screen_footprint(&[a, c, d], width, height).rows
+                };
+                Footprint {
+                    area: quad.area,
+                    rows: first + second,
                 }
             } else {
                 // Through the camera plane: its part beyond the near plane, as setup bins it.
@@ -685,6 +688,10 @@ mod tests {
         // Ten layers far wider than the screen: ten fragments a pixel, not their whole area.
         let full = estimated_fragments(&quad(-1.0, 50.0), 64, 48);
         assert_eq!(full, 10 * 64 * 48);
+        // Their bin entries: a block for every 8 pixels of a row, and one more for each row
+        // of each of a quad's two triangles.
+        let entries = estimate(&quad(-1.0, 50.0), 64, 48).bin_entries;
+        assert_eq!(entries, 10 * (64 * 48 / 8 + 2 * 48));
         // Ten small layers: about their area.
         let small = estimated_fragments(&quad(-1.0, 0.1), 64, 48) as f64;
         let side = 0.2 / (2.0 * 4.0 * (0.4f64).tan()) * 48.0;

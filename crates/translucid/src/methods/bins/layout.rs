@@ -45,7 +45,7 @@ pub const BINNING_GROUP_SIZE: u32 = 64;
 /// Invocations per workgroup of the scan, and the multiple of blocks the bin arrays hold.
 pub const SCAN_GROUP_SIZE: u32 = 256;
 /// Bytes of one `BinTriangleRecord` and one `BinHomogeneous`.
-pub const TRIANGLE_BYTES: u64 = 80;
+pub const TRIANGLE_BYTES: u64 = 64;
 pub const HOMOGENEOUS_BYTES: u64 = 192;
 /// Texels (16 bytes) of each section of a quad's attribute record (bins_layout.glsl):
 /// colours, one colour with flat colours, vertex normals, face normals alone, uvs.
@@ -56,9 +56,13 @@ pub const FACE_NORMAL_TEXELS: u32 = 2;
 pub const UV_TEXELS: u32 = 2;
 /// The most texels a quad's attribute record takes.
 pub const MOST_ATTRIBUTE_TEXELS: u32 = COLOUR_TEXELS + NORMAL_TEXELS + UV_TEXELS;
-// A quad's attributes take no more than its two triangle records: what bounds the triangles
-// one texel view holds bounds its attributes too.
-const _: () = assert!(MOST_ATTRIBUTE_TEXELS as u64 * 16 <= 2 * TRIANGLE_BYTES);
+
+/// Bytes per triangle of the larger of the two record arrays, triangle records and quad
+/// attribute records of `attribute_texels`: what one binding or texel view must hold of each
+/// triangle.
+pub fn record_bytes_per_triangle(attribute_texels: u32) -> u64 {
+    TRIANGLE_BYTES.max(u64::from(attribute_texels) * 16 / 2)
+}
 
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
@@ -250,7 +254,7 @@ mod tests {
                    and this test";
         assert_eq!(
             offsets("BinTriangleRecord"),
-            [0, 16, 24, 28, 32, 44, 48, 60, 64, 68, 72, 76],
+            [0, 16, 24, 28, 32, 44, 48, 60],
             "{msg}"
         );
         assert_eq!(

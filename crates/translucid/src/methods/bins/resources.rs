@@ -2,9 +2,9 @@
 //! for every stage): sized from the frame, grown when the GPU reports an overflow.
 
 use super::layout::{
-    BinCounters, BinDraw, BIN_SIZE, DISPATCH_BYTES, HOMOGENEOUS_BYTES, MOST_ATTRIBUTE_TEXELS,
-    OVERFLOW_BIN_ENTRIES, OVERFLOW_HOMOGENEOUS, OVERFLOW_RESUME, PIXEL_STATE_BYTES,
-    RESUME_ITEM_BYTES, SCAN_GROUP_SIZE, TRIANGLE_BYTES, TRIANGLE_MATERIAL_SHIFT,
+    record_bytes_per_triangle, BinCounters, BinDraw, BIN_SIZE, DISPATCH_BYTES, HOMOGENEOUS_BYTES,
+    MOST_ATTRIBUTE_TEXELS, OVERFLOW_BIN_ENTRIES, OVERFLOW_HOMOGENEOUS, OVERFLOW_RESUME,
+    PIXEL_STATE_BYTES, RESUME_ITEM_BYTES, SCAN_GROUP_SIZE, TRIANGLE_BYTES, TRIANGLE_MATERIAL_SHIFT,
 };
 use crate::assets::ResidentAssets;
 use crate::assets::{GpuScene, SampledViews};
@@ -44,7 +44,8 @@ pub struct Capacities {
 
 impl Capacities {
     /// A first guess from the frame: two triangles per quad, and the bin entries `expected`
-    /// and a quarter more (up to EXPECTED_BIN_ENTRIES), at least one per bin.
+    /// and a quarter more (up to EXPECTED_BIN_ENTRIES), at least one per bin and what one
+    /// block can take.
     /// Overflow corrects it after one frame. Homogeneous records: `homogeneous`, the most
     /// the frame can need (features::homogeneous_triangles, within one storage buffer).
     pub fn initial(
@@ -62,6 +63,10 @@ impl Capacities {
         let rows = blocks.saturating_mul(BIN_SIZE);
         let entries = expected.bin_entries;
         let expected_entries = (entries + entries / 4).min(EXPECTED_BIN_ENTRIES) as u32;
+        // Bands split a frame's lists between blocks, never inside one: a frame is right on
+        // its first recording only while every block's lists fit, and a block's take up to a
+        // row's entry from every triangle, whatever the camera.
+        let one_block = triangles.saturating_mul(BIN_SIZE);
         Self {
             resume: options
                 .initial_resume_rows
@@ -73,7 +78,7 @@ impl Capacities {
             homogeneous: options.initial_homogeneous.unwrap_or(homogeneous).max(1),
             bin_entries: options
                 .initial_bin_entries
-                .unwrap_or(expected_entries.max(rows))
+                .unwrap_or(expected_entries.max(rows).max(one_block))
                 .max(1),
         }
     }
@@ -94,9 +99,9 @@ impl Capacities {
             (storage / bytes).min(viewed).min(u64::from(u32::MAX)) as u32
         };
         Self {
-            // Written and read through texel views, not storage bindings; a quad's attributes
-            // take less than its two triangle records (layout.rs).
-            triangles: (texels * 16 / TRIANGLE_BYTES).min(u64::from(u32::MAX)) as u32,
+            // Written and read through texel views, not storage bindings.
+            triangles: (texels * 16 / record_bytes_per_triangle(MOST_ATTRIBUTE_TEXELS))
+                .min(u64::from(u32::MAX)) as u32,
             attribute_texels: MOST_ATTRIBUTE_TEXELS,
             homogeneous: fits(HOMOGENEOUS_BYTES, 16),
             bin_entries: fits(4, 4),
@@ -500,7 +505,8 @@ impl Resources {
     /// Whether the triangle records pass what one storage binding holds, so that setup must
     /// write them through texel views.
     pub fn records_pass_a_binding(&self, gpu: &Gpu) -> bool {
-        let bytes = u64::from(self.capacities.triangles) * TRIANGLE_BYTES;
+        let bytes = u64::from(self.capacities.triangles)
+            * record_bytes_per_triangle(self.capacities.attribute_texels);
         bytes > u64::from(gpu.info().max_storage_buffer_range)
     }
 
