@@ -34,7 +34,7 @@ void main() {
         int bx = run.x;
         if (bx <= run.y) do {
             uint b = binIndex(bx, by) * SLABS + slab;
-            atomicAdd(g_binCounts[b], 1u);
+            atomicAdd(g_binEnds[b], 1u);
         } while (++bx <= run.y);
     } while ((by += int(ROW_LANES)) <= rows.y);
     // The slabs' farthest depths take one atomic per subgroup and slab: one per triangle made

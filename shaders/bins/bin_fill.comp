@@ -31,7 +31,7 @@ void main() {
         int bx = run.x;
         if (bx <= run.y) do {
             uint b = binIndex(bx, by) * SLABS + slab;
-            uint slot = atomicAdd(g_binOffsets[b], 1u);
+            uint slot = atomicAdd(g_binEnds[b], 1u);
             if (slot < capacity) {
                 g_binEntries[slot] = ti;
             } else {

@@ -9,15 +9,14 @@
 // then, for each band of listed blocks whose lists fit the capacity together (one band when
 // the frame fits; the host records a few, and fill and raster follow each):
 // 3. one invocation plans the band (planBand);
-// 2. every invocation writes the bin offsets of one listed block of the band, from its block
-//    offset less the band's. Only those bins are read: fill appends to bins with entries,
-//    and the raster walks the listed blocks (the lamp's scan took 0.5 ms for every block at
-//    1280x720).
-// Steps 0 and 2 take whole workgroups of blocks (the arrays are padded, the padding's counts
-// stay zero; step 2's last workgroup repeats the band's last block), so they run without a
-// branch: on CPU drivers such as lavapipe straight-line loads and stores are vector
-// operations, but per-lane loops inside control flow. One workgroup scanning every bin was
-// single-threaded there.
+// 2. every invocation turns the bin counts of one listed block of the band into offsets, in
+//    place, from its block offset less the band's. Only those bins are read: fill appends to
+//    bins with entries, and the raster walks the listed blocks (the lamp's scan took 0.5 ms
+//    for every block at 1280x720).
+// Step 0 takes whole workgroups of blocks (the arrays are padded, the padding's counts stay
+// zero), so it runs without a branch: on CPU drivers such as lavapipe straight-line loads
+// and stores are vector operations, but per-lane loops inside control flow. One workgroup
+// scanning every bin was single-threaded there.
 
 #extension GL_EXT_control_flow_attributes : require
 
@@ -99,17 +98,22 @@ void scanBlocks() {
     }
 }
 
+// The counts of the band's blocks become offsets in place, so each block once: the
+// invocations past the band leave.
 void writeBinOffsets() {
     uint count = g_counters.bandCount;
-    uint listed = g_counters.bandFirst + min(gl_GlobalInvocationID.x, count - 1u);
-    uint block = g_rasterBins[listed];
+    if (gl_GlobalInvocationID.x >= count) {
+        return;
+    }
+    uint block = g_rasterBins[g_counters.bandFirst + gl_GlobalInvocationID.x];
     uint first = block * BINS_PER_BLOCK;
-    uint offset = texelFetch(u_blockTotalTexels, int(block)).r - g_counters.bandBase;
+    uint offset = blockStart(block);
     [[unroll]] for (uint row = 0u; row < BIN_SIZE; row++) {
         for (uint k = 0u; k < SLABS; k++) {
             uint bin = first + row * SLABS + k;
-            g_binOffsets[bin] = offset;
-            offset += texelFetch(u_binCountTexels, int(bin)).r;
+            uint binCount = g_binEnds[bin];
+            g_binEnds[bin] = offset;
+            offset += binCount;
         }
     }
 }

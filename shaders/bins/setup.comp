@@ -249,7 +249,7 @@ Corner loadCorner(uint v) {
 // they fit (faster on lavapipe than texel stores), else through u_triangleRecords and
 // u_attributeRecords (RECORDS_AS_TEXELS, set by the host from the records' size).
 layout(set = 1, binding = 29, std430) buffer TriangleBlock { BinTriangleRecord g_triangles[]; };
-layout(set = 1, binding = 30, std430) buffer AttributeBlock { uvec4 g_attributes[]; };
+layout(set = 1, binding = 7, std430) buffer AttributeBlock { uvec4 g_attributes[]; };
 layout(constant_id = 12) const bool RECORDS_AS_TEXELS = false;
 
 // Record ti (BinTriangleRecord), whose order key is ti: through texels, one per 16 bytes of

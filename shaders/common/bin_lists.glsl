@@ -30,6 +30,19 @@ uint binIndex(int bx, int y) {
     return block * BIN_SIZE + uint(y & (BIN_SIZE - 1));
 }
 
+// Where the lists of listed block `block` start within the current band's: its offset among
+// all the frame's (bin_scan.comp, step 1) less the band's first.
+uint blockStart(uint block) {
+    return texelFetch(u_blockTotalTexels, int(block)).r - g_counters.bandBase;
+}
+
+// Where the list of bin `bin` (its first slab's part) of row `row` of listed block `block`
+// starts, once filled: where the bin before it in the block ends (g_binEnds), or, for the
+// block's first row, at the block's start.
+uint binStart(uint block, uint row, uint bin) {
+    return row == 0u ? blockStart(block) : g_binEnds[max(bin, 1u) - 1u];
+}
+
 // The pixel rows of `r` this binning invocation covers. A triangle's bins are split into
 // slices of u_push.binRowsPerSlice rows, one invocation each (gl_GlobalInvocationID.y), so
 // that no invocation loops more than LOOP_BUDGET times however large the triangle and frame;

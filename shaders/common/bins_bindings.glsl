@@ -15,14 +15,16 @@ layout(set = 1, binding = 2) uniform usamplerBuffer u_binDrawTexels;
 // Triangle records (BinTriangleRecord) and quad attribute records (bins_layout.glsl), read
 // through u_triangleTexels and u_attributeTexels. Setup writes them through these texel views
 // when they pass what one storage binding holds (a view's texels bound only these), else
-// through the storage buffers setup.comp declares (bindings 29 and 30).
+// through the storage buffers setup.comp declares (bindings 29 and 7).
 layout(set = 1, binding = 3, rgba32ui) uniform writeonly uimageBuffer u_triangleRecords;
 layout(set = 1, binding = 4, std430) buffer HomogeneousBlock { BinHomogeneous g_homogeneous[]; };
 layout(set = 1, binding = 5, std430) buffer CounterBlock { BinCounters g_counters; };
-// Per (bin, slab), at bin * SLABS + slab: triangle counts, and list offsets, which bin_fill
-// advances as it appends, so that after binning they are where each part of a list ends.
-layout(set = 1, binding = 6, std430) buffer BinCountBlock { uint g_binCounts[]; };
-layout(set = 1, binding = 7, std430) buffer BinOffsetBlock { uint g_binOffsets[]; };
+// Per (bin, slab), at bin * SLABS + slab: bin_count counts the triangles of that part of the
+// bin's list here; the scan turns a band's counts into where each part starts, in place
+// (bin_scan.comp, step 2); bin_fill advances them as it appends, so that after binning each
+// is where its part ends and the next starts (binStart says where a bin's list starts).
+layout(set = 1, binding = 6, std430) buffer BinEndBlock { uint g_binEnds[]; };
+// (Binding 7: setup.comp's attribute records.)
 layout(set = 1, binding = 8) uniform usamplerBuffer u_drawTexels;        // DrawInfo, 10 each
 layout(set = 1, binding = 9, std430) buffer BinEntryBlock { uint g_binEntries[]; };
 layout(set = 1, binding = 10, rgba32ui) uniform writeonly uimageBuffer u_attributeRecords;
@@ -66,7 +68,7 @@ layout(set = 1, binding = 22, std430) buffer PixelStateBlock { ExactPixelState g
 layout(set = 1, binding = 23, std430) buffer RasterBinBlock { uint g_rasterBins[]; };
 // The opaque depth pyramid (depth_pyramid.glsl).
 layout(set = 1, binding = 24, std430) buffer DepthPyramidBlock { float g_depthPyramid[]; };
-layout(set = 1, binding = 25) uniform usamplerBuffer u_binCountTexels;  // g_binCounts
+layout(set = 1, binding = 25) uniform usamplerBuffer u_binCountTexels;  // g_binEnds, as counts
 layout(set = 1, binding = 26) uniform samplerBuffer u_depthPyramidTexels; // g_depthPyramid
 // Per block: the sum of its bins' counts, then its list offset (bin_scan.comp).
 layout(set = 1, binding = 27, std430) buffer BlockTotalBlock { uint g_blockTotals[]; };

@@ -66,8 +66,8 @@ void main() {
     uint block = g_rasterBins[g_counters.bandFirst + linearWorkGroup()];
     uint row = gl_WorkGroupID.y * gl_WorkGroupSize.y + gl_LocalInvocationID.y;
     uint bin = (block * BIN_SIZE + row) * SLABS;
-    uint first = g_binOffsets[bin] - g_binCounts[bin];
-    uint end = g_binOffsets[bin + SLABS - 1u];
+    uint first = binStart(block, row, bin);
+    uint end = g_binEnds[bin + SLABS - 1u];
     uint lastEntry = max(end, 1u) - 1u;
     uint x = (block % u_push.binsX) * BIN_SIZE + gl_LocalInvocationID.x;
     uint y = (block / u_push.binsX) * BIN_SIZE + row;

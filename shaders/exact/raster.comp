@@ -88,11 +88,11 @@ uint shadingIterations(uint fragments) {
 // Where slab k of the row's list (at `bin`) ends and slab k + 1 starts. Filling left every
 // (bin, slab) offset at the end of its part of the list.
 uint slabEnd(uint bin, uint k) {
-    return g_binOffsets[bin + k];
+    return g_binEnds[bin + k];
 }
 
 uint slabStart(uint bin, uint first, uint k) {
-    return k == 0u ? first : g_binOffsets[bin + k - 1u];
+    return k == 0u ? first : g_binEnds[bin + k - 1u];
 }
 
 // The farthest depth bits of slab k's triangles, anywhere in the frame. With one slab,
@@ -128,8 +128,8 @@ void main() {
     // The row's own bin: its slabs' parts of the list, near to far, each ending where the
     // next starts (slabEnd).
     uint bin = (block * BIN_SIZE + row) * SLABS;
-    uint first = g_binOffsets[bin] - g_binCounts[bin];
-    uint end = g_binOffsets[bin + SLABS - 1u];
+    uint first = binStart(block, row, bin);
+    uint end = g_binEnds[bin + SLABS - 1u];
     uint depthLo = g_counters.depthLo;
     uint range = slabRange(depthLo, g_counters.depthHi);
     uint x = (block % u_push.binsX) * BIN_SIZE + gl_LocalInvocationID.x;

@@ -16,13 +16,16 @@ use crate::gpu::{
 use crate::scene::Scene;
 use crate::{Error, Result};
 
-/// State slots each resume list starts with. Rows suspend only where one walks tens of
-/// thousands of list entries (pixels hundreds of fragments deep): none of the bench's six
-/// scenes at 1280x720 suspends one. A slot holds a row's pixels (1.5 KB, and as much again on
+/// State slots each resume list starts with, in frames expected to be deep (more fragments a
+/// pixel than `SLAB_FRAGMENTS_PER_PIXEL`) and in the others. Rows suspend only where one
+/// walks tens of thousands of list entries (pixels hundreds of fragments deep): none of the
+/// bench's six scenes at 1280x720 suspends one, and a shallow frame only in a crowded bin,
+/// whose block has BIN_SIZE rows. A slot holds a row's pixels (1.5 KB, and as much again on
 /// the other list), so slots for a sixteenth of a 720p frame's rows took 21 MB that no frame
-/// used. A deeper frame restarts the rows it finds no slot for and grows the slots from what
-/// the GPU counted.
+/// used. A frame that needs more restarts the rows it finds no slot for and grows the slots
+/// from what the GPU counted.
 const INITIAL_RESUME_ROWS: u32 = 256;
+const SHALLOW_RESUME_ROWS: u32 = 4 * BIN_SIZE;
 
 /// Entries the growable buffers hold.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -67,10 +70,16 @@ impl Capacities {
         // its first recording only while every block's lists fit, and a block's take up to a
         // row's entry from every triangle, whatever the camera.
         let one_block = triangles.saturating_mul(BIN_SIZE);
+        let pixels = u64::from(rows) * u64::from(BIN_SIZE);
+        let deep = expected.fragments > super::features::SLAB_FRAGMENTS_PER_PIXEL * pixels;
         Self {
             resume: options
                 .initial_resume_rows
-                .unwrap_or(INITIAL_RESUME_ROWS)
+                .unwrap_or(if deep {
+                    INITIAL_RESUME_ROWS
+                } else {
+                    SHALLOW_RESUME_ROWS
+                })
                 .clamp(1, rows.max(1)),
             resume_items: rows.max(1),
             triangles,
@@ -313,15 +322,14 @@ fn growable(gpu: &Gpu, c: Capacities) -> Result<Growable> {
     })
 }
 
-/// Per (bin, depth slab): triangle counts and list offsets (list ends once filled); per
-/// block, the scan's totals and offsets. Blocks are padded to whole scan workgroups, whose
-/// bins stay empty (see bin_scan.comp).
+/// Per (bin, depth slab): triangle counts, turned into list offsets in place by the scan and
+/// into list ends by the fill; per block, the scan's totals and offsets. Blocks are padded to
+/// whole scan workgroups, whose bins stay empty (see bin_scan.comp).
 struct BinArrays {
     /// Blocks the arrays hold: the frame's, padded.
     blocks: u64,
     slabs: u32,
-    counts: Viewed,
-    offsets: Buffer,
+    ends: Viewed,
     block_totals: Viewed,
 }
 
@@ -333,8 +341,7 @@ impl BinArrays {
         Ok(Self {
             blocks,
             slabs,
-            counts: viewed_storage(gpu, "bin counts", bytes, r32)?,
-            offsets: storage_buffer(gpu, "bin offsets", bytes)?,
+            ends: viewed_storage(gpu, "bin list ends", bytes, r32)?,
             block_totals: viewed_storage(gpu, "block totals", blocks * 4, r32)?,
         })
     }
@@ -422,8 +429,8 @@ impl Resources {
                 BindingKind::StorageTexelBuffer, // 3 triangles
                 BindingKind::StorageBuffer,      // 4 homogeneous
                 BindingKind::StorageBuffer,      // 5 counters
-                BindingKind::StorageBuffer,      // 6 bin counts
-                BindingKind::StorageBuffer,      // 7 bin offsets
+                BindingKind::StorageBuffer,      // 6 bin list ends
+                BindingKind::StorageBuffer,      // 7 attributes, as far as a binding reaches
                 BindingKind::TexelBuffer,        // 8 draws
                 BindingKind::StorageBuffer,      // 9 bin entries
                 BindingKind::StorageTexelBuffer, // 10 attributes
@@ -441,12 +448,11 @@ impl Resources {
                 BindingKind::StorageBuffer,      // 22 pixel states
                 BindingKind::StorageBuffer,      // 23 non-empty bins
                 BindingKind::StorageBuffer,      // 24 opaque depth pyramid
-                BindingKind::TexelBuffer,        // 25 bin counts
+                BindingKind::TexelBuffer,        // 25 bin list ends (counts)
                 BindingKind::TexelBuffer,        // 26 opaque depth pyramid
                 BindingKind::StorageBuffer,      // 27 block totals
                 BindingKind::TexelBuffer,        // 28 block totals
                 BindingKind::StorageBuffer,      // 29 triangles, as far as a binding reaches
-                BindingKind::StorageBuffer,      // 30 attributes, as far as a binding reaches
             ],
             vk::ShaderStageFlags::COMPUTE,
         )?;
@@ -562,8 +568,8 @@ impl Resources {
             Resource::TexelBuffer(g.triangles.view.raw),
             Resource::Buffer(&g.homogeneous.buffer),
             Resource::Buffer(&self.counters),
-            Resource::Buffer(&self.bins.counts.buffer),
-            Resource::Buffer(&self.bins.offsets),
+            Resource::Buffer(&self.bins.ends.buffer),
+            Resource::BufferPrefix(&g.attributes.buffer),
             Resource::TexelBuffer(scene_draws.raw),
             Resource::Buffer(&g.bin_entries.buffer),
             Resource::TexelBuffer(g.attributes.view.raw),
@@ -581,12 +587,11 @@ impl Resources {
             Resource::Buffer(&g.pixel_states),
             Resource::Buffer(&self.raster_bins),
             Resource::Buffer(&self.depth_pyramid.buffer),
-            Resource::TexelBuffer(self.bins.counts.view.raw),
+            Resource::TexelBuffer(self.bins.ends.view.raw),
             Resource::TexelBuffer(self.depth_pyramid.view.raw),
             Resource::Buffer(&self.bins.block_totals.buffer),
             Resource::TexelBuffer(self.bins.block_totals.view.raw),
             Resource::BufferPrefix(&g.triangles.buffer),
-            Resource::BufferPrefix(&g.attributes.buffer),
         ])
     }
 
@@ -607,7 +612,7 @@ impl Resources {
             ..BinCounters::default()
         };
         gpu.cmd_update_buffer(cmd, &self.counters, 0, bytemuck::bytes_of(&counters));
-        gpu.cmd_fill_buffer(cmd, &self.bins.counts.buffer, 0);
+        gpu.cmd_fill_buffer(cmd, &self.bins.ends.buffer, 0);
         gpu.cmd_update_buffer(
             cmd,
             &self.growable.resume,
