@@ -210,10 +210,11 @@ fn dispatches_go_on_in_z_past_the_workgroups_in_x() {
 }
 
 /// Five million transparent triangles in one frame (`hairball:5m`, 2.5 million quads): their
-/// records (1 GB) are written through texel views, past the 128 MB one storage binding holds
-/// on lavapipe, and binning, sized to the last triangle setup keeps (its record at the
-/// triangle's place among the five million), takes about 78,000 workgroups, which go on in z
-/// past the 65,535 a device allows in x. The frame matches the CPU reference. (At 320x180
+/// records (320 MB of coverage records, and the quads' shading attributes) are written
+/// through texel views, past the 128 MB one storage binding holds on lavapipe, and binning,
+/// sized to the last triangle setup keeps (its record at the triangle's place among the five
+/// million), takes about 78,000 workgroups, which go on in z past the 65,535 a device allows
+/// in x. The frame matches the CPU reference. (At 320x180
 /// setup keeps about half a million: the rest are back faces or cover no pixel centre.)
 #[test]
 fn a_five_million_triangle_frame_is_right() {
