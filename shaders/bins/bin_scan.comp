@@ -13,8 +13,8 @@
 //    place, from its block offset less the band's. Only those bins are read: fill appends to
 //    bins with entries, and the raster walks the listed blocks (the lamp's scan took 0.5 ms
 //    for every block at 1280x720).
-// Step 0 takes whole workgroups of blocks (the arrays are padded, the padding's counts stay
-// zero), so it runs without a branch: on CPU drivers such as lavapipe straight-line loads
+// Steps 0 and 2 take whole workgroups of blocks (the arrays are padded, the padding's counts
+// stay zero; see writeBinOffsets for step 2), so they run without a branch: on CPU drivers such as lavapipe straight-line loads
 // and stores are vector operations, but per-lane loops inside control flow. One workgroup
 // scanning every bin was single-threaded there.
 
@@ -99,19 +99,20 @@ void scanBlocks() {
 }
 
 // The counts of the band's blocks become offsets in place, so each block once: the
-// invocations past the band leave.
+// invocations past the band convert the block past the frame's instead, which nothing reads
+// (the arrays keep one), so that the step runs without a branch. The counts are read through
+// the texel view: no invocation reads a word another writes.
 void writeBinOffsets() {
     uint count = g_counters.bandCount;
-    if (gl_GlobalInvocationID.x >= count) {
-        return;
-    }
-    uint block = g_rasterBins[g_counters.bandFirst + gl_GlobalInvocationID.x];
+    uint i = gl_GlobalInvocationID.x;
+    uint listed = g_rasterBins[g_counters.bandFirst + min(i, count - 1u)];
+    uint block = i < count ? listed : u_push.binsX * u_push.binsY;
     uint first = block * BINS_PER_BLOCK;
     uint offset = blockStart(block);
     [[unroll]] for (uint row = 0u; row < BIN_SIZE; row++) {
         for (uint k = 0u; k < SLABS; k++) {
             uint bin = first + row * SLABS + k;
-            uint binCount = g_binEnds[bin];
+            uint binCount = texelFetch(u_binCountTexels, int(bin)).r;
             g_binEnds[bin] = offset;
             offset += binCount;
         }

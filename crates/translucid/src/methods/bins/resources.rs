@@ -324,7 +324,8 @@ fn growable(gpu: &Gpu, c: Capacities) -> Result<Growable> {
 
 /// Per (bin, depth slab): triangle counts, turned into list offsets in place by the scan and
 /// into list ends by the fill; per block, the scan's totals and offsets. Blocks are padded to
-/// whole scan workgroups, whose bins stay empty (see bin_scan.comp).
+/// whole scan workgroups, with at least one past the frame's, which the scan's invocations
+/// past a band write instead of a band's block (see bin_scan.comp).
 struct BinArrays {
     /// Blocks the arrays hold: the frame's, padded.
     blocks: u64,
@@ -335,7 +336,7 @@ struct BinArrays {
 
 impl BinArrays {
     fn new(gpu: &Gpu, frame_blocks: u64, slabs: u32) -> Result<Self> {
-        let blocks = frame_blocks.next_multiple_of(u64::from(SCAN_GROUP_SIZE));
+        let blocks = (frame_blocks + 1).next_multiple_of(u64::from(SCAN_GROUP_SIZE));
         let bytes = blocks * u64::from(BIN_SIZE * slabs) * 4;
         let r32 = vk::Format::R32_UINT;
         Ok(Self {
