@@ -14,9 +14,9 @@
 //    bins with entries, and the raster walks the listed blocks (the lamp's scan took 0.5 ms
 //    for every block at 1280x720).
 // Steps 0 and 2 take whole workgroups of blocks (the arrays are padded, the padding's counts
-// stay zero; see writeBinOffsets for step 2), so they run without a branch: on CPU drivers such as lavapipe straight-line loads
-// and stores are vector operations, but per-lane loops inside control flow. One workgroup
-// scanning every bin was single-threaded there.
+// stay zero; see writeBinOffsets for step 2), so they run without a branch: on CPU drivers
+// such as lavapipe straight-line loads and stores are vector operations, but per-lane loops
+// inside control flow. One workgroup scanning every bin was single-threaded there.
 
 #extension GL_EXT_control_flow_attributes : require
 

@@ -301,9 +301,9 @@ void storeAttributeTexel(int at, uvec4 texel) {
 
 // The attribute record of quad `quad` of `draw`, with corners k0 to k3 (bins_layout.glsl):
 // only the sections shading can read under the same constants (quad_attributes.glsl).
-// Normals are transformed here exactly as the reference transforms them per fragment. Quads
-// of draws without normals keep their triangles' face normals, the others' are read only by
-// unlit draws, when the scene has no lit draw with vertex normals: never.
+// Normals are transformed here exactly as the reference transforms them per fragment. A quad
+// of a draw without normals keeps its triangles' face normals instead. (A draw's vertex
+// normals go unstored without VERTEX_NORMALS: no lit draw has any, so that draw is unlit.)
 void storeAttributes(uint quad, DrawInfo draw, Corner k0, Corner k1, Corner k2, Corner k3) {
     if (VERTEX_COLOURS) {
         int at = colourTexel(quad);

@@ -71,7 +71,8 @@ ShadingAttributes loadShadingAttributes(BinTriangle t) {
         a.normal1 = second ? corner2 : vec3(n.w, m.xy);
         a.normal2 = second ? r.yzw : corner2;
     } else if (FACE_NORMALS) {
-        a.normal0 = uintBitsToFloat(texelFetch(u_attributeTexels, normalTexel(quad) + (second ? 1 : 0)).xyz);
+        int at = normalTexel(quad) + (second ? 1 : 0);
+        a.normal0 = uintBitsToFloat(texelFetch(u_attributeTexels, at).xyz);
     }
     a.uv0 = vec2(0.0);
     a.uv1 = vec2(0.0);
