@@ -95,17 +95,9 @@ fn mesh_bytes(mesh: &Mesh) -> u64 {
     mesh.positions.len() as u64 * 48 + mesh.quads.len() as u64 * 40
 }
 
-fn texture_bytes(texture: &Texture) -> u64 {
-    texture
-        .levels
-        .iter()
-        .map(|l| l.texels.len() as u64 * 4)
-        .sum()
-}
-
 fn scene_bytes(scene: &Scene) -> u64 {
     scene.meshes.iter().map(mesh_bytes).sum::<u64>()
-        + scene.textures.iter().map(texture_bytes).sum::<u64>()
+        + scene.textures.iter().map(Texture::texel_bytes).sum::<u64>()
 }
 
 /// The context's assets on the GPU, as the renderers of one generation share them.
@@ -354,7 +346,7 @@ impl Renderers {
                 bytes
             }
             Destroyed::Texture(h, t) if r.places.textures.contains_key(&h) => {
-                let bytes = texture_bytes(&t);
+                let bytes = t.texel_bytes();
                 g.textures.insert(h, t);
                 bytes
             }

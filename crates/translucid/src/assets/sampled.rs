@@ -70,7 +70,9 @@ impl SampledTextures {
         for &t in used {
             packed[t] = true;
         }
-        let bytes: u64 = packed_textures(textures, &packed).map(texel_bytes).sum();
+        let bytes: u64 = packed_textures(textures, &packed)
+            .map(Texture::texel_bytes)
+            .sum();
         let most = most_texel_bytes(gpu);
         if bytes > most {
             return Err(Error::InvalidScene(format!(
@@ -238,14 +240,6 @@ fn texels_of(texture: &Texture) -> Result<Vec<u32>> {
         )));
     }
     Ok(texels)
-}
-
-fn texel_bytes(texture: &Texture) -> u64 {
-    texture
-        .levels
-        .iter()
-        .map(|l| l.texels.len() as u64 * 4)
-        .sum()
 }
 
 /// The most bytes of texels the software sampler reads: one texel view of R32 texels.

@@ -80,6 +80,11 @@ pub struct Texture {
 }
 
 impl Texture {
+    /// Bytes of its texels (RGBA8) over every level.
+    pub fn texel_bytes(&self) -> u64 {
+        self.levels.iter().map(|l| l.texels.len() as u64 * 4).sum()
+    }
+
     /// The texture's name, sampler and level sizes, without texels.
     pub fn without_texels(&self) -> Self {
         Self {
