@@ -16,6 +16,11 @@ use std::process::ExitCode;
 struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// A folder whose files glTF buffer and image URIs may name, besides the glTF file's own
+    /// folder (repeatable). Without it, a URI that leads out of the file's folder (an
+    /// absolute path, `..`, a link) is refused: the files you render may not be yours.
+    #[arg(long, global = true, value_name = "DIR")]
+    allow_dir: Vec<PathBuf>,
 }
 
 /// A frame size written WIDTHxHEIGHT.
@@ -264,7 +269,11 @@ fn main() -> ExitCode {
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn"))
         .format_timestamp(None)
         .init();
-    match run(Cli::parse().command) {
+    let cli = Cli::parse();
+    commands::set_import_options(translucid::scene::gltf::ImportOptions::allowing(
+        cli.allow_dir,
+    ));
+    match run(cli.command) {
         Ok(code) => code,
         Err(e) => {
             eprintln!("translucid: {e}");

@@ -415,3 +415,54 @@ fn compare_takes_a_blend_alpha() {
         "{v}"
     );
 }
+
+/// A folder of hostile files: a glTF whose buffer URI leads out of its folder, a pipe named
+/// `.gltf` and a link to `/dev/zero` named `.glb`. `conformance` reports each and goes on
+/// (the pipe hung it, the link ran it out of memory, the URI was read); `--allow-dir`
+/// lets the URI reach the folder it names.
+#[cfg(unix)]
+#[test]
+fn conformance_refuses_files_outside_the_folder_pipes_and_devices() {
+    let dir = temp_folder("conformance-hostile");
+    let teapot = vendored_scenes().join("utah_teapot");
+    let buffer = teapot
+        .join("utah_teapot.bin")
+        .canonicalize()
+        .expect("buffer");
+    let json = std::fs::read_to_string(teapot.join("utah_teapot_blend.gltf"))
+        .expect("teapot")
+        .replace(
+            "\"utah_teapot.bin\"",
+            &format!("{:?}", buffer.display().to_string()),
+        );
+    assert!(json.contains(&buffer.display().to_string()));
+    std::fs::write(dir.join("teapot.gltf"), json).expect("write");
+    let made = Command::new("mkfifo")
+        .arg(dir.join("b.gltf"))
+        .status()
+        .expect("mkfifo");
+    assert!(made.success());
+    std::os::unix::fs::symlink("/dev/zero", dir.join("z.glb")).expect("symlink");
+    let folder = dir.to_str().expect("utf-8 path");
+
+    let (ok, doc, stderr) = conformance_json(&[folder]);
+    assert!(!ok, "hostile files must fail the run: {doc}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    let error = |name: &str| {
+        let row = rows(&doc)
+            .iter()
+            .find(|r| r["path"] == name)
+            .unwrap_or_else(|| panic!("no row for {name}: {doc}"));
+        row["error"].as_str().unwrap_or_default().to_string()
+    };
+    assert!(error("teapot.gltf").contains("outside"), "{doc}");
+    assert!(error("b.gltf").contains("not a regular file"), "{doc}");
+    assert!(error("z.glb").contains("not a regular file"), "{doc}");
+
+    let allowed = teapot.to_str().expect("utf-8 path");
+    let teapot_file = dir.join("teapot.gltf");
+    let (ok, doc, stderr) =
+        conformance_json(&["--allow-dir", allowed, teapot_file.to_str().expect("utf-8")]);
+    let _ = std::fs::remove_dir_all(&dir);
+    assert!(ok, "an allowed folder is read: {doc}\n{stderr}");
+}

@@ -210,6 +210,7 @@ impl From<translucid::Error> for Failure {
         let code = match &error {
             E::InvalidScene(_)
             | E::InvalidGltf { .. }
+            | E::ImportLimit { .. }
             | E::UnsupportedExtension { .. }
             | E::UnknownScene(..)
             | E::InvalidOption(_)

@@ -15,6 +15,11 @@ pub enum Error {
     /// A scene file is not valid glTF, or uses it in a way we cannot load.
     #[error("invalid glTF {path}: {reason}")]
     InvalidGltf { path: PathBuf, reason: String },
+    /// A glTF file would take more than its import's limits allow (bytes, accessor elements,
+    /// node instances, triangles, texels: `scene::gltf::ImportLimits`); refused before the
+    /// memory is taken.
+    #[error("glTF {path} refused: {reason}")]
+    ImportLimit { path: PathBuf, reason: String },
     /// A glTF file requires an extension translucid does not implement.
     #[error("{path} requires unsupported glTF extension {extension}")]
     UnsupportedExtension { path: PathBuf, extension: String },

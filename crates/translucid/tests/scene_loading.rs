@@ -438,7 +438,8 @@ fn framing_many_instances_of_a_mesh_is_bounded() {
 }
 
 /// A buffer URI naming something that is not a regular file (a pipe that never ends, a
-/// device) is refused before it is read; reading one blocked forever or until memory ran out.
+/// device, even in an allowed folder) is refused before it is read; reading one blocked
+/// forever or until memory ran out.
 #[cfg(unix)]
 #[test]
 fn buffer_uri_of_a_pipe_or_device_is_refused() {
@@ -451,14 +452,154 @@ fn buffer_uri_of_a_pipe_or_device_is_refused() {
         .status()
         .expect("mkfifo");
     assert!(made.success());
-    for uri in ["\"stream.bin\"", "\"/dev/zero\""] {
-        let path = dir.join("pipe.gltf");
+    std::os::unix::fs::symlink("/dev/zero", dir.join("zeros.bin")).expect("symlink");
+    let path = dir.join("pipe.gltf");
+    std::fs::write(&path, Tiny::triangle().buffer_uri("\"/dev/zero\"").json()).expect("write");
+    let allow_dev = scene::gltf::ImportOptions::allowing([PathBuf::from("/dev")]);
+    let err = scene::gltf::load_with(&path, &allow_dev).expect_err("/dev/zero");
+    assert!(err.to_string().contains("not a regular file"), "{err}");
+    // A link in the file's folder is followed before the folder is checked.
+    for (uri, why) in [
+        ("\"stream.bin\"", "not a regular file"),
+        ("\"zeros.bin\"", "outside"),
+    ] {
         std::fs::write(&path, Tiny::triangle().buffer_uri(uri).json()).expect("write");
         let err = scene::gltf::load(&path).expect_err(uri);
         let msg = err.to_string();
-        assert!(msg.contains("not a regular file"), "{uri}: {msg}");
+        assert!(msg.contains(why), "{uri}: {msg}");
     }
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A buffer URI reaches only files inside the glTF file's folder: absolute paths, `..`,
+/// `file://` URIs and links out of it are refused (each read `/etc/passwd` into the pixels
+/// before), unless the caller allows the folder they lead to.
+#[cfg(unix)]
+#[test]
+fn buffer_uris_reach_only_the_files_folder_unless_allowed() {
+    let dir = temp_path("confined");
+    let _ = std::fs::remove_dir_all(&dir);
+    let folder = dir.join("assets");
+    std::fs::create_dir_all(&folder).expect("temp dir");
+    // The same bytes inside the folder and outside it, so only the path decides.
+    let tiny = Tiny::triangle();
+    let json = tiny.json();
+    let start = json.find("base64,").expect("data URI") + "base64,".len();
+    let end = start + json[start..].find('"').expect("end of URI");
+    let bytes = decode_base64(&json[start..end]);
+    std::fs::write(folder.join("inside.bin"), &bytes).expect("write");
+    let outside = dir.join("outside.bin");
+    std::fs::write(&outside, &bytes).expect("write");
+    std::os::unix::fs::symlink(&outside, folder.join("link.bin")).expect("symlink");
+    let outside = outside.canonicalize().expect("canonical");
+    let path = folder.join("scene.gltf");
+    let load = |uri: &str, options: &scene::gltf::ImportOptions| {
+        std::fs::write(&path, tiny.clone().buffer_uri(&format!("{uri:?}")).json()).expect("write");
+        scene::gltf::load_with(&path, options)
+    };
+    let defaults = scene::gltf::ImportOptions::default();
+    load("inside.bin", &defaults).expect("a file in the folder");
+    load("./inside.bin", &defaults).expect("a path that stays in the folder");
+    let absolute = outside.display().to_string();
+    let escapes = [
+        absolute.clone(),
+        format!("file://{absolute}"),
+        "../outside.bin".into(),
+        "../../../../../../../../etc/passwd".into(),
+        "/etc/passwd".into(),
+        "file:///etc/passwd".into(),
+        "/proc/self/environ".into(),
+        "link.bin".into(),
+        "%2E%2E/outside.bin".into(),
+    ];
+    for uri in &escapes {
+        let err = load(uri, &defaults).expect_err(uri);
+        assert!(err.to_string().contains("outside"), "{uri}: {err}");
+    }
+    let allowed = scene::gltf::ImportOptions::allowing([dir.clone()]);
+    for uri in &escapes[..3] {
+        load(uri, &allowed).unwrap_or_else(|e| panic!("{uri} in an allowed folder: {e}"));
+    }
+    load("link.bin", &allowed).expect("a link into an allowed folder");
+    let err = load("/etc/passwd", &allowed).expect_err("outside every allowed folder");
+    assert!(err.to_string().contains("outside"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The glTF file itself is checked like a URI: a pipe named `.gltf` (which hung a
+/// `conformance` run) and a link to `/dev/zero` named `.glb` (read until memory ran out)
+/// are refused at once.
+#[cfg(unix)]
+#[test]
+fn the_file_itself_must_be_a_regular_file() {
+    let dir = temp_path("main-file");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let fifo = dir.join("b.gltf");
+    let made = std::process::Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .expect("mkfifo");
+    assert!(made.success());
+    let zeros = dir.join("zeros.glb");
+    std::os::unix::fs::symlink("/dev/zero", &zeros).expect("symlink");
+    for path in [fifo, zeros] {
+        // On a thread, so that a regression fails here instead of hanging the suite.
+        let (send, receive) = std::sync::mpsc::channel();
+        let loading = path.clone();
+        std::thread::spawn(move || send.send(scene::gltf::load(&loading).map(|_| ())));
+        let result = receive
+            .recv_timeout(std::time::Duration::from_secs(20))
+            .unwrap_or_else(|_| panic!("{} still loading after 20 s", path.display()));
+        let err = result.expect_err("not a file");
+        assert!(err.to_string().contains("not a regular file"), "{err}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Forty meshes of three indices each whose POSITION, NORMAL and COLOR_0 are one 16 M
+/// element accessor without a bufferView (a 7 KB file): every primitive reads it again,
+/// which once asked for ~30 GB and aborted the process. The elements read are budgeted over
+/// the whole file, and the file is refused by that limit's name.
+#[test]
+fn a_small_file_reading_one_huge_accessor_many_times_is_refused() {
+    let huge = r#"{"componentType": 5126, "count": 16777216, "type": "VEC3", "min": [0, 0, 0], "max": [0, 0, 0], "sparse": {"count": 1, "indices": {"bufferView": 1, "componentType": 5125}, "values": {"bufferView": 0}}}"#;
+    let primitive = r#"{"attributes": {"POSITION": 2, "NORMAL": 2, "COLOR_0": 2}, "indices": 1, "material": 0, "mode": 4}"#;
+    let meshes: Vec<String> = (0..40)
+        .map(|_| format!(r#"{{"primitives": [{primitive}]}}"#))
+        .collect();
+    let nodes: Vec<String> = (0..40).map(|m| format!(r#"{{"mesh": {m}}}"#)).collect();
+    let roots: Vec<String> = (0..40).map(|m| m.to_string()).collect();
+    let tiny = Tiny::triangle().nodes(&nodes.join(", "), &format!("[{}]", roots.join(", ")));
+    let json = tiny.json();
+    let meshes_start = json.find(r#""meshes": ["#).expect("meshes");
+    let meshes_end = json.find(r#""materials""#).expect("materials");
+    let json = format!(
+        "{}\"meshes\": [{}],\n  {}",
+        &json[..meshes_start],
+        meshes.join(", "),
+        &json[meshes_end..]
+    )
+    .replace(
+        r#""type": "SCALAR"}"#,
+        &format!(r#""type": "SCALAR"}}, {huge}"#),
+    );
+    assert!(json.len() < 16 << 10, "{} bytes", json.len());
+    let err = load_bytes("shared-accessor.gltf", json.as_bytes()).expect_err("refused");
+    assert!(matches!(err, Error::ImportLimit { .. }), "{err:?}");
+    let msg = err.to_string();
+    assert!(msg.contains("ImportLimits::elements"), "{msg}");
+
+    // A limit the caller lowers holds the same way, before anything is read.
+    let path = temp_path("shared-accessor-2.gltf");
+    std::fs::write(&path, Tiny::triangle().json()).expect("write");
+    let mut options = scene::gltf::ImportOptions::default();
+    options.limits.elements = 5;
+    let err = scene::gltf::load_with(&path, &options).expect_err("6 elements");
+    assert!(err.to_string().contains("ImportLimits::elements"), "{err}");
+    options.limits.elements = 6;
+    scene::gltf::load_with(&path, &options).expect("3 positions and 3 indices fit 6");
+    let _ = std::fs::remove_file(&path);
 }
 
 /// An external buffer file is read up to its declared byteLength, not whole: here the
@@ -667,9 +808,10 @@ fn files_declaring_too_much_are_refused_before_reading() {
     let many = vec![large.as_str(); 100_000].join(", ");
     let buffers = format!("{}{many}{}", &json[..start], &json[end..]);
     let err = load_bytes("buffers.gltf", buffers.as_bytes()).expect_err("6 GB declared");
+    assert!(matches!(err, Error::ImportLimit { .. }), "{err:?}");
     let msg = err.to_string();
     assert!(
-        msg.contains("buffers declare") && msg.contains("MiB"),
+        msg.contains("byteLengths") && msg.contains("ImportLimits::bytes"),
         "{msg}"
     );
 
@@ -686,8 +828,12 @@ fn files_declaring_too_much_are_refused_before_reading() {
         .replace(primitive, &[primitive; 7].join(", "));
     assert!(json.contains("15000000"));
     let err = load_bytes("primitives.gltf", json.as_bytes()).expect_err("35 M triangles");
+    assert!(matches!(err, Error::ImportLimit { .. }), "{err:?}");
     let msg = err.to_string();
-    assert!(msg.contains("35000000 triangles"), "{msg}");
+    assert!(
+        msg.contains("35000000") && msg.contains("ImportLimits::triangles"),
+        "{msg}"
+    );
 }
 
 #[test]

@@ -125,7 +125,7 @@ fn check_file(
     check: &Check<'_>,
 ) -> translucid::Result<Metrics> {
     // The glTF loader itself: a file named like a generated scene is still a file.
-    let scene = translucid::scene::gltf::load(path)?;
+    let scene = translucid::scene::gltf::load_with(path, super::import_options())?;
     let device = match gpu {
         Some(device) => device,
         None => gpu.insert(open_gpu()?),

@@ -7,11 +7,13 @@ pub mod info;
 pub mod render;
 pub mod sweep;
 
+use std::sync::OnceLock;
 use translucid::gpu::{Gpu, GpuOptions};
 use translucid::methods::wavelet::{model::Model, Settings};
 use translucid::methods::{wboit, MethodOptions};
 use translucid::metrics::{self, Metrics};
 use translucid::renderer::{Frame, Renderer};
+use translucid::scene::gltf::ImportOptions;
 use translucid::scene::Scene;
 use translucid::{reference, Image, OpaqueLayer};
 
@@ -27,11 +29,22 @@ pub fn open_gpu_quietly() -> translucid::Result<Gpu> {
     Gpu::new(&GpuOptions::from_env())
 }
 
-/// A renderer for one scene on the chosen device.
+/// How every command imports glTF files (`--allow-dir`), set once from the command line.
+static IMPORT_OPTIONS: OnceLock<ImportOptions> = OnceLock::new();
+
+pub fn set_import_options(options: ImportOptions) {
+    // Set once, before any command runs; a second call would be a bug here, not input.
+    let _ = IMPORT_OPTIONS.set(options);
+}
+
+pub fn import_options() -> &'static ImportOptions {
+    IMPORT_OPTIONS.get_or_init(ImportOptions::default)
+}
+
 /// The scene `spec` names (a generated name, `hairball:100k`, or a glTF path), drawn as
 /// `args` say.
 pub fn load_scene(spec: &str, args: crate::SceneArgs) -> translucid::Result<Scene> {
-    let scene = translucid::scene::load(spec)?;
+    let scene = translucid::scene::load_with(spec, import_options())?;
     match args.blend_alpha {
         Some(alpha) => scene.opaque_as_transparent(alpha),
         None => Ok(scene),

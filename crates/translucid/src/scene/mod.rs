@@ -253,6 +253,12 @@ impl Scene {
 /// mistyped path reports the missing file); anything else gives
 /// [`crate::Error::UnknownScene`] listing the generated names.
 pub fn load(spec: &str) -> crate::Result<Scene> {
+    load_with(spec, &gltf::ImportOptions::default())
+}
+
+/// [`load`], importing a glTF file with `options` (the folders its URIs may reach, the
+/// amounts it may take).
+pub fn load_with(spec: &str, options: &gltf::ImportOptions) -> crate::Result<Scene> {
     if let Some(scene) = generated::generate(spec) {
         return Ok(scene);
     }
@@ -264,7 +270,7 @@ pub fn load(spec: &str) -> crate::Result<Scene> {
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("gltf") || e.eq_ignore_ascii_case("glb"));
     if path.exists() || gltf_extension {
-        return gltf::load(path);
+        return gltf::load_with(path, options);
     }
     Err(crate::Error::UnknownScene(
         spec.to_string(),

@@ -4,11 +4,19 @@
 //! A malformed file is an [`Error`], never a panic. The gltf crate indexes, asserts and
 //! `unreachable!`s on some inputs that its validation lets through (accessor types, ranges), so
 //! every accessor is checked here before the crate reads it, and buffers and images are loaded
-//! here rather than by `gltf::import`.
+//! here rather than by `gltf::import`: only files inside the glTF file's folder
+//! (`files.rs`), and only as much as the whole file's budget allows (`budget.rs`).
+
+mod budget;
+mod files;
+
+use budget::{collect_fallibly, Amount, Budget};
+pub use budget::{ImportLimits, ImportOptions};
+use files::{shortened, Longer, UriRoots};
 
 use super::{
     Camera, Draw, Filter, Material, Mesh, MipFilter, Projection, Sampler, Scene, Texture, Wrap,
-    MAX_SCENE_TEXELS, MAX_TEXTURE_SIZE,
+    MAX_TEXTURE_SIZE,
 };
 use crate::{Error, Result};
 use glam::{Mat4, Vec2, Vec3, Vec4};
@@ -27,32 +35,29 @@ pub const IMPLEMENTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_unlit",
 ];
 
-/// Node instances (nodes reached through the hierarchy, with reuse) beyond which a file is
-/// refused: a small file reusing nodes in a doubling chain could otherwise expand without end.
-const MAX_NODE_INSTANCES: usize = 1 << 22;
-
-/// Bytes a file's buffers may declare in all: 4 GiB, more than any real scene here (the
-/// largest shared one declares under 100 MB); a file listing one buffer 100 000 times read it
-/// 100 000 times.
-const MAX_BUFFER_BYTES: u64 = 4 << 30;
-
-/// Triangles a file's meshes may hold in all (each mesh counted once, however many nodes
-/// draw it): 32 M.
-const MAX_TRIANGLES: usize = 1 << 25;
-
 /// Field of view used to frame files without a camera.
 const DEFAULT_FOV_Y: f32 = 0.8;
 
-/// Loads a `.gltf` or `.glb` file into a validated [`Scene`].
+/// Loads a `.gltf` or `.glb` file into a validated [`Scene`], with the default
+/// [`ImportOptions`]: its URIs may name files in its own folder only.
 ///
 /// The default scene (or the first) is flattened: every mesh primitive becomes a [`Mesh`]
 /// drawn with its node's world transform; OPAQUE and MASK materials go to `scene.opaque`,
 /// BLEND and transmissive ones to `scene.transparent`, in node traversal order. The camera is
 /// the first perspective camera found, else one framing everything.
 pub fn load(path: &Path) -> Result<Scene> {
+    load_with(path, &ImportOptions::default())
+}
+
+/// [`load`] with the folders its URIs may reach and the amounts it may take.
+///
+/// A file passing a limit is refused with [`Error::ImportLimit`] before the memory for it is
+/// taken; a URI naming a file outside the allowed folders, a pipe or a device, with
+/// [`Error::InvalidGltf`].
+pub fn load_with(path: &Path, options: &ImportOptions) -> Result<Scene> {
     // The last line of defence: a panic in the gltf crate on input no check here foresaw is
     // this file's error, not the caller's crash.
-    std::panic::catch_unwind(|| load_unguarded(path)).unwrap_or_else(|panic| {
+    std::panic::catch_unwind(|| load_unguarded(path, options)).unwrap_or_else(|panic| {
         let message = panic
             .downcast_ref::<&str>()
             .map(|s| s.to_string())
@@ -65,45 +70,50 @@ pub fn load(path: &Path) -> Result<Scene> {
     })
 }
 
-fn load_unguarded(path: &Path) -> Result<Scene> {
-    let bytes = std::fs::read(path).map_err(|source| Error::SceneIo {
-        path: path.into(),
-        source,
-    })?;
+fn load_unguarded(path: &Path, options: &ImportOptions) -> Result<Scene> {
+    let mut budget = Budget::new(options.limits);
+    // A missing or unreadable file is an I/O error; one that is not a regular file, or is
+    // over the budget, is refused.
+    let size = std::fs::metadata(path)
+        .map_err(|source| Error::SceneIo {
+            path: path.into(),
+            source,
+        })?
+        .len();
+    budget
+        .take(Amount::Bytes, size, "the file itself")
+        .map_err(|reason| over_limit(path, reason))?;
+    let bytes = files::read_regular_file(path, size, Longer::Refuse)
+        .map_err(|reason| invalid(path, reason))?;
+    let roots =
+        UriRoots::new(path, &options.allowed_dirs).map_err(|reason| invalid(path, reason))?;
     let gltf::Gltf { document, blob } = parse(path, &bytes)?;
-    let base = path.parent().unwrap_or(Path::new("."));
-    let declared: u64 = document.buffers().map(|b| b.length() as u64).sum();
-    if declared > MAX_BUFFER_BYTES {
-        return Err(invalid(
-            path,
-            format!(
-                "its buffers declare {} MiB in all; translucid reads at most {} MiB",
-                declared >> 20,
-                MAX_BUFFER_BYTES >> 20
-            ),
-        ));
-    }
+    drop(bytes);
     // Counted from the accessors, before anything is read.
     let triangles = document
         .meshes()
         .flat_map(|m| m.primitives())
         .map(|p| {
             let elements = p.indices().or_else(|| p.get(&gltf::Semantic::Positions));
-            elements.map_or(0, |a| a.count() / 3)
+            elements.map_or(0, |a| a.count() as u64 / 3)
         })
-        .fold(0usize, usize::saturating_add);
-    if triangles > MAX_TRIANGLES {
-        return Err(invalid(
-            path,
-            format!(
-                "its meshes hold {triangles} triangles; translucid takes at most {MAX_TRIANGLES}"
-            ),
-        ));
-    }
-    let buffers = load_buffers(&document, base, blob);
+        .fold(0u64, u64::saturating_add);
+    budget
+        .take(Amount::Triangles, triangles, "its meshes")
+        .map_err(|reason| over_limit(path, reason))?;
+    // Every buffer counts at its declared length (the most read of it), before any is read.
+    let declared = document
+        .buffers()
+        .map(|b| b.length() as u64)
+        .fold(0u64, u64::saturating_add);
+    budget
+        .take(Amount::Bytes, declared, "its buffers' byteLengths")
+        .map_err(|reason| over_limit(path, reason))?;
+    let buffers = load_buffers(&document, &roots, blob);
     let mut importer = Importer {
         path,
-        base,
+        roots,
+        budget,
         buffers,
         scene: Scene {
             name: scene_name(path),
@@ -134,6 +144,13 @@ fn invalid(path: &Path, reason: impl Into<String>) -> Error {
     Error::InvalidGltf {
         path: path.into(),
         reason: reason.into(),
+    }
+}
+
+fn over_limit(path: &Path, reason: String) -> Error {
+    Error::ImportLimit {
+        path: path.into(),
+        reason,
     }
 }
 
@@ -343,7 +360,7 @@ fn validate(root: &gltf::json::Root) -> std::result::Result<(), String> {
 /// a primitive or image actually reads it, so that the error can name what needed it.
 type Buffers = Vec<std::result::Result<Vec<u8>, String>>;
 
-fn load_buffers(document: &gltf::Document, base: &Path, mut blob: Option<Vec<u8>>) -> Buffers {
+fn load_buffers(document: &gltf::Document, roots: &UriRoots, mut blob: Option<Vec<u8>>) -> Buffers {
     document
         .buffers()
         .map(|buffer| {
@@ -352,7 +369,9 @@ fn load_buffers(document: &gltf::Document, base: &Path, mut blob: Option<Vec<u8>
                     .take()
                     .ok_or_else(|| "the GLB file has no BIN chunk".to_string()),
                 // Bytes past byteLength are never read.
-                gltf::buffer::Source::Uri(uri) => read_uri(base, uri, buffer.length() as u64),
+                gltf::buffer::Source::Uri(uri) => {
+                    read_uri(roots, uri, buffer.length() as u64, Longer::Cut)
+                }
             }?;
             if data.len() < buffer.length() {
                 return Err(format!(
@@ -370,65 +389,30 @@ fn load_buffers(document: &gltf::Document, base: &Path, mut blob: Option<Vec<u8>
 /// size ([`MAX_TEXTURE_SIZE`]).
 const MAX_IMAGE_FILE_BYTES: u64 = 1 << 30;
 
-/// Reads a `data:` URI, or at most `limit` bytes of a regular file relative to the glTF file
-/// (pipes and devices never end).
-fn read_uri(base: &Path, uri: &str, limit: u64) -> std::result::Result<Vec<u8>, String> {
+/// Reads a `data:` URI, or at most `limit` bytes of a regular file the URI names inside the
+/// allowed folders.
+fn read_uri(
+    roots: &UriRoots,
+    uri: &str,
+    limit: u64,
+    longer: Longer,
+) -> std::result::Result<Vec<u8>, String> {
     if uri.starts_with("data:") {
         // The gltf crate decodes base64 data URIs (without touching the file system).
         return gltf::buffer::Data::from_source(gltf::buffer::Source::Uri(uri), None)
             .map(|d| d.0)
             .map_err(|e| format!("bad data URI: {e}"));
     }
-    let relative = uri.strip_prefix("file://").unwrap_or(uri);
-    if relative.contains(':') && !cfg!(windows) {
-        return Err(format!("unsupported URI scheme in {:?}", shortened(uri)));
-    }
-    let file = base.join(percent_decode(relative)?);
-    let shown = shortened(&file.display().to_string());
-    let cannot = |e: std::io::Error| format!("cannot read {shown}: {e}");
-    let metadata = std::fs::metadata(&file).map_err(cannot)?;
-    if !metadata.is_file() {
-        return Err(format!("{shown} is not a regular file"));
-    }
-    let mut bytes = Vec::new();
-    std::io::Read::read_to_end(
-        &mut std::io::Read::take(std::fs::File::open(&file).map_err(cannot)?, limit),
-        &mut bytes,
-    )
-    .map_err(cannot)?;
-    Ok(bytes)
-}
-
-/// Decodes `%XX` escapes in a relative URI (glTF URIs are RFC 3986).
-fn percent_decode(uri: &str) -> std::result::Result<String, String> {
-    let bytes = uri.as_bytes();
-    let mut out = Vec::with_capacity(bytes.len());
-    let mut i = 0;
-    while i < bytes.len() {
-        let hex = bytes
-            .get(i + 1..i + 3)
-            .and_then(|h| std::str::from_utf8(h).ok())
-            .and_then(|h| u8::from_str_radix(h, 16).ok());
-        match (bytes[i], hex) {
-            (b'%', Some(byte)) => {
-                out.push(byte);
-                i += 3;
-            }
-            (b, _) => {
-                out.push(b);
-                i += 1;
-            }
-        }
-    }
-    String::from_utf8(out)
-        .map_err(|_| format!("URI {:?} is not UTF-8 once decoded", shortened(uri)))
+    roots.read(uri, limit, longer)
 }
 
 /// Flattening state: what has been converted so far, keyed by glTF indices so that reused
 /// meshes, materials and textures are converted once.
 struct Importer<'p> {
     path: &'p Path,
-    base: &'p Path,
+    /// The folders URIs may name files in.
+    roots: UriRoots,
+    budget: Budget,
     buffers: Buffers,
     scene: Scene,
     /// (glTF mesh, primitive) -> scene mesh, or `None` for skipped point/line primitives.
@@ -493,7 +477,6 @@ impl<'p> Importer<'p> {
             .map(|n| Step::Enter(n, Mat4::IDENTITY))
             .collect();
         stack.reverse();
-        let mut visits = 0usize;
         while let Some(step) = stack.pop() {
             let (node, parent) = match step {
                 Step::Leave(index) => {
@@ -503,10 +486,9 @@ impl<'p> Importer<'p> {
                 Step::Enter(node, parent) => (node, parent),
             };
             let index = node.index();
-            visits += 1;
-            if visits > MAX_NODE_INSTANCES {
-                return Err(invalid(self.path, format!("the node hierarchy expands to more than {MAX_NODE_INSTANCES} node instances")));
-            }
+            self.budget
+                .take(Amount::NodeInstances, 1, "the node hierarchy")
+                .map_err(|reason| over_limit(self.path, reason))?;
             if std::mem::replace(&mut on_path[index], true) {
                 return Err(invalid(
                     self.path,
@@ -584,6 +566,14 @@ impl<'p> Importer<'p> {
                 .pbr_metallic_roughness()
                 .base_color_texture()
                 .map_or(0, |t| t.tex_coord());
+            // Primitives that share an accessor read it again, and count again.
+            for (what, accessor) in accessors_read(primitive, uv_set) {
+                let count = accessor.count() as u64;
+                let what = format!("{name} {what} (accessor {}, {count})", accessor.index());
+                self.budget
+                    .take(Amount::Elements, count, &what)
+                    .map_err(|reason| over_limit(self.path, reason))?;
+            }
             let m = read_primitive(primitive, &self.buffers, &name, uv_set).map_err(|e| {
                 let label = name_suffix(mesh.name());
                 Error::InvalidScene(format!(
@@ -641,7 +631,6 @@ impl<'p> Importer<'p> {
     fn check_textures(&mut self, document: &'p gltf::Document) -> Result<()> {
         let path = self.path;
         let mut seen = HashSet::new();
-        let mut total = 0u64;
         for material in document.materials() {
             let Some(info) = material.pbr_metallic_roughness().base_color_texture() else {
                 continue;
@@ -650,20 +639,18 @@ impl<'p> Importer<'p> {
             if !seen.insert(texture.index()) {
                 continue;
             }
-            let failed = |e: String| invalid(path, format!("{}: {e}", texture_label(&texture)));
+            let label = texture_label(&texture);
+            let failed = |e: String| invalid(path, format!("{label}: {e}"));
             let image = texture.source();
             if !self.encoded.contains_key(&image.index()) {
-                let bytes = self.read_image(&image).map_err(failed)?;
+                let bytes = self.read_image(&image, &label)?;
                 self.encoded.insert(image.index(), bytes);
             }
             let (width, height) = image_size(&self.encoded[&image.index()]).map_err(failed)?;
-            total += u64::from(width) * u64::from(height);
-            if total > MAX_SCENE_TEXELS {
-                return Err(failed(format!(
-                    "its {width}x{height} image takes the file's textures to {total} texels; \
-                     translucid takes at most {MAX_SCENE_TEXELS} in all"
-                )));
-            }
+            let what = format!("{label}'s {width}x{height} image");
+            self.budget
+                .take(Amount::Texels, u64::from(width) * u64::from(height), &what)
+                .map_err(|reason| over_limit(path, reason))?;
         }
         Ok(())
     }
@@ -698,17 +685,30 @@ impl<'p> Importer<'p> {
         Ok(index)
     }
 
-    /// An image's encoded bytes, from its buffer view or URI.
-    fn read_image(&self, image: &gltf::Image<'p>) -> std::result::Result<Vec<u8>, String> {
+    /// An image's encoded bytes, from its buffer view or URI; an image file counts against
+    /// the bytes the import may read.
+    fn read_image(&mut self, image: &gltf::Image<'p>, label: &str) -> Result<Vec<u8>> {
+        let failed = |e: String| invalid(self.path, format!("{label}: {e}"));
         let encoded = match image.source() {
-            gltf::image::Source::View { view, .. } => view_bytes(&view, &self.buffers)?.to_vec(),
-            gltf::image::Source::Uri { uri, .. } => read_uri(self.base, uri, MAX_IMAGE_FILE_BYTES)?,
+            gltf::image::Source::View { view, .. } => {
+                view_bytes(&view, &self.buffers).map_err(failed)?.to_vec()
+            }
+            gltf::image::Source::Uri { uri, .. } => {
+                let bytes = read_uri(&self.roots, uri, MAX_IMAGE_FILE_BYTES, Longer::Refuse)
+                    .map_err(failed)?;
+                if !uri.starts_with("data:") {
+                    self.budget
+                        .take(Amount::Bytes, bytes.len() as u64, label)
+                        .map_err(|reason| over_limit(self.path, reason))?;
+                }
+                bytes
+            }
         };
         if encoded.len() as u64 >= MAX_IMAGE_FILE_BYTES {
-            return Err(format!(
+            return Err(failed(format!(
                 "the image file is over the {} MiB translucid reads",
                 MAX_IMAGE_FILE_BYTES >> 20
-            ));
+            )));
         }
         Ok(encoded)
     }
@@ -990,6 +990,25 @@ fn volume_tint(colour: Vec3, thickness: f32, distance: f32) -> Vec3 {
     Vec3::new(c.x.powf(exponent), c.y.powf(exponent), c.z.powf(exponent))
 }
 
+/// The accessors [`read_primitive`] reads, named: every attribute it converts, and the
+/// indices.
+fn accessors_read<'a>(
+    primitive: &gltf::Primitive<'a>,
+    uv_set: u32,
+) -> impl Iterator<Item = (&'static str, gltf::Accessor<'a>)> {
+    let attributes = [
+        ("POSITION", gltf::Semantic::Positions),
+        ("NORMAL", gltf::Semantic::Normals),
+        ("COLOR_0", gltf::Semantic::Colors(0)),
+        ("TEXCOORD", gltf::Semantic::TexCoords(uv_set)),
+    ]
+    .map(|(name, semantic)| (name, primitive.get(&semantic)));
+    attributes
+        .into_iter()
+        .chain([("indices", primitive.indices())])
+        .filter_map(|(name, accessor)| Some((name, accessor?)))
+}
+
 /// Converts one triangle primitive, checking everything the gltf reader would trip over.
 fn read_primitive(
     primitive: &gltf::Primitive<'_>,
@@ -1007,11 +1026,14 @@ fn read_primitive(
         buffers,
         &[(DataType::F32, Dimensions::Vec3)],
     )?;
-    let positions: Vec<Vec3> = reader
-        .read_positions()
-        .ok_or("POSITION data missing")?
-        .map(Vec3::from)
-        .collect();
+    let positions: Vec<Vec3> = collect_fallibly(
+        pos_accessor.count(),
+        reader
+            .read_positions()
+            .ok_or("POSITION data missing")?
+            .map(Vec3::from),
+        "positions",
+    )?;
     if let Some(i) = positions.iter().position(|p| !p.is_finite()) {
         return Err(format!("POSITION {i} is not finite: {:?}", positions[i]));
     }
@@ -1021,13 +1043,8 @@ fn read_primitive(
         Some(a) => {
             check_accessor("NORMAL", &a, buffers, &[(DataType::F32, Dimensions::Vec3)])?;
             same_count("NORMAL", &a, n)?;
-            Some(
-                reader
-                    .read_normals()
-                    .ok_or("NORMAL data missing")?
-                    .map(Vec3::from)
-                    .collect(),
-            )
+            let read = reader.read_normals().ok_or("NORMAL data missing")?;
+            Some(collect_fallibly(n, read.map(Vec3::from), "normals")?)
         }
         None => None,
     };
@@ -1036,7 +1053,11 @@ fn read_primitive(
             check_accessor("COLOR_0", &a, buffers, COLOUR_TYPES)?;
             same_count("COLOR_0", &a, n)?;
             let read = reader.read_colors(0).ok_or("COLOR_0 data missing")?;
-            Some(read.into_rgba_f32().map(Vec4::from).collect())
+            Some(collect_fallibly(
+                n,
+                read.into_rgba_f32().map(Vec4::from),
+                "colours",
+            )?)
         }
         None => None,
     };
@@ -1047,7 +1068,7 @@ fn read_primitive(
             let read = reader
                 .read_tex_coords(uv_set)
                 .ok_or("TEXCOORD data missing")?;
-            Some(read.into_f32().map(Vec2::from).collect())
+            Some(collect_fallibly(n, read.into_f32().map(Vec2::from), "uvs")?)
         }
         None => None,
     };
@@ -1055,13 +1076,10 @@ fn read_primitive(
     let indices: Vec<u32> = match primitive.indices() {
         Some(a) => {
             check_accessor("indices", &a, buffers, INDEX_TYPES)?;
-            reader
-                .read_indices()
-                .ok_or("index data missing")?
-                .into_u32()
-                .collect()
+            let read = reader.read_indices().ok_or("index data missing")?;
+            collect_fallibly(a.count(), read.into_u32(), "indices")?
         }
-        None => (0..n as u32).collect(),
+        None => collect_fallibly(n, 0..n as u32, "indices")?,
     };
     if let Some(i) = indices.iter().position(|&v| v as usize >= n) {
         return Err(format!(
@@ -1255,19 +1273,6 @@ fn buffer_label(buffer: &gltf::Buffer<'_>) -> String {
     }
 }
 
-/// Text from a file (a URI, a path) cut to its first and last 40 characters, so that a long
-/// one cannot flood a message.
-fn shortened(text: &str) -> String {
-    const KEEP: usize = 40;
-    let chars: Vec<char> = text.chars().collect();
-    if chars.len() <= 2 * KEEP + 1 {
-        return text.to_string();
-    }
-    let head: String = chars[..KEEP].iter().collect();
-    let tail: String = chars[chars.len() - KEEP..].iter().collect();
-    format!("{head}…{tail} ({} characters)", chars.len())
-}
-
 /// Triangle lists from triangles, strips and fans (glTF 2.0 §3.7.2.1), dropping degenerate
 /// triangles (strips use them as restarts).
 fn assemble_triangles(mode: Mode, indices: &[u32]) -> Vec<[u32; 3]> {
@@ -1317,12 +1322,5 @@ mod tests {
     fn ior_gives_fresnel_reflectance() {
         assert!((fresnel_reflectance(1.5) - 0.04).abs() < 1e-6);
         assert_eq!(fresnel_reflectance(1.0), 0.0);
-    }
-
-    #[test]
-    fn percent_escapes_decode() {
-        assert_eq!(percent_decode("a%20b.bin").as_deref(), Ok("a b.bin"));
-        assert_eq!(percent_decode("100%").as_deref(), Ok("100%"));
-        assert!(percent_decode("%FF").is_err());
     }
 }
