@@ -147,6 +147,10 @@ pub enum Precision {
     Single,
 }
 
+/// The most frames `bench` times per scene and method: more never changes a median, and
+/// the frame counter must not wrap.
+const MAX_BENCH_FRAMES: i64 = 100_000;
+
 #[derive(Subcommand)]
 enum Command {
     /// List Vulkan devices with the limits translucid sizes itself by.
@@ -240,7 +244,8 @@ enum Command {
         method_args: MethodArgs,
         #[arg(long, default_value = "1280x720")]
         size: Size,
-        #[arg(long, default_value_t = 20)]
+        /// Timed frames per scene and method (1 to 100000), after two warm-up frames.
+        #[arg(long, default_value_t = 20, value_parser = clap::value_parser!(u32).range(1..=MAX_BENCH_FRAMES))]
         frames: u32,
         /// What changes from frame to frame, as in an engine's frame loop; `orbit,static`
         /// runs both, taking turns, and reports moving over static from the same run.

@@ -396,6 +396,21 @@ fn bad_sweeps_and_blend_alphas_are_refused() {
     }
 }
 
+/// A frame count the frame counter cannot hold is a usage error: 4294967295 once wrapped
+/// it, and bench exited 0 with all-zero times and NaN ratios.
+#[test]
+fn bench_refuses_frame_counts_out_of_range() {
+    for frames in ["4294967295", "100001", "0"] {
+        let out = Command::new(env!("CARGO_BIN_EXE_translucid"))
+            .args(["bench", "boxes", "--size", "32x32", "--frames", frames])
+            .output()
+            .expect("run translucid");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{frames}: {stderr}");
+        assert!(stderr.contains("1..=100000"), "{frames}: {stderr}");
+    }
+}
+
 /// Blended opaque surfaces are right with exact, as compare measures it.
 #[test]
 fn compare_takes_a_blend_alpha() {

@@ -149,7 +149,7 @@ pub fn measure(
     let methods = bench.methods;
     let FrameLoop { frames, motion, .. } = &bench.frame_loop;
     let options = super::options(bench.threshold, bench.method_args)?;
-    let frames = (*frames).max(1);
+    let frames = *frames;
     // blend is always measured: every ratio is against it, from this same run.
     let mut names: Vec<&str> = vec!["blend"];
     names.extend(methods.iter().map(String::as_str).filter(|m| *m != "blend"));

@@ -221,14 +221,15 @@ pub fn measure(
     })
 }
 
-/// A PSNR for JSON: a number, or "inf" for identical images (JSON has no infinity); a NaN
-/// (from a NaN pixel) stays distinct from "inf" as null.
-/// The measures every JSON report gives, as fields to add to its object.
+/// The measures every JSON report gives, as fields to add to its object. JSON has no
+/// infinity: an infinite measure is the string "inf" or "-inf" (identical images have a PSNR
+/// of "inf"; a frame with NaN or infinite pixels a max_error and rmse of "inf" and a PSNR of
+/// "-inf"), and a NaN is null.
 pub fn metrics_json(m: &Metrics) -> serde_json::Map<String, serde_json::Value> {
     let value = serde_json::json!({
-        "max_error": m.max_error,
-        "rmse": m.rmse,
-        "psnr": psnr_json(m.psnr),
+        "max_error": number_json(m.max_error),
+        "rmse": number_json(m.rmse),
+        "psnr": number_json(m.psnr),
         "pixels_over": m.pixels_over,
         "share_over": m.share_over,
         "non_finite_pixels": m.non_finite,
@@ -239,10 +240,30 @@ pub fn metrics_json(m: &Metrics) -> serde_json::Map<String, serde_json::Value> {
     }
 }
 
-fn psnr_json(psnr: f32) -> serde_json::Value {
-    if psnr == f32::INFINITY {
-        serde_json::json!("inf")
-    } else {
-        serde_json::json!(psnr)
+fn number_json(value: f32) -> serde_json::Value {
+    match value {
+        f32::INFINITY => serde_json::json!("inf"),
+        f32::NEG_INFINITY => serde_json::json!("-inf"),
+        _ => serde_json::json!(value),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A frame with NaN pixels once reported `"psnr": "inf", "rmse": 0.0`, a perfect score.
+    #[test]
+    fn json_of_a_frame_with_nan_pixels_reads_worst_not_perfect() {
+        let reference = Image::filled(2, 2, glam::Vec4::ONE);
+        let nan = Image::filled(2, 2, glam::Vec4::new(f32::NAN, 0.0, 0.0, 1.0));
+        let fields = metrics_json(&metrics::compare(&nan, &reference).expect("same size"));
+        assert_eq!(fields["psnr"], "-inf");
+        assert_eq!(fields["rmse"], "inf");
+        assert_eq!(fields["max_error"], "inf");
+        assert_eq!(fields["non_finite_pixels"], 4);
+        let same = metrics_json(&metrics::compare(&reference, &reference).expect("same size"));
+        assert_eq!(same["psnr"], "inf");
+        assert_eq!(same["rmse"], 0.0);
     }
 }

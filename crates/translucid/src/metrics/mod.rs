@@ -29,8 +29,8 @@ pub struct Metrics {
     /// `pixels_over` as a share of all pixels (0 for an empty image).
     pub share_over: f64,
     /// Pixels with a NaN or infinite colour channel in either image. Each counts as over;
-    /// any makes `max_error` infinite, so that no bound passes them. `rmse` and `psnr` are
-    /// over the other pixels.
+    /// any makes `max_error` and `rmse` infinite and `psnr` minus infinity, so that no bound
+    /// passes them and no score reads perfect.
     pub non_finite: u64,
 }
 
@@ -86,14 +86,16 @@ pub fn compare(a: &Image, b: &Image) -> crate::Result<Metrics> {
     } else {
         sum_sq / (3 * finite_pixels) as f64
     };
-    let psnr = if mse == 0.0 {
-        f32::INFINITY
+    let (rmse, psnr) = if non_finite > 0 {
+        (f32::INFINITY, f32::NEG_INFINITY)
+    } else if mse == 0.0 {
+        (0.0, f32::INFINITY)
     } else {
-        (10.0 * (1.0 / mse).log10()) as f32
+        (mse.sqrt() as f32, (10.0 * (1.0 / mse).log10()) as f32)
     };
     Ok(Metrics {
         max_error,
-        rmse: mse.sqrt() as f32,
+        rmse,
         psnr,
         pixels_over,
         share_over: if pixels == 0 {
@@ -227,8 +229,10 @@ mod tests {
                 assert_eq!(m.max_error, f32::INFINITY, "{bad}");
                 assert_eq!(m.pixels_over, 1, "{bad}");
                 assert!(!m.within(1.0), "{bad}");
-                // The finite pixels match.
-                assert_eq!(m.rmse, 0.0, "{bad}");
+                // The finite pixels match, and still the scores say the worst: an all-NaN
+                // frame once read "psnr inf, rmse 0".
+                assert_eq!(m.rmse, f32::INFINITY, "{bad}");
+                assert_eq!(m.psnr, f32::NEG_INFINITY, "{bad}");
             }
         }
         assert!(compare(&a, &a).expect("same size").within(0.0));
