@@ -15,6 +15,7 @@
 #include "bin_lists.glsl"
 #include "depth_pyramid.glsl"
 #include "quad_attributes.glsl"
+#include "shading.glsl"
 
 layout(local_size_x = BINNING_GROUP_SIZE) in;
 
@@ -332,8 +333,8 @@ void storeAttributes(uint quad, DrawInfo draw, Corner k0, Corner k1, Corner k2, 
         vec3 p2 = (draw.model * vec4(k2.position, 1.0)).xyz;
         vec3 p3 = (draw.model * vec4(k3.position, 1.0)).xyz;
         int at = normalTexel(quad);
-        storeAttributeTexel(at, uvec4(floatBitsToUint(cross(p1 - p0, p2 - p0)), 0u));
-        storeAttributeTexel(at + 1, uvec4(floatBitsToUint(cross(p2 - p0, p3 - p0)), 0u));
+        storeAttributeTexel(at, uvec4(floatBitsToUint(faceNormal(p1 - p0, p2 - p0)), 0u));
+        storeAttributeTexel(at + 1, uvec4(floatBitsToUint(faceNormal(p2 - p0, p3 - p0)), 0u));
     }
     if (TEXTURES && (draw.flags & DRAW_HAS_UVS) != 0u) {
         int at = uvTexel(quad);

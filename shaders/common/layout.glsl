@@ -30,7 +30,7 @@ struct DrawInfo {
     vec4 tint;              // multiplied into the draw's vertex colours
 };
 
-// Per-frame constants (std140, 144 bytes).
+// Per-frame constants (std140, 160 bytes).
 struct FrameInfo {
     mat4 viewProj;
     vec4 lightDirection;    // xyz, towards the light, normalised
@@ -40,6 +40,7 @@ struct FrameInfo {
     // Device depth = x - y / d + z d at order depth d; w is 1 when the order depth is device
     // depth + 1 (orthographic projections), 0 when it is clip w.
     vec4 depthMapping;
+    vec4 eye;               // xyz: the camera's position in the world
 };
 
 #endif

@@ -3,8 +3,9 @@
 #define TRANSLUCID_MESH_FRAGMENT_GLSL
 
 #include "scene_bindings.glsl"
+#include "shading.glsl"
 
-layout(location = 0) in vec3 v_worldPos;
+layout(location = 0) in vec3 v_fromEye;
 layout(location = 1) in vec3 v_normal;
 layout(location = 2) in vec2 v_uv;
 layout(location = 3) in vec4 v_colour;
@@ -14,12 +15,14 @@ vec4 sampleBaseTexture(Material m) {
 }
 
 // The interpolated normal, or the geometric face normal when the mesh has none (its sign
-// does not matter: lighting is two-sided).
+// does not matter: lighting is two-sided). The face normal comes from the position relative
+// to the eye, whose differences between pixels keep their precision however far from the
+// origin the scene is (world positions 10 km out left shading noise).
 vec3 fragmentNormal(DrawInfo d) {
     if ((d.flags & DRAW_HAS_NORMALS) != 0u) {
         return v_normal;
     }
-    return cross(dFdx(v_worldPos), dFdy(v_worldPos));
+    return faceNormal(dFdx(v_fromEye), dFdy(v_fromEye));
 }
 
 // The fragment's depth in the reference's order (raster::order_depth): view depth (clip w)

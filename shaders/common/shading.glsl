@@ -5,12 +5,36 @@
 
 #include "layout.glsl"
 
+float largestComponent(vec3 v) {
+    return max(max(abs(v.x), abs(v.y)), abs(v.z));
+}
+
+// v at unit length, or zero when it has no direction (zero, NaN or infinite); divided by its
+// largest component first so that the squared length neither underflows nor overflows
+// (shading::unit_or_zero).
+vec3 unitOrZero(vec3 v) {
+    float largest = largestComponent(v);
+    if (!(largest > 0.0) || isinf(largest)) {
+        return vec3(0.0);
+    }
+    vec3 scaled = v / largest;
+    return scaled * inversesqrt(dot(scaled, scaled));
+}
+
+// The face normal of a triangle with edges e1 and e2, at any scale (shading::face_normal).
+vec3 faceNormal(vec3 e1, vec3 e2) {
+    float l1 = largestComponent(e1);
+    float l2 = largestComponent(e2);
+    vec3 s1 = l1 > 0.0 && !isinf(l1) ? e1 / l1 : vec3(0.0);
+    vec3 s2 = l2 > 0.0 && !isinf(l2) ? e2 / l2 : vec3(0.0);
+    return cross(s1, s2);
+}
+
 vec3 shadeLighting(Material m, FrameInfo f, vec3 normal) {
     if ((m.flags & MATERIAL_LIT) == 0u) {
         return vec3(1.0);
     }
-    float len2 = dot(normal, normal);
-    vec3 n = len2 > 0.0 ? normal * inversesqrt(len2) : vec3(0.0);
+    vec3 n = unitOrZero(normal);
     return f.ambient.rgb + f.lightColour.rgb * abs(dot(n, f.lightDirection.xyz));
 }
 

@@ -47,6 +47,9 @@ pub struct GpuFrameInfo {
     /// Device depth = x − y / d + z · d at order depth d ([`Camera::depth_mapping`]); w is 1
     /// when the order depth is device depth + 1 (orthographic), 0 when it is clip w.
     pub depth_mapping: [f32; 4],
+    /// xyz: the camera's position in the world, which face normals of the graphics passes
+    /// are taken relative to.
+    pub eye: [f32; 4],
 }
 
 /// One vertex of the mesh pipelines (48 bytes; attribute locations 0–3).
@@ -118,6 +121,7 @@ impl GpuFrameInfo {
             light_colour: light.colour.extend(0.0).to_array(),
             ambient: light.ambient.extend(0.0).to_array(),
             viewport: Vec4::new(w, h, 1.0 / w, 1.0 / h).to_array(),
+            eye: camera.eye().extend(1.0).to_array(),
         }
     }
 }
@@ -185,6 +189,7 @@ mod tests {
                 ("ambient", offset_of!(GpuFrameInfo, ambient)),
                 ("viewport", offset_of!(GpuFrameInfo, viewport)),
                 ("depth_mapping", offset_of!(GpuFrameInfo, depth_mapping)),
+                ("eye", offset_of!(GpuFrameInfo, eye)),
             ],
             size_of::<GpuFrameInfo>(),
         );

@@ -28,15 +28,43 @@ pub struct Fragment {
     pub transmittance: Vec3,
 }
 
-/// Light arriving at a surface with normal `normal` (any length; zero means unlit by the
-/// directional light).
+/// Light arriving at a surface with normal `normal` (any length, however small or large;
+/// zero or not finite means unlit by the directional light).
 pub fn lighting(material: &Material, light: &Light, normal: Vec3) -> Vec3 {
     if !material.lit {
         return Vec3::ONE;
     }
-    let n = normal.normalize_or_zero();
+    let n = unit_or_zero(normal);
     let l = light.direction.normalize_or_zero();
     light.ambient + light.colour * n.dot(l).abs()
+}
+
+/// `v` at unit length, or zero when it has no direction (zero or not finite). `v` is first
+/// divided by its largest component, so that the squared length neither underflows (a normal
+/// of a scene at scale 1e-12) nor overflows (a node scaled by 1e10).
+pub fn unit_or_zero(v: Vec3) -> Vec3 {
+    let largest = v.abs().max_element();
+    if !(largest > 0.0 && largest.is_finite()) {
+        return Vec3::ZERO;
+    }
+    let scaled = v / largest;
+    scaled / scaled.length()
+}
+
+/// The face normal of a triangle with edges `e1` and `e2` from one corner (unnormalised, its
+/// sign unimportant: lighting is two-sided), at any scale: each edge is divided by its
+/// largest component before the cross product, which then never overflows (edges of 1e19)
+/// or underflows (edges of 1e-12). Zero for a degenerate or non-finite triangle.
+pub fn face_normal(e1: Vec3, e2: Vec3) -> Vec3 {
+    let scaled = |e: Vec3| {
+        let largest = e.abs().max_element();
+        if largest > 0.0 && largest.is_finite() {
+            e / largest
+        } else {
+            Vec3::ZERO
+        }
+    };
+    scaled(e1).cross(scaled(e2))
 }
 
 /// Base colour and alpha of a fragment before lighting.
@@ -133,6 +161,36 @@ mod tests {
         let f = shade_transparent(&m, &Light::default(), Vec4::ONE, Vec4::ONE, Vec3::Z);
         assert_eq!(f.radiance, Vec3::ZERO);
         assert_eq!(f.transmittance, Vec3::new(1.0, 0.5, 0.25));
+    }
+
+    /// A lit surface shades the same at every scale: face normals of scenes at 1e-12 or
+    /// 1e19 once lost the diffuse term (their squared lengths under- or overflowed).
+    #[test]
+    fn face_normals_and_lighting_hold_at_every_scale() {
+        let lit = Material {
+            lit: true,
+            ..Material::alpha(Vec3::ONE, 0.5)
+        };
+        let light = Light::default();
+        let at_one = lighting(&lit, &light, face_normal(Vec3::X, Vec3::new(0.3, 1.0, 0.2)));
+        for scale in [1e-30f32, 1e-12, 1e-9, 1e10, 1e12, 1e19, 1e30] {
+            let e1 = Vec3::X * scale;
+            let e2 = Vec3::new(0.3, 1.0, 0.2) * scale;
+            let n = face_normal(e1, e2);
+            let shaded = lighting(&lit, &light, n);
+            assert!(
+                (shaded - at_one).abs().max_element() < 1e-5,
+                "{scale}: {shaded} against {at_one}"
+            );
+        }
+        for bad in [
+            Vec3::ZERO,
+            Vec3::splat(f32::NAN),
+            Vec3::new(f32::INFINITY, 0.0, 0.0),
+        ] {
+            assert_eq!(unit_or_zero(bad), Vec3::ZERO, "{bad}");
+            assert_eq!(face_normal(bad, Vec3::Y), Vec3::ZERO, "{bad}");
+        }
     }
 
     #[test]

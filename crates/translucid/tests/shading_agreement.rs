@@ -60,6 +60,11 @@ fn cases(material_count: u32) -> Vec<Case> {
         Vec3::new(0.3, -0.8, 0.1),
         Vec3::new(-2.0, 0.5, 3.0),
         Vec3::ZERO,
+        // Normals whose squared length under- or overflows f32 still light the surface.
+        Vec3::new(3e-30, -1e-30, 2e-30),
+        Vec3::new(-2e30, 5e29, 3e30),
+        Vec3::new(f32::INFINITY, 0.0, 1.0),
+        Vec3::splat(f32::NAN),
     ];
     let colours = [Vec4::ONE, Vec4::new(0.5, 0.9, 0.2, 0.7)];
     let texels = [Vec4::ONE, Vec4::new(0.1, 0.6, 1.0, 0.25)];

@@ -26,7 +26,7 @@ impl<'s> TriangleShader<'s> {
             (Some(n), _) => pick(n, vertices).map(|n| data.normal_matrix * n),
             (None, Some(w)) => {
                 let p = pick(w, vertices);
-                [(p[1] - p[0]).cross(p[2] - p[0]); 3]
+                [shading::face_normal(p[1] - p[0], p[2] - p[0]); 3]
             }
             (None, None) => [Vec3::ZERO; 3],
         };

@@ -147,6 +147,16 @@ impl Camera {
         p
     }
 
+    /// The camera's position in the world (zero when the view matrix cannot be inverted).
+    pub fn eye(&self) -> Vec3 {
+        let eye = self.view.inverse().w_axis.truncate();
+        if eye.is_finite() {
+            eye
+        } else {
+            Vec3::ZERO
+        }
+    }
+
     /// [`Self::clip_from_view`] × view.
     pub fn view_projection(&self, width: u32, height: u32) -> Mat4 {
         self.clip_from_view(width, height) * self.view
