@@ -5,8 +5,8 @@
 use glam::{Mat4, Vec3};
 use translucid::methods::MethodKind;
 use translucid::metrics;
-use translucid::scene::{Camera, Material, Mesh, Scene};
-use translucid_tests::{gpu, one_draw_scene, render, save_failure};
+use translucid::scene::{Camera, Material, Mesh, Projection, Scene};
+use translucid_tests::{against_reference, gpu, one_draw_scene, render, save_failure};
 
 const SIZE: (u32, u32) = (64, 48);
 
@@ -38,7 +38,7 @@ fn lit_quad(offset: Vec3, scale: f32) -> Scene {
     scene
 }
 
-/// A lit surface 10 km and 100 km from the origin, and scenes at scales 1e-9 to 1e12, shade
+/// A lit surface 10 km and 100 km from the origin, and scenes at scales 1e-9 to 1e19, shade
 /// in every method (and in the reference) as the same surface at the origin at scale 1:
 /// world positions 10 km out left the hardware methods' face normals noisy (38/255 on 9.5 %
 /// of pixels), and squared lengths under- or overflowed at extreme scales, dropping the
@@ -53,6 +53,7 @@ fn far_and_extreme_scale_scenes_shade_as_at_the_origin() {
         ("scale 1e-9", lit_quad(Vec3::ZERO, 1e-9)),
         ("scale 1e10", lit_quad(Vec3::ZERO, 1e10)),
         ("scale 1e12", lit_quad(Vec3::ZERO, 1e12)),
+        ("scale 1e19", lit_quad(Vec3::ZERO, 1e19)),
     ];
     for kind in MethodKind::ALL {
         let method = kind.name();
@@ -77,5 +78,29 @@ fn far_and_extreme_scale_scenes_shade_as_at_the_origin() {
         let got = translucid::reference::render(scene, opaque).expect("reference");
         let m = metrics::compare(&got, &expected).expect("same size");
         assert!(m.within(2.0 / 255.0), "the reference at {name}: {m:?}");
+    }
+}
+
+/// A lit quad without normals 1e31 across, seen through a camera whose near plane is 1e30
+/// and far plane 3e38: every method's frame is finite and matches the reference (exact and
+/// wavelet gave NaN over such surfaces, and through an engine the pixels read back NaN).
+#[test]
+fn extreme_coordinates_and_planes_give_finite_frames() {
+    let gpu = gpu();
+    let mut scene = lit_quad(Vec3::ZERO, 1e31);
+    scene.camera.view = Mat4::from_translation(Vec3::new(0.0, 0.0, -3e31));
+    scene.camera.projection = Projection::Perspective {
+        fov_y: 0.8,
+        near: 1e30,
+        far: 3e38,
+    };
+    for kind in MethodKind::ALL {
+        let method = kind.name();
+        let (m, got, want) = against_reference(&gpu, &scene, method, SIZE.0, SIZE.1);
+        assert!(
+            m.non_finite == 0 && m.within(2.0 / 255.0),
+            "{method}: {m:?} ({})",
+            save_failure(&format!("extreme_{method}"), &got, &want).display()
+        );
     }
 }

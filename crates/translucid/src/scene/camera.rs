@@ -237,14 +237,20 @@ impl Camera {
 
 /// A right-handed view matrix at `eye` looking at `target`, up as near +Y as it can be.
 pub fn look_at_view(eye: Vec3, target: Vec3) -> Mat4 {
-    let forward = (target - eye).normalize_or(Vec3::NEG_Z);
+    // Made unit without squaring the distance, which overflows past 1.8e19.
+    let forward = crate::shading::unit_or_zero(target - eye);
+    let forward = if forward == Vec3::ZERO {
+        Vec3::NEG_Z
+    } else {
+        forward
+    };
     // Pick an up vector that is not parallel to the view direction.
     let up = if forward.cross(Vec3::Y).length_squared() < 1e-6 {
         Vec3::Z
     } else {
         Vec3::Y
     };
-    Mat4::look_at_rh(eye, target, up)
+    Mat4::look_to_rh(eye, forward, up)
 }
 
 /// `column` with `shift · w` added to its x and y (a row operation on the matrix).
