@@ -650,11 +650,12 @@ typedef struct translucid_light {
      */
     float direction[3];
     /**
-     * Linear RGB, non-negative.
+     * Linear RGB, each channel in [0, 65504] (the largest half float, what colour targets
+     * hold).
      */
     float colour[3];
     /**
-     * Linear RGB, non-negative.
+     * Linear RGB, each channel in [0, 65504].
      */
     float ambient[3];
 } translucid_light;
@@ -689,7 +690,7 @@ typedef struct translucid_draw {
     uint32_t layer;
     /**
      * Linear RGBA multiplied into this instance's colour, as a vertex colour is (alpha into
-     * its coverage), finite and non-negative; all zero (the default) is no tint.
+     * its coverage), each channel in [0, 65504]; all zero (the default) is no tint.
      */
     float tint[4];
 } translucid_draw;
@@ -712,8 +713,8 @@ typedef struct translucid_opaque_layer {
      */
     uint32_t colour_format;
     /**
-     * Required: width x height pixels in `colour_format` (alpha ignored); linear colour must
-     * be finite and non-negative.
+     * Required: width x height pixels in `colour_format` (alpha ignored); each channel of
+     * the linear colour in [0, 65504].
      */
     const void *colour;
     /**
@@ -1055,8 +1056,9 @@ typedef struct translucid_material_create_info {
      */
     const void *next;
     /**
-     * Linear RGB (finite, non-negative) and alpha (coverage, 0 to 1). Multiplied by vertex
-     * colours and the texture.
+     * Linear RGB (each channel in [0, 65504], the largest half float) and alpha (coverage, 0
+     * to 1). Multiplied by vertex colours and the texture; the radiance a fragment gives and
+     * every output pixel are clamped to 65504.
      */
     float base_colour[4];
     /**
@@ -1120,7 +1122,8 @@ typedef struct translucid_mesh_create_info {
      */
     const float *normals;
     /**
-     * Optional: `vertex_count` x 4 floats, linear RGBA multiplied into the base colour.
+     * Optional: `vertex_count` x 4 floats, linear RGBA multiplied into the base colour, each
+     * in [0, 65504].
      */
     const float *colours;
     /**

@@ -5,7 +5,10 @@
 use glam::{Mat4, Vec3};
 use translucid::methods::MethodKind;
 use translucid::metrics;
+use translucid::renderer::Renderer;
 use translucid::scene::{Camera, Material, Mesh, Projection, Scene};
+use translucid::shading::MAX_COLOUR;
+use translucid::OpaqueLayer;
 use translucid_tests::{against_reference, gpu, one_draw_scene, render, save_failure};
 
 const SIZE: (u32, u32) = (64, 48);
@@ -103,4 +106,56 @@ fn extreme_coordinates_and_planes_give_finite_frames() {
             save_failure(&format!("extreme_{method}"), &got, &want).display()
         );
     }
+}
+
+/// HDR colours up to the documented limit, 65504 (the largest half float) in the light, the
+/// ambient, the base colour and the opaque layer, give finite frames in every method, each
+/// pixel at most 65504 and matching the reference; past the limit each input is refused by
+/// name. A light of 1.7e5 gave linked_list infinite pixels, an opaque 65520 every method,
+/// a base colour of 1e35 wavelet.
+#[test]
+fn hdr_colours_up_to_the_limit_stay_finite_and_past_it_are_refused() {
+    let gpu = gpu();
+    let bright = Material {
+        lit: true,
+        ..Material::alpha(Vec3::splat(MAX_COLOUR), 0.5)
+    };
+    let mut scene = translucid_tests::stack_scene("hdr", 6, bright);
+    scene.light.colour = Vec3::splat(MAX_COLOUR);
+    scene.light.ambient = Vec3::splat(MAX_COLOUR);
+    let opaque = OpaqueLayer::clear(SIZE.0, SIZE.1, Vec3::splat(MAX_COLOUR));
+    let expected = translucid::reference::render(&scene, &opaque).expect("reference");
+    assert!(expected.pixels.iter().all(|p| p.is_finite()));
+    for kind in MethodKind::ALL {
+        let method = kind.name();
+        let mut renderer = Renderer::new(&gpu, &scene, kind, SIZE.0, SIZE.1).expect("renderer");
+        let frame = renderer.render_over(&opaque).expect("frame");
+        let largest = frame
+            .image
+            .pixels
+            .iter()
+            .map(|p| p.truncate().max_element())
+            .fold(0.0f32, |a, b| if b.is_nan() { f32::NAN } else { a.max(b) });
+        assert!(largest <= MAX_COLOUR, "{method}: a pixel of {largest}");
+        let m = metrics::compare(&frame.image, &expected).expect("same size");
+        assert!(m.within(2.0 / 255.0), "{method}: {m:?}");
+    }
+
+    let refused = |scene: &Scene, says: &str| {
+        let err = Renderer::new(&gpu, scene, MethodKind::Blend, SIZE.0, SIZE.1)
+            .err()
+            .unwrap_or_else(|| panic!("{says}: accepted"));
+        assert!(err.to_string().contains(says), "{says}: {err}");
+    };
+    let mut light = scene.clone();
+    light.light.colour = Vec3::splat(1.7e5);
+    refused(&light, "light colour");
+    let mut base = scene.clone();
+    base.materials[0].base_colour = glam::Vec4::new(1e35, 1.0, 1.0, 0.5);
+    refused(&base, "base_colour");
+    let mut renderer =
+        Renderer::new(&gpu, &scene, MethodKind::Blend, SIZE.0, SIZE.1).expect("renderer");
+    let over = OpaqueLayer::clear(SIZE.0, SIZE.1, Vec3::splat(65520.0));
+    let err = renderer.render_over(&over).err().expect("refused");
+    assert!(err.to_string().contains("opaque layer"), "{err}");
 }

@@ -4,6 +4,7 @@
 #define TRANSLUCID_SHADING_GLSL
 
 #include "layout.glsl"
+#include "colour.glsl"
 
 float largestComponent(vec3 v) {
     return max(max(abs(v.x), abs(v.y)), abs(v.z));
@@ -50,7 +51,7 @@ void shadeTransparent(Material m, FrameInfo f, vec4 vertexColour, vec4 texel, ve
     vec3 lit = shadeLighting(m, f, normal);
     float t = m.tintTransmission.w;
     float r = m.reflectance;
-    radiance = a * ((1.0 - t) * base.rgb * lit + t * r * lit);
+    radiance = a * min((1.0 - t) * base.rgb * lit + t * r * lit, vec3(MAX_COLOUR));
     transmittance = clamp(vec3(1.0 - a) + a * t * (1.0 - r) * m.tintTransmission.rgb * base.rgb,
                           vec3(0.0), vec3(1.0));
 }

@@ -173,7 +173,7 @@ void main() {
         }
     } while (++i < visits);
     if (fragments > 0u) {
-        imageStore(u_colour, ivec2(x, y), vec4(behind + lit, 1.0));
+        imageStore(u_colour, ivec2(x, y), vec4(storedColour(behind + lit), 1.0));
     }
     // Statistics: one atomic per subgroup, in the workgroup's slot (bins_layout.glsl); there
     // are no passes to count.

@@ -405,7 +405,7 @@ void main() {
     if ((fragments > 0u || CONTINUATION) && !suspended) {
         vec3 behind = imageLoad(u_colour, ivec2(x, y)).rgb;
         precise vec3 result = radiance + transmittance * behind;
-        imageStore(u_colour, ivec2(x, y), vec4(result, 1.0));
+        imageStore(u_colour, ivec2(x, y), vec4(storedColour(result), 1.0));
     }
     // Statistics: one atomic per subgroup, not per pixel, in the workgroup's slot.
     uint subgroupFragments = subgroupAdd(fragments);

@@ -15,6 +15,7 @@
 
 #define LIST_SET 0
 #include "linked_list.glsl"
+#include "colour.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -89,6 +90,7 @@ void main() {
     }
     if (inside && head != LIST_END) {
         vec4 behind = imageLoad(u_colour, ivec2(pixel));
-        imageStore(u_colour, ivec2(pixel), vec4(radiance + transmittance * behind.rgb, behind.a));
+        vec3 result = storedColour(radiance + transmittance * behind.rgb);
+        imageStore(u_colour, ivec2(pixel), vec4(result, behind.a));
     }
 }

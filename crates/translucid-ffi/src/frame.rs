@@ -63,9 +63,10 @@ pub struct translucid_camera {
 pub struct translucid_light {
     /// Points towards the light; finite and non-zero (normalised by translucid).
     pub direction: [f32; 3],
-    /// Linear RGB, non-negative.
+    /// Linear RGB, each channel in [0, 65504] (the largest half float, what colour targets
+    /// hold).
     pub colour: [f32; 3],
-    /// Linear RGB, non-negative.
+    /// Linear RGB, each channel in [0, 65504].
     pub ambient: [f32; 3],
 }
 
@@ -92,7 +93,7 @@ pub struct translucid_draw {
     /// A `translucid_layer`; 0 is transparent.
     pub layer: u32,
     /// Linear RGBA multiplied into this instance's colour, as a vertex colour is (alpha into
-    /// its coverage), finite and non-negative; all zero (the default) is no tint.
+    /// its coverage), each channel in [0, 65504]; all zero (the default) is no tint.
     pub tint: [f32; 4],
 }
 
@@ -135,8 +136,8 @@ pub struct translucid_opaque_layer {
     pub next: *const c_void,
     /// A `translucid_pixel_format` for `colour`.
     pub colour_format: u32,
-    /// Required: width x height pixels in `colour_format` (alpha ignored); linear colour must
-    /// be finite and non-negative.
+    /// Required: width x height pixels in `colour_format` (alpha ignored); each channel of
+    /// the linear colour in [0, 65504].
     pub colour: *const c_void,
     /// Required: width x height floats, each in [0, 1]: the depth buffer of the frame's
     /// camera, in the convention where depth grows away from the eye (0 near, 1 far). With a

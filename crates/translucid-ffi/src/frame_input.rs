@@ -19,10 +19,13 @@ use translucid::OpaqueLayer;
 
 fn rgb(v: [f32; 3], what: &str) -> FfiResult<Vec3> {
     let v = Vec3::from_array(v);
-    if !v.is_finite() || v.min_element() < 0.0 {
+    if !translucid::shading::is_colour(v.extend(0.0)) {
         return Err(Failure::argument(format!(
-            "{what} {{{}, {}, {}}} must be finite and non-negative",
-            v.x, v.y, v.z
+            "{what} {{{}, {}, {}}} must be non-negative and at most {}",
+            v.x,
+            v.y,
+            v.z,
+            translucid::shading::MAX_COLOUR
         )));
     }
     Ok(v)

@@ -25,8 +25,9 @@ pub struct translucid_material_create_info {
     pub s_type: u32,
     /// NULL.
     pub next: *const c_void,
-    /// Linear RGB (finite, non-negative) and alpha (coverage, 0 to 1). Multiplied by vertex
-    /// colours and the texture.
+    /// Linear RGB (each channel in [0, 65504], the largest half float) and alpha (coverage, 0
+    /// to 1). Multiplied by vertex colours and the texture; the radiance a fragment gives and
+    /// every output pixel are clamped to 65504.
     pub base_colour: [f32; 4],
     /// Base-colour texture, or `{0}` for none. The material keeps the handle: destroying the
     /// texture makes frames that draw this material fail.

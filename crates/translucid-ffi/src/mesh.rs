@@ -42,7 +42,8 @@ pub struct translucid_mesh_create_info {
     pub positions: *const f32,
     /// Optional: `vertex_count` x 3 floats, used by lit materials.
     pub normals: *const f32,
-    /// Optional: `vertex_count` x 4 floats, linear RGBA multiplied into the base colour.
+    /// Optional: `vertex_count` x 4 floats, linear RGBA multiplied into the base colour, each
+    /// in [0, 65504].
     pub colours: *const f32,
     /// Optional: `vertex_count` x 2 floats, texture coordinates.
     pub uvs: *const f32,

@@ -542,11 +542,12 @@ fn resolve_draws(
         }
         let tint = match glam::Vec4::from_array(d.tint) {
             t if t == glam::Vec4::ZERO => glam::Vec4::ONE,
-            t if t.is_finite() && t.min_element() >= 0.0 => t,
+            t if translucid::shading::is_colour(t) => t,
             t => {
                 return Err(in_draw(Failure::argument(format!(
-                    "tint {:?} must be finite and non-negative",
-                    t.to_array()
+                    "tint {:?} must be non-negative and at most {}",
+                    t.to_array(),
+                    translucid::shading::MAX_COLOUR
                 ))))
             }
         };

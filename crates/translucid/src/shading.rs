@@ -20,12 +20,24 @@
 use crate::scene::{Light, Material};
 use glam::{Vec3, Vec4};
 
+/// The largest colour value translucid takes and gives: the largest finite half float, what
+/// the colour targets hold. Colour inputs (base colours, vertex colours, tints, the light,
+/// the background, the opaque layer) above it are refused; a fragment's radiance and every
+/// method's output are clamped to it, so that no output is infinite.
+pub const MAX_COLOUR: f32 = 65504.0;
+
 /// A transparent fragment in the fragment model: premultiplied radiance and per-channel
 /// transmittance.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Fragment {
     pub radiance: Vec3,
     pub transmittance: Vec3,
+}
+
+/// Whether every channel of `colour` is in [0, [`MAX_COLOUR`]] (NaN is not).
+pub fn is_colour(colour: impl Into<glam::Vec4>) -> bool {
+    let c: Vec4 = colour.into();
+    c.cmpge(Vec4::ZERO).all() && c.cmple(Vec4::splat(MAX_COLOUR)).all()
 }
 
 /// Light arriving at a surface with normal `normal` (any length, however small or large;
@@ -86,7 +98,8 @@ pub fn shade_transparent(
     let lit = lighting(material, light, normal);
     let t = material.transmission;
     let r = material.reflectance;
-    let radiance = a * ((1.0 - t) * rgb * lit + t * r * lit);
+    // Clamped before the coverage multiplies it: rgb · lit may pass f32's range.
+    let radiance = a * ((1.0 - t) * rgb * lit + t * r * lit).min(Vec3::splat(MAX_COLOUR));
     let transmittance = Vec3::splat(1.0 - a) + a * t * (1.0 - r) * material.transmission_tint * rgb;
     Fragment {
         radiance,
@@ -120,7 +133,7 @@ pub fn composite_front_to_back(
 
 /// [`composite_front_to_back`] that stops once every channel of the transmittance is below
 /// `threshold` (the exact method's early stop; 0 never stops), the opaque colour still
-/// dimmed by what is left.
+/// dimmed by what is left. The result is clamped to [`MAX_COLOUR`].
 pub fn composite_until(
     fragments: impl IntoIterator<Item = Fragment>,
     opaque: Vec3,
@@ -135,7 +148,7 @@ pub fn composite_until(
         radiance += transmittance * f.radiance;
         transmittance *= f.transmittance;
     }
-    radiance + transmittance * opaque
+    (radiance + transmittance * opaque).min(Vec3::splat(MAX_COLOUR))
 }
 
 #[cfg(test)]

@@ -10,7 +10,7 @@ use crate::image::OpaqueLayer;
 use crate::{Error, Result};
 
 impl OpaqueLayer {
-    /// Checks sizes and values: colour finite and non-negative, depth in [0, 1] (a Vulkan
+    /// Checks sizes and values: colour in [0, 65504] (`shading::MAX_COLOUR`), depth in [0, 1] (a Vulkan
     /// depth buffer without unrestricted depth range holds nothing else).
     pub fn validate(&self, width: u32, height: u32) -> Result<()> {
         let bad = |msg: String| Err(Error::InvalidScene(format!("opaque layer: {msg}")));
@@ -31,11 +31,12 @@ impl OpaqueLayer {
         if let Some(i) = self
             .colour
             .iter()
-            .position(|c| !c.is_finite() || c.min_element() < 0.0)
+            .position(|c| !crate::shading::is_colour(c.extend(0.0)))
         {
             return bad(format!(
-                "colour of pixel {i} is {:?}: must be finite and non-negative",
-                self.colour[i]
+                "colour of pixel {i} is {:?}: each channel must be in [0, {}]",
+                self.colour[i],
+                crate::shading::MAX_COLOUR
             ));
         }
         if let Some(i) = self.depth.iter().position(|d| !(0.0..=1.0).contains(d)) {

@@ -53,10 +53,11 @@ impl Material {
 
     pub fn validate(&self) -> Result<(), String> {
         let in_unit = |v: f32| (0.0..=1.0).contains(&v);
-        if !self.base_colour.is_finite() || self.base_colour.cmplt(Vec4::ZERO).any() {
+        if !crate::shading::is_colour(self.base_colour) {
             return Err(format!(
-                "base_colour {:?} must be finite and non-negative",
-                self.base_colour.to_array()
+                "base_colour {:?} must be non-negative and at most {}",
+                self.base_colour.to_array(),
+                crate::shading::MAX_COLOUR
             ));
         }
         if !in_unit(self.base_colour.w) {

@@ -84,8 +84,12 @@ impl Mesh {
             }
         }
         if let Some(colours) = &self.colours {
-            if let Some(i) = colours.iter().position(|v| !v.is_finite()) {
-                return Err(format!("colour {i} is not finite"));
+            if let Some(i) = colours.iter().position(|&v| !crate::shading::is_colour(v)) {
+                return Err(format!(
+                    "colour {i} is {:?}: each channel must be in [0, {}]",
+                    colours[i].to_array(),
+                    crate::shading::MAX_COLOUR
+                ));
             }
         }
         for (qi, q) in self.quads.iter().enumerate() {

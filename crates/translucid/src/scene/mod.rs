@@ -214,10 +214,11 @@ impl Scene {
                 if !d.transform.is_finite() {
                     return bad(format!("{layer} draw {i} has a non-finite transform"));
                 }
-                if !d.tint.is_finite() || d.tint.min_element() < 0.0 {
+                if !crate::shading::is_colour(d.tint) {
                     return bad(format!(
-                        "{layer} draw {i}: tint {:?} must be finite and non-negative",
-                        d.tint.to_array()
+                        "{layer} draw {i}: tint {:?} must be non-negative and at most {}",
+                        d.tint.to_array(),
+                        crate::shading::MAX_COLOUR
                     ));
                 }
             }
@@ -230,9 +231,18 @@ impl Scene {
         if !light.direction.is_finite() || light.direction.length_squared() == 0.0 {
             return bad("light direction must be finite and non-zero".into());
         }
-        if !(light.colour.is_finite() && light.ambient.is_finite() && input.background.is_finite())
-        {
-            return bad("light colours and background must be finite".into());
+        for (what, colour) in [
+            ("light colour", light.colour),
+            ("ambient light", light.ambient),
+            ("background", input.background),
+        ] {
+            if !crate::shading::is_colour(colour.extend(0.0)) {
+                return bad(format!(
+                    "{what} {:?} must be non-negative and at most {}",
+                    colour.to_array(),
+                    crate::shading::MAX_COLOUR
+                ));
+            }
         }
         Ok(())
     }
