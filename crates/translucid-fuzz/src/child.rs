@@ -15,27 +15,110 @@ pub const EXIT_ERROR: u8 = 2;
 /// it into an error): under `panic = "abort"`, which engines often build with, the host
 /// would have died.
 pub const EXIT_CAUGHT_PANIC: u8 = 3;
+/// The file loaded and rendered, but a method's frame had a NaN or infinite pixel, or
+/// exact's frame was off the CPU reference (see [`check_frames`]).
+pub const EXIT_WRONG_FRAME: u8 = 4;
 
 static PANICKED: AtomicBool = AtomicBool::new(false);
 
-pub fn run_one(path: &Path) -> ExitCode {
+/// The frame size a loaded file is rendered at: small, so that a case stays quick, and odd,
+/// so that edges fall on pixel centres' neighbours.
+pub const RENDER_SIZE: (u32, u32) = (37, 23);
+
+pub fn run_one(path: &Path, render: bool) -> ExitCode {
     reserve();
     let default_hook = std::panic::take_hook();
     std::panic::set_hook(Box::new(move |info| {
         PANICKED.store(true, Ordering::SeqCst);
         default_hook(info);
     }));
-    let result = translucid::scene::gltf::load(path).and_then(|scene| scene.validate());
+    let result = translucid::scene::gltf::load(path).and_then(|scene| {
+        scene.validate()?;
+        Ok(scene)
+    });
     let panicked = PANICKED.load(Ordering::SeqCst);
-    if let Err(e) = &result {
-        // Only seen when a case is a finding or is run by hand.
-        eprintln!("load error: {e}");
+    let scene = match (result, panicked) {
+        (_, true) => return ExitCode::from(EXIT_CAUGHT_PANIC),
+        (Err(e), false) => {
+            // Only seen when a case is a finding or is run by hand.
+            eprintln!("load error: {e}");
+            return ExitCode::from(EXIT_ERROR);
+        }
+        (Ok(scene), false) => scene,
+    };
+    if !render {
+        return ExitCode::from(EXIT_OK);
     }
-    ExitCode::from(match (result, panicked) {
-        (_, true) => EXIT_CAUGHT_PANIC,
-        (Ok(()), false) => EXIT_OK,
-        (Err(_), false) => EXIT_ERROR,
+    ExitCode::from(match check_frames(&scene) {
+        Ok(()) => EXIT_OK,
+        Err(Problem::Refused(e)) => {
+            eprintln!("render error: {e}");
+            EXIT_ERROR
+        }
+        Err(Problem::Wrong(e)) => {
+            eprintln!("wrong frame: {e}");
+            EXIT_WRONG_FRAME
+        }
     })
+}
+
+enum Problem {
+    /// A method or the reference refused the scene with an error: what bad input should get.
+    Refused(translucid::Error),
+    /// A frame that must not happen.
+    Wrong(String),
+}
+
+/// Renders `scene` with every method at [`RENDER_SIZE`] and checks what a user relies on:
+/// every method's pixels are finite, the reference's are, and exact's are within 2/255 of
+/// the reference.
+fn check_frames(scene: &translucid::scene::Scene) -> Result<(), Problem> {
+    use translucid::methods::MethodKind;
+    let (width, height) = RENDER_SIZE;
+    let gpu = translucid::gpu::Gpu::new(&translucid::gpu::GpuOptions::from_env())
+        .map_err(Problem::Refused)?;
+    let mut reference = None;
+    for kind in MethodKind::ALL {
+        let mut renderer = translucid::renderer::Renderer::new(&gpu, scene, kind, width, height)
+            .map_err(Problem::Refused)?;
+        let frame = renderer.render(true).map_err(Problem::Refused)?;
+        let method = kind.name();
+        if let Some(i) = frame.image.pixels.iter().position(|p| !p.is_finite()) {
+            return Err(Problem::Wrong(format!(
+                "{method}: pixel ({}, {}) is {:?}",
+                i as u32 % width,
+                i as u32 / width,
+                frame.image.pixels[i]
+            )));
+        }
+        let Some(opaque) = frame.opaque.as_ref() else {
+            return Err(Problem::Wrong(format!(
+                "{method}: no opaque layer read back"
+            )));
+        };
+        if reference.is_none() {
+            let image = translucid::reference::render(scene, opaque).map_err(Problem::Refused)?;
+            if let Some(i) = image.pixels.iter().position(|p| !p.is_finite()) {
+                return Err(Problem::Wrong(format!(
+                    "the reference: pixel {i} is {:?}",
+                    image.pixels[i]
+                )));
+            }
+            reference = Some(image);
+        }
+        if let (MethodKind::Exact, Some(expected)) = (kind, &reference) {
+            let m =
+                translucid::metrics::compare(&frame.image, expected).map_err(Problem::Refused)?;
+            if !m.within(2.0 / 255.0) {
+                return Err(Problem::Wrong(format!(
+                    "exact: {:.1}/255 off the reference on {} pixels",
+                    m.max_error * 255.0,
+                    m.pixels_over
+                )));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The system allocator, plus a backtrace on stderr the first time an allocation fails:

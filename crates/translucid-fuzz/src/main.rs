@@ -38,10 +38,15 @@ enum Command {
     /// given time; exits non-zero if any mutant made the child panic, crash, hang or run out
     /// of memory.
     Gltf(GltfArgs),
-    /// Loads one file as a child does (exit 0: loaded, 2: clean error, 3: a panic the library
-    /// caught; anything else is a finding).
+    /// Loads one file as a child does, and with --render renders it (exit 0: loaded and, with
+    /// --render, right; 2: clean error, 3: a panic the library caught, 4: a NaN or infinite
+    /// pixel or exact off the reference; anything else is a finding).
     #[command(hide = true)]
-    RunOne { path: PathBuf },
+    RunOne {
+        path: PathBuf,
+        #[arg(long)]
+        render: bool,
+    },
 }
 
 #[derive(clap::Args)]
@@ -66,9 +71,14 @@ struct GltfArgs {
     /// Cases run in parallel.
     #[arg(long, default_value_t = 2)]
     jobs: usize,
-    /// A child running longer is killed and counted as a hang.
-    #[arg(long, default_value_t = 10)]
-    timeout: u64,
+    /// Only load each mutant: do not render what loads with every method (a case then takes
+    /// milliseconds, not seconds).
+    #[arg(long)]
+    load_only: bool,
+    /// A child running longer is killed and counted as a hang [default: 10, 120 when
+    /// rendering].
+    #[arg(long)]
+    timeout: Option<u64>,
     /// The child's address-space cap (RLIMIT_AS), in MiB.
     #[arg(long, default_value_t = 4096)]
     memory_mib: u64,
@@ -90,7 +100,7 @@ fn workspace() -> PathBuf {
 
 fn main() -> ExitCode {
     match Cli::parse().command {
-        Command::RunOne { path } => child::run_one(&path),
+        Command::RunOne { path, render } => child::run_one(&path, render),
         Command::Gltf(args) => {
             let root = workspace();
             let target = root.join("target");
@@ -111,8 +121,13 @@ fn main() -> ExitCode {
                 out: args.out.unwrap_or_else(|| target.join("fuzz-findings")),
                 jobs: args.jobs,
                 limits: runner::Limits {
-                    timeout: Duration::from_secs(args.timeout),
+                    timeout: Duration::from_secs(args.timeout.unwrap_or(if args.load_only {
+                        10
+                    } else {
+                        120
+                    })),
                     memory: args.memory_mib << 20,
+                    render: !args.load_only,
                 },
                 case: args.case,
                 work: target.join(format!("fuzz-work/{}", std::process::id())),

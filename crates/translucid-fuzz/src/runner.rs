@@ -1,7 +1,7 @@
 //! The parent side of a case: runs the child on a file under a wall-clock timeout and an
 //! address-space cap, and turns its exit status and stderr into an outcome.
 
-use crate::child::{EXIT_CAUGHT_PANIC, EXIT_ERROR, EXIT_OK};
+use crate::child::{EXIT_CAUGHT_PANIC, EXIT_ERROR, EXIT_OK, EXIT_WRONG_FRAME};
 use std::io::Read;
 use std::os::unix::process::{CommandExt, ExitStatusExt};
 use std::path::Path;
@@ -13,6 +13,8 @@ pub struct Limits {
     pub timeout: Duration,
     /// RLIMIT_AS of the child, in bytes.
     pub memory: u64,
+    /// Whether the child renders what loads with every method and checks the frames.
+    pub render: bool,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -26,15 +28,18 @@ pub enum Kind {
     Timeout,
     /// An allocation failed under the cap, or the kernel killed the child.
     Memory,
+    /// A frame with a NaN or infinite pixel, or exact's off the reference.
+    WrongFrame,
 }
 
 impl Kind {
-    pub const ALL: [Kind; 5] = [
+    pub const ALL: [Kind; 6] = [
         Kind::Panic,
         Kind::CaughtPanic,
         Kind::Crash,
         Kind::Timeout,
         Kind::Memory,
+        Kind::WrongFrame,
     ];
 
     pub fn name(self) -> &'static str {
@@ -44,6 +49,7 @@ impl Kind {
             Kind::Crash => "crash",
             Kind::Timeout => "timeout",
             Kind::Memory => "memory",
+            Kind::WrongFrame => "wrong-frame",
         }
     }
 }
@@ -75,6 +81,7 @@ pub fn run(exe: &Path, file: &Path, limits: Limits) -> std::io::Result<Outcome> 
     command
         .arg("run-one")
         .arg(file)
+        .args(limits.render.then_some("--render"))
         .stdin(Stdio::null())
         .stdout(Stdio::null())
         .stderr(Stdio::piped())
@@ -176,6 +183,9 @@ fn classify(
             Kind::CaughtPanic,
             format!("exit code {c} (panic caught by load)"),
         ),
+        (Some(c), _) if c == i32::from(EXIT_WRONG_FRAME) => {
+            finding(Kind::WrongFrame, format!("exit code {c} (wrong frame)"))
+        }
         (Some(101), _) => finding(Kind::Panic, "exit code 101 (panic)".into()),
         (Some(c), _) => finding(Kind::Crash, format!("exit code {c}")),
         (None, Some(signal)) => {
@@ -215,6 +225,7 @@ mod tests {
     const LIMITS: Limits = Limits {
         timeout: Duration::from_secs(10),
         memory: 1 << 32,
+        render: false,
     };
 
     fn kind_of(status: ExitStatus, timed_out: bool, stderr: &str) -> Option<Kind> {
@@ -240,6 +251,7 @@ mod tests {
             Outcome::CleanError
         ));
         assert_eq!(kind_of(exited(3), false, ""), Some(Kind::CaughtPanic));
+        assert_eq!(kind_of(exited(4), false, ""), Some(Kind::WrongFrame));
         assert_eq!(kind_of(exited(101), false, ""), Some(Kind::Panic));
         assert_eq!(kind_of(exited(1), false, ""), Some(Kind::Crash));
         assert_eq!(

@@ -26,6 +26,17 @@ fn child_exit_codes_say_loaded_or_clean_error() {
         .status()
         .expect("run child");
     assert_eq!(status.code(), Some(0));
+    let rendered = Command::new(EXE)
+        .args(["run-one", "--render"])
+        .arg(&good)
+        .output()
+        .expect("run child");
+    assert_eq!(
+        rendered.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&rendered.stderr)
+    );
 
     let dir = scratch("child");
     let bad = dir.join("bad.gltf");
@@ -65,6 +76,7 @@ fn a_case_replays_and_a_short_run_summarises() {
     let run = Command::new(EXE)
         .args([
             "gltf",
+            "--load-only",
             "--seconds",
             "2",
             "--jobs",
@@ -90,13 +102,21 @@ fn a_case_replays_and_a_short_run_summarises() {
 }
 
 /// The bounded run `make test` makes: a fixed seed's first cases over the vendored scenes,
-/// every one a clean error or a loaded scene (about a minute on two cores).
+/// loaded only, every one a clean error or a loaded scene (about a minute on two cores).
 #[test]
 fn fixed_cases_find_nothing() {
     let dir = scratch("fixed");
     let run = Command::new(EXE)
         .args([
-            "gltf", "--cases", "1200", "--jobs", "2", "--seed", "1", "--corpus",
+            "gltf",
+            "--load-only",
+            "--cases",
+            "1200",
+            "--jobs",
+            "2",
+            "--seed",
+            "1",
+            "--corpus",
         ])
         .arg(scenes())
         .arg("--out")
@@ -114,5 +134,33 @@ fn fixed_cases_find_nothing() {
         dir.display()
     );
     assert!(text.contains("1200 cases in "), "{text}");
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// A few fixed cases rendered as the fuzzer renders what loads: every method at a small
+/// size, frames finite, exact on the reference (a few seconds a case).
+#[test]
+fn fixed_cases_render_right() {
+    let dir = scratch("rendered");
+    let run = Command::new(EXE)
+        .args([
+            "gltf", "--cases", "48", "--jobs", "2", "--seed", "2", "--corpus",
+        ])
+        .arg(scenes())
+        .arg("--out")
+        .arg(dir.join("findings"))
+        .output()
+        .expect("rendered run");
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&run.stdout),
+        String::from_utf8_lossy(&run.stderr)
+    );
+    assert!(
+        run.status.success(),
+        "findings (saved under {}):\n{text}",
+        dir.display()
+    );
+    assert!(text.contains("48 cases in "), "{text}");
     let _ = std::fs::remove_dir_all(dir);
 }
