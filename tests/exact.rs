@@ -293,6 +293,35 @@ fn exact_recovers_from_every_overflow() {
     assert!(frame.rerenders >= 1, "the overflow path was not taken");
 }
 
+/// Near-plane triangles past the most records the bins can hold are refused at once, by
+/// name: 720 k of them once failed after 40 s with "still unfinished after 8 more
+/// submissions", which named no limit.
+#[test]
+fn near_plane_triangles_past_their_limit_are_refused_by_name() {
+    let gpu = gpu();
+    let mut options = MethodOptions::default();
+    options.bins.initial_homogeneous = Some(1);
+    options.bins.most_homogeneous = Some(1);
+    let mut renderer = Renderer::with_options(
+        &gpu,
+        &near_plane_scene(),
+        MethodKind::Exact,
+        64,
+        48,
+        &options,
+    )
+    .expect("renderer");
+    let err = renderer
+        .render(false)
+        .err()
+        .expect("two near-plane triangles, one record");
+    let message = err.to_string();
+    assert!(
+        message.contains("crossing the near plane") && message.contains("at most 1"),
+        "{message}"
+    );
+}
+
 /// A renderer made for the next frame starts from the buffer sizes the last one grew to, so
 /// that a moving camera does not overflow again every frame.
 #[test]

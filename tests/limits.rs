@@ -48,6 +48,40 @@ fn draws_past_a_storage_binding_are_refused_by_name() {
     }
 }
 
+/// The most draws a frame may have is what one storage binding of draw records holds, and
+/// a frame of exactly that many is accepted: the records' room once doubled past the
+/// binding, so frames failed from 419 k draws where 838 k fit on lavapipe (and the C API
+/// promised a million).
+#[test]
+fn a_frame_of_the_most_draws_is_accepted_and_one_more_refused() {
+    let gpu = gpu();
+    let most = translucid::assets::most_draws(&gpu);
+    let triangle =
+        Mesh::from_triangles("triangle", vec![Vec3::ZERO, Vec3::X, Vec3::Y], &[[0, 1, 2]]);
+    let draw = Draw {
+        mesh: 0,
+        material: 0,
+        transform: Mat4::from_translation(Vec3::new(0.0, 0.0, -3.0)),
+        tint: glam::Vec4::ONE,
+    };
+    let mut scene = Scene {
+        name: "the most draws".into(),
+        meshes: vec![triangle],
+        materials: vec![Material::alpha(Vec3::ONE, 0.5)],
+        transparent: vec![draw.clone(); most],
+        ..Scene::default()
+    };
+    Renderer::new(&gpu, &scene, MethodKind::Blend, 16, 16).expect("the most draws");
+    scene.transparent.push(draw);
+    let err = Renderer::new(&gpu, &scene, MethodKind::Blend, 16, 16)
+        .err()
+        .expect("one draw too many");
+    assert!(
+        err.to_string().contains(&format!("fit at most {most}")),
+        "{err}"
+    );
+}
+
 /// Frames smaller than a GPU buffer's 16-byte minimum read back exactly their own pixels,
 /// and match the reference (a 1x1 frame came back with two pixels, so the C API asked for
 /// twice the bytes it documents).

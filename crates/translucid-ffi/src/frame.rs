@@ -15,8 +15,9 @@ use crate::structure::translucid_structure_type;
 use std::ffi::{c_char, c_void};
 use translucid::Image;
 
-/// Most draws in one frame.
-pub const TRANSLUCID_MAX_DRAWS: u32 = 1 << 20;
+/// Most draws in one frame: what every Vulkan device holds in the one storage binding of
+/// draw records the graphics passes read (128 MB of 160-byte records is 838,860 draws).
+pub const TRANSLUCID_MAX_DRAWS: u32 = 786_432;
 /// Most stages `translucid_frame_statistics` reports.
 pub const TRANSLUCID_MAX_STAGES: usize = 16;
 /// Size of a stage name, NUL included.
@@ -636,5 +637,17 @@ impl translucid_frame {
             crate::host::abandon(objects, frame.id)?;
             Ok(translucid_result::Success)
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    /// The promise holds on every Vulkan device: its draws' records fit the 128 MB
+    /// (2^27 bytes) of one storage binding that Vulkan requires every device to allow. The
+    /// header once promised 2^20 draws, which no device under 160 MB of binding holds.
+    #[test]
+    fn the_most_draws_fit_the_smallest_storage_binding_vulkan_allows() {
+        let record = std::mem::size_of::<translucid::shader_types::GpuDrawInfo>() as u64;
+        assert!(u64::from(super::TRANSLUCID_MAX_DRAWS) * record <= 1 << 27);
     }
 }

@@ -103,6 +103,30 @@ impl SceneSlot {
 /// Draws a frame slot has room for at first, at least.
 pub const FIRST_DRAWS: usize = 256;
 
+/// The most draws (opaque and transparent) a frame may have on `gpu`: their records are one
+/// storage binding the graphics passes read (160 bytes a draw; 838,860 draws in the 128 MB
+/// every Vulkan device binds).
+pub fn most_draws(gpu: &Gpu) -> usize {
+    gpu.info().max_storage_buffer_range as usize / std::mem::size_of::<GpuDrawInfo>()
+}
+
+/// Bytes of draw records a frame slot makes room for, given `draws` now: twice as many, so
+/// that a growing draw count reallocates rarely, within one storage binding; or an error
+/// naming the limit when the draws themselves pass it.
+fn draw_room(gpu: &Gpu, draws: usize) -> Result<u64> {
+    let most = most_draws(gpu);
+    if draws > most {
+        return Err(crate::Error::InvalidScene(format!(
+            "the frame has {draws} draws; their records ({} bytes each) fit at most {most} in \
+             the {} MB this device binds as the one storage binding the graphics passes read",
+            std::mem::size_of::<GpuDrawInfo>(),
+            gpu.info().max_storage_buffer_range >> 20
+        )));
+    }
+    let room = (2 * draws).clamp(FIRST_DRAWS, most.max(FIRST_DRAWS));
+    Ok(room as u64 * std::mem::size_of::<GpuDrawInfo>() as u64)
+}
+
 /// Tells apart the users of one [`ResidentAssets`], for its uploads on the engine's device.
 static NEXT_SCENE_ID: AtomicU64 = AtomicU64::new(1);
 
@@ -165,9 +189,7 @@ impl GpuScene {
         )?;
         // Room for twice the draws and at least FIRST_DRAWS: frames that draw more do not
         // grow every slot's buffer one after another.
-        let draw_bytes = (2 * (scene.opaque.len() + scene.transparent.len())).max(FIRST_DRAWS)
-            as u64
-            * std::mem::size_of::<GpuDrawInfo>() as u64;
+        let draw_bytes = draw_room(gpu, scene.opaque.len() + scene.transparent.len())?;
         let slots = (0..frame_slots.max(1))
             .map(|_| SceneSlot::new(gpu, &layout, resident.materials(), draw_bytes))
             .collect::<Result<Vec<_>>>()?;
@@ -332,9 +354,9 @@ impl GpuScene {
             .collect();
         let bytes: &[u8] = bytemuck::cast_slice(&draw_infos);
         if bytes.len() as u64 > slot.draws.size {
-            // Room for twice as many, so that a growing draw count reallocates rarely.
             let materials = self.resident.materials();
-            *slot = SceneSlot::new(gpu, &self.layout, materials, 2 * bytes.len() as u64)?;
+            let room = draw_room(gpu, draw_infos.len())?;
+            *slot = SceneSlot::new(gpu, &self.layout, materials, room)?;
             slot.frame.write(0, bytemuck::bytes_of(&frame_info))?;
         }
         slot.draws.write(0, bytes)?;

@@ -83,6 +83,10 @@ pub struct BinOptions {
     /// [`MOST_GROUPS_X`]), so that tests cover the split with small frames.
     #[doc(hidden)]
     pub groups_x: Option<u32>,
+    /// The most near-plane triangle records the bins may hold (`None`: one storage binding's
+    /// worth), so that tests reach that limit with a small frame.
+    #[doc(hidden)]
+    pub most_homogeneous: Option<u32>,
 }
 
 /// The workgroups in x every Vulkan device allows in one dispatch
@@ -265,6 +269,8 @@ pub struct Bins {
     fixed_path_forced: bool,
     /// Frames still to record without the occlusion cull.
     unculled_frames: u32,
+    /// The largest buffers may grow to.
+    most: Capacities,
     /// The GPU found a near-plane triangle the host's estimate missed: later frames keep the
     /// near-plane path rather than render again.
     homogeneous_missed: bool,
@@ -274,9 +280,18 @@ pub struct Bins {
 }
 
 /// Homogeneous records a frame with `near_plane` triangles that may take the near-plane path
-/// needs, up to what one buffer binds (past that the frame reports the overflow).
-fn homogeneous_bound(gpu: &Gpu, near_plane: u64) -> u32 {
-    near_plane.min(u64::from(Capacities::most(gpu).homogeneous)) as u32
+/// needs, up to the most the bins hold (past that the frame is refused).
+fn homogeneous_bound(most: &Capacities, near_plane: u64) -> u32 {
+    near_plane.min(u64::from(most.homogeneous)) as u32
+}
+
+/// The largest buffers the bins may grow to on `gpu`, within the test limits of `options`.
+fn most_capacities(gpu: &Gpu, options: &BinOptions) -> Capacities {
+    let mut most = Capacities::most(gpu);
+    if let Some(limit) = options.most_homogeneous {
+        most.homogeneous = most.homogeneous.min(limit.max(1));
+    }
+    most
 }
 
 impl Bins {
@@ -323,6 +338,7 @@ impl Bins {
         }
         let (width, height) = (targets.extent.width, targets.extent.height);
         let meshes = MeshFacts::of_scene(scene);
+        let most = most_capacities(gpu, options);
         let near_plane = features::homogeneous_triangles(scene, &meshes, width, height);
         let expected = features::estimate(scene, width, height);
         let mut features = RasterFeatures::of_frame(scene, &meshes, near_plane, info.subgroup_size);
@@ -337,10 +353,10 @@ impl Bins {
             features.attribute_texels(),
             capacity.width.div_ceil(BIN_SIZE) * capacity.height.div_ceil(BIN_SIZE),
             &expected,
-            homogeneous_bound(gpu, near_plane),
+            homogeneous_bound(&most, near_plane),
             options,
         )
-        .within(&Capacities::most(gpu));
+        .within(&most);
         let resources = Resources::new(gpu, scene, uploaded, targets, capacities, features.slabs())
             .map_err(|e| in_errors(method, e))?;
         let layouts = [&uploaded.layout, &resources.layout];
@@ -376,6 +392,7 @@ impl Bins {
             records_as_texels,
             fixed_path_forced: options.assume_fixed_path,
             unculled_frames: 0,
+            most,
             homogeneous_missed: false,
             recorded: vec![
                 Recorded {
@@ -443,7 +460,7 @@ impl Bins {
         }
         // Triangles that may take the near-plane path: the records' bound and the feature.
         let near_plane = features::homogeneous_triangles(f.scene, &self.meshes, width, height);
-        let homogeneous = homogeneous_bound(f.gpu, near_plane);
+        let homogeneous = homogeneous_bound(&self.most, near_plane);
         let subgroup_size = self.gpu.info().subgroup_size;
         let mut fresh = RasterFeatures::of_frame(f.scene, &self.meshes, near_plane, subgroup_size);
         fresh.homogeneous =
@@ -808,12 +825,24 @@ impl Bins {
         // homogeneous records (past one buffer's worth) lose triangles, and so would a band
         // whose lists did not fit (the frame's entry count past 2^32).
         let overflowed = counters.overflow & (OVERFLOW_HOMOGENEOUS | OVERFLOW_BAND_LISTS) != 0;
+        if counters.overflow & OVERFLOW_HOMOGENEOUS != 0
+            && recorded.capacities.homogeneous >= self.most.homogeneous
+        {
+            // No larger buffer can be made: rendering again would lose the same triangles.
+            return Err(Error::InvalidScene(format!(
+                "{method}: the frame has {} transparent triangles crossing the near plane; \
+                 their records fit at most {} ({} bytes each in one storage binding). Move the \
+                 near plane, or draw fewer of them",
+                counters.homogeneous_count,
+                self.most.homogeneous,
+                layout::HOMOGENEOUS_BYTES
+            )));
+        }
         let degraded_rows = counters.degraded_rows();
-        let grown = self.resources.capacities.grown_for(
-            &counters,
-            &recorded.capacities,
-            &Capacities::most(&self.gpu),
-        );
+        let grown =
+            self.resources
+                .capacities
+                .grown_for(&counters, &recorded.capacities, &self.most);
         if let Some(grown) = grown {
             log::info!(
                 "{method}: buffers too small (overflow bits {:#x}: {} homogeneous triangles, \
