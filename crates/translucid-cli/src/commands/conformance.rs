@@ -19,21 +19,64 @@ struct Asset {
     name: String,
 }
 
-/// One file's outcome: its measures, or why it could not be measured.
+/// One file's outcome: its measures, or why it could not be measured, and whether it met
+/// the method's bound.
 struct Row {
     name: String,
     result: Result<Metrics, String>,
+    passed: bool,
 }
 
-impl Row {
-    fn passed(&self) -> bool {
-        self.result.as_ref().is_ok_and(passes)
+/// What a file must meet to pass: every pixel finite, and within 2/255 of the expected image
+/// in every channel, all of them or, for methods the driver rasterizes, all but a few.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Bound {
+    /// Every pixel: exact, and wavelet's bin raster, rasterize by translucid's own rules.
+    EveryPixel,
+    /// The driver's coverage: wboit, linked_list, depth_peeling and wavelet's image passes
+    /// are rasterized by the driver, whose coverage, depth rounding and mip selection may
+    /// differ from translucid's rules on triangle edges and where surfaces cross. At most
+    /// [`DRIVER_SHARE`] of the pixels may be over 2/255, with a PSNR of at least
+    /// [`DRIVER_PSNR`] dB over the frame.
+    DriverCoverage,
+}
+
+/// The share of pixels a driver-rasterized method may have over 2/255: 0.05 %, twice the
+/// most any of them shows on the shared scenes at 480x270 (0.02 %).
+const DRIVER_SHARE: f64 = 0.0005;
+/// The PSNR floor of a driver-rasterized method's frame, as the in-tree tests hold them.
+const DRIVER_PSNR: f32 = 50.0;
+
+impl Bound {
+    fn of(method: &str, options: &MethodOptions) -> Self {
+        let images = options.wavelet.storage == translucid::methods::wavelet::Storage::Images;
+        match method {
+            "wboit" | "linked_list" | "depth_peeling" | "blend" => Self::DriverCoverage,
+            "wavelet" if images => Self::DriverCoverage,
+            _ => Self::EveryPixel,
+        }
     }
-}
 
-/// Within 2/255 in every channel of every pixel, each of them finite.
-fn passes(m: &Metrics) -> bool {
-    m.within(TOLERANCE)
+    fn holds(self, m: &Metrics) -> bool {
+        match self {
+            Self::EveryPixel => m.within(TOLERANCE),
+            Self::DriverCoverage => {
+                m.within(TOLERANCE)
+                    || (m.non_finite == 0 && m.share_over <= DRIVER_SHARE && m.psnr >= DRIVER_PSNR)
+            }
+        }
+    }
+
+    fn description(self) -> String {
+        match self {
+            Self::EveryPixel => "every pixel within 2/255".into(),
+            Self::DriverCoverage => format!(
+                "every pixel within 2/255 but at most {} % of them (the driver's coverage), \
+                 at least {DRIVER_PSNR} dB",
+                DRIVER_SHARE * 100.0
+            ),
+        }
+    }
 }
 
 /// What the run checks every file with.
@@ -42,6 +85,7 @@ struct Check<'a> {
     size: Size,
     options: MethodOptions,
     expected: Expected,
+    bound: Bound,
 }
 
 pub fn run(
@@ -58,6 +102,7 @@ pub fn run(
     let check = Check {
         method,
         size,
+        bound: Bound::of(method, &options),
         options,
         expected: promised.unwrap_or(Expected::Reference),
     };
@@ -103,9 +148,11 @@ fn check_all(assets: &[Asset], gpu: Gpu, check: &Check<'_>, json: bool) -> Vec<R
     let mut rows = Vec::with_capacity(assets.len());
     for asset in assets {
         bar.set_message(asset.name.clone());
+        let result = check_file(&mut gpu, &asset.path, check).map_err(|e| e.to_string());
         let row = Row {
             name: asset.name.clone(),
-            result: check_file(&mut gpu, &asset.path, check).map_err(|e| e.to_string()),
+            passed: result.as_ref().is_ok_and(|m| check.bound.holds(m)),
+            result,
         };
         bar.inc(1);
         if !json {
@@ -233,7 +280,7 @@ fn row_text(row: &Row, width: usize) -> String {
             format!("{:.1}/255", m.max_error * 255.0),
             format!("{:.3} %", m.share_over * 100.0),
             psnr_text(m.psnr),
-            if passes(m) { "PASS" } else { "FAIL" },
+            if row.passed { "PASS" } else { "FAIL" },
         ),
         Err(message) => format!(
             "{:<width$}  {:>9}  {:>10}  {:>9}  ERROR: {message}",
@@ -251,7 +298,7 @@ fn psnr_text(psnr: f32) -> String {
 }
 
 fn print_summary(rows: &[Row], check: &Check<'_>, promised: bool, against: &str) {
-    let passed = rows.iter().filter(|r| r.passed()).count();
+    let passed = rows.iter().filter(|r| r.passed).count();
     let errors = rows.iter().filter(|r| r.result.is_err()).count();
     let errors = if errors > 0 {
         format!(" ({errors} could not be checked)")
@@ -259,13 +306,14 @@ fn print_summary(rows: &[Row], check: &Check<'_>, promised: bool, against: &str)
         String::new()
     };
     println!(
-        "{} file{}, {passed} pass, {} fail{errors}: {} at {}x{} against {against}",
+        "{} file{}, {passed} pass, {} fail{errors}: {} at {}x{} against {against}, {}",
         rows.len(),
         if rows.len() == 1 { "" } else { "s" },
         rows.len() - passed,
         check.method,
         check.size.width,
         check.size.height,
+        check.bound.description(),
     );
     if !promised {
         println!(
@@ -277,13 +325,14 @@ fn print_summary(rows: &[Row], check: &Check<'_>, promised: bool, against: &str)
 
 fn print_json(rows: &[Row], check: &Check<'_>, method_args: crate::MethodArgs, against: &str) {
     let files: Vec<serde_json::Value> = rows.iter().map(row_json).collect();
-    let passed = rows.iter().filter(|r| r.passed()).count();
+    let passed = rows.iter().filter(|r| r.passed).count();
     let value = serde_json::json!({
         "method": check.method,
         "threshold": check.options.exact.threshold,
         "wavelet": wavelet_json(check.method, method_args),
         "size": { "width": check.size.width, "height": check.size.height },
         "against": against,
+        "bound": check.bound.description(),
         "files": files,
         "passed": passed,
         "failed": rows.len() - passed,
@@ -296,7 +345,7 @@ fn row_json(row: &Row) -> serde_json::Value {
         Ok(m) => {
             let mut fields = metrics_json(m);
             fields.insert("path".into(), row.name.clone().into());
-            fields.insert("pass".into(), passes(m).into());
+            fields.insert("pass".into(), row.passed.into());
             fields.insert("error".into(), serde_json::Value::Null);
             serde_json::Value::Object(fields)
         }
@@ -318,7 +367,7 @@ fn row_json(row: &Row) -> serde_json::Value {
 /// promises; `blend` promises none.
 fn exit_code(rows: &[Row], promised: bool, against: &str) -> translucid::Result<ExitCode> {
     let errors = rows.iter().filter(|r| r.result.is_err()).count();
-    let failed = rows.iter().filter(|r| !r.passed()).count();
+    let failed = rows.iter().filter(|r| !r.passed).count();
     if promised && failed > 0 {
         eprintln!(
             "translucid: {failed} of {} files failed against {against}",
@@ -355,19 +404,43 @@ mod tests {
 
     #[test]
     fn a_nan_pixel_fails() {
-        let m = measured(Vec4::new(f32::NAN, 0.4, 0.6, 1.0));
-        assert!(!passes(&m), "{m:?}");
-        let m = measured(Vec4::splat(f32::NAN));
-        assert!(!passes(&m), "{m:?}");
+        for bound in [Bound::EveryPixel, Bound::DriverCoverage] {
+            let m = measured(Vec4::new(f32::NAN, 0.4, 0.6, 1.0));
+            assert!(!bound.holds(&m), "{m:?}");
+            let m = measured(Vec4::splat(f32::NAN));
+            assert!(!bound.holds(&m), "{m:?}");
+        }
     }
 
     #[test]
     fn within_two_255ths_passes_and_over_fails() {
+        let passes = |m: &Metrics| Bound::EveryPixel.holds(m);
         assert!(passes(&measured(Vec4::new(0.2, 0.4, 0.6, 1.0))));
         let m = measured(Vec4::new(0.2, 0.4, 0.6, 1.0) * 1.001);
         assert!(m.max_error > 0.0 && passes(&m), "{m:?}");
         let m = measured(Vec4::new(0.3, 0.4, 0.6, 1.0));
         assert!(!passes(&m), "{m:?}");
+    }
+
+    /// A driver-rasterized method may differ on a few edge pixels, not on more: one pixel
+    /// off in 2,500 passes, one in 12 does not; exact is held to every pixel.
+    #[test]
+    fn the_drivers_coverage_allows_a_few_pixels() {
+        let frame = |width: u32, height: u32| {
+            let mut got = Image::filled(width, height, Vec4::new(0.2, 0.4, 0.6, 1.0));
+            got.pixels[0] = Vec4::new(0.25, 0.4, 0.6, 1.0);
+            let want = Image::filled(width, height, Vec4::new(0.2, 0.4, 0.6, 1.0));
+            translucid::metrics::compare(&got, &want).expect("same size")
+        };
+        let few = frame(50, 50);
+        assert!(Bound::DriverCoverage.holds(&few), "{few:?}");
+        assert!(!Bound::EveryPixel.holds(&few), "{few:?}");
+        let many = frame(4, 3);
+        assert!(!Bound::DriverCoverage.holds(&many), "{many:?}");
+        let options = MethodOptions::default();
+        assert_eq!(Bound::of("exact", &options), Bound::EveryPixel);
+        assert_eq!(Bound::of("wavelet", &options), Bound::EveryPixel);
+        assert_eq!(Bound::of("wboit", &options), Bound::DriverCoverage);
     }
 
     #[test]
