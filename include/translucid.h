@@ -1128,7 +1128,7 @@ typedef struct translucid_mesh_create_info {
      */
     const float *colours;
     /**
-     * Optional: `vertex_count` x 2 floats, texture coordinates.
+     * Optional: `vertex_count` x 2 floats, texture coordinates, each within ±16777216 (2^24).
      */
     const float *uvs;
     /**

@@ -159,3 +159,25 @@ fn hdr_colours_up_to_the_limit_stay_finite_and_past_it_are_refused() {
     let err = renderer.render_over(&over).err().expect("refused");
     assert!(err.to_string().contains("opaque layer"), "{err}");
 }
+
+/// Texture coordinates past 2^24 are refused by name: past it an f32 holds no fraction of a
+/// texture, and coordinates of 1e30 and more (a fuzzed file read its UVs from a misaligned
+/// offset) overflowed the hardware sampler's derivatives, so the opaque pass returned NaN
+/// pixels that every method composited over.
+#[test]
+fn texture_coordinates_past_their_limit_are_refused() {
+    let gpu = gpu();
+    let mut scene = translucid::scene::load("textured").expect("scene");
+    let mesh = scene
+        .meshes
+        .iter_mut()
+        .find(|m| m.uvs.is_some())
+        .expect("a mesh with uvs");
+    if let Some(uvs) = &mut mesh.uvs {
+        uvs[0] = glam::Vec2::new(3e30, 0.5);
+    }
+    let err = Renderer::new(&gpu, &scene, MethodKind::Blend, 37, 23)
+        .err()
+        .expect("refused");
+    assert!(err.to_string().contains("uv 0"), "{err}");
+}

@@ -45,7 +45,7 @@ pub struct translucid_mesh_create_info {
     /// Optional: `vertex_count` x 4 floats, linear RGBA multiplied into the base colour, each
     /// in [0, 65504].
     pub colours: *const f32,
-    /// Optional: `vertex_count` x 2 floats, texture coordinates.
+    /// Optional: `vertex_count` x 2 floats, texture coordinates, each within ±16777216 (2^24).
     pub uvs: *const f32,
     /// 1 to `TRANSLUCID_MAX_INDICES`, a multiple of 3 (triangles) or 4 (quads).
     pub index_count: u32,

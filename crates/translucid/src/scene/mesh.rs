@@ -18,6 +18,10 @@ pub struct Mesh {
     pub quads: Vec<[u32; 4]>,
 }
 
+/// The largest texture coordinate a mesh may have: 2^24, past which an f32 holds no
+/// fraction of a texture (and near 1e30 the hardware sampler's derivatives overflow).
+pub const MAX_UV: f32 = 16_777_216.0;
+
 impl Mesh {
     /// A mesh from a triangle list, paired into quads by [`pair_triangles`].
     pub fn from_triangles(
@@ -57,7 +61,9 @@ impl Mesh {
             .sum()
     }
 
-    /// Checks indices, attribute lengths and that positions are finite.
+    /// Checks indices, attribute lengths, that positions are finite and that texture
+    /// coordinates and colours are within their limits ([`MAX_UV`],
+    /// [`crate::shading::MAX_COLOUR`]).
     pub fn validate(&self) -> Result<(), String> {
         let n = self.positions.len();
         if let Some(i) = self.positions.iter().position(|p| !p.is_finite()) {
@@ -79,8 +85,11 @@ impl Mesh {
             }
         }
         if let Some(uvs) = &self.uvs {
-            if let Some(i) = uvs.iter().position(|v| !v.is_finite()) {
-                return Err(format!("uv {i} is not finite"));
+            if let Some(i) = uvs.iter().position(|v| !(v.abs().max_element() <= MAX_UV)) {
+                return Err(format!(
+                    "uv {i} is {:?}: texture coordinates must be within ±{MAX_UV}",
+                    uvs[i].to_array()
+                ));
             }
         }
         if let Some(colours) = &self.colours {
