@@ -85,7 +85,10 @@ impl Mesh {
             }
         }
         if let Some(uvs) = &self.uvs {
-            if let Some(i) = uvs.iter().position(|v| !(v.abs().max_element() <= MAX_UV)) {
+            if let Some(i) = uvs
+                .iter()
+                .position(|v| !v.is_finite() || v.abs().max_element() > MAX_UV)
+            {
                 return Err(format!(
                     "uv {i} is {:?}: texture coordinates must be within ±{MAX_UV}",
                     uvs[i].to_array()
