@@ -536,6 +536,31 @@ static void destroy(state *s) {
     }
 }
 
+/* The largest colour value translucid takes and gives: the largest finite half float. */
+#define MAX_COLOUR 65504.0f
+
+/* A colour channel within translucid's range, often at its ends. */
+static float hdr_channel(void) {
+    switch (below(4)) {
+    case 0: return MAX_COLOUR;
+    case 1: return 0.0f;
+    case 2: return unit() * MAX_COLOUR;
+    default: return unit();
+    }
+}
+
+/* A value just past what a colour channel may be. */
+static float bad_channel(void) {
+    switch (below(4)) {
+    case 0: return 65520.0f; /* rounds to infinity as a half */
+    case 1: return 1.7e5f;
+    case 2: return -1.0f;
+    default: return NAN;
+    }
+}
+
+static float g_opaque_colour[MAX_SIDE * MAX_SIDE * 4], g_opaque_depth[MAX_SIDE * MAX_SIDE];
+
 static void frame_render(state *s) {
     translucid_draw draws[6];
     uint32_t draw_count = below(7);
@@ -592,6 +617,12 @@ static void frame_render(state *s) {
     info.background[0] = unit();
     translucid_light light = {{0.3f, -1.0f, -0.2f}, {1, 1, 1}, {0.1f, 0.1f, 0.1f}};
     info.light = chance(50) ? &light : NULL;
+    translucid_opaque_layer opaque;
+    memset(&opaque, 0, sizeof opaque);
+    opaque.s_type = TRANSLUCID_STRUCTURE_TYPE_OPAQUE_LAYER;
+    opaque.colour_format = TRANSLUCID_PIXEL_FORMAT_RGBA32F_LINEAR;
+    opaque.colour = g_opaque_colour;
+    opaque.depth = g_opaque_depth;
     info.exact_threshold = chance(20) ? unit() * 0.2f : 0.0f;
     if (chance(30)) {
         /* The engine's own matrix: reversed-Z with an infinite far plane, and a jitter. */
@@ -610,7 +641,8 @@ static void frame_render(state *s) {
     translucid_frame frame = {UNTOUCHED};
     translucid_frame *out = &frame;
     if (want == TRANSLUCID_RESULT_SUCCESS) {
-        switch (below(14)) {
+        uint32_t pick = below(18);
+        switch (pick) {
         case 0: out = NULL; want = TRANSLUCID_RESULT_ERROR_NULL_POINTER; break;
         case 1: info.method = METHOD_END + below(1000); want = TRANSLUCID_RESULT_ERROR_INVALID_ENUM; break;
         case 2: if (chance(50)) info.width = 0; else info.height = 1u << (16 + below(16));
@@ -647,6 +679,59 @@ static void frame_render(state *s) {
                 }
                 break;
         case 11: info.camera.jitter[below(2)] = chance(50) ? NAN : INFINITY;
+                want = TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT;
+                break;
+        case 12: { /* Extreme but allowed: HDR colours at their limit, a world far out. */
+                for (int c = 0; c < 3; c++) {
+                    light.colour[c] = hdr_channel();
+                    light.ambient[c] = hdr_channel();
+                    info.background[c] = hdr_channel();
+                }
+                info.light = &light;
+                static const float offsets[] = {1e4f, 1e5f, 1e7f, 1e19f};
+                float offset = offsets[below(4)] * (chance(50) ? 1.0f : -1.0f);
+                int axis = (int)below(3);
+                info.camera.view[12 + axis] = -offset;
+                for (uint32_t i = 0; i < draw_count; i++) {
+                    draws[i].transform[12 + axis] += offset;
+                    if (chance(50)) {
+                        for (int c = 0; c < 4; c++) draws[i].tint[c] = hdr_channel();
+                    }
+                }
+                break;
+            }
+        case 13: /* The engine's opaque layer, HDR up to the limit. */
+        case 14: { /* ... with one value out of its range. */
+                size_t pixels = (size_t)info.width * info.height;
+                if (pixels > MAX_SIDE * MAX_SIDE) {
+                    break;
+                }
+                for (size_t i = 0; i < pixels; i++) {
+                    for (int c = 0; c < 4; c++) g_opaque_colour[4 * i + (size_t)c] = hdr_channel();
+                    g_opaque_depth[i] = chance(30) ? 1.0f : unit();
+                }
+                for (uint32_t i = 0; i < draw_count; i++) {
+                    draws[i].layer = TRANSLUCID_LAYER_TRANSPARENT;
+                }
+                info.opaque_layer = &opaque;
+                if (pick == 14) {
+                    size_t at = below((uint32_t)pixels);
+                    if (chance(70)) {
+                        g_opaque_colour[4 * at + below(3)] = bad_channel();
+                    } else {
+                        g_opaque_depth[at] = chance(50) ? 1.5f : NAN;
+                    }
+                    want = TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT;
+                }
+                break;
+            }
+        case 15: /* A light past the colour limit. */
+                info.light = &light;
+                if (chance(50)) {
+                    light.colour[below(3)] = bad_channel();
+                } else {
+                    light.ambient[below(3)] = bad_channel();
+                }
                 want = TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT;
                 break;
         case 8: /* Scrambled. */
