@@ -347,3 +347,38 @@ fn textures_past_a_storage_binding_are_sampled_right() {
         .expect("a frame over 256 MB of textures");
     assert_matches_reference("large_textures", &scene, &frame);
 }
+
+/// A frame that draws more quads than translucid draws in a frame (a mesh drawn many times
+/// counted each time) is refused by name before any work: a 1.6 KB glTF file listing a
+/// node 100,000 times drew a 10,000-quad mesh as often and ran for hours.
+#[test]
+fn frames_drawing_too_many_quads_are_refused_by_name() {
+    let quads = 1000u32;
+    let positions: Vec<Vec3> = (0..quads * 4)
+        .map(|i| Vec3::new((i / 4) as f32, (i % 2) as f32, ((i / 2) % 2) as f32))
+        .collect();
+    let indices: Vec<[u32; 4]> = (0..quads)
+        .map(|q| [4 * q, 4 * q + 1, 4 * q + 3, 4 * q + 2])
+        .collect();
+    let draws = translucid::scene::MAX_FRAME_QUADS / u64::from(quads) + 1;
+    let scene = Scene {
+        name: "many instances".into(),
+        meshes: vec![Mesh::from_quads("strip", positions, indices)],
+        materials: vec![Material::alpha(Vec3::ONE, 0.5)],
+        transparent: vec![
+            Draw {
+                mesh: 0,
+                material: 0,
+                transform: Mat4::IDENTITY,
+                tint: glam::Vec4::ONE,
+            };
+            usize::try_from(draws).expect("fits")
+        ],
+        ..Scene::default()
+    };
+    let err = scene.validate().expect_err("too many quads");
+    assert!(
+        err.to_string().contains("quads") && err.to_string().contains("at most"),
+        "{err}"
+    );
+}

@@ -195,6 +195,19 @@ impl Scene {
     /// Checks a frame's draws, camera and light against this scene's assets.
     pub fn check_frame(&self, input: &FrameInput<'_>) -> crate::Result<()> {
         let bad = |msg: String| Err(crate::Error::InvalidScene(msg));
+        let drawn_quads = input
+            .opaque
+            .iter()
+            .chain(input.transparent)
+            .filter_map(|d| self.meshes.get(d.mesh))
+            .map(|m| m.quads.len() as u64)
+            .fold(0u64, u64::saturating_add);
+        if drawn_quads > MAX_FRAME_QUADS {
+            return bad(format!(
+                "the frame draws {drawn_quads} quads (each draw's mesh counted again); \
+                 translucid draws at most {MAX_FRAME_QUADS} a frame"
+            ));
+        }
         for (layer, draws) in [("opaque", input.opaque), ("transparent", input.transparent)] {
             for (i, d) in draws.iter().enumerate() {
                 if d.mesh >= self.meshes.len() {
@@ -255,6 +268,12 @@ impl Scene {
             .sum()
     }
 }
+
+/// The most quads (of every draw, a mesh drawn twice counted twice) one frame may draw:
+/// 32 M, six times the largest scene the tests draw (hairball:5m), where a frame takes
+/// minutes on a CPU driver. A 1.6 KB glTF file listing a node 100,000 times drew a
+/// 10,000-quad mesh as often: a billion quads, hours of work, before this bound.
+pub const MAX_FRAME_QUADS: u64 = 1 << 25;
 
 /// A scene by name: one of the [`generated::NAMES`], a sized one (`hairball:100k`,
 /// [`generated::SIZED`]), else a path to a `.gltf`/`.glb` file.
