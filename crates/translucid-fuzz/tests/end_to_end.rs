@@ -101,22 +101,16 @@ fn a_case_replays_and_a_short_run_summarises() {
     let _ = std::fs::remove_dir_all(dir);
 }
 
-/// The bounded run `make test` makes: a fixed seed's first cases over the vendored scenes,
-/// loaded only, every one a clean error or a loaded scene (about a minute on two cores).
-#[test]
-fn fixed_cases_find_nothing() {
-    let dir = scratch("fixed");
+/// Runs cases 0 to `cases - 1` of `seed` over the vendored scenes with `extra` arguments,
+/// and requires that none is a finding.
+fn fixed_run_finds_nothing(name: &str, extra: &[&str], cases: u32, seed: u32) {
+    let dir = scratch(name);
+    let (cases, seed) = (cases.to_string(), seed.to_string());
     let run = Command::new(EXE)
+        .arg("gltf")
+        .args(extra)
         .args([
-            "gltf",
-            "--load-only",
-            "--cases",
-            "1200",
-            "--jobs",
-            "2",
-            "--seed",
-            "1",
-            "--corpus",
+            "--cases", &cases, "--jobs", "2", "--seed", &seed, "--corpus",
         ])
         .arg(scenes())
         .arg("--out")
@@ -133,34 +127,20 @@ fn fixed_cases_find_nothing() {
         "findings (saved under {}):\n{text}",
         dir.display()
     );
-    assert!(text.contains("1200 cases in "), "{text}");
+    assert!(text.contains(&format!("{cases} cases in ")), "{text}");
     let _ = std::fs::remove_dir_all(dir);
+}
+
+/// The bounded run `make test` makes: a fixed seed's first cases over the vendored scenes,
+/// loaded only, every one a clean error or a loaded scene (about a minute on two cores).
+#[test]
+fn fixed_cases_find_nothing() {
+    fixed_run_finds_nothing("fixed", &["--load-only"], 1200, 1);
 }
 
 /// A few fixed cases rendered as the fuzzer renders what loads: every method at a small
 /// size, frames finite, exact on the reference (a few seconds a case).
 #[test]
 fn fixed_cases_render_right() {
-    let dir = scratch("rendered");
-    let run = Command::new(EXE)
-        .args([
-            "gltf", "--cases", "48", "--jobs", "2", "--seed", "2", "--corpus",
-        ])
-        .arg(scenes())
-        .arg("--out")
-        .arg(dir.join("findings"))
-        .output()
-        .expect("rendered run");
-    let text = format!(
-        "{}{}",
-        String::from_utf8_lossy(&run.stdout),
-        String::from_utf8_lossy(&run.stderr)
-    );
-    assert!(
-        run.status.success(),
-        "findings (saved under {}):\n{text}",
-        dir.display()
-    );
-    assert!(text.contains("48 cases in "), "{text}");
-    let _ = std::fs::remove_dir_all(dir);
+    fixed_run_finds_nothing("rendered", &[], 48, 2);
 }

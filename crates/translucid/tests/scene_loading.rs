@@ -447,11 +447,7 @@ fn buffer_uri_of_a_pipe_or_device_is_refused() {
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).expect("temp dir");
     let fifo = dir.join("stream.bin");
-    let made = std::process::Command::new("mkfifo")
-        .arg(&fifo)
-        .status()
-        .expect("mkfifo");
-    assert!(made.success());
+    make_fifo(&fifo);
     std::os::unix::fs::symlink("/dev/zero", dir.join("zeros.bin")).expect("symlink");
     let path = dir.join("pipe.gltf");
     std::fs::write(&path, Tiny::triangle().buffer_uri("\"/dev/zero\"").json()).expect("write");
@@ -536,11 +532,7 @@ fn the_file_itself_must_be_a_regular_file() {
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).expect("temp dir");
     let fifo = dir.join("b.gltf");
-    let made = std::process::Command::new("mkfifo")
-        .arg(&fifo)
-        .status()
-        .expect("mkfifo");
-    assert!(made.success());
+    make_fifo(&fifo);
     let zeros = dir.join("zeros.glb");
     std::os::unix::fs::symlink("/dev/zero", &zeros).expect("symlink");
     for path in [fifo, zeros] {
@@ -850,6 +842,16 @@ fn reused_mesh_is_converted_once_and_drawn_per_node() {
 }
 
 // --- helpers ------------------------------------------------------------------------------
+
+/// A named pipe at `path` (a file that never ends when read).
+#[cfg(unix)]
+fn make_fifo(path: &Path) {
+    let made = std::process::Command::new("mkfifo")
+        .arg(path)
+        .status()
+        .expect("mkfifo");
+    assert!(made.success(), "mkfifo {}", path.display());
+}
 
 fn temp_path(name: &str) -> PathBuf {
     std::env::temp_dir().join(format!("translucid-{}-{name}", std::process::id()))
