@@ -181,3 +181,27 @@ fn texture_coordinates_past_their_limit_are_refused() {
         .expect("refused");
     assert!(err.to_string().contains("uv 0"), "{err}");
 }
+
+/// The CPU reference holds a bounded number of fragments per tile and says so past it: a
+/// fuzzed file drawing one window 100,000 times made it ask for gigabytes and abort.
+#[test]
+fn the_reference_refuses_tiles_past_its_fragment_limit() {
+    let quad = Mesh::from_quads(
+        "screen",
+        vec![
+            Vec3::new(-5.0, -5.0, 0.0),
+            Vec3::new(5.0, -5.0, 0.0),
+            Vec3::new(5.0, 5.0, 0.0),
+            Vec3::new(-5.0, 5.0, 0.0),
+        ],
+        vec![[0, 1, 2, 3]],
+    );
+    let camera = Camera::look_at(Vec3::new(0.0, 0.0, 3.0), Vec3::ZERO, 0.8, 0.1, 20.0);
+    let mut scene = one_draw_scene("stack", quad, Material::alpha(Vec3::ONE, 0.01), camera);
+    let side = translucid::reference::TILE;
+    let per_pixel = translucid::reference::MAX_TILE_FRAGMENTS / (side * side) as usize;
+    scene.transparent = vec![scene.transparent[0].clone(); per_pixel + 1];
+    let opaque = OpaqueLayer::clear(side, side, Vec3::ZERO);
+    let err = translucid::reference::render(&scene, &opaque).expect_err("too deep");
+    assert!(err.to_string().contains("fragments in a tile"), "{err}");
+}

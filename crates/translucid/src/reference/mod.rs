@@ -18,6 +18,8 @@
 mod prepare;
 mod shade;
 
+pub use prepare::TILE;
+
 #[cfg(test)]
 mod tests;
 
@@ -132,7 +134,7 @@ fn render_pixels(
         .map_init(Scratch::default, |scratch, (rect, prims)| {
             ctx.render_tile(*rect, prims, scratch)
         })
-        .collect();
+        .collect::<crate::Result<_>>()?;
 
     let mut image = Image::filled(width, height, glam::Vec4::ONE);
     for (rect, colours) in bins.tiles.iter().zip(tiles) {
@@ -209,6 +211,12 @@ impl Record {
 }
 
 /// Per-thread buffers, reused from tile to tile.
+/// The most fragments the reference holds for one tile of [`prepare::TILE`]² pixels: 16 M
+/// (16,384 a pixel on average, about 800 MB with their sorted copy), past which a frame is
+/// refused rather than run the process out of memory (a fuzzed file drawing one window
+/// 100,000 times asked for gigabytes).
+pub const MAX_TILE_FRAGMENTS: usize = 1 << 24;
+
 #[derive(Default)]
 struct Scratch {
     /// Fragments in rasterization order.
@@ -232,6 +240,7 @@ impl Scratch {
         }
         let mut next = self.starts.clone();
         self.by_pixel.clear();
+        // Reserved when the fragments were: see `TileContext::render_tile`.
         self.by_pixel.extend_from_slice(&self.frags);
         for r in &self.frags {
             let slot = &mut next[r.pixel as usize];
@@ -254,6 +263,11 @@ impl Scratch {
     }
 }
 
+/// Whether room for `len` records cannot be had in `v` (memory is short).
+fn cannot_reserve(v: &mut Vec<Record>, len: usize) -> bool {
+    v.try_reserve(len.saturating_sub(v.len())).is_err()
+}
+
 struct TileContext<'a, 's> {
     scene: &'s Scene,
     draws: &'a [DrawData<'s>],
@@ -264,13 +278,23 @@ struct TileContext<'a, 's> {
 }
 
 impl TileContext<'_, '_> {
-    /// Final colours of the tile's pixels, row by row.
-    fn render_tile(&self, rect: PixelRect, prims: &[PrimRef], scratch: &mut Scratch) -> Vec<Vec3> {
+    /// Final colours of the tile's pixels, row by row; an error past [`MAX_TILE_FRAGMENTS`]
+    /// or when memory for the fragments cannot be had.
+    fn render_tile(
+        &self,
+        rect: PixelRect,
+        prims: &[PrimRef],
+        scratch: &mut Scratch,
+    ) -> crate::Result<Vec<Vec3>> {
         let (width, height) = (self.opaque.width, self.opaque.height);
         let tile_width = rect.x1 - rect.x0;
         let frags = &mut scratch.frags;
         frags.clear();
+        let mut full = false;
         for &prim in prims {
+            if full {
+                break;
+            }
             let data = &self.draws[prim.draw as usize];
             let Some(vertices) = data.triangle(prim.quad, prim.sub) else {
                 continue;
@@ -281,7 +305,17 @@ impl TileContext<'_, '_> {
             let shader = TriangleShader::new(self.scene, data, vertices);
             tri.rasterize(rect, |x, y, s| {
                 let i = y as usize * width as usize + x as usize;
-                if s.z_ndc < self.opaque.depth[i] {
+                if s.z_ndc < self.opaque.depth[i] && !full {
+                    // Grown fallibly, with room for the sorted copy too.
+                    if frags.len() == frags.capacity() {
+                        let more = frags.len().max(1024);
+                        full = frags.len() >= MAX_TILE_FRAGMENTS
+                            || frags.try_reserve(more).is_err()
+                            || cannot_reserve(&mut scratch.by_pixel, frags.len() + more);
+                        if full {
+                            return;
+                        }
+                    }
                     frags.push(Record {
                         pixel: (y - rect.y0) * tile_width + (x - rect.x0),
                         view_depth: order_depth(&s, self.depth_order),
@@ -291,6 +325,15 @@ impl TileContext<'_, '_> {
                     });
                 }
             });
+        }
+        if full {
+            return Err(crate::Error::InvalidScene(format!(
+                "the CPU reference holds at most {MAX_TILE_FRAGMENTS} fragments in a tile of \
+                 {0}x{0} pixels (or what memory allows); the tile at ({1}, {2}) has more",
+                prepare::TILE,
+                rect.x0,
+                rect.y0
+            )));
         }
         let pixels = (tile_width * (rect.y1 - rect.y0)) as usize;
         scratch.sort(pixels, self.order);
@@ -306,6 +349,6 @@ impl TileContext<'_, '_> {
                 out.push((self.resolve)(x, y, &fragments, opaque));
             }
         }
-        out
+        Ok(out)
     }
 }
