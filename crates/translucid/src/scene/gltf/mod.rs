@@ -101,9 +101,11 @@ fn load_unguarded(path: &Path, options: &ImportOptions) -> Result<Scene> {
     budget
         .take(Amount::Triangles, triangles, "its meshes")
         .map_err(|reason| over_limit(path, reason))?;
-    // Every buffer counts at its declared length (the most read of it), before any is read.
+    // Every buffer counts at its declared length (the most read of it), before any is read;
+    // a GLB's own BIN chunk was counted with the file.
     let declared = document
         .buffers()
+        .filter(|b| !matches!(b.source(), gltf::buffer::Source::Bin))
         .map(|b| b.length() as u64)
         .fold(0u64, u64::saturating_add);
     budget
