@@ -682,7 +682,7 @@ typedef struct translucid_draw {
     struct translucid_mesh mesh;
     struct translucid_material material;
     /**
-     * Model-to-world matrix, column-major, finite.
+     * Model-to-world matrix, column-major, finite and affine (its last row 0, 0, 0, 1).
      */
     float transform[16];
     /**

@@ -89,7 +89,7 @@ pub enum translucid_layer {
 pub struct translucid_draw {
     pub mesh: translucid_mesh,
     pub material: translucid_material,
-    /// Model-to-world matrix, column-major, finite.
+    /// Model-to-world matrix, column-major, finite and affine (its last row 0, 0, 0, 1).
     pub transform: [f32; 16],
     /// A `translucid_layer`; 0 is transparent.
     pub layer: u32,

@@ -467,6 +467,34 @@ fn buffer_uri_of_a_pipe_or_device_is_refused() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A node whose matrix is projective (its last row not 0 0 0 1) is refused, naming the node:
+/// glTF requires affine nodes, and a fuzzed w of 1.8e19 put exact 48/255 off the reference.
+/// Draws given straight to the core are held to the same.
+#[test]
+fn projective_transforms_are_refused() {
+    let json = Tiny::triangle()
+        .nodes(
+            r#"{"mesh": 0, "matrix": [1,0,0,0, 0,1,0,18446744073709551615, 0,0,1,0, 0,0,0,1]}"#,
+            "[0]",
+        )
+        .json();
+    let err = load_bytes("projective.gltf", json.as_bytes()).expect_err("projective node");
+    assert!(
+        err.to_string().contains("node 0's transform is not affine"),
+        "{err}"
+    );
+
+    let mut scene = load_bytes("affine.gltf", Tiny::triangle().json().as_bytes()).expect("loads");
+    let draws = if scene.transparent.is_empty() {
+        &mut scene.opaque
+    } else {
+        &mut scene.transparent
+    };
+    draws[0].transform.x_axis.w = 0.5;
+    let err = scene.validate().expect_err("projective draw");
+    assert!(err.to_string().contains("must be affine"), "{err}");
+}
+
 /// A buffer URI reaches only files inside the glTF file's folder: absolute paths, `..`,
 /// `file://` URIs and links out of it are refused (each read `/etc/passwd` into the pixels
 /// before), unless the caller allows the folder they lead to.

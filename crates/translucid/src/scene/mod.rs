@@ -227,6 +227,16 @@ impl Scene {
                 if !d.transform.is_finite() {
                     return bad(format!("{layer} draw {i} has a non-finite transform"));
                 }
+                // Projective model matrices are not transforms an engine or glTF makes (glTF
+                // requires affine nodes), and one with a w of 1.8e19 put exact off the
+                // reference.
+                if d.transform.row(3) != glam::Vec4::W {
+                    return bad(format!(
+                        "{layer} draw {i}: transform's last row is {:?}; a model matrix must \
+                         be affine (0, 0, 0, 1)",
+                        d.transform.row(3).to_array()
+                    ));
+                }
                 if !crate::shading::is_colour(d.tint) {
                     return bad(format!(
                         "{layer} draw {i}: tint {:?} must be non-negative and at most {}",

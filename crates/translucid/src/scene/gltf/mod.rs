@@ -504,6 +504,16 @@ impl<'p> Importer<'p> {
                     format!("node {index} has a non-finite transform"),
                 ));
             }
+            if world.row(3) != Vec4::W {
+                // glTF 2.0 §5.25: a node's matrix must be decomposable into TRS.
+                return Err(invalid(
+                    self.path,
+                    format!(
+                        "node {index}'s transform is not affine (its last row is {:?})",
+                        world.row(3).to_array()
+                    ),
+                ));
+            }
             if let Some(camera) = node.camera() {
                 self.note_camera(camera, world);
             }
