@@ -495,6 +495,32 @@ fn projective_transforms_are_refused() {
     assert!(err.to_string().contains("must be affine"), "{err}");
 }
 
+/// A node's rotation is made a unit quaternion, as glTF requires: a fuzzed rotation of
+/// (4294967297, 0, 0, 1) scaled the node by 1.8e19 and put exact off the reference. A zero
+/// rotation is refused.
+#[test]
+fn node_rotations_are_unit_quaternions() {
+    let with_rotation = |rotation: &str| {
+        let node = format!(r#"{{"mesh": 0, "rotation": {rotation}}}"#);
+        let json = Tiny::triangle().nodes(&node, "[0]").json();
+        load_bytes("rotation.gltf", json.as_bytes())
+    };
+    let scene = with_rotation("[4294967297, 0, 0, 1]").expect("loads");
+    let draw = scene
+        .opaque
+        .first()
+        .or(scene.transparent.first())
+        .expect("a draw");
+    let x_turn = glam::Mat4::from_quat(glam::Quat::from_rotation_x(std::f32::consts::PI));
+    assert!(
+        draw.transform.abs_diff_eq(x_turn, 1e-4),
+        "{:?}",
+        draw.transform
+    );
+    let err = with_rotation("[0, 0, 0, 0]").expect_err("no direction");
+    assert!(err.to_string().contains("rotation"), "{err}");
+}
+
 /// A buffer URI reaches only files inside the glTF file's folder: absolute paths, `..`,
 /// `file://` URIs and links out of it are refused (each read `/etc/passwd` into the pixels
 /// before), unless the caller allows the folder they lead to.

@@ -497,7 +497,7 @@ impl<'p> Importer<'p> {
                     format!("node {index} is its own ancestor"),
                 ));
             }
-            let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
+            let world = parent * local_transform(&node).map_err(|e| invalid(self.path, e))?;
             if !world.is_finite() {
                 return Err(invalid(
                     self.path,
@@ -1282,6 +1282,34 @@ fn buffer_label(buffer: &gltf::Buffer<'_>) -> String {
             format!("{} ({})", buffer.index(), shortened(uri))
         }
         _ => buffer.index().to_string(),
+    }
+}
+
+/// A node's transform relative to its parent. A rotation is made a unit quaternion, as glTF
+/// requires and as exporters nearly write it: a fuzzed x of 4294967297 otherwise scaled the
+/// node by 1.8e19.
+fn local_transform(node: &gltf::Node<'_>) -> std::result::Result<Mat4, String> {
+    match node.transform() {
+        gltf::scene::Transform::Matrix { matrix } => Ok(Mat4::from_cols_array_2d(&matrix)),
+        gltf::scene::Transform::Decomposed {
+            translation,
+            rotation,
+            scale,
+        } => {
+            let q = glam::Quat::from_array(rotation);
+            let length = q.length();
+            if !(length > 0.0 && length.is_finite()) {
+                return Err(format!(
+                    "node {}'s rotation {rotation:?} is not a quaternion with a direction",
+                    node.index()
+                ));
+            }
+            Ok(Mat4::from_scale_rotation_translation(
+                Vec3::from(scale),
+                q / length,
+                Vec3::from(translation),
+            ))
+        }
     }
 }
 
