@@ -443,9 +443,7 @@ fn framing_many_instances_of_a_mesh_is_bounded() {
 #[cfg(unix)]
 #[test]
 fn buffer_uri_of_a_pipe_or_device_is_refused() {
-    let dir = temp_path("pipe");
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("temp dir");
+    let dir = fresh_dir("pipe");
     let fifo = dir.join("stream.bin");
     make_fifo(&fifo);
     std::os::unix::fs::symlink("/dev/zero", dir.join("zeros.bin")).expect("symlink");
@@ -527,16 +525,12 @@ fn node_rotations_are_unit_quaternions() {
 #[cfg(unix)]
 #[test]
 fn buffer_uris_reach_only_the_files_folder_unless_allowed() {
-    let dir = temp_path("confined");
-    let _ = std::fs::remove_dir_all(&dir);
+    let dir = fresh_dir("confined");
     let folder = dir.join("assets");
     std::fs::create_dir_all(&folder).expect("temp dir");
     // The same bytes inside the folder and outside it, so only the path decides.
     let tiny = Tiny::triangle();
-    let json = tiny.json();
-    let start = json.find("base64,").expect("data URI") + "base64,".len();
-    let end = start + json[start..].find('"').expect("end of URI");
-    let bytes = decode_base64(&json[start..end]);
+    let bytes = tiny.buffer_bytes();
     std::fs::write(folder.join("inside.bin"), &bytes).expect("write");
     let outside = dir.join("outside.bin");
     std::fs::write(&outside, &bytes).expect("write");
@@ -582,9 +576,7 @@ fn buffer_uris_reach_only_the_files_folder_unless_allowed() {
 #[cfg(unix)]
 #[test]
 fn the_file_itself_must_be_a_regular_file() {
-    let dir = temp_path("main-file");
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("temp dir");
+    let dir = fresh_dir("main-file");
     let fifo = dir.join("b.gltf");
     make_fifo(&fifo);
     let zeros = dir.join("zeros.glb");
@@ -652,14 +644,10 @@ fn a_small_file_reading_one_huge_accessor_many_times_is_refused() {
 /// declared bytes, then 64 GiB the file does not declare (sparse, so they take no disk).
 #[test]
 fn buffer_file_is_read_up_to_its_byte_length() {
-    let dir = temp_path("long-buffer");
-    std::fs::create_dir_all(&dir).expect("temp dir");
+    let dir = fresh_dir("long-buffer");
     let tiny = Tiny::triangle();
-    let json = tiny.json();
-    let start = json.find("base64,").expect("data URI") + "base64,".len();
-    let end = start + json[start..].find('"').expect("end of URI");
     let buffer = dir.join("long.bin");
-    std::fs::write(&buffer, decode_base64(&json[start..end])).expect("write buffer");
+    std::fs::write(&buffer, tiny.buffer_bytes()).expect("write buffer");
     std::fs::File::options()
         .write(true)
         .open(&buffer)
@@ -911,6 +899,14 @@ fn temp_path(name: &str) -> PathBuf {
     std::env::temp_dir().join(format!("translucid-{}-{name}", std::process::id()))
 }
 
+/// An empty folder of its own for one test.
+fn fresh_dir(name: &str) -> PathBuf {
+    let dir = temp_path(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    dir
+}
+
 /// Writes `bytes` to a fresh temp file and loads it.
 fn load_bytes(name: &str, bytes: &[u8]) -> translucid::Result<Scene> {
     let path = temp_path(name);
@@ -974,6 +970,18 @@ impl Tiny {
         self.nodes = nodes.into();
         self.scene_nodes = scene_nodes.into();
         self
+    }
+
+    /// The bytes of the embedded buffer, to write as an external `.bin`.
+    fn buffer_bytes(&self) -> Vec<u8> {
+        let json = Self {
+            buffer_uri: None,
+            ..self.clone()
+        }
+        .json();
+        let start = json.find("base64,").expect("data URI") + "base64,".len();
+        let end = start + json[start..].find('"').expect("end of URI");
+        decode_base64(&json[start..end])
     }
 
     fn json(&self) -> String {
