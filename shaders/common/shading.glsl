@@ -6,29 +6,24 @@
 #include "layout.glsl"
 #include "colour.glsl"
 
-float largestComponent(vec3 v) {
-    return max(max(abs(v.x), abs(v.y)), abs(v.z));
+// v divided by its largest component, or zero when it has no direction (zero, NaN or
+// infinite): a vector at any scale brought to one where squares and cross products neither
+// underflow nor overflow (shading::to_unit_scale).
+vec3 toUnitScale(vec3 v) {
+    float largest = max(max(abs(v.x), abs(v.y)), abs(v.z));
+    return largest > 0.0 && !isinf(largest) ? v / largest : vec3(0.0);
 }
 
-// v at unit length, or zero when it has no direction (zero, NaN or infinite); divided by its
-// largest component first so that the squared length neither underflows nor overflows
-// (shading::unit_or_zero).
+// v at unit length, or zero when it has no direction, at any scale (shading::unit_or_zero).
 vec3 unitOrZero(vec3 v) {
-    float largest = largestComponent(v);
-    if (!(largest > 0.0) || isinf(largest)) {
-        return vec3(0.0);
-    }
-    vec3 scaled = v / largest;
-    return scaled * inversesqrt(dot(scaled, scaled));
+    vec3 scaled = toUnitScale(v);
+    float length2 = dot(scaled, scaled);
+    return length2 > 0.0 ? scaled * inversesqrt(length2) : vec3(0.0);
 }
 
 // The face normal of a triangle with edges e1 and e2, at any scale (shading::face_normal).
 vec3 faceNormal(vec3 e1, vec3 e2) {
-    float l1 = largestComponent(e1);
-    float l2 = largestComponent(e2);
-    vec3 s1 = l1 > 0.0 && !isinf(l1) ? e1 / l1 : vec3(0.0);
-    vec3 s2 = l2 > 0.0 && !isinf(l2) ? e2 / l2 : vec3(0.0);
-    return cross(s1, s2);
+    return cross(toUnitScale(e1), toUnitScale(e2));
 }
 
 vec3 shadeLighting(Material m, FrameInfo f, vec3 normal) {

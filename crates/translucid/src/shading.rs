@@ -51,32 +51,28 @@ pub fn lighting(material: &Material, light: &Light, normal: Vec3) -> Vec3 {
     light.ambient + light.colour * n.dot(l).abs()
 }
 
-/// `v` at unit length, or zero when it has no direction (zero or not finite). `v` is first
-/// divided by its largest component, so that the squared length neither underflows (a normal
-/// of a scene at scale 1e-12) nor overflows (a node scaled by 1e10).
-pub fn unit_or_zero(v: Vec3) -> Vec3 {
+/// `v` divided by its largest component (each component then in [-1, 1]), or zero when it
+/// has no direction (zero or not finite): a vector at any scale brought to one where squares
+/// and cross products neither underflow (a scene at scale 1e-12) nor overflow (1e19).
+fn to_unit_scale(v: Vec3) -> Vec3 {
     let largest = v.abs().max_element();
-    if !(largest > 0.0 && largest.is_finite()) {
-        return Vec3::ZERO;
+    if largest > 0.0 && largest.is_finite() {
+        v / largest
+    } else {
+        Vec3::ZERO
     }
-    let scaled = v / largest;
-    scaled / scaled.length()
+}
+
+/// `v` at unit length, or zero when it has no direction (zero or not finite), at any scale.
+pub fn unit_or_zero(v: Vec3) -> Vec3 {
+    to_unit_scale(v).normalize_or_zero()
 }
 
 /// The face normal of a triangle with edges `e1` and `e2` from one corner (unnormalised, its
-/// sign unimportant: lighting is two-sided), at any scale: each edge is divided by its
-/// largest component before the cross product, which then never overflows (edges of 1e19)
-/// or underflows (edges of 1e-12). Zero for a degenerate or non-finite triangle.
+/// sign unimportant: lighting is two-sided), at any scale; zero for a degenerate or
+/// non-finite triangle.
 pub fn face_normal(e1: Vec3, e2: Vec3) -> Vec3 {
-    let scaled = |e: Vec3| {
-        let largest = e.abs().max_element();
-        if largest > 0.0 && largest.is_finite() {
-            e / largest
-        } else {
-            Vec3::ZERO
-        }
-    };
-    scaled(e1).cross(scaled(e2))
+    to_unit_scale(e1).cross(to_unit_scale(e2))
 }
 
 /// Base colour and alpha of a fragment before lighting.
