@@ -9,7 +9,8 @@ use translucid::metrics;
 use translucid::renderer::{Frame, Renderer};
 use translucid::scene::{self, Scene};
 use translucid_tests::{
-    assert_every_pixel_matches, assert_within_the_drivers_rasterization, asset, gpu,
+    assert_every_pixel_matches, assert_one_depth_order, assert_within_the_drivers_rasterization,
+    asset, gpu,
 };
 
 const WIDTH: u32 = 160;
@@ -50,6 +51,19 @@ fn linked_list_matches_the_reference_but_where_the_driver_rasterizes() {
             ("textured", 480 * 270 / 400, (480, 270)),
         ],
     );
+}
+
+/// Surfaces at one depth up to rounding composite in the reference's order: 40 quads turned
+/// within one plane, and the spheres in frames one to three pixels wide, whose columns run
+/// down the seam where two mirror-image spheres meet. Ordered by the driver's depth,
+/// linked_list was 108/255 off on 43 % of the quads' pixels and 46/255 on a quarter of the
+/// column; its fragments now take the reference's order depth (`scene/ordered.geom`). Where an
+/// edge runs through a pixel centre the driver's tie rule may still take another triangle:
+/// 1 pixel of the 3x2048 frame when set (at most 0.05 % of a frame is allowed, as
+/// `conformance` allows the driver methods).
+#[test]
+fn surfaces_at_one_depth_composite_in_the_references_order() {
+    assert_one_depth_order(&gpu(), "linked_list");
 }
 
 /// A frame of `scene` with `options`, its opaque layer read back.

@@ -6,7 +6,7 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-const STAGES: &[&str] = &["comp", "vert", "frag"];
+const STAGES: &[&str] = &["comp", "vert", "geom", "frag"];
 
 fn main() {
     let manifest = std::env::var("CARGO_MANIFEST_DIR").expect("cargo sets CARGO_MANIFEST_DIR");

@@ -25,10 +25,35 @@ vec3 fragmentNormal(DrawInfo d) {
     return faceNormal(dFdx(v_fromEye), dFdy(v_fromEye));
 }
 
+#ifdef ORDER_DEPTH
+#define ORDER_SETUP_IN
+#include "order_setup.glsl"
+#include "raster_rules.glsl"
+
 // The fragment's depth in the reference's order (raster::order_depth): view depth (clip w)
-// under a perspective, device depth plus one under an orthographic projection.
+// under a perspective, device depth plus one under an orthographic projection; computed as
+// the reference computes it at this pixel's centre from scene/ordered.geom's setup, bit for
+// bit, so that fragments at nearly one depth come out in the reference's order. A triangle
+// off the fixed-point path (across the near plane, or past the guard band) takes the
+// driver's depth.
 float fragmentOrderDepth() {
-    return u_frame.depthMapping.w > 0.5 ? gl_FragCoord.z + 1.0 : 1.0 / gl_FragCoord.w;
+    bool orthographic = u_frame.depthMapping.w > 0.5;
+    int sign = t_lastCorner.z;
+    if (sign == 0) {
+        return orthographic ? gl_FragCoord.z + 1.0 : 1.0 / gl_FragCoord.w;
+    }
+    ivec2 v[3] = ivec2[3](t_corners.xy, t_corners.zw, t_lastCorner.xy);
+    uvec2 pixel = uvec2(gl_FragCoord.xy);
+    i64vec3 e;
+    for (int k = 0; k < 3; k++) {
+        ivec2 p = v[(k + 1) % 3];
+        ivec2 q = v[(k + 2) % 3];
+        int64_t c = int64_t(p.x) * int64_t(q.y) - int64_t(p.y) * int64_t(q.x);
+        e[k] = edgeAt(sign * (p.y - q.y), sign * (q.x - p.x), int64_t(sign) * c, pixel.x, pixel.y);
+    }
+    RasterSample s = interpolateEdges(e, t_zNdc, t_invW);
+    return orthographic ? s.zNdc + 1.0 : s.viewDepth;
 }
+#endif
 
 #endif

@@ -1,56 +1,12 @@
-// The rasterization rules of crates/translucid/src/raster.rs, operation for operation, so that
-// the exact method covers the same samples as the CPU reference and interpolates the same
-// values. `precise` keeps the compiler from fusing multiply-adds the reference does not fuse.
+// The rasterization rules of crates/translucid/src/raster.rs applied to the bins' triangle
+// records (raster_rules.glsl holds the rules themselves), so that the exact method covers the
+// same samples as the CPU reference and interpolates the same values.
 #ifndef TRANSLUCID_RASTER_GLSL
 #define TRANSLUCID_RASTER_GLSL
 
 #include "bins_layout.glsl"
 
-#define SUBPIXEL_BITS 8
-#define HALF_PIXEL 128
-#define GUARD_BAND 1048576.0
-
-// mvp * (p, 1) as ((c0 x + c1 y) + c2 z) + c3.
-vec4 clipPosition(mat4 mvp, vec3 p) {
-    precise vec4 r = ((mvp[0] * p.x + mvp[1] * p.y) + mvp[2] * p.z) + mvp[3];
-    return r;
-}
-
-// (x_fb, y_fb, z_ndc) of a clip-space vertex.
-vec3 viewportTransform(vec4 clip, vec2 size) {
-    precise float x = (clip.x / clip.w * 0.5 + 0.5) * size.x;
-    precise float y = (clip.y / clip.w * 0.5 + 0.5) * size.y;
-    precise float z = clip.z / clip.w;
-    return vec3(x, y, z);
-}
-
-int64_t snapCoord(float v) {
-    precise float s = v * 256.0 + 0.5;
-    return int64_t(floor(s));
-}
-
-// Sample positions fit 32 bits (x < 2^16, 8 sub-pixel bits), and so do a and b: products of
-// two sign-extended 32-bit values compile to one 32x32->64 multiply on x86, where a full
-// 64-bit product is emulated (exact either way; 1-3 % of the raster on lavapipe).
-int64_t edgeAt(int a, int b, int64_t c, uint x, uint y) {
-    int px = (int(x) << SUBPIXEL_BITS) + HALF_PIXEL;
-    int py = (int(y) << SUBPIXEL_BITS) + HALF_PIXEL;
-    return int64_t(a) * int64_t(px) + int64_t(b) * int64_t(py) + c;
-}
-
-bool ownsTies(int64_t a, int64_t b) {
-    return a > 0 || (a == 0 && b > 0);
-}
-
-struct RasterSample {
-    vec3 barycentric;
-    float zNdc;
-    float viewDepth;
-};
-
-bool depthClip(float z) {
-    return z >= 0.0 && z <= 1.0;
-}
+#include "raster_rules.glsl"
 
 // Coverage of a fixed-point triangle at pixel (x, y): the three edge values, and whether the
 // sample is inside under the tie rule.
@@ -66,19 +22,8 @@ bool coversFixed(BinTriangle t, uint x, uint y, out i64vec3 e) {
 // Interpolation of a covered fixed-point sample from its edge values; false when the depth
 // clip discards it.
 bool interpolateFixed(BinTriangle t, i64vec3 e, out RasterSample s) {
-    precise float l0 = float(e.x) * t.zNdc.w;
-    precise float l1 = float(e.y) * t.zNdc.w;
-    precise float l2 = float(e.z) * t.zNdc.w;
-    precise float z = (l0 * t.zNdc.x + l1 * t.zNdc.y) + l2 * t.zNdc.z;
-    precise float q0 = l0 * t.invW.x;
-    precise float q1 = l1 * t.invW.y;
-    precise float q2 = l2 * t.invW.z;
-    precise float depth = 1.0 / ((q0 + q1) + q2);
-    precise vec3 b = vec3(q0 * depth, q1 * depth, q2 * depth);
-    s.barycentric = b;
-    s.zNdc = z;
-    s.viewDepth = depth;
-    return depthClip(z);
+    s = interpolateEdges(e, t.zNdc, t.invW.xyz);
+    return depthClip(s.zNdc);
 }
 
 bool sampleFixed(BinTriangle t, uint x, uint y, out RasterSample s) {

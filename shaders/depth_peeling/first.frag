@@ -4,6 +4,7 @@
 // nearest and farthest layer left, and is counted (summed), so that the host knows how many
 // passes the deepest pixel needs.
 
+#define ORDER_DEPTH
 #include "mesh_fragment.glsl"
 #include "depth_peeling.glsl"
 

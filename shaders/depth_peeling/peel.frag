@@ -9,6 +9,7 @@
 // Blends: range MAX; radiance summed; transmittance multiplied. Fragments at one depth in a
 // pixel (coplanar surfaces) are one layer, summed without covering one another.
 
+#define ORDER_DEPTH
 #include "mesh_fragment.glsl"
 #include "shading.glsl"
 #include "depth_peeling.glsl"

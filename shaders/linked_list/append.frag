@@ -5,6 +5,7 @@
 // over the opaque layer (dual-source "over", as blend.frag): the tail the resolve then
 // composites the sorted ones over.
 
+#define ORDER_DEPTH
 #include "mesh_fragment.glsl"
 #include "shading.glsl"
 #include "linked_list.glsl"

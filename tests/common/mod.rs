@@ -300,3 +300,62 @@ pub fn assert_within_the_drivers_rasterization(
         );
     }
 }
+
+/// `count` quads in one tilted plane, each turned a little further about the plane's normal,
+/// each of its own colour at alpha 0.4, in one draw: they overlap everywhere at one depth
+/// up to rounding, so the order they composite in is the reference's tie rule (depth as it
+/// rounds, then submission order).
+pub fn coplanar_turned_quads(count: u32) -> Scene {
+    let (u, v) = (Vec3::new(1.0, 0.0, 0.3), Vec3::new(0.0, 1.0, -0.2));
+    let mut positions = Vec::new();
+    let mut colours = Vec::new();
+    let mut quads = Vec::new();
+    for i in 0..count {
+        let angle = i as f32 * std::f32::consts::PI / count as f32;
+        let (s, c) = angle.sin_cos();
+        let first = positions.len() as u32;
+        for (x, y) in [(-0.6, -0.6), (0.6, -0.6), (0.6, 0.6), (-0.6, 0.6)] {
+            let (x, y) = (c * x - s * y, s * x + c * y);
+            positions.push(u * x + v * y);
+        }
+        let hue = i as f32 / count as f32;
+        let colour = glam::Vec4::new(hue, 1.0 - hue, (hue * 3.0).fract(), 0.4);
+        colours.extend([colour; 4]);
+        quads.push([first, first + 1, first + 2, first + 3]);
+    }
+    let mut mesh = Mesh::from_quads("coplanar", positions, quads);
+    mesh.colours = Some(colours);
+    let material = Material {
+        double_sided: true,
+        ..Material::default()
+    };
+    let camera = Camera::look_at(Vec3::new(0.4, 0.3, 2.5), Vec3::ZERO, 0.8, 0.1, 20.0);
+    one_draw_scene("coplanar", mesh, material, camera)
+}
+
+/// `method` on surfaces at one depth up to rounding (linked_list.rs,
+/// `surfaces_at_one_depth_composite_in_the_references_order`): 40 quads turned within one
+/// plane at 160x120, and the spheres at 1x64, 1x2047 and 3x2048, each within 2/255 of the
+/// reference but for 0.05 % of its pixels (the driver's tie rule on edges).
+pub fn assert_one_depth_order(gpu: &Gpu, method: &str) {
+    let coplanar = coplanar_turned_quads(40);
+    let spheres = translucid::scene::load("spheres").expect("generated scene");
+    let cases = [
+        ("coplanar", &coplanar, (160, 120)),
+        ("spheres_1x64", &spheres, (1, 64)),
+        ("spheres_1x2047", &spheres, (1, 2047)),
+        ("spheres_3x2048", &spheres, (3, 2048)),
+    ];
+    for (name, scene, (width, height)) in cases {
+        let (m, got, want) = against_reference(gpu, scene, method, width, height);
+        let most_over = u64::from(width * height) / 2000;
+        assert!(
+            m.pixels_over <= most_over,
+            "{method} on {name}: {} pixels over 2/255 (at most {most_over}), up to {:.1}/255 \
+             ({})",
+            m.pixels_over,
+            m.max_error * 255.0,
+            save_failure(&format!("{method}_{name}"), &got, &want).display()
+        );
+    }
+}

@@ -54,7 +54,7 @@ pub enum translucid_method {
     LinkedList = 4,
     /// Dual depth peeling: N passes peel 2N layers, exact while every pixel has at most 2N
     /// (`translucid_frame_info::depth_peeling_passes`). On an engine's device it needs
-    /// `independentBlend`.
+    /// `geometryShader` and `independentBlend`.
     DepthPeeling = 5,
 }
 

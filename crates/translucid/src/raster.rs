@@ -71,6 +71,20 @@ pub const GUARD_BAND: f32 = (1u32 << 20) as f32;
 /// Largest viewport width or height the rules support.
 pub const MAX_VIEWPORT: u32 = 1 << 16;
 
+/// `view_projection * model`, each column `((v0 * m.x + v1 * m.y) + v2 * m.z) + v3 * m.w` without
+/// fused multiply-adds: the order the GPU must use to get the same matrix (the mesh pipelines
+/// compute it per vertex, `modelViewProjection` in raster_rules.glsl).
+pub fn model_view_projection(view_projection: &Mat4, model: &Mat4) -> Mat4 {
+    let v = view_projection;
+    let column = |m: Vec4| ((v.x_axis * m.x + v.y_axis * m.y) + v.z_axis * m.z) + v.w_axis * m.w;
+    Mat4::from_cols(
+        column(model.x_axis),
+        column(model.y_axis),
+        column(model.z_axis),
+        column(model.w_axis),
+    )
+}
+
 /// `mvp * (p, 1)` as `((c0 * x + c1 * y) + c2 * z) + c3`, per component, without fused
 /// multiply-adds: the order the GPU must use to get the same clip coordinates.
 pub fn clip_position(mvp: &Mat4, p: Vec3) -> Vec4 {

@@ -341,6 +341,7 @@ static void method_without_its_features(void) {
     EXPECT(ctx, translucid_frame_record(ctx, &frame, &targets, &handle),
            TRANSLUCID_RESULT_ERROR_DEVICE_REQUIREMENTS);
     TRUE_OR_FAIL(strstr(translucid_context_last_error(ctx), "independentBlend") != NULL);
+    TRUE_OR_FAIL(strstr(translucid_context_last_error(ctx), "geometryShader") != NULL);
     VK_CHECK(vkEndCommandBuffer(g_cmd));
     translucid_context_destroy(ctx);
 }
@@ -506,7 +507,8 @@ int main(void) {
         CHECK(NULL,
               translucid_host_method_requirements_get(TRANSLUCID_METHOD_DEPTH_PEELING, &per_method));
         TRUE_OR_FAIL(per_method.features.independentBlend == VK_TRUE);
-        TRUE_OR_FAIL(per_method.features.geometryShader == VK_FALSE);
+        TRUE_OR_FAIL(per_method.features.geometryShader == VK_TRUE);
+        TRUE_OR_FAIL(per_method.features.fragmentStoresAndAtomics == VK_FALSE);
         CHECK(NULL, translucid_methods_available(methods, 8, &count));
         for (m = 0; m < count; m++) {
             CHECK(NULL, translucid_host_method_requirements_get(methods[m], &per_method));

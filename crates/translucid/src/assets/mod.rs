@@ -130,6 +130,17 @@ fn draw_room(gpu: &Gpu, draws: usize) -> Result<u64> {
 /// Tells apart the users of one [`ResidentAssets`], for its uploads on the engine's device.
 static NEXT_SCENE_ID: AtomicU64 = AtomicU64::new(1);
 
+/// The stages a method's mesh pipelines run before its fragment shader.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MeshStages {
+    /// `scene/mesh.vert` alone.
+    Plain,
+    /// `scene/ordered.vert` and `scene/ordered.geom`: the fragment shader (compiled with
+    /// `ORDER_DEPTH`) finds each fragment's order depth as the CPU reference does, for the
+    /// methods that sort fragments by it.
+    OrderDepth,
+}
+
 pub struct GpuScene {
     /// The assets, shared with the other renderers made over them.
     pub resident: Arc<ResidentAssets>,
@@ -389,6 +400,7 @@ impl GpuScene {
         self.mesh_pipelines_with(
             gpu,
             render_pass,
+            MeshStages::Plain,
             fragment,
             &[],
             &PipelineState {
@@ -406,6 +418,7 @@ impl GpuScene {
         &self,
         gpu: &Gpu,
         render_pass: vk::RenderPass,
+        stages: MeshStages,
         fragment: &[u8],
         extra_sets: &[&DescriptorLayout],
         state: &PipelineState<'_>,
@@ -416,7 +429,14 @@ impl GpuScene {
             GraphicsPipeline::shared(
                 gpu,
                 &GraphicsPipelineDesc {
-                    vertex: crate::spirv!("scene/mesh.vert"),
+                    vertex: match stages {
+                        MeshStages::Plain => crate::spirv!("scene/mesh.vert"),
+                        MeshStages::OrderDepth => crate::spirv!("scene/ordered.vert"),
+                    },
+                    geometry: match stages {
+                        MeshStages::Plain => None,
+                        MeshStages::OrderDepth => Some(crate::spirv!("scene/ordered.geom")),
+                    },
                     fragment,
                     vertex_stride: VERTEX_STRIDE,
                     attributes: &VERTEX_ATTRIBUTES,

@@ -243,6 +243,7 @@ pub fn fullscreen_pipeline(
         gpu,
         &super::GraphicsPipelineDesc {
             vertex: crate::spirv!("scene/fullscreen.vert"),
+            geometry: None,
             fragment,
             vertex_stride: 0,
             attributes: &[],

@@ -565,6 +565,8 @@ pub struct PipelineState<'a> {
 /// Everything a graphics pipeline of this crate varies in.
 pub struct GraphicsPipelineDesc<'a> {
     pub vertex: &'a [u8],
+    /// A geometry stage between the vertex and fragment stages, if any.
+    pub geometry: Option<&'a [u8]>,
     pub fragment: &'a [u8],
     /// Bytes per vertex, and (location, format, offset) of each attribute.
     pub vertex_stride: u32,
@@ -582,6 +584,7 @@ pub struct GraphicsPipelineDesc<'a> {
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub(crate) struct GraphicsKey {
     vertex: (usize, u64),
+    geometry: Option<(usize, u64)>,
     fragment: (usize, u64),
     vertex_stride: u32,
     attributes: Vec<(u32, i32, u32)>,
@@ -668,6 +671,7 @@ impl GraphicsPipeline {
         use super::pipeline_cache::{layout_definitions, spirv_hash};
         let key = GraphicsKey {
             vertex: (desc.vertex.len(), spirv_hash(desc.vertex)),
+            geometry: desc.geometry.map(|g| (g.len(), spirv_hash(g))),
             fragment: (desc.fragment.len(), spirv_hash(desc.fragment)),
             vertex_stride: desc.vertex_stride,
             attributes: desc
@@ -701,23 +705,29 @@ impl GraphicsPipeline {
     ) -> Result<Self> {
         let stages_flags = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
         let layout = pipeline_layout(gpu, desc.sets, desc.push_bytes, stages_flags)?;
-        let modules =
-            shader_module(gpu, desc.vertex).and_then(|v| match shader_module(gpu, desc.fragment) {
-                Ok(f) => Ok((v, f)),
-                Err(e) => {
-                    // SAFETY: unused module.
-                    unsafe { gpu.device.destroy_shader_module(v, None) };
-                    Err(e)
-                }
-            });
-        let (vs, fs) = match modules {
-            Ok(m) => m,
-            Err(e) => {
-                // SAFETY: unused layout.
-                unsafe { gpu.device.destroy_pipeline_layout(layout, None) };
-                return Err(e);
+        let mut sources = vec![(vk::ShaderStageFlags::VERTEX, desc.vertex)];
+        if let Some(geometry) = desc.geometry {
+            sources.push((vk::ShaderStageFlags::GEOMETRY, geometry));
+        }
+        sources.push((vk::ShaderStageFlags::FRAGMENT, desc.fragment));
+        let destroy_modules = |modules: &[vk::ShaderModule]| {
+            for &m in modules {
+                // SAFETY: modules are not needed once the pipeline is made (or not).
+                unsafe { gpu.device.destroy_shader_module(m, None) };
             }
         };
+        let mut modules = Vec::with_capacity(sources.len());
+        for (_, spirv) in &sources {
+            match shader_module(gpu, spirv) {
+                Ok(m) => modules.push(m),
+                Err(e) => {
+                    destroy_modules(&modules);
+                    // SAFETY: unused layout.
+                    unsafe { gpu.device.destroy_pipeline_layout(layout, None) };
+                    return Err(e);
+                }
+            }
+        }
         let entries: Vec<vk::SpecializationMapEntry> = (0..state.fragment_constants.len() as u32)
             .map(|i| vk::SpecializationMapEntry {
                 constant_id: i,
@@ -733,17 +743,21 @@ impl GraphicsPipeline {
         let specialization = vk::SpecializationInfo::default()
             .map_entries(&entries)
             .data(&data);
-        let stages = [
-            vk::PipelineShaderStageCreateInfo::default()
-                .stage(vk::ShaderStageFlags::VERTEX)
-                .module(vs)
-                .name(c"main"),
-            vk::PipelineShaderStageCreateInfo::default()
-                .stage(vk::ShaderStageFlags::FRAGMENT)
-                .module(fs)
-                .name(c"main")
-                .specialization_info(&specialization),
-        ];
+        let stages: Vec<_> = sources
+            .iter()
+            .zip(&modules)
+            .map(|(&(stage, _), &module)| {
+                let info = vk::PipelineShaderStageCreateInfo::default()
+                    .stage(stage)
+                    .module(module)
+                    .name(c"main");
+                if stage == vk::ShaderStageFlags::FRAGMENT {
+                    info.specialization_info(&specialization)
+                } else {
+                    info
+                }
+            })
+            .collect();
         let bindings = [vk::VertexInputBindingDescription {
             binding: 0,
             stride: desc.vertex_stride,
@@ -814,11 +828,7 @@ impl GraphicsPipeline {
         let created = gpu.with_pipeline_cache(|cache| unsafe {
             gpu.device.create_graphics_pipelines(cache, &info, None)
         });
-        // SAFETY: modules are not needed after pipeline creation.
-        unsafe {
-            gpu.device.destroy_shader_module(vs, None);
-            gpu.device.destroy_shader_module(fs, None);
-        }
+        destroy_modules(&modules);
         match created {
             Ok(p) => {
                 gpu.count_pipeline();

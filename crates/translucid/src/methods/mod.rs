@@ -62,14 +62,18 @@ impl MethodKind {
     /// Device features the method needs beyond what every method needs.
     pub fn optional_features(self) -> &'static [OptionalFeature] {
         match self {
-            // Stores from fragments for the lists; gl_PrimitiveID in fragment shaders for
-            // the reference's tie-break.
+            // Stores from fragments for the lists; a geometry stage for the reference's order
+            // depth (scene/ordered.geom), and gl_PrimitiveID, its tie-break.
             Self::LinkedList => &[
                 OptionalFeature::FragmentStoresAndAtomics,
                 OptionalFeature::GeometryShader,
             ],
-            // MAX for the depth range, sums and products for the layers, in one pass.
-            Self::DepthPeeling => &[OptionalFeature::IndependentBlend],
+            // The same geometry stage; MAX for the depth range, sums and products for the
+            // layers, in one pass.
+            Self::DepthPeeling => &[
+                OptionalFeature::GeometryShader,
+                OptionalFeature::IndependentBlend,
+            ],
             Self::Blend | Self::Exact | Self::Wavelet | Self::Wboit => &[],
         }
     }

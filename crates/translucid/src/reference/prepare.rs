@@ -29,7 +29,7 @@ pub struct DrawData<'s> {
 impl<'s> DrawData<'s> {
     pub fn new(scene: &'s Scene, draw: &'s Draw, view_projection: &Mat4) -> Self {
         let mesh = &scene.meshes[draw.mesh];
-        let mvp = *view_projection * draw.transform;
+        let mvp = raster::model_view_projection(view_projection, &draw.transform);
         let clip = mesh
             .positions
             .iter()

@@ -6,7 +6,7 @@
 #![deny(unsafe_code)]
 
 use super::layout::BIN_SIZE;
-use crate::raster::{clip_position, viewport_transform, GUARD_BAND};
+use crate::raster::{clip_position, model_view_projection, viewport_transform, GUARD_BAND};
 use crate::scene::Scene;
 use glam::{Mat4, Vec3, Vec4};
 
@@ -274,7 +274,7 @@ pub fn estimate(scene: &Scene, width: u32, height: u32) -> FrameEstimate {
     let mut triangle_rows = 0.0f64;
     let mut index = 0u64;
     for draw in &scene.transparent {
-        let mvp = view_projection * draw.transform;
+        let mvp = model_view_projection(&view_projection, &draw.transform);
         let mesh = &scene.meshes[draw.mesh];
         for quad in &mesh.quads {
             index += 1;
@@ -474,7 +474,7 @@ fn leaves_fixed_path(
     width: u32,
     height: u32,
 ) -> bool {
-    let mvp = *view_projection * d.transform;
+    let mvp = model_view_projection(view_projection, &d.transform);
     facts
         .bounds
         .is_some_and(|b| !bounds_on_fixed_path(&mvp, b, width, height))

@@ -13,6 +13,7 @@ use crate::gpu::{
     memory_barrier, vk, BindingKind, Buffer, BufferView, DescriptorLayout, DescriptorSet, Gpu,
     MemoryLocation, Resource, Retirement, Sampler, ViewedBuffer as Viewed,
 };
+use crate::raster::model_view_projection;
 use crate::scene::Scene;
 use crate::{Error, Result};
 
@@ -374,7 +375,7 @@ fn bin_draws(scene: &Scene, first_quad_of_mesh: &[u32], width: u32, height: u32)
         .map(|(i, d)| {
             let quad_count = scene.meshes[d.mesh].quads.len() as u32;
             let draw = BinDraw {
-                mvp: (view_projection * d.transform).to_cols_array(),
+                mvp: model_view_projection(&view_projection, &d.transform).to_cols_array(),
                 draw_index: (scene.opaque.len() + i) as u32,
                 first_item,
                 quad_count,

@@ -239,6 +239,7 @@ impl DepthPeeling {
         let first_pipelines = uploaded.mesh_pipelines_with(
             gpu,
             first.render_pass,
+            crate::assets::MeshStages::OrderDepth,
             crate::spirv!("depth_peeling/first.frag"),
             &[],
             &PipelineState {
@@ -251,6 +252,7 @@ impl DepthPeeling {
         let peel_pipelines = uploaded.mesh_pipelines_with(
             gpu,
             peel[0].render_pass,
+            crate::assets::MeshStages::OrderDepth,
             crate::spirv!("depth_peeling/peel.frag"),
             &[&peel_layout],
             &PipelineState {

@@ -85,6 +85,7 @@ impl Passes {
         let append = uploaded.mesh_pipelines_with(
             gpu,
             render_pass,
+            crate::assets::MeshStages::OrderDepth,
             crate::spirv!("linked_list/append.frag"),
             &[&layouts.append],
             &PipelineState {

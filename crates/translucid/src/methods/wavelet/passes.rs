@@ -165,6 +165,7 @@ impl Passes {
         let bounds_pipelines = scene.mesh_pipelines_with(
             gpu,
             bounds_pass.render_pass,
+            crate::assets::MeshStages::Plain,
             crate::spirv!("wavelet/bounds.frag"),
             &[],
             &PipelineState {
@@ -198,6 +199,7 @@ impl Passes {
             let pipelines = scene.mesh_pipelines_with(
                 gpu,
                 pass.render_pass,
+                crate::assets::MeshStages::Plain,
                 accumulate_spirv,
                 &[&bounds_layout],
                 &PipelineState {
@@ -250,6 +252,7 @@ impl Passes {
         let shade_pipelines = scene.mesh_pipelines_with(
             gpu,
             shade_pass.render_pass,
+            crate::assets::MeshStages::Plain,
             shade_spirv,
             &[&read_layout],
             &PipelineState {

@@ -72,6 +72,7 @@ impl Wboit {
         let accumulate_pipelines = scene.mesh_pipelines_with(
             gpu,
             accumulate.render_pass,
+            crate::assets::MeshStages::Plain,
             crate::spirv!("wboit/accumulate.frag"),
             &[],
             &PipelineState {
