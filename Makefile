@@ -29,14 +29,16 @@ test: deps lint
 # "Fuzzing"). `make test` runs both on fixed cases instead.
 CAPI_FUZZER = target/fuzz/fuzz_calls
 FUZZ_SEED ?= $(shell date +%s)
+# The C API fuzzer's threads, each on contexts of its own (1 to 16).
+FUZZ_THREADS ?= 1
 
 fuzz: deps
 	$(CARGO) run --release -p translucid-fuzz -- gltf --seconds $(FUZZ_SECONDS) --seed $(FUZZ_SEED)
 	$(CARGO) build --release -p translucid-ffi
 	mkdir -p target/fuzz
-	cc -std=c99 -g -O1 -fsanitize=address,undefined -fno-sanitize-recover=all \
+	cc -std=c11 -pthread -g -O1 -fsanitize=address,undefined -fno-sanitize-recover=all \
 		-fno-omit-frame-pointer -Iinclude crates/translucid-ffi/tests/c/fuzz_calls.c \
 		crates/translucid-ffi/tests/c/keep_modules.c -o $(CAPI_FUZZER) \
 		-Ltarget/release -ltranslucid_ffi -Wl,-rpath,$(CURDIR)/target/release -lm
 	TRANSLUCID_VALIDATION=1 ASAN_OPTIONS=detect_leaks=1 \
-		$(CAPI_FUZZER) --seconds $(FUZZ_SECONDS) --seed $(FUZZ_SEED)
+		$(CAPI_FUZZER) --seconds $(FUZZ_SECONDS) --seed $(FUZZ_SEED) --threads $(FUZZ_THREADS)

@@ -374,40 +374,53 @@ fn header_compiles_alone_as_c_and_cpp() {
 
 /// The C API fuzzer (`tests/c/fuzz_calls.c`) on a fixed set of cases, under AddressSanitizer
 /// and UBSan with validation on: random call sequences with random and broken arguments,
-/// each call held to its documented code. About a minute here; `make fuzz` runs it for as
-/// long as asked, with a fresh seed.
+/// each call held to its documented code; then other cases on four threads at once, each
+/// with contexts of its own. About a minute here; `make fuzz` runs it for as long as asked,
+/// with a fresh seed.
 #[test]
 fn c_api_fuzzer_keeps_the_contract_on_fixed_cases() {
     let tests = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/c");
     let dir = out_dir("fuzz_calls");
     let binary = dir.join("fuzz_calls");
-    let flags: Vec<&str> = C_FLAGS.iter().chain(SANITIZE).copied().collect();
+    // C11 for `_Thread_local`: each thread's cases draw from their own stream.
+    let flags: Vec<&str> = C_FLAGS
+        .iter()
+        .map(|&f| if f == "-std=c99" { "-std=c11" } else { f })
+        .chain(SANITIZE.iter().copied())
+        .chain(["-pthread"])
+        .collect();
     compile(
         "cc",
         &flags,
         &[tests.join("fuzz_calls.c"), tests.join("keep_modules.c")],
         &binary,
-        &[],
+        &["-pthread"],
     );
-    let mut command = Command::new(&binary);
-    command
-        .args(["--seed", "1", "--cases", "40"])
-        .env("LD_LIBRARY_PATH", library_dir())
-        .env("TRANSLUCID_VALIDATION", "1")
-        .env(
-            "ASAN_OPTIONS",
-            "detect_leaks=1:abort_on_error=0:exitcode=23",
-        )
-        .env("UBSAN_OPTIONS", "print_stacktrace=1:halt_on_error=1");
-    let result = command.output().expect("run the C API fuzzer");
-    let stdout = String::from_utf8_lossy(&result.stdout);
-    let stderr = String::from_utf8_lossy(&result.stderr);
-    // The last lines: the case that failed and why (stderr lists every case it started).
-    let tail: Vec<&str> = stderr.lines().rev().take(40).collect();
-    assert!(
-        result.status.success() && stdout.contains("every call kept the contract"),
-        "the C API fuzzer failed ({}):\n{stdout}\n{}",
-        result.status,
-        tail.into_iter().rev().collect::<Vec<_>>().join("\n")
-    );
+    for args in [
+        ["--seed", "1", "--cases", "40", "--threads", "1"],
+        ["--seed", "2", "--cases", "16", "--threads", "4"],
+    ] {
+        let mut command = Command::new(&binary);
+        command
+            .args(args)
+            .env("LD_LIBRARY_PATH", library_dir())
+            .env("TRANSLUCID_VALIDATION", "1")
+            .env(
+                "ASAN_OPTIONS",
+                "detect_leaks=1:abort_on_error=0:exitcode=23",
+            )
+            .env("UBSAN_OPTIONS", "print_stacktrace=1:halt_on_error=1");
+        let result = command.output().expect("run the C API fuzzer");
+        let stdout = String::from_utf8_lossy(&result.stdout);
+        let stderr = String::from_utf8_lossy(&result.stderr);
+        // The last lines: the case that failed and why (stderr lists every case it started).
+        let tail: Vec<&str> = stderr.lines().rev().take(40).collect();
+        assert!(
+            result.status.success() && stdout.contains("every call kept the contract"),
+            "the C API fuzzer ({}) failed ({}):\n{stdout}\n{}",
+            args.join(" "),
+            result.status,
+            tail.into_iter().rev().collect::<Vec<_>>().join("\n")
+        );
+    }
 }

@@ -3,7 +3,7 @@
  * random arguments, on standalone contexts. Built with AddressSanitizer and UBSan (see the
  * README, "Fuzzing"), so that memory errors on either side of the API end the run.
  *
- *   fuzz_calls [--seed S] [--first N] [--cases N | --seconds T] [--calls K]
+ *   fuzz_calls [--seed S] [--first N] [--cases N | --seconds T] [--calls K] [--threads N]
  *
  * Case N of seed S is built from (S, N) alone: fresh contexts, K calls, everything
  * destroyed. Most calls carry one deliberate fault (a NULL pointer, a bad structure type,
@@ -12,9 +12,15 @@
  * some have several fields scrambled at once and may return any documented code. Every
  * call must leave a message when it fails, leave its out-parameter alone, and never panic.
  * A broken contract prints the case and exits 1; `--first N --cases 1` replays case N.
+ *
+ * With `--threads N`, N threads run cases at once (thread t takes cases first + t,
+ * first + t + N, ...), each on contexts of its own, as an engine with a context per thread
+ * would: what one thread does must not reach another's contexts, errors or objects. A case
+ * replays alone with the same result, since each is built from (S, N) alone.
  */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
+#include <pthread.h>
 #include <signal.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -33,7 +39,8 @@
 
 /* ---- random numbers: splitmix64, one stream per (seed, case) ---- */
 
-static uint64_t g_state;
+/* Per thread: each case runs on one thread, from its own stream. */
+static _Thread_local uint64_t g_state;
 
 static uint64_t next_u64(void) {
     uint64_t z = (g_state += 0x9E3779B97F4A7C15ull);
@@ -74,8 +81,8 @@ static uint32_t any_u32(void) {
 
 /* ---- the contract every call keeps ---- */
 
-static uint64_t g_seed, g_case;
-static unsigned long g_calls;
+static _Thread_local uint64_t g_seed, g_case;
+static _Thread_local unsigned long g_calls;
 
 static void broken(const char *call, int line, const char *what, translucid_result got,
                    const translucid_context *ctx) {
@@ -254,10 +261,10 @@ static enum handle_fault any_handle_fault(void) {
 
 /* ---- the calls ---- */
 
-static float g_positions[MAX_VERTICES * 3], g_normals[MAX_VERTICES * 3];
-static float g_colours[MAX_VERTICES * 4], g_uvs[MAX_VERTICES * 2];
-static uint32_t g_indices[MAX_VERTICES * 3];
-static uint8_t g_texels[MAX_SIDE * MAX_SIDE * 4];
+static _Thread_local float g_positions[MAX_VERTICES * 3], g_normals[MAX_VERTICES * 3];
+static _Thread_local float g_colours[MAX_VERTICES * 4], g_uvs[MAX_VERTICES * 2];
+static _Thread_local uint32_t g_indices[MAX_VERTICES * 3];
+static _Thread_local uint8_t g_texels[MAX_SIDE * MAX_SIDE * 4];
 
 static void mesh_create(state *s) {
     translucid_mesh_create_info info;
@@ -559,7 +566,8 @@ static float bad_channel(void) {
     }
 }
 
-static float g_opaque_colour[MAX_SIDE * MAX_SIDE * 4], g_opaque_depth[MAX_SIDE * MAX_SIDE];
+static _Thread_local float g_opaque_colour[MAX_SIDE * MAX_SIDE * 4];
+static _Thread_local float g_opaque_depth[MAX_SIDE * MAX_SIDE];
 
 static void frame_render(state *s) {
     translucid_draw draws[6];
@@ -1017,44 +1025,144 @@ static uint64_t number_arg(int argc, char **argv, int *i) {
     return strtoull(argv[++*i], NULL, 0);
 }
 
+#define MAX_THREADS 16
+
+/* What the threads share: the run's plan, and per thread the case it is in and since when
+ * (for the watchdog, since one alarm cannot time several threads). */
+typedef struct {
+    uint64_t seed, first, cases, seconds;
+    unsigned calls, threads;
+    time_t start;
+    pthread_mutex_t lock;
+    unsigned long calls_made;
+    uint64_t cases_run;
+    uint64_t current[MAX_THREADS];
+    time_t since[MAX_THREADS];
+    int running[MAX_THREADS];
+} run;
+
+static int more_cases(const run *r, uint64_t n) {
+    return r->cases ? n < r->first + r->cases
+                    : (uint64_t)(time(NULL) - r->start) < r->seconds;
+}
+
+typedef struct {
+    run *run;
+    unsigned index;
+} worker;
+
+static void *work(void *arg) {
+    worker *w = arg;
+    run *r = w->run;
+    uint64_t done = 0;
+    for (uint64_t n = r->first + w->index; more_cases(r, n); n += r->threads) {
+        pthread_mutex_lock(&r->lock);
+        r->current[w->index] = n;
+        r->since[w->index] = time(NULL);
+        pthread_mutex_unlock(&r->lock);
+        fprintf(stderr, "case %llu\n", (unsigned long long)n);
+        run_case(r->seed, n, r->calls);
+        done++;
+    }
+    pthread_mutex_lock(&r->lock);
+    r->calls_made += g_calls;
+    r->cases_run += done;
+    r->running[w->index] = 0;
+    pthread_mutex_unlock(&r->lock);
+    return NULL;
+}
+
+/* Runs the cases on r->threads threads; a case past CASE_TIMEOUT ends the run as a hang. */
+static void run_threads(run *r) {
+    pthread_t threads[MAX_THREADS];
+    worker workers[MAX_THREADS];
+    for (unsigned t = 0; t < r->threads; t++) {
+        workers[t].run = r;
+        workers[t].index = t;
+        r->running[t] = 1;
+        r->since[t] = time(NULL);
+        if (pthread_create(&threads[t], NULL, work, &workers[t]) != 0) {
+            fprintf(stderr, "fuzz_calls: no thread %u\n", t);
+            exit(2);
+        }
+    }
+    for (;;) {
+        int any = 0;
+        pthread_mutex_lock(&r->lock);
+        for (unsigned t = 0; t < r->threads; t++) {
+            if (r->running[t] && time(NULL) - r->since[t] > CASE_TIMEOUT) {
+                fprintf(stderr, "HANG: case %llu of seed %llu ran past %d s on thread %u\n",
+                        (unsigned long long)r->current[t], (unsigned long long)r->seed,
+                        CASE_TIMEOUT, t);
+                _exit(1);
+            }
+            any |= r->running[t];
+        }
+        pthread_mutex_unlock(&r->lock);
+        if (!any) {
+            break;
+        }
+        sleep(1);
+    }
+    for (unsigned t = 0; t < r->threads; t++) {
+        pthread_join(threads[t], NULL);
+    }
+}
+
 int main(int argc, char **argv) {
-    uint64_t seed = (uint64_t)time(NULL), first = 0, cases = 0, seconds = 0;
-    unsigned calls = 60;
+    static run r;
+    r.seed = (uint64_t)time(NULL);
+    r.calls = 60;
+    r.threads = 1;
     for (int i = 1; i < argc; i++) {
         if (strcmp(argv[i], "--seed") == 0) {
-            seed = number_arg(argc, argv, &i);
+            r.seed = number_arg(argc, argv, &i);
         } else if (strcmp(argv[i], "--first") == 0) {
-            first = number_arg(argc, argv, &i);
+            r.first = number_arg(argc, argv, &i);
         } else if (strcmp(argv[i], "--cases") == 0) {
-            cases = number_arg(argc, argv, &i);
+            r.cases = number_arg(argc, argv, &i);
         } else if (strcmp(argv[i], "--seconds") == 0) {
-            seconds = number_arg(argc, argv, &i);
+            r.seconds = number_arg(argc, argv, &i);
         } else if (strcmp(argv[i], "--calls") == 0) {
-            calls = (unsigned)number_arg(argc, argv, &i);
+            r.calls = (unsigned)number_arg(argc, argv, &i);
+        } else if (strcmp(argv[i], "--threads") == 0) {
+            r.threads = (unsigned)number_arg(argc, argv, &i);
         } else {
             fprintf(stderr,
                     "usage: fuzz_calls [--seed S] [--first N] [--cases N | --seconds T] "
-                    "[--calls K]\n");
+                    "[--calls K] [--threads N]\n");
             return 2;
         }
     }
-    if (cases == 0 && seconds == 0) {
-        cases = 1;
+    if (r.threads < 1 || r.threads > MAX_THREADS) {
+        fprintf(stderr, "fuzz_calls: --threads takes 1 to %d\n", MAX_THREADS);
+        return 2;
     }
-    fprintf(stderr, "fuzzing the C API: seed %llu, cases from %llu, %u calls each\n",
-            (unsigned long long)seed, (unsigned long long)first, calls);
-    time_t start = time(NULL);
-    uint64_t n = first;
-    for (; cases ? n < first + cases : (uint64_t)(time(NULL) - start) < seconds; n++) {
-        /* A hang ends the run by SIGALRM, with the case printed. */
-        fprintf(stderr, "case %llu\n", (unsigned long long)n);
-        alarm(CASE_TIMEOUT);
-        run_case(seed, n, calls);
-        alarm(0);
+    if (r.cases == 0 && r.seconds == 0) {
+        r.cases = 1;
     }
-    printf("fuzz_calls: %llu cases, %lu calls, %lld s, seed %llu: every call kept the "
-           "contract\n",
-           (unsigned long long)(n - first), g_calls, (long long)(time(NULL) - start),
-           (unsigned long long)seed);
+    fprintf(stderr, "fuzzing the C API: seed %llu, cases from %llu, %u calls each, %u thread%s\n",
+            (unsigned long long)r.seed, (unsigned long long)r.first, r.calls, r.threads,
+            r.threads == 1 ? "" : "s");
+    pthread_mutex_init(&r.lock, NULL);
+    r.start = time(NULL);
+    if (r.threads == 1) {
+        uint64_t n = r.first;
+        for (; more_cases(&r, n); n++) {
+            /* A hang ends the run by SIGALRM, with the case printed. */
+            fprintf(stderr, "case %llu\n", (unsigned long long)n);
+            alarm(CASE_TIMEOUT);
+            run_case(r.seed, n, r.calls);
+            alarm(0);
+        }
+        r.cases_run = n - r.first;
+        r.calls_made = g_calls;
+    } else {
+        run_threads(&r);
+    }
+    printf("fuzz_calls: %llu cases, %lu calls, %lld s, seed %llu, %u thread%s: every call kept "
+           "the contract\n",
+           (unsigned long long)r.cases_run, r.calls_made, (long long)(time(NULL) - r.start),
+           (unsigned long long)r.seed, r.threads, r.threads == 1 ? "" : "s");
     return 0;
 }
