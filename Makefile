@@ -29,8 +29,9 @@ test: deps lint
 # "Fuzzing"). `make test` runs both on fixed cases instead.
 CAPI_FUZZER = target/fuzz/fuzz_calls
 FUZZ_SEED ?= $(shell date +%s)
-# The C API fuzzer's threads, each on contexts of its own (1 to 16).
-FUZZ_THREADS ?= 1
+# More arguments for the C API fuzzer: `--threads N` (cases on N threads at once, each on
+# contexts of its own), `--host-device` (contexts on an engine's device).
+FUZZ_CAPI_ARGS ?=
 
 fuzz: deps
 	$(CARGO) run --release -p translucid-fuzz -- gltf --seconds $(FUZZ_SECONDS) --seed $(FUZZ_SEED)
@@ -38,7 +39,8 @@ fuzz: deps
 	mkdir -p target/fuzz
 	cc -std=c11 -pthread -g -O1 -fsanitize=address,undefined -fno-sanitize-recover=all \
 		-fno-omit-frame-pointer -Iinclude crates/translucid-ffi/tests/c/fuzz_calls.c \
+		crates/translucid-ffi/tests/c/fuzz_host.c crates/translucid-ffi/tests/c/engine.c \
 		crates/translucid-ffi/tests/c/keep_modules.c -o $(CAPI_FUZZER) \
-		-Ltarget/release -ltranslucid_ffi -Wl,-rpath,$(CURDIR)/target/release -lm
+		-Ltarget/release -ltranslucid_ffi -Wl,-rpath,$(CURDIR)/target/release -lm -lvulkan
 	TRANSLUCID_VALIDATION=1 ASAN_OPTIONS=detect_leaks=1 \
-		$(CAPI_FUZZER) --seconds $(FUZZ_SECONDS) --seed $(FUZZ_SEED) --threads $(FUZZ_THREADS)
+		$(CAPI_FUZZER) --seconds $(FUZZ_SECONDS) --seed $(FUZZ_SEED) $(FUZZ_CAPI_ARGS)

@@ -127,13 +127,19 @@ pub(crate) fn frame_request<'a>(
     if let Some(i) = draws
         .iter()
         .position(|d| d.layer == translucid_layer::Opaque as u32)
-        .filter(|_| layer.is_some() || objects.gpu.is_host_device())
     {
-        return Err(Failure::argument(format!(
-            "draws[{i}] is in TRANSLUCID_LAYER_OPAQUE, but the frame has the host's opaque \
-             layer: draw opaque geometry into that layer (host-device mode: into your colour \
-             and depth images), or leave opaque_layer NULL"
-        )));
+        if objects.gpu.is_host_device() {
+            return Err(Failure::argument(format!(
+                "draws[{i}] is in TRANSLUCID_LAYER_OPAQUE, but in host-device mode the opaque \
+                 layer is your colour and depth images: draw opaque geometry into them"
+            )));
+        }
+        if layer.is_some() {
+            return Err(Failure::argument(format!(
+                "draws[{i}] is in TRANSLUCID_LAYER_OPAQUE, but the frame has the host's opaque \
+                 layer: draw opaque geometry into that layer, or leave opaque_layer NULL"
+            )));
+        }
     }
     let request = FrameRequest {
         key: settings_key(info),

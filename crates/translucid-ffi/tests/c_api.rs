@@ -375,8 +375,10 @@ fn header_compiles_alone_as_c_and_cpp() {
 /// The C API fuzzer (`tests/c/fuzz_calls.c`) on a fixed set of cases, under AddressSanitizer
 /// and UBSan with validation on: random call sequences with random and broken arguments,
 /// each call held to its documented code; then other cases on four threads at once, each
-/// with contexts of its own. About a minute here; `make fuzz` runs it for as long as asked,
-/// with a fresh seed.
+/// with contexts of its own; then cases on an engine's device (`fuzz_host.c`), frames
+/// recorded into its command buffers over images of random formats and layouts, on two
+/// threads. About a minute and a half here; `make fuzz` runs it for as long as asked, with a
+/// fresh seed.
 #[test]
 fn c_api_fuzzer_keeps_the_contract_on_fixed_cases() {
     let tests = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/c");
@@ -392,14 +394,29 @@ fn c_api_fuzzer_keeps_the_contract_on_fixed_cases() {
     compile(
         "cc",
         &flags,
-        &[tests.join("fuzz_calls.c"), tests.join("keep_modules.c")],
+        &[
+            tests.join("fuzz_calls.c"),
+            tests.join("fuzz_host.c"),
+            tests.join("engine.c"),
+            tests.join("keep_modules.c"),
+        ],
         &binary,
-        &["-pthread"],
+        &["-lvulkan", "-pthread"],
     );
-    for args in [
-        ["--seed", "1", "--cases", "40", "--threads", "1"],
-        ["--seed", "2", "--cases", "16", "--threads", "4"],
-    ] {
+    let runs: [&[&str]; 3] = [
+        &["--seed", "1", "--cases", "40"],
+        &["--seed", "2", "--cases", "16", "--threads", "4"],
+        &[
+            "--seed",
+            "3",
+            "--cases",
+            "12",
+            "--threads",
+            "2",
+            "--host-device",
+        ],
+    ];
+    for args in runs {
         let mut command = Command::new(&binary);
         command
             .args(args)

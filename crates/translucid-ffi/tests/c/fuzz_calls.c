@@ -1,9 +1,11 @@
 /*
  * The C API fuzzer: random sequences of calls over create, render, read and destroy, with
- * random arguments, on standalone contexts. Built with AddressSanitizer and UBSan (see the
+ * random arguments, on standalone contexts (or an engine's device, below). Built with
+ * AddressSanitizer and UBSan (see the
  * README, "Fuzzing"), so that memory errors on either side of the API end the run.
  *
  *   fuzz_calls [--seed S] [--first N] [--cases N | --seconds T] [--calls K] [--threads N]
+ *              [--host-device]
  *
  * Case N of seed S is built from (S, N) alone: fresh contexts, K calls, everything
  * destroyed. Most calls carry one deliberate fault (a NULL pointer, a bad structure type,
@@ -17,6 +19,13 @@
  * first + t + N, ...), each on contexts of its own, as an engine with a context per thread
  * would: what one thread does must not reach another's contexts, errors or objects. A case
  * replays alone with the same result, since each is built from (S, N) alone.
+ *
+ * With `--host-device`, every context is made on an engine's device (fuzz_host.c: one
+ * device with every method's features, shared by the threads), and frames are recorded
+ * into the engine's command buffer over colour and depth images of random formats, sizes
+ * and layouts, submitted, waited for and completed: each must complete (or ask to be
+ * recorded again), and a float colour image must come back finite. Validation errors end
+ * the run.
  */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
@@ -29,7 +38,11 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "fuzz_host.h"
 #include "translucid.h"
+
+/* Whether contexts are made on the engine's device (--host-device). */
+static int g_host_mode;
 
 /* Seconds a case may take before SIGALRM ends the run as a hang. */
 #define CASE_TIMEOUT 120
@@ -596,7 +609,9 @@ static void frame_render(state *s) {
         d->transform[0] = d->transform[5] = d->transform[10] = scale;
         d->transform[15] = 1.0f;
         d->transform[12] = unit() - 0.5f;
-        d->layer = chance(80) ? TRANSLUCID_LAYER_TRANSPARENT : TRANSLUCID_LAYER_OPAQUE;
+        /* On the engine's device opaque geometry is the engine's to draw. */
+        d->layer = chance(80) || g_host_mode ? TRANSLUCID_LAYER_TRANSPARENT
+                                              : TRANSLUCID_LAYER_OPAQUE;
         if (chance(30)) {
             for (int c = 0; c < 4; c++) d->tint[c] = unit() * 1.5f;
         }
@@ -711,6 +726,17 @@ static void frame_render(state *s) {
         case 13: /* The engine's opaque layer, HDR up to the limit. */
         case 14: { /* ... with one value out of its range. */
                 size_t pixels = (size_t)info.width * info.height;
+                if (g_host_mode) {
+                    /* There the opaque layer is the engine's images: a layer in the frame
+                     * info, or an opaque draw, is refused. */
+                    if (pick == 13 || draw_count == 0) {
+                        info.opaque_layer = &opaque;
+                    } else {
+                        draws[below(draw_count)].layer = TRANSLUCID_LAYER_OPAQUE;
+                    }
+                    want = TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT;
+                    break;
+                }
                 if (pixels > MAX_SIDE * MAX_SIDE) {
                     break;
                 }
@@ -759,15 +785,32 @@ static void frame_render(state *s) {
         default: break;
         }
     }
-    translucid_result got = translucid_frame_render(s->ctx, &info, out);
-    check(got, want, s->ctx, "translucid_frame_render", __LINE__);
-    check_out(got, out ? frame.id : UNTOUCHED, s->ctx, "translucid_frame_render", __LINE__);
+    const char *call = g_host_mode ? "translucid_frame_record" : "translucid_frame_render";
+    fuzz_host_outcome outcome = {TRANSLUCID_RESULT_SUCCESS, 1};
+    translucid_result got = g_host_mode ? fuzz_host_frame(s->ctx, &info, out, below, &outcome)
+                                        : translucid_frame_render(s->ctx, &info, out);
+    check(got, want, s->ctx, call, __LINE__);
+    check_out(got, out ? frame.id : UNTOUCHED, s->ctx, call, __LINE__);
     if (got != TRANSLUCID_RESULT_SUCCESS || !out) {
         return;
     }
     remember(&s->frames, frame.id);
     if (info.frame_index > s->frame_index) {
         s->frame_index = info.frame_index;
+    }
+    if (g_host_mode) {
+        /* A recorded frame completes once its submission has finished; INCOMPLETE asks
+         * for it to be recorded again. Its pixels are the engine's colour image. */
+        if (outcome.completed != TRANSLUCID_RESULT_SUCCESS &&
+            outcome.completed != TRANSLUCID_RESULT_INCOMPLETE) {
+            broken("translucid_frame_complete", __LINE__, "a submitted frame did not complete",
+                   outcome.completed, s->ctx);
+        }
+        if (!outcome.finite) {
+            broken("translucid_frame_record", __LINE__, "a composited pixel is not finite", got,
+                   s->ctx);
+        }
+        return;
     }
     /* A rendered frame reads back whole, with finite pixels. */
     size_t pixels = (size_t)info.width * info.height;
@@ -798,6 +841,10 @@ static void frame_use(state *s) {
         /* The right size is the frame's, which is not kept here. */
         check(got, want == TRANSLUCID_RESULT_SUCCESS || format > 1 ? ANY : want, s->ctx,
               "translucid_frame_read", __LINE__);
+        if (g_host_mode && got >= 0) {
+            broken("translucid_frame_read", __LINE__, "read pixels of a host-device frame", got,
+                   s->ctx);
+        }
         if (format > 1 && want == TRANSLUCID_RESULT_SUCCESS && got >= 0) {
             broken("translucid_frame_read", __LINE__, "an undefined format succeeded", got,
                    s->ctx);
@@ -827,7 +874,13 @@ static void frame_use(state *s) {
         char path[96];
         snprintf(path, sizeof path, "/tmp/translucid-fuzz-%ld/frame.png", (long)getpid());
         translucid_result got = translucid_frame_write_png(s->ctx, frame, path);
-        check(got, want, s->ctx, "translucid_frame_write_png", __LINE__);
+        /* A host-device frame's pixels are the engine's: it has none to write. */
+        check(got, g_host_mode && want == TRANSLUCID_RESULT_SUCCESS ? ANY : want, s->ctx,
+              "translucid_frame_write_png", __LINE__);
+        if (g_host_mode && got >= 0) {
+            broken("translucid_frame_write_png", __LINE__, "wrote a host-device frame", got,
+                   s->ctx);
+        }
         remove(path);
         break;
     }
@@ -876,7 +929,7 @@ static void misc(state *s) {
         break;
     }
     case 3: {
-        /* Recording is host-device only. */
+        /* Recording is host-device only; in that mode, empty targets are refused. */
         translucid_frame frame = {UNTOUCHED};
         translucid_frame_info info;
         memset(&info, 0, sizeof info);
@@ -888,7 +941,8 @@ static void misc(state *s) {
         check(got, ANY, s->ctx, "translucid_frame_record", __LINE__);
         if (got >= 0 || frame.id != UNTOUCHED) {
             broken("translucid_frame_record", __LINE__,
-                   "recorded, or wrote its out-parameter, on a standalone context", got, s->ctx);
+                   "recorded without targets or on a standalone context, or wrote its "
+                   "out-parameter", got, s->ctx);
         }
         break;
     }
@@ -897,7 +951,9 @@ static void misc(state *s) {
         translucid_result got =
             translucid_frame_complete(s->ctx, (translucid_frame){o ? o->id : any_u32()});
         check(got, ANY, s->ctx, "translucid_frame_complete", __LINE__);
-        if (got >= 0) {
+        /* Host-device frames were completed when made; completing one again is not
+         * specified here. */
+        if (got >= 0 && !g_host_mode) {
             broken("translucid_frame_complete", __LINE__, "a standalone frame completed", got,
                    s->ctx);
         }
@@ -935,6 +991,10 @@ static translucid_context *new_context(void) {
     memset(&info, 0, sizeof info);
     info.s_type = TRANSLUCID_STRUCTURE_TYPE_CONTEXT_CREATE_INFO;
     info.header_version = TRANSLUCID_HEADER_VERSION;
+    if (g_host_mode) {
+        info.mode = TRANSLUCID_CONTEXT_MODE_HOST_DEVICE;
+        info.next = fuzz_host_device_info();
+    }
     translucid_context *ctx = NULL;
     translucid_result got = translucid_context_create(&info, &ctx);
     if (got != TRANSLUCID_RESULT_SUCCESS) {
@@ -1064,6 +1124,7 @@ static void *work(void *arg) {
         run_case(r->seed, n, r->calls);
         done++;
     }
+    fuzz_host_thread_end();
     pthread_mutex_lock(&r->lock);
     r->calls_made += g_calls;
     r->cases_run += done;
@@ -1127,10 +1188,12 @@ int main(int argc, char **argv) {
             r.calls = (unsigned)number_arg(argc, argv, &i);
         } else if (strcmp(argv[i], "--threads") == 0) {
             r.threads = (unsigned)number_arg(argc, argv, &i);
+        } else if (strcmp(argv[i], "--host-device") == 0) {
+            g_host_mode = 1;
         } else {
             fprintf(stderr,
                     "usage: fuzz_calls [--seed S] [--first N] [--cases N | --seconds T] "
-                    "[--calls K] [--threads N]\n");
+                    "[--calls K] [--threads N] [--host-device]\n");
             return 2;
         }
     }
@@ -1141,9 +1204,13 @@ int main(int argc, char **argv) {
     if (r.cases == 0 && r.seconds == 0) {
         r.cases = 1;
     }
-    fprintf(stderr, "fuzzing the C API: seed %llu, cases from %llu, %u calls each, %u thread%s\n",
+    fprintf(stderr,
+            "fuzzing the C API: seed %llu, cases from %llu, %u calls each, %u thread%s%s\n",
             (unsigned long long)r.seed, (unsigned long long)r.first, r.calls, r.threads,
-            r.threads == 1 ? "" : "s");
+            r.threads == 1 ? "" : "s", g_host_mode ? ", on an engine's device" : "");
+    if (g_host_mode) {
+        fuzz_host_start();
+    }
     pthread_mutex_init(&r.lock, NULL);
     r.start = time(NULL);
     if (r.threads == 1) {
@@ -1157,12 +1224,21 @@ int main(int argc, char **argv) {
         }
         r.cases_run = n - r.first;
         r.calls_made = g_calls;
+        fuzz_host_thread_end();
     } else {
         run_threads(&r);
     }
-    printf("fuzz_calls: %llu cases, %lu calls, %lld s, seed %llu, %u thread%s: every call kept "
-           "the contract\n",
+    if (g_host_mode) {
+        int errors = fuzz_host_stop();
+        if (errors > 0) {
+            fprintf(stderr, "fuzz_calls: %d validation errors (above)\n", errors);
+            return 1;
+        }
+    }
+    printf("fuzz_calls: %llu cases, %lu calls, %lld s, seed %llu, %u thread%s%s: every call "
+           "kept the contract\n",
            (unsigned long long)r.cases_run, r.calls_made, (long long)(time(NULL) - r.start),
-           (unsigned long long)r.seed, r.threads, r.threads == 1 ? "" : "s");
+           (unsigned long long)r.seed, r.threads, r.threads == 1 ? "" : "s",
+           g_host_mode ? ", host device" : "");
     return 0;
 }
