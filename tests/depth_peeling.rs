@@ -14,35 +14,39 @@ use translucid_tests::{
 const WIDTH: u32 = 160;
 const HEIGHT: u32 = 120;
 
-/// Scenes where nothing crosses and nothing is textured: every pixel within 2/255 of the
-/// reference once the passes (grown from a few, the frame rendered again) peel every layer,
-/// up to the dozens of spheres and boxes.
+/// Every pixel within 2/255 of the reference once the passes (grown from a few, the frame
+/// rendered again) peel every layer, up to the dozens of spheres and boxes, crossing planes
+/// and the glass vase: fragments are ordered by the reference's depth.
 #[test]
 fn depth_peeling_matches_the_reference_on_every_pixel() {
+    let vase = asset("GlassVaseFlowers/GlassVaseFlowers.glb");
     assert_every_pixel_matches(
         &gpu(),
         "depth_peeling",
-        &["layers", "spheres", "boxes", "polychrome"],
+        &[
+            "layers",
+            "spheres",
+            "boxes",
+            "polychrome",
+            "planes",
+            vase.to_str().expect("utf-8 path"),
+        ],
         (WIDTH, HEIGHT),
     );
 }
 
-/// As linked_list's test of the same name: the driver rasterizes these fragments, so where
-/// surfaces cross within its rounding a pixel may peel them in the other order, and the
-/// grazing textured floor may take another mip level. Measured when set, at 160x120: 0 or 1
-/// such pixels on the geometry; every other pixel is within 2/255.
+/// As linked_list's test of the same name: the driver decides these fragments' coverage and
+/// the textured floor's mip level; and where two particles' fragments meet at exactly one
+/// depth they peel as one layer (the README says so). Measured when set: 2 pixels on the
+/// hairball, 1 on the particles; every other pixel is within 2/255.
 #[test]
 fn depth_peeling_matches_the_reference_but_where_the_driver_rasterizes() {
-    let gpu = gpu();
-    let vase = asset("GlassVaseFlowers/GlassVaseFlowers.glb");
     assert_within_the_drivers_rasterization(
-        &gpu,
+        &gpu(),
         "depth_peeling",
         &[
-            ("planes", 4, (WIDTH, HEIGHT)),
             ("hairball", 4, (WIDTH, HEIGHT)),
             ("particles", 4, (96, 64)),
-            (vase.to_str().expect("utf-8 path"), 16, (WIDTH, HEIGHT)),
             ("textured", 480 * 270 / 400, (480, 270)),
         ],
     );
