@@ -1,6 +1,6 @@
 // What scene/ordered.geom hands each fragment of a triangle (flat): its setup under the
-// reference's fixed-point rules, for mesh_fragment.glsl's order depth. An `out` block in the
-// geometry stage, an `in` block in the fragment stage.
+// reference's fixed-point rules, for mesh_fragment.glsl's order depth. Outputs of the
+// geometry stage; inputs of the fragment stage, which defines ORDER_SETUP_IN.
 #ifndef TRANSLUCID_ORDER_SETUP_GLSL
 #define TRANSLUCID_ORDER_SETUP_GLSL
 

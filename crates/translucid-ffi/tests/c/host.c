@@ -426,6 +426,10 @@ static void frame_errors(const scene *s) {
         info.draw_count = 1;
         EXPECT(g_host, translucid_frame_record(g_host, &info, &targets, &frame),
                TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+        /* Says where opaque geometry goes on the engine's device, not the standalone advice
+         * to leave opaque_layer NULL, which it is. */
+        TRUE_OR_FAIL(strstr(translucid_context_last_error(g_host), "host-device mode") != NULL);
+        TRUE_OR_FAIL(strstr(translucid_context_last_error(g_host), "opaque_layer NULL") == NULL);
         info = frame_info(TRANSLUCID_METHOD_BLEND, s);
     }
     EXPECT(g_host, translucid_frame_render(g_host, &info, &frame),
