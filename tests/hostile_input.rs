@@ -84,6 +84,52 @@ fn far_and_extreme_scale_scenes_shade_as_at_the_origin() {
     }
 }
 
+/// A lit quad with vertex normals under a model matrix that flattens it (a zero scale on one
+/// axis, as a fuzzed glTF node had): the normals' matrix is singular there. Every method
+/// shades it as the reference does (the GPU took the 3x3's inverse, NaN, and dropped the
+/// diffuse term: 4.9/255 off on the fuzzed vase), and under mirroring and huge or tiny
+/// scales too.
+#[test]
+fn flattened_mirrored_and_scaled_draws_shade_their_normals_as_the_reference() {
+    let gpu = gpu();
+    let corners = vec![
+        Vec3::new(-1.5, -1.0, -0.5),
+        Vec3::new(1.5, -1.0, -1.5),
+        Vec3::new(1.5, 1.0, -1.0),
+        Vec3::new(-1.5, 1.0, 0.0),
+    ];
+    let mut mesh = Mesh::from_quads("tilted", corners, vec![[0, 1, 2, 3]]);
+    mesh.normals = Some(vec![Vec3::new(0.3, 0.2, 1.0).normalize(); 4]);
+    let material = Material {
+        lit: true,
+        double_sided: true,
+        ..Material::alpha(Vec3::new(0.9, 0.6, 0.3), 0.7)
+    };
+    let camera = Camera::look_at(Vec3::new(0.0, 0.0, 3.0), Vec3::ZERO, 0.8, 0.1, 20.0);
+    let base = one_draw_scene("normals", mesh, material, camera);
+    let cases = [
+        ("flattened in z", Vec3::new(1.0, 1.0, 0.0)),
+        ("mirrored in x", Vec3::new(-1.0, 1.0, 1.0)),
+        ("z scaled by 1e-30", Vec3::new(1.0, 1.0, 1e-30)),
+        ("z scaled by 1e30", Vec3::new(1.0, 1.0, 1e30)),
+    ];
+    for (name, scale) in cases {
+        let mut scene = base.clone();
+        scene.transparent[0].transform = Mat4::from_scale(scale);
+        for kind in MethodKind::ALL {
+            let method = kind.name();
+            let (m, got, want) = against_reference(&gpu, &scene, method, SIZE.0, SIZE.1);
+            assert!(
+                m.within(2.0 / 255.0),
+                "{method}, {name}: {:.1}/255 off the reference on {} pixels ({})",
+                m.max_error * 255.0,
+                m.pixels_over,
+                save_failure(&format!("normals_{method}_{name}"), &got, &want).display()
+            );
+        }
+    }
+}
+
 /// A lit quad without normals 1e31 across, seen through a camera whose near plane is 1e30
 /// and far plane 3e38: every method's frame is finite and matches the reference (exact and
 /// wavelet gave NaN over such surfaces, and through an engine the pixels read back NaN).

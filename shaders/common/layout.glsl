@@ -22,7 +22,7 @@ struct Material {
 // One draw (std430, 144 bytes).
 struct DrawInfo {
     mat4 model;
-    mat4 normalMatrix;      // inverse transpose of model's upper 3x3, in a mat4
+    mat4 normalMatrix;      // shading::normal_matrix of model, in a mat4
     uint materialIndex;
     uint flags;             // DRAW_*
     uint firstQuad;         // index of the draw's first quad in the scene's quad buffer

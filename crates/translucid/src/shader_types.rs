@@ -84,8 +84,7 @@ impl GpuMaterial {
 
 impl GpuDrawInfo {
     pub fn new(draw: &Draw, mesh: &Mesh, first_quad: u32) -> Self {
-        let normal_matrix =
-            Mat4::from_mat3(glam::Mat3::from_mat4(draw.transform).inverse().transpose());
+        let normal_matrix = Mat4::from_mat3(crate::shading::normal_matrix(&draw.transform));
         Self {
             model: draw.transform.to_cols_array(),
             normal_matrix: normal_matrix.to_cols_array(),

@@ -18,7 +18,7 @@
 #![deny(unsafe_code)]
 
 use crate::scene::{Light, Material};
-use glam::{Vec3, Vec4};
+use glam::{DMat3, Mat3, Mat4, Vec3, Vec4};
 
 /// The largest colour value translucid takes and gives: the largest finite half float, what
 /// the colour targets hold. Colour inputs (base colours, vertex colours, tints, the light,
@@ -66,6 +66,31 @@ fn to_unit_scale(v: Vec3) -> Vec3 {
 /// `v` at unit length, or zero when it has no direction (zero or not finite), at any scale.
 pub fn unit_or_zero(v: Vec3) -> Vec3 {
     to_unit_scale(v).normalize_or_zero()
+}
+
+/// The matrix that takes a draw's vertex normals to world space, for the reference and the
+/// GPU alike: the cofactor matrix of the model's upper 3x3 (its inverse transpose times its
+/// determinant, so it is defined for a singular model, one that flattens the mesh, where the
+/// inverse is not; the sign a mirroring model gives it does not matter to two-sided
+/// lighting, and normals are made unit after it). Computed in f64 and scaled so that its
+/// largest entry is 1, so that no scale of the model overflows or underflows it; zero when
+/// every entry is.
+pub fn normal_matrix(model: &Mat4) -> Mat3 {
+    let m = Mat3::from_mat4(*model).as_dmat3();
+    let cofactors = DMat3::from_cols(
+        m.y_axis.cross(m.z_axis),
+        m.z_axis.cross(m.x_axis),
+        m.x_axis.cross(m.y_axis),
+    );
+    let largest = cofactors
+        .to_cols_array()
+        .iter()
+        .fold(0.0f64, |most, v| most.max(v.abs()));
+    if largest > 0.0 && largest.is_finite() {
+        (cofactors * (1.0 / largest)).as_mat3()
+    } else {
+        Mat3::ZERO
+    }
 }
 
 /// The face normal of a triangle with edges `e1` and `e2` from one corner (unnormalised, its

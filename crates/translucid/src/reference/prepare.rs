@@ -41,12 +41,7 @@ impl<'s> DrawData<'s> {
                 .map(|&p| draw.transform.transform_point3(p))
                 .collect()
         });
-        let m = Mat3::from_mat4(draw.transform);
-        let normal_matrix = Mat3::from_cols(
-            m.y_axis.cross(m.z_axis),
-            m.z_axis.cross(m.x_axis),
-            m.x_axis.cross(m.y_axis),
-        );
+        let normal_matrix = crate::shading::normal_matrix(&draw.transform);
         Self {
             draw,
             mesh,
