@@ -14,8 +14,6 @@ layout(local_size_x = BINNING_GROUP_SIZE) in;
 
 void main() {
     uint ti = binningTriangle();
-    uint lo = g_counters.depthLo;
-    uint range = slabRange(lo, g_counters.depthHi);
     // Records sit at their triangles' order keys, two per quad; culled ones are holes with
     // empty bounds, which enter no bin.
     if (ti >= 2u * u_push.itemCount) {
@@ -25,7 +23,7 @@ void main() {
     ivec4 r = binRect(t.bounds);
     ivec2 rows = sliceRows(r);
     uvec2 depth = triangleDepthBits(t);
-    uint slab = slabOf(depth.x, lo, range);
+    uint slab = slabOf(depth.x, ti);
     // Do-whiles (raster.comp says why) over the invocation's rows and each row's run of
     // blocks.
     int by = rows.x + binningLane();

@@ -7,14 +7,18 @@
 
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 
-// Each bin's list holds SLABS depth slabs, near to far. Slabs split the frame's range of
-// triangle view depths (BinCounters.depthLo..depthHi) evenly in float-bit space, which is
-// close to logarithmic in depth, and a triangle goes to the slab of its nearest vertex.
-// Walking the slabs in order, a pixel that already holds its nearest fragments can stop at
-// the first slab whose floor is past them. Shallow frames keep one slab, since more cost a
-// longer scan; the host sets SLAB_BITS (a specialization constant of the binning and raster
-// stages) for pixels expected or found deep, about one slab for every few fragments of a
-// pixel (features.rs), so that a slab's part of a pixel's fragments fits its selection.
+// Each bin's list holds SLABS slabs, near to far. A triangle's place in the frame's order is
+// the key (depth bits of its nearest vertex, order key) (positive floats order like their
+// bits), and its fragments' keys are never less. Slabs split that order at keys the slab plan
+// (slab_plan.comp) chooses each frame so that each slab takes about as many bin entries,
+// from a histogram of the triangles' depths (slab_histogram.comp): where depth bunches, slabs
+// are finer, and where many triangles share one depth (coincident surfaces, instances drawn
+// in one place) they split it by order key. Walking the slabs in order, a pixel that already
+// holds its nearest fragments can stop at the first slab whose floor is past them. Shallow
+// frames keep one slab, since more cost a longer scan; the host sets SLAB_BITS (a
+// specialization constant of the binning and raster stages) for pixels expected or found
+// deep, about one slab for every few fragments of a pixel (features.rs), so that a slab's
+// part of a pixel's fragments fits its selection.
 layout(constant_id = 6) const uint SLAB_BITS = 0u;
 const uint SLABS = 1u << SLAB_BITS;
 
@@ -110,9 +114,9 @@ bool ordersByZ() {
 }
 
 // Bits of a triangle's nearest and farthest vertex order depth (orderDepth in
-// bin_fragment.glsl: clip w, or z_ndc + 1 within the depth clip), widened by a relative
-// 2^-12 so that every fragment's interpolated depth, rounded in float, lies between them.
-// Homogeneous triangles (a vertex may be behind the eye) span everything.
+// bin_fragment.glsl: clip w, or z_ndc + 1 within the depth clip): every fragment's depth lies
+// between them, since interpolation clamps it to the vertices' range (raster_rules.glsl),
+// computed as here. Homogeneous triangles (a vertex may be behind the eye) span everything.
 uvec2 triangleDepthBits(BinTriangle t) {
     if (t.edgeB.w >= 0) {
         return uvec2(0u, 0x7F800000u);
@@ -123,27 +127,40 @@ uvec2 triangleDepthBits(BinTriangle t) {
         nearest = max(min(min(t.zNdc.x, t.zNdc.y), t.zNdc.z), 0.0) + 1.0;
         farthest = min(max(max(t.zNdc.x, t.zNdc.y), t.zNdc.z), 1.0) + 1.0;
     }
-    return uvec2(floatBitsToUint(nearest * (1.0 - 1.0 / 4096.0)),
-                 floatBitsToUint(farthest * (1.0 + 1.0 / 4096.0)));
+    return uvec2(floatBitsToUint(nearest), floatBitsToUint(farthest));
 }
 
-// Slabs split the depth bits from the frame's nearest, `lo`, to its farthest, `hi`, into
-// SLABS equal parts (to within one): the depth-bit values a slab spans.
+// The histogram's buckets split the depth bits from the frame's nearest, `lo`, to its
+// farthest, `hi`, into MAX_SLABS equal parts (to within one): the depth-bit values a bucket
+// spans.
 uint slabRange(uint lo, uint hi) {
     return hi >= lo ? hi - lo + 1u : 1u;
 }
 
-// The slab of depth bits `bits`: depths nearer than `lo` (homogeneous triangles) go to the
-// first, farther than `hi` to the last.
-uint slabOf(uint bits, uint lo, uint range) {
+// The histogram bucket of depth bits `bits`: depths nearer than `lo` (homogeneous
+// triangles) go to the first, farther than `hi` to the last.
+uint bucketOf(uint bits, uint lo, uint range) {
     uint64_t offset = uint64_t(max(bits, lo) - lo);
-    return uint(min(offset * uint64_t(SLABS) / uint64_t(range), uint64_t(SLABS - 1u)));
+    return uint(min(offset * uint64_t(MAX_SLABS) / uint64_t(range), uint64_t(MAX_SLABS - 1u)));
 }
 
-// The least depth bits a triangle of slab `slab` may have: the least b with slabOf(b) = slab.
-uint slabFloor(uint slab, uint lo, uint range) {
-    uint64_t scaled = uint64_t(slab) * uint64_t(range) + uint64_t(SLABS - 1u);
-    return slab == 0u ? 0u : lo + uint(scaled / uint64_t(SLABS));
+// The least key a fragment of slab `slab` may have (0 for the first).
+uint64_t slabFloorKey(uint slab) {
+    return SLABS > 1u ? (uint64_t(g_counters.slabFloorBits[slab]) << 32) |
+                            uint64_t(g_counters.slabFloorOrder[slab])
+                      : 0ul;
+}
+
+// The slab of a triangle whose nearest vertex has depth bits `bits` and whose order key is
+// `order`: the last whose floor is not past that key. Floors never decrease from one slab to
+// the next, so a slab whose floor equals the next one's is empty.
+uint slabOf(uint bits, uint order) {
+    uint64_t key = (uint64_t(bits) << 32) | uint64_t(order);
+    uint slab = 0u;
+    [[unroll]] for (uint step = SLABS >> 1u; step > 0u; step >>= 1u) {
+        slab += slabFloorKey(slab + step) <= key ? step : 0u;
+    }
+    return slab;
 }
 
 // Narrows the open interval (lo, hi) of fixed-point x at which edge (a, b, c) with tie bias

@@ -200,6 +200,20 @@ struct BinCounters {
     // cost).
     uint statistics[STATISTICS_WORDS];
     uint slabFarthest[MAX_SLABS]; // per depth slab: bits of its triangles' farthest vertex
+    // Where deep frames' slabs start (bin_lists.glsl): per slab, the least (depth bits, order
+    // key) of a triangle it may hold, written by the slab plan (slab_plan.comp).
+    uint slabFloorBits[MAX_SLABS];
+    uint slabFloorOrder[MAX_SLABS];
+    // What the plan reads, gathered by slab_histogram.comp: MAX_SLABS buckets evenly over
+    // depthLo..depthHi, each with the bins its triangles enter (a 64-bit sum in two words) and
+    // the range of their nearest depth bits and of their order keys. Minima are kept
+    // complemented, so that a zeroed bucket is empty and atomicMax takes the least.
+    uint bucketWeightLo[MAX_SLABS];
+    uint bucketWeightHi[MAX_SLABS];
+    uint bucketNearestLeast[MAX_SLABS];  // ~least
+    uint bucketNearestMost[MAX_SLABS];
+    uint bucketOrderLeast[MAX_SLABS];    // ~least
+    uint bucketOrderMost[MAX_SLABS];
 };
 
 // A texture for the software sampler (std430, 32 bytes).

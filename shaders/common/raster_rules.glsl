@@ -76,10 +76,16 @@ RasterSample interpolateEdges(i64vec3 e, vec4 zNdcInvArea, vec3 invW) {
     precise float q2 = l2 * invW.z;
     precise float depth = 1.0 / ((q0 + q1) + q2);
     precise vec3 b = vec3(q0 * depth, q1 * depth, q2 * depth);
+    // Rounding may carry an interpolated depth a little past the vertices' range; clamped
+    // back, every fragment of a triangle whose vertices share a depth has exactly that depth,
+    // and none is nearer than the nearest vertex, which is where the bins place the triangle
+    // (bin_lists.glsl).
     RasterSample s;
     s.barycentric = b;
-    s.zNdc = z;
-    s.viewDepth = depth;
+    s.zNdc = min(max(z, min(min(zNdcInvArea.x, zNdcInvArea.y), zNdcInvArea.z)),
+                 max(max(zNdcInvArea.x, zNdcInvArea.y), zNdcInvArea.z));
+    s.viewDepth = min(max(depth, 1.0 / max(max(invW.x, invW.y), invW.z)),
+                      1.0 / min(min(invW.x, invW.y), invW.z));
     return s;
 }
 

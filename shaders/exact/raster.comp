@@ -130,8 +130,6 @@ void main() {
     uint bin = (block * BIN_SIZE + row) * SLABS;
     uint first = binStart(block, row, bin);
     uint end = g_binEnds[bin + SLABS - 1u];
-    uint depthLo = g_counters.depthLo;
-    uint range = slabRange(depthLo, g_counters.depthHi);
     uint x = (block % u_push.binsX) * BIN_SIZE + gl_LocalInvocationID.x;
     uint y = (block / u_push.binsX) * BIN_SIZE + row;
     if (x >= u_push.width || y >= u_push.height) {
@@ -225,7 +223,7 @@ void main() {
         // sweep is over. (Its own exit: a vote would be a loop over the lanes.)
         if (!finished) do {
             // Every entry of the stretch is of one slab, so its floor is the stretch's.
-            uint64_t floorKey = uint64_t(slabFloor(min(slab, SLABS - 1u), depthLo, range)) << 32;
+            uint64_t floorKey = slabFloorKey(min(slab, SLABS - 1u));
             // The entries of this stretch the budget has room for, after its shading and the
             // search for the next slab: all of them, but for rows whose lists are very long. A row that cannot walk them all
             // walks what it can and is suspended below, before compositing anything.
@@ -294,7 +292,7 @@ void main() {
                 nextTo = slabEnd(bin, next);
                 spent++;
             } while (nextTo == to);
-            uint64_t limit = nextFound ? uint64_t(slabFloor(next, depthLo, range)) << 32 : NO_KEY;
+            uint64_t limit = nextFound ? slabFloorKey(next) : NO_KEY;
             // Composite, nearest first, what nothing unwalked or dropped can come before:
             // slot 0, then shift the selection left (SELECT_SIZE moves; picking slot i by
             // selects instead would need the kept slots compacted before the next stretch's

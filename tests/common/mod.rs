@@ -149,25 +149,37 @@ pub fn near_plane_scene() -> Scene {
     }
 }
 
-/// `count` triangles over all of an 8x8-pixel frame, all at one depth, so that every row's
-/// list holds all of them and no depth slab splits it.
+/// `count` triangles over all of an 8x8-pixel frame, all at one depth but the last, a
+/// hair behind the others, so that every row's list holds all of them and no slab splits
+/// it: slabs split a depth by order key only where all the triangles of its histogram
+/// bucket share it (bin_lists.glsl), and a far triangle behind them all makes the
+/// buckets wide.
 pub fn crowded_bin(count: u32) -> Scene {
     let mut positions = Vec::new();
     let mut triangles = Vec::new();
     for i in 0..count {
         // Each a little turned, so that they are not all the same triangle.
         let turn = glam::Quat::from_rotation_z(i as f32 * 0.001);
+        let z = if i + 1 == count { -2.00001 } else { -2.0 };
         let first = positions.len() as u32;
+        // (z set after the turn, which would round it.)
         positions.extend(
             [
-                Vec3::new(-6.0, -6.0, -2.0),
-                Vec3::new(6.0, -6.0, -2.0),
-                Vec3::new(0.0, 6.0, -2.0),
+                Vec3::new(-6.0, -6.0, 0.0),
+                Vec3::new(6.0, -6.0, 0.0),
+                Vec3::new(0.0, 6.0, 0.0),
             ]
-            .map(|p| turn * p),
+            .map(|p| (turn * p).truncate().extend(z)),
         );
         triangles.push([first, first + 1, first + 2]);
     }
+    let first = positions.len() as u32;
+    positions.extend([
+        Vec3::new(-60.0, -60.0, -19.0),
+        Vec3::new(60.0, -60.0, -19.0),
+        Vec3::new(0.0, 60.0, -19.0),
+    ]);
+    triangles.push([first, first + 1, first + 2]);
     one_draw_scene(
         "crowded bin",
         Mesh::from_triangles("crowd", positions, &triangles),

@@ -500,6 +500,14 @@ impl Triangle {
     }
 }
 
+fn min3f(v: [f32; 3]) -> f32 {
+    v[0].min(v[1]).min(v[2])
+}
+
+fn max3f(v: [f32; 3]) -> f32 {
+    v[0].max(v[1]).max(v[2])
+}
+
 fn min3(v: [i64; 3]) -> i64 {
     v[0].min(v[1]).min(v[2])
 }
@@ -526,7 +534,12 @@ fn fixed_sample(f: &FixedSetup, e: [i64; 3]) -> Option<Sample> {
     let z_ndc = (lambda[0] * f.z_ndc[0] + lambda[1] * f.z_ndc[1]) + lambda[2] * f.z_ndc[2];
     let q = [0, 1, 2].map(|k| lambda[k] * f.inv_w[k]);
     let view_depth = 1.0 / ((q[0] + q[1]) + q[2]);
-    finish(q.map(|v| v * view_depth), z_ndc, view_depth)
+    let b = q.map(|v| v * view_depth);
+    // Back within the vertices' range, which rounding may leave (raster_rules.glsl).
+    let within = |v: f32, lo: f32, hi: f32| v.max(lo).min(hi);
+    let (z_lo, z_hi) = (min3f(f.z_ndc), max3f(f.z_ndc));
+    let (w_lo, w_hi) = (1.0 / max3f(f.inv_w), 1.0 / min3f(f.inv_w));
+    finish(b, within(z_ndc, z_lo, z_hi), within(view_depth, w_lo, w_hi))
 }
 
 /// Interpolation on the homogeneous path.

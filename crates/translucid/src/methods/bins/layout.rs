@@ -106,6 +106,15 @@ pub struct BinCounters {
     pub pad: [u32; 7],
     pub statistics: [[u32; 16]; STATISTICS_SLOTS as usize],
     pub slab_farthest: [u32; MAX_SLABS as usize],
+    pub slab_floor_bits: [u32; MAX_SLABS as usize],
+    pub slab_floor_order: [u32; MAX_SLABS as usize],
+    pub bucket_weight_lo: [u32; MAX_SLABS as usize],
+    pub bucket_weight_hi: [u32; MAX_SLABS as usize],
+    /// Complemented, as the other `_least`.
+    pub bucket_nearest_least: [u32; MAX_SLABS as usize],
+    pub bucket_nearest_most: [u32; MAX_SLABS as usize],
+    pub bucket_order_least: [u32; MAX_SLABS as usize],
+    pub bucket_order_most: [u32; MAX_SLABS as usize],
 }
 
 impl Default for BinCounters {
@@ -331,6 +340,14 @@ mod tests {
             offset_of!(BinCounters, pad),
             offset_of!(BinCounters, statistics),
             offset_of!(BinCounters, slab_farthest),
+            offset_of!(BinCounters, slab_floor_bits),
+            offset_of!(BinCounters, slab_floor_order),
+            offset_of!(BinCounters, bucket_weight_lo),
+            offset_of!(BinCounters, bucket_weight_hi),
+            offset_of!(BinCounters, bucket_nearest_least),
+            offset_of!(BinCounters, bucket_nearest_most),
+            offset_of!(BinCounters, bucket_order_least),
+            offset_of!(BinCounters, bucket_order_most),
         ];
         assert_eq!(offsets("BinCounters"), counters, "{msg}");
         assert_eq!(

@@ -134,6 +134,9 @@ struct StagePipelines {
     pyramid_top: Arc<ComputePipeline>,
     setup: Arc<ComputePipeline>,
     bin_count: Arc<ComputePipeline>,
+    /// Deep frames' slab histogram and plan (bin_lists.glsl), before the count; none for
+    /// frames of one slab.
+    slab_plan: Option<[Arc<ComputePipeline>; 2]>,
     /// The scan's steps 0 to 3 (constant 0): block sums, block list, a band's bin offsets,
     /// a band's plan.
     scan_steps: [Arc<ComputePipeline>; 4],
@@ -180,6 +183,13 @@ impl StagePipelines {
             pyramid_top: stage(pyramid, &[1])?,
             setup: stage(crate::spirv!("bins/setup.comp"), &setup)?,
             bin_count: stage(crate::spirv!("bins/bin_count.comp"), &binning)?,
+            slab_plan: match features.slab_bits {
+                0 => None,
+                _ => Some([
+                    stage(crate::spirv!("bins/slab_histogram.comp"), &binning)?,
+                    stage(crate::spirv!("bins/slab_plan.comp"), &binning)?,
+                ]),
+            },
             scan_steps: [
                 stage(scan, &binning)?,
                 stage(scan, &scan_step(1))?,
@@ -562,6 +572,13 @@ impl Bins {
         self.compute_to_compute(cmd);
         ctx.timestamps.mark(cmd, "setup");
 
+        if let Some([histogram, plan]) = &s.slab_plan {
+            self.dispatch_indirect(ctx, histogram, DISPATCH_BINNING_OFFSET, &self.push);
+            self.compute_to_compute(cmd);
+            self.dispatch(ctx, plan, [1, 1, 1]);
+            self.compute_to_compute(cmd);
+            ctx.timestamps.mark(cmd, "slab plan");
+        }
         self.dispatch_indirect(ctx, &s.bin_count, DISPATCH_BINNING_OFFSET, &self.push);
         self.compute_to_compute(cmd);
         ctx.timestamps.mark(cmd, "bin count");
