@@ -341,22 +341,34 @@ fn exact_passes_learned_buffer_sizes_to_the_next_renderer() {
     assert_eq!(next.render(false).expect("frame").rerenders, 0);
 }
 
-/// `layers` screen-facing quads stacked over one spot: pixels a thousand fragments deep need
-/// more loop iterations than lavapipe allows one shader invocation (it ends loops silently
-/// after 65535), so their rows are suspended and finished by continuation dispatches.
+/// `layers` screen-facing quads stacked over one spot, at one depth but for one a hair behind
+/// and the last far behind (so that no slab splits them: `crowded_bin` says why): pixels a thousand fragments
+/// deep in one slab sweep it about layers / 16 times, more loop iterations than lavapipe
+/// allows one shader invocation (it ends loops silently after 65535), so their rows are
+/// suspended and finished by continuation dispatches.
 fn deep_stack_scene(layers: u32) -> Scene {
-    stack_scene(
+    let mut scene = stack_scene(
         "deep stack",
         layers,
         Material::alpha(Vec3::new(0.9, 0.5, 0.2), 0.004),
-    )
+    );
+    let mesh = &mut scene.meshes[0];
+    let quads = mesh.positions.len() / 4;
+    for (i, p) in mesh.positions.iter_mut().enumerate() {
+        p.z = match quads - i / 4 {
+            1 => -8.0,
+            2 => -1.00001,
+            _ => -1.0,
+        };
+    }
+    scene
 }
 
 #[test]
 fn exact_finishes_pixels_deeper_than_the_loop_limit() {
     // Its rows suspend, and the frame's own continuation dispatches finish them.
     let frame = check(
-        &deep_stack_scene(2000),
+        &deep_stack_scene(1200),
         "deep_stack",
         45,
         37,
@@ -367,7 +379,8 @@ fn exact_finishes_pixels_deeper_than_the_loop_limit() {
     // Resume lists of one row force their overflow path, which shows that rows suspend
     // (1200 layers suspend more than one). Both stacks are deep enough that a raster which
     // never suspends fails them: 700 and 600 layers had stopped running out of the loop
-    // budget once the walk got cheaper.
+    // budget once the walk got cheaper, and layers at distinct depths once slabs were
+    // planned from the frame's depths.
     let mut options = MethodOptions::default();
     options.bins.initial_resume_rows = Some(1);
     let frame = check(
@@ -383,13 +396,12 @@ fn exact_finishes_pixels_deeper_than_the_loop_limit() {
     // lists of more rows than a row of workgroups holds are: the 240 rows all suspend.
     let mut options = MethodOptions::default();
     options.bins.groups_x = Some(3);
-    check(
-        &deep_stack_scene(2000),
-        "deep_stack_split_lists",
-        45,
-        37,
-        &options,
+    let stack = stack_scene(
+        "deep stack",
+        2000,
+        Material::alpha(Vec3::new(0.9, 0.5, 0.2), 0.004),
     );
+    check(&stack, "deep_stack_split_lists", 45, 37, &options);
 }
 
 /// When the host's estimate leaves the near-plane path out of the setup and raster shaders

@@ -146,6 +146,8 @@ pub struct FrameCheck {
     pub bands: u32,
     /// Fragments composited, where the method counts them.
     pub fragments: u64,
+    /// The most passes over its bin list a pixel needed (exact).
+    pub sweeps: u32,
     /// Transparent triangles left to rasterize after culling, where the method culls.
     pub triangles: u64,
     /// Fragments blended unsorted because they found no room (linked_list past its node

@@ -75,6 +75,10 @@ pub struct Frame {
     pub rerenders: u32,
     /// Fragments composited, for methods that count them (0 otherwise).
     pub fragments: u64,
+    /// The most passes over its bin list a pixel needed, for exact (0 for other methods): 1
+    /// or 2 where the depth slabs split the lists finely enough, more where a pixel has more
+    /// fragments in one slab than its selection holds, each pass walking the list again.
+    pub sweeps: u32,
     /// Transparent triangles left to rasterize after culling (back faces, off screen, behind
     /// the opaque layer), for methods that cull them (0 otherwise).
     pub triangles: u64,
@@ -547,6 +551,7 @@ impl Renderer {
             peak_gpu_bytes: gpu.memory_in_use().1,
             rerenders,
             fragments: check.fragments,
+            sweeps: check.sweeps,
             triangles: check.triangles,
             bands: check.bands,
             tail_fragments: check.tail_fragments,

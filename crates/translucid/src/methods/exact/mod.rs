@@ -280,6 +280,7 @@ impl Method for Exact {
             unfinished_rows: u64::from(unfinished),
             bands: counters.bands,
             fragments: kept(counters.fragments()),
+            sweeps: counters.sweeps(),
             triangles: kept(u64::from(counters.triangle_count)),
             ..FrameCheck::default()
         })
