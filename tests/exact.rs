@@ -7,8 +7,8 @@ use translucid::metrics;
 use translucid::renderer::Renderer;
 use translucid::scene::{self, Camera, Draw, Material, Mesh, Scene};
 use translucid_tests::{
-    assert_matches_reference, asset, crowded_bin, gpu, near_plane_scene, one_draw_scene,
-    save_failure, stack_scene, tinted, with_large_texture,
+    assert_matches_reference, asset, crowded_bin, gpu, near_plane_scene, one_depth_stack,
+    one_draw_scene, save_failure, stack_scene, tinted, with_large_texture,
 };
 
 const TOLERANCE: f32 = 2.0 / 255.0;
@@ -127,7 +127,7 @@ fn exact_matches_reference_with_the_deep_frame_settings_and_one_row_workgroups()
     let vase = scene::load(vase.to_str().expect("utf-8 path")).expect("vendored scene");
     check(&vase, "deep_GlassVaseFlowers", 301, 177, &deep);
     check(&near_plane_scene(), "deep_near_plane", 157, 119, &deep);
-    check(&deep_stack_scene(700), "deep_stack_one_row", 45, 37, &deep);
+    check(&one_depth_stack(700), "deep_stack_one_row", 45, 37, &deep);
     let mut overflowing = deep;
     overflowing.bins.initial_bin_entries = Some(1);
     let hairball = scene::load("hairball").expect("hairball");
@@ -341,34 +341,11 @@ fn exact_passes_learned_buffer_sizes_to_the_next_renderer() {
     assert_eq!(next.render(false).expect("frame").rerenders, 0);
 }
 
-/// `layers` screen-facing quads stacked over one spot, at one depth but for one a hair behind
-/// and the last far behind (so that no slab splits them: `crowded_bin` says why): pixels a thousand fragments
-/// deep in one slab sweep it about layers / 16 times, more loop iterations than lavapipe
-/// allows one shader invocation (it ends loops silently after 65535), so their rows are
-/// suspended and finished by continuation dispatches.
-fn deep_stack_scene(layers: u32) -> Scene {
-    let mut scene = stack_scene(
-        "deep stack",
-        layers,
-        Material::alpha(Vec3::new(0.9, 0.5, 0.2), 0.004),
-    );
-    let mesh = &mut scene.meshes[0];
-    let quads = mesh.positions.len() / 4;
-    for (i, p) in mesh.positions.iter_mut().enumerate() {
-        p.z = match quads - i / 4 {
-            1 => -8.0,
-            2 => -1.00001,
-            _ => -1.0,
-        };
-    }
-    scene
-}
-
 #[test]
 fn exact_finishes_pixels_deeper_than_the_loop_limit() {
     // Its rows suspend, and the frame's own continuation dispatches finish them.
     let frame = check(
-        &deep_stack_scene(1200),
+        &one_depth_stack(1200),
         "deep_stack",
         45,
         37,
@@ -384,7 +361,7 @@ fn exact_finishes_pixels_deeper_than_the_loop_limit() {
     let mut options = MethodOptions::default();
     options.bins.initial_resume_rows = Some(1);
     let frame = check(
-        &deep_stack_scene(1200),
+        &one_depth_stack(1200),
         "deep_stack_small_lists",
         45,
         37,

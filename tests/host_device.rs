@@ -17,9 +17,9 @@ use translucid::gpu::{
 use translucid::methods::{MethodKind, MethodOptions};
 use translucid::renderer::Renderer;
 use translucid::scene::motion::Orbit;
-use translucid::scene::{Camera, Material, Projection, Scene};
+use translucid::scene::{Camera, Projection, Scene};
 use translucid::OpaqueLayer;
-use translucid_tests::{crowded_bin, near_plane_scene, stack_scene};
+use translucid_tests::{crowded_bin, near_plane_scene, one_depth_stack};
 
 const W: u32 = 96;
 const H: u32 = 64;
@@ -968,8 +968,8 @@ struct FirstFrames {
 /// Every way a frame's work can outgrow what its renderer expected, each forced on a
 /// renderer's first frames, recorded once with two frames in flight: the frames are right.
 /// - Bin lists far too small: the frames are rasterized in bands.
-/// - Pixels 1200 fragments deep, past the loop budget, with state slots for 4 of the rows
-///   that suspend: those keep their state, the others start over when resumed.
+/// - Pixels 800 fragments deep in one slab, past the loop budget, with state slots for 4 of
+///   the rows that suspend: those keep their state, the others start over when resumed.
 /// - One bin whose list no loop budget walks in one pass, in a frame of a renderer made
 ///   looking away from it (so expecting shallow pixels): its rows are suspended before
 ///   walking and walked in parts by the continuations.
@@ -982,11 +982,7 @@ fn every_overflow_on_a_first_and_only_recording_matches_the_reference() {
     let bands = first_frames_match_the_reference(&spheres, (W, H), &small_lists, None).bands;
     assert!(bands.iter().all(|&b| b > 1), "bands {bands:?}");
 
-    let deep = stack_scene(
-        "deep stack",
-        1200,
-        Material::alpha(Vec3::new(0.9, 0.5, 0.2), 0.004),
-    );
+    let deep = one_depth_stack(800);
     // Lists that fit, so that the rows' continuations are all in one band.
     let mut few_states = with_bin_entries(1 << 20);
     few_states.bins.initial_resume_rows = Some(4);

@@ -349,11 +349,12 @@ fn exact_and_blend_ms(scene: &Scene, (width, height): (u32, u32)) -> (f64, f64, 
     (exact_ms, blend_ms, sweeps)
 }
 
-/// Stacks that no depth order splits: exact right (deep random draws too) and within 3x
-/// blend's time, coincident surfaces compositing in one pass over their lists (slabs split
-/// a depth by order key). (Before: 16,384 instanced quads at 32x32 took exact 262 s, 10,000
-/// coincident triangles at 160x120 over 400 s against blend's 2 s. 100,000 random draws at
-/// 160x120 are still about 8x blend: docs/performance-log.md, 2026-12-05.)
+/// Stacks that no depth order splits, and deep random ones: exact right and within 3x
+/// blend's time. Coincident surfaces composite in one pass over their lists (slabs split a
+/// depth by order key), and a pixel with more fragments in one slab than it selects walks
+/// about that slab again, not the rest of the list. (Before: 16,384 instanced quads at
+/// 32x32 took exact 262 s, 10,000 coincident triangles at 160x120 over 400 s against
+/// blend's 2 s, 100,000 random draws 20x blend.)
 #[test]
 fn exact_renders_coincident_instanced_and_random_stacks_in_about_blends_time() {
     let gpu = gpu();
@@ -371,9 +372,10 @@ fn exact_renders_coincident_instanced_and_random_stacks_in_about_blends_time() {
             save_failure(&format!("stack_{}", scene.name), &got, &expected).display()
         );
     }
-    for (scene, size) in [
-        (instanced_quads(16_384), (32, 32)),
-        (coincident_triangles(10_000), (160, 120)),
+    for (scene, size, one_pass) in [
+        (instanced_quads(16_384), (32, 32), true),
+        (coincident_triangles(10_000), (160, 120), true),
+        (random_draws(100_000), (160, 120), false),
     ] {
         let (exact, blend, sweeps) = exact_and_blend_ms(&scene, size);
         println!(
@@ -383,7 +385,9 @@ fn exact_renders_coincident_instanced_and_random_stacks_in_about_blends_time() {
             size.1,
             exact / blend
         );
-        assert_eq!(sweeps, 1, "{}: pixels swept their lists again", scene.name);
+        if one_pass {
+            assert_eq!(sweeps, 1, "{}: pixels swept their lists again", scene.name);
+        }
         assert!(
             exact <= 3.0 * blend,
             "{}: exact {exact:.0} ms a frame, blend {blend:.0} ms",

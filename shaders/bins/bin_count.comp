@@ -1,7 +1,7 @@
 #version 450
 // Binning, pass 1: every triangle adds one to the count of its depth slab in each bin it may
-// cover, and widens the farthest depth of its slab in the frame. (The frame's entry count is
-// the scan's total: bin_scan.comp writes it.)
+// cover, and widens its slab's farthest depth and largest order key in the frame. (The
+// frame's entry count is the scan's total: bin_scan.comp writes it.)
 
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #extension GL_KHR_shader_subgroup_basic : require
@@ -46,8 +46,10 @@ void main() {
         if (subgroupAny(pending)) do {
             uint k = subgroupMin(pending ? slab : 0xFFFFFFFFu);
             uint farthest = subgroupMax(pending && slab == k ? depth.y : 0u);
+            uint last = subgroupMax(pending && slab == k ? ti : 0u);
             if (subgroupElect()) {
                 atomicMax(g_counters.slabFarthest[k], farthest);
+                atomicMax(g_counters.slabLastOrder[k], last);
             }
             pending = pending && slab != k;
         } while (subgroupAny(pending));

@@ -200,6 +200,7 @@ struct BinCounters {
     // cost).
     uint statistics[STATISTICS_WORDS];
     uint slabFarthest[MAX_SLABS]; // per depth slab: bits of its triangles' farthest vertex
+    uint slabLastOrder[MAX_SLABS]; // and their largest order key
     // Where deep frames' slabs start (bin_lists.glsl): per slab, the least (depth bits, order
     // key) of a triangle it may hold, written by the slab plan (slab_plan.comp).
     uint slabFloorBits[MAX_SLABS];

@@ -84,6 +84,29 @@ pub fn stack_scene(name: &str, layers: u32, material: Material) -> Scene {
     )
 }
 
+/// `layers` screen-facing quads stacked over one spot, at one depth but for one a hair behind
+/// and the last far behind (so that no slab splits them: `crowded_bin` says why): pixels
+/// about a thousand fragments deep in one slab sweep it about layers / 16 times, more loop
+/// iterations than lavapipe allows one shader invocation (it ends loops silently after
+/// 65535), so their rows are suspended and finished by continuation dispatches.
+pub fn one_depth_stack(layers: u32) -> Scene {
+    let mut scene = stack_scene(
+        "deep stack",
+        layers,
+        Material::alpha(Vec3::new(0.9, 0.5, 0.2), 0.004),
+    );
+    let mesh = &mut scene.meshes[0];
+    let quads = mesh.positions.len() / 4;
+    for (i, p) in mesh.positions.iter_mut().enumerate() {
+        p.z = match quads - i / 4 {
+            1 => -8.0,
+            2 => -1.00001,
+            _ => -1.0,
+        };
+    }
+    scene
+}
+
 /// A scene of one transparent draw of `mesh` in `material`, untransformed, over a grey
 /// background.
 pub fn one_draw_scene(name: &str, mesh: Mesh, material: Material, camera: Camera) -> Scene {
