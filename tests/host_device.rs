@@ -968,7 +968,7 @@ struct FirstFrames {
 /// Every way a frame's work can outgrow what its renderer expected, each forced on a
 /// renderer's first frames, recorded once with two frames in flight: the frames are right.
 /// - Bin lists far too small: the frames are rasterized in bands.
-/// - Pixels 800 fragments deep in one slab, past the loop budget, with state slots for 4 of
+/// - Pixels 720 fragments deep in one slab, past the loop budget, with state slots for 4 of
 ///   the rows that suspend: those keep their state, the others start over when resumed.
 /// - One bin whose list no loop budget walks in one pass, in a frame of a renderer made
 ///   looking away from it (so expecting shallow pixels): its rows are suspended before
@@ -982,7 +982,7 @@ fn every_overflow_on_a_first_and_only_recording_matches_the_reference() {
     let bands = first_frames_match_the_reference(&spheres, (W, H), &small_lists, None).bands;
     assert!(bands.iter().all(|&b| b > 1), "bands {bands:?}");
 
-    let deep = one_depth_stack(800);
+    let deep = one_depth_stack(720);
     // Lists that fit, so that the rows' continuations are all in one band.
     let mut few_states = with_bin_entries(1 << 20);
     few_states.bins.initial_resume_rows = Some(4);

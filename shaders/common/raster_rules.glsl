@@ -74,18 +74,19 @@ RasterSample interpolateEdges(i64vec3 e, vec4 zNdcInvArea, vec3 invW) {
     precise float q0 = l0 * invW.x;
     precise float q1 = l1 * invW.y;
     precise float q2 = l2 * invW.z;
-    precise float depth = 1.0 / ((q0 + q1) + q2);
-    precise vec3 b = vec3(q0 * depth, q1 * depth, q2 * depth);
     // Rounding may carry an interpolated depth a little past the vertices' range; clamped
-    // back, every fragment of a triangle whose vertices share a depth has exactly that depth,
-    // and none is nearer than the nearest vertex, which is where the bins place the triangle
-    // (bin_lists.glsl).
+    // back (1 / w here, before the one division), every fragment of a triangle whose
+    // vertices share a depth has exactly that depth, and none is nearer than the nearest
+    // vertex, which is where the bins place the triangle (bin_lists.glsl).
+    precise float inverse = min(max((q0 + q1) + q2, min(min(invW.x, invW.y), invW.z)),
+                                max(max(invW.x, invW.y), invW.z));
+    precise float depth = 1.0 / inverse;
+    precise vec3 b = vec3(q0 * depth, q1 * depth, q2 * depth);
     RasterSample s;
     s.barycentric = b;
     s.zNdc = min(max(z, min(min(zNdcInvArea.x, zNdcInvArea.y), zNdcInvArea.z)),
                  max(max(zNdcInvArea.x, zNdcInvArea.y), zNdcInvArea.z));
-    s.viewDepth = min(max(depth, 1.0 / max(max(invW.x, invW.y), invW.z)),
-                      1.0 / min(min(invW.x, invW.y), invW.z));
+    s.viewDepth = depth;
     return s;
 }
 

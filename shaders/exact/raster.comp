@@ -237,11 +237,11 @@ void main() {
         // A pixel leaves the stretch loop once it is finished, the row once all are or the
         // sweep is over. (Its own exit: a vote would be a loop over the lanes.)
         if (!finished) do {
+            // Every entry of the stretch is of one slab, so its floor is the stretch's.
+            uint64_t floorKey = slabFloorKey(min(slab, SLABS - 1u));
             // The entries of this stretch the budget has room for, after its shading and the
             // search for the next slab: all of them, but for rows whose lists are very long. A row that cannot walk them all
             // walks what it can and is suspended below, before compositing anything.
-            // Every entry of the stretch is of one slab, so its floor is the stretch's.
-            uint64_t floorKey = slabFloorKey(min(slab, SLABS - 1u));
             uint shadeCost = shadingIterations(uint(SELECT_SIZE));
             uint room = LOOP_BUDGET - min(spent + shadeCost + SLABS, LOOP_BUDGET);
             bool partial = to - from > room;

@@ -533,13 +533,13 @@ fn fixed_sample(f: &FixedSetup, e: [i64; 3]) -> Option<Sample> {
     let lambda = e.map(|v| v as f32 * f.inv_area);
     let z_ndc = (lambda[0] * f.z_ndc[0] + lambda[1] * f.z_ndc[1]) + lambda[2] * f.z_ndc[2];
     let q = [0, 1, 2].map(|k| lambda[k] * f.inv_w[k]);
-    let view_depth = 1.0 / ((q[0] + q[1]) + q[2]);
-    let b = q.map(|v| v * view_depth);
-    // Back within the vertices' range, which rounding may leave (raster_rules.glsl).
+    // Back within the vertices' range, which rounding may leave: 1 / w before the division,
+    // and z (raster_rules.glsl).
     let within = |v: f32, lo: f32, hi: f32| v.max(lo).min(hi);
-    let (z_lo, z_hi) = (min3f(f.z_ndc), max3f(f.z_ndc));
-    let (w_lo, w_hi) = (1.0 / max3f(f.inv_w), 1.0 / min3f(f.inv_w));
-    finish(b, within(z_ndc, z_lo, z_hi), within(view_depth, w_lo, w_hi))
+    let inverse = within((q[0] + q[1]) + q[2], min3f(f.inv_w), max3f(f.inv_w));
+    let view_depth = 1.0 / inverse;
+    let z_ndc = within(z_ndc, min3f(f.z_ndc), max3f(f.z_ndc));
+    finish(q.map(|v| v * view_depth), z_ndc, view_depth)
 }
 
 /// Interpolation on the homogeneous path.
