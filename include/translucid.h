@@ -296,7 +296,8 @@ enum translucid_method
     /**
      * Dual depth peeling: N passes peel 2N layers, exact while every pixel has at most 2N
      * (`translucid_frame_info::depth_peeling_passes`). On an engine's device it needs
-     * `geometryShader` and `independentBlend`.
+     * `geometryShader` and `independentBlend`, and `maxColorAttachments` of at least 7
+     * (desktop GPUs have 8).
      */
     TRANSLUCID_METHOD_DEPTH_PEELING = 5,
 };
@@ -1402,8 +1403,10 @@ translucid_result translucid_host_requirements_get(struct translucid_host_requir
  * Like `translucid_host_requirements_get`, for an engine that will use `method` (a
  * `translucid_method`): the features every method needs and those `method` needs
  * besides (`TRANSLUCID_METHOD_LINKED_LIST`: `fragmentStoresAndAtomics` and
- * `geometryShader`; `TRANSLUCID_METHOD_DEPTH_PEELING`: `geometryShader` and `independentBlend`). OR together the features of the methods the engine uses. A frame
- * with a method whose features the engine's device lacks fails with
+ * `geometryShader`; `TRANSLUCID_METHOD_DEPTH_PEELING`: `geometryShader` and
+ * `independentBlend`, on a device with `maxColorAttachments` of at least 7). OR
+ * together the features of the methods the engine uses. A frame with a method whose
+ * features the engine's device lacks fails with
  * `TRANSLUCID_RESULT_ERROR_DEVICE_REQUIREMENTS`, naming them. Needs no context.
  */
 TRANSLUCID_MUST_USE

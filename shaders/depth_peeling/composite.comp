@@ -19,35 +19,52 @@ layout(push_constant) uniform Push {
 } u_push;
 
 layout(set = 0, binding = 0) uniform sampler2D u_range;
-layout(set = 0, binding = 1) uniform sampler2D u_frontRadiance;
-layout(set = 0, binding = 2) uniform sampler2D u_frontTransmittance;
-layout(set = 0, binding = 3) uniform sampler2D u_backRadiance;
-layout(set = 0, binding = 4) uniform sampler2D u_backTransmittance;
+// The pass's front and back layer, one image per colour channel: (radiance, 0, 0,
+// transmittance).
+layout(set = 0, binding = 1) uniform sampler2D u_frontLayer[3];
+layout(set = 0, binding = 2) uniform sampler2D u_backLayer[3];
 // Front to back: radiance and transmittance of the front layers so far; back to front: the
 // same of the back layers.
-layout(set = 0, binding = 5, rgba32f) uniform image2D u_front;
-layout(set = 0, binding = 6, rgba32f) uniform image2D u_frontT;
-layout(set = 0, binding = 7, rgba32f) uniform image2D u_back;
-layout(set = 0, binding = 8, rgba32f) uniform image2D u_backT;
+layout(set = 0, binding = 3, rgba32f) uniform image2D u_front;
+layout(set = 0, binding = 4, rgba32f) uniform image2D u_frontT;
+layout(set = 0, binding = 5, rgba32f) uniform image2D u_back;
+layout(set = 0, binding = 6, rgba32f) uniform image2D u_backT;
 // Pixels left with fragments after the last pass, the most fragments a pixel has, then per
 // pass whether any pixel has fragments left (word 2 + pass: its next pass's condition).
-layout(set = 0, binding = 9, std430) buffer Peeling {
+layout(set = 0, binding = 7, std430) buffer Peeling {
     uint unpeeledPixels;
     uint mostFragments;
     uint fragmentsLeft[];
 } g_peeling;
 // The first pass's count of each pixel's fragments.
-layout(set = 0, binding = 11) uniform sampler2D u_fragments;
+layout(set = 0, binding = 9) uniform sampler2D u_fragments;
+
+// The pass's front layer's radiance and transmittance, from its three channel images.
+void readFront(ivec2 pixel, out vec3 radiance, out vec3 transmittance) {
+    vec2 r = texelFetch(u_frontLayer[0], pixel, 0).ra;
+    vec2 g = texelFetch(u_frontLayer[1], pixel, 0).ra;
+    vec2 b = texelFetch(u_frontLayer[2], pixel, 0).ra;
+    radiance = vec3(r.x, g.x, b.x);
+    transmittance = vec3(r.y, g.y, b.y);
+}
+
+// The same of its back layer.
+void readBack(ivec2 pixel, out vec3 radiance, out vec3 transmittance) {
+    vec2 r = texelFetch(u_backLayer[0], pixel, 0).ra;
+    vec2 g = texelFetch(u_backLayer[1], pixel, 0).ra;
+    vec2 b = texelFetch(u_backLayer[2], pixel, 0).ra;
+    radiance = vec3(r.x, g.x, b.x);
+    transmittance = vec3(r.y, g.y, b.y);
+}
 
 void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
     if (pixel.x >= int(u_push.width) || pixel.y >= int(u_push.height)) {
         return;
     }
-    vec3 frontL = texelFetch(u_frontRadiance, pixel, 0).rgb;
-    vec3 frontT = texelFetch(u_frontTransmittance, pixel, 0).rgb;
-    vec3 backL = texelFetch(u_backRadiance, pixel, 0).rgb;
-    vec3 backT = texelFetch(u_backTransmittance, pixel, 0).rgb;
+    vec3 frontL, frontT, backL, backT;
+    readFront(pixel, frontL, frontT);
+    readBack(pixel, backL, backT);
     if (u_push.pass == 1u) {
         // One atomic a subgroup: one a pixel made a single word the frame's most contended.
         uint most = subgroupMax(uint(texelFetch(u_fragments, pixel, 0).r));

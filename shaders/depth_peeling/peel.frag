@@ -6,8 +6,10 @@
 // full transmittance) leaves every blend unchanged, and shading runs in uniform control flow,
 // so texture derivatives stay defined.
 //
-// Blends: range MAX; radiance summed; transmittance multiplied. Fragments at one depth in a
-// pixel (coplanar surfaces) are one layer, summed without covering one another.
+// Blends: range MAX; each layer is one image per colour channel, (radiance, 0, 0,
+// transmittance), composited front to back in the order the fragments arrive (UNDER). The
+// driver blends in submission order, so fragments at one depth in a pixel (coplanar
+// surfaces) cover one another as the reference orders them: the first drawn nearer.
 
 #define ORDER_DEPTH
 #include "mesh_fragment.glsl"
@@ -20,10 +22,12 @@ layout(early_fragment_tests) in;
 layout(set = 2, binding = 0) uniform sampler2D u_previous;
 
 layout(location = 0) out vec2 o_range;
-layout(location = 1) out vec4 o_frontRadiance;
-layout(location = 2) out vec4 o_frontTransmittance;
-layout(location = 3) out vec4 o_backRadiance;
-layout(location = 4) out vec4 o_backTransmittance;
+layout(location = 1) out vec4 o_frontRed;
+layout(location = 2) out vec4 o_frontGreen;
+layout(location = 3) out vec4 o_frontBlue;
+layout(location = 4) out vec4 o_backRed;
+layout(location = 5) out vec4 o_backGreen;
+layout(location = 6) out vec4 o_backBlue;
 
 void main() {
     DrawInfo d = g_draws[u_push.drawIndex];
@@ -42,8 +46,15 @@ void main() {
     bool left = depth > near && depth < far;
 
     o_range = left ? vec2(-depth, depth) : NO_RANGE;
-    o_frontRadiance = vec4(front ? radiance : vec3(0.0), 0.0);
-    o_frontTransmittance = vec4(front ? transmittance : vec3(1.0), 1.0);
-    o_backRadiance = vec4(back ? radiance : vec3(0.0), 0.0);
-    o_backTransmittance = vec4(back ? transmittance : vec3(1.0), 1.0);
+    // Neutral where the fragment is not in the layer: no radiance, full transmittance.
+    vec3 frontL = front ? radiance : vec3(0.0);
+    vec3 frontT = front ? transmittance : vec3(1.0);
+    vec3 backL = back ? radiance : vec3(0.0);
+    vec3 backT = back ? transmittance : vec3(1.0);
+    o_frontRed = vec4(frontL.r, 0.0, 0.0, frontT.r);
+    o_frontGreen = vec4(frontL.g, 0.0, 0.0, frontT.g);
+    o_frontBlue = vec4(frontL.b, 0.0, 0.0, frontT.b);
+    o_backRed = vec4(backL.r, 0.0, 0.0, backT.r);
+    o_backGreen = vec4(backL.g, 0.0, 0.0, backT.g);
+    o_backBlue = vec4(backL.b, 0.0, 0.0, backT.b);
 }

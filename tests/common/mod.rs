@@ -370,13 +370,16 @@ pub fn coplanar_turned_quads(count: u32) -> Scene {
 
 /// `method` on surfaces at one depth up to rounding (linked_list.rs,
 /// `surfaces_at_one_depth_composite_in_the_references_order`): 40 quads turned within one
-/// plane at 160x120, and the spheres at 1x64, 1x2047 and 3x2048, each within 2/255 of the
-/// reference but for 0.05 % of its pixels (the driver's tie rule on edges).
+/// plane at 160x120, the planes' 1x1 frame (its one pixel where the planes cross), and the
+/// spheres at 1x64, 1x2047 and 3x2048, each within 2/255 of the reference but for 0.05 % of
+/// its pixels (the driver's tie rule on edges).
 pub fn assert_one_depth_order(gpu: &Gpu, method: &str) {
     let coplanar = coplanar_turned_quads(40);
+    let planes = translucid::scene::load("planes").expect("generated scene");
     let spheres = translucid::scene::load("spheres").expect("generated scene");
     let cases = [
         ("coplanar", &coplanar, (160, 120)),
+        ("planes_1x1", &planes, (1, 1)),
         ("spheres_1x64", &spheres, (1, 64)),
         ("spheres_1x2047", &spheres, (1, 2047)),
         ("spheres_3x2048", &spheres, (3, 2048)),

@@ -418,8 +418,10 @@ impl translucid_host_requirements {
     /// Like `translucid_host_requirements_get`, for an engine that will use `method` (a
     /// `translucid_method`): the features every method needs and those `method` needs
     /// besides (`TRANSLUCID_METHOD_LINKED_LIST`: `fragmentStoresAndAtomics` and
-    /// `geometryShader`; `TRANSLUCID_METHOD_DEPTH_PEELING`: `geometryShader` and `independentBlend`). OR together the features of the methods the engine uses. A frame
-    /// with a method whose features the engine's device lacks fails with
+    /// `geometryShader`; `TRANSLUCID_METHOD_DEPTH_PEELING`: `geometryShader` and
+    /// `independentBlend`, on a device with `maxColorAttachments` of at least 7). OR
+    /// together the features of the methods the engine uses. A frame with a method whose
+    /// features the engine's device lacks fails with
     /// `TRANSLUCID_RESULT_ERROR_DEVICE_REQUIREMENTS`, naming them. Needs no context.
     #[no_mangle]
     #[must_use]

@@ -54,7 +54,8 @@ pub enum translucid_method {
     LinkedList = 4,
     /// Dual depth peeling: N passes peel 2N layers, exact while every pixel has at most 2N
     /// (`translucid_frame_info::depth_peeling_passes`). On an engine's device it needs
-    /// `geometryShader` and `independentBlend`.
+    /// `geometryShader` and `independentBlend`, and `maxColorAttachments` of at least 7
+    /// (desktop GPUs have 8).
     DepthPeeling = 5,
 }
 

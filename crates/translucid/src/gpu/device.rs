@@ -50,6 +50,8 @@ pub struct DeviceInfo {
     pub max_texel_buffer_elements: u32,
     pub max_image_dimension_2d: u32,
     pub max_compute_workgroup_invocations: u32,
+    /// Colour attachments one subpass may write (at least 4; 8 on desktop GPUs).
+    pub max_color_attachments: u32,
     /// Nanoseconds per timestamp tick.
     pub timestamp_period_ns: f32,
     pub dual_source_blend: bool,
@@ -250,6 +252,7 @@ pub(super) fn describe(
         max_texel_buffer_elements: limits.max_texel_buffer_elements,
         max_image_dimension_2d: limits.max_image_dimension2_d,
         max_compute_workgroup_invocations: limits.max_compute_work_group_invocations,
+        max_color_attachments: limits.max_color_attachments,
         timestamp_period_ns: limits.timestamp_period,
         dual_source_blend: features.dual_src_blend == vk::TRUE,
         shader_int64: features.shader_int64 == vk::TRUE,

@@ -501,6 +501,10 @@ pub enum Blend {
     Max,
     /// `dst = src ⊙ dst`: order-independent products.
     Multiply,
+    /// `dst.rgb += dst.a · src.rgb`, `dst.a *= src.a`: front-to-back compositing in the
+    /// order fragments arrive (premultiplied radiance under what is there, transmittance in
+    /// alpha), cleared to (0, 0, 0, 1).
+    Under,
 }
 
 impl Blend {
@@ -535,6 +539,14 @@ impl Blend {
                 vk::BlendFactor::SRC_COLOR,
                 vk::BlendOp::ADD,
             ),
+            Self::Under => state
+                .blend_enable(true)
+                .src_color_blend_factor(vk::BlendFactor::DST_ALPHA)
+                .dst_color_blend_factor(vk::BlendFactor::ONE)
+                .color_blend_op(vk::BlendOp::ADD)
+                .src_alpha_blend_factor(vk::BlendFactor::ZERO)
+                .dst_alpha_blend_factor(vk::BlendFactor::SRC_ALPHA)
+                .alpha_blend_op(vk::BlendOp::ADD),
         }
     }
 }

@@ -68,8 +68,8 @@ impl MethodKind {
                 OptionalFeature::FragmentStoresAndAtomics,
                 OptionalFeature::GeometryShader,
             ],
-            // The same geometry stage; MAX for the depth range, sums and products for the
-            // layers, in one pass.
+            // The same geometry stage; MAX for the depth range and front-to-back compositing
+            // for the layers, in one pass.
             Self::DepthPeeling => &[
                 OptionalFeature::GeometryShader,
                 OptionalFeature::IndependentBlend,

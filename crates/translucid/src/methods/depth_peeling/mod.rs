@@ -11,9 +11,10 @@
 //! any pixel has fragments left (`composite.comp`); a last one composites front over back
 //! over the frame (`resolve.comp`).
 //!
-//! Layers are depths: fragments at one depth in one pixel peel together and are summed
-//! without covering one another, so the result is exact where the frame's pixels have at
-//! most 2N distinct depths and no two surfaces meet at one depth. Past 2N, the middle layers
+//! Layers are depths: fragments at one depth in one pixel peel together, composited front to
+//! back in the order the driver blends them, which is submission order, so surfaces that meet
+//! at one depth cover one another as the reference orders them (the first drawn nearer). The
+//! result is exact where the frame's pixels have at most 2N distinct depths. Past 2N, the middle layers
 //! are left out and the pixels counted ([`super::FrameCheck::unpeeled_pixels`]). With
 //! [`DepthPeelingOptions::passes`] N stays as given; by default it starts small and, when a
 //! frame has more layers, grows to half the most fragments a pixel has (the first pass counts
@@ -39,7 +40,8 @@ const FIRST_PASSES: u32 = 4;
 /// (-near, far): one MAX blend keeps both ends. 32-bit, so that the next pass finds each
 /// fragment's depth exactly.
 const RANGE_FORMAT: vk::Format = vk::Format::R32G32_SFLOAT;
-/// One pass's layer: radiance sums and transmittance products of its fragments.
+/// One colour channel of one pass's layer: (radiance, 0, 0, transmittance) of its
+/// fragments, composited front to back by [`Blend::Under`].
 const LAYER_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
 /// The layers composited so far: 32-bit, as they gather up to 2N layers.
 const SUM_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
@@ -67,8 +69,8 @@ struct Images {
     ranges: [GpuImage; 2],
     /// The first pass's count of each pixel's fragments.
     count: GpuImage,
-    /// Front radiance, front transmittance, back radiance, back transmittance of one pass.
-    layers: [GpuImage; 4],
+    /// One pass's front layer (red, green, blue), then its back layer.
+    layers: [GpuImage; 6],
     /// The same, composited over the passes so far.
     sums: [GpuImage; 4],
 }
@@ -94,10 +96,12 @@ impl Images {
                 1,
             )?,
             layers: [
-                layer("depth peeling front radiance")?,
-                layer("depth peeling front transmittance")?,
-                layer("depth peeling back radiance")?,
-                layer("depth peeling back transmittance")?,
+                layer("depth peeling front red")?,
+                layer("depth peeling front green")?,
+                layer("depth peeling front blue")?,
+                layer("depth peeling back red")?,
+                layer("depth peeling back green")?,
+                layer("depth peeling back blue")?,
             ],
             sums: [
                 sum("depth peeling front radiance so far")?,
@@ -160,6 +164,21 @@ impl DepthPeeling {
                 )));
             }
         }
+        // A peeling pass writes the range and six layer channels.
+        let attachments = 1 + 6;
+        let most = gpu.info().max_color_attachments;
+        if most < attachments {
+            let message = format!(
+                "{} writes at most {most} colour attachments in a pass; the depth_peeling \
+                 method needs {attachments}",
+                gpu.info().name
+            );
+            return Err(if gpu.is_host_device() {
+                Error::HostRequirements(message)
+            } else {
+                Error::NoDevice(message)
+            });
+        }
         let passes = match options.passes {
             Some(n) if n == 0 || n > MOST_PASSES => {
                 return Err(Error::InvalidOption(format!(
@@ -195,18 +214,15 @@ impl DepthPeeling {
             Some(&depth),
         )?;
         let peel_into = |range| {
-            let [fl, ft, bl, bt] = &images.layers;
-            AttachmentPass::new(
-                gpu,
-                &[
-                    cleared(range, NO_RANGE),
-                    cleared(fl, [0.0; 4]),
-                    cleared(ft, [1.0; 4]),
-                    cleared(bl, [0.0; 4]),
-                    cleared(bt, [1.0; 4]),
-                ],
-                Some(&depth),
-            )
+            let mut attachments = vec![cleared(range, NO_RANGE)];
+            // Empty layers: no radiance, full transmittance.
+            attachments.extend(
+                images
+                    .layers
+                    .iter()
+                    .map(|layer| cleared(layer, [0.0, 0.0, 0.0, 1.0])),
+            );
+            AttachmentPass::new(gpu, &attachments, Some(&depth))
         };
         let peel = [peel_into(&images.ranges[0])?, peel_into(&images.ranges[1])?];
 
@@ -222,10 +238,8 @@ impl DepthPeeling {
             gpu,
             &[
                 sampled,
-                sampled,
-                sampled,
-                sampled,
-                sampled,
+                BindingKind::SampledImages(3),
+                BindingKind::SampledImages(3),
                 storage,
                 storage,
                 storage,
@@ -258,10 +272,12 @@ impl DepthPeeling {
             &PipelineState {
                 blends: &[
                     Blend::Max,
-                    Blend::Add,
-                    Blend::Multiply,
-                    Blend::Add,
-                    Blend::Multiply,
+                    Blend::Under,
+                    Blend::Under,
+                    Blend::Under,
+                    Blend::Under,
+                    Blend::Under,
+                    Blend::Under,
                 ],
                 depth: DepthMode::Less(false),
                 fragment_constants: &[],
@@ -299,17 +315,12 @@ impl DepthPeeling {
         let peel_sets = [peel_set(&images.ranges[0])?, peel_set(&images.ranges[1])?];
         let count_view = [images.count.view];
         let composite_set = |range: &GpuImage| {
-            let image = |i: &GpuImage| [i.view];
-            let views = [
-                image(range),
-                image(&images.layers[0]),
-                image(&images.layers[1]),
-                image(&images.layers[2]),
-                image(&images.layers[3]),
-            ];
-            let mut resources: Vec<Resource<'_>> = views
-                .iter()
-                .map(|v| Resource::Images(v, sampler.raw))
+            let range = [range.view];
+            let [front, back] =
+                [0, 3].map(|first| [0, 1, 2].map(|channel| images.layers[first + channel].view));
+            let mut resources: Vec<Resource<'_>> = [&range[..], &front, &back]
+                .into_iter()
+                .map(|views| Resource::Images(views, sampler.raw))
                 .collect();
             resources.extend(images.sums.iter().map(|s| Resource::StorageImage(s.view)));
             resources.push(Resource::Buffer(&peeling));
