@@ -1309,3 +1309,127 @@ fn textures_first_used_by_frames_in_flight_match_the_reference() {
     let errors = ERRORS.lock().map(|e| e.clone()).unwrap_or_default();
     assert!(errors.is_empty(), "validation errors: {errors:#?}");
 }
+
+/// The yardstick, `Renderer::record_native_blend`, draws straight into the engine's images
+/// what translucid's `blend` draws through its copies in and out: in each depth format the
+/// engine may hold, growing away from the eye and reversed-Z (the wall of the depth-format
+/// test hides part of the spheres), and it leaves every pixel no transparent fragment covers
+/// bit for bit as the engine's opaque pass left it.
+#[test]
+fn native_blend_draws_into_the_engines_images_what_blend_draws() {
+    let scene = translucid::scene::load("spheres").expect("generated scene");
+    let Projection::Perspective { fov_y, near, far } = scene.camera.projection else {
+        panic!("spheres has a perspective camera");
+    };
+    let background = OpaqueLayer::clear(W, H, scene.background);
+    // The wall slants from just in front of the spheres' centre (left) to behind them.
+    let (a, b, _) = scene.camera.depth_mapping(W, H);
+    let eye = scene.camera.view.inverse().w_axis.truncate();
+    let centre = eye.length();
+    let wall = |x: u32| {
+        let z = centre * (0.8 + 0.4 * (x as f32 + 0.5) / W as f32);
+        a - b / z
+    };
+    let reversed_camera = Camera {
+        projection: Projection::Matrix({
+            let mut p = Mat4::perspective_rh(fov_y, W as f32 / H as f32, far, near);
+            p.y_axis.y = -p.y_axis.y;
+            p
+        }),
+        ..scene.camera
+    };
+    // Pixels that no transparent fragment covers: the reference leaves the background.
+    let uncovered: Vec<bool> = {
+        let marked = OpaqueLayer::clear(W, H, glam::Vec3::new(0.25, 0.5, 0.75));
+        let over = translucid::reference::render(&scene, &marked).expect("reference");
+        over.pixels
+            .iter()
+            .map(|p| *p == glam::Vec4::new(0.25, 0.5, 0.75, 1.0))
+            .collect()
+    };
+    assert!(uncovered.iter().any(|&u| u) && uncovered.iter().any(|&u| !u));
+    let engine = Engine::new();
+    {
+        // SAFETY: the engine's live objects, outliving `gpu` (dropped at the end of this block).
+        let gpu = unsafe { Gpu::from_host(&engine.host_device()) }.expect("host device");
+        for reversed in [false, true] {
+            let mut frame_scene = scene.clone();
+            if reversed {
+                frame_scene.camera = reversed_camera;
+            }
+            let mut renderer =
+                Renderer::new(&gpu, &frame_scene, MethodKind::Blend, W, H).expect("renderer");
+            for format in translucid::gpu::HOST_DEPTH_FORMATS {
+                let mut layer = background.clone();
+                let mut bytes = Vec::new();
+                for (i, depth) in layer.depth.iter_mut().enumerate() {
+                    let d = wall(i as u32 % W);
+                    let (texel, read) = encode_depth(format, if reversed { 1.0 - d } else { d });
+                    bytes.extend(texel);
+                    *depth = if reversed { 1.0 - read } else { read };
+                }
+                let label = format!("{format:?}{}", if reversed { " reversed" } else { "" });
+                let through_copies = EngineImages::with_depth(&gpu, &layer, 1, format, &bytes);
+                one_engine_frame(&engine, &gpu, &through_copies, &mut renderer);
+                let native = EngineImages::with_depth(&gpu, &layer, 1, format, &bytes);
+                engine.begin(0);
+                let cmd = engine.cmds[0];
+                native.record_opaque(&gpu, cmd);
+                // SAFETY: the engine's recording command buffer and images of the frame's
+                // size, made with attachment usage.
+                unsafe { renderer.record_native_blend(&native.targets(cmd)) }.expect("record");
+                native.record_readback(&gpu, cmd, 0);
+                engine.submit_and_wait();
+                let done = renderer
+                    .complete_host()
+                    .expect("complete")
+                    .expect("the submission finished, so the commands ran");
+                assert_eq!(
+                    done.stages.iter().map(|(s, _)| *s).collect::<Vec<_>>(),
+                    ["native blend"]
+                );
+
+                // Against blend through the copies: the depth test is the same but for the
+                // rounding of D16 and D24 depth, which may flip a pixel on the wall's edge.
+                let (got, want) = (native.srgb(0), through_copies.srgb(0));
+                let off = pixels(&got)
+                    .iter()
+                    .zip(pixels(&want))
+                    .filter(|(g, w)| worst_difference(g, w) > 1)
+                    .count();
+                assert!(
+                    off <= (W * H / 200) as usize,
+                    "{label}: {off} pixels differ from blend's"
+                );
+                // The wall hides part of the spheres: the depth test ran.
+                let unhidden =
+                    translucid::reference::render_in_submission_order(&frame_scene, &background)
+                        .expect("reference")
+                        .to_srgb8();
+                let hidden = pixels(&got)
+                    .iter()
+                    .zip(pixels(&unhidden))
+                    .filter(|(g, u)| worst_difference(g, u) > 8)
+                    .count();
+                assert!(hidden > (W * H / 20) as usize, "{label}: {hidden} hidden");
+                // Uncovered pixels keep the engine's colour bit for bit.
+                let held = native.outs[0].read().expect("readback");
+                let given = &native.colour_in;
+                let given = given.read().expect("upload buffer");
+                for (i, _) in uncovered.iter().enumerate().filter(|(_, &u)| u) {
+                    assert_eq!(
+                        held[8 * i..8 * i + 8],
+                        given[8 * i..8 * i + 8],
+                        "{label}: pixel {i} outside the transparent layer changed"
+                    );
+                }
+            }
+        }
+    }
+    let errors = ERRORS.lock().map(|e| e.clone()).unwrap_or_default();
+    assert!(
+        errors.is_empty(),
+        "validation errors:\n{}",
+        errors.join("\n")
+    );
+}

@@ -1,6 +1,7 @@
 //! Instance, physical-device choice, logical device, queue, allocator and command pool.
 
 use super::error::vk_err;
+use super::host::HostDevice;
 use super::memory::MemoryStats;
 use super::validation::{self, ValidationLog};
 use crate::{Error, Result};
@@ -131,6 +132,7 @@ pub struct Shared {
 /// so that a frame allocates no Vulkan object to submit.
 #[derive(Clone, Copy)]
 pub(crate) struct Submission {
+    pub family: u32,
     pub queue: vk::Queue,
     pub command_pool: vk::CommandPool,
     pub command_buffer: vk::CommandBuffer,
@@ -148,11 +150,14 @@ fn load_entry() -> Result<ash::Entry> {
     })
 }
 
+/// The `apiVersion` translucid's own instances are made with.
+const INSTANCE_API_VERSION: u32 = vk::API_VERSION_1_2;
+
 fn create_instance(entry: &ash::Entry, validation: bool) -> Result<ash::Instance> {
     let app = vk::ApplicationInfo::default()
         .application_name(c"translucid")
         .engine_name(c"translucid")
-        .api_version(vk::API_VERSION_1_2);
+        .api_version(INSTANCE_API_VERSION);
     let mut layers = Vec::new();
     let mut extensions = Vec::new();
     if validation {
@@ -407,6 +412,38 @@ impl Gpu {
 }
 
 impl Gpu {
+    /// This device as an engine hands its own to translucid ([`Gpu::from_host`]), for a
+    /// harness that plays the engine on a device translucid made (the bench): its features
+    /// and extensions as enabled, its queue family. `None` on an engine's device.
+    ///
+    /// A `Gpu` made from it must be dropped before this one.
+    pub fn as_host_device(&self) -> Option<HostDevice> {
+        let submission = self.submission?;
+        let info = &self.info;
+        let features = vk::PhysicalDeviceFeatures::default()
+            .dual_src_blend(info.dual_source_blend)
+            .shader_int64(info.shader_int64)
+            .shader_float64(info.shader_float64)
+            .fragment_stores_and_atomics(info.fragment_stores_and_atomics)
+            .geometry_shader(info.geometry_shader)
+            .independent_blend(info.independent_blend);
+        let extensions = if info.conditional_rendering {
+            vec![ash::ext::conditional_rendering::NAME.to_owned()]
+        } else {
+            Vec::new()
+        };
+        Some(HostDevice {
+            get_instance_proc_addr: self._entry.static_fn().get_instance_proc_addr,
+            instance: self.instance.handle(),
+            physical_device: self.physical,
+            device: self.device.handle(),
+            queue_family: submission.family,
+            api_version: INSTANCE_API_VERSION,
+            features,
+            extensions,
+        })
+    }
+
     /// Wraps the engine's instance and device (host-device mode, already checked against
     /// the requirements by the caller) with an allocator of translucid's own. Nothing of the
     /// engine's is destroyed when the last clone drops.
@@ -711,6 +748,7 @@ fn create_device(
             device,
             allocator,
             Submission {
+                family,
                 queue,
                 command_pool: pool,
                 command_buffer,

@@ -558,6 +558,8 @@ pub enum DepthMode {
     Off,
     /// Test LESS; write when `true`.
     Less(bool),
+    /// Test GREATER (depth growing towards the eye, reversed-Z); write when `true`.
+    Greater(bool),
     /// Always pass and write (a full-screen pass writing gl_FragDepth).
     WriteAlways,
 }
@@ -813,6 +815,7 @@ impl GraphicsPipeline {
         let (test, write, compare) = match state.depth {
             DepthMode::Off => (false, false, vk::CompareOp::ALWAYS),
             DepthMode::Less(write) => (true, write, vk::CompareOp::LESS),
+            DepthMode::Greater(write) => (true, write, vk::CompareOp::GREATER),
             DepthMode::WriteAlways => (true, true, vk::CompareOp::ALWAYS),
         };
         let depth = vk::PipelineDepthStencilStateCreateInfo::default()

@@ -14,7 +14,7 @@ use super::{method_ms, Renderer};
 use crate::gpu::{
     memory_barrier, vk, Buffer, DepthImport, Gpu, HostTargets, MemoryLocation, HOST_DEPTH_FORMAT,
 };
-use crate::methods::FrameDone;
+use crate::methods::{FrameCheck, FrameDone};
 use crate::{Error, Result};
 
 /// What a host-device frame reports once the engine's submission completed.
@@ -43,6 +43,14 @@ pub struct HostFrame {
     /// (`degraded_rows`), or some buffer overflowed. The buffers have grown; recording the
     /// frame again renders it correctly.
     pub overflowed: bool,
+}
+
+/// What a frame on the engine's device recorded: the renderer's method, or the yardstick
+/// ([`Renderer::record_native_blend`]), which its method has nothing to learn from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum HostFrameKind {
+    Method,
+    NativeBlend,
 }
 
 /// A host-visible word that the host clears when it records a frame and the frame's last
@@ -114,6 +122,36 @@ impl Renderer {
     ///
     /// [`Gpu`]: crate::gpu::Gpu
     pub unsafe fn record_host(&mut self, targets: &HostTargets) -> Result<()> {
+        let (gpu, slot) = self.begin_host_frame(targets)?;
+        let cmd = targets.cmd;
+        // translucid tests depth growing away from the eye, in D32_SFLOAT: other depth is
+        // sampled and converted.
+        let reversed = self.frame_scene.camera.reversed_depth();
+        let extent = self.targets.extent;
+        if reversed || targets.depth.format != HOST_DEPTH_FORMAT {
+            gpu.record_host_input(targets, extent, &self.targets.colour, None);
+            if self.depth_import.is_none() {
+                let slots = self.timestamps.len();
+                self.depth_import = Some(DepthImport::new(&gpu, &self.targets.depth, slots)?);
+            }
+            if let Some(import) = &mut self.depth_import {
+                import.record(cmd, slot, &targets.depth, (extent, reversed))?;
+            }
+        } else {
+            let depth = Some(&self.targets.depth);
+            gpu.record_host_input(targets, extent, &self.targets.colour, depth);
+        }
+        self.timestamps[slot].mark(cmd, "opaque");
+        self.record_method(&gpu, cmd)?;
+        gpu.record_host_output(targets, extent, &self.targets.colour);
+        self.timestamps[slot].mark(cmd, "output");
+        self.end_host_frame(&gpu, cmd, slot, HostFrameKind::Method)
+    }
+
+    /// What every frame on the engine's device records first, after checking `targets` and
+    /// that a slot is free: the slot's frame data, pending uploads, the first timestamp, a
+    /// barrier after the frames before it, moved vertices. Returns the device and the slot.
+    pub(super) fn begin_host_frame(&mut self, targets: &HostTargets) -> Result<(Gpu, usize)> {
         let gpu = self.gpu.clone();
         if !gpu.is_host_device() {
             return Err(Error::HostFrame(
@@ -149,30 +187,22 @@ impl Renderer {
         memory_barrier(&gpu, cmd, any, any);
         self.scene
             .record_moved_vertices(&gpu, cmd, &self.frame_scene)?;
-        // translucid tests depth growing away from the eye, in D32_SFLOAT: other depth is
-        // sampled and converted.
-        let reversed = self.frame_scene.camera.reversed_depth();
-        let extent = self.targets.extent;
-        if reversed || targets.depth.format != HOST_DEPTH_FORMAT {
-            gpu.record_host_input(targets, extent, &self.targets.colour, None);
-            if self.depth_import.is_none() {
-                self.depth_import = Some(DepthImport::new(&gpu, &self.targets.depth, slots)?);
-            }
-            if let Some(import) = &mut self.depth_import {
-                import.record(cmd, slot, &targets.depth, (extent, reversed))?;
-            }
-        } else {
-            let depth = Some(&self.targets.depth);
-            gpu.record_host_input(targets, extent, &self.targets.colour, depth);
-        }
-        self.timestamps[slot].mark(cmd, "opaque");
-        self.record_method(&gpu, cmd)?;
-        gpu.record_host_output(targets, extent, &self.targets.colour);
-        self.timestamps[slot].mark(cmd, "output");
-        self.completions[slot].record(&gpu, cmd)?;
+        Ok((gpu, slot))
+    }
+
+    /// What every frame on the engine's device records last: its completion marker; then the
+    /// frame is in flight.
+    pub(super) fn end_host_frame(
+        &mut self,
+        gpu: &Gpu,
+        cmd: vk::CommandBuffer,
+        slot: usize,
+        kind: HostFrameKind,
+    ) -> Result<()> {
+        self.completions[slot].record(gpu, cmd)?;
         self.scene.uploads_recorded();
-        self.in_flight.push_back(slot);
-        self.slot = (slot + 1) % slots;
+        self.in_flight.push_back((slot, kind));
+        self.slot = (slot + 1) % self.timestamps.len();
         Ok(())
     }
 
@@ -181,7 +211,7 @@ impl Renderer {
     /// frame's commands have not run (not submitted, or still running), or when no frame is
     /// in flight. After an error the renderer is not to be used again.
     pub fn complete_host(&mut self) -> Result<Option<HostFrame>> {
-        let Some(&slot) = self.in_flight.front() else {
+        let Some(&(slot, kind)) = self.in_flight.front() else {
             return Ok(None);
         };
         if !self.completions[slot].ran()? {
@@ -191,11 +221,14 @@ impl Renderer {
             return Ok(None);
         };
         self.in_flight.pop_front();
-        let check = self.method.frame_done(&FrameDone {
-            uploaded: &self.scene,
-            targets: &self.targets,
-            slot,
-        })?;
+        let check = match kind {
+            HostFrameKind::Method => self.method.frame_done(&FrameDone {
+                uploaded: &self.scene,
+                targets: &self.targets,
+                slot,
+            })?,
+            HostFrameKind::NativeBlend => FrameCheck::default(),
+        };
         self.scene.uploads_completed();
         Ok(Some(HostFrame {
             method_ms: method_ms(&stages),

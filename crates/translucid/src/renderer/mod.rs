@@ -41,6 +41,7 @@
 
 mod host_device;
 mod host_opaque;
+mod native_blend;
 mod targets;
 
 pub use crate::assets::{GpuScene, ResidentAssets};
@@ -153,7 +154,10 @@ pub struct Renderer {
     /// Host-device mode: per slot, how a completed frame is told from one whose commands
     /// never ran; and the slots of the frames in flight, oldest first.
     completions: Vec<host_device::Completion>,
-    in_flight: std::collections::VecDeque<usize>,
+    in_flight: std::collections::VecDeque<(usize, host_device::HostFrameKind)>,
+    /// Host-device mode: the yardstick's pass and pipelines, made for the first frame that
+    /// records it ([`Renderer::record_native_blend`]).
+    native_blend: Option<native_blend::NativeBlend>,
     /// Host-device mode: the pass that samples engine depth images it cannot copy, made
     /// for the first frame that needs it.
     depth_import: Option<crate::gpu::DepthImport>,
@@ -327,6 +331,7 @@ impl Renderer {
             slot_serials,
             completions: Vec::new(),
             depth_import: None,
+            native_blend: None,
             in_flight: std::collections::VecDeque::new(),
             counted: (gpu.pipelines_created(), gpu.bytes_allocated()),
         })
