@@ -127,7 +127,7 @@ pub struct MethodArgs {
 }
 
 /// What changes between a bench's frames.
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Motion {
     /// The camera circles the scene and every third transparent draw moves, every frame.
     Orbit,
@@ -231,7 +231,8 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
-    /// Median GPU time per stage over N frames, with the ratio to `blend` from the same run.
+    /// An engine's frame loop per method: the median GPU time of its whole pass over
+    /// `native_blend`'s (an engine's own unsorted blend) and of each stage, from one run.
     Bench {
         #[arg(required = true)]
         scenes: Vec<String>,

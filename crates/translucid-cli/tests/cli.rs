@@ -61,6 +61,11 @@ fn bench_json_has_one_line_per_scene_and_method() {
             "method",
             "frames",
             "median_ms",
+            "whole_pass_ms",
+            "native_blend_ms",
+            "ratio_to_native_blend",
+            "frames_in_flight",
+            "overflowed_frames",
             "stages",
             "ratio_to_blend",
             "wall_ms",
@@ -86,6 +91,13 @@ fn bench_json_has_one_line_per_scene_and_method() {
             (v["ratio_to_blend"].as_f64().expect("ratio") - 1.0).abs() < 1e-9,
             "blend over blend is 1: {v}"
         );
+        // The whole pass, everything recorded into the engine's frame, over the yardstick's.
+        let whole = v["whole_pass_ms"].as_f64().expect("whole pass");
+        let native = v["native_blend_ms"].as_f64().expect("native_blend");
+        assert!(whole > 0.0 && native > 0.0, "{v}");
+        let ratio = v["ratio_to_native_blend"].as_f64().expect("ratio");
+        assert!((ratio - whole / native).abs() < 1e-9, "{v}");
+        assert!(v["stages"]["opaque"].is_number() && v["stages"]["output"].is_number());
         assert!(v["peak_gpu_bytes"].as_u64().is_some_and(|b| b > 0));
         assert_eq!(v["peak_over_blend_bytes"], 0, "blend over itself: {v}");
     }

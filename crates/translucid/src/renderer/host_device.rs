@@ -29,6 +29,8 @@ pub struct HostFrame {
     pub peak_gpu_bytes: u64,
     /// Fragments composited, for methods that count them (0 otherwise).
     pub fragments: u64,
+    /// Transparent triangles left to rasterize after culling (the bin methods; 0 otherwise).
+    pub triangles: u64,
     /// Fragments blended unsorted for want of room (linked_list past a fixed node budget).
     pub tail_fragments: u64,
     /// Pixels with more layers than depth_peeling's fixed passes peel.
@@ -235,6 +237,7 @@ impl Renderer {
             stages,
             peak_gpu_bytes: self.gpu.memory_in_use().1,
             fragments: check.fragments,
+            triangles: check.triangles,
             tail_fragments: check.tail_fragments,
             unpeeled_pixels: check.unpeeled_pixels,
             bands: check.bands,

@@ -47,6 +47,19 @@ impl OpaqueLayer {
         }
         Ok(())
     }
+
+    /// The layer as images hold it: colour as R16G16B16A16_SFLOAT texels (alpha 1), depth as
+    /// D32_SFLOAT texels, row by row.
+    pub fn texels(&self) -> (Vec<u8>, Vec<u8>) {
+        let colour = self
+            .colour
+            .iter()
+            .flat_map(|c| [c.x, c.y, c.z, 1.0])
+            .flat_map(|v| half::f16::from_f32(v).to_le_bytes())
+            .collect();
+        let depth = self.depth.iter().flat_map(|d| d.to_le_bytes()).collect();
+        (colour, depth)
+    }
 }
 
 impl Renderer {
@@ -59,13 +72,7 @@ impl Renderer {
         self.gpu.reset_peak_memory();
         let gpu = self.gpu.clone();
         debug_assert_eq!(COLOUR_FORMAT, vk::Format::R16G16B16A16_SFLOAT);
-        let colour: Vec<u8> = layer
-            .colour
-            .iter()
-            .flat_map(|c| [c.x, c.y, c.z, 1.0])
-            .flat_map(|v| half::f16::from_f32(v).to_le_bytes())
-            .collect();
-        let depth: Vec<u8> = layer.depth.iter().flat_map(|d| d.to_le_bytes()).collect();
+        let (colour, depth) = layer.texels();
         let src = vk::BufferUsageFlags::TRANSFER_SRC;
         let colour = gpu.create_buffer_with_data("host opaque colour", src, &colour)?;
         let depth = gpu.create_buffer_with_data("host opaque depth", src, &depth)?;

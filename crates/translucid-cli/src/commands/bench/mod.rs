@@ -1,11 +1,26 @@
+//! `translucid bench`: every method's frame loop on an engine's device (`engine.rs`), the
+//! methods taking turns frame by frame, each frame's whole pass timed beside the yardstick,
+//! `native_blend`, over the same frame.
+
+mod engine;
+
 use super::{open_gpu, open_gpu_quietly};
 use crate::Motion;
 use crate::Size;
+use engine::{EngineFrame, EngineLoop};
 use indicatif::{ProgressBar, ProgressStyle};
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, HashMap};
 use std::time::Instant;
-use translucid::renderer::Renderer;
-use translucid::scene::{motion::Orbit, FrameInput};
+use translucid::renderer::{FrameShape, HostFrame, Renderer};
+use translucid::scene::{motion::Orbit, FrameInput, Scene};
+use translucid::OpaqueLayer;
+
+/// Frames the engine keeps in flight: each method's renderer has as many frame slots, which
+/// its frames take in turn.
+const FRAMES_IN_FLIGHT: u32 = 2;
+
+/// A moving frame's camera and transparent draws.
+type FrameChange = (translucid::scene::Camera, Vec<translucid::scene::Draw>);
 
 /// Median of the values (upper median for an even count).
 fn median(mut v: Vec<f64>) -> f64 {
@@ -16,31 +31,39 @@ fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
-/// One method's frame loop over one scene: medians of its timed frames.
+/// One method's frame loop over one scene, on the bench's engine (`engine.rs`): medians of
+/// its timed frames.
 pub struct Measured {
     pub scene: String,
     pub method: String,
     pub motion: Motion,
     frames: u32,
-    total_ms: f64,
+    /// GPU time of everything the method recorded into the engine's frame (copies in and out
+    /// included): its whole pass.
+    whole_ms: f64,
     /// GPU time of the method's own stages.
     pub method_ms: f64,
+    /// GPU time of the yardstick, `native_blend`, over the same frame.
+    pub native_ms: f64,
     stages: Vec<(&'static str, f64)>,
     peak_gpu_bytes: u64,
     fragments: u64,
-    /// Triangles left after culling (exact).
+    /// Triangles left after culling (the bin methods).
     triangles: u64,
     /// The most any timed frame left out of its order: linked_list's fragments past its
     /// pool, depth_peeling's pixels past its passes (0 when every frame was exact).
     tail_fragments: u64,
     unpeeled_pixels: u64,
-    rerenders: u32,
+    /// Timed frames whose one recording was not all right (the buffers grew after them).
+    overflowed_frames: u32,
     /// Pipelines the timed frames created, after the warm-up (0 where nothing is rebuilt).
     pipelines_created: u64,
     /// GPU memory the timed frames allocated, after the warm-up.
     bytes_allocated: u64,
-    /// Host time from submission to completion of the whole frame.
+    /// Host time from submission to completion of the method's frame.
     pub wall_ms: f64,
+    /// The same for the yardstick's frame.
+    native_wall_ms: f64,
     /// Median host time per frame in `set_frame` and recording.
     cpu_ms: f64,
 }
@@ -59,51 +82,62 @@ pub struct FrameLoop {
 struct Timings {
     per_stage: BTreeMap<&'static str, Vec<f64>>,
     stage_order: Vec<&'static str>,
-    totals: Vec<f64>,
+    wholes: Vec<f64>,
     method_totals: Vec<f64>,
+    natives: Vec<f64>,
     walls: Vec<f64>,
+    native_walls: Vec<f64>,
     cpu: Vec<f64>,
     peak: u64,
     fragments: u64,
     triangles: u64,
     tail_fragments: u64,
     unpeeled_pixels: u64,
-    rerenders: u32,
-    pipelines: u64,
-    allocated: u64,
+    overflowed: u32,
+}
+
+/// GPU time of every stage of a frame.
+fn whole_pass(frame: &HostFrame) -> f64 {
+    frame.stages.iter().map(|(_, ms)| ms).sum()
 }
 
 impl Timings {
-    fn add(&mut self, cpu_ms: f64, frame: &translucid::renderer::Frame) {
+    fn add(&mut self, cpu_ms: f64, frame: &EngineFrame) {
+        let m = &frame.method;
         self.cpu.push(cpu_ms);
-        self.allocated += frame.bytes_allocated;
-        for (name, ms) in &frame.stages {
+        for (name, ms) in &m.stages {
             if !self.stage_order.contains(name) {
                 self.stage_order.push(*name);
             }
             self.per_stage.entry(name).or_default().push(*ms);
         }
-        self.totals
-            .push(frame.stages.iter().map(|(_, ms)| ms).sum());
-        self.method_totals.push(frame.method_ms());
-        self.peak = self.peak.max(frame.peak_gpu_bytes);
-        self.fragments = frame.fragments;
-        self.triangles = frame.triangles;
-        self.tail_fragments = self.tail_fragments.max(frame.tail_fragments);
-        self.unpeeled_pixels = self.unpeeled_pixels.max(frame.unpeeled_pixels);
-        self.rerenders += frame.rerenders;
-        self.pipelines += frame.pipelines_created;
-        self.walls.push(frame.wall_ms);
+        self.wholes.push(whole_pass(m));
+        self.method_totals.push(m.method_ms);
+        self.natives.push(whole_pass(&frame.native));
+        self.peak = self.peak.max(m.peak_gpu_bytes);
+        self.fragments = m.fragments;
+        self.triangles = m.triangles;
+        self.tail_fragments = self.tail_fragments.max(m.tail_fragments);
+        self.unpeeled_pixels = self.unpeeled_pixels.max(m.unpeeled_pixels);
+        self.overflowed += u32::from(m.overflowed);
+        self.walls.push(frame.method_wall_ms);
+        self.native_walls.push(frame.native_wall_ms);
     }
 
-    fn result(mut self, scene: &str, method: &str, motion: Motion, frames: u32) -> Measured {
+    fn result(
+        mut self,
+        (scene, method, motion): (&str, &str, Motion),
+        frames: u32,
+        (pipelines_created, bytes_allocated): (u64, u64),
+    ) -> Measured {
         Measured {
             scene: scene.to_string(),
             method: method.to_string(),
             motion,
             frames,
-            total_ms: median(self.totals),
+            whole_ms: median(self.wholes),
             method_ms: median(self.method_totals),
+            native_ms: median(self.natives),
             stages: self
                 .stage_order
                 .iter()
@@ -114,10 +148,11 @@ impl Timings {
             triangles: self.triangles,
             tail_fragments: self.tail_fragments,
             unpeeled_pixels: self.unpeeled_pixels,
-            rerenders: self.rerenders,
-            pipelines_created: self.pipelines,
-            bytes_allocated: self.allocated,
+            overflowed_frames: self.overflowed,
+            pipelines_created,
+            bytes_allocated,
             wall_ms: median(self.walls),
+            native_wall_ms: median(self.native_walls),
             cpu_ms: median(self.cpu),
         }
     }
@@ -150,7 +185,7 @@ pub fn measure(
     let FrameLoop { frames, motion, .. } = &bench.frame_loop;
     let options = super::options(bench.threshold, bench.method_args)?;
     let frames = *frames;
-    // blend is always measured: every ratio is against it, from this same run.
+    // blend is always measured: the ratios to translucid's own blend are from this same run.
     let mut names: Vec<&str> = vec!["blend"];
     names.extend(methods.iter().map(String::as_str).filter(|m| *m != "blend"));
     let mut motions: Vec<Motion> = Vec::new();
@@ -159,8 +194,8 @@ pub fn measure(
             motions.push(m);
         }
     }
-    // Every (method, motion) pair, on a device of its own so that its memory and pipeline
-    // counts are its own while they take turns.
+    // Every (method, motion) pair, on an engine device of its own so that its memory and
+    // pipeline counts are its own while they take turns.
     let order: Vec<(&str, Motion)> = motions
         .iter()
         .flat_map(|&m| names.iter().map(move |&n| (n, m)))
@@ -182,72 +217,149 @@ pub fn measure(
         ProgressStyle::with_template("{bar:40} {pos}/{len} frames  {msg}")
             .unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
+    let shape = FrameShape {
+        width: size.width,
+        height: size.height,
+        frames_in_flight: FRAMES_IN_FLIGHT,
+    };
     let mut results = Vec::new();
     for spec in scenes {
         let scene = super::load_scene(spec, bench.scene_args)?;
         let orbit = Orbit::new(&scene);
         let mut draws = Vec::new();
-        // The frame's host work: the new camera and draws, then recording (and submission).
-        let mut next_frame = |renderer: &mut Renderer,
-                              motion: Motion,
-                              index: u32|
-         -> translucid::Result<(f64, translucid::renderer::Frame)> {
-            let started = Instant::now();
+        // The frame's camera and draws.
+        let mut frame_input = |motion: Motion, index: u32| -> Option<FrameChange> {
             if motion == Motion::Orbit {
                 orbit.transparent(&scene, index, &mut draws);
-                renderer.set_frame(&FrameInput {
-                    camera: orbit.camera(&scene, index),
-                    transparent: &draws,
-                    ..scene.frame_input()
-                })?;
+                Some((orbit.camera(&scene, index), draws.clone()))
+            } else {
+                None
             }
-            let set_ms = started.elapsed().as_secs_f64() * 1e3;
-            let frame = renderer.render(false)?;
-            Ok((set_ms + frame.record_ms, frame))
         };
         bar.set_message(spec.clone());
-        let mut renderers = order
+        // The engine's opaque pass of each frame, rendered once for every method.
+        let layers = opaque_layers(&gpus[0], &scene, size, &motions, warmup + frames, |m, i| {
+            frame_input(m, i)
+        })?;
+        let mut loops = order
             .iter()
             .zip(&gpus)
             .map(|((method, _), gpu)| {
-                Renderer::with_options(
-                    gpu,
-                    &scene,
-                    method.parse()?,
-                    size.width,
-                    size.height,
-                    &options,
-                )
+                let kind = method.parse()?;
+                EngineLoop::new(gpu.clone(), (size.width, size.height), |host| {
+                    Renderer::with_frames_in_flight(
+                        host,
+                        &scene,
+                        kind,
+                        shape.width,
+                        shape.height,
+                        &options,
+                        shape.frames_in_flight,
+                    )
+                })
             })
             .collect::<translucid::Result<Vec<_>>>()?;
+        let mut next_frame =
+            |run: &mut EngineLoop, motion: Motion, index: u32| -> translucid::Result<_> {
+                let started = Instant::now();
+                if let Some((camera, draws)) = frame_input(motion, index) {
+                    run.renderer.set_frame(&FrameInput {
+                        camera,
+                        transparent: &draws,
+                        ..scene.frame_input()
+                    })?;
+                }
+                let set_ms = started.elapsed().as_secs_f64() * 1e3;
+                let layer = &layers[&layer_key(motion, index)];
+                let frame = run.frame(layer)?;
+                Ok((set_ms + frame.record_ms, frame))
+            };
         // The methods take turns frame by frame, so that the machine's drift (other loads,
         // clocks) falls on all of them alike and the ratios compare frames of the same moment.
         // Lavapipe compiles pipelines on first use: warm up before timing.
         for index in 0..warmup {
-            for (renderer, (_, motion)) in renderers.iter_mut().zip(&order) {
-                next_frame(renderer, *motion, index)?;
+            for (run, (_, motion)) in loops.iter_mut().zip(&order) {
+                next_frame(run, *motion, index)?;
                 bar.inc(1);
             }
         }
+        let counted: Vec<(u64, u64)> = loops
+            .iter()
+            .map(|r| (r.host.pipelines_created(), r.host.bytes_allocated()))
+            .collect();
         let mut timings: Vec<Timings> = order.iter().map(|_| Timings::default()).collect();
         for index in warmup..warmup + frames {
-            for ((renderer, timing), (_, motion)) in
-                renderers.iter_mut().zip(&mut timings).zip(&order)
-            {
-                let (cpu_ms, frame) = next_frame(renderer, *motion, index)?;
+            for ((run, timing), (_, motion)) in loops.iter_mut().zip(&mut timings).zip(&order) {
+                let (cpu_ms, frame) = next_frame(run, *motion, index)?;
                 timing.add(cpu_ms, &frame);
                 bar.inc(1);
             }
         }
-        for ((method, motion), timing) in order.iter().zip(timings) {
-            results.push(timing.result(spec, method, *motion, frames));
+        for (((method, motion), timing), (run, before)) in
+            order.iter().zip(timings).zip(loops.iter().zip(counted))
+        {
+            let built = (
+                run.host.pipelines_created() - before.0,
+                run.host.bytes_allocated() - before.1,
+            );
+            results.push(timing.result((spec, method, *motion), frames, built));
         }
     }
     bar.finish_and_clear();
     Ok(results)
 }
 
-/// One line (or JSON object) per scene and method of `bench.methods`, with ratios to blend.
+/// The opaque layer of each (motion, frame index) the loop draws, rendered on `gpu`: for a
+/// moving camera one per frame, for a static one only frame 0's ([`layer_key`]).
+fn opaque_layers(
+    gpu: &translucid::gpu::Gpu,
+    scene: &Scene,
+    size: Size,
+    motions: &[Motion],
+    frames: u32,
+    mut frame_input: impl FnMut(Motion, u32) -> Option<FrameChange>,
+) -> translucid::Result<HashMap<(Motion, u32), OpaqueLayer>> {
+    let mut renderer = Renderer::new(
+        gpu,
+        scene,
+        translucid::methods::MethodKind::Blend,
+        size.width,
+        size.height,
+    )?;
+    let mut layers = HashMap::new();
+    for &motion in motions {
+        for index in 0..frames {
+            let key = layer_key(motion, index);
+            if layers.contains_key(&key) {
+                continue;
+            }
+            if let Some((camera, draws)) = frame_input(motion, index) {
+                renderer.set_frame(&FrameInput {
+                    camera,
+                    transparent: &draws,
+                    ..scene.frame_input()
+                })?;
+            }
+            let layer = renderer
+                .render(true)?
+                .opaque
+                .ok_or_else(|| translucid::Error::HostFrame("no opaque layer read back".into()))?;
+            layers.insert(key, layer);
+        }
+    }
+    Ok(layers)
+}
+
+/// Where frame `index` of `motion` finds its opaque layer.
+fn layer_key(motion: Motion, index: u32) -> (Motion, u32) {
+    match motion {
+        Motion::Static => (motion, 0),
+        Motion::Orbit => (motion, index),
+    }
+}
+
+/// One line (or JSON object) per scene and method of `bench.methods`: its whole pass over
+/// `native_blend`'s, and its own stages over translucid's blend's.
 fn print_results(results: &[Measured], bench: &Bench<'_>, json: bool) {
     let (methods, threshold, method_args) = (bench.methods, bench.threshold, bench.method_args);
     let size = bench.frame_loop.size;
@@ -255,6 +367,7 @@ fn print_results(results: &[Measured], bench: &Bench<'_>, json: bool) {
         let blend = results
             .iter()
             .find(|b| b.scene == r.scene && b.method == "blend" && b.motion == r.motion);
+        let native_ratio = r.whole_ms / r.native_ms;
         let ratio = r.method_ms / blend.map_or(f64::NAN, |b| b.method_ms);
         let wall_ratio = r.wall_ms / blend.map_or(f64::NAN, |b| b.wall_ms);
         // The method's own memory: its peak over blend's, which holds the same scene and
@@ -285,13 +398,18 @@ fn print_results(results: &[Measured], bench: &Bench<'_>, json: bool) {
                 "triangles": r.triangles,
                 "tail_fragments": r.tail_fragments,
                 "unpeeled_pixels": r.unpeeled_pixels,
-                "rerenders": r.rerenders,
+                "overflowed_frames": r.overflowed_frames,
+                "frames_in_flight": FRAMES_IN_FLIGHT,
+                "whole_pass_ms": r.whole_ms,
+                "native_blend_ms": r.native_ms,
+                "ratio_to_native_blend": native_ratio,
                 "wall_ms": r.wall_ms,
+                "native_blend_wall_ms": r.native_wall_ms,
                 "wall_ratio_to_blend": wall_ratio,
                 "width": size.width,
                 "height": size.height,
                 "frames": r.frames,
-                "median_ms": r.total_ms,
+                "median_ms": r.whole_ms,
                 "method_ms": r.method_ms,
                 "stages": stages,
                 "ratio_to_blend": ratio,
@@ -310,16 +428,17 @@ fn print_results(results: &[Measured], bench: &Bench<'_>, json: bool) {
                 None => format!("{:?}", r.motion).to_lowercase(),
             };
             println!(
-                "{:<40} {:<8} {motion}  total {:>9.3} ms  method {:>9.3} ms  x{:.2} blend  \
-                 frame wall {:>9.3} ms  x{:.2} blend  CPU record {:.3} ms  peak {:.1} MB \
-                 ({:+.1} over blend)  pipelines created {}  bytes allocated {}",
+                "{:<40} {:<8} {motion}  whole pass {:>9.3} ms  x{:.2} native_blend ({:.3} ms)  \
+                 method {:>9.3} ms  x{:.2} blend  frame wall {:>9.3} ms  CPU record {:.3} ms  \
+                 peak {:.1} MB ({:+.1} over blend)  pipelines created {}  bytes allocated {}",
                 r.scene,
                 r.method,
-                r.total_ms,
+                r.whole_ms,
+                native_ratio,
+                r.native_ms,
                 r.method_ms,
                 ratio,
                 r.wall_ms,
-                wall_ratio,
                 r.cpu_ms,
                 r.peak_gpu_bytes as f64 / (1 << 20) as f64,
                 over_blend.map_or(f64::NAN, |b| b as f64 / (1 << 20) as f64),
@@ -327,6 +446,12 @@ fn print_results(results: &[Measured], bench: &Bench<'_>, json: bool) {
                 r.bytes_allocated
             );
             println!("{:<40} {}", "", super::stage_text(&r.stages));
+            if r.overflowed_frames > 0 {
+                println!(
+                    "{:<40} not right: {} frames overflowed on their one recording",
+                    "", r.overflowed_frames
+                );
+            }
             if r.tail_fragments > 0 {
                 println!(
                     "{:<40} not exact: {} fragments past the node pool, blended unsorted",

@@ -1,0 +1,197 @@
+//! The bench's engine: a frame loop as an engine runs one, on a device translucid made and
+//! then takes as the engine's (`Gpu::as_host_device`). The engine owns a colour image
+//! (R16G16B16A16_SFLOAT) and a depth image (D32_SFLOAT, growing away from the eye); each frame
+//! its opaque pass fills them (a copy of the frame's opaque layer, not timed), then it records
+//! the method's frame (`Renderer::record_host`: everything translucid records, copies in and
+//! out included, is the whole pass) and submits it; then the same again with the yardstick,
+//! `native_blend` (`Renderer::record_native_blend`), on the same renderer and frame.
+
+use translucid::gpu::{
+    image_barrier, memory_barrier, vk, Buffer, Gpu, GpuImage, HostImage, HostTargets,
+    MemoryLocation,
+};
+use translucid::renderer::{HostFrame, Renderer};
+use translucid::OpaqueLayer;
+
+const COLOUR_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
+const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
+/// Where the engine's opaque pass leaves its images, as a render pass would.
+const COLOUR_LAYOUT: vk::ImageLayout = vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL;
+const DEPTH_LAYOUT: vk::ImageLayout = vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
+
+/// One method's frames on the engine.
+pub struct EngineLoop {
+    /// Made on `host`; dropped first.
+    pub renderer: Renderer,
+    /// translucid over the engine's device.
+    pub host: Gpu,
+    images: EngineImages,
+    /// The engine: the device translucid made, which submits.
+    engine: Gpu,
+}
+
+/// What one engine frame measured: the method's frame and the yardstick's, and the host
+/// time each submission took from submission to completion.
+pub struct EngineFrame {
+    pub method: HostFrame,
+    pub native: HostFrame,
+    pub method_wall_ms: f64,
+    pub native_wall_ms: f64,
+    /// Host time recording the method's frame.
+    pub record_ms: f64,
+}
+
+struct EngineImages {
+    colour: GpuImage,
+    depth: GpuImage,
+    /// The opaque layer's texels, copied into the images by each frame's opaque pass.
+    colour_in: Buffer,
+    depth_in: Buffer,
+    extent: vk::Extent2D,
+}
+
+impl EngineLoop {
+    /// The engine on `engine` (a device translucid made) with images of `width` x `height`,
+    /// and a renderer made by `make` on translucid over it.
+    pub fn new(
+        engine: Gpu,
+        (width, height): (u32, u32),
+        make: impl FnOnce(&Gpu) -> translucid::Result<Renderer>,
+    ) -> translucid::Result<Self> {
+        let handles = engine.as_host_device().ok_or_else(|| {
+            translucid::Error::HostFrame("the bench's engine needs a device of its own".into())
+        })?;
+        // SAFETY: the handles are `engine`'s live instance and device, which outlive `host`:
+        // `Self` drops `renderer` and `host` before `engine`.
+        let host = unsafe { Gpu::from_host(&handles) }?;
+        let renderer = make(&host)?;
+        let extent = vk::Extent2D { width, height };
+        let usage = vk::ImageUsageFlags::TRANSFER_SRC | vk::ImageUsageFlags::TRANSFER_DST;
+        let pixels = u64::from(width) * u64::from(height);
+        let upload = |name, bytes| {
+            engine.create_buffer(
+                name,
+                bytes,
+                vk::BufferUsageFlags::TRANSFER_SRC,
+                MemoryLocation::CpuToGpu,
+            )
+        };
+        let images = EngineImages {
+            colour: engine.create_image(
+                "engine colour",
+                extent,
+                COLOUR_FORMAT,
+                usage | vk::ImageUsageFlags::COLOR_ATTACHMENT,
+                1,
+            )?,
+            depth: engine.create_image(
+                "engine depth",
+                extent,
+                DEPTH_FORMAT,
+                usage | vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
+                1,
+            )?,
+            colour_in: upload("engine opaque colour", 8 * pixels)?,
+            depth_in: upload("engine opaque depth", 4 * pixels)?,
+            extent,
+        };
+        Ok(Self {
+            renderer,
+            host,
+            images,
+            engine,
+        })
+    }
+
+    /// One frame over `layer` (the frame's opaque layer, at the images' size): the method's,
+    /// then the yardstick's, each submitted and waited for.
+    pub fn frame(&mut self, layer: &OpaqueLayer) -> translucid::Result<EngineFrame> {
+        let (colour, depth) = layer.texels();
+        self.images.colour_in.write(0, &colour)?;
+        self.images.depth_in.write(0, &depth)?;
+        let (record_ms, method_wall_ms, method) = self.submit(false)?;
+        let (_, native_wall_ms, native) = self.submit(true)?;
+        Ok(EngineFrame {
+            method,
+            native,
+            method_wall_ms,
+            native_wall_ms,
+            record_ms,
+        })
+    }
+
+    /// Records the opaque pass and the method's frame (the yardstick's when `native`),
+    /// submits, waits and completes it: host time recording, host time from submission to
+    /// completion, and what the frame reported.
+    fn submit(&mut self, native: bool) -> translucid::Result<(f64, f64, HostFrame)> {
+        let (engine, images, renderer) = (&self.engine, &self.images, &mut self.renderer);
+        let mut record_ms = 0.0;
+        let mut submitted = std::time::Instant::now();
+        engine.submit_and_wait(|cmd| {
+            images.record_opaque(engine, cmd);
+            let targets = images.targets(cmd);
+            let started = std::time::Instant::now();
+            // SAFETY: the engine's recording command buffer, outside a render pass, and its
+            // live images of the renderer's size, in the layouts named, made with the usages
+            // both recordings need; the submission is waited for before anything is dropped.
+            unsafe {
+                if native {
+                    renderer.record_native_blend(&targets)
+                } else {
+                    renderer.record_host(&targets)
+                }
+            }?;
+            record_ms = started.elapsed().as_secs_f64() * 1e3;
+            submitted = std::time::Instant::now();
+            Ok(())
+        })?;
+        let wall_ms = submitted.elapsed().as_secs_f64() * 1e3;
+        let frame = renderer.complete_host()?.ok_or_else(|| {
+            translucid::Error::HostFrame("a frame waited for did not complete".into())
+        })?;
+        Ok((record_ms, wall_ms, frame))
+    }
+}
+
+impl EngineImages {
+    fn targets(&self, cmd: vk::CommandBuffer) -> HostTargets {
+        HostTargets {
+            cmd,
+            colour: HostImage {
+                image: self.colour.raw,
+                format: COLOUR_FORMAT,
+                layout: COLOUR_LAYOUT,
+                final_layout: COLOUR_LAYOUT,
+            },
+            depth: HostImage {
+                image: self.depth.raw,
+                format: DEPTH_FORMAT,
+                layout: DEPTH_LAYOUT,
+                final_layout: DEPTH_LAYOUT,
+            },
+        }
+    }
+
+    /// The engine's opaque pass: the layer's texels into the images, left as attachments.
+    fn record_opaque(&self, gpu: &Gpu, cmd: vk::CommandBuffer) {
+        let any = (
+            vk::PipelineStageFlags::ALL_COMMANDS,
+            vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE,
+        );
+        let write = (
+            vk::PipelineStageFlags::TRANSFER,
+            vk::AccessFlags::TRANSFER_WRITE,
+        );
+        for (image, buffer, layout) in [
+            (&self.colour, &self.colour_in, COLOUR_LAYOUT),
+            (&self.depth, &self.depth_in, DEPTH_LAYOUT),
+        ] {
+            let undefined = vk::ImageLayout::UNDEFINED;
+            let dst = vk::ImageLayout::TRANSFER_DST_OPTIMAL;
+            image_barrier(gpu, cmd, image, undefined, dst, any, write);
+            gpu.cmd_copy_buffer_to_image(cmd, buffer, image, self.extent);
+            image_barrier(gpu, cmd, image, dst, layout, write, any);
+        }
+        memory_barrier(gpu, cmd, any, any);
+    }
+}
