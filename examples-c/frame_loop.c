@@ -12,8 +12,13 @@
  *
  * DRAWS adds that many small moving panes, one draw each (a draw-call-heavy frame).
  *
+ * Before each frame, the engine draws the same transparent draws its own way, unsorted blending
+ * straight into its images (translucid_frame_record_native_blend, the yardstick), then clears
+ * them again: each frame's GPU time over the yardstick's is what translucid costs next to the
+ * engine's own blend.
+ *
  * For exact and blend it prints each frame's CPU time in translucid_frame_record, its GPU
- * time and the loop's wall time per frame, and writes the last frame as
+ * time and its ratio to the yardstick's, the loop's wall time per frame, and writes the last frame as
  * OUTPUT_DIR/frame_loop-<method>.png (read back by the engine). With TRANSLUCID_VALIDATION=1
  * the engine's instance runs the Khronos validation layer.
  */
@@ -78,6 +83,8 @@ typedef struct frame_slot {
     VkBuffer readback;
     void *pixels;
     translucid_frame frame;
+    /* The yardstick's frame, recorded before `frame` into the same command buffer. */
+    translucid_frame native;
     int in_flight;
     double record_ms;
 } frame_slot;
@@ -554,9 +561,10 @@ static double median(double *v, int n) {
     return v[n / 2];
 }
 
-/* Ends the frame in flight in `s`: waits for its fence, completes it, prints its times. */
-static void finish(frame_slot *s, int k, double *gpu_ms) {
-    translucid_frame_statistics stats;
+/* Ends the frame in flight in `s`: waits for its fence, completes it (and the yardstick's
+ * before it), prints its times; its GPU time and its ratio to the yardstick's. */
+static void finish(frame_slot *s, int k, double *gpu_ms, double *ratio) {
+    translucid_frame_statistics stats, native;
     translucid_result done;
     VK_CHECK(vkWaitForFences(g_device, 1, &s->fence, VK_TRUE, UINT64_MAX));
     VK_CHECK(vkResetFences(g_device, 1, &s->fence));
@@ -565,9 +573,15 @@ static void finish(frame_slot *s, int k, double *gpu_ms) {
     memset(&stats, 0, sizeof stats);
     stats.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_STATISTICS;
     CHECK(translucid_frame_get_statistics(g_context, s->frame, &stats));
+    memset(&native, 0, sizeof native);
+    native.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_STATISTICS;
+    CHECK(translucid_frame_get_statistics(g_context, s->native, &native));
     *gpu_ms = stats.gpu_milliseconds;
-    printf("  frame %3d: record %.3f ms (CPU), GPU %.3f ms (method %.3f)%s", k, s->record_ms,
-           stats.gpu_milliseconds, stats.method_milliseconds,
+    *ratio = stats.gpu_milliseconds / native.gpu_milliseconds;
+    printf("  frame %3d: record %.3f ms (CPU), GPU %.3f ms (method %.3f), x%.2f the engine's "
+           "blend (%.3f ms)%s",
+           k, s->record_ms, stats.gpu_milliseconds, stats.method_milliseconds, *ratio,
+           native.gpu_milliseconds,
            done == TRANSLUCID_RESULT_INCOMPLETE ? ", past a limit: see the README" : "");
     /* What recording it built: the first frames' pipelines and buffers, uploads. */
     if (stats.pipelines_created != 0 || stats.bytes_allocated != 0) {
@@ -575,6 +589,7 @@ static void finish(frame_slot *s, int k, double *gpu_ms) {
                (unsigned long long)stats.pipelines_created, stats.bytes_allocated / 1024.0);
     }
     printf("\n");
+    CHECK(translucid_frame_destroy(g_context, s->native));
     CHECK(translucid_frame_destroy(g_context, s->frame));
     s->in_flight = 0;
 }
@@ -593,9 +608,10 @@ static void run(uint32_t method, int frames, uint32_t extra_draws, const char *p
     double *record = malloc(sizeof(double) * (size_t)frames);
     double *gpu = malloc(sizeof(double) * (size_t)frames);
     double *wall = malloc(sizeof(double) * (size_t)frames);
+    double *ratio = malloc(sizeof(double) * (size_t)frames);
     double last = now_ms();
     int k;
-    if (record == NULL || gpu == NULL || wall == NULL) exit(1);
+    if (record == NULL || gpu == NULL || wall == NULL || ratio == NULL) exit(1);
     make_scene(&sc, extra_draws);
     for (k = 4; k < (int)sc.draw_count; k++) {
         sc.draws[k].mesh = sc.pane;
@@ -611,7 +627,7 @@ static void run(uint32_t method, int frames, uint32_t extra_draws, const char *p
         VkSubmitInfo submit;
         double started;
         /* Back at this slot: its frame (two frames ago) has to finish first. */
-        if (s->in_flight) finish(s, k - IN_FLIGHT, &gpu[k - IN_FLIGHT]);
+        if (s->in_flight) finish(s, k - IN_FLIGHT, &gpu[k - IN_FLIGHT], &ratio[k - IN_FLIGHT]);
         if (k >= frames) continue;
 
         if (k == frames / 2) {
@@ -657,6 +673,9 @@ static void run(uint32_t method, int frames, uint32_t extra_draws, const char *p
         targets.depth.format = VK_FORMAT_D32_SFLOAT;
         targets.depth.layout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
         targets.depth.final_layout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
+        /* The yardstick: the engine's own blend of the same draws, then its opaque pass again. */
+        CHECK(translucid_frame_record_native_blend(g_context, &info, &targets, &s->native));
+        record_opaque(s->cmd, s);
         started = now_ms();
         CHECK(translucid_frame_record(g_context, &info, &targets, &s->frame));
         s->record_ms = now_ms() - started;
@@ -685,9 +704,11 @@ static void run(uint32_t method, int frames, uint32_t extra_draws, const char *p
     }
     /* The readback's memory is host-coherent and the fence was waited for. */
     write_png(png, g_slots[(frames - 1) % IN_FLIGHT].pixels);
-    printf("%s: median record %.3f ms (CPU), GPU %.3f ms, wall %.3f ms a frame; wrote %s\n",
+    printf("%s: median record %.3f ms (CPU), GPU %.3f ms (x%.2f the engine's blend), wall %.3f "
+           "ms a frame; wrote %s\n",
            translucid_method_name(method), median(record, frames), median(gpu, frames),
-           median(wall, frames), png);
+           median(ratio, frames), median(wall, frames), png);
+    free(ratio);
     free(record);
     free(gpu);
     free(wall);
@@ -722,7 +743,8 @@ int main(int argc, char **argv) {
     info.header_version = TRANSLUCID_HEADER_VERSION;
     info.mode = TRANSLUCID_CONTEXT_MODE_HOST_DEVICE;
     info.next = &host;
-    info.frames_in_flight = IN_FLIGHT;
+    /* Each engine frame records two of translucid's: the yardstick's and the method's. */
+    info.frames_in_flight = 2 * IN_FLIGHT;
     CHECK(translucid_context_create(&info, &g_context));
     printf("translucid %s on %s\n", translucid_version_string(),
            translucid_context_device_name(g_context));

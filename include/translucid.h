@@ -1463,6 +1463,31 @@ translucid_result translucid_frame_record(struct translucid_context *context,
                                           struct translucid_frame *out_frame);
 
 /**
+ * Host-device mode, for measuring: records `native_blend`, the yardstick translucid's
+ * speed is measured against, into the engine's command buffer, like
+ * `translucid_frame_record` (the same arguments, obligations, frames in flight and
+ * completion). It is what an engine writes for its transparent draws, not a
+ * transparency method: `info`'s draws blended unsorted, in submission order, in one
+ * hardware pass straight into the colour image against the depth image (tested, not
+ * written; stencil kept), with translucid's shading, and no copy in or out. The frame's
+ * `translucid_frame_statistics::gpu_milliseconds` is that pass's GPU time; a method's
+ * frame's over it is the method's cost next to the engine's own blend
+ * (`examples-c/frame_loop.c` prints it).
+ *
+ * Besides `translucid_frame_record`'s usages, the colour image needs
+ * `VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT` in a format the device blends with dual-source
+ * blending, and the depth image `VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT`. The
+ * images end in their `final_layout`. It uses a frame slot of `info->method`'s
+ * renderer, which is made as for `translucid_frame_record`.
+ */
+TRANSLUCID_MUST_USE
+translucid_result translucid_frame_record_native_blend(struct translucid_context *context,
+                                                       const struct translucid_frame_info *info,
+                                                       const struct translucid_host_frame_targets *targets,
+                                                       struct translucid_frame *out_frame);
+
+/**
+ * Host-device mode: call once the host waited for the engine's submission of the frame's
  * Host-device mode: call once the host waited for the engine's submission of the frame's
  * command buffer. Reads the frame's GPU timings and counters (see
  * `translucid_frame_get_statistics`) and ends the frame's flight. Frames in flight

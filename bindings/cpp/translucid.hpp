@@ -311,6 +311,19 @@ public:
         return Frame(context_, frame);
     }
 
+    /// Host-device mode, for measuring: records native_blend, the yardstick (the engine's
+    /// own unsorted blend of the same draws, straight into its images), as a Frame like
+    /// record's (translucid_frame_record_native_blend).
+    [[nodiscard]] Frame record_native_blend(translucid_frame_info info,
+                                            translucid_host_frame_targets targets) {
+        info.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_INFO;
+        targets.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_FRAME_TARGETS;
+        translucid_frame frame{0};
+        detail::check(translucid_frame_record_native_blend(get(), &info, &targets, &frame),
+                      get(), "translucid_frame_record_native_blend");
+        return Frame(context_, frame);
+    }
+
     /// The methods this build has (translucid_method values).
     static std::vector<std::uint32_t> available_methods() {
         std::size_t count = 0;

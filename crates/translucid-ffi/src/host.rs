@@ -202,10 +202,18 @@ fn not_host(call: &str) -> Failure {
     )
 }
 
+/// What a host-device frame records: the method's frame, or the yardstick's.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Recording {
+    Method,
+    NativeBlend,
+}
+
 fn record(
     objects: &mut Objects,
     info: &translucid_frame_info,
     targets: &translucid_host_frame_targets,
+    recording: Recording,
 ) -> FfiResult<FrameRecord> {
     check_header(
         targets.s_type,
@@ -256,11 +264,18 @@ fn record(
         colour: host_image(&targets.colour),
         depth: host_image(&targets.depth),
     };
-    // SAFETY: the header documents the engine's side: a recording command buffer outside a
-    // render pass and images of at least the frame's size with the usages listed, all of the device
-    // this context wraps. Handles, formats and layouts are checked first.
     let id = kept.id;
-    if let Err(e) = unsafe { kept.renderer.record_host(&t) } {
+    // SAFETY: the header documents the engine's side: a recording command buffer outside a
+    // render pass and images of at least the frame's size with the usages listed (for the
+    // yardstick, attachment usages too), all of the device this context wraps. Handles,
+    // formats and layouts are checked first.
+    let recorded = unsafe {
+        match recording {
+            Recording::Method => kept.renderer.record_host(&t),
+            Recording::NativeBlend => kept.renderer.record_native_blend(&t),
+        }
+    };
+    if let Err(e) = recorded {
         // Part of the frame may be recorded (the engine resets its command buffer), and the
         // renderer believes it: it takes no new frame.
         renderers.retire(id);
@@ -457,6 +472,35 @@ fn write_requirements(
     Ok(translucid_result::Success)
 }
 
+/// `translucid_frame_record` and `translucid_frame_record_native_blend`: the arguments
+/// checked, the frame recorded, tracked and its handle written.
+fn record_frame(
+    objects: &mut Objects,
+    (info, targets, out_frame): (
+        *const translucid_frame_info,
+        *const translucid_host_frame_targets,
+        *mut translucid_frame,
+    ),
+    recording: Recording,
+) -> FfiResult<translucid_result> {
+    let info = try_ref(info, "info")?;
+    let targets = try_ref(targets, "targets")?;
+    let out = try_out(out_frame, "out_frame")?;
+    let record = record(objects, info, targets, recording)?;
+    let renderer = record.renderer;
+    let id = objects.frames.insert(record).inspect_err(|_| {
+        // Recorded but untracked: the renderer must not be trusted again.
+        if let Some(kept) = objects.renderers.get_mut(renderer) {
+            kept.in_flight -= 1;
+        }
+        objects.renderers.retire(renderer);
+    })?;
+    objects.in_flight.push_back(id);
+    objects.last_frame_index = objects.last_frame_index.max(info.frame_index);
+    out.write(translucid_frame { id });
+    Ok(translucid_result::Success)
+}
+
 impl translucid_frame {
     /// Host-device mode: records a frame into the engine's command buffer and writes its
     /// handle to `*out_frame`. Nothing is submitted: the engine submits the command buffer,
@@ -508,25 +552,40 @@ impl translucid_frame {
         out_frame: *mut translucid_frame,
     ) -> translucid_result {
         panic::with_context(context, |objects| {
-            let info = try_ref(info, "info")?;
-            let targets = try_ref(targets, "targets")?;
-            let out = try_out(out_frame, "out_frame")?;
-            let record = record(objects, info, targets)?;
-            let renderer = record.renderer;
-            let id = objects.frames.insert(record).inspect_err(|_| {
-                // Recorded but untracked: the renderer must not be trusted again.
-                if let Some(kept) = objects.renderers.get_mut(renderer) {
-                    kept.in_flight -= 1;
-                }
-                objects.renderers.retire(renderer);
-            })?;
-            objects.in_flight.push_back(id);
-            objects.last_frame_index = objects.last_frame_index.max(info.frame_index);
-            out.write(translucid_frame { id });
-            Ok(translucid_result::Success)
+            record_frame(objects, (info, targets, out_frame), Recording::Method)
         })
     }
 
+    /// Host-device mode, for measuring: records `native_blend`, the yardstick translucid's
+    /// speed is measured against, into the engine's command buffer, like
+    /// `translucid_frame_record` (the same arguments, obligations, frames in flight and
+    /// completion). It is what an engine writes for its transparent draws, not a
+    /// transparency method: `info`'s draws blended unsorted, in submission order, in one
+    /// hardware pass straight into the colour image against the depth image (tested, not
+    /// written; stencil kept), with translucid's shading, and no copy in or out. The frame's
+    /// `translucid_frame_statistics::gpu_milliseconds` is that pass's GPU time; a method's
+    /// frame's over it is the method's cost next to the engine's own blend
+    /// (`examples-c/frame_loop.c` prints it).
+    ///
+    /// Besides `translucid_frame_record`'s usages, the colour image needs
+    /// `VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT` in a format the device blends with dual-source
+    /// blending, and the depth image `VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT`. The
+    /// images end in their `final_layout`. It uses a frame slot of `info->method`'s
+    /// renderer, which is made as for `translucid_frame_record`.
+    #[no_mangle]
+    #[must_use]
+    pub extern "C" fn translucid_frame_record_native_blend(
+        context: *mut translucid_context,
+        info: *const translucid_frame_info,
+        targets: *const translucid_host_frame_targets,
+        out_frame: *mut translucid_frame,
+    ) -> translucid_result {
+        panic::with_context(context, |objects| {
+            record_frame(objects, (info, targets, out_frame), Recording::NativeBlend)
+        })
+    }
+
+    /// Host-device mode: call once the host waited for the engine's submission of the frame's
     /// Host-device mode: call once the host waited for the engine's submission of the frame's
     /// command buffer. Reads the frame's GPU timings and counters (see
     /// `translucid_frame_get_statistics`) and ends the frame's flight. Frames in flight

@@ -186,6 +186,18 @@ fn c_programs_pass_with_validation() {
                     output.contains(&format!("{method}: median record")),
                     "{output}"
                 );
+                // Each frame beside the yardstick, the engine's own blend of its draws.
+                let summary = output
+                    .split(&format!("{method}: median record"))
+                    .nth(1)
+                    .unwrap_or_default();
+                let ratio: f64 = summary
+                    .split("(x")
+                    .nth(1)
+                    .and_then(|r| r.split(' ').next())
+                    .and_then(|r| r.parse().ok())
+                    .unwrap_or_else(|| panic!("no ratio to the engine's blend:\n{output}"));
+                assert!(ratio.is_finite() && ratio > 0.0, "{output}");
             }
             assert!(!output.contains("Validation Error"), "{output}");
             // The frames of the dynamic resolution build and allocate nothing.
