@@ -395,3 +395,50 @@ fn exact_renders_coincident_instanced_and_random_stacks_in_about_blends_time() {
         );
     }
 }
+
+/// `count` copies of one screen-filling triangle in one mesh, tilted away from the camera:
+/// at each pixel all at one depth, but a different one from pixel to pixel, so that the
+/// depth slabs (planned on each triangle's nearest vertex) bound none of them, and every
+/// sweep of a row walks the whole list for the 16 fragments it composites.
+fn coincident_tilted_triangles(count: u32) -> Scene {
+    let mut positions = Vec::new();
+    let mut triangles = Vec::new();
+    for i in 0..count {
+        positions.extend([
+            Vec3::new(-9.0, -9.0, -1.0),
+            Vec3::new(9.0, -9.0, -3.0),
+            Vec3::new(0.0, 9.0, -2.0),
+        ]);
+        triangles.push([3 * i, 3 * i + 1, 3 * i + 2]);
+    }
+    let camera = Camera::look_at(Vec3::new(0.0, 0.0, 3.0), Vec3::ZERO, 0.8, 0.1, 20.0);
+    let mesh = Mesh::from_triangles("coincident tilted", positions, &triangles);
+    one_draw_scene(
+        "coincident tilted",
+        mesh,
+        Material::alpha(Vec3::ONE, 0.5),
+        camera,
+    )
+}
+
+/// The work bound holds a hostile frame to seconds: 20,000 coincident tilted triangles at
+/// 16x16 need some 400 continuation dispatches for each of their 16 rows, past the frame's
+/// bound of 4,096, so exact refuses the frame by name after its 64-continuation round (a
+/// fuzzed glTF of 100,000 such instances at 37x23 took 14 minutes to be refused under the
+/// per-row bound alone, and this frame 20 s to render). blend draws it.
+#[test]
+fn frames_past_the_work_bound_are_refused_in_seconds() {
+    let gpu = gpu();
+    let scene = coincident_tilted_triangles(20_000);
+    let err = Renderer::new(&gpu, &scene, MethodKind::Exact, 16, 16)
+        .and_then(|mut r| r.render(false))
+        .err()
+        .expect("exact refuses the frame");
+    let message = err.to_string();
+    assert!(
+        message.contains("work bound") && message.contains("after 64 continuation"),
+        "{message}"
+    );
+    let frame = render(&gpu, &scene, "blend", 16, 16);
+    assert!(frame.image.pixels.iter().all(|p| p.is_finite()));
+}

@@ -49,13 +49,17 @@ pub struct ExactOptions {
 }
 
 const RASTER: &[u8] = crate::spirv!("exact/raster.comp");
-/// With about 60,000 loop iterations each, this many continuations finish any pixel this
-/// method can render in reasonable time (10,000 full-screen layers take a few hundred);
-/// past it the frame fails with an error. Continuations with no rows cost an empty
-/// indirect dispatch.
-const MAX_CONTINUATIONS: u32 = 4096;
+/// The work bound, per row: with about 60,000 loop iterations each (some 30 M list entries
+/// in all), this many continuations finish a row of any frame this method renders in
+/// reasonable time (10,000 full-screen layers take a few hundred); past it the frame fails
+/// with an error. Continuations with no rows cost an empty indirect dispatch.
+const MAX_CONTINUATIONS: u32 = 512;
+/// The work bound, per frame: continuations times the rows they resume, at most (some 10 s
+/// of lavapipe on 2 cores), so that a hostile frame with many deep rows is refused in
+/// seconds, not hours.
+const MAX_ROW_CONTINUATIONS: u64 = 1 << 12;
 /// Continuations are multiplied by this when rows were left unfinished: a deep frame finds
-/// its count in a few re-renders (1, 8, 64, 512, 4096).
+/// its count in a few re-renders (1, 8, 64, 512).
 const CONTINUATION_GROWTH: u32 = 8;
 
 pub struct Exact {
@@ -87,6 +91,11 @@ impl Continuations {
         first_band: 1,
         later_bands: 1,
     };
+
+    /// The most continuations a band records.
+    fn most(self) -> u32 {
+        self.first_band.max(self.later_bands)
+    }
 
     /// The continuations after a submission that left rows unfinished: more for the band
     /// whose rows they were (the last band with blocks, of `bands`; the first band's for a
@@ -255,12 +264,23 @@ impl Method for Exact {
         let unfinished = self.bins.unfinished_rows(done.slot)?;
         // (Continuations already multiplied since the frame was recorded are left alone.)
         if unfinished > 0 && recorded == self.continuations {
-            let Some(grown) = self.continuations.grown(counters.bands, finishing) else {
-                return Err(crate::Error::InvalidScene(format!(
-                    "exact: {unfinished} pixel rows still unfinished after {MAX_CONTINUATIONS} \
-                     continuation dispatches; the frame is too deep for this driver"
-                )));
+            let too_deep = |more: String| {
+                crate::Error::InvalidScene(format!(
+                    "exact: {unfinished} pixel rows still unfinished after {} continuation \
+                     dispatches; {more} would pass the frame's work bound (README, \"The work \
+                     bound\")",
+                    recorded.most()
+                ))
             };
+            let Some(grown) = self.continuations.grown(counters.bands, finishing) else {
+                return Err(too_deep(format!("more than {MAX_CONTINUATIONS} a row")));
+            };
+            if u64::from(unfinished) * u64::from(grown.most()) > MAX_ROW_CONTINUATIONS {
+                return Err(too_deep(format!(
+                    "{} for each of them (at most {MAX_ROW_CONTINUATIONS} in all)",
+                    grown.most()
+                )));
+            }
             self.continuations = grown;
             log::info!(
                 "exact: {unfinished} rows unfinished; {:?} continuations next",
@@ -308,7 +328,7 @@ mod tests {
         let finishing = start.grown(3, true).expect("room");
         assert_eq!((finishing.first_band, finishing.later_bands), (8, 1));
         let mut c = start;
-        for _ in 0..4 {
+        for _ in 0..3 {
             c = c.grown(2, false).expect("room");
         }
         assert_eq!(c.later_bands, MAX_CONTINUATIONS);
