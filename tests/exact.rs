@@ -449,19 +449,27 @@ fn exact_copies_only_the_textures_transparent_draws_use() {
 }
 
 #[test]
-fn exact_creates_no_pipeline_in_a_warm_frame() {
+fn exact_creates_no_pipeline_in_a_warm_frame_and_counts_its_dispatches() {
     let gpu = gpu();
     let scene = scene::load("particles").expect("generated scene");
     let mut renderer = Renderer::new(&gpu, &scene, MethodKind::Exact, 96, 64).expect("renderer");
     // The first frames may rebuild for what they find (deeper pixels than expected); the
     // later ones none. (The near-plane test above checks that rebuilds are counted.)
-    let frames: Vec<u64> = (0..4)
-        .map(|_| renderer.render(false).expect("frame").pipelines_created)
+    let frames: Vec<(u64, u64)> = (0..4)
+        .map(|_| {
+            let frame = renderer.render(false).expect("frame");
+            (frame.pipelines_created, frame.dispatches)
+        })
         .collect();
     assert_eq!(
-        frames[2..],
+        frames[2..].iter().map(|f| f.0).collect::<Vec<_>>(),
         [0, 0],
-        "pipelines created per frame: {frames:?}"
+        "(pipelines created, dispatches) per frame: {frames:?}"
+    );
+    // The chain of compute dispatches a warm frame records is counted, the same each frame.
+    assert!(
+        frames[2].1 > 0 && frames[2].1 == frames[3].1,
+        "(pipelines created, dispatches) per frame: {frames:?}"
     );
 }
 

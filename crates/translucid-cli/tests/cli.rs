@@ -66,6 +66,7 @@ fn bench_json_has_one_line_per_scene_and_method() {
             "ratio_to_native_blend",
             "frames_in_flight",
             "overflowed_frames",
+            "dispatches",
             "stages",
             "ratio_to_blend",
             "wall_ms",

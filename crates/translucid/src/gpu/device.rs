@@ -108,6 +108,8 @@ pub struct Shared {
     /// Pipelines created on the device so far: each one costs a shader compilation, which
     /// a frame loop must not pay.
     pipelines_created: AtomicU64,
+    /// Compute dispatches recorded on the device so far (direct and indirect).
+    dispatches_recorded: AtomicU64,
     /// Every pipeline is made through this cache (made on first use), whose data an engine
     /// can save and hand back on its next run ([`Gpu::pipeline_cache_data`]).
     pipeline_cache: OnceLock<vk::PipelineCache>,
@@ -395,6 +397,7 @@ impl Gpu {
                 allocator: ManuallyDrop::new(Mutex::new(allocator)),
                 memory: MemoryStats::default(),
                 pipelines_created: AtomicU64::new(0),
+                dispatches_recorded: AtomicU64::new(0),
                 pipeline_cache: OnceLock::new(),
                 pipeline_cache_lock: RwLock::new(()),
                 compute_pipelines: Default::default(),
@@ -468,6 +471,7 @@ impl Gpu {
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
             memory: MemoryStats::default(),
             pipelines_created: AtomicU64::new(0),
+            dispatches_recorded: AtomicU64::new(0),
             pipeline_cache: OnceLock::new(),
             pipeline_cache_lock: RwLock::new(()),
             compute_pipelines: Default::default(),
@@ -618,6 +622,16 @@ impl Shared {
 
     pub(crate) fn count_pipeline(&self) {
         self.pipelines_created.fetch_add(1, Ordering::Relaxed);
+    }
+
+    /// Compute dispatches recorded on this device so far: what a frame records is the
+    /// difference across its recording (other threads recording on the device add theirs).
+    pub fn dispatches_recorded(&self) -> u64 {
+        self.dispatches_recorded.load(Ordering::Relaxed)
+    }
+
+    pub(crate) fn count_dispatch(&self) {
+        self.dispatches_recorded.fetch_add(1, Ordering::Relaxed);
     }
 }
 

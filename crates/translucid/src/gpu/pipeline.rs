@@ -431,6 +431,7 @@ impl ComputePipeline {
         groups: [u32; 3],
     ) {
         self.bind(cmd, sets, push);
+        self.gpu.count_dispatch();
         // SAFETY: cmd is recording outside a render pass with this pipeline bound.
         unsafe {
             self.gpu
@@ -450,6 +451,7 @@ impl ComputePipeline {
         offset: u64,
     ) {
         self.bind(cmd, sets, push);
+        self.gpu.count_dispatch();
         // SAFETY: as for dispatch; args was made with INDIRECT_BUFFER usage and holds the
         // command at offset (a multiple of 4).
         unsafe { self.gpu.device.cmd_dispatch_indirect(cmd, args.raw, offset) };

@@ -31,6 +31,8 @@ pub struct HostFrame {
     pub fragments: u64,
     /// Transparent triangles left to rasterize after culling (the bin methods; 0 otherwise).
     pub triangles: u64,
+    /// Compute dispatches the frame recorded (0 for the yardstick, which draws).
+    pub dispatches: u64,
     /// Fragments blended unsorted for want of room (linked_list past a fixed node budget).
     pub tail_fragments: u64,
     /// Pixels with more layers than depth_peeling's fixed passes peel.
@@ -177,6 +179,7 @@ impl Renderer {
         self.prepare_slot(slot)?;
         gpu.reset_peak_memory();
         let cmd = targets.cmd;
+        self.slot_dispatches[slot] = gpu.dispatches_recorded();
         self.scene.record_pending_uploads(&gpu, cmd);
         self.timestamps[slot].begin(cmd);
         // Frame targets and the methods' working buffers are shared by the slots: the frames
@@ -201,6 +204,7 @@ impl Renderer {
         slot: usize,
         kind: HostFrameKind,
     ) -> Result<()> {
+        self.slot_dispatches[slot] = gpu.dispatches_recorded() - self.slot_dispatches[slot];
         self.completions[slot].record(gpu, cmd)?;
         self.scene.uploads_recorded();
         self.in_flight.push_back((slot, kind));
@@ -238,6 +242,7 @@ impl Renderer {
             peak_gpu_bytes: self.gpu.memory_in_use().1,
             fragments: check.fragments,
             triangles: check.triangles,
+            dispatches: self.slot_dispatches[slot],
             tail_fragments: check.tail_fragments,
             unpeeled_pixels: check.unpeeled_pixels,
             bands: check.bands,

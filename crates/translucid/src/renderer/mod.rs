@@ -86,6 +86,10 @@ pub struct Frame {
     /// Bands the bin methods rasterized the frame in: more than one when their bin lists
     /// passed the capacity (they grow for later frames); 0 for other methods.
     pub bands: u32,
+    /// Compute dispatches the frame's last rendering recorded (with the submissions that
+    /// finished it): the length of the method's chain, each dispatch a fixed cost on the
+    /// GPU whatever it does.
+    pub dispatches: u64,
     /// Fragments blended unsorted for want of room (linked_list past a fixed node budget):
     /// where they fell the frame is not exact; 0 for other methods.
     pub tail_fragments: u64,
@@ -155,6 +159,8 @@ pub struct Renderer {
     /// never ran; and the slots of the frames in flight, oldest first.
     completions: Vec<host_device::Completion>,
     in_flight: std::collections::VecDeque<(usize, host_device::HostFrameKind)>,
+    /// Host-device mode: per slot, the compute dispatches its last frame recorded.
+    slot_dispatches: Vec<u64>,
     /// Host-device mode: the yardstick's pass and pipelines, made for the first frame that
     /// records it ([`Renderer::record_native_blend`]).
     native_blend: Option<native_blend::NativeBlend>,
@@ -332,6 +338,7 @@ impl Renderer {
             completions: Vec::new(),
             depth_import: None,
             native_blend: None,
+            slot_dispatches: vec![0; slots],
             in_flight: std::collections::VecDeque::new(),
             counted: (gpu.pipelines_created(), gpu.bytes_allocated()),
         })
@@ -480,8 +487,12 @@ impl Renderer {
         // frame's own.
         let mut finishing = false;
         let mut stages = Vec::new();
+        let mut rendering_from = gpu.dispatches_recorded();
         let check = loop {
             let started = std::time::Instant::now();
+            if !finishing {
+                rendering_from = gpu.dispatches_recorded();
+            }
             gpu.submit_and_wait(|cmd| {
                 let recording = std::time::Instant::now();
                 let _timed = OnDrop(|| record_ms += recording.elapsed().as_secs_f64() * 1e3);
@@ -559,6 +570,7 @@ impl Renderer {
             sweeps: check.sweeps,
             triangles: check.triangles,
             bands: check.bands,
+            dispatches: gpu.dispatches_recorded() - rendering_from,
             tail_fragments: check.tail_fragments,
             unpeeled_pixels: check.unpeeled_pixels,
             pipelines_created: self.counted.0 - counted.0,

@@ -56,6 +56,8 @@ pub struct Measured {
     unpeeled_pixels: u64,
     /// Timed frames whose one recording was not all right (the buffers grew after them).
     overflowed_frames: u32,
+    /// Compute dispatches the last timed frame recorded.
+    dispatches: u64,
     /// Pipelines the timed frames created, after the warm-up (0 where nothing is rebuilt).
     pipelines_created: u64,
     /// GPU memory the timed frames allocated, after the warm-up.
@@ -94,6 +96,7 @@ struct Timings {
     tail_fragments: u64,
     unpeeled_pixels: u64,
     overflowed: u32,
+    dispatches: u64,
 }
 
 /// GPU time of every stage of a frame.
@@ -120,6 +123,7 @@ impl Timings {
         self.tail_fragments = self.tail_fragments.max(m.tail_fragments);
         self.unpeeled_pixels = self.unpeeled_pixels.max(m.unpeeled_pixels);
         self.overflowed += u32::from(m.overflowed);
+        self.dispatches = m.dispatches;
         self.walls.push(frame.method_wall_ms);
         self.native_walls.push(frame.native_wall_ms);
     }
@@ -149,6 +153,7 @@ impl Timings {
             tail_fragments: self.tail_fragments,
             unpeeled_pixels: self.unpeeled_pixels,
             overflowed_frames: self.overflowed,
+            dispatches: self.dispatches,
             pipelines_created,
             bytes_allocated,
             wall_ms: median(self.walls),
@@ -399,6 +404,7 @@ fn print_results(results: &[Measured], bench: &Bench<'_>, json: bool) {
                 "tail_fragments": r.tail_fragments,
                 "unpeeled_pixels": r.unpeeled_pixels,
                 "overflowed_frames": r.overflowed_frames,
+                "dispatches": r.dispatches,
                 "frames_in_flight": FRAMES_IN_FLIGHT,
                 "whole_pass_ms": r.whole_ms,
                 "native_blend_ms": r.native_ms,
@@ -430,7 +436,8 @@ fn print_results(results: &[Measured], bench: &Bench<'_>, json: bool) {
             println!(
                 "{:<40} {:<8} {motion}  whole pass {:>9.3} ms  x{:.2} native_blend ({:.3} ms)  \
                  method {:>9.3} ms  x{:.2} blend  frame wall {:>9.3} ms  CPU record {:.3} ms  \
-                 peak {:.1} MB ({:+.1} over blend)  pipelines created {}  bytes allocated {}",
+                 peak {:.1} MB ({:+.1} over blend)  dispatches {}  pipelines created {}  \
+                 bytes allocated {}",
                 r.scene,
                 r.method,
                 r.whole_ms,
@@ -442,6 +449,7 @@ fn print_results(results: &[Measured], bench: &Bench<'_>, json: bool) {
                 r.cpu_ms,
                 r.peak_gpu_bytes as f64 / (1 << 20) as f64,
                 over_blend.map_or(f64::NAN, |b| b as f64 / (1 << 20) as f64),
+                r.dispatches,
                 r.pipelines_created,
                 r.bytes_allocated
             );
