@@ -1022,7 +1022,9 @@ typedef struct translucid_host_frame_targets {
     /**
      * The opaque colour, read and then overwritten with the composited result. Needs
      * TRANSFER_SRC and TRANSFER_DST usage and a format that can be blitted both ways
-     * (UNORM, SRGB or float; not integer).
+     * (UNORM, SRGB or float; not integer). `TRANSLUCID_METHOD_BLEND` and the yardstick
+     * (`translucid_frame_record_native_blend`) draw straight into it where its format
+     * blends: it then needs COLOR_ATTACHMENT usage too, and its alpha is kept.
      */
     struct translucid_host_image colour;
     /**
@@ -1032,7 +1034,8 @@ typedef struct translucid_host_frame_targets {
      * `VK_FORMAT_D16_UNORM`, `VK_FORMAT_X8_D24_UNORM_PACK32`, `VK_FORMAT_D24_UNORM_S8_UINT`
      * and `VK_FORMAT_D32_SFLOAT_S8_UINT` need SAMPLED usage (read by a full-screen pass). A
      * format with stencil must be in a layout of both aspects (not DEPTH_ATTACHMENT_OPTIMAL
-     * or DEPTH_READ_ONLY_OPTIMAL).
+     * or DEPTH_READ_ONLY_OPTIMAL). `TRANSLUCID_METHOD_BLEND` and the yardstick test against
+     * it as a depth attachment: DEPTH_STENCIL_ATTACHMENT usage too.
      */
     struct translucid_host_image depth;
 } translucid_host_frame_targets;
@@ -1419,7 +1422,8 @@ translucid_result translucid_host_method_requirements_get(uint32_t method,
  * waits for it, then calls `translucid_frame_complete`. The commands copy the opaque
  * colour and depth from the engine's images, composite the transparent draws over the
  * colour, copy the result into the colour image and leave both images in their
- * `final_layout`. `info->opaque_layer` must be NULL and no draw opaque; `info->width` and
+ * `final_layout` (`TRANSLUCID_METHOD_BLEND` draws straight into the images instead,
+ * where the colour format blends: one stage, "blend"). `info->opaque_layer` must be NULL and no draw opaque; `info->width` and
  * `height` are the frame's size, which covers the top-left corner of the images (all of
  * them when they are that size).
  *

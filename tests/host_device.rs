@@ -1311,12 +1311,14 @@ fn textures_first_used_by_frames_in_flight_match_the_reference() {
 }
 
 /// The yardstick, `Renderer::record_native_blend`, draws straight into the engine's images
-/// what translucid's `blend` draws through its copies in and out: in each depth format the
-/// engine may hold, growing away from the eye and reversed-Z (the wall of the depth-format
-/// test hides part of the spheres), and it leaves every pixel no transparent fragment covers
-/// bit for bit as the engine's opaque pass left it.
+/// what translucid's `blend` draws in a standalone frame over the same opaque layer (through
+/// its own targets), and the `blend` method on the engine's device draws the same (it is the
+/// same pass): in each depth format the engine may hold, growing away from the eye and
+/// reversed-Z (the wall of the depth-format test hides part of the spheres); and both leave
+/// every pixel no transparent fragment covers bit for bit as the engine's opaque pass left
+/// it.
 #[test]
-fn native_blend_draws_into_the_engines_images_what_blend_draws() {
+fn native_blend_and_blend_draw_into_the_engines_images_what_standalone_blend_draws() {
     let scene = translucid::scene::load("spheres").expect("generated scene");
     let Projection::Perspective { fov_y, near, far } = scene.camera.projection else {
         panic!("spheres has a perspective camera");
@@ -1348,6 +1350,11 @@ fn native_blend_draws_into_the_engines_images_what_blend_draws() {
             .collect()
     };
     assert!(uncovered.iter().any(|&u| u) && uncovered.iter().any(|&u| !u));
+    let standalone = Gpu::new(&GpuOptions {
+        device: None,
+        validation: true,
+    })
+    .expect("a Vulkan device with the validation layer");
     let engine = Engine::new();
     {
         // SAFETY: the engine's live objects, outliving `gpu` (dropped at the end of this block).
@@ -1359,6 +1366,8 @@ fn native_blend_draws_into_the_engines_images_what_blend_draws() {
             }
             let mut renderer =
                 Renderer::new(&gpu, &frame_scene, MethodKind::Blend, W, H).expect("renderer");
+            let mut alone = Renderer::new(&standalone, &frame_scene, MethodKind::Blend, W, H)
+                .expect("standalone renderer");
             for format in translucid::gpu::HOST_DEPTH_FORMATS {
                 let mut layer = background.clone();
                 let mut bytes = Vec::new();
@@ -1369,8 +1378,13 @@ fn native_blend_draws_into_the_engines_images_what_blend_draws() {
                     *depth = if reversed { 1.0 - read } else { read };
                 }
                 let label = format!("{format:?}{}", if reversed { " reversed" } else { "" });
-                let through_copies = EngineImages::with_depth(&gpu, &layer, 1, format, &bytes);
-                one_engine_frame(&engine, &gpu, &through_copies, &mut renderer);
+                let in_place = EngineImages::with_depth(&gpu, &layer, 1, format, &bytes);
+                let done = one_engine_frame(&engine, &gpu, &in_place, &mut renderer);
+                assert_eq!(
+                    done.stages.iter().map(|(s, _)| *s).collect::<Vec<_>>(),
+                    ["blend"],
+                    "{label}: blend on the engine's device copies nothing"
+                );
                 let native = EngineImages::with_depth(&gpu, &layer, 1, format, &bytes);
                 engine.begin(0);
                 let cmd = engine.cmds[0];
@@ -1389,9 +1403,12 @@ fn native_blend_draws_into_the_engines_images_what_blend_draws() {
                     ["native blend"]
                 );
 
-                // Against blend through the copies: the depth test is the same but for the
-                // rounding of D16 and D24 depth, which may flip a pixel on the wall's edge.
-                let (got, want) = (native.srgb(0), through_copies.srgb(0));
+                // The blend method on the engine's device is the same pass.
+                let got = native.srgb(0);
+                assert_eq!(got, in_place.srgb(0), "{label}");
+                // Against blend through its own targets: the depth test is the same but for
+                // the rounding of D16 and D24 depth, which may flip a pixel on the wall's edge.
+                let want = alone.render_over(&layer).expect("frame").image.to_srgb8();
                 let off = pixels(&got)
                     .iter()
                     .zip(pixels(&want))
@@ -1413,15 +1430,16 @@ fn native_blend_draws_into_the_engines_images_what_blend_draws() {
                     .count();
                 assert!(hidden > (W * H / 20) as usize, "{label}: {hidden} hidden");
                 // Uncovered pixels keep the engine's colour bit for bit.
-                let held = native.outs[0].read().expect("readback");
-                let given = &native.colour_in;
-                let given = given.read().expect("upload buffer");
-                for (i, _) in uncovered.iter().enumerate().filter(|(_, &u)| u) {
-                    assert_eq!(
-                        held[8 * i..8 * i + 8],
-                        given[8 * i..8 * i + 8],
-                        "{label}: pixel {i} outside the transparent layer changed"
-                    );
+                for images in [&native, &in_place] {
+                    let held = images.outs[0].read().expect("readback");
+                    let given = images.colour_in.read().expect("upload buffer");
+                    for (i, _) in uncovered.iter().enumerate().filter(|(_, &u)| u) {
+                        assert_eq!(
+                            held[8 * i..8 * i + 8],
+                            given[8 * i..8 * i + 8],
+                            "{label}: pixel {i} outside the transparent layer changed"
+                        );
+                    }
                 }
             }
         }

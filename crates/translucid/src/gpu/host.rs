@@ -281,11 +281,13 @@ pub struct HostImage {
 pub struct HostTargets {
     pub cmd: vk::CommandBuffer,
     /// Read (the opaque layer) and written (the result): TRANSFER_SRC and TRANSFER_DST usage,
-    /// a format that supports blits both ways (not an integer format).
+    /// a format that supports blits both ways (not an integer format). The `blend` method
+    /// and the yardstick draw into it: COLOR_ATTACHMENT usage too.
     pub colour: HostImage,
     /// Read only: one of [`HOST_DEPTH_FORMATS`] (stencil ignored). `D32_SFLOAT` with depth
     /// growing away from the eye is copied as it is and needs TRANSFER_SRC usage; other
-    /// formats, and reversed-Z depth, are sampled and need SAMPLED usage.
+    /// formats, and reversed-Z depth, are sampled and need SAMPLED usage. The `blend` method
+    /// and the yardstick test against it: DEPTH_STENCIL_ATTACHMENT usage too.
     pub depth: HostImage,
 }
 

@@ -1,7 +1,9 @@
-//! `blend`: unsorted hardware alpha blending, the baseline every speed ratio is measured
-//! against. Depth test on, depth write off, submission order; polychrome transmittance through
-//! dual-source blending (`dst = L + T ⊙ dst`). Correct only when the submission happens to be
-//! sorted back to front and nothing interpenetrates.
+//! `blend`: unsorted hardware alpha blending. Depth test on, depth write off, submission
+//! order; polychrome transmittance through dual-source blending (`dst = L + T ⊙ dst`).
+//! Correct only when the submission happens to be sorted back to front and nothing
+//! interpenetrates. On an engine's device it is the yardstick's pass, straight into the
+//! engine's images (`renderer/native_blend.rs`), so that it costs what the engine's own
+//! blend does.
 
 use super::{Method, RecordContext};
 use crate::assets::GpuScene;
@@ -54,5 +56,9 @@ impl Method for Blend {
         self.target.end(ctx.cmd);
         ctx.timestamps.mark(ctx.cmd, "blend");
         Ok(())
+    }
+
+    fn blends_in_place(&self) -> bool {
+        true
     }
 }

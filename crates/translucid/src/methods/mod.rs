@@ -214,6 +214,12 @@ pub trait Method {
     /// Writes into `options` the buffer sizes this method's frames turned out to need, so
     /// that a method made for the next, similar frame starts there instead of overflowing.
     fn learned(&self, _options: &mut MethodOptions) {}
+    /// Whether, on an engine's device, the method is one hardware pass of the scene's
+    /// transparent draws blended straight into the engine's images (the renderer records
+    /// that pass itself, `renderer/native_blend.rs`), with no copy in or out.
+    fn blends_in_place(&self) -> bool {
+        false
+    }
 }
 
 /// Creates method `kind` for `scene` (uploaded as `uploaded`) and `targets`.

@@ -3,7 +3,9 @@
 //!
 //! The frame copies the engine's colour and depth into the frame targets (the opaque layer,
 //! timed as "opaque"), runs the method exactly as a standalone frame does, and copies the
-//! result back into the engine's colour image ("output"). A frame is meant to be right on its
+//! result back into the engine's colour image ("output"); but `blend`, which draws straight
+//! into the engine's images where their colour format blends (`native_blend.rs`, one stage,
+//! "blend"). A frame is meant to be right on its
 //! one recording: bin lists past their capacity are rasterized in bands within it. What the
 //! recording could not answer (more bands than it records, rows still unfinished after its
 //! continuations, other buffers too small) leaves the affected pixels with the engine's
@@ -121,11 +123,19 @@ impl Renderer {
     /// `targets` names live objects of the engine's device this renderer's [`Gpu`] wraps:
     /// a command buffer in the recording state outside any render pass, and colour and depth
     /// images of at least the frame's size ([`Renderer::size`]), in the layouts named, with
-    /// the usages [`HostTargets`] lists. The renderer must not be dropped while the GPU may run the
+    /// the usages [`HostTargets`] lists (for `blend`, attachment usages too). The renderer
+    /// must not be dropped while the GPU may run the
     /// recorded commands: submit them at most once, and complete or discard them first.
     ///
     /// [`Gpu`]: crate::gpu::Gpu
     pub unsafe fn record_host(&mut self, targets: &HostTargets) -> Result<()> {
+        // blend draws straight into the engine's images, where their format blends; else it
+        // goes through the frame targets as the other methods do.
+        if self.method.blends_in_place()
+            && super::native_blend::can_blend_into(&self.gpu, targets.colour.format)
+        {
+            return self.record_engine_blend(targets, "blend", HostFrameKind::Method);
+        }
         let (gpu, slot) = self.begin_host_frame(targets)?;
         let cmd = targets.cmd;
         // translucid tests depth growing away from the eye, in D32_SFLOAT: other depth is

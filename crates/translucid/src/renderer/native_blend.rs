@@ -32,14 +32,19 @@ struct EngineBlendPass {
     pipelines: [MeshPipelines; 2],
 }
 
+/// Whether the yardstick's pass can blend into colour images of `format`: dual-source
+/// blending on an attachment of that format.
+pub(super) fn can_blend_into(gpu: &Gpu, format: vk::Format) -> bool {
+    gpu.info().dual_source_blend
+        && gpu
+            .format_features(format)
+            .contains(vk::FormatFeatureFlags::COLOR_ATTACHMENT_BLEND)
+}
+
 impl EngineBlendPass {
     fn new(gpu: &Gpu, scene: &GpuScene, targets: &HostTargets, slots: usize) -> Result<Self> {
         let format = targets.colour.format;
-        if !gpu.info().dual_source_blend
-            || !gpu
-                .format_features(format)
-                .contains(vk::FormatFeatureFlags::COLOR_ATTACHMENT_BLEND)
-        {
+        if !can_blend_into(gpu, format) {
             return Err(Error::HostRequirements(format!(
                 "native_blend blends into the engine's colour image with dual-source blending: \
                  {} cannot for {format:?}",
@@ -81,6 +86,17 @@ impl Renderer {
     /// As [`Renderer::record_host`]; besides, the colour image has COLOR_ATTACHMENT usage and
     /// the depth image DEPTH_STENCIL_ATTACHMENT usage.
     pub unsafe fn record_native_blend(&mut self, targets: &HostTargets) -> Result<()> {
+        self.record_engine_blend(targets, "native blend", HostFrameKind::NativeBlend)
+    }
+
+    /// One frame of the yardstick's pass into `targets`, its stage named `stage`: the
+    /// yardstick's frame, or the `blend` method's on an engine's device.
+    pub(super) fn record_engine_blend(
+        &mut self,
+        targets: &HostTargets,
+        stage: &'static str,
+        kind: HostFrameKind,
+    ) -> Result<()> {
         let (gpu, slot) = self.begin_host_frame(targets)?;
         let cmd = targets.cmd;
         let slots = self.timestamps.len();
@@ -105,7 +121,7 @@ impl Renderer {
             (&pipelines.0, &pipelines.1),
         );
         native.pass.end(cmd);
-        self.timestamps[slot].mark(cmd, "native blend");
-        self.end_host_frame(&gpu, cmd, slot, HostFrameKind::NativeBlend)
+        self.timestamps[slot].mark(cmd, stage);
+        self.end_host_frame(&gpu, cmd, slot, kind)
     }
 }
