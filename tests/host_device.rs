@@ -44,6 +44,16 @@ unsafe extern "system" fn on_message(
     vk::FALSE
 }
 
+/// Fails on any validation error the engine's messenger collected.
+fn assert_no_validation_errors() {
+    let errors = ERRORS.lock().map(|e| e.clone()).unwrap_or_default();
+    assert!(
+        errors.is_empty(),
+        "validation errors:\n{}",
+        errors.join("\n")
+    );
+}
+
 /// The engine: instance, device, queue, command buffer, fence.
 struct Engine {
     _entry: ash::Entry,
@@ -245,17 +255,6 @@ impl Drop for Engine {
     }
 }
 
-fn texels(layer: &OpaqueLayer) -> (Vec<u8>, Vec<u8>) {
-    let colour = layer
-        .colour
-        .iter()
-        .flat_map(|c| [c.x, c.y, c.z, 1.0])
-        .flat_map(|v| half::f16::from_f32(v).to_le_bytes())
-        .collect();
-    let depth = layer.depth.iter().flat_map(|d| d.to_le_bytes()).collect();
-    (colour, depth)
-}
-
 /// An 8-bit RGBA image's pixels.
 fn pixels(image: &[u8]) -> Vec<&[u8]> {
     image.chunks_exact(4).collect()
@@ -291,7 +290,7 @@ const DEPTH_ATTACHMENT: vk::ImageLayout = vk::ImageLayout::DEPTH_STENCIL_ATTACHM
 
 impl EngineImages {
     fn new(gpu: &Gpu, layer: &OpaqueLayer, readbacks: usize) -> Self {
-        let (_, depth) = texels(layer);
+        let (_, depth) = layer.texels();
         Self::with_depth(gpu, layer, readbacks, vk::Format::D32_SFLOAT, &depth)
     }
 
@@ -313,7 +312,7 @@ impl EngineImages {
             gpu.create_image(name, extent, format, transfer | usage, 1)
                 .expect("engine image")
         };
-        let (colour_texels, _) = texels(layer);
+        let (colour_texels, _) = layer.texels();
         let upload = |name, bytes: &[u8]| {
             gpu.create_buffer_with_data(name, vk::BufferUsageFlags::TRANSFER_SRC, bytes)
                 .expect("upload buffer")
@@ -542,12 +541,7 @@ fn an_overflowing_frame_says_so_and_renders_right_when_recorded_again() {
             "host-device exact differs from standalone by {worst}/255"
         );
     }
-    let errors = ERRORS.lock().map(|e| e.clone()).unwrap_or_default();
-    assert!(
-        errors.is_empty(),
-        "validation errors:\n{}",
-        errors.join("\n")
-    );
+    assert_no_validation_errors();
 }
 
 /// What the first batch of frames in flight shows when the bin lists start small.
@@ -699,12 +693,7 @@ fn frames_in_flight_match_the_reference(
         }
         assert_eq!(renderer.frames_in_flight(), 0);
     }
-    let errors = ERRORS.lock().map(|e| e.clone()).unwrap_or_default();
-    assert!(
-        errors.is_empty(),
-        "validation errors:\n{}",
-        errors.join("\n")
-    );
+    assert_no_validation_errors();
 }
 
 #[test]
@@ -868,12 +857,7 @@ fn frames_in_flight_at_different_sizes(kind: MethodKind, scene_name: &str) {
             }
         }
     }
-    let errors = ERRORS.lock().map(|e| e.clone()).unwrap_or_default();
-    assert!(
-        errors.is_empty(),
-        "validation errors:\n{}",
-        errors.join("\n")
-    );
+    assert_no_validation_errors();
 }
 
 /// One renderer's first two frames (the scene, then its camera a step along the orbit),
@@ -943,12 +927,7 @@ fn first_frames_match_the_reference(
         }
         learned = renderer.learned_options(options);
     }
-    let errors = ERRORS.lock().map(|e| e.clone()).unwrap_or_default();
-    assert!(
-        errors.is_empty(),
-        "validation errors:\n{}",
-        errors.join("\n")
-    );
+    assert_no_validation_errors();
     FirstFrames {
         bands,
         fragments,
@@ -1042,6 +1021,41 @@ fn encode_depth(format: vk::Format, v: f32) -> (Vec<u8>, f32) {
     }
 }
 
+/// `scene`'s camera with the same field of view and planes as a reversed-Z matrix.
+fn reversed_camera(scene: &Scene) -> Camera {
+    let Projection::Perspective { fov_y, near, far } = scene.camera.projection else {
+        panic!("the scene has a perspective camera");
+    };
+    Camera {
+        projection: Projection::Matrix({
+            let mut p = Mat4::perspective_rh(fov_y, W as f32 / H as f32, far, near);
+            p.y_axis.y = -p.y_axis.y;
+            p
+        }),
+        ..scene.camera
+    }
+}
+
+/// `layer` with a wall for depth, `wall(x)` in column x (device depth growing away from the
+/// eye), held in `format` (turned around when `reversed`): the texels, and the layer with
+/// the depth translucid reads back from them.
+fn wall_layer(
+    layer: &OpaqueLayer,
+    format: vk::Format,
+    reversed: bool,
+    wall: impl Fn(u32) -> f32,
+) -> (OpaqueLayer, Vec<u8>) {
+    let mut layer = layer.clone();
+    let mut bytes = Vec::new();
+    for (i, depth) in layer.depth.iter_mut().enumerate() {
+        let d = wall(i as u32 % W);
+        let (texel, read) = encode_depth(format, if reversed { 1.0 - d } else { d });
+        bytes.extend(texel);
+        *depth = if reversed { 1.0 - read } else { read };
+    }
+    (layer, bytes)
+}
+
 /// The engine's depth in each format translucid reads, growing away from the eye and
 /// reversed-Z (sampled and turned around), one frame of each on a renderer per direction:
 /// each frame is the reference's over the depth the image holds. The opaque depth is a wall slanting through the spheres, so that it hides
@@ -1049,9 +1063,6 @@ fn encode_depth(format: vk::Format, v: f32) -> (Vec<u8>, f32) {
 #[test]
 fn engine_depth_in_every_format_and_direction_matches_the_reference() {
     let scene = translucid::scene::load("spheres").expect("generated scene");
-    let Projection::Perspective { fov_y, near, far } = scene.camera.projection else {
-        panic!("spheres has a perspective camera");
-    };
     // The wall: at view distances from the nearest to the farthest transparent vertex,
     // left to right.
     let eye = scene.camera.view.inverse().w_axis.truncate();
@@ -1074,14 +1085,7 @@ fn engine_depth_in_every_format_and_direction_matches_the_reference() {
         a - b / z
     };
     let far_layer = OpaqueLayer::clear(W, H, scene.background);
-    let reversed_camera = Camera {
-        projection: Projection::Matrix({
-            let mut p = Mat4::perspective_rh(fov_y, W as f32 / H as f32, far, near);
-            p.y_axis.y = -p.y_axis.y;
-            p
-        }),
-        ..scene.camera
-    };
+    let reversed_camera = reversed_camera(&scene);
     let engine = Engine::new();
     {
         // SAFETY: the engine's live objects, outliving `gpu` (dropped at the end of this block).
@@ -1096,14 +1100,7 @@ fn engine_depth_in_every_format_and_direction_matches_the_reference() {
             let mut renderer =
                 Renderer::new(&gpu, &frame_scene, MethodKind::Exact, W, H).expect("renderer");
             for format in translucid::gpu::HOST_DEPTH_FORMATS {
-                let mut layer = far_layer.clone();
-                let mut bytes = Vec::new();
-                for (i, depth) in layer.depth.iter_mut().enumerate() {
-                    let d = wall(i as u32 % W);
-                    let (texel, read) = encode_depth(format, if reversed { 1.0 - d } else { d });
-                    bytes.extend(texel);
-                    *depth = if reversed { 1.0 - read } else { read };
-                }
+                let (layer, bytes) = wall_layer(&far_layer, format, reversed, wall);
                 let label = format!("{format:?}{}", if reversed { " reversed" } else { "" });
                 let images = EngineImages::with_depth(&gpu, &layer, 1, format, &bytes);
                 let done = one_engine_frame(&engine, &gpu, &images, &mut renderer);
@@ -1127,12 +1124,7 @@ fn engine_depth_in_every_format_and_direction_matches_the_reference() {
             }
         }
     }
-    let errors = ERRORS.lock().map(|e| e.clone()).unwrap_or_default();
-    assert!(
-        errors.is_empty(),
-        "validation errors:\n{}",
-        errors.join("\n")
-    );
+    assert_no_validation_errors();
 }
 
 /// An engine on synchronization2 leaves its images in ATTACHMENT_OPTIMAL (colour) and
@@ -1168,12 +1160,7 @@ fn engine_images_in_synchronization2_layouts() {
             assert!(worst <= 2, "{format:?}: {worst}/255 off");
         }
     }
-    let errors = ERRORS.lock().map(|e| e.clone()).unwrap_or_default();
-    assert!(
-        errors.is_empty(),
-        "validation errors:\n{}",
-        errors.join("\n")
-    );
+    assert_no_validation_errors();
 }
 
 /// On the engine's device, a texture added after the first frame (`ResidentAssets::extended`)
@@ -1237,8 +1224,7 @@ fn textures_added_later_are_uploaded_by_the_next_frame() {
             "{worst}/255 off the frame over the original assets"
         );
     }
-    let errors = ERRORS.lock().map(|e| e.clone()).unwrap_or_default();
-    assert!(errors.is_empty(), "validation errors: {errors:#?}");
+    assert_no_validation_errors();
 }
 
 /// The software sampler copies a texture when a frame's transparent draws first use it, on an
@@ -1306,8 +1292,7 @@ fn textures_first_used_by_frames_in_flight_match_the_reference() {
             }
         }
     }
-    let errors = ERRORS.lock().map(|e| e.clone()).unwrap_or_default();
-    assert!(errors.is_empty(), "validation errors: {errors:#?}");
+    assert_no_validation_errors();
 }
 
 /// The yardstick, `Renderer::record_native_blend`, draws straight into the engine's images
@@ -1320,9 +1305,6 @@ fn textures_first_used_by_frames_in_flight_match_the_reference() {
 #[test]
 fn native_blend_and_blend_draw_into_the_engines_images_what_standalone_blend_draws() {
     let scene = translucid::scene::load("spheres").expect("generated scene");
-    let Projection::Perspective { fov_y, near, far } = scene.camera.projection else {
-        panic!("spheres has a perspective camera");
-    };
     let background = OpaqueLayer::clear(W, H, scene.background);
     // The wall slants from just in front of the spheres' centre (left) to behind them.
     let (a, b, _) = scene.camera.depth_mapping(W, H);
@@ -1332,14 +1314,7 @@ fn native_blend_and_blend_draw_into_the_engines_images_what_standalone_blend_dra
         let z = centre * (0.8 + 0.4 * (x as f32 + 0.5) / W as f32);
         a - b / z
     };
-    let reversed_camera = Camera {
-        projection: Projection::Matrix({
-            let mut p = Mat4::perspective_rh(fov_y, W as f32 / H as f32, far, near);
-            p.y_axis.y = -p.y_axis.y;
-            p
-        }),
-        ..scene.camera
-    };
+    let reversed_camera = reversed_camera(&scene);
     // Pixels that no transparent fragment covers: the reference leaves the background.
     let uncovered: Vec<bool> = {
         let marked = OpaqueLayer::clear(W, H, glam::Vec3::new(0.25, 0.5, 0.75));
@@ -1369,14 +1344,7 @@ fn native_blend_and_blend_draw_into_the_engines_images_what_standalone_blend_dra
             let mut alone = Renderer::new(&standalone, &frame_scene, MethodKind::Blend, W, H)
                 .expect("standalone renderer");
             for format in translucid::gpu::HOST_DEPTH_FORMATS {
-                let mut layer = background.clone();
-                let mut bytes = Vec::new();
-                for (i, depth) in layer.depth.iter_mut().enumerate() {
-                    let d = wall(i as u32 % W);
-                    let (texel, read) = encode_depth(format, if reversed { 1.0 - d } else { d });
-                    bytes.extend(texel);
-                    *depth = if reversed { 1.0 - read } else { read };
-                }
+                let (layer, bytes) = wall_layer(&background, format, reversed, wall);
                 let label = format!("{format:?}{}", if reversed { " reversed" } else { "" });
                 let in_place = EngineImages::with_depth(&gpu, &layer, 1, format, &bytes);
                 let done = one_engine_frame(&engine, &gpu, &in_place, &mut renderer);
@@ -1444,10 +1412,5 @@ fn native_blend_and_blend_draw_into_the_engines_images_what_standalone_blend_dra
             }
         }
     }
-    let errors = ERRORS.lock().map(|e| e.clone()).unwrap_or_default();
-    assert!(
-        errors.is_empty(),
-        "validation errors:\n{}",
-        errors.join("\n")
-    );
+    assert_no_validation_errors();
 }

@@ -423,13 +423,7 @@ impl Gpu {
     pub fn as_host_device(&self) -> Option<HostDevice> {
         let submission = self.submission?;
         let info = &self.info;
-        let features = vk::PhysicalDeviceFeatures::default()
-            .dual_src_blend(info.dual_source_blend)
-            .shader_int64(info.shader_int64)
-            .shader_float64(info.shader_float64)
-            .fragment_stores_and_atomics(info.fragment_stores_and_atomics)
-            .geometry_shader(info.geometry_shader)
-            .independent_blend(info.independent_blend);
+        let features = enabled_features(info);
         let extensions = if info.conditional_rendering {
             vec![ash::ext::conditional_rendering::NAME.to_owned()]
         } else {
@@ -693,6 +687,18 @@ fn create_allocator(
 
 type DeviceParts = (ash::Device, Allocator, Submission);
 
+/// The features translucid enables on a device it makes: the optional ones where present
+/// (methods that need one check DeviceInfo).
+fn enabled_features(info: &DeviceInfo) -> vk::PhysicalDeviceFeatures {
+    vk::PhysicalDeviceFeatures::default()
+        .dual_src_blend(info.dual_source_blend)
+        .shader_int64(info.shader_int64)
+        .shader_float64(info.shader_float64)
+        .fragment_stores_and_atomics(info.fragment_stores_and_atomics)
+        .geometry_shader(info.geometry_shader)
+        .independent_blend(info.independent_blend)
+}
+
 fn create_device(
     instance: &ash::Instance,
     physical: vk::PhysicalDevice,
@@ -711,14 +717,7 @@ fn create_device(
     let queues = [vk::DeviceQueueCreateInfo::default()
         .queue_family_index(family)
         .queue_priorities(&priorities)];
-    // Optional features, enabled where present; methods that need one check DeviceInfo.
-    let features = vk::PhysicalDeviceFeatures::default()
-        .dual_src_blend(info.dual_source_blend)
-        .shader_int64(info.shader_int64)
-        .shader_float64(info.shader_float64)
-        .fragment_stores_and_atomics(info.fragment_stores_and_atomics)
-        .geometry_shader(info.geometry_shader)
-        .independent_blend(info.independent_blend);
+    let features = enabled_features(info);
     let mut conditional =
         vk::PhysicalDeviceConditionalRenderingFeaturesEXT::default().conditional_rendering(true);
     let conditional_name = [ash::ext::conditional_rendering::NAME.as_ptr()];
