@@ -5,8 +5,8 @@
 //! timed as "opaque"), runs the method exactly as a standalone frame does, and copies the
 //! result back into the engine's colour image ("output"); but `blend`, which draws straight
 //! into the engine's images where their colour format blends (`native_blend.rs`, one stage,
-//! "blend"). A frame is meant to be right on its
-//! one recording: bin lists past their capacity are rasterized in bands within it. What the
+//! "blend"). A frame is meant to be right on its one recording: bin lists past their
+//! capacity are rasterized in bands within it. What the
 //! recording could not answer (more bands than it records, rows still unfinished after its
 //! continuations, other buffers too small) leaves the affected pixels with the engine's
 //! colour, and [`Renderer::complete_host`] reports it once the frame completed, with the
@@ -124,8 +124,8 @@ impl Renderer {
     /// a command buffer in the recording state outside any render pass, and colour and depth
     /// images of at least the frame's size ([`Renderer::size`]), in the layouts named, with
     /// the usages [`HostTargets`] lists (for `blend`, attachment usages too). The renderer
-    /// must not be dropped while the GPU may run the
-    /// recorded commands: submit them at most once, and complete or discard them first.
+    /// must not be dropped while the GPU may run the recorded commands: submit them at most
+    /// once, and complete or discard them first.
     ///
     /// [`Gpu`]: crate::gpu::Gpu
     pub unsafe fn record_host(&mut self, targets: &HostTargets) -> Result<()> {
