@@ -11,8 +11,8 @@ use glam::{Mat4, Vec3};
 use std::ffi::{c_void, CStr};
 use std::sync::Mutex;
 use translucid::gpu::{
-    host_requirements_with, image_barrier, Gpu, GpuImage, GpuOptions, HostDevice, HostImage,
-    HostTargets, MemoryLocation,
+    host_requirements_with, Gpu, GpuImage, GpuOptions, HostDevice, HostImage, HostTargets,
+    MemoryLocation,
 };
 use translucid::methods::{MethodKind, MethodOptions};
 use translucid::renderer::Renderer;
@@ -377,24 +377,9 @@ impl EngineImages {
 
     /// The engine's opaque pass: the layer's texels into its images, left as attachments.
     fn record_opaque(&self, gpu: &Gpu, cmd: vk::CommandBuffer) {
-        let any = (
-            vk::PipelineStageFlags::ALL_COMMANDS,
-            vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE,
-        );
-        let write = (
-            vk::PipelineStageFlags::TRANSFER,
-            vk::AccessFlags::TRANSFER_WRITE,
-        );
-        for (image, buffer, layout) in [
-            (&self.colour, &self.colour_in, self.layouts.0),
-            (&self.depth, &self.depth_in, self.layouts.1),
-        ] {
-            let undefined = vk::ImageLayout::UNDEFINED;
-            let dst = vk::ImageLayout::TRANSFER_DST_OPTIMAL;
-            image_barrier(gpu, cmd, image, undefined, dst, any, write);
-            gpu.cmd_copy_buffer_to_image(cmd, buffer, image, self.extent);
-            image_barrier(gpu, cmd, image, dst, layout, write, any);
-        }
+        let (colour, depth) = ((&self.colour, self.extent), (&self.depth, self.extent));
+        gpu.cmd_upload_image(cmd, colour, &self.colour_in, self.layouts.0);
+        gpu.cmd_upload_image(cmd, depth, &self.depth_in, self.layouts.1);
     }
 
     /// Copies the colour image (left in TRANSFER_SRC_OPTIMAL by the frame) into readback `k`

@@ -120,30 +120,8 @@ impl AttachmentPass {
                 },
             }
         });
-        let mut subpass = vk::SubpassDescription::default()
-            .pipeline_bind_point(vk::PipelineBindPoint::GRAPHICS)
-            .color_attachments(&colour_refs);
-        if let Some(d) = depth_ref.as_ref() {
-            subpass = subpass.depth_stencil_attachment(d);
-        }
-        let subpasses = [subpass];
-        // Ordered like the frame's own passes (see RenderTarget).
-        let dependencies = super::pipeline::external_dependencies();
-        let info = vk::RenderPassCreateInfo::default()
-            .attachments(&descriptions)
-            .subpasses(&subpasses)
-            .dependencies(&dependencies);
-        // SAFETY: valid device; every pointee lives for the call.
-        let render_pass = unsafe { gpu.device.create_render_pass(&info, None) }
-            .map_err(vk_err("vkCreateRenderPass"))?;
-        gpu.note_render_pass(
-            render_pass,
-            super::pipeline::render_pass_definition(
-                &descriptions,
-                colour_refs.len(),
-                depth_ref.is_some(),
-            ),
-        );
+        let render_pass =
+            one_subpass_render_pass(gpu, &descriptions, &colour_refs, depth_ref.as_ref())?;
         let views: Vec<_> = colours
             .iter()
             .chain(depth.map(|d| &d.attachment))
@@ -228,6 +206,38 @@ impl Drop for AttachmentPass {
             self.gpu.device.destroy_render_pass(self.render_pass, None);
         }
     }
+}
+
+/// A render pass of one subpass over `descriptions`, writing the colour attachments
+/// `colours` and testing against `depth`, ordered like the frame's own passes (see
+/// RenderTarget), its definition noted on the device so that pipelines made for it are
+/// shared with the passes it is compatible with.
+pub(super) fn one_subpass_render_pass(
+    gpu: &Gpu,
+    descriptions: &[vk::AttachmentDescription],
+    colours: &[vk::AttachmentReference],
+    depth: Option<&vk::AttachmentReference>,
+) -> Result<vk::RenderPass> {
+    let mut subpass = vk::SubpassDescription::default()
+        .pipeline_bind_point(vk::PipelineBindPoint::GRAPHICS)
+        .color_attachments(colours);
+    if let Some(d) = depth {
+        subpass = subpass.depth_stencil_attachment(d);
+    }
+    let subpasses = [subpass];
+    let dependencies = super::pipeline::external_dependencies();
+    let info = vk::RenderPassCreateInfo::default()
+        .attachments(descriptions)
+        .subpasses(&subpasses)
+        .dependencies(&dependencies);
+    // SAFETY: valid device; every pointee lives for the call.
+    let render_pass = unsafe { gpu.device.create_render_pass(&info, None) }
+        .map_err(vk_err("vkCreateRenderPass"))?;
+    gpu.note_render_pass(
+        render_pass,
+        super::pipeline::render_pass_definition(descriptions, colours.len(), depth.is_some()),
+    );
+    Ok(render_pass)
 }
 
 /// A pipeline for a full-screen pass (the `fullscreen.vert` triangle, no vertex input) with

@@ -151,6 +151,33 @@ impl Gpu {
         self.cmd_copy_buffer_to_image_levels(cmd, buffer, image, &[corner_region(image, extent)]);
     }
 
+    /// Overwrites the top-left `extent` of `image`'s first level with `buffer` (texels tightly
+    /// packed), after whatever came before, and leaves the image in `layout` for what
+    /// follows: an opaque layer's upload.
+    pub fn cmd_upload_image(
+        &self,
+        cmd: vk::CommandBuffer,
+        (image, extent): (&GpuImage, vk::Extent2D),
+        buffer: &Buffer,
+        layout: vk::ImageLayout,
+    ) {
+        let any = (
+            vk::PipelineStageFlags::ALL_COMMANDS,
+            vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE,
+        );
+        let transfer_write = (
+            vk::PipelineStageFlags::TRANSFER,
+            vk::AccessFlags::TRANSFER_WRITE,
+        );
+        let (undefined, dst) = (
+            vk::ImageLayout::UNDEFINED,
+            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+        );
+        image_barrier(self, cmd, image, undefined, dst, any, transfer_write);
+        self.cmd_copy_buffer_to_image(cmd, buffer, image, extent);
+        image_barrier(self, cmd, image, dst, layout, transfer_write, any);
+    }
+
     /// Copies `bytes` bytes from the start of `src` to `dst` at `dst_offset` (TRANSFER_SRC and
     /// TRANSFER_DST usage).
     pub fn cmd_copy_buffer(

@@ -79,22 +79,8 @@ impl EnginePass {
             attachment: 1,
             layout: vk::ImageLayout::DEPTH_STENCIL_READ_ONLY_OPTIMAL,
         };
-        let subpasses = [vk::SubpassDescription::default()
-            .pipeline_bind_point(vk::PipelineBindPoint::GRAPHICS)
-            .color_attachments(&colour)
-            .depth_stencil_attachment(&depth)];
-        let dependencies = super::pipeline::external_dependencies();
-        let info = vk::RenderPassCreateInfo::default()
-            .attachments(&descriptions)
-            .subpasses(&subpasses)
-            .dependencies(&dependencies);
-        // SAFETY: valid device; every pointee lives for the call.
-        let render_pass = unsafe { gpu.device.create_render_pass(&info, None) }
-            .map_err(vk_err("vkCreateRenderPass"))?;
-        gpu.note_render_pass(
-            render_pass,
-            super::pipeline::render_pass_definition(&descriptions, 1, true),
-        );
+        let render_pass =
+            super::attachments::one_subpass_render_pass(gpu, &descriptions, &colour, Some(&depth))?;
         Ok(Self {
             gpu: gpu.clone(),
             key,

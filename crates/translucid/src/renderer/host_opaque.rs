@@ -5,7 +5,7 @@
 //! host-device mode will read the engine's images in place instead.
 
 use super::{Frame, FrameTargets, Renderer, COLOUR_FORMAT};
-use crate::gpu::{image_barrier, vk, Buffer, Gpu, GpuImage};
+use crate::gpu::{vk, Buffer, Gpu};
 use crate::image::OpaqueLayer;
 use crate::{Error, Result};
 
@@ -92,61 +92,9 @@ pub(super) fn record_upload(
     colour: &Buffer,
     depth: &Buffer,
 ) {
+    let extent = targets.extent;
     let colour_layout = vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL;
-    upload(
-        gpu,
-        cmd,
-        (&targets.colour, targets.extent),
-        colour,
-        colour_layout,
-    );
+    gpu.cmd_upload_image(cmd, (&targets.colour, extent), colour, colour_layout);
     let depth_layout = vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
-    upload(
-        gpu,
-        cmd,
-        (&targets.depth, targets.extent),
-        depth,
-        depth_layout,
-    );
-}
-
-/// Records a copy from `buffer` (tightly packed texels of the image's format) into the
-/// frame's top-left `extent` of the image, leaving the image in `layout` for the passes that
-/// follow.
-fn upload(
-    gpu: &Gpu,
-    cmd: vk::CommandBuffer,
-    (image, extent): (&GpuImage, vk::Extent2D),
-    buffer: &Buffer,
-    layout: vk::ImageLayout,
-) {
-    let transfer_write = (
-        vk::PipelineStageFlags::TRANSFER,
-        vk::AccessFlags::TRANSFER_WRITE,
-    );
-    image_barrier(
-        gpu,
-        cmd,
-        image,
-        vk::ImageLayout::UNDEFINED,
-        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-        (
-            vk::PipelineStageFlags::TOP_OF_PIPE,
-            vk::AccessFlags::empty(),
-        ),
-        transfer_write,
-    );
-    gpu.cmd_copy_buffer_to_image(cmd, buffer, image, extent);
-    image_barrier(
-        gpu,
-        cmd,
-        image,
-        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-        layout,
-        transfer_write,
-        (
-            vk::PipelineStageFlags::ALL_COMMANDS,
-            vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE,
-        ),
-    );
+    gpu.cmd_upload_image(cmd, (&targets.depth, extent), depth, depth_layout);
 }

@@ -6,10 +6,7 @@
 //! out included, is the whole pass) and submits it; then the same again with the yardstick,
 //! `native_blend` (`Renderer::record_native_blend`), on the same renderer and frame.
 
-use translucid::gpu::{
-    image_barrier, memory_barrier, vk, Buffer, Gpu, GpuImage, HostImage, HostTargets,
-    MemoryLocation,
-};
+use translucid::gpu::{vk, Buffer, Gpu, GpuImage, HostImage, HostTargets, MemoryLocation};
 use translucid::renderer::{HostFrame, Renderer};
 use translucid::OpaqueLayer;
 
@@ -174,24 +171,8 @@ impl EngineImages {
 
     /// The engine's opaque pass: the layer's texels into the images, left as attachments.
     fn record_opaque(&self, gpu: &Gpu, cmd: vk::CommandBuffer) {
-        let any = (
-            vk::PipelineStageFlags::ALL_COMMANDS,
-            vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE,
-        );
-        let write = (
-            vk::PipelineStageFlags::TRANSFER,
-            vk::AccessFlags::TRANSFER_WRITE,
-        );
-        for (image, buffer, layout) in [
-            (&self.colour, &self.colour_in, COLOUR_LAYOUT),
-            (&self.depth, &self.depth_in, DEPTH_LAYOUT),
-        ] {
-            let undefined = vk::ImageLayout::UNDEFINED;
-            let dst = vk::ImageLayout::TRANSFER_DST_OPTIMAL;
-            image_barrier(gpu, cmd, image, undefined, dst, any, write);
-            gpu.cmd_copy_buffer_to_image(cmd, buffer, image, self.extent);
-            image_barrier(gpu, cmd, image, dst, layout, write, any);
-        }
-        memory_barrier(gpu, cmd, any, any);
+        let extent = self.extent;
+        gpu.cmd_upload_image(cmd, (&self.colour, extent), &self.colour_in, COLOUR_LAYOUT);
+        gpu.cmd_upload_image(cmd, (&self.depth, extent), &self.depth_in, DEPTH_LAYOUT);
     }
 }
