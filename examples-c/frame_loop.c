@@ -226,8 +226,10 @@ static void create_slots(void) {
         s->colour = create_image(VK_FORMAT_R8G8B8A8_SRGB,
                                  transfer | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT,
                                  &s->colour_memory);
+        /* Sampled: exact reads it where it is, as it blends onto the colour. */
         s->depth = create_image(VK_FORMAT_D32_SFLOAT,
-                                transfer | VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
+                                transfer | VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT |
+                                    VK_IMAGE_USAGE_SAMPLED_BIT,
                                 &s->depth_memory);
         memset(&buffer, 0, sizeof buffer);
         buffer.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO;

@@ -1020,22 +1020,27 @@ typedef struct translucid_host_frame_targets {
      */
     VkCommandBuffer command_buffer;
     /**
-     * The opaque colour, read and then overwritten with the composited result. Needs
-     * TRANSFER_SRC and TRANSFER_DST usage and a format that can be blitted both ways
-     * (UNORM, SRGB or float; not integer). `TRANSLUCID_METHOD_BLEND` and the yardstick
-     * (`translucid_frame_record_native_blend`) draw straight into it where its format
-     * blends: it then needs COLOR_ATTACHMENT usage too, and its alpha is kept.
+     * The opaque colour, onto which the transparent layer is composited. Needs
+     * COLOR_ATTACHMENT, TRANSFER_SRC and TRANSFER_DST usage and a format that can be blitted
+     * both ways (UNORM, SRGB or float; not integer). Where its format blends,
+     * `TRANSLUCID_METHOD_BLEND` and the yardstick (`translucid_frame_record_native_blend`)
+     * draw straight into it, and `TRANSLUCID_METHOD_EXACT` and `TRANSLUCID_METHOD_WAVELET`
+     * blend their result onto it where the transparent layer covers (no copy; its alpha is
+     * kept); the other methods, and every method over a format that does not blend, copy it
+     * in and the result back (alpha overwritten).
      */
     struct translucid_host_image colour;
     /**
      * The opaque depth, read only (the stencil of a format that has one is ignored), as the
-     * frame's camera projects it (forward or reversed-Z): `VK_FORMAT_D32_SFLOAT` with
-     * TRANSFER_SRC usage is copied when depth grows away from the eye; reversed-Z depth and
+     * frame's camera projects it (forward or reversed-Z), in `VK_FORMAT_D32_SFLOAT`,
      * `VK_FORMAT_D16_UNORM`, `VK_FORMAT_X8_D24_UNORM_PACK32`, `VK_FORMAT_D24_UNORM_S8_UINT`
-     * and `VK_FORMAT_D32_SFLOAT_S8_UINT` need SAMPLED usage (read by a full-screen pass). A
-     * format with stencil must be in a layout of both aspects (not DEPTH_ATTACHMENT_OPTIMAL
-     * or DEPTH_READ_ONLY_OPTIMAL). `TRANSLUCID_METHOD_BLEND` and the yardstick test against
-     * it as a depth attachment: DEPTH_STENCIL_ATTACHMENT usage too.
+     * or `VK_FORMAT_D32_SFLOAT_S8_UINT`. Needs SAMPLED usage: `TRANSLUCID_METHOD_EXACT` and
+     * `TRANSLUCID_METHOD_WAVELET` sample it where it is, and the other methods sample it
+     * into a depth of their own, but copy `VK_FORMAT_D32_SFLOAT` depth that grows away from
+     * the eye, which then needs TRANSFER_SRC usage. A format with stencil must be in a
+     * layout of both aspects (not DEPTH_ATTACHMENT_OPTIMAL or DEPTH_READ_ONLY_OPTIMAL).
+     * `TRANSLUCID_METHOD_BLEND` and the yardstick test against it as a depth attachment:
+     * DEPTH_STENCIL_ATTACHMENT usage too.
      */
     struct translucid_host_image depth;
 } translucid_host_frame_targets;

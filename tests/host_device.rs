@@ -73,12 +73,22 @@ struct Engine {
 
 impl Engine {
     fn new() -> Self {
-        Self::with_synchronization2(false)
+        Self::with(false, false)
     }
 
     /// An engine on Vulkan 1.3 with synchronization2 enabled when `sync2`, whose images may
     /// then be in its layouts (ATTACHMENT_OPTIMAL, READ_ONLY_OPTIMAL).
     fn with_synchronization2(sync2: bool) -> Self {
+        Self::with(sync2, false)
+    }
+
+    /// An engine whose validation layer checks synchronization too (hazards between the
+    /// engine's commands and translucid's are errors).
+    fn with_synchronization_validation() -> Self {
+        Self::with(false, true)
+    }
+
+    fn with(sync2: bool, sync_validation: bool) -> Self {
         // An engine that uses every method: each one's features ORed in.
         let optional: Vec<_> = MethodKind::ALL
             .iter()
@@ -98,14 +108,18 @@ impl Engine {
             let app = vk::ApplicationInfo::default().api_version(api_version);
             let layers = [c"VK_LAYER_KHRONOS_validation".as_ptr()];
             let extensions = [ash::ext::debug_utils::NAME.as_ptr()];
+            let enables = [vk::ValidationFeatureEnableEXT::SYNCHRONIZATION_VALIDATION];
+            let mut validation =
+                vk::ValidationFeaturesEXT::default().enabled_validation_features(&enables);
+            let mut info = vk::InstanceCreateInfo::default()
+                .application_info(&app)
+                .enabled_layer_names(&layers)
+                .enabled_extension_names(&extensions);
+            if sync_validation {
+                info = info.push_next(&mut validation);
+            }
             let instance = entry
-                .create_instance(
-                    &vk::InstanceCreateInfo::default()
-                        .application_info(&app)
-                        .enabled_layer_names(&layers)
-                        .enabled_extension_names(&extensions),
-                    None,
-                )
+                .create_instance(&info, None)
                 .expect("an instance with the validation layer (run `make test`)");
             let loader = ash::ext::debug_utils::Instance::new(&entry, &instance);
             let messenger = loader
@@ -487,6 +501,82 @@ fn spheres_standalone() -> (Scene, OpaqueLayer, translucid::renderer::Frame) {
         .expect("opaque");
     let expected = reference.render_over(&layer).expect("frame over the layer");
     (scene, layer, expected)
+}
+
+/// Every method's frame over the engine's images writes only where the transparent layer
+/// covers: everywhere the reference leaves the opaque colour as it is, the engine's colour
+/// (every channel, alpha too) stays bit for bit what the engine drew, under validation and
+/// synchronization validation. exact and wavelet blend onto the engine's image in place,
+/// the others copy it in and out.
+#[test]
+fn every_method_leaves_the_engines_colour_bit_for_bit_where_nothing_transparent_covers() {
+    let (scene, depth_layer, _) = spheres_standalone();
+    // Colours no frame target would round to: every f16 in [0, 4) with a varied mantissa.
+    let colour = |i: usize| {
+        let bits = |k: usize| (0x3000 + (i * 7919 + k * 104_729) % 0x1000) as u16;
+        let c = |k| half::f16::from_bits(bits(k)).to_f32();
+        Vec3::new(c(0), c(1), c(2))
+    };
+    let layer = OpaqueLayer {
+        colour: (0..depth_layer.depth.len()).map(colour).collect(),
+        ..depth_layer
+    };
+    let expected = translucid::reference::render(&scene, &layer).expect("reference");
+    let uncovered: Vec<bool> = expected
+        .pixels
+        .iter()
+        .zip(&layer.colour)
+        .map(|(p, c)| p.truncate() == *c)
+        .collect();
+    let count = uncovered.iter().filter(|u| **u).count();
+    assert!(
+        count > uncovered.len() / 10 && count < uncovered.len() * 9 / 10,
+        "the frame should have both: {count} of {} pixels uncovered",
+        uncovered.len()
+    );
+    let (drawn, _) = layer.texels();
+
+    let engine = Engine::with_synchronization_validation();
+    {
+        // SAFETY: the engine's live objects, outliving `gpu` (dropped at the end of this block).
+        let gpu = unsafe { Gpu::from_host(&engine.host_device()) }.expect("host device");
+        let images = EngineImages::new(&gpu, &layer, 1);
+        for kind in MethodKind::ALL {
+            let options = MethodOptions::default();
+            let mut renderer =
+                Renderer::with_frames_in_flight(&gpu, &scene, kind, W, H, &options, 1)
+                    .expect("renderer");
+            let frame = one_engine_frame(&engine, &gpu, &images, &mut renderer);
+            let got = images.outs[0].read().expect("readback");
+            let changed = uncovered
+                .iter()
+                .enumerate()
+                .filter(|&(i, &u)| u && got[i * 8..i * 8 + 8] != drawn[i * 8..i * 8 + 8])
+                .count();
+            assert_eq!(
+                changed,
+                0,
+                "{}: {changed} uncovered pixels of the engine's colour changed",
+                kind.name()
+            );
+            // Not a frame that wrote nothing at all.
+            assert_ne!(got, drawn, "{}: the frame wrote nothing", kind.name());
+            let in_place = frame.stages.iter().any(|(s, _)| *s == "composite");
+            let copied = frame.stages.iter().any(|(s, _)| *s == "output");
+            let expect_in_place = matches!(kind, MethodKind::Exact | MethodKind::Wavelet);
+            assert_eq!(
+                (in_place, copied),
+                (
+                    expect_in_place,
+                    !expect_in_place && kind != MethodKind::Blend
+                ),
+                "{}: stages {:?}",
+                kind.name(),
+                frame.stages
+            );
+        }
+    }
+    assert_no_validation_errors();
 }
 
 #[test]

@@ -78,6 +78,7 @@ void scanBlocks() {
             g_counters.overflow |= OVERFLOW_BIN_ENTRIES;
         }
         g_counters.listedBlocks = listedTotal;
+        g_dispatch[DRAW_COMPOSITE * 4u + 1u] = listedTotal;
     }
     barrier();
     uint offset = s_runTotals[gl_LocalInvocationID.x];

@@ -35,7 +35,7 @@ void buildLevelZero() {
             // The shared corner of texels (x, y) .. (x + 1, y + 1): half a texel from any
             // other choice, so rounding cannot move the gather.
             vec2 corner = min(origin + vec2(x + 1, y + 1), lastCorner);
-            vec4 quad = textureGather(u_opaqueDepth, corner * texelSize, 0);
+            vec4 quad = opaqueDepthGather(corner * texelSize);
             farthest = max(farthest, max(max(quad.x, quad.y), max(quad.z, quad.w)));
         }
     }

@@ -6,6 +6,7 @@
 
 #include "layout.glsl"
 #include "bins_layout.glsl"
+#include "transparent_layer.glsl"
 
 // The scene's vertices (GpuVertex, 3 texels each: position and normal.x, normal.yz and uv,
 // colour), its quads, and the bins' draws (5 texels each), read as texels (see below).
@@ -28,8 +29,16 @@ layout(set = 1, binding = 6, std430) buffer BinEndBlock { uint g_binEnds[]; };
 layout(set = 1, binding = 8) uniform usamplerBuffer u_drawTexels;        // DrawInfo, 10 each
 layout(set = 1, binding = 9, std430) buffer BinEntryBlock { uint g_binEntries[]; };
 layout(set = 1, binding = 10, rgba32ui) uniform writeonly uimageBuffer u_attributeRecords;
+// The opaque depth: the frame target's, or the engine's own depth image where it is (any
+// depth format, reversed-Z turned around by opaqueDepthAt).
 layout(set = 1, binding = 11) uniform sampler2D u_opaqueDepth;
+// The frame target's colour, which the rasters composite onto (standalone frames); or, on
+// an engine's device, what they leave for the composite pass to blend onto the engine's
+// colour where it is (transparent_layer.glsl), in two images (1x1 until the first such
+// frame).
 layout(set = 1, binding = 12, rgba16f) uniform image2D u_colour;
+layout(set = 1, binding = 30, rg32ui) uniform writeonly uimage2D u_transparentLayer;
+layout(set = 1, binding = 31, r32ui) uniform writeonly uimage2D u_transparentLayerStamps;
 
 // What the raster reads in its hot loops comes through texel buffers: CPU drivers such as
 // lavapipe fetch texels with straight-line vector loads, where a storage-buffer load inside
@@ -55,13 +64,15 @@ layout(set = 1, binding = 20) uniform usamplerBuffer u_homogeneousTexels; // g_h
 // blocks, so that it writes offsets only where some bin has an entry; DISPATCH_BAND_FILL is
 // DISPATCH_BINNING while a band has blocks, else empty. The band plan (bin_scan.comp, step
 // 3) writes DISPATCH_RASTER_BINS, DISPATCH_BIN_OFFSETS and DISPATCH_BAND_FILL for each band.
+// DRAW_COMPOSITE is a VkDrawIndirectCommand: the composite's quad (6 vertices) for each
+// listed block, counted by the scan.
 // Items of
 // resume list k start at k * g_counters.resumeItemCapacity (room for every row of the
 // frame): block * BIN_SIZE + row. Item i takes state slot i while there is one (below
 // resumeCapacity; the rows past them start over); slot s's pixel states are at
 // (k * resumeCapacity + s) * BIN_SIZE.
 layout(set = 1, binding = 21, std430) buffer DispatchBlock {
-    uint g_dispatch[24];
+    uint g_dispatch[28];
     uint g_resumeItems[];
 };
 layout(set = 1, binding = 22, std430) buffer PixelStateBlock { ExactPixelState g_pixelStates[]; };
@@ -85,9 +96,35 @@ layout(push_constant) uniform BinPush {
     uint resumeList;        // raster: the list a continuation reads; it appends to the other
     uint binRowsPerSlice;   // binning: bin rows one invocation covers (see bin_lists.glsl)
     uint groupsX;           // setup and binning: workgroups in x, the rest in z (splitGroups)
-    uint pad2;
-    uint pad3;
+    uint stamp;             // in place: the submission's (transparent_layer.glsl); else 0
+    uint opaqueDepthReversed; // 1: u_opaqueDepth holds reversed-Z depth, 1 at the eye
 } u_push;
+
+// Opaque depth as translucid's depth grows, away from the eye, at a pixel, and over the four
+// texels of a gather.
+float opaqueDepthAt(ivec2 pixel) {
+    float d = texelFetch(u_opaqueDepth, pixel, 0).r;
+    return u_push.opaqueDepthReversed != 0u ? 1.0 - d : d;
+}
+
+vec4 opaqueDepthGather(vec2 uv) {
+    vec4 d = textureGather(u_opaqueDepth, uv, 0);
+    return u_push.opaqueDepthReversed != 0u ? 1.0 - d : d;
+}
+
+// A pixel's transparent layer, everything in front of the opaque layer: composited onto the
+// frame target's colour; or, in place, left for this submission's composite.
+void writePixel(ivec2 pixel, vec3 radiance, vec3 transmittance) {
+    if (u_push.stamp != 0u) {
+        LayerTexel texel = packTransparentLayer(radiance, transmittance, u_push.stamp);
+        imageStore(u_transparentLayer, pixel, uvec4(texel.first, 0u, 0u));
+        imageStore(u_transparentLayerStamps, pixel, uvec4(texel.second));
+    } else {
+        vec3 behind = imageLoad(u_colour, pixel).rgb;
+        precise vec3 result = radiance + transmittance * behind;
+        imageStore(u_colour, pixel, vec4(storedColour(result), 1.0));
+    }
+}
 
 // Dispatches over triangles (setup and binning, BINNING_GROUP_SIZE invocations a workgroup
 // in x) and over a band's blocks (the rasters) may need more workgroups than a device allows

@@ -46,6 +46,7 @@
 #define DISPATCH_BINNING 3u
 #define DISPATCH_BIN_OFFSETS 4u
 #define DISPATCH_BAND_FILL 5u
+#define DRAW_COMPOSITE 6u
 #define BINNING_GROUP_SIZE 64u
 // Workgroup size of the scan, and the multiple the blocks of the bin arrays are padded to.
 #define SCAN_GROUP_SIZE 256u

@@ -10,8 +10,8 @@
 // 2. transmittance: each fragment adds its absorbance's Haar coefficients;
 // 3. shading: each fragment in front of full absorption adds its radiance times the
 //    transmittance in front of it, its own share removed;
-// then the opaque colour, dimmed by the transmittance behind every fragment, plus what the
-// fragments added, is written once. Rows whose pixels all have at most KEPT fragments keep
+// then what the fragments added, and the transmittance behind every fragment, which dims
+// the opaque colour, are written once (writePixel). Rows whose pixels all have at most KEPT fragments keep
 // their triangles from walk 1 (in registers), and walks 2 and 3 visit those instead of the
 // list: a pixel's own fragments, not every triangle of the row. The loop budget applies on
 // every device, and to every row of a scene with any texture (TEXTURES is per scene).
@@ -83,7 +83,7 @@ void main() {
         }
         return;
     }
-    float opaqueDepth = texelFetch(u_opaqueDepth, ivec2(x, y), 0).r;
+    float opaqueDepth = opaqueDepthAt(ivec2(x, y));
     uvec2 pixel = uvec2(x, y);
 
     // Walk 1: bounds, and the triangles of the last KEPT fragments (all of them where there
@@ -147,9 +147,9 @@ void main() {
     vec3 cells[WAVELET_MAX_COUNT];
     waveletSynthesize(c, cells);
 
-    // The opaque layer behind every fragment, and the depth from which nothing is visible.
-    vec3 behind = imageLoad(u_colour, ivec2(x, y)).rgb;
-    behind *= waveletTransmittance(waveletAbsorbanceBehindAll(cells));
+    // What reaches the opaque layer behind every fragment, and the depth from which nothing
+    // is visible.
+    vec3 throughAll = waveletTransmittance(waveletAbsorbanceBehindAll(cells));
     float cut = waveletHiddenDepth(cells, bounds, pixel, u_frame.depthMapping);
 
     // Walk 3: shading. The fragments' share is summed apart from the opaque colour, so that
@@ -173,7 +173,7 @@ void main() {
         }
     } while (++i < visits);
     if (fragments > 0u) {
-        imageStore(u_colour, ivec2(x, y), vec4(storedColour(behind + lit), 1.0));
+        writePixel(ivec2(x, y), lit, throughAll);
     }
     // Statistics: one atomic per subgroup, in the workgroup's slot (bins_layout.glsl); there
     // are no passes to count.

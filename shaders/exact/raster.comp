@@ -143,7 +143,7 @@ void main() {
     if (x >= u_push.width || y >= u_push.height) {
         return;
     }
-    float opaqueDepth = texelFetch(u_opaqueDepth, ivec2(x, y), 0).r;
+    float opaqueDepth = opaqueDepthAt(ivec2(x, y));
 
     vec3 radiance = vec3(0.0);
     vec3 transmittance = vec3(1.0);
@@ -421,11 +421,9 @@ void main() {
         }
         suspended = true;
     }
-    // A resumed pixel composites what earlier dispatches gathered too.
+    // A resumed pixel writes what earlier dispatches gathered too.
     if ((fragments > 0u || CONTINUATION) && !suspended) {
-        vec3 behind = imageLoad(u_colour, ivec2(x, y)).rgb;
-        precise vec3 result = radiance + transmittance * behind;
-        imageStore(u_colour, ivec2(x, y), vec4(storedColour(result), 1.0));
+        writePixel(ivec2(x, y), radiance, transmittance);
     }
     // Statistics: one atomic per subgroup, not per pixel, in the workgroup's slot.
     uint subgroupFragments = subgroupAdd(fragments);

@@ -59,8 +59,11 @@ static void create_frame_resources(void) {
     g_colour = create_image(VK_FORMAT_R8G8B8A8_SRGB,
                             transfer | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT, W, H);
     g_colour_memory = bind_image(g_colour);
+    /* Sampled: exact and wavelet read it where it is. */
     g_depth = create_image(VK_FORMAT_D32_SFLOAT,
-                           transfer | VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, W, H);
+                           transfer | VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT |
+                               VK_IMAGE_USAGE_SAMPLED_BIT,
+                           W, H);
     g_depth_memory = bind_image(g_depth);
 
     g_buffer = create_host_buffer(COLOUR_BYTES + 2 * DEPTH_BYTES, &g_buffer_memory, &g_mapped);
@@ -256,6 +259,11 @@ static void compare_with_standalone(uint32_t method, const scene *host_scene,
         /* blend draws straight into the engine's images: no copy in or out. */
         TRUE_OR_FAIL(stats.stage_count == 1);
         TRUE_OR_FAIL(strcmp(stats.stages[0].name, "blend") == 0);
+    } else if (method == TRANSLUCID_METHOD_EXACT || method == TRANSLUCID_METHOD_WAVELET) {
+        /* They sample the engine's depth and blend onto its colour where they are. */
+        TRUE_OR_FAIL(stats.stage_count >= 2);
+        TRUE_OR_FAIL(strcmp(stats.stages[0].name, "opaque") != 0);
+        TRUE_OR_FAIL(strcmp(stats.stages[stats.stage_count - 1].name, "composite") == 0);
     } else {
         TRUE_OR_FAIL(stats.stage_count >= 3);
         TRUE_OR_FAIL(strcmp(stats.stages[0].name, "opaque") == 0);

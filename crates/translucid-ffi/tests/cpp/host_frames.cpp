@@ -106,7 +106,9 @@ void create_slot(Slot &s) {
                             transfer | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT, W, H);
     s.colour_memory = bind_image(s.colour);
     s.depth = create_image(VK_FORMAT_D32_SFLOAT,
-                           transfer | VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, W, H);
+                           transfer | VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT |
+                               VK_IMAGE_USAGE_SAMPLED_BIT,
+                           W, H);
     s.depth_memory = bind_image(s.depth);
     s.readback = create_host_buffer(COLOUR_BYTES, &s.readback_memory, &s.pixels);
 }

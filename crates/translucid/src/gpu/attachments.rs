@@ -272,6 +272,43 @@ pub fn fullscreen_pipeline(
 }
 
 impl Gpu {
+    /// Draws with `pipeline` (no vertex input), its descriptor sets (from set 0) and push
+    /// constants, inside a render pass it was made for, as many vertices and instances as
+    /// the `VkDrawIndirectCommand` at `offset` of `args` holds when the draw runs.
+    pub fn cmd_draw_indirect(
+        &self,
+        cmd: vk::CommandBuffer,
+        pipeline: &super::GraphicsPipeline,
+        (sets, push): (&[vk::DescriptorSet], &[u8]),
+        (args, offset): (&super::Buffer, u64),
+    ) {
+        // SAFETY: cmd is inside a render pass compatible with the pipeline's; the sets and
+        // push constants match its layout (vertex and fragment stages, as every graphics
+        // pipeline's here); the command lies within `args`, which has INDIRECT_BUFFER usage.
+        unsafe {
+            let d = &self.device;
+            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.raw);
+            d.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::GRAPHICS,
+                pipeline.layout,
+                0,
+                sets,
+                &[],
+            );
+            if !push.is_empty() {
+                d.cmd_push_constants(
+                    cmd,
+                    pipeline.layout,
+                    vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
+                    0,
+                    push,
+                );
+            }
+            d.cmd_draw_indirect(cmd, args.raw, offset, 1, 16);
+        }
+    }
+
     /// Binds `set` as descriptor set `index` of graphics pipelines with `layout`. Sets bound
     /// later at lower indices with compatible layouts (the scene's sets 0 and 1) leave it bound.
     pub fn cmd_bind_graphics_set(

@@ -261,6 +261,22 @@ impl Gpu {
         };
     }
 
+    /// Clears every texel of a colour `image` in `layout` (GENERAL or TRANSFER_DST_OPTIMAL;
+    /// it needs TRANSFER_DST usage) to zero.
+    pub fn cmd_clear_to_zero(
+        &self,
+        cmd: vk::CommandBuffer,
+        image: &GpuImage,
+        layout: vk::ImageLayout,
+    ) {
+        let zero = vk::ClearColorValue { uint32: [0; 4] };
+        // SAFETY: cmd is recording outside a render pass; the range is the image's own.
+        unsafe {
+            self.device
+                .cmd_clear_color_image(cmd, image.raw, layout, &zero, &[image.full_range()])
+        };
+    }
+
     /// Writes `data` (a multiple of 4 bytes, at most 64 KiB) at `offset` from the command
     /// buffer itself (the buffer needs TRANSFER_DST usage).
     pub fn cmd_update_buffer(

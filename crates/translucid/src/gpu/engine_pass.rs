@@ -1,18 +1,20 @@
-//! A render pass straight over the engine's own colour and depth images: colour loaded and
-//! stored, depth (and stencil) loaded and kept, read-only. Each frame makes views of the
-//! engine's images and a framebuffer over them (the engine may hand different images every
-//! frame), kept until the frame slot is recorded again, when that frame has completed.
+//! A render pass straight over the engine's own colour image, and depth image if it tests
+//! depth: colour loaded and stored, depth (and stencil) loaded and kept, read-only. Each
+//! frame makes views of the engine's images and a framebuffer over them (the engine may hand
+//! different images every frame), kept until the frame slot is recorded again, when that
+//! frame has completed. (The composite over translucid's own colour target uses it too,
+//! described as an engine image.)
 
 use super::error::vk_err;
 use super::host::depth_format_aspects;
-use super::{Gpu, HostImage, HostTargets};
+use super::{Gpu, HostImage};
 use crate::Result;
 use ash::vk;
 
 /// The views and framebuffer one frame drew through, destroyed with it.
 struct FrameViews {
     gpu: Gpu,
-    views: [vk::ImageView; 2],
+    views: Vec<vk::ImageView>,
     framebuffer: vk::Framebuffer,
 }
 
@@ -21,7 +23,7 @@ impl Drop for FrameViews {
         // SAFETY: kept until the frame that drew through them completed (see `EnginePass`).
         unsafe {
             self.gpu.device.destroy_framebuffer(self.framebuffer, None);
-            for view in self.views {
+            for &view in &self.views {
                 self.gpu.device.destroy_image_view(view, None);
             }
         }
@@ -32,16 +34,67 @@ impl Drop for FrameViews {
 #[derive(Clone, Copy, PartialEq, Eq)]
 struct PassKey {
     colour: (vk::Format, vk::ImageLayout, vk::ImageLayout),
-    depth: (vk::Format, vk::ImageLayout, vk::ImageLayout),
+    depth: Option<(vk::Format, vk::ImageLayout, vk::ImageLayout)>,
 }
 
 impl PassKey {
-    fn of(targets: &HostTargets) -> Self {
+    fn of(colour: &HostImage, depth: Option<&HostImage>) -> Self {
         let key = |i: &HostImage| (i.format, i.layout, i.final_layout);
         Self {
-            colour: key(&targets.colour),
-            depth: key(&targets.depth),
+            colour: key(colour),
+            depth: depth.map(key),
         }
+    }
+}
+
+/// A view of one of the engine's images: `aspect` of its one level and layer.
+fn engine_view(
+    gpu: &Gpu,
+    image: &HostImage,
+    aspect: vk::ImageAspectFlags,
+) -> Result<vk::ImageView> {
+    let info = vk::ImageViewCreateInfo::default()
+        .image(image.image)
+        .view_type(vk::ImageViewType::TYPE_2D)
+        .format(image.format)
+        .subresource_range(vk::ImageSubresourceRange {
+            aspect_mask: aspect,
+            base_mip_level: 0,
+            level_count: 1,
+            base_array_layer: 0,
+            layer_count: 1,
+        });
+    // SAFETY: the engine's live image of this device, of the format named (the record_host
+    // contract), with one level and one layer.
+    unsafe { gpu.device.create_image_view(&info, None) }.map_err(vk_err("vkCreateImageView"))
+}
+
+/// Per frame slot, a view of the engine's depth image (its depth aspect, for sampling) made
+/// for the frame recorded in it, kept until the slot is recorded again.
+pub struct EngineDepthViews {
+    gpu: Gpu,
+    slots: Vec<Option<FrameViews>>,
+}
+
+impl EngineDepthViews {
+    pub fn new(gpu: &Gpu, slots: usize) -> Self {
+        Self {
+            gpu: gpu.clone(),
+            slots: (0..slots).map(|_| None).collect(),
+        }
+    }
+
+    /// A view of `depth` for the frame recorded in `slot`, whose last frame has completed.
+    pub fn view(&mut self, slot: usize, depth: &HostImage) -> Result<vk::ImageView> {
+        // Frees the slot's last view first: that frame has completed.
+        self.slots[slot] = None;
+        let view = engine_view(&self.gpu, depth, vk::ImageAspectFlags::DEPTH)?;
+        self.slots[slot] = Some(FrameViews {
+            gpu: self.gpu.clone(),
+            views: vec![view],
+            framebuffer: vk::Framebuffer::null(),
+        });
+        Ok(view)
     }
 }
 
@@ -54,10 +107,15 @@ pub struct EnginePass {
 }
 
 impl EnginePass {
-    /// A pass over images like `targets`' (their formats and layouts), for `slots` frames
-    /// in flight.
-    pub fn new(gpu: &Gpu, targets: &HostTargets, slots: usize) -> Result<Self> {
-        let key = PassKey::of(targets);
+    /// A pass over images like `colour` and `depth` (their formats and layouts), for `slots`
+    /// frames in flight.
+    pub fn new(
+        gpu: &Gpu,
+        colour: &HostImage,
+        depth: Option<&HostImage>,
+        slots: usize,
+    ) -> Result<Self> {
+        let key = PassKey::of(colour, depth);
         let attachment = |image: &HostImage| {
             vk::AttachmentDescription::default()
                 .format(image.format)
@@ -70,17 +128,22 @@ impl EnginePass {
                 .initial_layout(image.layout)
                 .final_layout(image.final_layout)
         };
-        let descriptions = [attachment(&targets.colour), attachment(&targets.depth)];
+        let mut descriptions = vec![attachment(colour)];
+        descriptions.extend(depth.map(attachment));
         let colour = [vk::AttachmentReference {
             attachment: 0,
             layout: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
         }];
-        let depth = vk::AttachmentReference {
+        let depth = depth.map(|_| vk::AttachmentReference {
             attachment: 1,
             layout: vk::ImageLayout::DEPTH_STENCIL_READ_ONLY_OPTIMAL,
-        };
-        let render_pass =
-            super::attachments::one_subpass_render_pass(gpu, &descriptions, &colour, Some(&depth))?;
+        });
+        let render_pass = super::attachments::one_subpass_render_pass(
+            gpu,
+            &descriptions,
+            &colour,
+            depth.as_ref(),
+        )?;
         Ok(Self {
             gpu: gpu.clone(),
             key,
@@ -89,55 +152,36 @@ impl EnginePass {
         })
     }
 
-    /// Whether this pass draws over images like `targets'`.
-    pub fn fits(&self, targets: &HostTargets) -> bool {
-        self.key == PassKey::of(targets)
+    /// Whether this pass draws over images like `colour` and `depth`.
+    pub fn fits(&self, colour: &HostImage, depth: Option<&HostImage>) -> bool {
+        self.key == PassKey::of(colour, depth)
     }
 
-    /// Begins the pass over the top-left `extent` of `targets`' images (checked, at least
-    /// that large) for the frame recorded in `slot`, whose last frame has completed. The
-    /// viewport maps depth as the engine's image holds it: turned around when `reversed`
-    /// (the pipelines then test GREATER).
+    /// Begins the pass in `cmd` over the top-left `extent` of `colour` and `depth` (images
+    /// like the pass's, checked to be at least that large) for the frame recorded in `slot`,
+    /// whose last frame has completed. The viewport maps depth as the engine's image holds
+    /// it: turned around when `reversed` (the pipelines then test GREATER).
     pub fn begin(
         &mut self,
-        targets: &HostTargets,
+        cmd: vk::CommandBuffer,
+        (colour, depth): (&HostImage, Option<&HostImage>),
         slot: usize,
-        extent: vk::Extent2D,
-        reversed: bool,
+        (extent, reversed): (vk::Extent2D, bool),
     ) -> Result<()> {
-        let view = |image: &HostImage, aspect| {
-            let info = vk::ImageViewCreateInfo::default()
-                .image(image.image)
-                .view_type(vk::ImageViewType::TYPE_2D)
-                .format(image.format)
-                .subresource_range(vk::ImageSubresourceRange {
-                    aspect_mask: aspect,
-                    base_mip_level: 0,
-                    level_count: 1,
-                    base_array_layer: 0,
-                    layer_count: 1,
-                });
-            // SAFETY: the engine's live image of this device, of the format named (the
-            // record_host contract), with one level and one layer.
-            unsafe { self.gpu.device.create_image_view(&info, None) }
-                .map_err(vk_err("vkCreateImageView"))
-        };
+        let view = |image: &HostImage, aspect| engine_view(&self.gpu, image, aspect);
         // Frees the slot's last views first: that frame has completed.
         self.slots[slot] = None;
-        let colour = view(&targets.colour, vk::ImageAspectFlags::COLOR)?;
-        let depth = match view(&targets.depth, depth_format_aspects(targets.depth.format)) {
-            Ok(v) => v,
-            Err(e) => {
-                // SAFETY: made above, used by nothing yet.
-                unsafe { self.gpu.device.destroy_image_view(colour, None) };
-                return Err(e);
-            }
-        };
+        // Dropped with its views if a later one fails.
         let mut frame = FrameViews {
             gpu: self.gpu.clone(),
-            views: [colour, depth],
+            views: Vec::with_capacity(2),
             framebuffer: vk::Framebuffer::null(),
         };
+        frame.views.push(view(colour, vk::ImageAspectFlags::COLOR)?);
+        if let Some(depth) = depth {
+            let aspects = depth_format_aspects(depth.format);
+            frame.views.push(view(depth, aspects)?);
+        }
         let info = vk::FramebufferCreateInfo::default()
             .render_pass(self.render_pass)
             .attachments(&frame.views)
@@ -171,9 +215,9 @@ impl EnginePass {
         // framebuffer belongs to this pass.
         unsafe {
             let d = &self.gpu.device;
-            d.cmd_begin_render_pass(targets.cmd, &begin, vk::SubpassContents::INLINE);
-            d.cmd_set_viewport(targets.cmd, 0, &[viewport]);
-            d.cmd_set_scissor(targets.cmd, 0, &[area]);
+            d.cmd_begin_render_pass(cmd, &begin, vk::SubpassContents::INLINE);
+            d.cmd_set_viewport(cmd, 0, &[viewport]);
+            d.cmd_set_scissor(cmd, 0, &[area]);
         }
         Ok(())
     }

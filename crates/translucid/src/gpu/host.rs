@@ -280,14 +280,16 @@ pub struct HostImage {
 #[derive(Clone, Copy, Debug)]
 pub struct HostTargets {
     pub cmd: vk::CommandBuffer,
-    /// Read (the opaque layer) and written (the result): TRANSFER_SRC and TRANSFER_DST usage,
-    /// a format that supports blits both ways (not an integer format). The `blend` method
-    /// and the yardstick draw into it: COLOR_ATTACHMENT usage too.
+    /// The opaque colour the result is composited onto: COLOR_ATTACHMENT, TRANSFER_SRC and
+    /// TRANSFER_DST usage, a format that supports blits both ways (not an integer format).
+    /// Where the format blends, `blend` and the yardstick draw into it, and the methods that
+    /// composite in place blend onto it; the others copy it in and out.
     pub colour: HostImage,
-    /// Read only: one of [`HOST_DEPTH_FORMATS`] (stencil ignored). `D32_SFLOAT` with depth
-    /// growing away from the eye is copied as it is and needs TRANSFER_SRC usage; other
-    /// formats, and reversed-Z depth, are sampled and need SAMPLED usage. The `blend` method
-    /// and the yardstick test against it: DEPTH_STENCIL_ATTACHMENT usage too.
+    /// Read only: one of [`HOST_DEPTH_FORMATS`] (stencil ignored), with SAMPLED usage: the
+    /// methods that composite in place sample it where it is, the others sample it into
+    /// their depth target, but copy `D32_SFLOAT` depth growing away from the eye (which then
+    /// needs TRANSFER_SRC usage). `blend` and the yardstick test against it:
+    /// DEPTH_STENCIL_ATTACHMENT usage too.
     pub depth: HostImage,
 }
 
@@ -481,6 +483,10 @@ const TRANSFER_READ: (vk::PipelineStageFlags, vk::AccessFlags) = (
     vk::PipelineStageFlags::TRANSFER,
     vk::AccessFlags::TRANSFER_READ,
 );
+const COMPUTE_READ: (vk::PipelineStageFlags, vk::AccessFlags) = (
+    vk::PipelineStageFlags::COMPUTE_SHADER,
+    vk::AccessFlags::SHADER_READ,
+);
 const TRANSFER_WRITE: (vk::PipelineStageFlags, vk::AccessFlags) = (
     vk::PipelineStageFlags::TRANSFER,
     vk::AccessFlags::TRANSFER_WRITE,
@@ -640,6 +646,40 @@ impl Gpu {
             ));
         }
         self.transitions(t.cmd, &after);
+    }
+
+    /// Moves the engine's depth image to SHADER_READ_ONLY_OPTIMAL, for the compute stages
+    /// that sample it where it is, after whatever came before.
+    pub(crate) fn record_engine_depth_to_sampled(&self, t: &HostTargets) {
+        let aspects = depth_format_aspects(t.depth.format);
+        let layouts = (t.depth.layout, L::SHADER_READ_ONLY_OPTIMAL);
+        self.transitions(
+            t.cmd,
+            &[Transition(
+                t.depth.image,
+                aspects,
+                layouts,
+                ANY,
+                COMPUTE_READ,
+            )],
+        );
+    }
+
+    /// Returns the engine's depth image from SHADER_READ_ONLY_OPTIMAL to its final layout,
+    /// after the compute stages that sampled it.
+    pub(crate) fn record_engine_depth_to_final(&self, t: &HostTargets) {
+        let aspects = depth_format_aspects(t.depth.format);
+        let layouts = (L::SHADER_READ_ONLY_OPTIMAL, t.depth.final_layout);
+        self.transitions(
+            t.cmd,
+            &[Transition(
+                t.depth.image,
+                aspects,
+                layouts,
+                COMPUTE_READ,
+                ANY,
+            )],
+        );
     }
 
     /// Records the copy of the top-left `extent` of the composited `colour` (a frame target

@@ -39,7 +39,7 @@ pub use ash::vk;
 pub use attachments::{fullscreen_pipeline, Attachment, AttachmentPass, DepthAttachment, Load};
 pub use commands::{image_barrier, memory_barrier, mip_region, whole_image_region};
 pub use device::{list_devices, DeviceInfo, Gpu, GpuOptions, Shared};
-pub use engine_pass::EnginePass;
+pub use engine_pass::{EngineDepthViews, EnginePass};
 pub use host::{
     host_requirements, host_requirements_with, HostDevice, HostImage, HostRequirements,
     HostTargets, OptionalFeature, HOST_API_VERSION, HOST_DEPTH_FORMAT, HOST_DEPTH_FORMATS,

@@ -17,7 +17,7 @@ pub mod wboit;
 
 use crate::assets::GpuScene;
 use crate::frame::FrameTargets;
-use crate::gpu::{vk, Gpu, OptionalFeature, Timestamps};
+use crate::gpu::{vk, Gpu, HostImage, OptionalFeature, Timestamps};
 use crate::scene::Scene;
 use crate::{Error, Result};
 
@@ -176,6 +176,23 @@ pub struct RecordContext<'a> {
     pub scene: &'a GpuScene,
     pub targets: &'a FrameTargets,
     pub timestamps: &'a mut Timestamps,
+    /// On the engine's device, for a method that composites in place
+    /// ([`Method::composites_in_place`]): the engine's images, read and written where they
+    /// are instead of the frame targets.
+    pub in_place: Option<InPlace>,
+}
+
+/// The engine's images a frame composites onto in place.
+#[derive(Clone, Copy, Debug)]
+pub struct InPlace {
+    /// The engine's colour image, which the composite blends onto (it has COLOR_ATTACHMENT
+    /// usage and a format that blends).
+    pub colour: HostImage,
+    /// A view of the engine's depth image (its depth aspect), in SHADER_READ_ONLY_OPTIMAL,
+    /// made for this frame.
+    pub depth: vk::ImageView,
+    /// That depth is reversed-Z (1 at the eye).
+    pub reversed: bool,
 }
 
 /// What a method is given when the frame changes (see [`Method::set_frame`]).
@@ -218,6 +235,12 @@ pub trait Method {
     /// transparent draws blended straight into the engine's images (the renderer records
     /// that pass itself, `renderer/native_blend.rs`), with no copy in or out.
     fn blends_in_place(&self) -> bool {
+        false
+    }
+
+    /// Whether, on an engine's device, the method reads the engine's depth and composites
+    /// onto its colour where they are ([`RecordContext::in_place`]), with no copy in or out.
+    fn composites_in_place(&self) -> bool {
         false
     }
 }

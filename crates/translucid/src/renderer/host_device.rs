@@ -1,22 +1,26 @@
 //! Frames on the engine's device: recorded into the engine's command buffer over the engine's
 //! images, submitted by the engine, completed when the engine says its submission finished.
 //!
-//! The frame copies the engine's colour and depth into the frame targets (the opaque layer,
-//! timed as "opaque"), runs the method exactly as a standalone frame does, and copies the
-//! result back into the engine's colour image ("output"); but `blend`, which draws straight
-//! into the engine's images where their colour format blends (`native_blend.rs`, one stage,
-//! "blend"). A frame is meant to be right on its one recording: bin lists past their
-//! capacity are rasterized in bands within it. What the
-//! recording could not answer (more bands than it records, rows still unfinished after its
-//! continuations, other buffers too small) leaves the affected pixels with the engine's
-//! colour, and [`Renderer::complete_host`] reports it once the frame completed, with the
-//! buffers already grown, so that later frames are right.
+//! Where the engine's colour format blends, nothing is copied: `blend` draws straight into
+//! the engine's images (`native_blend.rs`, one stage, "blend"), and the methods that
+//! composite in place (exact, wavelet on the bins) sample the engine's depth where it is and
+//! blend their transparent layer onto its colour, only where the layer has fragments. The
+//! other methods, and every method over a colour format that does not blend, copy the
+//! engine's colour and depth into the frame targets (the opaque layer, timed as "opaque"),
+//! run as a standalone frame does, and copy the result back into the engine's colour image
+//! ("output"). A frame is meant to be right on its one recording: bin lists past their
+//! capacity are rasterized in bands within it. What the recording could not answer (more
+//! bands than it records, rows still unfinished after its continuations, other buffers too
+//! small) leaves the affected pixels with the engine's colour, and
+//! [`Renderer::complete_host`] reports it once the frame completed, with the buffers already
+//! grown, so that later frames are right.
 
 use super::{method_ms, Renderer};
 use crate::gpu::{
-    memory_barrier, vk, Buffer, DepthImport, Gpu, HostTargets, MemoryLocation, HOST_DEPTH_FORMAT,
+    memory_barrier, vk, Buffer, DepthImport, EngineDepthViews, Gpu, HostTargets, MemoryLocation,
+    HOST_DEPTH_FORMAT,
 };
-use crate::methods::{FrameCheck, FrameDone};
+use crate::methods::{FrameCheck, FrameDone, InPlace};
 use crate::{Error, Result};
 
 /// What a host-device frame reports once the engine's submission completed.
@@ -129,12 +133,15 @@ impl Renderer {
     ///
     /// [`Gpu`]: crate::gpu::Gpu
     pub unsafe fn record_host(&mut self, targets: &HostTargets) -> Result<()> {
-        // blend draws straight into the engine's images, where their format blends; else it
-        // goes through the frame targets as the other methods do.
-        if self.method.blends_in_place()
-            && super::native_blend::can_blend_into(&self.gpu, targets.colour.format)
-        {
+        // blend draws straight into the engine's images, and the methods that composite in
+        // place blend onto its colour, where its format blends; else they go through the
+        // frame targets as the other methods do.
+        let blends = super::native_blend::can_blend_into(&self.gpu, targets.colour.format);
+        if blends && self.method.blends_in_place() {
             return self.record_engine_blend(targets, "blend", HostFrameKind::Method);
+        }
+        if blends && self.method.composites_in_place() {
+            return self.record_in_place(targets);
         }
         let (gpu, slot) = self.begin_host_frame(targets)?;
         let cmd = targets.cmd;
@@ -156,9 +163,29 @@ impl Renderer {
             gpu.record_host_input(targets, extent, &self.targets.colour, depth);
         }
         self.timestamps[slot].mark(cmd, "opaque");
-        self.record_method(&gpu, cmd)?;
+        self.record_method(&gpu, cmd, None)?;
         gpu.record_host_output(targets, extent, &self.targets.colour);
         self.timestamps[slot].mark(cmd, "output");
+        self.end_host_frame(&gpu, cmd, slot, HostFrameKind::Method)
+    }
+
+    /// A frame of a method that composites in place: the engine's depth sampled where it is,
+    /// the method's composite blended onto its colour; no copy, no frame target.
+    fn record_in_place(&mut self, targets: &HostTargets) -> Result<()> {
+        let (gpu, slot) = self.begin_host_frame(targets)?;
+        let cmd = targets.cmd;
+        let views = self
+            .engine_depth_views
+            .get_or_insert_with(|| EngineDepthViews::new(&gpu, self.timestamps.len()));
+        let depth = views.view(slot, &targets.depth)?;
+        gpu.record_engine_depth_to_sampled(targets);
+        let in_place = InPlace {
+            colour: targets.colour,
+            depth,
+            reversed: self.frame_scene.camera.reversed_depth(),
+        };
+        self.record_method(&gpu, cmd, Some(in_place))?;
+        gpu.record_engine_depth_to_final(targets);
         self.end_host_frame(&gpu, cmd, slot, HostFrameKind::Method)
     }
 

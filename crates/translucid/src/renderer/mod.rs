@@ -52,7 +52,7 @@ pub use targets::Readback;
 use crate::gpu::{vk, Gpu, Timestamps};
 use crate::image::{Image, OpaqueLayer};
 use crate::methods::{
-    self, FrameDone, FrameSetup, Method, MethodKind, MethodOptions, RecordContext,
+    self, FrameDone, FrameSetup, InPlace, Method, MethodKind, MethodOptions, RecordContext,
 };
 use crate::scene::{FrameInput, Scene};
 use crate::{Error, Result};
@@ -167,6 +167,9 @@ pub struct Renderer {
     /// Host-device mode: the pass that samples engine depth images it cannot copy, made
     /// for the first frame that needs it.
     depth_import: Option<crate::gpu::DepthImport>,
+    /// Views of the engine's depth images, per frame slot, for the methods that sample it
+    /// in place.
+    engine_depth_views: Option<crate::gpu::EngineDepthViews>,
     /// The device's pipelines created and bytes allocated when the last frame ended (the
     /// renderer was made), readbacks for the opaque layer not counted.
     counted: (u64, u64),
@@ -337,6 +340,7 @@ impl Renderer {
             slot_serials,
             completions: Vec::new(),
             depth_import: None,
+            engine_depth_views: None,
             native_blend: None,
             slot_dispatches: vec![0; slots],
             in_flight: std::collections::VecDeque::new(),
@@ -526,7 +530,7 @@ impl Renderer {
                         self.timestamps[slot].mark(cmd, "opaque");
                     }
                 }
-                self.record_method(&gpu, cmd)?;
+                self.record_method(&gpu, cmd, None)?;
                 self.readback()?.record(&gpu, cmd, &self.targets, false);
                 Ok(())
             })?;
@@ -591,19 +595,25 @@ impl Renderer {
 
     /// Records what completes the method's unfinished frame.
     fn record_finish(&mut self, gpu: &Gpu, cmd: vk::CommandBuffer) -> Result<()> {
-        self.with_method(gpu, cmd, |method, ctx| method.record_finish(ctx))
+        self.with_method(gpu, (cmd, None), |method, ctx| method.record_finish(ctx))
     }
 
-    /// Records the method's passes over the frame targets.
-    fn record_method(&mut self, gpu: &Gpu, cmd: vk::CommandBuffer) -> Result<()> {
-        self.with_method(gpu, cmd, |method, ctx| method.record(ctx))
+    /// Records the method's passes over the frame targets, or over the engine's images
+    /// `in_place`.
+    fn record_method(
+        &mut self,
+        gpu: &Gpu,
+        cmd: vk::CommandBuffer,
+        in_place: Option<InPlace>,
+    ) -> Result<()> {
+        self.with_method(gpu, (cmd, in_place), |method, ctx| method.record(ctx))
     }
 
     /// Calls `record` with the method and a context for recording into `cmd`.
     fn with_method(
         &mut self,
         gpu: &Gpu,
-        cmd: vk::CommandBuffer,
+        (cmd, in_place): (vk::CommandBuffer, Option<InPlace>),
         record: impl FnOnce(&mut dyn Method, &mut RecordContext<'_>) -> Result<()>,
     ) -> Result<()> {
         let slot = self.scene.slot();
@@ -614,6 +624,7 @@ impl Renderer {
             scene: &self.scene,
             targets: &self.targets,
             timestamps: &mut self.timestamps[slot],
+            in_place,
         };
         record(self.method.as_mut(), &mut ctx)
     }

@@ -51,7 +51,7 @@ impl EngineBlendPass {
                 gpu.info().name
             )));
         }
-        let pass = EnginePass::new(gpu, targets, slots)?;
+        let pass = EnginePass::new(gpu, &targets.colour, Some(&targets.depth), slots)?;
         let pipelines = |depth| {
             scene.mesh_pipelines_with(
                 gpu,
@@ -101,7 +101,12 @@ impl Renderer {
         let cmd = targets.cmd;
         let slots = self.timestamps.len();
         let native = self.native_blend.get_or_insert_with(NativeBlend::default);
-        let index = match native.passes.iter().position(|p| p.pass.fits(targets)) {
+        let images = (&targets.colour, Some(&targets.depth));
+        let index = match native
+            .passes
+            .iter()
+            .position(|p| p.pass.fits(images.0, images.1))
+        {
             Some(i) => i,
             None => {
                 let made = EngineBlendPass::new(&gpu, &self.scene, targets, slots)?;
@@ -112,7 +117,7 @@ impl Renderer {
         let native = &mut native.passes[index];
         let reversed = self.frame_scene.camera.reversed_depth();
         let extent = self.targets.extent;
-        native.pass.begin(targets, slot, extent, reversed)?;
+        native.pass.begin(cmd, images, slot, (extent, reversed))?;
         let pipelines = &native.pipelines[usize::from(reversed)];
         self.scene.draw(
             &gpu,

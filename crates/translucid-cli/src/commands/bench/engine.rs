@@ -85,7 +85,9 @@ impl EngineLoop {
                 "engine depth",
                 extent,
                 DEPTH_FORMAT,
-                usage | vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
+                usage
+                    | vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT
+                    | vk::ImageUsageFlags::SAMPLED,
                 1,
             )?,
             colour_in: upload("engine opaque colour", 8 * pixels)?,

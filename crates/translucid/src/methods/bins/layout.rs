@@ -30,8 +30,9 @@ pub const PIXEL_STATE_BYTES: u64 = 192;
 /// `MAX_SELECT_SIZE` of bins_layout.glsl: fragments a pixel's saved state can hold.
 pub const MAX_SELECT_SIZE: u32 = 16;
 /// Bytes of the indirect dispatch commands (each padded to 16) before the resume items:
-/// resume list 0, resume list 1, the band's blocks, binning, bin offsets, the band's fill.
-pub const DISPATCH_BYTES: u64 = 96;
+/// resume list 0, resume list 1, the band's blocks, binning, bin offsets, the band's fill;
+/// then the composite's draw command (`DRAW_COMPOSITE`).
+pub const DISPATCH_BYTES: u64 = 112;
 /// Byte offset of the current band's raster dispatch command (`DISPATCH_RASTER_BINS`).
 pub const DISPATCH_RASTER_BINS_OFFSET: u64 = 32;
 /// Byte offset of the binning passes' dispatch command (`DISPATCH_BINNING`).
@@ -40,6 +41,12 @@ pub const DISPATCH_BINNING_OFFSET: u64 = 48;
 pub const DISPATCH_BIN_OFFSETS_OFFSET: u64 = 64;
 /// Byte offset of the band's fill dispatch command (`DISPATCH_BAND_FILL`).
 pub const DISPATCH_BAND_FILL_OFFSET: u64 = 80;
+/// Byte offset of the composite's draw command (`DRAW_COMPOSITE`), a
+/// `VkDrawIndirectCommand`.
+pub const DRAW_COMPOSITE_OFFSET: u64 = 96;
+/// The last stamp a submission takes before they start again from 1 (`LAST_STAMP` of
+/// transparent_layer.glsl: texels keep 6 bits of it).
+pub const LAST_STAMP: u32 = 63;
 /// Invocations per workgroup of the binning passes (`local_size_x`).
 pub const BINNING_GROUP_SIZE: u32 = 64;
 /// Invocations per workgroup of the scan, and the multiple of blocks the bin arrays hold.
@@ -170,7 +177,10 @@ pub struct BinPush {
     pub bin_rows_per_slice: u32,
     /// Workgroups the dispatches over triangles take in x; past it they go on in z.
     pub groups_x: u32,
-    pub pad: [u32; 2],
+    /// The submission's stamp, which the rasters write (transparent_layer.glsl).
+    pub stamp: u32,
+    /// 1 when the opaque depth bound is reversed-Z (the engine's own image).
+    pub opaque_depth_reversed: u32,
 }
 
 #[cfg(test)]
@@ -181,6 +191,7 @@ mod tests {
     use std::mem::{offset_of, size_of};
 
     const SRC: &str = include_str!("../../../../../shaders/common/bins_layout.glsl");
+    const SRC_BINDINGS: &str = include_str!("../../../../../shaders/common/bins_bindings.glsl");
 
     fn define(name: &str) -> u32 {
         let line = SRC
@@ -237,8 +248,20 @@ mod tests {
         assert_eq!(define("NORMAL_TEXELS"), NORMAL_TEXELS);
         assert_eq!(define("FACE_NORMAL_TEXELS"), FACE_NORMAL_TEXELS);
         assert_eq!(define("UV_TEXELS"), UV_TEXELS);
-        let commands = u64::from(define("DISPATCH_BAND_FILL")) + 1;
+        let layer = include_str!("../../../../../shaders/common/transparent_layer.glsl");
+        assert!(layer.contains(&format!("const uint LAST_STAMP = {LAST_STAMP}u;")));
+        let commands = u64::from(define("DRAW_COMPOSITE")) + 1;
         assert_eq!(commands * 16, DISPATCH_BYTES);
+        assert_eq!(
+            u64::from(define("DRAW_COMPOSITE")) * 16,
+            DRAW_COMPOSITE_OFFSET
+        );
+        let words = SRC_BINDINGS
+            .split("uint g_dispatch[")
+            .nth(1)
+            .and_then(|rest| rest.split(']').next())
+            .and_then(|n| n.parse::<u64>().ok());
+        assert_eq!(words, Some(DISPATCH_BYTES / 4));
         assert_eq!(
             u64::from(define("DISPATCH_BAND_FILL")) * 16,
             DISPATCH_BAND_FILL_OFFSET

@@ -30,6 +30,7 @@
 
 #![deny(clippy::unwrap_used)]
 
+mod composite;
 pub mod features;
 pub mod layout;
 pub(crate) mod resources;
@@ -43,8 +44,8 @@ use crate::{Error, Result};
 use features::{MeshFacts, RasterFeatures};
 use layout::{
     BinCounters, BinPush, BIN_SIZE, DISPATCH_BAND_FILL_OFFSET, DISPATCH_BINNING_OFFSET,
-    DISPATCH_BIN_OFFSETS_OFFSET, DISPATCH_RASTER_BINS_OFFSET, LOOP_BUDGET, OVERFLOW_BAND_LISTS,
-    OVERFLOW_CROWDED_BIN, OVERFLOW_HOMOGENEOUS, SCAN_GROUP_SIZE,
+    DISPATCH_BIN_OFFSETS_OFFSET, DISPATCH_RASTER_BINS_OFFSET, DRAW_COMPOSITE_OFFSET, LAST_STAMP,
+    LOOP_BUDGET, OVERFLOW_BAND_LISTS, OVERFLOW_CROWDED_BIN, OVERFLOW_HOMOGENEOUS, SCAN_GROUP_SIZE,
 };
 use resources::{Capacities, Resources};
 use std::sync::Arc;
@@ -242,6 +243,8 @@ struct Recorded {
     culled: bool,
     /// The frame's width and height.
     size: (u32, u32),
+    /// It cleared the transparent layer before its raster.
+    clears_layer: bool,
 }
 
 /// Frames recorded without the occlusion cull once a frame's cull saved less than its depth
@@ -287,6 +290,14 @@ pub struct Bins {
     /// Per frame slot, what its last frame was recorded with: with frames in flight, the
     /// settings may have moved on by the time that frame completes.
     recorded: Vec<Recorded>,
+    /// The composite onto the engine's colour, made with the transparent layer by the first
+    /// frame on its device.
+    composite: Option<composite::Composite>,
+    /// The last submission's stamp (transparent_layer.glsl) on an engine's device; 0 before
+    /// the first.
+    stamp: u32,
+    /// A frame that cleared the transparent layer has completed.
+    layer_cleared: bool,
 }
 
 /// Homogeneous records a frame with `near_plane` triangles that may take the near-plane path
@@ -384,7 +395,6 @@ impl Bins {
                 .groups_x
                 .unwrap_or(MOST_GROUPS_X)
                 .clamp(1, MOST_GROUPS_X),
-            pad: [0; 2],
             ..bytemuck::Zeroable::zeroed()
         };
         push.set_size(width, height, slice_rows_limit);
@@ -410,9 +420,13 @@ impl Bins {
                     capacities,
                     culled: true,
                     size: (width, height),
+                    clears_layer: false,
                 };
                 uploaded.slot_count()
             ],
+            composite: None,
+            stamp: 0,
+            layer_cleared: false,
         })
     }
 
@@ -533,8 +547,17 @@ impl Bins {
     pub fn record_binning(&mut self, ctx: &mut RecordContext<'_>) -> Result<()> {
         let cmd = ctx.cmd;
         self.resources.use_slot(ctx.slot);
-        // Buffers grown after the last frame: the slot's set names the new ones.
-        self.resources.refresh_set(ctx.targets)?;
+        // Buffers grown after the last frame, or another opaque depth: the slot's set names
+        // the new ones.
+        let depth = match &ctx.in_place {
+            Some(engine) => engine.depth,
+            None => ctx.targets.depth.view,
+        };
+        self.push.opaque_depth_reversed = ctx.in_place.is_some_and(|e| e.reversed).into();
+        if ctx.in_place.is_some() && self.resources.make_layer(&self.gpu)? {
+            self.layer_cleared = false;
+        }
+        self.resources.refresh_set(depth, ctx.in_place.is_some())?;
         self.resources.retirement.recorded();
         let culled = self.unculled_frames == 0;
         self.unculled_frames = self.unculled_frames.saturating_sub(1);
@@ -543,7 +566,9 @@ impl Bins {
             capacities: self.resources.capacities,
             culled,
             size: self.size(),
+            clears_layer: false,
         };
+        self.begin_submission(cmd, ctx.slot, ctx.in_place.is_some());
         self.resources.record_reset(cmd, self.features.rows);
         // Setup's occlusion cull reads the opaque depth (through the pyramid), as does the
         // raster's depth test.
@@ -668,9 +693,11 @@ impl Bins {
         memory_barrier(&self.gpu, cmd, transfer, to_next);
     }
 
-    /// Ends a frame's recording: notes which resume list holds the rows left unfinished,
-    /// returns the targets to their attachment layouts and copies the counters for the host.
-    pub fn record_end(&mut self, ctx: &RecordContext<'_>, pending_list: u32) {
+    /// Ends a frame's recording: on an engine's device, the composite of what its rasters
+    /// left onto the engine's colour, timed as "composite"; notes which resume list holds the
+    /// rows left unfinished, returns the frame targets to their attachment layouts and
+    /// copies the counters for the host.
+    pub fn record_end(&mut self, ctx: &mut RecordContext<'_>, pending_list: u32) -> Result<()> {
         self.resources.set_pending_list(pending_list);
         let cmd = ctx.cmd;
         let shader = (
@@ -681,29 +708,100 @@ impl Bins {
             vk::PipelineStageFlags::ALL_COMMANDS,
             vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE,
         );
-        image_barrier(
-            &self.gpu,
-            cmd,
-            &ctx.targets.colour,
+        let colour = &ctx.targets.colour;
+        let (general, attachment) = (
             vk::ImageLayout::GENERAL,
             vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-            shader,
-            after,
         );
-        image_barrier(
+        image_barrier(&self.gpu, cmd, colour, general, attachment, shader, after);
+        if let Some(engine) = &ctx.in_place {
+            self.record_composite(ctx.cmd, &engine.colour, ctx.slot, ctx.targets.extent)?;
+            ctx.timestamps.mark(cmd, "composite");
+        } else {
+            let depth = &ctx.targets.depth;
+            let (sampled, attachment) = (
+                vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+                vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+            );
+            image_barrier(&self.gpu, cmd, depth, sampled, attachment, shader, after);
+        }
+        self.resources.record_readback(cmd);
+        Ok(())
+    }
+
+    /// The composite (`composite.rs`) of this submission's transparent layer onto `colour`.
+    fn record_composite(
+        &mut self,
+        cmd: vk::CommandBuffer,
+        colour: &crate::gpu::HostImage,
+        slot: usize,
+        extent: vk::Extent2D,
+    ) -> Result<()> {
+        // The transparent layer the rasters wrote, and the draw command the scan did.
+        memory_barrier(
             &self.gpu,
             cmd,
-            &ctx.targets.depth,
-            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-            vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
-            shader,
-            after,
+            (
+                vk::PipelineStageFlags::COMPUTE_SHADER,
+                vk::AccessFlags::SHADER_WRITE,
+            ),
+            (
+                vk::PipelineStageFlags::VERTEX_SHADER
+                    | vk::PipelineStageFlags::FRAGMENT_SHADER
+                    | vk::PipelineStageFlags::DRAW_INDIRECT,
+                vk::AccessFlags::SHADER_READ | vk::AccessFlags::INDIRECT_COMMAND_READ,
+            ),
         );
-        self.resources.record_readback(cmd);
+        let composite = match &mut self.composite {
+            Some(c) => c,
+            None => self.composite.insert(composite::Composite::new(
+                &self.gpu,
+                &self.resources.raster_bins,
+                &self.resources.transparent_layer,
+                self.recorded.len(),
+            )?),
+        };
+        let frame = composite::CompositeFrame {
+            colour,
+            slot,
+            extent,
+            stamp: self.stamp,
+            bins_x: self.push.bins_x,
+            draw: (self.resources.dispatches(), DRAW_COMPOSITE_OFFSET),
+        };
+        composite.record(cmd, &frame)
+    }
+
+    /// Starts a submission of the frame in `slot`: on an engine's device (`in_place`), its
+    /// stamp, which the rasters write with what they leave and the composite blends; else
+    /// stamp 0, compositing onto the frame target. Until a frame that cleared the transparent
+    /// layer has completed (one recorded may be abandoned), every submission clears it first
+    /// (its stamps to none, and both images into the layout the sets name), so that nothing
+    /// the images held before passes for a pixel; and again each time the stamps start again
+    /// from 1 (every LAST_STAMP submissions).
+    fn begin_submission(&mut self, cmd: vk::CommandBuffer, slot: usize, in_place: bool) {
+        if in_place {
+            self.stamp = if self.stamp >= LAST_STAMP {
+                1
+            } else {
+                self.stamp + 1
+            };
+            if self.stamp == 1 {
+                self.layer_cleared = false;
+            }
+        }
+        let clears = !self.layer_cleared;
+        if clears {
+            self.resources.record_layer_clear(cmd);
+        }
+        let slots = self.recorded.len();
+        self.recorded[slot % slots].clears_layer = clears;
+        self.push.stamp = if in_place { self.stamp } else { 0 };
     }
 
     /// Moves the frame targets to the layouts the stages use (colour written as a storage
-    /// image, depth sampled); `since` is the access that last wrote them.
+    /// image, depth sampled); `since` is the access that last wrote them. (The engine's
+    /// images, used in place, are the renderer's to move.)
     pub fn targets_to_raster(
         &self,
         ctx: &RecordContext<'_>,
@@ -713,15 +811,25 @@ impl Bins {
             vk::PipelineStageFlags::COMPUTE_SHADER,
             vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
         );
+        // In place, the frame target's colour is bound but neither read nor written: what
+        // it held goes.
+        let colour_layout = if ctx.in_place.is_some() {
+            vk::ImageLayout::UNDEFINED
+        } else {
+            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL
+        };
         image_barrier(
             &self.gpu,
             ctx.cmd,
             &ctx.targets.colour,
-            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+            colour_layout,
             vk::ImageLayout::GENERAL,
             since,
             shader,
         );
+        if ctx.in_place.is_some() {
+            return;
+        }
         image_barrier(
             &self.gpu,
             ctx.cmd,
@@ -817,6 +925,7 @@ impl Bins {
         let counters = self.counters(done.slot)?;
         // Judged by what the frame was recorded with; fixes go to the current settings.
         let recorded = self.recorded[done.slot % self.recorded.len()];
+        self.layer_cleared |= recorded.clears_layer;
         let method = self.method;
         // (With frames in flight, later frames may have another size.)
         let mut features = adapt(self.features, &counters, recorded.size);

@@ -10,8 +10,9 @@ use crate::assets::ResidentAssets;
 use crate::assets::{GpuScene, SampledViews};
 use crate::frame::FrameTargets;
 use crate::gpu::{
-    memory_barrier, vk, BindingKind, Buffer, BufferView, DescriptorLayout, DescriptorSet, Gpu,
-    MemoryLocation, Resource, Retirement, Sampler, ViewedBuffer as Viewed,
+    image_barrier, memory_barrier, vk, BindingKind, Buffer, BufferView, DescriptorLayout,
+    DescriptorSet, Gpu, GpuImage, MemoryLocation, Resource, Retirement, Sampler,
+    ViewedBuffer as Viewed,
 };
 use crate::raster::model_view_projection;
 use crate::scene::Scene;
@@ -182,9 +183,11 @@ struct BinSlot {
     scene_draws: (vk::Buffer, BufferView),
     /// What the host reads after the frame: the counters, then the resume lists' counts.
     readback: Buffer,
-    /// Set 1 over the slot's buffers and the shared ones of `generation`.
+    /// Set 1 over the slot's buffers and the shared ones of `generation`, and the opaque
+    /// depth `depth` (the frame target's, or a view of the engine's image).
     set: DescriptorSet,
     generation: u64,
+    depth: vk::ImageView,
     /// The resume list the frame's last continuation left unfinished rows on.
     pub pending_list: u32,
 }
@@ -208,8 +211,17 @@ pub struct Resources {
     sampled: SampledViews,
     counters: Buffer,
     bins: BinArrays,
-    /// The blocks with a non-empty bin, listed by the scan for the raster.
-    raster_bins: Buffer,
+    /// The blocks with a non-empty bin, listed by the scan for the raster and the composite.
+    pub raster_bins: Buffer,
+    /// What the rasters leave for the composite on an engine's device
+    /// (transparent_layer.glsl), in GENERAL layout: radiance and transmittance, and the rest
+    /// of transmittance with the stamps. 1x1 until the first such frame
+    /// ([`Self::make_layer`]).
+    pub transparent_layer: [GpuImage; 2],
+    /// The largest frame's size, which the transparent layer is made for.
+    capacity: vk::Extent2D,
+    /// The frame target's colour, which standalone frames' rasters composite onto.
+    target_colour: vk::ImageView,
     /// The farthest opaque depth over ever larger cells, for setup's occlusion cull.
     depth_pyramid: Viewed,
     depth_sampler: Sampler,
@@ -226,9 +238,10 @@ const RGBA32UI: vk::Format = vk::Format::R32G32B32A32_UINT;
 /// resume lists of a workgroup per item (the fourth word counting the items, which take the
 /// state slots in order; x and z split them past the workgroups a row), the listed blocks' (blocks, BIN_SIZE /
 /// rows, 1) for raster workgroups of `rows` rows, binning's (triangle groups, slices of the
-/// tallest triangle, 1), the scan's offset step's (groups of the band's blocks, 1, 1), and
-/// the band's fill (binning's, or empty).
-fn empty_dispatches(rows: u32) -> [[u32; 4]; 6] {
+/// tallest triangle, 1), the scan's offset step's (groups of the band's blocks, 1, 1), the
+/// band's fill (binning's, or empty); then the composite's draw (a quad for each of no
+/// listed block yet).
+fn empty_dispatches(rows: u32) -> [[u32; 4]; 7] {
     [
         [0, 1, 1, 0],
         [0, 1, 1, 0],
@@ -236,6 +249,7 @@ fn empty_dispatches(rows: u32) -> [[u32; 4]; 6] {
         [0, 1, 1, 0],
         [0, 1, 1, 0],
         [0, 1, 1, 0],
+        [6, 0, 0, 0],
     ]
 }
 
@@ -321,6 +335,32 @@ fn growable(gpu: &Gpu, c: Capacities) -> Result<Growable> {
             vk::Format::R32_UINT,
         )?,
     })
+}
+
+/// The transparent layer's two images (transparent_layer.glsl) for frames of up to
+/// `extent` (at least 1x1).
+fn transparent_layer(gpu: &Gpu, extent: vk::Extent2D) -> Result<[GpuImage; 2]> {
+    let extent = vk::Extent2D {
+        width: extent.width.max(1),
+        height: extent.height.max(1),
+    };
+    let usage = vk::ImageUsageFlags::STORAGE;
+    Ok([
+        gpu.create_image(
+            "transparent layer",
+            extent,
+            vk::Format::R32G32_UINT,
+            usage,
+            1,
+        )?,
+        gpu.create_image(
+            "transparent layer stamps",
+            extent,
+            vk::Format::R32_UINT,
+            usage | vk::ImageUsageFlags::TRANSFER_DST,
+            1,
+        )?,
+    ])
 }
 
 /// Per (bin, depth slab): triangle counts, turned into list offsets in place by the scan and
@@ -455,6 +495,8 @@ impl Resources {
                 BindingKind::StorageBuffer,      // 27 block totals
                 BindingKind::TexelBuffer,        // 28 block totals
                 BindingKind::StorageBuffer,      // 29 triangles, as far as a binding reaches
+                BindingKind::StorageImage,       // 30 transparent layer
+                BindingKind::StorageImage,       // 31 transparent layer stamps
             ],
             vk::ShaderStageFlags::COMPUTE,
         )?;
@@ -471,6 +513,9 @@ impl Resources {
             counters,
             bins: BinArrays::new(gpu, blocks, slabs)?,
             raster_bins: storage_buffer(gpu, "non-empty blocks", blocks * 4)?,
+            transparent_layer: transparent_layer(gpu, vk::Extent2D::default())?,
+            capacity,
+            target_colour: targets.colour.view,
             depth_pyramid: viewed_storage(
                 gpu,
                 "opaque depth pyramid",
@@ -492,7 +537,7 @@ impl Resources {
                 uploaded.draws().raw,
                 gpu.create_buffer_view(uploaded.draws(), RGBA32UI)?,
             );
-            let set = resources.make_set(&draws.view, &scene_draws.1, targets)?;
+            let set = resources.make_set(&draws.view, &scene_draws.1, targets.depth.view)?;
             resources.slots.push(BinSlot {
                 draws,
                 scene_draws,
@@ -504,6 +549,7 @@ impl Resources {
                 )?,
                 set,
                 generation: 0,
+                depth: targets.depth.view,
                 pending_list: 0,
             });
         }
@@ -534,18 +580,59 @@ impl Resources {
         self.slots[self.slot].pending_list = list;
     }
 
-    /// Rebuilds the current slot's descriptor set if a buffer it names was replaced.
-    pub fn refresh_set(&mut self, targets: &FrameTargets) -> Result<()> {
+    /// Rebuilds the current slot's descriptor set if a buffer it names was replaced, or
+    /// the opaque depth is another view; or in any case when `depth` was made for this
+    /// frame (an engine's image: a view's handle may be one a destroyed view had).
+    pub fn refresh_set(&mut self, depth: vk::ImageView, made_for_frame: bool) -> Result<()> {
         let slot = &self.slots[self.slot];
-        if slot.generation == self.generation {
+        if slot.generation == self.generation && slot.depth == depth && !made_for_frame {
             return Ok(());
         }
-        let set = self.make_set(&slot.draws.view, &slot.scene_draws.1, targets)?;
+        let set = self.make_set(&slot.draws.view, &slot.scene_draws.1, depth)?;
         let slot = &mut self.slots[self.slot];
         // The slot's last frame has completed: its old set can go now.
         slot.set = set;
         slot.generation = self.generation;
+        slot.depth = depth;
         Ok(())
+    }
+
+    /// Makes the transparent layer for the largest frame, once (frames on an engine's
+    /// device need it, standalone ones not); the slots' sets then name it. Whether it made
+    /// it (its images are then to be cleared).
+    pub fn make_layer(&mut self, gpu: &Gpu) -> Result<bool> {
+        if self.transparent_layer[0].extent == self.capacity {
+            return Ok(false);
+        }
+        let layer = transparent_layer(gpu, self.capacity)?;
+        for old in std::mem::replace(&mut self.transparent_layer, layer) {
+            self.retirement.retire(old);
+        }
+        self.generation += 1;
+        Ok(true)
+    }
+
+    /// Clears the transparent layer to no stamp (its stamps image to zero, the other moved
+    /// to GENERAL), ordered after anything before and before the stages and the composite.
+    pub fn record_layer_clear(&self, cmd: vk::CommandBuffer) {
+        let gpu = self.counters.gpu();
+        let [layer, stamps] = &self.transparent_layer;
+        let transfer = (
+            vk::PipelineStageFlags::TRANSFER,
+            vk::AccessFlags::TRANSFER_WRITE,
+        );
+        // What it held is not kept: UNDEFINED is its layout for the first clear, and any
+        // layout will do for the others.
+        let any = (
+            vk::PipelineStageFlags::ALL_COMMANDS,
+            vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE,
+        );
+        let general = vk::ImageLayout::GENERAL;
+        let undefined = vk::ImageLayout::UNDEFINED;
+        image_barrier(gpu, cmd, layer, undefined, general, any, any);
+        image_barrier(gpu, cmd, stamps, undefined, general, any, transfer);
+        gpu.cmd_clear_to_zero(cmd, stamps, general);
+        image_barrier(gpu, cmd, stamps, general, general, transfer, any);
     }
 
     /// Set 1 over a slot's draws and view of the scene's draws, and the shared buffers.
@@ -553,7 +640,7 @@ impl Resources {
         &self,
         draws: &BufferView,
         scene_draws: &BufferView,
-        targets: &FrameTargets,
+        depth: vk::ImageView,
     ) -> Result<DescriptorSet> {
         let g = &self.growable;
         let [vertices, quads, materials] = self.asset_views;
@@ -575,8 +662,8 @@ impl Resources {
             Resource::TexelBuffer(scene_draws.raw),
             Resource::Buffer(&g.bin_entries.buffer),
             Resource::TexelBuffer(g.attributes.view.raw),
-            Resource::Images(&[targets.depth.view], self.depth_sampler.raw),
-            Resource::StorageImage(targets.colour.view),
+            Resource::Images(&[depth], self.depth_sampler.raw),
+            Resource::StorageImage(self.target_colour),
             Resource::TexelBuffer(g.triangles.view.raw),
             Resource::TexelBuffer(g.attributes.view.raw),
             Resource::TexelBuffer(materials),
@@ -594,6 +681,8 @@ impl Resources {
             Resource::Buffer(&self.bins.block_totals.buffer),
             Resource::TexelBuffer(self.bins.block_totals.view.raw),
             Resource::BufferPrefix(&g.triangles.buffer),
+            Resource::StorageImage(self.transparent_layer[0].view),
+            Resource::StorageImage(self.transparent_layer[1].view),
         ])
     }
 

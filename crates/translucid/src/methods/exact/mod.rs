@@ -195,6 +195,10 @@ impl Method for Exact {
         "exact"
     }
 
+    fn composites_in_place(&self) -> bool {
+        true
+    }
+
     fn set_frame(&mut self, f: &FrameSetup<'_>) -> Result<()> {
         if self.bins.set_frame(f)? {
             self.select_raster(f.uploaded)?;
@@ -219,18 +223,16 @@ impl Method for Exact {
             self.record_raster(ctx, continuations);
             self.bins.compute_to_compute(cmd);
         }
-        self.bins.record_end(ctx, self.pending_list);
         ctx.timestamps.mark(cmd, "raster");
-        Ok(())
+        self.bins.record_end(ctx, self.pending_list)
     }
 
     fn record_finish(&mut self, ctx: &mut RecordContext<'_>) -> Result<()> {
         self.recorded[ctx.slot] = (self.continuations, true);
         self.bins.targets_to_raster(ctx, FINISHED_SUBMISSION_WRITES);
         self.record_continuations(ctx, self.continuations.first_band);
-        self.bins.record_end(ctx, self.pending_list);
         ctx.timestamps.mark(ctx.cmd, "raster finished");
-        Ok(())
+        self.bins.record_end(ctx, self.pending_list)
     }
 
     fn frame_done(&mut self, done: &FrameDone<'_>) -> Result<FrameCheck> {

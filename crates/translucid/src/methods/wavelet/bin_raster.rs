@@ -66,9 +66,8 @@ impl BinRaster {
             self.bins.record_raster(ctx, &self.raster, 0);
             self.bins.compute_to_compute(cmd);
         }
-        self.bins.record_end(ctx, 0);
         ctx.timestamps.mark(cmd, "wavelet raster");
-        Ok(())
+        self.bins.record_end(ctx, 0)
     }
 
     /// Whether the completed frame had a row whose three walks would pass the loop budget

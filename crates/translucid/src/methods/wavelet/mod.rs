@@ -197,6 +197,10 @@ impl Method for Wavelet {
         "wavelet"
     }
 
+    fn composites_in_place(&self) -> bool {
+        matches!(self.variant, Variant::Bins(_))
+    }
+
     fn set_frame(&mut self, f: &FrameSetup<'_>) -> Result<()> {
         // The camera's depth mapping is in the frame constants: the coefficient images'
         // passes take any frame as they are.
