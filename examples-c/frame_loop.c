@@ -580,10 +580,10 @@ static void finish(frame_slot *s, int k, double *gpu_ms, double *ratio) {
     CHECK(translucid_frame_get_statistics(g_context, s->native, &native));
     *gpu_ms = stats.gpu_milliseconds;
     *ratio = stats.gpu_milliseconds / native.gpu_milliseconds;
-    printf("  frame %3d: record %.3f ms (CPU), GPU %.3f ms (method %.3f), x%.2f the engine's "
-           "blend (%.3f ms)%s",
-           k, s->record_ms, stats.gpu_milliseconds, stats.method_milliseconds, *ratio,
-           native.gpu_milliseconds,
+    printf("  frame %3d: record %.3f ms (CPU), GPU %.3f ms (method %.3f, %llu dispatches), x%.2f "
+           "the engine's blend (%.3f ms)%s",
+           k, s->record_ms, stats.gpu_milliseconds, stats.method_milliseconds,
+           (unsigned long long)stats.dispatches, *ratio, native.gpu_milliseconds,
            done == TRANSLUCID_RESULT_INCOMPLETE ? ", past a limit: see the README" : "");
     /* What recording it built: the first frames' pipelines and buffers, uploads. */
     if (stats.pipelines_created != 0 || stats.bytes_allocated != 0) {

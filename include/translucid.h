@@ -117,7 +117,7 @@
 
 #define TRANSLUCID_VERSION_MAJOR 0
 
-#define TRANSLUCID_VERSION_MINOR 5
+#define TRANSLUCID_VERSION_MINOR 6
 
 #define TRANSLUCID_VERSION_PATCH 0
 
@@ -929,6 +929,12 @@ typedef struct translucid_frame_statistics {
      * other methods.
      */
     uint64_t unpeeled_pixels;
+    /**
+     * Compute dispatches the frame recorded (its last rendering, for a standalone frame
+     * rendered again): the fixed chain a method's frame costs besides its work. 0 for
+     * methods that only draw.
+     */
+    uint64_t dispatches;
 } translucid_frame_statistics;
 
 /**
@@ -1615,7 +1621,7 @@ translucid_result translucid_texture_destroy(struct translucid_context *context,
 uint32_t translucid_version(void);
 
 /**
- * The library's version as a static string, e.g. "0.5.0".
+ * The library's version as a static string, e.g. "0.6.0".
  */
 const char *translucid_version_string(void);
 

@@ -466,11 +466,45 @@ fn exact_creates_no_pipeline_in_a_warm_frame_and_counts_its_dispatches() {
         [0, 0],
         "(pipelines created, dispatches) per frame: {frames:?}"
     );
-    // The chain of compute dispatches a warm frame records is counted, the same each frame.
+    // The chain of compute dispatches a warm frame records is counted, the same each frame,
+    // and short: a frame that fits its lists records one band and no empty ones.
     assert!(
-        frames[2].1 > 0 && frames[2].1 == frames[3].1,
+        frames[2].1 > 0 && frames[2].1 == frames[3].1 && frames[3].1 <= 8,
         "(pipelines created, dispatches) per frame: {frames:?}"
     );
+}
+
+/// Warm frames that fit their lists with room to spare record one band. A frame whose lists
+/// then pass the capacity (a stack of quads grown from a speck to a third of the frame at
+/// once, as after a camera cut) leaves the blocks past that band unrasterized: it is rendered
+/// again, every band recorded and the lists grown, and is right.
+#[test]
+fn exact_one_band_frames_are_right_when_the_lists_outgrow_them() {
+    let gpu = gpu();
+    let scene = stack_scene(
+        "growing stack",
+        16,
+        Material::alpha(Vec3::new(0.2, 0.6, 0.9), 0.3),
+    );
+    let mut speck = scene.clone();
+    let centre = Vec3::new(0.0, 0.0, -1.0);
+    speck.transparent[0].transform = Mat4::from_translation(centre)
+        * Mat4::from_scale(Vec3::new(0.05, 0.05, 1.0))
+        * Mat4::from_translation(-centre);
+    let mut renderer = Renderer::new(&gpu, &speck, MethodKind::Exact, 96, 64).expect("renderer");
+    let warm: Vec<u64> = (0..3)
+        .map(|_| renderer.render(false).expect("frame").dispatches)
+        .collect();
+    assert!(warm[2] <= 8, "dispatches per frame: {warm:?}");
+    renderer.set_frame(&scene.frame_input()).expect("set frame");
+    let frame = renderer.render(true).expect("frame");
+    assert_eq!(frame.rerenders, 1, "{:?}", frame.stages);
+    assert!(
+        frame.dispatches > warm[2],
+        "{} dispatches",
+        frame.dispatches
+    );
+    assert_matches_reference("exact_one_band_outgrown", &scene, &frame);
 }
 
 /// With the threshold on, each pixel stops as soon as its transmittance is under it, as the

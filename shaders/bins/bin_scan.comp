@@ -1,20 +1,21 @@
 #version 450
 // Binning, pass 2: exclusive prefix sum of the (bin, slab) counts into list offsets, so that
-// each bin's list holds its slabs near to far. Four dispatches (SCAN_STEP):
+// each bin's list holds its slabs near to far. Three kinds of dispatch (SCAN_STEP):
 // 0. every invocation sums the counts of one block (BIN_SIZE rows of SLABS slabs) into
-//    g_blockTotals;
-// 1. one workgroup turns the block totals into block offsets in place (each invocation scans
-//    a contiguous run of blocks; the runs' sums are scanned in shared memory) and lists the
-//    blocks with a non-empty bin, in block order, for the raster;
+//    g_blockTotals; then the workgroup that finishes last (last_group.glsl) turns the block
+//    totals into block offsets in place (each invocation scans a contiguous run of blocks;
+//    the runs' sums are scanned in shared memory), lists the blocks with a non-empty bin, in
+//    block order, for the raster, and plans the first band;
 // then, for each band of listed blocks whose lists fit the capacity together (one band when
-// the frame fits; the host records a few, and fill and raster follow each):
-// 3. one invocation plans the band (planBand);
-// 2. every invocation turns the bin counts of one listed block of the band into offsets, in
+// the frame fits; the host records one when the last frame fitted with room to spare, else a
+// few, and fill and raster follow each):
+// 2. one invocation plans the band (planBand), but for the first;
+// 1. every invocation turns the bin counts of one listed block of the band into offsets, in
 //    place, from its block offset less the band's. Only those bins are read: fill appends to
 //    bins with entries, and the raster walks the listed blocks (the lamp's scan took 0.5 ms
 //    for every block at 1280x720).
-// Steps 0 and 2 take whole workgroups of blocks (the arrays are padded, the padding's counts
-// stay zero; see writeBinOffsets for step 2), so they run without a branch: on CPU drivers
+// Steps 0 and 1 take whole workgroups of blocks (the arrays are padded, the padding's counts
+// stay zero; see writeBinOffsets for step 1), so they run without a branch: on CPU drivers
 // such as lavapipe straight-line loads and stores are vector operations, but per-lane loops
 // inside control flow. One workgroup scanning every bin was single-threaded there.
 
@@ -22,6 +23,7 @@
 
 #include "bins_bindings.glsl"
 #include "bin_lists.glsl"
+#include "last_group.glsl"
 
 layout(local_size_x = SCAN_GROUP_SIZE) in;
 
@@ -46,6 +48,8 @@ void sumBlock() {
     g_blockTotals[block] = total;
 }
 
+void planBand();
+
 void scanBlocks() {
     uint blocks = u_push.binsX * u_push.binsY;
     uint run = (blocks + SCAN_GROUP_SIZE - 1u) / SCAN_GROUP_SIZE;
@@ -53,7 +57,8 @@ void scanBlocks() {
     uint sum = 0u;
     uint listed = 0u;
     for (uint i = 0u; i < run; i++) {
-        uint total = first + i < blocks ? texelFetch(u_blockTotalTexels, int(first + i)).r : 0u;
+        // Blocks past the frame's, up to whole workgroups, have a total of 0 (sumBlock).
+        uint total = g_blockTotals[first + i];
         sum += total;
         listed += total > 0u ? 1u : 0u;
     }
@@ -87,7 +92,7 @@ void scanBlocks() {
     for (uint i = 0u; i < run; i++) {
         uint block = first + i;
         bool inside = block < blocks;
-        uint total = inside ? texelFetch(u_blockTotalTexels, int(block)).r : 0u;
+        uint total = g_blockTotals[block];
         if (inside) {
             g_blockTotals[block] = offset;
         }
@@ -97,6 +102,10 @@ void scanBlocks() {
             slot++;
         }
     }
+    // The first band, once every block is listed and has its offset.
+    memoryBarrierBuffer();
+    barrier();
+    planBand();
 }
 
 // The counts of the band's blocks become offsets in place, so each block once: the
@@ -192,9 +201,10 @@ void planBand() {
 void main() {
     if (SCAN_STEP == 0u) {
         sumBlock();
+        if (lastGroupDone(GROUPS_DONE_SCAN)) {
+            scanBlocks();
+        }
     } else if (SCAN_STEP == 1u) {
-        scanBlocks();
-    } else if (SCAN_STEP == 2u) {
         writeBinOffsets();
     } else {
         planBand();

@@ -1,18 +1,16 @@
 #version 450
-// Builds the opaque depth pyramid (depth_pyramid.glsl) in two dispatches: level 0 from the
-// opaque depth, one invocation per cell; then every level above, by one workgroup that
-// finishes a level before it starts the next.
+// Builds the opaque depth pyramid (depth_pyramid.glsl) in one dispatch: level 0 from the
+// opaque depth, one invocation per cell; then the workgroup that finishes last builds every
+// level above, one level after another.
 
 #extension GL_EXT_control_flow_attributes : require
 
 #include "bins_bindings.glsl"
 #include "depth_pyramid.glsl"
+#include "last_group.glsl"
 
 #define PYRAMID_GROUP_SIZE 256
 layout(local_size_x = PYRAMID_GROUP_SIZE) in;
-
-// false: level 0; true: the levels above it.
-layout(constant_id = 0) const bool UPPER_LEVELS = false;
 
 // A gather of four texels costs about as much as one fetch on lavapipe, so level 0 gathers each
 // 2x2 quad of its cell. Where the frame ends mid-cell, the quads past it move back onto its
@@ -42,6 +40,11 @@ void buildLevelZero() {
     g_depthPyramid[cell] = farthest;
 }
 
+// Read from the buffer, not the texel view: cells other workgroups wrote in this dispatch.
+float builtCell(uint levelOffset, uvec2 size, ivec2 cell) {
+    return g_depthPyramid[levelOffset + uint(cell.y) * size.x + uint(cell.x)];
+}
+
 void buildUpperLevels() {
     uvec2 size = uvec2(u_push.binsX, u_push.binsY);
     uint offset = 0u;
@@ -52,8 +55,8 @@ void buildUpperLevels() {
             ivec2 lo = ivec2(i % parent.x, i / parent.x) * 2;
             ivec2 hi = min(lo + 1, ivec2(size) - 1);
             g_depthPyramid[parentOffset + i] =
-                max(max(pyramidCell(offset, size, lo), pyramidCell(offset, size, ivec2(hi.x, lo.y))),
-                    max(pyramidCell(offset, size, ivec2(lo.x, hi.y)), pyramidCell(offset, size, hi)));
+                max(max(builtCell(offset, size, lo), builtCell(offset, size, ivec2(hi.x, lo.y))),
+                    max(builtCell(offset, size, ivec2(lo.x, hi.y)), builtCell(offset, size, hi)));
         }
         // The next level reads what other invocations wrote.
         memoryBarrierBuffer();
@@ -64,9 +67,8 @@ void buildUpperLevels() {
 }
 
 void main() {
-    if (UPPER_LEVELS) {
+    buildLevelZero();
+    if (lastGroupDone(GROUPS_DONE_PYRAMID)) {
         buildUpperLevels();
-    } else {
-        buildLevelZero();
     }
 }

@@ -1,7 +1,8 @@
 #version 450
 // Deep frames, before the bin count: every triangle adds the bins it may enter to the
 // histogram bucket of its nearest depth, and widens that bucket's ranges of nearest depth
-// bits and order keys. The slab plan (slab_plan.comp) reads it.
+// bits and order keys. The workgroup that finishes last plans the slabs from it
+// (slab_plan.glsl).
 
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #extension GL_KHR_shader_subgroup_basic : require
@@ -9,6 +10,8 @@
 
 #include "bins_bindings.glsl"
 #include "bin_lists.glsl"
+#include "last_group.glsl"
+#include "slab_plan.glsl"
 
 layout(local_size_x = BINNING_GROUP_SIZE) in;
 
@@ -16,7 +19,7 @@ layout(local_size_x = BINNING_GROUP_SIZE) in;
 // one covers more than 2^24 bins: its slab is then a little fuller than planned).
 const uint MOST_WEIGHT = 1u << 24;
 
-void main() {
+void addToHistogram() {
     uint ti = binningTriangle();
     uint lo = g_counters.depthLo;
     uint range = slabRange(lo, g_counters.depthHi);
@@ -59,4 +62,11 @@ void main() {
         }
         pending = pending && !mine;
     } while (subgroupAny(pending));
+}
+
+void main() {
+    addToHistogram();
+    if (lastGroupDone(GROUPS_DONE_SLABS) && gl_LocalInvocationIndex == 0u) {
+        planSlabs();
+    }
 }

@@ -10,7 +10,7 @@
 // Each bin's list holds SLABS slabs, near to far. A triangle's place in the frame's order is
 // the key (depth bits of its nearest vertex, order key) (positive floats order like their
 // bits), and its fragments' keys are never less. Slabs split that order at keys the slab plan
-// (slab_plan.comp) chooses each frame so that each slab takes about as many bin entries,
+// (slab_plan.glsl) chooses each frame so that each slab takes about as many bin entries,
 // from a histogram of the triangles' depths (slab_histogram.comp): where depth bunches, slabs
 // are finer, and where many triangles share one depth (coincident surfaces, instances drawn
 // in one place) they split it by order key. Walking the slabs in order, a pixel that already

@@ -19,7 +19,9 @@ layout(set = 1, binding = 2) uniform usamplerBuffer u_binDrawTexels;
 // through the storage buffers setup.comp declares (bindings 29 and 7).
 layout(set = 1, binding = 3, rgba32ui) uniform writeonly uimageBuffer u_triangleRecords;
 layout(set = 1, binding = 4, std430) buffer HomogeneousBlock { BinHomogeneous g_homogeneous[]; };
-layout(set = 1, binding = 5, std430) buffer CounterBlock { BinCounters g_counters; };
+// Coherent: the last workgroup of a one-dispatch step (last_group.glsl) reads what the
+// others' atomics added.
+layout(set = 1, binding = 5, std430) coherent buffer CounterBlock { BinCounters g_counters; };
 // Per (bin, slab), at bin * SLABS + slab: bin_count counts the triangles of that part of the
 // bin's list here; the scan turns a band's counts into where each part starts, in place
 // (bin_scan.comp, step 2); bin_fill advances them as it appends, so that after binning each
@@ -77,12 +79,14 @@ layout(set = 1, binding = 21, std430) buffer DispatchBlock {
 };
 layout(set = 1, binding = 22, std430) buffer PixelStateBlock { ExactPixelState g_pixelStates[]; };
 layout(set = 1, binding = 23, std430) buffer RasterBinBlock { uint g_rasterBins[]; };
-// The opaque depth pyramid (depth_pyramid.glsl).
-layout(set = 1, binding = 24, std430) buffer DepthPyramidBlock { float g_depthPyramid[]; };
+// The opaque depth pyramid (depth_pyramid.glsl). Coherent: the last workgroup of its build
+// reads what the others wrote.
+layout(set = 1, binding = 24, std430) coherent buffer DepthPyramidBlock { float g_depthPyramid[]; };
 layout(set = 1, binding = 25) uniform usamplerBuffer u_binCountTexels;  // g_binEnds, as counts
 layout(set = 1, binding = 26) uniform samplerBuffer u_depthPyramidTexels; // g_depthPyramid
-// Per block: the sum of its bins' counts, then its list offset (bin_scan.comp).
-layout(set = 1, binding = 27, std430) buffer BlockTotalBlock { uint g_blockTotals[]; };
+// Per block: the sum of its bins' counts, then its list offset (bin_scan.comp). Coherent: the
+// last workgroup of the sums scans what the others wrote.
+layout(set = 1, binding = 27, std430) coherent buffer BlockTotalBlock { uint g_blockTotals[]; };
 layout(set = 1, binding = 28) uniform usamplerBuffer u_blockTotalTexels;
 
 layout(push_constant) uniform BinPush {

@@ -191,7 +191,9 @@ struct BinCounters {
     uint resumeItemCapacity; // items each resume list holds: every row of the frame
     uint occludedBlocks;    // blocks under the bounds of the triangles setup's occlusion cull
                             // dropped (behind the opaque layer): what the cull saved binning
-    uint pad[7];
+    uint groupsDone[3];     // workgroups of a one-dispatch step that have finished, at
+                            // GROUPS_DONE_* (last_group.glsl)
+    uint pad[4];
     // Statistics of the raster: slot k holds the fragments composited at [16 k], the most
     // sweeps of its list any pixel needed at [16 k + 1], and the fragments in front of the
     // opaque layer found in the first sweep (all of them, fewer where a pixel had to drop
@@ -203,7 +205,7 @@ struct BinCounters {
     uint slabFarthest[MAX_SLABS]; // per depth slab: bits of its triangles' farthest vertex
     uint slabLastOrder[MAX_SLABS]; // and their largest order key
     // Where deep frames' slabs start (bin_lists.glsl): per slab, the least (depth bits, order
-    // key) of a triangle it may hold, written by the slab plan (slab_plan.comp).
+    // key) of a triangle it may hold, written by the slab plan (slab_plan.glsl).
     uint slabFloorBits[MAX_SLABS];
     uint slabFloorOrder[MAX_SLABS];
     // What the plan reads, gathered by slab_histogram.comp: MAX_SLABS buckets evenly over

@@ -327,6 +327,10 @@ pub struct translucid_frame_statistics {
     /// `depth_peeling_passes`): their middle layers are missing. 0 for an exact frame and for
     /// other methods.
     pub unpeeled_pixels: u64,
+    /// Compute dispatches the frame recorded (its last rendering, for a standalone frame
+    /// rendered again): the fixed chain a method's frame costs besides its work. 0 for
+    /// methods that only draw.
+    pub dispatches: u64,
 }
 
 impl OutStructure for translucid_frame_statistics {
@@ -367,6 +371,7 @@ pub struct FrameRecord {
     pub(crate) unpeeled_pixels: u64,
     pub(crate) rerenders: u32,
     pub(crate) overflowed: bool,
+    pub(crate) dispatches: u64,
     /// What the call that made the frame built: pipelines, and bytes of GPU memory.
     pub(crate) built: (u64, u64),
 }
@@ -434,6 +439,7 @@ fn render(objects: &mut Objects, info: &translucid_frame_info) -> FfiResult<Fram
         unpeeled_pixels: frame.unpeeled_pixels,
         rerenders: frame.rerenders,
         overflowed: false,
+        dispatches: frame.dispatches,
         built: built_since(&objects.gpu, before),
     })
 }
@@ -475,6 +481,7 @@ fn statistics_of(record: &FrameRecord, header: (u32, *mut c_void)) -> translucid
         bytes_allocated: record.built.1,
         tail_fragments: record.tail_fragments,
         unpeeled_pixels: record.unpeeled_pixels,
+        dispatches: record.dispatches,
     }
 }
 

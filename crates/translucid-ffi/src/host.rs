@@ -307,6 +307,7 @@ fn record(
         unpeeled_pixels: 0,
         rerenders: 0,
         overflowed: false,
+        dispatches: 0,
         built: built_since(&objects.gpu, before),
     })
 }
@@ -355,6 +356,7 @@ fn complete_oldest(objects: &mut Objects) -> FfiResult<translucid_result> {
     record.tail_fragments = done.tail_fragments;
     record.unpeeled_pixels = done.unpeeled_pixels;
     record.overflowed = done.overflowed;
+    record.dispatches = done.dispatches;
     Ok(if done.overflowed {
         translucid_result::Incomplete
     } else {

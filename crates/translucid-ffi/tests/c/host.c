@@ -259,11 +259,14 @@ static void compare_with_standalone(uint32_t method, const scene *host_scene,
         /* blend draws straight into the engine's images: no copy in or out. */
         TRUE_OR_FAIL(stats.stage_count == 1);
         TRUE_OR_FAIL(strcmp(stats.stages[0].name, "blend") == 0);
+        TRUE_OR_FAIL(stats.dispatches == 0);
     } else if (method == TRANSLUCID_METHOD_EXACT || method == TRANSLUCID_METHOD_WAVELET) {
         /* They sample the engine's depth and blend onto its colour where they are. */
         TRUE_OR_FAIL(stats.stage_count >= 2);
         TRUE_OR_FAIL(strcmp(stats.stages[0].name, "opaque") != 0);
         TRUE_OR_FAIL(strcmp(stats.stages[stats.stage_count - 1].name, "composite") == 0);
+        /* A chain of compute dispatches, counted (the first frame records every band). */
+        TRUE_OR_FAIL(stats.dispatches > 0);
     } else {
         TRUE_OR_FAIL(stats.stage_count >= 3);
         TRUE_OR_FAIL(strcmp(stats.stages[0].name, "opaque") == 0);

@@ -110,7 +110,10 @@ pub struct BinCounters {
     pub resume_item_capacity: u32,
     /// Blocks under the bounds of the triangles setup's occlusion cull dropped.
     pub occluded_blocks: u32,
-    pub pad: [u32; 7],
+    /// Workgroups of the depth pyramid, of the scan's first step and of the slab histogram
+    /// that have finished (the last one goes on alone).
+    pub groups_done: [u32; 3],
+    pub pad: [u32; 4],
     pub statistics: [[u32; 16]; STATISTICS_SLOTS as usize],
     pub slab_farthest: [u32; MAX_SLABS as usize],
     pub slab_last_order: [u32; MAX_SLABS as usize],
@@ -361,6 +364,7 @@ mod tests {
             offset_of!(BinCounters, restarted_rows),
             offset_of!(BinCounters, resume_item_capacity),
             offset_of!(BinCounters, occluded_blocks),
+            offset_of!(BinCounters, groups_done),
             offset_of!(BinCounters, pad),
             offset_of!(BinCounters, statistics),
             offset_of!(BinCounters, slab_farthest),

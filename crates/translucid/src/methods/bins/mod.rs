@@ -2,7 +2,8 @@
 //! which the exact method's raster and the wavelet method's bin raster both read.
 //!
 //! Stages (one compute shader each, `shaders/bins/`):
-//! 0. `depth_pyramid`: the farthest opaque depth per 8×8 block and over ever larger cells.
+//! 0. `depth_pyramid`: the farthest opaque depth per 8×8 block and over ever larger cells
+//!    (one dispatch: its last workgroup builds the levels above the first).
 //! 1. `setup`: per transparent quad, transform, set up its triangles (fixed-point or
 //!    homogeneous), cull (back faces, off screen, wholly behind the opaque layer by the
 //!    pyramid), append visible triangles. The occlusion cull, and the pyramid with it, is
@@ -22,7 +23,8 @@
 //! what the GPU counted. A frame whose lists pass their capacity is right all the same: the
 //! scan lists the blocks in order and the frame is filled and rasterized in bands of blocks
 //! whose lists fit, one after another in the same command buffer (up to `BANDS`; bands
-//! without blocks are near-empty dispatches). Counters come back every frame and grow the
+//! without blocks are near-empty dispatches). A frame after one that fitted with room to
+//! spare records one band only. Counters come back every frame and grow the
 //! buffers for later frames. What one recording cannot answer leaves pixels untouched, never
 //! drawn from truncated work: blocks past the last band, counted as degraded rows (rendered
 //! again when translucid submits; reported on an engine's device). Homogeneous records past
@@ -131,16 +133,14 @@ pub const FINISHED_SUBMISSION_WRITES: (vk::PipelineStageFlags, vk::AccessFlags) 
 /// The bin stages' pipelines for one set of features.
 struct StagePipelines {
     depth_pyramid: Arc<ComputePipeline>,
-    /// The depth pyramid shader specialized to build the levels above level 0.
-    pyramid_top: Arc<ComputePipeline>,
     setup: Arc<ComputePipeline>,
     bin_count: Arc<ComputePipeline>,
-    /// Deep frames' slab histogram and plan (bin_lists.glsl), before the count; none for
-    /// frames of one slab.
-    slab_plan: Option<[Arc<ComputePipeline>; 2]>,
-    /// The scan's steps 0 to 3 (constant 0): block sums, block list, a band's bin offsets,
-    /// a band's plan.
-    scan_steps: [Arc<ComputePipeline>; 4],
+    /// Deep frames' slab histogram, whose last workgroup plans the slabs (bin_lists.glsl),
+    /// before the count; none for frames of one slab.
+    slab_histogram: Option<Arc<ComputePipeline>>,
+    /// The scan's steps 0 to 2 (constant 0): block sums, then the block list and the first
+    /// band's plan; a band's bin offsets; a later band's plan.
+    scan_steps: [Arc<ComputePipeline>; 3],
     bin_fill: Arc<ComputePipeline>,
     /// Setup without the occlusion cull, for frames recorded without the depth pyramid.
     setup_unculled: Arc<ComputePipeline>,
@@ -177,25 +177,19 @@ impl StagePipelines {
             constants[0] = n;
             constants
         };
-        let pyramid = crate::spirv!("bins/depth_pyramid.comp");
         let scan = crate::spirv!("bins/bin_scan.comp");
         Ok(Self {
-            depth_pyramid: stage(pyramid, &[0])?,
-            pyramid_top: stage(pyramid, &[1])?,
+            depth_pyramid: stage(crate::spirv!("bins/depth_pyramid.comp"), &[])?,
             setup: stage(crate::spirv!("bins/setup.comp"), &setup)?,
             bin_count: stage(crate::spirv!("bins/bin_count.comp"), &binning)?,
-            slab_plan: match features.slab_bits {
+            slab_histogram: match features.slab_bits {
                 0 => None,
-                _ => Some([
-                    stage(crate::spirv!("bins/slab_histogram.comp"), &binning)?,
-                    stage(crate::spirv!("bins/slab_plan.comp"), &binning)?,
-                ]),
+                _ => Some(stage(crate::spirv!("bins/slab_histogram.comp"), &binning)?),
             },
             scan_steps: [
                 stage(scan, &binning)?,
                 stage(scan, &scan_step(1))?,
                 stage(scan, &scan_step(2))?,
-                stage(scan, &scan_step(3))?,
             ],
             bin_fill: stage(crate::spirv!("bins/bin_fill.comp"), &binning)?,
             setup_unculled: stage(crate::spirv!("bins/setup.comp"), &setup_unculled)?,
@@ -267,7 +261,18 @@ pub struct Bins {
     cache: ComputePipelineCache,
     /// The variants this frame's features need.
     stages: StagePipelines,
+    /// Bands recorded per frame, unless `single_band`.
     bands: u32,
+    /// The bands were set by the options: every frame records them all.
+    bands_fixed: bool,
+    /// The last completed frame filled at most half the lists' capacity (which grows to keep
+    /// that room), in one band: the next frames record that one band only, and no empty
+    /// ones, unless a mesh moved (it may now fill the screen). A frame past it keeps the
+    /// opaque colour in the blocks past the band and says so (degraded rows; a standalone
+    /// frame is rendered again), and the buffers grow.
+    single_band: bool,
+    /// The frame being set moved a mesh's vertices: it records every band.
+    meshes_moved: bool,
     /// What the features need of each mesh, its bounds kept up with moved vertices.
     meshes: Vec<MeshFacts>,
     push: BinPush,
@@ -405,6 +410,9 @@ impl Bins {
             cache,
             stages,
             bands: options.bands.unwrap_or(BANDS).max(1),
+            bands_fixed: options.bands.is_some(),
+            single_band: false,
+            meshes_moved: false,
             meshes,
             push,
             slice_rows_limit,
@@ -442,7 +450,11 @@ impl Bins {
 
     /// Bands recorded per frame.
     pub fn bands(&self) -> u32 {
-        self.bands
+        if self.single_band && !self.meshes_moved {
+            1
+        } else {
+            self.bands
+        }
     }
 
     /// Render width and height in pixels.
@@ -479,6 +491,7 @@ impl Bins {
         let known = self.meshes.len();
         self.meshes
             .extend(f.scene.meshes[known..].iter().map(MeshFacts::of));
+        self.meshes_moved = !f.uploaded.moved_meshes().is_empty();
         for &moved in f.uploaded.moved_meshes() {
             self.meshes[moved].bounds = features::bounds(&f.scene.meshes[moved].positions);
         }
@@ -582,8 +595,6 @@ impl Bins {
                 [cells.div_ceil(PYRAMID_GROUP_SIZE), 1, 1],
             );
             self.compute_to_compute(cmd);
-            self.dispatch(ctx, &s.pyramid_top, [1, 1, 1]);
-            self.compute_to_compute(cmd);
         }
         ctx.timestamps.mark(cmd, "depth pyramid");
 
@@ -597,39 +608,43 @@ impl Bins {
         self.compute_to_compute(cmd);
         ctx.timestamps.mark(cmd, "setup");
 
-        if let Some([histogram, plan]) = &s.slab_plan {
+        if let Some(histogram) = &s.slab_histogram {
             self.dispatch_indirect(ctx, histogram, DISPATCH_BINNING_OFFSET, &self.push);
-            self.compute_to_compute(cmd);
-            self.dispatch(ctx, plan, [1, 1, 1]);
             self.compute_to_compute(cmd);
             ctx.timestamps.mark(cmd, "slab plan");
         }
         self.dispatch_indirect(ctx, &s.bin_count, DISPATCH_BINNING_OFFSET, &self.push);
         self.compute_to_compute(cmd);
         ctx.timestamps.mark(cmd, "bin count");
-        let [block_sums, list_blocks, ..] = &s.scan_steps;
-        // The frame's blocks, in whole workgroups (the arrays are padded for the largest).
+        // The frame's blocks, in whole workgroups (the arrays are padded for the largest). It
+        // lists them and plans the first band too (the resume lists are empty).
         let scan_groups = cells.div_ceil(SCAN_GROUP_SIZE);
-        self.dispatch(ctx, block_sums, [scan_groups, 1, 1]);
-        self.compute_to_compute(cmd);
-        self.dispatch(ctx, list_blocks, [1, 1, 1]);
+        let first_band = BinPush {
+            resume_list: 0,
+            ..self.push
+        };
+        self.dispatch_with(ctx, &s.scan_steps[0], &first_band, [scan_groups, 1, 1]);
         self.compute_to_compute(cmd);
         Ok(())
     }
 
-    /// One band's bins: its plan (bin_scan.comp, step 3), its bins' offsets and its fill,
+    /// One band's bins: its plan (bin_scan.comp, step 3; the scan's step 1 planned the
+    /// first), its bins' offsets and its fill,
     /// ready for the raster. `pending_list` is the resume list the raster suspends rows
     /// onto: the plan empties it when the band has blocks (the last band's unfinished rows
     /// are abandoned, counted as degraded). The first band's stages are timed on their own.
     pub fn record_band(&self, ctx: &mut RecordContext<'_>, first: bool, pending_list: u32) {
         let cmd = ctx.cmd;
-        let [_, _, write_offsets, plan] = &self.stages.scan_steps;
+        let [_, write_offsets, plan] = &self.stages.scan_steps;
         let push = BinPush {
             resume_list: pending_list,
             ..self.push
         };
-        self.dispatch_with(ctx, plan, &push, [1, 1, 1]);
-        self.compute_to_compute(cmd);
+        // The scan planned the first band.
+        if !first {
+            self.dispatch_with(ctx, plan, &push, [1, 1, 1]);
+            self.compute_to_compute(cmd);
+        }
         self.dispatch_indirect(ctx, write_offsets, DISPATCH_BIN_OFFSETS_OFFSET, &self.push);
         self.compute_to_compute(cmd);
         if first {
@@ -983,6 +998,14 @@ impl Bins {
                 .map_err(|e| in_errors(method, e))?;
         }
         self.resources.set_slabs(&self.gpu, self.features.slabs())?;
+        // Half the capacity to spare: the next frames may bin more.
+        self.single_band = !self.bands_fixed
+            && counters.bands <= 1
+            && degraded_rows == 0
+            && resources::fits_with_room(
+                counters.bin_entry_count,
+                self.resources.capacities.bin_entries,
+            );
         if degraded_rows > 0 {
             log::warn!(
                 "{method}: {degraded_rows} pixel rows left with the opaque colour: blocks past \

@@ -141,7 +141,7 @@ impl Capacities {
     /// frames recorded with it will say whether it suffices.
     pub fn grown_for(&self, c: &BinCounters, recorded: &Self, most: &Self) -> Option<Self> {
         let with_headroom =
-            |needed: u32, now: u32| needed.saturating_add(needed / 4).max(now.saturating_mul(2));
+            |needed: u32, now: u32| needed.saturating_mul(2).max(now.saturating_mul(2));
         let grows = |bit: u32, now: u32, then: u32| c.overflow & bit != 0 && now == then;
         let mut next = *self;
         if grows(OVERFLOW_HOMOGENEOUS, self.homogeneous, recorded.homogeneous) {
@@ -151,6 +151,13 @@ impl Capacities {
         if grows(OVERFLOW_BIN_ENTRIES, self.bin_entries, recorded.bin_entries) {
             next.bin_entries = with_headroom(c.bin_entry_count, self.bin_entries)
                 .min(most.bin_entries.max(self.bin_entries));
+        } else if self.bin_entries == recorded.bin_entries
+            && !fits_with_room(c.bin_entry_count, self.bin_entries)
+        {
+            // Lists that fit with less than half to spare: frames record one band only while
+            // they have it (Bins::frame_done).
+            let roomy = c.bin_entry_count.saturating_mul(2);
+            next.bin_entries = roomy.min(most.bin_entries).max(self.bin_entries);
         }
         if grows(OVERFLOW_RESUME, self.resume, recorded.resume) {
             next.resume =
@@ -158,6 +165,11 @@ impl Capacities {
         }
         (next != *self).then_some(next)
     }
+}
+
+/// Whether `entries` bin entries leave half of `capacity` to spare.
+pub fn fits_with_room(entries: u32, capacity: u32) -> bool {
+    2 * u64::from(entries) <= u64::from(capacity)
 }
 
 /// Buffers that grow, each with the texel view the raster reads it through.

@@ -1,17 +1,17 @@
-#version 450
-// Deep frames, after the slab histogram: where each slab starts (bin_lists.glsl). Slab s
-// starts where the histogram's running sum of bin entries reaches s / SLABS of the frame's,
-// so that slabs hold about as many entries each. Within the bucket where it does, the start
-// is placed in proportion: between the bucket's least and most nearest depth bits, or, where
-// all its triangles share one depth, between its least and most order keys. One invocation:
-// MAX_SLABS buckets and SLABS slabs, each looked at once.
+// Deep frames, after the slab histogram (slab_histogram.comp, whose last workgroup plans): where
+// each slab starts (bin_lists.glsl). Slab s starts where the histogram's running sum of bin
+// entries reaches s / SLABS of the frame's, so that slabs hold about as many entries each.
+// Within the bucket where it does, the start is placed in proportion: between the bucket's
+// least and most nearest depth bits, or, where all its triangles share one depth, between its
+// least and most order keys. One invocation: MAX_SLABS buckets and SLABS slabs, each looked at
+// once.
+#ifndef TRANSLUCID_SLAB_PLAN_GLSL
+#define TRANSLUCID_SLAB_PLAN_GLSL
 
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 
 #include "bins_bindings.glsl"
 #include "bin_lists.glsl"
-
-layout(local_size_x = 1) in;
 
 uint64_t bucketWeight(uint b) {
     return (uint64_t(g_counters.bucketWeightHi[b]) << 32) | uint64_t(g_counters.bucketWeightLo[b]);
@@ -45,7 +45,7 @@ uint64_t keyWithin(uint b, float part) {
     return (min(depthBits, 0xFFFFFFFFul) << 32) | order;
 }
 
-void main() {
+void planSlabs() {
     uint64_t total = 0ul;
     for (uint b = 0u; b < MAX_SLABS; b++) {
         total += bucketWeight(b);
@@ -72,3 +72,5 @@ void main() {
         g_counters.slabFloorOrder[s] = uint(floorKey);
     }
 }
+
+#endif
