@@ -3,8 +3,9 @@
 //! (R16G16B16A16_SFLOAT) and a depth image (D32_SFLOAT, growing away from the eye); each frame
 //! its opaque pass fills them (a copy of the frame's opaque layer, not timed), then it records
 //! the method's frame (`Renderer::record_host`: everything translucid records, copies in and
-//! out included, is the whole pass) and submits it; then the same again with the yardstick,
-//! `native_blend` (`Renderer::record_native_blend`), on the same renderer and frame.
+//! out included, is the whole pass) and submits it; and the same again with the yardstick,
+//! `native_blend` (`Renderer::record_native_blend`), on the same renderer and frame, before
+//! or after the method's by turns.
 
 use translucid::gpu::{vk, Buffer, Gpu, GpuImage, HostImage, HostTargets, MemoryLocation};
 use translucid::renderer::{HostFrame, Renderer};
@@ -25,6 +26,9 @@ pub struct EngineLoop {
     images: EngineImages,
     /// The engine: the device translucid made, which submits.
     engine: Gpu,
+    /// Frames so far: the yardstick goes first in odd ones, so that neither side always
+    /// finds what the other left in the caches.
+    frames: u64,
 }
 
 /// What one engine frame measured: the method's frame and the yardstick's, and the host
@@ -99,17 +103,27 @@ impl EngineLoop {
             host,
             images,
             engine,
+            frames: 0,
         })
     }
 
-    /// One frame over `layer` (the frame's opaque layer, at the images' size): the method's,
-    /// then the yardstick's, each submitted and waited for.
+    /// One frame over `layer` (the frame's opaque layer, at the images' size): the method's
+    /// and the yardstick's, taking turns at going first, each submitted and waited for.
     pub fn frame(&mut self, layer: &OpaqueLayer) -> translucid::Result<EngineFrame> {
         let (colour, depth) = layer.texels();
         self.images.colour_in.write(0, &colour)?;
         self.images.depth_in.write(0, &depth)?;
+        let native_first = self.frames % 2 == 1;
+        self.frames += 1;
+        let mut native_frame = None;
+        if native_first {
+            native_frame = Some(self.submit(true)?);
+        }
         let (record_ms, method_wall_ms, method) = self.submit(false)?;
-        let (_, native_wall_ms, native) = self.submit(true)?;
+        let (_, native_wall_ms, native) = match native_frame {
+            Some(done) => done,
+            None => self.submit(true)?,
+        };
         Ok(EngineFrame {
             method,
             native,
