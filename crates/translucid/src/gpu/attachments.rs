@@ -177,23 +177,10 @@ impl AttachmentPass {
         pipeline: &super::GraphicsPipeline,
         sets: &[vk::DescriptorSet],
     ) {
+        self.gpu.cmd_bind_graphics(cmd, pipeline, (sets, &[]));
         // SAFETY: cmd is inside this render pass, the pipeline was made for it and takes no
-        // vertex input; the sets match its layout.
-        unsafe {
-            let d = &self.gpu.device;
-            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.raw);
-            if !sets.is_empty() {
-                d.cmd_bind_descriptor_sets(
-                    cmd,
-                    vk::PipelineBindPoint::GRAPHICS,
-                    pipeline.layout,
-                    0,
-                    sets,
-                    &[],
-                );
-            }
-            d.cmd_draw(cmd, 3, 1, 0, 0);
-        }
+        // vertex input; it is bound with its sets.
+        unsafe { self.gpu.device.cmd_draw(cmd, 3, 1, 0, 0) };
     }
 }
 
@@ -272,30 +259,30 @@ pub fn fullscreen_pipeline(
 }
 
 impl Gpu {
-    /// Draws with `pipeline` (no vertex input), its descriptor sets (from set 0) and push
-    /// constants, inside a render pass it was made for, as many vertices and instances as
-    /// the `VkDrawIndirectCommand` at `offset` of `args` holds when the draw runs.
-    pub fn cmd_draw_indirect(
+    /// Binds graphics `pipeline` with its descriptor sets (from set 0, if any) and push
+    /// constants (if any), inside a render pass it was made for.
+    fn cmd_bind_graphics(
         &self,
         cmd: vk::CommandBuffer,
         pipeline: &super::GraphicsPipeline,
         (sets, push): (&[vk::DescriptorSet], &[u8]),
-        (args, offset): (&super::Buffer, u64),
     ) {
         // SAFETY: cmd is inside a render pass compatible with the pipeline's; the sets and
         // push constants match its layout (vertex and fragment stages, as every graphics
-        // pipeline's here); the command lies within `args`, which has INDIRECT_BUFFER usage.
+        // pipeline's here).
         unsafe {
             let d = &self.device;
             d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.raw);
-            d.cmd_bind_descriptor_sets(
-                cmd,
-                vk::PipelineBindPoint::GRAPHICS,
-                pipeline.layout,
-                0,
-                sets,
-                &[],
-            );
+            if !sets.is_empty() {
+                d.cmd_bind_descriptor_sets(
+                    cmd,
+                    vk::PipelineBindPoint::GRAPHICS,
+                    pipeline.layout,
+                    0,
+                    sets,
+                    &[],
+                );
+            }
             if !push.is_empty() {
                 d.cmd_push_constants(
                     cmd,
@@ -305,8 +292,23 @@ impl Gpu {
                     push,
                 );
             }
-            d.cmd_draw_indirect(cmd, args.raw, offset, 1, 16);
         }
+    }
+
+    /// Draws with `pipeline` (no vertex input), its descriptor sets (from set 0) and push
+    /// constants, inside a render pass it was made for, as many vertices and instances as
+    /// the `VkDrawIndirectCommand` at `offset` of `args` holds when the draw runs.
+    pub fn cmd_draw_indirect(
+        &self,
+        cmd: vk::CommandBuffer,
+        pipeline: &super::GraphicsPipeline,
+        sets_and_push: (&[vk::DescriptorSet], &[u8]),
+        (args, offset): (&super::Buffer, u64),
+    ) {
+        self.cmd_bind_graphics(cmd, pipeline, sets_and_push);
+        // SAFETY: the pipeline is bound inside a render pass made for it; the command lies
+        // within `args`, which has INDIRECT_BUFFER usage.
+        unsafe { self.device.cmd_draw_indirect(cmd, args.raw, offset, 1, 16) };
     }
 
     /// Binds `set` as descriptor set `index` of graphics pipelines with `layout`. Sets bound

@@ -492,6 +492,9 @@ const TRANSFER_WRITE: (vk::PipelineStageFlags, vk::AccessFlags) = (
     vk::AccessFlags::TRANSFER_WRITE,
 );
 
+/// Pipeline stages and the accesses in them.
+type Access = (vk::PipelineStageFlags, vk::AccessFlags);
+
 /// One layout transition of a raw image: the image, its aspect, (old, new) layouts, and the
 /// source and destination stages and accesses.
 pub(super) struct Transition(
@@ -651,35 +654,28 @@ impl Gpu {
     /// Moves the engine's depth image to SHADER_READ_ONLY_OPTIMAL, for the compute stages
     /// that sample it where it is, after whatever came before.
     pub(crate) fn record_engine_depth_to_sampled(&self, t: &HostTargets) {
-        let aspects = depth_format_aspects(t.depth.format);
         let layouts = (t.depth.layout, L::SHADER_READ_ONLY_OPTIMAL);
-        self.transitions(
-            t.cmd,
-            &[Transition(
-                t.depth.image,
-                aspects,
-                layouts,
-                ANY,
-                COMPUTE_READ,
-            )],
-        );
+        self.transition_engine_depth(t, layouts, (ANY, COMPUTE_READ));
     }
 
     /// Returns the engine's depth image from SHADER_READ_ONLY_OPTIMAL to its final layout,
     /// after the compute stages that sampled it.
     pub(crate) fn record_engine_depth_to_final(&self, t: &HostTargets) {
-        let aspects = depth_format_aspects(t.depth.format);
         let layouts = (L::SHADER_READ_ONLY_OPTIMAL, t.depth.final_layout);
-        self.transitions(
-            t.cmd,
-            &[Transition(
-                t.depth.image,
-                aspects,
-                layouts,
-                COMPUTE_READ,
-                ANY,
-            )],
-        );
+        self.transition_engine_depth(t, layouts, (COMPUTE_READ, ANY));
+    }
+
+    /// Moves the engine's depth image between `layouts`, after the first access and before
+    /// the second.
+    fn transition_engine_depth(
+        &self,
+        t: &HostTargets,
+        layouts: (L, L),
+        (after, before): (Access, Access),
+    ) {
+        let aspects = depth_format_aspects(t.depth.format);
+        let transition = Transition(t.depth.image, aspects, layouts, after, before);
+        self.transitions(t.cmd, &[transition]);
     }
 
     /// Records the copy of the top-left `extent` of the composited `colour` (a frame target
