@@ -78,7 +78,8 @@ layout(set = 1, binding = 21, std430) buffer DispatchBlock {
     uint g_resumeItems[];
 };
 layout(set = 1, binding = 22, std430) buffer PixelStateBlock { ExactPixelState g_pixelStates[]; };
-layout(set = 1, binding = 23, std430) buffer RasterBinBlock { uint g_rasterBins[]; };
+// Coherent: the scan's first band plan reads what the scan's other invocations listed.
+layout(set = 1, binding = 23, std430) coherent buffer RasterBinBlock { uint g_rasterBins[]; };
 // The opaque depth pyramid (depth_pyramid.glsl). Coherent: the last workgroup of its build
 // reads what the others wrote.
 layout(set = 1, binding = 24, std430) coherent buffer DepthPyramidBlock { float g_depthPyramid[]; };

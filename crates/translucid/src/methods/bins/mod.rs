@@ -239,6 +239,9 @@ struct Recorded {
     size: (u32, u32),
     /// It cleared the transparent layer before its raster.
     clears_layer: bool,
+    /// The bands it recorded, and its place among the recordings.
+    bands: u32,
+    recording: u64,
 }
 
 /// Frames recorded without the occlusion cull once a frame's cull saved less than its depth
@@ -267,12 +270,14 @@ pub struct Bins {
     bands_fixed: bool,
     /// The last completed frame filled at most half the lists' capacity (which grows to keep
     /// that room), in one band: the next frames record that one band only, and no empty
-    /// ones, unless a mesh moved (it may now fill the screen). A frame past it keeps the
-    /// opaque colour in the blocks past the band and says so (degraded rows; a standalone
-    /// frame is rendered again), and the buffers grow.
+    /// ones. A frame past it keeps the opaque colour in the blocks past the band and says so
+    /// (degraded rows; a standalone frame is rendered again), and the buffers grow.
     single_band: bool,
-    /// The frame being set moved a mesh's vertices: it records every band.
-    meshes_moved: bool,
+    /// Recordings so far, and the first one after the last moved mesh: a mesh whose vertices
+    /// moved may now fill the screen, so frames record every band until one recorded after
+    /// the move has completed and fitted.
+    recordings: u64,
+    first_after_move: u64,
     /// What the features need of each mesh, its bounds kept up with moved vertices.
     meshes: Vec<MeshFacts>,
     push: BinPush,
@@ -412,7 +417,8 @@ impl Bins {
             bands: options.bands.unwrap_or(BANDS).max(1),
             bands_fixed: options.bands.is_some(),
             single_band: false,
-            meshes_moved: false,
+            recordings: 0,
+            first_after_move: 0,
             meshes,
             push,
             slice_rows_limit,
@@ -429,6 +435,8 @@ impl Bins {
                     culled: true,
                     size: (width, height),
                     clears_layer: false,
+                    bands: 0,
+                    recording: 0,
                 };
                 uploaded.slot_count()
             ],
@@ -450,7 +458,7 @@ impl Bins {
 
     /// Bands recorded per frame.
     pub fn bands(&self) -> u32 {
-        if self.single_band && !self.meshes_moved {
+        if self.single_band {
             1
         } else {
             self.bands
@@ -491,7 +499,10 @@ impl Bins {
         let known = self.meshes.len();
         self.meshes
             .extend(f.scene.meshes[known..].iter().map(MeshFacts::of));
-        self.meshes_moved = !f.uploaded.moved_meshes().is_empty();
+        if !f.uploaded.moved_meshes().is_empty() {
+            self.single_band = false;
+            self.first_after_move = self.recordings;
+        }
         for &moved in f.uploaded.moved_meshes() {
             self.meshes[moved].bounds = features::bounds(&f.scene.meshes[moved].positions);
         }
@@ -580,7 +591,10 @@ impl Bins {
             culled,
             size: self.size(),
             clears_layer: false,
+            bands: self.bands(),
+            recording: self.recordings,
         };
+        self.recordings += 1;
         self.begin_submission(cmd, ctx.slot, ctx.in_place.is_some());
         self.resources.record_reset(cmd, self.features.rows);
         // Setup's occlusion cull reads the opaque depth (through the pyramid), as does the
@@ -679,14 +693,30 @@ impl Bins {
     }
 
     /// `continuation` over the rows on resume list `list` (one workgroup each, counted on
-    /// the GPU), then the list emptied for the rows the next continuation suspends.
+    /// the GPU); then, unless it is the recording's last dispatch to touch the lists
+    /// (`last`), the list emptied for the rows the next continuation suspends. (The last
+    /// one's list is left as it is: the host reads the other, the next frame empties both,
+    /// and a further submission of continuations empties it first.)
     pub fn record_continuation(
         &self,
         ctx: &RecordContext<'_>,
         continuation: &ComputePipeline,
         list: u32,
+        last: bool,
     ) {
-        let cmd = ctx.cmd;
+        self.compute_to_compute(ctx.cmd);
+        let push = BinPush {
+            resume_list: list,
+            ..self.push
+        };
+        self.dispatch_indirect(ctx, continuation, u64::from(list) * 16, &push);
+        if !last {
+            self.record_resume_list_empty(ctx.cmd, list);
+        }
+    }
+
+    /// Empties resume list `list` after the compute work before, for the dispatches after.
+    pub fn record_resume_list_empty(&self, cmd: vk::CommandBuffer, list: u32) {
         let compute = vk::PipelineStageFlags::COMPUTE_SHADER;
         let rw = vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE;
         let transfer = (
@@ -697,12 +727,6 @@ impl Bins {
             compute | vk::PipelineStageFlags::DRAW_INDIRECT,
             rw | vk::AccessFlags::INDIRECT_COMMAND_READ,
         );
-        self.compute_to_compute(cmd);
-        let push = BinPush {
-            resume_list: list,
-            ..self.push
-        };
-        self.dispatch_indirect(ctx, continuation, u64::from(list) * 16, &push);
         memory_barrier(&self.gpu, cmd, (compute, rw), transfer);
         self.resources.record_resume_list_reset(cmd, list);
         memory_barrier(&self.gpu, cmd, transfer, to_next);
@@ -1000,6 +1024,7 @@ impl Bins {
         self.resources.set_slabs(&self.gpu, self.features.slabs())?;
         // Half the capacity to spare: the next frames may bin more.
         self.single_band = !self.bands_fixed
+            && recorded.recording >= self.first_after_move
             && counters.bands <= 1
             && degraded_rows == 0
             && resources::fits_with_room(
@@ -1010,7 +1035,7 @@ impl Bins {
             log::warn!(
                 "{method}: {degraded_rows} pixel rows left with the opaque colour: blocks past \
                  {} bands of {} bin entries ({} needed), or rows a band left unfinished ({})",
-                self.bands,
+                recorded.bands,
                 recorded.capacities.bin_entries,
                 counters.bin_entry_count,
                 counters.abandoned_rows

@@ -156,7 +156,11 @@ impl Capacities {
         {
             // Lists that fit with less than half to spare: frames record one band only while
             // they have it (Bins::frame_done).
-            let roomy = c.bin_entry_count.saturating_mul(2);
+            // By half at least, so that a slowly growing frame does not regrow every frame.
+            let roomy = c
+                .bin_entry_count
+                .saturating_mul(2)
+                .max(self.bin_entries.saturating_add(self.bin_entries / 2));
             next.bin_entries = roomy.min(most.bin_entries).max(self.bin_entries);
         }
         if grows(OVERFLOW_RESUME, self.resume, recorded.resume) {

@@ -157,22 +157,24 @@ impl Exact {
         Ok(())
     }
 
-    /// The raster over the band's blocks, then `continuations` continuations. The raster
-    /// suspends rows onto the pending list: the band's plan emptied it if the band has
-    /// blocks; if not, it holds the rows the last band left, which these continuations go on
-    /// resuming.
-    fn record_raster(&mut self, ctx: &RecordContext<'_>, continuations: u32) {
+    /// The raster over the band's blocks, then `continuations` continuations (the
+    /// recording's `last`). The raster suspends rows onto the pending list: the band's plan
+    /// emptied it if the band has blocks; if not, it holds the rows the last band left, which
+    /// these continuations go on resuming.
+    fn record_raster(&mut self, ctx: &RecordContext<'_>, continuations: u32, last: bool) {
         self.bins
             .record_raster(ctx, &self.raster, self.pending_list);
-        self.record_continuations(ctx, continuations);
+        self.record_continuations(ctx, continuations, last);
     }
 
     /// `count` continuation dispatches from the pending list: each resumes the rows on one
-    /// list and suspends rows onto the other, which the next reads.
-    fn record_continuations(&mut self, ctx: &RecordContext<'_>, count: u32) {
-        for _ in 0..count {
+    /// list and suspends rows onto the other, which the next reads. `last`: nothing after
+    /// them in the recording appends to the lists.
+    fn record_continuations(&mut self, ctx: &RecordContext<'_>, count: u32, last: bool) {
+        for k in 0..count {
+            let final_one = last && k + 1 == count;
             self.bins
-                .record_continuation(ctx, &self.continuation, self.pending_list);
+                .record_continuation(ctx, &self.continuation, self.pending_list, final_one);
             self.pending_list ^= 1;
         }
     }
@@ -212,7 +214,8 @@ impl Method for Exact {
         self.recorded[ctx.slot] = (self.continuations, false);
         // Both resume lists start empty.
         self.pending_list = 0;
-        for band in 0..self.bins.bands() {
+        let bands = self.bins.bands();
+        for band in 0..bands {
             let first = band == 0;
             self.bins.record_band(ctx, first, self.pending_list);
             let continuations = if first {
@@ -220,7 +223,7 @@ impl Method for Exact {
             } else {
                 self.continuations.later_bands
             };
-            self.record_raster(ctx, continuations);
+            self.record_raster(ctx, continuations, band + 1 == bands);
             self.bins.compute_to_compute(cmd);
         }
         ctx.timestamps.mark(cmd, "raster");
@@ -230,7 +233,10 @@ impl Method for Exact {
     fn record_finish(&mut self, ctx: &mut RecordContext<'_>) -> Result<()> {
         self.recorded[ctx.slot] = (self.continuations, true);
         self.bins.targets_to_raster(ctx, FINISHED_SUBMISSION_WRITES);
-        self.record_continuations(ctx, self.continuations.first_band);
+        // The submission before left the list its last continuation read as it was.
+        self.bins
+            .record_resume_list_empty(ctx.cmd, self.pending_list ^ 1);
+        self.record_continuations(ctx, self.continuations.first_band, true);
         ctx.timestamps.mark(ctx.cmd, "raster finished");
         self.bins.record_end(ctx, self.pending_list)
     }
