@@ -1,7 +1,13 @@
 //! Compiles every GLSL entry point under `shaders/` to SPIR-V with `glslc`.
 //!
 //! `shaders/<folder>/<name>.<stage>` becomes `$OUT_DIR/shaders/<folder>/<name>.<stage>.spv`,
-//! loaded with `include_bytes!`. Files under `shaders/common/` are includes, not entry points.
+//! loaded with `include_bytes!`. Files under `shaders/common/` are includes, not entry points,
+//! and so are the includes this script writes from `src/interface/` (the shader interface,
+//! declared once in Rust) into `$OUT_DIR/interface/`.
+
+#[allow(dead_code)]
+#[path = "src/interface/mod.rs"]
+mod interface;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -16,6 +22,7 @@ fn main() {
         .unwrap_or_else(|e| panic!("shader folder {} is missing: {e}", root.display()));
     let out = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets OUT_DIR")).join("shaders");
     println!("cargo:rerun-if-changed={}", root.display());
+    let generated = write_interface(&out);
 
     let glslc = std::env::var("GLSLC").unwrap_or_else(|_| "glslc".into());
     if Command::new(&glslc).arg("--version").output().is_err() {
@@ -56,6 +63,7 @@ fn main() {
             let result = Command::new(&glslc)
                 .args(["--target-env=vulkan1.2", "-O", "-Werror"])
                 .arg(format!("-I{}", root.join("common").display()))
+                .arg(format!("-I{}", generated.display()))
                 .arg(&src)
                 .arg("-o")
                 .arg(&spv)
@@ -82,4 +90,20 @@ fn sorted_entries(dir: &Path) -> Vec<PathBuf> {
         .collect();
     v.sort();
     v
+}
+
+/// Writes the shader interface's includes; the folder they are in.
+fn write_interface(out: &Path) -> PathBuf {
+    println!("cargo:rerun-if-changed=src/interface");
+    let folder = out.with_file_name("interface");
+    std::fs::create_dir_all(&folder).expect("create the interface's folder");
+    for include in interface::includes() {
+        let path = folder.join(include.file);
+        let text = interface::glsl(&include);
+        // Unchanged files keep their time, so nothing that includes them looks stale.
+        if std::fs::read_to_string(&path).ok().as_deref() != Some(text.as_str()) {
+            std::fs::write(&path, text).expect("write an interface include");
+        }
+    }
+    folder
 }

@@ -300,7 +300,7 @@ void storeAttributeTexel(int at, uvec4 texel) {
     }
 }
 
-// The attribute record of quad `quad` of `draw`, with corners k0 to k3 (bins_layout.glsl):
+// The attribute record of quad `quad` of `draw`, with corners k0 to k3 (interface_bins.glsl):
 // only the sections shading can read under the same constants (quad_attributes.glsl).
 // Normals are transformed here exactly as the reference transforms them per fragment. A quad
 // of a draw without normals keeps its triangles' face normals instead. (A draw's vertex
@@ -407,7 +407,7 @@ void main() {
                 t.edgeB.w = int(hi);
             }
         }
-        // Every triangle has its record at its order key (bins_layout.glsl), culled ones too,
+        // Every triangle has its record at its order key (interface_bins.glsl), culled ones too,
         // as a hole that binning skips: two records per quad, the capacity.
         uint ti = item * 2u + sub;
         if (visible) {

@@ -2,7 +2,7 @@
 #ifndef TRANSLUCID_BIN_LISTS_GLSL
 #define TRANSLUCID_BIN_LISTS_GLSL
 
-#include "bins_layout.glsl"
+#include "bin_triangle.glsl"
 #include "scene_bindings_compute.glsl"
 
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require

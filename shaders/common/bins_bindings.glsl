@@ -4,8 +4,8 @@
 
 #extension GL_EXT_control_flow_attributes : require
 
-#include "layout.glsl"
-#include "bins_layout.glsl"
+#include "interface_scene.glsl"
+#include "bin_triangle.glsl"
 #include "transparent_layer.glsl"
 
 // The scene's vertices (GpuVertex, 3 texels each: position and normal.x, normal.yz and uv,
@@ -13,7 +13,7 @@
 layout(set = 1, binding = 0) uniform usamplerBuffer u_vertexTexels;
 layout(set = 1, binding = 1) uniform usamplerBuffer u_quadTexels;
 layout(set = 1, binding = 2) uniform usamplerBuffer u_binDrawTexels;
-// Triangle records (BinTriangleRecord) and quad attribute records (bins_layout.glsl), read
+// Triangle records (BinTriangleRecord) and quad attribute records (interface_bins.glsl), read
 // through u_triangleTexels and u_attributeTexels. Setup writes them through these texel views
 // when they pass what one storage binding holds (a view's texels bound only these), else
 // through the storage buffers setup.comp declares (bindings 29 and 7).
@@ -74,7 +74,7 @@ layout(set = 1, binding = 20) uniform usamplerBuffer u_homogeneousTexels; // g_h
 // resumeCapacity; the rows past them start over); slot s's pixel states are at
 // (k * resumeCapacity + s) * BIN_SIZE.
 layout(set = 1, binding = 21, std430) buffer DispatchBlock {
-    uint g_dispatch[28];
+    uint g_dispatch[DISPATCH_WORDS];
     uint g_resumeItems[];
 };
 layout(set = 1, binding = 22, std430) buffer PixelStateBlock { ExactPixelState g_pixelStates[]; };
@@ -90,20 +90,7 @@ layout(set = 1, binding = 26) uniform samplerBuffer u_depthPyramidTexels; // g_d
 layout(set = 1, binding = 27, std430) coherent buffer BlockTotalBlock { uint g_blockTotals[]; };
 layout(set = 1, binding = 28) uniform usamplerBuffer u_blockTotalTexels;
 
-layout(push_constant) uniform BinPush {
-    uint itemCount;         // transparent quads in all draws
-    uint drawCount;         // transparent draws
-    uint width;
-    uint height;
-    uint binsX;             // blocks across (BIN_SIZE pixels each)
-    uint binsY;             // blocks down
-    float threshold;        // stop once every channel's transmittance is below this; 0: exact
-    uint resumeList;        // raster: the list a continuation reads; it appends to the other
-    uint binRowsPerSlice;   // binning: bin rows one invocation covers (see bin_lists.glsl)
-    uint groupsX;           // setup and binning: workgroups in x, the rest in z (splitGroups)
-    uint stamp;             // in place: the submission's (transparent_layer.glsl); else 0
-    uint opaqueDepthReversed; // 1: u_opaqueDepth holds reversed-Z depth, 1 at the eye
-} u_push;
+layout(push_constant) uniform BinPushBlock { BinPush u_push; };
 
 // Opaque depth as translucid's depth grows, away from the eye, at a pixel, and over the four
 // texels of a gather.
@@ -281,8 +268,8 @@ BinTexture loadTextureInfo(int i) {
     t.levels = a.w;
     t.srgb = b.x;
     t.samplerBits = b.y;
-    t.pad0 = 0u;
-    t.pad1 = 0u;
+    t.pad[0] = 0u;
+    t.pad[1] = 0u;
     return t;
 }
 

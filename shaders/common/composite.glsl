@@ -4,7 +4,7 @@
 #ifndef TRANSLUCID_COMPOSITE_GLSL
 #define TRANSLUCID_COMPOSITE_GLSL
 
-#include "bins_layout.glsl"
+#include "bin_triangle.glsl"
 #include "transparent_layer.glsl"
 
 // The blocks with a non-empty bin, in block order (bin_scan.comp): the composite's instances.

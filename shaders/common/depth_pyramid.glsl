@@ -21,9 +21,6 @@ float pyramidCell(uint levelOffset, uvec2 size, ivec2 cell) {
     return texelFetch(u_depthPyramidTexels, int(levelOffset + uint(cell.y) * size.x + uint(cell.x))).r;
 }
 
-// Levels the pyramid may have: enough for 65535 pixels a side.
-#define PYRAMID_MAX_LEVELS 14
-
 // The farthest opaque depth over the non-empty pixel rectangle [x, z) x [y, w): the level
 // whose cells split it at most once along each side, and its (up to) four cells there.
 // The level is found by a fixed number of selects, not a loop whose length differs between

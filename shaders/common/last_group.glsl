@@ -7,11 +7,6 @@
 
 #include "bins_bindings.glsl"
 
-// Counters of g_counters.groupsDone, zeroed with the counters each frame.
-#define GROUPS_DONE_PYRAMID 0
-#define GROUPS_DONE_SCAN 1
-#define GROUPS_DONE_SLABS 2
-
 shared bool s_lastGroup;
 
 // Whether this workgroup is the dispatch's last to finish; every invocation of the workgroup

@@ -1,4 +1,4 @@
-// The attribute records setup writes and the bin rasters shade from (bins_layout.glsl says
+// The attribute records setup writes and the bin rasters shade from (interface_bins.glsl says
 // what a record holds): the constants that say which of its sections a scene has, and where
 // each section starts. setup.comp and bin_fragment.glsl include it, so that writer and
 // readers share one layout; the host sizes records from the same sections
@@ -6,7 +6,7 @@
 #ifndef TRANSLUCID_QUAD_ATTRIBUTES_GLSL
 #define TRANSLUCID_QUAD_ATTRIBUTES_GLSL
 
-#include "bins_layout.glsl"
+#include "bin_triangle.glsl"
 
 // What shading can read, fixed when the pipeline is made (constant ids shared by setup and
 // the rasters; methods/bins/features.rs sets them from the frame's draws).

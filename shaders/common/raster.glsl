@@ -4,7 +4,7 @@
 #ifndef TRANSLUCID_RASTER_GLSL
 #define TRANSLUCID_RASTER_GLSL
 
-#include "bins_layout.glsl"
+#include "bin_triangle.glsl"
 
 #include "raster_rules.glsl"
 

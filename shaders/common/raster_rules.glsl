@@ -7,9 +7,7 @@
 
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 
-#define SUBPIXEL_BITS 8
-#define HALF_PIXEL 128
-#define GUARD_BAND 1048576.0
+#include "interface_raster.glsl"
 
 // view_projection * model, column by column as clipPosition (raster::model_view_projection).
 mat4 modelViewProjection(mat4 viewProjection, mat4 model) {

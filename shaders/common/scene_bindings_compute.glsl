@@ -3,7 +3,7 @@
 #ifndef TRANSLUCID_SCENE_BINDINGS_COMPUTE_GLSL
 #define TRANSLUCID_SCENE_BINDINGS_COMPUTE_GLSL
 
-#include "layout.glsl"
+#include "interface_scene.glsl"
 
 layout(set = 0, binding = 0, std140) uniform FrameBlock { FrameInfo u_frame; };
 layout(set = 0, binding = 1, std430) readonly buffer DrawBlock { DrawInfo g_draws[]; };

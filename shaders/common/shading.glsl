@@ -1,9 +1,9 @@
 // The shading function of every method; mirrors crates/translucid/src/shading.rs exactly
-// (a test compares them). Needs layout.glsl.
+// (a test compares them). Needs interface_scene.glsl.
 #ifndef TRANSLUCID_SHADING_GLSL
 #define TRANSLUCID_SHADING_GLSL
 
-#include "layout.glsl"
+#include "interface_scene.glsl"
 #include "colour.glsl"
 
 // v divided by its largest component, or zero when it has no direction (zero, NaN or

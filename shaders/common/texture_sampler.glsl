@@ -1,6 +1,6 @@
 // Software texture sampling for compute stages, operation for operation like
 // Texture::sample in crates/translucid/src/scene/texture.rs (whose doc states the rules): the
-// texture's sampler word (SAMPLER_* in bins_layout.glsl) picks the wrap mode of each axis,
+// texture's sampler word (SAMPLER_* in interface_bins.glsl) picks the wrap mode of each axis,
 // the mag and min filters and the mipmap mode; sRGB is decoded by table before filtering.
 // Texels are packed RGBA8 in u_texels; u_srgbToLinear is the decode table.
 #ifndef TRANSLUCID_TEXTURE_SAMPLER_GLSL

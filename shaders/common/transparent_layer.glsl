@@ -13,8 +13,7 @@
 // (radiance is not negative; f16's 10 bits cost a wavelet test a decibel), transmittance as
 // three 13-bit unorms (finer than halves near 1, where clear surfaces are), and the stamp in
 // 6 bits: first = (r | g << 16, b | tr << 16), second = tg | tb << 13 | stamp << 26. Stamps
-// run from 1 to LAST_STAMP; the layer is cleared when they start again.
-const uint LAST_STAMP = 63u;
+// run from 1 to LAST_STAMP (interface_bins.glsl); the layer is cleared when they start again.
 
 const uint EXPONENT_REBIAS = (127u - 15u) << 23;
 

@@ -175,7 +175,7 @@ void main() {
     if (fragments > 0u) {
         writePixel(ivec2(x, y), lit, throughAll);
     }
-    // Statistics: one atomic per subgroup, in the workgroup's slot (bins_layout.glsl); there
+    // Statistics: one atomic per subgroup, in the workgroup's slot (interface_bins.glsl); there
     // are no passes to count.
     uint subgroupFragments = subgroupAdd(fragments);
     if (subgroupElect()) {

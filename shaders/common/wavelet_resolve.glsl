@@ -6,7 +6,7 @@
 // opaque depth, or nearer, the depth at which every channel is absorbed. The shading pass
 // tests against it, so hidden fragments are rejected before they are shaded.
 
-#include "layout.glsl"
+#include "interface_scene.glsl"
 #define WAVELET_READ_SET 1
 #include "wavelet_read.glsl"
 

@@ -4,7 +4,7 @@
 
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 
-#include "bins_layout.glsl"
+#include "bin_triangle.glsl"
 
 layout(local_size_x = 64) in;
 

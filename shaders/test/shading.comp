@@ -2,7 +2,7 @@
 // Test only: evaluates the shared shading function on a table of inputs so a host test can
 // compare it with the Rust implementation.
 
-#include "layout.glsl"
+#include "interface_scene.glsl"
 #include "shading.glsl"
 
 layout(local_size_x = 64) in;

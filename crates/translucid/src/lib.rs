@@ -14,10 +14,9 @@
 pub mod assets;
 pub mod error;
 pub mod frame;
-#[cfg(test)]
-mod glsl_layout;
 pub mod gpu;
 pub mod image;
+pub mod interface;
 pub mod methods;
 pub mod metrics;
 pub mod raster;

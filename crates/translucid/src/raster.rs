@@ -61,13 +61,9 @@
 
 use glam::{Mat4, Vec3, Vec4};
 
-/// Sub-pixel precision of snapped vertex positions.
-pub const SUBPIXEL_BITS: u32 = 8;
+pub use crate::interface::raster::{GUARD_BAND, SUBPIXEL_BITS};
 const SUBPIXEL_SCALE: f32 = (1 << SUBPIXEL_BITS) as f32;
-const HALF_PIXEL: i64 = 1 << (SUBPIXEL_BITS - 1);
-/// Largest |x_fb| or |y_fb| (pixels) a vertex may have to use the fixed-point path. Keeps
-/// every edge-function product under 2^58.
-pub const GUARD_BAND: f32 = (1u32 << 20) as f32;
+const HALF_PIXEL: i64 = crate::interface::raster::HALF_PIXEL as i64;
 /// Largest viewport width or height the rules support.
 pub const MAX_VIEWPORT: u32 = 1 << 16;
 

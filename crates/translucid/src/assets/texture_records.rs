@@ -1,36 +1,15 @@
-//! The software sampler's texture records (`BinTexture` of `shaders/common/bins_layout.glsl`,
-//! checked there by `methods::bins::layout`'s tests): how the compute rasters find a
-//! texture's texels and sample it.
+//! The software sampler's texture records (`BinTexture`, declared in
+//! [`crate::interface::bins`]): how the compute rasters find a texture's texels and sample it.
 
 #![deny(unsafe_code)]
 
 use crate::scene::{Filter, MipFilter, Sampler, Texture, Wrap};
-use bytemuck::{Pod, Zeroable};
 
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Pod, Zeroable)]
-pub struct BinTexture {
-    pub first_texel: u32,
-    pub width: u32,
-    pub height: u32,
-    pub levels: u32,
-    pub srgb: u32,
-    /// `SAMPLER_*` bits: [`sampler_bits`].
-    pub sampler: u32,
-    pub pad: [u32; 2],
-}
-
-pub const SAMPLER_WRAP_S_SHIFT: u32 = 0;
-pub const SAMPLER_WRAP_T_SHIFT: u32 = 2;
-pub const SAMPLER_WRAP_REPEAT: u32 = 0;
-pub const SAMPLER_WRAP_CLAMP_TO_EDGE: u32 = 1;
-pub const SAMPLER_WRAP_MIRRORED_REPEAT: u32 = 2;
-pub const SAMPLER_MAG_LINEAR: u32 = 16;
-pub const SAMPLER_MIN_LINEAR: u32 = 32;
-pub const SAMPLER_MIP_SHIFT: u32 = 6;
-pub const SAMPLER_MIP_NONE: u32 = 0;
-pub const SAMPLER_MIP_NEAREST: u32 = 1;
-pub const SAMPLER_MIP_LINEAR: u32 = 2;
+pub use crate::interface::bins::{
+    BinTexture, SAMPLER_MAG_LINEAR, SAMPLER_MIN_LINEAR, SAMPLER_MIP_LINEAR, SAMPLER_MIP_NEAREST,
+    SAMPLER_MIP_NONE, SAMPLER_MIP_SHIFT, SAMPLER_WRAP_CLAMP_TO_EDGE, SAMPLER_WRAP_MIRRORED_REPEAT,
+    SAMPLER_WRAP_REPEAT, SAMPLER_WRAP_S_SHIFT, SAMPLER_WRAP_T_SHIFT,
+};
 
 /// A texture's sampler as the software sampler's word (`BinTexture.samplerBits`).
 pub fn sampler_bits(s: &Sampler) -> u32 {
@@ -60,7 +39,7 @@ pub(crate) fn bin_texture(t: &Texture, first_texel: u32) -> BinTexture {
         height: t.height(),
         levels: t.levels.len() as u32,
         srgb: u32::from(t.srgb),
-        sampler: sampler_bits(&t.sampler),
+        sampler_bits: sampler_bits(&t.sampler),
         pad: [0; 2],
     }
 }

@@ -179,7 +179,7 @@ pub fn fits_with_room(entries: u32, capacity: u32) -> bool {
 /// Buffers that grow, each with the texel view the raster reads it through.
 struct Growable {
     /// Resume lists of the raster's continuation dispatches (see `LOOP_BUDGET` in
-    /// bins_layout.glsl): a header of six indirect dispatch commands (DISPATCH_BYTES), then
+    /// interface_bins.glsl): a header of six indirect dispatch commands (DISPATCH_BYTES), then
     /// the items.
     resume: Buffer,
     /// Compositing state of the pixels of the resume items that took a state slot.
@@ -895,14 +895,7 @@ mod tests {
     /// frame the method takes (65535 pixels a side).
     #[test]
     fn pyramid_lookup_reaches_the_top_of_the_largest_frame() {
-        let src = include_str!("../../../../../shaders/common/depth_pyramid.glsl");
-        let max_levels: u32 = src
-            .lines()
-            .find_map(|l| l.strip_prefix("#define PYRAMID_MAX_LEVELS "))
-            .expect("PYRAMID_MAX_LEVELS")
-            .trim()
-            .parse()
-            .expect("number");
+        let max_levels = crate::interface::bins::PYRAMID_MAX_LEVELS;
         let mut side = 0xFFFF_u32.div_ceil(BIN_SIZE);
         let mut levels = 1;
         while side > 1 {

@@ -1,0 +1,364 @@
+//! The bins and the rasters that read them: their buffers' records, counters and constants
+//! (`interface_bins.glsl`).
+
+use super::{Include, StructDecl};
+
+shader_constants! {
+    /// Blocks are BIN_SIZE x BIN_SIZE pixels; one workgroup rasterizes one block, one
+    /// subgroup-sized row of invocations per row of pixels. Each row of a block is a bin of its
+    /// own with its own triangle list (bin = block * BIN_SIZE + row), so a row walks only the
+    /// triangles that touch it.
+    pub const BIN_SHIFT: u32 as int = 3;
+    pub const BIN_SIZE: u32 as int = 1 << BIN_SHIFT;
+    /// A bin's list may be ordered by depth slab (bin_lists.glsl), into at most MAX_SLABS; the
+    /// counters keep a farthest depth for each.
+    pub const MAX_SLABS: u32 as int = 1024;
+    /// Slots of BinCounters.statistics, each a cache line (16 words).
+    pub const STATISTICS_SLOTS: u32 = 8;
+    pub const STATISTICS_WORDS: u32 = STATISTICS_SLOTS * 16;
+
+    /// Overflow bits in BinCounters.overflow: a buffer was too small for the frame (the host
+    /// grows it for later frames). The bin lists' overflow is answered within the frame, by
+    /// bands; a band whose lists did not fit after all (OVERFLOW_BAND_LISTS) lost entries.
+    pub const OVERFLOW_HOMOGENEOUS: u32 = 1;
+    pub const OVERFLOW_BIN_ENTRIES: u32 = 2;
+    /// A bin so crowded that one pass over it cannot fit the shader loop budget (wavelet's bin
+    /// raster reports it; the exact raster resumes such rows instead).
+    pub const OVERFLOW_CROWDED_BIN: u32 = 4;
+    pub const OVERFLOW_RESUME: u32 = 8;
+    pub const OVERFLOW_BAND_LISTS: u32 = 16;
+
+    /// Lavapipe (gallivm) stops every loop of a shader invocation once their iterations add up
+    /// to 65535, silently. The raster counts its iterations against this budget (with room for
+    /// the few it does not count) and, before it would run out, saves the pixel and leaves the
+    /// rest to a continuation dispatch. Subgroups resume from a list of (block row) items, each
+    /// with the states of its BIN_SIZE pixels where a state slot was left (else the row starts
+    /// over).
+    pub const LOOP_BUDGET: u32 = 60_000;
+    /// A resume item's state slot when the row saved no state (it starts over).
+    pub const NO_STATE: u32 = u32::MAX;
+    /// A saved state's sweep.x when the row resumes with a new sweep (saved between sweeps).
+    pub const NEW_SWEEP: u32 = u32::MAX;
+
+    /// Indirect commands in g_dispatch, 16 bytes each (bins_bindings.glsl says what each
+    /// counts): resume lists 0 and 1, then these.
+    pub const DISPATCH_RASTER_BINS: u32 = 2;
+    pub const DISPATCH_BINNING: u32 = 3;
+    pub const DISPATCH_BIN_OFFSETS: u32 = 4;
+    pub const DISPATCH_BAND_FILL: u32 = 5;
+    /// The composite's VkDrawIndirectCommand.
+    pub const DRAW_COMPOSITE: u32 = 6;
+    /// Words of g_dispatch: every command above, 16 bytes each.
+    pub const DISPATCH_WORDS: u32 = (DRAW_COMPOSITE + 1) * 4;
+    /// Invocations per workgroup of the binning passes.
+    pub const BINNING_GROUP_SIZE: u32 = 64;
+    /// Workgroup size of the scan, and the multiple the blocks of the bin arrays are padded
+    /// to.
+    pub const SCAN_GROUP_SIZE: u32 = 256;
+    /// Counters of BinCounters.groupsDone (last_group.glsl), zeroed with the counters each
+    /// frame.
+    pub const GROUPS_DONE_PYRAMID: u32 as int = 0;
+    pub const GROUPS_DONE_SCAN: u32 as int = 1;
+    pub const GROUPS_DONE_SLABS: u32 as int = 2;
+    pub const GROUPS_DONE_COUNTERS: u32 as int = 3;
+    /// Levels the opaque depth pyramid's lookup climbs at most: enough for the largest frame
+    /// (65535 pixels a side).
+    pub const PYRAMID_MAX_LEVELS: u32 as int = 14;
+
+    /// Most fragments a pixel keeps while it walks its row's list (the raster's SELECT_SIZE).
+    pub const MAX_SELECT_SIZE: u32 as int = 16;
+    /// The last stamp a submission takes before they start again from 1 (texels of the
+    /// transparent layer keep 6 bits of it; the layer is cleared when they start again).
+    pub const LAST_STAMP: u32 = 63;
+
+    /// BinTriangleRecord.flags: the edges are those of the vertices in order, negated: the
+    /// triangle winds the other way in fixed-point framebuffer coordinates, and edges are
+    /// positive inside.
+    pub const TRIANGLE_NEGATED: u32 = 1;
+    /// The triangle's attributes hold its face normal, not vertex normals: its draw is lit and
+    /// its mesh has no normals.
+    pub const TRIANGLE_FACE_NORMAL: u32 = 2;
+    /// The triangle's mesh has uvs; a textured fragment without them samples (0, 0).
+    pub const TRIANGLE_HAS_UVS: u32 = 4;
+    /// The triangle takes the homogeneous path (BinHomogeneous).
+    pub const TRIANGLE_HOMOGENEOUS: u32 = 8;
+    /// The material sits above this bit of the flags, in the same texel as the coverage
+    /// data, so that shading reads no attribute texel it does not use.
+    pub const TRIANGLE_MATERIAL_SHIFT: u32 as int = 8;
+
+    /// What shading needs of a transparent quad besides its triangles' records, gathered by
+    /// setup so that a fragment reads a few texels instead of following draw, quad and vertex
+    /// indices. One record per quad, at its index in the frame (a triangle's order key >> 1),
+    /// shared by its two triangles: triangle 0 has corners 0, 1, 2 and triangle 1 corners 0,
+    /// 2, 3, as in the reference. A record holds only the sections the scene's constants let
+    /// shading read (quad_attributes.glsl), each whole texels of 16 bytes, in this order:
+    /// - colours (VERTEX_COLOURS): each corner's vertex colour times the draw's tint, a texel
+    ///   each; one texel for the quad with FLAT_COLOURS.
+    /// - normals (VERTEX_NORMALS): the corners' world-space normals (normal matrix applied),
+    ///   x, y, z of corner 0, then of corner 1, and so on, packed in three texels. Quads of a
+    ///   draw without normals (TRIANGLE_FACE_NORMAL) hold each triangle's face normal instead,
+    ///   in the xyz of a texel of its own; with FACE_NORMALS alone the section is those two
+    ///   texels.
+    /// - uvs (TEXTURES): corners 0 and 1 in one texel, 2 and 3 in the next.
+    pub const COLOUR_TEXELS: u32 as int = 4;
+    pub const FLAT_COLOUR_TEXELS: u32 as int = 1;
+    pub const NORMAL_TEXELS: u32 as int = 3;
+    pub const FACE_NORMAL_TEXELS: u32 as int = 2;
+    pub const UV_TEXELS: u32 as int = 2;
+
+    /// BinTexture.samplerBits: each axis's wrap mode, the filters, the mipmap mode.
+    pub const SAMPLER_WRAP_S_SHIFT: u32 as int = 0;
+    pub const SAMPLER_WRAP_T_SHIFT: u32 as int = 2;
+    pub const SAMPLER_WRAP_MASK: u32 = 3;
+    pub const SAMPLER_WRAP_REPEAT: u32 = 0;
+    pub const SAMPLER_WRAP_CLAMP_TO_EDGE: u32 = 1;
+    pub const SAMPLER_WRAP_MIRRORED_REPEAT: u32 = 2;
+    pub const SAMPLER_MAG_LINEAR: u32 = 16;
+    pub const SAMPLER_MIN_LINEAR: u32 = 32;
+    pub const SAMPLER_MIP_SHIFT: u32 as int = 6;
+    pub const SAMPLER_MIP_MASK: u32 = 3;
+    pub const SAMPLER_MIP_NONE: u32 = 0;
+    pub const SAMPLER_MIP_NEAREST: u32 = 1;
+    pub const SAMPLER_MIP_LINEAR: u32 = 2;
+}
+
+shader_struct! {
+    /// One pixel's compositing state between raster dispatches (std430, 192 bytes). A row is
+    /// suspended anywhere in a sweep, even inside one slab's part of its list, so the sweep's
+    /// selection goes with it (unless sweep.x is NEW_SWEEP).
+    pub struct ExactPixelState as ExactPixelState {
+        /// xyz: radiance so far.
+        pub radiance: vec4,
+        /// xyz: transmittance so far.
+        pub transmittance: vec4,
+        /// x, y: depth bits and order key of the last composited fragment, z: 1 once the pixel
+        /// has no fragment left (it waits for its row).
+        pub done: uvec4,
+        /// x: the slab the row resumes in, y: the list entry it resumes at, z, w: the nearest
+        /// fragment the sweep dropped (low, high word).
+        pub sweep: uvec4,
+        /// The sweep's kept keys (low, high word).
+        pub selection: uvec2[MAX_SELECT_SIZE],
+    }
+}
+
+shader_struct! {
+    /// One transparent draw as the bins see it (std430, 80 bytes).
+    pub struct BinDraw as BinDraw {
+        /// View-projection x model, computed on the host like the reference.
+        pub mvp: mat4,
+        /// Into the scene's DrawInfo array.
+        pub draw_index: uint,
+        /// Global index of the draw's first quad, in submission order.
+        pub first_item: uint,
+        pub quad_count: uint,
+        /// Into the scene's quad buffer.
+        pub first_quad: uint,
+    }
+}
+
+shader_struct! {
+    /// A visible triangle after setup, as stored (std430, 64 bytes: four texels; BinTriangle
+    /// in bins_bindings.glsl is what the stages unpack it to). The walks read a record for
+    /// every triangle they visit, one texel fetch each, so it keeps the snapped vertices
+    /// instead of the edges (loaders rebuild the edges exactly, as setup computes them). Its
+    /// order key is its index, and a homogeneous-path triangle, which has no fixed-point
+    /// vertices, keeps its index into the homogeneous array in their place. Shading skips the
+    /// depths texel (loadShadingTriangle in bin_fragment.glsl). Fixed-point vertices fit 32
+    /// bits (guard band 2^20 pixels, 8 sub-pixel bits), pixel bounds 16 bits (viewports are
+    /// at most 65535).
+    pub struct BinTriangleRecord as BinTriangleRecord {
+        /// Fixed-point x, y of vertices 0 and 1; on the homogeneous path
+        /// (TRIANGLE_HOMOGENEOUS) x: the homogeneous index, the rest 0.
+        pub vertices01: ivec4,
+        pub vertex2: ivec2,
+        /// TRIANGLE_* bits, material index << TRIANGLE_MATERIAL_SHIFT.
+        pub flags: uint,
+        /// x0 | y0 << 16.
+        pub bounds_min: uint,
+        /// Depth-buffer value of each vertex.
+        pub z_ndc: vec3,
+        /// x1 | y1 << 16 (0 for a hole, which binning skips).
+        pub bounds_end: uint,
+        /// 1 / clip w of each vertex.
+        pub inv_w: vec3,
+        /// 1 / |double area|, with invW: what shading's sample needs.
+        pub inv_area: float,
+    }
+}
+
+shader_struct! {
+    /// Extra data of a triangle on the homogeneous path (std430, 192 bytes).
+    pub struct BinHomogeneous as BinHomogeneous {
+        /// a, b, c of edge 0 (positive inside).
+        pub line0: dvec4,
+        pub line1: dvec4,
+        pub line2: dvec4,
+        /// xyz: clip z of each vertex, w: 1 / |det|.
+        pub z_inv_det: dvec4,
+        /// Fixed-point replacement edges where both ends allow it.
+        pub fixed_c: i64vec4,
+        /// xyz: a, w: bit k set when edge k uses the fixed replacement.
+        pub fixed_a: ivec4,
+        /// xyz: b, w: tie bits of the replacement edges.
+        pub fixed_b: ivec4,
+    }
+}
+
+shader_struct! {
+    /// Counters the host reads back after every frame and checks.
+    #[derive(PartialEq, Eq)]
+    pub struct BinCounters as BinCounters {
+        /// Triangles setup kept (a statistic: records sit at their order keys, and binning
+        /// runs over every record).
+        pub triangle_count: uint,
+        pub homogeneous_count: uint,
+        /// Entries the bins need (counted even when they do not fit).
+        pub bin_entry_count: uint,
+        /// OVERFLOW_* bits.
+        pub overflow: uint,
+        pub triangle_capacity: uint,
+        pub homogeneous_capacity: uint,
+        pub bin_entry_capacity: uint,
+        /// Pixel-state slots of each resume list (rows it saves).
+        pub resume_capacity: uint,
+        /// State slots a resume list needed (counted even past the capacity).
+        pub resume_needed: uint,
+        /// Bits of the nearest and farthest vertex order depth of the fixed-point triangles
+        /// (positive floats order like their bits).
+        pub depth_lo: uint,
+        pub depth_hi: uint,
+        /// Bands (bin_scan.comp): the listed blocks are rasterized in runs whose lists fit the
+        /// capacity together, one band after another within the frame. Blocks with a
+        /// non-empty bin: g_rasterBins[0, listedBlocks), in order.
+        pub listed_blocks: uint,
+        /// The current band: listed blocks [bandFirst, bandFirst + bandCount).
+        pub band_first: uint,
+        pub band_count: uint,
+        /// The list offset of its first block (its lists start at 0).
+        pub band_base: uint,
+        /// Block indices of its first and last block.
+        pub band_first_block: uint,
+        pub band_last_block: uint,
+        /// The listed block the next band starts at.
+        pub band_next: uint,
+        /// Bands rasterized.
+        pub bands: uint,
+        /// Blocks whose lists alone pass the capacity: left untouched.
+        pub skipped_blocks: uint,
+        /// Rows a band left unfinished: left untouched.
+        pub abandoned_rows: uint,
+        /// Rows of shallow frames whose list no budget could walk in one pass
+        /// (OVERFLOW_CROWDED_BIN): continuations walk it in parts.
+        pub crowded_rows: uint,
+        /// Rows suspended with no state slot left (OVERFLOW_RESUME): they start over when
+        /// resumed.
+        pub restarted_rows: uint,
+        /// Items each resume list holds: every row of the frame.
+        pub resume_item_capacity: uint,
+        /// Blocks under the bounds of the triangles setup's occlusion cull dropped (behind the
+        /// opaque layer): what the cull saved binning.
+        pub occluded_blocks: uint,
+        /// Workgroups of a one-dispatch step that have finished, at GROUPS_DONE_*
+        /// (last_group.glsl).
+        pub groups_done: uint[GROUPS_DONE_COUNTERS],
+        pub pad: uint[4],
+        /// Statistics of the raster: slot k holds the fragments composited at [16 k], the most
+        /// sweeps of its list any pixel needed at [16 k + 1], and the fragments in front of the
+        /// opaque layer found in the first sweep (all of them, fewer where a pixel had to drop
+        /// some) at [16 k + 2]. A row adds to the slot of its workgroup, a cache line from the
+        /// others, so that the CPU threads of drivers such as lavapipe do not fight over one
+        /// line (two such atomics a row were 7 % of the spheres raster, and a sixth of a row's
+        /// fixed cost).
+        pub statistics: uint[STATISTICS_WORDS],
+        /// Per depth slab: bits of its triangles' farthest vertex.
+        pub slab_farthest: uint[MAX_SLABS],
+        /// And their largest order key.
+        pub slab_last_order: uint[MAX_SLABS],
+        /// Where deep frames' slabs start (bin_lists.glsl): per slab, the least (depth bits,
+        /// order key) of a triangle it may hold, written by the slab plan (slab_plan.glsl).
+        pub slab_floor_bits: uint[MAX_SLABS],
+        pub slab_floor_order: uint[MAX_SLABS],
+        /// What the plan reads, gathered by slab_histogram.comp: MAX_SLABS buckets evenly over
+        /// depthLo..depthHi, each with the bins its triangles enter (a 64-bit sum in two words)
+        /// and the range of their nearest depth bits and of their order keys. Minima are kept
+        /// complemented, so that a zeroed bucket is empty and atomicMax takes the least.
+        pub bucket_weight_lo: uint[MAX_SLABS],
+        pub bucket_weight_hi: uint[MAX_SLABS],
+        /// Complemented.
+        pub bucket_nearest_least: uint[MAX_SLABS],
+        pub bucket_nearest_most: uint[MAX_SLABS],
+        /// Complemented.
+        pub bucket_order_least: uint[MAX_SLABS],
+        pub bucket_order_most: uint[MAX_SLABS],
+    }
+}
+
+shader_struct! {
+    /// A texture for the software sampler (std430, 32 bytes).
+    pub struct BinTexture as BinTexture {
+        /// Index of level 0's first texel in the texel buffer.
+        pub first_texel: uint,
+        pub width: uint,
+        pub height: uint,
+        pub levels: uint,
+        pub srgb: uint,
+        /// SAMPLER_* bits.
+        pub sampler_bits: uint,
+        pub pad: uint[2],
+    }
+}
+
+shader_struct! {
+    /// The push constants of every bin stage and of the rasters that read the bins
+    /// (`u_push`).
+    pub struct BinPush as BinPush {
+        /// Transparent quads in all draws.
+        pub item_count: uint,
+        /// Transparent draws.
+        pub draw_count: uint,
+        pub width: uint,
+        pub height: uint,
+        /// Blocks across (BIN_SIZE pixels each).
+        pub bins_x: uint,
+        /// Blocks down.
+        pub bins_y: uint,
+        /// Stop once every channel's transmittance is below this; 0: exact.
+        pub threshold: float,
+        /// Raster: the list a continuation reads; it appends to the other.
+        pub resume_list: uint,
+        /// Binning: bin rows one invocation covers (bin_lists.glsl).
+        pub bin_rows_per_slice: uint,
+        /// Setup and binning: workgroups in x, the rest in z (splitGroups).
+        pub groups_x: uint,
+        /// In place: the submission's stamp (transparent_layer.glsl); else 0.
+        pub stamp: uint,
+        /// 1: u_opaqueDepth holds reversed-Z depth, 1 at the eye.
+        pub opaque_depth_reversed: uint,
+    }
+}
+
+impl Default for BinCounters {
+    fn default() -> Self {
+        bytemuck::Zeroable::zeroed()
+    }
+}
+
+pub fn include() -> Include {
+    const STRUCTS: &[&StructDecl] = &[
+        &ExactPixelState::GLSL,
+        &BinDraw::GLSL,
+        &BinTriangleRecord::GLSL,
+        &BinHomogeneous::GLSL,
+        &BinCounters::GLSL,
+        &BinTexture::GLSL,
+        &BinPush::GLSL,
+    ];
+    Include {
+        file: "interface_bins.glsl",
+        source: "bins.rs",
+        constants: CONSTANTS,
+        structs: STRUCTS,
+        needs: &[],
+    }
+}
