@@ -246,11 +246,10 @@ Corner loadCorner(uint v) {
     return c;
 }
 
-// The records as storage buffers, as far as one binding reaches: setup writes them so while
-// they fit (faster on lavapipe than texel stores), else through u_triangleRecords and
-// u_attributeRecords (RECORDS_AS_TEXELS, set by the host from the records' size).
-layout(set = 1, binding = 29, std430) buffer TriangleBlock { BinTriangleRecord g_triangles[]; };
-layout(set = 1, binding = 7, std430) buffer AttributeBlock { uvec4 g_attributes[]; };
+// Setup writes the records as storage buffers (g_triangles, g_attributes), as far as one
+// binding reaches, while they fit (faster on lavapipe than texel stores), else through
+// u_triangleRecords and u_attributeRecords (RECORDS_AS_TEXELS, set by the host from the
+// records' size).
 layout(constant_id = 12) const bool RECORDS_AS_TEXELS = false;
 
 // Record ti (BinTriangleRecord), whose order key is ti: through texels, one per 16 bytes of

@@ -1,4 +1,6 @@
-// Descriptor set 1 of the bin stages and the rasters that read them (set 0 is the scene's: frame, draws, materials).
+// What the bin stages and the rasters that read them share: their descriptor set
+// (interface_bins_set.glsl, from crates/translucid/src/interface/bins.rs), push constants,
+// and the loaders and helpers over them.
 #ifndef TRANSLUCID_BINS_BINDINGS_GLSL
 #define TRANSLUCID_BINS_BINDINGS_GLSL
 
@@ -8,87 +10,7 @@
 #include "bin_triangle.glsl"
 #include "transparent_layer.glsl"
 
-// The scene's vertices (GpuVertex, 3 texels each: position and normal.x, normal.yz and uv,
-// colour), its quads, and the bins' draws (5 texels each), read as texels (see below).
-layout(set = 1, binding = 0) uniform usamplerBuffer u_vertexTexels;
-layout(set = 1, binding = 1) uniform usamplerBuffer u_quadTexels;
-layout(set = 1, binding = 2) uniform usamplerBuffer u_binDrawTexels;
-// Triangle records (BinTriangleRecord) and quad attribute records (interface_bins.glsl), read
-// through u_triangleTexels and u_attributeTexels. Setup writes them through these texel views
-// when they pass what one storage binding holds (a view's texels bound only these), else
-// through the storage buffers setup.comp declares (bindings 29 and 7).
-layout(set = 1, binding = 3, rgba32ui) uniform writeonly uimageBuffer u_triangleRecords;
-layout(set = 1, binding = 4, std430) buffer HomogeneousBlock { BinHomogeneous g_homogeneous[]; };
-// Coherent: the last workgroup of a one-dispatch step (last_group.glsl) reads what the
-// others' atomics added.
-layout(set = 1, binding = 5, std430) coherent buffer CounterBlock { BinCounters g_counters; };
-// Per (bin, slab), at bin * SLABS + slab: bin_count counts the triangles of that part of the
-// bin's list here; the scan turns a band's counts into where each part starts, in place
-// (bin_scan.comp, step 2); bin_fill advances them as it appends, so that after binning each
-// is where its part ends and the next starts (binStart says where a bin's list starts).
-layout(set = 1, binding = 6, std430) buffer BinEndBlock { uint g_binEnds[]; };
-// (Binding 7: setup.comp's attribute records.)
-layout(set = 1, binding = 8) uniform usamplerBuffer u_drawTexels;        // DrawInfo, 10 each
-layout(set = 1, binding = 9, std430) buffer BinEntryBlock { uint g_binEntries[]; };
-layout(set = 1, binding = 10, rgba32ui) uniform writeonly uimageBuffer u_attributeRecords;
-// The opaque depth: the frame target's, or the engine's own depth image where it is (any
-// depth format, reversed-Z turned around by opaqueDepthAt).
-layout(set = 1, binding = 11) uniform sampler2D u_opaqueDepth;
-// The frame target's colour, which the rasters composite onto (standalone frames); or, on
-// an engine's device, what they leave for the composite pass to blend onto the engine's
-// colour where it is (transparent_layer.glsl), in two images (1x1 until the first such
-// frame).
-layout(set = 1, binding = 12, rgba16f) uniform image2D u_colour;
-layout(set = 1, binding = 30, rg32ui) uniform writeonly uimage2D u_transparentLayer;
-layout(set = 1, binding = 31, r32ui) uniform writeonly uimage2D u_transparentLayerStamps;
-
-// What the raster reads in its hot loops comes through texel buffers: CPU drivers such as
-// lavapipe fetch texels with straight-line vector loads, where a storage-buffer load inside
-// divergent control flow is a per-lane loop with a branch per component. Records are read
-// texel by texel in field order (a layout test checks every field's offset).
-layout(set = 1, binding = 13) uniform usamplerBuffer u_triangleTexels;   // the same, 4 each
-layout(set = 1, binding = 14) uniform usamplerBuffer u_attributeTexels;  // the same
-layout(set = 1, binding = 15) uniform usamplerBuffer u_materialTexels;   // Material, 3 each
-layout(set = 1, binding = 16) uniform usamplerBuffer u_textureInfoTexels; // BinTexture, 2 each
-layout(set = 1, binding = 17) uniform usamplerBuffer u_texels;           // packed RGBA8
-layout(set = 1, binding = 18) uniform samplerBuffer u_srgbToLinear;      // 256 entries
-layout(set = 1, binding = 19) uniform usamplerBuffer u_binEntryTexels;   // g_binEntries
-layout(set = 1, binding = 20) uniform usamplerBuffer u_homogeneousTexels; // g_homogeneous, 12 each
-
-// Indirect dispatches written on the GPU, each a VkDispatchIndirectCommand padded to 16
-// bytes (x = count): k = 0, 1 dispatch the items of resume list k, the rows a raster
-// dispatch left unfinished, one workgroup each, u_push.groupsX to a row in x and the rest in
-// z (the fourth word counts them); DISPATCH_RASTER_BINS counts the current band's
-// blocks with a non-empty bin (listed in g_rasterBins from the band's first) for its raster
-// dispatch (y = BIN_SIZE / rows per workgroup); DISPATCH_BINNING counts the binning passes' workgroups of BINNING_GROUP_SIZE
-// triangles, so that they run for the triangles setup kept, not for every quad;
-// DISPATCH_BIN_OFFSETS counts the scan's offset step's workgroups of SCAN_GROUP_SIZE listed
-// blocks, so that it writes offsets only where some bin has an entry; DISPATCH_BAND_FILL is
-// DISPATCH_BINNING while a band has blocks, else empty. The band plan (bin_scan.comp, step
-// 3) writes DISPATCH_RASTER_BINS, DISPATCH_BIN_OFFSETS and DISPATCH_BAND_FILL for each band.
-// DRAW_COMPOSITE is a VkDrawIndirectCommand: the composite's quad (6 vertices) for each
-// listed block, counted by the scan.
-// Items of
-// resume list k start at k * g_counters.resumeItemCapacity (room for every row of the
-// frame): block * BIN_SIZE + row. Item i takes state slot i while there is one (below
-// resumeCapacity; the rows past them start over); slot s's pixel states are at
-// (k * resumeCapacity + s) * BIN_SIZE.
-layout(set = 1, binding = 21, std430) buffer DispatchBlock {
-    uint g_dispatch[DISPATCH_WORDS];
-    uint g_resumeItems[];
-};
-layout(set = 1, binding = 22, std430) buffer PixelStateBlock { ExactPixelState g_pixelStates[]; };
-// Coherent: the scan's first band plan reads what the scan's other invocations listed.
-layout(set = 1, binding = 23, std430) coherent buffer RasterBinBlock { uint g_rasterBins[]; };
-// The opaque depth pyramid (depth_pyramid.glsl). Coherent: the last workgroup of its build
-// reads what the others wrote.
-layout(set = 1, binding = 24, std430) coherent buffer DepthPyramidBlock { float g_depthPyramid[]; };
-layout(set = 1, binding = 25) uniform usamplerBuffer u_binCountTexels;  // g_binEnds, as counts
-layout(set = 1, binding = 26) uniform samplerBuffer u_depthPyramidTexels; // g_depthPyramid
-// Per block: the sum of its bins' counts, then its list offset (bin_scan.comp). Coherent: the
-// last workgroup of the sums scans what the others wrote.
-layout(set = 1, binding = 27, std430) coherent buffer BlockTotalBlock { uint g_blockTotals[]; };
-layout(set = 1, binding = 28) uniform usamplerBuffer u_blockTotalTexels;
+#include "interface_bins_set.glsl"
 
 layout(push_constant) uniform BinPushBlock { BinPush u_push; };
 

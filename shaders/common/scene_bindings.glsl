@@ -5,11 +5,7 @@
 #ifndef TRANSLUCID_SCENE_BINDINGS_GLSL
 #define TRANSLUCID_SCENE_BINDINGS_GLSL
 
-#include "interface_scene.glsl"
-
-layout(set = 0, binding = 0, std140) uniform FrameBlock { FrameInfo u_frame; };
-layout(set = 0, binding = 1, std430) readonly buffer DrawBlock { DrawInfo g_draws[]; };
-layout(set = 0, binding = 2, std430) readonly buffer MaterialBlock { Material g_materials[]; };
+#include "interface_scene_set.glsl"
 layout(set = 1, binding = 0) uniform sampler2D u_baseTexture;
 
 layout(push_constant) uniform PushBlock { uint drawIndex; } u_push;

@@ -3,10 +3,6 @@
 #ifndef TRANSLUCID_SCENE_BINDINGS_COMPUTE_GLSL
 #define TRANSLUCID_SCENE_BINDINGS_COMPUTE_GLSL
 
-#include "interface_scene.glsl"
-
-layout(set = 0, binding = 0, std140) uniform FrameBlock { FrameInfo u_frame; };
-layout(set = 0, binding = 1, std430) readonly buffer DrawBlock { DrawInfo g_draws[]; };
-layout(set = 0, binding = 2, std430) readonly buffer MaterialBlock { Material g_materials[]; };
+#include "interface_scene_set.glsl"
 
 #endif

@@ -14,9 +14,10 @@ pub use resident::ResidentAssets;
 pub use sampled::SampledViews;
 
 use crate::gpu::{
-    vk, BindingKind, Buffer, DepthMode, DescriptorLayout, DescriptorSet, Gpu, GpuImage,
-    GraphicsPipeline, GraphicsPipelineDesc, MemoryLocation, PipelineState, Resource,
+    vk, Buffer, DepthMode, DescriptorLayout, DescriptorSet, Gpu, GpuImage, GraphicsPipeline,
+    GraphicsPipelineDesc, MemoryLocation, PipelineState, Resource,
 };
+use crate::interface::scene::SCENE_SET;
 use crate::scene::{Scene, Texture};
 use crate::shader_types::{GpuDrawInfo, GpuFrameInfo, GpuVertex};
 use crate::Result;
@@ -86,10 +87,10 @@ impl SceneSlot {
             SCENE_STORAGE,
             MemoryLocation::CpuToGpu,
         )?;
-        let set = layout.create_set(&[
-            Resource::Buffer(&frame),
-            Resource::Buffer(&draws),
-            Resource::Buffer(materials),
+        let set = layout.create_named_set(&[
+            ("FrameBlock", Resource::Buffer(&frame)),
+            ("DrawBlock", Resource::Buffer(&draws)),
+            ("MaterialBlock", Resource::Buffer(materials)),
         ])?;
         Ok(Self {
             frame,
@@ -189,15 +190,7 @@ impl GpuScene {
         let stages = vk::ShaderStageFlags::VERTEX
             | vk::ShaderStageFlags::FRAGMENT
             | vk::ShaderStageFlags::COMPUTE;
-        let layout = DescriptorLayout::new(
-            gpu,
-            &[
-                BindingKind::UniformBuffer,
-                BindingKind::StorageBuffer,
-                BindingKind::StorageBuffer,
-            ],
-            stages,
-        )?;
+        let layout = DescriptorLayout::declared(gpu, &SCENE_SET, stages)?;
         // Room for twice the draws and at least FIRST_DRAWS: frames that draw more do not
         // grow every slot's buffer one after another.
         let draw_bytes = draw_room(gpu, scene.opaque.len() + scene.transparent.len())?;

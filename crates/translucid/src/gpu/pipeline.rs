@@ -2,6 +2,7 @@
 
 use super::error::vk_err;
 use super::{Buffer, Gpu};
+use crate::interface::{BindingType, SetDecl};
 use crate::{scene, Result};
 use ash::vk;
 use std::sync::Arc;
@@ -34,15 +35,31 @@ impl BindingKind {
     }
 }
 
+impl From<BindingType> for BindingKind {
+    fn from(ty: BindingType) -> Self {
+        match ty {
+            BindingType::Texels { .. } => Self::TexelBuffer,
+            BindingType::StorageTexels { .. } => Self::StorageTexelBuffer,
+            BindingType::Buffer { .. } => Self::StorageBuffer,
+            BindingType::Uniform { .. } => Self::UniformBuffer,
+            BindingType::Sampled { count, .. } => Self::SampledImages(count),
+            BindingType::StorageImage { .. } => Self::StorageImage,
+        }
+    }
+}
+
 /// A descriptor set layout; binding `i` is `kinds[i]`.
 pub struct DescriptorLayout {
     gpu: Gpu,
     pub raw: vk::DescriptorSetLayout,
     kinds: Vec<BindingKind>,
     stages: vk::ShaderStageFlags,
+    /// The shader interface's declaration of the set, for layouts made from one.
+    declaration: Option<&'static SetDecl>,
 }
 
 /// What to bind at one binding of a [`DescriptorSet`].
+#[derive(Clone)]
 pub enum Resource<'a> {
     Buffer(&'a Buffer),
     /// As much of a buffer as one storage binding holds, from its start: for a buffer the
@@ -85,7 +102,49 @@ impl DescriptorLayout {
             raw,
             kinds: kinds.to_vec(),
             stages,
+            declaration: None,
         })
+    }
+
+    /// The layout of a set the shader interface declares (`crate::interface`), whose sets are
+    /// then written by binding name ([`Self::create_named_set`]).
+    pub fn declared(
+        gpu: &Gpu,
+        declaration: &'static SetDecl,
+        stages: vk::ShaderStageFlags,
+    ) -> Result<Self> {
+        let kinds: Vec<BindingKind> = declaration.bindings.iter().map(|b| b.ty.into()).collect();
+        let mut layout = Self::new(gpu, &kinds, stages)?;
+        layout.declaration = Some(declaration);
+        Ok(layout)
+    }
+
+    /// Allocates a set of a declared layout and writes each `(name, resource)`: every binding
+    /// once, by the name the interface gives it. A name the interface does not declare, or a
+    /// binding left out or written twice, is a bug, and panics.
+    pub fn create_named_set(&self, resources: &[(&str, Resource<'_>)]) -> Result<DescriptorSet> {
+        self.create_set(&self.in_binding_order(resources))
+    }
+
+    /// `resources` by binding number.
+    fn in_binding_order<'a>(&self, resources: &[(&str, Resource<'a>)]) -> Vec<Resource<'a>> {
+        let declaration = self
+            .declaration
+            .expect("a layout the shader interface declares");
+        let mut ordered: Vec<Option<Resource<'a>>> = vec![None; declaration.bindings.len()];
+        for (name, resource) in resources {
+            let binding = declaration
+                .binding(name)
+                .unwrap_or_else(|| panic!("set {} declares no binding {name}", declaration.set));
+            let slot = &mut ordered[binding as usize];
+            assert!(slot.is_none(), "binding {name} written twice");
+            *slot = Some(resource.clone());
+        }
+        ordered
+            .into_iter()
+            .zip(declaration.bindings)
+            .map(|(r, b)| r.unwrap_or_else(|| panic!("binding {} left unwritten", b.name)))
+            .collect()
     }
 
     /// What makes two layouts interchangeable: Vulkan lets a set allocated with one be bound

@@ -1,7 +1,7 @@
 //! The bins and the rasters that read them: their buffers' records, counters and constants
 //! (`interface_bins.glsl`).
 
-use super::{Include, StructDecl};
+use super::{Binding, Include, SetDecl, StructDecl};
 
 shader_constants! {
     /// Blocks are BIN_SIZE x BIN_SIZE pixels; one workgroup rasterizes one block, one
@@ -359,6 +359,132 @@ pub fn include() -> Include {
         source: "bins.rs",
         constants: CONSTANTS,
         structs: STRUCTS,
+        sets: &[],
         needs: &[],
+    }
+}
+
+/// Set 1 of the bin stages and of the rasters that read them (set 0 is the scene's)
+/// (`interface_bins_set.glsl`). What the hot loops read comes through texel buffers: CPU
+/// drivers such as lavapipe fetch texels with straight-line vector loads, where a storage
+/// buffer load inside divergent control flow is a per-lane loop with a branch per component.
+/// Records are read texel by texel in field order (`methods::bins::layout`'s tests check the
+/// loaders' offsets).
+pub const BINS_SET: SetDecl = SetDecl {
+    set: 1,
+    bindings: &[
+        // The scene as the stages read it.
+        Binding::texels("u_vertexTexels", "usamplerBuffer").doc(&[
+            "The scene's vertices (GpuVertex, 3 texels each: position and normal.x, normal.yz",
+            "and uv, colour).",
+        ]),
+        Binding::texels("u_quadTexels", "usamplerBuffer"),
+        Binding::texels("u_drawTexels", "usamplerBuffer").doc(&["DrawInfo, 10 texels each."]),
+        Binding::texels("u_binDrawTexels", "usamplerBuffer").doc(&["BinDraw, 5 texels each."]),
+        Binding::texels("u_materialTexels", "usamplerBuffer").doc(&["Material, 3 texels each."]),
+        Binding::texels("u_textureInfoTexels", "usamplerBuffer")
+            .doc(&["BinTexture, 2 texels each."]),
+        Binding::texels("u_texels", "usamplerBuffer").doc(&["Every texture's texels, RGBA8."]),
+        Binding::texels("u_srgbToLinear", "samplerBuffer").doc(&["256 entries."]),
+        // The opaque layer.
+        Binding::sampled("u_opaqueDepth", "sampler2D", 1).doc(&[
+            "The opaque depth: the frame target's, or the engine's own depth image where it is",
+            "(any depth format, reversed-Z turned around by opaqueDepthAt).",
+        ]),
+        Binding::buffer("DepthPyramidBlock", "coherent", &["float g_depthPyramid[]"]).doc(&[
+            "The opaque depth pyramid (depth_pyramid.glsl). Coherent: the last workgroup of its",
+            "build reads what the others wrote.",
+        ]),
+        Binding::texels("u_depthPyramidTexels", "samplerBuffer").doc(&["g_depthPyramid."]),
+        // What setup makes of the triangles.
+        Binding::buffer("TriangleBlock", "", &["BinTriangleRecord g_triangles[]"]).doc(&[
+            "Triangle records and quad attribute records (interface_bins.glsl), read through",
+            "u_triangleTexels and u_attributeTexels. Setup writes them as storage buffers, as",
+            "far as one binding reaches, while they fit (faster on lavapipe than texel stores),",
+            "else through u_triangleRecords and u_attributeRecords (RECORDS_AS_TEXELS).",
+        ]),
+        Binding::buffer("AttributeBlock", "", &["uvec4 g_attributes[]"]),
+        Binding::storage_texels("u_triangleRecords", "rgba32ui", "writeonly", "uimageBuffer"),
+        Binding::storage_texels(
+            "u_attributeRecords",
+            "rgba32ui",
+            "writeonly",
+            "uimageBuffer",
+        ),
+        Binding::texels("u_triangleTexels", "usamplerBuffer").doc(&["4 texels each."]),
+        Binding::texels("u_attributeTexels", "usamplerBuffer"),
+        Binding::buffer("HomogeneousBlock", "", &["BinHomogeneous g_homogeneous[]"]),
+        Binding::texels("u_homogeneousTexels", "usamplerBuffer")
+            .doc(&["g_homogeneous, 12 texels each."]),
+        // The counters, the bins and their lists.
+        Binding::buffer("CounterBlock", "coherent", &["BinCounters g_counters"]).doc(&[
+            "Coherent: the last workgroup of a one-dispatch step (last_group.glsl) reads what",
+            "the others' atomics added.",
+        ]),
+        Binding::buffer("BinEndBlock", "", &["uint g_binEnds[]"]).doc(&[
+            "Per (bin, slab), at bin * SLABS + slab: bin_count counts the triangles of that part",
+            "of the bin's list here; the scan turns a band's counts into where each part starts,",
+            "in place (bin_scan.comp); bin_fill advances them as it appends, so that after",
+            "binning each is where its part ends and the next starts (binStart says where a",
+            "bin's list starts).",
+        ]),
+        Binding::texels("u_binCountTexels", "usamplerBuffer").doc(&["g_binEnds, as counts."]),
+        Binding::buffer("BlockTotalBlock", "coherent", &["uint g_blockTotals[]"]).doc(&[
+            "Per block: the sum of its bins' counts, then its list offset (bin_scan.comp).",
+            "Coherent: the last workgroup of the sums scans what the others wrote.",
+        ]),
+        Binding::texels("u_blockTotalTexels", "usamplerBuffer"),
+        Binding::buffer("BinEntryBlock", "", &["uint g_binEntries[]"]),
+        Binding::texels("u_binEntryTexels", "usamplerBuffer").doc(&["g_binEntries."]),
+        Binding::buffer("RasterBinBlock", "coherent", &["uint g_rasterBins[]"]).doc(&[
+            "The listed blocks (those with a non-empty bin), in order. Coherent: the scan's",
+            "first band plan reads what the scan's other invocations listed.",
+        ]),
+        Binding::buffer(
+            "DispatchBlock",
+            "",
+            &["uint g_dispatch[DISPATCH_WORDS]", "uint g_resumeItems[]"],
+        )
+        .doc(&[
+            "Indirect dispatches written on the GPU, each a VkDispatchIndirectCommand padded to",
+            "16 bytes (x = count): k = 0, 1 dispatch the items of resume list k, the rows a",
+            "raster dispatch left unfinished, one workgroup each, u_push.groupsX to a row in x",
+            "and the rest in z (the fourth word counts them); DISPATCH_RASTER_BINS counts the",
+            "current band's blocks with a non-empty bin (listed in g_rasterBins from the band's",
+            "first) for its raster dispatch (y = BIN_SIZE / rows per workgroup);",
+            "DISPATCH_BINNING counts the binning passes' workgroups of BINNING_GROUP_SIZE",
+            "triangles, so that they run for the triangles setup kept, not for every quad;",
+            "DISPATCH_BIN_OFFSETS counts the scan's offset step's workgroups of SCAN_GROUP_SIZE",
+            "listed blocks, so that it writes offsets only where some bin has an entry;",
+            "DISPATCH_BAND_FILL is DISPATCH_BINNING while a band has blocks, else empty. The",
+            "band plan (bin_scan.comp) writes DISPATCH_RASTER_BINS, DISPATCH_BIN_OFFSETS and",
+            "DISPATCH_BAND_FILL for each band. DRAW_COMPOSITE is a VkDrawIndirectCommand: the",
+            "composite's quad (6 vertices) for each listed block, counted by the scan.",
+            "Items of resume list k start at k * g_counters.resumeItemCapacity (room for every",
+            "row of the frame): block * BIN_SIZE + row. Item i takes state slot i while there",
+            "is one (below resumeCapacity; the rows past them start over); slot s's pixel",
+            "states are at (k * resumeCapacity + s) * BIN_SIZE.",
+        ]),
+        Binding::buffer("PixelStateBlock", "", &["ExactPixelState g_pixelStates[]"]),
+        // Where the rasters write.
+        Binding::image("u_colour", "rgba16f", "", "image2D").doc(&[
+            "The frame target's colour, which the rasters composite onto (standalone frames);",
+            "or, on an engine's device, what they leave for the composite pass to blend onto",
+            "the engine's colour where it is (transparent_layer.glsl), in two images (1x1 until",
+            "the first such frame).",
+        ]),
+        Binding::image("u_transparentLayer", "rg32ui", "writeonly", "uimage2D"),
+        Binding::image("u_transparentLayerStamps", "r32ui", "writeonly", "uimage2D"),
+    ],
+};
+
+pub fn set_include() -> Include {
+    Include {
+        file: "interface_bins_set.glsl",
+        source: "bins.rs",
+        constants: &[],
+        structs: &[],
+        sets: &[&BINS_SET],
+        needs: &["interface_scene.glsl", "interface_bins.glsl"],
     }
 }

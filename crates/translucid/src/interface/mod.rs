@@ -132,6 +132,128 @@ impl std::fmt::Display for ConstantValue {
     }
 }
 
+/// What kind of descriptor a binding is, with what its GLSL declaration needs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BindingType {
+    /// `uniform <glsl> <name>`: a uniform texel buffer (`usamplerBuffer`, `samplerBuffer`).
+    Texels { glsl: &'static str },
+    /// `layout(<format>) uniform <access> <glsl> <name>`: a storage texel buffer.
+    StorageTexels {
+        format: &'static str,
+        access: &'static str,
+        glsl: &'static str,
+    },
+    /// `layout(std430) <qualifiers> buffer <name> { <members> }`: a storage buffer.
+    Buffer {
+        qualifiers: &'static str,
+        members: &'static [&'static str],
+    },
+    /// `layout(std140) uniform <name> { <members> }`: a uniform buffer.
+    Uniform { members: &'static [&'static str] },
+    /// `uniform <glsl> <name>[count]`: combined image samplers.
+    Sampled { glsl: &'static str, count: u32 },
+    /// `layout(<format>) uniform <access> <glsl> <name>`: a storage image.
+    StorageImage {
+        format: &'static str,
+        access: &'static str,
+        glsl: &'static str,
+    },
+}
+
+/// One binding of a descriptor set: its number is its place in the set's list, and the host
+/// writes it by `name` (the GLSL variable, or the block's name for buffers).
+pub struct Binding {
+    pub name: &'static str,
+    pub ty: BindingType,
+    pub doc: &'static [&'static str],
+}
+
+impl Binding {
+    pub const fn texels(name: &'static str, glsl: &'static str) -> Self {
+        Self::new(name, BindingType::Texels { glsl })
+    }
+
+    pub const fn storage_texels(
+        name: &'static str,
+        format: &'static str,
+        access: &'static str,
+        glsl: &'static str,
+    ) -> Self {
+        Self::new(
+            name,
+            BindingType::StorageTexels {
+                format,
+                access,
+                glsl,
+            },
+        )
+    }
+
+    pub const fn buffer(
+        name: &'static str,
+        qualifiers: &'static str,
+        members: &'static [&'static str],
+    ) -> Self {
+        Self::new(
+            name,
+            BindingType::Buffer {
+                qualifiers,
+                members,
+            },
+        )
+    }
+
+    pub const fn uniform(name: &'static str, members: &'static [&'static str]) -> Self {
+        Self::new(name, BindingType::Uniform { members })
+    }
+
+    pub const fn sampled(name: &'static str, glsl: &'static str, count: u32) -> Self {
+        Self::new(name, BindingType::Sampled { glsl, count })
+    }
+
+    pub const fn image(
+        name: &'static str,
+        format: &'static str,
+        access: &'static str,
+        glsl: &'static str,
+    ) -> Self {
+        Self::new(
+            name,
+            BindingType::StorageImage {
+                format,
+                access,
+                glsl,
+            },
+        )
+    }
+
+    const fn new(name: &'static str, ty: BindingType) -> Self {
+        Self { name, ty, doc: &[] }
+    }
+
+    /// The same, with comment lines for the GLSL.
+    pub const fn doc(self, doc: &'static [&'static str]) -> Self {
+        Self { doc, ..self }
+    }
+}
+
+/// A descriptor set both sides use.
+pub struct SetDecl {
+    /// The set's number in the pipeline layouts that use it.
+    pub set: u32,
+    pub bindings: &'static [Binding],
+}
+
+impl SetDecl {
+    /// The binding the host writes as `name`.
+    pub fn binding(&self, name: &str) -> Option<u32> {
+        self.bindings
+            .iter()
+            .position(|b| b.name == name)
+            .map(|i| i as u32)
+    }
+}
+
 /// One generated include: what it declares, in order.
 pub struct Include {
     /// File name under `$OUT_DIR/interface/`.
@@ -140,13 +262,20 @@ pub struct Include {
     pub source: &'static str,
     pub constants: &'static [Constant],
     pub structs: &'static [&'static StructDecl],
+    pub sets: &'static [&'static SetDecl],
     /// Includes it needs first.
     pub needs: &'static [&'static str],
 }
 
 /// Every generated include.
 pub fn includes() -> Vec<Include> {
-    vec![scene::include(), raster::include(), bins::include()]
+    vec![
+        scene::include(),
+        scene::set_include(),
+        raster::include(),
+        bins::include(),
+        bins::set_include(),
+    ]
 }
 
 /// `first_texel` as `firstTexel`.
@@ -218,8 +347,74 @@ pub fn glsl(include: &Include) -> String {
         }
         out.push_str("};\n");
     }
+    for set in include.sets {
+        for (i, b) in set.bindings.iter().enumerate() {
+            out.push('\n');
+            comment(&mut out, "", b.doc);
+            out.push_str(&binding_glsl(set.set, i, b));
+        }
+    }
     out.push_str("\n#endif\n");
     out
+}
+
+/// A block's members, a line each.
+fn block(members: &[&str]) -> String {
+    members.iter().map(|m| format!("    {m};\n")).collect()
+}
+
+/// The GLSL declaration of binding `number` of set `set`.
+fn binding_glsl(set: u32, number: usize, b: &Binding) -> String {
+    let at = format!("set = {set}, binding = {number}");
+    let name = b.name;
+    match b.ty {
+        BindingType::Texels { glsl } => format!("layout({at}) uniform {glsl} {name};\n"),
+        BindingType::StorageTexels {
+            format,
+            access,
+            glsl,
+        }
+        | BindingType::StorageImage {
+            format,
+            access,
+            glsl,
+        } => {
+            let access = if access.is_empty() {
+                String::new()
+            } else {
+                format!("{access} ")
+            };
+            format!("layout({at}, {format}) uniform {access}{glsl} {name};\n")
+        }
+        BindingType::Buffer {
+            qualifiers,
+            members,
+        } => {
+            let qualifiers = if qualifiers.is_empty() {
+                String::new()
+            } else {
+                format!("{qualifiers} ")
+            };
+            format!(
+                "layout({at}, std430) {qualifiers}buffer {name} {{\n{}}};\n",
+                block(members)
+            )
+        }
+        BindingType::Uniform { members } => {
+            format!(
+                "layout({at}, std140) uniform {name} {{\n{}}};\n",
+                block(members)
+            )
+        }
+        BindingType::Sampled { glsl, count } => {
+            let array = if count > 1 {
+                format!("[{count}]")
+            } else {
+                String::new()
+            };
+            format!("layout({at}) uniform {glsl} {name}{array};\n")
+        }
+    }
 }
 
 /// Declares a `#[repr(C)]` struct shared with the shaders, with its GLSL twin's description

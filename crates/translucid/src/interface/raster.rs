@@ -20,6 +20,7 @@ pub fn include() -> Include {
         source: "raster.rs",
         constants: CONSTANTS,
         structs: STRUCTS,
+        sets: &[],
         needs: &[],
     }
 }

@@ -1,7 +1,7 @@
 //! The scene as every pipeline reads it: materials, draws and the frame's constants
 //! (`interface_scene.glsl`).
 
-use super::{Include, StructDecl};
+use super::{Binding, Include, SetDecl, StructDecl};
 
 shader_constants! {
     /// `Material.flags`: the material is lit by the frame's light.
@@ -74,6 +74,29 @@ pub fn include() -> Include {
         source: "scene.rs",
         constants: CONSTANTS,
         structs: STRUCTS,
+        sets: &[],
         needs: &[],
+    }
+}
+
+/// Set 0 of every pipeline that reads the scene: the frame's constants, its draws and the
+/// materials (`interface_scene_set.glsl`).
+pub const SCENE_SET: SetDecl = SetDecl {
+    set: 0,
+    bindings: &[
+        Binding::uniform("FrameBlock", &["FrameInfo u_frame"]),
+        Binding::buffer("DrawBlock", "readonly", &["DrawInfo g_draws[]"]),
+        Binding::buffer("MaterialBlock", "readonly", &["Material g_materials[]"]),
+    ],
+};
+
+pub fn set_include() -> Include {
+    Include {
+        file: "interface_scene_set.glsl",
+        source: "scene.rs",
+        constants: &[],
+        structs: &[],
+        sets: &[&SCENE_SET],
+        needs: &["interface_scene.glsl"],
     }
 }

@@ -10,10 +10,10 @@ use crate::assets::ResidentAssets;
 use crate::assets::{GpuScene, SampledViews};
 use crate::frame::FrameTargets;
 use crate::gpu::{
-    image_barrier, memory_barrier, vk, BindingKind, Buffer, BufferView, DescriptorLayout,
-    DescriptorSet, Gpu, GpuImage, MemoryLocation, Resource, Retirement, Sampler,
-    ViewedBuffer as Viewed,
+    image_barrier, memory_barrier, vk, Buffer, BufferView, DescriptorLayout, DescriptorSet, Gpu,
+    GpuImage, MemoryLocation, Resource, Retirement, Sampler, ViewedBuffer as Viewed,
 };
+use crate::interface::bins::BINS_SET;
 use crate::raster::model_view_projection;
 use crate::scene::Scene;
 use crate::{Error, Result};
@@ -478,44 +478,7 @@ impl Resources {
             MemoryLocation::GpuOnly,
         )?;
 
-        let layout = DescriptorLayout::new(
-            gpu,
-            &[
-                BindingKind::TexelBuffer,        // 0 vertices
-                BindingKind::TexelBuffer,        // 1 quads
-                BindingKind::TexelBuffer,        // 2 bin draws
-                BindingKind::StorageTexelBuffer, // 3 triangles
-                BindingKind::StorageBuffer,      // 4 homogeneous
-                BindingKind::StorageBuffer,      // 5 counters
-                BindingKind::StorageBuffer,      // 6 bin list ends
-                BindingKind::StorageBuffer,      // 7 attributes, as far as a binding reaches
-                BindingKind::TexelBuffer,        // 8 draws
-                BindingKind::StorageBuffer,      // 9 bin entries
-                BindingKind::StorageTexelBuffer, // 10 attributes
-                BindingKind::SampledImages(1),   // 11 opaque depth
-                BindingKind::StorageImage,       // 12 colour
-                BindingKind::TexelBuffer,        // 13 triangles
-                BindingKind::TexelBuffer,        // 14 attributes
-                BindingKind::TexelBuffer,        // 15 materials
-                BindingKind::TexelBuffer,        // 16 texture infos
-                BindingKind::TexelBuffer,        // 17 texels
-                BindingKind::TexelBuffer,        // 18 sRGB table
-                BindingKind::TexelBuffer,        // 19 bin entries
-                BindingKind::TexelBuffer,        // 20 homogeneous
-                BindingKind::StorageBuffer,      // 21 resume lists
-                BindingKind::StorageBuffer,      // 22 pixel states
-                BindingKind::StorageBuffer,      // 23 non-empty bins
-                BindingKind::StorageBuffer,      // 24 opaque depth pyramid
-                BindingKind::TexelBuffer,        // 25 bin list ends (counts)
-                BindingKind::TexelBuffer,        // 26 opaque depth pyramid
-                BindingKind::StorageBuffer,      // 27 block totals
-                BindingKind::TexelBuffer,        // 28 block totals
-                BindingKind::StorageBuffer,      // 29 triangles, as far as a binding reaches
-                BindingKind::StorageImage,       // 30 transparent layer
-                BindingKind::StorageImage,       // 31 transparent layer stamps
-            ],
-            vk::ShaderStageFlags::COMPUTE,
-        )?;
+        let layout = DescriptorLayout::declared(gpu, &BINS_SET, vk::ShaderStageFlags::COMPUTE)?;
         let mut resources = Self {
             capacities,
             layout,
@@ -662,43 +625,65 @@ impl Resources {
         let [vertices, quads, materials] = self.asset_views;
         let SampledViews {
             records: texture_records,
-            texels,
+            texels: texels_view,
             srgb,
             ..
         } = self.sampled;
-        self.layout.create_set(&[
-            Resource::TexelBuffer(vertices),
-            Resource::TexelBuffer(quads),
-            Resource::TexelBuffer(draws.raw),
-            Resource::TexelBuffer(g.triangles.view.raw),
-            Resource::Buffer(&g.homogeneous.buffer),
-            Resource::Buffer(&self.counters),
-            Resource::Buffer(&self.bins.ends.buffer),
-            Resource::BufferPrefix(&g.attributes.buffer),
-            Resource::TexelBuffer(scene_draws.raw),
-            Resource::Buffer(&g.bin_entries.buffer),
-            Resource::TexelBuffer(g.attributes.view.raw),
-            Resource::Images(&[depth], self.depth_sampler.raw),
-            Resource::StorageImage(self.target_colour),
-            Resource::TexelBuffer(g.triangles.view.raw),
-            Resource::TexelBuffer(g.attributes.view.raw),
-            Resource::TexelBuffer(materials),
-            Resource::TexelBuffer(texture_records),
-            Resource::TexelBuffer(texels),
-            Resource::TexelBuffer(srgb),
-            Resource::TexelBuffer(g.bin_entries.view.raw),
-            Resource::TexelBuffer(g.homogeneous.view.raw),
-            Resource::Buffer(&g.resume),
-            Resource::Buffer(&g.pixel_states),
-            Resource::Buffer(&self.raster_bins),
-            Resource::Buffer(&self.depth_pyramid.buffer),
-            Resource::TexelBuffer(self.bins.ends.view.raw),
-            Resource::TexelBuffer(self.depth_pyramid.view.raw),
-            Resource::Buffer(&self.bins.block_totals.buffer),
-            Resource::TexelBuffer(self.bins.block_totals.view.raw),
-            Resource::BufferPrefix(&g.triangles.buffer),
-            Resource::StorageImage(self.transparent_layer[0].view),
-            Resource::StorageImage(self.transparent_layer[1].view),
+        let texels = |view: vk::BufferView| Resource::TexelBuffer(view);
+        self.layout.create_named_set(&[
+            ("u_vertexTexels", texels(vertices)),
+            ("u_quadTexels", texels(quads)),
+            ("u_drawTexels", texels(scene_draws.raw)),
+            ("u_binDrawTexels", texels(draws.raw)),
+            ("u_materialTexels", texels(materials)),
+            ("u_textureInfoTexels", texels(texture_records)),
+            ("u_texels", texels(texels_view)),
+            ("u_srgbToLinear", texels(srgb)),
+            (
+                "u_opaqueDepth",
+                Resource::Images(&[depth], self.depth_sampler.raw),
+            ),
+            (
+                "DepthPyramidBlock",
+                Resource::Buffer(&self.depth_pyramid.buffer),
+            ),
+            ("u_depthPyramidTexels", texels(self.depth_pyramid.view.raw)),
+            ("TriangleBlock", Resource::BufferPrefix(&g.triangles.buffer)),
+            (
+                "AttributeBlock",
+                Resource::BufferPrefix(&g.attributes.buffer),
+            ),
+            ("u_triangleRecords", texels(g.triangles.view.raw)),
+            ("u_attributeRecords", texels(g.attributes.view.raw)),
+            ("u_triangleTexels", texels(g.triangles.view.raw)),
+            ("u_attributeTexels", texels(g.attributes.view.raw)),
+            ("HomogeneousBlock", Resource::Buffer(&g.homogeneous.buffer)),
+            ("u_homogeneousTexels", texels(g.homogeneous.view.raw)),
+            ("CounterBlock", Resource::Buffer(&self.counters)),
+            ("BinEndBlock", Resource::Buffer(&self.bins.ends.buffer)),
+            ("u_binCountTexels", texels(self.bins.ends.view.raw)),
+            (
+                "BlockTotalBlock",
+                Resource::Buffer(&self.bins.block_totals.buffer),
+            ),
+            (
+                "u_blockTotalTexels",
+                texels(self.bins.block_totals.view.raw),
+            ),
+            ("BinEntryBlock", Resource::Buffer(&g.bin_entries.buffer)),
+            ("u_binEntryTexels", texels(g.bin_entries.view.raw)),
+            ("RasterBinBlock", Resource::Buffer(&self.raster_bins)),
+            ("DispatchBlock", Resource::Buffer(&g.resume)),
+            ("PixelStateBlock", Resource::Buffer(&g.pixel_states)),
+            ("u_colour", Resource::StorageImage(self.target_colour)),
+            (
+                "u_transparentLayer",
+                Resource::StorageImage(self.transparent_layer[0].view),
+            ),
+            (
+                "u_transparentLayerStamps",
+                Resource::StorageImage(self.transparent_layer[1].view),
+            ),
         ])
     }
 
