@@ -27,7 +27,7 @@
 
 layout(local_size_x = SCAN_GROUP_SIZE) in;
 
-layout(constant_id = 0) const uint SCAN_STEP = 0u;
+#include "interface_specialization.glsl"
 
 const uint BINS_PER_BLOCK = BIN_SIZE * SLABS;
 

@@ -23,7 +23,7 @@ layout(local_size_x = BINNING_GROUP_SIZE) in;
 // run on CPU drivers, so the host leaves it out when no mesh can need it; a triangle that
 // needs it anyway is only counted, and the host rebuilds this shader and the raster with
 // the path and renders the frame again.
-layout(constant_id = 0) const bool HOMOGENEOUS_PATH = true;
+#include "interface_specialization.glsl"
 // What shading can read of an attribute record is constants 1 to 3, 9 and 10, shared with
 // the rasters (quad_attributes.glsl): setup stores only those sections. Its stores are most
 // of its time, since a storage-buffer store is a loop over the lanes for every 32-bit
@@ -31,7 +31,6 @@ layout(constant_id = 0) const bool HOMOGENEOUS_PATH = true;
 // Setup without the occlusion cull (and without the depth pyramid it reads), which the host
 // records while the cull drops next to nothing: on CPU drivers the pyramid costs about a
 // millisecond a frame (methods/bins/mod.rs). The raster depth-tests every fragment anyway.
-layout(constant_id = 4) const bool SKIP_OCCLUSION_CULL = false;
 
 // The transparent draw holding global quad `item` (draws are sorted by firstItem).
 uint findDraw(uint item) {
@@ -250,7 +249,6 @@ Corner loadCorner(uint v) {
 // binding reaches, while they fit (faster on lavapipe than texel stores), else through
 // u_triangleRecords and u_attributeRecords (RECORDS_AS_TEXELS, set by the host from the
 // records' size).
-layout(constant_id = 12) const bool RECORDS_AS_TEXELS = false;
 
 // Record ti (BinTriangleRecord), whose order key is ti: through texels, one per 16 bytes of
 // its std430 layout, or field by field.

@@ -14,10 +14,7 @@
 // both sides of a divergent `if` under a mask, so code a scene cannot reach still costs on
 // every fragment there; constants compile it away. The host sets them from the scene and
 // falls back to the full shader if setup ever reports a triangle the constants excluded.
-// Constants 1 to 3, 9 and 10 (what a quad's attributes hold) are in quad_attributes.glsl.
-layout(constant_id = 0) const bool HOMOGENEOUS_PATH = true;  // near-plane / guard-band triangles
-// (Constants 4 to 7 are the raster's own: raster.comp and bin_lists.glsl.)
-layout(constant_id = 8) const bool TRANSMISSION = true;      // some material transmits light
+#include "interface_specialization.glsl"
 
 // A triangle's attributes at its three corners, as shading interpolates them.
 struct ShadingAttributes {

@@ -19,7 +19,7 @@
 // specialization constant of the binning and raster stages) for pixels expected or found
 // deep, about one slab for every few fragments of a pixel (features.rs), so that a slab's
 // part of a pixel's fragments fits its selection.
-layout(constant_id = 6) const uint SLAB_BITS = 0u;
+#include "interface_specialization.glsl"
 const uint SLABS = 1u << SLAB_BITS;
 
 // The bins a non-empty pixel rectangle touches: inclusive block columns (x, z) and pixel
@@ -70,7 +70,6 @@ ivec2 sliceRows(ivec4 r) {
 // the lanes idle instead, so shallow frames keep one. The host sets DEEP_BINNING_LANES to
 // BIN_SIZE, or 1 for frames so large that BIN_SIZE lanes a triangle would pass 65535
 // workgroups in x (deep_binning_lanes in features.rs).
-layout(constant_id = 11) const uint DEEP_BINNING_LANES = 1u;
 const uint ROW_LANES = SLABS > 1u ? DEEP_BINNING_LANES : 1u;
 
 // The triangle record a binning invocation bins, and the first of its rows (of every

@@ -24,7 +24,7 @@
 layout(set = LIST_SET, binding = 0, std430) buffer HeadBlock { uint g_heads[]; };
 layout(set = LIST_SET, binding = 1, std430) buffer NodeBlock { uint g_nodes[]; };
 layout(set = LIST_SET, binding = 3, r32ui) uniform uimageBuffer u_nodeTexels;
-layout(constant_id = 0) const bool NODES_AS_TEXELS = false;
+#include "interface_specialization.glsl"
 // Fragments that asked for a node (all of them: past `capacity`, the rest found none), the
 // nodes the pool holds, and the frame's size in pixels (heads are rows of its width).
 layout(set = LIST_SET, binding = 2, std430) buffer ListCounters {

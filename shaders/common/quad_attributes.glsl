@@ -10,12 +10,7 @@
 
 // What shading can read, fixed when the pipeline is made (constant ids shared by setup and
 // the rasters; methods/bins/features.rs sets them from the frame's draws).
-layout(constant_id = 1) const bool TEXTURES = true;          // some material has a texture
-layout(constant_id = 2) const bool VERTEX_NORMALS = true;    // some lit draw has vertex normals
-layout(constant_id = 3) const bool FACE_NORMALS = true;      // some lit draw has none
-layout(constant_id = 9) const bool VERTEX_COLOURS = true;    // some mesh has vertex colours
-// Every quad has one colour at all its corners: records keep one colour per quad.
-layout(constant_id = 10) const bool FLAT_COLOURS = false;
+#include "interface_specialization.glsl"
 
 int colourTexels() {
     return VERTEX_COLOURS ? (FLAT_COLOURS ? FLAT_COLOUR_TEXELS : COLOUR_TEXELS) : 0;

@@ -33,12 +33,10 @@
 #include "texture_sampler.glsl"
 #include "shading.glsl"
 #include "bin_fragment.glsl"
-// After the exact raster's constants 0 to 11, which the host passes unchanged.
-#define WAVELET_CONSTANT_ID 12
 #include "wavelet.glsl"
 
-// As raster.comp: gl_WorkGroupSize.y rows of a block per workgroup (constant 7).
-layout(local_size_x = BIN_SIZE, local_size_y_id = 7) in;
+// As raster.comp: gl_WorkGroupSize.y rows of a block per workgroup (RASTER_ROWS).
+layout(local_size_x = BIN_SIZE, local_size_y_id = RASTER_ROWS_ID) in;
 
 // Fragments a pixel keeps from walk 1 for the short form of walks 2 and 3.
 const int KEPT = 8;

@@ -55,17 +55,15 @@
 
 // The first dispatch of a band covers the rows of the band's blocks with a non-empty bin
 // (g_rasterBins from g_counters.bandFirst; blocks with none keep the opaque colour):
-// gl_WorkGroupSize.y rows per workgroup (constant 7: BIN_SIZE or 1),
+// gl_WorkGroupSize.y rows per workgroup (RASTER_ROWS: BIN_SIZE or 1),
 // BIN_SIZE / gl_WorkGroupSize.y workgroups down each block. Continuations have one workgroup
 // per resumed row.
-layout(local_size_x = BIN_SIZE, local_size_y_id = 7) in;
+layout(local_size_x = BIN_SIZE, local_size_y_id = RASTER_ROWS_ID) in;
 
-// Constants 0 to 3 say what the scene needs (bin_fragment.glsl).
-layout(constant_id = 4) const bool CONTINUATION = false;     // resume items of a resume list
+// CONTINUATION: this dispatch resumes the items of a resume list.
 // Fragments a pixel keeps. Larger means fewer sweeps for deep pixels, but a longer insertion
 // for every triangle walked: the host starts at 8 and moves to DEEP_SELECT_SIZE
 // (features.rs) when pixels needed several sweeps.
-layout(constant_id = 5) const int SELECT_SIZE = 8;
 
 // A fragment's rank as one number: view depth bits (positive floats order like their bits),
 // then the order key. One 64-bit compare instead of three 32-bit ones in the insertion.

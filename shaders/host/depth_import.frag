@@ -3,11 +3,11 @@
 // target (D32_SFLOAT, 0 near, 1 far): reversed-Z turned around, other formats widened. One
 // full-screen triangle, depth written always, no colour.
 
-layout(constant_id = 0) const bool REVERSED = false;
+#include "interface_specialization.glsl"
 
 layout(set = 0, binding = 0) uniform sampler2D u_engineDepth;
 
 void main() {
     float depth = texelFetch(u_engineDepth, ivec2(gl_FragCoord.xy), 0).x;
-    gl_FragDepth = REVERSED ? 1.0 - depth : depth;
+    gl_FragDepth = IMPORTED_DEPTH_REVERSED ? 1.0 - depth : depth;
 }

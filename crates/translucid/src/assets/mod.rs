@@ -18,6 +18,7 @@ use crate::gpu::{
     GraphicsPipelineDesc, MemoryLocation, PipelineState, Resource,
 };
 use crate::interface::scene::SCENE_SET;
+use crate::interface::specialization::Specialization;
 use crate::scene::{Scene, Texture};
 use crate::shader_types::{GpuDrawInfo, GpuFrameInfo, GpuVertex};
 use crate::Result;
@@ -399,7 +400,7 @@ impl GpuScene {
             &PipelineState {
                 blends: &[blend],
                 depth: DepthMode::Less(depth_write),
-                fragment_constants: &[],
+                fragment_constants: &Specialization::NONE,
                 vertex_input: true,
             },
         )

@@ -12,6 +12,7 @@ use super::{
     DescriptorLayout, DescriptorSet, Gpu, GpuImage, GraphicsPipeline, HostImage, Load,
     PipelineState, Resource, Sampler,
 };
+use crate::interface::specialization::{Specialization, IMPORTED_DEPTH_REVERSED};
 use crate::Result;
 use ash::vk;
 use ash::vk::ImageLayout as L;
@@ -82,7 +83,8 @@ impl DepthImport {
                 &PipelineState {
                     blends: &[],
                     depth: DepthMode::WriteAlways,
-                    fragment_constants: &[u32::from(reversed)],
+                    fragment_constants: &Specialization::new()
+                        .with(IMPORTED_DEPTH_REVERSED, reversed),
                     vertex_input: false,
                 },
             )

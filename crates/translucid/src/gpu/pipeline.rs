@@ -2,6 +2,7 @@
 
 use super::error::vk_err;
 use super::{Buffer, Gpu};
+use crate::interface::specialization::Specialization;
 use crate::interface::{BindingType, SetDecl};
 use crate::{scene, Result};
 use ash::vk;
@@ -418,17 +419,17 @@ impl ComputePipeline {
         sets: &[&DescriptorLayout],
         push_bytes: u32,
     ) -> Result<Self> {
-        Self::specialized(gpu, spirv, sets, push_bytes, &[])
+        Self::specialized(gpu, spirv, sets, push_bytes, &Specialization::NONE)
     }
 
-    /// A pipeline whose specialization constants `constant_id = i` take `constants[i]`
-    /// (32-bit values; booleans are 0 or 1).
+    /// A pipeline with the specialization constants `constants` sets (the others keep the
+    /// shader's defaults).
     pub fn specialized(
         gpu: &Gpu,
         spirv: &[u8],
         sets: &[&DescriptorLayout],
         push_bytes: u32,
-        constants: &[u32],
+        constants: &Specialization,
     ) -> Result<Self> {
         let layout = pipeline_layout(gpu, sets, push_bytes, vk::ShaderStageFlags::COMPUTE)?;
         let module = match shader_module(gpu, spirv) {
@@ -439,14 +440,7 @@ impl ComputePipeline {
                 return Err(e);
             }
         };
-        let entries: Vec<vk::SpecializationMapEntry> = (0..constants.len() as u32)
-            .map(|i| vk::SpecializationMapEntry {
-                constant_id: i,
-                offset: i * 4,
-                size: 4,
-            })
-            .collect();
-        let data: Vec<u8> = constants.iter().flat_map(|c| c.to_ne_bytes()).collect();
+        let (entries, data) = specialization_entries(constants);
         let specialization = vk::SpecializationInfo::default()
             .map_entries(&entries)
             .data(&data);
@@ -626,14 +620,14 @@ pub enum DepthMode {
 }
 
 /// What [`GraphicsPipeline::with_state`] varies beyond [`GraphicsPipelineDesc`]: one blend
-/// per colour attachment, the depth mode, the fragment shader's specialization constants
-/// (`constant_id = i` takes `fragment_constants[i]`), and whether there is vertex input at
+/// per colour attachment, the depth mode, the fragment shader's specialization constants, and
+/// whether there is vertex input at
 /// all (full-screen passes have none). The desc's `blend` and `depth_write` are ignored.
 #[derive(Clone, Copy)]
 pub struct PipelineState<'a> {
     pub blends: &'a [Blend],
     pub depth: DepthMode,
-    pub fragment_constants: &'a [u32],
+    pub fragment_constants: &'a Specialization,
     pub vertex_input: bool,
 }
 
@@ -666,7 +660,7 @@ pub(crate) struct GraphicsKey {
     cull_back: bool,
     blends: Vec<Blend>,
     depth: DepthMode,
-    fragment_constants: Vec<u32>,
+    fragment_constants: Specialization,
     vertex_input: bool,
     render_pass: Vec<i64>,
     sets: Vec<(Vec<BindingKind>, u32)>,
@@ -722,7 +716,7 @@ impl GraphicsPipeline {
             &PipelineState {
                 blends: &[desc.blend],
                 depth: DepthMode::Less(desc.depth_write),
-                fragment_constants: &[],
+                fragment_constants: &Specialization::NONE,
                 vertex_input: true,
             },
         )
@@ -757,7 +751,7 @@ impl GraphicsPipeline {
             cull_back: desc.cull_back,
             blends: state.blends.to_vec(),
             depth: state.depth,
-            fragment_constants: state.fragment_constants.to_vec(),
+            fragment_constants: state.fragment_constants.clone(),
             vertex_input: state.vertex_input,
             render_pass,
             sets: layout_definitions(desc.sets),
@@ -803,18 +797,7 @@ impl GraphicsPipeline {
                 }
             }
         }
-        let entries: Vec<vk::SpecializationMapEntry> = (0..state.fragment_constants.len() as u32)
-            .map(|i| vk::SpecializationMapEntry {
-                constant_id: i,
-                offset: i * 4,
-                size: 4,
-            })
-            .collect();
-        let data: Vec<u8> = state
-            .fragment_constants
-            .iter()
-            .flat_map(|c| c.to_ne_bytes())
-            .collect();
+        let (entries, data) = specialization_entries(state.fragment_constants);
         let specialization = vk::SpecializationInfo::default()
             .map_entries(&entries)
             .data(&data);
@@ -1222,4 +1205,21 @@ impl Gpu {
                 .cmd_draw_indexed(cmd, index_count, 1, first_index, vertex_offset, 0)
         };
     }
+}
+
+/// Vulkan's map entries and data for `constants`: a 32-bit word each.
+fn specialization_entries(
+    constants: &Specialization,
+) -> (Vec<vk::SpecializationMapEntry>, Vec<u8>) {
+    let words = constants.words();
+    let entries = (0..words.len() as u32)
+        .zip(words)
+        .map(|(i, &(id, _))| vk::SpecializationMapEntry {
+            constant_id: id,
+            offset: i * 4,
+            size: 4,
+        })
+        .collect();
+    let data = words.iter().flat_map(|&(_, w)| w.to_ne_bytes()).collect();
+    (entries, data)
 }

@@ -5,6 +5,7 @@
 #![deny(unsafe_code)]
 
 use super::{BindingKind, ComputePipeline, DescriptorLayout, Gpu};
+use crate::interface::specialization::Specialization;
 use crate::Result;
 use ash::vk;
 use std::collections::HashMap;
@@ -20,11 +21,11 @@ pub struct ComputePipelineCache {
 }
 
 /// A shader by its SPIR-V (length and a hash of the words: the same shader may be reached
-/// through different addresses), and its constants in `constant_id` order.
+/// through different addresses), and its constants.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 struct Key {
     spirv: (usize, u64),
-    constants: Vec<u32>,
+    constants: Specialization,
 }
 
 /// A pipeline as the device knows it: the shader and constants, and the definitions of the
@@ -79,18 +80,18 @@ impl ComputePipelineCache {
         }
     }
 
-    /// The pipeline of `spirv` with `constants` (constant_id i = constants[i]): this cache's,
+    /// The pipeline of `spirv` with `constants`: this cache's,
     /// else one another renderer on the device holds, else built now.
     pub fn get(
         &mut self,
         gpu: &Gpu,
         layouts: &[&DescriptorLayout],
         spirv: &'static [u8],
-        constants: &[u32],
+        constants: &Specialization,
     ) -> Result<Arc<ComputePipeline>> {
         let key = Key {
             spirv: (spirv.len(), spirv_hash(spirv)),
-            constants: constants.to_vec(),
+            constants: constants.clone(),
         };
         if let Some(p) = self.built.get(&key) {
             return Ok(p.clone());

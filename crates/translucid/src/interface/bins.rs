@@ -360,6 +360,7 @@ pub fn include() -> Include {
         constants: CONSTANTS,
         structs: STRUCTS,
         sets: &[],
+        more: None,
         needs: &[],
     }
 }
@@ -485,6 +486,7 @@ pub fn set_include() -> Include {
         constants: &[],
         structs: &[],
         sets: &[&BINS_SET],
+        more: None,
         needs: &["interface_scene.glsl", "interface_bins.glsl"],
     }
 }

@@ -263,6 +263,8 @@ pub struct Include {
     pub constants: &'static [Constant],
     pub structs: &'static [&'static StructDecl],
     pub sets: &'static [&'static SetDecl],
+    /// Declarations the module writes itself (the specialization constants).
+    pub more: Option<fn() -> String>,
     /// Includes it needs first.
     pub needs: &'static [&'static str],
 }
@@ -275,6 +277,7 @@ pub fn includes() -> Vec<Include> {
         raster::include(),
         bins::include(),
         bins::set_include(),
+        specialization::include(),
     ]
 }
 
@@ -346,6 +349,9 @@ pub fn glsl(include: &Include) -> String {
             ));
         }
         out.push_str("};\n");
+    }
+    if let Some(more) = include.more {
+        out.push_str(&more());
     }
     for set in include.sets {
         for (i, b) in set.bindings.iter().enumerate() {
@@ -534,6 +540,7 @@ macro_rules! shader_constants {
 pub mod bins;
 pub mod raster;
 pub mod scene;
+pub mod specialization;
 
 #[cfg(test)]
 mod tests {

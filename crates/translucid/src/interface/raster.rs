@@ -21,6 +21,7 @@ pub fn include() -> Include {
         constants: CONSTANTS,
         structs: STRUCTS,
         sets: &[],
+        more: None,
         needs: &[],
     }
 }

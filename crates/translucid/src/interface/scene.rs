@@ -75,6 +75,7 @@ pub fn include() -> Include {
         constants: CONSTANTS,
         structs: STRUCTS,
         sets: &[],
+        more: None,
         needs: &[],
     }
 }
@@ -97,6 +98,7 @@ pub fn set_include() -> Include {
         constants: &[],
         structs: &[],
         sets: &[&SCENE_SET],
+        more: None,
         needs: &["interface_scene.glsl"],
     }
 }

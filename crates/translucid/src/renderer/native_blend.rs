@@ -12,6 +12,7 @@ use crate::assets::{GpuScene, MeshStages};
 use crate::gpu::{
     vk, Blend, DepthMode, EnginePass, Gpu, GraphicsPipeline, HostTargets, PipelineState,
 };
+use crate::interface::specialization::Specialization;
 use crate::{Error, Result};
 use std::sync::Arc;
 
@@ -62,7 +63,7 @@ impl EngineBlendPass {
                 &PipelineState {
                     blends: &[Blend::PremultipliedTransmittance],
                     depth,
-                    fragment_constants: &[],
+                    fragment_constants: &Specialization::NONE,
                     vertex_input: true,
                 },
             )

@@ -9,6 +9,7 @@ use crate::gpu::{
     vk, BindingKind, Blend, Buffer, DepthMode, DescriptorLayout, DescriptorSet, EnginePass, Gpu,
     GpuImage, GraphicsPipeline, GraphicsPipelineDesc, HostImage, PipelineState, Resource,
 };
+use crate::interface::specialization::Specialization;
 use crate::Result;
 use bytemuck::{Pod, Zeroable};
 use std::sync::Arc;
@@ -124,7 +125,7 @@ impl Composite {
             &PipelineState {
                 blends: &[Blend::PremultipliedTransmittance],
                 depth: DepthMode::Off,
-                fragment_constants: &[],
+                fragment_constants: &Specialization::NONE,
                 vertex_input: false,
             },
         )

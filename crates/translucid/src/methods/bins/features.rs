@@ -1,20 +1,21 @@
 //! What a scene needs of the raster shader, decided on the host so that code it cannot reach
-//! is compiled away: specialization constants of `shaders/exact/raster.comp` (and of the
-//! wavelet bin raster, which takes them first), and of the bin stages, which take the ones
-//! they share with it.
+//! is compiled away: specialization constants (`crate::interface::specialization`) of
+//! `shaders/exact/raster.comp`, of the wavelet bin raster, and of the bin stages, each given
+//! the ones it reads.
 
 #![deny(unsafe_code)]
 
 use super::layout::BIN_SIZE;
+use crate::interface::specialization::{
+    Specialization, CONTINUATION, DEEP_BINNING_LANES, FACE_NORMALS, FLAT_COLOURS, HOMOGENEOUS_PATH,
+    RASTER_ROWS, RECORDS_AS_TEXELS, SELECT_SIZE as SELECT_SIZE_CONSTANT, SKIP_OCCLUSION_CULL,
+    SLAB_BITS, TEXTURES, TRANSMISSION, VERTEX_COLOURS, VERTEX_NORMALS,
+};
 use crate::raster::{clip_position, model_view_projection, viewport_transform, GUARD_BAND};
 use crate::scene::Scene;
 use glam::{Mat4, Vec3, Vec4};
 
-/// How many constants the raster takes: other programs on the same stages (the wavelet bin
-/// raster) number theirs from here.
-pub const RASTER_CONSTANTS: usize = 12;
-
-/// Specialization constants of the raster stage, in `constant_id` order.
+/// What the stages are specialized for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct RasterFeatures {
     /// Some triangle may need the homogeneous path (near plane, behind the eye, guard band).
@@ -26,7 +27,7 @@ pub struct RasterFeatures {
     pub face_normals: bool,
     /// Fragments each pixel selects per pass over its bin.
     pub select_size: u32,
-    /// Each bin's list holds 2^slab_bits depth slabs (constant 6 of the binning stages too).
+    /// Each bin's list holds 2^slab_bits depth slabs.
     pub slab_bits: u32,
     /// Rows of a block per workgroup of the first raster dispatch: a subgroup must see one
     /// row, so BIN_SIZE only where subgroups are exactly a row wide, else 1.
@@ -38,9 +39,8 @@ pub struct RasterFeatures {
     /// Every quad's corners have one colour (particles, billboards), so that shading reads
     /// one colour per triangle instead of three.
     pub flat_colours: bool,
-    /// Binning invocations per triangle once bins hold slabs (constant 11 of setup and
-    /// binning; bin_lists.glsl): a row's width of them, unless the dispatch would pass the
-    /// workgroups every device allows.
+    /// Binning invocations per triangle once bins hold slabs (bin_lists.glsl): a row's width
+    /// of them, unless the dispatch would pass the workgroups every device allows.
     pub deep_binning_lanes: u32,
 }
 
@@ -210,31 +210,40 @@ impl RasterFeatures {
         1 << self.slab_bits
     }
 
-    /// The constants of the binning stages: the slabs (constant 6) and the lanes per
-    /// triangle (11).
-    pub fn binning_constants(&self) -> [u32; RASTER_CONSTANTS] {
-        let mut constants = [0; RASTER_CONSTANTS];
-        constants[6] = self.slab_bits;
-        constants[11] = self.deep_binning_lanes;
-        constants
+    /// The constants of the binning stages: the slabs and the lanes per triangle.
+    pub fn binning_constants(&self) -> Specialization {
+        Specialization::new()
+            .with(SLAB_BITS, self.slab_bits)
+            .with(DEEP_BINNING_LANES, self.deep_binning_lanes)
+    }
+
+    /// What the triangles and their attribute records hold: the constants of every stage that
+    /// writes or reads them (setup and the rasters).
+    fn record_constants(&self) -> Specialization {
+        self.binning_constants()
+            .with(HOMOGENEOUS_PATH, self.homogeneous)
+            .with(TEXTURES, self.textures)
+            .with(VERTEX_NORMALS, self.vertex_normals)
+            .with(FACE_NORMALS, self.face_normals)
+            .with(VERTEX_COLOURS, self.vertex_colours)
+            .with(FLAT_COLOURS, self.flat_colours)
+    }
+
+    /// Setup's constants: it writes its records through texel views (`records_as_texels`),
+    /// and may skip its occlusion cull (`skip_cull`).
+    pub fn setup_constants(&self, records_as_texels: bool, skip_cull: bool) -> Specialization {
+        self.record_constants()
+            .with(RECORDS_AS_TEXELS, records_as_texels)
+            .with(SKIP_OCCLUSION_CULL, skip_cull)
     }
 
     /// The constants for the first raster dispatch or for continuations (`continuation`).
-    pub fn constants(&self, continuation: bool) -> [u32; RASTER_CONSTANTS] {
-        [
-            u32::from(self.homogeneous),
-            u32::from(self.textures),
-            u32::from(self.vertex_normals),
-            u32::from(self.face_normals),
-            u32::from(continuation),
-            self.select_size,
-            self.slab_bits,
-            if continuation { 1 } else { self.rows },
-            u32::from(self.transmission),
-            u32::from(self.vertex_colours),
-            u32::from(self.flat_colours),
-            self.deep_binning_lanes,
-        ]
+    pub fn constants(&self, continuation: bool) -> Specialization {
+        self.record_constants()
+            .with(TRANSMISSION, self.transmission)
+            .with(CONTINUATION, continuation)
+            .with(SELECT_SIZE_CONSTANT, self.select_size as i32)
+            .with(RASTER_ROWS, if continuation { 1 } else { self.rows })
     }
 }
 

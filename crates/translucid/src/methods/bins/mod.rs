@@ -41,6 +41,7 @@ use super::{FrameDone, FrameSetup, RecordContext};
 use crate::assets::GpuScene;
 use crate::frame::FrameTargets;
 use crate::gpu::{image_barrier, memory_barrier, vk, ComputePipeline, ComputePipelineCache, Gpu};
+use crate::interface::specialization::{Specialization, SCAN_STEP};
 use crate::scene::Scene;
 use crate::{Error, Result};
 use features::{MeshFacts, RasterFeatures};
@@ -155,31 +156,19 @@ impl StagePipelines {
         features: &RasterFeatures,
         records_as_texels: bool,
     ) -> Result<Self> {
-        let mut stage =
-            |spirv: &'static [u8], constants: &[u32]| cache.get(gpu, layouts, spirv, constants);
-        // Setup takes the raster's constants 0 to 3, 6 (SLAB_BITS, declared in
-        // bin_lists.glsl, which setup includes), 9 and 10, with the same ids; the rest stay
-        // at their defaults so that setup is shared by the features that differ only there.
-        let mut setup = features.constants(false);
-        setup[4..6].fill(0);
-        setup[7..9].fill(0);
-        // Constant 4 of setup: SKIP_OCCLUSION_CULL; constant 12, setup's own:
-        // RECORDS_AS_TEXELS.
-        let setup: Vec<u32> = setup
-            .into_iter()
-            .chain([u32::from(records_as_texels)])
-            .collect();
-        let mut setup_unculled = setup.clone();
-        setup_unculled[4] = 1;
-        let binning = features.binning_constants();
-        let scan_step = |n: u32| {
-            let mut constants = binning;
-            constants[0] = n;
-            constants
+        let mut stage = |spirv: &'static [u8], constants: &Specialization| {
+            cache.get(gpu, layouts, spirv, constants)
         };
+        let setup = features.setup_constants(records_as_texels, false);
+        let setup_unculled = features.setup_constants(records_as_texels, true);
+        let binning = features.binning_constants();
+        let scan_step = |n: u32| binning.clone().with(SCAN_STEP, n);
         let scan = crate::spirv!("bins/bin_scan.comp");
         Ok(Self {
-            depth_pyramid: stage(crate::spirv!("bins/depth_pyramid.comp"), &[])?,
+            depth_pyramid: stage(
+                crate::spirv!("bins/depth_pyramid.comp"),
+                &Specialization::NONE,
+            )?,
             setup: stage(crate::spirv!("bins/setup.comp"), &setup)?,
             bin_count: stage(crate::spirv!("bins/bin_count.comp"), &binning)?,
             slab_histogram: match features.slab_bits {
@@ -187,7 +176,7 @@ impl StagePipelines {
                 _ => Some(stage(crate::spirv!("bins/slab_histogram.comp"), &binning)?),
             },
             scan_steps: [
-                stage(scan, &binning)?,
+                stage(scan, &scan_step(0))?,
                 stage(scan, &scan_step(1))?,
                 stage(scan, &scan_step(2))?,
             ],
@@ -476,7 +465,7 @@ impl Bins {
         &mut self,
         uploaded: &GpuScene,
         spirv: &'static [u8],
-        constants: &[u32],
+        constants: &Specialization,
     ) -> Result<Arc<ComputePipeline>> {
         let layouts = [&uploaded.layout, &self.resources.layout];
         self.cache.get(&self.gpu, &layouts, spirv, constants)

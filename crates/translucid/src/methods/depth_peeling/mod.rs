@@ -29,6 +29,7 @@ use crate::gpu::{
     DescriptorSet, Gpu, GpuImage, GraphicsPipeline, Load, MemoryLocation, PipelineState, Resource,
     Sampler,
 };
+use crate::interface::specialization::Specialization;
 use crate::{Error, Result};
 use std::sync::Arc;
 
@@ -259,7 +260,7 @@ impl DepthPeeling {
             &PipelineState {
                 blends: &[Blend::Max, Blend::Add],
                 depth: DepthMode::Less(false),
-                fragment_constants: &[],
+                fragment_constants: &Specialization::NONE,
                 vertex_input: true,
             },
         )?;
@@ -280,7 +281,7 @@ impl DepthPeeling {
                     Blend::Under,
                 ],
                 depth: DepthMode::Less(false),
-                fragment_constants: &[],
+                fragment_constants: &Specialization::NONE,
                 vertex_input: true,
             },
         )?;
@@ -289,13 +290,13 @@ impl DepthPeeling {
             gpu,
             &[&composite_layout],
             crate::spirv!("depth_peeling/composite.comp"),
-            &[],
+            &Specialization::NONE,
         )?;
         let resolve = computes.get(
             gpu,
             &[&composite_layout],
             crate::spirv!("depth_peeling/resolve.comp"),
-            &[],
+            &Specialization::NONE,
         )?;
         let mut usage = vk::BufferUsageFlags::STORAGE_BUFFER
             | vk::BufferUsageFlags::TRANSFER_DST

@@ -25,6 +25,7 @@ use crate::gpu::{
     ComputePipelineCache, DepthMode, DescriptorLayout, DescriptorSet, Gpu, GraphicsPipeline,
     MemoryLocation, PipelineState, RenderTarget, Resource, Retirement, ViewedBuffer,
 };
+use crate::interface::specialization::{Specialization, NODES_AS_TEXELS};
 use crate::scene::Scene;
 use crate::{Error, Result};
 use std::sync::Arc;
@@ -81,7 +82,7 @@ impl Passes {
         layouts: &Layouts,
         nodes_as_texels: bool,
     ) -> Result<Self> {
-        let constants = [u32::from(nodes_as_texels)];
+        let constants = Specialization::new().with(NODES_AS_TEXELS, nodes_as_texels);
         let append = uploaded.mesh_pipelines_with(
             gpu,
             render_pass,

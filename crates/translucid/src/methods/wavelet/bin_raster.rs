@@ -2,7 +2,7 @@
 //! (`shaders/common/wavelet_bins.glsl`), which keeps each pixel's coefficients in registers
 //! and walks its row's list three times: bounds, coefficients, shading.
 
-use super::layout::SpecConstants;
+use super::SpecConstants;
 use crate::assets::GpuScene;
 use crate::frame::FrameTargets;
 use crate::gpu::{ComputePipeline, Gpu};
@@ -97,18 +97,13 @@ impl BinRaster {
     }
 }
 
-/// The raster for `bins`' features: its own constants numbered after the exact raster's.
+/// The raster for `bins`' features and the wavelet constants.
 fn select(
     bins: &mut Bins,
     uploaded: &GpuScene,
     rank: u32,
     constants: SpecConstants,
 ) -> Result<Arc<ComputePipeline>> {
-    let words: Vec<u32> = bins
-        .features()
-        .constants(false)
-        .into_iter()
-        .chain(constants.words())
-        .collect();
-    bins.pipeline(uploaded, raster_spirv(rank), &words)
+    let constants = constants.add_to(bins.features().constants(false));
+    bins.pipeline(uploaded, raster_spirv(rank), &constants)
 }

@@ -25,7 +25,6 @@
 //! fixed hash, trading banding for noise; it is off by default and in the image tests.
 
 mod bin_raster;
-pub mod layout;
 pub mod math;
 pub mod model;
 mod passes;
@@ -35,10 +34,12 @@ use super::{FrameCheck, FrameDone, FrameSetup, Method, MethodOptions, RecordCont
 use crate::assets::GpuScene;
 use crate::frame::FrameTargets;
 use crate::gpu::{Gpu, Retirement};
+use crate::interface::specialization::{
+    Specialization, WAVELET_ABSORBED, WAVELET_FIRST_TEXEL, WAVELET_NOISE,
+};
 use crate::scene::Scene;
 use crate::{Error, Result};
 use bin_raster::BinRaster;
-use layout::SpecConstants;
 
 /// Rank when none is asked for: 16 coefficients per channel.
 pub const DEFAULT_RANK: u32 = 3;
@@ -130,6 +131,34 @@ impl Settings {
             noise: self.noise,
             absorbed: -ABSORBED_TRANSMITTANCE.ln(),
         }
+    }
+}
+
+/// The specialization constants every wavelet shader takes. None changes with the camera:
+/// the depth mapping is in the frame constants (`FrameInfo.depthMapping`), so a camera whose
+/// near and far planes move builds nothing. The rank is not among them: each rank has its
+/// own SPIR-V (see [`passes`]).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct SpecConstants {
+    /// The first coefficient texel an accumulation draw writes.
+    pub first_texel: i32,
+    /// Depth noise strength, in cells; 0 is off.
+    pub noise: f32,
+    /// Absorbance from which a pixel counts as opaque.
+    pub absorbed: f32,
+}
+
+impl SpecConstants {
+    /// These constants added to `constants`.
+    pub fn add_to(&self, constants: Specialization) -> Specialization {
+        constants
+            .with(WAVELET_FIRST_TEXEL, self.first_texel)
+            .with(WAVELET_NOISE, self.noise)
+            .with(WAVELET_ABSORBED, self.absorbed)
+    }
+
+    pub fn specialization(&self) -> Specialization {
+        self.add_to(Specialization::new())
     }
 }
 

@@ -151,7 +151,7 @@ impl Passes {
             },
             write: false,
         };
-        let words = constants.words();
+        let fragment_constants = constants.specialization();
 
         let bounds_pass = AttachmentPass::new(
             gpu,
@@ -171,7 +171,7 @@ impl Passes {
             &PipelineState {
                 blends: &[Blend::Max],
                 depth: DepthMode::Less(false),
-                fragment_constants: &words,
+                fragment_constants: &fragment_constants,
                 vertex_input: true,
             },
         )?;
@@ -205,7 +205,7 @@ impl Passes {
                 &PipelineState {
                     blends: &blends,
                     depth: DepthMode::Less(false),
-                    fragment_constants: &chunk_constants.words(),
+                    fragment_constants: &chunk_constants.specialization(),
                     vertex_input: true,
                 },
             )?;
@@ -232,7 +232,7 @@ impl Passes {
             &PipelineState {
                 blends: &[Blend::Multiply],
                 depth: DepthMode::WriteAlways,
-                fragment_constants: &words,
+                fragment_constants: &fragment_constants,
                 vertex_input: false,
             },
         )?;
@@ -258,7 +258,7 @@ impl Passes {
             &PipelineState {
                 blends: &[Blend::Add],
                 depth: DepthMode::Less(false),
-                fragment_constants: &words,
+                fragment_constants: &fragment_constants,
                 vertex_input: true,
             },
         )?;

@@ -19,6 +19,7 @@ use crate::gpu::{
     DepthMode, DescriptorLayout, DescriptorSet, Gpu, GpuImage, GraphicsPipeline, Load,
     PipelineState, Resource, Sampler,
 };
+use crate::interface::specialization::Specialization;
 use crate::Result;
 use std::sync::Arc;
 
@@ -78,7 +79,7 @@ impl Wboit {
             &PipelineState {
                 blends: &[Blend::Add; 3],
                 depth: DepthMode::Less(false),
-                fragment_constants: &[],
+                fragment_constants: &Specialization::NONE,
                 vertex_input: true,
             },
         )?;
@@ -103,7 +104,7 @@ impl Wboit {
             &PipelineState {
                 blends: &[Blend::PremultipliedTransmittance],
                 depth: DepthMode::Off,
-                fragment_constants: &[],
+                fragment_constants: &Specialization::NONE,
                 vertex_input: false,
             },
         )?;

@@ -1,0 +1,248 @@
+//! Every specialization constant of every shader, each with one id and one meaning
+//! (`interface_specialization.glsl`); a pipeline sets those it needs by name
+//! ([`Specialization`]) and the rest keep their defaults.
+
+use super::{Include, StructDecl};
+
+/// A specialization constant of type `T`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SpecConstant<T> {
+    pub id: u32,
+    _type: std::marker::PhantomData<T>,
+}
+
+impl<T> SpecConstant<T> {
+    const fn new(id: u32) -> Self {
+        Self {
+            id,
+            _type: std::marker::PhantomData,
+        }
+    }
+}
+
+/// What a specialization constant's value is as the 32-bit word Vulkan takes.
+pub trait SpecWord: Copy {
+    fn word(self) -> u32;
+}
+
+impl SpecWord for bool {
+    fn word(self) -> u32 {
+        u32::from(self)
+    }
+}
+
+impl SpecWord for u32 {
+    fn word(self) -> u32 {
+        self
+    }
+}
+
+impl SpecWord for i32 {
+    fn word(self) -> u32 {
+        self as u32
+    }
+}
+
+impl SpecWord for f32 {
+    fn word(self) -> u32 {
+        self.to_bits()
+    }
+}
+
+/// The constants a pipeline sets: `(id, word)` in id order. Constants it does not set keep
+/// the shader's defaults, so a stage is specialized by exactly what it reads.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Hash)]
+pub struct Specialization {
+    words: Vec<(u32, u32)>,
+}
+
+impl Specialization {
+    /// No constant set: every one keeps its default.
+    pub const NONE: Self = Self { words: Vec::new() };
+
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// The same, with `constant` set to `value` (replacing a value set before).
+    pub fn with<T: SpecWord>(mut self, constant: SpecConstant<T>, value: T) -> Self {
+        let word = value.word();
+        match self.words.binary_search_by_key(&constant.id, |&(id, _)| id) {
+            Ok(i) => self.words[i].1 = word,
+            Err(i) => self.words.insert(i, (constant.id, word)),
+        }
+        self
+    }
+
+    /// `(id, word)` of every constant set, in id order.
+    pub fn words(&self) -> &[(u32, u32)] {
+        &self.words
+    }
+}
+
+/// A constant's declaration, for the GLSL include.
+pub struct SpecDecl {
+    pub id: u32,
+    pub name: &'static str,
+    /// `None` for a workgroup size (`local_size_y_id = NAME_ID`), which is not declared as a
+    /// constant.
+    pub glsl: Option<(&'static str, String)>,
+    pub doc: &'static [&'static str],
+}
+
+/// Declares the specialization constants: a typed [`SpecConstant`] each, and `declarations`,
+/// their GLSL. `workgroup_size` is a `u32` the shaders use as `local_size_y_id = NAME_ID`.
+macro_rules! spec_constants {
+    (@rust workgroup_size) => { u32 };
+    (@rust $ty:ident) => { $ty };
+    (@glsl workgroup_size, $default:expr) => { None };
+    (@glsl bool, $default:expr) => { Some(("bool", format!("{}", $default))) };
+    (@glsl u32, $default:expr) => { Some(("uint", format!("{}u", $default))) };
+    (@glsl i32, $default:expr) => { Some(("int", format!("{}", $default))) };
+    (@glsl f32, $default:expr) => { Some(("float", format!("{:?}", $default as f32))) };
+    ($(
+        $(#[doc = $doc:literal])*
+        $id:literal => pub const $name:ident: $ty:ident = $default:expr;
+    )*) => {
+        $(
+            $(#[doc = $doc])*
+            pub const $name: SpecConstant<spec_constants!(@rust $ty)> = SpecConstant::new($id);
+        )*
+
+        const IDS: &[u32] = &[$($id),*];
+        const _: () = assert!(ids_count_up(IDS), "specialization constant ids must be 0, 1, 2, ...");
+
+        /// The constants' GLSL declarations.
+        pub fn declarations() -> Vec<SpecDecl> {
+            vec![$(
+                SpecDecl {
+                    id: $id,
+                    name: stringify!($name),
+                    glsl: spec_constants!(@glsl $ty, $default),
+                    doc: &[$($doc),*],
+                }
+            ),*]
+        }
+    };
+}
+
+/// Whether `ids` are 0, 1, 2, ... in order: each constant its own id, none skipped.
+const fn ids_count_up(ids: &[u32]) -> bool {
+    let mut i = 0;
+    while i < ids.len() {
+        if ids[i] != i as u32 {
+            return false;
+        }
+        i += 1;
+    }
+    true
+}
+
+spec_constants! {
+    /// What the bin stages may meet, fixed when the pipeline is made from the frame's draws
+    /// (methods/bins/features.rs): some triangle may need the homogeneous path (near plane,
+    /// behind the eye, guard band).
+    0 => pub const HOMOGENEOUS_PATH: bool = true;
+    /// Some material has a texture.
+    1 => pub const TEXTURES: bool = true;
+    /// Some lit draw has vertex normals.
+    2 => pub const VERTEX_NORMALS: bool = true;
+    /// Some lit draw has none.
+    3 => pub const FACE_NORMALS: bool = true;
+    /// Some material transmits light.
+    4 => pub const TRANSMISSION: bool = true;
+    /// Some mesh has vertex colours.
+    5 => pub const VERTEX_COLOURS: bool = true;
+    /// Every quad has one colour at all its corners: records keep one colour per quad.
+    6 => pub const FLAT_COLOURS: bool = false;
+    /// Each bin's list holds 2^SLAB_BITS depth slabs (bin_lists.glsl).
+    7 => pub const SLAB_BITS: u32 = 0;
+    /// Binning invocations per triangle once bins hold slabs (bin_lists.glsl).
+    8 => pub const DEEP_BINNING_LANES: u32 = 1;
+    /// Setup: the occlusion cull is off (setup.comp).
+    9 => pub const SKIP_OCCLUSION_CULL: bool = false;
+    /// Setup writes its records through texel views (they pass one storage binding).
+    10 => pub const RECORDS_AS_TEXELS: bool = false;
+    /// The scan's step (bin_scan.comp).
+    11 => pub const SCAN_STEP: u32 = 0;
+    /// The exact raster: this dispatch resumes the items of a resume list.
+    12 => pub const CONTINUATION: bool = false;
+    /// The exact raster: fragments a pixel keeps as it walks its row's list.
+    13 => pub const SELECT_SIZE: i32 = 8;
+    /// The rasters: rows of a block per workgroup (a subgroup must see one row).
+    14 => pub const RASTER_ROWS: workgroup_size = 1;
+    /// linked_list: nodes are written through a texel view (they pass one storage binding).
+    15 => pub const NODES_AS_TEXELS: bool = false;
+    /// The engine's depth import: the engine's depth is reversed-Z.
+    16 => pub const IMPORTED_DEPTH_REVERSED: bool = false;
+    /// wavelet: the first coefficient texel an accumulation draw writes.
+    17 => pub const WAVELET_FIRST_TEXEL: i32 = 0;
+    /// wavelet: depth noise strength, in cells; 0 is off.
+    18 => pub const WAVELET_NOISE: f32 = 0.0;
+    /// wavelet: absorbance from which a pixel counts as opaque.
+    19 => pub const WAVELET_ABSORBED: f32 = 7.6;
+}
+
+/// The GLSL of every constant.
+pub fn glsl() -> String {
+    let mut out = String::new();
+    for d in declarations() {
+        out.push('\n');
+        super::comment(&mut out, "", d.doc);
+        match &d.glsl {
+            Some((ty, default)) => out.push_str(&format!(
+                "layout(constant_id = {}) const {ty} {} = {default};\n",
+                d.id, d.name
+            )),
+            None => out.push_str(&format!("#define {}_ID {}\n", d.name, d.id)),
+        }
+    }
+    out
+}
+
+pub fn include() -> Include {
+    const STRUCTS: &[&StructDecl] = &[];
+    Include {
+        file: "interface_specialization.glsl",
+        source: "specialization.rs",
+        constants: &[],
+        structs: STRUCTS,
+        sets: &[],
+        more: Some(glsl),
+        needs: &[],
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_specialization_keeps_one_word_per_constant_in_id_order() {
+        let s = Specialization::new()
+            .with(SELECT_SIZE, 16)
+            .with(HOMOGENEOUS_PATH, false)
+            .with(WAVELET_NOISE, 0.5)
+            .with(SELECT_SIZE, 8);
+        assert_eq!(
+            s.words(),
+            [
+                (0, 0),
+                (SELECT_SIZE.id, 8),
+                (WAVELET_NOISE.id, 0.5f32.to_bits())
+            ]
+        );
+    }
+
+    #[test]
+    fn every_constant_is_declared_once() {
+        let text = glsl();
+        for d in declarations() {
+            let declared = match d.glsl {
+                Some(_) => format!("layout(constant_id = {}) const", d.id),
+                None => format!("#define {}_ID {}", d.name, d.id),
+            };
+            assert_eq!(text.matches(&declared).count(), 1, "{}", d.name);
+        }
+    }
+}
