@@ -1,7 +1,7 @@
 #version 450
 // Binning, pass 1: every triangle adds one to the count of its depth slab in each bin it may
 // cover, and widens its slab's farthest depth and largest order key in the frame. (The
-// frame's entry count is the scan's total: bin_scan.comp writes it.)
+// frame's entry count is the scan's total: block_scan.comp writes it.)
 
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #extension GL_KHR_shader_subgroup_basic : require

@@ -35,7 +35,7 @@ uint binIndex(int bx, int y) {
 }
 
 // Where the lists of listed block `block` start within the current band's: its offset among
-// all the frame's (bin_scan.comp, step 1) less the band's first.
+// all the frame's (block_scan.comp) less the band's first.
 uint blockStart(uint block) {
     return texelFetch(u_blockTotalTexels, int(block)).r - g_counters.bandBase;
 }

@@ -7,7 +7,7 @@
 #include "bin_triangle.glsl"
 #include "transparent_layer.glsl"
 
-// The blocks with a non-empty bin, in block order (bin_scan.comp): the composite's instances.
+// The blocks with a non-empty bin, in block order (block_scan.comp): the composite's instances.
 layout(set = 0, binding = 0, std430) readonly buffer RasterBinBlock { uint g_rasterBins[]; };
 layout(set = 0, binding = 1, rg32ui) uniform readonly uimage2D u_transparentLayer;
 layout(set = 0, binding = 2, r32ui) uniform readonly uimage2D u_transparentLayerStamps;

@@ -60,10 +60,10 @@
 // per resumed row.
 layout(local_size_x = BIN_SIZE, local_size_y_id = RASTER_ROWS_ID) in;
 
-// CONTINUATION: this dispatch resumes the items of a resume list.
-// Fragments a pixel keeps. Larger means fewer sweeps for deep pixels, but a longer insertion
-// for every triangle walked: the host starts at 8 and moves to DEEP_SELECT_SIZE
-// (features.rs) when pixels needed several sweeps.
+// The raster's own constants (interface_specialization.glsl): CONTINUATION, this dispatch
+// resumes the items of a resume list; SELECT_SIZE, the fragments a pixel keeps. Larger means
+// fewer sweeps for deep pixels, but a longer insertion for every triangle walked: the host
+// starts at 8 and moves to DEEP_SELECT_SIZE (features.rs) when pixels needed several sweeps.
 
 // A fragment's rank as one number: view depth bits (positive floats order like their bits),
 // then the order key. One 64-bit compare instead of three 32-bit ones in the insertion.

@@ -228,7 +228,7 @@ shader_struct! {
         /// (positive floats order like their bits).
         pub depth_lo: uint,
         pub depth_hi: uint,
-        /// Bands (bin_scan.comp): the listed blocks are rasterized in runs whose lists fit the
+        /// Bands (bin_scan.glsl): the listed blocks are rasterized in runs whose lists fit the
         /// capacity together, one band after another within the frame. Blocks with a
         /// non-empty bin: g_rasterBins[0, listedBlocks), in order.
         pub listed_blocks: uint,
@@ -425,13 +425,13 @@ pub const BINS_SET: SetDecl = SetDecl {
         Binding::buffer("BinEndBlock", "", &["uint g_binEnds[]"]).doc(&[
             "Per (bin, slab), at bin * SLABS + slab: bin_count counts the triangles of that part",
             "of the bin's list here; the scan turns a band's counts into where each part starts,",
-            "in place (bin_scan.comp); bin_fill advances them as it appends, so that after",
+            "in place (bin_scan.glsl); bin_fill advances them as it appends, so that after",
             "binning each is where its part ends and the next starts (binStart says where a",
             "bin's list starts).",
         ]),
         Binding::texels("u_binCountTexels", "usamplerBuffer").doc(&["g_binEnds, as counts."]),
         Binding::buffer("BlockTotalBlock", "coherent", &["uint g_blockTotals[]"]).doc(&[
-            "Per block: the sum of its bins' counts, then its list offset (bin_scan.comp).",
+            "Per block: the sum of its bins' counts, then its list offset (bin_scan.glsl).",
             "Coherent: the last workgroup of the sums scans what the others wrote.",
         ]),
         Binding::texels("u_blockTotalTexels", "usamplerBuffer"),
@@ -458,7 +458,7 @@ pub const BINS_SET: SetDecl = SetDecl {
             "DISPATCH_BIN_OFFSETS counts the scan's offset step's workgroups of SCAN_GROUP_SIZE",
             "listed blocks, so that it writes offsets only where some bin has an entry;",
             "DISPATCH_BAND_FILL is DISPATCH_BINNING while a band has blocks, else empty. The",
-            "band plan (bin_scan.comp) writes DISPATCH_RASTER_BINS, DISPATCH_BIN_OFFSETS and",
+            "band plan (bin_scan.glsl) writes DISPATCH_RASTER_BINS, DISPATCH_BIN_OFFSETS and",
             "DISPATCH_BAND_FILL for each band. DRAW_COMPOSITE is a VkDrawIndirectCommand: the",
             "composite's quad (6 vertices) for each listed block, counted by the scan.",
             "Items of resume list k start at k * g_counters.resumeItemCapacity (room for every",

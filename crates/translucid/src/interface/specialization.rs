@@ -163,24 +163,22 @@ spec_constants! {
     9 => pub const SKIP_OCCLUSION_CULL: bool = false;
     /// Setup writes its records through texel views (they pass one storage binding).
     10 => pub const RECORDS_AS_TEXELS: bool = false;
-    /// The scan's step (bin_scan.comp).
-    11 => pub const SCAN_STEP: u32 = 0;
     /// The exact raster: this dispatch resumes the items of a resume list.
-    12 => pub const CONTINUATION: bool = false;
+    11 => pub const CONTINUATION: bool = false;
     /// The exact raster: fragments a pixel keeps as it walks its row's list.
-    13 => pub const SELECT_SIZE: i32 = 8;
+    12 => pub const SELECT_SIZE: i32 = 8;
     /// The rasters: rows of a block per workgroup (a subgroup must see one row).
-    14 => pub const RASTER_ROWS: workgroup_size = 1;
+    13 => pub const RASTER_ROWS: workgroup_size = 1;
     /// linked_list: nodes are written through a texel view (they pass one storage binding).
-    15 => pub const NODES_AS_TEXELS: bool = false;
+    14 => pub const NODES_AS_TEXELS: bool = false;
     /// The engine's depth import: the engine's depth is reversed-Z.
-    16 => pub const IMPORTED_DEPTH_REVERSED: bool = false;
+    15 => pub const IMPORTED_DEPTH_REVERSED: bool = false;
     /// wavelet: the first coefficient texel an accumulation draw writes.
-    17 => pub const WAVELET_FIRST_TEXEL: i32 = 0;
+    16 => pub const WAVELET_FIRST_TEXEL: i32 = 0;
     /// wavelet: depth noise strength, in cells; 0 is off.
-    18 => pub const WAVELET_NOISE: f32 = 0.0;
+    17 => pub const WAVELET_NOISE: f32 = 0.0;
     /// wavelet: absorbance from which a pixel counts as opaque.
-    19 => pub const WAVELET_ABSORBED: f32 = 7.6;
+    18 => pub const WAVELET_ABSORBED: f32 = 7.6;
 }
 
 /// The GLSL of every constant.

@@ -10,9 +10,10 @@
 //!    left out of the next `OCCLUSION_REST` frames when a frame's saved less than the
 //!    pyramid cost (the raster depth-tests every fragment). Binning runs for as many
 //!    triangles as setup kept (an indirect dispatch setup sizes).
-//! 2. `bin_count`, `bin_scan`, `bin_fill`: per bin (one row of an 8×8-pixel block), count the
-//!    triangles that may cover it, prefix-sum the counts and list the blocks with entries,
-//!    then, per band, plan the band, write its bins' offsets and fill their triangle lists.
+//! 2. `bin_count`, the scan (`block_scan`, `band_plan`, `bin_offsets`) and `bin_fill`: per bin
+//!    (one row of an 8×8-pixel block), count the triangles that may cover it, prefix-sum the
+//!    counts and list the blocks with entries, then, per band, plan the band, write its bins'
+//!    offsets and fill their triangle lists.
 //!    Frames with many fragments per pixel order each list by depth slab (nearest vertex).
 //!
 //! A raster then runs over each band's blocks (one workgroup per row, from the indirect
@@ -41,7 +42,7 @@ use super::{FrameDone, FrameSetup, RecordContext};
 use crate::assets::GpuScene;
 use crate::frame::FrameTargets;
 use crate::gpu::{image_barrier, memory_barrier, vk, ComputePipeline, ComputePipelineCache, Gpu};
-use crate::interface::specialization::{Specialization, SCAN_STEP};
+use crate::interface::specialization::Specialization;
 use crate::scene::Scene;
 use crate::{Error, Result};
 use features::{MeshFacts, RasterFeatures};
@@ -139,9 +140,11 @@ struct StagePipelines {
     /// Deep frames' slab histogram, whose last workgroup plans the slabs (bin_lists.glsl),
     /// before the count; none for frames of one slab.
     slab_histogram: Option<Arc<ComputePipeline>>,
-    /// The scan's steps 0 to 2 (constant 0): block sums, then the block list and the first
-    /// band's plan; a band's bin offsets; a later band's plan.
-    scan_steps: [Arc<ComputePipeline>; 3],
+    /// The scan (bin_scan.glsl): the blocks' sums and offsets with the first band's plan,
+    /// the band's bin offsets, and a later band's plan.
+    block_scan: Arc<ComputePipeline>,
+    bin_offsets: Arc<ComputePipeline>,
+    band_plan: Arc<ComputePipeline>,
     bin_fill: Arc<ComputePipeline>,
     /// Setup without the occlusion cull, for frames recorded without the depth pyramid.
     setup_unculled: Arc<ComputePipeline>,
@@ -162,8 +165,6 @@ impl StagePipelines {
         let setup = features.setup_constants(records_as_texels, false);
         let setup_unculled = features.setup_constants(records_as_texels, true);
         let binning = features.binning_constants();
-        let scan_step = |n: u32| binning.clone().with(SCAN_STEP, n);
-        let scan = crate::spirv!("bins/bin_scan.comp");
         Ok(Self {
             depth_pyramid: stage(
                 crate::spirv!("bins/depth_pyramid.comp"),
@@ -175,11 +176,9 @@ impl StagePipelines {
                 0 => None,
                 _ => Some(stage(crate::spirv!("bins/slab_histogram.comp"), &binning)?),
             },
-            scan_steps: [
-                stage(scan, &scan_step(0))?,
-                stage(scan, &scan_step(1))?,
-                stage(scan, &scan_step(2))?,
-            ],
+            block_scan: stage(crate::spirv!("bins/block_scan.comp"), &binning)?,
+            bin_offsets: stage(crate::spirv!("bins/bin_offsets.comp"), &binning)?,
+            band_plan: stage(crate::spirv!("bins/band_plan.comp"), &binning)?,
             bin_fill: stage(crate::spirv!("bins/bin_fill.comp"), &binning)?,
             setup_unculled: stage(crate::spirv!("bins/setup.comp"), &setup_unculled)?,
         })
@@ -626,29 +625,33 @@ impl Bins {
             resume_list: 0,
             ..self.push
         };
-        self.dispatch_with(ctx, &s.scan_steps[0], &first_band, [scan_groups, 1, 1]);
+        self.dispatch_with(ctx, &s.block_scan, &first_band, [scan_groups, 1, 1]);
         self.compute_to_compute(cmd);
         Ok(())
     }
 
-    /// One band's bins: its plan (bin_scan.comp, step 3; the scan's step 1 planned the
-    /// first), its bins' offsets and its fill,
-    /// ready for the raster. `pending_list` is the resume list the raster suspends rows
+    /// One band's bins: its plan (band_plan.comp; the block scan planned the first), its
+    /// bins' offsets and its fill, ready for the raster. `pending_list` is the resume list the raster suspends rows
     /// onto: the plan empties it when the band has blocks (the last band's unfinished rows
     /// are abandoned, counted as degraded). The first band's stages are timed on their own.
     pub fn record_band(&self, ctx: &mut RecordContext<'_>, first: bool, pending_list: u32) {
         let cmd = ctx.cmd;
-        let [_, write_offsets, plan] = &self.stages.scan_steps;
+        let stages = &self.stages;
         let push = BinPush {
             resume_list: pending_list,
             ..self.push
         };
         // The scan planned the first band.
         if !first {
-            self.dispatch_with(ctx, plan, &push, [1, 1, 1]);
+            self.dispatch_with(ctx, &stages.band_plan, &push, [1, 1, 1]);
             self.compute_to_compute(cmd);
         }
-        self.dispatch_indirect(ctx, write_offsets, DISPATCH_BIN_OFFSETS_OFFSET, &self.push);
+        self.dispatch_indirect(
+            ctx,
+            &stages.bin_offsets,
+            DISPATCH_BIN_OFFSETS_OFFSET,
+            &self.push,
+        );
         self.compute_to_compute(cmd);
         if first {
             ctx.timestamps.mark(cmd, "bin scan");

@@ -382,7 +382,7 @@ fn transparent_layer(gpu: &Gpu, extent: vk::Extent2D) -> Result<[GpuImage; 2]> {
 /// Per (bin, depth slab): triangle counts, turned into list offsets in place by the scan and
 /// into list ends by the fill; per block, the scan's totals and offsets. Blocks are padded to
 /// whole scan workgroups, with at least one past the frame's, which the scan's invocations
-/// past a band write instead of a band's block (see bin_scan.comp).
+/// past a band write instead of a band's block (see bin_offsets.comp).
 struct BinArrays {
     /// Blocks the arrays hold: the frame's, padded.
     blocks: u64,
