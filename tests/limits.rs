@@ -42,7 +42,7 @@ fn draws_past_a_storage_binding_are_refused_by_name() {
             .unwrap_or_else(|| panic!("{method}: {count} draws were accepted"));
         let msg = err.to_string();
         assert!(
-            matches!(err, Error::InvalidScene(_)) && msg.contains("MB") && msg.contains("storage"),
+            matches!(err, Error::TooLarge(_)) && msg.contains("MB") && msg.contains("storage"),
             "{method}: {msg}"
         );
     }

@@ -214,7 +214,11 @@ impl From<translucid::Error> for Failure {
             | E::UnsupportedExtension { .. }
             | E::UnknownScene(..)
             | E::InvalidOption(_)
-            | E::HostFrame(_) => R::ErrorInvalidArgument,
+            | E::InvalidArgument(_)
+            | E::HostFrame(_)
+            // A bug of the library's: no code of its own, and nothing the caller can fix.
+            | E::Internal(_) => R::ErrorInvalidArgument,
+            E::TooLarge(_) => R::ErrorInvalidSize,
             E::HostRequirements(_) => R::ErrorDeviceRequirements,
             E::InvalidViewport { .. } => R::ErrorInvalidSize,
             E::UnknownMethod(..) => R::ErrorMethodUnavailable,

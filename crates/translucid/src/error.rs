@@ -26,6 +26,18 @@ pub enum Error {
     /// Scene data that cannot be rendered (bad index, NaN position, missing texture...).
     #[error("invalid scene: {0}")]
     InvalidScene(String),
+    /// A frame or scene past a limit of the device or of translucid: a storage binding's or a
+    /// texel view's range, the largest image, 65535 pixels a side, 2^32 quads, the work bound.
+    #[error("too large: {0}")]
+    TooLarge(String),
+    /// A value given to a call that it does not take: an opaque layer of the wrong size or
+    /// with values out of range, a mesh index past the scene's, assets that do not extend the
+    /// ones in use.
+    #[error("invalid argument: {0}")]
+    InvalidArgument(String),
+    /// translucid used one of its own objects wrongly: a bug, to be reported.
+    #[error("internal error: {0}")]
+    Internal(String),
     /// A name that is neither a generated scene nor a file path.
     #[error("unknown scene {0:?}: not a file and not one of the generated scenes ({1})")]
     UnknownScene(String, String),

@@ -85,7 +85,7 @@ pub fn options(
     method_args: crate::MethodArgs,
 ) -> translucid::Result<translucid::methods::MethodOptions> {
     if !(0.0..=1.0).contains(&threshold) {
-        return Err(translucid::Error::InvalidScene(format!(
+        return Err(translucid::Error::InvalidOption(format!(
             "--threshold {threshold} is not in [0, 1]"
         )));
     }

@@ -118,7 +118,7 @@ pub fn most_draws(gpu: &Gpu) -> usize {
 fn draw_room(gpu: &Gpu, draws: usize) -> Result<u64> {
     let most = most_draws(gpu);
     if draws > most {
-        return Err(crate::Error::InvalidScene(format!(
+        return Err(crate::Error::TooLarge(format!(
             "the frame has {draws} draws; their records ({} bytes each) fit at most {most} in \
              the {} MB this device binds as the one storage binding the graphics passes read",
             std::mem::size_of::<GpuDrawInfo>(),
@@ -198,7 +198,7 @@ impl GpuScene {
         let slots = (0..frame_slots.max(1))
             .map(|_| SceneSlot::new(gpu, &layout, resident.materials(), draw_bytes))
             .collect::<Result<Vec<_>>>()?;
-        let mut uploaded = Self {
+        let mut gpu_scene = Self {
             resident,
             id: NEXT_SCENE_ID.fetch_add(1, Ordering::Relaxed),
             transparent_quads: 0,
@@ -210,15 +210,15 @@ impl GpuScene {
             extent: (width, height),
             moved_meshes: Vec::new(),
         };
-        uploaded.set_frame(gpu, scene)?;
-        Ok(uploaded)
+        gpu_scene.set_frame(gpu, scene)?;
+        Ok(gpu_scene)
     }
 
     /// Draws from `resident`, these assets extended (checked), for `scene`, which has them:
     /// the buffers and descriptor sets stay, since the assets added were appended to them.
     pub fn adopt(&mut self, resident: Arc<ResidentAssets>, scene: &Scene) -> Result<()> {
         if !resident.extends(&self.resident) {
-            return Err(crate::Error::InvalidScene(
+            return Err(crate::Error::InvalidArgument(
                 "the assets to draw from do not extend the ones drawn from".into(),
             ));
         }
@@ -377,7 +377,7 @@ impl GpuScene {
         self.opaque_calls.extend(calls);
         self.transparent_calls = self.opaque_calls.split_off(scene.opaque.len());
         self.transparent_quads = u32::try_from(scene.transparent_quads())
-            .map_err(|_| crate::Error::InvalidScene("more than 2^32 transparent quads".into()))?;
+            .map_err(|_| crate::Error::TooLarge("more than 2^32 transparent quads".into()))?;
         Ok(())
     }
 
@@ -532,7 +532,7 @@ pub(crate) fn create_textures<'a>(
     for t in textures {
         // Checked before anything is created: a driver may crash on an image it cannot make.
         if t.width() > max || t.height() > max {
-            return Err(crate::Error::InvalidScene(format!(
+            return Err(crate::Error::TooLarge(format!(
                 "texture {} is {}x{}; this device's largest image is {max}x{max}",
                 t.name,
                 t.width(),

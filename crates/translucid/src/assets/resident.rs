@@ -328,7 +328,7 @@ impl ResidentAssets {
             || scene.materials.len() < materials
             || scene.textures.len() < textures
         {
-            return Err(Error::InvalidScene(
+            return Err(Error::InvalidArgument(
                 "the scene does not start with the assets it extends".into(),
             ));
         }
@@ -476,7 +476,7 @@ impl ResidentAssets {
     pub fn check_scene(&self, scene: &Scene) -> Result<()> {
         let counts = [scene.materials.len(), scene.textures.len()];
         if mesh_sizes(scene) != self.mesh_sizes || counts != self.counts {
-            return Err(Error::InvalidScene(format!(
+            return Err(Error::InvalidArgument(format!(
                 "the scene ({} meshes, {} materials, {} textures) does not have the assets the \
                  resident ones were made from ({} meshes, {} materials, {} textures, or meshes \
                  of other sizes)",

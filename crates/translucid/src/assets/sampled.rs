@@ -75,7 +75,7 @@ impl SampledTextures {
             .sum();
         let most = most_texel_bytes(gpu);
         if bytes > most {
-            return Err(Error::InvalidScene(format!(
+            return Err(Error::TooLarge(format!(
                 "the textures of the transparent draws take {} MB, over the {} MB this \
                  device's texel views hold",
                 bytes >> 20,

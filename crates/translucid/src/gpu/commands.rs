@@ -422,7 +422,7 @@ mod tests {
         for value in [1u32, 2, 3] {
             let failed = gpu.submit_and_wait(|cmd| -> Result<()> {
                 gpu.cmd_fill_buffer(cmd, &buffer, 0);
-                Err(Error::InvalidScene("a recording that fails".into()))
+                Err(Error::Internal("a recording that fails".into()))
             });
             assert!(failed.is_err());
             let used = gpu.submit_and_wait(|cmd| {

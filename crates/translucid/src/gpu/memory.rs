@@ -242,11 +242,11 @@ impl Buffer {
             .as_ref()
             .and_then(|a| a.mapped_ptr())
             .ok_or_else(|| {
-                crate::Error::InvalidScene("write to a buffer that is not host-visible".into())
+                crate::Error::Internal("write to a buffer that is not host-visible".into())
             })?;
         let end = offset + data.len() as u64;
         if end > self.size {
-            return Err(crate::Error::InvalidScene(format!(
+            return Err(crate::Error::Internal(format!(
                 "write of {end} bytes past a {}-byte buffer",
                 self.size
             )));
@@ -274,7 +274,7 @@ impl Buffer {
     pub fn read_word_volatile(&self) -> Result<u32> {
         let bytes = self.read()?;
         if bytes.len() < 4 {
-            return Err(crate::Error::InvalidScene(
+            return Err(crate::Error::Internal(
                 "word read of a buffer under 4 bytes".into(),
             ));
         }
@@ -291,7 +291,7 @@ impl Buffer {
             .and_then(|a| a.mapped_slice())
             .map(|s| &s[..self.len as usize])
             .ok_or_else(|| {
-                crate::Error::InvalidScene("read of a buffer that is not host-visible".into())
+                crate::Error::Internal("read of a buffer that is not host-visible".into())
             })
     }
 }
@@ -354,7 +354,7 @@ impl Gpu {
         let texels = buffer.size / texel_bytes;
         let limit = u64::from(self.info().max_texel_buffer_elements);
         if texels > limit {
-            return Err(crate::Error::InvalidScene(format!(
+            return Err(crate::Error::TooLarge(format!(
                 "{} ({texels} texels) is over this device's limit of {limit} texels a view",
                 buffer.name
             )));

@@ -203,7 +203,7 @@ impl DescriptorLayout {
         for (kind, resource) in self.kinds.iter().zip(resources) {
             if let (BindingKind::StorageBuffer, Resource::Buffer(b)) = (kind, resource) {
                 if b.size > range {
-                    return Err(crate::Error::InvalidScene(format!(
+                    return Err(crate::Error::TooLarge(format!(
                         "{} takes {} MB, over the {} MB this device binds as one storage \
                          buffer",
                         b.name,

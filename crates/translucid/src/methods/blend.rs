@@ -21,7 +21,7 @@ pub struct Blend {
 }
 
 impl Blend {
-    pub fn new(gpu: &Gpu, scene: &GpuScene, targets: &FrameTargets) -> Result<Self> {
+    pub fn new(gpu: &Gpu, gpu_scene: &GpuScene, targets: &FrameTargets) -> Result<Self> {
         if !gpu.info().dual_source_blend {
             return Err(Error::NoDevice(format!(
                 "{} lacks dual-source blending, which the blend method needs for coloured transmittance",
@@ -29,7 +29,7 @@ impl Blend {
             )));
         }
         let target = targets.render_target(gpu, false)?;
-        let pipelines = scene.mesh_pipelines(
+        let pipelines = gpu_scene.mesh_pipelines(
             gpu,
             target.render_pass,
             crate::spirv!("blend/blend.frag"),
@@ -47,10 +47,10 @@ impl Method for Blend {
 
     fn record(&mut self, ctx: &mut RecordContext<'_>) -> Result<()> {
         self.target.begin(ctx.cmd, ctx.targets.extent, [0.0; 4]);
-        ctx.scene.draw(
+        ctx.gpu_scene.draw(
             ctx.gpu,
             ctx.cmd,
-            &ctx.scene.transparent_calls,
+            &ctx.gpu_scene.transparent_calls,
             (&self.pipelines.0, &self.pipelines.1),
         );
         self.target.end(ctx.cmd);

@@ -160,7 +160,7 @@ pub struct FrameCheck {
 
 /// What a method is told when a frame it recorded has completed.
 pub struct FrameDone<'a> {
-    pub uploaded: &'a GpuScene,
+    pub gpu_scene: &'a GpuScene,
     pub targets: &'a FrameTargets,
     /// The frame slot the frame was recorded in.
     pub slot: usize,
@@ -173,7 +173,7 @@ pub struct RecordContext<'a> {
     /// The frame slot: per-frame data written and read in this slot, shared buffers
     /// after a barrier against the frames before.
     pub slot: usize,
-    pub scene: &'a GpuScene,
+    pub gpu_scene: &'a GpuScene,
     pub targets: &'a FrameTargets,
     pub timestamps: &'a mut Timestamps,
     /// On the engine's device, for a method that composites in place
@@ -201,7 +201,7 @@ pub struct FrameSetup<'a> {
     /// The renderer's scene: its assets, and the new frame's camera, light and draws.
     pub scene: &'a Scene,
     /// The same, on the GPU, with the new frame already written.
-    pub uploaded: &'a GpuScene,
+    pub gpu_scene: &'a GpuScene,
     pub targets: &'a FrameTargets,
     /// The frame slot the frame is written into (no frame of it in flight).
     pub slot: usize,
@@ -245,21 +245,21 @@ pub trait Method {
     }
 }
 
-/// Creates method `kind` for `scene` (uploaded as `uploaded`) and `targets`.
+/// Creates method `kind` for `scene` (uploaded as `gpu_scene`) and `targets`.
 pub fn create(
     kind: MethodKind,
     gpu: &Gpu,
     scene: &Scene,
-    uploaded: &GpuScene,
+    gpu_scene: &GpuScene,
     targets: &FrameTargets,
     options: &MethodOptions,
 ) -> Result<Box<dyn Method>> {
     Ok(match kind {
-        MethodKind::Blend => Box::new(blend::Blend::new(gpu, uploaded, targets)?),
+        MethodKind::Blend => Box::new(blend::Blend::new(gpu, gpu_scene, targets)?),
         MethodKind::Exact => Box::new(exact::Exact::new(
             gpu,
             scene,
-            uploaded,
+            gpu_scene,
             targets,
             &options.bins,
             &options.exact,
@@ -267,22 +267,22 @@ pub fn create(
         MethodKind::Wavelet => Box::new(wavelet::Wavelet::new(
             gpu,
             scene,
-            uploaded,
+            gpu_scene,
             targets,
             &options.bins,
             &options.wavelet,
         )?),
-        MethodKind::Wboit => Box::new(wboit::Wboit::new(gpu, uploaded, targets)?),
+        MethodKind::Wboit => Box::new(wboit::Wboit::new(gpu, gpu_scene, targets)?),
         MethodKind::LinkedList => Box::new(linked_list::LinkedList::new(
             gpu,
             scene,
-            uploaded,
+            gpu_scene,
             targets,
             &options.linked_list,
         )?),
         MethodKind::DepthPeeling => Box::new(depth_peeling::DepthPeeling::new(
             gpu,
-            uploaded,
+            gpu_scene,
             targets,
             &options.depth_peeling,
         )?),

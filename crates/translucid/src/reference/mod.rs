@@ -172,7 +172,7 @@ fn check_order_keys(scene: &Scene) -> crate::Result<()> {
             .iter()
             .any(|m| u32::try_from(m.quads.len()).is_err());
     if too_many {
-        return Err(crate::Error::InvalidScene(
+        return Err(crate::Error::TooLarge(
             "more than 2^32 transparent draws or quads in one mesh".into(),
         ));
     }
@@ -327,7 +327,7 @@ impl TileContext<'_, '_> {
             });
         }
         if full {
-            return Err(crate::Error::InvalidScene(format!(
+            return Err(crate::Error::TooLarge(format!(
                 "the CPU reference holds at most {MAX_TILE_FRAGMENTS} fragments in a tile of \
                  {0}x{0} pixels (or what memory allows); the tile at ({1}, {2}) has more",
                 prepare::TILE,

@@ -147,7 +147,7 @@ impl Renderer {
         let cmd = targets.cmd;
         // translucid tests depth growing away from the eye, in D32_SFLOAT: other depth is
         // sampled and converted.
-        let reversed = self.frame_scene.camera.reversed_depth();
+        let reversed = self.scene.camera.reversed_depth();
         let extent = self.targets.extent;
         if reversed || targets.depth.format != HOST_DEPTH_FORMAT {
             gpu.record_host_input(targets, extent, &self.targets.colour, None);
@@ -182,7 +182,7 @@ impl Renderer {
         let in_place = InPlace {
             colour: targets.colour,
             depth,
-            reversed: self.frame_scene.camera.reversed_depth(),
+            reversed: self.scene.camera.reversed_depth(),
         };
         self.record_method(&gpu, cmd, Some(in_place))?;
         gpu.record_engine_depth_to_final(targets);
@@ -217,7 +217,7 @@ impl Renderer {
         gpu.reset_peak_memory();
         let cmd = targets.cmd;
         self.slot_dispatches[slot] = gpu.dispatches_recorded();
-        self.scene.record_pending_uploads(&gpu, cmd);
+        self.gpu_scene.record_pending_uploads(&gpu, cmd);
         self.timestamps[slot].begin(cmd);
         // Frame targets and the methods' working buffers are shared by the slots: the frames
         // recorded before (in flight, earlier on the queue) finish with them first. Frames
@@ -227,8 +227,8 @@ impl Renderer {
             vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE,
         );
         memory_barrier(&gpu, cmd, any, any);
-        self.scene
-            .record_moved_vertices(&gpu, cmd, &self.frame_scene)?;
+        self.gpu_scene
+            .record_moved_vertices(&gpu, cmd, &self.scene)?;
         Ok((gpu, slot))
     }
 
@@ -243,7 +243,7 @@ impl Renderer {
     ) -> Result<()> {
         self.slot_dispatches[slot] = gpu.dispatches_recorded() - self.slot_dispatches[slot];
         self.completions[slot].record(gpu, cmd)?;
-        self.scene.uploads_recorded();
+        self.gpu_scene.uploads_recorded();
         self.in_flight.push_back((slot, kind));
         self.slot = (slot + 1) % self.timestamps.len();
         Ok(())
@@ -266,13 +266,13 @@ impl Renderer {
         self.in_flight.pop_front();
         let check = match kind {
             HostFrameKind::Method => self.method.frame_done(&FrameDone {
-                uploaded: &self.scene,
+                gpu_scene: &self.gpu_scene,
                 targets: &self.targets,
                 slot,
             })?,
             HostFrameKind::NativeBlend => FrameCheck::default(),
         };
-        self.scene.uploads_completed();
+        self.gpu_scene.uploads_completed();
         Ok(Some(HostFrame {
             method_ms: method_ms(&stages),
             stages,

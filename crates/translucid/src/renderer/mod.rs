@@ -40,14 +40,14 @@
 //! projection has y negated; `Projection::Perspective` does that itself.)
 
 mod host_device;
-mod host_opaque;
 mod native_blend;
-mod targets;
+mod opaque_pass;
+mod opaque_upload;
 
 pub use crate::assets::{GpuScene, ResidentAssets};
 pub use crate::frame::{FrameTargets, COLOUR_FORMAT, DEPTH_FORMAT};
 pub use host_device::HostFrame;
-pub use targets::Readback;
+pub use opaque_pass::Readback;
 
 use crate::gpu::{vk, Gpu, Timestamps};
 use crate::image::{Image, OpaqueLayer};
@@ -57,8 +57,8 @@ use crate::methods::{
 use crate::scene::{FrameInput, Scene};
 use crate::{Error, Result};
 use glam::Vec3;
+use opaque_pass::OpaquePass;
 use std::sync::Arc;
-use targets::OpaquePass;
 
 /// What one rendered frame produced.
 pub struct Frame {
@@ -137,8 +137,8 @@ pub struct Renderer {
     gpu: Gpu,
     /// The scene's assets (texels aside: they are on the GPU) and the current frame's camera,
     /// light and draws.
-    frame_scene: Scene,
-    scene: GpuScene,
+    scene: Scene,
+    gpu_scene: GpuScene,
     targets: FrameTargets,
     /// Made for the first frame that draws the scene's opaque layer itself (none on an
     /// engine's device, or over an opaque layer given).
@@ -276,15 +276,15 @@ impl Renderer {
     /// they were recorded with.
     pub fn adopt_assets(&mut self, resident: Arc<ResidentAssets>, scene: &Scene) -> Result<()> {
         scene.validate()?;
-        self.scene.adopt(resident, scene)?;
-        self.frame_scene = scene.without_texels();
+        self.gpu_scene.adopt(resident, scene)?;
+        self.scene = scene.without_texels();
         self.frame_serial += 1;
         Ok(())
     }
 
     /// The assets this renderer draws from, for a renderer made to share them.
     pub fn resident(&self) -> &Arc<ResidentAssets> {
-        &self.scene.resident
+        &self.gpu_scene.resident
     }
 
     fn build(
@@ -311,14 +311,14 @@ impl Renderer {
             Some(r) => r,
             None => Arc::new(ResidentAssets::new(gpu, scene)?),
         };
-        let uploaded = GpuScene::over(gpu, resident, scene, width, height, slots)?;
+        let gpu_scene = GpuScene::over(gpu, resident, scene, width, height, slots)?;
         let targets = FrameTargets::new(gpu, width, height)?;
         let readback = if gpu.is_host_device() {
             None
         } else {
             Some(Readback::new(gpu, &targets)?)
         };
-        let method = methods::create(method, gpu, scene, &uploaded, &targets, options)?;
+        let method = methods::create(method, gpu, scene, &gpu_scene, &targets, options)?;
         let timestamps = (0..slots)
             .map(|_| Timestamps::new(gpu, 32))
             .collect::<Result<Vec<_>>>()?;
@@ -328,8 +328,8 @@ impl Renderer {
         slot_serials[0] = 0;
         Ok(Self {
             gpu: gpu.clone(),
-            frame_scene: scene.without_texels(),
-            scene: uploaded,
+            scene: scene.without_texels(),
+            gpu_scene,
             targets,
             opaque_pass: None,
             readback,
@@ -363,7 +363,7 @@ impl Renderer {
     /// needing a shader variant no earlier frame needed builds it once). Frames in flight
     /// keep drawing what they were recorded with.
     pub fn set_frame(&mut self, input: &FrameInput<'_>) -> Result<()> {
-        self.frame_scene.set_frame(input)?;
+        self.scene.set_frame(input)?;
         self.frame_serial += 1;
         Ok(())
     }
@@ -394,19 +394,19 @@ impl Renderer {
     /// Writes the current frame into `slot` unless the slot holds it already, and makes it
     /// the slot recorded from. No frame of that slot may be in flight.
     fn prepare_slot(&mut self, slot: usize) -> Result<()> {
-        self.scene.use_slot(slot);
+        self.gpu_scene.use_slot(slot);
         if self.slot_serials[slot] == self.frame_serial {
             return Ok(());
         }
         // A failure below leaves the slot to be written again.
         self.slot_serials[slot] = u64::MAX;
         let extent = self.targets.extent;
-        self.scene.set_extent(extent.width, extent.height);
-        self.scene.set_frame(&self.gpu, &self.frame_scene)?;
+        self.gpu_scene.set_extent(extent.width, extent.height);
+        self.gpu_scene.set_frame(&self.gpu, &self.scene)?;
         self.method.set_frame(&FrameSetup {
             gpu: &self.gpu,
-            scene: &self.frame_scene,
-            uploaded: &self.scene,
+            scene: &self.scene,
+            gpu_scene: &self.gpu_scene,
             targets: &self.targets,
             slot,
         })?;
@@ -420,12 +420,12 @@ impl Renderer {
     /// vertex buffer after the frames in flight before it: nothing is rebuilt, and GPU memory
     /// is allocated only for the first move (a staging buffer per frame slot).
     pub fn update_mesh(&mut self, mesh: usize, positions: &[Vec3]) -> Result<()> {
-        let meshes = self.frame_scene.meshes.len();
-        let target = self.frame_scene.meshes.get_mut(mesh).ok_or_else(|| {
-            Error::InvalidScene(format!("mesh {mesh} to update; the scene has {meshes}"))
+        let meshes = self.scene.meshes.len();
+        let target = self.scene.meshes.get_mut(mesh).ok_or_else(|| {
+            Error::InvalidArgument(format!("mesh {mesh} to update; the scene has {meshes}"))
         })?;
         if positions.len() != target.positions.len() {
-            return Err(Error::InvalidScene(format!(
+            return Err(Error::InvalidArgument(format!(
                 "mesh {mesh} ({}) has {} vertices; {} positions given",
                 target.name,
                 target.positions.len(),
@@ -433,7 +433,7 @@ impl Renderer {
             )));
         }
         if let Some(i) = positions.iter().position(|p| !p.is_finite()) {
-            return Err(Error::InvalidScene(format!(
+            return Err(Error::InvalidArgument(format!(
                 "mesh {mesh} ({}): position {i} is not finite",
                 target.name
             )));
@@ -441,7 +441,7 @@ impl Renderer {
         target.positions.copy_from_slice(positions);
         // The uploads and the method's view of the frame (near-plane estimate, bounds) follow
         // the vertices.
-        self.scene.mesh_moved(mesh);
+        self.gpu_scene.mesh_moved(mesh);
         self.frame_serial += 1;
         Ok(())
     }
@@ -478,7 +478,7 @@ impl Renderer {
         // Fail before submitting anything.
         self.readback()?;
         if matches!(source, OpaqueSource::Scene { .. }) && self.opaque_pass.is_none() {
-            self.opaque_pass = Some(OpaquePass::new(&gpu, &self.targets, &self.scene)?);
+            self.opaque_pass = Some(OpaquePass::new(&gpu, &self.targets, &self.gpu_scene)?);
         }
         // Standalone frames complete before the call returns: one slot serves them all.
         let slot = self.slot;
@@ -506,8 +506,8 @@ impl Renderer {
                     self.readback()?.record(&gpu, cmd, &self.targets, false);
                     return Ok(());
                 }
-                self.scene
-                    .record_moved_vertices(&gpu, cmd, &self.frame_scene)?;
+                self.gpu_scene
+                    .record_moved_vertices(&gpu, cmd, &self.scene)?;
                 match &source {
                     OpaqueSource::Scene { readback } => {
                         // Made above.
@@ -515,8 +515,8 @@ impl Renderer {
                             pass.record(
                                 &gpu,
                                 cmd,
-                                (&self.scene, &self.targets),
-                                self.frame_scene.background,
+                                (&self.gpu_scene, &self.targets),
+                                self.scene.background,
                             );
                         }
                         self.timestamps[slot].mark(cmd, "opaque");
@@ -526,7 +526,7 @@ impl Renderer {
                         }
                     }
                     OpaqueSource::Host { colour, depth } => {
-                        host_opaque::record_upload(&gpu, cmd, &self.targets, colour, depth);
+                        opaque_upload::record_upload(&gpu, cmd, &self.targets, colour, depth);
                         self.timestamps[slot].mark(cmd, "opaque");
                     }
                 }
@@ -534,7 +534,7 @@ impl Renderer {
                 self.readback()?.record(&gpu, cmd, &self.targets, false);
                 Ok(())
             })?;
-            self.scene.uploads_recorded();
+            self.gpu_scene.uploads_recorded();
             let elapsed = started.elapsed().as_secs_f64() * 1e3;
             wall_ms = if finishing {
                 wall_ms + elapsed
@@ -546,7 +546,7 @@ impl Renderer {
             }
             stages.extend(self.timestamps[slot].read()?);
             let check = self.method.frame_done(&FrameDone {
-                uploaded: &self.scene,
+                gpu_scene: &self.gpu_scene,
                 targets: &self.targets,
                 slot,
             })?;
@@ -556,7 +556,7 @@ impl Renderer {
             }
             rerenders += 1;
             if rerenders > MAX_RERENDERS {
-                return Err(Error::InvalidScene(format!(
+                return Err(Error::TooLarge(format!(
                     "{}: the frame is still unfinished after {MAX_RERENDERS} more submissions",
                     self.method.name()
                 )));
@@ -616,12 +616,12 @@ impl Renderer {
         (cmd, in_place): (vk::CommandBuffer, Option<InPlace>),
         record: impl FnOnce(&mut dyn Method, &mut RecordContext<'_>) -> Result<()>,
     ) -> Result<()> {
-        let slot = self.scene.slot();
+        let slot = self.gpu_scene.slot();
         let mut ctx = RecordContext {
             gpu,
             cmd,
             slot,
-            scene: &self.scene,
+            gpu_scene: &self.gpu_scene,
             targets: &self.targets,
             timestamps: &mut self.timestamps[slot],
             in_place,

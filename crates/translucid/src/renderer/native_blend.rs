@@ -43,7 +43,7 @@ pub(super) fn can_blend_into(gpu: &Gpu, format: vk::Format) -> bool {
 }
 
 impl EngineBlendPass {
-    fn new(gpu: &Gpu, scene: &GpuScene, targets: &HostTargets, slots: usize) -> Result<Self> {
+    fn new(gpu: &Gpu, gpu_scene: &GpuScene, targets: &HostTargets, slots: usize) -> Result<Self> {
         let format = targets.colour.format;
         if !can_blend_into(gpu, format) {
             return Err(Error::HostRequirements(format!(
@@ -54,7 +54,7 @@ impl EngineBlendPass {
         }
         let pass = EnginePass::new(gpu, &targets.colour, Some(&targets.depth), slots)?;
         let pipelines = |depth| {
-            scene.mesh_pipelines_with(
+            gpu_scene.mesh_pipelines_with(
                 gpu,
                 pass.render_pass,
                 MeshStages::Plain,
@@ -110,20 +110,20 @@ impl Renderer {
         {
             Some(i) => i,
             None => {
-                let made = EngineBlendPass::new(&gpu, &self.scene, targets, slots)?;
+                let made = EngineBlendPass::new(&gpu, &self.gpu_scene, targets, slots)?;
                 native.passes.push(made);
                 native.passes.len() - 1
             }
         };
         let native = &mut native.passes[index];
-        let reversed = self.frame_scene.camera.reversed_depth();
+        let reversed = self.scene.camera.reversed_depth();
         let extent = self.targets.extent;
         native.pass.begin(cmd, images, slot, (extent, reversed))?;
         let pipelines = &native.pipelines[usize::from(reversed)];
-        self.scene.draw(
+        self.gpu_scene.draw(
             &gpu,
             cmd,
-            &self.scene.transparent_calls,
+            &self.gpu_scene.transparent_calls,
             (&pipelines.0, &pipelines.1),
         );
         native.pass.end(cmd);

@@ -195,7 +195,7 @@ pub struct BinsDone {
     pub grown: bool,
     /// The frame is not all right: triangles were lost, the stages missed a feature the
     /// frame needed, or blocks were left untouched. Render it again.
-    pub again: bool,
+    pub rerender: bool,
     /// Pixel rows the frame left with the opaque colour (blocks past the last band, or rows
     /// a band left unfinished).
     pub degraded_rows: u64,
@@ -319,7 +319,7 @@ impl Bins {
     pub fn new(
         gpu: &Gpu,
         scene: &Scene,
-        uploaded: &GpuScene,
+        gpu_scene: &GpuScene,
         targets: &FrameTargets,
         options: &BinOptions,
         method: &'static str,
@@ -350,7 +350,7 @@ impl Bins {
         let capacity = targets.capacity;
         if capacity.width > 0xFFFF || capacity.height > 0xFFFF {
             // Triangle records keep their pixel bounds in 16 bits.
-            return Err(Error::InvalidScene(format!(
+            return Err(Error::TooLarge(format!(
                 "{method}: {}x{} is over the 65535 pixels a side it supports",
                 capacity.width, capacity.height
             )));
@@ -368,7 +368,7 @@ impl Bins {
         }
         // Buffers per block and row are made for the largest frame.
         let capacities = Capacities::initial(
-            uploaded.transparent_quads,
+            gpu_scene.transparent_quads,
             features.attribute_texels(),
             capacity.width.div_ceil(BIN_SIZE) * capacity.height.div_ceil(BIN_SIZE),
             &expected,
@@ -376,16 +376,17 @@ impl Bins {
             options,
         )
         .within(&most);
-        let resources = Resources::new(gpu, scene, uploaded, targets, capacities, features.slabs())
-            .map_err(|e| in_errors(method, e))?;
-        let layouts = [&uploaded.layout, &resources.layout];
+        let resources =
+            Resources::new(gpu, scene, gpu_scene, targets, capacities, features.slabs())
+                .map_err(|e| in_errors(method, e))?;
+        let layouts = [&gpu_scene.layout, &resources.layout];
         let mut cache = ComputePipelineCache::new(std::mem::size_of::<BinPush>() as u32);
         let records_as_texels = resources.records_pass_a_binding(gpu);
         let stages =
             StagePipelines::select(&mut cache, gpu, &layouts, &features, records_as_texels)?;
         let slice_rows_limit = options.bin_rows_per_slice.unwrap_or(u32::MAX);
         let mut push = BinPush {
-            item_count: uploaded.transparent_quads,
+            item_count: gpu_scene.transparent_quads,
             draw_count: scene.transparent.len() as u32,
             threshold: 0.0,
             resume_list: 0,
@@ -426,7 +427,7 @@ impl Bins {
                     bands: 0,
                     recording: 0,
                 };
-                uploaded.slot_count()
+                gpu_scene.slot_count()
             ],
             composite: None,
             stamp: 0,
@@ -462,11 +463,11 @@ impl Bins {
     /// was before.
     pub fn pipeline(
         &mut self,
-        uploaded: &GpuScene,
+        gpu_scene: &GpuScene,
         spirv: &'static [u8],
         constants: &Specialization,
     ) -> Result<Arc<ComputePipeline>> {
-        let layouts = [&uploaded.layout, &self.resources.layout];
+        let layouts = [&gpu_scene.layout, &self.resources.layout];
         self.cache.get(&self.gpu, &layouts, spirv, constants)
     }
 
@@ -477,21 +478,21 @@ impl Bins {
         self.push.set_size(width, height, self.slice_rows_limit);
         self.resources.use_slot(f.slot);
         self.resources
-            .set_frame(f.gpu, f.scene, f.uploaded, f.targets)?;
-        self.push.item_count = f.uploaded.transparent_quads;
+            .set_frame(f.gpu, f.scene, f.gpu_scene, f.targets)?;
+        self.push.item_count = f.gpu_scene.transparent_quads;
         self.push.draw_count = f.scene.transparent.len() as u32;
         // Setup writes at most two triangles per quad, and homogeneous records for at most
         // the triangles of draws that leave the fixed-point path.
-        let triangles = f.uploaded.transparent_quads.saturating_mul(2);
+        let triangles = f.gpu_scene.transparent_quads.saturating_mul(2);
         // Meshes added since (the renderer adopted extended assets).
         let known = self.meshes.len();
         self.meshes
             .extend(f.scene.meshes[known..].iter().map(MeshFacts::of));
-        if !f.uploaded.moved_meshes().is_empty() {
+        if !f.gpu_scene.moved_meshes().is_empty() {
             self.single_band = false;
             self.first_after_move = self.recordings;
         }
-        for &moved in f.uploaded.moved_meshes() {
+        for &moved in f.gpu_scene.moved_meshes() {
             self.meshes[moved].bounds = features::bounds(&f.scene.meshes[moved].positions);
         }
         // Triangles that may take the near-plane path: the records' bound and the feature.
@@ -531,18 +532,18 @@ impl Bins {
         let texels = self.resources.records_pass_a_binding(f.gpu);
         if changed || texels != self.records_as_texels {
             self.records_as_texels = texels;
-            self.select(f.uploaded, features)?;
+            self.select(f.gpu_scene, features)?;
         }
         Ok(changed)
     }
 
     /// Makes `features` the frames' from now on, the stages' pipelines built unless made
     /// before.
-    fn select(&mut self, uploaded: &GpuScene, features: RasterFeatures) -> Result<()> {
+    fn select(&mut self, gpu_scene: &GpuScene, features: RasterFeatures) -> Result<()> {
         // set_frame grows the records for what the frame's shading reads; nothing after it
         // changes that.
         debug_assert!(features.attribute_texels() <= self.resources.capacities.attribute_texels);
-        let layouts = [&uploaded.layout, &self.resources.layout];
+        let layouts = [&gpu_scene.layout, &self.resources.layout];
         self.stages = StagePipelines::select(
             &mut self.cache,
             &self.gpu,
@@ -897,7 +898,7 @@ impl Bins {
     ) {
         p.dispatch(
             ctx.cmd,
-            &[ctx.scene.set().raw, self.resources.set()],
+            &[ctx.gpu_scene.set().raw, self.resources.set()],
             bytemuck::bytes_of(push),
             groups,
         );
@@ -913,7 +914,7 @@ impl Bins {
     ) {
         p.dispatch_indirect(
             ctx.cmd,
-            &[ctx.scene.set().raw, self.resources.set()],
+            &[ctx.gpu_scene.set().raw, self.resources.set()],
             bytemuck::bytes_of(push),
             self.resources.dispatches(),
             offset,
@@ -966,7 +967,7 @@ impl Bins {
         self.homogeneous_missed |= rebuild;
         let features_changed = features != self.features;
         if features_changed {
-            self.select(done.uploaded, features)?;
+            self.select(done.gpu_scene, features)?;
         }
         let cells = self.push.bins_x * self.push.bins_y;
         if recorded.culled
@@ -986,7 +987,7 @@ impl Bins {
             && recorded.capacities.homogeneous >= self.most.homogeneous
         {
             // No larger buffer can be made: rendering again would lose the same triangles.
-            return Err(Error::InvalidScene(format!(
+            return Err(Error::TooLarge(format!(
                 "{method}: the frame has {} transparent triangles crossing the near plane; \
                  their records fit at most {} ({} bytes each in one storage binding). Move the \
                  near plane, or draw fewer of them",
@@ -1037,7 +1038,7 @@ impl Bins {
             counters,
             features_changed,
             grown: grown.is_some(),
-            again: rebuild || overflowed || degraded_rows > 0,
+            rerender: rebuild || overflowed || degraded_rows > 0,
             degraded_rows,
         })
     }
@@ -1046,7 +1047,7 @@ impl Bins {
 /// A limit `e` the bins' resources hit, said as `method`'s.
 fn in_errors(method: &str, e: Error) -> Error {
     match e {
-        Error::InvalidScene(message) => Error::InvalidScene(format!("{method}: {message}")),
+        Error::TooLarge(message) => Error::TooLarge(format!("{method}: {message}")),
         other => other,
     }
 }

@@ -273,7 +273,7 @@ fn empty_dispatches(rows: u32) -> [[u32; 4]; 7] {
 fn storage_buffer(gpu: &Gpu, name: &str, bytes: u64) -> Result<Buffer> {
     let limit = u64::from(gpu.info().max_storage_buffer_range);
     if bytes > limit {
-        return Err(Error::InvalidScene(format!(
+        return Err(Error::TooLarge(format!(
             "the {name} need {} MB, over this device's {} MB storage-buffer limit",
             bytes >> 20,
             limit >> 20
@@ -444,12 +444,12 @@ fn bin_draws(scene: &Scene, first_quad_of_mesh: &[u32], width: u32, height: u32)
 }
 
 impl Resources {
-    /// The buffers for `scene` (uploaded as `uploaded`, whose frame slots it takes) over
+    /// The buffers for `scene` (uploaded as `gpu_scene`, whose frame slots it takes) over
     /// `targets`, every slot holding the scene's own frame.
     pub fn new(
         gpu: &Gpu,
         scene: &Scene,
-        uploaded: &GpuScene,
+        gpu_scene: &GpuScene,
         targets: &FrameTargets,
         capacities: Capacities,
         slabs: u32,
@@ -463,13 +463,13 @@ impl Resources {
         let blocks = u64::from(blocks_x) * u64::from(blocks_y);
         let (width, height) = (targets.extent.width, targets.extent.height);
         if scene.materials.len() as u64 > 1 << (32 - TRIANGLE_MATERIAL_SHIFT) {
-            return Err(Error::InvalidScene(format!(
+            return Err(Error::TooLarge(format!(
                 "{} materials; triangle records address at most {}",
                 scene.materials.len(),
                 1u32 << (32 - TRIANGLE_MATERIAL_SHIFT)
             )));
         }
-        let draws = bin_draws(scene, &uploaded.resident.first_quads, width, height);
+        let draws = bin_draws(scene, &gpu_scene.resident.first_quads, width, height);
         // Counters and indirect arguments stay in device memory; the host reads a copy.
         let counters = gpu.create_buffer(
             "bin counters",
@@ -486,9 +486,9 @@ impl Resources {
             slot: 0,
             generation: 0,
             retirement: Retirement::default(),
-            _resident: uploaded.resident.clone(),
-            asset_views: uploaded.resident.texel_views(),
-            sampled: uploaded.resident.sampled_views(gpu, scene)?,
+            _resident: gpu_scene.resident.clone(),
+            asset_views: gpu_scene.resident.texel_views(),
+            sampled: gpu_scene.resident.sampled_views(gpu, scene)?,
             counters,
             bins: BinArrays::new(gpu, blocks, slabs)?,
             raster_bins: storage_buffer(gpu, "non-empty blocks", blocks * 4)?,
@@ -507,14 +507,14 @@ impl Resources {
         // Room for twice the draws, as the scene's draws have (GpuScene).
         let draw_bytes = (2 * draws.len()).max(crate::assets::FIRST_DRAWS) as u64
             * std::mem::size_of::<BinDraw>() as u64;
-        for _ in 0..uploaded.slot_count() {
+        for _ in 0..gpu_scene.slot_count() {
             let mut buffer =
                 gpu.create_buffer("bin draws", draw_bytes, TEXELS, MemoryLocation::CpuToGpu)?;
             buffer.write(0, bytemuck::cast_slice(&draws))?;
             let draws = Viewed::new(gpu, buffer, RGBA32UI)?;
             let scene_draws = (
-                uploaded.draws().raw,
-                gpu.create_buffer_view(uploaded.draws(), RGBA32UI)?,
+                gpu_scene.draws().raw,
+                gpu.create_buffer_view(gpu_scene.draws(), RGBA32UI)?,
             );
             let set = resources.make_set(&draws.view, &scene_draws.1, targets.depth.view)?;
             resources.slots.push(BinSlot {
@@ -797,17 +797,17 @@ impl Resources {
         ))
     }
 
-    /// Writes the frame's draws into the current slot (`uploaded` holding the frame in the
+    /// Writes the frame's draws into the current slot (`gpu_scene` holding the frame in the
     /// same slot already), and renews the slot's descriptor set if a buffer it names moved.
     pub fn set_frame(
         &mut self,
         gpu: &Gpu,
         scene: &Scene,
-        uploaded: &GpuScene,
+        gpu_scene: &GpuScene,
         targets: &FrameTargets,
     ) -> Result<()> {
         let (width, height) = (targets.extent.width, targets.extent.height);
-        let draws = bin_draws(scene, &uploaded.resident.first_quads, width, height);
+        let draws = bin_draws(scene, &gpu_scene.resident.first_quads, width, height);
         let bytes: &[u8] = bytemuck::cast_slice(&draws);
         let slot = &mut self.slots[self.slot];
         if bytes.len() as u64 > slot.draws.buffer.size {
@@ -824,17 +824,17 @@ impl Resources {
         slot.draws.buffer.write(0, bytes)?;
         // Textures the frame's transparent draws use for the first time are copied for the
         // software sampler; when they took a new set of buffers, every slot binds it.
-        let sampled = uploaded.resident.sampled_views(gpu, scene)?;
+        let sampled = gpu_scene.resident.sampled_views(gpu, scene)?;
         if !sampled.same_buffers(&self.sampled) {
             let old = std::mem::replace(&mut self.sampled, sampled);
             self.retirement.retire(old);
             self.generation += 1;
         }
         let slot = &mut self.slots[self.slot];
-        if slot.scene_draws.0 != uploaded.draws().raw {
+        if slot.scene_draws.0 != gpu_scene.draws().raw {
             slot.scene_draws = (
-                uploaded.draws().raw,
-                gpu.create_buffer_view(uploaded.draws(), RGBA32UI)?,
+                gpu_scene.draws().raw,
+                gpu.create_buffer_view(gpu_scene.draws(), RGBA32UI)?,
             );
             slot.generation = u64::MAX;
         }

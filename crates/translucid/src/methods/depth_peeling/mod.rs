@@ -142,7 +142,7 @@ pub struct DepthPeeling {
 impl DepthPeeling {
     pub fn new(
         gpu: &Gpu,
-        uploaded: &GpuScene,
+        gpu_scene: &GpuScene,
         targets: &FrameTargets,
         options: &DepthPeelingOptions,
     ) -> Result<Self> {
@@ -251,7 +251,7 @@ impl DepthPeeling {
             ],
             vk::ShaderStageFlags::COMPUTE,
         )?;
-        let first_pipelines = uploaded.mesh_pipelines_with(
+        let first_pipelines = gpu_scene.mesh_pipelines_with(
             gpu,
             first.render_pass,
             crate::assets::MeshStages::OrderDepth,
@@ -264,7 +264,7 @@ impl DepthPeeling {
                 vertex_input: true,
             },
         )?;
-        let peel_pipelines = uploaded.mesh_pipelines_with(
+        let peel_pipelines = gpu_scene.mesh_pipelines_with(
             gpu,
             peel[0].render_pass,
             crate::assets::MeshStages::OrderDepth,
@@ -333,7 +333,7 @@ impl DepthPeeling {
             composite_set(&images.ranges[0])?,
             composite_set(&images.ranges[1])?,
         ];
-        let readbacks = (0..uploaded.slot_count())
+        let readbacks = (0..gpu_scene.slot_count())
             .map(|_| {
                 gpu.create_buffer(
                     "depth peeling flags readback",
@@ -411,9 +411,9 @@ impl Method for DepthPeeling {
             );
         }
 
-        let draws = &ctx.scene.transparent_calls;
+        let draws = &ctx.gpu_scene.transparent_calls;
         self.first.begin(cmd, extent);
-        ctx.scene.draw(
+        ctx.gpu_scene.draw(
             gpu,
             cmd,
             draws,
@@ -436,7 +436,7 @@ impl Method for DepthPeeling {
             self.peel[into].begin(cmd, extent);
             let skipping = skippable && gpu.cmd_begin_conditional(cmd, &self.peeling, flag);
             gpu.cmd_bind_graphics_set(cmd, pipelines.0.layout, 2, self.peel_sets[from].raw);
-            ctx.scene
+            ctx.gpu_scene
                 .draw(gpu, cmd, draws, (&pipelines.0, &pipelines.1));
             if skipping {
                 gpu.cmd_end_conditional(cmd);

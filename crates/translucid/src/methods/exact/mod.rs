@@ -123,7 +123,7 @@ impl Exact {
     pub fn new(
         gpu: &crate::gpu::Gpu,
         scene: &Scene,
-        uploaded: &GpuScene,
+        gpu_scene: &GpuScene,
         targets: &FrameTargets,
         bins: &BinOptions,
         options: &ExactOptions,
@@ -138,22 +138,22 @@ impl Exact {
                 features
             }
         };
-        let mut bins = Bins::new(gpu, scene, uploaded, targets, bins, "exact", shape)?;
+        let mut bins = Bins::new(gpu, scene, gpu_scene, targets, bins, "exact", shape)?;
         bins.set_threshold(options.threshold);
-        let (raster, continuation) = select(&mut bins, uploaded)?;
+        let (raster, continuation) = select(&mut bins, gpu_scene)?;
         Ok(Self {
             bins,
             raster,
             continuation,
             continuations: Continuations::START,
             pending_list: 0,
-            recorded: vec![(Continuations::START, false); uploaded.slot_count()],
+            recorded: vec![(Continuations::START, false); gpu_scene.slot_count()],
         })
     }
 
     /// The raster's pipelines for the bins' features.
-    fn select_raster(&mut self, uploaded: &GpuScene) -> Result<()> {
-        (self.raster, self.continuation) = select(&mut self.bins, uploaded)?;
+    fn select_raster(&mut self, gpu_scene: &GpuScene) -> Result<()> {
+        (self.raster, self.continuation) = select(&mut self.bins, gpu_scene)?;
         Ok(())
     }
 
@@ -183,12 +183,12 @@ impl Exact {
 /// The raster and its continuation, specialized for `bins`' features.
 fn select(
     bins: &mut Bins,
-    uploaded: &GpuScene,
+    gpu_scene: &GpuScene,
 ) -> Result<(Arc<ComputePipeline>, Arc<ComputePipeline>)> {
     let features = bins.features();
     Ok((
-        bins.pipeline(uploaded, RASTER, &features.constants(false))?,
-        bins.pipeline(uploaded, RASTER, &features.constants(true))?,
+        bins.pipeline(gpu_scene, RASTER, &features.constants(false))?,
+        bins.pipeline(gpu_scene, RASTER, &features.constants(true))?,
     ))
 }
 
@@ -203,7 +203,7 @@ impl Method for Exact {
 
     fn set_frame(&mut self, f: &FrameSetup<'_>) -> Result<()> {
         if self.bins.set_frame(f)? {
-            self.select_raster(f.uploaded)?;
+            self.select_raster(f.gpu_scene)?;
         }
         Ok(())
     }
@@ -265,7 +265,7 @@ impl Method for Exact {
                 )
             })?;
         if bins.features_changed {
-            self.select_raster(done.uploaded)?;
+            self.select_raster(done.gpu_scene)?;
         }
         let counters = bins.counters;
         // Rows the last dispatch left on the pending list are unfinished.
@@ -273,7 +273,7 @@ impl Method for Exact {
         // (Continuations already multiplied since the frame was recorded are left alone.)
         if unfinished > 0 && recorded == self.continuations {
             let too_deep = |more: String| {
-                crate::Error::InvalidScene(format!(
+                crate::Error::TooLarge(format!(
                     "exact: {unfinished} pixel rows still unfinished after {} continuation \
                      dispatches; {more} would pass the frame's work bound (README, \"The work \
                      bound\")",
@@ -298,8 +298,8 @@ impl Method for Exact {
         // Unfinished rows are finished by another submission of continuations, unless the
         // frame must be rendered again anyway, or its pipelines changed under the saved rows.
         // (A finishing submission reads the buffers the frame used: not after they grew.)
-        let finish = unfinished > 0 && !bins.again && !bins.features_changed && !bins.grown;
-        let rerender = bins.again || (unfinished > 0 && !finish);
+        let finish = unfinished > 0 && !bins.rerender && !bins.features_changed && !bins.grown;
+        let rerender = bins.rerender || (unfinished > 0 && !finish);
         let kept = |count: u64| if rerender || finish { 0 } else { count };
         Ok(FrameCheck {
             rerender,

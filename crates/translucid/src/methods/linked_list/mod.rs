@@ -77,13 +77,13 @@ struct Passes {
 impl Passes {
     fn new(
         gpu: &Gpu,
-        uploaded: &GpuScene,
+        gpu_scene: &GpuScene,
         render_pass: vk::RenderPass,
         layouts: &Layouts,
         nodes_as_texels: bool,
     ) -> Result<Self> {
         let constants = Specialization::new().with(NODES_AS_TEXELS, nodes_as_texels);
-        let append = uploaded.mesh_pipelines_with(
+        let append = gpu_scene.mesh_pipelines_with(
             gpu,
             render_pass,
             crate::assets::MeshStages::OrderDepth,
@@ -149,7 +149,7 @@ impl LinkedList {
     pub fn new(
         gpu: &Gpu,
         scene: &Scene,
-        uploaded: &GpuScene,
+        gpu_scene: &GpuScene,
         targets: &FrameTargets,
         options: &LinkedListOptions,
     ) -> Result<Self> {
@@ -213,12 +213,12 @@ impl LinkedList {
         let append = targets.render_target(gpu, false)?;
         let passes = Passes::new(
             gpu,
-            uploaded,
+            gpu_scene,
             append.render_pass,
             &layouts,
             options.nodes_as_texels || nodes_pass_a_binding(gpu, capacity),
         )?;
-        let readbacks = (0..uploaded.slot_count())
+        let readbacks = (0..gpu_scene.slot_count())
             .map(|_| {
                 gpu.create_buffer(
                     "linked list counters readback",
@@ -326,10 +326,10 @@ impl Method for LinkedList {
         let set = self.lists.append_set.raw;
         let (keep_back, cull_back) = &self.passes.append;
         gpu.cmd_bind_graphics_set(cmd, keep_back.layout, 2, set);
-        ctx.scene.draw(
+        ctx.gpu_scene.draw(
             gpu,
             cmd,
-            &ctx.scene.transparent_calls,
+            &ctx.gpu_scene.transparent_calls,
             (keep_back, cull_back),
         );
         self.append.end(cmd);
@@ -405,7 +405,7 @@ impl Method for LinkedList {
                 if as_texels != self.passes.nodes_as_texels {
                     let passes = Passes::new(
                         &self.gpu,
-                        done.uploaded,
+                        done.gpu_scene,
                         self.append.render_pass,
                         &self.layouts,
                         as_texels,

@@ -33,15 +33,15 @@ impl BinRaster {
     pub fn new(
         gpu: &Gpu,
         scene: &Scene,
-        uploaded: &GpuScene,
+        gpu_scene: &GpuScene,
         targets: &FrameTargets,
         options: &BinOptions,
         rank: u32,
         constants: SpecConstants,
     ) -> Result<Self> {
         // The raster has no selection: it keeps the shallow frames' settings.
-        let mut bins = Bins::new(gpu, scene, uploaded, targets, options, "wavelet", |f, _| f)?;
-        let raster = select(&mut bins, uploaded, rank, constants)?;
+        let mut bins = Bins::new(gpu, scene, gpu_scene, targets, options, "wavelet", |f, _| f)?;
+        let raster = select(&mut bins, gpu_scene, rank, constants)?;
         Ok(Self {
             bins,
             rank,
@@ -52,7 +52,7 @@ impl BinRaster {
 
     pub fn set_frame(&mut self, f: &FrameSetup<'_>) -> Result<()> {
         if self.bins.set_frame(f)? {
-            self.raster = select(&mut self.bins, f.uploaded, self.rank, self.constants)?;
+            self.raster = select(&mut self.bins, f.gpu_scene, self.rank, self.constants)?;
         }
         Ok(())
     }
@@ -79,11 +79,11 @@ impl BinRaster {
     pub fn frame_done(&mut self, done: &FrameDone<'_>) -> Result<FrameCheck> {
         let bins = self.bins.frame_done(done, |f, _, _| f)?;
         if bins.features_changed {
-            self.raster = select(&mut self.bins, done.uploaded, self.rank, self.constants)?;
+            self.raster = select(&mut self.bins, done.gpu_scene, self.rank, self.constants)?;
         }
-        let kept = |count: u64| if bins.again { 0 } else { count };
+        let kept = |count: u64| if bins.rerender { 0 } else { count };
         Ok(FrameCheck {
-            rerender: bins.again,
+            rerender: bins.rerender,
             degraded_rows: bins.degraded_rows,
             bands: bins.counters.bands,
             fragments: kept(bins.counters.fragments()),
@@ -100,10 +100,10 @@ impl BinRaster {
 /// The raster for `bins`' features and the wavelet constants.
 fn select(
     bins: &mut Bins,
-    uploaded: &GpuScene,
+    gpu_scene: &GpuScene,
     rank: u32,
     constants: SpecConstants,
 ) -> Result<Arc<ComputePipeline>> {
     let constants = constants.add_to(bins.features().constants(false));
-    bins.pipeline(uploaded, raster_spirv(rank), &constants)
+    bins.pipeline(gpu_scene, raster_spirv(rank), &constants)
 }

@@ -182,7 +182,7 @@ impl Wavelet {
     pub fn new(
         gpu: &Gpu,
         scene: &Scene,
-        uploaded: &GpuScene,
+        gpu_scene: &GpuScene,
         targets: &FrameTargets,
         bin_options: &BinOptions,
         options: &WaveletOptions,
@@ -193,7 +193,7 @@ impl Wavelet {
             Storage::Images => None,
             Storage::Bins => {
                 let rank = settings.rank;
-                match BinRaster::new(gpu, scene, uploaded, targets, bin_options, rank, constants) {
+                match BinRaster::new(gpu, scene, gpu_scene, targets, bin_options, rank, constants) {
                     Ok(raster) => Some(raster),
                     // The images need nothing of the device beyond blending.
                     Err(Error::NoDevice(why)) => {
@@ -208,7 +208,7 @@ impl Wavelet {
         let variant = match bins {
             Some(raster) => Variant::Bins(Box::new(raster)),
             None => Variant::Images(Box::new(passes::Passes::new(
-                gpu, uploaded, targets, &settings, constants,
+                gpu, gpu_scene, targets, &settings, constants,
             )?)),
         };
         Ok(Self {
@@ -288,7 +288,7 @@ impl Method for Wavelet {
         self.settings.storage = Storage::Images;
         let images = Variant::Images(Box::new(passes::Passes::new(
             &self.gpu,
-            done.uploaded,
+            done.gpu_scene,
             done.targets,
             &self.settings,
             self.settings.constants(),

@@ -81,7 +81,7 @@ const SAMPLED: vk::ImageLayout = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
 impl Passes {
     pub fn new(
         gpu: &Gpu,
-        scene: &GpuScene,
+        gpu_scene: &GpuScene,
         targets: &FrameTargets,
         settings: &Settings,
         constants: super::SpecConstants,
@@ -162,7 +162,7 @@ impl Passes {
             }],
             Some(&frame_depth(Load::Keep, (DEPTH, DEPTH_READ))),
         )?;
-        let bounds_pipelines = scene.mesh_pipelines_with(
+        let bounds_pipelines = gpu_scene.mesh_pipelines_with(
             gpu,
             bounds_pass.render_pass,
             crate::assets::MeshStages::Plain,
@@ -196,7 +196,7 @@ impl Passes {
                 ..constants
             };
             let blends = vec![Blend::Add; images.len()];
-            let pipelines = scene.mesh_pipelines_with(
+            let pipelines = gpu_scene.mesh_pipelines_with(
                 gpu,
                 pass.render_pass,
                 crate::assets::MeshStages::Plain,
@@ -228,7 +228,7 @@ impl Passes {
             gpu,
             resolve_pass.render_pass,
             resolve_spirv,
-            &[&scene.layout, &resolve_layout],
+            &[&gpu_scene.layout, &resolve_layout],
             &PipelineState {
                 blends: &[Blend::Multiply],
                 depth: DepthMode::WriteAlways,
@@ -249,7 +249,7 @@ impl Passes {
                 write: false,
             }),
         )?;
-        let shade_pipelines = scene.mesh_pipelines_with(
+        let shade_pipelines = gpu_scene.mesh_pipelines_with(
             gpu,
             shade_pass.render_pass,
             crate::assets::MeshStages::Plain,
@@ -289,10 +289,10 @@ impl Passes {
             ctx.gpu
                 .cmd_bind_graphics_set(ctx.cmd, pipelines.0.layout, 2, set.raw);
         }
-        ctx.scene.draw(
+        ctx.gpu_scene.draw(
             ctx.gpu,
             ctx.cmd,
-            &ctx.scene.transparent_calls,
+            &ctx.gpu_scene.transparent_calls,
             (&pipelines.0, &pipelines.1),
         );
     }
@@ -336,7 +336,7 @@ impl Passes {
         self.resolve_pass.draw_fullscreen(
             ctx.cmd,
             &self.resolve_pipeline,
-            &[ctx.scene.set().raw, self.resolve_set.raw],
+            &[ctx.gpu_scene.set().raw, self.resolve_set.raw],
         );
         self.resolve_pass.end(ctx.cmd);
         let attachment = (

@@ -38,7 +38,7 @@ pub struct Wboit {
 }
 
 impl Wboit {
-    pub fn new(gpu: &Gpu, scene: &GpuScene, targets: &FrameTargets) -> Result<Self> {
+    pub fn new(gpu: &Gpu, gpu_scene: &GpuScene, targets: &FrameTargets) -> Result<Self> {
         let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED;
         let image = |name, format| gpu.create_image(name, targets.capacity, format, usage, 1);
         let images = [
@@ -70,7 +70,7 @@ impl Wboit {
                 write: false,
             }),
         )?;
-        let accumulate_pipelines = scene.mesh_pipelines_with(
+        let accumulate_pipelines = gpu_scene.mesh_pipelines_with(
             gpu,
             accumulate.render_pass,
             crate::assets::MeshStages::Plain,
@@ -128,10 +128,10 @@ impl Method for Wboit {
 
     fn record(&mut self, ctx: &mut RecordContext<'_>) -> Result<()> {
         self.accumulate.begin(ctx.cmd, ctx.targets.extent);
-        ctx.scene.draw(
+        ctx.gpu_scene.draw(
             ctx.gpu,
             ctx.cmd,
-            &ctx.scene.transparent_calls,
+            &ctx.gpu_scene.transparent_calls,
             (&self.accumulate_pipelines.0, &self.accumulate_pipelines.1),
         );
         self.accumulate.end(ctx.cmd);

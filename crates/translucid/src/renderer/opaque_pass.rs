@@ -19,9 +19,9 @@ pub struct OpaquePass {
 }
 
 impl OpaquePass {
-    pub fn new(gpu: &Gpu, targets: &FrameTargets, scene: &GpuScene) -> Result<Self> {
+    pub fn new(gpu: &Gpu, targets: &FrameTargets, gpu_scene: &GpuScene) -> Result<Self> {
         let target = targets.render_target(gpu, true)?;
-        let pipelines = scene.mesh_pipelines(
+        let pipelines = gpu_scene.mesh_pipelines(
             gpu,
             target.render_pass,
             crate::spirv!("scene/opaque.frag"),
@@ -35,15 +35,15 @@ impl OpaquePass {
         &self,
         gpu: &Gpu,
         cmd: vk::CommandBuffer,
-        (scene, targets): (&GpuScene, &FrameTargets),
+        (gpu_scene, targets): (&GpuScene, &FrameTargets),
         background: Vec3,
     ) {
         self.target
             .begin(cmd, targets.extent, background.extend(1.0).to_array());
-        scene.draw(
+        gpu_scene.draw(
             gpu,
             cmd,
-            &scene.opaque_calls,
+            &gpu_scene.opaque_calls,
             (&self.pipelines.0, &self.pipelines.1),
         );
         self.target.end(cmd);

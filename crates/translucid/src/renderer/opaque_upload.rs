@@ -1,8 +1,8 @@
-//! Frames over the host's own opaque layer: instead of drawing `Scene::opaque`, the frame
-//! starts from colour and depth the engine already rendered, copied into the frame targets.
-//!
-//! This is what the C API's standalone mode does with a host opaque layer in host memory; the
-//! host-device mode will read the engine's images in place instead.
+//! Frames over an opaque layer the engine gives in CPU memory: instead of drawing
+//! `Scene::opaque`, the frame starts from colour and depth the engine already rendered,
+//! uploaded into the frame targets. This is the C API's standalone mode with an engine's
+//! opaque layer; on an engine's device (`host_device.rs`) the methods read its images where
+//! they are.
 
 use super::{Frame, FrameTargets, Renderer, COLOUR_FORMAT};
 use crate::gpu::{vk, Buffer, Gpu};
@@ -13,7 +13,7 @@ impl OpaqueLayer {
     /// Checks sizes and values: colour in [0, 65504] (`shading::MAX_COLOUR`), depth in [0, 1] (a Vulkan
     /// depth buffer without unrestricted depth range holds nothing else).
     pub fn validate(&self, width: u32, height: u32) -> Result<()> {
-        let bad = |msg: String| Err(Error::InvalidScene(format!("opaque layer: {msg}")));
+        let bad = |msg: String| Err(Error::InvalidArgument(format!("opaque layer: {msg}")));
         if (self.width, self.height) != (width, height) {
             return bad(format!(
                 "is {}x{}, the frame is {width}x{height}",
