@@ -490,3 +490,42 @@ pub fn set_include() -> Include {
         needs: &["interface_scene.glsl", "interface_bins.glsl"],
     }
 }
+
+shader_struct! {
+    /// The push constants of the composite (bins/composite.vert and .frag).
+    pub struct CompositePush as CompositePush {
+        /// Blocks across.
+        pub bins_x: uint,
+        /// The submission whose pixels are blended.
+        pub stamp: uint,
+        /// The frame's size in pixels.
+        pub extent: vec2,
+    }
+}
+
+/// The composite's set: the listed blocks and the transparent layer the rasters left
+/// (`interface_composite.glsl`).
+pub const COMPOSITE_SET: SetDecl = SetDecl {
+    set: 0,
+    bindings: &[
+        Binding::buffer("RasterBinBlock", "readonly", &["uint g_rasterBins[]"]).doc(&[
+            "The blocks with a non-empty bin, in block order (block_scan.comp): the",
+            "composite's instances.",
+        ]),
+        Binding::image("u_transparentLayer", "rg32ui", "readonly", "uimage2D"),
+        Binding::image("u_transparentLayerStamps", "r32ui", "readonly", "uimage2D"),
+    ],
+};
+
+pub fn composite_include() -> Include {
+    const STRUCTS: &[&StructDecl] = &[&CompositePush::GLSL];
+    Include {
+        file: "interface_composite.glsl",
+        source: "bins.rs",
+        constants: &[],
+        structs: STRUCTS,
+        sets: &[&COMPOSITE_SET],
+        more: None,
+        needs: &["interface_bins.glsl"],
+    }
+}

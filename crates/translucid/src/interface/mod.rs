@@ -277,6 +277,7 @@ pub fn includes() -> Vec<Include> {
         raster::include(),
         bins::include(),
         bins::set_include(),
+        bins::composite_include(),
         specialization::include(),
     ]
 }

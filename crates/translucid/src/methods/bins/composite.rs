@@ -6,22 +6,13 @@
 //! keep the engine's colour bit for bit. Nothing is copied in or out.
 
 use crate::gpu::{
-    vk, BindingKind, Blend, Buffer, DepthMode, DescriptorLayout, DescriptorSet, EnginePass, Gpu,
-    GpuImage, GraphicsPipeline, GraphicsPipelineDesc, HostImage, PipelineState, Resource,
+    vk, Blend, Buffer, DepthMode, DescriptorLayout, DescriptorSet, EnginePass, Gpu, GpuImage,
+    GraphicsPipeline, GraphicsPipelineDesc, HostImage, PipelineState, Resource,
 };
+use crate::interface::bins::{CompositePush, COMPOSITE_SET};
 use crate::interface::specialization::Specialization;
 use crate::Result;
-use bytemuck::{Pod, Zeroable};
 use std::sync::Arc;
-
-/// `CompositePush` of composite.glsl.
-#[repr(C)]
-#[derive(Clone, Copy, Pod, Zeroable)]
-struct CompositePush {
-    bins_x: u32,
-    stamp: u32,
-    extent: [f32; 2],
-}
 
 /// What one composite records: onto which colour image, for which slot and frame size, the
 /// submission's stamp and the frame's blocks across, and the draw's indirect command.
@@ -53,16 +44,18 @@ impl Composite {
         layer: &[GpuImage; 2],
         slots: usize,
     ) -> Result<Self> {
-        let image = BindingKind::StorageImage;
-        let layout = DescriptorLayout::new(
+        let layout = DescriptorLayout::declared(
             gpu,
-            &[BindingKind::StorageBuffer, image, image],
+            &COMPOSITE_SET,
             vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
         )?;
-        let set = layout.create_set(&[
-            Resource::Buffer(raster_bins),
-            Resource::StorageImage(layer[0].view),
-            Resource::StorageImage(layer[1].view),
+        let set = layout.create_named_set(&[
+            ("RasterBinBlock", Resource::Buffer(raster_bins)),
+            ("u_transparentLayer", Resource::StorageImage(layer[0].view)),
+            (
+                "u_transparentLayerStamps",
+                Resource::StorageImage(layer[1].view),
+            ),
         ])?;
         Ok(Self {
             gpu: gpu.clone(),
