@@ -733,6 +733,10 @@ fn exact_resumes_the_last_bands_rows_in_the_empty_bands_after_it() {
 /// the last pyramid would drop triangles now in view, then the large one again, unculled.
 /// Then the same from a renderer made for larger frames, which draws these into the corner
 /// of its targets (the pyramid reads only the frame's part of the depth).
+///
+/// Which frames ran the cull shows in the triangles they kept: a culled frame drops those
+/// behind its patch, an unculled one keeps every triangle a frame over a layer that hides
+/// nothing keeps (when set: 390 and 8,177 of 8,192, then 8,192 twice).
 #[test]
 fn frames_with_and_without_the_occlusion_cull_match_the_reference() {
     let gpu = gpu();
@@ -744,18 +748,46 @@ fn frames_with_and_without_the_occlusion_cull_match_the_reference() {
         (40, 56, 56, 64),
         (8, 8, 80, 56),
     ];
+    let culled = [true, true, false, false];
     for (max_width, max_height) in [(width, height), (width + 40, height + 24)] {
-        let mut renderer = Renderer::new(&gpu, &scene, MethodKind::Exact, max_width, max_height)
-            .expect("renderer");
-        renderer.set_size(width, height).expect("a smaller frame");
-        occlusion_patches(&scene, &mut renderer, &patches);
+        let renderer = || {
+            let mut renderer =
+                Renderer::new(&gpu, &scene, MethodKind::Exact, max_width, max_height)
+                    .expect("renderer");
+            renderer.set_size(width, height).expect("a smaller frame");
+            renderer
+        };
+        // On a renderer of its own: over a layer that hides nothing, the cull drops nothing
+        // and leaves the frames after it unculled.
+        let clear = translucid::OpaqueLayer::clear(width, height, Vec3::new(0.1, 0.2, 0.3));
+        let unoccluded = renderer().render_over(&clear).expect("frame").triangles;
+        let kept = occlusion_patches(&scene, &mut renderer(), &patches);
+        for (i, (&kept, culled)) in kept.iter().zip(culled).enumerate() {
+            let label = format!("frame {i} (renderer for {max_width}x{max_height})");
+            if culled {
+                assert!(
+                    kept < unoccluded,
+                    "{label} kept all {unoccluded} triangles: it ran without the cull"
+                );
+            } else {
+                assert_eq!(
+                    kept, unoccluded,
+                    "{label} dropped triangles behind its patch: it ran with the cull"
+                );
+            }
+        }
     }
 }
 
 /// Renders `scene` over opaque layers whose depth is 0 in each of `patches` (x0, y0, x1, y1)
-/// in turn, each frame held to the reference.
-fn occlusion_patches(scene: &Scene, renderer: &mut Renderer, patches: &[(u32, u32, u32, u32)]) {
+/// in turn, each frame held to the reference; the triangles each frame kept.
+fn occlusion_patches(
+    scene: &Scene,
+    renderer: &mut Renderer,
+    patches: &[(u32, u32, u32, u32)],
+) -> Vec<u64> {
     let (width, height) = renderer.size();
+    let mut kept = Vec::new();
     for (i, &(x0, y0, x1, y1)) in patches.iter().enumerate() {
         let mut layer = translucid::OpaqueLayer::clear(width, height, Vec3::new(0.1, 0.2, 0.3));
         for y in y0..y1 {
@@ -775,5 +807,7 @@ fn occlusion_patches(scene: &Scene, renderer: &mut Renderer, patches: &[(u32, u3
             m.pixels_over,
             save_failure(&format!("exact_occlusion_{i}"), &frame.image, &expected).display()
         );
+        kept.push(frame.triangles);
     }
+    kept
 }
