@@ -570,12 +570,16 @@ fn full_screen_layers(count: u32) -> Scene {
     )
 }
 
-/// 10,000 layers over every pixel, right and in about blend's time: the rows' lists, ordered
-/// into fine depth slabs, are walked about once. (With 16 slabs a pixel swept its list again
-/// for every 16 fragments it composited, and the frame took 12x blend's time; before that,
-/// the renderer gave up after four re-renders, with "buffers still overflow".)
+/// 10,000 layers over every pixel, right, with every pixel's list walked at most twice: the
+/// rows' lists, ordered into fine depth slabs, are walked about once. (With 16 slabs a pixel
+/// swept its list again for every 16 fragments it composited, about 10,000 / 16 sweeps, and
+/// the frame took 12x blend's time; before that, the renderer gave up after four re-renders, with
+/// "buffers still overflow".) Time is `translucid bench`'s to measure (`translucid bench
+/// particles --method exact --method blend` reports exact over blend, by GPU and wall time):
+/// a wall-time bound here could fail on a busy machine (exact took about blend's time on this
+/// scene, on lavapipe with 2 cores, when it was taken out).
 #[test]
-fn exact_renders_ten_thousand_full_screen_layers_in_blends_time() {
+fn exact_renders_ten_thousand_full_screen_layers_in_at_most_two_sweeps() {
     let scene = full_screen_layers(10_000);
     let frame = check(
         &scene,
@@ -585,30 +589,10 @@ fn exact_renders_ten_thousand_full_screen_layers_in_blends_time() {
         &MethodOptions::default(),
     );
     assert_eq!(frame.fragments, 16 * 12 * 10_000);
-    // Warm frames, the best of three each, exact and blend in this one run: timings on CPU
-    // devices are noisy, ratios less so. (On lavapipe, 2 cores: exact about 0.4x blend.)
-    let gpu = gpu();
-    let best_ms = |method: &str| {
-        let kind = method.parse().expect("a method name");
-        let mut renderer = Renderer::new(&gpu, &scene, kind, 32, 24).expect("renderer");
-        renderer.render(false).expect("first frame");
-        (0..3)
-            .map(|_| {
-                let start = std::time::Instant::now();
-                renderer.render(false).expect("frame");
-                start.elapsed().as_secs_f64() * 1000.0
-            })
-            .fold(f64::INFINITY, f64::min)
-    };
-    let exact = best_ms("exact");
-    let blend = best_ms("blend");
-    println!(
-        "10,000 layers at 32x24: exact {exact:.0} ms, blend {blend:.0} ms ({:.2}x)",
-        exact / blend
-    );
     assert!(
-        exact <= 1.5 * blend,
-        "exact took {exact:.0} ms a frame, blend {blend:.0} ms"
+        (1..=2).contains(&frame.sweeps),
+        "pixels swept their lists {} times",
+        frame.sweeps
     );
 }
 
