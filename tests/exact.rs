@@ -268,29 +268,49 @@ fn exact_matches_reference_across_the_near_plane() {
     );
 }
 
-/// Tiny first capacities force every overflow path; the frame is rendered again with grown
-/// buffers and must still match.
+/// Tiny first capacities of the bin lists and of the near-plane (homogeneous) records force
+/// both to overflow; the frame is rendered again with grown buffers and must still match.
+/// Both capacities grew (the hairball has no near-plane triangle: its lists alone). The
+/// resume lists' overflow is `exact_finishes_pixels_deeper_than_the_loop_limit`'s.
 #[test]
-fn exact_recovers_from_every_overflow() {
+fn exact_recovers_from_bin_list_and_near_plane_record_overflows() {
+    let gpu = gpu();
     let mut options = MethodOptions::default();
     options.bins.initial_bin_entries = Some(1);
     options.bins.initial_homogeneous = Some(1);
-    let frame = check(
-        &near_plane_scene(),
-        "overflow_near_plane",
-        157,
-        119,
-        &options,
-    );
-    assert!(frame.rerenders >= 1, "the overflow path was not taken");
-    let frame = check(
-        &scene::load("hairball").expect("hairball"),
-        "overflow_hairball",
-        199,
-        143,
-        &options,
-    );
-    assert!(frame.rerenders >= 1, "the overflow path was not taken");
+    let cases = [
+        (near_plane_scene(), "overflow_near_plane", (157, 119), true),
+        (
+            scene::load("hairball").expect("hairball"),
+            "overflow_hairball",
+            (199, 143),
+            false,
+        ),
+    ];
+    for (scene, label, (width, height), near_plane) in cases {
+        let mut renderer =
+            Renderer::with_options(&gpu, &scene, MethodKind::Exact, width, height, &options)
+                .unwrap_or_else(|e| panic!("exact on {label}: {e}"));
+        let frame = renderer
+            .render(true)
+            .unwrap_or_else(|e| panic!("exact on {label}: {e}"));
+        assert_matches_reference(&format!("exact_{label}"), &scene, &frame);
+        assert!(
+            frame.rerenders >= 1,
+            "{label}: the overflow path was not taken"
+        );
+        let learned = renderer.learned_options(&options).bins;
+        assert!(
+            learned.initial_bin_entries > Some(1),
+            "{label}: the bin lists did not grow: {learned:?}"
+        );
+        if near_plane {
+            assert!(
+                learned.initial_homogeneous > Some(1),
+                "{label}: the near-plane records did not grow: {learned:?}"
+            );
+        }
+    }
 }
 
 /// Near-plane triangles past the most records the bins can hold are refused at once, by
@@ -409,8 +429,6 @@ fn exact_rebuilds_the_raster_shader_for_unexpected_near_plane_triangles() {
     );
 }
 
-/// A frame rendered again unchanged creates no pipeline: everything it needs was built with
-/// the renderer or by the frames before.
 /// The software sampler copies only the textures transparent draws use, when a frame first
 /// uses one: a large texture on an opaque draw costs exact nothing over blend; the first
 /// frame whose transparent draws use it copies it, and draws it as the reference does.
@@ -448,6 +466,8 @@ fn exact_copies_only_the_textures_transparent_draws_use() {
     assert_matches_reference("exact_large_texture_drawn_transparent", &drawn, &frame);
 }
 
+/// A frame rendered again unchanged creates no pipeline: everything it needs was built with
+/// the renderer or by the frames before.
 #[test]
 fn exact_creates_no_pipeline_in_a_warm_frame_and_counts_its_dispatches() {
     let gpu = gpu();
