@@ -38,9 +38,10 @@ fuzz: deps
 	$(CARGO) build --release -p translucid-ffi
 	mkdir -p target/fuzz
 	cc -std=c11 -pthread -g -O1 -fsanitize=address,undefined -fno-sanitize-recover=all \
-		-fno-omit-frame-pointer -Iinclude crates/translucid-ffi/tests/c/fuzz_calls.c \
-		crates/translucid-ffi/tests/c/fuzz_host.c crates/translucid-ffi/tests/c/engine.c \
-		crates/translucid-ffi/tests/c/keep_modules.c -o $(CAPI_FUZZER) \
+		-fno-omit-frame-pointer -Iinclude -Iexamples-c crates/translucid-ffi/tests/c/fuzz_calls.c \
+		crates/translucid-ffi/tests/c/fuzz_host.c examples-c/engine.c \
+		crates/translucid-ffi/tests/c/checks.c crates/translucid-ffi/tests/c/keep_modules.c \
+		-o $(CAPI_FUZZER) \
 		-Ltarget/release -ltranslucid_ffi -Wl,-rpath,$(CURDIR)/target/release -lm -lvulkan
 	TRANSLUCID_VALIDATION=1 ASAN_OPTIONS=detect_leaks=1 \
 		$(CAPI_FUZZER) --seconds $(FUZZ_SECONDS) --seed $(FUZZ_SEED) $(FUZZ_CAPI_ARGS)

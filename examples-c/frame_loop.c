@@ -19,8 +19,12 @@
  *
  * For exact and blend it prints each frame's CPU time in translucid_frame_record, its GPU
  * time and its ratio to the yardstick's, the loop's wall time per frame, and writes the last frame as
- * OUTPUT_DIR/frame_loop-<method>.png (read back by the engine). With TRANSLUCID_VALIDATION=1
- * the engine's instance runs the Khronos validation layer.
+ * OUTPUT_DIR/frame_loop-<method>.png (read back by the engine).
+ *
+ * The engine (its instance, device, images, buffers and submissions) is engine.c, which the
+ * C API's host-device tests run on too. With TRANSLUCID_VALIDATION=1 its instance runs the
+ * Khronos validation layer (TRANSLUCID_SYNC_VALIDATION=1: synchronization validation too),
+ * and the program fails if the layer reports an error.
  */
 #define _POSIX_C_SOURCE 199309L
 #include <math.h>
@@ -29,9 +33,7 @@
 #include <string.h>
 #include <time.h>
 
-#include <vulkan/vulkan.h>
-
-#include "translucid.h"
+#include "engine.h"
 
 #define WIDTH 480
 #define HEIGHT 270
@@ -50,28 +52,14 @@ static void check(translucid_result result, const char *call) {
 }
 #define CHECK(call) check((call), #call)
 
-static void vk_check(VkResult result, const char *call) {
-    if (result != VK_SUCCESS) {
-        fprintf(stderr, "%s failed: VkResult %d\n", call, (int)result);
-        exit(1);
-    }
-}
-#define VK_CHECK(call) vk_check((call), #call)
-
 static double now_ms(void) {
     struct timespec t;
     clock_gettime(CLOCK_MONOTONIC, &t);
     return (double)t.tv_sec * 1e3 + (double)t.tv_nsec / 1e6;
 }
 
-/* ---- the engine: device, images, command buffers ---- */
+/* ---- the engine: device (engine.c), images, command buffers ---- */
 
-static VkInstance g_instance;
-static VkPhysicalDevice g_physical;
-static VkDevice g_device;
-static VkQueue g_queue;
-static uint32_t g_family;
-static VkPhysicalDeviceFeatures g_features;
 static VkCommandPool g_pool;
 
 /* One frame in flight: its command buffer, fence, images and readback. */
@@ -91,119 +79,20 @@ typedef struct frame_slot {
 
 static frame_slot g_slots[IN_FLIGHT];
 
-static void create_device(void) {
+/* The engine's instance and device, made with what translucid asks for. */
+static void create_engine(void) {
     translucid_host_requirements req;
-    VkApplicationInfo app;
-    VkInstanceCreateInfo instance;
-    VkPhysicalDevice devices[8];
-    uint32_t count = 8, families = 16, i;
-    VkQueueFamilyProperties props[16];
-    float priority = 1.0f;
-    VkDeviceQueueCreateInfo queue;
-    VkDeviceCreateInfo device;
-    const char *layer = "VK_LAYER_KHRONOS_validation";
-    const char *validate = getenv("TRANSLUCID_VALIDATION");
-
     memset(&req, 0, sizeof req);
     req.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_REQUIREMENTS;
     CHECK(translucid_host_requirements_get(&req));
-    memset(&app, 0, sizeof app);
-    app.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO;
-    app.pApplicationName = "translucid frame loop";
-    app.apiVersion = req.api_version;
-    memset(&instance, 0, sizeof instance);
-    instance.sType = VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO;
-    instance.pApplicationInfo = &app;
-    if (validate != NULL && strcmp(validate, "1") == 0) {
-        instance.enabledLayerCount = 1;
-        instance.ppEnabledLayerNames = &layer;
-    }
-    VK_CHECK(vkCreateInstance(&instance, NULL, &g_instance));
-    VK_CHECK(vkEnumeratePhysicalDevices(g_instance, &count, devices) < 0 ? VK_ERROR_UNKNOWN
-                                                                           : VK_SUCCESS);
-    if (count == 0) vk_check(VK_ERROR_INITIALIZATION_FAILED, "no Vulkan device");
-    g_physical = devices[0];
-    vkGetPhysicalDeviceQueueFamilyProperties(g_physical, &families, props);
-    g_family = families;
-    for (i = 0; i < families; i++) {
-        if ((props[i].queueFlags & req.queue_flags) == req.queue_flags &&
-            props[i].timestampValidBits > 0) {
-            g_family = i;
-            break;
-        }
-    }
-    if (g_family == families) vk_check(VK_ERROR_FEATURE_NOT_PRESENT, "a queue family");
-    /* An engine ORs translucid's features into its own; this one has none of its own. */
-    g_features = req.features;
-    memset(&queue, 0, sizeof queue);
-    queue.sType = VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO;
-    queue.queueFamilyIndex = g_family;
-    queue.queueCount = 1;
-    queue.pQueuePriorities = &priority;
-    memset(&device, 0, sizeof device);
-    device.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO;
-    device.queueCreateInfoCount = 1;
-    device.pQueueCreateInfos = &queue;
-    device.pEnabledFeatures = &g_features;
-    device.enabledExtensionCount = req.extension_count;
-    device.ppEnabledExtensionNames = req.extensions;
-    VK_CHECK(vkCreateDevice(g_physical, &device, NULL, &g_device));
-    vkGetDeviceQueue(g_device, g_family, 0, &g_queue);
-}
-
-static VkDeviceMemory allocate(VkMemoryRequirements req, VkMemoryPropertyFlags wanted) {
-    VkPhysicalDeviceMemoryProperties props;
-    VkMemoryAllocateInfo info;
-    VkDeviceMemory memory;
-    uint32_t i;
-    vkGetPhysicalDeviceMemoryProperties(g_physical, &props);
-    memset(&info, 0, sizeof info);
-    info.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
-    info.allocationSize = req.size;
-    info.memoryTypeIndex = props.memoryTypeCount;
-    for (i = 0; i < props.memoryTypeCount; i++) {
-        if ((req.memoryTypeBits & (1u << i)) &&
-            (props.memoryTypes[i].propertyFlags & wanted) == wanted) {
-            info.memoryTypeIndex = i;
-            break;
-        }
-    }
-    if (info.memoryTypeIndex == props.memoryTypeCount) {
-        vk_check(VK_ERROR_OUT_OF_DEVICE_MEMORY, "a memory type");
-    }
-    VK_CHECK(vkAllocateMemory(g_device, &info, NULL, &memory));
-    return memory;
-}
-
-static VkImage create_image(VkFormat format, VkImageUsageFlags usage, VkDeviceMemory *memory) {
-    VkImageCreateInfo info;
-    VkMemoryRequirements req;
-    VkImage image;
-    memset(&info, 0, sizeof info);
-    info.sType = VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO;
-    info.imageType = VK_IMAGE_TYPE_2D;
-    info.format = format;
-    info.extent.width = WIDTH;
-    info.extent.height = HEIGHT;
-    info.extent.depth = 1;
-    info.mipLevels = 1;
-    info.arrayLayers = 1;
-    info.samples = VK_SAMPLE_COUNT_1_BIT;
-    info.tiling = VK_IMAGE_TILING_OPTIMAL;
-    info.usage = usage;
-    VK_CHECK(vkCreateImage(g_device, &info, NULL, &image));
-    vkGetImageMemoryRequirements(g_device, image, &req);
-    *memory = allocate(req, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-    VK_CHECK(vkBindImageMemory(g_device, image, *memory, 0));
-    return image;
+    create_instance(req.api_version);
+    create_device(&req);
 }
 
 static void create_slots(void) {
     VkCommandPoolCreateInfo pool;
     VkCommandBufferAllocateInfo alloc;
     VkFenceCreateInfo fence;
-    VkBufferCreateInfo buffer;
-    VkMemoryRequirements req;
     VkImageUsageFlags transfer = VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
     int i;
 
@@ -224,28 +113,20 @@ static void create_slots(void) {
         fence.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO;
         VK_CHECK(vkCreateFence(g_device, &fence, NULL, &s->fence));
         s->colour = create_image(VK_FORMAT_R8G8B8A8_SRGB,
-                                 transfer | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT,
-                                 &s->colour_memory);
+                                 transfer | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT, WIDTH, HEIGHT);
+        s->colour_memory = bind_image(s->colour);
         /* Sampled: exact reads it where it is, as it blends onto the colour. */
         s->depth = create_image(VK_FORMAT_D32_SFLOAT,
                                 transfer | VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT |
                                     VK_IMAGE_USAGE_SAMPLED_BIT,
-                                &s->depth_memory);
-        memset(&buffer, 0, sizeof buffer);
-        buffer.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO;
-        buffer.size = PIXEL_BYTES;
-        buffer.usage = VK_BUFFER_USAGE_TRANSFER_DST_BIT;
-        VK_CHECK(vkCreateBuffer(g_device, &buffer, NULL, &s->readback));
-        vkGetBufferMemoryRequirements(g_device, s->readback, &req);
-        s->readback_memory = allocate(req, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
-                                               VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
-        VK_CHECK(vkBindBufferMemory(g_device, s->readback, s->readback_memory, 0));
-        VK_CHECK(vkMapMemory(g_device, s->readback_memory, 0, VK_WHOLE_SIZE, 0, &s->pixels));
+                                WIDTH, HEIGHT);
+        s->depth_memory = bind_image(s->depth);
+        s->readback = create_host_buffer(PIXEL_BYTES, &s->readback_memory, &s->pixels);
         s->in_flight = 0;
     }
 }
 
-static void destroy_engine(void) {
+static void destroy_slots(void) {
     int i;
     for (i = 0; i < IN_FLIGHT; i++) {
         frame_slot *s = &g_slots[i];
@@ -258,27 +139,13 @@ static void destroy_engine(void) {
         vkDestroyFence(g_device, s->fence, NULL);
     }
     vkDestroyCommandPool(g_device, g_pool, NULL);
-    vkDestroyDevice(g_device, NULL);
-    vkDestroyInstance(g_instance, NULL);
 }
 
 static void transition(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect,
                        VkImageLayout from, VkImageLayout to) {
-    VkImageMemoryBarrier b;
-    memset(&b, 0, sizeof b);
-    b.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER;
-    b.srcAccessMask = VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT;
-    b.dstAccessMask = VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT;
-    b.oldLayout = from;
-    b.newLayout = to;
-    b.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    b.image = image;
-    b.subresourceRange.aspectMask = aspect;
-    b.subresourceRange.levelCount = 1;
-    b.subresourceRange.layerCount = 1;
-    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
-                         VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 0, NULL, 0, NULL, 1, &b);
+    const VkAccessFlags any = VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT;
+    barrier(cmd, image, aspect, from, to, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, any,
+            VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, any);
 }
 
 /* The engine's opaque pass, here a clear: a dark sky, nothing in the way. */
@@ -568,8 +435,7 @@ static double median(double *v, int n) {
 static void finish(frame_slot *s, int k, double *gpu_ms, double *ratio) {
     translucid_frame_statistics stats, native;
     translucid_result done;
-    VK_CHECK(vkWaitForFences(g_device, 1, &s->fence, VK_TRUE, UINT64_MAX));
-    VK_CHECK(vkResetFences(g_device, 1, &s->fence));
+    wait_fence(s->fence);
     done = translucid_frame_complete(g_context, s->frame);
     CHECK(done);
     memset(&stats, 0, sizeof stats);
@@ -625,8 +491,6 @@ static void run(uint32_t method, int frames, uint32_t extra_draws, const char *p
         frame_slot *s = &g_slots[k % IN_FLIGHT];
         translucid_frame_info info;
         translucid_host_frame_targets targets;
-        VkCommandBufferBeginInfo begin;
-        VkSubmitInfo submit;
         double started;
         /* Back at this slot: its frame (two frames ago) has to finish first. */
         if (s->in_flight) finish(s, k - IN_FLIGHT, &gpu[k - IN_FLIGHT], &ratio[k - IN_FLIGHT]);
@@ -656,11 +520,7 @@ static void run(uint32_t method, int frames, uint32_t extra_draws, const char *p
         info.draws = sc.draws;
         info.draw_count = sc.draw_count;
 
-        memset(&begin, 0, sizeof begin);
-        begin.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
-        begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-        VK_CHECK(vkResetCommandBuffer(s->cmd, 0));
-        VK_CHECK(vkBeginCommandBuffer(s->cmd, &begin));
+        begin_commands(s->cmd);
         record_opaque(s->cmd, s);
         memset(&targets, 0, sizeof targets);
         targets.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_FRAME_TARGETS;
@@ -684,22 +544,11 @@ static void run(uint32_t method, int frames, uint32_t extra_draws, const char *p
         record[k] = s->record_ms;
         if (k == frames - 1) {
             /* The engine reads its last frame back (translucid left it in TRANSFER_SRC). */
-            VkBufferImageCopy copy;
-            memset(&copy, 0, sizeof copy);
-            copy.imageSubresource.aspectMask = VK_IMAGE_ASPECT_COLOR_BIT;
-            copy.imageSubresource.layerCount = 1;
-            copy.imageExtent.width = WIDTH;
-            copy.imageExtent.height = HEIGHT;
-            copy.imageExtent.depth = 1;
+            VkBufferImageCopy copy = region(VK_IMAGE_ASPECT_COLOR_BIT, 0, WIDTH, HEIGHT);
             vkCmdCopyImageToBuffer(s->cmd, s->colour, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
                                    s->readback, 1, &copy);
         }
-        VK_CHECK(vkEndCommandBuffer(s->cmd));
-        memset(&submit, 0, sizeof submit);
-        submit.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;
-        submit.commandBufferCount = 1;
-        submit.pCommandBuffers = &s->cmd;
-        VK_CHECK(vkQueueSubmit(g_queue, 1, &submit, s->fence));
+        submit_commands(s->cmd, s->fence);
         s->in_flight = 1;
         wall[k] = now_ms() - last;
         last = now_ms();
@@ -729,17 +578,9 @@ int main(int argc, char **argv) {
 
     if (frames < 1) frames = 1;
     if (draws < 0 || draws > (long)TRANSLUCID_MAX_DRAWS - 4) draws = 0;
-    create_device();
+    create_engine();
     create_slots();
-    memset(&host, 0, sizeof host);
-    host.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_CREATE_INFO;
-    host.api_version = VK_API_VERSION_1_2;
-    host.instance = g_instance;
-    host.physical_device = g_physical;
-    host.device = g_device;
-    host.queue_family_index = g_family;
-    host.get_instance_proc_addr = vkGetInstanceProcAddr;
-    host.enabled_features = &g_features;
+    host = host_device_info();
     memset(&info, 0, sizeof info);
     info.s_type = TRANSLUCID_STRUCTURE_TYPE_CONTEXT_CREATE_INFO;
     info.header_version = TRANSLUCID_HEADER_VERSION;
@@ -757,6 +598,8 @@ int main(int argc, char **argv) {
     }
     /* Every frame was completed: the GPU is done with translucid's commands. */
     translucid_context_destroy(g_context);
+    destroy_slots();
     destroy_engine();
-    return 0;
+    printf("frame_loop: %d validation messages\n", g_validation_messages);
+    return g_validation_messages == 0 ? 0 : 1;
 }

@@ -268,29 +268,49 @@ fn exact_matches_reference_across_the_near_plane() {
     );
 }
 
-/// Tiny first capacities force every overflow path; the frame is rendered again with grown
-/// buffers and must still match.
+/// Tiny first capacities of the bin lists and of the near-plane (homogeneous) records force
+/// both to overflow; the frame is rendered again with grown buffers and must still match.
+/// Both capacities grew (the hairball has no near-plane triangle: its lists alone). The
+/// resume lists' overflow is `exact_finishes_pixels_deeper_than_the_loop_limit`'s.
 #[test]
-fn exact_recovers_from_every_overflow() {
+fn exact_recovers_from_bin_list_and_near_plane_record_overflows() {
+    let gpu = gpu();
     let mut options = MethodOptions::default();
     options.bins.initial_bin_entries = Some(1);
     options.bins.initial_homogeneous = Some(1);
-    let frame = check(
-        &near_plane_scene(),
-        "overflow_near_plane",
-        157,
-        119,
-        &options,
-    );
-    assert!(frame.rerenders >= 1, "the overflow path was not taken");
-    let frame = check(
-        &scene::load("hairball").expect("hairball"),
-        "overflow_hairball",
-        199,
-        143,
-        &options,
-    );
-    assert!(frame.rerenders >= 1, "the overflow path was not taken");
+    let cases = [
+        (near_plane_scene(), "overflow_near_plane", (157, 119), true),
+        (
+            scene::load("hairball").expect("hairball"),
+            "overflow_hairball",
+            (199, 143),
+            false,
+        ),
+    ];
+    for (scene, label, (width, height), near_plane) in cases {
+        let mut renderer =
+            Renderer::with_options(&gpu, &scene, MethodKind::Exact, width, height, &options)
+                .unwrap_or_else(|e| panic!("exact on {label}: {e}"));
+        let frame = renderer
+            .render(true)
+            .unwrap_or_else(|e| panic!("exact on {label}: {e}"));
+        assert_matches_reference(&format!("exact_{label}"), &scene, &frame);
+        assert!(
+            frame.rerenders >= 1,
+            "{label}: the overflow path was not taken"
+        );
+        let learned = renderer.learned_options(&options).bins;
+        assert!(
+            learned.initial_bin_entries > Some(1),
+            "{label}: the bin lists did not grow: {learned:?}"
+        );
+        if near_plane {
+            assert!(
+                learned.initial_homogeneous > Some(1),
+                "{label}: the near-plane records did not grow: {learned:?}"
+            );
+        }
+    }
 }
 
 /// Near-plane triangles past the most records the bins can hold are refused at once, by
@@ -409,8 +429,6 @@ fn exact_rebuilds_the_raster_shader_for_unexpected_near_plane_triangles() {
     );
 }
 
-/// A frame rendered again unchanged creates no pipeline: everything it needs was built with
-/// the renderer or by the frames before.
 /// The software sampler copies only the textures transparent draws use, when a frame first
 /// uses one: a large texture on an opaque draw costs exact nothing over blend; the first
 /// frame whose transparent draws use it copies it, and draws it as the reference does.
@@ -448,6 +466,8 @@ fn exact_copies_only_the_textures_transparent_draws_use() {
     assert_matches_reference("exact_large_texture_drawn_transparent", &drawn, &frame);
 }
 
+/// A frame rendered again unchanged creates no pipeline: everything it needs was built with
+/// the renderer or by the frames before.
 #[test]
 fn exact_creates_no_pipeline_in_a_warm_frame_and_counts_its_dispatches() {
     let gpu = gpu();
@@ -570,12 +590,16 @@ fn full_screen_layers(count: u32) -> Scene {
     )
 }
 
-/// 10,000 layers over every pixel, right and in about blend's time: the rows' lists, ordered
-/// into fine depth slabs, are walked about once. (With 16 slabs a pixel swept its list again
-/// for every 16 fragments it composited, and the frame took 12x blend's time; before that,
-/// the renderer gave up after four re-renders, with "buffers still overflow".)
+/// 10,000 layers over every pixel, right, with every pixel's list walked at most twice: the
+/// rows' lists, ordered into fine depth slabs, are walked about once. (With 16 slabs a pixel
+/// swept its list again for every 16 fragments it composited, about 10,000 / 16 sweeps, and
+/// the frame took 12x blend's time; before that, the renderer gave up after four re-renders, with
+/// "buffers still overflow".) Time is `translucid bench`'s to measure (`translucid bench
+/// particles --method exact --method blend` reports exact over blend, by GPU and wall time):
+/// a wall-time bound here could fail on a busy machine (exact took about blend's time on this
+/// scene, on lavapipe with 2 cores, when it was taken out).
 #[test]
-fn exact_renders_ten_thousand_full_screen_layers_in_blends_time() {
+fn exact_renders_ten_thousand_full_screen_layers_in_at_most_two_sweeps() {
     let scene = full_screen_layers(10_000);
     let frame = check(
         &scene,
@@ -585,30 +609,10 @@ fn exact_renders_ten_thousand_full_screen_layers_in_blends_time() {
         &MethodOptions::default(),
     );
     assert_eq!(frame.fragments, 16 * 12 * 10_000);
-    // Warm frames, the best of three each, exact and blend in this one run: timings on CPU
-    // devices are noisy, ratios less so. (On lavapipe, 2 cores: exact about 0.4x blend.)
-    let gpu = gpu();
-    let best_ms = |method: &str| {
-        let kind = method.parse().expect("a method name");
-        let mut renderer = Renderer::new(&gpu, &scene, kind, 32, 24).expect("renderer");
-        renderer.render(false).expect("first frame");
-        (0..3)
-            .map(|_| {
-                let start = std::time::Instant::now();
-                renderer.render(false).expect("frame");
-                start.elapsed().as_secs_f64() * 1000.0
-            })
-            .fold(f64::INFINITY, f64::min)
-    };
-    let exact = best_ms("exact");
-    let blend = best_ms("blend");
-    println!(
-        "10,000 layers at 32x24: exact {exact:.0} ms, blend {blend:.0} ms ({:.2}x)",
-        exact / blend
-    );
     assert!(
-        exact <= 1.5 * blend,
-        "exact took {exact:.0} ms a frame, blend {blend:.0} ms"
+        (1..=2).contains(&frame.sweeps),
+        "pixels swept their lists {} times",
+        frame.sweeps
     );
 }
 
@@ -733,6 +737,10 @@ fn exact_resumes_the_last_bands_rows_in_the_empty_bands_after_it() {
 /// the last pyramid would drop triangles now in view, then the large one again, unculled.
 /// Then the same from a renderer made for larger frames, which draws these into the corner
 /// of its targets (the pyramid reads only the frame's part of the depth).
+///
+/// Which frames ran the cull shows in the triangles they kept: a culled frame drops those
+/// behind its patch, an unculled one keeps every triangle a frame over a layer that hides
+/// nothing keeps (when set: 390 and 8,177 of 8,192, then 8,192 twice).
 #[test]
 fn frames_with_and_without_the_occlusion_cull_match_the_reference() {
     let gpu = gpu();
@@ -744,18 +752,46 @@ fn frames_with_and_without_the_occlusion_cull_match_the_reference() {
         (40, 56, 56, 64),
         (8, 8, 80, 56),
     ];
+    let culled = [true, true, false, false];
     for (max_width, max_height) in [(width, height), (width + 40, height + 24)] {
-        let mut renderer = Renderer::new(&gpu, &scene, MethodKind::Exact, max_width, max_height)
-            .expect("renderer");
-        renderer.set_size(width, height).expect("a smaller frame");
-        occlusion_patches(&scene, &mut renderer, &patches);
+        let renderer = || {
+            let mut renderer =
+                Renderer::new(&gpu, &scene, MethodKind::Exact, max_width, max_height)
+                    .expect("renderer");
+            renderer.set_size(width, height).expect("a smaller frame");
+            renderer
+        };
+        // On a renderer of its own: over a layer that hides nothing, the cull drops nothing
+        // and leaves the frames after it unculled.
+        let clear = translucid::OpaqueLayer::clear(width, height, Vec3::new(0.1, 0.2, 0.3));
+        let unoccluded = renderer().render_over(&clear).expect("frame").triangles;
+        let kept = occlusion_patches(&scene, &mut renderer(), &patches);
+        for (i, (&kept, culled)) in kept.iter().zip(culled).enumerate() {
+            let label = format!("frame {i} (renderer for {max_width}x{max_height})");
+            if culled {
+                assert!(
+                    kept < unoccluded,
+                    "{label} kept all {unoccluded} triangles: it ran without the cull"
+                );
+            } else {
+                assert_eq!(
+                    kept, unoccluded,
+                    "{label} dropped triangles behind its patch: it ran with the cull"
+                );
+            }
+        }
     }
 }
 
 /// Renders `scene` over opaque layers whose depth is 0 in each of `patches` (x0, y0, x1, y1)
-/// in turn, each frame held to the reference.
-fn occlusion_patches(scene: &Scene, renderer: &mut Renderer, patches: &[(u32, u32, u32, u32)]) {
+/// in turn, each frame held to the reference; the triangles each frame kept.
+fn occlusion_patches(
+    scene: &Scene,
+    renderer: &mut Renderer,
+    patches: &[(u32, u32, u32, u32)],
+) -> Vec<u64> {
     let (width, height) = renderer.size();
+    let mut kept = Vec::new();
     for (i, &(x0, y0, x1, y1)) in patches.iter().enumerate() {
         let mut layer = translucid::OpaqueLayer::clear(width, height, Vec3::new(0.1, 0.2, 0.3));
         for y in y0..y1 {
@@ -775,5 +811,7 @@ fn occlusion_patches(scene: &Scene, renderer: &mut Renderer, patches: &[(u32, u3
             m.pixels_over,
             save_failure(&format!("exact_occlusion_{i}"), &frame.image, &expected).display()
         );
+        kept.push(frame.triangles);
     }
+    kept
 }

@@ -9,9 +9,10 @@
 //!   PSNR floor (see [`BLEND_SHARE`]).
 //!
 //! First the three vendored textured scenes (always), then every glTF file of the shared scene
-//! collection, `../shared/scenes` beside the project, when it is there. The compute methods
-//! once sampled every textured fragment at UV (0, 0) (the host never set `DRAW_HAS_UVS`) and no
-//! test saw it: these scenes show textures through their transparent surfaces.
+//! collection, `../shared/scenes` beside the project, when it is there (the sweeps say on the
+//! terminal that they skipped when it is not). The compute methods once sampled every
+//! textured fragment at UV (0, 0) (the host never set `DRAW_HAS_UVS`) and no test saw it:
+//! these scenes show textures through their transparent surfaces.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -22,7 +23,7 @@ use translucid::reference;
 use translucid::renderer::{Frame, Renderer};
 use translucid::scene::{self, Scene};
 use translucid::{Image, OpaqueLayer};
-use translucid_tests::{asset, gpu, save_failure};
+use translucid_tests::{asset, gpu, save_failure, say_no_shared_scenes, shared_scenes};
 
 /// The size the issue measured at. The whole file (three vendored scenes and 23 shared files,
 /// three methods each) took 56 s in `cargo test` on 2 cores with lavapipe when it was set.
@@ -240,23 +241,14 @@ fn glass_broken_window_is_right_with_every_method() {
     check_vendored(VENDORED[2]);
 }
 
-/// The shared scene collection beside the project, relative to the workspace root.
-fn shared_root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/scenes")
-}
-
 /// Every `.gltf` and `.glb` file under the shared collection, sorted, as (name relative to
-/// it, path); `None`, said on stderr, when there is no collection.
-fn shared_scenes(test: &str) -> Option<Vec<(String, PathBuf)>> {
-    let root = shared_root();
-    if !root.is_dir() {
-        eprintln!(
-            "{test}: skipped: no shared scene collection at {} (it sits beside the project \
-             in the development setup; a clone alone has only assets/scenes)",
-            root.display()
-        );
+/// it, path); `None`, said past the harness's capture, when there is no collection (the
+/// vendored scenes above check every method's bound whether it is there or not).
+fn shared_files(test: &str) -> Option<Vec<(String, PathBuf)>> {
+    let Some(root) = shared_scenes() else {
+        say_no_shared_scenes(test, "every shared scene");
         return None;
-    }
+    };
     let mut files = Vec::new();
     walk(&root, &mut files);
     files.sort();
@@ -294,7 +286,7 @@ fn walk(folder: &Path, found: &mut Vec<PathBuf>) {
 
 /// `method` on every shared scene; every failing scene is listed before the test fails.
 fn sweep_shared(test: &str, method: Method) {
-    let Some(files) = shared_scenes(test) else {
+    let Some(files) = shared_files(test) else {
         return;
     };
     let gpu = gpu();

@@ -24,6 +24,33 @@ pub fn asset(relative: &str) -> PathBuf {
         .join(relative)
 }
 
+/// The shared scene collection beside the project (`../shared/scenes` from the workspace
+/// root) when it is there: a clone of the project alone has only assets/scenes. Tests that
+/// sweep it skip without it, and say so ([`say_skipped`]); every property they check has a
+/// case on vendored or generated scenes that always runs.
+pub fn shared_scenes() -> Option<PathBuf> {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared/scenes");
+    root.is_dir().then_some(root)
+}
+
+/// Tells whoever runs the tests that `test` skipped `what`, and why. Written to the process's
+/// stderr itself, past the test harness's capture of `eprintln!`, so that a skip shows in a
+/// plain `cargo test` rather than passing silently.
+pub fn say_skipped(test: &str, what: &str, why: &str) {
+    use std::io::Write;
+    let _ = writeln!(std::io::stderr(), "{test}: SKIPPED {what}: {why}");
+}
+
+/// [`say_skipped`] for a test that needs the shared scene collection.
+pub fn say_no_shared_scenes(test: &str, what: &str) {
+    say_skipped(
+        test,
+        what,
+        "no shared scene collection at ../shared/scenes beside the project (a clone alone has \
+         only assets/scenes)",
+    );
+}
+
 /// One frame of `scene` with `method`, its opaque layer read back too.
 pub fn render(gpu: &Gpu, scene: &Scene, method: &str, width: u32, height: u32) -> Frame {
     let kind = method.parse().expect("a method name");

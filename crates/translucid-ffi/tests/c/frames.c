@@ -1,6 +1,7 @@
 /*
- * An engine's frame loop in host-device mode (engine.c), held against a standalone context
- * that renders the same frames over the same opaque layer: every pixel within 2/255.
+ * An engine's frame loop in host-device mode (the example engine, examples-c/engine.c), held
+ * against a standalone context that renders the same frames over the same opaque layer: every
+ * pixel within 2/255.
  *
  * 1. 2 and 3 frames in flight on one context: each frame moves the camera, moves one mesh's
  *    vertices (translucid_mesh_update) and one draw; the engine keeps a command buffer,
@@ -15,7 +16,7 @@
  */
 #include <math.h>
 
-#include "engine.h"
+#include "checks.h"
 
 #define W 48
 #define H 36
@@ -728,8 +729,7 @@ int main(void) {
     memset(&req, 0, sizeof req);
     req.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_REQUIREMENTS;
     CHECK(NULL, translucid_host_requirements_get(&req));
-    create_instance(req.api_version);
-    create_device(&req);
+    create_engine(&req);
     memset(&pool, 0, sizeof pool);
     pool.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO;
     pool.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;

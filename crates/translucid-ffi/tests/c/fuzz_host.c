@@ -4,7 +4,7 @@
 #include <pthread.h>
 #include <string.h>
 
-#include "engine.h"
+#include "checks.h"
 #include "fuzz_host.h"
 
 static translucid_host_device_create_info g_device_info;
@@ -43,8 +43,7 @@ void fuzz_host_start(void) {
             all[f] |= own[f];
         }
     }
-    create_instance(req.api_version);
-    create_device(&req);
+    create_engine(&req);
     g_device_info = host_device_info();
 }
 

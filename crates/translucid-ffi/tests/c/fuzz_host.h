@@ -1,6 +1,6 @@
 /*
  * The engine's side of the C API fuzzer's host-device mode (fuzz_calls --host-device, over
- * engine.c): one Vulkan device made with every method's requirements, shared by the
+ * examples-c/engine.c): one Vulkan device made with every method's requirements, shared by the
  * fuzzer's threads, and engine frames recorded around translucid_frame_record.
  */
 #ifndef TRANSLUCID_FUZZ_HOST_H

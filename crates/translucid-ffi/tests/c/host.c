@@ -1,9 +1,10 @@
 /*
- * Plays an engine using host-device mode: its own Vulkan instance, device, images and command
- * buffer. It asks translucid what to enable, creates its device accordingly, draws (uploads)
- * its opaque layer, lets translucid record the transparent pass into the same command buffer,
- * submits, waits, reads its colour image back and compares it with a standalone context's
- * frame of the same scene over the same opaque layer: every method, every pixel within 2/255.
+ * Plays an engine using host-device mode (the example engine, examples-c/engine.c): its own
+ * Vulkan instance, device, images and command buffer. It asks translucid what to enable,
+ * creates its device accordingly, draws (uploads) its opaque layer, lets translucid record
+ * the transparent pass into the same command buffer, submits, waits, reads its colour image
+ * back and compares it with a standalone context's frame of the same scene over the same
+ * opaque layer: every method, every pixel within 2/255.
  * Then the errors: missing requirements, NULL handles, a second frame recorded before the
  * first completed, completing a frame that never ran, wrong layouts and formats, calls the
  * mode does not offer.
@@ -13,7 +14,7 @@
  * validation (the test harness turns it on, except under the sanitizers: the layer's own
  * allocations then count as leaks).
  */
-#include "engine.h"
+#include "checks.h"
 
 #define W 64
 #define H 48
@@ -538,8 +539,7 @@ int main(void) {
     }
 
     /* 2. The engine's instance and device. */
-    create_instance(req.api_version);
-    create_device(&req);
+    create_engine(&req);
     create_frame_resources();
 
     /* 3. The context on the engine's device, and a standalone one to compare with. */

@@ -1,4 +1,4 @@
-// The C++ wrapper on an engine's own device (tests/c/engine.c): frames in flight held as
+// The C++ wrapper on an engine's own device (examples-c/engine.c): frames in flight held as
 // RAII Frames, completed or abandoned, each held against the standalone frame of the same
 // scene (every pixel within 2/255).
 //
@@ -9,7 +9,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "../c/engine.h"
+#include "../c/checks.h"
 #include "translucid.hpp"
 
 namespace {
@@ -298,8 +298,7 @@ int main(int argc, char **argv) {
     const bool drop = argc > 1 && std::strcmp(argv[1], "drop") == 0;
     try {
         const translucid_host_requirements req = translucid::Context::host_requirements();
-        create_instance(req.api_version);
-        create_device(&req);
+        create_engine(&req);
         VkCommandPoolCreateInfo pool{};
         pool.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO;
         pool.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;

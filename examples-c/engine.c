@@ -1,7 +1,7 @@
-/* The host-device tests' engine: see engine.h. */
+/* A small Vulkan engine for translucid's host-device mode: see engine.h. */
 #include "engine.h"
 
-int g_failed = 0, g_passed = 0, g_validation_messages = 0;
+int g_validation_messages = 0;
 VkInstance g_instance;
 VkPhysicalDevice g_physical;
 VkDevice g_device;
@@ -10,23 +10,11 @@ uint32_t g_family;
 VkPhysicalDeviceFeatures g_features;
 static VkDebugUtilsMessengerEXT g_messenger;
 
-void fail(const char *what, int line) {
-    printf("FAIL line %d: %s\n", line, what);
+void engine_fail(const char *what, const char *file, int line) {
+    printf("FAIL %s:%d: %s\n", file, line, what);
     exit(1);
 }
 
-void check(translucid_context *ctx, translucid_result got, translucid_result want,
-                  const char *call, int line) {
-    if (got != want) {
-        printf("FAIL line %d: %s returned %s (%d), expected %s: %s\n", line, call,
-               translucid_result_string(got), got, translucid_result_string(want),
-               translucid_context_last_error(ctx));
-        g_failed++;
-        if (want == TRANSLUCID_RESULT_SUCCESS) exit(1);
-    } else {
-        g_passed++;
-    }
-}
 static VKAPI_ATTR VkBool32 VKAPI_CALL on_validation(
     VkDebugUtilsMessageSeverityFlagBitsEXT severity, VkDebugUtilsMessageTypeFlagsEXT type,
     const VkDebugUtilsMessengerCallbackDataEXT *data, void *user) {
@@ -57,7 +45,7 @@ void create_instance(uint32_t api_version) {
 
     memset(&app, 0, sizeof app);
     app.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO;
-    app.pApplicationName = "translucid host test";
+    app.pApplicationName = "translucid example engine";
     app.apiVersion = api_version;
     memset(&features, 0, sizeof features);
     features.sType = VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT;
@@ -85,46 +73,63 @@ void create_instance(uint32_t api_version) {
         messenger.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
                                 VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT;
         messenger.pfnUserCallback = on_validation;
-        if (create == NULL) fail("vkCreateDebugUtilsMessengerEXT not found", __LINE__);
+        if (create == NULL) {
+            engine_fail("vkCreateDebugUtilsMessengerEXT not found", __FILE__, __LINE__);
+        }
         VK_CHECK(create(g_instance, &messenger, NULL, &g_messenger));
     }
 }
 
-/* The first device and queue family that meet the requirements, and the device made with
- * exactly the features translucid asks for. */
+/* Whether `device` has every feature `wanted` asks for. */
+static int has_features(VkPhysicalDevice device, const VkPhysicalDeviceFeatures *wanted) {
+    VkPhysicalDeviceFeatures supported;
+    const VkBool32 *want = (const VkBool32 *)wanted, *have = (const VkBool32 *)&supported;
+    size_t i;
+    vkGetPhysicalDeviceFeatures(device, &supported);
+    for (i = 0; i < sizeof supported / sizeof(VkBool32); i++) {
+        if (want[i] == VK_TRUE && have[i] != VK_TRUE) return 0;
+    }
+    return 1;
+}
+
 void create_device(const translucid_host_requirements *req) {
     VkPhysicalDevice devices[8];
-    uint32_t count = 8, i;
+    uint32_t count = 8, i, d;
     VkQueueFamilyProperties families[16];
-    uint32_t family_count = 16;
+    uint32_t family_count;
     VkPhysicalDeviceProperties properties;
-    VkPhysicalDeviceFeatures supported;
     float priority = 1.0f;
     VkDeviceQueueCreateInfo queue;
     VkDeviceCreateInfo info;
     VkResult r = vkEnumeratePhysicalDevices(g_instance, &count, devices);
 
-    if ((r != VK_SUCCESS && r != VK_INCOMPLETE) || count == 0) fail("no Vulkan device", __LINE__);
-    g_physical = devices[0];
-    vkGetPhysicalDeviceProperties(g_physical, &properties);
-    TRUE_OR_FAIL(properties.apiVersion >= req->api_version);
-    vkGetPhysicalDeviceQueueFamilyProperties(g_physical, &family_count, families);
-    g_family = family_count;
-    for (i = 0; i < family_count; i++) {
-        if ((families[i].queueFlags & req->queue_flags) == req->queue_flags &&
-            families[i].timestampValidBits > 0) {
-            g_family = i;
-            break;
+    if ((r != VK_SUCCESS && r != VK_INCOMPLETE) || count == 0) {
+        engine_fail("no Vulkan device", __FILE__, __LINE__);
+    }
+    g_physical = VK_NULL_HANDLE;
+    for (d = 0; d < count && g_physical == VK_NULL_HANDLE; d++) {
+        vkGetPhysicalDeviceProperties(devices[d], &properties);
+        if (properties.apiVersion < req->api_version ||
+            !has_features(devices[d], &req->features)) {
+            continue;
+        }
+        family_count = 16;
+        vkGetPhysicalDeviceQueueFamilyProperties(devices[d], &family_count, families);
+        for (i = 0; i < family_count; i++) {
+            if ((families[i].queueFlags & req->queue_flags) == req->queue_flags &&
+                families[i].timestampValidBits > 0) {
+                g_physical = devices[d];
+                g_family = i;
+                break;
+            }
         }
     }
-    if (g_family == family_count) fail("no queue family meets the requirements", __LINE__);
+    if (g_physical == VK_NULL_HANDLE) {
+        engine_fail("no Vulkan device meets translucid's requirements", __FILE__, __LINE__);
+    }
 
     /* An engine ORs the requirements into its own features; this one has none of its own. */
-    vkGetPhysicalDeviceFeatures(g_physical, &supported);
     g_features = req->features;
-    TRUE_OR_FAIL(g_features.shaderInt64 == VK_TRUE && supported.shaderInt64 == VK_TRUE);
-    TRUE_OR_FAIL(g_features.dualSrcBlend == VK_TRUE && supported.dualSrcBlend == VK_TRUE);
-
     memset(&queue, 0, sizeof queue);
     queue.sType = VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO;
     queue.queueFamilyIndex = g_family;
@@ -150,7 +155,7 @@ uint32_t memory_type(uint32_t bits, VkMemoryPropertyFlags wanted) {
             return i;
         }
     }
-    fail("no suitable memory type", __LINE__);
+    engine_fail("no suitable memory type", __FILE__, __LINE__);
     return 0;
 }
 
@@ -261,7 +266,6 @@ translucid_host_device_create_info host_device_info(void) {
     return hd;
 }
 
-
 void begin_commands(VkCommandBuffer cmd) {
     VkCommandBufferBeginInfo info;
     memset(&info, 0, sizeof info);
@@ -284,72 +288,6 @@ void submit_commands(VkCommandBuffer cmd, VkFence fence) {
 void wait_fence(VkFence fence) {
     VK_CHECK(vkWaitForFences(g_device, 1, &fence, VK_TRUE, UINT64_MAX));
     VK_CHECK(vkResetFences(g_device, 1, &fence));
-}
-
-const float g_test_quads[TEST_QUADS][12] = {
-    {-1.2f, -0.9f, -2.0f, 0.4f, -0.9f, -2.0f, 0.4f, 0.6f, -2.0f, -1.2f, 0.6f, -2.0f},
-    {-0.6f, -0.5f, -3.0f, 1.4f, -0.5f, -3.0f, 1.4f, 1.0f, -3.0f, -0.6f, 1.0f, -3.0f},
-    {-1.5f, -0.2f, -1.6f, 1.5f, -0.2f, -3.6f, 1.5f, 0.3f, -3.6f, -1.5f, 0.3f, -1.6f},
-    {-0.3f, -1.0f, -2.5f, 0.3f, -1.0f, -2.5f, 0.3f, 1.0f, -2.5f, -0.3f, 1.0f, -2.5f},
-};
-
-void make_quad(translucid_context *ctx, size_t i, uint32_t material_flags,
-               translucid_mesh *mesh, translucid_material *material, translucid_draw *draw) {
-    static const float colours[TEST_QUADS][4] = {{1.0f, 0.1f, 0.1f, 0.5f},
-                                                 {0.1f, 0.3f, 1.0f, 0.7f},
-                                                 {0.2f, 1.0f, 0.3f, 0.6f},
-                                                 {1.0f, 1.0f, 0.2f, 0.4f}};
-    static const uint32_t triangles[] = {0, 1, 2, 0, 2, 3};
-    translucid_mesh_create_info mesh_info;
-    translucid_material_create_info material_info;
-    memset(&mesh_info, 0, sizeof mesh_info);
-    mesh_info.s_type = TRANSLUCID_STRUCTURE_TYPE_MESH_CREATE_INFO;
-    mesh_info.primitive = TRANSLUCID_PRIMITIVE_TRIANGLES;
-    mesh_info.vertex_count = 4;
-    mesh_info.positions = g_test_quads[i];
-    mesh_info.index_count = 6;
-    mesh_info.indices = triangles;
-    CHECK(ctx, translucid_mesh_create(ctx, &mesh_info, mesh));
-    memset(&material_info, 0, sizeof material_info);
-    material_info.s_type = TRANSLUCID_STRUCTURE_TYPE_MATERIAL_CREATE_INFO;
-    memcpy(material_info.base_colour, colours[i], sizeof colours[i]);
-    material_info.flags = material_flags;
-    CHECK(ctx, translucid_material_create(ctx, &material_info, material));
-    memset(draw, 0, sizeof *draw);
-    draw->mesh = *mesh;
-    draw->material = *material;
-    draw->layer = TRANSLUCID_LAYER_TRANSPARENT;
-    draw->transform[0] = draw->transform[5] = draw->transform[10] = draw->transform[15] = 1.0f;
-}
-
-void render_standalone(translucid_context *ctx, translucid_frame_info info, const uint8_t *colour,
-                       const float *depth, uint8_t *out, size_t size) {
-    translucid_opaque_layer layer;
-    translucid_frame frame;
-    memset(&layer, 0, sizeof layer);
-    layer.s_type = TRANSLUCID_STRUCTURE_TYPE_OPAQUE_LAYER;
-    layer.colour_format = TRANSLUCID_PIXEL_FORMAT_RGBA8_SRGB;
-    layer.colour = colour;
-    layer.depth = depth;
-    info.opaque_layer = &layer;
-    CHECK(ctx, translucid_frame_render(ctx, &info, &frame));
-    CHECK(ctx, translucid_frame_read(ctx, frame, TRANSLUCID_PIXEL_FORMAT_RGBA8_SRGB, out, size));
-    CHECK(ctx, translucid_frame_destroy(ctx, frame));
-}
-
-void fill_opaque_layer(uint8_t *colour, float *depth, size_t width, size_t height,
-                       const float bands[3]) {
-    size_t x, y;
-    for (y = 0; y < height; y++) {
-        for (x = 0; x < width; x++) {
-            size_t i = y * width + x;
-            colour[i * 4 + 0] = (uint8_t)(40 + 3 * x);
-            colour[i * 4 + 1] = (uint8_t)(200 - 3 * y);
-            colour[i * 4 + 2] = 90;
-            colour[i * 4 + 3] = 255;
-            depth[i] = x < width / 4 ? bands[0] : x < width / 2 ? bands[1] : bands[2];
-        }
-    }
 }
 
 void destroy_engine(void) {
