@@ -40,11 +40,11 @@ impl From<BindingType> for BindingKind {
     fn from(ty: BindingType) -> Self {
         match ty {
             BindingType::Texels { .. } => Self::TexelBuffer,
-            BindingType::StorageTexels { .. } => Self::StorageTexelBuffer,
+            BindingType::StorageTexels(_) => Self::StorageTexelBuffer,
             BindingType::Buffer { .. } => Self::StorageBuffer,
             BindingType::Uniform { .. } => Self::UniformBuffer,
             BindingType::Sampled { count, .. } => Self::SampledImages(count),
-            BindingType::StorageImage { .. } => Self::StorageImage,
+            BindingType::StorageImage(_) => Self::StorageImage,
         }
     }
 }

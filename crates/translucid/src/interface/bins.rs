@@ -405,12 +405,13 @@ pub const BINS_SET: SetDecl = SetDecl {
             "else through u_triangleRecords and u_attributeRecords (RECORDS_AS_TEXELS).",
         ]),
         Binding::buffer("AttributeBlock", "", &["uvec4 g_attributes[]"]),
-        Binding::storage_texels("u_triangleRecords", "rgba32ui", "writeonly", "uimageBuffer"),
+        Binding::storage_texels(
+            "u_triangleRecords",
+            ["rgba32ui", "writeonly", "uimageBuffer"],
+        ),
         Binding::storage_texels(
             "u_attributeRecords",
-            "rgba32ui",
-            "writeonly",
-            "uimageBuffer",
+            ["rgba32ui", "writeonly", "uimageBuffer"],
         ),
         Binding::texels("u_triangleTexels", "usamplerBuffer").doc(&["4 texels each."]),
         Binding::texels("u_attributeTexels", "usamplerBuffer"),
@@ -468,14 +469,17 @@ pub const BINS_SET: SetDecl = SetDecl {
         ]),
         Binding::buffer("PixelStateBlock", "", &["ExactPixelState g_pixelStates[]"]),
         // Where the rasters write.
-        Binding::image("u_colour", "rgba16f", "", "image2D").doc(&[
+        Binding::image("u_colour", ["rgba16f", "", "image2D"]).doc(&[
             "The frame target's colour, which the rasters composite onto (standalone frames);",
             "or, on an engine's device, what they leave for the composite pass to blend onto",
             "the engine's colour where it is (transparent_layer.glsl), in two images (1x1 until",
             "the first such frame).",
         ]),
-        Binding::image("u_transparentLayer", "rg32ui", "writeonly", "uimage2D"),
-        Binding::image("u_transparentLayerStamps", "r32ui", "writeonly", "uimage2D"),
+        Binding::image("u_transparentLayer", ["rg32ui", "writeonly", "uimage2D"]),
+        Binding::image(
+            "u_transparentLayerStamps",
+            ["r32ui", "writeonly", "uimage2D"],
+        ),
     ],
 };
 
@@ -512,8 +516,11 @@ pub const COMPOSITE_SET: SetDecl = SetDecl {
             "The blocks with a non-empty bin, in block order (block_scan.comp): the",
             "composite's instances.",
         ]),
-        Binding::image("u_transparentLayer", "rg32ui", "readonly", "uimage2D"),
-        Binding::image("u_transparentLayerStamps", "r32ui", "readonly", "uimage2D"),
+        Binding::image("u_transparentLayer", ["rg32ui", "readonly", "uimage2D"]),
+        Binding::image(
+            "u_transparentLayerStamps",
+            ["r32ui", "readonly", "uimage2D"],
+        ),
     ],
 };
 

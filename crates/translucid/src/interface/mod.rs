@@ -138,11 +138,7 @@ pub enum BindingType {
     /// `uniform <glsl> <name>`: a uniform texel buffer (`usamplerBuffer`, `samplerBuffer`).
     Texels { glsl: &'static str },
     /// `layout(<format>) uniform <access> <glsl> <name>`: a storage texel buffer.
-    StorageTexels {
-        format: &'static str,
-        access: &'static str,
-        glsl: &'static str,
-    },
+    StorageTexels(Storage),
     /// `layout(std430) <qualifiers> buffer <name> { <members> }`: a storage buffer.
     Buffer {
         qualifiers: &'static str,
@@ -153,11 +149,18 @@ pub enum BindingType {
     /// `uniform <glsl> <name>[count]`: combined image samplers.
     Sampled { glsl: &'static str, count: u32 },
     /// `layout(<format>) uniform <access> <glsl> <name>`: a storage image.
-    StorageImage {
-        format: &'static str,
-        access: &'static str,
-        glsl: &'static str,
-    },
+    StorageImage(Storage),
+}
+
+/// What the declaration of a storage image or storage texel buffer names.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Storage {
+    /// The image format (`rgba32ui`).
+    pub format: &'static str,
+    /// `readonly`, `writeonly` or nothing.
+    pub access: &'static str,
+    /// The GLSL type (`uimageBuffer`, `image2D`).
+    pub glsl: &'static str,
 }
 
 /// One binding of a descriptor set: its number is its place in the set's list, and the host
@@ -173,20 +176,8 @@ impl Binding {
         Self::new(name, BindingType::Texels { glsl })
     }
 
-    pub const fn storage_texels(
-        name: &'static str,
-        format: &'static str,
-        access: &'static str,
-        glsl: &'static str,
-    ) -> Self {
-        Self::new(
-            name,
-            BindingType::StorageTexels {
-                format,
-                access,
-                glsl,
-            },
-        )
+    pub const fn storage_texels(name: &'static str, storage: [&'static str; 3]) -> Self {
+        Self::new(name, BindingType::StorageTexels(Storage::of(storage)))
     }
 
     pub const fn buffer(
@@ -211,20 +202,8 @@ impl Binding {
         Self::new(name, BindingType::Sampled { glsl, count })
     }
 
-    pub const fn image(
-        name: &'static str,
-        format: &'static str,
-        access: &'static str,
-        glsl: &'static str,
-    ) -> Self {
-        Self::new(
-            name,
-            BindingType::StorageImage {
-                format,
-                access,
-                glsl,
-            },
-        )
+    pub const fn image(name: &'static str, storage: [&'static str; 3]) -> Self {
+        Self::new(name, BindingType::StorageImage(Storage::of(storage)))
     }
 
     const fn new(name: &'static str, ty: BindingType) -> Self {
@@ -234,6 +213,17 @@ impl Binding {
     /// The same, with comment lines for the GLSL.
     pub const fn doc(self, doc: &'static [&'static str]) -> Self {
         Self { doc, ..self }
+    }
+}
+
+impl Storage {
+    /// `[format, access, glsl]`.
+    const fn of([format, access, glsl]: [&'static str; 3]) -> Self {
+        Self {
+            format,
+            access,
+            glsl,
+        }
     }
 }
 
@@ -376,16 +366,16 @@ fn binding_glsl(set: u32, number: usize, b: &Binding) -> String {
     let name = b.name;
     match b.ty {
         BindingType::Texels { glsl } => format!("layout({at}) uniform {glsl} {name};\n"),
-        BindingType::StorageTexels {
+        BindingType::StorageTexels(Storage {
             format,
             access,
             glsl,
-        }
-        | BindingType::StorageImage {
+        })
+        | BindingType::StorageImage(Storage {
             format,
             access,
             glsl,
-        } => {
+        }) => {
             let access = if access.is_empty() {
                 String::new()
             } else {
