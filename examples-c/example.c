@@ -170,6 +170,8 @@ int main(int argc, char **argv) {
     translucid_material wall, glass[3], gem;
     translucid_draw draws[5];
     translucid_frame_info frame_info;
+    translucid_exact_settings exact_settings;
+    translucid_wavelet_settings wavelet_settings;
     uint32_t methods[8];
     size_t method_count = 0, m;
     const float eye[3] = {1.5f, 2.0f, 5.0f}, target[3] = {0.0f, 0.0f, 0.0f};
@@ -224,6 +226,12 @@ int main(int argc, char **argv) {
     frame_info.background[0] = 0.05f;
     frame_info.background[1] = 0.05f;
     frame_info.background[2] = 0.08f;
+    memset(&exact_settings, 0, sizeof exact_settings);
+    exact_settings.s_type = TRANSLUCID_STRUCTURE_TYPE_EXACT_SETTINGS;
+    exact_settings.next = &wavelet_settings;
+    memset(&wavelet_settings, 0, sizeof wavelet_settings);
+    wavelet_settings.s_type = TRANSLUCID_STRUCTURE_TYPE_WAVELET_SETTINGS;
+    wavelet_settings.storage = TRANSLUCID_WAVELET_STORAGE_BINS;
 
     CHECK(translucid_methods_available(methods, sizeof methods / sizeof methods[0],
                                        &method_count));
@@ -235,11 +243,11 @@ int main(int argc, char **argv) {
         uint32_t s;
 
         frame_info.method = methods[m];
-        /* Method settings: zero is each one's default (wavelet: 16 coefficients per channel,
-           kept in the exact method's bins; exact: no threshold, every fragment composited). */
-        frame_info.wavelet_coefficients = 0;
-        frame_info.wavelet_storage = TRANSLUCID_WAVELET_STORAGE_BINS;
-        frame_info.exact_threshold = 0.0f;
+        /* Method settings are chained to the frame info, a structure per method, and each
+           field's zero is its default (wavelet: 16 coefficients per channel, kept in the exact
+           method's bins; exact: no threshold, every fragment composited). One chain serves
+           every method: each reads its own. */
+        frame_info.next = &exact_settings;
         CHECK(translucid_frame_render(g_context, &frame_info, &frame));
         snprintf(path, sizeof path, "%s/example-%s.png", out_dir, name);
         CHECK(translucid_frame_write_png(g_context, frame, path));

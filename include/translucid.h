@@ -117,7 +117,7 @@
 
 #define TRANSLUCID_VERSION_MAJOR 0
 
-#define TRANSLUCID_VERSION_MINOR 6
+#define TRANSLUCID_VERSION_MINOR 7
 
 #define TRANSLUCID_VERSION_PATCH 0
 
@@ -328,6 +328,13 @@ enum translucid_structure_type
      * `translucid_sampler_info`, chained to the texture create-info.
      */
     TRANSLUCID_STRUCTURE_TYPE_SAMPLER_INFO = 8,
+    /**
+     * Method settings, chained to the frame info.
+     */
+    TRANSLUCID_STRUCTURE_TYPE_EXACT_SETTINGS = 9,
+    TRANSLUCID_STRUCTURE_TYPE_WAVELET_SETTINGS = 10,
+    TRANSLUCID_STRUCTURE_TYPE_LINKED_LIST_SETTINGS = 11,
+    TRANSLUCID_STRUCTURE_TYPE_DEPTH_PEELING_SETTINGS = 12,
     /**
      * `translucid_host_device_create_info`, chained to the context create-info.
      */
@@ -737,7 +744,11 @@ typedef struct translucid_frame_info {
      */
     uint32_t s_type;
     /**
-     * NULL.
+     * NULL, or a chain of method settings (`translucid_exact_settings`,
+     * `translucid_wavelet_settings`, `translucid_linked_list_settings`,
+     * `translucid_depth_peeling_settings`), each at most once; a method without its
+     * structure in the chain takes its defaults. Settings of other methods than `method`
+     * are checked and otherwise ignored, so one chain may serve every method.
      */
     const void *next;
     /**
@@ -775,48 +786,6 @@ typedef struct translucid_frame_info {
      * may be in the opaque layer.
      */
     const struct translucid_opaque_layer *opaque_layer;
-    /**
-     * `TRANSLUCID_METHOD_WAVELET`: Haar coefficients kept per colour channel, 2, 4, 8 or 16
-     * (ranks 0 to 3: more is closer to exact, and costs memory and time); 0 is the default,
-     * 16. Other methods ignore it.
-     */
-    uint32_t wavelet_coefficients;
-    /**
-     * `TRANSLUCID_METHOD_WAVELET`: depth noise strength in coefficient cells, finite and
-     * >= 0; 0 (the default) is off. The noise is a fixed per-pixel pattern, so frames repeat.
-     */
-    float wavelet_noise;
-    /**
-     * `TRANSLUCID_METHOD_WAVELET`: a `translucid_wavelet_storage`, where the coefficients
-     * live; 0 is `TRANSLUCID_WAVELET_STORAGE_BINS`, the default, which falls back to the
-     * images on a device without what the exact method needs and for frames too crowded
-     * for its loop budget.
-     */
-    uint32_t wavelet_storage;
-    /**
-     * `TRANSLUCID_METHOD_EXACT`: stop compositing a pixel once every channel of its
-     * transmittance is below this; 0 (the default) composites every fragment: the exact
-     * result. Must be in [0, 1] whatever the method; only exact uses it.
-     */
-    float exact_threshold;
-    /**
-     * `TRANSLUCID_METHOD_LINKED_LIST`: the node pool, in fragments (28 bytes each). 0 (the
-     * default) sizes the pool from the frame and grows it when a frame overflows: the frame
-     * is rendered again (standalone) or completes with `TRANSLUCID_RESULT_INCOMPLETE`
-     * (host device), and later frames are exact. A budget stays as given: the fragments past
-     * it are blended unsorted and counted (`translucid_frame_statistics::tail_fragments`). At
-     * most one storage buffer's worth of nodes; past it, `TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT`.
-     */
-    uint32_t linked_list_node_budget;
-    /**
-     * `TRANSLUCID_METHOD_DEPTH_PEELING`: peeling passes, each peeling a pixel's nearest and
-     * farthest layer left, 1 to 128. 0 (the default) starts with a few; a frame with more
-     * layers grows them to half its deepest pixel's fragments (it is rendered again, or
-     * completes with `TRANSLUCID_RESULT_INCOMPLETE` on an engine's device). A count stays as given: pixels
-     * with more than twice as many layers lose their middle ones and are counted
-     * (`translucid_frame_statistics::unpeeled_pixels`).
-     */
-    uint32_t depth_peeling_passes;
     /**
      * Optional: the engine's frame number, which the frame's statistics report back. It may
      * not go backwards on a context (views of one engine frame share it); 0 is none.
@@ -1234,6 +1203,102 @@ typedef struct translucid_sampler_info {
 } translucid_sampler_info;
 
 /**
+ * Settings of `TRANSLUCID_METHOD_EXACT`.
+ */
+typedef struct translucid_exact_settings {
+    /**
+     * `TRANSLUCID_STRUCTURE_TYPE_EXACT_SETTINGS`.
+     */
+    uint32_t s_type;
+    /**
+     * The next method settings structure, or NULL.
+     */
+    const void *next;
+    /**
+     * Stop compositing a pixel once every channel of its transmittance is below this, in
+     * [0, 1]; 0 (the default) composites every fragment: the exact result.
+     */
+    float threshold;
+} translucid_exact_settings;
+
+/**
+ * Settings of `TRANSLUCID_METHOD_WAVELET`.
+ */
+typedef struct translucid_wavelet_settings {
+    /**
+     * `TRANSLUCID_STRUCTURE_TYPE_WAVELET_SETTINGS`.
+     */
+    uint32_t s_type;
+    /**
+     * The next method settings structure, or NULL.
+     */
+    const void *next;
+    /**
+     * Haar coefficients kept per colour channel, 2, 4, 8 or 16 (ranks 0 to 3: more is closer
+     * to exact, and costs memory and time); 0 is the default, 16.
+     */
+    uint32_t coefficients;
+    /**
+     * Depth noise strength in coefficient cells, finite and >= 0; 0 (the default) is off.
+     * The noise is a fixed per-pixel pattern, so frames repeat.
+     */
+    float noise;
+    /**
+     * A `translucid_wavelet_storage`, where the coefficients live; 0 is
+     * `TRANSLUCID_WAVELET_STORAGE_BINS`, the default, which falls back to the images on a
+     * device without what the exact method needs and for frames too crowded for its loop
+     * budget.
+     */
+    uint32_t storage;
+} translucid_wavelet_settings;
+
+/**
+ * Settings of `TRANSLUCID_METHOD_LINKED_LIST`.
+ */
+typedef struct translucid_linked_list_settings {
+    /**
+     * `TRANSLUCID_STRUCTURE_TYPE_LINKED_LIST_SETTINGS`.
+     */
+    uint32_t s_type;
+    /**
+     * The next method settings structure, or NULL.
+     */
+    const void *next;
+    /**
+     * The node pool, in fragments (28 bytes each). 0 (the default) sizes the pool from the
+     * frame and grows it when a frame overflows: the frame is rendered again (standalone) or
+     * completes with `TRANSLUCID_RESULT_INCOMPLETE` (host device), and later frames are
+     * exact. A budget stays as given: the fragments past it are blended unsorted and counted
+     * (`translucid_frame_statistics::tail_fragments`). At most one storage buffer's worth of
+     * nodes; past it, `TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT`.
+     */
+    uint32_t node_budget;
+} translucid_linked_list_settings;
+
+/**
+ * Settings of `TRANSLUCID_METHOD_DEPTH_PEELING`.
+ */
+typedef struct translucid_depth_peeling_settings {
+    /**
+     * `TRANSLUCID_STRUCTURE_TYPE_DEPTH_PEELING_SETTINGS`.
+     */
+    uint32_t s_type;
+    /**
+     * The next method settings structure, or NULL.
+     */
+    const void *next;
+    /**
+     * Peeling passes, each peeling a pixel's nearest and farthest layer left, 1 to 128. 0
+     * (the default) starts with a few; a frame with more layers grows them to half its
+     * deepest pixel's fragments (it is rendered again, or completes with
+     * `TRANSLUCID_RESULT_INCOMPLETE` on an engine's device). A count stays as given: pixels
+     * with more than twice as many layers lose their middle ones and are counted
+     * (`translucid_frame_statistics::unpeeled_pixels`).
+     */
+    uint32_t passes;
+} translucid_depth_peeling_settings;
+
+/**
  * The header every extensible struct starts with; used to read `next` chains.
  */
 typedef struct translucid_base_in_structure {
@@ -1621,7 +1686,7 @@ translucid_result translucid_texture_destroy(struct translucid_context *context,
 uint32_t translucid_version(void);
 
 /**
- * The library's version as a static string, e.g. "0.6.0".
+ * The library's version as a static string, e.g. "0.7.0".
  */
 const char *translucid_version_string(void);
 

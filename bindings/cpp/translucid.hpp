@@ -288,8 +288,8 @@ public:
                       "translucid_material_create");
         return Material(context_, material);
     }
-    /// Renders one frame. Method settings travel in the info as in C (for example
-    /// `wavelet_coefficients`; zero means the default).
+    /// Renders one frame. Method settings are chained to `info.next` as in C
+    /// (`translucid_wavelet_settings` and the like; without one, a method takes its defaults).
     Frame render(translucid_frame_info info) {
         info.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_INFO;
         translucid_frame frame{0};

@@ -101,6 +101,27 @@ pub(crate) fn check_header(
     expected: translucid_structure_type,
     what: &str,
 ) -> FfiResult {
+    check_type(s_type, expected, what)?;
+    if next.is_null() {
+        return Ok(());
+    }
+    let link = try_ref(next.cast::<translucid_base_in_structure>(), "next")?;
+    Err(Failure::new(
+        translucid_result::ErrorInvalidStructureType,
+        format!(
+            "{what}.next holds structure type {}, which {what} does not accept in this \
+             version; set next to NULL",
+            link.s_type
+        ),
+    ))
+}
+
+/// Checks that `s_type` is `expected`, for a structure whose `next` chain its reader walks.
+pub(crate) fn check_type(
+    s_type: u32,
+    expected: translucid_structure_type,
+    what: &str,
+) -> FfiResult {
     if s_type != expected as u32 {
         let found = translucid_structure_type::from_raw(s_type).map_or_else(
             || format!("{s_type} (no such structure type)"),
@@ -115,18 +136,7 @@ pub(crate) fn check_header(
             ),
         ));
     }
-    if next.is_null() {
-        return Ok(());
-    }
-    let link = try_ref(next.cast::<translucid_base_in_structure>(), "next")?;
-    Err(Failure::new(
-        translucid_result::ErrorInvalidStructureType,
-        format!(
-            "{what}.next holds structure type {}, which {what} does not accept in this \
-             version; set next to NULL",
-            link.s_type
-        ),
-    ))
+    Ok(())
 }
 
 /// A struct translucid fills in whose `s_type` and `next` the caller sets.

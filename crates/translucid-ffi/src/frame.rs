@@ -8,7 +8,7 @@ use crate::context::Objects;
 use crate::frame_input::{frame_request, opaque_layer_from};
 use crate::material::translucid_material;
 use crate::mesh::translucid_mesh;
-use crate::method::{translucid_method, translucid_wavelet_storage};
+use crate::method::translucid_method;
 use crate::panic;
 use crate::result::{translucid_result, Failure, FfiResult};
 use crate::structure::translucid_structure_type;
@@ -153,7 +153,11 @@ pub struct translucid_opaque_layer {
 pub struct translucid_frame_info {
     /// `TRANSLUCID_STRUCTURE_TYPE_FRAME_INFO`.
     pub s_type: u32,
-    /// NULL.
+    /// NULL, or a chain of method settings (`translucid_exact_settings`,
+    /// `translucid_wavelet_settings`, `translucid_linked_list_settings`,
+    /// `translucid_depth_peeling_settings`), each at most once; a method without its
+    /// structure in the chain takes its defaults. Settings of other methods than `method`
+    /// are checked and otherwise ignored, so one chain may serve every method.
     pub next: *const c_void,
     /// A `translucid_method`; see `translucid_methods_available`.
     pub method: u32,
@@ -176,90 +180,9 @@ pub struct translucid_frame_info {
     /// Optional: the engine's opaque colour and depth, replacing `background`; then no draw
     /// may be in the opaque layer.
     pub opaque_layer: *const translucid_opaque_layer,
-    /// `TRANSLUCID_METHOD_WAVELET`: Haar coefficients kept per colour channel, 2, 4, 8 or 16
-    /// (ranks 0 to 3: more is closer to exact, and costs memory and time); 0 is the default,
-    /// 16. Other methods ignore it.
-    pub wavelet_coefficients: u32,
-    /// `TRANSLUCID_METHOD_WAVELET`: depth noise strength in coefficient cells, finite and
-    /// >= 0; 0 (the default) is off. The noise is a fixed per-pixel pattern, so frames repeat.
-    pub wavelet_noise: f32,
-    /// `TRANSLUCID_METHOD_WAVELET`: a `translucid_wavelet_storage`, where the coefficients
-    /// live; 0 is `TRANSLUCID_WAVELET_STORAGE_BINS`, the default, which falls back to the
-    /// images on a device without what the exact method needs and for frames too crowded
-    /// for its loop budget.
-    pub wavelet_storage: u32,
-    /// `TRANSLUCID_METHOD_EXACT`: stop compositing a pixel once every channel of its
-    /// transmittance is below this; 0 (the default) composites every fragment: the exact
-    /// result. Must be in [0, 1] whatever the method; only exact uses it.
-    pub exact_threshold: f32,
-    /// `TRANSLUCID_METHOD_LINKED_LIST`: the node pool, in fragments (28 bytes each). 0 (the
-    /// default) sizes the pool from the frame and grows it when a frame overflows: the frame
-    /// is rendered again (standalone) or completes with `TRANSLUCID_RESULT_INCOMPLETE`
-    /// (host device), and later frames are exact. A budget stays as given: the fragments past
-    /// it are blended unsorted and counted (`translucid_frame_statistics::tail_fragments`). At
-    /// most one storage buffer's worth of nodes; past it, `TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT`.
-    pub linked_list_node_budget: u32,
-    /// `TRANSLUCID_METHOD_DEPTH_PEELING`: peeling passes, each peeling a pixel's nearest and
-    /// farthest layer left, 1 to 128. 0 (the default) starts with a few; a frame with more
-    /// layers grows them to half its deepest pixel's fragments (it is rendered again, or
-    /// completes with `TRANSLUCID_RESULT_INCOMPLETE` on an engine's device). A count stays as given: pixels
-    /// with more than twice as many layers lose their middle ones and are counted
-    /// (`translucid_frame_statistics::unpeeled_pixels`).
-    pub depth_peeling_passes: u32,
     /// Optional: the engine's frame number, which the frame's statistics report back. It may
     /// not go backwards on a context (views of one engine frame share it); 0 is none.
     pub frame_index: u64,
-}
-
-/// The core's method options from a frame's settings.
-pub(crate) fn method_options(
-    info: &translucid_frame_info,
-) -> FfiResult<translucid::methods::MethodOptions> {
-    let rank = match info.wavelet_coefficients {
-        0 => None,
-        2 => Some(0),
-        4 => Some(1),
-        8 => Some(2),
-        16 => Some(3),
-        other => {
-            return Err(Failure::argument(format!(
-                "wavelet_coefficients {other} is not 0 (the default), 2, 4, 8 or 16"
-            )))
-        }
-    };
-    let threshold = info.exact_threshold;
-    if !(0.0..=1.0).contains(&threshold) {
-        return Err(Failure::argument(format!(
-            "exact_threshold {threshold} is not in [0, 1]"
-        )));
-    }
-    Ok(translucid::methods::MethodOptions {
-        exact: translucid::methods::exact::ExactOptions {
-            threshold,
-            ..Default::default()
-        },
-        wavelet: translucid::methods::wavelet::WaveletOptions {
-            rank,
-            noise: info.wavelet_noise,
-            storage: translucid_wavelet_storage::from_raw(info.wavelet_storage)?.core(),
-            ..Default::default()
-        },
-        linked_list: translucid::methods::linked_list::LinkedListOptions {
-            node_budget: match info.linked_list_node_budget {
-                0 => None,
-                budget => Some(u64::from(budget)),
-            },
-            ..Default::default()
-        },
-        depth_peeling: translucid::methods::depth_peeling::DepthPeelingOptions {
-            passes: match info.depth_peeling_passes {
-                0 => None,
-                passes => Some(passes),
-            },
-            ..Default::default()
-        },
-        ..Default::default()
-    })
 }
 
 /// GPU time of one stage.

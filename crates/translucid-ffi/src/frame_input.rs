@@ -2,14 +2,15 @@
 //! core's `OpaqueLayer`: check every value, convert the camera and light. The draws' handles
 //! are resolved by the renderer that draws them (`renderers`).
 
-use crate::cast::{check_header, try_ref, try_slice};
+use crate::cast::{check_header, check_type, try_ref, try_slice};
 use crate::context::Objects;
 use crate::frame::{
-    method_options, translucid_camera, translucid_frame_info, translucid_layer, translucid_light,
+    translucid_camera, translucid_frame_info, translucid_layer, translucid_light,
     translucid_opaque_layer, translucid_pixel_format, TRANSLUCID_MAX_DRAWS,
 };
 use crate::method::translucid_method;
-use crate::renderers::{FrameRequest, SettingsKey};
+use crate::method_settings::MethodSettings;
+use crate::renderers::FrameRequest;
 use crate::result::{Failure, FfiResult};
 use crate::structure::translucid_structure_type;
 use glam::{Mat4, Vec2, Vec3};
@@ -71,32 +72,18 @@ fn light_from(light: Option<&translucid_light>) -> FfiResult<Light> {
     })
 }
 
-/// The words that decide which renderer draws a frame: method and the method's settings (the
-/// assets are the context's; sizes, cameras, lights and draws are the frame's own).
-fn settings_key(info: &translucid_frame_info) -> SettingsKey {
-    vec![
-        u64::from(info.method),
-        u64::from(info.wavelet_coefficients),
-        u64::from(info.wavelet_noise.to_bits()),
-        u64::from(info.wavelet_storage),
-        u64::from(info.linked_list_node_budget),
-        u64::from(info.depth_peeling_passes),
-        u64::from(info.exact_threshold.to_bits()),
-    ]
-}
-
 /// Checks `info` and turns it into a renderer's request (with the host's opaque layer, when
 /// it has one, in the second value).
 pub(crate) fn frame_request<'a>(
     objects: &Objects,
     info: &'a translucid_frame_info,
 ) -> FfiResult<(FrameRequest<'a>, Option<&'a translucid_opaque_layer>)> {
-    check_header(
+    check_type(
         info.s_type,
-        info.next,
         translucid_structure_type::FrameInfo,
         "translucid_frame_info",
     )?;
+    let settings = MethodSettings::from_chain(info.next)?;
     let method = translucid_method::from_raw(info.method)?;
     check_frame_size(&objects.gpu, info.width, info.height)?;
     if info.frame_index != 0 && info.frame_index < objects.last_frame_index {
@@ -142,11 +129,11 @@ pub(crate) fn frame_request<'a>(
         }
     }
     let request = FrameRequest {
-        key: settings_key(info),
+        key: settings.key(method),
         method: method.kind(),
         width: info.width,
         height: info.height,
-        options: method_options(info)?,
+        options: settings.options()?,
         camera: camera_from(&info.camera)?,
         light: light_from(light)?,
         background: rgb(info.background, "background")?,

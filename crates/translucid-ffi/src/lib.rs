@@ -35,6 +35,7 @@ pub mod host;
 pub mod material;
 pub mod mesh;
 pub mod method;
+pub mod method_settings;
 pub mod panic;
 pub mod renderers;
 pub mod result;

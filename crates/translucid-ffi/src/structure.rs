@@ -16,6 +16,11 @@ pub enum translucid_structure_type {
     FrameStatistics = 7,
     /// `translucid_sampler_info`, chained to the texture create-info.
     SamplerInfo = 8,
+    /// Method settings, chained to the frame info.
+    ExactSettings = 9,
+    WaveletSettings = 10,
+    LinkedListSettings = 11,
+    DepthPeelingSettings = 12,
     /// `translucid_host_device_create_info`, chained to the context create-info.
     HostDeviceCreateInfo = 100,
     /// `translucid_host_requirements`.
@@ -25,7 +30,7 @@ pub enum translucid_structure_type {
 }
 
 impl translucid_structure_type {
-    const ALL: [Self; 11] = [
+    const ALL: [Self; 15] = [
         Self::ContextCreateInfo,
         Self::MeshCreateInfo,
         Self::TextureCreateInfo,
@@ -34,6 +39,10 @@ impl translucid_structure_type {
         Self::OpaqueLayer,
         Self::FrameStatistics,
         Self::SamplerInfo,
+        Self::ExactSettings,
+        Self::WaveletSettings,
+        Self::LinkedListSettings,
+        Self::DepthPeelingSettings,
         Self::HostDeviceCreateInfo,
         Self::HostDeviceRequirements,
         Self::HostFrameTargets,

@@ -581,6 +581,8 @@ static float bad_channel(void) {
 
 static _Thread_local float g_opaque_colour[MAX_SIDE * MAX_SIDE * 4];
 static _Thread_local float g_opaque_depth[MAX_SIDE * MAX_SIDE];
+static _Thread_local translucid_exact_settings g_exact;
+static _Thread_local translucid_wavelet_settings g_wavelet;
 
 static void frame_render(state *s) {
     translucid_draw draws[6];
@@ -646,7 +648,16 @@ static void frame_render(state *s) {
     opaque.colour_format = TRANSLUCID_PIXEL_FORMAT_RGBA32F_LINEAR;
     opaque.colour = g_opaque_colour;
     opaque.depth = g_opaque_depth;
-    info.exact_threshold = chance(20) ? unit() * 0.2f : 0.0f;
+    g_exact.s_type = TRANSLUCID_STRUCTURE_TYPE_EXACT_SETTINGS;
+    g_exact.next = NULL;
+    g_exact.threshold = chance(20) ? unit() * 0.2f : 0.0f;
+    g_wavelet.s_type = TRANSLUCID_STRUCTURE_TYPE_WAVELET_SETTINGS;
+    g_wavelet.next = NULL;
+    g_wavelet.coefficients = 0;
+    g_wavelet.noise = 0.0f;
+    g_wavelet.storage = TRANSLUCID_WAVELET_STORAGE_BINS;
+    info.next = chance(80) ? (const void *)&g_exact : NULL;
+    if (chance(50)) g_exact.next = &g_wavelet;
     if (chance(30)) {
         /* The engine's own matrix: reversed-Z with an infinite far plane, and a jitter. */
         float f = 1.0f / tanf(0.4f);
@@ -771,10 +782,12 @@ static void frame_render(state *s) {
         case 8: /* Scrambled. */
             info.camera.fov_y = chance(50) ? info.camera.fov_y : any_float();
             info.camera.z_far = chance(50) ? info.camera.z_far : any_float();
-            info.exact_threshold = chance(50) ? info.exact_threshold : any_float();
-            info.wavelet_coefficients = chance(50) ? 0 : any_u32();
-            info.wavelet_storage = chance(50) ? 0 : any_u32();
-            info.wavelet_noise = chance(50) ? 0.0f : any_float();
+            g_exact.threshold = chance(50) ? g_exact.threshold : any_float();
+            g_wavelet.coefficients = chance(50) ? 0 : any_u32();
+            g_wavelet.storage = chance(50) ? 0 : any_u32();
+            g_wavelet.noise = chance(50) ? 0.0f : any_float();
+            if (chance(20)) g_wavelet.s_type = any_u32(); /* a link of no known type */
+            if (chance(10)) g_wavelet.next = &g_exact;    /* a loop: refused */
             info.background[below(3)] = any_float();
             info.camera.projection[below(16)] = any_float();
             if (draw_count > 0 && chance(50)) {

@@ -351,7 +351,22 @@ static void frames(translucid_context *ctx, translucid_context *other) {
     uint8_t pixels[8 * 8 * 4];
     size_t i, count = 0;
     uint32_t methods[16];
+    translucid_exact_settings exact;
+    translucid_wavelet_settings wavelet;
+    translucid_linked_list_settings linked_list;
+    translucid_depth_peeling_settings depth_peeling;
+    translucid_base_in_structure not_settings;
 
+    memset(&exact, 0, sizeof exact);
+    exact.s_type = TRANSLUCID_STRUCTURE_TYPE_EXACT_SETTINGS;
+    memset(&wavelet, 0, sizeof wavelet);
+    wavelet.s_type = TRANSLUCID_STRUCTURE_TYPE_WAVELET_SETTINGS;
+    memset(&linked_list, 0, sizeof linked_list);
+    linked_list.s_type = TRANSLUCID_STRUCTURE_TYPE_LINKED_LIST_SETTINGS;
+    memset(&depth_peeling, 0, sizeof depth_peeling);
+    depth_peeling.s_type = TRANSLUCID_STRUCTURE_TYPE_DEPTH_PEELING_SETTINGS;
+    memset(&not_settings, 0, sizeof not_settings);
+    not_settings.s_type = TRANSLUCID_STRUCTURE_TYPE_OPAQUE_LAYER;
     EXPECT(ctx, translucid_mesh_create(ctx, &mesh_desc, &mesh), TRANSLUCID_RESULT_SUCCESS);
     EXPECT(ctx, translucid_mesh_create(ctx, &mesh_desc, &stale_mesh), TRANSLUCID_RESULT_SUCCESS);
     EXPECT(ctx, translucid_mesh_destroy(ctx, stale_mesh), TRANSLUCID_RESULT_SUCCESS);
@@ -385,42 +400,64 @@ static void frames(translucid_context *ctx, translucid_context *other) {
     }
     info = frame_info(&draw);
     info.method = TRANSLUCID_METHOD_LINKED_LIST;
-    info.linked_list_node_budget = UINT32_MAX; /* past the nodes one texel view reaches */
+    info.next = &linked_list;
+    linked_list.node_budget = UINT32_MAX; /* past the nodes one texel view reaches */
     EXPECT(ctx, translucid_frame_render(ctx, &info, &frame),
            TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
     TRUE_OR_FAIL(strstr(translucid_context_last_error(ctx), "budget") != NULL);
     info = frame_info(&draw);
     info.method = TRANSLUCID_METHOD_DEPTH_PEELING;
-    info.depth_peeling_passes = 129;
+    info.next = &depth_peeling;
+    depth_peeling.passes = 129;
     EXPECT(ctx, translucid_frame_render(ctx, &info, &frame),
            TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
     TRUE_OR_FAIL(strstr(translucid_context_last_error(ctx), "passes") != NULL);
     info = frame_info(&draw);
     info.method = TRANSLUCID_METHOD_WAVELET;
-    info.wavelet_coefficients = 3;
+    info.next = &wavelet;
+    wavelet.coefficients = 3;
     EXPECT(ctx, translucid_frame_render(ctx, &info, &frame),
            TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
-    info.wavelet_coefficients = 32;
+    wavelet.coefficients = 32;
     EXPECT(ctx, translucid_frame_render(ctx, &info, &frame),
            TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
-    info.wavelet_coefficients = 0;
-    info.wavelet_noise = -1.0f;
+    wavelet.coefficients = 0;
+    wavelet.noise = -1.0f;
     EXPECT(ctx, translucid_frame_render(ctx, &info, &frame),
            TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
-    info.wavelet_noise = 0.0f;
-    info.wavelet_storage = 2;
+    wavelet.noise = 0.0f;
+    wavelet.storage = 2;
     EXPECT(ctx, translucid_frame_render(ctx, &info, &frame), TRANSLUCID_RESULT_ERROR_INVALID_ENUM);
+    wavelet.storage = TRANSLUCID_WAVELET_STORAGE_BINS;
     info = frame_info(&draw);
     info.method = TRANSLUCID_METHOD_EXACT;
-    info.exact_threshold = -0.5f;
+    info.next = &exact;
+    exact.threshold = -0.5f;
     EXPECT(ctx, translucid_frame_render(ctx, &info, &frame),
            TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
-    info.exact_threshold = 1.5f;
+    exact.threshold = 1.5f;
     EXPECT(ctx, translucid_frame_render(ctx, &info, &frame),
            TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
-    info.exact_threshold = (float)NAN;
+    exact.threshold = (float)NAN;
     EXPECT(ctx, translucid_frame_render(ctx, &info, &frame),
            TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    /* Another method's settings are checked too, and ignored otherwise. */
+    exact.threshold = 0.0f;
+    exact.next = &wavelet;
+    wavelet.coefficients = 3;
+    EXPECT(ctx, translucid_frame_render(ctx, &info, &frame),
+           TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    wavelet.coefficients = 0;
+    /* Each structure once, and method settings only. */
+    wavelet.next = &exact;
+    EXPECT(ctx, translucid_frame_render(ctx, &info, &frame),
+           TRANSLUCID_RESULT_ERROR_INVALID_STRUCTURE_TYPE);
+    TRUE_OR_FAIL(strstr(translucid_context_last_error(ctx), "two") != NULL);
+    wavelet.next = &not_settings;
+    EXPECT(ctx, translucid_frame_render(ctx, &info, &frame),
+           TRANSLUCID_RESULT_ERROR_INVALID_STRUCTURE_TYPE);
+    wavelet.next = NULL;
+    exact.next = NULL;
     info = frame_info(&draw);
     info.width = 0;
     EXPECT(ctx, translucid_frame_render(ctx, &info, &frame), TRANSLUCID_RESULT_ERROR_INVALID_SIZE);

@@ -170,6 +170,7 @@ static void over_host_layer(translucid_frame_info info, translucid_mesh quad,
 static void exact_threshold(float threshold, float want, translucid_mesh quad,
                             translucid_material red) {
     translucid_frame_info info = base_frame(TRANSLUCID_METHOD_EXACT);
+    translucid_exact_settings exact;
     translucid_draw draws[2];
     translucid_frame frame;
     float *pixels;
@@ -177,7 +178,10 @@ static void exact_threshold(float threshold, float want, translucid_mesh quad,
     stacked_draws(draws, 2, quad, red, 0.5f); /* the second behind the first */
     info.draws = draws;
     info.draw_count = 2;
-    info.exact_threshold = threshold;
+    memset(&exact, 0, sizeof exact);
+    exact.s_type = TRANSLUCID_STRUCTURE_TYPE_EXACT_SETTINGS;
+    exact.threshold = threshold;
+    info.next = &exact;
     CHECK(translucid_frame_render(g_ctx, &info, &frame));
     pixels = read_both(frame);
     for (i = 0; i < W * H; i++) near_or_fail(pixels[i * 4], want, 2e-3f, "exact threshold", i);
@@ -190,6 +194,7 @@ static void exact_threshold(float threshold, float want, translucid_mesh quad,
  * counts them, exactly. */
 static void linked_list_budget(uint32_t budget, translucid_mesh quad, translucid_material red) {
     translucid_frame_info info = base_frame(TRANSLUCID_METHOD_LINKED_LIST);
+    translucid_linked_list_settings settings;
     translucid_frame_statistics stats;
     translucid_draw draws[2];
     translucid_frame frame;
@@ -198,7 +203,10 @@ static void linked_list_budget(uint32_t budget, translucid_mesh quad, translucid
     stacked_draws(draws, 2, quad, red, 0.5f);
     info.draws = draws;
     info.draw_count = 2;
-    info.linked_list_node_budget = budget;
+    memset(&settings, 0, sizeof settings);
+    settings.s_type = TRANSLUCID_STRUCTURE_TYPE_LINKED_LIST_SETTINGS;
+    settings.node_budget = budget;
+    info.next = &settings;
     CHECK(translucid_frame_render(g_ctx, &info, &frame));
     stats = statistics_of(frame);
     near_or_fail((float)stats.fragments, 2 * W * H, 0.0f, "linked_list: fragments", 0);
@@ -216,6 +224,7 @@ static void linked_list_budget(uint32_t budget, translucid_mesh quad, translucid
  * layer only, and every pixel, missing its middle layer (0.75), is counted. */
 static void depth_peeling_passes(uint32_t passes, translucid_mesh quad, translucid_material red) {
     translucid_frame_info info = base_frame(TRANSLUCID_METHOD_DEPTH_PEELING);
+    translucid_depth_peeling_settings settings;
     translucid_frame_statistics stats;
     translucid_draw draws[3];
     translucid_frame frame;
@@ -224,7 +233,10 @@ static void depth_peeling_passes(uint32_t passes, translucid_mesh quad, transluc
     stacked_draws(draws, 3, quad, red, 0.4f); /* z -2, -2.4, -2.8: before the far plane */
     info.draws = draws;
     info.draw_count = 3;
-    info.depth_peeling_passes = passes;
+    memset(&settings, 0, sizeof settings);
+    settings.s_type = TRANSLUCID_STRUCTURE_TYPE_DEPTH_PEELING_SETTINGS;
+    settings.passes = passes;
+    info.next = &settings;
     CHECK(translucid_frame_render(g_ctx, &info, &frame));
     stats = statistics_of(frame);
     near_or_fail((float)stats.unpeeled_pixels, passes == 1 ? (float)(W * H) : 0.0f, 0.0f,
@@ -661,13 +673,18 @@ int main(int argc, char **argv) {
         if (methods[m] == TRANSLUCID_METHOD_WAVELET) {
             /* One layer is exact at every rank, in both storages. */
             uint32_t coefficients;
+            translucid_wavelet_settings wavelet;
+            memset(&wavelet, 0, sizeof wavelet);
+            wavelet.s_type = TRANSLUCID_STRUCTURE_TYPE_WAVELET_SETTINGS;
+            info.next = &wavelet;
             for (coefficients = 2; coefficients <= 8; coefficients *= 2) {
-                info.wavelet_coefficients = coefficients;
-                info.wavelet_storage = TRANSLUCID_WAVELET_STORAGE_BINS;
+                wavelet.coefficients = coefficients;
+                wavelet.storage = TRANSLUCID_WAVELET_STORAGE_BINS;
                 over_host_layer(info, quad, red);
-                info.wavelet_storage = TRANSLUCID_WAVELET_STORAGE_IMAGES;
+                wavelet.storage = TRANSLUCID_WAVELET_STORAGE_IMAGES;
                 over_host_layer(info, quad, red);
             }
+            info.next = NULL;
         }
         if (methods[m] == TRANSLUCID_METHOD_DEPTH_PEELING) {
             depth_peeling_passes(0, quad, red);
