@@ -15,8 +15,11 @@
 //!
 //! Besides these, `draws<N>` (for example `draws1000`) is N small quads, each its own draw of
 //! one shared mesh, over a wall: what an engine's many draw calls cost to record
-//! (`translucid bench draws1000 draws10000`). N is 1 to [`MAX_DRAWS`].
+//! (`translucid bench draws1000 draws10000`). N is 1 to [`MAX_DRAWS`]. The sized scenes
+//! ([`SIZED`], `NAME:N`) include the hostile stacks of `stacks.rs`: `instanced:16384`,
+//! `coincident:10000` and `random_draws:100000` at 160x120 are the hostile-input tests'.
 
+mod stacks;
 mod textured;
 
 use super::{Camera, Draw, Material, Mesh, Scene};
@@ -46,6 +49,18 @@ pub const SIZED: &[(&str, &str)] = &[
     ("hairball", "transparent triangles, 2 to 20,000,000"),
     ("particles", "transparent triangles, 2 to 20,000,000"),
     ("planes", "intersecting planes of 512 triangles, 1 to 1,000"),
+    (
+        "instanced",
+        "draws of one screen-filling quad at one place, 1 to 100,000",
+    ),
+    (
+        "coincident",
+        "screen-filling triangles at one depth in one mesh, 1 to 100,000",
+    ),
+    (
+        "random_draws",
+        "draws of a small triangle at random places and depths, 1 to 100,000",
+    ),
 ];
 
 /// The most triangles a sized scene takes: 20 M, past the frames' limits.
@@ -81,12 +96,11 @@ pub fn generate_sized(spec: &str) -> Option<Result<Scene, String>> {
             )))
         }
     };
-    let most = if name == "planes" {
-        1_000
-    } else {
-        MOST_SIZED_TRIANGLES
+    let (least, most) = match name {
+        "planes" => (1, 1_000),
+        "instanced" | "coincident" | "random_draws" => (1, u64::from(MAX_DRAWS)),
+        _ => (2, MOST_SIZED_TRIANGLES),
     };
-    let least = if name == "planes" { 1 } else { 2 };
     if !(least..=most).contains(&n) {
         return Some(Err(format!("{spec}: {name} takes {counts}")));
     }
@@ -94,6 +108,9 @@ pub fn generate_sized(spec: &str) -> Option<Result<Scene, String>> {
     let mut scene = match name {
         "hairball" => hairball(n),
         "particles" => particles(n),
+        "instanced" => stacks::instanced(n),
+        "coincident" => stacks::coincident(n),
+        "random_draws" => stacks::random_draws(n),
         _ => planes(n),
     };
     scene.name = spec.to_string();
