@@ -31,8 +31,10 @@
  *
  * Assets and frames: meshes, textures and materials are created once and stay uploaded; a
  * frame names the ones it draws by handle, with its own camera, light and transforms, and
- * builds nothing (translucid_mesh_update moves a mesh's vertices). Creating or destroying an
- * asset makes the next frame upload the context's assets again: do it while loading.
+ * builds nothing (translucid_mesh_update moves a mesh's vertices). Creating an asset adds
+ * it to the uploads (the next frame copies the new one; once the buffers' spare room is
+ * used, all of them anew); a destroyed asset keeps its place while most of the uploads are
+ * alive, and past that the next frame uploads the living ones anew.
  */
 
 #ifndef TRANSLUCID_H
