@@ -21,18 +21,8 @@
 #define NODE_DEPTH 3u
 #define NODE_NEXT 6u
 
-layout(set = LIST_SET, binding = 0, std430) buffer HeadBlock { uint g_heads[]; };
-layout(set = LIST_SET, binding = 1, std430) buffer NodeBlock { uint g_nodes[]; };
-layout(set = LIST_SET, binding = 3, r32ui) uniform uimageBuffer u_nodeTexels;
+#include "interface_linked_list.glsl"
 #include "interface_specialization.glsl"
-// Fragments that asked for a node (all of them: past `capacity`, the rest found none), the
-// nodes the pool holds, and the frame's size in pixels (heads are rows of its width).
-layout(set = LIST_SET, binding = 2, std430) buffer ListCounters {
-    uint fragments;
-    uint capacity;
-    uint width;
-    uint height;
-} g_list;
 
 uint headIndex(uvec2 pixel) {
     return pixel.y * g_list.width + pixel.x;

@@ -6,7 +6,7 @@
 #define TRANSLUCID_SCENE_BINDINGS_GLSL
 
 #include "interface_scene_set.glsl"
-layout(set = 1, binding = 0) uniform sampler2D u_baseTexture;
+#include "interface_base_texture.glsl"
 
 layout(push_constant) uniform PushBlock { uint drawIndex; } u_push;
 

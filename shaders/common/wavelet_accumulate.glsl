@@ -10,7 +10,7 @@
 #include "shading.glsl"
 #include "wavelet.glsl"
 
-layout(set = 2, binding = 0) uniform sampler2D u_waveletBounds;
+#include "interface_wavelet_bounds.glsl"
 
 layout(location = 0) out vec4 o_texels[8];
 

@@ -10,9 +10,7 @@
 
 #include "wavelet.glsl"
 
-layout(set = WAVELET_READ_SET, binding = 0) uniform sampler2D u_waveletBounds;
-layout(set = WAVELET_READ_SET, binding = 1) uniform sampler2D
-    u_waveletCoefficients[WAVELET_MAX_TEXELS];
+#include "interface_wavelet_read.glsl"
 
 // (nearest, farthest) view depth of the pixel's transparent fragments. The bounds image holds
 // (-nearest, farthest) so that one MAX blend keeps both.

@@ -10,9 +10,10 @@
 #define WAVELET_READ_SET 1
 #include "wavelet_read.glsl"
 
-// Set 0 is the scene's (only its frame constants are read here).
-layout(set = 0, binding = 0, std140) uniform FrameBlock { FrameInfo u_frame; };
-layout(set = 1, binding = 2) uniform sampler2D u_opaqueDepth;
+// Set 0 is the scene's (only its frame constants are read here); the read set is the
+// resolve's, with the opaque depth.
+#include "interface_scene_set.glsl"
+#include "interface_wavelet_resolve.glsl"
 
 layout(location = 0) out vec4 o_transmittance;
 

@@ -18,26 +18,7 @@ layout(push_constant) uniform Push {
     uint height;
 } u_push;
 
-layout(set = 0, binding = 0) uniform sampler2D u_range;
-// The pass's front and back layer, one image per colour channel: (radiance, 0, 0,
-// transmittance).
-layout(set = 0, binding = 1) uniform sampler2D u_frontLayer[3];
-layout(set = 0, binding = 2) uniform sampler2D u_backLayer[3];
-// Front to back: radiance and transmittance of the front layers so far; back to front: the
-// same of the back layers.
-layout(set = 0, binding = 3, rgba32f) uniform image2D u_front;
-layout(set = 0, binding = 4, rgba32f) uniform image2D u_frontT;
-layout(set = 0, binding = 5, rgba32f) uniform image2D u_back;
-layout(set = 0, binding = 6, rgba32f) uniform image2D u_backT;
-// Pixels left with fragments after the last pass, the most fragments a pixel has, then per
-// pass whether any pixel has fragments left (word 2 + pass: its next pass's condition).
-layout(set = 0, binding = 7, std430) buffer Peeling {
-    uint unpeeledPixels;
-    uint mostFragments;
-    uint fragmentsLeft[];
-} g_peeling;
-// The first pass's count of each pixel's fragments.
-layout(set = 0, binding = 9) uniform sampler2D u_fragments;
+#include "interface_depth_peeling.glsl"
 
 // The pass's front layer's radiance and transmittance, from its three channel images.
 void readFront(ivec2 pixel, out vec3 radiance, out vec3 transmittance) {

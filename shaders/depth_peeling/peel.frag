@@ -18,8 +18,8 @@
 
 layout(early_fragment_tests) in;
 
-// The range the previous pass left.
-layout(set = 2, binding = 0) uniform sampler2D u_previous;
+// The range the previous pass left (u_previous).
+#include "interface_depth_peeling_peel.glsl"
 
 layout(location = 0) out vec2 o_range;
 layout(location = 1) out vec4 o_frontRed;

@@ -14,11 +14,7 @@ layout(push_constant) uniform Push {
     uint height;
 } u_push;
 
-layout(set = 0, binding = 3, rgba32f) uniform readonly image2D u_front;
-layout(set = 0, binding = 4, rgba32f) uniform readonly image2D u_frontT;
-layout(set = 0, binding = 5, rgba32f) uniform readonly image2D u_back;
-layout(set = 0, binding = 6, rgba32f) uniform readonly image2D u_backT;
-layout(set = 0, binding = 8, rgba16f) uniform image2D u_colour;
+#include "interface_depth_peeling.glsl"
 
 void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);

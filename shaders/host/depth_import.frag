@@ -5,7 +5,7 @@
 
 #include "interface_specialization.glsl"
 
-layout(set = 0, binding = 0) uniform sampler2D u_engineDepth;
+#include "interface_depth_import.glsl"
 
 void main() {
     float depth = texelFetch(u_engineDepth, ivec2(gl_FragCoord.xy), 0).x;

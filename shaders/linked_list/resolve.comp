@@ -20,7 +20,7 @@
 layout(local_size_x = 8, local_size_y = 8) in;
 
 // The frame's colour, composited in place.
-layout(set = 0, binding = 4, rgba16f) uniform image2D u_colour;
+#include "interface_linked_list_resolve.glsl"
 
 #define SELECT 16u
 // Greater than every key: a depth's bits are never all ones (a NaN).

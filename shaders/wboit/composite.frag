@@ -4,9 +4,7 @@
 
 #include "wboit.glsl"
 
-layout(set = 0, binding = 0) uniform sampler2D u_radiance;
-layout(set = 0, binding = 1) uniform sampler2D u_opacity;
-layout(set = 0, binding = 2) uniform sampler2D u_absorbance;
+#include "interface_wboit.glsl"
 
 layout(location = 0, index = 0) out vec4 o_radiance;
 layout(location = 0, index = 1) out vec4 o_transmittance;

@@ -13,9 +13,10 @@
 use super::sampled::{SampledTextures, SampledViews};
 use super::{MeshRange, SCENE_STORAGE};
 use crate::gpu::{
-    vk, AppendBuffer, BindingKind, Buffer, BufferView, DescriptorLayout, DescriptorSet, Gpu,
-    GpuImage, Resource, Sampler,
+    vk, AppendBuffer, Buffer, BufferView, DescriptorLayout, DescriptorSet, Gpu, GpuImage, Resource,
+    Sampler,
 };
+use crate::interface::methods::BASE_TEXTURE_SET;
 use crate::scene::{self, Mesh, Scene, Texture};
 use crate::shader_types::{GpuMaterial, GpuVertex};
 use crate::{Error, Result};
@@ -196,7 +197,10 @@ fn make_textures(
                 sampler
             }
         };
-        let set = layout.create_set(&[Resource::Images(&[image.view], sampler.raw)])?;
+        let set = layout.create_named_set(&[(
+            "u_baseTexture",
+            Resource::Images(&[image.view], sampler.raw),
+        )])?;
         made.push(Arc::new(Upload {
             texture: Arc::new(ResidentTexture { set, image }),
             staging,
@@ -274,11 +278,7 @@ impl ResidentAssets {
         let stages = vk::ShaderStageFlags::VERTEX
             | vk::ShaderStageFlags::FRAGMENT
             | vk::ShaderStageFlags::COMPUTE;
-        let texture_layout = Arc::new(DescriptorLayout::new(
-            gpu,
-            &[BindingKind::SampledImages(1)],
-            stages,
-        )?);
+        let texture_layout = Arc::new(DescriptorLayout::declared(gpu, &BASE_TEXTURE_SET, stages)?);
         let mut samplers = Vec::new();
         let white = Texture::new("white", 1, 1, vec![[255; 4]], false);
         let mut made = make_textures(gpu, &texture_layout, &mut samplers, &[white])?;

@@ -8,10 +8,11 @@
 use super::error::vk_err;
 use super::host::{Transition, ANY};
 use super::{
-    fullscreen_pipeline, Attachment, AttachmentPass, BindingKind, DepthAttachment, DepthMode,
-    DescriptorLayout, DescriptorSet, Gpu, GpuImage, GraphicsPipeline, HostImage, Load,
-    PipelineState, Resource, Sampler,
+    fullscreen_pipeline, Attachment, AttachmentPass, DepthAttachment, DepthMode, DescriptorLayout,
+    DescriptorSet, Gpu, GpuImage, GraphicsPipeline, HostImage, Load, PipelineState, Resource,
+    Sampler,
 };
+use crate::interface::methods::DEPTH_IMPORT_SET;
 use crate::interface::specialization::{Specialization, IMPORTED_DEPTH_REVERSED};
 use crate::Result;
 use ash::vk;
@@ -57,11 +58,8 @@ const SAMPLED: (vk::PipelineStageFlags, vk::AccessFlags) = (
 impl DepthImport {
     /// The pass into `target` (translucid's depth target), for `slots` frames in flight.
     pub fn new(gpu: &Gpu, target: &GpuImage, slots: usize) -> Result<Self> {
-        let layout = DescriptorLayout::new(
-            gpu,
-            &[BindingKind::SampledImages(1)],
-            vk::ShaderStageFlags::FRAGMENT,
-        )?;
+        let layout =
+            DescriptorLayout::declared(gpu, &DEPTH_IMPORT_SET, vk::ShaderStageFlags::FRAGMENT)?;
         let pass = AttachmentPass::new(
             gpu,
             &[],
@@ -132,19 +130,22 @@ impl DepthImport {
             gpu: self.gpu.clone(),
             raw,
         };
-        let resources = [Resource::Images(&[view.raw], self.sampler.raw)];
+        let resources = [(
+            "u_engineDepth",
+            Resource::Images(&[view.raw], self.sampler.raw),
+        )];
         // The slot's last frame completed: its set can be written, and the view it named can
         // go.
         let input = match self.slots[slot].take() {
             Some(input) => {
-                self.layout.write_set(&input.set, &resources)?;
+                self.layout.write_named_set(&input.set, &resources)?;
                 SlotInput {
                     _view: view,
                     ..input
                 }
             }
             None => SlotInput {
-                set: self.layout.create_set(&resources)?,
+                set: self.layout.create_named_set(&resources)?,
                 _view: view,
             },
         };

@@ -114,7 +114,11 @@ impl DescriptorLayout {
         declaration: &'static SetDecl,
         stages: vk::ShaderStageFlags,
     ) -> Result<Self> {
-        let kinds: Vec<BindingKind> = declaration.bindings.iter().map(|b| b.ty.into()).collect();
+        let kinds: Vec<BindingKind> = declaration
+            .all_bindings()
+            .iter()
+            .map(|b| b.ty.into())
+            .collect();
         let mut layout = Self::new(gpu, &kinds, stages)?;
         layout.declaration = Some(declaration);
         Ok(layout)
@@ -127,12 +131,22 @@ impl DescriptorLayout {
         self.create_set(&self.in_binding_order(resources))
     }
 
+    /// [`Self::write_set`] by binding name, as [`Self::create_named_set`] writes.
+    pub fn write_named_set(
+        &self,
+        set: &DescriptorSet,
+        resources: &[(&str, Resource<'_>)],
+    ) -> Result<()> {
+        self.write_set(set, &self.in_binding_order(resources))
+    }
+
     /// `resources` by binding number.
     fn in_binding_order<'a>(&self, resources: &[(&str, Resource<'a>)]) -> Vec<Resource<'a>> {
         let declaration = self
             .declaration
             .expect("a layout the shader interface declares");
-        let mut ordered: Vec<Option<Resource<'a>>> = vec![None; declaration.bindings.len()];
+        let bindings = declaration.all_bindings();
+        let mut ordered: Vec<Option<Resource<'a>>> = vec![None; bindings.len()];
         for (name, resource) in resources {
             let binding = declaration
                 .binding(name)
@@ -143,7 +157,7 @@ impl DescriptorLayout {
         }
         ordered
             .into_iter()
-            .zip(declaration.bindings)
+            .zip(bindings)
             .map(|(r, b)| r.unwrap_or_else(|| panic!("binding {} left unwritten", b.name)))
             .collect()
     }

@@ -359,7 +359,7 @@ pub fn include() -> Include {
         source: "bins.rs",
         constants: CONSTANTS,
         structs: STRUCTS,
-        sets: &[],
+        sets: vec![],
         more: None,
         needs: &[],
     }
@@ -371,9 +371,9 @@ pub fn include() -> Include {
 /// buffer load inside divergent control flow is a per-lane loop with a branch per component.
 /// Records are read texel by texel in field order (`methods::bins::layout`'s tests check the
 /// loaders' offsets).
-pub const BINS_SET: SetDecl = SetDecl {
-    set: 1,
-    bindings: &[
+pub const BINS_SET: SetDecl = SetDecl::new(
+    "1",
+    &[
         // The scene as the stages read it.
         Binding::texels("u_vertexTexels", "usamplerBuffer").doc(&[
             "The scene's vertices (GpuVertex, 3 texels each: position and normal.x, normal.yz",
@@ -481,7 +481,7 @@ pub const BINS_SET: SetDecl = SetDecl {
             ["r32ui", "writeonly", "uimage2D"],
         ),
     ],
-};
+);
 
 pub fn set_include() -> Include {
     Include {
@@ -489,7 +489,7 @@ pub fn set_include() -> Include {
         source: "bins.rs",
         constants: &[],
         structs: &[],
-        sets: &[&BINS_SET],
+        sets: vec![&BINS_SET],
         more: None,
         needs: &["interface_scene.glsl", "interface_bins.glsl"],
     }
@@ -509,9 +509,9 @@ shader_struct! {
 
 /// The composite's set: the listed blocks and the transparent layer the rasters left
 /// (`interface_composite.glsl`).
-pub const COMPOSITE_SET: SetDecl = SetDecl {
-    set: 0,
-    bindings: &[
+pub const COMPOSITE_SET: SetDecl = SetDecl::new(
+    "0",
+    &[
         Binding::buffer("RasterBinBlock", "readonly", &["uint g_rasterBins[]"]).doc(&[
             "The blocks with a non-empty bin, in block order (block_scan.comp): the",
             "composite's instances.",
@@ -522,7 +522,7 @@ pub const COMPOSITE_SET: SetDecl = SetDecl {
             ["r32ui", "readonly", "uimage2D"],
         ),
     ],
-};
+);
 
 pub fn composite_include() -> Include {
     const STRUCTS: &[&StructDecl] = &[&CompositePush::GLSL];
@@ -531,7 +531,7 @@ pub fn composite_include() -> Include {
         source: "bins.rs",
         constants: &[],
         structs: STRUCTS,
-        sets: &[&COMPOSITE_SET],
+        sets: vec![&COMPOSITE_SET],
         more: None,
         needs: &["interface_bins.glsl"],
     }

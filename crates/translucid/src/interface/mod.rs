@@ -143,6 +143,8 @@ pub enum BindingType {
     Buffer {
         qualifiers: &'static str,
         members: &'static [&'static str],
+        /// The block's instance name, or "" for none (members are then global names).
+        instance: &'static str,
     },
     /// `layout(std140) uniform <name> { <members> }`: a uniform buffer.
     Uniform { members: &'static [&'static str] },
@@ -190,6 +192,24 @@ impl Binding {
             BindingType::Buffer {
                 qualifiers,
                 members,
+                instance: "",
+            },
+        )
+    }
+
+    /// [`Self::buffer`] whose block has an instance name: `<name> { ... } <instance>`.
+    pub const fn buffer_instance(
+        name: &'static str,
+        qualifiers: &'static str,
+        members: &'static [&'static str],
+        instance: &'static str,
+    ) -> Self {
+        Self::new(
+            name,
+            BindingType::Buffer {
+                qualifiers,
+                members,
+                instance,
             },
         )
     }
@@ -229,15 +249,43 @@ impl Storage {
 
 /// A descriptor set both sides use.
 pub struct SetDecl {
-    /// The set's number in the pipeline layouts that use it.
-    pub set: u32,
+    /// The set's number in the pipeline layouts that use it, as GLSL writes it: a number, or
+    /// a name the including shader defines (where pipelines bind the set at different places).
+    pub set: &'static str,
+    /// The set whose bindings come first, for a set that is another with more (their GLSL is
+    /// that set's include and this one's).
+    pub extends: Option<&'static SetDecl>,
+    /// This set's own bindings, numbered after those of the set it extends.
     pub bindings: &'static [Binding],
 }
 
 impl SetDecl {
+    /// A set of `bindings` alone, at `set`.
+    pub const fn new(set: &'static str, bindings: &'static [Binding]) -> Self {
+        Self {
+            set,
+            extends: None,
+            bindings,
+        }
+    }
+
+    /// Binding numbers before this set's own: those of the sets it extends.
+    pub fn first_binding(&self) -> usize {
+        self.extends.map_or(0, |base| base.all_bindings().len())
+    }
+
+    /// Every binding, the extended set's first, by number.
+    pub fn all_bindings(&self) -> Vec<&'static Binding> {
+        let mut all = self
+            .extends
+            .map_or_else(Vec::new, |base| base.all_bindings());
+        all.extend(self.bindings.iter());
+        all
+    }
+
     /// The binding the host writes as `name`.
     pub fn binding(&self, name: &str) -> Option<u32> {
-        self.bindings
+        self.all_bindings()
             .iter()
             .position(|b| b.name == name)
             .map(|i| i as u32)
@@ -252,7 +300,7 @@ pub struct Include {
     pub source: &'static str,
     pub constants: &'static [Constant],
     pub structs: &'static [&'static StructDecl],
-    pub sets: &'static [&'static SetDecl],
+    pub sets: Vec<&'static SetDecl>,
     /// Declarations the module writes itself (the specialization constants).
     pub more: Option<fn() -> String>,
     /// Includes it needs first.
@@ -270,6 +318,9 @@ pub fn includes() -> Vec<Include> {
         bins::composite_include(),
         specialization::include(),
     ]
+    .into_iter()
+    .chain(methods::includes())
+    .collect()
 }
 
 /// `first_texel` as `firstTexel`.
@@ -344,15 +395,33 @@ pub fn glsl(include: &Include) -> String {
     if let Some(more) = include.more {
         out.push_str(&more());
     }
-    for set in include.sets {
+    for set in &include.sets {
         for (i, b) in set.bindings.iter().enumerate() {
             out.push('\n');
             comment(&mut out, "", b.doc);
-            out.push_str(&binding_glsl(set.set, i, b));
+            out.push_str(&binding_glsl(set.set, set.first_binding() + i, b));
         }
     }
     out.push_str("\n#endif\n");
     out
+}
+
+/// `word `, or nothing for no word.
+fn then_space(word: &str) -> String {
+    if word.is_empty() {
+        String::new()
+    } else {
+        format!("{word} ")
+    }
+}
+
+/// ` word`, or nothing for no word.
+fn space_then(word: &str) -> String {
+    if word.is_empty() {
+        String::new()
+    } else {
+        format!(" {word}")
+    }
 }
 
 /// A block's members, a line each.
@@ -361,7 +430,7 @@ fn block(members: &[&str]) -> String {
 }
 
 /// The GLSL declaration of binding `number` of set `set`.
-fn binding_glsl(set: u32, number: usize, b: &Binding) -> String {
+fn binding_glsl(set: &str, number: usize, b: &Binding) -> String {
     let at = format!("set = {set}, binding = {number}");
     let name = b.name;
     match b.ty {
@@ -375,28 +444,20 @@ fn binding_glsl(set: u32, number: usize, b: &Binding) -> String {
             format,
             access,
             glsl,
-        }) => {
-            let access = if access.is_empty() {
-                String::new()
-            } else {
-                format!("{access} ")
-            };
-            format!("layout({at}, {format}) uniform {access}{glsl} {name};\n")
-        }
+        }) => format!(
+            "layout({at}, {format}) uniform {}{glsl} {name};\n",
+            then_space(access)
+        ),
         BindingType::Buffer {
             qualifiers,
             members,
-        } => {
-            let qualifiers = if qualifiers.is_empty() {
-                String::new()
-            } else {
-                format!("{qualifiers} ")
-            };
-            format!(
-                "layout({at}, std430) {qualifiers}buffer {name} {{\n{}}};\n",
-                block(members)
-            )
-        }
+            instance,
+        } => format!(
+            "layout({at}, std430) {}buffer {name} {{\n{}}}{};\n",
+            then_space(qualifiers),
+            block(members),
+            space_then(instance)
+        ),
         BindingType::Uniform { members } => {
             format!(
                 "layout({at}, std140) uniform {name} {{\n{}}};\n",
@@ -529,6 +590,7 @@ macro_rules! shader_constants {
 
 // After the macros, which they use.
 pub mod bins;
+pub mod methods;
 pub mod raster;
 pub mod scene;
 pub mod specialization;

@@ -20,7 +20,7 @@ pub fn include() -> Include {
         source: "raster.rs",
         constants: CONSTANTS,
         structs: STRUCTS,
-        sets: &[],
+        sets: vec![],
         more: None,
         needs: &[],
     }

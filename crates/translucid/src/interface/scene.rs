@@ -74,7 +74,7 @@ pub fn include() -> Include {
         source: "scene.rs",
         constants: CONSTANTS,
         structs: STRUCTS,
-        sets: &[],
+        sets: vec![],
         more: None,
         needs: &[],
     }
@@ -82,14 +82,14 @@ pub fn include() -> Include {
 
 /// Set 0 of every pipeline that reads the scene: the frame's constants, its draws and the
 /// materials (`interface_scene_set.glsl`).
-pub const SCENE_SET: SetDecl = SetDecl {
-    set: 0,
-    bindings: &[
+pub const SCENE_SET: SetDecl = SetDecl::new(
+    "0",
+    &[
         Binding::uniform("FrameBlock", &["FrameInfo u_frame"]),
         Binding::buffer("DrawBlock", "readonly", &["DrawInfo g_draws[]"]),
         Binding::buffer("MaterialBlock", "readonly", &["Material g_materials[]"]),
     ],
-};
+);
 
 pub fn set_include() -> Include {
     Include {
@@ -97,7 +97,7 @@ pub fn set_include() -> Include {
         source: "scene.rs",
         constants: &[],
         structs: &[],
-        sets: &[&SCENE_SET],
+        sets: vec![&SCENE_SET],
         more: None,
         needs: &["interface_scene.glsl"],
     }

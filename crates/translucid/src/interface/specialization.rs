@@ -205,7 +205,7 @@ pub fn include() -> Include {
         source: "specialization.rs",
         constants: &[],
         structs: STRUCTS,
-        sets: &[],
+        sets: vec![],
         more: Some(glsl),
         needs: &[],
     }

@@ -24,11 +24,11 @@ use super::{FrameCheck, FrameDone, Method, MethodOptions, RecordContext};
 use crate::assets::GpuScene;
 use crate::frame::FrameTargets;
 use crate::gpu::{
-    image_barrier, memory_barrier, vk, Attachment, AttachmentPass, BindingKind, Blend, Buffer,
-    ComputePipeline, ComputePipelineCache, DepthAttachment, DepthMode, DescriptorLayout,
-    DescriptorSet, Gpu, GpuImage, GraphicsPipeline, Load, MemoryLocation, PipelineState, Resource,
-    Sampler,
+    image_barrier, memory_barrier, vk, Attachment, AttachmentPass, Blend, Buffer, ComputePipeline,
+    ComputePipelineCache, DepthAttachment, DepthMode, DescriptorLayout, DescriptorSet, Gpu,
+    GpuImage, GraphicsPipeline, Load, MemoryLocation, PipelineState, Resource, Sampler,
 };
+use crate::interface::methods::{DEPTH_PEELING_COMPOSITE_SET, DEPTH_PEELING_PEEL_SET};
 use crate::interface::specialization::Specialization;
 use crate::{Error, Result};
 use std::sync::Arc;
@@ -228,27 +228,14 @@ impl DepthPeeling {
         let peel = [peel_into(&images.ranges[0])?, peel_into(&images.ranges[1])?];
 
         let sampler = Sampler::nearest_clamp(gpu)?;
-        let peel_layout = DescriptorLayout::new(
+        let peel_layout = DescriptorLayout::declared(
             gpu,
-            &[BindingKind::SampledImages(1)],
+            &DEPTH_PEELING_PEEL_SET,
             vk::ShaderStageFlags::FRAGMENT,
         )?;
-        let sampled = BindingKind::SampledImages(1);
-        let storage = BindingKind::StorageImage;
-        let composite_layout = DescriptorLayout::new(
+        let composite_layout = DescriptorLayout::declared(
             gpu,
-            &[
-                sampled,
-                BindingKind::SampledImages(3),
-                BindingKind::SampledImages(3),
-                storage,
-                storage,
-                storage,
-                storage,
-                BindingKind::StorageBuffer,
-                storage,
-                sampled,
-            ],
+            &DEPTH_PEELING_COMPOSITE_SET,
             vk::ShaderStageFlags::COMPUTE,
         )?;
         let first_pipelines = gpu_scene.mesh_pipelines_with(
@@ -311,7 +298,8 @@ impl DepthPeeling {
             MemoryLocation::GpuOnly,
         )?;
         let peel_set = |range: &GpuImage| {
-            peel_layout.create_set(&[Resource::Images(&[range.view], sampler.raw)])
+            peel_layout
+                .create_named_set(&[("u_previous", Resource::Images(&[range.view], sampler.raw))])
         };
         let peel_sets = [peel_set(&images.ranges[0])?, peel_set(&images.ranges[1])?];
         let count_view = [images.count.view];
@@ -319,15 +307,21 @@ impl DepthPeeling {
             let range = [range.view];
             let [front, back] =
                 [0, 3].map(|first| [0, 1, 2].map(|channel| images.layers[first + channel].view));
-            let mut resources: Vec<Resource<'_>> = [&range[..], &front, &back]
-                .into_iter()
-                .map(|views| Resource::Images(views, sampler.raw))
-                .collect();
-            resources.extend(images.sums.iter().map(|s| Resource::StorageImage(s.view)));
-            resources.push(Resource::Buffer(&peeling));
-            resources.push(Resource::StorageImage(targets.colour.view));
-            resources.push(Resource::Images(&count_view, sampler.raw));
-            composite_layout.create_set(&resources)
+            let sampled = |views| Resource::Images(views, sampler.raw);
+            let [front_sum, front_t, back_sum, back_t] =
+                [0, 1, 2, 3].map(|i| Resource::StorageImage(images.sums[i].view));
+            composite_layout.create_named_set(&[
+                ("u_range", sampled(&range[..])),
+                ("u_frontLayer", sampled(&front)),
+                ("u_backLayer", sampled(&back)),
+                ("u_front", front_sum),
+                ("u_frontT", front_t),
+                ("u_back", back_sum),
+                ("u_backT", back_t),
+                ("Peeling", Resource::Buffer(&peeling)),
+                ("u_colour", Resource::StorageImage(targets.colour.view)),
+                ("u_fragments", sampled(&count_view)),
+            ])
         };
         let composite_sets = [
             composite_set(&images.ranges[0])?,

@@ -21,10 +21,11 @@ use super::{FrameCheck, FrameDone, Method, RecordContext};
 use crate::assets::GpuScene;
 use crate::frame::FrameTargets;
 use crate::gpu::{
-    image_barrier, memory_barrier, vk, BindingKind, Blend, Buffer, ComputePipeline,
-    ComputePipelineCache, DepthMode, DescriptorLayout, DescriptorSet, Gpu, GraphicsPipeline,
-    MemoryLocation, PipelineState, RenderTarget, Resource, Retirement, ViewedBuffer,
+    image_barrier, memory_barrier, vk, Blend, Buffer, ComputePipeline, ComputePipelineCache,
+    DepthMode, DescriptorLayout, DescriptorSet, Gpu, GraphicsPipeline, MemoryLocation,
+    PipelineState, RenderTarget, Resource, Retirement, ViewedBuffer,
 };
+use crate::interface::methods::{LINKED_LIST_RESOLVE_SET, LINKED_LIST_SET};
 use crate::interface::specialization::{Specialization, NODES_AS_TEXELS};
 use crate::scene::Scene;
 use crate::{Error, Result};
@@ -187,17 +188,15 @@ impl LinkedList {
                     .min(most)
             }
         } as u32;
-        let storage = BindingKind::StorageBuffer;
-        let texels = BindingKind::StorageTexelBuffer;
         let layouts = Layouts {
-            append: DescriptorLayout::new(
+            append: DescriptorLayout::declared(
                 gpu,
-                &[storage, storage, storage, texels],
+                &LINKED_LIST_SET,
                 vk::ShaderStageFlags::FRAGMENT,
             )?,
-            resolve: DescriptorLayout::new(
+            resolve: DescriptorLayout::declared(
                 gpu,
-                &[storage, storage, storage, texels, BindingKind::StorageImage],
+                &LINKED_LIST_RESOLVE_SET,
                 vk::ShaderStageFlags::COMPUTE,
             )?,
         };
@@ -270,23 +269,16 @@ impl LinkedList {
             view: gpu.create_buffer_view_prefix(&buffer, vk::Format::R32_UINT)?,
             buffer,
         };
-        let buffers = || {
-            [
-                Resource::Buffer(&heads),
-                Resource::BufferPrefix(&nodes.buffer),
-                Resource::Buffer(counters),
-                Resource::TexelBuffer(nodes.view.raw),
-            ]
-        };
-        let append_set = layouts.append.create_set(&buffers())?;
-        let [h, n, c, t] = buffers();
-        let resolve_set = layouts.resolve.create_set(&[
-            h,
-            n,
-            c,
-            t,
-            Resource::StorageImage(targets.colour.view),
-        ])?;
+        let lists = [
+            ("HeadBlock", Resource::Buffer(&heads)),
+            ("NodeBlock", Resource::BufferPrefix(&nodes.buffer)),
+            ("ListCounters", Resource::Buffer(counters)),
+            ("u_nodeTexels", Resource::TexelBuffer(nodes.view.raw)),
+        ];
+        let append_set = layouts.append.create_named_set(&lists)?;
+        let mut resolve = lists.to_vec();
+        resolve.push(("u_colour", Resource::StorageImage(targets.colour.view)));
+        let resolve_set = layouts.resolve.create_named_set(&resolve)?;
         Ok(Lists {
             heads,
             _nodes: nodes,

@@ -4,9 +4,12 @@ use super::Settings;
 use crate::assets::GpuScene;
 use crate::frame::{FrameTargets, DEPTH_FORMAT};
 use crate::gpu::{
-    fullscreen_pipeline, image_barrier, vk, Attachment, AttachmentPass, BindingKind, Blend,
-    DepthAttachment, DepthMode, DescriptorLayout, DescriptorSet, Gpu, GpuImage, GraphicsPipeline,
-    Load, PipelineState, Resource, Sampler,
+    fullscreen_pipeline, image_barrier, vk, Attachment, AttachmentPass, Blend, DepthAttachment,
+    DepthMode, DescriptorLayout, DescriptorSet, Gpu, GpuImage, GraphicsPipeline, Load,
+    PipelineState, Resource, Sampler,
+};
+use crate::interface::methods::{
+    WAVELET_BOUNDS_SET, WAVELET_MAX_TEXELS, WAVELET_READ_SET, WAVELET_RESOLVE_SET,
 };
 use crate::methods::RecordContext;
 use crate::Result;
@@ -15,7 +18,7 @@ use std::sync::Arc;
 /// Colour attachments one draw may write (the Vulkan minimum, and lavapipe's limit).
 const MAX_ATTACHMENTS: usize = 8;
 /// Coefficient texels at rank 3; the shaders' sampler array has this many slots.
-const MAX_TEXELS: usize = 12;
+const MAX_TEXELS: usize = WAVELET_MAX_TEXELS as usize;
 
 const BOUNDS_FORMAT: vk::Format = vk::Format::R32G32_SFLOAT;
 
@@ -115,33 +118,25 @@ impl Passes {
         )?;
         let sampler = Sampler::nearest_clamp(gpu)?;
         let stages = vk::ShaderStageFlags::FRAGMENT;
-        let bounds_layout = DescriptorLayout::new(gpu, &[BindingKind::SampledImages(1)], stages)?;
-        let read_kinds = [
-            BindingKind::SampledImages(1),
-            BindingKind::SampledImages(MAX_TEXELS as u32),
-        ];
-        let read_layout = DescriptorLayout::new(gpu, &read_kinds, stages)?;
-        let resolve_layout = DescriptorLayout::new(
-            gpu,
-            &[read_kinds[0], read_kinds[1], BindingKind::SampledImages(1)],
-            stages,
-        )?;
+        let bounds_layout = DescriptorLayout::declared(gpu, &WAVELET_BOUNDS_SET, stages)?;
+        let read_layout = DescriptorLayout::declared(gpu, &WAVELET_READ_SET, stages)?;
+        let resolve_layout = DescriptorLayout::declared(gpu, &WAVELET_RESOLVE_SET, stages)?;
         // Slots past the rank's texels repeat the first image; the shaders never read them.
         let coefficient_views: Vec<vk::ImageView> = (0..MAX_TEXELS)
             .map(|i| coefficients.get(i).unwrap_or(&coefficients[0]).view)
             .collect();
         let bounds_view = [bounds.view];
-        let bounds_set =
-            bounds_layout.create_set(&[Resource::Images(&bounds_view, sampler.raw)])?;
-        let read_set = read_layout.create_set(&[
-            Resource::Images(&bounds_view, sampler.raw),
-            Resource::Images(&coefficient_views, sampler.raw),
-        ])?;
-        let resolve_set = resolve_layout.create_set(&[
-            Resource::Images(&bounds_view, sampler.raw),
-            Resource::Images(&coefficient_views, sampler.raw),
-            Resource::Images(&[targets.depth.view], sampler.raw),
-        ])?;
+        let sampled = |views| Resource::Images(views, sampler.raw);
+        let read = [
+            ("u_waveletBounds", sampled(&bounds_view)),
+            ("u_waveletCoefficients", sampled(&coefficient_views)),
+        ];
+        let bounds_set = bounds_layout.create_named_set(&read[..1])?;
+        let read_set = read_layout.create_named_set(&read)?;
+        let depth_view = [targets.depth.view];
+        let mut resolve = read.to_vec();
+        resolve.push(("u_opaqueDepth", sampled(&depth_view)));
+        let resolve_set = resolve_layout.create_named_set(&resolve)?;
 
         let frame_depth = |load, layouts| DepthAttachment {
             attachment: Attachment {

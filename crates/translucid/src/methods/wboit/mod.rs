@@ -15,10 +15,11 @@ use super::{Method, RecordContext};
 use crate::assets::GpuScene;
 use crate::frame::FrameTargets;
 use crate::gpu::{
-    fullscreen_pipeline, vk, Attachment, AttachmentPass, BindingKind, Blend, DepthAttachment,
-    DepthMode, DescriptorLayout, DescriptorSet, Gpu, GpuImage, GraphicsPipeline, Load,
-    PipelineState, Resource, Sampler,
+    fullscreen_pipeline, vk, Attachment, AttachmentPass, Blend, DepthAttachment, DepthMode,
+    DescriptorLayout, DescriptorSet, Gpu, GpuImage, GraphicsPipeline, Load, PipelineState,
+    Resource, Sampler,
 };
+use crate::interface::methods::WBOIT_COMPOSITE_SET;
 use crate::interface::specialization::Specialization;
 use crate::Result;
 use std::sync::Arc;
@@ -86,15 +87,13 @@ impl Wboit {
         let composite =
             AttachmentPass::new(gpu, &[Attachment::kept(&targets.colour, colour)], None)?;
         let sampler = Sampler::nearest_clamp(gpu)?;
-        let layout = DescriptorLayout::new(
-            gpu,
-            &[BindingKind::SampledImages(1); 3],
-            vk::ShaderStageFlags::FRAGMENT,
-        )?;
-        let set = layout.create_set(&[
-            Resource::Images(&[images[0].view], sampler.raw),
-            Resource::Images(&[images[1].view], sampler.raw),
-            Resource::Images(&[images[2].view], sampler.raw),
+        let layout =
+            DescriptorLayout::declared(gpu, &WBOIT_COMPOSITE_SET, vk::ShaderStageFlags::FRAGMENT)?;
+        let image = |i: usize| Resource::Images(std::slice::from_ref(&images[i].view), sampler.raw);
+        let set = layout.create_named_set(&[
+            ("u_radiance", image(0)),
+            ("u_opacity", image(1)),
+            ("u_absorbance", image(2)),
         ])?;
         let composite_pipeline = fullscreen_pipeline(
             gpu,
