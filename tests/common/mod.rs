@@ -134,24 +134,7 @@ pub fn one_depth_stack(layers: u32) -> Scene {
     scene
 }
 
-/// A scene of one transparent draw of `mesh` in `material`, untransformed, over a grey
-/// background.
-pub fn one_draw_scene(name: &str, mesh: Mesh, material: Material, camera: Camera) -> Scene {
-    Scene {
-        name: name.into(),
-        meshes: vec![mesh],
-        materials: vec![material],
-        transparent: vec![Draw {
-            mesh: 0,
-            material: 0,
-            transform: Mat4::IDENTITY,
-            tint: glam::Vec4::ONE,
-        }],
-        camera,
-        background: Vec3::splat(0.2),
-        ..Scene::default()
-    }
-}
+pub use translucid::scene::generated::one_draw_scene;
 
 /// A quad that passes through the camera plane: rasterized homogeneously, clipped by depth.
 pub fn near_plane_scene() -> Scene {

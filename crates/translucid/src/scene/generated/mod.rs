@@ -20,6 +20,7 @@
 //! `coincident:10000` and `random_draws:100000` at 160x120 are the hostile-input tests'.
 
 mod stacks;
+pub use stacks::one_draw_scene;
 mod textured;
 
 use super::{Camera, Draw, Material, Mesh, Scene};

@@ -5,7 +5,9 @@
 use super::super::{Camera, Draw, Material, Mesh, Scene};
 use glam::{Mat4, Vec3, Vec4};
 
-fn one_draw(name: &str, mesh: Mesh, material: Material) -> Scene {
+/// A scene of one transparent draw of `mesh` in `material`, untransformed, over a grey
+/// background (the tests build theirs with it too).
+pub fn one_draw_scene(name: &str, mesh: Mesh, material: Material, camera: Camera) -> Scene {
     Scene {
         name: name.into(),
         meshes: vec![mesh],
@@ -16,10 +18,16 @@ fn one_draw(name: &str, mesh: Mesh, material: Material) -> Scene {
             transform: Mat4::IDENTITY,
             tint: Vec4::ONE,
         }],
-        camera: Camera::look_at(Vec3::new(0.0, 0.0, 3.0), Vec3::ZERO, 0.8, 0.1, 20.0),
+        camera,
         background: Vec3::splat(0.2),
         ..Scene::default()
     }
+}
+
+/// The stacks' one draw, seen from in front.
+fn one_draw(name: &str, mesh: Mesh, material: Material) -> Scene {
+    let camera = Camera::look_at(Vec3::new(0.0, 0.0, 3.0), Vec3::ZERO, 0.8, 0.1, 20.0);
+    one_draw_scene(name, mesh, material, camera)
 }
 
 /// `count` draws of one screen-filling quad at one place: a node graph that instances one
