@@ -127,29 +127,21 @@ impl MethodSettings {
         Ok(settings)
     }
 
-    /// The words that tell `method`'s renderers apart: the method and its own settings.
+    /// The words that tell `method`'s renderers apart: the method and its own settings (a
+    /// structure left out reads as its zeros, the defaults, so that it keys the same renderer).
     pub fn key(&self, method: translucid_method) -> Vec<u64> {
-        let mut key = vec![method as u64];
-        match method {
-            translucid_method::Exact => {
-                key.extend(self.exact.map(|s| u64::from(s.threshold.to_bits())))
-            }
-            translucid_method::Wavelet => key.extend(self.wavelet.into_iter().flat_map(|s| {
-                [
-                    u64::from(s.coefficients),
-                    u64::from(s.noise.to_bits()),
-                    u64::from(s.storage),
-                ]
-            })),
-            translucid_method::LinkedList => {
-                key.extend(self.linked_list.map(|s| u64::from(s.node_budget)))
-            }
-            translucid_method::DepthPeeling => {
-                key.extend(self.depth_peeling.map(|s| u64::from(s.passes)))
-            }
-            _ => {}
-        }
-        key
+        let words: Vec<u32> = match method {
+            translucid_method::Exact => vec![self.exact.map_or(0, |s| s.threshold.to_bits())],
+            translucid_method::Wavelet => self.wavelet.map_or(vec![0; 3], |s| {
+                vec![s.coefficients, s.noise.to_bits(), s.storage]
+            }),
+            translucid_method::LinkedList => vec![self.linked_list.map_or(0, |s| s.node_budget)],
+            translucid_method::DepthPeeling => vec![self.depth_peeling.map_or(0, |s| s.passes)],
+            _ => Vec::new(),
+        };
+        std::iter::once(method as u64)
+            .chain(words.into_iter().map(u64::from))
+            .collect()
     }
 
     /// The core's options, every structure given checked (whatever the frame's method).
@@ -229,4 +221,50 @@ fn set<S: Settings>(slot: &mut Option<S>, at: *const c_void) -> FfiResult<*const
 
 fn chain_error(message: String) -> Failure {
     Failure::new(translucid_result::ErrorInvalidStructureType, message)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::ptr::null;
+
+    fn wavelet(coefficients: u32, next: *const c_void) -> translucid_wavelet_settings {
+        translucid_wavelet_settings {
+            s_type: translucid_structure_type::WaveletSettings as u32,
+            next,
+            coefficients,
+            noise: 0.0,
+            storage: 0,
+        }
+    }
+
+    #[test]
+    fn a_left_out_structure_keys_the_same_renderer_as_its_zeros() {
+        let zeros = wavelet(0, null());
+        let given =
+            MethodSettings::from_chain((&zeros as *const translucid_wavelet_settings).cast())
+                .expect("a chain");
+        let none = MethodSettings::from_chain(null()).expect("no chain");
+        let method = translucid_method::Wavelet;
+        assert_eq!(given.key(method), none.key(method));
+        let eight = wavelet(8, null());
+        let other =
+            MethodSettings::from_chain((&eight as *const translucid_wavelet_settings).cast())
+                .expect("a chain");
+        assert_ne!(other.key(method), none.key(method));
+        // Another method's settings do not tell the frame's renderers apart.
+        assert_eq!(
+            other.key(translucid_method::Exact),
+            none.key(translucid_method::Exact)
+        );
+    }
+
+    #[test]
+    fn a_chain_takes_each_structure_once() {
+        let second = wavelet(0, null());
+        let first = wavelet(0, (&second as *const translucid_wavelet_settings).cast());
+        let err = MethodSettings::from_chain((&first as *const translucid_wavelet_settings).cast())
+            .expect_err("two wavelet settings");
+        assert_eq!(err.code, translucid_result::ErrorInvalidStructureType);
+    }
 }
