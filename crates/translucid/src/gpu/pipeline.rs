@@ -148,10 +148,11 @@ impl DescriptorLayout {
         let bindings = declaration.all_bindings();
         let mut ordered: Vec<Option<Resource<'a>>> = vec![None; bindings.len()];
         for (name, resource) in resources {
-            let binding = declaration
-                .binding(name)
+            let binding = bindings
+                .iter()
+                .position(|b| b.name == *name)
                 .unwrap_or_else(|| panic!("set {} declares no binding {name}", declaration.set));
-            let slot = &mut ordered[binding as usize];
+            let slot = &mut ordered[binding];
             assert!(slot.is_none(), "binding {name} written twice");
             *slot = Some(resource.clone());
         }

@@ -282,14 +282,6 @@ impl SetDecl {
         all.extend(self.bindings.iter());
         all
     }
-
-    /// The binding the host writes as `name`.
-    pub fn binding(&self, name: &str) -> Option<u32> {
-        self.all_bindings()
-            .iter()
-            .position(|b| b.name == name)
-            .map(|i| i as u32)
-    }
 }
 
 /// One generated include: what it declares, in order.
