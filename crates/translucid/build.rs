@@ -1,9 +1,10 @@
 //! Compiles every GLSL entry point under `shaders/` to SPIR-V with `glslc`.
 //!
 //! `shaders/<folder>/<name>.<stage>` becomes `$OUT_DIR/shaders/<folder>/<name>.<stage>.spv`,
-//! loaded with `include_bytes!`. Files under `shaders/common/` are includes, not entry points,
-//! and so are the includes this script writes from `src/interface/` (the shader interface,
-//! declared once in Rust) into `$OUT_DIR/interface/`.
+//! loaded with `include_bytes!`. `.glsl` files are includes, not entry points: those under
+//! `shaders/common/`, a stage folder's own (found beside the stage that includes them), and
+//! those this script writes from `src/interface/` (the shader interface, declared once in
+//! Rust) into `$OUT_DIR/interface/`.
 
 #[allow(dead_code)]
 #[path = "src/interface/mod.rs"]

@@ -17,8 +17,8 @@
 // holds its nearest fragments can stop at the first slab whose floor is past them. Shallow
 // frames keep one slab, since more cost a longer scan; the host sets SLAB_BITS (a
 // specialization constant of the binning and raster stages) for pixels expected or found
-// deep, about one slab for every few fragments of a pixel (features.rs), so that a slab's
-// part of a pixel's fragments fits its selection.
+// deep, about one slab for every few fragments of a pixel (methods/exact/depth.rs), so that
+// a slab's part of a pixel's fragments fits its selection.
 #include "interface_specialization.glsl"
 const uint SLABS = 1u << SLAB_BITS;
 

@@ -35,10 +35,6 @@ shader_constants! {
     /// with the states of its BIN_SIZE pixels where a state slot was left (else the row starts
     /// over).
     pub const LOOP_BUDGET: u32 = 60_000;
-    /// A resume item's state slot when the row saved no state (it starts over).
-    pub const NO_STATE: u32 = u32::MAX;
-    /// A saved state's sweep.x when the row resumes with a new sweep (saved between sweeps).
-    pub const NEW_SWEEP: u32 = u32::MAX;
 
     /// Indirect commands in g_dispatch, 16 bytes each (bins_bindings.glsl says what each
     /// counts): resume lists 0 and 1, then these.
@@ -65,8 +61,6 @@ shader_constants! {
     /// (65535 pixels a side).
     pub const PYRAMID_MAX_LEVELS: u32 as int = 14;
 
-    /// Most fragments a pixel keeps while it walks its row's list (the raster's SELECT_SIZE).
-    pub const MAX_SELECT_SIZE: u32 as int = 16;
     /// The last stamp a submission takes before they start again from 1 (texels of the
     /// transparent layer keep 6 bits of it; the layer is cleared when they start again).
     pub const LAST_STAMP: u32 = 63;
@@ -120,26 +114,6 @@ shader_constants! {
     pub const SAMPLER_MIP_NONE: u32 = 0;
     pub const SAMPLER_MIP_NEAREST: u32 = 1;
     pub const SAMPLER_MIP_LINEAR: u32 = 2;
-}
-
-shader_struct! {
-    /// One pixel's compositing state between raster dispatches (std430, 192 bytes). A row is
-    /// suspended anywhere in a sweep, even inside one slab's part of its list, so the sweep's
-    /// selection goes with it (unless sweep.x is NEW_SWEEP).
-    pub struct ExactPixelState as ExactPixelState {
-        /// xyz: radiance so far.
-        pub radiance: vec4,
-        /// xyz: transmittance so far.
-        pub transmittance: vec4,
-        /// x, y: depth bits and order key of the last composited fragment, z: 1 once the pixel
-        /// has no fragment left (it waits for its row).
-        pub done: uvec4,
-        /// x: the slab the row resumes in, y: the list entry it resumes at, z, w: the nearest
-        /// fragment the sweep dropped (low, high word).
-        pub sweep: uvec4,
-        /// The sweep's kept keys (low, high word).
-        pub selection: uvec2[MAX_SELECT_SIZE],
-    }
 }
 
 shader_struct! {
@@ -346,7 +320,6 @@ impl Default for BinCounters {
 
 pub fn include() -> Include {
     const STRUCTS: &[&StructDecl] = &[
-        &ExactPixelState::GLSL,
         &BinDraw::GLSL,
         &BinTriangleRecord::GLSL,
         &BinHomogeneous::GLSL,
@@ -464,10 +437,9 @@ pub const BINS_SET: SetDecl = SetDecl::new(
             "composite's quad (6 vertices) for each listed block, counted by the scan.",
             "Items of resume list k start at k * g_counters.resumeItemCapacity (room for every",
             "row of the frame): block * BIN_SIZE + row. Item i takes state slot i while there",
-            "is one (below resumeCapacity; the rows past them start over); slot s's pixel",
-            "states are at (k * resumeCapacity + s) * BIN_SIZE.",
+            "is one (below resumeCapacity; the rows past them start over); what a slot keeps",
+            "is the suspending raster's own binding (exact's: interface_exact.glsl).",
         ]),
-        Binding::buffer("PixelStateBlock", "", &["ExactPixelState g_pixelStates[]"]),
         // Where the rasters write.
         Binding::image("u_colour", ["rgba16f", "", "image2D"]).doc(&[
             "The frame target's colour, which the rasters composite onto (standalone frames);",

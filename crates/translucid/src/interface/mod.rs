@@ -308,6 +308,7 @@ pub fn includes() -> Vec<Include> {
         bins::include(),
         bins::set_include(),
         bins::composite_include(),
+        exact::include(),
         specialization::include(),
     ]
     .into_iter()
@@ -582,6 +583,7 @@ macro_rules! shader_constants {
 
 // After the macros, which they use.
 pub mod bins;
+pub mod exact;
 pub mod methods;
 pub mod raster;
 pub mod scene;

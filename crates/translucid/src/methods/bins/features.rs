@@ -1,15 +1,16 @@
-//! What a scene needs of the raster shader, decided on the host so that code it cannot reach
-//! is compiled away: specialization constants (`crate::interface::specialization`) of
-//! `shaders/exact/raster.comp`, of the wavelet bin raster, and of the bin stages, each given
-//! the ones it reads.
+//! What a scene needs of the bin stages and of the rasters that read them, decided on the host
+//! so that code it cannot reach is compiled away: specialization constants
+//! (`crate::interface::specialization`) of the bin stages and the constants every raster over
+//! the bins shares (each raster adds its own: `methods::exact::raster`, the wavelet bin
+//! raster).
 
 #![deny(unsafe_code)]
 
 use super::layout::BIN_SIZE;
 use crate::interface::specialization::{
-    Specialization, CONTINUATION, DEEP_BINNING_LANES, FACE_NORMALS, FLAT_COLOURS, HOMOGENEOUS_PATH,
-    RASTER_ROWS, RECORDS_AS_TEXELS, SELECT_SIZE as SELECT_SIZE_CONSTANT, SKIP_OCCLUSION_CULL,
-    SLAB_BITS, TEXTURES, TRANSMISSION, VERTEX_COLOURS, VERTEX_NORMALS,
+    Specialization, DEEP_BINNING_LANES, FACE_NORMALS, FLAT_COLOURS, HOMOGENEOUS_PATH, RASTER_ROWS,
+    RECORDS_AS_TEXELS, SKIP_OCCLUSION_CULL, SLAB_BITS, TEXTURES, TRANSMISSION, VERTEX_COLOURS,
+    VERTEX_NORMALS,
 };
 use crate::raster::{clip_position, model_view_projection, viewport_transform, GUARD_BAND};
 use crate::scene::Scene;
@@ -25,8 +26,6 @@ pub struct RasterFeatures {
     /// lighting, so with neither the shader drops lighting altogether.
     pub vertex_normals: bool,
     pub face_normals: bool,
-    /// Fragments each pixel selects per pass over its bin.
-    pub select_size: u32,
     /// Each bin's list holds 2^slab_bits depth slabs.
     pub slab_bits: u32,
     /// Rows of a block per workgroup of the first raster dispatch: a subgroup must see one
@@ -43,35 +42,6 @@ pub struct RasterFeatures {
     /// of them, unless the dispatch would pass the workgroups every device allows.
     pub deep_binning_lanes: u32,
 }
-
-/// The selection size to start with, and the ones frames with deep pixels move to, a step at
-/// a time while some pixel still needs more than two sweeps. (On lavapipe at 1280x720, with
-/// the raster compositing after each slab: particles, 60 deep, take three sweeps of 16 and
-/// are 5-10 % slower with 24, and 1.4x slower with 8; hairball is faster with 16 than 8.)
-pub const SELECT_SIZE: u32 = 8;
-pub const SELECT_STEPS: [u32; 2] = [SELECT_SIZE, DEEP_SELECT_SIZE];
-pub const DEEP_SELECT_SIZE: u32 = 16;
-// A suspended row saves its pixels' selections (ExactPixelState).
-const _: () = assert!(DEEP_SELECT_SIZE <= super::layout::MAX_SELECT_SIZE);
-/// Frames averaging more fragments per pixel than this order their bins by depth slab:
-/// there pixels need several sweeps, and compositing after each slab repays the longer scan of
-/// 2^DEEP_SLAB_BITS slabs per bin. (On lavapipe at 1280x720, slabs take particles, about 18
-/// per pixel, from 1.5 to 0.9 s of raster, and cost hairball, about 1, a fifth of its time.
-/// Sixteen slabs took particles 4 % under eight, 2.5 % with `--threshold 0.05`; 32 were no
-/// faster, their longer scan eating what the raster saved.)
-pub const SLAB_FRAGMENTS_PER_PIXEL: u64 = 8;
-pub const DEEP_SLAB_BITS: u32 = 4;
-/// Deeper frames take more slabs: one per FRAGMENTS_PER_SLAB fragments of their average pixel,
-/// rounded up to a power of two, while the (bin, slab) arrays stay within MAX_BIN_SLABS words
-/// (16 MB each) and up to MAX_SLABS. A sweep composites at most a selection's worth of a
-/// pixel's fragments per slab, so a pixel D deep in slabs of S of its fragments costs about
-/// D S / DEEP_SELECT_SIZE triangle visits: with 16 slabs, 10,000 full-screen layers took 12x
-/// blend's time.
-pub const FRAGMENTS_PER_SLAB: u64 = 8;
-pub const MAX_BIN_SLABS: u64 = 1 << 22;
-const MAX_SLAB_BITS: u32 = super::layout::MAX_SLABS.trailing_zeros();
-const _: () = assert!(super::layout::MAX_SLABS.is_power_of_two());
-const _: () = assert!(DEEP_SLAB_BITS <= MAX_SLAB_BITS);
 
 impl RasterFeatures {
     /// The features of a frame of `scene`, whose meshes `meshes` describes
@@ -102,7 +72,6 @@ impl RasterFeatures {
             textures: draws().any(|d| scene.materials[d.material].texture.is_some()),
             vertex_normals: draws().any(|d| lit(d) && scene.meshes[d.mesh].normals.is_some()),
             face_normals: draws().any(|d| lit(d) && scene.meshes[d.mesh].normals.is_none()),
-            select_size: SELECT_SIZE,
             slab_bits: 0,
             rows: if subgroup_size == BIN_SIZE {
                 BIN_SIZE
@@ -122,68 +91,13 @@ impl RasterFeatures {
     }
 
     /// The features of another frame of the same scene: what depends on the frame's draws and
-    /// camera from `fresh` ([`Self::of`] that frame), what earlier frames taught (selection,
-    /// slabs, rows per workgroup) from `self`.
+    /// camera from `fresh` ([`Self::of`] that frame), what the raster chose (slabs, rows per
+    /// workgroup) from `self`.
     pub fn for_frame(self, fresh: Self) -> Self {
         Self {
-            select_size: self.select_size,
             slab_bits: self.slab_bits,
             rows: self.rows,
             ..fresh
-        }
-    }
-
-    /// What the next frame should use after one of `width` x `height` pixels with
-    /// `fragments` fragments in front of the opaque layer, some pixel needing `sweeps` sweeps.
-    /// (Fragments found, not composited: with a threshold, pixels composite fewer than they
-    /// have, and counting those kept the deep particles of `--threshold 0.2` from their
-    /// slabs.) Only ever moves up, so that a scene does not rebuild its pipelines back and
-    /// forth.
-    pub fn after_frame(self, sweeps: u32, fragments: u64, width: u32, height: u32) -> Self {
-        let mut next = self;
-        if sweeps > 2 {
-            next.select_size = SELECT_STEPS
-                .into_iter()
-                .find(|&size| size > self.select_size)
-                .unwrap_or(self.select_size);
-        }
-        let pixels = u64::from(width) * u64::from(height);
-        let most = max_slab_bits(width, height);
-        if fragments > SLAB_FRAGMENTS_PER_PIXEL * pixels {
-            let slabs = (fragments / pixels / FRAGMENTS_PER_SLAB).next_power_of_two();
-            let bits = slabs.trailing_zeros().min(most);
-            next.slab_bits = self.slab_bits.max(bits).max(DEEP_SLAB_BITS);
-        }
-        // Pixels deeper than the average, or depths bunched in a few slabs: twice as many.
-        // (In slabs, the first sweep's count stops where a pixel first drops a fragment.)
-        if self.slab_bits > 0 && sweeps > 2 {
-            next.slab_bits = next.slab_bits.max((self.slab_bits + 1).min(most));
-        }
-        next
-    }
-
-    /// What a first frame should use when the scene's triangles are expected to put
-    /// `fragments` fragments over its `width` x `height` pixels ([`estimated_fragments`]):
-    /// frames deep enough for slabs start with them and the deep selection, instead of
-    /// being rendered once without and then again.
-    pub fn expecting(self, fragments: u64, width: u32, height: u32) -> Self {
-        let next = self.after_frame(0, fragments, width, height);
-        if next.slab_bits > self.slab_bits {
-            Self {
-                select_size: DEEP_SELECT_SIZE,
-                ..next
-            }
-        } else {
-            next
-        }
-    }
-
-    /// At least everything deep frames move to.
-    pub fn deep(self) -> Self {
-        Self {
-            select_size: self.select_size.max(DEEP_SELECT_SIZE),
-            slab_bits: self.slab_bits.max(DEEP_SLAB_BITS),
-            ..self
         }
     }
 
@@ -237,13 +151,12 @@ impl RasterFeatures {
             .with(SKIP_OCCLUSION_CULL, skip_cull)
     }
 
-    /// The constants for the first raster dispatch or for continuations (`continuation`).
-    pub fn constants(&self, continuation: bool) -> Specialization {
+    /// What every raster over the bins is specialized with: the records' constants, the
+    /// materials' transmission, and a first dispatch's rows per workgroup.
+    pub fn raster_constants(&self) -> Specialization {
         self.record_constants()
             .with(TRANSMISSION, self.transmission)
-            .with(CONTINUATION, continuation)
-            .with(SELECT_SIZE_CONSTANT, self.select_size as i32)
-            .with(RASTER_ROWS, if continuation { 1 } else { self.rows })
+            .with(RASTER_ROWS, self.rows)
     }
 }
 
@@ -392,17 +305,6 @@ fn screen_footprint(points: &[Vec3], width: u32, height: u32) -> Footprint {
     }
 }
 
-/// The most slab bits a frame of `width` x `height` pixels takes: as many as keep its (bin,
-/// slab) arrays within MAX_BIN_SLABS words, but at least DEEP_SLAB_BITS and at most the
-/// counters' MAX_SLABS.
-fn max_slab_bits(width: u32, height: u32) -> u32 {
-    let bins = u64::from(width.div_ceil(BIN_SIZE))
-        * u64::from(height.div_ceil(BIN_SIZE))
-        * u64::from(BIN_SIZE);
-    let fit = (MAX_BIN_SLABS / bins.max(1)).max(1).ilog2();
-    fit.clamp(DEEP_SLAB_BITS, MAX_SLAB_BITS)
-}
-
 /// Binning lanes per triangle for a frame of `quads` transparent quads: BIN_SIZE, unless two
 /// triangles a quad would then need more than the 65 535 binning workgroups (of 64) every
 /// Vulkan device allows in x. Such dispatches now go on in z (`split_groups`), so this only
@@ -523,7 +425,6 @@ mod tests {
             textures: false,
             vertex_normals: false,
             face_normals: false,
-            select_size: SELECT_SIZE,
             slab_bits: 0,
             rows: 1,
             transmission: false,
@@ -611,63 +512,6 @@ mod tests {
             let f = RasterFeatures::of(&scene, &MeshFacts::of_scene(&scene), 640, 360, 8);
             assert!(!f.homogeneous && !f.textures, "{name}: {f:?}");
         }
-    }
-
-    #[test]
-    fn deep_frames_step_the_selection_up_and_never_down() {
-        let scene = crate::scene::generated::generate("spheres").expect("scene");
-        let start = RasterFeatures::of(&scene, &MeshFacts::of_scene(&scene), 640, 360, 8);
-        assert_eq!(start.select_size, SELECT_SIZE);
-        let (w, h) = (640, 360);
-        let pixels = u64::from(w * h);
-        let sizes: Vec<u32> =
-            std::iter::successors(Some(start), |f| Some(f.after_frame(3, 0, w, h)))
-                .map(|f| f.select_size)
-                .take(5)
-                .collect();
-        assert_eq!(sizes, [8, 16, 16, 16, 16]);
-        let shallow = start.after_frame(2, 0, w, h);
-        assert_eq!(shallow.select_size, 8, "two sweeps keep the size");
-        assert_eq!(shallow.slab_bits, 0);
-        assert_eq!(
-            start.after_frame(1, 9 * pixels, w, h).slab_bits,
-            DEEP_SLAB_BITS
-        );
-    }
-
-    #[test]
-    fn deeper_frames_take_more_slabs_within_the_arrays_bound() {
-        let scene = crate::scene::generated::generate("spheres").expect("scene");
-        let bits = |w: u32, h: u32, depth: u64| {
-            let start = RasterFeatures::of(&scene, &MeshFacts::of_scene(&scene), w, h, 8);
-            start
-                .after_frame(1, depth * u64::from(w * h), w, h)
-                .slab_bits
-        };
-        assert_eq!(bits(32, 24, 60), DEEP_SLAB_BITS);
-        assert_eq!(bits(32, 24, 1000), 7, "1000 / 8 rounds up to 128 slabs");
-        assert_eq!(bits(32, 24, 10_000), MAX_SLAB_BITS);
-        // 1280x720 has 115,200 row bins: 32 slabs each fit in 2^22 words, 64 do not.
-        assert_eq!(bits(1280, 720, 10_000), 5);
-        // Never fewer than deep frames start with, even where the bound is smaller.
-        assert_eq!(bits(7680, 4320, 10_000), DEEP_SLAB_BITS);
-        // Only ever more.
-        let start = RasterFeatures::of(&scene, &MeshFacts::of_scene(&scene), 32, 24, 8);
-        let deep = start.after_frame(1, 1000 * 32 * 24, 32, 24);
-        assert_eq!(deep.after_frame(1, 9 * 32 * 24, 32, 24).slab_bits, 7);
-        assert_eq!(deep.deep().slab_bits, 7);
-        // Pixels that still need several sweeps double the slabs, up to the bound.
-        assert_eq!(deep.after_frame(3, 9 * 32 * 24, 32, 24).slab_bits, 8);
-        let wide = RasterFeatures::of(&scene, &MeshFacts::of_scene(&scene), 1280, 720, 8)
-            .after_frame(1, 60 * 1280 * 720, 1280, 720);
-        assert_eq!(wide.slab_bits, DEEP_SLAB_BITS);
-        assert_eq!(wide.after_frame(3, 0, 1280, 720).slab_bits, 5);
-        assert_eq!(
-            wide.after_frame(3, 0, 1280, 720)
-                .after_frame(3, 0, 1280, 720)
-                .slab_bits,
-            5
-        );
     }
 
     #[test]

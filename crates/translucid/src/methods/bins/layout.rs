@@ -11,8 +11,6 @@ pub use crate::interface::bins::*;
 const _: () = assert!(LOOP_BUDGET + 2 * MAX_SLABS < 65_000);
 /// Bytes of one resume item: block * BIN_SIZE + row (its index is its state slot).
 pub const RESUME_ITEM_BYTES: u64 = 4;
-/// Bytes of one `ExactPixelState`.
-pub const PIXEL_STATE_BYTES: u64 = std::mem::size_of::<ExactPixelState>() as u64;
 /// Bytes of the indirect commands (g_dispatch) before the resume items.
 pub const DISPATCH_BYTES: u64 = DISPATCH_WORDS as u64 * 4;
 /// Byte offset of the indirect command at index `command` of g_dispatch (`DISPATCH_*`,

@@ -43,9 +43,10 @@ use crate::assets::GpuScene;
 use crate::frame::FrameTargets;
 use crate::gpu::{image_barrier, memory_barrier, vk, ComputePipeline, ComputePipelineCache, Gpu};
 use crate::interface::specialization::Specialization;
+use crate::interface::SetDecl;
 use crate::scene::Scene;
 use crate::{Error, Result};
-use features::{MeshFacts, RasterFeatures};
+use features::{FrameEstimate, MeshFacts, RasterFeatures};
 use layout::{
     BinCounters, BinPush, BIN_SIZE, DISPATCH_BAND_FILL_OFFSET, DISPATCH_BINNING_OFFSET,
     DISPATCH_BIN_OFFSETS_OFFSET, DISPATCH_RASTER_BINS_OFFSET, DRAW_COMPOSITE_OFFSET, LAST_STAMP,
@@ -53,6 +54,32 @@ use layout::{
 };
 use resources::{Capacities, Resources};
 use std::sync::Arc;
+
+/// What the raster that reads the bins asks of them.
+#[derive(Clone, Copy)]
+pub struct RasterNeeds {
+    /// Its method, in errors and logs.
+    pub method: &'static str,
+    /// Lists are ordered by 2^slab_bits depth slabs from the first frame on.
+    pub slab_bits: u32,
+    /// What it keeps of the rows it suspends onto the resume lists; none if it never does.
+    pub suspended_rows: Option<SuspendedRows>,
+}
+
+/// A raster's state for each row it suspends with a state slot: one binding of its own,
+/// which `set` adds to the bins' set, made and grown with the resume lists' slots (rows past
+/// them start over when resumed).
+#[derive(Clone, Copy)]
+pub struct SuspendedRows {
+    /// The bins' set extended by the binding.
+    pub set: &'static SetDecl,
+    /// The binding's name in `set`, and the bytes it keeps for one row.
+    pub binding: &'static str,
+    pub bytes_per_row: u64,
+    /// State slots each of the two resume lists starts with (unless
+    /// `BinOptions::initial_resume_rows` says otherwise).
+    pub initial_slots: u32,
+}
 
 /// Settings of the bins, whichever raster reads them. Left at their defaults, the bins size
 /// themselves from the frame; the rest are for tests that reach the bins' limits.
@@ -63,8 +90,8 @@ pub struct BinOptions {
     pub initial_bin_entries: Option<u32>,
     /// First capacity of the homogeneous (near-plane) triangle records.
     pub initial_homogeneous: Option<u32>,
-    /// First capacity of the pixel states of rows that continue in a later raster dispatch
-    /// (rows hundreds of fragments deep; the exact raster's).
+    /// First state slots of the rows a raster suspends for a later dispatch (rows hundreds of
+    /// fragments deep; the exact raster's: `SuspendedRows`).
     pub initial_resume_rows: Option<u32>,
     /// Start with the stages built without the near-plane path, whatever the scene looks
     /// like, so that tests can exercise the rebuild-and-render-again fallback.
@@ -304,9 +331,10 @@ fn homogeneous_bound(most: &Capacities, near_plane: u64) -> u32 {
     near_plane.min(u64::from(most.homogeneous)) as u32
 }
 
-/// The largest buffers the bins may grow to on `gpu`, within the test limits of `options`.
-fn most_capacities(gpu: &Gpu, options: &BinOptions) -> Capacities {
-    let mut most = Capacities::most(gpu);
+/// The largest buffers the bins may grow to on `gpu`, within the test limits of `options`,
+/// for a raster keeping `state_bytes` for each row it suspends.
+fn most_capacities(gpu: &Gpu, options: &BinOptions, state_bytes: u64) -> Capacities {
+    let mut most = Capacities::most(gpu, state_bytes);
     if let Some(limit) = options.most_homogeneous {
         most.homogeneous = most.homogeneous.min(limit.max(1));
     }
@@ -314,17 +342,18 @@ fn most_capacities(gpu: &Gpu, options: &BinOptions) -> Capacities {
 }
 
 impl Bins {
-    /// The bins of `scene` for `method`'s raster. `shape` adjusts the features the scene
-    /// needs to the raster, given the fragments the frame is expected to have.
+    /// The bins of `scene` for `raster`, given the frame's `expected` depth
+    /// ([`features::estimate`]).
     pub fn new(
         gpu: &Gpu,
         scene: &Scene,
         gpu_scene: &GpuScene,
         targets: &FrameTargets,
         options: &BinOptions,
-        method: &'static str,
-        shape: impl FnOnce(RasterFeatures, u64) -> RasterFeatures,
+        expected: &FrameEstimate,
+        raster: RasterNeeds,
     ) -> Result<Self> {
+        let method = raster.method;
         let info = gpu.info();
         if !(info.shader_int64 && info.shader_float64) {
             return Err(Error::NoDevice(format!(
@@ -357,12 +386,12 @@ impl Bins {
         }
         let (width, height) = (targets.extent.width, targets.extent.height);
         let meshes = MeshFacts::of_scene(scene);
-        let most = most_capacities(gpu, options);
+        let state_bytes = raster.suspended_rows.map_or(0, |rows| rows.bytes_per_row);
+        let most = most_capacities(gpu, options, state_bytes);
         let near_plane = features::homogeneous_triangles(scene, &meshes, width, height);
-        let expected = features::estimate(scene, width, height);
         let mut features = RasterFeatures::of_frame(scene, &meshes, near_plane, info.subgroup_size);
         features.homogeneous &= !options.assume_fixed_path;
-        features = shape(features, expected.fragments);
+        features.slab_bits = raster.slab_bits;
         if options.assume_wide_subgroups {
             features.rows = 1;
         }
@@ -371,14 +400,22 @@ impl Bins {
             gpu_scene.transparent_quads,
             features.attribute_texels(),
             capacity.width.div_ceil(BIN_SIZE) * capacity.height.div_ceil(BIN_SIZE),
-            &expected,
+            expected,
             homogeneous_bound(&most, near_plane),
+            raster.suspended_rows.map_or(0, |rows| rows.initial_slots),
             options,
         )
         .within(&most);
-        let resources =
-            Resources::new(gpu, scene, gpu_scene, targets, capacities, features.slabs())
-                .map_err(|e| in_errors(method, e))?;
+        let resources = Resources::new(
+            gpu,
+            scene,
+            gpu_scene,
+            targets,
+            capacities,
+            features.slabs(),
+            raster.suspended_rows,
+        )
+        .map_err(|e| in_errors(method, e))?;
         let layouts = [&gpu_scene.layout, &resources.layout];
         let mut cache = ComputePipelineCache::new(std::mem::size_of::<BinPush>() as u32);
         let records_as_texels = resources.records_pass_a_binding(gpu);
@@ -685,27 +722,15 @@ impl Bins {
         self.dispatch_indirect(ctx, raster, DISPATCH_RASTER_BINS_OFFSET, &push);
     }
 
-    /// `continuation` over the rows on resume list `list` (one workgroup each, counted on
-    /// the GPU); then, unless it is the recording's last dispatch to touch the lists
-    /// (`last`), the list emptied for the rows the next continuation suspends. (The last
-    /// one's list is left as it is: the host reads the other, the next frame empties both,
-    /// and a further submission of continuations empties it first.)
-    pub fn record_continuation(
-        &self,
-        ctx: &RecordContext<'_>,
-        continuation: &ComputePipeline,
-        list: u32,
-        last: bool,
-    ) {
+    /// `raster` over the rows on resume list `list`, one workgroup each (counted on the GPU),
+    /// after the compute work before.
+    pub fn record_resumed(&self, ctx: &RecordContext<'_>, raster: &ComputePipeline, list: u32) {
         self.compute_to_compute(ctx.cmd);
         let push = BinPush {
             resume_list: list,
             ..self.push
         };
-        self.dispatch_indirect(ctx, continuation, u64::from(list) * 16, &push);
-        if !last {
-            self.record_resume_list_empty(ctx.cmd, list);
-        }
+        self.dispatch_indirect(ctx, raster, u64::from(list) * 16, &push);
     }
 
     /// Empties resume list `list` after the compute work before, for the dispatches after.
@@ -946,12 +971,12 @@ impl Bins {
     }
 
     /// Reads the completed frame's counters: grows the buffers for later frames and moves the
-    /// features to what later frames need (`adapt` says what the raster wants of them, from
-    /// the counters and the size the frame was recorded at).
+    /// features to what later frames need (`slab_bits` says how many depth slabs the raster
+    /// wants lists ordered by, from the counters and the size the frame was recorded at).
     pub fn frame_done(
         &mut self,
         done: &FrameDone<'_>,
-        adapt: impl FnOnce(RasterFeatures, &BinCounters, (u32, u32)) -> RasterFeatures,
+        slab_bits: impl FnOnce(&BinCounters, (u32, u32)) -> u32,
     ) -> Result<BinsDone> {
         self.resources.retirement.completed();
         let counters = self.counters(done.slot)?;
@@ -960,7 +985,10 @@ impl Bins {
         self.layer_cleared |= recorded.clears_layer;
         let method = self.method;
         // (With frames in flight, later frames may have another size.)
-        let mut features = adapt(self.features, &counters, recorded.size);
+        let mut features = RasterFeatures {
+            slab_bits: slab_bits(&counters, recorded.size),
+            ..self.features
+        };
         // The host's estimate missed a near-plane triangle: the frame needs the full shaders.
         let rebuild = counters.homogeneous_count > 0 && !recorded.features.homogeneous;
         features.homogeneous |= rebuild;

@@ -1,11 +1,13 @@
-//! The bins' buffers, and the resume lists of the rasters that read them (one descriptor set
-//! for every stage): sized from the frame, grown when the GPU reports an overflow.
+//! The bins' buffers, the resume lists of the rasters that read them and the state a raster
+//! keeps of the rows it suspends (one descriptor set for every stage): sized from the frame,
+//! grown when the GPU reports an overflow.
 
 use super::layout::{
     record_bytes_per_triangle, BinCounters, BinDraw, BIN_SIZE, DISPATCH_BYTES, HOMOGENEOUS_BYTES,
     MOST_ATTRIBUTE_TEXELS, OVERFLOW_BIN_ENTRIES, OVERFLOW_HOMOGENEOUS, OVERFLOW_RESUME,
-    PIXEL_STATE_BYTES, RESUME_ITEM_BYTES, SCAN_GROUP_SIZE, TRIANGLE_BYTES, TRIANGLE_MATERIAL_SHIFT,
+    RESUME_ITEM_BYTES, SCAN_GROUP_SIZE, TRIANGLE_BYTES, TRIANGLE_MATERIAL_SHIFT,
 };
+use super::SuspendedRows;
 use crate::assets::ResidentAssets;
 use crate::assets::{GpuScene, SampledViews};
 use crate::frame::FrameTargets;
@@ -18,17 +20,6 @@ use crate::raster::model_view_projection;
 use crate::scene::Scene;
 use crate::{Error, Result};
 
-/// State slots each resume list starts with, in frames expected to be deep (more fragments a
-/// pixel than `SLAB_FRAGMENTS_PER_PIXEL`) and in the others. Rows suspend only where one
-/// walks tens of thousands of list entries (pixels hundreds of fragments deep): none of the
-/// bench's six scenes at 1280x720 suspends one, and a shallow frame only in a crowded bin,
-/// whose block has BIN_SIZE rows. A slot holds a row's pixels (1.5 KB, and as much again on
-/// the other list), so slots for a sixteenth of a 720p frame's rows took 21 MB that no frame
-/// used. A frame that needs more restarts the rows it finds no slot for and grows the slots
-/// from what the GPU counted.
-const INITIAL_RESUME_ROWS: u32 = 256;
-const SHALLOW_RESUME_ROWS: u32 = 4 * BIN_SIZE;
-
 /// Entries the growable buffers hold.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Capacities {
@@ -39,8 +30,8 @@ pub struct Capacities {
     pub attribute_texels: u32,
     pub homogeneous: u32,
     pub bin_entries: u32,
-    /// Pixel-state slots of each of the two resume lists: rows a raster dispatch suspends
-    /// with their state (the others start over when resumed).
+    /// State slots of each of the two resume lists: rows a raster dispatch suspends with
+    /// their state (the others start over when resumed); 0 for a raster that suspends none.
     pub resume: u32,
     /// Items each resume list holds: every row of the frame, so that no suspended row is
     /// lost (an item is 4 bytes).
@@ -50,7 +41,7 @@ pub struct Capacities {
 impl Capacities {
     /// A first guess from the frame: two triangles per quad, and the bin entries `expected`
     /// and a quarter more (up to EXPECTED_BIN_ENTRIES), at least one per bin and what one
-    /// block can take.
+    /// block can take; `state_slots` for the rows the raster suspends (0: it suspends none).
     /// Overflow corrects it after one frame. Homogeneous records: `homogeneous`, the most
     /// the frame can need (features::homogeneous_triangles, within one storage buffer).
     pub fn initial(
@@ -59,6 +50,7 @@ impl Capacities {
         blocks: u32,
         expected: &super::features::FrameEstimate,
         homogeneous: u32,
+        state_slots: u32,
         options: &super::BinOptions,
     ) -> Self {
         /// The most bin entries an expected depth starts with: 128 MB, the least storage
@@ -72,17 +64,14 @@ impl Capacities {
         // its first recording only while every block's lists fit, and a block's take up to a
         // row's entry from every triangle, whatever the camera.
         let one_block = triangles.saturating_mul(BIN_SIZE);
-        let pixels = u64::from(rows) * u64::from(BIN_SIZE);
-        let deep = expected.fragments > super::features::SLAB_FRAGMENTS_PER_PIXEL * pixels;
         Self {
-            resume: options
-                .initial_resume_rows
-                .unwrap_or(if deep {
-                    INITIAL_RESUME_ROWS
-                } else {
-                    SHALLOW_RESUME_ROWS
-                })
-                .clamp(1, rows.max(1)),
+            resume: match state_slots {
+                0 => 0,
+                slots => options
+                    .initial_resume_rows
+                    .unwrap_or(slots)
+                    .clamp(1, rows.max(1)),
+            },
             resume_items: rows.max(1),
             triangles,
             attribute_texels,
@@ -95,8 +84,9 @@ impl Capacities {
     }
 
     /// The most of each growable buffer `gpu` binds (one storage buffer, one texel view):
-    /// past them, bands and restarting rows answer within the frame.
-    pub fn most(gpu: &Gpu) -> Self {
+    /// past them, bands and restarting rows answer within the frame. The raster keeps
+    /// `state_bytes` of each row it suspends (0: it suspends none).
+    pub fn most(gpu: &Gpu, state_bytes: u64) -> Self {
         let info = gpu.info();
         let storage = u64::from(info.max_storage_buffer_range);
         let texels = u64::from(info.max_texel_buffer_elements);
@@ -116,8 +106,11 @@ impl Capacities {
             attribute_texels: MOST_ATTRIBUTE_TEXELS,
             homogeneous: fits(HOMOGENEOUS_BYTES, 16),
             bin_entries: fits(4, 4),
-            // Both lists' pixel states in one buffer.
-            resume: fits(2 * u64::from(BIN_SIZE) * PIXEL_STATE_BYTES, 0),
+            // Both lists' row states in one buffer.
+            resume: match state_bytes {
+                0 => 0,
+                bytes => fits(2 * bytes, 0),
+            },
             resume_items: u32::MAX,
         }
     }
@@ -182,8 +175,8 @@ struct Growable {
     /// interface_bins.glsl): a header of six indirect dispatch commands (DISPATCH_BYTES), then
     /// the items.
     resume: Buffer,
-    /// Compositing state of the pixels of the resume items that took a state slot.
-    pixel_states: Buffer,
+    /// The raster's state of each suspended row that took a state slot (SuspendedRows).
+    row_states: Option<Buffer>,
     triangles: Viewed,
     attributes: Viewed,
     homogeneous: Viewed,
@@ -242,6 +235,8 @@ pub struct Resources {
     depth_pyramid: Viewed,
     depth_sampler: Sampler,
     growable: Growable,
+    /// What the raster keeps of the rows it suspends, if it does.
+    suspended: Option<SuspendedRows>,
 }
 
 const COUNTER_BYTES: u64 = std::mem::size_of::<BinCounters>() as u64;
@@ -307,10 +302,14 @@ fn texel_storage(gpu: &Gpu, name: &str, bytes: u64, format: vk::Format) -> Resul
     Viewed::new(gpu, buffer, format)
 }
 
-fn growable(gpu: &Gpu, c: Capacities) -> Result<Growable> {
+/// The growable buffers for `c`, with the state of `suspended` rows.
+fn growable(gpu: &Gpu, c: Capacities, suspended: Option<SuspendedRows>) -> Result<Growable> {
     let triangles = u64::from(c.triangles);
     let resume_items = 2 * u64::from(c.resume_items);
-    let resume_states = 2 * u64::from(c.resume);
+    let row_states = |rows: SuspendedRows| {
+        let bytes = 2 * u64::from(c.resume.max(1)) * rows.bytes_per_row;
+        storage_buffer(gpu, "suspended row states", bytes)
+    };
     Ok(Growable {
         resume: gpu.create_buffer(
             "resume lists",
@@ -321,11 +320,7 @@ fn growable(gpu: &Gpu, c: Capacities) -> Result<Growable> {
                 | vk::BufferUsageFlags::TRANSFER_SRC,
             MemoryLocation::GpuOnly,
         )?,
-        pixel_states: storage_buffer(
-            gpu,
-            "suspended pixel states",
-            resume_states * u64::from(BIN_SIZE) * PIXEL_STATE_BYTES,
-        )?,
+        row_states: suspended.map(row_states).transpose()?,
         triangles: texel_storage(
             gpu,
             "triangle records",
@@ -453,6 +448,7 @@ impl Resources {
         targets: &FrameTargets,
         capacities: Capacities,
         slabs: u32,
+        suspended: Option<SuspendedRows>,
     ) -> Result<Self> {
         // Arrays per block for the largest frame; the draws for the current one.
         let capacity = targets.capacity;
@@ -478,7 +474,8 @@ impl Resources {
             MemoryLocation::GpuOnly,
         )?;
 
-        let layout = DescriptorLayout::declared(gpu, &BINS_SET, vk::ShaderStageFlags::COMPUTE)?;
+        let set = suspended.map_or(&BINS_SET, |rows| rows.set);
+        let layout = DescriptorLayout::declared(gpu, set, vk::ShaderStageFlags::COMPUTE)?;
         let mut resources = Self {
             capacities,
             layout,
@@ -502,7 +499,8 @@ impl Resources {
                 vk::Format::R32_SFLOAT,
             )?,
             depth_sampler: Sampler::nearest_clamp(gpu)?,
-            growable: growable(gpu, capacities)?,
+            growable: growable(gpu, capacities, suspended)?,
+            suspended,
         };
         // Room for twice the draws, as the scene's draws have (GpuScene).
         let draw_bytes = (2 * draws.len()).max(crate::assets::FIRST_DRAWS) as u64
@@ -630,7 +628,8 @@ impl Resources {
             ..
         } = self.sampled;
         let texels = |view: vk::BufferView| Resource::TexelBuffer(view);
-        self.layout.create_named_set(&[
+        let depth = [depth];
+        let mut bindings = vec![
             ("u_vertexTexels", texels(vertices)),
             ("u_quadTexels", texels(quads)),
             ("u_drawTexels", texels(scene_draws.raw)),
@@ -641,7 +640,7 @@ impl Resources {
             ("u_srgbToLinear", texels(srgb)),
             (
                 "u_opaqueDepth",
-                Resource::Images(&[depth], self.depth_sampler.raw),
+                Resource::Images(&depth, self.depth_sampler.raw),
             ),
             (
                 "DepthPyramidBlock",
@@ -674,7 +673,6 @@ impl Resources {
             ("u_binEntryTexels", texels(g.bin_entries.view.raw)),
             ("RasterBinBlock", Resource::Buffer(&self.raster_bins)),
             ("DispatchBlock", Resource::Buffer(&g.resume)),
-            ("PixelStateBlock", Resource::Buffer(&g.pixel_states)),
             ("u_colour", Resource::StorageImage(self.target_colour)),
             (
                 "u_transparentLayer",
@@ -684,7 +682,11 @@ impl Resources {
                 "u_transparentLayerStamps",
                 Resource::StorageImage(self.transparent_layer[1].view),
             ),
-        ])
+        ];
+        if let (Some(rows), Some(states)) = (self.suspended, &g.row_states) {
+            bindings.push((rows.binding, Resource::Buffer(states)));
+        }
+        self.layout.create_named_set(&bindings)
     }
 
     /// Zeroes the counters and bin counts, writes the capacities and an empty depth range,
@@ -857,7 +859,8 @@ impl Resources {
     /// Replaces the growable buffers with ones of `capacities`; the old ones stay until the
     /// frames in flight complete.
     pub fn grow(&mut self, gpu: &Gpu, capacities: Capacities) -> Result<()> {
-        let old = std::mem::replace(&mut self.growable, growable(gpu, capacities)?);
+        let grown = growable(gpu, capacities, self.suspended)?;
+        let old = std::mem::replace(&mut self.growable, grown);
         self.retirement.retire(old);
         self.generation += 1;
         self.capacities = capacities;

@@ -3,14 +3,16 @@
 //!
 //! The frame's transparent triangles are first sorted into per-bin lists by the bins
 //! ([`super::bins`]: depth pyramid, setup, count, scan, fill, in bands). Then, per band,
-//! `raster` (`shaders/exact/raster.comp`): one workgroup per block row with triangles, one
-//! invocation per pixel; each pixel selects its nearest remaining fragments in registers,
+//! the raster (`shaders/exact/raster.comp`; [`raster`]): one workgroup per block row with
+//! triangles, one invocation per pixel; each pixel selects its nearest remaining fragments in registers,
 //! composites them front to back over the opaque colour, and repeats until none is left (or
 //! transmittance is under the threshold). On slab-ordered lists a row's walk ends once every
 //! pixel holds fragments nearer than the next slab, and starts past the slabs its pixels have
 //! composited. Rows of pixels that reach the driver's loop budget are saved where they stopped
 //! (even inside one slab's part of a list, with their selections) and finished by
-//! continuation dispatches of the same shader, sized on the GPU (indirect dispatch).
+//! continuation dispatches of the same shader, sized on the GPU (indirect dispatch;
+//! [`resume`]). How many fragments a pixel selects per pass, and how many depth slabs the bins
+//! order lists by, follow the frames' depth ([`depth`]).
 //!
 //! Why this shape: on lavapipe (subgroups of 8, 32 KB shared memory) barrier-heavy
 //! shared-memory phases cost more than blending itself, fixed-size register work is cheap, an
@@ -26,15 +28,21 @@
 
 #![deny(clippy::unwrap_used)]
 
-use super::bins::features::RasterFeatures;
-use super::bins::{BinOptions, Bins, FINISHED_SUBMISSION_WRITES};
+mod depth;
+mod raster;
+mod resume;
+
+use super::bins::features::{self, FrameEstimate};
+use super::bins::layout::OVERFLOW_CROWDED_BIN;
+use super::bins::{BinOptions, Bins, RasterNeeds, FINISHED_SUBMISSION_WRITES};
 use super::{FrameCheck, FrameDone, FrameSetup, Method, RecordContext};
 use crate::assets::GpuScene;
 use crate::frame::FrameTargets;
-use crate::gpu::ComputePipeline;
 use crate::scene::Scene;
 use crate::Result;
-use std::sync::Arc;
+use depth::Depth;
+use raster::Raster;
+use resume::{Continuations, ResumeLists, MAX_CONTINUATIONS, MAX_ROW_CONTINUATIONS};
 
 /// The exact method's settings.
 #[derive(Clone, Debug, Default)]
@@ -48,75 +56,16 @@ pub struct ExactOptions {
     pub assume_deep_pixels: bool,
 }
 
-const RASTER: &[u8] = crate::spirv!("exact/raster.comp");
-/// The work bound, per row: with about 60,000 loop iterations each (some 30 M list entries
-/// in all), this many continuations finish a row of any frame this method renders in
-/// reasonable time (10,000 full-screen layers take a few hundred); past it the frame fails
-/// with an error. Continuations with no rows cost an empty indirect dispatch.
-const MAX_CONTINUATIONS: u32 = 512;
-/// The work bound, per frame: continuations times the rows they resume, at most (some 10 s
-/// of lavapipe on 2 cores), so that a hostile frame with many deep rows is refused in
-/// seconds, not hours.
-const MAX_ROW_CONTINUATIONS: u64 = 1 << 12;
-/// Continuations are multiplied by this when rows were left unfinished: a deep frame finds
-/// its count in a few re-renders (1, 8, 64, 512).
-const CONTINUATION_GROWTH: u32 = 8;
-
 pub struct Exact {
     bins: Bins,
-    raster: Arc<ComputePipeline>,
-    /// The raster shader again, specialized to resume suspended rows.
-    continuation: Arc<ComputePipeline>,
+    /// The selection and slabs frames are rendered with.
+    depth: Depth,
+    raster: Raster,
     continuations: Continuations,
-    /// The resume list holding the rows the last submission left unfinished.
-    pending_list: u32,
+    lists: ResumeLists,
     /// Per frame slot, the continuations its last submission was recorded with, and whether
     /// that submission was a frame's finishing one.
     recorded: Vec<(Continuations, bool)>,
-}
-
-/// Continuation dispatches recorded after each band's raster, each multiplied when the rows
-/// of its band were still unfinished after the last one.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-struct Continuations {
-    /// After the first band's raster, and in a finishing submission.
-    first_band: u32,
-    /// After each later band's: they have blocks only in frames past the lists' capacity (and
-    /// when empty they go on resuming the last band's rows).
-    later_bands: u32,
-}
-
-impl Continuations {
-    const START: Self = Self {
-        first_band: 1,
-        later_bands: 1,
-    };
-
-    /// The most continuations a band records.
-    fn most(self) -> u32 {
-        self.first_band.max(self.later_bands)
-    }
-
-    /// The continuations after a submission that left rows unfinished: more for the band
-    /// whose rows they were (the last band with blocks, of `bands`; the first band's for a
-    /// finishing submission). `None` past MAX_CONTINUATIONS.
-    fn grown(self, bands: u32, finishing: bool) -> Option<Self> {
-        let grow = |count: u32| {
-            (count < MAX_CONTINUATIONS)
-                .then(|| (count * CONTINUATION_GROWTH).min(MAX_CONTINUATIONS))
-        };
-        Some(if finishing || bands <= 1 {
-            Self {
-                first_band: grow(self.first_band)?,
-                ..self
-            }
-        } else {
-            Self {
-                later_bands: grow(self.later_bands)?,
-                ..self
-            }
-        })
-    }
 }
 
 impl Exact {
@@ -129,67 +78,29 @@ impl Exact {
         options: &ExactOptions,
     ) -> Result<Self> {
         let (width, height) = (targets.extent.width, targets.extent.height);
-        let deep = options.assume_deep_pixels;
-        let shape = |features: RasterFeatures, expected: u64| {
-            let features = features.expecting(expected, width, height);
-            if deep {
-                features.deep()
-            } else {
-                features
-            }
+        let expected: FrameEstimate = features::estimate(scene, width, height);
+        let mut depth = Depth::SHALLOW.expecting(expected.fragments, width, height);
+        if options.assume_deep_pixels {
+            depth = depth.deep();
+        }
+        let deep = Depth::is_deep(expected.fragments, width, height);
+        let needs = RasterNeeds {
+            method: "exact",
+            slab_bits: depth.slab_bits,
+            suspended_rows: Some(resume::suspended_rows(deep)),
         };
-        let mut bins = Bins::new(gpu, scene, gpu_scene, targets, bins, "exact", shape)?;
+        let mut bins = Bins::new(gpu, scene, gpu_scene, targets, bins, &expected, needs)?;
         bins.set_threshold(options.threshold);
-        let (raster, continuation) = select(&mut bins, gpu_scene)?;
+        let raster = Raster::new(&mut bins, gpu_scene, depth)?;
         Ok(Self {
             bins,
+            depth,
             raster,
-            continuation,
             continuations: Continuations::START,
-            pending_list: 0,
+            lists: ResumeLists::default(),
             recorded: vec![(Continuations::START, false); gpu_scene.slot_count()],
         })
     }
-
-    /// The raster's pipelines for the bins' features.
-    fn select_raster(&mut self, gpu_scene: &GpuScene) -> Result<()> {
-        (self.raster, self.continuation) = select(&mut self.bins, gpu_scene)?;
-        Ok(())
-    }
-
-    /// The raster over the band's blocks, then `continuations` continuations (the
-    /// recording's `last`). The raster suspends rows onto the pending list: the band's plan
-    /// emptied it if the band has blocks; if not, it holds the rows the last band left, which
-    /// these continuations go on resuming.
-    fn record_raster(&mut self, ctx: &RecordContext<'_>, continuations: u32, last: bool) {
-        self.bins
-            .record_raster(ctx, &self.raster, self.pending_list);
-        self.record_continuations(ctx, continuations, last);
-    }
-
-    /// `count` continuation dispatches from the pending list: each resumes the rows on one
-    /// list and suspends rows onto the other, which the next reads. `last`: nothing after
-    /// them in the recording appends to the lists.
-    fn record_continuations(&mut self, ctx: &RecordContext<'_>, count: u32, last: bool) {
-        for k in 0..count {
-            let final_one = last && k + 1 == count;
-            self.bins
-                .record_continuation(ctx, &self.continuation, self.pending_list, final_one);
-            self.pending_list ^= 1;
-        }
-    }
-}
-
-/// The raster and its continuation, specialized for `bins`' features.
-fn select(
-    bins: &mut Bins,
-    gpu_scene: &GpuScene,
-) -> Result<(Arc<ComputePipeline>, Arc<ComputePipeline>)> {
-    let features = bins.features();
-    Ok((
-        bins.pipeline(gpu_scene, RASTER, &features.constants(false))?,
-        bins.pipeline(gpu_scene, RASTER, &features.constants(true))?,
-    ))
 }
 
 impl Method for Exact {
@@ -202,43 +113,43 @@ impl Method for Exact {
     }
 
     fn set_frame(&mut self, f: &FrameSetup<'_>) -> Result<()> {
-        if self.bins.set_frame(f)? {
-            self.select_raster(f.gpu_scene)?;
-        }
-        Ok(())
+        self.bins.set_frame(f)?;
+        self.raster.follow(&mut self.bins, f.gpu_scene, self.depth)
     }
 
+    /// The frame: the bins up to their bands; per band, its lists, the raster over its
+    /// blocks and the continuations of the rows it suspended; then the composite.
     fn record(&mut self, ctx: &mut RecordContext<'_>) -> Result<()> {
         let cmd = ctx.cmd;
         self.bins.record_binning(ctx)?;
         self.recorded[ctx.slot] = (self.continuations, false);
         // Both resume lists start empty.
-        self.pending_list = 0;
+        self.lists = ResumeLists::default();
         let bands = self.bins.bands();
         for band in 0..bands {
-            let first = band == 0;
-            self.bins.record_band(ctx, first, self.pending_list);
-            let continuations = if first {
-                self.continuations.first_band
-            } else {
-                self.continuations.later_bands
-            };
-            self.record_raster(ctx, continuations, band + 1 == bands);
+            self.bins.record_band(ctx, band == 0, self.lists.pending);
+            let continuations = self.continuations.after_band(band);
+            let last = band + 1 == bands;
+            self.lists
+                .record_band(&self.bins, ctx, &self.raster, continuations, last);
             self.bins.compute_to_compute(cmd);
         }
         ctx.timestamps.mark(cmd, "raster");
-        self.bins.record_end(ctx, self.pending_list)
+        self.bins.record_end(ctx, self.lists.pending)
     }
 
+    /// Continuations alone, for the rows the frame's submission left unfinished.
     fn record_finish(&mut self, ctx: &mut RecordContext<'_>) -> Result<()> {
         self.recorded[ctx.slot] = (self.continuations, true);
         self.bins.targets_to_raster(ctx, FINISHED_SUBMISSION_WRITES);
         // The submission before left the list its last continuation read as it was.
         self.bins
-            .record_resume_list_empty(ctx.cmd, self.pending_list ^ 1);
-        self.record_continuations(ctx, self.continuations.first_band, true);
+            .record_resume_list_empty(ctx.cmd, self.lists.pending ^ 1);
+        let count = self.continuations.first_band;
+        self.lists
+            .record_continuations(&self.bins, ctx, &self.raster, count, true);
         ctx.timestamps.mark(ctx.cmd, "raster finished");
-        self.bins.record_end(ctx, self.pending_list)
+        self.bins.record_end(ctx, self.lists.pending)
     }
 
     fn frame_done(&mut self, done: &FrameDone<'_>) -> Result<FrameCheck> {
@@ -248,25 +159,21 @@ impl Method for Exact {
         // in depth slabs, where the first dispatch does too. Deep pixels: select more
         // fragments per pass, or order the bins by depth slab, from the next frame on (this
         // one is right either way).
-        let bins = self
-            .bins
-            .frame_done(done, |features, counters, (width, height)| {
-                let features = if counters.overflow & super::bins::layout::OVERFLOW_CROWDED_BIN != 0
-                {
-                    features.deep()
-                } else {
-                    features
-                };
-                features.after_frame(
-                    counters.sweeps(),
-                    counters.fragments_in_front(),
-                    width,
-                    height,
-                )
-            })?;
-        if bins.features_changed {
-            self.select_raster(done.gpu_scene)?;
-        }
+        let depth = &mut self.depth;
+        let bins = self.bins.frame_done(done, |counters, (width, height)| {
+            if counters.overflow & OVERFLOW_CROWDED_BIN != 0 {
+                *depth = depth.deep();
+            }
+            *depth = depth.after_frame(
+                counters.sweeps(),
+                counters.fragments_in_front(),
+                width,
+                height,
+            );
+            depth.slab_bits
+        })?;
+        self.raster
+            .follow(&mut self.bins, done.gpu_scene, self.depth)?;
         let counters = bins.counters;
         // Rows the last dispatch left on the pending list are unfinished.
         let unfinished = self.bins.unfinished_rows(done.slot)?;
@@ -316,31 +223,5 @@ impl Method for Exact {
 
     fn learned(&self, options: &mut super::MethodOptions) {
         self.bins.learned(&mut options.bins);
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn continuations_grow_for_the_band_that_left_rows_unfinished() {
-        let start = Continuations::START;
-        let first = start.grown(1, false).expect("room");
-        assert_eq!((first.first_band, first.later_bands), (8, 1));
-        // Rows a later band left: its continuations grow, not the first band's, which would
-        // otherwise climb to the limit in frames that stay banded.
-        let later = start.grown(3, false).expect("room");
-        assert_eq!((later.first_band, later.later_bands), (1, 8));
-        // A finishing submission records the first band's count.
-        let finishing = start.grown(3, true).expect("room");
-        assert_eq!((finishing.first_band, finishing.later_bands), (8, 1));
-        let mut c = start;
-        for _ in 0..3 {
-            c = c.grown(2, false).expect("room");
-        }
-        assert_eq!(c.later_bands, MAX_CONTINUATIONS);
-        assert_eq!(c.grown(2, false), None);
-        assert_eq!(c.grown(1, false).map(|c| c.first_band), Some(8));
     }
 }

@@ -6,7 +6,7 @@ use super::SpecConstants;
 use crate::assets::GpuScene;
 use crate::frame::FrameTargets;
 use crate::gpu::{ComputePipeline, Gpu};
-use crate::methods::bins::{BinOptions, Bins};
+use crate::methods::bins::{features, BinOptions, Bins, RasterNeeds};
 use crate::methods::{FrameCheck, FrameDone, FrameSetup, RecordContext};
 use crate::scene::Scene;
 use crate::Result;
@@ -39,8 +39,15 @@ impl BinRaster {
         rank: u32,
         constants: SpecConstants,
     ) -> Result<Self> {
-        // The raster has no selection: it keeps the shallow frames' settings.
-        let mut bins = Bins::new(gpu, scene, gpu_scene, targets, options, "wavelet", |f, _| f)?;
+        // The raster has no selection and suspends no rows: lists of one slab.
+        let (width, height) = (targets.extent.width, targets.extent.height);
+        let expected = features::estimate(scene, width, height);
+        let needs = RasterNeeds {
+            method: "wavelet",
+            slab_bits: 0,
+            suspended_rows: None,
+        };
+        let mut bins = Bins::new(gpu, scene, gpu_scene, targets, options, &expected, needs)?;
         let raster = select(&mut bins, gpu_scene, rank, constants)?;
         Ok(Self {
             bins,
@@ -77,7 +84,7 @@ impl BinRaster {
     }
 
     pub fn frame_done(&mut self, done: &FrameDone<'_>) -> Result<FrameCheck> {
-        let bins = self.bins.frame_done(done, |f, _, _| f)?;
+        let bins = self.bins.frame_done(done, |_, _| 0)?;
         if bins.features_changed {
             self.raster = select(&mut self.bins, done.gpu_scene, self.rank, self.constants)?;
         }
@@ -104,6 +111,6 @@ fn select(
     rank: u32,
     constants: SpecConstants,
 ) -> Result<Arc<ComputePipeline>> {
-    let constants = constants.add_to(bins.features().constants(false));
+    let constants = constants.add_to(bins.features().raster_constants());
     bins.pipeline(gpu_scene, raster_spirv(rank), &constants)
 }

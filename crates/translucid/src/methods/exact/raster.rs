@@ -1,0 +1,57 @@
+//! The exact raster's pipelines: `shaders/exact/raster.comp`, specialized for the bins'
+//! features and the frame's [`Depth`], as each band's first dispatch and as the
+//! continuations that resume the rows it suspends.
+
+use super::depth::Depth;
+use crate::assets::GpuScene;
+use crate::gpu::ComputePipeline;
+use crate::interface::specialization::{Specialization, CONTINUATION, RASTER_ROWS, SELECT_SIZE};
+use crate::methods::bins::features::RasterFeatures;
+use crate::methods::bins::Bins;
+use crate::Result;
+use std::sync::Arc;
+
+const RASTER: &[u8] = crate::spirv!("exact/raster.comp");
+
+pub struct Raster {
+    /// Over a band's blocks.
+    pub first: Arc<ComputePipeline>,
+    /// Over the rows on a resume list, one workgroup each.
+    pub continuation: Arc<ComputePipeline>,
+    /// What they were specialized for.
+    built_for: (RasterFeatures, Depth),
+}
+
+impl Raster {
+    /// The raster for `bins`' features and `depth`, built unless built before.
+    pub fn new(bins: &mut Bins, gpu_scene: &GpuScene, depth: Depth) -> Result<Self> {
+        let features = bins.features();
+        Ok(Self {
+            first: bins.pipeline(gpu_scene, RASTER, &constants(&features, depth, false))?,
+            continuation: bins.pipeline(gpu_scene, RASTER, &constants(&features, depth, true))?,
+            built_for: (features, depth),
+        })
+    }
+
+    /// Follows the bins' features and `depth` where they moved.
+    pub fn follow(&mut self, bins: &mut Bins, gpu_scene: &GpuScene, depth: Depth) -> Result<()> {
+        if self.built_for != (bins.features(), depth) {
+            *self = Self::new(bins, gpu_scene, depth)?;
+        }
+        Ok(())
+    }
+}
+
+/// The raster's constants: those of every raster over the bins, the selection, and whether
+/// it is a continuation (a workgroup a row).
+fn constants(features: &RasterFeatures, depth: Depth, continuation: bool) -> Specialization {
+    let constants = features
+        .raster_constants()
+        .with(SELECT_SIZE, depth.select_size as i32)
+        .with(CONTINUATION, continuation);
+    if continuation {
+        constants.with(RASTER_ROWS, 1)
+    } else {
+        constants
+    }
+}
