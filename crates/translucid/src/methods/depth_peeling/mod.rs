@@ -146,53 +146,122 @@ impl DepthPeeling {
         targets: &FrameTargets,
         options: &DepthPeelingOptions,
     ) -> Result<Self> {
-        gpu.require_features(
-            "depth_peeling",
-            super::MethodKind::DepthPeeling.optional_features(),
-        )?;
-        for (format, what) in [
-            (RANGE_FORMAT, "depth range"),
-            (COUNT_FORMAT, "fragment count"),
-        ] {
-            if !gpu
-                .format_features(format)
-                .contains(vk::FormatFeatureFlags::COLOR_ATTACHMENT_BLEND)
-            {
-                return Err(Error::NoDevice(format!(
-                    "{} cannot blend {format:?} attachments, which the depth_peeling method's \
-                     {what} needs",
-                    gpu.info().name
-                )));
-            }
-        }
-        // A peeling pass writes the range and six layer channels.
-        let attachments = 1 + 6;
-        let most = gpu.info().max_color_attachments;
-        if most < attachments {
-            let message = format!(
-                "{} writes at most {most} colour attachments in a pass; the depth_peeling \
-                 method needs {attachments}",
-                gpu.info().name
-            );
-            return Err(if gpu.is_host_device() {
-                Error::HostRequirements(message)
-            } else {
-                Error::NoDevice(message)
-            });
-        }
-        let passes = match options.passes {
-            Some(n) if n == 0 || n > MOST_PASSES => {
-                return Err(Error::InvalidOption(format!(
-                    "depth_peeling: {n} passes; give 1 to {MOST_PASSES}"
-                )))
-            }
-            Some(n) => n,
-            None => options
-                .initial_passes
-                .unwrap_or(FIRST_PASSES)
-                .clamp(1, MOST_PASSES),
-        };
+        require_device(gpu)?;
+        let passes = first_pass_count(options)?;
         let images = Images::new(gpu, targets)?;
+        let RenderPasses { first, peel } = RenderPasses::new(gpu, targets, &images)?;
+        let sampler = Sampler::nearest_clamp(gpu)?;
+        let peel_layout = DescriptorLayout::declared(
+            gpu,
+            &DEPTH_PEELING_PEEL_SET,
+            vk::ShaderStageFlags::FRAGMENT,
+        )?;
+        let composite_layout = DescriptorLayout::declared(
+            gpu,
+            &DEPTH_PEELING_COMPOSITE_SET,
+            vk::ShaderStageFlags::COMPUTE,
+        )?;
+        let first_pipelines = first_pipelines(gpu, gpu_scene, &first)?;
+        let peel_pipelines = peel_pipelines(gpu, gpu_scene, &peel[0], &peel_layout)?;
+        let (composite, resolve) = compute_pipelines(gpu, &composite_layout)?;
+        let peeling = peeling_buffer(gpu)?;
+        let peel_sets = peel_sets(&peel_layout, &images, &sampler)?;
+        let composite_sets =
+            composite_sets(&composite_layout, &images, &sampler, &peeling, targets)?;
+        let readbacks = readback_buffers(gpu, gpu_scene.slot_count())?;
+        Ok(Self {
+            images,
+            first,
+            first_pipelines,
+            peel,
+            peel_pipelines,
+            peel_sets,
+            composite,
+            resolve,
+            composite_sets,
+            _layouts: [peel_layout, composite_layout],
+            _sampler: sampler,
+            peeling,
+            recorded: vec![passes; readbacks.len()],
+            readbacks,
+            passes,
+            fixed: options.passes.is_some(),
+        })
+    }
+
+    /// Passes the next frame is recorded with.
+    pub fn passes(&self) -> u32 {
+        self.passes
+    }
+}
+
+/// What the method needs of the device: its optional features, blending in the range's and
+/// the count's formats (the first pass blends them, by MAX and by ADD), and as many colour
+/// attachments in a pass as a peeling pass writes.
+fn require_device(gpu: &Gpu) -> Result<()> {
+    gpu.require_features(
+        "depth_peeling",
+        super::MethodKind::DepthPeeling.optional_features(),
+    )?;
+    for (format, what) in [
+        (RANGE_FORMAT, "depth range"),
+        (COUNT_FORMAT, "fragment count"),
+    ] {
+        if !gpu
+            .format_features(format)
+            .contains(vk::FormatFeatureFlags::COLOR_ATTACHMENT_BLEND)
+        {
+            return Err(Error::NoDevice(format!(
+                "{} cannot blend {format:?} attachments, which the depth_peeling method's \
+                 {what} needs",
+                gpu.info().name
+            )));
+        }
+    }
+    // A peeling pass writes the range and six layer channels.
+    let attachments = 1 + 6;
+    let most = gpu.info().max_color_attachments;
+    if most < attachments {
+        let message = format!(
+            "{} writes at most {most} colour attachments in a pass; the depth_peeling \
+             method needs {attachments}",
+            gpu.info().name
+        );
+        return Err(if gpu.is_host_device() {
+            Error::HostRequirements(message)
+        } else {
+            Error::NoDevice(message)
+        });
+    }
+    Ok(())
+}
+
+/// The passes the first frame is recorded with: the fixed count, checked, else where a
+/// growing count starts.
+fn first_pass_count(options: &DepthPeelingOptions) -> Result<u32> {
+    match options.passes {
+        Some(n) if n == 0 || n > MOST_PASSES => Err(Error::InvalidOption(format!(
+            "depth_peeling: {n} passes; give 1 to {MOST_PASSES}"
+        ))),
+        Some(n) => Ok(n),
+        None => Ok(options
+            .initial_passes
+            .unwrap_or(FIRST_PASSES)
+            .clamp(1, MOST_PASSES)),
+    }
+}
+
+/// The render passes of the transparent draws, all testing against the frame's opaque
+/// depth without writing it.
+struct RenderPasses {
+    /// Into range 0 and the fragment count.
+    first: AttachmentPass,
+    /// Peeling into range 0 and into range 1 (each reading the other).
+    peel: [AttachmentPass; 2],
+}
+
+impl RenderPasses {
+    fn new(gpu: &Gpu, targets: &FrameTargets, images: &Images) -> Result<Self> {
         let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
         let depth = DepthAttachment {
             attachment: Attachment::kept(
@@ -201,6 +270,7 @@ impl DepthPeeling {
             ),
             write: false,
         };
+        // Every image a pass writes is cleared and left for the next pass to sample.
         let cleared = |image, value| Attachment {
             image,
             load: Load::Clear(value),
@@ -226,141 +296,168 @@ impl DepthPeeling {
             AttachmentPass::new(gpu, &attachments, Some(&depth))
         };
         let peel = [peel_into(&images.ranges[0])?, peel_into(&images.ranges[1])?];
+        Ok(Self { first, peel })
+    }
+}
 
-        let sampler = Sampler::nearest_clamp(gpu)?;
-        let peel_layout = DescriptorLayout::declared(
-            gpu,
-            &DEPTH_PEELING_PEEL_SET,
-            vk::ShaderStageFlags::FRAGMENT,
-        )?;
-        let composite_layout = DescriptorLayout::declared(
-            gpu,
-            &DEPTH_PEELING_COMPOSITE_SET,
-            vk::ShaderStageFlags::COMPUTE,
-        )?;
-        let first_pipelines = gpu_scene.mesh_pipelines_with(
-            gpu,
-            first.render_pass,
-            crate::assets::MeshStages::OrderDepth,
-            crate::spirv!("depth_peeling/first.frag"),
-            &[],
-            &PipelineState {
-                blends: &[Blend::Max, Blend::Add],
-                depth: DepthMode::Less(false),
-                fragment_constants: &Specialization::NONE,
-                vertex_input: true,
-            },
-        )?;
-        let peel_pipelines = gpu_scene.mesh_pipelines_with(
-            gpu,
-            peel[0].render_pass,
-            crate::assets::MeshStages::OrderDepth,
-            crate::spirv!("depth_peeling/peel.frag"),
-            &[&peel_layout],
-            &PipelineState {
-                blends: &[
-                    Blend::Max,
-                    Blend::Under,
-                    Blend::Under,
-                    Blend::Under,
-                    Blend::Under,
-                    Blend::Under,
-                    Blend::Under,
-                ],
-                depth: DepthMode::Less(false),
-                fragment_constants: &Specialization::NONE,
-                vertex_input: true,
-            },
-        )?;
-        let mut computes = ComputePipelineCache::new(16);
-        let composite = computes.get(
-            gpu,
-            &[&composite_layout],
-            crate::spirv!("depth_peeling/composite.comp"),
-            &Specialization::NONE,
-        )?;
-        let resolve = computes.get(
-            gpu,
-            &[&composite_layout],
-            crate::spirv!("depth_peeling/resolve.comp"),
-            &Specialization::NONE,
-        )?;
-        let mut usage = vk::BufferUsageFlags::STORAGE_BUFFER
-            | vk::BufferUsageFlags::TRANSFER_DST
-            | vk::BufferUsageFlags::TRANSFER_SRC;
-        if gpu.info().conditional_rendering {
-            usage |= vk::BufferUsageFlags::CONDITIONAL_RENDERING_EXT;
-        }
-        let peeling = gpu.create_buffer(
-            "depth peeling flags",
-            PEELING_WORDS * 4,
-            usage,
-            MemoryLocation::GpuOnly,
-        )?;
-        let peel_set = |range: &GpuImage| {
-            peel_layout
-                .create_named_set(&[("u_previous", Resource::Images(&[range.view], sampler.raw))])
-        };
-        let peel_sets = [peel_set(&images.ranges[0])?, peel_set(&images.ranges[1])?];
-        let count_view = [images.count.view];
-        let composite_set = |range: &GpuImage| {
-            let range = [range.view];
-            let [front, back] =
-                [0, 3].map(|first| [0, 1, 2].map(|channel| images.layers[first + channel].view));
-            let sampled = |views| Resource::Images(views, sampler.raw);
-            let [front_sum, front_t, back_sum, back_t] =
-                [0, 1, 2, 3].map(|i| Resource::StorageImage(images.sums[i].view));
-            composite_layout.create_named_set(&[
-                ("u_range", sampled(&range[..])),
-                ("u_frontLayer", sampled(&front)),
-                ("u_backLayer", sampled(&back)),
-                ("u_front", front_sum),
-                ("u_frontT", front_t),
-                ("u_back", back_sum),
-                ("u_backT", back_t),
-                ("Peeling", Resource::Buffer(&peeling)),
-                ("u_colour", Resource::StorageImage(targets.colour.view)),
-                ("u_fragments", sampled(&count_view)),
-            ])
-        };
-        let composite_sets = [
-            composite_set(&images.ranges[0])?,
-            composite_set(&images.ranges[1])?,
-        ];
-        let readbacks = (0..gpu_scene.slot_count())
-            .map(|_| {
-                gpu.create_buffer(
-                    "depth peeling flags readback",
-                    PEELING_WORDS * 4,
-                    vk::BufferUsageFlags::TRANSFER_DST,
-                    MemoryLocation::GpuToCpu,
-                )
-            })
-            .collect::<Result<Vec<_>>>()?;
-        Ok(Self {
-            images,
-            first,
-            first_pipelines,
-            peel,
-            peel_pipelines,
-            peel_sets,
-            composite,
-            resolve,
-            composite_sets,
-            _layouts: [peel_layout, composite_layout],
-            _sampler: sampler,
-            peeling,
-            recorded: vec![passes; readbacks.len()],
-            readbacks,
-            passes,
-            fixed: options.passes.is_some(),
+/// The first pass's pair of scene pipelines ([`GpuScene::mesh_pipelines`]), blending the
+/// range by MAX and the fragment count by ADD.
+fn first_pipelines(
+    gpu: &Gpu,
+    gpu_scene: &GpuScene,
+    first: &AttachmentPass,
+) -> Result<(Arc<GraphicsPipeline>, Arc<GraphicsPipeline>)> {
+    gpu_scene.mesh_pipelines_with(
+        gpu,
+        first.render_pass,
+        crate::assets::MeshStages::OrderDepth,
+        crate::spirv!("depth_peeling/first.frag"),
+        &[],
+        &PipelineState {
+            blends: &[Blend::Max, Blend::Add],
+            depth: DepthMode::Less(false),
+            fragment_constants: &Specialization::NONE,
+            vertex_input: true,
+        },
+    )
+}
+
+/// The peeling passes' pair of scene pipelines, blending the next range by MAX and the six
+/// layer channels front to back (UNDER). Made with one peeling pass, they draw in the other
+/// too: the two passes' attachments have the same formats, so their render passes are
+/// compatible.
+fn peel_pipelines(
+    gpu: &Gpu,
+    gpu_scene: &GpuScene,
+    peel: &AttachmentPass,
+    peel_layout: &DescriptorLayout,
+) -> Result<(Arc<GraphicsPipeline>, Arc<GraphicsPipeline>)> {
+    gpu_scene.mesh_pipelines_with(
+        gpu,
+        peel.render_pass,
+        crate::assets::MeshStages::OrderDepth,
+        crate::spirv!("depth_peeling/peel.frag"),
+        &[peel_layout],
+        &PipelineState {
+            blends: &[
+                Blend::Max,
+                Blend::Under,
+                Blend::Under,
+                Blend::Under,
+                Blend::Under,
+                Blend::Under,
+                Blend::Under,
+            ],
+            depth: DepthMode::Less(false),
+            fragment_constants: &Specialization::NONE,
+            vertex_input: true,
+        },
+    )
+}
+
+/// The composite after each peeling pass and the resolve after the last, which share the
+/// composite's set and push constants ([`push`], 16 bytes).
+fn compute_pipelines(
+    gpu: &Gpu,
+    composite_layout: &DescriptorLayout,
+) -> Result<(Arc<ComputePipeline>, Arc<ComputePipeline>)> {
+    let mut computes = ComputePipelineCache::new(16);
+    let composite = computes.get(
+        gpu,
+        &[composite_layout],
+        crate::spirv!("depth_peeling/composite.comp"),
+        &Specialization::NONE,
+    )?;
+    let resolve = computes.get(
+        gpu,
+        &[composite_layout],
+        crate::spirv!("depth_peeling/resolve.comp"),
+        &Specialization::NONE,
+    )?;
+    Ok((composite, resolve))
+}
+
+/// The peeling buffer ([`PEELING_WORDS`]): cleared each frame and copied to the slot's
+/// readback, and, where the device has conditional rendering, the predicate that skips a
+/// pass once the one before it left nothing to peel.
+fn peeling_buffer(gpu: &Gpu) -> Result<Buffer> {
+    let mut usage = vk::BufferUsageFlags::STORAGE_BUFFER
+        | vk::BufferUsageFlags::TRANSFER_DST
+        | vk::BufferUsageFlags::TRANSFER_SRC;
+    if gpu.info().conditional_rendering {
+        usage |= vk::BufferUsageFlags::CONDITIONAL_RENDERING_EXT;
+    }
+    gpu.create_buffer(
+        "depth peeling flags",
+        PEELING_WORDS * 4,
+        usage,
+        MemoryLocation::GpuOnly,
+    )
+}
+
+/// The peeling pass's set reading range 0, and the one reading range 1.
+fn peel_sets(
+    peel_layout: &DescriptorLayout,
+    images: &Images,
+    sampler: &Sampler,
+) -> Result<[DescriptorSet; 2]> {
+    let peel_set = |range: &GpuImage| {
+        peel_layout
+            .create_named_set(&[("u_previous", Resource::Images(&[range.view], sampler.raw))])
+    };
+    Ok([peel_set(&images.ranges[0])?, peel_set(&images.ranges[1])?])
+}
+
+/// The composite's set reading range 0, and the one reading range 1: the range a peeling
+/// pass just wrote, its layers, the sums so far, the flags, and the frame's colour (which
+/// the resolve writes).
+fn composite_sets(
+    composite_layout: &DescriptorLayout,
+    images: &Images,
+    sampler: &Sampler,
+    peeling: &Buffer,
+    targets: &FrameTargets,
+) -> Result<[DescriptorSet; 2]> {
+    let count_view = [images.count.view];
+    let composite_set = |range: &GpuImage| {
+        let range = [range.view];
+        let [front, back] =
+            [0, 3].map(|first| [0, 1, 2].map(|channel| images.layers[first + channel].view));
+        let sampled = |views| Resource::Images(views, sampler.raw);
+        let [front_sum, front_t, back_sum, back_t] =
+            [0, 1, 2, 3].map(|i| Resource::StorageImage(images.sums[i].view));
+        composite_layout.create_named_set(&[
+            ("u_range", sampled(&range[..])),
+            ("u_frontLayer", sampled(&front)),
+            ("u_backLayer", sampled(&back)),
+            ("u_front", front_sum),
+            ("u_frontT", front_t),
+            ("u_back", back_sum),
+            ("u_backT", back_t),
+            ("Peeling", Resource::Buffer(peeling)),
+            ("u_colour", Resource::StorageImage(targets.colour.view)),
+            ("u_fragments", sampled(&count_view)),
+        ])
+    };
+    Ok([
+        composite_set(&images.ranges[0])?,
+        composite_set(&images.ranges[1])?,
+    ])
+}
+
+/// A readback of the peeling buffer for each frame slot, so that a frame's flags are read
+/// once it completes while later frames write theirs.
+fn readback_buffers(gpu: &Gpu, slots: usize) -> Result<Vec<Buffer>> {
+    (0..slots)
+        .map(|_| {
+            gpu.create_buffer(
+                "depth peeling flags readback",
+                PEELING_WORDS * 4,
+                vk::BufferUsageFlags::TRANSFER_DST,
+                MemoryLocation::GpuToCpu,
+            )
         })
-    }
-
-    /// Passes the next frame is recorded with.
-    pub fn passes(&self) -> u32 {
-        self.passes
-    }
+        .collect()
 }
 
 /// `Push` of composite.comp and resolve.comp.
