@@ -11,6 +11,7 @@ use crate::gpu::{
 use crate::interface::methods::{
     WAVELET_BOUNDS_SET, WAVELET_MAX_TEXELS, WAVELET_READ_SET, WAVELET_RESOLVE_SET,
 };
+use crate::interface::specialization::Specialization;
 use crate::methods::RecordContext;
 use crate::Result;
 use std::sync::Arc;
@@ -58,11 +59,9 @@ struct Accumulation {
 }
 
 pub struct Passes {
-    _bounds: GpuImage,
-    _coefficients: Vec<GpuImage>,
-    _depth: GpuImage,
+    _images: Images,
     _sampler: Sampler,
-    _layouts: [DescriptorLayout; 3],
+    _layouts: Layouts,
     bounds_pass: AttachmentPass,
     bounds_pipelines: Pair,
     bounds_set: DescriptorSet,
@@ -81,16 +80,18 @@ const DEPTH: vk::ImageLayout = vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL
 const DEPTH_READ: vk::ImageLayout = vk::ImageLayout::DEPTH_STENCIL_READ_ONLY_OPTIMAL;
 const SAMPLED: vk::ImageLayout = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
 
-impl Passes {
-    pub fn new(
-        gpu: &Gpu,
-        gpu_scene: &GpuScene,
-        targets: &FrameTargets,
-        settings: &Settings,
-        constants: super::SpecConstants,
-    ) -> Result<Self> {
-        let [accumulate_spirv, resolve_spirv, shade_spirv] = shaders(settings.rank);
-        // The images hold the largest frame; smaller ones use their top-left corner.
+/// The method's images. They hold the largest frame; smaller ones use their top-left corner.
+struct Images {
+    /// Each pixel's nearest and farthest transparent view depth.
+    bounds: GpuImage,
+    /// The coefficient texels, one image each ([`Settings::texels`]).
+    coefficients: Vec<GpuImage>,
+    /// The resolve's depth: the opaque depth, or nearer, where every channel is absorbed.
+    depth: GpuImage,
+}
+
+impl Images {
+    fn new(gpu: &Gpu, targets: &FrameTargets, settings: &Settings) -> Result<Self> {
         let extent = targets.capacity;
         let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED;
         let bounds = gpu.create_image("wavelet bounds", extent, BOUNDS_FORMAT, usage, 1)?;
@@ -116,165 +117,144 @@ impl Passes {
             vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
             1,
         )?;
-        let sampler = Sampler::nearest_clamp(gpu)?;
+        Ok(Self {
+            bounds,
+            coefficients,
+            depth,
+        })
+    }
+}
+
+/// The descriptor layouts of the method's sets, all read by fragment shaders.
+struct Layouts {
+    /// The bounds, read by the accumulation draws.
+    bounds: DescriptorLayout,
+    /// The bounds and the coefficients, read by the shade draw.
+    read: DescriptorLayout,
+    /// The read set's bindings and the opaque depth, read by the resolve.
+    resolve: DescriptorLayout,
+}
+
+impl Layouts {
+    fn new(gpu: &Gpu) -> Result<Self> {
         let stages = vk::ShaderStageFlags::FRAGMENT;
-        let bounds_layout = DescriptorLayout::declared(gpu, &WAVELET_BOUNDS_SET, stages)?;
-        let read_layout = DescriptorLayout::declared(gpu, &WAVELET_READ_SET, stages)?;
-        let resolve_layout = DescriptorLayout::declared(gpu, &WAVELET_RESOLVE_SET, stages)?;
+        Ok(Self {
+            bounds: DescriptorLayout::declared(gpu, &WAVELET_BOUNDS_SET, stages)?,
+            read: DescriptorLayout::declared(gpu, &WAVELET_READ_SET, stages)?,
+            resolve: DescriptorLayout::declared(gpu, &WAVELET_RESOLVE_SET, stages)?,
+        })
+    }
+}
+
+/// One set of each of [`Layouts`].
+struct Sets {
+    bounds: DescriptorSet,
+    read: DescriptorSet,
+    resolve: DescriptorSet,
+}
+
+impl Sets {
+    fn new(
+        layouts: &Layouts,
+        images: &Images,
+        sampler: &Sampler,
+        targets: &FrameTargets,
+    ) -> Result<Self> {
+        let coefficients = &images.coefficients;
         // Slots past the rank's texels repeat the first image; the shaders never read them.
         let coefficient_views: Vec<vk::ImageView> = (0..MAX_TEXELS)
             .map(|i| coefficients.get(i).unwrap_or(&coefficients[0]).view)
             .collect();
-        let bounds_view = [bounds.view];
+        let bounds_view = [images.bounds.view];
         let sampled = |views| Resource::Images(views, sampler.raw);
         let read = [
             ("u_waveletBounds", sampled(&bounds_view)),
             ("u_waveletCoefficients", sampled(&coefficient_views)),
         ];
-        let bounds_set = bounds_layout.create_named_set(&read[..1])?;
-        let read_set = read_layout.create_named_set(&read)?;
+        let bounds = layouts.bounds.create_named_set(&read[..1])?;
+        let read_set = layouts.read.create_named_set(&read)?;
         let depth_view = [targets.depth.view];
         let mut resolve = read.to_vec();
         resolve.push(("u_opaqueDepth", sampled(&depth_view)));
-        let resolve_set = resolve_layout.create_named_set(&resolve)?;
+        let resolve = layouts.resolve.create_named_set(&resolve)?;
+        Ok(Self {
+            bounds,
+            read: read_set,
+            resolve,
+        })
+    }
+}
 
-        let frame_depth = |load, layouts| DepthAttachment {
-            attachment: Attachment {
-                image: &targets.depth,
-                load,
-                layouts,
-            },
-            write: false,
-        };
+impl Passes {
+    pub fn new(
+        gpu: &Gpu,
+        gpu_scene: &GpuScene,
+        targets: &FrameTargets,
+        settings: &Settings,
+        constants: super::SpecConstants,
+    ) -> Result<Self> {
+        let [accumulate_spirv, resolve_spirv, shade_spirv] = shaders(settings.rank);
+        let images = Images::new(gpu, targets, settings)?;
+        let sampler = Sampler::nearest_clamp(gpu)?;
+        let layouts = Layouts::new(gpu)?;
+        let sets = Sets::new(&layouts, &images, &sampler, targets)?;
         let fragment_constants = constants.specialization();
-
-        let bounds_pass = AttachmentPass::new(
+        let (bounds_pass, bounds_pipelines) =
+            new_bounds_pass(gpu, gpu_scene, targets, &images.bounds, &fragment_constants)?;
+        // One draw per MAX_ATTACHMENTS texels, each told the first texel it writes.
+        let accumulations = images
+            .coefficients
+            .chunks(MAX_ATTACHMENTS)
+            .enumerate()
+            .map(|(chunk, texels)| {
+                let chunk_constants = super::SpecConstants {
+                    first_texel: (chunk * MAX_ATTACHMENTS) as i32,
+                    ..constants
+                };
+                Accumulation::new(
+                    gpu,
+                    gpu_scene,
+                    targets,
+                    texels,
+                    accumulate_spirv,
+                    &layouts.bounds,
+                    &chunk_constants.specialization(),
+                )
+            })
+            .collect::<Result<Vec<_>>>()?;
+        let (resolve_pass, resolve_pipeline) = new_resolve_pass(
             gpu,
-            &[Attachment {
-                image: &bounds,
-                load: Load::Clear([-f32::MAX; 4]),
-                layouts: (vk::ImageLayout::UNDEFINED, SAMPLED),
-            }],
-            Some(&frame_depth(Load::Keep, (DEPTH, DEPTH_READ))),
-        )?;
-        let bounds_pipelines = gpu_scene.mesh_pipelines_with(
-            gpu,
-            bounds_pass.render_pass,
-            crate::assets::MeshStages::Plain,
-            crate::spirv!("wavelet/bounds.frag"),
-            &[],
-            &PipelineState {
-                blends: &[Blend::Max],
-                depth: DepthMode::Less(false),
-                fragment_constants: &fragment_constants,
-                vertex_input: true,
-            },
-        )?;
-
-        let mut accumulations = Vec::new();
-        for (chunk, images) in coefficients.chunks(MAX_ATTACHMENTS).enumerate() {
-            let colours: Vec<Attachment<'_>> = images
-                .iter()
-                .map(|image| Attachment {
-                    image,
-                    load: Load::Clear([0.0; 4]),
-                    layouts: (vk::ImageLayout::UNDEFINED, SAMPLED),
-                })
-                .collect();
-            let pass = AttachmentPass::new(
-                gpu,
-                &colours,
-                Some(&frame_depth(Load::Keep, (DEPTH_READ, DEPTH_READ))),
-            )?;
-            let chunk_constants = super::SpecConstants {
-                first_texel: (chunk * MAX_ATTACHMENTS) as i32,
-                ..constants
-            };
-            let blends = vec![Blend::Add; images.len()];
-            let pipelines = gpu_scene.mesh_pipelines_with(
-                gpu,
-                pass.render_pass,
-                crate::assets::MeshStages::Plain,
-                accumulate_spirv,
-                &[&bounds_layout],
-                &PipelineState {
-                    blends: &blends,
-                    depth: DepthMode::Less(false),
-                    fragment_constants: &chunk_constants.specialization(),
-                    vertex_input: true,
-                },
-            )?;
-            accumulations.push(Accumulation { pass, pipelines });
-        }
-
-        let resolve_pass = AttachmentPass::new(
-            gpu,
-            &[Attachment::kept(&targets.colour, COLOUR)],
-            Some(&DepthAttachment {
-                attachment: Attachment {
-                    image: &depth,
-                    load: Load::Discard,
-                    layouts: (vk::ImageLayout::UNDEFINED, DEPTH),
-                },
-                write: true,
-            }),
-        )?;
-        let resolve_pipeline = fullscreen_pipeline(
-            gpu,
-            resolve_pass.render_pass,
+            gpu_scene,
+            targets,
+            &images.depth,
             resolve_spirv,
-            &[&gpu_scene.layout, &resolve_layout],
-            &PipelineState {
-                blends: &[Blend::Multiply],
-                depth: DepthMode::WriteAlways,
-                fragment_constants: &fragment_constants,
-                vertex_input: false,
-            },
+            &layouts.resolve,
+            &fragment_constants,
         )?;
-
-        let shade_pass = AttachmentPass::new(
+        let (shade_pass, shade_pipelines) = new_shade_pass(
             gpu,
-            &[Attachment::kept(&targets.colour, COLOUR)],
-            Some(&DepthAttachment {
-                attachment: Attachment {
-                    image: &depth,
-                    load: Load::Keep,
-                    layouts: (DEPTH, DEPTH),
-                },
-                write: false,
-            }),
-        )?;
-        let shade_pipelines = gpu_scene.mesh_pipelines_with(
-            gpu,
-            shade_pass.render_pass,
-            crate::assets::MeshStages::Plain,
+            gpu_scene,
+            targets,
+            &images.depth,
             shade_spirv,
-            &[&read_layout],
-            &PipelineState {
-                blends: &[Blend::Add],
-                depth: DepthMode::Less(false),
-                fragment_constants: &fragment_constants,
-                vertex_input: true,
-            },
+            &layouts.read,
+            &fragment_constants,
         )?;
-
         Ok(Self {
             frame_depth: targets.depth.raw,
-            _bounds: bounds,
-            _coefficients: coefficients,
-            _depth: depth,
+            _images: images,
             _sampler: sampler,
-            _layouts: [bounds_layout, read_layout, resolve_layout],
+            _layouts: layouts,
             bounds_pass,
             bounds_pipelines,
-            bounds_set,
+            bounds_set: sets.bounds,
             accumulations,
             resolve_pass,
             resolve_pipeline,
-            resolve_set,
+            resolve_set: sets.resolve,
             shade_pass,
             shade_pipelines,
-            read_set,
+            read_set: sets.read,
         })
     }
 
@@ -356,4 +336,174 @@ impl Passes {
         Self::draw_scene(ctx, &self.shade_pipelines, Some(&self.read_set));
         self.shade_pass.end(ctx.cmd);
     }
+}
+
+/// The frame's opaque depth as a scene draw tests against it, without writing it.
+fn frame_depth(
+    targets: &FrameTargets,
+    layouts: (vk::ImageLayout, vk::ImageLayout),
+) -> DepthAttachment<'_> {
+    DepthAttachment {
+        attachment: Attachment {
+            image: &targets.depth,
+            load: Load::Keep,
+            layouts,
+        },
+        write: false,
+    }
+}
+
+/// The bounds pass and its pipelines: each fragment MAX-blends its view depth into the bounds.
+/// The pass leaves the opaque depth read-only for the accumulations and the resolve.
+fn new_bounds_pass(
+    gpu: &Gpu,
+    gpu_scene: &GpuScene,
+    targets: &FrameTargets,
+    bounds: &GpuImage,
+    fragment_constants: &Specialization,
+) -> Result<(AttachmentPass, Pair)> {
+    let pass = AttachmentPass::new(
+        gpu,
+        &[Attachment {
+            image: bounds,
+            load: Load::Clear([-f32::MAX; 4]),
+            layouts: (vk::ImageLayout::UNDEFINED, SAMPLED),
+        }],
+        Some(&frame_depth(targets, (DEPTH, DEPTH_READ))),
+    )?;
+    let pipelines = gpu_scene.mesh_pipelines_with(
+        gpu,
+        pass.render_pass,
+        crate::assets::MeshStages::Plain,
+        crate::spirv!("wavelet/bounds.frag"),
+        &[],
+        &PipelineState {
+            blends: &[Blend::Max],
+            depth: DepthMode::Less(false),
+            fragment_constants,
+            vertex_input: true,
+        },
+    )?;
+    Ok((pass, pipelines))
+}
+
+impl Accumulation {
+    /// The draw that ADD-blends every fragment's coefficients into `texels`;
+    /// `fragment_constants` tell the shader which texel the first of them is.
+    fn new(
+        gpu: &Gpu,
+        gpu_scene: &GpuScene,
+        targets: &FrameTargets,
+        texels: &[GpuImage],
+        accumulate_spirv: &[u8],
+        bounds_layout: &DescriptorLayout,
+        fragment_constants: &Specialization,
+    ) -> Result<Self> {
+        let colours: Vec<Attachment<'_>> = texels
+            .iter()
+            .map(|image| Attachment {
+                image,
+                load: Load::Clear([0.0; 4]),
+                layouts: (vk::ImageLayout::UNDEFINED, SAMPLED),
+            })
+            .collect();
+        let pass = AttachmentPass::new(
+            gpu,
+            &colours,
+            Some(&frame_depth(targets, (DEPTH_READ, DEPTH_READ))),
+        )?;
+        let blends = vec![Blend::Add; texels.len()];
+        let pipelines = gpu_scene.mesh_pipelines_with(
+            gpu,
+            pass.render_pass,
+            crate::assets::MeshStages::Plain,
+            accumulate_spirv,
+            &[bounds_layout],
+            &PipelineState {
+                blends: &blends,
+                depth: DepthMode::Less(false),
+                fragment_constants,
+                vertex_input: true,
+            },
+        )?;
+        Ok(Self { pass, pipelines })
+    }
+}
+
+/// The resolve pass and its full-screen pipeline: dims the frame's colour by the
+/// transmittance (MULTIPLY) and writes the method's own depth, every pixel, for the shade
+/// pass to test against.
+fn new_resolve_pass(
+    gpu: &Gpu,
+    gpu_scene: &GpuScene,
+    targets: &FrameTargets,
+    depth: &GpuImage,
+    resolve_spirv: &[u8],
+    resolve_layout: &DescriptorLayout,
+    fragment_constants: &Specialization,
+) -> Result<(AttachmentPass, Arc<GraphicsPipeline>)> {
+    let pass = AttachmentPass::new(
+        gpu,
+        &[Attachment::kept(&targets.colour, COLOUR)],
+        Some(&DepthAttachment {
+            attachment: Attachment {
+                image: depth,
+                load: Load::Discard,
+                layouts: (vk::ImageLayout::UNDEFINED, DEPTH),
+            },
+            write: true,
+        }),
+    )?;
+    let pipeline = fullscreen_pipeline(
+        gpu,
+        pass.render_pass,
+        resolve_spirv,
+        &[&gpu_scene.layout, resolve_layout],
+        &PipelineState {
+            blends: &[Blend::Multiply],
+            depth: DepthMode::WriteAlways,
+            fragment_constants,
+            vertex_input: false,
+        },
+    )?;
+    Ok((pass, pipeline))
+}
+
+/// The shade pass and its pipelines: every fragment in front of the resolve's depth ADDs
+/// its share to the frame's colour.
+fn new_shade_pass(
+    gpu: &Gpu,
+    gpu_scene: &GpuScene,
+    targets: &FrameTargets,
+    depth: &GpuImage,
+    shade_spirv: &[u8],
+    read_layout: &DescriptorLayout,
+    fragment_constants: &Specialization,
+) -> Result<(AttachmentPass, Pair)> {
+    let pass = AttachmentPass::new(
+        gpu,
+        &[Attachment::kept(&targets.colour, COLOUR)],
+        Some(&DepthAttachment {
+            attachment: Attachment {
+                image: depth,
+                load: Load::Keep,
+                layouts: (DEPTH, DEPTH),
+            },
+            write: false,
+        }),
+    )?;
+    let pipelines = gpu_scene.mesh_pipelines_with(
+        gpu,
+        pass.render_pass,
+        crate::assets::MeshStages::Plain,
+        shade_spirv,
+        &[read_layout],
+        &PipelineState {
+            blends: &[Blend::Add],
+            depth: DepthMode::Less(false),
+            fragment_constants,
+            vertex_input: true,
+        },
+    )?;
+    Ok((pass, pipelines))
 }
