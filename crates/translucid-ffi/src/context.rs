@@ -3,19 +3,13 @@
 use crate::cast::{
     self, check_header, translucid_base_in_structure, translucid_context, try_out, try_ref, try_str,
 };
-use crate::frame::FrameRecord;
-use crate::handle::{next_context_tag, Kind, Slots};
 use crate::host::{host_gpu, translucid_host_device_create_info};
-use crate::material::MaterialRecord;
 use crate::panic::{self, CallState};
-use crate::renderers::{Destroyed, Renderers};
 use crate::result::{translucid_result, Failure, FfiResult};
 use crate::structure::translucid_structure_type;
 use crate::version;
-use std::collections::VecDeque;
 use std::ffi::{c_char, c_void, CString};
 use translucid::gpu::{Gpu, GpuOptions};
-use translucid::scene::{Mesh, Texture};
 
 /// How the context gets its device.
 #[allow(non_camel_case_types)]
@@ -72,65 +66,21 @@ pub const TRANSLUCID_MAX_FRAMES_IN_FLIGHT: u32 = 4;
 const _: () =
     assert!(TRANSLUCID_MAX_FRAMES_IN_FLIGHT == translucid::renderer::MAX_FRAMES_IN_FLIGHT);
 
-/// What the boundary guards: everything a call can touch.
-pub struct Objects {
-    pub gpu: Gpu,
-    pub device_name: CString,
-    pub meshes: Slots<Mesh>,
-    pub textures: Slots<Texture>,
-    pub materials: Slots<MaterialRecord>,
-    pub frames: Slots<FrameRecord>,
-    /// Counts the creations and destructions of assets: a renderer drawing an older
-    /// generation takes no new frame.
-    pub generation: u64,
-    /// The generation the last destruction of an asset the uploads could not keep began.
-    pub last_destroyed: u64,
-    pub renderers: Renderers,
-    /// Host-device frames recorded and not yet completed, oldest first.
-    pub in_flight: VecDeque<u64>,
-    /// The most frames in flight (`translucid_context_create_info::frames_in_flight`).
-    pub frames_in_flight: u32,
-    /// The largest `translucid_frame_info::frame_index` of a frame made so far.
-    pub last_frame_index: u64,
-}
+/// Most live objects of one kind (meshes, textures, materials or frames) in one context.
+pub const TRANSLUCID_MAX_OBJECTS: u32 = 1 << 24;
+const _: () = assert!(TRANSLUCID_MAX_OBJECTS == translucid::context::handles::MAX_OBJECTS);
 
-/// The context's assets, as renderers take them.
-pub struct Assets<'a> {
-    pub meshes: &'a Slots<Mesh>,
-    pub textures: &'a Slots<Texture>,
-    pub materials: &'a Slots<MaterialRecord>,
-    pub generation: u64,
-    pub last_destroyed: u64,
+/// What the boundary guards: everything a call can touch. The object model (assets,
+/// renderers, frames and their flight) is the core's `translucid::context::Context`; the C
+/// API converts to and from it.
+pub struct Objects {
+    pub core: translucid::context::Context,
+    pub device_name: CString,
 }
 
 impl Objects {
-    /// The assets, the renderers and the device, borrowed apart.
-    pub fn split(&mut self) -> (Assets<'_>, &mut Renderers, &Gpu) {
-        (
-            Assets {
-                meshes: &self.meshes,
-                textures: &self.textures,
-                materials: &self.materials,
-                generation: self.generation,
-                last_destroyed: self.last_destroyed,
-            },
-            &mut self.renderers,
-            &self.gpu,
-        )
-    }
-
-    /// Notes that an asset was created.
-    pub fn asset_created(&mut self) {
-        self.generation += 1;
-    }
-
-    /// Notes that an asset was destroyed (removed from its slots): the uploads keep its
-    /// place while most of them is alive, else the next frame uploads the assets anew.
-    pub fn asset_destroyed(&mut self, destroyed: Destroyed) {
-        self.generation += 1;
-        if !self.renderers.bury(destroyed) {
-            self.last_destroyed = self.generation;
-        }
+    pub fn gpu(&self) -> &Gpu {
+        self.core.gpu()
     }
 }
 
@@ -238,23 +188,12 @@ impl Context {
             // False for another driver's or device's data, which is documented as ignored.
             let _merged = gpu.merge_pipeline_cache(data)?;
         }
-        let tag = next_context_tag();
         let device_name = CString::new(gpu.info().name.replace('\0', "")).unwrap_or_default();
         Ok(Self {
             state: CallState::default(),
             objects: Objects {
-                gpu,
+                core: translucid::context::Context::new(gpu, frames_in_flight),
                 device_name,
-                meshes: Slots::new(Kind::Mesh, tag),
-                textures: Slots::new(Kind::Texture, tag),
-                materials: Slots::new(Kind::Material, tag),
-                frames: Slots::new(Kind::Frame, tag),
-                generation: 0,
-                last_destroyed: 0,
-                renderers: Renderers::new(frames_in_flight),
-                in_flight: VecDeque::new(),
-                frames_in_flight,
-                last_frame_index: 0,
             },
         })
     }
@@ -320,7 +259,7 @@ impl translucid_context {
         panic::with_context(context, |objects| {
             let capacity = *try_ref(size.cast_const(), "size")?;
             let out_size = try_out(size, "size")?;
-            let bytes = objects.gpu.pipeline_cache_data()?;
+            let bytes = objects.gpu().pipeline_cache_data()?;
             if data.is_null() {
                 out_size.write(bytes.len());
                 return Ok(translucid_result::Success);

@@ -13,6 +13,7 @@ use crate::panic;
 use crate::result::{translucid_result, Failure, FfiResult};
 use crate::structure::translucid_structure_type;
 use std::ffi::{c_char, c_void};
+use translucid::context::frames::FrameRecord;
 use translucid::Image;
 
 /// Most draws in one frame: what every Vulkan device holds in the one storage binding of
@@ -272,59 +273,19 @@ pub struct translucid_frame {
     pub id: u64,
 }
 
-/// A frame as the context keeps it: what it cost and, for standalone frames, its pixels.
-pub struct FrameRecord {
-    pub(crate) method: translucid_method,
-    pub(crate) width: u32,
-    pub(crate) height: u32,
-    /// `None` for host-device frames, whose pixels are in the engine's image.
-    pub(crate) image: Option<Image>,
-    /// A host-device frame recorded and not yet completed: no statistics yet.
-    pub(crate) in_flight: bool,
-    /// The renderer that drew it (`Renderers`).
-    pub(crate) renderer: u64,
-    /// Ended without completing, by the abandonment of an earlier frame: no statistics.
-    pub(crate) abandoned: bool,
-    pub(crate) frame_index: u64,
-    pub(crate) stages: Vec<(&'static str, f64)>,
-    pub(crate) method_ms: f64,
-    pub(crate) peak_gpu_bytes: u64,
-    pub(crate) fragments: u64,
-    pub(crate) tail_fragments: u64,
-    pub(crate) unpeeled_pixels: u64,
-    pub(crate) rerenders: u32,
-    pub(crate) overflowed: bool,
-    pub(crate) dispatches: u64,
-    /// What the call that made the frame built: pipelines, and bytes of GPU memory.
-    pub(crate) built: (u64, u64),
+/// The frame's pixels, or why there are none here.
+fn image_of(record: &FrameRecord) -> FfiResult<&Image> {
+    record.image.as_ref().ok_or_else(|| {
+        Failure::new(
+            translucid_result::ErrorNotSupported,
+            "a host-device frame's pixels are in the engine's colour image; translucid \
+             keeps no copy to read or write",
+        )
+    })
 }
 
-/// What the device has built so far: pipelines created, and bytes of GPU memory allocated.
-pub(crate) fn built_so_far(gpu: &translucid::gpu::Gpu) -> (u64, u64) {
-    (gpu.pipelines_created(), gpu.bytes_allocated())
-}
-
-/// What the device built since `before` ([`built_so_far`]).
-pub(crate) fn built_since(gpu: &translucid::gpu::Gpu, before: (u64, u64)) -> (u64, u64) {
-    let now = built_so_far(gpu);
-    (now.0 - before.0, now.1 - before.1)
-}
-
-impl FrameRecord {
-    /// The frame's pixels, or why there are none here.
-    fn image(&self) -> FfiResult<&Image> {
-        self.image.as_ref().ok_or_else(|| {
-            Failure::new(
-                translucid_result::ErrorNotSupported,
-                "a host-device frame's pixels are in the engine's colour image; translucid \
-                 keeps no copy to read or write",
-            )
-        })
-    }
-}
-
-fn render(objects: &mut Objects, info: &translucid_frame_info) -> FfiResult<FrameRecord> {
-    if objects.gpu.is_host_device() {
+fn render(objects: &mut Objects, info: &translucid_frame_info) -> FfiResult<u64> {
+    if objects.gpu().is_host_device() {
         return Err(Failure::new(
             translucid_result::ErrorNotSupported,
             "translucid_frame_render renders on translucid's own device; a host-device context \
@@ -335,36 +296,7 @@ fn render(objects: &mut Objects, info: &translucid_frame_info) -> FfiResult<Fram
     let layer = layer
         .map(|l| opaque_layer_from(l, info.width, info.height))
         .transpose()?;
-    let before = built_so_far(&objects.gpu);
-    let (assets, renderers, gpu) = objects.split();
-    let kept = renderers.for_frame(gpu, &assets, &request)?;
-    let rendered = match &layer {
-        Some(layer) => kept.renderer.render_over(layer),
-        None => kept.renderer.render(false),
-    };
-    // A renderer whose frame failed is not kept: the next frame starts afresh.
-    let id = kept.id;
-    let frame = rendered.inspect_err(|_| objects.renderers.retire(id))?;
-    Ok(FrameRecord {
-        method: translucid_method::from_raw(info.method)?,
-        width: frame.image.width,
-        height: frame.image.height,
-        method_ms: frame.method_ms(),
-        image: Some(frame.image),
-        in_flight: false,
-        renderer: id,
-        abandoned: false,
-        frame_index: info.frame_index,
-        stages: frame.stages,
-        peak_gpu_bytes: frame.peak_gpu_bytes,
-        fragments: frame.fragments,
-        tail_fragments: frame.tail_fragments,
-        unpeeled_pixels: frame.unpeeled_pixels,
-        rerenders: frame.rerenders,
-        overflowed: false,
-        dispatches: frame.dispatches,
-        built: built_since(&objects.gpu, before),
-    })
+    Ok(objects.core.render(&request, layer.as_ref())?)
 }
 
 fn statistics_of(record: &FrameRecord, header: (u32, *mut c_void)) -> translucid_frame_statistics {
@@ -388,7 +320,7 @@ fn statistics_of(record: &FrameRecord, header: (u32, *mut c_void)) -> translucid
     translucid_frame_statistics {
         s_type: header.0,
         next: header.1,
-        method: record.method as u32,
+        method: translucid_method::of_kind(record.method) as u32,
         width: record.width,
         height: record.height,
         stage_count: u32::try_from(stage_count).unwrap_or(0),
@@ -440,9 +372,7 @@ impl translucid_frame {
         panic::with_context(context, |objects| {
             let info = try_ref(info, "info")?;
             let out = try_out(out_frame, "out_frame")?;
-            let record = render(objects, info)?;
-            let id = objects.frames.insert(record)?;
-            objects.last_frame_index = objects.last_frame_index.max(info.frame_index);
+            let id = render(objects, info)?;
             out.write(translucid_frame { id });
             Ok(translucid_result::Success)
         })
@@ -461,7 +391,7 @@ impl translucid_frame {
         size: usize,
     ) -> translucid_result {
         panic::with_context(context, |objects| {
-            let image = objects.frames.get(frame.id)?.image()?;
+            let image = image_of(objects.core.frame(frame.id)?)?;
             let format = translucid_pixel_format::from_raw(format)?;
             let needed = image.pixels.len() * format.bytes_per_pixel();
             if size < needed {
@@ -487,7 +417,7 @@ impl translucid_frame {
         path: *const c_char,
     ) -> translucid_result {
         panic::with_context(context, |objects| {
-            let image = objects.frames.get(frame.id)?.image()?;
+            let image = image_of(objects.core.frame(frame.id)?)?;
             let path = try_str(path, "path")?.ok_or_else(|| Failure::null("path"))?;
             if path.is_empty() {
                 return Err(Failure::argument("path is empty"));
@@ -507,7 +437,7 @@ impl translucid_frame {
         out_statistics: *mut translucid_frame_statistics,
     ) -> translucid_result {
         panic::with_context(context, |objects| {
-            let record = objects.frames.get(frame.id)?;
+            let record = objects.core.frame(frame.id)?;
             if record.abandoned {
                 return Err(Failure::argument(
                     "the frame was abandoned (translucid_frame_abandon of it or of an earlier \
@@ -537,14 +467,7 @@ impl translucid_frame {
         frame: translucid_frame,
     ) -> translucid_result {
         panic::with_context(context, |objects| {
-            if objects.frames.get(frame.id)?.in_flight {
-                return Err(Failure::new(
-                    translucid_result::ErrorFrameInFlight,
-                    "the frame is in flight: complete it after its submission finished, or \
-                     abandon it (translucid_frame_abandon) if the GPU is not running it",
-                ));
-            }
-            objects.frames.remove(frame.id)?;
+            objects.core.destroy_frame(frame.id)?;
             Ok(translucid_result::Success)
         })
     }
@@ -563,8 +486,7 @@ impl translucid_frame {
         frame: translucid_frame,
     ) -> translucid_result {
         panic::with_context(context, |objects| {
-            objects.frames.get(frame.id)?;
-            crate::host::abandon(objects, frame.id)?;
+            objects.core.abandon(frame.id)?;
             Ok(translucid_result::Success)
         })
     }

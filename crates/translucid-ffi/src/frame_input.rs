@@ -1,19 +1,20 @@
-//! Turning a frame's C description into what a renderer takes (`FrameRequest`) and the
-//! core's `OpaqueLayer`: check every value, convert the camera and light. The draws' handles
-//! are resolved by the renderer that draws them (`renderers`).
+//! Turning a frame's C description into what the core's context takes (`FrameRequest`) and
+//! the core's `OpaqueLayer`: check every value, convert the camera, light and draws. The
+//! draws' handles are resolved by the renderer that draws them
+//! (`translucid::context::renderers`).
 
 use crate::cast::{check_header, check_type, try_ref, try_slice};
 use crate::context::Objects;
 use crate::frame::{
-    translucid_camera, translucid_frame_info, translucid_layer, translucid_light,
+    translucid_camera, translucid_draw, translucid_frame_info, translucid_layer, translucid_light,
     translucid_opaque_layer, translucid_pixel_format, TRANSLUCID_MAX_DRAWS,
 };
 use crate::method::translucid_method;
 use crate::method_settings::MethodSettings;
-use crate::renderers::FrameRequest;
 use crate::result::{Failure, FfiResult};
 use crate::structure::translucid_structure_type;
 use glam::{Mat4, Vec2, Vec3};
+use translucid::context::renderers::{DrawRequest, FrameRequest, Layer};
 use translucid::image::srgb_to_linear;
 use translucid::scene::{Camera, Light, Projection};
 use translucid::OpaqueLayer;
@@ -74,10 +75,43 @@ fn light_from(light: Option<&translucid_light>) -> FfiResult<Light> {
 
 /// Checks `info` and turns it into a renderer's request (with the host's opaque layer, when
 /// it has one, in the second value).
+/// A draw as the core takes it: its transform finite, its tint a colour (zero: none), its
+/// layer known.
+fn draw_from(i: usize, d: &translucid_draw) -> FfiResult<DrawRequest> {
+    let in_draw = |f: Failure| Failure::new(f.code, format!("draws[{i}]: {}", f.message));
+    let transform = Mat4::from_cols_array(&d.transform);
+    if !transform.is_finite() {
+        return Err(in_draw(Failure::argument("transform is not finite")));
+    }
+    let tint = match glam::Vec4::from_array(d.tint) {
+        t if t == glam::Vec4::ZERO => glam::Vec4::ONE,
+        t if translucid::shading::is_colour(t) => t,
+        t => {
+            return Err(in_draw(Failure::argument(format!(
+                "tint {:?} must be non-negative and at most {}",
+                t.to_array(),
+                translucid::shading::MAX_COLOUR
+            ))))
+        }
+    };
+    let layer = match d.layer {
+        l if l == translucid_layer::Transparent as u32 => Layer::Transparent,
+        l if l == translucid_layer::Opaque as u32 => Layer::Opaque,
+        l => return Err(in_draw(Failure::enumeration("translucid_layer", l))),
+    };
+    Ok(DrawRequest {
+        mesh: d.mesh.id,
+        material: d.material.id,
+        transform,
+        tint,
+        layer,
+    })
+}
+
 pub(crate) fn frame_request<'a>(
     objects: &Objects,
     info: &'a translucid_frame_info,
-) -> FfiResult<(FrameRequest<'a>, Option<&'a translucid_opaque_layer>)> {
+) -> FfiResult<(FrameRequest, Option<&'a translucid_opaque_layer>)> {
     check_type(
         info.s_type,
         translucid_structure_type::FrameInfo,
@@ -85,12 +119,13 @@ pub(crate) fn frame_request<'a>(
     )?;
     let settings = MethodSettings::from_chain(info.next)?;
     let method = translucid_method::from_raw(info.method)?;
-    check_frame_size(&objects.gpu, info.width, info.height)?;
-    if info.frame_index != 0 && info.frame_index < objects.last_frame_index {
+    check_frame_size(objects.gpu(), info.width, info.height)?;
+    let last_frame_index = objects.core.last_frame_index();
+    if info.frame_index != 0 && info.frame_index < last_frame_index {
         return Err(Failure::argument(format!(
-            "translucid_frame_info.frame_index {} after {}: frame indices may not go backwards \
-             on a context (views of one frame share theirs; 0 is none)",
-            info.frame_index, objects.last_frame_index
+            "translucid_frame_info.frame_index {} after {last_frame_index}: frame indices may \
+             not go backwards on a context (views of one frame share theirs; 0 is none)",
+            info.frame_index
         )));
     }
     if info.draw_count > TRANSLUCID_MAX_DRAWS {
@@ -115,7 +150,7 @@ pub(crate) fn frame_request<'a>(
         .iter()
         .position(|d| d.layer == translucid_layer::Opaque as u32)
     {
-        if objects.gpu.is_host_device() {
+        if objects.gpu().is_host_device() {
             return Err(Failure::argument(format!(
                 "draws[{i}] is in TRANSLUCID_LAYER_OPAQUE, but in host-device mode the opaque \
                  layer is your colour and depth images: draw opaque geometry into them"
@@ -137,7 +172,12 @@ pub(crate) fn frame_request<'a>(
         camera: camera_from(&info.camera)?,
         light: light_from(light)?,
         background: rgb(info.background, "background")?,
-        draws,
+        draws: draws
+            .iter()
+            .enumerate()
+            .map(|(i, d)| draw_from(i, d))
+            .collect::<FfiResult<_>>()?,
+        frame_index: info.frame_index,
     };
     Ok((request, layer))
 }

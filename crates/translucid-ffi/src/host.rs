@@ -2,19 +2,17 @@
 //! recorded into the engine's command buffer. Exports `translucid_host_requirements_get`,
 //! `translucid_frame_record` and `translucid_frame_complete`.
 //!
-//! The frame rule: up to the context's `frames_in_flight` frames are recorded and not yet
-//! completed, kept oldest first (`Objects::in_flight`). Completing a frame completes the older
-//! ones first, since one queue runs them in order; abandoning one ends it and every newer one.
-//! Until a frame's flight ends, the renderer that recorded it stays alive (`renderers`), even
-//! when the assets it drew were destroyed meanwhile.
+//! The frame rule (kept by the core's `translucid::context::Context`): up to the context's
+//! `frames_in_flight` frames are recorded and not yet completed, kept oldest first.
+//! Completing a frame completes the older ones first, since one queue runs them in order;
+//! abandoning one ends it and every newer one. Until a frame's flight ends, the renderer that
+//! recorded it stays alive, even when the assets it drew were destroyed meanwhile.
 
 use crate::cast::{
     check_header, translucid_context, try_out, try_out_structure, try_ref, try_slice, OutStructure,
 };
 use crate::context::Objects;
-use crate::frame::{
-    built_since, built_so_far, translucid_frame, translucid_frame_info, FrameRecord,
-};
+use crate::frame::{translucid_frame, translucid_frame_info};
 use crate::frame_input::frame_request;
 use crate::method::translucid_method;
 use crate::panic;
@@ -25,6 +23,7 @@ use crate::vulkan::{
     VkInstance, VkPhysicalDevice, VkPhysicalDeviceFeatures, VkQueueFlags,
 };
 use std::ffi::{c_char, c_void, CStr, CString};
+use translucid::context::{Completion, Recording};
 use translucid::gpu::{
     host_requirements, host_requirements_with, Gpu, HostDevice, HostImage, HostRequirements,
     HostTargets,
@@ -210,44 +209,24 @@ fn not_host(call: &str) -> Failure {
     )
 }
 
-/// What a host-device frame records: the method's frame, or the yardstick's.
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum Recording {
-    Method,
-    NativeBlend,
-}
-
+/// Records the frame `info` describes into the engine's command buffer of `targets`; the
+/// frame's handle.
 fn record(
     objects: &mut Objects,
     info: &translucid_frame_info,
     targets: &translucid_host_frame_targets,
     recording: Recording,
-) -> FfiResult<FrameRecord> {
+) -> FfiResult<u64> {
     check_header(
         targets.s_type,
         targets.next,
         translucid_structure_type::HostFrameTargets,
         "translucid_host_frame_targets",
     )?;
-    if !objects.gpu.is_host_device() {
+    if !objects.gpu().is_host_device() {
         return Err(not_host("translucid_frame_record"));
     }
-    let most = objects.frames_in_flight;
-    if let Some(&oldest) = objects
-        .in_flight
-        .front()
-        .filter(|_| objects.in_flight.len() >= most as usize)
-    {
-        return Err(Failure::new(
-            translucid_result::ErrorFrameInFlight,
-            format!(
-                "{most} frame(s) recorded and not completed, as many as the context was made \
-                 for (translucid_context_create_info.frames_in_flight): call \
-                 translucid_frame_complete for the oldest, {{{oldest:#x}}}, once its \
-                 submission finished"
-            ),
-        ));
-    }
+    objects.core.flight_room()?;
     let (request, _) = frame_request(objects, info)?;
     for (what, image) in [("colour", &targets.colour), ("depth", &targets.depth)] {
         if image.width < info.width || image.height < info.height {
@@ -264,160 +243,27 @@ fn record(
              layer is the colour and depth images of the translucid_host_frame_targets",
         ));
     }
-    let before = built_so_far(&objects.gpu);
-    let (assets, renderers, gpu) = objects.split();
-    let kept = renderers.for_frame(gpu, &assets, &request)?;
     let t = HostTargets {
         cmd: targets.command_buffer,
         colour: host_image(&targets.colour),
         depth: host_image(&targets.depth),
     };
-    let id = kept.id;
     // SAFETY: the header documents the engine's side: a recording command buffer outside a
     // render pass and images of at least the frame's size with the usages listed (for the
     // yardstick, attachment usages too), all of the device this context wraps. Handles,
     // formats and layouts are checked first.
-    let recorded = unsafe {
-        match recording {
-            Recording::Method => kept.renderer.record_host(&t),
-            Recording::NativeBlend => kept.renderer.record_native_blend(&t),
-        }
-    };
-    if let Err(e) = recorded {
-        // Part of the frame may be recorded (the engine resets its command buffer), and the
-        // renderer believes it: it takes no new frame.
-        renderers.retire(id);
-        return Err(e.into());
-    }
-    kept.in_flight += 1;
-    Ok(FrameRecord {
-        method: translucid_method::from_raw(info.method)?,
-        width: info.width,
-        height: info.height,
-        image: None,
-        in_flight: true,
-        renderer: id,
-        abandoned: false,
-        frame_index: info.frame_index,
-        stages: Vec::new(),
-        method_ms: 0.0,
-        peak_gpu_bytes: 0,
-        fragments: 0,
-        tail_fragments: 0,
-        unpeeled_pixels: 0,
-        rerenders: 0,
-        overflowed: false,
-        dispatches: 0,
-        built: built_since(&objects.gpu, before),
-    })
-}
-
-/// Completes the oldest frame in flight, whose commands the engine says have run.
-fn complete_oldest(objects: &mut Objects) -> FfiResult<translucid_result> {
-    let Some(&frame) = objects.in_flight.front() else {
-        return Err(Failure::argument("no frame is in flight"));
-    };
-    let renderer = objects.frames.get(frame)?.renderer;
-    let kept = objects
-        .renderers
-        .get_mut(renderer)
-        .ok_or_else(|| Failure::argument("the frame's renderer is gone"))?;
-    let done = if kept.failed {
-        Err(Failure::argument(
-            "an earlier frame recorded with the same renderer failed to complete; this frame's \
-             image is not known to be right",
-        ))
-    } else {
-        match kept.renderer.complete_host() {
-            Ok(None) => return Ok(translucid_result::NotReady),
-            Ok(Some(done)) => Ok(done),
-            Err(e) => {
-                kept.failed = true;
-                Err(e.into())
-            }
-        }
-    };
-    // The commands ran: the frame's flight is over whatever the method reports.
-    kept.in_flight -= 1;
-    let failed = kept.failed;
-    objects.in_flight.pop_front();
-    if failed {
-        objects.renderers.retire(renderer);
-    } else {
-        objects.renderers.free_unused(None);
-    }
-    let record = objects.frames.get_mut(frame)?;
-    record.in_flight = false;
-    let done = done?;
-    record.method_ms = done.method_ms;
-    record.stages = done.stages;
-    record.peak_gpu_bytes = done.peak_gpu_bytes;
-    record.fragments = done.fragments;
-    record.tail_fragments = done.tail_fragments;
-    record.unpeeled_pixels = done.unpeeled_pixels;
-    record.overflowed = done.overflowed;
-    record.dispatches = done.dispatches;
-    Ok(if done.overflowed {
-        translucid_result::Incomplete
-    } else {
-        translucid_result::Success
-    })
+    Ok(unsafe { objects.core.record(&request, &t, recording) }?)
 }
 
 fn complete(objects: &mut Objects, frame: translucid_frame) -> FfiResult<translucid_result> {
-    if !objects.gpu.is_host_device() {
+    if !objects.gpu().is_host_device() {
         return Err(not_host("translucid_frame_complete"));
     }
-    objects.frames.get(frame.id)?;
-    if !objects.in_flight.contains(&frame.id) {
-        return Err(Failure::argument(
-            "the frame is not in flight: it was completed (completing a newer frame completes \
-             the older ones) or abandoned already",
-        ));
-    }
-    // Frames run in the order they were recorded (one queue): the older ones have run too.
-    loop {
-        let oldest = objects.in_flight.front().copied();
-        let result = complete_oldest(objects);
-        if oldest == Some(frame.id) {
-            return result;
-        }
-        match result {
-            Ok(translucid_result::NotReady) => return Ok(translucid_result::NotReady),
-            Err(e) => {
-                return Err(Failure::new(
-                    e.code,
-                    format!("completing an older frame in flight first: {}", e.message),
-                ))
-            }
-            Ok(_) => {}
-        }
-    }
-}
-
-/// Ends `frame` and every frame recorded after it without completing them. Their renderers
-/// take no new frame, and are freed once the older frames they serve are completed.
-pub(crate) fn abandon(objects: &mut Objects, frame: u64) -> FfiResult {
-    let Some(at) = objects.in_flight.iter().position(|&f| f == frame) else {
-        return Err(Failure::argument(
-            "the frame is not in flight: destroy it with translucid_frame_destroy",
-        ));
-    };
-    for f in objects.in_flight.split_off(at) {
-        let renderer = objects.frames.get(f)?.renderer;
-        if let Some(kept) = objects.renderers.get_mut(renderer) {
-            kept.in_flight -= 1;
-        }
-        objects.renderers.retire(renderer);
-        if f == frame {
-            objects.frames.remove(f)?;
-        } else {
-            let record = objects.frames.get_mut(f)?;
-            record.in_flight = false;
-            record.abandoned = true;
-        }
-    }
-    Ok(())
+    Ok(match objects.core.complete(frame.id)? {
+        Completion::NotReady => translucid_result::NotReady,
+        Completion::Complete => translucid_result::Success,
+        Completion::Degraded => translucid_result::Incomplete,
+    })
 }
 
 impl OutStructure for translucid_host_requirements {
@@ -496,17 +342,7 @@ fn record_frame(
     let info = try_ref(info, "info")?;
     let targets = try_ref(targets, "targets")?;
     let out = try_out(out_frame, "out_frame")?;
-    let record = record(objects, info, targets, recording)?;
-    let renderer = record.renderer;
-    let id = objects.frames.insert(record).inspect_err(|_| {
-        // Recorded but untracked: the renderer must not be trusted again.
-        if let Some(kept) = objects.renderers.get_mut(renderer) {
-            kept.in_flight -= 1;
-        }
-        objects.renderers.retire(renderer);
-    })?;
-    objects.in_flight.push_back(id);
-    objects.last_frame_index = objects.last_frame_index.max(info.frame_index);
+    let id = record(objects, info, targets, recording)?;
     out.write(translucid_frame { id });
     Ok(translucid_result::Success)
 }

@@ -20,8 +20,12 @@
 //! - No panic crosses into C: it becomes `TRANSLUCID_RESULT_ERROR_PANIC`, and the context
 //!   refuses further work.
 //!
+//! The object model (handles, assets, renderers, frames in flight) is the core's
+//! `translucid::context`; this crate converts, checks structures and turns errors into
+//! results.
+//!
 //! Module map: [`cast`] (the only place raw pointers become references), [`panic`] (the
-//! boundary), [`result`], [`handle`], [`structure`], [`version`], then one module per object
+//! boundary), [`result`], [`structure`], [`version`], then one module per object
 //! with its exports: [`context`], [`method`], [`mesh`], [`texture`], [`material`], [`frame`]
 //! (with [`frame_input`] building the core scene), [`host`] (host-device mode, with the
 //! Vulkan types of [`vulkan`]).
@@ -30,14 +34,12 @@ pub mod cast;
 pub mod context;
 pub mod frame;
 pub mod frame_input;
-pub mod handle;
 pub mod host;
 pub mod material;
 pub mod mesh;
 pub mod method;
 pub mod method_settings;
 pub mod panic;
-pub mod renderers;
 pub mod result;
 pub mod structure;
 pub mod texture;

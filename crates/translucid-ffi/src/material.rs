@@ -2,7 +2,6 @@
 
 use crate::cast::{check_header, translucid_context, try_out, try_ref, try_str};
 use crate::panic;
-use crate::renderers::Destroyed;
 use crate::result::{translucid_result, Failure, FfiResult};
 use crate::structure::translucid_structure_type;
 use crate::texture::translucid_texture;
@@ -54,12 +53,6 @@ pub struct translucid_material {
     pub id: u64,
 }
 
-/// A material as the context keeps it: the texture by handle, resolved when drawn.
-pub struct MaterialRecord {
-    pub material: Material,
-    pub texture: Option<u64>,
-}
-
 fn material_from_info(info: &translucid_material_create_info) -> FfiResult<Material> {
     check_header(
         info.s_type,
@@ -109,17 +102,8 @@ impl translucid_material {
             let info = try_ref(info, "info")?;
             let out = try_out(out_material, "out_material")?;
             let material = material_from_info(info)?;
-            let texture = match info.texture.id {
-                0 => None,
-                id => {
-                    objects.textures.get(id)?;
-                    Some(id)
-                }
-            };
-            let id = objects
-                .materials
-                .insert(MaterialRecord { material, texture })?;
-            objects.asset_created();
+            let texture = (info.texture.id != 0).then_some(info.texture.id);
+            let id = objects.core.create_material(material, texture)?;
             out.write(translucid_material { id });
             Ok(translucid_result::Success)
         })
@@ -132,8 +116,7 @@ impl translucid_material {
         material: translucid_material,
     ) -> translucid_result {
         panic::with_context(context, |objects| {
-            let removed = objects.materials.remove(material.id)?;
-            objects.asset_destroyed(Destroyed::Material(material.id, removed));
+            objects.core.destroy_material(material.id)?;
             Ok(translucid_result::Success)
         })
     }

@@ -2,7 +2,6 @@
 
 use crate::cast::{check_header, translucid_context, try_out, try_ref, try_slice, try_str};
 use crate::panic;
-use crate::renderers::Destroyed;
 use crate::result::{translucid_result, Failure, FfiResult};
 use crate::structure::translucid_structure_type;
 use glam::{Vec2, Vec3, Vec4};
@@ -140,8 +139,7 @@ impl translucid_mesh {
         panic::with_context(context, |objects| {
             let info = try_ref(info, "info")?;
             let out = try_out(out_mesh, "out_mesh")?;
-            let id = objects.meshes.insert(mesh_from_info(info)?)?;
-            objects.asset_created();
+            let id = objects.core.create_mesh(mesh_from_info(info)?)?;
             out.write(translucid_mesh { id });
             Ok(translucid_result::Success)
         })
@@ -162,8 +160,7 @@ impl translucid_mesh {
         positions: *const f32,
     ) -> translucid_result {
         panic::with_context(context, |objects| {
-            let target = objects.meshes.get_mut(mesh.id)?;
-            let total = target.positions.len();
+            let total = objects.core.mesh(mesh.id)?.positions.len();
             let first = first_vertex as usize;
             let count = vertex_count as usize;
             if count == 0 || first.checked_add(count).is_none_or(|end| end > total) {
@@ -180,15 +177,8 @@ impl translucid_mesh {
                     given[i]
                 )));
             }
-            for (p, v) in target.positions[first..first + count]
-                .iter_mut()
-                .zip(given.chunks_exact(3))
-            {
-                *p = Vec3::from_slice(v);
-            }
-            // The mesh's positions, not a copy: particles update every frame.
-            let positions = &objects.meshes.get(mesh.id)?.positions;
-            objects.renderers.update_mesh(mesh.id, positions)?;
+            let positions: Vec<Vec3> = given.chunks_exact(3).map(Vec3::from_slice).collect();
+            objects.core.update_mesh(mesh.id, first, &positions)?;
             Ok(translucid_result::Success)
         })
     }
@@ -202,8 +192,7 @@ impl translucid_mesh {
         mesh: translucid_mesh,
     ) -> translucid_result {
         panic::with_context(context, |objects| {
-            let removed = objects.meshes.remove(mesh.id)?;
-            objects.asset_destroyed(Destroyed::Mesh(mesh.id, removed));
+            objects.core.destroy_mesh(mesh.id)?;
             Ok(translucid_result::Success)
         })
     }

@@ -82,6 +82,18 @@ impl translucid_method {
         }
     }
 
+    /// The value of the core's method `kind`.
+    pub fn of_kind(kind: MethodKind) -> Self {
+        match kind {
+            MethodKind::Blend => Self::Blend,
+            MethodKind::Exact => Self::Exact,
+            MethodKind::Wavelet => Self::Wavelet,
+            MethodKind::Wboit => Self::Wboit,
+            MethodKind::LinkedList => Self::LinkedList,
+            MethodKind::DepthPeeling => Self::DepthPeeling,
+        }
+    }
+
     /// The name the core library (and the CLI) uses.
     pub fn name(self) -> &'static str {
         self.kind().name()

@@ -219,6 +219,10 @@ impl From<translucid::Error> for Failure {
             // A bug of the library's: no code of its own, and nothing the caller can fix.
             | E::Internal(_) => R::ErrorInvalidArgument,
             E::TooLarge(_) => R::ErrorInvalidSize,
+            E::InvalidHandle(_) => R::ErrorInvalidHandle,
+            E::StaleHandle(_) => R::ErrorStaleHandle,
+            E::ForeignHandle(_) => R::ErrorForeignHandle,
+            E::FrameInFlight(_) => R::ErrorFrameInFlight,
             E::HostRequirements(_) => R::ErrorDeviceRequirements,
             E::InvalidViewport { .. } => R::ErrorInvalidSize,
             E::UnknownMethod(..) => R::ErrorMethodUnavailable,

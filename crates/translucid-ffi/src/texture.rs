@@ -5,7 +5,6 @@ use crate::cast::{
     try_str,
 };
 use crate::panic;
-use crate::renderers::Destroyed;
 use crate::result::{translucid_result, Failure, FfiResult};
 use crate::structure::translucid_structure_type;
 use std::ffi::{c_char, c_void};
@@ -240,8 +239,7 @@ impl translucid_texture {
         panic::with_context(context, |objects| {
             let info = try_ref(info, "info")?;
             let out = try_out(out_texture, "out_texture")?;
-            let id = objects.textures.insert(texture_from_info(info)?)?;
-            objects.asset_created();
+            let id = objects.core.create_texture(texture_from_info(info)?)?;
             out.write(translucid_texture { id });
             Ok(translucid_result::Success)
         })
@@ -255,8 +253,7 @@ impl translucid_texture {
         texture: translucid_texture,
     ) -> translucid_result {
         panic::with_context(context, |objects| {
-            let removed = objects.textures.remove(texture.id)?;
-            objects.asset_destroyed(Destroyed::Texture(texture.id, removed));
+            objects.core.destroy_texture(texture.id)?;
             Ok(translucid_result::Success)
         })
     }

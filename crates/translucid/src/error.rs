@@ -38,6 +38,19 @@ pub enum Error {
     /// translucid used one of its own objects wrongly: a bug, to be reported.
     #[error("internal error: {0}")]
     Internal(String),
+    /// A handle that names no object of its kind here: NULL, never issued, or another kind's
+    /// (`context::handles`).
+    #[error("{0}")]
+    InvalidHandle(String),
+    /// A handle whose object was destroyed.
+    #[error("{0}")]
+    StaleHandle(String),
+    /// A handle another context issued.
+    #[error("{0}")]
+    ForeignHandle(String),
+    /// A frame recorded while as many as the context was made for are in flight.
+    #[error("{0}")]
+    FrameInFlight(String),
     /// A name that is neither a generated scene nor a file path.
     #[error("unknown scene {0:?}: not a file and not one of the generated scenes ({1})")]
     UnknownScene(String, String),
@@ -101,6 +114,23 @@ fn for_object(object: &str) -> String {
 
 /// `Result` with translucid's [`Error`].
 pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+impl Error {
+    /// The same error, its message starting with `prefix` (where it has a message of its
+    /// own): says which element of a list it is about.
+    pub fn prefixed(self, prefix: &str) -> Self {
+        let at = |m: String| format!("{prefix}: {m}");
+        match self {
+            Self::InvalidScene(m) => Self::InvalidScene(at(m)),
+            Self::TooLarge(m) => Self::TooLarge(at(m)),
+            Self::InvalidArgument(m) => Self::InvalidArgument(at(m)),
+            Self::InvalidHandle(m) => Self::InvalidHandle(at(m)),
+            Self::StaleHandle(m) => Self::StaleHandle(at(m)),
+            Self::ForeignHandle(m) => Self::ForeignHandle(at(m)),
+            other => other,
+        }
+    }
+}
 
 #[cfg(test)]
 mod tests {

@@ -12,6 +12,7 @@
 //! - [`renderer`]: ties a device, an uploaded scene, the opaque layer and a method into a frame.
 
 pub mod assets;
+pub mod context;
 pub mod error;
 pub mod frame;
 pub mod gpu;

@@ -1,11 +1,12 @@
 //! Generational handles: a stale or foreign handle is an error, never a dangling object.
+//! (The C API's handles are these numbers.)
 //!
 //! A handle is 64 bits: slot index (24), generation (20), object kind (4), context tag (16).
 //! Destroying an object bumps its slot's generation, so old handles to the slot stop matching;
 //! the tag is different for each live context (until 65 535 contexts were made), so a handle
 //! from another context is recognised as such. 0 is never issued: it is the NULL handle.
 
-use crate::result::{translucid_result, Failure, FfiResult};
+use crate::{Error, Result};
 use std::sync::atomic::{AtomicU32, Ordering};
 
 const INDEX_BITS: u32 = 24;
@@ -22,8 +23,7 @@ const KIND_SHIFT: u32 = GENERATION_SHIFT + GENERATION_BITS;
 const TAG_SHIFT: u32 = KIND_SHIFT + KIND_BITS;
 
 /// Most live objects of one kind (meshes, textures, materials or frames) in one context.
-pub const TRANSLUCID_MAX_OBJECTS: u32 = 1 << 24;
-const _: () = assert!(TRANSLUCID_MAX_OBJECTS == 1 << INDEX_BITS);
+pub const MAX_OBJECTS: u32 = 1 << INDEX_BITS;
 
 /// A fresh context tag, never 0.
 pub fn next_context_tag() -> u16 {
@@ -48,7 +48,7 @@ pub enum Kind {
 }
 
 impl Kind {
-    fn name(self) -> &'static str {
+    pub fn name(self) -> &'static str {
         match self {
             Kind::Mesh => "mesh",
             Kind::Texture => "texture",
@@ -88,14 +88,14 @@ impl<T> Slots<T> {
     }
 
     /// Stores `value` and returns its handle.
-    pub fn insert(&mut self, value: T) -> FfiResult<u64> {
+    pub fn insert(&mut self, value: T) -> Result<u64> {
         let index = match self.free.pop() {
             Some(i) => i,
             None => {
                 if self.slots.len() >= 1 << INDEX_BITS {
-                    return Err(Failure::size(format!(
-                        "a context holds at most TRANSLUCID_MAX_OBJECTS ({TRANSLUCID_MAX_OBJECTS}) \
-                         {} objects",
+                    return Err(Error::TooLarge(format!(
+                        "a context holds at most TRANSLUCID_MAX_OBJECTS ({MAX_OBJECTS}) {} \
+                         objects",
                         self.kind.name()
                     )));
                 }
@@ -112,7 +112,7 @@ impl<T> Slots<T> {
         Ok(self.encode(index, generation))
     }
 
-    pub fn get(&self, handle: u64) -> FfiResult<&T> {
+    pub fn get(&self, handle: u64) -> Result<&T> {
         let index = self.check(handle)?;
         self.slots[index]
             .value
@@ -120,7 +120,7 @@ impl<T> Slots<T> {
             .ok_or_else(|| self.stale(handle))
     }
 
-    pub fn get_mut(&mut self, handle: u64) -> FfiResult<&mut T> {
+    pub fn get_mut(&mut self, handle: u64) -> Result<&mut T> {
         let index = self.check(handle)?;
         let stale = self.stale(handle);
         self.slots[index].value.as_mut().ok_or(stale)
@@ -135,7 +135,7 @@ impl<T> Slots<T> {
     }
 
     /// Removes the object, so its handle becomes stale.
-    pub fn remove(&mut self, handle: u64) -> FfiResult<T> {
+    pub fn remove(&mut self, handle: u64) -> Result<T> {
         let index = self.check(handle)?;
         let stale = self.stale(handle);
         let slot = &mut self.slots[index];
@@ -162,9 +162,9 @@ impl<T> Slots<T> {
 
     /// The slot index of a handle issued here whose object is still alive; a handle issued
     /// here whose object was destroyed is stale.
-    fn check(&self, handle: u64) -> FfiResult<usize> {
+    fn check(&self, handle: u64) -> Result<usize> {
         let what = self.kind.name();
-        let invalid = |why: String| Failure::new(translucid_result::ErrorInvalidHandle, why);
+        let invalid = Error::InvalidHandle;
         if handle == 0 {
             return Err(invalid(format!("the {what} handle is NULL (0)")));
         }
@@ -172,10 +172,9 @@ impl<T> Slots<T> {
         let kind = Kind::from_bits((handle >> KIND_SHIFT) & KIND_MASK);
         // Tag 0 is never issued, so such a value is garbage rather than foreign.
         if kind.is_some() && tag != 0 && tag != u64::from(self.tag) {
-            return Err(Failure::new(
-                translucid_result::ErrorForeignHandle,
-                format!("{what} handle {handle:#x} belongs to another context"),
-            ));
+            return Err(Error::ForeignHandle(format!(
+                "{what} handle {handle:#x} belongs to another context"
+            )));
         }
         match kind {
             Some(k) if k == self.kind => {}
@@ -203,21 +202,28 @@ impl<T> Slots<T> {
         }
     }
 
-    fn stale(&self, handle: u64) -> Failure {
-        Failure::new(
-            translucid_result::ErrorStaleHandle,
-            format!(
-                "{} handle {handle:#x} names a destroyed {}",
-                self.kind.name(),
-                self.kind.name()
-            ),
-        )
+    fn stale(&self, handle: u64) -> Error {
+        let what = self.kind.name();
+        Error::StaleHandle(format!(
+            "{what} handle {handle:#x} names a destroyed {what}"
+        ))
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The kind of error, by variant.
+    fn kind<T>(r: Result<T>) -> &'static str {
+        match r {
+            Ok(_) => "ok",
+            Err(Error::InvalidHandle(_)) => "invalid",
+            Err(Error::StaleHandle(_)) => "stale",
+            Err(Error::ForeignHandle(_)) => "foreign",
+            Err(_) => "other",
+        }
+    }
 
     #[test]
     fn stale_foreign_and_wrong_kind_handles_are_told_apart() {
@@ -227,35 +233,37 @@ mod tests {
         let a = meshes.insert("a").expect("insert");
         assert_eq!(*meshes.get(a).expect("live"), "a");
         let foreign = other.insert("x").expect("insert");
-        let code = |r: FfiResult<&&str>| r.err().map(|f| f.code);
-        assert_eq!(
-            code(meshes.get(foreign)),
-            Some(translucid_result::ErrorForeignHandle)
-        );
-        assert_eq!(
-            materials.get(a).err().map(|f| f.code),
-            Some(translucid_result::ErrorInvalidHandle)
-        );
-        assert_eq!(
-            code(meshes.get(0)),
-            Some(translucid_result::ErrorInvalidHandle)
-        );
+        assert_eq!(kind(meshes.get(foreign)), "foreign");
+        assert_eq!(kind(materials.get(a)), "invalid");
+        assert_eq!(kind(meshes.get(0)), "invalid");
         assert_eq!(meshes.remove(a).expect("remove"), "a");
-        assert_eq!(
-            code(meshes.get(a)),
-            Some(translucid_result::ErrorStaleHandle)
-        );
+        assert_eq!(kind(meshes.get(a)), "stale");
         // The slot is reused with a new generation: the old handle stays stale.
         let b = meshes.insert("b").expect("insert");
         assert_ne!(a, b);
-        assert_eq!(
-            code(meshes.get(a)),
-            Some(translucid_result::ErrorStaleHandle)
-        );
-        assert_eq!(
-            code(meshes.get(b + (1 << GENERATION_SHIFT))),
-            Some(translucid_result::ErrorInvalidHandle)
-        );
+        assert_eq!(kind(meshes.get(a)), "stale");
+        assert_eq!(kind(meshes.get(b + (1 << GENERATION_SHIFT))), "invalid");
         assert_eq!(meshes.live(), 1);
+    }
+
+    #[test]
+    fn a_slot_reused_a_million_times_never_issues_handle_zero_or_an_old_one() {
+        let mut slots = Slots::new(Kind::Frame, 1);
+        let first = slots.insert(0).expect("insert");
+        slots.remove(first).expect("remove");
+        let mut seen = std::collections::HashSet::new();
+        for i in 0..GENERATION_LIMIT + 2 {
+            let h = slots.insert(i).expect("insert");
+            assert_ne!(
+                h & (GENERATION_MASK << GENERATION_SHIFT),
+                0,
+                "generation 0 issued"
+            );
+            if i < GENERATION_LIMIT - 2 {
+                assert!(seen.insert(h), "handle {h:#x} issued twice before the wrap");
+            }
+            slots.remove(h).expect("remove");
+        }
+        assert_eq!(slots.live(), 0);
     }
 }

@@ -13,17 +13,14 @@
 //! a frame in flight draws is safe). A context keeps a few renderers, so that views of
 //! different methods in one frame loop each keep theirs.
 
-use crate::context::Assets;
-use crate::frame::translucid_draw;
-use crate::frame::translucid_layer;
-use crate::material::MaterialRecord;
-use crate::result::{translucid_result, Failure, FfiResult};
+use super::assets::{Assets, Destroyed, MaterialRecord};
+use crate::gpu::Gpu;
+use crate::methods::{MethodKind, MethodOptions};
+use crate::renderer::{FrameShape, Renderer, ResidentAssets};
+use crate::scene::{Camera, Draw, FrameInput, Light, Mesh, Scene, Texture};
+use crate::{Error, Result};
 use std::collections::{HashMap, HashSet};
 use std::sync::Arc;
-use translucid::gpu::Gpu;
-use translucid::methods::{MethodKind, MethodOptions};
-use translucid::renderer::{FrameShape, Renderer, ResidentAssets};
-use translucid::scene::{Camera, Draw, FrameInput, Light, Mesh, Scene, Texture};
 
 /// Renderers kept per context; past this, the least recently used one no frame in flight
 /// uses is freed.
@@ -34,7 +31,7 @@ const MAX_RENDERERS: usize = 4;
 pub type SettingsKey = Vec<u64>;
 
 /// A frame as a renderer takes it: the settings it needs, and what it draws.
-pub struct FrameRequest<'a> {
+pub struct FrameRequest {
     pub key: SettingsKey,
     pub method: MethodKind,
     pub width: u32,
@@ -43,7 +40,28 @@ pub struct FrameRequest<'a> {
     pub camera: Camera,
     pub light: Light,
     pub background: glam::Vec3,
-    pub draws: &'a [translucid_draw],
+    pub draws: Vec<DrawRequest>,
+    /// The engine's frame number (0: none): views of one frame share it.
+    pub frame_index: u64,
+}
+
+/// Which layer a draw is in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Layer {
+    /// Drawn into the opaque layer (standalone frames without a caller's opaque layer).
+    Opaque,
+    Transparent,
+}
+
+/// One draw of a frame, by handle: a mesh with a material, placed by `transform` (finite)
+/// and tinted by `tint` (a colour: ONE for none).
+#[derive(Clone, Copy, Debug)]
+pub struct DrawRequest {
+    pub mesh: u64,
+    pub material: u64,
+    pub transform: glam::Mat4,
+    pub tint: glam::Vec4,
+    pub layer: Layer,
 }
 
 /// Where each asset handle sits in a renderer's scene.
@@ -69,13 +87,6 @@ pub struct Kept {
     /// A completion failed: the core renderer must not be asked again.
     pub failed: bool,
     last_used: u64,
-}
-
-/// An asset just destroyed, with its data, for the uploads to keep its place.
-pub enum Destroyed {
-    Mesh(u64, Mesh),
-    Texture(u64, Texture),
-    Material(u64, MaterialRecord),
 }
 
 /// Destroyed assets the uploads still hold, by handle: a scene over the uploads keeps them
@@ -153,9 +164,9 @@ impl Renderers {
     pub fn for_frame(
         &mut self,
         gpu: &Gpu,
-        assets: &Assets<'_>,
-        request: &FrameRequest<'_>,
-    ) -> FfiResult<&mut Kept> {
+        assets: &Assets,
+        request: &FrameRequest,
+    ) -> Result<&mut Kept> {
         self.uses += 1;
         self.adopt_created_assets(gpu, assets, request)?;
         for k in &mut self.kept {
@@ -179,7 +190,7 @@ impl Renderers {
             Some(i) => {
                 let k = &mut self.kept[i];
                 k.renderer.set_size(size.0, size.1)?;
-                let (opaque, transparent) = resolve_draws(&k.index, assets, request.draws)?;
+                let (opaque, transparent) = resolve_draws(&k.index, assets, &request.draws)?;
                 k.renderer.set_frame(&FrameInput {
                     camera: request.camera,
                     light: request.light,
@@ -265,9 +276,9 @@ impl Renderers {
     fn adopt_created_assets(
         &mut self,
         gpu: &Gpu,
-        assets: &Assets<'_>,
-        request: &FrameRequest<'_>,
-    ) -> FfiResult {
+        assets: &Assets,
+        request: &FrameRequest,
+    ) -> Result<()> {
         let Some(resident) = self
             .resident
             .as_mut()
@@ -312,9 +323,9 @@ impl Renderers {
     fn resident_for(
         &mut self,
         gpu: &Gpu,
-        assets: &Assets<'_>,
+        assets: &Assets,
         built: &AssetScene,
-    ) -> FfiResult<(Arc<ResidentAssets>, HashSet<u64>)> {
+    ) -> Result<(Arc<ResidentAssets>, HashSet<u64>)> {
         let current = self.resident.as_ref().map(|r| r.generation);
         if current != Some(assets.generation) || !built.on_base {
             self.resident = Some(Resident {
@@ -329,7 +340,7 @@ impl Renderers {
         self.resident
             .as_ref()
             .map(|r| (r.assets.clone(), r.moved.clone()))
-            .ok_or_else(|| Failure::argument("no resident assets"))
+            .ok_or_else(|| Error::Internal("no resident assets".into()))
     }
 
     /// Keeps a destroyed asset's place in the uploads. False when the uploads should be
@@ -359,6 +370,13 @@ impl Renderers {
         };
         g.bytes += bytes;
         2 * g.bytes <= r.bytes
+    }
+
+    /// A frame in flight recorded with renderer `id` ended (completed or abandoned).
+    pub fn frame_ended(&mut self, id: u64) {
+        if let Some(k) = self.get_mut(id) {
+            k.in_flight = k.in_flight.saturating_sub(1);
+        }
     }
 
     /// Makes the renderer take no new frame (freed once no frame in flight uses it).
@@ -393,7 +411,7 @@ impl Renderers {
 
     /// Moves mesh `handle`'s vertices in every renderer that takes new frames (the others
     /// draw what they were recorded with and are freed once done).
-    pub fn update_mesh(&mut self, handle: u64, positions: &[glam::Vec3]) -> FfiResult {
+    pub fn update_mesh(&mut self, handle: u64, positions: &[glam::Vec3]) -> Result<()> {
         if let Some(resident) = &mut self.resident {
             resident.moved.insert(handle);
         }
@@ -422,10 +440,10 @@ struct AssetScene {
 /// With `base` (the uploads' places and the destroyed assets they keep), those assets come
 /// first in their places, then the others.
 fn asset_scene(
-    assets: &Assets<'_>,
-    request: &FrameRequest<'_>,
+    assets: &Assets,
+    request: &FrameRequest,
     base: Option<(&AssetIndex, &Graveyard)>,
-) -> FfiResult<AssetScene> {
+) -> Result<AssetScene> {
     let places = base.map(|(p, _)| p);
     let graveyard = base.map(|(_, g)| g);
     let meshes = in_place(
@@ -491,12 +509,12 @@ fn asset_scene(
         if live && drawable {
             index.materials.insert(handle, scene.materials.len());
         }
-        scene.materials.push(translucid::scene::Material {
+        scene.materials.push(crate::scene::Material {
             texture,
             ..record.material.clone()
         });
     }
-    let (opaque, transparent) = resolve_draws(&index, assets, request.draws)?;
+    let (opaque, transparent) = resolve_draws(&index, assets, &request.draws)?;
     scene.opaque = opaque;
     scene.transparent = transparent;
     scene.validate()?;
@@ -511,56 +529,41 @@ fn asset_scene(
 /// The frame's draws as indices into a renderer's scene, opaque and transparent.
 fn resolve_draws(
     index: &AssetIndex,
-    assets: &Assets<'_>,
-    draws: &[translucid_draw],
-) -> FfiResult<(Vec<Draw>, Vec<Draw>)> {
+    assets: &Assets,
+    draws: &[DrawRequest],
+) -> Result<(Vec<Draw>, Vec<Draw>)> {
     let mut opaque = Vec::new();
     let mut transparent = Vec::new();
     for (i, d) in draws.iter().enumerate() {
-        let in_draw = |f: Failure| Failure::new(f.code, format!("draws[{i}]: {}", f.message));
-        let mesh = match index.meshes.get(&d.mesh.id) {
+        let in_draw = |e: Error| e.prefixed(&format!("draws[{i}]"));
+        let mesh = match index.meshes.get(&d.mesh) {
             Some(&m) => m,
             None => {
                 // Not in the renderer's scene: the handle is bad (say how) or stale.
-                assets.meshes.get(d.mesh.id).map_err(in_draw)?;
-                return Err(in_draw(Failure::argument("mesh unknown to the renderer")));
-            }
-        };
-        let material = match index.materials.get(&d.material.id) {
-            Some(&m) => m,
-            None => {
-                assets.materials.get(d.material.id).map_err(in_draw)?;
-                return Err(in_draw(Failure::new(
-                    translucid_result::ErrorStaleHandle,
-                    "its material's texture was destroyed",
+                assets.meshes.get(d.mesh).map_err(in_draw)?;
+                return Err(in_draw(Error::InvalidArgument(
+                    "mesh unknown to the renderer".into(),
                 )));
             }
         };
-        let transform = glam::Mat4::from_cols_array(&d.transform);
-        if !transform.is_finite() {
-            return Err(in_draw(Failure::argument("transform is not finite")));
-        }
-        let tint = match glam::Vec4::from_array(d.tint) {
-            t if t == glam::Vec4::ZERO => glam::Vec4::ONE,
-            t if translucid::shading::is_colour(t) => t,
-            t => {
-                return Err(in_draw(Failure::argument(format!(
-                    "tint {:?} must be non-negative and at most {}",
-                    t.to_array(),
-                    translucid::shading::MAX_COLOUR
-                ))))
+        let material = match index.materials.get(&d.material) {
+            Some(&m) => m,
+            None => {
+                assets.materials.get(d.material).map_err(in_draw)?;
+                return Err(in_draw(Error::StaleHandle(
+                    "its material's texture was destroyed".into(),
+                )));
             }
         };
         let draw = Draw {
             mesh,
             material,
-            transform,
-            tint,
+            transform: d.transform,
+            tint: d.tint,
         };
         match d.layer {
-            l if l == translucid_layer::Transparent as u32 => transparent.push(draw),
-            l if l == translucid_layer::Opaque as u32 => opaque.push(draw),
-            l => return Err(in_draw(Failure::enumeration("translucid_layer", l))),
+            Layer::Transparent => transparent.push(draw),
+            Layer::Opaque => opaque.push(draw),
         }
     }
     Ok((opaque, transparent))
@@ -595,4 +598,41 @@ fn in_place<'a, T>(
             .map(|(h, t)| (h, t, true)),
     );
     Some(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Over the uploads' places, live assets keep theirs, destroyed ones come from the
+    /// graveyard (not drawable), new ones follow; a place neither live nor buried means the
+    /// uploads cannot be kept.
+    #[test]
+    fn assets_keep_their_places_over_the_uploads() {
+        let live: Vec<(u64, &str)> = vec![(10, "a"), (30, "c"), (40, "d")];
+        let places: HashMap<u64, usize> = [(10, 0), (20, 1), (30, 2)].into();
+        let buried: HashMap<u64, &str> = [(20, "b")].into();
+        let placed = in_place(
+            live.iter().map(|(h, t)| (*h, t)),
+            Some(&places),
+            Some(&buried),
+        )
+        .expect("every place is live or buried");
+        let order: Vec<(u64, &str, bool)> = placed.iter().map(|(h, t, l)| (*h, **t, *l)).collect();
+        assert_eq!(
+            order,
+            [
+                (10, "a", true),
+                (20, "b", false),
+                (30, "c", true),
+                (40, "d", true)
+            ]
+        );
+        // Without the graveyard, the destroyed asset's place is lost.
+        assert!(in_place(live.iter().map(|(h, t)| (*h, t)), Some(&places), None).is_none());
+        // Without places, the live assets as they come.
+        let fresh = in_place(live.iter().map(|(h, t)| (*h, t)), None, None).expect("fresh");
+        assert_eq!(fresh.len(), 3);
+        assert!(fresh.iter().all(|(_, _, live)| *live));
+    }
 }

@@ -1,0 +1,91 @@
+//! A frame as the context keeps it once made: what it cost and, for standalone frames, its
+//! pixels; for frames on the engine's device, whether it is still in flight.
+
+use crate::methods::MethodKind;
+use crate::renderer::{Frame, HostFrame};
+use crate::Image;
+
+pub struct FrameRecord {
+    pub method: MethodKind,
+    pub width: u32,
+    pub height: u32,
+    /// `None` for frames on the engine's device, whose pixels are in the engine's image.
+    pub image: Option<Image>,
+    /// Recorded on the engine's device and not yet completed: no statistics yet.
+    pub in_flight: bool,
+    /// The renderer that drew it (`Renderers`).
+    pub renderer: u64,
+    /// Ended without completing, by the abandonment of an earlier frame: no statistics.
+    pub abandoned: bool,
+    pub frame_index: u64,
+    pub stages: Vec<(&'static str, f64)>,
+    pub method_ms: f64,
+    pub peak_gpu_bytes: u64,
+    pub fragments: u64,
+    pub tail_fragments: u64,
+    pub unpeeled_pixels: u64,
+    pub rerenders: u32,
+    /// The frame past a documented limit: not all of it is right (engine's device).
+    pub overflowed: bool,
+    pub dispatches: u64,
+    /// What the call that made the frame built: pipelines, and bytes of GPU memory.
+    pub built: (u64, u64),
+}
+
+impl FrameRecord {
+    /// A frame recorded on the engine's device, in flight.
+    pub fn recorded(method: MethodKind, size: (u32, u32), renderer: u64, index: u64) -> Self {
+        Self {
+            method,
+            width: size.0,
+            height: size.1,
+            image: None,
+            in_flight: true,
+            renderer,
+            abandoned: false,
+            frame_index: index,
+            stages: Vec::new(),
+            method_ms: 0.0,
+            peak_gpu_bytes: 0,
+            fragments: 0,
+            tail_fragments: 0,
+            unpeeled_pixels: 0,
+            rerenders: 0,
+            overflowed: false,
+            dispatches: 0,
+            built: (0, 0),
+        }
+    }
+
+    /// A standalone frame, rendered.
+    pub fn rendered(method: MethodKind, frame: Frame, renderer: u64, index: u64) -> Self {
+        Self {
+            width: frame.image.width,
+            height: frame.image.height,
+            method_ms: frame.method_ms(),
+            image: Some(frame.image),
+            in_flight: false,
+            stages: frame.stages,
+            peak_gpu_bytes: frame.peak_gpu_bytes,
+            fragments: frame.fragments,
+            tail_fragments: frame.tail_fragments,
+            unpeeled_pixels: frame.unpeeled_pixels,
+            rerenders: frame.rerenders,
+            dispatches: frame.dispatches,
+            ..Self::recorded(method, (0, 0), renderer, index)
+        }
+    }
+
+    /// Takes what a completed frame on the engine's device reports.
+    pub fn completed(&mut self, done: HostFrame) {
+        self.in_flight = false;
+        self.method_ms = done.method_ms;
+        self.stages = done.stages;
+        self.peak_gpu_bytes = done.peak_gpu_bytes;
+        self.fragments = done.fragments;
+        self.tail_fragments = done.tail_fragments;
+        self.unpeeled_pixels = done.unpeeled_pixels;
+        self.overflowed = done.overflowed;
+        self.dispatches = done.dispatches;
+    }
+}

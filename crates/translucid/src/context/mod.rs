@@ -1,0 +1,394 @@
+//! The object model an engine drives translucid through (the C API is a thin layer over it):
+//! assets created and destroyed by handle at any time, frames made from draws by handle, a
+//! few renderers kept and shared between the frames that fit them, and frames recorded on the
+//! engine's device tracked in flight until the engine says they ran.
+//!
+//! - [`handles`]: generational handles; a stale or foreign one is an error.
+//! - [`assets`]: the live meshes, textures and materials.
+//! - [`renderers`]: the renderers over the assets, each for one method and its settings, and
+//!   the uploads they share (destroyed assets kept in place while most of them is alive).
+//! - [`frames`]: what a frame keeps once made.
+//! - This module: [`Context`], which ties them together and orders the frames in flight.
+
+pub mod assets;
+pub mod frames;
+pub mod handles;
+pub mod renderers;
+
+use crate::gpu::{Gpu, HostTargets};
+use crate::scene::{Material, Mesh, Texture};
+use crate::{Error, OpaqueLayer, Result};
+use assets::{Assets, Destroyed, MaterialRecord};
+use frames::FrameRecord;
+use handles::{Kind, Slots};
+use renderers::{FrameRequest, Renderers};
+use std::collections::VecDeque;
+
+/// What completing a frame in flight found.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Completion {
+    /// Its commands have not all run yet: try again later.
+    NotReady,
+    /// Done, all of it right.
+    Complete,
+    /// Done, but past a documented limit: not all of it is right (the buffers have grown,
+    /// and recording it again renders it right).
+    Degraded,
+}
+
+/// What a frame on the engine's device records: the renderer's method, or the yardstick
+/// (`Renderer::record_native_blend`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Recording {
+    Method,
+    NativeBlend,
+}
+
+/// One device and every object made on it.
+pub struct Context {
+    gpu: Gpu,
+    assets: Assets,
+    renderers: Renderers,
+    frames: Slots<FrameRecord>,
+    /// Frames recorded on the engine's device and not yet completed, oldest first: the engine
+    /// submits them to one queue in that order, so they complete in it.
+    in_flight: VecDeque<u64>,
+    /// The most frames in flight.
+    frames_in_flight: u32,
+    /// The largest frame index of a frame made so far.
+    last_frame_index: u64,
+}
+
+impl Context {
+    /// A context on `gpu` for up to `frames_in_flight` frames in flight (engine's device;
+    /// standalone frames complete as they are made).
+    pub fn new(gpu: Gpu, frames_in_flight: u32) -> Self {
+        let tag = handles::next_context_tag();
+        Self {
+            gpu,
+            assets: Assets::new(tag),
+            renderers: Renderers::new(frames_in_flight),
+            frames: Slots::new(Kind::Frame, tag),
+            in_flight: VecDeque::new(),
+            frames_in_flight,
+            last_frame_index: 0,
+        }
+    }
+
+    pub fn gpu(&self) -> &Gpu {
+        &self.gpu
+    }
+
+    /// The largest frame index of a frame made so far: later frames may not go below it.
+    pub fn last_frame_index(&self) -> u64 {
+        self.last_frame_index
+    }
+
+    /// Makes `mesh` an asset (validated by the caller: `Mesh::validate`).
+    pub fn create_mesh(&mut self, mesh: Mesh) -> Result<u64> {
+        let handle = self.assets.meshes.insert(mesh)?;
+        self.assets.generation += 1;
+        Ok(handle)
+    }
+
+    pub fn mesh(&self, handle: u64) -> Result<&Mesh> {
+        self.assets.meshes.get(handle)
+    }
+
+    /// Moves the mesh's vertices from `first` on to `positions` (finite), in every renderer
+    /// that takes new frames; frames in flight keep the old ones.
+    pub fn update_mesh(
+        &mut self,
+        handle: u64,
+        first: usize,
+        positions: &[glam::Vec3],
+    ) -> Result<()> {
+        let mesh = self.assets.meshes.get_mut(handle)?;
+        let total = mesh.positions.len();
+        let end = first
+            .checked_add(positions.len())
+            .filter(|&end| end <= total);
+        let Some(end) = end.filter(|_| !positions.is_empty()) else {
+            return Err(Error::TooLarge(format!(
+                "vertices {first} to {} of a mesh of {total}: vertex_count must be at least 1 \
+                 and first_vertex + vertex_count at most the mesh's vertex_count",
+                first as u64 + positions.len() as u64
+            )));
+        };
+        if let Some(i) = positions.iter().position(|p| !p.is_finite()) {
+            return Err(Error::InvalidArgument(format!(
+                "positions[{i}] is {}; positions must be finite",
+                positions[i]
+            )));
+        }
+        mesh.positions[first..end].copy_from_slice(positions);
+        // The mesh's positions, not a copy: particles update every frame.
+        let positions = &self.assets.meshes.get(handle)?.positions;
+        self.renderers.update_mesh(handle, positions)
+    }
+
+    pub fn destroy_mesh(&mut self, handle: u64) -> Result<()> {
+        let mesh = self.assets.meshes.remove(handle)?;
+        self.asset_destroyed(Destroyed::Mesh(handle, mesh));
+        Ok(())
+    }
+
+    /// Makes `texture` an asset (validated by the caller).
+    pub fn create_texture(&mut self, texture: Texture) -> Result<u64> {
+        let handle = self.assets.textures.insert(texture)?;
+        self.assets.generation += 1;
+        Ok(handle)
+    }
+
+    /// A material using a texture is no longer drawn once the texture is destroyed.
+    pub fn destroy_texture(&mut self, handle: u64) -> Result<()> {
+        let texture = self.assets.textures.remove(handle)?;
+        self.asset_destroyed(Destroyed::Texture(handle, texture));
+        Ok(())
+    }
+
+    /// Makes `material` an asset, with texture `texture` (a live texture's handle).
+    pub fn create_material(&mut self, material: Material, texture: Option<u64>) -> Result<u64> {
+        if let Some(texture) = texture {
+            self.assets.textures.get(texture)?;
+        }
+        let handle = self
+            .assets
+            .materials
+            .insert(MaterialRecord { material, texture })?;
+        self.assets.generation += 1;
+        Ok(handle)
+    }
+
+    pub fn destroy_material(&mut self, handle: u64) -> Result<()> {
+        let record = self.assets.materials.remove(handle)?;
+        self.asset_destroyed(Destroyed::Material(handle, record));
+        Ok(())
+    }
+
+    /// Notes that an asset was destroyed (removed from its slots): the uploads keep its
+    /// place while most of them is alive, else the next frame uploads the assets anew.
+    fn asset_destroyed(&mut self, destroyed: Destroyed) {
+        self.assets.generation += 1;
+        if !self.renderers.bury(destroyed) {
+            self.assets.last_destroyed = self.assets.generation;
+        }
+    }
+
+    /// Renders `request` on translucid's own device, over `layer` (else over its opaque
+    /// draws), and waits for it; the frame's handle.
+    pub fn render(&mut self, request: &FrameRequest, layer: Option<&OpaqueLayer>) -> Result<u64> {
+        if self.gpu.is_host_device() {
+            return Err(Error::InvalidArgument(
+                "rendering on translucid's own device needs a standalone context; on the \
+                 engine's device frames are recorded"
+                    .into(),
+            ));
+        }
+        let before = built_so_far(&self.gpu);
+        let kept = self.renderers.for_frame(&self.gpu, &self.assets, request)?;
+        let id = kept.id;
+        let rendered = match layer {
+            Some(layer) => kept.renderer.render_over(layer),
+            None => kept.renderer.render(false),
+        };
+        // A renderer whose frame failed is not kept: the next frame starts afresh.
+        let frame = rendered.inspect_err(|_| self.renderers.retire(id))?;
+        let mut record = FrameRecord::rendered(request.method, frame, id, request.frame_index);
+        record.built = built_since(&self.gpu, before);
+        let handle = self.frames.insert(record)?;
+        self.note_frame_index(request.frame_index);
+        Ok(handle)
+    }
+
+    /// Whether another frame may be recorded on the engine's device: not while as many as the
+    /// context was made for are in flight.
+    pub fn flight_room(&self) -> Result<()> {
+        let most = self.frames_in_flight;
+        match self.in_flight.front() {
+            Some(&oldest) if self.in_flight.len() >= most as usize => {
+                Err(Error::FrameInFlight(format!(
+                    "{most} frame(s) recorded and not completed, as many as the context was \
+                     made for (translucid_context_create_info.frames_in_flight): call \
+                     translucid_frame_complete for the oldest, {{{oldest:#x}}}, once its \
+                     submission finished"
+                )))
+            }
+            _ => Ok(()),
+        }
+    }
+
+    /// Records `request` into the engine's command buffer of `targets` (the method, or the
+    /// yardstick), in flight until [`Self::complete`] or [`Self::abandon`]; the frame's
+    /// handle.
+    ///
+    /// # Safety
+    /// As [`crate::renderer::Renderer::record_host`]: `targets` names a recording command
+    /// buffer outside a render pass and images of the frame's size or larger with the
+    /// documented usages, all of the engine's device this context wraps.
+    pub unsafe fn record(
+        &mut self,
+        request: &FrameRequest,
+        targets: &HostTargets,
+        recording: Recording,
+    ) -> Result<u64> {
+        self.flight_room()?;
+        let before = built_so_far(&self.gpu);
+        let kept = self.renderers.for_frame(&self.gpu, &self.assets, request)?;
+        let id = kept.id;
+        // SAFETY: the caller's, above.
+        let recorded = unsafe {
+            match recording {
+                Recording::Method => kept.renderer.record_host(targets),
+                Recording::NativeBlend => kept.renderer.record_native_blend(targets),
+            }
+        };
+        if let Err(e) = recorded {
+            // Part of the frame may be recorded (the engine resets its command buffer), and
+            // the renderer believes it: it takes no new frame.
+            self.renderers.retire(id);
+            return Err(e);
+        }
+        kept.in_flight += 1;
+        let size = (request.width, request.height);
+        let mut record = FrameRecord::recorded(request.method, size, id, request.frame_index);
+        record.built = built_since(&self.gpu, before);
+        let handle = self.frames.insert(record).inspect_err(|_| {
+            // Recorded but untracked: the renderer must not be trusted again.
+            self.renderers.frame_ended(id);
+            self.renderers.retire(id);
+        })?;
+        self.in_flight.push_back(handle);
+        self.note_frame_index(request.frame_index);
+        Ok(handle)
+    }
+
+    /// Completes `frame`, whose commands the engine says have run, and the frames recorded
+    /// before it (they ran first, on one queue).
+    pub fn complete(&mut self, frame: u64) -> Result<Completion> {
+        self.frames.get(frame)?;
+        if !self.in_flight.contains(&frame) {
+            return Err(Error::InvalidArgument(
+                "the frame is not in flight: it was completed (completing a newer frame \
+                 completes the older ones) or abandoned already"
+                    .into(),
+            ));
+        }
+        loop {
+            let oldest = self.in_flight.front().copied();
+            let result = self.complete_oldest();
+            if oldest == Some(frame) {
+                return result;
+            }
+            match result {
+                Ok(Completion::NotReady) => return Ok(Completion::NotReady),
+                Err(e) => return Err(e.prefixed("completing an older frame in flight first")),
+                Ok(_) => {}
+            }
+        }
+    }
+
+    /// Completes the oldest frame in flight.
+    fn complete_oldest(&mut self) -> Result<Completion> {
+        let Some(&frame) = self.in_flight.front() else {
+            return Err(Error::InvalidArgument("no frame is in flight".into()));
+        };
+        let renderer = self.frames.get(frame)?.renderer;
+        let kept = self
+            .renderers
+            .get_mut(renderer)
+            .ok_or_else(|| Error::Internal("the frame's renderer is gone".into()))?;
+        let done = if kept.failed {
+            Err(Error::InvalidArgument(
+                "an earlier frame recorded with the same renderer failed to complete; this \
+                 frame's image is not known to be right"
+                    .into(),
+            ))
+        } else {
+            match kept.renderer.complete_host() {
+                Ok(None) => return Ok(Completion::NotReady),
+                Ok(Some(done)) => Ok(done),
+                Err(e) => {
+                    kept.failed = true;
+                    Err(e)
+                }
+            }
+        };
+        // The commands ran: the frame's flight is over whatever the method reports.
+        let failed = kept.failed;
+        self.renderers.frame_ended(renderer);
+        self.in_flight.pop_front();
+        if failed {
+            self.renderers.retire(renderer);
+        } else {
+            self.renderers.free_unused(None);
+        }
+        let record = self.frames.get_mut(frame)?;
+        record.in_flight = false;
+        let done = done?;
+        let degraded = done.overflowed;
+        record.completed(done);
+        Ok(if degraded {
+            Completion::Degraded
+        } else {
+            Completion::Complete
+        })
+    }
+
+    /// Ends `frame` and every frame recorded after it without completing them, and destroys
+    /// `frame` (the later ones keep their handles, without statistics). Their renderers take
+    /// no new frame, and are freed once the older frames they serve are completed.
+    pub fn abandon(&mut self, frame: u64) -> Result<()> {
+        self.frames.get(frame)?;
+        let Some(at) = self.in_flight.iter().position(|&f| f == frame) else {
+            return Err(Error::InvalidArgument(
+                "the frame is not in flight: destroy it with translucid_frame_destroy".into(),
+            ));
+        };
+        for f in self.in_flight.split_off(at) {
+            let renderer = self.frames.get(f)?.renderer;
+            self.renderers.frame_ended(renderer);
+            self.renderers.retire(renderer);
+            if f == frame {
+                self.frames.remove(f)?;
+            } else {
+                let record = self.frames.get_mut(f)?;
+                record.in_flight = false;
+                record.abandoned = true;
+            }
+        }
+        Ok(())
+    }
+
+    pub fn frame(&self, handle: u64) -> Result<&FrameRecord> {
+        self.frames.get(handle)
+    }
+
+    /// Frees a frame; not one in flight, whose commands the GPU may still be running.
+    pub fn destroy_frame(&mut self, handle: u64) -> Result<()> {
+        if self.frames.get(handle)?.in_flight {
+            return Err(Error::FrameInFlight(
+                "the frame is in flight: complete it after its submission finished, or \
+                 abandon it (translucid_frame_abandon) if the GPU is not running it"
+                    .into(),
+            ));
+        }
+        self.frames.remove(handle)?;
+        Ok(())
+    }
+
+    fn note_frame_index(&mut self, index: u64) {
+        self.last_frame_index = self.last_frame_index.max(index);
+    }
+}
+
+/// What the device has built so far: pipelines created, and bytes of GPU memory allocated.
+fn built_so_far(gpu: &Gpu) -> (u64, u64) {
+    (gpu.pipelines_created(), gpu.bytes_allocated())
+}
+
+/// What the device built since `before` ([`built_so_far`]).
+fn built_since(gpu: &Gpu, before: (u64, u64)) -> (u64, u64) {
+    let now = built_so_far(gpu);
+    (now.0 - before.0, now.1 - before.1)
+}
