@@ -83,7 +83,7 @@ static frame_slot g_slots[IN_FLIGHT];
 static void create_engine(void) {
     translucid_host_requirements req;
     memset(&req, 0, sizeof req);
-    req.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_REQUIREMENTS;
+    req.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_REQUIREMENTS;
     CHECK(translucid_host_requirements_get(&req));
     create_instance(req.api_version);
     create_device(&req);

@@ -313,6 +313,8 @@ typedef uint32_t translucid_method;
 
 /**
  * Values of the `s_type` field. 0 is never valid, so a zeroed struct is always rejected.
+ * Each value is named after the struct it tags: `translucid_foo_bar` takes
+ * `TRANSLUCID_STRUCTURE_TYPE_FOO_BAR`.
  */
 enum translucid_structure_type
 #if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
@@ -344,7 +346,7 @@ enum translucid_structure_type
     /**
      * `translucid_host_requirements`.
      */
-    TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_REQUIREMENTS = 101,
+    TRANSLUCID_STRUCTURE_TYPE_HOST_REQUIREMENTS = 101,
     /**
      * `translucid_host_frame_targets`.
      */
@@ -914,7 +916,7 @@ typedef struct translucid_frame_statistics {
  */
 typedef struct translucid_host_requirements {
     /**
-     * `TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_REQUIREMENTS`, set by the caller.
+     * `TRANSLUCID_STRUCTURE_TYPE_HOST_REQUIREMENTS`, set by the caller.
      */
     uint32_t s_type;
     /**
@@ -1474,7 +1476,7 @@ translucid_result translucid_frame_abandon(struct translucid_context *context,
 
 /**
  * Fills `*out_requirements` (whose `s_type` the caller set to
- * `TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_REQUIREMENTS`) with what the engine's instance
+ * `TRANSLUCID_STRUCTURE_TYPE_HOST_REQUIREMENTS`) with what the engine's instance
  * and device must have: call it before creating them. Needs no context.
  */
 TRANSLUCID_MUST_USE

@@ -219,7 +219,7 @@ public:
     /// What the engine's instance and device must have (call before creating them).
     static translucid_host_requirements host_requirements() {
         translucid_host_requirements req{};
-        req.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_REQUIREMENTS;
+        req.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_REQUIREMENTS;
         detail::check(translucid_host_requirements_get(&req), nullptr,
                       "translucid_host_requirements_get");
         return req;
@@ -228,7 +228,7 @@ public:
     /// own (OR together those of the methods you use).
     static translucid_host_requirements host_requirements(std::uint32_t method) {
         translucid_host_requirements req{};
-        req.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_REQUIREMENTS;
+        req.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_REQUIREMENTS;
         detail::check(translucid_host_method_requirements_get(method, &req), nullptr,
                       "translucid_host_method_requirements_get");
         return req;

@@ -35,7 +35,7 @@ use translucid::gpu::{
 #[allow(non_camel_case_types)]
 #[repr(C)]
 pub struct translucid_host_requirements {
-    /// `TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_REQUIREMENTS`, set by the caller.
+    /// `TRANSLUCID_STRUCTURE_TYPE_HOST_REQUIREMENTS`, set by the caller.
     pub s_type: u32,
     /// NULL, set by the caller.
     pub next: *mut c_void,
@@ -421,7 +421,7 @@ pub(crate) fn abandon(objects: &mut Objects, frame: u64) -> FfiResult {
 }
 
 impl OutStructure for translucid_host_requirements {
-    const TYPE: translucid_structure_type = translucid_structure_type::HostDeviceRequirements;
+    const TYPE: translucid_structure_type = translucid_structure_type::HostRequirements;
     const NAME: &'static str = "translucid_host_requirements";
     fn header(&self) -> (u32, *mut c_void) {
         (self.s_type, self.next)
@@ -430,7 +430,7 @@ impl OutStructure for translucid_host_requirements {
 
 impl translucid_host_requirements {
     /// Fills `*out_requirements` (whose `s_type` the caller set to
-    /// `TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_REQUIREMENTS`) with what the engine's instance
+    /// `TRANSLUCID_STRUCTURE_TYPE_HOST_REQUIREMENTS`) with what the engine's instance
     /// and device must have: call it before creating them. Needs no context.
     #[no_mangle]
     #[must_use]

@@ -727,7 +727,7 @@ int main(void) {
     uint32_t n;
 
     memset(&req, 0, sizeof req);
-    req.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_REQUIREMENTS;
+    req.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_REQUIREMENTS;
     CHECK(NULL, translucid_host_requirements_get(&req));
     create_engine(&req);
     memset(&pool, 0, sizeof pool);

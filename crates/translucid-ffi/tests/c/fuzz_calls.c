@@ -928,11 +928,11 @@ static void misc(state *s) {
     case 2: {
         translucid_host_requirements requirements;
         memset(&requirements, 0, sizeof requirements);
-        requirements.s_type = chance(50) ? TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_REQUIREMENTS
+        requirements.s_type = chance(50) ? TRANSLUCID_STRUCTURE_TYPE_HOST_REQUIREMENTS
                                          : any_u32();
         translucid_result got = translucid_host_requirements_get(&requirements);
         check(got,
-              requirements.s_type == TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_REQUIREMENTS
+              requirements.s_type == TRANSLUCID_STRUCTURE_TYPE_HOST_REQUIREMENTS
                   ? TRANSLUCID_RESULT_SUCCESS
                   : TRANSLUCID_RESULT_ERROR_INVALID_STRUCTURE_TYPE,
               NULL, "translucid_host_requirements_get", __LINE__);

@@ -29,7 +29,7 @@ static _Thread_local thread_objects g_thread;
 void fuzz_host_start(void) {
     translucid_host_requirements req;
     memset(&req, 0, sizeof req);
-    req.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_REQUIREMENTS;
+    req.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_REQUIREMENTS;
     CHECK(NULL, translucid_host_requirements_get(&req));
     uint32_t methods[8];
     size_t count = 0;

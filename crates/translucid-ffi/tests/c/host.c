@@ -504,7 +504,7 @@ int main(void) {
     memset(&req, 0, sizeof req);
     EXPECT(NULL, translucid_host_requirements_get(&req),
            TRANSLUCID_RESULT_ERROR_INVALID_STRUCTURE_TYPE);
-    req.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_REQUIREMENTS;
+    req.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_REQUIREMENTS;
     CHECK(NULL, translucid_host_requirements_get(&req));
     TRUE_OR_FAIL(req.api_version >= VK_API_VERSION_1_2);
     TRUE_OR_FAIL(req.queue_flags & VK_QUEUE_GRAPHICS_BIT);
