@@ -7,8 +7,8 @@
  * - Zero-initialise create-info structs, then set s_type (a TRANSLUCID_STRUCTURE_TYPE_* value)
  *   and what you need; next must be NULL unless documented otherwise. Zero means the default.
  * - Fallible calls return translucid_result: 0 success, > 0 a status that is not an error,
- *   < 0 an error. translucid_context_last_error() says what went wrong. Out-parameters are
- *   written only on success. translucid_result_string() names any code.
+ *   < 0 an error. translucid_context_get_last_error() says what went wrong. Out-parameters
+ *   are written only on success. translucid_result_string() names any code.
  * - Every pointer argument is either NULL (an error unless documented as optional) or points
  *   to memory valid for the documented extent during the call; arrays are copied, never kept.
  * - Handles ({0} is NULL) are generational: using a destroyed object's handle, or a handle from
@@ -16,11 +16,20 @@
  * - Enums cross as uint32_t; an unknown value is TRANSLUCID_RESULT_ERROR_INVALID_ENUM.
  * - An internal panic returns TRANSLUCID_RESULT_ERROR_PANIC and makes the context refuse all
  *   further work except translucid_context_destroy().
+ * - Names: a function is translucid_<object>_<verb>[_<what>]: the object it works on (context,
+ *   mesh, texture, material, frame, method, or host: the engine's device), what it does
+ *   (create, destroy, get, update, render, read, write, record, complete, abandon), then what
+ *   it gets or makes (translucid_frame_get_statistics, translucid_frame_write_png). Functions
+ *   that only name a constant (they need no context and return a static string or a number,
+ *   never a translucid_result) are the constant's name and what they give: translucid_version,
+ *   translucid_version_string, translucid_result_string, translucid_method_name. A
+ *   structure type is its struct's name upper-cased: translucid_frame_info is tagged
+ *   TRANSLUCID_STRUCTURE_TYPE_FRAME_INFO.
  *
  * Modes:
  * - Standalone: translucid makes its own headless Vulkan device, renders offscreen with
  *   translucid_frame_render and returns pixels.
- * - Host device: the engine asks translucid_host_requirements_get what to enable, creates its
+ * - Host device: the engine asks translucid_host_get_requirements what to enable, creates its
  *   instance and device accordingly, and chains a translucid_host_device_create_info to the
  *   context create-info. translucid_frame_record records a frame into the engine's command
  *   buffer over the engine's colour and depth images (never submitting); after the engine's
@@ -243,7 +252,7 @@ enum translucid_result
     TRANSLUCID_RESULT_ERROR_IO = -105,
     /**
      * Host-device mode: the engine's device lacks a Vulkan version, feature, extension or
-     * queue capability that `translucid_host_requirements_get` lists; the message names each.
+     * queue capability that `translucid_host_get_requirements` lists; the message names each.
      */
     TRANSLUCID_RESULT_ERROR_DEVICE_REQUIREMENTS = -106,
     /**
@@ -253,7 +262,7 @@ enum translucid_result
     TRANSLUCID_RESULT_ERROR_PANIC = -200,
     /**
      * An earlier call on this context panicked; only `translucid_context_destroy` and
-     * `translucid_context_last_error` still work.
+     * `translucid_context_get_last_error` still work.
      */
     TRANSLUCID_RESULT_ERROR_CONTEXT_POISONED = -201,
 };
@@ -292,7 +301,7 @@ enum translucid_method
     /**
      * Per-pixel linked lists, sorted per pixel: exact while the node pool holds the frame's
      * fragments (`translucid_frame_info::linked_list_node_budget`). On an engine's device it
-     * needs the features `translucid_host_method_requirements_get` lists for it.
+     * needs the features `translucid_host_get_method_requirements` lists for it.
      */
     TRANSLUCID_METHOD_LINKED_LIST = 4,
     /**
@@ -756,7 +765,7 @@ typedef struct translucid_frame_info {
      */
     const void *next;
     /**
-     * A `translucid_method`; see `translucid_methods_available`.
+     * A `translucid_method`; see `translucid_method_get_available`.
      */
     uint32_t method;
     /**
@@ -1320,7 +1329,7 @@ typedef struct translucid_base_in_structure {
  * The engine's device, chained to `translucid_context_create_info::next` with `mode`
  * `TRANSLUCID_CONTEXT_MODE_HOST_DEVICE`. translucid never destroys these objects: destroy the
  * context before them. The enabled features and extensions are checked against
- * `translucid_host_requirements_get` (`TRANSLUCID_RESULT_ERROR_DEVICE_REQUIREMENTS` names
+ * `translucid_host_get_requirements` (`TRANSLUCID_RESULT_ERROR_DEVICE_REQUIREMENTS` names
  * what is missing); a `VK_NULL_HANDLE` instance, physical device or device is
  * `TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT`.
  */
@@ -1371,7 +1380,7 @@ extern "C" {
 
 /**
  * Creates a context. On success writes it to `*out_context`; on failure leaves
- * `*out_context` untouched and `translucid_context_last_error(NULL)` says why.
+ * `*out_context` untouched and `translucid_context_get_last_error(NULL)` says why.
  */
 TRANSLUCID_MUST_USE
 translucid_result translucid_context_create(const struct translucid_context_create_info *info,
@@ -1393,7 +1402,7 @@ void translucid_context_destroy(struct translucid_context *context);
  * not clear it). Valid until the next call on the same context (or, for NULL, the next
  * failing context-less call on this thread).
  */
-const char *translucid_context_last_error(const struct translucid_context *context);
+const char *translucid_context_get_last_error(const struct translucid_context *context);
 
 /**
  * The context's pipeline cache, for the engine to save and pass back in
@@ -1412,7 +1421,7 @@ translucid_result translucid_context_get_pipeline_cache_data(struct translucid_c
  * The name of the context's Vulkan device; "" for a NULL context. Valid as long as the
  * context.
  */
-const char *translucid_context_device_name(const struct translucid_context *context);
+const char *translucid_context_get_device_name(const struct translucid_context *context);
 
 /**
  * Renders a frame and waits for it; writes its handle to `*out_frame`. The frame keeps
@@ -1480,10 +1489,10 @@ translucid_result translucid_frame_abandon(struct translucid_context *context,
  * and device must have: call it before creating them. Needs no context.
  */
 TRANSLUCID_MUST_USE
-translucid_result translucid_host_requirements_get(struct translucid_host_requirements *out_requirements);
+translucid_result translucid_host_get_requirements(struct translucid_host_requirements *out_requirements);
 
 /**
- * Like `translucid_host_requirements_get`, for an engine that will use `method` (a
+ * Like `translucid_host_get_requirements`, for an engine that will use `method` (a
  * `translucid_method`): the features every method needs and those `method` needs
  * besides (`TRANSLUCID_METHOD_LINKED_LIST`: `fragmentStoresAndAtomics` and
  * `geometryShader`; `TRANSLUCID_METHOD_DEPTH_PEELING`: `geometryShader` and
@@ -1493,7 +1502,7 @@ translucid_result translucid_host_requirements_get(struct translucid_host_requir
  * `TRANSLUCID_RESULT_ERROR_DEVICE_REQUIREMENTS`, naming them. Needs no context.
  */
 TRANSLUCID_MUST_USE
-translucid_result translucid_host_method_requirements_get(uint32_t method,
+translucid_result translucid_host_get_method_requirements(uint32_t method,
                                                           struct translucid_host_requirements *out_requirements);
 
 /**
@@ -1659,9 +1668,9 @@ const char *translucid_method_name(uint32_t method);
  * `*out_count`. Returns `TRANSLUCID_RESULT_INCOMPLETE` when `capacity` was too small.
  */
 TRANSLUCID_MUST_USE
-translucid_result translucid_methods_available(uint32_t *methods,
-                                               size_t capacity,
-                                               size_t *out_count);
+translucid_result translucid_method_get_available(uint32_t *methods,
+                                                  size_t capacity,
+                                                  size_t *out_count);
 
 /**
  * Returns a static, NUL-terminated description of `code`; never NULL. Unknown values

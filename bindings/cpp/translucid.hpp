@@ -57,7 +57,7 @@ using ContextPtr = std::shared_ptr<translucid_context>;
 inline void check(translucid_result result, const translucid_context *context, const char *call) {
     if (result < 0) {
         throw Error(result, std::string(call) + ": " + translucid_result_string(result) + ": " +
-                                translucid_context_last_error(context));
+                                translucid_context_get_last_error(context));
     }
 }
 
@@ -220,8 +220,8 @@ public:
     static translucid_host_requirements host_requirements() {
         translucid_host_requirements req{};
         req.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_REQUIREMENTS;
-        detail::check(translucid_host_requirements_get(&req), nullptr,
-                      "translucid_host_requirements_get");
+        detail::check(translucid_host_get_requirements(&req), nullptr,
+                      "translucid_host_get_requirements");
         return req;
     }
     /// The same for an engine that uses `method`: every method's features and the method's
@@ -229,8 +229,8 @@ public:
     static translucid_host_requirements host_requirements(std::uint32_t method) {
         translucid_host_requirements req{};
         req.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_REQUIREMENTS;
-        detail::check(translucid_host_method_requirements_get(method, &req), nullptr,
-                      "translucid_host_method_requirements_get");
+        detail::check(translucid_host_get_method_requirements(method, &req), nullptr,
+                      "translucid_host_get_method_requirements");
         return req;
     }
     /// A context on the engine's device, taking up to `frames_in_flight` frames recorded and
@@ -264,7 +264,7 @@ public:
 
     /// The C context (owned by this wrapper and the objects made from it).
     translucid_context *get() const noexcept { return context_.get(); }
-    std::string device_name() const { return translucid_context_device_name(context_.get()); }
+    std::string device_name() const { return translucid_context_get_device_name(context_.get()); }
 
     /// Creates objects from C create-infos; `s_type` is filled in for you.
     Mesh create_mesh(translucid_mesh_create_info info) {
@@ -327,11 +327,11 @@ public:
     /// The methods this build has (translucid_method values).
     static std::vector<std::uint32_t> available_methods() {
         std::size_t count = 0;
-        translucid_result r = translucid_methods_available(nullptr, 0, &count);
-        detail::check(r, nullptr, "translucid_methods_available");
+        translucid_result r = translucid_method_get_available(nullptr, 0, &count);
+        detail::check(r, nullptr, "translucid_method_get_available");
         std::vector<std::uint32_t> methods(count);
-        r = translucid_methods_available(methods.data(), methods.size(), &count);
-        detail::check(r, nullptr, "translucid_methods_available");
+        r = translucid_method_get_available(methods.data(), methods.size(), &count);
+        detail::check(r, nullptr, "translucid_method_get_available");
         methods.resize(count < methods.size() ? count : methods.size());
         return methods;
     }

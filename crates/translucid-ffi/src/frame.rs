@@ -159,7 +159,7 @@ pub struct translucid_frame_info {
     /// structure in the chain takes its defaults. Settings of other methods than `method`
     /// are checked and otherwise ignored, so one chain may serve every method.
     pub next: *const c_void,
-    /// A `translucid_method`; see `translucid_methods_available`.
+    /// A `translucid_method`; see `translucid_method_get_available`.
     pub method: u32,
     /// 1 to the device's largest image side (`VkPhysicalDeviceLimits::maxImageDimension2D`,
     /// at least 4096); past it, `TRANSLUCID_RESULT_ERROR_INVALID_SIZE`. Frames of any size

@@ -1,5 +1,5 @@
 //! Host-device mode: the requirements query, the engine's device description, and frames
-//! recorded into the engine's command buffer. Exports `translucid_host_requirements_get`,
+//! recorded into the engine's command buffer. Exports `translucid_host_get_requirements`,
 //! `translucid_frame_record` and `translucid_frame_complete`.
 //!
 //! The frame rule: up to the context's `frames_in_flight` frames are recorded and not yet
@@ -57,7 +57,7 @@ pub struct translucid_host_requirements {
 /// The engine's device, chained to `translucid_context_create_info::next` with `mode`
 /// `TRANSLUCID_CONTEXT_MODE_HOST_DEVICE`. translucid never destroys these objects: destroy the
 /// context before them. The enabled features and extensions are checked against
-/// `translucid_host_requirements_get` (`TRANSLUCID_RESULT_ERROR_DEVICE_REQUIREMENTS` names
+/// `translucid_host_get_requirements` (`TRANSLUCID_RESULT_ERROR_DEVICE_REQUIREMENTS` names
 /// what is missing); a `VK_NULL_HANDLE` instance, physical device or device is
 /// `TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT`.
 #[allow(non_camel_case_types)]
@@ -434,13 +434,13 @@ impl translucid_host_requirements {
     /// and device must have: call it before creating them. Needs no context.
     #[no_mangle]
     #[must_use]
-    pub extern "C" fn translucid_host_requirements_get(
+    pub extern "C" fn translucid_host_get_requirements(
         out_requirements: *mut translucid_host_requirements,
     ) -> translucid_result {
         panic::without_context(|| write_requirements(out_requirements, host_requirements()))
     }
 
-    /// Like `translucid_host_requirements_get`, for an engine that will use `method` (a
+    /// Like `translucid_host_get_requirements`, for an engine that will use `method` (a
     /// `translucid_method`): the features every method needs and those `method` needs
     /// besides (`TRANSLUCID_METHOD_LINKED_LIST`: `fragmentStoresAndAtomics` and
     /// `geometryShader`; `TRANSLUCID_METHOD_DEPTH_PEELING`: `geometryShader` and
@@ -450,7 +450,7 @@ impl translucid_host_requirements {
     /// `TRANSLUCID_RESULT_ERROR_DEVICE_REQUIREMENTS`, naming them. Needs no context.
     #[no_mangle]
     #[must_use]
-    pub extern "C" fn translucid_host_method_requirements_get(
+    pub extern "C" fn translucid_host_get_method_requirements(
         method: u32,
         out_requirements: *mut translucid_host_requirements,
     ) -> translucid_result {

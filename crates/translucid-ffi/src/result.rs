@@ -75,14 +75,14 @@ pub enum translucid_result {
     /// A file could not be written.
     ErrorIo = -105,
     /// Host-device mode: the engine's device lacks a Vulkan version, feature, extension or
-    /// queue capability that `translucid_host_requirements_get` lists; the message names each.
+    /// queue capability that `translucid_host_get_requirements` lists; the message names each.
     ErrorDeviceRequirements = -106,
 
     /// translucid panicked inside this call (a bug: please report it with the message). The
     /// context refuses all further work; destroy it.
     ErrorPanic = -200,
     /// An earlier call on this context panicked; only `translucid_context_destroy` and
-    /// `translucid_context_last_error` still work.
+    /// `translucid_context_get_last_error` still work.
     ErrorContextPoisoned = -201,
 }
 

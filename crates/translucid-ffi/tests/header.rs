@@ -1,5 +1,5 @@
-//! The committed header must be what cbindgen makes of the current source, and its structure
-//! types must be named after their structures.
+//! The committed header must be what cbindgen makes of the current source, and its names must
+//! follow the rules its opening comment states (functions, structure types).
 
 use std::collections::BTreeSet;
 use std::path::PathBuf;
@@ -124,9 +124,68 @@ fn structure_types_are_named_after_their_structures() {
                 .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
                 .collect();
             if named != own && named != STRUCTURE_TYPE {
-                wrong.push(format!("struct translucid_{name} documents {named}, not {own}"));
+                wrong.push(format!(
+                    "struct translucid_{name} documents {named}, not {own}"
+                ));
             }
         }
     }
     assert!(wrong.is_empty(), "{}", wrong.join("\n"));
+}
+
+/// The functions the header declares.
+fn functions(header: &str) -> Vec<String> {
+    let start = header
+        .find("extern \"C\" {")
+        .expect("the header declares functions");
+    header[start..]
+        .lines()
+        .skip(1)
+        // Declarations start at the line's start; doc comments and arguments do not.
+        .filter(|line| line.starts_with(|c: char| c.is_ascii_alphabetic()))
+        .filter_map(|line| line.split_once('('))
+        .filter_map(|(before, _)| before.rsplit([' ', '*']).next())
+        .filter(|name| name.starts_with("translucid_"))
+        .map(str::to_owned)
+        .collect()
+}
+
+/// The rule the header's opening comment states: `translucid_<object>_<verb>[_<what>]`, but
+/// for the few functions that only name a constant.
+#[test]
+fn functions_are_named_object_verb_what() {
+    const OBJECTS: &[&str] = &[
+        "context", "mesh", "texture", "material", "frame", "host", "method",
+    ];
+    const VERBS: &[&str] = &[
+        "create", "destroy", "get", "update", "render", "read", "write", "record", "complete",
+        "abandon",
+    ];
+    const NAMES_OF_CONSTANTS: &[&str] = &[
+        "translucid_version",
+        "translucid_version_string",
+        "translucid_result_string",
+        "translucid_method_name",
+    ];
+    let header = generated_header();
+    let functions = functions(&header);
+    assert!(
+        functions.iter().any(|f| f == "translucid_context_create"),
+        "the header's functions were not found: {functions:?}"
+    );
+    let wrong: Vec<&String> = functions
+        .iter()
+        .filter(|f| !NAMES_OF_CONSTANTS.contains(&f.as_str()))
+        .filter(|f| {
+            let mut words = f.split('_').skip(1);
+            let object = words.next().unwrap_or_default();
+            let verb = words.next().unwrap_or_default();
+            !(OBJECTS.contains(&object) && VERBS.contains(&verb))
+        })
+        .collect();
+    assert!(
+        wrong.is_empty(),
+        "not translucid_<object>_<verb>[_<what>] (objects {OBJECTS:?}, verbs {VERBS:?}): \
+         {wrong:?}"
+    );
 }
