@@ -275,52 +275,6 @@ typedef int32_t translucid_result;
 #endif // __cplusplus
 
 /**
- * A transparency method.
- */
-enum translucid_method
-#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
-  : uint32_t
-#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
- {
-    /**
-     * Unsorted alpha blending in submission order: the fast, wrong baseline.
-     */
-    TRANSLUCID_METHOD_BLEND = 0,
-    /**
-     * Exact order-independent transparency (the compute bin rasterizer).
-     */
-    TRANSLUCID_METHOD_EXACT = 1,
-    /**
-     * Wavelet OIT: approximate, bounded memory.
-     */
-    TRANSLUCID_METHOD_WAVELET = 2,
-    /**
-     * Weighted blended OIT: approximate, cheapest.
-     */
-    TRANSLUCID_METHOD_WBOIT = 3,
-    /**
-     * Per-pixel linked lists, sorted per pixel: exact while the node pool holds the frame's
-     * fragments (`translucid_frame_info::linked_list_node_budget`). On an engine's device it
-     * needs the features `translucid_host_get_method_requirements` lists for it.
-     */
-    TRANSLUCID_METHOD_LINKED_LIST = 4,
-    /**
-     * Dual depth peeling: N passes peel 2N layers, exact while every pixel has at most 2N
-     * (`translucid_frame_info::depth_peeling_passes`). On an engine's device it needs
-     * `geometryShader` and `independentBlend`, and `maxColorAttachments` of at least 7
-     * (desktop GPUs have 8).
-     */
-    TRANSLUCID_METHOD_DEPTH_PEELING = 5,
-};
-#ifndef __cplusplus
-#if __STDC_VERSION__ >= 202311L
-typedef enum translucid_method translucid_method;
-#else
-typedef uint32_t translucid_method;
-#endif // __STDC_VERSION__ >= 202311L
-#endif // __cplusplus
-
-/**
  * Values of the `s_type` field. 0 is never valid, so a zeroed struct is always rejected.
  * Each value is named after the struct it tags: `translucid_foo_bar` takes
  * `TRANSLUCID_STRUCTURE_TYPE_FOO_BAR`.
@@ -468,6 +422,52 @@ enum translucid_pixel_format
 typedef enum translucid_pixel_format translucid_pixel_format;
 #else
 typedef uint32_t translucid_pixel_format;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
+/**
+ * A transparency method.
+ */
+enum translucid_method
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+    /**
+     * Unsorted alpha blending in submission order: the fast, wrong baseline.
+     */
+    TRANSLUCID_METHOD_BLEND = 0,
+    /**
+     * Exact order-independent transparency (the compute bin rasterizer).
+     */
+    TRANSLUCID_METHOD_EXACT = 1,
+    /**
+     * Wavelet OIT: approximate, bounded memory.
+     */
+    TRANSLUCID_METHOD_WAVELET = 2,
+    /**
+     * Weighted blended OIT: approximate, cheapest.
+     */
+    TRANSLUCID_METHOD_WBOIT = 3,
+    /**
+     * Per-pixel linked lists, sorted per pixel: exact while the node pool holds the frame's
+     * fragments (`translucid_frame_info::linked_list_node_budget`). On an engine's device it
+     * needs the features `translucid_host_get_method_requirements` lists for it.
+     */
+    TRANSLUCID_METHOD_LINKED_LIST = 4,
+    /**
+     * Dual depth peeling: N passes peel 2N layers, exact while every pixel has at most 2N
+     * (`translucid_frame_info::depth_peeling_passes`). On an engine's device it needs
+     * `geometryShader` and `independentBlend`, and `maxColorAttachments` of at least 7
+     * (desktop GPUs have 8).
+     */
+    TRANSLUCID_METHOD_DEPTH_PEELING = 5,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum translucid_method translucid_method;
+#else
+typedef uint32_t translucid_method;
 #endif // __STDC_VERSION__ >= 202311L
 #endif // __cplusplus
 
@@ -1368,11 +1368,6 @@ typedef struct translucid_host_device_create_info {
      */
     const char *const *enabled_extensions;
 } translucid_host_device_create_info;
-
-/**
- * Every value, in order.
- */
-#define translucid_method_ALL { translucid_method_Blend, translucid_method_Exact, translucid_method_Wavelet, translucid_method_Wboit, translucid_method_LinkedList, translucid_method_DepthPeeling, }
 
 #ifdef __cplusplus
 extern "C" {

@@ -60,8 +60,9 @@ pub enum translucid_method {
 }
 
 impl translucid_method {
-    /// Every value, in order.
-    pub const ALL: [Self; 6] = [
+    /// Every value, in order. (Not in the header: cbindgen would write it as a macro of Rust
+    /// names.)
+    pub(crate) const ALL: [Self; 6] = [
         Self::Blend,
         Self::Exact,
         Self::Wavelet,

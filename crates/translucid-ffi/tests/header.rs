@@ -1,5 +1,5 @@
 //! The committed header must be what cbindgen makes of the current source, and its names must
-//! follow the rules its opening comment states (functions, structure types).
+//! follow the rules its opening comment states (functions, structure types, macros).
 
 use std::collections::BTreeSet;
 use std::path::PathBuf;
@@ -188,4 +188,18 @@ fn functions_are_named_object_verb_what() {
         "not translucid_<object>_<verb>[_<what>] (objects {OBJECTS:?}, verbs {VERBS:?}): \
          {wrong:?}"
     );
+}
+
+/// Macros are `TRANSLUCID_*`: a lower-case one is a Rust constant cbindgen wrote out by mistake
+/// (an array of Rust names that C does not know).
+#[test]
+fn macros_are_upper_case() {
+    let header = generated_header();
+    let wrong: Vec<&str> = header
+        .lines()
+        .filter_map(|line| line.strip_prefix("#define "))
+        .filter_map(|rest| rest.split([' ', '(']).next())
+        .filter(|name| !name.starts_with("TRANSLUCID_") || *name != name.to_ascii_uppercase())
+        .collect();
+    assert!(wrong.is_empty(), "macros not named TRANSLUCID_*: {wrong:?}");
 }
