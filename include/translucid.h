@@ -451,13 +451,13 @@ enum translucid_method
     TRANSLUCID_METHOD_WBOIT = 3,
     /**
      * Per-pixel linked lists, sorted per pixel: exact while the node pool holds the frame's
-     * fragments (`translucid_frame_info::linked_list_node_budget`). On an engine's device it
+     * fragments (`translucid_linked_list_settings::node_budget`). On an engine's device it
      * needs the features `translucid_host_get_method_requirements` lists for it.
      */
     TRANSLUCID_METHOD_LINKED_LIST = 4,
     /**
      * Dual depth peeling: N passes peel 2N layers, exact while every pixel has at most 2N
-     * (`translucid_frame_info::depth_peeling_passes`). On an engine's device it needs
+     * (`translucid_depth_peeling_settings::passes`). On an engine's device it needs
      * `geometryShader` and `independentBlend`, and `maxColorAttachments` of at least 7
      * (desktop GPUs have 8).
      */
@@ -901,14 +901,14 @@ typedef struct translucid_frame_statistics {
     uint64_t bytes_allocated;
     /**
      * Fragments blended unsorted because they found no room (`TRANSLUCID_METHOD_LINKED_LIST`
-     * past its `linked_list_node_budget`): the image is not exact where they fell. 0 for an
-     * exact frame and for other methods.
+     * past its `translucid_linked_list_settings::node_budget`): the image is not exact where
+     * they fell. 0 for an exact frame and for other methods.
      */
     uint64_t tail_fragments;
     /**
      * Pixels with more layers than `TRANSLUCID_METHOD_DEPTH_PEELING`'s passes peel (twice
-     * `depth_peeling_passes`): their middle layers are missing. 0 for an exact frame and for
-     * other methods.
+     * `translucid_depth_peeling_settings::passes`): their middle layers are missing. 0 for an
+     * exact frame and for other methods.
      */
     uint64_t unpeeled_pixels;
     /**

@@ -243,12 +243,12 @@ pub struct translucid_frame_statistics {
     /// that the live ones are uploaded anew; 0 in a warm frame loop.
     pub bytes_allocated: u64,
     /// Fragments blended unsorted because they found no room (`TRANSLUCID_METHOD_LINKED_LIST`
-    /// past its `linked_list_node_budget`): the image is not exact where they fell. 0 for an
-    /// exact frame and for other methods.
+    /// past its `translucid_linked_list_settings::node_budget`): the image is not exact where
+    /// they fell. 0 for an exact frame and for other methods.
     pub tail_fragments: u64,
     /// Pixels with more layers than `TRANSLUCID_METHOD_DEPTH_PEELING`'s passes peel (twice
-    /// `depth_peeling_passes`): their middle layers are missing. 0 for an exact frame and for
-    /// other methods.
+    /// `translucid_depth_peeling_settings::passes`): their middle layers are missing. 0 for an
+    /// exact frame and for other methods.
     pub unpeeled_pixels: u64,
     /// Compute dispatches the frame recorded (its last rendering, for a standalone frame
     /// rendered again): the fixed chain a method's frame costs besides its work. 0 for

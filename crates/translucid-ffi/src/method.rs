@@ -49,11 +49,11 @@ pub enum translucid_method {
     /// Weighted blended OIT: approximate, cheapest.
     Wboit = 3,
     /// Per-pixel linked lists, sorted per pixel: exact while the node pool holds the frame's
-    /// fragments (`translucid_frame_info::linked_list_node_budget`). On an engine's device it
+    /// fragments (`translucid_linked_list_settings::node_budget`). On an engine's device it
     /// needs the features `translucid_host_get_method_requirements` lists for it.
     LinkedList = 4,
     /// Dual depth peeling: N passes peel 2N layers, exact while every pixel has at most 2N
-    /// (`translucid_frame_info::depth_peeling_passes`). On an engine's device it needs
+    /// (`translucid_depth_peeling_settings::passes`). On an engine's device it needs
     /// `geometryShader` and `independentBlend`, and `maxColorAttachments` of at least 7
     /// (desktop GPUs have 8).
     DepthPeeling = 5,
