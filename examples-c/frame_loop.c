@@ -450,7 +450,7 @@ static void finish(frame_slot *s, int k, double *gpu_ms, double *ratio) {
            "the engine's blend (%.3f ms)%s",
            k, s->record_ms, stats.gpu_milliseconds, stats.method_milliseconds,
            (unsigned long long)stats.dispatches, *ratio, native.gpu_milliseconds,
-           done == TRANSLUCID_RESULT_INCOMPLETE ? ", past a limit: see the README" : "");
+           done == TRANSLUCID_RESULT_FRAME_DEGRADED ? ", past a limit: see the README" : "");
     /* What recording it built: the first frames' pipelines and buffers, uploads. */
     if (stats.pipelines_created != 0 || stats.bytes_allocated != 0) {
         printf(", built %llu pipelines and %.1f KB of GPU memory",

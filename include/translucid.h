@@ -34,7 +34,7 @@
  *   context create-info. translucid_frame_record records a frame into the engine's command
  *   buffer over the engine's colour and depth images (never submitting); after the engine's
  *   submission finished, translucid_frame_complete reads the statistics and says whether the
- *   frame went past a documented limit (TRANSLUCID_RESULT_INCOMPLETE). Up to the context's
+ *   frame went past a documented limit (TRANSLUCID_RESULT_FRAME_DEGRADED). Up to the context's
  *   frames_in_flight frames may be recorded and not completed. translucid loads Vulkan
  *   through the engine's vkGetInstanceProcAddr and never destroys the engine's objects.
  *
@@ -152,10 +152,9 @@ enum translucid_result
      */
     TRANSLUCID_RESULT_SUCCESS = 0,
     /**
-     * The call succeeded but an output was cut short (a list longer than the caller's array);
-     * what was written is valid. From `translucid_frame_complete`: a buffer overflowed, so
-     * the colour image the frame wrote is wrong; the buffers have grown, and recording the
-     * same frame again over a restored opaque colour renders it correctly.
+     * The call succeeded but a list was cut short, as Vulkan's `VK_INCOMPLETE`: the caller's
+     * array or buffer holds less than there is (`translucid_method_get_available`,
+     * `translucid_context_get_pipeline_cache_data`); what was written is valid.
      */
     TRANSLUCID_RESULT_INCOMPLETE = 1,
     /**
@@ -164,6 +163,13 @@ enum translucid_result
      * submission finished, or abandon it.
      */
     TRANSLUCID_RESULT_NOT_READY = 2,
+    /**
+     * From `translucid_frame_complete`: the frame ran but went past a limit of one
+     * recording, so pixel rows it could not finish kept the opaque colour
+     * (`translucid_frame_statistics::overflowed`); the buffers have grown, and recording the
+     * same frame again over a restored opaque colour renders it right.
+     */
+    TRANSLUCID_RESULT_FRAME_DEGRADED = 3,
     /**
      * A required pointer argument was NULL.
      */
@@ -877,7 +883,7 @@ typedef struct translucid_frame_statistics {
      * 1 when the frame went past a limit of one recording (pixel rows left with the opaque
      * colour, or near-plane triangles past one storage buffer's worth), so that its image is
      * not all right; else 0. Only host-device frames can end so (`translucid_frame_complete`
-     * returns `TRANSLUCID_RESULT_INCOMPLETE`); standalone frames render again instead.
+     * returns `TRANSLUCID_RESULT_FRAME_DEGRADED`); standalone frames render again instead.
      */
     uint32_t overflowed;
     /**
@@ -1280,8 +1286,8 @@ typedef struct translucid_linked_list_settings {
     /**
      * The node pool, in fragments (28 bytes each). 0 (the default) sizes the pool from the
      * frame and grows it when a frame overflows: the frame is rendered again (standalone) or
-     * completes with `TRANSLUCID_RESULT_INCOMPLETE` (host device), and later frames are
-     * exact. A budget stays as given: the fragments past it are blended unsorted and counted
+     * completes with `TRANSLUCID_RESULT_FRAME_DEGRADED` (host device), and later frames
+     * are exact. A budget stays as given: the fragments past it are blended unsorted and counted
      * (`translucid_frame_statistics::tail_fragments`). At most one storage buffer's worth of
      * nodes; past it, `TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT`.
      */
@@ -1304,7 +1310,7 @@ typedef struct translucid_depth_peeling_settings {
      * Peeling passes, each peeling a pixel's nearest and farthest layer left, 1 to 128. 0
      * (the default) starts with a few; a frame with more layers grows them to half its
      * deepest pixel's fragments (it is rendered again, or completes with
-     * `TRANSLUCID_RESULT_INCOMPLETE` on an engine's device). A count stays as given: pixels
+     * `TRANSLUCID_RESULT_FRAME_DEGRADED` on an engine's device). A count stays as given: pixels
      * with more than twice as many layers lose their middle ones and are counted
      * (`translucid_frame_statistics::unpeeled_pixels`).
      */
@@ -1576,7 +1582,6 @@ translucid_result translucid_frame_record_native_blend(struct translucid_context
 
 /**
  * Host-device mode: call once the host waited for the engine's submission of the frame's
- * Host-device mode: call once the host waited for the engine's submission of the frame's
  * command buffer. Reads the frame's GPU timings and counters (see
  * `translucid_frame_get_statistics`) and ends the frame's flight. Frames in flight
  * recorded before it are completed first, in order (on one queue they ran before it), so
@@ -1584,7 +1589,7 @@ translucid_result translucid_frame_record_native_blend(struct translucid_context
  * statistics, and completing one of them afterwards is the error for a frame not in
  * flight. Returns:
  * - `TRANSLUCID_RESULT_SUCCESS`: the colour image holds the frame.
- * - `TRANSLUCID_RESULT_INCOMPLETE`: the frame went past one of the limits a single
+ * - `TRANSLUCID_RESULT_FRAME_DEGRADED`: the frame went past one of the limits a single
  *   recording handles (README, "When a frame is not right"): pixel rows it could not
  *   finish kept the opaque colour (`translucid_frame_statistics.overflowed`). translucid
  *   has grown its buffers, so later frames are right; to repair this one, restore the

@@ -3,8 +3,9 @@
 // Errors are reported by exceptions: every failing call throws translucid::Error, which carries
 // the result code and the context's last-error message. (An expected-style result would make
 // every call site check; exceptions keep the happy path a straight line, and engines that
-// build without exceptions can use the C API directly.) Status codes that are not errors
-// (TRANSLUCID_RESULT_INCOMPLETE) are handled inside the wrapper.
+// build without exceptions can use the C API directly.) Status codes that are not errors are
+// handled inside the wrapper (TRANSLUCID_RESULT_INCOMPLETE) or returned as an enum
+// (Frame::complete's Completion).
 //
 // Ownership: Context, Mesh, Texture, Material and Frame are move-only. Each object keeps its
 // context alive (a shared reference to the C context), so destruction order does not matter:
@@ -163,7 +164,7 @@ public:
     /// What Frame::complete found.
     enum class Completion {
         done,       ///< the colour image holds the frame
-        overflowed, ///< translucid grew its buffers: restore the opaque colour, record again
+        degraded,   ///< past a limit, rows kept the opaque colour: restore it, record again
         not_ready,  ///< the commands have not run: the frame stays in flight
     };
     /// Host-device mode: call once the host waited for the engine's submission of the frame
@@ -174,7 +175,8 @@ public:
         const translucid_result r = translucid_frame_complete(context(), handle());
         detail::check(r, context(), "translucid_frame_complete");
         if (r == TRANSLUCID_RESULT_NOT_READY) return Completion::not_ready;
-        return r == TRANSLUCID_RESULT_SUCCESS ? Completion::done : Completion::overflowed;
+        if (r == TRANSLUCID_RESULT_FRAME_DEGRADED) return Completion::degraded;
+        return Completion::done;
     }
     /// Host-device mode: ends the flight of a frame the GPU is not running and never will
     /// (never submitted, or its results unwanted), and frees it; the frames recorded after

@@ -227,7 +227,7 @@ pub struct translucid_frame_statistics {
     /// 1 when the frame went past a limit of one recording (pixel rows left with the opaque
     /// colour, or near-plane triangles past one storage buffer's worth), so that its image is
     /// not all right; else 0. Only host-device frames can end so (`translucid_frame_complete`
-    /// returns `TRANSLUCID_RESULT_INCOMPLETE`); standalone frames render again instead.
+    /// returns `TRANSLUCID_RESULT_FRAME_DEGRADED`); standalone frames render again instead.
     pub overflowed: u32,
     /// The frame's `translucid_frame_info::frame_index`.
     pub frame_index: u64,

@@ -358,7 +358,7 @@ fn complete_oldest(objects: &mut Objects) -> FfiResult<translucid_result> {
     record.overflowed = done.overflowed;
     record.dispatches = done.dispatches;
     Ok(if done.overflowed {
-        translucid_result::Incomplete
+        translucid_result::FrameDegraded
     } else {
         translucid_result::Success
     })
@@ -597,7 +597,6 @@ impl translucid_frame {
     }
 
     /// Host-device mode: call once the host waited for the engine's submission of the frame's
-    /// Host-device mode: call once the host waited for the engine's submission of the frame's
     /// command buffer. Reads the frame's GPU timings and counters (see
     /// `translucid_frame_get_statistics`) and ends the frame's flight. Frames in flight
     /// recorded before it are completed first, in order (on one queue they ran before it), so
@@ -605,7 +604,7 @@ impl translucid_frame {
     /// statistics, and completing one of them afterwards is the error for a frame not in
     /// flight. Returns:
     /// - `TRANSLUCID_RESULT_SUCCESS`: the colour image holds the frame.
-    /// - `TRANSLUCID_RESULT_INCOMPLETE`: the frame went past one of the limits a single
+    /// - `TRANSLUCID_RESULT_FRAME_DEGRADED`: the frame went past one of the limits a single
     ///   recording handles (README, "When a frame is not right"): pixel rows it could not
     ///   finish kept the opaque colour (`translucid_frame_statistics.overflowed`). translucid
     ///   has grown its buffers, so later frames are right; to repair this one, restore the

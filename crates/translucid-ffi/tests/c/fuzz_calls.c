@@ -812,10 +812,10 @@ static void frame_render(state *s) {
         s->frame_index = info.frame_index;
     }
     if (g_host_mode) {
-        /* A recorded frame completes once its submission has finished; INCOMPLETE asks
+        /* A recorded frame completes once its submission has finished; FRAME_DEGRADED asks
          * for it to be recorded again. Its pixels are the engine's colour image. */
         if (outcome.completed != TRANSLUCID_RESULT_SUCCESS &&
-            outcome.completed != TRANSLUCID_RESULT_INCOMPLETE) {
+            outcome.completed != TRANSLUCID_RESULT_FRAME_DEGRADED) {
             broken("translucid_frame_complete", __LINE__, "a submitted frame did not complete",
                    outcome.completed, s->ctx);
         }

@@ -204,7 +204,7 @@ static translucid_result engine_frame(const translucid_frame_info *info,
     submit_and_wait();
     completed = translucid_frame_complete(g_host, *frame);
     TRUE_OR_FAIL(completed == TRANSLUCID_RESULT_SUCCESS ||
-                 completed == TRANSLUCID_RESULT_INCOMPLETE);
+                 completed == TRANSLUCID_RESULT_FRAME_DEGRADED);
     /* translucid only reads the engine's depth. */
     TRUE_OR_FAIL(memcmp((uint8_t *)g_mapped + DEPTH_READBACK, g_opaque_depth, DEPTH_BYTES) == 0);
     return completed;
@@ -232,9 +232,9 @@ static void compare_with_standalone(uint32_t method, const scene *host_scene,
         memset(&stats, 0, sizeof stats);
         stats.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_STATISTICS;
         CHECK(g_host, translucid_frame_get_statistics(g_host, frame, &stats));
-        TRUE_OR_FAIL(stats.overflowed == (completed == TRANSLUCID_RESULT_INCOMPLETE));
+        TRUE_OR_FAIL(stats.overflowed == (completed == TRANSLUCID_RESULT_FRAME_DEGRADED));
         CHECK(g_host, translucid_frame_destroy(g_host, frame));
-    } while (completed == TRANSLUCID_RESULT_INCOMPLETE && attempts < 3);
+    } while (completed == TRANSLUCID_RESULT_FRAME_DEGRADED && attempts < 3);
     TRUE_OR_FAIL(completed == TRANSLUCID_RESULT_SUCCESS);
     /* The quads cover most of the frame: exact's first guess of bin entries (eight per
      * triangle) is too small, and the frame is rasterized in bands within its one recording

@@ -145,6 +145,8 @@ static void queries(void) {
     TRUE_OR_FAIL(translucid_version() == TRANSLUCID_HEADER_VERSION);
     TRUE_OR_FAIL(strcmp(translucid_result_string(-999999), "unknown result code") == 0);
     TRUE_OR_FAIL(strcmp(translucid_result_string(TRANSLUCID_RESULT_SUCCESS), "success") == 0);
+    TRUE_OR_FAIL(strcmp(translucid_result_string(TRANSLUCID_RESULT_FRAME_DEGRADED),
+                        translucid_result_string(TRANSLUCID_RESULT_INCOMPLETE)) != 0);
     TRUE_OR_FAIL(translucid_method_name(99) == NULL);
     TRUE_OR_FAIL(strcmp(translucid_method_name(TRANSLUCID_METHOD_BLEND), "blend") == 0);
     TRUE_OR_FAIL(translucid_context_get_device_name(NULL)[0] == '\0');
