@@ -128,7 +128,7 @@
 
 #define TRANSLUCID_VERSION_MAJOR 0
 
-#define TRANSLUCID_VERSION_MINOR 7
+#define TRANSLUCID_VERSION_MINOR 8
 
 #define TRANSLUCID_VERSION_PATCH 0
 
@@ -1699,7 +1699,7 @@ translucid_result translucid_texture_destroy(struct translucid_context *context,
 uint32_t translucid_version(void);
 
 /**
- * The library's version as a static string, e.g. "0.7.0".
+ * The library's version as a static string, e.g. "0.8.0".
  */
 const char *translucid_version_string(void);
 
