@@ -23,7 +23,7 @@ static translucid_context *g_context = NULL;
 static void check(translucid_result result, const char *call) {
     if (result < 0) {
         fprintf(stderr, "%s failed: %s (%d)\n  %s\n", call, translucid_result_string(result),
-                (int)result, translucid_context_last_error(g_context));
+                (int)result, translucid_context_get_last_error(g_context));
         translucid_context_destroy(g_context);
         exit(1);
     }
@@ -183,7 +183,7 @@ int main(int argc, char **argv) {
     context_info.mode = TRANSLUCID_CONTEXT_MODE_STANDALONE;
     CHECK(translucid_context_create(&context_info, &g_context));
     printf("translucid %s on %s\n", translucid_version_string(),
-           translucid_context_device_name(g_context));
+           translucid_context_get_device_name(g_context));
 
     square = make_square();
     octahedron = make_octahedron();
@@ -233,7 +233,7 @@ int main(int argc, char **argv) {
     wavelet_settings.s_type = TRANSLUCID_STRUCTURE_TYPE_WAVELET_SETTINGS;
     wavelet_settings.storage = TRANSLUCID_WAVELET_STORAGE_BINS;
 
-    CHECK(translucid_methods_available(methods, sizeof methods / sizeof methods[0],
+    CHECK(translucid_method_get_available(methods, sizeof methods / sizeof methods[0],
                                        &method_count));
     for (m = 0; m < method_count; m++) {
         const char *name = translucid_method_name(methods[m]);

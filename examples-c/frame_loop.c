@@ -46,7 +46,7 @@ static translucid_context *g_context = NULL;
 static void check(translucid_result result, const char *call) {
     if (result < 0) {
         fprintf(stderr, "%s failed: %s (%d)\n  %s\n", call, translucid_result_string(result),
-                (int)result, translucid_context_last_error(g_context));
+                (int)result, translucid_context_get_last_error(g_context));
         exit(1);
     }
 }
@@ -83,8 +83,8 @@ static frame_slot g_slots[IN_FLIGHT];
 static void create_engine(void) {
     translucid_host_requirements req;
     memset(&req, 0, sizeof req);
-    req.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_REQUIREMENTS;
-    CHECK(translucid_host_requirements_get(&req));
+    req.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_REQUIREMENTS;
+    CHECK(translucid_host_get_requirements(&req));
     create_instance(req.api_version);
     create_device(&req);
 }
@@ -450,7 +450,7 @@ static void finish(frame_slot *s, int k, double *gpu_ms, double *ratio) {
            "the engine's blend (%.3f ms)%s",
            k, s->record_ms, stats.gpu_milliseconds, stats.method_milliseconds,
            (unsigned long long)stats.dispatches, *ratio, native.gpu_milliseconds,
-           done == TRANSLUCID_RESULT_INCOMPLETE ? ", past a limit: see the README" : "");
+           done == TRANSLUCID_RESULT_FRAME_DEGRADED ? ", past a limit: see the README" : "");
     /* What recording it built: the first frames' pipelines and buffers, uploads. */
     if (stats.pipelines_created != 0 || stats.bytes_allocated != 0) {
         printf(", built %llu pipelines and %.1f KB of GPU memory",
@@ -590,7 +590,7 @@ int main(int argc, char **argv) {
     info.frames_in_flight = 2 * IN_FLIGHT;
     CHECK(translucid_context_create(&info, &g_context));
     printf("translucid %s on %s\n", translucid_version_string(),
-           translucid_context_device_name(g_context));
+           translucid_context_get_device_name(g_context));
     for (m = 0; m < 2; m++) {
         snprintf(path, sizeof path, "%s/frame_loop-%s.png", out_dir,
                  translucid_method_name(methods[m]));

@@ -7,8 +7,8 @@
  * - Zero-initialise create-info structs, then set s_type (a TRANSLUCID_STRUCTURE_TYPE_* value)
  *   and what you need; next must be NULL unless documented otherwise. Zero means the default.
  * - Fallible calls return translucid_result: 0 success, > 0 a status that is not an error,
- *   < 0 an error. translucid_context_last_error() says what went wrong. Out-parameters are
- *   written only on success. translucid_result_string() names any code.
+ *   < 0 an error. translucid_context_get_last_error() says what went wrong. Out-parameters
+ *   are written only on success. translucid_result_string() names any code.
  * - Every pointer argument is either NULL (an error unless documented as optional) or points
  *   to memory valid for the documented extent during the call; arrays are copied, never kept.
  * - Handles ({0} is NULL) are generational: using a destroyed object's handle, or a handle from
@@ -16,16 +16,25 @@
  * - Enums cross as uint32_t; an unknown value is TRANSLUCID_RESULT_ERROR_INVALID_ENUM.
  * - An internal panic returns TRANSLUCID_RESULT_ERROR_PANIC and makes the context refuse all
  *   further work except translucid_context_destroy().
+ * - Names: a function is translucid_<object>_<verb>[_<what>]: the object it works on (context,
+ *   mesh, texture, material, frame, method, or host: the engine's device), what it does
+ *   (create, destroy, get, update, render, read, write, record, complete, abandon), then what
+ *   it gets or makes (translucid_frame_get_statistics, translucid_frame_write_png). Functions
+ *   that only name a constant (they need no context and return a static string or a number,
+ *   never a translucid_result) are the constant's name and what they give: translucid_version,
+ *   translucid_version_string, translucid_result_string, translucid_method_name. A
+ *   structure type is its struct's name upper-cased: translucid_frame_info is tagged
+ *   TRANSLUCID_STRUCTURE_TYPE_FRAME_INFO.
  *
  * Modes:
  * - Standalone: translucid makes its own headless Vulkan device, renders offscreen with
  *   translucid_frame_render and returns pixels.
- * - Host device: the engine asks translucid_host_requirements_get what to enable, creates its
+ * - Host device: the engine asks translucid_host_get_requirements what to enable, creates its
  *   instance and device accordingly, and chains a translucid_host_device_create_info to the
  *   context create-info. translucid_frame_record records a frame into the engine's command
  *   buffer over the engine's colour and depth images (never submitting); after the engine's
  *   submission finished, translucid_frame_complete reads the statistics and says whether the
- *   frame went past a documented limit (TRANSLUCID_RESULT_INCOMPLETE). Up to the context's
+ *   frame went past a documented limit (TRANSLUCID_RESULT_FRAME_DEGRADED). Up to the context's
  *   frames_in_flight frames may be recorded and not completed. translucid loads Vulkan
  *   through the engine's vkGetInstanceProcAddr and never destroys the engine's objects.
  *
@@ -119,7 +128,7 @@
 
 #define TRANSLUCID_VERSION_MAJOR 0
 
-#define TRANSLUCID_VERSION_MINOR 7
+#define TRANSLUCID_VERSION_MINOR 8
 
 #define TRANSLUCID_VERSION_PATCH 0
 
@@ -143,10 +152,9 @@ enum translucid_result
      */
     TRANSLUCID_RESULT_SUCCESS = 0,
     /**
-     * The call succeeded but an output was cut short (a list longer than the caller's array);
-     * what was written is valid. From `translucid_frame_complete`: a buffer overflowed, so
-     * the colour image the frame wrote is wrong; the buffers have grown, and recording the
-     * same frame again over a restored opaque colour renders it correctly.
+     * The call succeeded but a list was cut short, as Vulkan's `VK_INCOMPLETE`: the caller's
+     * array or buffer holds less than there is (`translucid_method_get_available`,
+     * `translucid_context_get_pipeline_cache_data`); what was written is valid.
      */
     TRANSLUCID_RESULT_INCOMPLETE = 1,
     /**
@@ -155,6 +163,13 @@ enum translucid_result
      * submission finished, or abandon it.
      */
     TRANSLUCID_RESULT_NOT_READY = 2,
+    /**
+     * From `translucid_frame_complete`: the frame ran but went past a limit of one
+     * recording, so pixel rows it could not finish kept the opaque colour
+     * (`translucid_frame_statistics::overflowed`); the buffers have grown, and recording the
+     * same frame again over a restored opaque colour renders it right.
+     */
+    TRANSLUCID_RESULT_FRAME_DEGRADED = 3,
     /**
      * A required pointer argument was NULL.
      */
@@ -243,7 +258,7 @@ enum translucid_result
     TRANSLUCID_RESULT_ERROR_IO = -105,
     /**
      * Host-device mode: the engine's device lacks a Vulkan version, feature, extension or
-     * queue capability that `translucid_host_requirements_get` lists; the message names each.
+     * queue capability that `translucid_host_get_requirements` lists; the message names each.
      */
     TRANSLUCID_RESULT_ERROR_DEVICE_REQUIREMENTS = -106,
     /**
@@ -253,7 +268,7 @@ enum translucid_result
     TRANSLUCID_RESULT_ERROR_PANIC = -200,
     /**
      * An earlier call on this context panicked; only `translucid_context_destroy` and
-     * `translucid_context_last_error` still work.
+     * `translucid_context_get_last_error` still work.
      */
     TRANSLUCID_RESULT_ERROR_CONTEXT_POISONED = -201,
 };
@@ -266,53 +281,9 @@ typedef int32_t translucid_result;
 #endif // __cplusplus
 
 /**
- * A transparency method.
- */
-enum translucid_method
-#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
-  : uint32_t
-#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
- {
-    /**
-     * Unsorted alpha blending in submission order: the fast, wrong baseline.
-     */
-    TRANSLUCID_METHOD_BLEND = 0,
-    /**
-     * Exact order-independent transparency (the compute bin rasterizer).
-     */
-    TRANSLUCID_METHOD_EXACT = 1,
-    /**
-     * Wavelet OIT: approximate, bounded memory.
-     */
-    TRANSLUCID_METHOD_WAVELET = 2,
-    /**
-     * Weighted blended OIT: approximate, cheapest.
-     */
-    TRANSLUCID_METHOD_WBOIT = 3,
-    /**
-     * Per-pixel linked lists, sorted per pixel: exact while the node pool holds the frame's
-     * fragments (`translucid_frame_info::linked_list_node_budget`). On an engine's device it
-     * needs the features `translucid_host_method_requirements_get` lists for it.
-     */
-    TRANSLUCID_METHOD_LINKED_LIST = 4,
-    /**
-     * Dual depth peeling: N passes peel 2N layers, exact while every pixel has at most 2N
-     * (`translucid_frame_info::depth_peeling_passes`). On an engine's device it needs
-     * `geometryShader` and `independentBlend`, and `maxColorAttachments` of at least 7
-     * (desktop GPUs have 8).
-     */
-    TRANSLUCID_METHOD_DEPTH_PEELING = 5,
-};
-#ifndef __cplusplus
-#if __STDC_VERSION__ >= 202311L
-typedef enum translucid_method translucid_method;
-#else
-typedef uint32_t translucid_method;
-#endif // __STDC_VERSION__ >= 202311L
-#endif // __cplusplus
-
-/**
  * Values of the `s_type` field. 0 is never valid, so a zeroed struct is always rejected.
+ * Each value is named after the struct it tags: `translucid_foo_bar` takes
+ * `TRANSLUCID_STRUCTURE_TYPE_FOO_BAR`.
  */
 enum translucid_structure_type
 #if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
@@ -344,7 +315,7 @@ enum translucid_structure_type
     /**
      * `translucid_host_requirements`.
      */
-    TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_REQUIREMENTS = 101,
+    TRANSLUCID_STRUCTURE_TYPE_HOST_REQUIREMENTS = 101,
     /**
      * `translucid_host_frame_targets`.
      */
@@ -457,6 +428,52 @@ enum translucid_pixel_format
 typedef enum translucid_pixel_format translucid_pixel_format;
 #else
 typedef uint32_t translucid_pixel_format;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
+/**
+ * A transparency method.
+ */
+enum translucid_method
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+    /**
+     * Unsorted alpha blending in submission order: the fast, wrong baseline.
+     */
+    TRANSLUCID_METHOD_BLEND = 0,
+    /**
+     * Exact order-independent transparency (the compute bin rasterizer).
+     */
+    TRANSLUCID_METHOD_EXACT = 1,
+    /**
+     * Wavelet OIT: approximate, bounded memory.
+     */
+    TRANSLUCID_METHOD_WAVELET = 2,
+    /**
+     * Weighted blended OIT: approximate, cheapest.
+     */
+    TRANSLUCID_METHOD_WBOIT = 3,
+    /**
+     * Per-pixel linked lists, sorted per pixel: exact while the node pool holds the frame's
+     * fragments (`translucid_linked_list_settings::node_budget`). On an engine's device it
+     * needs the features `translucid_host_get_method_requirements` lists for it.
+     */
+    TRANSLUCID_METHOD_LINKED_LIST = 4,
+    /**
+     * Dual depth peeling: N passes peel 2N layers, exact while every pixel has at most 2N
+     * (`translucid_depth_peeling_settings::passes`). On an engine's device it needs
+     * `geometryShader` and `independentBlend`, and `maxColorAttachments` of at least 7
+     * (desktop GPUs have 8).
+     */
+    TRANSLUCID_METHOD_DEPTH_PEELING = 5,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum translucid_method translucid_method;
+#else
+typedef uint32_t translucid_method;
 #endif // __STDC_VERSION__ >= 202311L
 #endif // __cplusplus
 
@@ -754,7 +771,7 @@ typedef struct translucid_frame_info {
      */
     const void *next;
     /**
-     * A `translucid_method`; see `translucid_methods_available`.
+     * A `translucid_method`; see `translucid_method_get_available`.
      */
     uint32_t method;
     /**
@@ -866,7 +883,7 @@ typedef struct translucid_frame_statistics {
      * 1 when the frame went past a limit of one recording (pixel rows left with the opaque
      * colour, or near-plane triangles past one storage buffer's worth), so that its image is
      * not all right; else 0. Only host-device frames can end so (`translucid_frame_complete`
-     * returns `TRANSLUCID_RESULT_INCOMPLETE`); standalone frames render again instead.
+     * returns `TRANSLUCID_RESULT_FRAME_DEGRADED`); standalone frames render again instead.
      */
     uint32_t overflowed;
     /**
@@ -890,14 +907,14 @@ typedef struct translucid_frame_statistics {
     uint64_t bytes_allocated;
     /**
      * Fragments blended unsorted because they found no room (`TRANSLUCID_METHOD_LINKED_LIST`
-     * past its `linked_list_node_budget`): the image is not exact where they fell. 0 for an
-     * exact frame and for other methods.
+     * past its `translucid_linked_list_settings::node_budget`): the image is not exact where
+     * they fell. 0 for an exact frame and for other methods.
      */
     uint64_t tail_fragments;
     /**
      * Pixels with more layers than `TRANSLUCID_METHOD_DEPTH_PEELING`'s passes peel (twice
-     * `depth_peeling_passes`): their middle layers are missing. 0 for an exact frame and for
-     * other methods.
+     * `translucid_depth_peeling_settings::passes`): their middle layers are missing. 0 for an
+     * exact frame and for other methods.
      */
     uint64_t unpeeled_pixels;
     /**
@@ -914,7 +931,7 @@ typedef struct translucid_frame_statistics {
  */
 typedef struct translucid_host_requirements {
     /**
-     * `TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_REQUIREMENTS`, set by the caller.
+     * `TRANSLUCID_STRUCTURE_TYPE_HOST_REQUIREMENTS`, set by the caller.
      */
     uint32_t s_type;
     /**
@@ -1269,8 +1286,8 @@ typedef struct translucid_linked_list_settings {
     /**
      * The node pool, in fragments (28 bytes each). 0 (the default) sizes the pool from the
      * frame and grows it when a frame overflows: the frame is rendered again (standalone) or
-     * completes with `TRANSLUCID_RESULT_INCOMPLETE` (host device), and later frames are
-     * exact. A budget stays as given: the fragments past it are blended unsorted and counted
+     * completes with `TRANSLUCID_RESULT_FRAME_DEGRADED` (host device), and later frames
+     * are exact. A budget stays as given: the fragments past it are blended unsorted and counted
      * (`translucid_frame_statistics::tail_fragments`). At most one storage buffer's worth of
      * nodes; past it, `TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT`.
      */
@@ -1293,7 +1310,7 @@ typedef struct translucid_depth_peeling_settings {
      * Peeling passes, each peeling a pixel's nearest and farthest layer left, 1 to 128. 0
      * (the default) starts with a few; a frame with more layers grows them to half its
      * deepest pixel's fragments (it is rendered again, or completes with
-     * `TRANSLUCID_RESULT_INCOMPLETE` on an engine's device). A count stays as given: pixels
+     * `TRANSLUCID_RESULT_FRAME_DEGRADED` on an engine's device). A count stays as given: pixels
      * with more than twice as many layers lose their middle ones and are counted
      * (`translucid_frame_statistics::unpeeled_pixels`).
      */
@@ -1318,7 +1335,7 @@ typedef struct translucid_base_in_structure {
  * The engine's device, chained to `translucid_context_create_info::next` with `mode`
  * `TRANSLUCID_CONTEXT_MODE_HOST_DEVICE`. translucid never destroys these objects: destroy the
  * context before them. The enabled features and extensions are checked against
- * `translucid_host_requirements_get` (`TRANSLUCID_RESULT_ERROR_DEVICE_REQUIREMENTS` names
+ * `translucid_host_get_requirements` (`TRANSLUCID_RESULT_ERROR_DEVICE_REQUIREMENTS` names
  * what is missing); a `VK_NULL_HANDLE` instance, physical device or device is
  * `TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT`.
  */
@@ -1358,18 +1375,13 @@ typedef struct translucid_host_device_create_info {
     const char *const *enabled_extensions;
 } translucid_host_device_create_info;
 
-/**
- * Every value, in order.
- */
-#define translucid_method_ALL { translucid_method_Blend, translucid_method_Exact, translucid_method_Wavelet, translucid_method_Wboit, translucid_method_LinkedList, translucid_method_DepthPeeling, }
-
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
 
 /**
  * Creates a context. On success writes it to `*out_context`; on failure leaves
- * `*out_context` untouched and `translucid_context_last_error(NULL)` says why.
+ * `*out_context` untouched and `translucid_context_get_last_error(NULL)` says why.
  */
 TRANSLUCID_MUST_USE
 translucid_result translucid_context_create(const struct translucid_context_create_info *info,
@@ -1391,7 +1403,7 @@ void translucid_context_destroy(struct translucid_context *context);
  * not clear it). Valid until the next call on the same context (or, for NULL, the next
  * failing context-less call on this thread).
  */
-const char *translucid_context_last_error(const struct translucid_context *context);
+const char *translucid_context_get_last_error(const struct translucid_context *context);
 
 /**
  * The context's pipeline cache, for the engine to save and pass back in
@@ -1410,7 +1422,7 @@ translucid_result translucid_context_get_pipeline_cache_data(struct translucid_c
  * The name of the context's Vulkan device; "" for a NULL context. Valid as long as the
  * context.
  */
-const char *translucid_context_device_name(const struct translucid_context *context);
+const char *translucid_context_get_device_name(const struct translucid_context *context);
 
 /**
  * Renders a frame and waits for it; writes its handle to `*out_frame`. The frame keeps
@@ -1474,14 +1486,14 @@ translucid_result translucid_frame_abandon(struct translucid_context *context,
 
 /**
  * Fills `*out_requirements` (whose `s_type` the caller set to
- * `TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_REQUIREMENTS`) with what the engine's instance
+ * `TRANSLUCID_STRUCTURE_TYPE_HOST_REQUIREMENTS`) with what the engine's instance
  * and device must have: call it before creating them. Needs no context.
  */
 TRANSLUCID_MUST_USE
-translucid_result translucid_host_requirements_get(struct translucid_host_requirements *out_requirements);
+translucid_result translucid_host_get_requirements(struct translucid_host_requirements *out_requirements);
 
 /**
- * Like `translucid_host_requirements_get`, for an engine that will use `method` (a
+ * Like `translucid_host_get_requirements`, for an engine that will use `method` (a
  * `translucid_method`): the features every method needs and those `method` needs
  * besides (`TRANSLUCID_METHOD_LINKED_LIST`: `fragmentStoresAndAtomics` and
  * `geometryShader`; `TRANSLUCID_METHOD_DEPTH_PEELING`: `geometryShader` and
@@ -1491,7 +1503,7 @@ translucid_result translucid_host_requirements_get(struct translucid_host_requir
  * `TRANSLUCID_RESULT_ERROR_DEVICE_REQUIREMENTS`, naming them. Needs no context.
  */
 TRANSLUCID_MUST_USE
-translucid_result translucid_host_method_requirements_get(uint32_t method,
+translucid_result translucid_host_get_method_requirements(uint32_t method,
                                                           struct translucid_host_requirements *out_requirements);
 
 /**
@@ -1570,7 +1582,6 @@ translucid_result translucid_frame_record_native_blend(struct translucid_context
 
 /**
  * Host-device mode: call once the host waited for the engine's submission of the frame's
- * Host-device mode: call once the host waited for the engine's submission of the frame's
  * command buffer. Reads the frame's GPU timings and counters (see
  * `translucid_frame_get_statistics`) and ends the frame's flight. Frames in flight
  * recorded before it are completed first, in order (on one queue they ran before it), so
@@ -1578,7 +1589,7 @@ translucid_result translucid_frame_record_native_blend(struct translucid_context
  * statistics, and completing one of them afterwards is the error for a frame not in
  * flight. Returns:
  * - `TRANSLUCID_RESULT_SUCCESS`: the colour image holds the frame.
- * - `TRANSLUCID_RESULT_INCOMPLETE`: the frame went past one of the limits a single
+ * - `TRANSLUCID_RESULT_FRAME_DEGRADED`: the frame went past one of the limits a single
  *   recording handles (README, "When a frame is not right"): pixel rows it could not
  *   finish kept the opaque colour (`translucid_frame_statistics.overflowed`). translucid
  *   has grown its buffers, so later frames are right; to repair this one, restore the
@@ -1657,9 +1668,9 @@ const char *translucid_method_name(uint32_t method);
  * `*out_count`. Returns `TRANSLUCID_RESULT_INCOMPLETE` when `capacity` was too small.
  */
 TRANSLUCID_MUST_USE
-translucid_result translucid_methods_available(uint32_t *methods,
-                                               size_t capacity,
-                                               size_t *out_count);
+translucid_result translucid_method_get_available(uint32_t *methods,
+                                                  size_t capacity,
+                                                  size_t *out_count);
 
 /**
  * Returns a static, NUL-terminated description of `code`; never NULL. Unknown values
@@ -1688,7 +1699,7 @@ translucid_result translucid_texture_destroy(struct translucid_context *context,
 uint32_t translucid_version(void);
 
 /**
- * The library's version as a static string, e.g. "0.7.0".
+ * The library's version as a static string, e.g. "0.8.0".
  */
 const char *translucid_version_string(void);
 

@@ -3,8 +3,9 @@
 // Errors are reported by exceptions: every failing call throws translucid::Error, which carries
 // the result code and the context's last-error message. (An expected-style result would make
 // every call site check; exceptions keep the happy path a straight line, and engines that
-// build without exceptions can use the C API directly.) Status codes that are not errors
-// (TRANSLUCID_RESULT_INCOMPLETE) are handled inside the wrapper.
+// build without exceptions can use the C API directly.) Status codes that are not errors are
+// handled inside the wrapper (TRANSLUCID_RESULT_INCOMPLETE) or returned as an enum
+// (Frame::complete's Completion).
 //
 // Ownership: Context, Mesh, Texture, Material and Frame are move-only. Each object keeps its
 // context alive (a shared reference to the C context), so destruction order does not matter:
@@ -57,7 +58,7 @@ using ContextPtr = std::shared_ptr<translucid_context>;
 inline void check(translucid_result result, const translucid_context *context, const char *call) {
     if (result < 0) {
         throw Error(result, std::string(call) + ": " + translucid_result_string(result) + ": " +
-                                translucid_context_last_error(context));
+                                translucid_context_get_last_error(context));
     }
 }
 
@@ -163,7 +164,7 @@ public:
     /// What Frame::complete found.
     enum class Completion {
         done,       ///< the colour image holds the frame
-        overflowed, ///< translucid grew its buffers: restore the opaque colour, record again
+        degraded,   ///< past a limit, rows kept the opaque colour: restore it, record again
         not_ready,  ///< the commands have not run: the frame stays in flight
     };
     /// Host-device mode: call once the host waited for the engine's submission of the frame
@@ -174,7 +175,8 @@ public:
         const translucid_result r = translucid_frame_complete(context(), handle());
         detail::check(r, context(), "translucid_frame_complete");
         if (r == TRANSLUCID_RESULT_NOT_READY) return Completion::not_ready;
-        return r == TRANSLUCID_RESULT_SUCCESS ? Completion::done : Completion::overflowed;
+        if (r == TRANSLUCID_RESULT_FRAME_DEGRADED) return Completion::degraded;
+        return Completion::done;
     }
     /// Host-device mode: ends the flight of a frame the GPU is not running and never will
     /// (never submitted, or its results unwanted), and frees it; the frames recorded after
@@ -219,18 +221,18 @@ public:
     /// What the engine's instance and device must have (call before creating them).
     static translucid_host_requirements host_requirements() {
         translucid_host_requirements req{};
-        req.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_REQUIREMENTS;
-        detail::check(translucid_host_requirements_get(&req), nullptr,
-                      "translucid_host_requirements_get");
+        req.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_REQUIREMENTS;
+        detail::check(translucid_host_get_requirements(&req), nullptr,
+                      "translucid_host_get_requirements");
         return req;
     }
     /// The same for an engine that uses `method`: every method's features and the method's
     /// own (OR together those of the methods you use).
     static translucid_host_requirements host_requirements(std::uint32_t method) {
         translucid_host_requirements req{};
-        req.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_REQUIREMENTS;
-        detail::check(translucid_host_method_requirements_get(method, &req), nullptr,
-                      "translucid_host_method_requirements_get");
+        req.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_REQUIREMENTS;
+        detail::check(translucid_host_get_method_requirements(method, &req), nullptr,
+                      "translucid_host_get_method_requirements");
         return req;
     }
     /// A context on the engine's device, taking up to `frames_in_flight` frames recorded and
@@ -264,7 +266,7 @@ public:
 
     /// The C context (owned by this wrapper and the objects made from it).
     translucid_context *get() const noexcept { return context_.get(); }
-    std::string device_name() const { return translucid_context_device_name(context_.get()); }
+    std::string device_name() const { return translucid_context_get_device_name(context_.get()); }
 
     /// Creates objects from C create-infos; `s_type` is filled in for you.
     Mesh create_mesh(translucid_mesh_create_info info) {
@@ -327,11 +329,11 @@ public:
     /// The methods this build has (translucid_method values).
     static std::vector<std::uint32_t> available_methods() {
         std::size_t count = 0;
-        translucid_result r = translucid_methods_available(nullptr, 0, &count);
-        detail::check(r, nullptr, "translucid_methods_available");
+        translucid_result r = translucid_method_get_available(nullptr, 0, &count);
+        detail::check(r, nullptr, "translucid_method_get_available");
         std::vector<std::uint32_t> methods(count);
-        r = translucid_methods_available(methods.data(), methods.size(), &count);
-        detail::check(r, nullptr, "translucid_methods_available");
+        r = translucid_method_get_available(methods.data(), methods.size(), &count);
+        detail::check(r, nullptr, "translucid_method_get_available");
         methods.resize(count < methods.size() ? count : methods.size());
         return methods;
     }

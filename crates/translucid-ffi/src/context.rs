@@ -201,7 +201,7 @@ impl Context {
 
 impl translucid_context {
     /// Creates a context. On success writes it to `*out_context`; on failure leaves
-    /// `*out_context` untouched and `translucid_context_last_error(NULL)` says why.
+    /// `*out_context` untouched and `translucid_context_get_last_error(NULL)` says why.
     #[no_mangle]
     #[must_use]
     pub extern "C" fn translucid_context_create(
@@ -234,7 +234,7 @@ impl translucid_context {
     /// not clear it). Valid until the next call on the same context (or, for NULL, the next
     /// failing context-less call on this thread).
     #[no_mangle]
-    pub extern "C" fn translucid_context_last_error(
+    pub extern "C" fn translucid_context_get_last_error(
         context: *const translucid_context,
     ) -> *const c_char {
         panic::or_fallback(c"".as_ptr(), || match cast::context_ref(context) {
@@ -281,7 +281,7 @@ impl translucid_context {
     /// The name of the context's Vulkan device; "" for a NULL context. Valid as long as the
     /// context.
     #[no_mangle]
-    pub extern "C" fn translucid_context_device_name(
+    pub extern "C" fn translucid_context_get_device_name(
         context: *const translucid_context,
     ) -> *const c_char {
         panic::or_fallback(c"".as_ptr(), || match cast::context_ref(context) {

@@ -160,7 +160,7 @@ pub struct translucid_frame_info {
     /// structure in the chain takes its defaults. Settings of other methods than `method`
     /// are checked and otherwise ignored, so one chain may serve every method.
     pub next: *const c_void,
-    /// A `translucid_method`; see `translucid_methods_available`.
+    /// A `translucid_method`; see `translucid_method_get_available`.
     pub method: u32,
     /// 1 to the device's largest image side (`VkPhysicalDeviceLimits::maxImageDimension2D`,
     /// at least 4096); past it, `TRANSLUCID_RESULT_ERROR_INVALID_SIZE`. Frames of any size
@@ -228,7 +228,7 @@ pub struct translucid_frame_statistics {
     /// 1 when the frame went past a limit of one recording (pixel rows left with the opaque
     /// colour, or near-plane triangles past one storage buffer's worth), so that its image is
     /// not all right; else 0. Only host-device frames can end so (`translucid_frame_complete`
-    /// returns `TRANSLUCID_RESULT_INCOMPLETE`); standalone frames render again instead.
+    /// returns `TRANSLUCID_RESULT_FRAME_DEGRADED`); standalone frames render again instead.
     pub overflowed: u32,
     /// The frame's `translucid_frame_info::frame_index`.
     pub frame_index: u64,
@@ -244,12 +244,12 @@ pub struct translucid_frame_statistics {
     /// that the live ones are uploaded anew; 0 in a warm frame loop.
     pub bytes_allocated: u64,
     /// Fragments blended unsorted because they found no room (`TRANSLUCID_METHOD_LINKED_LIST`
-    /// past its `linked_list_node_budget`): the image is not exact where they fell. 0 for an
-    /// exact frame and for other methods.
+    /// past its `translucid_linked_list_settings::node_budget`): the image is not exact where
+    /// they fell. 0 for an exact frame and for other methods.
     pub tail_fragments: u64,
     /// Pixels with more layers than `TRANSLUCID_METHOD_DEPTH_PEELING`'s passes peel (twice
-    /// `depth_peeling_passes`): their middle layers are missing. 0 for an exact frame and for
-    /// other methods.
+    /// `translucid_depth_peeling_settings::passes`): their middle layers are missing. 0 for an
+    /// exact frame and for other methods.
     pub unpeeled_pixels: u64,
     /// Compute dispatches the frame recorded (its last rendering, for a standalone frame
     /// rendered again): the fixed chain a method's frame costs besides its work. 0 for

@@ -1,5 +1,5 @@
 //! Host-device mode: the requirements query, the engine's device description, and frames
-//! recorded into the engine's command buffer. Exports `translucid_host_requirements_get`,
+//! recorded into the engine's command buffer. Exports `translucid_host_get_requirements`,
 //! `translucid_frame_record` and `translucid_frame_complete`.
 //!
 //! The frame rule (kept by the core's `translucid::context::Context`): up to the context's
@@ -34,7 +34,7 @@ use translucid::gpu::{
 #[allow(non_camel_case_types)]
 #[repr(C)]
 pub struct translucid_host_requirements {
-    /// `TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_REQUIREMENTS`, set by the caller.
+    /// `TRANSLUCID_STRUCTURE_TYPE_HOST_REQUIREMENTS`, set by the caller.
     pub s_type: u32,
     /// NULL, set by the caller.
     pub next: *mut c_void,
@@ -56,7 +56,7 @@ pub struct translucid_host_requirements {
 /// The engine's device, chained to `translucid_context_create_info::next` with `mode`
 /// `TRANSLUCID_CONTEXT_MODE_HOST_DEVICE`. translucid never destroys these objects: destroy the
 /// context before them. The enabled features and extensions are checked against
-/// `translucid_host_requirements_get` (`TRANSLUCID_RESULT_ERROR_DEVICE_REQUIREMENTS` names
+/// `translucid_host_get_requirements` (`TRANSLUCID_RESULT_ERROR_DEVICE_REQUIREMENTS` names
 /// what is missing); a `VK_NULL_HANDLE` instance, physical device or device is
 /// `TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT`.
 #[allow(non_camel_case_types)]
@@ -262,12 +262,12 @@ fn complete(objects: &mut Objects, frame: translucid_frame) -> FfiResult<translu
     Ok(match objects.core.complete(frame.id)? {
         Completion::NotReady => translucid_result::NotReady,
         Completion::Complete => translucid_result::Success,
-        Completion::Degraded => translucid_result::Incomplete,
+        Completion::Degraded => translucid_result::FrameDegraded,
     })
 }
 
 impl OutStructure for translucid_host_requirements {
-    const TYPE: translucid_structure_type = translucid_structure_type::HostDeviceRequirements;
+    const TYPE: translucid_structure_type = translucid_structure_type::HostRequirements;
     const NAME: &'static str = "translucid_host_requirements";
     fn header(&self) -> (u32, *mut c_void) {
         (self.s_type, self.next)
@@ -276,17 +276,17 @@ impl OutStructure for translucid_host_requirements {
 
 impl translucid_host_requirements {
     /// Fills `*out_requirements` (whose `s_type` the caller set to
-    /// `TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_REQUIREMENTS`) with what the engine's instance
+    /// `TRANSLUCID_STRUCTURE_TYPE_HOST_REQUIREMENTS`) with what the engine's instance
     /// and device must have: call it before creating them. Needs no context.
     #[no_mangle]
     #[must_use]
-    pub extern "C" fn translucid_host_requirements_get(
+    pub extern "C" fn translucid_host_get_requirements(
         out_requirements: *mut translucid_host_requirements,
     ) -> translucid_result {
         panic::without_context(|| write_requirements(out_requirements, host_requirements()))
     }
 
-    /// Like `translucid_host_requirements_get`, for an engine that will use `method` (a
+    /// Like `translucid_host_get_requirements`, for an engine that will use `method` (a
     /// `translucid_method`): the features every method needs and those `method` needs
     /// besides (`TRANSLUCID_METHOD_LINKED_LIST`: `fragmentStoresAndAtomics` and
     /// `geometryShader`; `TRANSLUCID_METHOD_DEPTH_PEELING`: `geometryShader` and
@@ -296,7 +296,7 @@ impl translucid_host_requirements {
     /// `TRANSLUCID_RESULT_ERROR_DEVICE_REQUIREMENTS`, naming them. Needs no context.
     #[no_mangle]
     #[must_use]
-    pub extern "C" fn translucid_host_method_requirements_get(
+    pub extern "C" fn translucid_host_get_method_requirements(
         method: u32,
         out_requirements: *mut translucid_host_requirements,
     ) -> translucid_result {
@@ -433,7 +433,6 @@ impl translucid_frame {
     }
 
     /// Host-device mode: call once the host waited for the engine's submission of the frame's
-    /// Host-device mode: call once the host waited for the engine's submission of the frame's
     /// command buffer. Reads the frame's GPU timings and counters (see
     /// `translucid_frame_get_statistics`) and ends the frame's flight. Frames in flight
     /// recorded before it are completed first, in order (on one queue they ran before it), so
@@ -441,7 +440,7 @@ impl translucid_frame {
     /// statistics, and completing one of them afterwards is the error for a frame not in
     /// flight. Returns:
     /// - `TRANSLUCID_RESULT_SUCCESS`: the colour image holds the frame.
-    /// - `TRANSLUCID_RESULT_INCOMPLETE`: the frame went past one of the limits a single
+    /// - `TRANSLUCID_RESULT_FRAME_DEGRADED`: the frame went past one of the limits a single
     ///   recording handles (README, "When a frame is not right"): pixel rows it could not
     ///   finish kept the opaque colour (`translucid_frame_statistics.overflowed`). translucid
     ///   has grown its buffers, so later frames are right; to repair this one, restore the

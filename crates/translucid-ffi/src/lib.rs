@@ -13,12 +13,15 @@
 //!   `next`; zero fields mean the default. Enums cross as `uint32_t`: an unknown value is an
 //!   error, never undefined behaviour.
 //! - Every fallible call returns a `translucid_result` (0 success, > 0 a status, < 0 an
-//!   error), keeps a message for `translucid_context_last_error`, and writes its
+//!   error), keeps a message for `translucid_context_get_last_error`, and writes its
 //!   out-parameters only on success.
 //! - Objects are named by generational handles: a destroyed or another context's handle is
 //!   an error, not a crash.
 //! - No panic crosses into C: it becomes `TRANSLUCID_RESULT_ERROR_PANIC`, and the context
 //!   refuses further work.
+//! - Functions are named `translucid_<object>_<verb>[_<what>]`, but for the few that only name
+//!   a constant (`translucid_result_string`); a structure type is its struct's name
+//!   upper-cased. `tests/header.rs` holds the generated header to both.
 //!
 //! The object model (handles, assets, renderers, frames in flight) is the core's
 //! `translucid::context`; this crate converts, checks structures and turns errors into

@@ -49,19 +49,20 @@ pub enum translucid_method {
     /// Weighted blended OIT: approximate, cheapest.
     Wboit = 3,
     /// Per-pixel linked lists, sorted per pixel: exact while the node pool holds the frame's
-    /// fragments (`translucid_frame_info::linked_list_node_budget`). On an engine's device it
-    /// needs the features `translucid_host_method_requirements_get` lists for it.
+    /// fragments (`translucid_linked_list_settings::node_budget`). On an engine's device it
+    /// needs the features `translucid_host_get_method_requirements` lists for it.
     LinkedList = 4,
     /// Dual depth peeling: N passes peel 2N layers, exact while every pixel has at most 2N
-    /// (`translucid_frame_info::depth_peeling_passes`). On an engine's device it needs
+    /// (`translucid_depth_peeling_settings::passes`). On an engine's device it needs
     /// `geometryShader` and `independentBlend`, and `maxColorAttachments` of at least 7
     /// (desktop GPUs have 8).
     DepthPeeling = 5,
 }
 
 impl translucid_method {
-    /// Every value, in order.
-    pub const ALL: [Self; 6] = [
+    /// Every value, in order. (Not in the header: cbindgen would write it as a macro of Rust
+    /// names.)
+    pub(crate) const ALL: [Self; 6] = [
         Self::Blend,
         Self::Exact,
         Self::Wavelet,
@@ -150,7 +151,7 @@ impl translucid_method {
     /// `*out_count`. Returns `TRANSLUCID_RESULT_INCOMPLETE` when `capacity` was too small.
     #[no_mangle]
     #[must_use]
-    pub extern "C" fn translucid_methods_available(
+    pub extern "C" fn translucid_method_get_available(
         methods: *mut u32,
         capacity: usize,
         out_count: *mut usize,

@@ -56,8 +56,8 @@ pub struct translucid_linked_list_settings {
     pub next: *const c_void,
     /// The node pool, in fragments (28 bytes each). 0 (the default) sizes the pool from the
     /// frame and grows it when a frame overflows: the frame is rendered again (standalone) or
-    /// completes with `TRANSLUCID_RESULT_INCOMPLETE` (host device), and later frames are
-    /// exact. A budget stays as given: the fragments past it are blended unsorted and counted
+    /// completes with `TRANSLUCID_RESULT_FRAME_DEGRADED` (host device), and later frames
+    /// are exact. A budget stays as given: the fragments past it are blended unsorted and counted
     /// (`translucid_frame_statistics::tail_fragments`). At most one storage buffer's worth of
     /// nodes; past it, `TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT`.
     pub node_budget: u32,
@@ -75,7 +75,7 @@ pub struct translucid_depth_peeling_settings {
     /// Peeling passes, each peeling a pixel's nearest and farthest layer left, 1 to 128. 0
     /// (the default) starts with a few; a frame with more layers grows them to half its
     /// deepest pixel's fragments (it is rendered again, or completes with
-    /// `TRANSLUCID_RESULT_INCOMPLETE` on an engine's device). A count stays as given: pixels
+    /// `TRANSLUCID_RESULT_FRAME_DEGRADED` on an engine's device). A count stays as given: pixels
     /// with more than twice as many layers lose their middle ones and are counted
     /// (`translucid_frame_statistics::unpeeled_pixels`).
     pub passes: u32,

@@ -13,15 +13,19 @@ use translucid::gpu::vk;
 pub enum translucid_result {
     /// The call did everything it was asked.
     Success = 0,
-    /// The call succeeded but an output was cut short (a list longer than the caller's array);
-    /// what was written is valid. From `translucid_frame_complete`: a buffer overflowed, so
-    /// the colour image the frame wrote is wrong; the buffers have grown, and recording the
-    /// same frame again over a restored opaque colour renders it correctly.
+    /// The call succeeded but a list was cut short, as Vulkan's `VK_INCOMPLETE`: the caller's
+    /// array or buffer holds less than there is (`translucid_method_get_available`,
+    /// `translucid_context_get_pipeline_cache_data`); what was written is valid.
     Incomplete = 1,
     /// From `translucid_frame_complete`: the frame's commands have not run (not submitted,
     /// or still running). Nothing changed; the frame stays in flight: complete it after the
     /// submission finished, or abandon it.
     NotReady = 2,
+    /// From `translucid_frame_complete`: the frame ran but went past a limit of one
+    /// recording, so pixel rows it could not finish kept the opaque colour
+    /// (`translucid_frame_statistics::overflowed`); the buffers have grown, and recording the
+    /// same frame again over a restored opaque colour renders it right.
+    FrameDegraded = 3,
 
     /// A required pointer argument was NULL.
     ErrorNullPointer = -1,
@@ -75,24 +79,25 @@ pub enum translucid_result {
     /// A file could not be written.
     ErrorIo = -105,
     /// Host-device mode: the engine's device lacks a Vulkan version, feature, extension or
-    /// queue capability that `translucid_host_requirements_get` lists; the message names each.
+    /// queue capability that `translucid_host_get_requirements` lists; the message names each.
     ErrorDeviceRequirements = -106,
 
     /// translucid panicked inside this call (a bug: please report it with the message). The
     /// context refuses all further work; destroy it.
     ErrorPanic = -200,
     /// An earlier call on this context panicked; only `translucid_context_destroy` and
-    /// `translucid_context_last_error` still work.
+    /// `translucid_context_get_last_error` still work.
     ErrorContextPoisoned = -201,
 }
 
 impl translucid_result {
     /// Every code, for the to-string function and tests. (Not in the header: cbindgen would
     /// write it as a macro of Rust names.)
-    pub(crate) const ALL: [translucid_result; 24] = [
+    pub(crate) const ALL: [translucid_result; 25] = [
         Self::Success,
         Self::Incomplete,
         Self::NotReady,
+        Self::FrameDegraded,
         Self::ErrorNullPointer,
         Self::ErrorInvalidStructureType,
         Self::ErrorInvalidArgument,
@@ -125,8 +130,9 @@ impl translucid_result {
     pub fn describe(self) -> &'static CStr {
         match self {
             Self::Success => c"success",
-            Self::Incomplete => c"incomplete: the output was cut short, or the frame overflowed",
+            Self::Incomplete => c"incomplete: the list was cut short by the caller's capacity",
             Self::NotReady => c"not ready: the frame's commands have not run yet",
+            Self::FrameDegraded => c"frame degraded: past a limit, rows kept the opaque colour",
             Self::ErrorNullPointer => c"a required pointer was NULL",
             Self::ErrorInvalidStructureType => c"wrong or unknown structure type (s_type)",
             Self::ErrorInvalidArgument => c"invalid argument",
@@ -247,12 +253,15 @@ mod tests {
     use super::*;
 
     #[test]
-    fn every_code_round_trips_and_has_a_message() {
+    fn every_code_round_trips_and_has_a_message_of_its_own() {
+        let mut messages = std::collections::BTreeSet::new();
         for code in translucid_result::ALL {
             assert_eq!(translucid_result::from_raw(code as i32), Some(code));
             assert!(!code.describe().is_empty());
+            // One meaning per code: no two codes share a message.
+            assert!(messages.insert(code.describe()), "{code:?}");
         }
         assert_eq!(translucid_result::from_raw(-12345), None);
-        assert_eq!(translucid_result::from_raw(3), None);
+        assert_eq!(translucid_result::from_raw(4), None);
     }
 }

@@ -3,6 +3,8 @@
 //! structures through `next` without changing any existing layout.
 
 /// Values of the `s_type` field. 0 is never valid, so a zeroed struct is always rejected.
+/// Each value is named after the struct it tags: `translucid_foo_bar` takes
+/// `TRANSLUCID_STRUCTURE_TYPE_FOO_BAR`.
 #[allow(non_camel_case_types)]
 #[repr(u32)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -24,7 +26,7 @@ pub enum translucid_structure_type {
     /// `translucid_host_device_create_info`, chained to the context create-info.
     HostDeviceCreateInfo = 100,
     /// `translucid_host_requirements`.
-    HostDeviceRequirements = 101,
+    HostRequirements = 101,
     /// `translucid_host_frame_targets`.
     HostFrameTargets = 102,
 }
@@ -44,7 +46,7 @@ impl translucid_structure_type {
         Self::LinkedListSettings,
         Self::DepthPeelingSettings,
         Self::HostDeviceCreateInfo,
-        Self::HostDeviceRequirements,
+        Self::HostRequirements,
         Self::HostFrameTargets,
     ];
 

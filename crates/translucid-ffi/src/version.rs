@@ -4,7 +4,7 @@ use crate::result::{translucid_result, Failure, FfiResult};
 use std::ffi::c_char;
 
 pub const TRANSLUCID_VERSION_MAJOR: u32 = 0;
-pub const TRANSLUCID_VERSION_MINOR: u32 = 7;
+pub const TRANSLUCID_VERSION_MINOR: u32 = 8;
 pub const TRANSLUCID_VERSION_PATCH: u32 = 0;
 /// The version of the header in use, packed as `major << 22 | minor << 12 | patch` (like
 /// `VK_MAKE_API_VERSION` without the variant). Put it in
@@ -47,7 +47,7 @@ pub extern "C" fn translucid_version() -> u32 {
     TRANSLUCID_HEADER_VERSION
 }
 
-/// The library's version as a static string, e.g. "0.7.0".
+/// The library's version as a static string, e.g. "0.8.0".
 #[no_mangle]
 pub extern "C" fn translucid_version_string() -> *const c_char {
     concat!(env!("CARGO_PKG_VERSION"), "\0").as_ptr().cast()

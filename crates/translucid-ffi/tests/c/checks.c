@@ -8,7 +8,7 @@ void check(translucid_context *ctx, translucid_result got, translucid_result wan
     if (got != want) {
         printf("FAIL line %d: %s returned %s (%d), expected %s: %s\n", line, call,
                translucid_result_string(got), got, translucid_result_string(want),
-               translucid_context_last_error(ctx));
+               translucid_context_get_last_error(ctx));
         g_failed++;
         if (want == TRANSLUCID_RESULT_SUCCESS) exit(1);
     } else {

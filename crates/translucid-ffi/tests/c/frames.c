@@ -501,7 +501,7 @@ static void destroy_in_flight(void) {
         translucid_host_frame_targets t = targets_of(g_slots[0].cmd, &g_slots[0]);
         EXPECT(ctx, translucid_frame_record(ctx, &info, &t, &g_slots[0].frame),
                TRANSLUCID_RESULT_ERROR_STALE_HANDLE);
-        TRUE_OR_FAIL(strstr(translucid_context_last_error(ctx), "draws[3]") != NULL);
+        TRUE_OR_FAIL(strstr(translucid_context_get_last_error(ctx), "draws[3]") != NULL);
     }
     VK_CHECK(vkEndCommandBuffer(g_slots[0].cmd));
     printf("a mesh destroyed in flight stays with the frame that draws it\n");
@@ -611,7 +611,7 @@ static void misuse(void) {
     create.next = &hd;
     create.frames_in_flight = TRANSLUCID_MAX_FRAMES_IN_FLIGHT + 1;
     EXPECT(NULL, translucid_context_create(&create, &ctx), TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
-    TRUE_OR_FAIL(strstr(translucid_context_last_error(NULL), "frames_in_flight") != NULL);
+    TRUE_OR_FAIL(strstr(translucid_context_get_last_error(NULL), "frames_in_flight") != NULL);
     create.mode = TRANSLUCID_CONTEXT_MODE_STANDALONE;
     create.next = NULL;
     create.frames_in_flight = 2;
@@ -646,7 +646,8 @@ static void misuse(void) {
         translucid_host_frame_targets t = targets_of(g_slots[0].cmd, &g_slots[2]);
         EXPECT(ctx, translucid_frame_record(ctx, &info, &t, &extra),
                TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
-        TRUE_OR_FAIL(strstr(translucid_context_last_error(ctx), "frame_index 6 after 7") != NULL);
+        TRUE_OR_FAIL(strstr(translucid_context_get_last_error(ctx), "frame_index 6 after 7") !=
+                     NULL);
     }
     submit_commands(g_slots[0].cmd, g_slots[0].fence);
     wait_fence(g_slots[0].fence);
@@ -672,7 +673,7 @@ static void misuse(void) {
         big.width = t.colour.width = t.depth.width = props.limits.maxImageDimension2D + 1;
         EXPECT(ctx, translucid_frame_record(ctx, &big, &t, &extra),
                TRANSLUCID_RESULT_ERROR_INVALID_SIZE);
-        message = translucid_context_last_error(ctx);
+        message = translucid_context_get_last_error(ctx);
         TRUE_OR_FAIL(strstr(message, "translucid_frame_info.width") != NULL &&
                      strstr(message, "maxImageDimension2D") != NULL);
     }
@@ -688,7 +689,7 @@ static void misuse(void) {
         translucid_host_frame_targets t = targets_of(g_slots[0].cmd, &g_slots[0]);
         EXPECT(ctx, translucid_frame_record(ctx, &info, &t, &extra),
                TRANSLUCID_RESULT_ERROR_FRAME_IN_FLIGHT);
-        TRUE_OR_FAIL(strstr(translucid_context_last_error(ctx), "frames_in_flight") != NULL);
+        TRUE_OR_FAIL(strstr(translucid_context_get_last_error(ctx), "frames_in_flight") != NULL);
     }
     submit_commands(g_slots[0].cmd, g_slots[0].fence);
     CHECK(ctx, translucid_frame_abandon(ctx, g_slots[1].frame));
@@ -727,8 +728,8 @@ int main(void) {
     uint32_t n;
 
     memset(&req, 0, sizeof req);
-    req.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_REQUIREMENTS;
-    CHECK(NULL, translucid_host_requirements_get(&req));
+    req.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_REQUIREMENTS;
+    CHECK(NULL, translucid_host_get_requirements(&req));
     create_engine(&req);
     memset(&pool, 0, sizeof pool);
     pool.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO;

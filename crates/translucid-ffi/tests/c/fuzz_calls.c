@@ -99,7 +99,7 @@ static _Thread_local unsigned long g_calls;
 
 static void broken(const char *call, int line, const char *what, translucid_result got,
                    const translucid_context *ctx) {
-    const char *message = translucid_context_last_error(ctx);
+    const char *message = translucid_context_get_last_error(ctx);
     fprintf(stderr,
             "CONTRACT BROKEN in case %llu of seed %llu (call %lu, line %d): %s\n  %s\n"
             "  returned %s (%d); last error: %s\n  replay: fuzz_calls --seed %llu --first %llu "
@@ -125,7 +125,7 @@ static void check_sound(translucid_result got, const translucid_context *ctx, co
     if (got == TRANSLUCID_RESULT_ERROR_PANIC || got == TRANSLUCID_RESULT_ERROR_CONTEXT_POISONED) {
         broken(call, line, "the library panicked", got, ctx);
     }
-    const char *message = translucid_context_last_error(ctx);
+    const char *message = translucid_context_get_last_error(ctx);
     if (message == NULL) {
         broken(call, line, "last_error returned NULL", got, ctx);
     }
@@ -812,10 +812,10 @@ static void frame_render(state *s) {
         s->frame_index = info.frame_index;
     }
     if (g_host_mode) {
-        /* A recorded frame completes once its submission has finished; INCOMPLETE asks
+        /* A recorded frame completes once its submission has finished; FRAME_DEGRADED asks
          * for it to be recorded again. Its pixels are the engine's colour image. */
         if (outcome.completed != TRANSLUCID_RESULT_SUCCESS &&
-            outcome.completed != TRANSLUCID_RESULT_INCOMPLETE) {
+            outcome.completed != TRANSLUCID_RESULT_FRAME_DEGRADED) {
             broken("translucid_frame_complete", __LINE__, "a submitted frame did not complete",
                    outcome.completed, s->ctx);
         }
@@ -908,9 +908,9 @@ static void misc(state *s) {
         size_t count = 0;
         size_t capacity = below(9);
         translucid_result got =
-            translucid_methods_available(capacity ? methods : NULL, capacity, &count);
+            translucid_method_get_available(capacity ? methods : NULL, capacity, &count);
         check(got, count > capacity ? TRANSLUCID_RESULT_INCOMPLETE : TRANSLUCID_RESULT_SUCCESS,
-              NULL, "translucid_methods_available", __LINE__);
+              NULL, "translucid_method_get_available", __LINE__);
         break;
     }
     case 1: {
@@ -922,20 +922,20 @@ static void misc(state *s) {
         }
         (void)strlen(translucid_result_string((int32_t)any_u32()));
         (void)strlen(translucid_version_string());
-        (void)strlen(translucid_context_device_name(s->ctx));
+        (void)strlen(translucid_context_get_device_name(s->ctx));
         break;
     }
     case 2: {
         translucid_host_requirements requirements;
         memset(&requirements, 0, sizeof requirements);
-        requirements.s_type = chance(50) ? TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_REQUIREMENTS
+        requirements.s_type = chance(50) ? TRANSLUCID_STRUCTURE_TYPE_HOST_REQUIREMENTS
                                          : any_u32();
-        translucid_result got = translucid_host_requirements_get(&requirements);
+        translucid_result got = translucid_host_get_requirements(&requirements);
         check(got,
-              requirements.s_type == TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_REQUIREMENTS
+              requirements.s_type == TRANSLUCID_STRUCTURE_TYPE_HOST_REQUIREMENTS
                   ? TRANSLUCID_RESULT_SUCCESS
                   : TRANSLUCID_RESULT_ERROR_INVALID_STRUCTURE_TYPE,
-              NULL, "translucid_host_requirements_get", __LINE__);
+              NULL, "translucid_host_get_requirements", __LINE__);
         for (uint32_t i = 0; got == 0 && i < requirements.extension_count; i++) {
             (void)strlen(requirements.extensions[i]);
         }
@@ -1012,7 +1012,7 @@ static translucid_context *new_context(void) {
     translucid_result got = translucid_context_create(&info, &ctx);
     if (got != TRANSLUCID_RESULT_SUCCESS) {
         fprintf(stderr, "fuzz_calls: no context (%s): %s\n", translucid_result_string(got),
-                translucid_context_last_error(NULL));
+                translucid_context_get_last_error(NULL));
         exit(2);
     }
     return ctx;
@@ -1064,7 +1064,7 @@ static void run_case(uint64_t seed, uint64_t number, unsigned calls) {
     state s;
     memset(&s, 0, sizeof s);
     s.ctx = new_context();
-    CHECK(NULL, translucid_methods_available(s.methods, 8, &s.method_count),
+    CHECK(NULL, translucid_method_get_available(s.methods, 8, &s.method_count),
           TRANSLUCID_RESULT_SUCCESS);
     for (unsigned i = 0; i < calls; i++) {
         uint32_t op = below(100);

@@ -29,14 +29,14 @@ static _Thread_local thread_objects g_thread;
 void fuzz_host_start(void) {
     translucid_host_requirements req;
     memset(&req, 0, sizeof req);
-    req.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_REQUIREMENTS;
-    CHECK(NULL, translucid_host_requirements_get(&req));
+    req.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_REQUIREMENTS;
+    CHECK(NULL, translucid_host_get_requirements(&req));
     uint32_t methods[8];
     size_t count = 0;
-    CHECK(NULL, translucid_methods_available(methods, 8, &count));
+    CHECK(NULL, translucid_method_get_available(methods, 8, &count));
     for (size_t m = 0; m < count; m++) {
         translucid_host_requirements per_method = req;
-        CHECK(NULL, translucid_host_method_requirements_get(methods[m], &per_method));
+        CHECK(NULL, translucid_host_get_method_requirements(methods[m], &per_method));
         VkBool32 *all = (VkBool32 *)&req.features;
         const VkBool32 *own = (const VkBool32 *)&per_method.features;
         for (size_t f = 0; f < sizeof req.features / sizeof(VkBool32); f++) {

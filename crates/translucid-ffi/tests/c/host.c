@@ -204,7 +204,7 @@ static translucid_result engine_frame(const translucid_frame_info *info,
     submit_and_wait();
     completed = translucid_frame_complete(g_host, *frame);
     TRUE_OR_FAIL(completed == TRANSLUCID_RESULT_SUCCESS ||
-                 completed == TRANSLUCID_RESULT_INCOMPLETE);
+                 completed == TRANSLUCID_RESULT_FRAME_DEGRADED);
     /* translucid only reads the engine's depth. */
     TRUE_OR_FAIL(memcmp((uint8_t *)g_mapped + DEPTH_READBACK, g_opaque_depth, DEPTH_BYTES) == 0);
     return completed;
@@ -232,9 +232,9 @@ static void compare_with_standalone(uint32_t method, const scene *host_scene,
         memset(&stats, 0, sizeof stats);
         stats.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_STATISTICS;
         CHECK(g_host, translucid_frame_get_statistics(g_host, frame, &stats));
-        TRUE_OR_FAIL(stats.overflowed == (completed == TRANSLUCID_RESULT_INCOMPLETE));
+        TRUE_OR_FAIL(stats.overflowed == (completed == TRANSLUCID_RESULT_FRAME_DEGRADED));
         CHECK(g_host, translucid_frame_destroy(g_host, frame));
-    } while (completed == TRANSLUCID_RESULT_INCOMPLETE && attempts < 3);
+    } while (completed == TRANSLUCID_RESULT_FRAME_DEGRADED && attempts < 3);
     TRUE_OR_FAIL(completed == TRANSLUCID_RESULT_SUCCESS);
     /* The quads cover most of the frame: exact's first guess of bin entries (eight per
      * triangle) is too small, and the frame is rasterized in bands within its one recording
@@ -300,12 +300,12 @@ static void context_errors(void) {
     hd.enabled_features = &fewer;
     EXPECT(NULL, translucid_context_create(&info, &ctx),
            TRANSLUCID_RESULT_ERROR_DEVICE_REQUIREMENTS);
-    TRUE_OR_FAIL(strstr(translucid_context_last_error(NULL), "shaderInt64") != NULL);
+    TRUE_OR_FAIL(strstr(translucid_context_get_last_error(NULL), "shaderInt64") != NULL);
     hd = host_device_info();
     hd.api_version = VK_API_VERSION_1_0;
     EXPECT(NULL, translucid_context_create(&info, &ctx),
            TRANSLUCID_RESULT_ERROR_DEVICE_REQUIREMENTS);
-    TRUE_OR_FAIL(strstr(translucid_context_last_error(NULL), "apiVersion") != NULL);
+    TRUE_OR_FAIL(strstr(translucid_context_get_last_error(NULL), "apiVersion") != NULL);
     hd = host_device_info();
     hd.queue_family_index = 99;
     EXPECT(NULL, translucid_context_create(&info, &ctx),
@@ -353,13 +353,14 @@ static void method_without_its_features(void) {
     begin();
     EXPECT(ctx, translucid_frame_record(ctx, &frame, &targets, &handle),
            TRANSLUCID_RESULT_ERROR_DEVICE_REQUIREMENTS);
-    TRUE_OR_FAIL(strstr(translucid_context_last_error(ctx), "geometryShader") != NULL);
-    TRUE_OR_FAIL(strstr(translucid_context_last_error(ctx), "fragmentStoresAndAtomics") == NULL);
+    TRUE_OR_FAIL(strstr(translucid_context_get_last_error(ctx), "geometryShader") != NULL);
+    TRUE_OR_FAIL(strstr(translucid_context_get_last_error(ctx), "fragmentStoresAndAtomics") ==
+                 NULL);
     frame.method = TRANSLUCID_METHOD_DEPTH_PEELING;
     EXPECT(ctx, translucid_frame_record(ctx, &frame, &targets, &handle),
            TRANSLUCID_RESULT_ERROR_DEVICE_REQUIREMENTS);
-    TRUE_OR_FAIL(strstr(translucid_context_last_error(ctx), "independentBlend") != NULL);
-    TRUE_OR_FAIL(strstr(translucid_context_last_error(ctx), "geometryShader") != NULL);
+    TRUE_OR_FAIL(strstr(translucid_context_get_last_error(ctx), "independentBlend") != NULL);
+    TRUE_OR_FAIL(strstr(translucid_context_get_last_error(ctx), "geometryShader") != NULL);
     VK_CHECK(vkEndCommandBuffer(g_cmd));
     translucid_context_destroy(ctx);
 }
@@ -401,7 +402,7 @@ static void frame_errors(const scene *s) {
     targets.colour.layout = VK_IMAGE_LAYOUT_UNDEFINED;
     EXPECT(g_host, translucid_frame_record(g_host, &info, &targets, &frame),
            TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
-    TRUE_OR_FAIL(strstr(translucid_context_last_error(g_host), "layout") != NULL);
+    TRUE_OR_FAIL(strstr(translucid_context_get_last_error(g_host), "layout") != NULL);
     targets = frame_targets();
     targets.depth.final_layout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
     EXPECT(g_host, translucid_frame_record(g_host, &info, &targets, &frame),
@@ -410,13 +411,13 @@ static void frame_errors(const scene *s) {
     targets.depth.format = VK_FORMAT_S8_UINT;
     EXPECT(g_host, translucid_frame_record(g_host, &info, &targets, &frame),
            TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
-    TRUE_OR_FAIL(strstr(translucid_context_last_error(g_host), "D32_SFLOAT") != NULL);
+    TRUE_OR_FAIL(strstr(translucid_context_get_last_error(g_host), "D32_SFLOAT") != NULL);
     /* A format with stencil in a layout of its depth alone: its stencil's layout is unknown. */
     targets.depth.format = VK_FORMAT_D24_UNORM_S8_UINT;
     targets.depth.layout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
     EXPECT(g_host, translucid_frame_record(g_host, &info, &targets, &frame),
            TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
-    TRUE_OR_FAIL(strstr(translucid_context_last_error(g_host), "stencil") != NULL);
+    TRUE_OR_FAIL(strstr(translucid_context_get_last_error(g_host), "stencil") != NULL);
     targets = frame_targets();
     targets.colour.format = VK_FORMAT_R8G8B8A8_UINT;
     EXPECT(g_host, translucid_frame_record(g_host, &info, &targets, &frame),
@@ -426,7 +427,7 @@ static void frame_errors(const scene *s) {
     targets.depth.width = W / 2;
     EXPECT(g_host, translucid_frame_record(g_host, &info, &targets, &frame),
            TRANSLUCID_RESULT_ERROR_INVALID_SIZE);
-    TRUE_OR_FAIL(strstr(translucid_context_last_error(g_host), "translucid_host_frame_targets.depth") != NULL);
+    TRUE_OR_FAIL(strstr(translucid_context_get_last_error(g_host), "translucid_host_frame_targets.depth") != NULL);
     targets = frame_targets();
     targets.colour.height = 0;
     EXPECT(g_host, translucid_frame_record(g_host, &info, &targets, &frame),
@@ -446,8 +447,9 @@ static void frame_errors(const scene *s) {
                TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
         /* Says where opaque geometry goes on the engine's device, not the standalone advice
          * to leave opaque_layer NULL, which it is. */
-        TRUE_OR_FAIL(strstr(translucid_context_last_error(g_host), "host-device mode") != NULL);
-        TRUE_OR_FAIL(strstr(translucid_context_last_error(g_host), "opaque_layer NULL") == NULL);
+        TRUE_OR_FAIL(strstr(translucid_context_get_last_error(g_host), "host-device mode") != NULL);
+        TRUE_OR_FAIL(strstr(translucid_context_get_last_error(g_host), "opaque_layer NULL") ==
+                     NULL);
         info = frame_info(TRANSLUCID_METHOD_BLEND, s);
     }
     EXPECT(g_host, translucid_frame_render(g_host, &info, &frame),
@@ -500,12 +502,12 @@ int main(void) {
     size_t count = 0, m;
 
     /* 1. What to enable, before the engine creates anything. */
-    EXPECT(NULL, translucid_host_requirements_get(NULL), TRANSLUCID_RESULT_ERROR_NULL_POINTER);
+    EXPECT(NULL, translucid_host_get_requirements(NULL), TRANSLUCID_RESULT_ERROR_NULL_POINTER);
     memset(&req, 0, sizeof req);
-    EXPECT(NULL, translucid_host_requirements_get(&req),
+    EXPECT(NULL, translucid_host_get_requirements(&req),
            TRANSLUCID_RESULT_ERROR_INVALID_STRUCTURE_TYPE);
-    req.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_REQUIREMENTS;
-    CHECK(NULL, translucid_host_requirements_get(&req));
+    req.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_REQUIREMENTS;
+    CHECK(NULL, translucid_host_get_requirements(&req));
     TRUE_OR_FAIL(req.api_version >= VK_API_VERSION_1_2);
     TRUE_OR_FAIL(req.queue_flags & VK_QUEUE_GRAPHICS_BIT);
     TRUE_OR_FAIL(req.features.geometryShader == VK_FALSE);
@@ -514,26 +516,26 @@ int main(void) {
      * their features together. */
     {
         translucid_host_requirements per_method = req;
-        EXPECT(NULL, translucid_host_method_requirements_get(TRANSLUCID_METHOD_BLEND, NULL),
+        EXPECT(NULL, translucid_host_get_method_requirements(TRANSLUCID_METHOD_BLEND, NULL),
                TRANSLUCID_RESULT_ERROR_NULL_POINTER);
-        EXPECT(NULL, translucid_host_method_requirements_get(1000, &per_method),
+        EXPECT(NULL, translucid_host_get_method_requirements(1000, &per_method),
                TRANSLUCID_RESULT_ERROR_INVALID_ENUM);
-        CHECK(NULL, translucid_host_method_requirements_get(TRANSLUCID_METHOD_EXACT, &per_method));
+        CHECK(NULL, translucid_host_get_method_requirements(TRANSLUCID_METHOD_EXACT, &per_method));
         TRUE_OR_FAIL(memcmp(&per_method.features, &req.features, sizeof req.features) == 0);
         CHECK(NULL,
-              translucid_host_method_requirements_get(TRANSLUCID_METHOD_LINKED_LIST, &per_method));
+              translucid_host_get_method_requirements(TRANSLUCID_METHOD_LINKED_LIST, &per_method));
         TRUE_OR_FAIL(per_method.features.geometryShader == VK_TRUE);
         TRUE_OR_FAIL(per_method.features.fragmentStoresAndAtomics == VK_TRUE);
         TRUE_OR_FAIL(per_method.features.shaderInt64 == VK_TRUE);
         TRUE_OR_FAIL(per_method.api_version == req.api_version);
         CHECK(NULL,
-              translucid_host_method_requirements_get(TRANSLUCID_METHOD_DEPTH_PEELING, &per_method));
+              translucid_host_get_method_requirements(TRANSLUCID_METHOD_DEPTH_PEELING, &per_method));
         TRUE_OR_FAIL(per_method.features.independentBlend == VK_TRUE);
         TRUE_OR_FAIL(per_method.features.geometryShader == VK_TRUE);
         TRUE_OR_FAIL(per_method.features.fragmentStoresAndAtomics == VK_FALSE);
-        CHECK(NULL, translucid_methods_available(methods, 8, &count));
+        CHECK(NULL, translucid_method_get_available(methods, 8, &count));
         for (m = 0; m < count; m++) {
-            CHECK(NULL, translucid_host_method_requirements_get(methods[m], &per_method));
+            CHECK(NULL, translucid_host_get_method_requirements(methods[m], &per_method));
             or_features(&req.features, &per_method.features);
         }
     }
@@ -551,12 +553,12 @@ int main(void) {
     info = context_info(NULL);
     info.mode = TRANSLUCID_CONTEXT_MODE_STANDALONE;
     CHECK(NULL, translucid_context_create(&info, &g_standalone));
-    printf("host-device context on %s\n", translucid_context_device_name(g_host));
+    printf("host-device context on %s\n", translucid_context_get_device_name(g_host));
 
     make_opaque_layer();
     make_scene(g_host, &host_scene);
     make_scene(g_standalone, &standalone_scene);
-    CHECK(g_host, translucid_methods_available(methods, 8, &count));
+    CHECK(g_host, translucid_method_get_available(methods, 8, &count));
     for (m = 0; m < count; m++) {
         compare_with_standalone(methods[m], &host_scene, &standalone_scene);
     }

@@ -13,7 +13,7 @@ static int g_passed = 0, g_failed = 0;
 /* Checks one call's code, and that a failed call left a message behind. */
 static void expect(translucid_result got, translucid_result want, const translucid_context *ctx,
                    const char *call, int line) {
-    const char *message = translucid_context_last_error(ctx);
+    const char *message = translucid_context_get_last_error(ctx);
     if (got != want) {
         printf("FAIL line %d: %s\n  returned %s (%d), expected %s (%d)\n  last error: %s\n", line,
                call, translucid_result_string(got), (int)got, translucid_result_string(want),
@@ -107,7 +107,7 @@ static void context_creation(void) {
     info.header_version = TRANSLUCID_HEADER_VERSION + (1u << 12);
     EXPECT(NULL, translucid_context_create(&info, &ctx),
            TRANSLUCID_RESULT_ERROR_HEADER_VERSION_MISMATCH);
-    TRUE_OR_FAIL(strstr(translucid_context_last_error(NULL), "header") != NULL);
+    TRUE_OR_FAIL(strstr(translucid_context_get_last_error(NULL), "header") != NULL);
     info.header_version = TRANSLUCID_HEADER_VERSION + (1u << 22);
     EXPECT(NULL, translucid_context_create(&info, &ctx),
            TRANSLUCID_RESULT_ERROR_HEADER_VERSION_MISMATCH);
@@ -145,17 +145,19 @@ static void queries(void) {
     TRUE_OR_FAIL(translucid_version() == TRANSLUCID_HEADER_VERSION);
     TRUE_OR_FAIL(strcmp(translucid_result_string(-999999), "unknown result code") == 0);
     TRUE_OR_FAIL(strcmp(translucid_result_string(TRANSLUCID_RESULT_SUCCESS), "success") == 0);
+    TRUE_OR_FAIL(strcmp(translucid_result_string(TRANSLUCID_RESULT_FRAME_DEGRADED),
+                        translucid_result_string(TRANSLUCID_RESULT_INCOMPLETE)) != 0);
     TRUE_OR_FAIL(translucid_method_name(99) == NULL);
     TRUE_OR_FAIL(strcmp(translucid_method_name(TRANSLUCID_METHOD_BLEND), "blend") == 0);
-    TRUE_OR_FAIL(translucid_context_device_name(NULL)[0] == '\0');
-    EXPECT(NULL, translucid_methods_available(NULL, 0, NULL),
+    TRUE_OR_FAIL(translucid_context_get_device_name(NULL)[0] == '\0');
+    EXPECT(NULL, translucid_method_get_available(NULL, 0, NULL),
            TRANSLUCID_RESULT_ERROR_NULL_POINTER);
-    EXPECT(NULL, translucid_methods_available(NULL, 5, &count),
+    EXPECT(NULL, translucid_method_get_available(NULL, 5, &count),
            TRANSLUCID_RESULT_ERROR_NULL_POINTER);
     TRUE_OR_FAIL(count == 12345);
-    EXPECT(NULL, translucid_methods_available(NULL, 0, &count), TRANSLUCID_RESULT_INCOMPLETE);
+    EXPECT(NULL, translucid_method_get_available(NULL, 0, &count), TRANSLUCID_RESULT_INCOMPLETE);
     TRUE_OR_FAIL(count >= 1);
-    EXPECT(NULL, translucid_methods_available(methods, 1, &count),
+    EXPECT(NULL, translucid_method_get_available(methods, 1, &count),
            count > 1 ? TRANSLUCID_RESULT_INCOMPLETE : TRANSLUCID_RESULT_SUCCESS);
     TRUE_OR_FAIL(methods[0] == TRANSLUCID_METHOD_BLEND);
 }
@@ -203,14 +205,14 @@ static void meshes(translucid_context *ctx) {
     info.indices = bad_quad;
     EXPECT(ctx, translucid_mesh_create(ctx, &info, &mesh),
            TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
-    TRUE_OR_FAIL(strstr(translucid_context_last_error(ctx), "vertex 4") != NULL);
+    TRUE_OR_FAIL(strstr(translucid_context_get_last_error(ctx), "vertex 4") != NULL);
     info = mesh_info();
     memcpy(nan_positions, k_positions, sizeof nan_positions);
     nan_positions[4] = (float)NAN;
     info.positions = nan_positions;
     EXPECT(ctx, translucid_mesh_create(ctx, &info, &mesh),
            TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
-    TRUE_OR_FAIL(strstr(translucid_context_last_error(ctx), "not finite") != NULL);
+    TRUE_OR_FAIL(strstr(translucid_context_get_last_error(ctx), "not finite") != NULL);
     nan_positions[4] = (float)INFINITY;
     EXPECT(ctx, translucid_mesh_create(ctx, &info, &mesh),
            TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
@@ -388,7 +390,7 @@ static void frames(translucid_context *ctx, translucid_context *other) {
     info = frame_info(&draw);
     info.method = 99;
     EXPECT(ctx, translucid_frame_render(ctx, &info, &frame), TRANSLUCID_RESULT_ERROR_INVALID_ENUM);
-    EXPECT(NULL, translucid_methods_available(methods, 16, &count), TRANSLUCID_RESULT_SUCCESS);
+    EXPECT(NULL, translucid_method_get_available(methods, 16, &count), TRANSLUCID_RESULT_SUCCESS);
     for (info.method = TRANSLUCID_METHOD_BLEND; info.method <= TRANSLUCID_METHOD_DEPTH_PEELING;
          info.method++) {
         int available = 0;
@@ -404,14 +406,14 @@ static void frames(translucid_context *ctx, translucid_context *other) {
     linked_list.node_budget = UINT32_MAX; /* past the nodes one texel view reaches */
     EXPECT(ctx, translucid_frame_render(ctx, &info, &frame),
            TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
-    TRUE_OR_FAIL(strstr(translucid_context_last_error(ctx), "budget") != NULL);
+    TRUE_OR_FAIL(strstr(translucid_context_get_last_error(ctx), "budget") != NULL);
     info = frame_info(&draw);
     info.method = TRANSLUCID_METHOD_DEPTH_PEELING;
     info.next = &depth_peeling;
     depth_peeling.passes = 129;
     EXPECT(ctx, translucid_frame_render(ctx, &info, &frame),
            TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
-    TRUE_OR_FAIL(strstr(translucid_context_last_error(ctx), "passes") != NULL);
+    TRUE_OR_FAIL(strstr(translucid_context_get_last_error(ctx), "passes") != NULL);
     info = frame_info(&draw);
     info.method = TRANSLUCID_METHOD_WAVELET;
     info.next = &wavelet;
@@ -452,7 +454,7 @@ static void frames(translucid_context *ctx, translucid_context *other) {
     wavelet.next = &exact;
     EXPECT(ctx, translucid_frame_render(ctx, &info, &frame),
            TRANSLUCID_RESULT_ERROR_INVALID_STRUCTURE_TYPE);
-    TRUE_OR_FAIL(strstr(translucid_context_last_error(ctx), "two") != NULL);
+    TRUE_OR_FAIL(strstr(translucid_context_get_last_error(ctx), "two") != NULL);
     wavelet.next = &not_settings;
     EXPECT(ctx, translucid_frame_render(ctx, &info, &frame),
            TRANSLUCID_RESULT_ERROR_INVALID_STRUCTURE_TYPE);
@@ -490,7 +492,7 @@ static void frames(translucid_context *ctx, translucid_context *other) {
     info = frame_info(&draw);
     draw.mesh = stale_mesh;
     EXPECT(ctx, translucid_frame_render(ctx, &info, &frame), TRANSLUCID_RESULT_ERROR_STALE_HANDLE);
-    TRUE_OR_FAIL(strstr(translucid_context_last_error(ctx), "draws[0]") != NULL);
+    TRUE_OR_FAIL(strstr(translucid_context_get_last_error(ctx), "draws[0]") != NULL);
     draw.mesh = foreign_mesh;
     EXPECT(ctx, translucid_frame_render(ctx, &info, &frame),
            TRANSLUCID_RESULT_ERROR_FOREIGN_HANDLE);
@@ -584,7 +586,7 @@ int main(void) {
     queries();
     if (translucid_context_create(&info, &ctx) < 0 ||
         translucid_context_create(&info, &other) < 0) {
-        printf("FAIL: cannot create contexts: %s\n", translucid_context_last_error(NULL));
+        printf("FAIL: cannot create contexts: %s\n", translucid_context_get_last_error(NULL));
         return 1;
     }
     meshes(ctx);

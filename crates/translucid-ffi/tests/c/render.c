@@ -28,7 +28,7 @@ static translucid_context *g_ctx = NULL;
 static void check(translucid_result result, const char *call, int line) {
     if (result != TRANSLUCID_RESULT_SUCCESS) {
         printf("FAIL line %d: %s returned %s: %s\n", line, call, translucid_result_string(result),
-               translucid_context_last_error(g_ctx));
+               translucid_context_get_last_error(g_ctx));
         exit(1);
     }
 }
@@ -585,7 +585,7 @@ static void tinted_draw(uint32_t method, translucid_mesh quad, translucid_materi
     CHECK(translucid_frame_destroy(g_ctx, frame));
     draw.tint[1] = -1.0f;
     if (translucid_frame_render(g_ctx, &info, &frame) != TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT ||
-        strstr(translucid_context_last_error(g_ctx), "draws[0]: tint") == NULL) {
+        strstr(translucid_context_get_last_error(g_ctx), "draws[0]: tint") == NULL) {
         printf("FAIL a negative tint was not refused with its draw named\n");
         g_failed++;
     }
@@ -595,7 +595,7 @@ static void tinted_draw(uint32_t method, translucid_mesh quad, translucid_materi
 static void expect_result(translucid_result got, translucid_result want, const char *what) {
     if (got != want) {
         printf("FAIL %s: %s, expected %s: %s\n", what, translucid_result_string(got),
-               translucid_result_string(want), translucid_context_last_error(g_ctx));
+               translucid_result_string(want), translucid_context_get_last_error(g_ctx));
         g_failed++;
     } else {
         g_passed++;
@@ -657,7 +657,7 @@ int main(int argc, char **argv) {
     quad = quad_mesh(positions, NULL);
     red = plain_material(1.0f, 0.0f, 0.0f, 0.5f, NO_TEXTURE);
 
-    CHECK(translucid_methods_available(methods, 8, &count));
+    CHECK(translucid_method_get_available(methods, 8, &count));
     for (m = 0; m < count; m++) {
         translucid_frame_info info = base_frame(methods[m]);
         over_host_layer(info, quad, red);

@@ -109,7 +109,7 @@ impl Gpu {
         Err(if self.is_host_device() {
             Error::HostRequirements(format!(
                 "the {method} method needs {missing} enabled on the engine's device; enable \
-                 what translucid_host_method_requirements_get lists for it"
+                 what translucid_host_get_method_requirements lists for it"
             ))
         } else {
             Error::NoDevice(format!(
@@ -244,7 +244,7 @@ impl Gpu {
         }
         if !missing.is_empty() {
             return Err(Error::HostRequirements(format!(
-                "missing {}; enable what translucid_host_requirements_get lists",
+                "missing {}; enable what translucid_host_get_requirements lists",
                 missing.join(", ")
             )));
         }
