@@ -76,6 +76,11 @@
 #define TRANSLUCID_MAX_FRAMES_IN_FLIGHT 4
 
 /**
+ * Most live objects of one kind (meshes, textures, materials or frames) in one context.
+ */
+#define TRANSLUCID_MAX_OBJECTS (1 << 24)
+
+/**
  * Most draws in one frame: what every Vulkan device holds in the one storage binding of
  * draw records the graphics passes read (128 MB of 160-byte records is 838,860 draws).
  */
@@ -90,11 +95,6 @@
  * Size of a stage name, NUL included.
  */
 #define TRANSLUCID_STAGE_NAME_SIZE 32
-
-/**
- * Most live objects of one kind (meshes, textures, materials or frames) in one context.
- */
-#define TRANSLUCID_MAX_OBJECTS (1 << 24)
 
 /**
  * Lit by the frame's light (ambient plus two-sided Lambert); otherwise shown at its colour.
