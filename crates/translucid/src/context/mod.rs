@@ -8,9 +8,11 @@
 //! - [`renderers`]: the renderers over the assets, each for one method and its settings, and
 //!   the uploads they share (destroyed assets kept in place while most of them is alive).
 //! - [`frames`]: what a frame keeps once made.
-//! - This module: [`Context`], which ties them together and orders the frames in flight.
+//! - [`flight`]: the order of the frames in flight on the engine's device.
+//! - This module: [`Context`], which ties them together.
 
 pub mod assets;
+pub mod flight;
 pub mod frames;
 pub mod handles;
 pub mod renderers;
@@ -19,10 +21,10 @@ use crate::gpu::{Gpu, HostTargets};
 use crate::scene::{Material, Mesh, Texture};
 use crate::{Error, OpaqueLayer, Result};
 use assets::{Assets, Destroyed, MaterialRecord};
+use flight::Flight;
 use frames::FrameRecord;
 use handles::{Kind, Slots};
 use renderers::{FrameRequest, Renderers};
-use std::collections::VecDeque;
 
 /// What completing a frame in flight found.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -50,11 +52,8 @@ pub struct Context {
     assets: Assets,
     renderers: Renderers,
     frames: Slots<FrameRecord>,
-    /// Frames recorded on the engine's device and not yet completed, oldest first: the engine
-    /// submits them to one queue in that order, so they complete in it.
-    in_flight: VecDeque<u64>,
-    /// The most frames in flight.
-    frames_in_flight: u32,
+    /// Frames recorded on the engine's device and not yet completed.
+    flight: Flight,
     /// The largest frame index of a frame made so far.
     last_frame_index: u64,
 }
@@ -69,8 +68,7 @@ impl Context {
             assets: Assets::new(tag),
             renderers: Renderers::new(frames_in_flight),
             frames: Slots::new(Kind::Frame, tag),
-            in_flight: VecDeque::new(),
-            frames_in_flight,
+            flight: Flight::new(frames_in_flight),
             last_frame_index: 0,
         }
     }
@@ -204,18 +202,7 @@ impl Context {
     /// Whether another frame may be recorded on the engine's device: not while as many as the
     /// context was made for are in flight.
     pub fn flight_room(&self) -> Result<()> {
-        let most = self.frames_in_flight;
-        match self.in_flight.front() {
-            Some(&oldest) if self.in_flight.len() >= most as usize => {
-                Err(Error::FrameInFlight(format!(
-                    "{most} frame(s) recorded and not completed, as many as the context was \
-                     made for (translucid_context_create_info.frames_in_flight): call \
-                     translucid_frame_complete for the oldest, {{{oldest:#x}}}, once its \
-                     submission finished"
-                )))
-            }
-            _ => Ok(()),
-        }
+        self.flight.room()
     }
 
     /// Records `request` into the engine's command buffer of `targets` (the method, or the
@@ -258,7 +245,7 @@ impl Context {
             self.renderers.frame_ended(id);
             self.renderers.retire(id);
         })?;
-        self.in_flight.push_back(handle);
+        self.flight.recorded(handle);
         self.note_frame_index(request.frame_index);
         Ok(handle)
     }
@@ -267,17 +254,9 @@ impl Context {
     /// before it (they ran first, on one queue).
     pub fn complete(&mut self, frame: u64) -> Result<Completion> {
         self.frames.get(frame)?;
-        if !self.in_flight.contains(&frame) {
-            return Err(Error::InvalidArgument(
-                "the frame is not in flight: it was completed (completing a newer frame \
-                 completes the older ones) or abandoned already"
-                    .into(),
-            ));
-        }
-        loop {
-            let oldest = self.in_flight.front().copied();
+        for older in self.flight.to_complete(frame)? {
             let result = self.complete_oldest();
-            if oldest == Some(frame) {
+            if older == frame {
                 return result;
             }
             match result {
@@ -286,11 +265,14 @@ impl Context {
                 Ok(_) => {}
             }
         }
+        Err(Error::Internal(
+            "a frame in flight was not completed".into(),
+        ))
     }
 
     /// Completes the oldest frame in flight.
     fn complete_oldest(&mut self) -> Result<Completion> {
-        let Some(&frame) = self.in_flight.front() else {
+        let Some(frame) = self.flight.oldest() else {
             return Err(Error::InvalidArgument("no frame is in flight".into()));
         };
         let renderer = self.frames.get(frame)?.renderer;
@@ -317,7 +299,7 @@ impl Context {
         // The commands ran: the frame's flight is over whatever the method reports.
         let failed = kept.failed;
         self.renderers.frame_ended(renderer);
-        self.in_flight.pop_front();
+        self.flight.oldest_completed();
         if failed {
             self.renderers.retire(renderer);
         } else {
@@ -340,12 +322,7 @@ impl Context {
     /// no new frame, and are freed once the older frames they serve are completed.
     pub fn abandon(&mut self, frame: u64) -> Result<()> {
         self.frames.get(frame)?;
-        let Some(at) = self.in_flight.iter().position(|&f| f == frame) else {
-            return Err(Error::InvalidArgument(
-                "the frame is not in flight: destroy it with translucid_frame_destroy".into(),
-            ));
-        };
-        for f in self.in_flight.split_off(at) {
+        for f in self.flight.abandon(frame)? {
             let renderer = self.frames.get(f)?.renderer;
             self.renderers.frame_ended(renderer);
             self.renderers.retire(renderer);
