@@ -10,10 +10,7 @@ use ash::vk;
 use glam::{Mat4, Vec3};
 use std::ffi::{c_void, CStr};
 use std::sync::Mutex;
-use translucid::gpu::{
-    host_requirements_with, Gpu, GpuImage, GpuOptions, HostDevice, HostImage, HostTargets,
-    MemoryLocation,
-};
+use translucid::gpu::{host_requirements_with, EngineImages, Gpu, GpuOptions, HostDevice};
 use translucid::methods::{MethodKind, MethodOptions};
 use translucid::renderer::Renderer;
 use translucid::scene::motion::Orbit;
@@ -283,153 +280,6 @@ fn worst_difference(got: &[u8], want: &[u8]) -> u8 {
         .unwrap_or(0)
 }
 
-/// The engine's colour and depth images of a frame, the opaque layer's texels to fill them
-/// with, and one readback buffer per frame in flight.
-struct EngineImages {
-    colour: GpuImage,
-    depth: GpuImage,
-    depth_format: vk::Format,
-    colour_in: translucid::gpu::Buffer,
-    depth_in: translucid::gpu::Buffer,
-    outs: Vec<translucid::gpu::Buffer>,
-    extent: vk::Extent2D,
-    /// The layouts the engine's opaque pass leaves colour and depth in, and translucid leaves
-    /// depth in.
-    layouts: (vk::ImageLayout, vk::ImageLayout),
-}
-
-const COLOUR_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
-const ATTACHMENT: vk::ImageLayout = vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL;
-const DEPTH_ATTACHMENT: vk::ImageLayout = vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
-
-impl EngineImages {
-    fn new(gpu: &Gpu, layer: &OpaqueLayer, readbacks: usize) -> Self {
-        let (_, depth) = layer.texels();
-        Self::with_depth(gpu, layer, readbacks, vk::Format::D32_SFLOAT, &depth)
-    }
-
-    /// The images with depth of `depth_format` holding `depth_texels` (the layer's depth
-    /// ignored).
-    fn with_depth(
-        gpu: &Gpu,
-        layer: &OpaqueLayer,
-        readbacks: usize,
-        depth_format: vk::Format,
-        depth_texels: &[u8],
-    ) -> Self {
-        let extent = vk::Extent2D {
-            width: layer.width,
-            height: layer.height,
-        };
-        let transfer = vk::ImageUsageFlags::TRANSFER_SRC | vk::ImageUsageFlags::TRANSFER_DST;
-        let image = |name, format, usage| {
-            gpu.create_image(name, extent, format, transfer | usage, 1)
-                .expect("engine image")
-        };
-        let (colour_texels, _) = layer.texels();
-        let upload = |name, bytes: &[u8]| {
-            gpu.create_buffer_with_data(name, vk::BufferUsageFlags::TRANSFER_SRC, bytes)
-                .expect("upload buffer")
-        };
-        let outs = (0..readbacks)
-            .map(|_| {
-                gpu.create_buffer(
-                    "readback",
-                    colour_texels.len() as u64,
-                    vk::BufferUsageFlags::TRANSFER_DST,
-                    MemoryLocation::GpuToCpu,
-                )
-                .expect("readback buffer")
-            })
-            .collect();
-        Self {
-            colour: image(
-                "engine colour",
-                COLOUR_FORMAT,
-                vk::ImageUsageFlags::COLOR_ATTACHMENT,
-            ),
-            depth: image(
-                "engine depth",
-                depth_format,
-                vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::SAMPLED,
-            ),
-            depth_format,
-            colour_in: upload("opaque colour", &colour_texels),
-            depth_in: upload("opaque depth", depth_texels),
-            outs,
-            extent,
-            layouts: (ATTACHMENT, DEPTH_ATTACHMENT),
-        }
-    }
-
-    /// The images with the engine leaving colour and depth in `colour` and `depth` layouts.
-    fn in_layouts(self, colour: vk::ImageLayout, depth: vk::ImageLayout) -> Self {
-        Self {
-            layouts: (colour, depth),
-            ..self
-        }
-    }
-
-    /// The frame targets over these images, recorded into `cmd`.
-    fn targets(&self, cmd: vk::CommandBuffer) -> HostTargets {
-        HostTargets {
-            cmd,
-            colour: HostImage {
-                image: self.colour.raw,
-                format: COLOUR_FORMAT,
-                layout: self.layouts.0,
-                final_layout: vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-            },
-            depth: HostImage {
-                image: self.depth.raw,
-                format: self.depth_format,
-                layout: self.layouts.1,
-                final_layout: self.layouts.1,
-            },
-        }
-    }
-
-    /// The engine's opaque pass: the layer's texels into its images, left as attachments.
-    fn record_opaque(&self, gpu: &Gpu, cmd: vk::CommandBuffer) {
-        let (colour, depth) = ((&self.colour, self.extent), (&self.depth, self.extent));
-        gpu.cmd_upload_image(cmd, colour, &self.colour_in, self.layouts.0);
-        gpu.cmd_upload_image(cmd, depth, &self.depth_in, self.layouts.1);
-    }
-
-    /// Copies the colour image (left in TRANSFER_SRC_OPTIMAL by the frame) into readback `k`
-    /// for the host.
-    fn record_readback(&self, gpu: &Gpu, cmd: vk::CommandBuffer, k: usize) {
-        gpu.cmd_copy_image_to_buffer(cmd, &self.colour, &self.outs[k], self.extent);
-        translucid::gpu::memory_barrier(
-            gpu,
-            cmd,
-            (
-                vk::PipelineStageFlags::TRANSFER,
-                vk::AccessFlags::TRANSFER_WRITE,
-            ),
-            (vk::PipelineStageFlags::HOST, vk::AccessFlags::HOST_READ),
-        );
-    }
-
-    /// Readback `k` as sRGB bytes, after the frame that wrote it completed.
-    fn srgb(&self, k: usize) -> Vec<u8> {
-        let bytes = self.outs[k].read().expect("readback");
-        let pixels = bytes
-            .chunks_exact(8)
-            .map(|p| {
-                let c = |i: usize| half::f16::from_le_bytes([p[2 * i], p[2 * i + 1]]).to_f32();
-                glam::Vec4::new(c(0), c(1), c(2), 1.0)
-            })
-            .collect();
-        translucid::Image {
-            width: self.extent.width,
-            height: self.extent.height,
-            pixels,
-        }
-        .to_srgb8()
-    }
-}
-
 /// Records one frame of `renderer` on the engine into `images` (slot 0), submits it, waits,
 /// and completes it: what the frame reported.
 fn one_engine_frame(
@@ -540,7 +390,7 @@ fn every_method_leaves_the_engines_colour_bit_for_bit_where_nothing_transparent_
     {
         // SAFETY: the engine's live objects, outliving `gpu` (dropped at the end of this block).
         let gpu = unsafe { Gpu::from_host(&engine.host_device()) }.expect("host device");
-        let images = EngineImages::new(&gpu, &layer, 1);
+        let images = EngineImages::of_layer(&gpu, &layer, 1).expect("engine images");
         for kind in MethodKind::ALL {
             let options = MethodOptions::default();
             let mut renderer =
@@ -587,7 +437,7 @@ fn an_overflowing_frame_says_so_and_renders_right_when_recorded_again() {
     {
         // SAFETY: the engine's live objects, outliving `gpu` (dropped at the end of this block).
         let gpu = unsafe { Gpu::from_host(&engine.host_device()) }.expect("host device");
-        let images = EngineImages::new(&gpu, &layer, 1);
+        let images = EngineImages::of_layer(&gpu, &layer, 1).expect("engine images");
         let mut options = MethodOptions::default();
         options.bins.initial_bin_entries = Some(16);
         let mut renderer = Renderer::with_options(&gpu, &scene, MethodKind::Exact, W, H, &options)
@@ -608,7 +458,7 @@ fn an_overflowing_frame_says_so_and_renders_right_when_recorded_again() {
         );
         assert_eq!(overflows.last(), Some(&false), "{overflows:?}");
 
-        let got = images.srgb(0);
+        let got = images.srgb(0).expect("readback");
         let want = expected.image.to_srgb8();
         let worst = worst_difference(&got, &want);
         assert!(
@@ -678,7 +528,7 @@ fn frames_in_flight_match_the_reference(
     {
         // SAFETY: the engine's live objects, outliving `gpu` (dropped at the end of this block).
         let gpu = unsafe { Gpu::from_host(&engine.host_device()) }.expect("host device");
-        let images = EngineImages::new(&gpu, &layer, in_flight);
+        let images = EngineImages::of_layer(&gpu, &layer, in_flight).expect("engine images");
         let mut renderer = Renderer::with_frames_in_flight(
             &gpu,
             &scene,
@@ -721,7 +571,7 @@ fn frames_in_flight_match_the_reference(
                     .expect("complete")
                     .expect("the submission finished, so the commands ran");
                 let learned = renderer.learned_options(&options).bins.initial_bin_entries;
-                let got = images.srgb(k);
+                let got = images.srgb(k).expect("readback");
                 let want = expected(f);
                 if first_batch != FirstBatch::Fits && first == 0 {
                     // The first completion grows the lists; the frames recorded with the
@@ -865,10 +715,10 @@ fn frames_in_flight_at_different_sizes(kind: MethodKind, scene_name: &str) {
         let gpu = unsafe { Gpu::from_host(&engine.host_device()) }.expect("host device");
         let sized: Vec<EngineImages> = layers
             .iter()
-            .map(|layer| EngineImages::new(&gpu, layer, IN_FLIGHT))
+            .map(|layer| EngineImages::of_layer(&gpu, layer, IN_FLIGHT).expect("engine images"))
             .collect();
         let largest = OpaqueLayer::clear(W, H, scene.background);
-        let shared = EngineImages::new(&gpu, &largest, IN_FLIGHT);
+        let shared = EngineImages::of_layer(&gpu, &largest, IN_FLIGHT).expect("engine images");
         let images = |f: usize| if f % 2 == 0 { &sized[f] } else { &shared };
         let options = MethodOptions::default();
         let mut renderer =
@@ -900,7 +750,7 @@ fn frames_in_flight_at_different_sizes(kind: MethodKind, scene_name: &str) {
                     .to_srgb8();
                 let (width, height) = sizes[f];
                 let image = images(f);
-                let got = image.srgb(k);
+                let got = image.srgb(k).expect("readback");
                 let corner = corner_of(&got, image.extent.width, (width, height));
                 let worst = worst_difference(&corner, &want);
                 assert!(
@@ -960,7 +810,7 @@ fn first_frames_match_the_reference(
     {
         // SAFETY: the engine's live objects, outliving `gpu` (dropped at the end of this block).
         let gpu = unsafe { Gpu::from_host(&engine.host_device()) }.expect("host device");
-        let images = EngineImages::new(&gpu, &layer, 2);
+        let images = EngineImages::of_layer(&gpu, &layer, 2).expect("engine images");
         let mut made_for = scene.clone();
         made_for.camera = made_at.unwrap_or(scene.camera);
         let mut renderer = Renderer::with_frames_in_flight(
@@ -995,7 +845,7 @@ fn first_frames_match_the_reference(
             )
             .expect("reference")
             .to_srgb8();
-            let worst = worst_difference(&images.srgb(k), &want);
+            let worst = worst_difference(&images.srgb(k).expect("readback"), &want);
             assert!(worst <= 2, "{}, frame {k}: {worst}/255 off", scene.name);
             bands.push(done.bands);
             fragments.push(done.fragments);
@@ -1177,11 +1027,12 @@ fn engine_depth_in_every_format_and_direction_matches_the_reference() {
             for format in translucid::gpu::HOST_DEPTH_FORMATS {
                 let (layer, bytes) = wall_layer(&far_layer, format, reversed, wall);
                 let label = format!("{format:?}{}", if reversed { " reversed" } else { "" });
-                let images = EngineImages::with_depth(&gpu, &layer, 1, format, &bytes);
+                let images = EngineImages::of_layer_with_depth(&gpu, &layer, 1, format, &bytes)
+                    .expect("engine images");
                 let done = one_engine_frame(&engine, &gpu, &images, &mut renderer);
                 assert!(!done.overflowed, "{label}: {done:?}");
                 let want = translucid::reference::render(&frame_scene, &layer).expect("reference");
-                let worst = worst_difference(&images.srgb(0), &want.to_srgb8());
+                let worst = worst_difference(&images.srgb(0).expect("readback"), &want.to_srgb8());
                 assert!(worst <= 2, "{label}: {worst}/255 off the reference");
                 // The wall hides part of the spheres: the depth read matters.
                 let unhidden = translucid::reference::render(&frame_scene, &far_layer)
@@ -1222,16 +1073,18 @@ fn engine_images_in_synchronization2_layouts() {
                 bytes.extend(texel);
                 *depth = read;
             }
-            let images = EngineImages::with_depth(&gpu, &held, 1, format, &bytes).in_layouts(
-                vk::ImageLayout::ATTACHMENT_OPTIMAL,
-                vk::ImageLayout::READ_ONLY_OPTIMAL,
-            );
+            let images = EngineImages::of_layer_with_depth(&gpu, &held, 1, format, &bytes)
+                .expect("engine images")
+                .in_layouts(
+                    vk::ImageLayout::ATTACHMENT_OPTIMAL,
+                    vk::ImageLayout::READ_ONLY_OPTIMAL,
+                );
             let done = one_engine_frame(&engine, &gpu, &images, &mut renderer);
             assert!(!done.overflowed, "{format:?}: {done:?}");
             let want = translucid::reference::render(&scene, &held)
                 .expect("reference")
                 .to_srgb8();
-            let worst = worst_difference(&images.srgb(0), &want);
+            let worst = worst_difference(&images.srgb(0).expect("readback"), &want);
             assert!(worst <= 2, "{format:?}: {worst}/255 off");
         }
     }
@@ -1252,10 +1105,10 @@ fn textures_added_later_are_uploaded_by_the_next_frame() {
     {
         // SAFETY: the engine's live objects, outliving `gpu` (dropped at the end of this block).
         let gpu = unsafe { Gpu::from_host(&engine.host_device()) }.expect("host device");
-        let images = EngineImages::new(&gpu, &layer, 1);
+        let images = EngineImages::of_layer(&gpu, &layer, 1).expect("engine images");
         let mut first = Renderer::new(&gpu, &scene, MethodKind::Blend, W, H).expect("renderer");
         one_engine_frame(&engine, &gpu, &images, &mut first);
-        let expected = images.srgb(0);
+        let expected = images.srgb(0).expect("readback");
         let extended = std::sync::Arc::new(
             first
                 .resident()
@@ -1292,7 +1145,7 @@ fn textures_added_later_are_uploaded_by_the_next_frame() {
             unsafe { engine.device.end_command_buffer(engine.cmds[0]) }.expect("end");
         }
         one_engine_frame(&engine, &gpu, &images, &mut sharing());
-        let got = images.srgb(0);
+        let got = images.srgb(0).expect("readback");
         let worst = worst_difference(&got, &expected);
         assert_eq!(
             worst, 0,
@@ -1329,7 +1182,7 @@ fn textures_first_used_by_frames_in_flight_match_the_reference() {
     {
         // SAFETY: the engine's live objects, outliving `gpu` (dropped at the end of this block).
         let gpu = unsafe { Gpu::from_host(&engine.host_device()) }.expect("host device");
-        let images = EngineImages::new(&gpu, &layer, IN_FLIGHT);
+        let images = EngineImages::of_layer(&gpu, &layer, IN_FLIGHT).expect("engine images");
         let mut renderer = Renderer::with_frames_in_flight(
             &gpu,
             &frame_scene(0),
@@ -1362,7 +1215,7 @@ fn textures_first_used_by_frames_in_flight_match_the_reference() {
                 let want = translucid::reference::render(&frame_scene(f), &layer)
                     .expect("reference")
                     .to_srgb8();
-                let worst = worst_difference(&images.srgb(k), &want);
+                let worst = worst_difference(&images.srgb(k).expect("readback"), &want);
                 assert!(worst <= 2, "frame {f}: {worst}/255 off the reference");
             }
         }
@@ -1421,14 +1274,16 @@ fn native_blend_and_blend_draw_into_the_engines_images_what_standalone_blend_dra
             for format in translucid::gpu::HOST_DEPTH_FORMATS {
                 let (layer, bytes) = wall_layer(&background, format, reversed, wall);
                 let label = format!("{format:?}{}", if reversed { " reversed" } else { "" });
-                let in_place = EngineImages::with_depth(&gpu, &layer, 1, format, &bytes);
+                let in_place = EngineImages::of_layer_with_depth(&gpu, &layer, 1, format, &bytes)
+                    .expect("engine images");
                 let done = one_engine_frame(&engine, &gpu, &in_place, &mut renderer);
                 assert_eq!(
                     done.stages.iter().map(|(s, _)| *s).collect::<Vec<_>>(),
                     ["blend"],
                     "{label}: blend on the engine's device copies nothing"
                 );
-                let native = EngineImages::with_depth(&gpu, &layer, 1, format, &bytes);
+                let native = EngineImages::of_layer_with_depth(&gpu, &layer, 1, format, &bytes)
+                    .expect("engine images");
                 engine.begin(0);
                 let cmd = engine.cmds[0];
                 native.record_opaque(&gpu, cmd);
@@ -1447,8 +1302,8 @@ fn native_blend_and_blend_draw_into_the_engines_images_what_standalone_blend_dra
                 );
 
                 // The blend method on the engine's device is the same pass.
-                let got = native.srgb(0);
-                assert_eq!(got, in_place.srgb(0), "{label}");
+                let got = native.srgb(0).expect("readback");
+                assert_eq!(got, in_place.srgb(0).expect("readback"), "{label}");
                 // Against blend through its own targets: the depth test is the same but for
                 // the rounding of D16 and D24 depth, which may flip a pixel on the wall's edge.
                 let want = alone.render_over(&layer).expect("frame").image.to_srgb8();

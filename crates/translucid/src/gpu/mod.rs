@@ -23,6 +23,7 @@ mod append;
 mod attachments;
 mod commands;
 mod device;
+mod engine_images;
 mod engine_pass;
 mod error;
 mod host;
@@ -39,6 +40,7 @@ pub use ash::vk;
 pub use attachments::{fullscreen_pipeline, Attachment, AttachmentPass, DepthAttachment, Load};
 pub use commands::{image_barrier, memory_barrier, mip_region, whole_image_region};
 pub use device::{list_devices, DeviceInfo, Gpu, GpuOptions, Shared};
+pub use engine_images::{EngineImages, ENGINE_COLOUR_FORMAT};
 pub use engine_pass::{EngineDepthViews, EnginePass};
 pub use host::{
     host_requirements, host_requirements_with, HostDevice, HostImage, HostRequirements,

@@ -1,21 +1,16 @@
 //! The bench's engine: a frame loop as an engine runs one, on a device translucid made and
 //! then takes as the engine's (`Gpu::as_host_device`). The engine owns a colour image
-//! (R16G16B16A16_SFLOAT) and a depth image (D32_SFLOAT, growing away from the eye); each frame
-//! its opaque pass fills them (a copy of the frame's opaque layer, not timed), then it records
+//! (R16G16B16A16_SFLOAT) and a depth image (D32_SFLOAT, growing away from the eye), the
+//! images the tests' engine uses (`translucid::gpu::EngineImages`); each frame its opaque
+//! pass fills them (a copy of the frame's opaque layer, not timed), then it records
 //! the method's frame (`Renderer::record_host`: everything translucid records, copies in and
 //! out included, is the whole pass) and submits it; and the same again with the yardstick,
 //! `native_blend` (`Renderer::record_native_blend`), on the same renderer and frame, before
 //! or after the method's by turns.
 
-use translucid::gpu::{vk, Buffer, Gpu, GpuImage, HostImage, HostTargets, MemoryLocation};
+use translucid::gpu::{vk, EngineImages, Gpu};
 use translucid::renderer::{HostFrame, Renderer};
 use translucid::OpaqueLayer;
-
-const COLOUR_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
-const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
-/// Where the engine's opaque pass leaves its images, as a render pass would.
-const COLOUR_LAYOUT: vk::ImageLayout = vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL;
-const DEPTH_LAYOUT: vk::ImageLayout = vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
 
 /// One method's frames on the engine.
 pub struct EngineLoop {
@@ -42,15 +37,6 @@ pub struct EngineFrame {
     pub record_ms: f64,
 }
 
-struct EngineImages {
-    colour: GpuImage,
-    depth: GpuImage,
-    /// The opaque layer's texels, copied into the images by each frame's opaque pass.
-    colour_in: Buffer,
-    depth_in: Buffer,
-    extent: vk::Extent2D,
-}
-
 impl EngineLoop {
     /// The engine on `engine` (a device translucid made) with images of `width` x `height`,
     /// and a renderer made by `make` on translucid over it.
@@ -67,37 +53,7 @@ impl EngineLoop {
         let host = unsafe { Gpu::from_host(&handles) }?;
         let renderer = make(&host)?;
         let extent = vk::Extent2D { width, height };
-        let usage = vk::ImageUsageFlags::TRANSFER_SRC | vk::ImageUsageFlags::TRANSFER_DST;
-        let pixels = u64::from(width) * u64::from(height);
-        let upload = |name, bytes| {
-            engine.create_buffer(
-                name,
-                bytes,
-                vk::BufferUsageFlags::TRANSFER_SRC,
-                MemoryLocation::CpuToGpu,
-            )
-        };
-        let images = EngineImages {
-            colour: engine.create_image(
-                "engine colour",
-                extent,
-                COLOUR_FORMAT,
-                usage | vk::ImageUsageFlags::COLOR_ATTACHMENT,
-                1,
-            )?,
-            depth: engine.create_image(
-                "engine depth",
-                extent,
-                DEPTH_FORMAT,
-                usage
-                    | vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT
-                    | vk::ImageUsageFlags::SAMPLED,
-                1,
-            )?,
-            colour_in: upload("engine opaque colour", 8 * pixels)?,
-            depth_in: upload("engine opaque depth", 4 * pixels)?,
-            extent,
-        };
+        let images = EngineImages::new(&engine, extent, vk::Format::D32_SFLOAT, 0)?;
         Ok(Self {
             renderer,
             host,
@@ -110,9 +66,7 @@ impl EngineLoop {
     /// One frame over `layer` (the frame's opaque layer, at the images' size): the method's
     /// and the yardstick's, taking turns at going first, each submitted and waited for.
     pub fn frame(&mut self, layer: &OpaqueLayer) -> translucid::Result<EngineFrame> {
-        let (colour, depth) = layer.texels();
-        self.images.colour_in.write(0, &colour)?;
-        self.images.depth_in.write(0, &depth)?;
+        self.images.set_opaque(layer)?;
         let native_first = self.frames % 2 == 1;
         self.frames += 1;
         let mut native_frame = None;
@@ -163,32 +117,5 @@ impl EngineLoop {
             translucid::Error::HostFrame("a frame waited for did not complete".into())
         })?;
         Ok((record_ms, wall_ms, frame))
-    }
-}
-
-impl EngineImages {
-    fn targets(&self, cmd: vk::CommandBuffer) -> HostTargets {
-        HostTargets {
-            cmd,
-            colour: HostImage {
-                image: self.colour.raw,
-                format: COLOUR_FORMAT,
-                layout: COLOUR_LAYOUT,
-                final_layout: COLOUR_LAYOUT,
-            },
-            depth: HostImage {
-                image: self.depth.raw,
-                format: DEPTH_FORMAT,
-                layout: DEPTH_LAYOUT,
-                final_layout: DEPTH_LAYOUT,
-            },
-        }
-    }
-
-    /// The engine's opaque pass: the layer's texels into the images, left as attachments.
-    fn record_opaque(&self, gpu: &Gpu, cmd: vk::CommandBuffer) {
-        let extent = self.extent;
-        gpu.cmd_upload_image(cmd, (&self.colour, extent), &self.colour_in, COLOUR_LAYOUT);
-        gpu.cmd_upload_image(cmd, (&self.depth, extent), &self.depth_in, DEPTH_LAYOUT);
     }
 }
