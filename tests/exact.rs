@@ -119,15 +119,30 @@ fn exact_matches_reference_with_the_deep_frame_settings_and_one_row_workgroups()
     let mut deep = MethodOptions::default();
     deep.exact.assume_deep_pixels = true;
     deep.bins.assume_wide_subgroups = true;
+    // The frame ran with the deep settings and rows of one workgroup each.
+    let deep_shape = |frame: &translucid::renderer::Frame, label: &str| {
+        let shape = frame.bins.expect("exact reports its shape");
+        assert_eq!(shape.select_size, 16, "{label}: {shape:?}");
+        assert!(shape.slabs >= 16, "{label}: {shape:?}");
+        assert_eq!(shape.rows_per_workgroup, 1, "{label}: {shape:?}");
+    };
     for name in scene::generated::NAMES {
         let scene = scene::load(name).expect("generated scene");
-        check(&scene, &format!("deep_{name}"), 213, 131, &deep);
+        let frame = check(&scene, &format!("deep_{name}"), 213, 131, &deep);
+        deep_shape(&frame, name);
     }
     let vase = asset("GlassVaseFlowers/GlassVaseFlowers.glb");
     let vase = scene::load(vase.to_str().expect("utf-8 path")).expect("vendored scene");
-    check(&vase, "deep_GlassVaseFlowers", 301, 177, &deep);
-    check(&near_plane_scene(), "deep_near_plane", 157, 119, &deep);
-    check(&one_depth_stack(700), "deep_stack_one_row", 45, 37, &deep);
+    deep_shape(
+        &check(&vase, "deep_GlassVaseFlowers", 301, 177, &deep),
+        "vase",
+    );
+    deep_shape(
+        &check(&near_plane_scene(), "deep_near_plane", 157, 119, &deep),
+        "near plane",
+    );
+    let stack = check(&one_depth_stack(700), "deep_stack_one_row", 45, 37, &deep);
+    deep_shape(&stack, "stack");
     let mut overflowing = deep;
     overflowing.bins.initial_bin_entries = Some(1);
     let hairball = scene::load("hairball").expect("hairball");
@@ -142,15 +157,25 @@ fn exact_matches_reference_with_the_deep_frame_settings_and_one_row_workgroups()
 fn exact_matches_reference_with_triangles_binned_in_slices() {
     let mut sliced = MethodOptions::default();
     sliced.bins.bin_rows_per_slice = Some(5);
+    let five_rows = |frame: translucid::renderer::Frame| {
+        let shape = frame.bins.expect("exact reports its shape");
+        assert_eq!(shape.rows_per_slice, 5, "{shape:?}");
+    };
     for name in ["layers", "planes", "spheres"] {
         let scene = scene::load(name).expect("generated scene");
-        check(&scene, &format!("sliced_{name}"), 213, 131, &sliced);
+        five_rows(check(&scene, &format!("sliced_{name}"), 213, 131, &sliced));
     }
-    check(&near_plane_scene(), "sliced_near_plane", 157, 119, &sliced);
+    five_rows(check(
+        &near_plane_scene(),
+        "sliced_near_plane",
+        157,
+        119,
+        &sliced,
+    ));
     let mut deep = sliced;
     deep.exact.assume_deep_pixels = true;
     let particles = scene::load("particles").expect("particles");
-    check(&particles, "sliced_deep_particles", 213, 131, &deep);
+    five_rows(check(&particles, "sliced_deep_particles", 213, 131, &deep));
 }
 
 /// One quad from x0 to x1 and from -y to y, at depth z, facing +z.

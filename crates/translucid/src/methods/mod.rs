@@ -153,9 +153,25 @@ pub struct FrameCheck {
     /// Fragments blended unsorted because they found no room (linked_list past its node
     /// pool): the frame is not exact where they fell.
     pub tail_fragments: u64,
+    /// The bin methods' shape for the frame; `None` for the others.
+    pub bins: Option<BinShape>,
     /// Pixels with more layers than the passes peeled (depth_peeling past its passes): their
     /// middle layers are missing.
     pub unpeeled_pixels: u64,
+}
+
+/// How the bin methods' stages were specialized and sized for a frame: what tests and tools
+/// check to know a setting took effect.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct BinShape {
+    /// Fragments each pixel selects per pass over its list (exact; 0 for wavelet's raster).
+    pub select_size: u32,
+    /// Depth slabs each bin's list is ordered by.
+    pub slabs: u32,
+    /// Rows of a block per workgroup of a band's first raster dispatch.
+    pub rows_per_workgroup: u32,
+    /// Bin rows one binning invocation covers at most.
+    pub rows_per_slice: u32,
 }
 
 /// What a method is told when a frame it recorded has completed.

@@ -96,6 +96,9 @@ pub struct Frame {
     /// Pixels with more layers than depth_peeling's fixed passes peel: their middle layers
     /// are missing; 0 for other methods.
     pub unpeeled_pixels: u64,
+    /// How the bin methods' stages were specialized and sized for the frame's last
+    /// recording; `None` for the other methods.
+    pub bins: Option<crate::methods::BinShape>,
     /// Pipelines created on the renderer's device since its last frame ended, its
     /// `set_frame` included (a shader variant this frame was the first to need): each
     /// compiles a shader, which a frame loop should pay only in its first frames.
@@ -577,6 +580,7 @@ impl Renderer {
             dispatches: gpu.dispatches_recorded() - rendering_from,
             tail_fragments: check.tail_fragments,
             unpeeled_pixels: check.unpeeled_pixels,
+            bins: check.bins,
             pipelines_created: self.counted.0 - counted.0,
             bytes_allocated: self.counted.1 - counted.1,
             record_ms,

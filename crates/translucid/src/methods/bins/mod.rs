@@ -257,6 +257,8 @@ struct Recorded {
     /// The bands it recorded, and its place among the recordings.
     bands: u32,
     recording: u64,
+    /// Bin rows a binning invocation covered at most.
+    rows_per_slice: u32,
 }
 
 /// Frames recorded without the occlusion cull once a frame's cull saved less than its depth
@@ -463,6 +465,7 @@ impl Bins {
                     clears_layer: false,
                     bands: 0,
                     recording: 0,
+                    rows_per_slice: push.bin_rows_per_slice,
                 };
                 gpu_scene.slot_count()
             ],
@@ -619,6 +622,7 @@ impl Bins {
             clears_layer: false,
             bands: self.bands(),
             recording: self.recordings,
+            rows_per_slice: self.push.bin_rows_per_slice,
         };
         self.recordings += 1;
         self.begin_submission(cmd, ctx.slot, ctx.in_place.is_some());
@@ -944,6 +948,18 @@ impl Bins {
             self.resources.dispatches(),
             offset,
         );
+    }
+
+    /// How the frame in `slot` was binned and its raster specialized (but for the raster's
+    /// own selection, which it adds).
+    pub fn shape(&self, slot: usize) -> super::BinShape {
+        let recorded = &self.recorded[slot % self.recorded.len()];
+        super::BinShape {
+            select_size: 0,
+            slabs: recorded.features.slabs(),
+            rows_per_workgroup: recorded.features.rows,
+            rows_per_slice: recorded.rows_per_slice,
+        }
     }
 
     /// The counters of the completed frame in `slot`.

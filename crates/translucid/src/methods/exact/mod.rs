@@ -35,7 +35,7 @@ mod resume;
 use super::bins::features::{self, FrameEstimate};
 use super::bins::layout::OVERFLOW_CROWDED_BIN;
 use super::bins::{BinOptions, Bins, RasterNeeds, FINISHED_SUBMISSION_WRITES};
-use super::{FrameCheck, FrameDone, FrameSetup, Method, RecordContext};
+use super::{BinShape, FrameCheck, FrameDone, FrameSetup, Method, RecordContext};
 use crate::assets::GpuScene;
 use crate::frame::FrameTargets;
 use crate::scene::Scene;
@@ -63,9 +63,18 @@ pub struct Exact {
     raster: Raster,
     continuations: Continuations,
     lists: ResumeLists,
-    /// Per frame slot, the continuations its last submission was recorded with, and whether
-    /// that submission was a frame's finishing one.
-    recorded: Vec<(Continuations, bool)>,
+    /// Per frame slot, what its last submission was recorded with.
+    recorded: Vec<Recorded>,
+}
+
+/// What a submission was recorded with.
+#[derive(Clone, Copy, Debug)]
+struct Recorded {
+    continuations: Continuations,
+    /// It was a frame's finishing submission (continuations alone).
+    finishing: bool,
+    /// The selection its raster made.
+    select_size: u32,
 }
 
 impl Exact {
@@ -98,7 +107,14 @@ impl Exact {
             raster,
             continuations: Continuations::START,
             lists: ResumeLists::default(),
-            recorded: vec![(Continuations::START, false); gpu_scene.slot_count()],
+            recorded: vec![
+                Recorded {
+                    continuations: Continuations::START,
+                    finishing: false,
+                    select_size: depth.select_size,
+                };
+                gpu_scene.slot_count()
+            ],
         })
     }
 }
@@ -122,7 +138,11 @@ impl Method for Exact {
     fn record(&mut self, ctx: &mut RecordContext<'_>) -> Result<()> {
         let cmd = ctx.cmd;
         self.bins.record_binning(ctx)?;
-        self.recorded[ctx.slot] = (self.continuations, false);
+        self.recorded[ctx.slot] = Recorded {
+            continuations: self.continuations,
+            finishing: false,
+            select_size: self.depth.select_size,
+        };
         // Both resume lists start empty.
         self.lists = ResumeLists::default();
         let bands = self.bins.bands();
@@ -140,7 +160,11 @@ impl Method for Exact {
 
     /// Continuations alone, for the rows the frame's submission left unfinished.
     fn record_finish(&mut self, ctx: &mut RecordContext<'_>) -> Result<()> {
-        self.recorded[ctx.slot] = (self.continuations, true);
+        self.recorded[ctx.slot] = Recorded {
+            continuations: self.continuations,
+            finishing: true,
+            select_size: self.depth.select_size,
+        };
         self.bins.targets_to_raster(ctx, FINISHED_SUBMISSION_WRITES);
         // The submission before left the list its last continuation read as it was.
         self.bins
@@ -153,7 +177,11 @@ impl Method for Exact {
     }
 
     fn frame_done(&mut self, done: &FrameDone<'_>) -> Result<FrameCheck> {
-        let (recorded, finishing) = self.recorded[done.slot % self.recorded.len()];
+        let Recorded {
+            continuations: recorded,
+            finishing,
+            select_size,
+        } = self.recorded[done.slot % self.recorded.len()];
         // A row of a shallow frame whose list is too long for one pass of the loop budget:
         // the continuations walked it in parts (this frame is right), and later frames bin
         // in depth slabs, where the first dispatch does too. Deep pixels: select more
@@ -217,6 +245,10 @@ impl Method for Exact {
             fragments: kept(counters.fragments()),
             sweeps: counters.sweeps(),
             triangles: kept(u64::from(counters.triangle_count)),
+            bins: Some(BinShape {
+                select_size,
+                ..self.bins.shape(done.slot)
+            }),
             ..FrameCheck::default()
         })
     }

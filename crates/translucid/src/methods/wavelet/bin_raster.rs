@@ -95,6 +95,7 @@ impl BinRaster {
             bands: bins.counters.bands,
             fragments: kept(bins.counters.fragments()),
             triangles: kept(u64::from(bins.counters.triangle_count)),
+            bins: Some(self.bins.shape(done.slot)),
             ..FrameCheck::default()
         })
     }
