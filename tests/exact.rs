@@ -7,7 +7,7 @@ use translucid::metrics;
 use translucid::renderer::Renderer;
 use translucid::scene::{self, Camera, Draw, Material, Mesh, Scene};
 use translucid_tests::{
-    assert_matches_reference, asset, crowded_bin, gpu, near_plane_scene, one_depth_stack,
+    assert_matches_reference, asset, crowded_bin, gpu, gpu_with, near_plane_scene, one_depth_stack,
     one_draw_scene, save_failure, stack_scene, tinted, with_large_texture,
 };
 
@@ -20,9 +20,19 @@ fn check(
     height: u32,
     options: &MethodOptions,
 ) -> translucid::renderer::Frame {
-    let gpu = gpu();
+    check_on(&gpu(), scene, label, (width, height), options)
+}
+
+/// [`check`] on `gpu`.
+fn check_on(
+    gpu: &translucid::gpu::Gpu,
+    scene: &Scene,
+    label: &str,
+    (width, height): (u32, u32),
+    options: &MethodOptions,
+) -> translucid::renderer::Frame {
     let mut renderer =
-        Renderer::with_options(&gpu, scene, MethodKind::Exact, width, height, options)
+        Renderer::with_options(gpu, scene, MethodKind::Exact, width, height, options)
             .unwrap_or_else(|e| panic!("exact on {label}: {e}"));
     let frame = renderer
         .render(true)
@@ -148,6 +158,87 @@ fn exact_matches_reference_with_the_deep_frame_settings_and_one_row_workgroups()
     let hairball = scene::load("hairball").expect("hairball");
     let frame = check(&hairball, "deep_overflow_hairball", 199, 143, &overflowing);
     assert!(frame.rerenders >= 1, "the overflow path was not taken");
+}
+
+/// The GPU profile's variants (the raster branching where its subgroup agrees), forced on
+/// this device, with shallow and deep settings: right on every generated scene, the vase,
+/// near-plane triangles and a stack whose rows suspend under a small loop budget. The
+/// device's own profile here (lavapipe's) runs the masked variants.
+#[test]
+fn exact_matches_reference_with_the_gpu_profile() {
+    use translucid::gpu::Profile;
+    let own = check(
+        &scene::load("spheres").expect("scene"),
+        "own_profile",
+        64,
+        48,
+        &MethodOptions::default(),
+    );
+    let expected_own = gpu().info().profile == Profile::Gpu;
+    assert_eq!(
+        own.bins.expect("exact reports its shape").branching,
+        expected_own
+    );
+    let gpu = gpu_with(Some(Profile::Gpu));
+    let mut deep = MethodOptions::default();
+    deep.exact.assume_deep_pixels = true;
+    let vase = asset("GlassVaseFlowers/GlassVaseFlowers.glb");
+    let vase = scene::load(vase.to_str().expect("utf-8 path")).expect("vendored scene");
+    for (settings, options) in [("shallow", MethodOptions::default()), ("deep", deep)] {
+        let mut cases: Vec<(String, Scene, (u32, u32))> = scene::generated::NAMES
+            .iter()
+            .map(|&name| {
+                (
+                    name.to_string(),
+                    scene::load(name).expect("scene"),
+                    (213, 131),
+                )
+            })
+            .collect();
+        cases.push(("vase".into(), vase.clone(), (301, 177)));
+        cases.push(("near_plane".into(), near_plane_scene(), (157, 119)));
+        for (name, scene, size) in &cases {
+            let label = format!("gpu_profile_{settings}_{name}");
+            let frame = check_on(&gpu, scene, &label, *size, &options);
+            assert!(
+                frame.bins.expect("exact reports its shape").branching,
+                "{label}"
+            );
+        }
+        let mut small_budget = options.clone();
+        small_budget.bins.loop_budget = Some(4096);
+        let label = format!("gpu_profile_{settings}_stack");
+        let frame = check_on(&gpu, &one_depth_stack(300), &label, (45, 37), &small_budget);
+        assert!(frame.suspended_rows > 0, "{label}: no row suspended");
+    }
+}
+
+/// Rows suspend at the device's loop budget and continuation dispatches finish them. Under a
+/// budget of 4096 iterations (a GPU's is 2^18, a CPU driver's 60,000), the rows of a
+/// 300-layer stack run past a dispatch's budget, and the frame is still the reference's.
+#[test]
+fn exact_matches_reference_with_a_small_loop_budget() {
+    let stack = one_depth_stack(300);
+    let whole = check(
+        &stack,
+        "device_budget_stack",
+        45,
+        37,
+        &MethodOptions::default(),
+    );
+    assert_eq!(
+        whole.suspended_rows, 0,
+        "the device's budget walks these rows whole"
+    );
+    let mut options = MethodOptions::default();
+    options.bins.loop_budget = Some(4096);
+    let frame = check(&stack, "small_budget_stack", 45, 37, &options);
+    let shape = frame.bins.expect("exact reports its shape");
+    assert_eq!(shape.loop_budget, 4096, "{shape:?}");
+    assert!(
+        frame.suspended_rows > 0,
+        "no row ran past a dispatch's budget"
+    );
 }
 
 /// Binning splits a triangle taller than a slice of rows into several invocations (setup sizes

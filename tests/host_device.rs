@@ -202,6 +202,7 @@ impl Engine {
             api_version: self.api_version,
             features: self.features,
             extensions: Vec::new(),
+            profile: None,
         }
     }
 
@@ -340,6 +341,7 @@ fn spheres_standalone() -> (Scene, OpaqueLayer, translucid::renderer::Frame) {
     let standalone = Gpu::new(&GpuOptions {
         device: None,
         validation: true,
+        profile: None,
     })
     .expect("a Vulkan device with the validation layer");
     let mut reference =
@@ -1256,6 +1258,7 @@ fn native_blend_and_blend_draw_into_the_engines_images_what_standalone_blend_dra
     let standalone = Gpu::new(&GpuOptions {
         device: None,
         validation: true,
+        profile: None,
     })
     .expect("a Vulkan device with the validation layer");
     let engine = Engine::new();

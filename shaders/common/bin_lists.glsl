@@ -49,13 +49,14 @@ uint binStart(uint block, uint row, uint bin) {
 
 // The pixel rows of `r` this binning invocation covers. A triangle's bins are split into
 // slices of u_push.binRowsPerSlice rows, one invocation each (gl_GlobalInvocationID.y), so
-// that no invocation loops more than LOOP_BUDGET times however large the triangle and frame;
-// setup sizes the dispatch to the triangle that needs the most (binningSlices). Shallow
-// frames slice each triangle from its first row, so that a frame of triangles under a
-// slice's height bins each once (slices of the frame's rows cost every triangle a second,
-// empty invocation: the dragon's binning 6.7 ms instead of 9.3). Deep frames (SLABS > 1)
-// slice the frame's rows: their triangles enter hundreds of bins each, and there the threads
-// appending to the lists of different parts of the screen took 3.5 ms off particles' fill.
+// that no invocation loops more than SLICE_ITERATIONS times (bins/mod.rs) however large the
+// triangle and frame; setup sizes the dispatch to the triangle that needs the most
+// (binningSlices). Shallow frames slice each triangle from its first row, so that a frame of
+// triangles under a slice's height bins each once (slices of the frame's rows cost every
+// triangle a second, empty invocation: the dragon's binning 6.7 ms instead of 9.3). Deep
+// frames (SLABS > 1) slice the frame's rows: their triangles enter hundreds of bins each, and
+// there the threads appending to the lists of different parts of the screen took 3.5 ms off
+// particles' fill.
 ivec2 sliceRows(ivec4 r) {
     int rows = int(u_push.binRowsPerSlice);
     int first = (SLABS > 1u ? 0 : r.y) + int(gl_GlobalInvocationID.y) * rows;

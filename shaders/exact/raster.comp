@@ -36,8 +36,9 @@
 // after its last lanes leave at the top: every loop here is a do-while (behind an `if` where
 // it may run no iteration), which took up to a third off the shallow scenes' rasters. Those
 // drivers also end a shader's loops silently after 65535 iterations in all; the raster
-// counts against LOOP_BUDGET and hands what is left of a row to a continuation dispatch of
-// this same shader (CONTINUATION; resume.glsl, where PARTIAL_WALKS says where a row stops).
+// counts against LOOP_BUDGET (the device's: under that limit there, larger on GPUs) and hands
+// what is left of a row to a continuation dispatch of this same shader (CONTINUATION;
+// resume.glsl, where PARTIAL_WALKS says where a row stops).
 //
 // main reads as the walk: find the row and its list, resume its pixels, then sweeps
 // (beginSweep) of stretches (walkStretch, nextStretch, compositeFinal) until every pixel is
@@ -152,7 +153,15 @@ uint walkStretch(inout Pixel p, inout uint64_t selection[SELECT_SIZE], uint64_t 
         uint64_t key = fragmentKey(floatBitsToUint(s.viewDepth), t.order);
         take = take && !p.finished && s.zNdc < opaqueDepth && key > p.doneKey;
         found += take ? 1u : 0u;
-        insertFragment(selection, p.dropped, take ? key : NO_KEY);
+        // A fragment not taken changes nothing (NO_KEY): GPUs skip the insertion where no
+        // lane takes one; CPU drivers, where an `if` runs masked anyway, insert NO_KEY.
+        if (BRANCHING) {
+            if (take) {
+                insertFragment(selection, p.dropped, key);
+            }
+        } else {
+            insertFragment(selection, p.dropped, take ? key : NO_KEY);
+        }
         e++;
     } while (e < walkTo);
     return found;

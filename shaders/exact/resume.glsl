@@ -77,6 +77,7 @@ void suspendRow(inout Pixel p, uint64_t selection[SELECT_SIZE], Row r, uint bloc
         // a workgroup a row, u_push.groupsX to a row of workgroups in x and the rest in z, so
         // that lists past 65535 rows dispatch.
         uint item = atomicAdd(g_dispatch[command + 3u], 1u);
+        atomicAdd(g_counters.suspendedRows, 1u);
         atomicMax(g_dispatch[command], min(item + 1u, u_push.groupsX));
         atomicMax(g_dispatch[command + 2u], item / u_push.groupsX + 1u);
         slot = item;

@@ -10,9 +10,16 @@ use translucid::Image;
 
 /// The device under test, with the validation layer on: any validation error fails the test.
 pub fn gpu() -> Gpu {
+    gpu_with(None)
+}
+
+/// The tests' device with the variants of `profile` forced (`None`: its own, or
+/// `TRANSLUCID_PROFILE`'s).
+pub fn gpu_with(profile: Option<translucid::gpu::Profile>) -> Gpu {
     Gpu::new(&GpuOptions {
         device: std::env::var("TRANSLUCID_DEVICE").ok(),
         validation: true,
+        profile,
     })
     .expect("a Vulkan device with the Khronos validation layer (`make test` installs both)")
 }

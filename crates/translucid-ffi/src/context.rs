@@ -9,7 +9,7 @@ use crate::result::{translucid_result, Failure, FfiResult};
 use crate::structure::translucid_structure_type;
 use crate::version;
 use std::ffi::{c_char, c_void, CString};
-use translucid::gpu::{Gpu, GpuOptions};
+use translucid::gpu::{Gpu, GpuOptions, Profile};
 
 /// How the context gets its device.
 #[allow(non_camel_case_types)]
@@ -28,7 +28,17 @@ pub enum translucid_context_mode {
 /// environment does the same.) Both are ignored in host-device mode: enable the layer on the
 /// engine's instance.
 pub const TRANSLUCID_CONTEXT_CREATE_VALIDATION: u32 = 1;
-const CONTEXT_CREATE_FLAGS: u32 = TRANSLUCID_CONTEXT_CREATE_VALIDATION;
+/// Give the device the variants made for CPU drivers (masked, branch-free shaders), whatever
+/// it is; `TRANSLUCID_PROFILE=cpu` in the environment does the same. Without either profile
+/// flag, a device gets its own: CPU drivers theirs, GPUs the GPU variants. For testing and
+/// measuring; at most one of the two.
+pub const TRANSLUCID_CONTEXT_CREATE_PROFILE_CPU: u32 = 2;
+/// Give the device the GPU variants (branching shaders), whatever it is, as
+/// `TRANSLUCID_PROFILE=gpu` does: so that they can be checked on a CPU driver.
+pub const TRANSLUCID_CONTEXT_CREATE_PROFILE_GPU: u32 = 4;
+const CONTEXT_CREATE_FLAGS: u32 = TRANSLUCID_CONTEXT_CREATE_VALIDATION
+    | TRANSLUCID_CONTEXT_CREATE_PROFILE_CPU
+    | TRANSLUCID_CONTEXT_CREATE_PROFILE_GPU;
 
 /// How to create a context. Zero-initialise it, then set `s_type`, `header_version` and what
 /// you need; zero everywhere else means the default.
@@ -114,6 +124,19 @@ impl Context {
                 info.flags & !CONTEXT_CREATE_FLAGS
             )));
         }
+        let profile = match (
+            info.flags & TRANSLUCID_CONTEXT_CREATE_PROFILE_CPU != 0,
+            info.flags & TRANSLUCID_CONTEXT_CREATE_PROFILE_GPU != 0,
+        ) {
+            (false, false) => None,
+            (true, false) => Some(Profile::CpuDriver),
+            (false, true) => Some(Profile::Gpu),
+            (true, true) => {
+                return Err(Failure::argument(
+                    "TRANSLUCID_CONTEXT_CREATE_PROFILE_CPU and _GPU together: give at most one",
+                ))
+            }
+        };
         let device = try_str(info.device, "device")?;
         let frames_in_flight = match info.frames_in_flight {
             0 => 1,
@@ -160,10 +183,13 @@ impl Context {
                     ),
                 ));
             }
-            host_gpu(try_ref(
-                info.next.cast::<translucid_host_device_create_info>(),
-                "next",
-            )?)?
+            host_gpu(
+                try_ref(
+                    info.next.cast::<translucid_host_device_create_info>(),
+                    "next",
+                )?,
+                profile,
+            )?
         } else {
             let from_env = GpuOptions::from_env();
             // Say where the device name that matched nothing came from.
@@ -176,6 +202,7 @@ impl Context {
                 device: device.map(str::to_string).or(from_env.device),
                 validation: info.flags & TRANSLUCID_CONTEXT_CREATE_VALIDATION != 0
                     || from_env.validation,
+                profile,
             })
             .map_err(|e| match e {
                 translucid::Error::NoDevice(m) if m.starts_with("no device matches") => {

@@ -26,7 +26,7 @@ use std::ffi::{c_char, c_void, CStr, CString};
 use translucid::context::{Completion, Recording};
 use translucid::gpu::{
     host_requirements, host_requirements_with, Gpu, HostDevice, HostImage, HostRequirements,
-    HostTargets,
+    HostTargets, Profile,
 };
 
 /// What the engine must give its instance and device before translucid can use them. The
@@ -173,18 +173,26 @@ pub(crate) fn host_device(info: &translucid_host_device_create_info) -> FfiResul
         api_version: info.api_version,
         features,
         extensions,
+        profile: None,
     })
 }
 
-/// Wraps the engine's device described by `info`.
-pub(crate) fn host_gpu(info: &translucid_host_device_create_info) -> FfiResult<Gpu> {
+/// Wraps the engine's device described by `info`, with the variants of `profile` (`None`:
+/// `TRANSLUCID_PROFILE`, else the device's).
+pub(crate) fn host_gpu(
+    info: &translucid_host_device_create_info,
+    profile: Option<Profile>,
+) -> FfiResult<Gpu> {
     check_header(
         info.s_type,
         info.next,
         translucid_structure_type::HostDeviceCreateInfo,
         "translucid_host_device_create_info",
     )?;
-    let host = host_device(info)?;
+    let host = HostDevice {
+        profile,
+        ..host_device(info)?
+    };
     // SAFETY: the header documents that the handles are live objects of one instance made
     // through this vkGetInstanceProcAddr, outliving the context (destroyed before them).
     Ok(unsafe { Gpu::from_host(&host) }?)

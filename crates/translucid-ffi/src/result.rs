@@ -65,7 +65,8 @@ pub enum translucid_result {
     /// it, or abandon it with `translucid_frame_abandon`).
     ErrorFrameInFlight = -12,
 
-    /// No Vulkan loader, no usable device, or the requested device does not exist.
+    /// No Vulkan loader, no usable device, or the requested device does not exist; or the
+    /// device lacks what the frame's method needs (the message says what).
     ErrorNoDevice = -100,
     /// A Vulkan call failed; the message names it.
     ErrorVulkan = -101,
@@ -232,7 +233,7 @@ impl From<translucid::Error> for Failure {
             E::HostRequirements(_) => R::ErrorDeviceRequirements,
             E::InvalidViewport { .. } => R::ErrorInvalidSize,
             E::UnknownMethod(..) => R::ErrorMethodUnavailable,
-            E::NoDevice(_) => R::ErrorNoDevice,
+            E::NoDevice(_) | E::DeviceLacks(_) => R::ErrorNoDevice,
             E::Vulkan { result, .. } => match *result {
                 vk::Result::ERROR_OUT_OF_HOST_MEMORY | vk::Result::ERROR_OUT_OF_DEVICE_MEMORY => {
                     R::ErrorOutOfMemory

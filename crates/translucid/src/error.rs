@@ -70,6 +70,10 @@ pub enum Error {
     /// No Vulkan loader, no suitable device, or the requested device does not exist.
     #[error("no Vulkan device: {0}")]
     NoDevice(String),
+    /// The device lacks a feature, property or limit a method needs; the message names the
+    /// method and what is missing.
+    #[error("{0}")]
+    DeviceLacks(String),
     /// The engine's device (host-device mode) lacks a Vulkan version, feature, extension or
     /// queue capability translucid needs; the message names every one missing.
     #[error("the engine's Vulkan device does not meet translucid's requirements: {0}")]

@@ -10,6 +10,7 @@ fn gpu() -> Gpu {
     Gpu::new(&GpuOptions {
         device: std::env::var("TRANSLUCID_DEVICE").ok(),
         validation: true,
+        profile: None,
     })
     .expect("a Vulkan device with the validation layer (run `make test`, which installs both)")
 }

@@ -96,6 +96,7 @@ fn glsl_and_rust_shading_agree() {
     let gpu = Gpu::new(&GpuOptions {
         device: std::env::var("TRANSLUCID_DEVICE").ok(),
         validation: true,
+        profile: None,
     })
     .expect("a Vulkan device with the validation layer");
     let light = Light {

@@ -34,6 +34,7 @@ fn gpu_samplers_match_values_computed_by_hand() {
     let gpu = Gpu::new(&GpuOptions {
         device: std::env::var("TRANSLUCID_DEVICE").ok(),
         validation: true,
+        profile: None,
     })
     .expect("a Vulkan device with the validation layer");
     let cases = hand_cases();

@@ -408,6 +408,7 @@ mod tests {
         let gpu = Gpu::new(&GpuOptions {
             device: std::env::var("TRANSLUCID_DEVICE").ok(),
             validation: true,
+            profile: None,
         })
         .expect("a Vulkan device with the validation layer");
         let buffer = gpu

@@ -3,6 +3,7 @@
 use super::error::vk_err;
 use super::host::HostDevice;
 use super::memory::MemoryStats;
+use super::profile::Profile;
 use super::validation::{self, ValidationLog};
 use crate::{Error, Result};
 use ash::vk;
@@ -21,16 +22,21 @@ pub struct GpuOptions {
     /// Turn on the Khronos validation layer; every validation error fails the call that
     /// submitted the offending work.
     pub validation: bool,
+    /// Force the CPU-driver or the GPU variants (`Profile`); `None` follows
+    /// `TRANSLUCID_PROFILE`, else the device.
+    pub profile: Option<Profile>,
 }
 
 impl GpuOptions {
-    /// Options from `TRANSLUCID_DEVICE` and `TRANSLUCID_VALIDATION=1`.
+    /// Options from `TRANSLUCID_DEVICE` and `TRANSLUCID_VALIDATION=1` (`TRANSLUCID_PROFILE`
+    /// is read by [`Gpu::new`] whatever the options).
     pub fn from_env() -> Self {
         Self {
             device: std::env::var("TRANSLUCID_DEVICE")
                 .ok()
                 .filter(|s| !s.is_empty()),
             validation: std::env::var("TRANSLUCID_VALIDATION").is_ok_and(|v| v == "1"),
+            profile: None,
         }
     }
 }
@@ -71,7 +77,24 @@ pub struct DeviceInfo {
     /// the passes a frame does not need with it). Not used on an engine's device, whose
     /// enabled features translucid cannot see past the core ones.
     pub conditional_rendering: bool,
+    /// Loop iterations a shader invocation may take in one dispatch (the rasters'
+    /// LOOP_BUDGET): [`CPU_DRIVER_LOOP_BUDGET`] on CPU drivers, [`GPU_LOOP_BUDGET`] elsewhere.
+    /// The driver's, whatever the profile: a forced GPU profile on lavapipe keeps its limit.
+    pub loop_budget: u32,
+    /// The variants the device gets: its own, or the one forced.
+    pub profile: Profile,
 }
+
+/// The loop budget on CPU drivers. Lavapipe (gallivm) ends every loop of a shader
+/// invocation silently once their iterations add up to 65,535; the rasters stop at this and
+/// leave the rest of a row to a continuation dispatch. (A raster may pass it by two searches
+/// over the slabs before it stops.)
+pub const CPU_DRIVER_LOOP_BUDGET: u32 = 60_000;
+const _: () = assert!(CPU_DRIVER_LOOP_BUDGET + 2 * crate::interface::bins::MAX_SLABS < 65_535);
+/// The loop budget on other devices, which end no loop: rows that deep take fewer
+/// continuation dispatches, and one dispatch stays far from a driver's timeout. (Not yet
+/// measured on a GPU.)
+pub const GPU_LOOP_BUDGET: u32 = 1 << 18;
 
 /// A Vulkan device: either a headless one translucid made, with one graphics+compute queue
 /// ([`Gpu::new`]), or the engine's, wrapped without being owned ([`Gpu::from_host`]). Cheap
@@ -268,6 +291,11 @@ pub(super) fn describe(
         geometry_shader: features.geometry_shader == vk::TRUE,
         independent_blend: features.independent_blend == vk::TRUE,
         conditional_rendering,
+        loop_budget: match Profile::of_device(p.device_type, driver.driver_id) {
+            Profile::CpuDriver => CPU_DRIVER_LOOP_BUDGET,
+            Profile::Gpu => GPU_LOOP_BUDGET,
+        },
+        profile: Profile::of_device(p.device_type, driver.driver_id),
     }
 }
 
@@ -373,7 +401,15 @@ impl Gpu {
         } else {
             None
         };
-        let chosen = usable_devices(&instance).and_then(|d| choose(d, options.device.as_deref()));
+        let chosen = usable_devices(&instance)
+            .and_then(|d| choose(d, options.device.as_deref()))
+            .and_then(|(physical, mut info)| {
+                info.profile = options
+                    .profile
+                    .or(Profile::from_env()?)
+                    .unwrap_or(info.profile);
+                Ok((physical, info))
+            });
         let (physical, info) = match chosen {
             Ok(c) => c,
             Err(e) => {
@@ -438,6 +474,8 @@ impl Gpu {
             api_version: INSTANCE_API_VERSION,
             features,
             extensions,
+            // The profile this device was made with (forced or its own).
+            profile: Some(self.info.profile),
         })
     }
 

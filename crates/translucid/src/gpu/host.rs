@@ -148,6 +148,9 @@ pub struct HostDevice {
     pub features: vk::PhysicalDeviceFeatures,
     /// The device extensions the engine enabled.
     pub extensions: Vec<CString>,
+    /// Force the CPU-driver or the GPU variants; `None` follows `TRANSLUCID_PROFILE`, else
+    /// the device.
+    pub profile: Option<super::Profile>,
 }
 
 fn version_string(v: u32) -> String {
@@ -258,6 +261,10 @@ impl Gpu {
         info.geometry_shader = host.features.geometry_shader == vk::TRUE;
         info.independent_blend = host.features.independent_blend == vk::TRUE;
         info.conditional_rendering = false;
+        info.profile = host
+            .profile
+            .or(super::Profile::from_env()?)
+            .unwrap_or(info.profile);
         // SAFETY: a live device of this instance (caller's guarantee).
         let device = unsafe { ash::Device::load(instance.fp_v1_0(), host.device) };
         Self::wrap_host(entry, instance, device, host.physical_device, info)

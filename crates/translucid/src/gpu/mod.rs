@@ -31,6 +31,7 @@ mod host_depth;
 mod memory;
 mod pipeline;
 mod pipeline_cache;
+mod profile;
 mod retirement;
 mod timestamps;
 mod validation;
@@ -39,7 +40,9 @@ pub use append::AppendBuffer;
 pub use ash::vk;
 pub use attachments::{fullscreen_pipeline, Attachment, AttachmentPass, DepthAttachment, Load};
 pub use commands::{image_barrier, memory_barrier, mip_region, whole_image_region};
-pub use device::{list_devices, DeviceInfo, Gpu, GpuOptions, Shared};
+pub use device::{
+    list_devices, DeviceInfo, Gpu, GpuOptions, Shared, CPU_DRIVER_LOOP_BUDGET, GPU_LOOP_BUDGET,
+};
 pub use engine_images::{EngineImages, ENGINE_COLOUR_FORMAT};
 pub use engine_pass::{EngineDepthViews, EnginePass};
 pub use host::{
@@ -55,6 +58,7 @@ pub use pipeline::{
     Resource, Sampler,
 };
 pub use pipeline_cache::ComputePipelineCache;
+pub use profile::Profile;
 pub use retirement::Retirement;
 pub use timestamps::Timestamps;
 

@@ -28,13 +28,6 @@ shader_constants! {
     pub const OVERFLOW_RESUME: u32 = 8;
     pub const OVERFLOW_BAND_LISTS: u32 = 16;
 
-    /// Lavapipe (gallivm) stops every loop of a shader invocation once their iterations add up
-    /// to 65535, silently. The raster counts its iterations against this budget (with room for
-    /// the few it does not count) and, before it would run out, saves the pixel and leaves the
-    /// rest to a continuation dispatch. Subgroups resume from a list of (block row) items, each
-    /// with the states of its BIN_SIZE pixels where a state slot was left (else the row starts
-    /// over).
-    pub const LOOP_BUDGET: u32 = 60_000;
 
     /// Indirect commands in g_dispatch, 16 bytes each (bins_bindings.glsl says what each
     /// counts): resume lists 0 and 1, then these.
@@ -236,7 +229,9 @@ shader_struct! {
         /// Workgroups of a one-dispatch step that have finished, at GROUPS_DONE_*
         /// (last_group.glsl).
         pub groups_done: uint[GROUPS_DONE_COUNTERS],
-        pub pad: uint[4],
+        /// Rows the rasters suspended onto a resume list (each time a row was).
+        pub suspended_rows: uint,
+        pub pad: uint[3],
         /// Statistics of the raster: slot k holds the fragments composited at [16 k], the most
         /// sweeps of its list any pixel needed at [16 k + 1], and the fragments in front of the
         /// opaque layer found in the first sweep (all of them, fewer where a pixel had to drop

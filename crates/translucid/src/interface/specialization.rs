@@ -179,6 +179,14 @@ spec_constants! {
     17 => pub const WAVELET_NOISE: f32 = 0.0;
     /// wavelet: absorbance from which a pixel counts as opaque.
     18 => pub const WAVELET_ABSORBED: f32 = 7.6;
+    /// The rasters: loop iterations a row may take in one dispatch (`DeviceInfo::loop_budget`).
+    /// The exact raster counts its iterations against it (with room for the few it does not
+    /// count) and, before it would run out, saves the row and leaves the rest to a
+    /// continuation dispatch; wavelet's reports a row that would pass it as crowded.
+    19 => pub const LOOP_BUDGET: u32 = 60_000;
+    /// The rasters: branch where the subgroup agrees, as GPUs do for free (the GPU profile),
+    /// instead of running both sides under a mask (CPU drivers: `gpu::Profile`).
+    20 => pub const BRANCHING: bool = false;
 }
 
 /// The GLSL of every constant.

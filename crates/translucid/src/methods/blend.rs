@@ -23,7 +23,7 @@ pub struct Blend {
 impl Blend {
     pub fn new(gpu: &Gpu, gpu_scene: &GpuScene, targets: &FrameTargets) -> Result<Self> {
         if !gpu.info().dual_source_blend {
-            return Err(Error::NoDevice(format!(
+            return Err(Error::DeviceLacks(format!(
                 "{} lacks dual-source blending, which the blend method needs for coloured transmittance",
                 gpu.info().name
             )));

@@ -155,6 +155,9 @@ pub struct FrameCheck {
     pub tail_fragments: u64,
     /// The bin methods' shape for the frame; `None` for the others.
     pub bins: Option<BinShape>,
+    /// Rows suspended at the loop budget and resumed by a continuation (exact), counted each
+    /// time.
+    pub suspended_rows: u64,
     /// Pixels with more layers than the passes peeled (depth_peeling past its passes): their
     /// middle layers are missing.
     pub unpeeled_pixels: u64,
@@ -172,6 +175,10 @@ pub struct BinShape {
     pub rows_per_workgroup: u32,
     /// Bin rows one binning invocation covers at most.
     pub rows_per_slice: u32,
+    /// Loop iterations a raster's row took at most in one dispatch.
+    pub loop_budget: u32,
+    /// The raster branched where its subgroup agreed (the GPU profile's variant).
+    pub branching: bool,
 }
 
 /// What a method is told when a frame it recorded has completed.

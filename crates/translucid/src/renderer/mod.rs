@@ -99,6 +99,9 @@ pub struct Frame {
     /// How the bin methods' stages were specialized and sized for the frame's last
     /// recording; `None` for the other methods.
     pub bins: Option<crate::methods::BinShape>,
+    /// Rows exact suspended at the device's loop budget and resumed by a continuation
+    /// dispatch in the frame's last recording, counted each time (0 for other methods).
+    pub suspended_rows: u64,
     /// Pipelines created on the renderer's device since its last frame ended, its
     /// `set_frame` included (a shader variant this frame was the first to need): each
     /// compiles a shader, which a frame loop should pay only in its first frames.
@@ -581,6 +584,7 @@ impl Renderer {
             tail_fragments: check.tail_fragments,
             unpeeled_pixels: check.unpeeled_pixels,
             bins: check.bins,
+            suspended_rows: check.suspended_rows,
             pipelines_created: self.counted.0 - counted.0,
             bytes_allocated: self.counted.1 - counted.1,
             record_ms,

@@ -8,9 +8,9 @@
 
 use super::layout::BIN_SIZE;
 use crate::interface::specialization::{
-    Specialization, DEEP_BINNING_LANES, FACE_NORMALS, FLAT_COLOURS, HOMOGENEOUS_PATH, RASTER_ROWS,
-    RECORDS_AS_TEXELS, SKIP_OCCLUSION_CULL, SLAB_BITS, TEXTURES, TRANSMISSION, VERTEX_COLOURS,
-    VERTEX_NORMALS,
+    Specialization, BRANCHING, DEEP_BINNING_LANES, FACE_NORMALS, FLAT_COLOURS, HOMOGENEOUS_PATH,
+    LOOP_BUDGET, RASTER_ROWS, RECORDS_AS_TEXELS, SKIP_OCCLUSION_CULL, SLAB_BITS, TEXTURES,
+    TRANSMISSION, VERTEX_COLOURS, VERTEX_NORMALS,
 };
 use crate::raster::{clip_position, model_view_projection, viewport_transform, GUARD_BAND};
 use crate::scene::Scene;
@@ -41,6 +41,11 @@ pub struct RasterFeatures {
     /// Binning invocations per triangle once bins hold slabs (bin_lists.glsl): a row's width
     /// of them, unless the dispatch would pass the workgroups every device allows.
     pub deep_binning_lanes: u32,
+    /// Loop iterations a raster's row may take in one dispatch (the device's, or less in
+    /// tests).
+    pub loop_budget: u32,
+    /// The rasters branch where the subgroup agrees (the GPU profile).
+    pub branching: bool,
 }
 
 impl RasterFeatures {
@@ -82,6 +87,8 @@ impl RasterFeatures {
             vertex_colours: draws()
                 .any(|d| scene.meshes[d.mesh].colours.is_some() || d.tint != glam::Vec4::ONE),
             flat_colours: draws().all(|d| meshes[d.mesh].flat_colours),
+            loop_budget: crate::gpu::CPU_DRIVER_LOOP_BUDGET,
+            branching: false,
             deep_binning_lanes: deep_binning_lanes(
                 draws()
                     .map(|d| scene.meshes[d.mesh].quads.len() as u64)
@@ -97,6 +104,8 @@ impl RasterFeatures {
         Self {
             slab_bits: self.slab_bits,
             rows: self.rows,
+            loop_budget: self.loop_budget,
+            branching: self.branching,
             ..fresh
         }
     }
@@ -152,11 +161,14 @@ impl RasterFeatures {
     }
 
     /// What every raster over the bins is specialized with: the records' constants, the
-    /// materials' transmission, and a first dispatch's rows per workgroup.
+    /// materials' transmission, a first dispatch's rows per workgroup, the loop budget and
+    /// whether they branch.
     pub fn raster_constants(&self) -> Specialization {
         self.record_constants()
             .with(TRANSMISSION, self.transmission)
             .with(RASTER_ROWS, self.rows)
+            .with(LOOP_BUDGET, self.loop_budget)
+            .with(BRANCHING, self.branching)
     }
 }
 
@@ -431,6 +443,8 @@ mod tests {
             vertex_colours: false,
             flat_colours: false,
             deep_binning_lanes: 1,
+            loop_budget: crate::gpu::CPU_DRIVER_LOOP_BUDGET,
+            branching: false,
         };
         assert_eq!(none.attribute_texels(), 0);
         let lit = RasterFeatures {

@@ -6,9 +6,6 @@
 pub use crate::assets::texture_records::*;
 pub use crate::interface::bins::*;
 
-// The raster may pass its budget by two searches over the slabs (a sweep's start) before it
-// stops; lavapipe ends loops after 65535 iterations.
-const _: () = assert!(LOOP_BUDGET + 2 * MAX_SLABS < 65_000);
 /// Bytes of one resume item: block * BIN_SIZE + row (its index is its state slot).
 pub const RESUME_ITEM_BYTES: u64 = 4;
 /// Bytes of the indirect commands (g_dispatch) before the resume items.

@@ -50,10 +50,20 @@ use features::{FrameEstimate, MeshFacts, RasterFeatures};
 use layout::{
     BinCounters, BinPush, BIN_SIZE, DISPATCH_BAND_FILL_OFFSET, DISPATCH_BINNING_OFFSET,
     DISPATCH_BIN_OFFSETS_OFFSET, DISPATCH_RASTER_BINS_OFFSET, DRAW_COMPOSITE_OFFSET, LAST_STAMP,
-    LOOP_BUDGET, OVERFLOW_BAND_LISTS, OVERFLOW_CROWDED_BIN, OVERFLOW_HOMOGENEOUS, SCAN_GROUP_SIZE,
+    OVERFLOW_BAND_LISTS, OVERFLOW_CROWDED_BIN, OVERFLOW_HOMOGENEOUS, SCAN_GROUP_SIZE,
 };
 use resources::{Capacities, Resources};
 use std::sync::Arc;
+
+/// Loop iterations one binning invocation takes at most: a triangle taller than that many
+/// bins' worth is binned by several invocations, in slices of rows (bin_lists.glsl). Within
+/// lavapipe's loop limit (`CPU_DRIVER_LOOP_BUDGET`), and short enough that a tall triangle's
+/// rows spread over many invocations on a GPU.
+const SLICE_ITERATIONS: u32 = 60_000;
+
+/// The smallest loop budget a test may force (`BinOptions::loop_budget`): room for a
+/// stretch's shading and the searches over the most slabs, and some walking.
+const LEAST_LOOP_BUDGET: u32 = 4096;
 
 /// What the raster that reads the bins asks of them.
 #[derive(Clone, Copy)]
@@ -93,6 +103,9 @@ pub struct BinOptions {
     /// First state slots of the rows a raster suspends for a later dispatch (rows hundreds of
     /// fragments deep; the exact raster's: `SuspendedRows`).
     pub initial_resume_rows: Option<u32>,
+    /// Tests: a loop budget under the device's (at least 4096), so that rows tens of
+    /// layers deep suspend and resume.
+    pub loop_budget: Option<u32>,
     /// Start with the stages built without the near-plane path, whatever the scene looks
     /// like, so that tests can exercise the rebuild-and-render-again fallback.
     #[doc(hidden)]
@@ -237,7 +250,7 @@ impl BinPush {
         self.bins_x = width.div_ceil(BIN_SIZE);
         self.bins_y = height.div_ceil(BIN_SIZE);
         // A row of bins costs at most bins_x + 1 iterations.
-        self.bin_rows_per_slice = (LOOP_BUDGET / (self.bins_x + 1))
+        self.bin_rows_per_slice = (SLICE_ITERATIONS / (self.bins_x + 1))
             .min(slice_rows_limit)
             .max(1);
     }
@@ -358,7 +371,7 @@ impl Bins {
         let method = raster.method;
         let info = gpu.info();
         if !(info.shader_int64 && info.shader_float64) {
-            return Err(Error::NoDevice(format!(
+            return Err(Error::DeviceLacks(format!(
                 "{} lacks 64-bit shader integers or floats, which the {method} method's edge functions need",
                 info.name
             )));
@@ -366,7 +379,7 @@ impl Bins {
         // The rasters run a workgroup per row of BIN_SIZE pixels and vote, broadcast and
         // reduce over it: a subgroup must hold a whole row.
         if !info.compute_subgroup_operations || info.subgroup_size < BIN_SIZE {
-            return Err(Error::NoDevice(format!(
+            return Err(Error::DeviceLacks(format!(
                 "{} has compute subgroups of {} invocations{}; the {method} method needs at least \
                  {BIN_SIZE} with vote, ballot and arithmetic operations",
                 info.name,
@@ -397,6 +410,10 @@ impl Bins {
         if options.assume_wide_subgroups {
             features.rows = 1;
         }
+        features.loop_budget = options.loop_budget.map_or(info.loop_budget, |b| {
+            b.clamp(LEAST_LOOP_BUDGET, info.loop_budget)
+        });
+        features.branching = info.profile == crate::gpu::Profile::Gpu;
         // Buffers per block and row are made for the largest frame.
         let capacities = Capacities::initial(
             gpu_scene.transparent_quads,
@@ -959,6 +976,8 @@ impl Bins {
             slabs: recorded.features.slabs(),
             rows_per_workgroup: recorded.features.rows,
             rows_per_slice: recorded.rows_per_slice,
+            loop_budget: recorded.features.loop_budget,
+            branching: recorded.features.branching,
         }
     }
 

@@ -211,7 +211,7 @@ fn require_device(gpu: &Gpu) -> Result<()> {
             .format_features(format)
             .contains(vk::FormatFeatureFlags::COLOR_ATTACHMENT_BLEND)
         {
-            return Err(Error::NoDevice(format!(
+            return Err(Error::DeviceLacks(format!(
                 "{} cannot blend {format:?} attachments, which the depth_peeling method's \
                  {what} needs",
                 gpu.info().name
@@ -230,7 +230,7 @@ fn require_device(gpu: &Gpu) -> Result<()> {
         return Err(if gpu.is_host_device() {
             Error::HostRequirements(message)
         } else {
-            Error::NoDevice(message)
+            Error::DeviceLacks(message)
         });
     }
     Ok(())

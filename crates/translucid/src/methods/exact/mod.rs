@@ -245,6 +245,7 @@ impl Method for Exact {
             fragments: kept(counters.fragments()),
             sweeps: counters.sweeps(),
             triangles: kept(u64::from(counters.triangle_count)),
+            suspended_rows: u64::from(counters.suspended_rows),
             bins: Some(BinShape {
                 select_size,
                 ..self.bins.shape(done.slot)

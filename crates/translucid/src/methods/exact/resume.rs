@@ -32,8 +32,8 @@ pub fn suspended_rows(deep: bool) -> SuspendedRows {
     }
 }
 
-/// The work bound, per row: with about 60,000 loop iterations each (some 30 M list entries
-/// in all), this many continuations finish a row of any frame this method renders in
+/// The work bound, per row: with a CPU driver's 60,000 loop iterations each (some 30 M list
+/// entries in all; `DeviceInfo::loop_budget`), this many continuations finish a row of any frame this method renders in
 /// reasonable time (10,000 full-screen layers take a few hundred); past it the frame fails
 /// with an error. Continuations with no rows cost an empty indirect dispatch.
 pub const MAX_CONTINUATIONS: u32 = 512;

@@ -156,7 +156,7 @@ impl LinkedList {
     ) -> Result<Self> {
         let info = gpu.info();
         if !info.dual_source_blend {
-            return Err(Error::NoDevice(format!(
+            return Err(Error::DeviceLacks(format!(
                 "{} lacks dualSrcBlend, which the linked_list method's tail needs",
                 info.name
             )));

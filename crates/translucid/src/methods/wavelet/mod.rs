@@ -196,7 +196,7 @@ impl Wavelet {
                 match BinRaster::new(gpu, scene, gpu_scene, targets, bin_options, rank, constants) {
                     Ok(raster) => Some(raster),
                     // The images need nothing of the device beyond blending.
-                    Err(Error::NoDevice(why)) => {
+                    Err(Error::DeviceLacks(why)) => {
                         log::warn!("wavelet: {why}; keeping the coefficients in images");
                         settings.storage = Storage::Images;
                         None
