@@ -71,6 +71,20 @@
 #define TRANSLUCID_CONTEXT_CREATE_VALIDATION 1
 
 /**
+ * Give the device the variants made for CPU drivers (masked, branch-free shaders), whatever
+ * it is; `TRANSLUCID_PROFILE=cpu` in the environment does the same. Without either profile
+ * flag, a device gets its own: CPU drivers theirs, GPUs the GPU variants. For testing and
+ * measuring; at most one of the two.
+ */
+#define TRANSLUCID_CONTEXT_CREATE_PROFILE_CPU 2
+
+/**
+ * Give the device the GPU variants (branching shaders), whatever it is, as
+ * `TRANSLUCID_PROFILE=gpu` does: so that they can be checked on a CPU driver.
+ */
+#define TRANSLUCID_CONTEXT_CREATE_PROFILE_GPU 4
+
+/**
  * Most frames in flight a host-device context takes.
  */
 #define TRANSLUCID_MAX_FRAMES_IN_FLIGHT 4
@@ -232,7 +246,8 @@ enum translucid_result
      */
     TRANSLUCID_RESULT_ERROR_FRAME_IN_FLIGHT = -12,
     /**
-     * No Vulkan loader, no usable device, or the requested device does not exist.
+     * No Vulkan loader, no usable device, or the requested device does not exist; or the
+     * device lacks what the frame's method needs (the message says what).
      */
     TRANSLUCID_RESULT_ERROR_NO_DEVICE = -100,
     /**

@@ -11,6 +11,20 @@ pub fn run() -> translucid::Result<()> {
             d.index, d.name, d.kind, d.api_version, d.driver
         );
         println!("    subgroup size            {}", d.subgroup_size);
+        // The variants it gets (docs/gpu.md); TRANSLUCID_PROFILE forces another when rendering.
+        let forced = translucid::gpu::Profile::from_env()?;
+        println!(
+            "    profile                  {}{}",
+            d.profile.name(),
+            forced.map_or(String::new(), |p| format!(
+                " (TRANSLUCID_PROFILE: {} when rendering)",
+                p.name()
+            ))
+        );
+        println!(
+            "    loop budget              {} iterations a dispatch",
+            d.loop_budget
+        );
         println!(
             "    shared memory            {} KB",
             d.max_shared_memory / 1024

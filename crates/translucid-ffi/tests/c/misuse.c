@@ -120,6 +120,14 @@ static void context_creation(void) {
     info.flags = 0x80;
     EXPECT(NULL, translucid_context_create(&info, &ctx),
            TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    info.flags = TRANSLUCID_CONTEXT_CREATE_PROFILE_CPU | TRANSLUCID_CONTEXT_CREATE_PROFILE_GPU;
+    EXPECT(NULL, translucid_context_create(&info, &ctx),
+           TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    TRUE_OR_FAIL(strstr(translucid_context_get_last_error(NULL), "PROFILE") != NULL);
+    info.flags = TRANSLUCID_CONTEXT_CREATE_PROFILE_GPU; /* one alone is taken */
+    EXPECT(NULL, translucid_context_create(&info, &ctx), TRANSLUCID_RESULT_SUCCESS);
+    translucid_context_destroy(ctx);
+    ctx = sentinel;
     info = context_info();
     memset(&link, 0, sizeof link);
     link.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_CREATE_INFO;
