@@ -136,9 +136,10 @@ uint walkStretch(inout Pixel p, inout uint64_t selection[SELECT_SIZE], uint64_t 
     uint nextEntry = texelFetch(u_binEntryTexels, int(min(from, last))).r;
     uint e = from;
     if (e < walkTo) do {
-        // The same entry for the whole row. (A broadcast would tell a GPU compiler so, but on
-        // CPU drivers it is a loop over the lanes: 3 % of the raster.)
-        uint entry = nextEntry;
+        // The same entry for the whole row: a broadcast tells a GPU compiler so (one load and
+        // one triangle's fetches for the subgroup); on CPU drivers it is a loop over the lanes
+        // (3 % of the raster there).
+        uint entry = BRANCHING ? subgroupBroadcastFirst(nextEntry) : nextEntry;
         nextEntry = texelFetch(u_binEntryTexels, int(min(e + 1u, last))).r;
         // A pixel that dropped a fragment nearer than this slab's floor can composite
         // nothing from here on in this sweep, so its walk ends (the row's when every pixel's
