@@ -71,7 +71,13 @@ impl Gpu {
                 source,
             })?;
         self.memory.add(allocation.size());
-        log::trace!("allocated {name}: {} bytes", allocation.size());
+        // Which memory each object took (device-local, host-visible or both): what a GPU
+        // reads from every frame should be device-local (docs/gpu.md).
+        log::debug!(
+            "allocated {name}: {} bytes, {location:?} in {:?} memory",
+            allocation.size(),
+            allocation.memory_properties()
+        );
         Ok(allocation)
     }
 
