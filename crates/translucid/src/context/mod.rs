@@ -115,7 +115,7 @@ impl Context {
         };
         if let Some(i) = positions.iter().position(|p| !p.is_finite()) {
             return Err(Error::InvalidArgument(format!(
-                "positions[{i}] is {}; positions must be finite",
+                "vertex {i} of the positions is {}; positions must be finite",
                 positions[i]
             )));
         }
