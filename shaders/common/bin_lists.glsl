@@ -164,21 +164,23 @@ uint slabOf(uint bits, uint order) {
 }
 
 // Narrows the open interval (lo, hi) of fixed-point x at which edge (a, b, c) with tie bias
-// may cover row py: a*px + k > 0, with k = b*py + c + bias. k is a double, exact below 2^53,
-// which on-screen triangles stay under; c reaches 2^57 at the guard band's edge, where the
-// conversion and the sum may be off by less than 32. So k is taken as anywhere within
-// ROW_SLACK of its value: the interval then holds every covered centre, and is within
-// ROW_SLACK / |a| of exact (a is 256 times the edge's height in pixels).
-const double ROW_SLACK = 64.0;
-
-void narrowRow(int a, int b, int64_t c, int bias, double py, inout double lo, inout double hi) {
-    double k = double(b) * py + double(c + int64_t(bias));
+// may cover row py: a*px + k > 0, with k = b*py + c + bias, exact in 64 bits. The crossing
+// -k/a is estimated in 32-bit floats: two conversions and one division (2.5 ulp in Vulkan)
+// put it within 2^-21 of its size, so widened by 2^-19 of its size and one sub-pixel the
+// interval holds every covered centre. On screen that is a few sub-pixels; far outside, the
+// columns are clamped anyway.
+void narrowRow(int a, int b, int64_t c, int bias, int py, inout float lo, inout float hi) {
+    int64_t k = int64_t(b) * int64_t(py) + c + int64_t(bias);
+    if (a == 0) {
+        hi = k > 0 ? hi : lo;
+        return;
+    }
+    float crossing = -float(k) / float(a);
+    float slack = abs(crossing) * (1.0 / 524288.0) + 1.0;
     if (a > 0) {
-        lo = max(lo, -(k + ROW_SLACK) / double(a));
-    } else if (a < 0) {
-        hi = min(hi, -(k + ROW_SLACK) / double(a));
-    } else if (k + ROW_SLACK <= 0.0) {
-        hi = lo;
+        lo = max(lo, crossing - slack);
+    } else {
+        hi = min(hi, crossing + slack);
     }
 }
 
@@ -196,17 +198,17 @@ ivec2 rowColumns(BinTriangle t, int y, ivec2 cols) {
     if (t.edgeB.w >= 0) {
         return cols;
     }
-    double py = double((y << 8) + 128);
-    double lo = -1.0e30;
-    double hi = 1.0e30;
+    int py = (y << 8) + 128;
+    float lo = -1.0e30;
+    float hi = 1.0e30;
     int ties = t.edgeA.w;
     narrowRow(t.edgeA.x, t.edgeB.x, t.edgeC.x, ties & 1, py, lo, hi);
     narrowRow(t.edgeA.y, t.edgeB.y, t.edgeC.y, (ties >> 1) & 1, py, lo, hi);
     narrowRow(t.edgeA.z, t.edgeB.z, t.edgeC.z, (ties >> 2) & 1, py, lo, hi);
     // Pixel x has its centre at 256 x + 128: the first and the last pixel whose centre is in
-    // (lo, hi).
-    double first = floor((lo - 128.0) / 256.0) + 1.0;
-    double last = ceil((hi - 128.0) / 256.0) - 1.0;
+    // (lo, hi). Scaling by 1/256 is exact.
+    float first = floor((lo - 128.0) * (1.0 / 256.0)) + 1.0;
+    float last = ceil((hi - 128.0) * (1.0 / 256.0)) - 1.0;
     if (!(first <= last)) {
         return ivec2(1, 0);
     }
