@@ -55,48 +55,51 @@ int clampPixel(int64_t v, uint size) {
     return int(clamp(v, int64_t(0), int64_t(size)));
 }
 
-// Bounds on the homogeneous path: the triangle clipped to the near plane (z >= 0), projected,
-// padded by a pixel; the whole viewport when a clipped vertex is not in front of the eye.
-// A superset of the reference's bounds: coverage itself is decided by the edges.
+// Bounds on the homogeneous path: the triangle (its vertices scaled by a power of two, which
+// projection ignores) clipped to the near plane (z >= 0), projected, padded by a pixel; the
+// whole viewport when a clipped vertex is not clearly in front of the eye. A superset of the
+// reference's bounds: coverage itself is decided by the edges, and a projected corner is
+// within 2^-21 of its size, less than the pad on screen.
 bool homogeneousBounds(vec4 c[3], out ivec4 bounds) {
-    dvec4 poly[4];
+    vec4 poly[4];
     int n = 0;
     for (int i = 0; i < 3; i++) {
-        dvec4 a = dvec4(c[i]);
-        dvec4 b = dvec4(c[(i + 1) % 3]);
+        vec4 a = c[i];
+        vec4 b = c[(i + 1) % 3];
         bool aIn = a.z >= 0.0;
         bool bIn = b.z >= 0.0;
         if (aIn) {
             poly[n++] = a;
         }
         if (aIn != bIn) {
-            double t = a.z / (a.z - b.z);
+            float t = a.z / (a.z - b.z);
             poly[n++] = a + (b - a) * t;
         }
     }
     if (n == 0) {
         return false;
     }
-    dvec2 lo = dvec2(1e300);
-    dvec2 hi = dvec2(-1e300);
-    dvec2 size = dvec2(u_push.width, u_push.height);
+    vec2 lo = vec2(1e30);
+    vec2 hi = vec2(-1e30);
+    vec2 size = vec2(u_push.width, u_push.height);
     for (int i = 0; i < n; i++) {
-        if (!(poly[i].w > 0.0)) {
+        // Nearly on the eye plane (including w > 0 only through rounding): anywhere.
+        if (!(poly[i].w > 1.0e-6 * max(abs(poly[i].x), abs(poly[i].y)))) {
             bounds = ivec4(0, 0, u_push.width, u_push.height);
             return true;
         }
-        dvec2 p = (poly[i].xy / poly[i].w * 0.5 + 0.5) * size;
+        vec2 p = (poly[i].xy / poly[i].w * 0.5 + 0.5) * size;
         lo = min(lo, p);
         hi = max(hi, p);
     }
-    dvec2 first = clamp(ceil(lo - 0.5) - 1.0, dvec2(0.0), size);
-    dvec2 end = clamp(floor(hi - 0.5) + 2.0, dvec2(0.0), size);
+    vec2 first = clamp(ceil(lo - 0.5) - 1.0, vec2(0.0), size);
+    vec2 end = clamp(floor(hi - 0.5) + 2.0, vec2(0.0), size);
     bounds = ivec4(int(first.x), int(first.y), int(end.x), int(end.y));
     return true;
 }
 
-dvec3 crossD(dvec3 p, dvec3 q) {
-    precise dvec3 r = dvec3(p.y * q.z - p.z * q.y, p.z * q.x - p.x * q.z, p.x * q.y - p.y * q.x);
+vec3 crossF(vec3 p, vec3 q) {
+    precise vec3 r = vec3(p.y * q.z - p.z * q.y, p.z * q.x - p.x * q.z, p.x * q.y - p.y * q.x);
     return r;
 }
 
@@ -162,28 +165,38 @@ bool setupTriangle(vec4 c[3], out BinTriangle t, out ivec2 vertices[3], out bool
         return false;
     } else {
         homogeneous = true;
-        dvec2 dsize = dvec2(size);
-        dvec3 v[3];
+        // The vertices scaled by 2^-e (raster.rs), so that no product overflows.
+        float largest = 0.0;
         for (int i = 0; i < 3; i++) {
-            precise double x = (double(c[i].x) * 0.5 + double(c[i].w) * 0.5) * dsize.x;
-            precise double y = (double(c[i].y) * 0.5 + double(c[i].w) * 0.5) * dsize.y;
-            v[i] = dvec3(x, y, double(c[i].w));
+            largest = max(largest, max(max(abs(c[i].x), abs(c[i].y)), max(abs(c[i].z), abs(c[i].w))));
         }
-        dvec3 raw0 = crossD(v[1], v[2]);
-        dvec3 raw1 = crossD(v[2], v[0]);
-        dvec3 raw2 = crossD(v[0], v[1]);
-        precise double det = (raw0.x * v[0].x + raw0.y * v[0].y) + raw0.z * v[0].z;
+        int exponent = exponentOf(largest);
+        vec4 scaled[3];
+        vec3 v[3];
+        for (int i = 0; i < 3; i++) {
+            for (int j = 0; j < 4; j++) {
+                scaled[i][j] = scaleByPowerOfTwo(c[i][j], -exponent);
+            }
+            precise float x = (scaled[i].x * 0.5 + scaled[i].w * 0.5) * size.x;
+            precise float y = (scaled[i].y * 0.5 + scaled[i].w * 0.5) * size.y;
+            v[i] = vec3(x, y, scaled[i].w);
+        }
+        vec3 raw0 = crossF(v[1], v[2]);
+        vec3 raw1 = crossF(v[2], v[0]);
+        vec3 raw2 = crossF(v[0], v[1]);
+        precise float det = (raw0.x * v[0].x + raw0.y * v[0].y) + raw0.z * v[0].z;
         if (det == 0.0 || isnan(det) || isinf(det)) {
             return false;
         }
-        double s = det > 0.0 ? 1.0 : -1.0;
-        if (!homogeneousBounds(c, t.bounds)) {
+        float s = det > 0.0 ? 1.0 : -1.0;
+        if (!homogeneousBounds(scaled, t.bounds)) {
             return false;
         }
-        h.line0 = dvec4(raw0 * s, 0.0);
-        h.line1 = dvec4(raw1 * s, 0.0);
-        h.line2 = dvec4(raw2 * s, 0.0);
-        h.zInvDet = dvec4(double(c[0].z), double(c[1].z), double(c[2].z), 1.0 / abs(det));
+        h.line0 = vec4(raw0 * s, float(exponent));
+        h.line1 = vec4(raw1 * s, 0.0);
+        h.line2 = vec4(raw2 * s, 0.0);
+        precise float invDet = 1.0 / abs(det);
+        h.zInvDet = vec4(scaled[0].z, scaled[1].z, scaled[2].z, invDet);
         int mask = 0;
         int ties = 0;
         for (int k = 0; k < 3; k++) {

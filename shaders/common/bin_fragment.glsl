@@ -153,9 +153,9 @@ bool sampleTriangle(BinTriangle t, uint x, uint y, out RasterSample s) {
 
 // d(barycentric)/dx and /dy at the pixel, as Triangle::barycentric_gradients computes them.
 void barycentricGradients(BinTriangle t, uint x, uint y, out vec3 gx, out vec3 gy) {
-    dvec3 q;
-    dvec3 dqx;
-    dvec3 dqy;
+    vec3 q;
+    vec3 dqx;
+    vec3 dqy;
     if (!HOMOGENEOUS_PATH || t.edgeB.w < 0) {
         [[unroll]] for (int k = 0; k < 3; k++) {
             int64_t e = edgeAt(t.edgeA[k], t.edgeB[k], t.edgeC[k], x, y);
@@ -163,33 +163,33 @@ void barycentricGradients(BinTriangle t, uint x, uint y, out vec3 gx, out vec3 g
             precise float qk = lambda * t.invW[k];
             precise float dx = float(t.edgeA[k]) * 256.0 * t.zNdc.w * t.invW[k];
             precise float dy = float(t.edgeB[k]) * 256.0 * t.zNdc.w * t.invW[k];
-            q[k] = double(qk);
-            dqx[k] = double(dx);
-            dqy[k] = double(dy);
+            q[k] = qk;
+            dqx[k] = dx;
+            dqy[k] = dy;
         }
     } else {
         BinHomogeneous h = loadHomogeneous(t.edgeB.w);
-        precise dvec3 qq = dvec3(lineAt(h.line0, x, y), lineAt(h.line1, x, y), lineAt(h.line2, x, y)) *
-                           h.zInvDet.w;
+        precise vec3 qq = vec3(lineAt(h.line0, x, y), lineAt(h.line1, x, y), lineAt(h.line2, x, y)) *
+                          h.zInvDet.w;
         q = qq;
-        precise dvec3 ax = dvec3(h.line0.x, h.line1.x, h.line2.x) * h.zInvDet.w;
-        precise dvec3 ay = dvec3(h.line0.y, h.line1.y, h.line2.y) * h.zInvDet.w;
+        precise vec3 ax = vec3(h.line0.x, h.line1.x, h.line2.x) * h.zInvDet.w;
+        precise vec3 ay = vec3(h.line0.y, h.line1.y, h.line2.y) * h.zInvDet.w;
         dqx = ax;
         dqy = ay;
     }
-    precise double sum = (q.x + q.y) + q.z;
+    precise float sum = (q.x + q.y) + q.z;
     if (sum == 0.0) {
         gx = vec3(0.0);
         gy = vec3(0.0);
         return;
     }
-    precise dvec3 b = q / sum;
-    precise double dsx = (dqx.x + dqx.y) + dqx.z;
-    precise double dsy = (dqy.x + dqy.y) + dqy.z;
-    precise dvec3 rx = (dqx - b * dsx) / sum;
-    precise dvec3 ry = (dqy - b * dsy) / sum;
-    gx = vec3(rx);
-    gy = vec3(ry);
+    precise vec3 b = q / sum;
+    precise float dsx = (dqx.x + dqx.y) + dqx.z;
+    precise float dsy = (dqy.x + dqy.y) + dqy.z;
+    precise vec3 rx = (dqx - b * dsx) / sum;
+    precise vec3 ry = (dqy - b * dsy) / sum;
+    gx = rx;
+    gy = ry;
 }
 
 // Shades the fragment of triangle t at pixel (x, y).

@@ -144,26 +144,19 @@ BinTriangle loadTriangle(uint i) {
                           texelFetch(u_triangleTexels, base + 3));
 }
 
-dvec4 fetchDvec4(int texel) {
-    uvec4 a = texelFetch(u_homogeneousTexels, texel);
-    uvec4 b = texelFetch(u_homogeneousTexels, texel + 1);
-    return dvec4(packDouble2x32(a.xy), packDouble2x32(a.zw), packDouble2x32(b.xy),
-                 packDouble2x32(b.zw));
-}
-
 BinHomogeneous loadHomogeneous(int i) {
-    int base = i * 12;
+    int base = i * 8;
     BinHomogeneous h;
-    h.line0 = fetchDvec4(base);
-    h.line1 = fetchDvec4(base + 2);
-    h.line2 = fetchDvec4(base + 4);
-    h.zInvDet = fetchDvec4(base + 6);
-    uvec4 c01 = texelFetch(u_homogeneousTexels, base + 8);
-    uvec4 c2 = texelFetch(u_homogeneousTexels, base + 9);
+    h.line0 = uintBitsToFloat(texelFetch(u_homogeneousTexels, base));
+    h.line1 = uintBitsToFloat(texelFetch(u_homogeneousTexels, base + 1));
+    h.line2 = uintBitsToFloat(texelFetch(u_homogeneousTexels, base + 2));
+    h.zInvDet = uintBitsToFloat(texelFetch(u_homogeneousTexels, base + 3));
+    uvec4 c01 = texelFetch(u_homogeneousTexels, base + 4);
+    uvec4 c2 = texelFetch(u_homogeneousTexels, base + 5);
     h.fixedC = i64vec4(int64_t(packUint2x32(c01.xy)), int64_t(packUint2x32(c01.zw)),
                        int64_t(packUint2x32(c2.xy)), int64_t(packUint2x32(c2.zw)));
-    h.fixedA = ivec4(texelFetch(u_homogeneousTexels, base + 10));
-    h.fixedB = ivec4(texelFetch(u_homogeneousTexels, base + 11));
+    h.fixedA = ivec4(texelFetch(u_homogeneousTexels, base + 6));
+    h.fixedB = ivec4(texelFetch(u_homogeneousTexels, base + 7));
     return h;
 }
 

@@ -31,37 +31,40 @@ bool sampleFixed(BinTriangle t, uint x, uint y, out RasterSample s) {
     return coversFixed(t, x, y, e) && interpolateFixed(t, e, s);
 }
 
-double lineAt(dvec4 line, uint x, uint y) {
-    precise double v = (line.x * (double(x) + 0.5) + line.y * (double(y) + 0.5)) + line.z;
+float lineAt(vec4 line, uint x, uint y) {
+    precise float v = (line.x * (float(x) + 0.5) + line.y * (float(y) + 0.5)) + line.z;
     return v;
 }
 
-bool homogeneousEdgeCovers(BinHomogeneous h, int k, dvec4 line, uint x, uint y) {
+bool homogeneousEdgeCovers(BinHomogeneous h, int k, vec4 line, uint x, uint y) {
     if (((h.fixedA.w >> k) & 1) != 0) {
         int64_t e = edgeAt(h.fixedA[k], h.fixedB[k], h.fixedC[k], x, y);
         return e + int64_t((h.fixedB.w >> k) & 1) > 0;
     }
-    double v = lineAt(line, x, y);
+    float v = lineAt(line, x, y);
     return v > 0.0 || (v == 0.0 && (line.x > 0.0 || (line.x == 0.0 && line.y > 0.0)));
 }
 
+// A sample on the homogeneous path, from the lines of the vertices scaled by 2^-e
+// (raster.rs: the weights' sum is 2^e / w).
 bool sampleHomogeneous(BinHomogeneous h, uint x, uint y, out RasterSample s) {
     if (!homogeneousEdgeCovers(h, 0, h.line0, x, y) || !homogeneousEdgeCovers(h, 1, h.line1, x, y) ||
         !homogeneousEdgeCovers(h, 2, h.line2, x, y)) {
         return false;
     }
-    precise double e0 = lineAt(h.line0, x, y) * h.zInvDet.w;
-    precise double e1 = lineAt(h.line1, x, y) * h.zInvDet.w;
-    precise double e2 = lineAt(h.line2, x, y) * h.zInvDet.w;
-    precise double sum = (e0 + e1) + e2;
+    precise float e0 = lineAt(h.line0, x, y) * h.zInvDet.w;
+    precise float e1 = lineAt(h.line1, x, y) * h.zInvDet.w;
+    precise float e2 = lineAt(h.line2, x, y) * h.zInvDet.w;
+    precise float sum = (e0 + e1) + e2;
     if (!(sum > 0.0)) {
         return false;
     }
-    precise double depth = 1.0 / sum;
-    precise double z = (e0 * h.zInvDet.x + e1 * h.zInvDet.y) + e2 * h.zInvDet.z;
-    s.barycentric = vec3(float(e0 * depth), float(e1 * depth), float(e2 * depth));
-    s.zNdc = float(z);
-    s.viewDepth = float(depth);
+    precise float d = 1.0 / sum;
+    precise float z = (e0 * h.zInvDet.x + e1 * h.zInvDet.y) + e2 * h.zInvDet.z;
+    precise vec3 b = vec3(e0 * d, e1 * d, e2 * d);
+    s.barycentric = b;
+    s.zNdc = z;
+    s.viewDepth = scaleByPowerOfTwo(d, int(h.line0.w));
     return depthClip(s.zNdc);
 }
 

@@ -52,6 +52,23 @@ bool ownsTies(int64_t a, int64_t b) {
     return a > 0 || (a == 0 && b > 0);
 }
 
+// The exponent e of a finite m >= 0: 2^e <= m < 2^(e+1), or -127 when m is 0 or subnormal
+// (raster::exponent_of).
+int exponentOf(float m) {
+    return int((floatBitsToUint(m) >> 23) & 0xFFu) - 127;
+}
+
+// 2^k, for k in [-126, 127].
+float powerOfTwo(int k) {
+    return uintBitsToFloat(uint(k + 127) << 23);
+}
+
+// v * 2^k for k in [-127, 127], exact when the result is normal (raster::scale_by_power_of_two).
+float scaleByPowerOfTwo(float v, int k) {
+    precise float r = v * powerOfTwo(k / 2) * powerOfTwo(k - k / 2);
+    return r;
+}
+
 struct RasterSample {
     vec3 barycentric;
     float zNdc;

@@ -34,13 +34,18 @@
 //! # Homogeneous path (near plane, behind the eye, outside the guard band)
 //!
 //! After Olano & Greer, "Triangle scan conversion using 2D homogeneous coordinates" (1997): no
-//! clipping, nothing dropped. In f64, each vertex becomes `V = ((x/2 + w/2) W, (y/2 + w/2) H, w)`
-//! and edge `k` the line `V_j × V_l`, normalised by `s = sign(det[V0 V1 V2])` (front-facing
-//! when `det < 0`, like `A2`). At pixel centre `p = (x + 0.5, y + 0.5, 1)` the normalised
-//! values `e_k = (line_k · p) / |det|` are the perspective barycentrics up to one common
-//! positive factor; a sample is covered when all three are inside by the same tie rule as
-//! above, which also rejects the mirrored "external" triangle behind the eye. Then
-//! `view_depth = 1 / Σ e_k`, `b_k = e_k * view_depth` and `z_ndc = Σ e_k z_k` (clip z).
+//! clipping, nothing dropped. In f32, like everything the GPU does per pixel: the clip
+//! coordinates are first scaled by `2^-e`, where `2^e <= m < 2^(e+1)` for the largest
+//! magnitude `m` among them, so that the products below cannot overflow whatever the scene's
+//! scale (an exact scaling, which rounding commutes with: two triangles sharing an edge still
+//! compute exactly proportional lines for it). Each scaled vertex becomes
+//! `V = ((x/2 + w/2) W, (y/2 + w/2) H, w)` and edge `k` the line `V_j × V_l`, normalised by
+//! `s = sign(det[V0 V1 V2])` (front-facing when `det < 0`, like `A2`). At pixel centre
+//! `p = (x + 0.5, y + 0.5, 1)` the normalised values `e_k = (line_k · p) / |det|` are the
+//! perspective barycentrics up to one common positive factor; a sample is covered when all
+//! three are inside by the same tie rule as above, which also rejects the mirrored "external"
+//! triangle behind the eye. Then `d = 1 / Σ e_k`, `b_k = e_k * d`, `z_ndc = Σ e_k z_k` (scaled
+//! clip z) and `view_depth = d * 2^e`.
 //! An edge whose two ends have `w > 0` and lie inside the guard band is tested with the
 //! fixed-point edge function of its snapped ends instead, so it stays watertight against
 //! fixed-point neighbours.
@@ -230,18 +235,20 @@ struct FixedSetup {
 #[derive(Clone, Debug)]
 struct HomogeneousSetup {
     /// `(a, b, c)` of each edge line, normalised positive inside.
-    lines: [[f64; 3]; 3],
+    lines: [[f32; 3]; 3],
     /// Fixed-point replacement for the coverage test of an edge, where both ends allow it.
     fixed: [Option<FixedEdge>; 3],
-    inv_abs_det: f64,
-    /// Clip-space z of each vertex.
-    z: [f64; 3],
+    inv_abs_det: f32,
+    /// Clip-space z of each vertex, scaled.
+    z: [f32; 3],
+    /// The vertices were scaled by `2^-exponent`.
+    exponent: i32,
 }
 
 impl HomogeneousSetup {
-    fn line_at(&self, k: usize, x: u32, y: u32) -> f64 {
+    fn line_at(&self, k: usize, x: u32, y: u32) -> f32 {
         let [a, b, c] = self.lines[k];
-        (a * (x as f64 + 0.5) + b * (y as f64 + 0.5)) + c
+        (a * (x as f32 + 0.5) + b * (y as f32 + 0.5)) + c
     }
 
     fn covers(&self, x: u32, y: u32) -> bool {
@@ -256,7 +263,7 @@ impl HomogeneousSetup {
     }
 
     /// The unnormalised perspective barycentrics `e_k` at a pixel centre.
-    fn weights(&self, x: u32, y: u32) -> [f64; 3] {
+    fn weights(&self, x: u32, y: u32) -> [f32; 3] {
         [0, 1, 2].map(|k| self.line_at(k, x, y) * self.inv_abs_det)
     }
 }
@@ -352,11 +359,13 @@ impl Triangle {
         width: u32,
         height: u32,
     ) -> Option<Self> {
-        let (wf, hf) = (width as f64, height as f64);
-        let v = clip.map(|c| {
-            let (x, y, w) = (c.x as f64, c.y as f64, c.w as f64);
-            [(x * 0.5 + w * 0.5) * wf, (y * 0.5 + w * 0.5) * hf, w]
-        });
+        let (wf, hf) = (width as f32, height as f32);
+        let largest = clip
+            .iter()
+            .fold(0.0f32, |m, c| m.max(c.abs().max_element()));
+        let exponent = exponent_of(largest);
+        let scaled = clip.map(|c| c.to_array().map(|v| scale_by_power_of_two(v, -exponent)));
+        let v = scaled.map(|[x, y, _, w]| [(x * 0.5 + w * 0.5) * wf, (y * 0.5 + w * 0.5) * hf, w]);
         let raw = [0, 1, 2].map(|k| cross(v[(k + 1) % 3], v[(k + 2) % 3]));
         let det = dot(raw[0], v[0]);
         if det == 0.0 || !det.is_finite() {
@@ -382,7 +391,8 @@ impl Triangle {
                 lines: raw.map(|l| l.map(|c| c * sign)),
                 fixed,
                 inv_abs_det: 1.0 / det.abs(),
-                z: clip.map(|c| c.z as f64),
+                z: scaled.map(|c| c[2]),
+                exponent,
             })),
         })
     }
@@ -471,9 +481,9 @@ impl Triangle {
                 let d =
                     |coef: i64, k: usize| coef as f32 * SUBPIXEL_SCALE * f.inv_area * f.inv_w[k];
                 (
-                    [0, 1, 2].map(|k| (lambda(k) * f.inv_w[k]) as f64),
-                    [0, 1, 2].map(|k| d(f.edges[k].a, k) as f64),
-                    [0, 1, 2].map(|k| d(f.edges[k].b, k) as f64),
+                    [0, 1, 2].map(|k| lambda(k) * f.inv_w[k]),
+                    [0, 1, 2].map(|k| d(f.edges[k].a, k)),
+                    [0, 1, 2].map(|k| d(f.edges[k].b, k)),
                 )
             }
             Kind::Homogeneous(h) => (
@@ -482,15 +492,14 @@ impl Triangle {
                 [0, 1, 2].map(|k| h.lines[k][1] * h.inv_abs_det),
             ),
         };
-        let sum = q[0] + q[1] + q[2];
+        let sum = (q[0] + q[1]) + q[2];
         if sum == 0.0 {
             return [Vec3::ZERO; 2];
         }
         let b = q.map(|v| v / sum);
-        let grad = |dq: [f64; 3]| {
-            let ds = dq[0] + dq[1] + dq[2];
-            let g = [0, 1, 2].map(|k| ((dq[k] - b[k] * ds) / sum) as f32);
-            Vec3::from_array(g)
+        let grad = |dq: [f32; 3]| {
+            let ds = (dq[0] + dq[1]) + dq[2];
+            Vec3::from_array([0, 1, 2].map(|k| (dq[k] - b[k] * ds) / sum))
         };
         [grad(dqx), grad(dqy)]
     }
@@ -512,7 +521,7 @@ fn max3(v: [i64; 3]) -> i64 {
     v[0].max(v[1]).max(v[2])
 }
 
-fn cross(p: [f64; 3], q: [f64; 3]) -> [f64; 3] {
+fn cross(p: [f32; 3], q: [f32; 3]) -> [f32; 3] {
     [
         p[1] * q[2] - p[2] * q[1],
         p[2] * q[0] - p[0] * q[2],
@@ -520,7 +529,7 @@ fn cross(p: [f64; 3], q: [f64; 3]) -> [f64; 3] {
     ]
 }
 
-fn dot(p: [f64; 3], q: [f64; 3]) -> f64 {
+fn dot(p: [f32; 3], q: [f32; 3]) -> f32 {
     (p[0] * q[0] + p[1] * q[1]) + p[2] * q[2]
 }
 
@@ -545,13 +554,26 @@ fn homogeneous_sample(h: &HomogeneousSetup, x: u32, y: u32) -> Option<Sample> {
     if sum <= 0.0 || sum.is_nan() {
         return None; // on the plane through the eye, or behind it
     }
-    let view_depth = 1.0 / sum;
+    let d = 1.0 / sum;
     let z_ndc = (e[0] * h.z[0] + e[1] * h.z[1]) + e[2] * h.z[2];
     finish(
-        e.map(|v| (v * view_depth) as f32),
-        z_ndc as f32,
-        view_depth as f32,
+        e.map(|v| v * d),
+        z_ndc,
+        scale_by_power_of_two(d, h.exponent),
     )
+}
+
+/// The exponent `e` of a finite `m >= 0`: `2^e <= m < 2^(e+1)`, or -127 when `m` is 0 or
+/// subnormal (which scaling by `2^127` keeps finite).
+fn exponent_of(m: f32) -> i32 {
+    ((m.to_bits() >> 23) & 0xFF) as i32 - 127
+}
+
+/// `v * 2^k` for `k` in [-127, 127], exact when the result is normal: two multiplications by
+/// powers of two that are themselves normal floats.
+fn scale_by_power_of_two(v: f32, k: i32) -> f32 {
+    let power = |k: i32| f32::from_bits(((k + 127) as u32) << 23);
+    v * power(k / 2) * power(k - k / 2)
 }
 
 /// The depth clip.
@@ -737,6 +759,37 @@ mod tests {
                 assert_eq!(count[(y * W + x) as usize], want, "pixel ({x}, {y})");
             }
         }
+    }
+
+    #[test]
+    fn the_homogeneous_path_is_the_same_at_any_scale() {
+        // Clip coordinates scaled by 2^60 (a scene in light years, say) describe the same
+        // triangle: same coverage and barycentrics, a view depth 2^60 times as large. In f32
+        // the products of unscaled vertices would overflow.
+        let t = [
+            Vec4::new(-0.9, -0.8, -0.2, 1.0),
+            Vec4::new(1.5, -0.7, 0.6, 2.0),
+            Vec4::new(0.2, 1.1, 0.3, 1.5),
+        ];
+        let factor = 2.0f32.powi(60);
+        let far = t.map(|v| v * factor);
+        let (near, far) = (Triangle::setup(t, W, H), Triangle::setup(far, W, H));
+        let (near, far) = (near.expect("visible"), far.expect("visible at scale"));
+        assert!(near.is_homogeneous() && far.is_homogeneous());
+        let mut n = 0;
+        for y in 0..H {
+            for x in 0..W {
+                let (a, b) = (near.sample_at(x, y), far.sample_at(x, y));
+                assert_eq!(a.is_some(), b.is_some(), "pixel ({x}, {y})");
+                if let (Some(a), Some(b)) = (a, b) {
+                    assert_eq!(a.barycentric, b.barycentric);
+                    assert_eq!(a.z_ndc, b.z_ndc);
+                    assert_eq!(a.view_depth * factor, b.view_depth);
+                    n += 1;
+                }
+            }
+        }
+        assert!(n > 10, "{n} samples");
     }
 
     #[test]

@@ -62,9 +62,9 @@ pub struct DeviceInfo {
     /// Nanoseconds per timestamp tick.
     pub timestamp_period_ns: f32,
     pub dual_source_blend: bool,
-    /// 64-bit integers and floats in shaders (the exact method's edge functions need them).
+    /// 64-bit integers in shaders (the bin rasterizers' fixed-point edge functions need them).
+    /// No shader uses 64-bit floats: translucid never enables `shaderFloat64`.
     pub shader_int64: bool,
-    pub shader_float64: bool,
     /// Stores and atomics in fragment shaders (the linked_list method appends its nodes so).
     pub fragment_stores_and_atomics: bool,
     /// The geometry-shader feature, which fragment shaders need to read `gl_PrimitiveID`
@@ -286,7 +286,6 @@ pub(super) fn describe(
         timestamp_period_ns: limits.timestamp_period,
         dual_source_blend: features.dual_src_blend == vk::TRUE,
         shader_int64: features.shader_int64 == vk::TRUE,
-        shader_float64: features.shader_float64 == vk::TRUE,
         fragment_stores_and_atomics: features.fragment_stores_and_atomics == vk::TRUE,
         geometry_shader: features.geometry_shader == vk::TRUE,
         independent_blend: features.independent_blend == vk::TRUE,
@@ -731,7 +730,6 @@ fn enabled_features(info: &DeviceInfo) -> vk::PhysicalDeviceFeatures {
     vk::PhysicalDeviceFeatures::default()
         .dual_src_blend(info.dual_source_blend)
         .shader_int64(info.shader_int64)
-        .shader_float64(info.shader_float64)
         .fragment_stores_and_atomics(info.fragment_stores_and_atomics)
         .geometry_shader(info.geometry_shader)
         .independent_blend(info.independent_blend)

@@ -39,8 +39,7 @@ pub fn host_requirements() -> HostRequirements {
         queue_flags: vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE,
         features: vk::PhysicalDeviceFeatures::default()
             .dual_src_blend(true)
-            .shader_int64(true)
-            .shader_float64(true),
+            .shader_int64(true),
         extensions: &[],
     }
 }
@@ -125,7 +124,6 @@ fn features_on(f: &vk::PhysicalDeviceFeatures) -> Vec<&'static str> {
     [
         ("dualSrcBlend", f.dual_src_blend),
         ("shaderInt64", f.shader_int64),
-        ("shaderFloat64", f.shader_float64),
     ]
     .into_iter()
     .filter(|(_, on)| *on == vk::TRUE)
@@ -255,7 +253,6 @@ impl Gpu {
         // Methods look at what is enabled, not merely supported.
         info.dual_source_blend = true;
         info.shader_int64 = true;
-        info.shader_float64 = true;
         // Optional (`OptionalFeature`): the methods that need them say so when they are off.
         info.fragment_stores_and_atomics = host.features.fragment_stores_and_atomics == vk::TRUE;
         info.geometry_shader = host.features.geometry_shader == vk::TRUE;
@@ -723,7 +720,7 @@ mod tests {
     #[test]
     fn requirements_name_the_features_methods_check() {
         let on = features_on(&host_requirements().features);
-        assert_eq!(on, ["dualSrcBlend", "shaderInt64", "shaderFloat64"]);
+        assert_eq!(on, ["dualSrcBlend", "shaderInt64"]);
     }
 
     #[test]

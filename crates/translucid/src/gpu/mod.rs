@@ -33,6 +33,8 @@ mod pipeline;
 mod pipeline_cache;
 mod profile;
 mod retirement;
+#[cfg(test)]
+mod spirv_checks;
 mod timestamps;
 mod validation;
 

@@ -155,14 +155,15 @@ shader_struct! {
 }
 
 shader_struct! {
-    /// Extra data of a triangle on the homogeneous path (std430, 192 bytes).
+    /// Extra data of a triangle on the homogeneous path (std430, 128 bytes), from its vertices
+    /// scaled by `2^-e` (crate::raster).
     pub struct BinHomogeneous as BinHomogeneous {
-        /// a, b, c of edge 0 (positive inside).
-        pub line0: dvec4,
-        pub line1: dvec4,
-        pub line2: dvec4,
-        /// xyz: clip z of each vertex, w: 1 / |det|.
-        pub z_inv_det: dvec4,
+        /// xyz: a, b, c of edge 0 (positive inside); w: the exponent e.
+        pub line0: vec4,
+        pub line1: vec4,
+        pub line2: vec4,
+        /// xyz: scaled clip z of each vertex, w: 1 / |det|.
+        pub z_inv_det: vec4,
         /// Fixed-point replacement edges where both ends allow it.
         pub fixed_c: i64vec4,
         /// xyz: a, w: bit k set when edge k uses the fixed replacement.
@@ -385,7 +386,7 @@ pub const BINS_SET: SetDecl = SetDecl::new(
         Binding::texels("u_attributeTexels", "usamplerBuffer"),
         Binding::buffer("HomogeneousBlock", "", &["BinHomogeneous g_homogeneous[]"]),
         Binding::texels("u_homogeneousTexels", "usamplerBuffer")
-            .doc(&["g_homogeneous, 12 texels each."]),
+            .doc(&["g_homogeneous, 8 texels each."]),
         // The counters, the bins and their lists.
         Binding::buffer("CounterBlock", "coherent", &["BinCounters g_counters"]).doc(&[
             "Coherent: the last workgroup of a one-dispatch step (last_group.glsl) reads what",

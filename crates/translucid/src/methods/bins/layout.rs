@@ -117,8 +117,8 @@ mod tests {
             offset_of!(BinHomogeneous, fixed_a),
             offset_of!(BinHomogeneous, fixed_b),
         ];
-        assert_eq!(h, [0, 32, 64, 96, 128, 160, 176], "{msg}");
-        assert_eq!(HOMOGENEOUS_BYTES, 192, "{msg}");
+        assert_eq!(h, [0, 16, 32, 48, 64, 96, 112], "{msg}");
+        assert_eq!(HOMOGENEOUS_BYTES, 128, "{msg}");
         assert_eq!(size_of::<BinTexture>(), 32, "{msg}");
         assert_eq!(offset_of!(BinTexture, sampler_bits), 20, "{msg}");
         let m = [

@@ -370,9 +370,9 @@ impl Bins {
     ) -> Result<Self> {
         let method = raster.method;
         let info = gpu.info();
-        if !(info.shader_int64 && info.shader_float64) {
+        if !info.shader_int64 {
             return Err(Error::DeviceLacks(format!(
-                "{} lacks 64-bit shader integers or floats, which the {method} method's edge functions need",
+                "{} lacks 64-bit shader integers, which the {method} method's edge functions need",
                 info.name
             )));
         }
