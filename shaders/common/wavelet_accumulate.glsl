@@ -19,7 +19,7 @@ void main() {
     Material m = g_materials[d.materialIndex];
     vec3 radiance;
     vec3 transmittance;
-    shadeTransparent(m, u_frame, v_colour, sampleBaseTexture(m), fragmentNormal(d), radiance,
+    shadeTransparent(m, u_frame, v_colour, sampleBaseTextureAnalytic(m), fragmentNormal(d), radiance,
                      transmittance);
     vec2 b = texelFetch(u_waveletBounds, ivec2(gl_FragCoord.xy), 0).xy;
     float v = waveletNormalizedDepth(WAVELET_FRAGMENT_DEPTH(u_frame.depthMapping), vec2(-b.x, b.y));

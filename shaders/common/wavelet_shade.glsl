@@ -17,7 +17,7 @@ void main() {
     Material m = g_materials[d.materialIndex];
     vec3 radiance;
     vec3 transmittance;
-    shadeTransparent(m, u_frame, v_colour, sampleBaseTexture(m), fragmentNormal(d), radiance,
+    shadeTransparent(m, u_frame, v_colour, sampleBaseTextureAnalytic(m), fragmentNormal(d), radiance,
                      transmittance);
     ivec2 pixel = ivec2(gl_FragCoord.xy);
     vec3 cells[WAVELET_MAX_COUNT];
