@@ -21,6 +21,12 @@
 //!    shading) adds its radiance times the transmittance in front of it, its own share
 //!    removed, to the frame colour (ADD blend).
 //!
+//! The scene draws hand the driver the reference's snapped vertices (`mesh_vertex.glsl`), so it
+//! covers the reference's samples; where the device has a geometry stage they order each
+//! fragment by the reference's own depth (`scene/ordered.geom`), and textures are sampled at
+//! the reference's level of detail: every fragment is the CPU model's, as on the bins (see
+//! `passes::FragmentDepth` for a device without a geometry stage).
+//!
 //! Optional depth noise ([`WaveletOptions::noise`]) shifts each pixel's cell boundaries by a
 //! fixed hash, trading banding for noise; it is off by default and in the image tests.
 
