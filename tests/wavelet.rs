@@ -38,7 +38,7 @@ fn wavelet_options(rank: u32, noise: f32, precision: Precision) -> MethodOptions
             rank: Some(rank),
             noise,
             precision,
-            storage: Storage::Images,
+            storage: Some(Storage::Images),
         },
         ..MethodOptions::default()
     }
@@ -66,7 +66,7 @@ fn assert_matches(label: &str, m: &Metrics) {
 fn check_wavelet_model(gpu: &Gpu, scene: &Scene, options: &MethodOptions) {
     let frame = render(gpu, scene, "wavelet", options);
     let opaque = frame.opaque.as_ref().expect("opaque layer");
-    let settings = Settings::from_options(&options.wavelet).expect("valid settings");
+    let settings = Settings::from_options(&options.wavelet, gpu.profile()).expect("valid settings");
     let expected = Model::new(settings, scene, opaque.width, opaque.height)
         .render(scene, opaque)
         .expect("model");
@@ -112,14 +112,15 @@ fn wavelet_matches_its_cpu_model_under_an_orthographic_camera() {
     scene.camera.projection = scene::Projection::Matrix(ortho);
     for storage in [Storage::Images, Storage::Bins] {
         let mut options = wavelet_options(3, 0.0, Precision::Single);
-        options.wavelet.storage = storage;
+        options.wavelet.storage = Some(storage);
         check_wavelet_model(&gpu, &scene, &options);
     }
 }
 
-/// The default variant, on the bins.
+/// The bins, named: under `TRANSLUCID_PROFILE=gpu` the default storage is the images.
 fn bins_options(rank: u32, noise: f32) -> MethodOptions {
     let mut options = MethodOptions::default();
+    options.wavelet.storage = Some(Storage::Bins);
     options.wavelet.rank = Some(rank);
     options.wavelet.noise = noise;
     options
@@ -214,7 +215,7 @@ fn wavelet_in_bins_falls_back_to_images_for_crowded_rows() {
     // A renderer made for this scene's next input starts on the images.
     assert_eq!(
         renderer.learned_options(&options).wavelet.storage,
-        Storage::Images
+        Some(Storage::Images)
     );
     assert!(
         frame
@@ -225,10 +226,13 @@ fn wavelet_in_bins_falls_back_to_images_for_crowded_rows() {
         frame.stages
     );
     let opaque = frame.opaque.as_ref().expect("opaque layer");
-    let settings = Settings::from_options(&WaveletOptions {
-        storage: Storage::Images,
-        ..options.wavelet
-    })
+    let settings = Settings::from_options(
+        &WaveletOptions {
+            storage: Some(Storage::Images),
+            ..options.wavelet
+        },
+        gpu.profile(),
+    )
     .expect("valid settings");
     let expected = Model::new(settings, &scene, opaque.width, opaque.height)
         .render(&scene, opaque)
