@@ -501,12 +501,12 @@ enum translucid_wavelet_storage
 #endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
  {
     /**
-     * In registers, on the bins the exact method's raster reads too (the default): faster
-     * and smaller; needs the device features the exact method needs.
+     * In registers, on the bins the exact method's raster reads too (CPU drivers' default):
+     * smaller, and faster there; needs the device features the exact method needs.
      */
     TRANSLUCID_WAVELET_STORAGE_BINS = 0,
     /**
-     * In full-screen coefficient images, drawn by the graphics pipeline.
+     * In full-screen coefficient images, drawn by the graphics pipeline (GPUs' default).
      */
     TRANSLUCID_WAVELET_STORAGE_IMAGES = 1,
 };
@@ -1279,9 +1279,10 @@ typedef struct translucid_wavelet_settings {
     float noise;
     /**
      * A `translucid_wavelet_storage`, where the coefficients live; 0 is
-     * `TRANSLUCID_WAVELET_STORAGE_BINS`, the default, which falls back to the images on a
-     * device without what the exact method needs and for frames too crowded for its loop
-     * budget.
+     * `TRANSLUCID_WAVELET_STORAGE_BINS`, which falls back to the images on a device without
+     * what the exact method needs and for frames too crowded for its loop budget. A frame
+     * whose settings chain holds no `translucid_wavelet_settings` gets the device's storage:
+     * the bins on CPU drivers, the images on GPUs (the context's profile).
      */
     uint32_t storage;
 } translucid_wavelet_settings;

@@ -2,6 +2,7 @@
 //! in a validation error, a crash or minutes of work.
 
 use glam::{Mat4, Vec3};
+use translucid::methods::wavelet::Storage;
 use translucid::methods::{MethodKind, MethodOptions};
 use translucid::metrics;
 use translucid::renderer::Renderer;
@@ -150,8 +151,12 @@ fn limits_of_the_shared_bin_stages_name_the_method() {
     opaque_only.opaque = std::mem::take(&mut opaque_only.transparent);
     opaque_only.transparent = vec![draw(0)];
     translucid_tests::render(&gpu, &opaque_only, "exact", 64, 48);
+    // Wavelet on the bins, whatever the profile's default storage.
+    let mut options = MethodOptions::default();
+    options.wavelet.storage = Some(Storage::Bins);
     for method in ["exact", "wavelet"] {
-        let err = Renderer::new(&gpu, &scene, method.parse().expect("a method name"), 64, 48)
+        let kind = method.parse().expect("a method name");
+        let err = Renderer::with_options(&gpu, &scene, kind, 64, 48, &options)
             .err()
             .unwrap_or_else(|| panic!("{method}: {count} textures of {side}² were accepted"));
         let msg = err.to_string();

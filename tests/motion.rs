@@ -5,7 +5,8 @@
 //! the projections engines use: reversed-Z, an infinite far plane, sub-pixel jitter.
 
 use glam::{Mat4, Vec2, Vec3};
-use translucid::image::{Image, OpaqueLayer};
+use translucid::gpu::Profile;
+use translucid::image::Image;
 use translucid::methods::wavelet::{model::Model, Settings, Storage, WaveletOptions};
 use translucid::methods::{MethodKind, MethodOptions};
 use translucid::metrics;
@@ -40,12 +41,22 @@ fn breathing(positions: &[Vec3], i: usize) -> Vec<Vec3> {
         .collect()
 }
 
-/// What `method`'s frame is held to, over that frame's opaque layer.
-fn expected(method: &str, scene: &Scene, opaque: &OpaqueLayer) -> Image {
+/// What `method`'s `frame` is held to, over that frame's opaque layer.
+fn expected(method: &str, scene: &Scene, frame: &Frame) -> Image {
+    let opaque = frame.opaque.as_ref().expect("opaque layer read back");
     match method {
         "exact" | "linked_list" | "depth_peeling" => translucid::reference::render(scene, opaque),
         "wavelet" => {
-            let settings = Settings::from_options(&WaveletOptions::default()).expect("defaults");
+            // The default settings, on the storage the device's profile picked.
+            let options = WaveletOptions {
+                storage: Some(
+                    frame
+                        .wavelet_storage
+                        .expect("a wavelet frame names its storage"),
+                ),
+                ..WaveletOptions::default()
+            };
+            let settings = Settings::from_options(&options, Profile::CpuDriver).expect("defaults");
             Model::new(settings, scene, opaque.width, opaque.height).render(scene, opaque)
         }
         _ => translucid::reference::render_in_submission_order(scene, opaque),
@@ -78,8 +89,7 @@ fn check_against_alone(
 /// driver rasterizes (linked_list, depth_peeling) may take crossing surfaces in the other
 /// order on up to 4 pixels where they meet within its rounding (as in their own tests).
 fn check(name: &str, method: &str, scene: &Scene, frame: &Frame) {
-    let opaque = frame.opaque.as_ref().expect("opaque layer read back");
-    let want = expected(method, scene, opaque);
+    let want = expected(method, scene, frame);
     let m = metrics::compare(&frame.image, &want).expect("same size");
     let driver_pixels = match method {
         "linked_list" | "depth_peeling" => 4,
@@ -164,7 +174,7 @@ fn wavelet_builds_nothing_when_near_and_far_move() {
     for storage in [Storage::Bins, Storage::Images] {
         let options = MethodOptions {
             wavelet: WaveletOptions {
-                storage,
+                storage: Some(storage),
                 ..WaveletOptions::default()
             },
             ..MethodOptions::default()
@@ -172,7 +182,7 @@ fn wavelet_builds_nothing_when_near_and_far_move() {
         let mut renderer =
             Renderer::with_options(&gpu, &scene, MethodKind::Wavelet, WIDTH, HEIGHT, &options)
                 .expect("renderer");
-        let settings = Settings::from_options(&options.wavelet).expect("settings");
+        let settings = Settings::from_options(&options.wavelet, gpu.profile()).expect("settings");
         for i in 0..8u32 {
             let mut frame_scene = scene.clone();
             frame_scene.camera = orbit.camera(&scene, i);

@@ -14,6 +14,30 @@ vec4 sampleBaseTexture(Material m) {
     return m.textureIndex < 0 ? vec4(1.0) : texture(u_baseTexture, v_uv);
 }
 
+// The base texture at the level of detail the CPU reference takes (scene/texture.rs, the
+// reference's TriangleShader::texel): from the exact screen-space derivatives of the
+// perspective-correct UV at the pixel centre, where `texture` takes 2x2 differences of the UV
+// itself, which are not its derivative under perspective (ClearCoatTest, TransmissionTest,
+// GlassHurricaneCandleHolder and spot_blend at 480x270: up to 6.1/255 on 0.02 % of the pixels
+// of a minified texture). uv / w and 1 / w (gl_FragCoord.w) are affine in screen space, so
+// their differences across a quad are their exact gradients (helper invocations past the
+// triangle's edge extrapolate the same planes), and d(uv) = (d(uv / w) - uv d(1 / w)) * w,
+// the reference's quotient rule. A level of detail of 0 or less, or NaN, magnifies, as there.
+// The derivatives are taken before the draw-uniform branch.
+vec4 sampleBaseTextureAnalytic(Material m) {
+    float q = gl_FragCoord.w;
+    vec2 uvq = v_uv * q;
+    vec2 dx = dFdx(uvq) - v_uv * dFdx(q);
+    vec2 dy = dFdy(uvq) - v_uv * dFdy(q);
+    if (m.textureIndex < 0) {
+        return vec4(1.0);
+    }
+    vec2 size = vec2(textureSize(u_baseTexture, 0));
+    float rho = max(length(dx / q * size), length(dy / q * size));
+    float lod = log2(rho);
+    return textureLod(u_baseTexture, v_uv, lod > 0.0 ? lod : 0.0);
+}
+
 // The interpolated normal, or the geometric face normal when the mesh has none (its sign
 // does not matter: lighting is two-sided). The face normal comes from the position relative
 // to the eye, whose differences between pixels keep their precision however far from the

@@ -29,6 +29,35 @@ bool inGuardBand(float v) {
     return abs(v) <= GUARD_BAND; // false for NaN
 }
 
+// A framebuffer coordinate snapped as the reference snaps it (raster::snap, 8 sub-pixel bits),
+// as a float: the same float operations as snapCoord, and every value in the guard band a
+// multiple of 1/256 that a float holds exactly.
+float snappedCoord(float v) {
+    precise float s = floor(v * 256.0 + 0.5);
+    return s * (1.0 / 256.0);
+}
+
+// The clip position the driver is handed: `clip` moved (by less than half a sub-pixel, w and z
+// kept) to where its viewport transform lands exactly on the reference's snapped framebuffer
+// position. Handed `clip` itself, the driver divides and scales in its own order and snaps the
+// result itself: a vertex near a half sub-pixel could snap one sub-pixel away from the
+// reference's, and a pixel centre a fraction of a sub-pixel inside an edge in the reference
+// lose its fragment (stanford_dragon_100k_blend at 480x270: a fold 0.21 sub-pixels from
+// a pixel centre). From the grid point the driver's few roundings move it by a few float ulps
+// (a tenth of a sub-pixel at 1920 pixels, 0.03 at 480), which its snap to the nearest
+// sub-pixel undoes, so it rasterizes the reference's snapped triangle. Vertices off the
+// fixed-point path (behind the eye, outside the guard band) are the driver's to clip and are
+// handed as they are.
+vec4 snappedClipPosition(vec4 clip, vec2 size) {
+    vec3 fb = viewportTransform(clip, size);
+    if (!(clip.w > 0.0 && inGuardBand(fb.x) && inGuardBand(fb.y))) {
+        return clip;
+    }
+    vec2 snapped = vec2(snappedCoord(fb.x), snappedCoord(fb.y));
+    precise vec2 ndc = snapped / size * 2.0 - 1.0;
+    return vec4(ndc * clip.w, clip.z, clip.w);
+}
+
 void main() {
     DrawInfo d = g_draws[u_push.drawIndex];
     vec4 world = d.model * vec4(a_position, 1.0);
@@ -37,7 +66,7 @@ void main() {
     v_uv = a_uv;
     v_colour = a_colour * d.tint;
     vec4 clip = clipPosition(modelViewProjection(u_frame.viewProj, d.model), a_position);
-    gl_Position = clip;
+    gl_Position = snappedClipPosition(clip, u_frame.viewport.xy);
 #ifdef ORDER_DEPTH
     vec3 fb = viewportTransform(clip, u_frame.viewport.xy);
     bool fixedPath = clip.w > 0.0 && clip.z >= 0.0 && inGuardBand(fb.x) && inGuardBand(fb.y);

@@ -6,7 +6,7 @@
 // texels (colour attachments); rank 3 needs 12, so it draws twice, starting at
 // WAVELET_FIRST_TEXEL. Every output is written: zero where the event adds nothing.
 
-#include "mesh_fragment.glsl"
+#include "wavelet_fragment.glsl"
 #include "shading.glsl"
 #include "wavelet.glsl"
 
@@ -19,10 +19,10 @@ void main() {
     Material m = g_materials[d.materialIndex];
     vec3 radiance;
     vec3 transmittance;
-    shadeTransparent(m, u_frame, v_colour, sampleBaseTexture(m), fragmentNormal(d), radiance,
+    shadeTransparent(m, u_frame, v_colour, sampleBaseTextureAnalytic(m), fragmentNormal(d), radiance,
                      transmittance);
     vec2 b = texelFetch(u_waveletBounds, ivec2(gl_FragCoord.xy), 0).xy;
-    float v = waveletNormalizedDepth(WAVELET_FRAGMENT_DEPTH(u_frame.depthMapping), vec2(-b.x, b.y));
+    float v = waveletNormalizedDepth(waveletFragmentDepth(), vec2(-b.x, b.y));
     float p = waveletCellPosition(v, uvec2(gl_FragCoord.xy));
     vec3 a = waveletAbsorbance(transmittance);
     [[unroll]] for (int k = 0; k < 8; k++) {

@@ -5,7 +5,7 @@
 // of it (its own share removed) to the frame colour, by an ADD blend. Depth-tested against the
 // wavelet depth buffer, so fragments behind full absorption never run this shader.
 
-#include "mesh_fragment.glsl"
+#include "wavelet_fragment.glsl"
 #include "shading.glsl"
 #define WAVELET_READ_SET 2
 #include "wavelet_read.glsl"
@@ -17,12 +17,12 @@ void main() {
     Material m = g_materials[d.materialIndex];
     vec3 radiance;
     vec3 transmittance;
-    shadeTransparent(m, u_frame, v_colour, sampleBaseTexture(m), fragmentNormal(d), radiance,
+    shadeTransparent(m, u_frame, v_colour, sampleBaseTextureAnalytic(m), fragmentNormal(d), radiance,
                      transmittance);
     ivec2 pixel = ivec2(gl_FragCoord.xy);
     vec3 cells[WAVELET_MAX_COUNT];
     waveletLoadCells(pixel, cells);
-    float v = waveletNormalizedDepth(WAVELET_FRAGMENT_DEPTH(u_frame.depthMapping),
+    float v = waveletNormalizedDepth(waveletFragmentDepth(),
                                      waveletBounds(pixel));
     float p = waveletCellPosition(v, uvec2(pixel));
     vec3 inFront = waveletAbsorbanceAt(cells, p, waveletAbsorbance(transmittance));

@@ -117,9 +117,10 @@ pub struct MethodArgs {
     #[arg(long, value_enum, default_value_t = Precision::Half)]
     pub precision: Precision,
     /// wavelet: where the coefficients live: registers, on the bins exact's raster reads too,
-    /// or full-screen images
-    #[arg(long, value_enum, default_value_t = Storage::Bins)]
-    pub storage: Storage,
+    /// or full-screen images [default: the device's: bins on CPU drivers, images on GPUs;
+    /// `translucid info` shows it]
+    #[arg(long, value_enum)]
+    pub storage: Option<Storage>,
     /// depth_peeling: peeling passes, fixed (each peels two layers; pixels with more are
     /// counted) [default: as many as the frame needs]
     #[arg(long)]

@@ -12,10 +12,10 @@ use translucid::methods::MethodKind;
 #[repr(u32)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum translucid_wavelet_storage {
-    /// In registers, on the bins the exact method's raster reads too (the default): faster
-    /// and smaller; needs the device features the exact method needs.
+    /// In registers, on the bins the exact method's raster reads too (CPU drivers' default):
+    /// smaller, and faster there; needs the device features the exact method needs.
     Bins = 0,
-    /// In full-screen coefficient images, drawn by the graphics pipeline.
+    /// In full-screen coefficient images, drawn by the graphics pipeline (GPUs' default).
     Images = 1,
 }
 

@@ -39,9 +39,10 @@ pub struct translucid_wavelet_settings {
     /// The noise is a fixed per-pixel pattern, so frames repeat.
     pub noise: f32,
     /// A `translucid_wavelet_storage`, where the coefficients live; 0 is
-    /// `TRANSLUCID_WAVELET_STORAGE_BINS`, the default, which falls back to the images on a
-    /// device without what the exact method needs and for frames too crowded for its loop
-    /// budget.
+    /// `TRANSLUCID_WAVELET_STORAGE_BINS`, which falls back to the images on a device without
+    /// what the exact method needs and for frames too crowded for its loop budget. A frame
+    /// whose settings chain holds no `translucid_wavelet_settings` gets the device's storage:
+    /// the bins on CPU drivers, the images on GPUs (the context's profile).
     pub storage: u32,
 }
 
@@ -171,7 +172,7 @@ impl MethodSettings {
                 }
             };
             options.wavelet.noise = s.noise;
-            options.wavelet.storage = translucid_wavelet_storage::from_raw(s.storage)?.core();
+            options.wavelet.storage = Some(translucid_wavelet_storage::from_raw(s.storage)?.core());
         }
         if let Some(s) = self.linked_list {
             options.linked_list.node_budget =

@@ -34,7 +34,10 @@ pub fn run(
                 ("scene", serde_json::json!(scene_spec)),
                 ("method", serde_json::json!(method)),
                 ("threshold", serde_json::json!(threshold)),
-                ("wavelet", super::wavelet_json(method, method_args)),
+                (
+                    "wavelet",
+                    super::wavelet_json(method, method_args, super::renderer_storage(&renderer)),
+                ),
                 ("width", serde_json::json!(size.width)),
                 ("height", serde_json::json!(size.height)),
                 ("reference_seconds", serde_json::json!(reference_s)),

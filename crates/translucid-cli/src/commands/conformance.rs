@@ -9,6 +9,7 @@ use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use translucid::gpu::Gpu;
+use translucid::methods::wavelet::Storage;
 use translucid::methods::MethodOptions;
 use translucid::metrics::{Metrics, TOLERANCE};
 use translucid::renderer::Renderer;
@@ -27,15 +28,26 @@ struct Row {
     passed: bool,
 }
 
+/// What one file's frame measured, and where its wavelet coefficients lived (the option's or
+/// the device's storage, or the images a crowded frame fell back to).
+struct Checked {
+    metrics: Metrics,
+    storage: Storage,
+}
+
 /// What a file must meet to pass: every pixel finite, and within 2/255 of the expected image
 /// in every channel, all of them or, for methods the driver rasterizes, all but a few.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Bound {
-    /// Every pixel: exact, and wavelet's bin raster, rasterize by translucid's own rules.
+    /// Every pixel: exact and wavelet's bin raster rasterize by translucid's own rules, and
+    /// wavelet's image passes take the reference's fragments from the driver (snapped
+    /// vertices, the reference's order depth and texture level of detail) where the device
+    /// has a geometry stage (`wavelet::images_match_the_model`).
     EveryPixel,
-    /// The driver's coverage: wboit, linked_list, depth_peeling and wavelet's image passes
-    /// are rasterized by the driver, whose coverage, depth rounding and mip selection may
-    /// differ from translucid's rules on triangle edges and where surfaces cross. At most
+    /// The driver's coverage: wboit, linked_list and depth_peeling are rasterized by the
+    /// driver, whose coverage, depth rounding and mip selection may differ from translucid's
+    /// rules on triangle edges and where surfaces cross; so are wavelet's image passes on a
+    /// device without a geometry stage (the driver's depth). At most
     /// [`DRIVER_SHARE`] of the pixels may be over 2/255, with a PSNR of at least
     /// [`DRIVER_PSNR`] dB over the frame.
     DriverCoverage,
@@ -48,11 +60,14 @@ const DRIVER_SHARE: f64 = 0.0005;
 const DRIVER_PSNR: f32 = 50.0;
 
 impl Bound {
-    fn of(method: &str, options: &MethodOptions) -> Self {
-        let images = options.wavelet.storage == translucid::methods::wavelet::Storage::Images;
+    /// The bound of `method`, whose wavelet coefficients live in `storage`, on a device where
+    /// the wavelet images do or do not match the model (`images_match_the_model`).
+    fn of(method: &str, storage: Storage, images_match_the_model: bool) -> Self {
         match method {
             "wboit" | "linked_list" | "depth_peeling" | "blend" => Self::DriverCoverage,
-            "wavelet" if images => Self::DriverCoverage,
+            "wavelet" if storage == Storage::Images && !images_match_the_model => {
+                Self::DriverCoverage
+            }
             _ => Self::EveryPixel,
         }
     }
@@ -85,7 +100,11 @@ struct Check<'a> {
     size: Size,
     options: MethodOptions,
     expected: Expected,
+    /// The bound of the storage the options name or the device picks; a file whose frame
+    /// fell back to the images is held to theirs.
     bound: Bound,
+    /// Whether the wavelet images match the model on this device.
+    images_match_the_model: bool,
 }
 
 pub fn run(
@@ -99,13 +118,6 @@ pub fn run(
     let options = super::options(threshold, method_args)?;
     // Bad options are one error up front, not one per file.
     let promised = Expected::promised(method, &options)?;
-    let check = Check {
-        method,
-        size,
-        bound: Bound::of(method, &options),
-        options,
-        expected: promised.unwrap_or(Expected::Reference),
-    };
     let assets = find_assets(paths)?;
     if assets.is_empty() {
         let searched: Vec<String> = paths.iter().map(|p| p.display().to_string()).collect();
@@ -117,10 +129,23 @@ pub fn run(
     }
     let gpu = open_gpu()?;
     translucid::renderer::check_viewport(&gpu, size.width, size.height)?;
+    let storage = options
+        .wavelet
+        .storage
+        .unwrap_or_else(|| Storage::for_profile(gpu.profile()));
+    let images_match_the_model = translucid::methods::wavelet::images_match_the_model(&gpu);
+    let check = Check {
+        method,
+        size,
+        bound: Bound::of(method, storage, images_match_the_model),
+        images_match_the_model,
+        options,
+        expected: promised.unwrap_or(Expected::Reference),
+    };
     let rows = check_all(&assets, gpu, &check, json);
     let against = check.expected.description();
     if json {
-        print_json(&rows, &check, method_args, &against);
+        print_json(&rows, &check, (method_args, storage), &against);
     } else {
         print_summary(&rows, &check, promised.is_some(), &against);
     }
@@ -149,10 +174,13 @@ fn check_all(assets: &[Asset], gpu: Gpu, check: &Check<'_>, json: bool) -> Vec<R
     for asset in assets {
         bar.set_message(asset.name.clone());
         let result = check_file(&mut gpu, &asset.path, check).map_err(|e| e.to_string());
+        let passed = result.as_ref().is_ok_and(|c| {
+            Bound::of(check.method, c.storage, check.images_match_the_model).holds(&c.metrics)
+        });
         let row = Row {
             name: asset.name.clone(),
-            passed: result.as_ref().is_ok_and(|m| check.bound.holds(m)),
-            result,
+            passed,
+            result: result.map(|c| c.metrics),
         };
         bar.inc(1);
         if !json {
@@ -170,7 +198,7 @@ fn check_file(
     gpu: &mut Option<Gpu>,
     path: &Path,
     check: &Check<'_>,
-) -> translucid::Result<Metrics> {
+) -> translucid::Result<Checked> {
     // The glTF loader itself: a file named like a generated scene is still a file.
     let scene = translucid::scene::gltf::load_with(path, super::import_options())?;
     let device = match gpu {
@@ -185,11 +213,17 @@ fn check_file(
         check.size.height,
         &check.options,
     )
-    .and_then(|mut renderer| measure(&mut renderer, &scene, &check.expected));
+    .and_then(|mut renderer| {
+        let measured = measure(&mut renderer, &scene, &check.expected)?;
+        Ok(Checked {
+            metrics: measured.metrics,
+            storage: super::renderer_storage(&renderer),
+        })
+    });
     if result.is_err() {
         *gpu = None;
     }
-    result.map(|measured| measured.metrics)
+    result
 }
 
 /// The files to check, in argument order, each folder's sorted by path. A missing path is an
@@ -323,13 +357,18 @@ fn print_summary(rows: &[Row], check: &Check<'_>, promised: bool, against: &str)
     }
 }
 
-fn print_json(rows: &[Row], check: &Check<'_>, method_args: crate::MethodArgs, against: &str) {
+fn print_json(
+    rows: &[Row],
+    check: &Check<'_>,
+    (method_args, storage): (crate::MethodArgs, Storage),
+    against: &str,
+) {
     let files: Vec<serde_json::Value> = rows.iter().map(row_json).collect();
     let passed = rows.iter().filter(|r| r.passed).count();
     let value = serde_json::json!({
         "method": check.method,
         "threshold": check.options.exact.threshold,
-        "wavelet": wavelet_json(check.method, method_args),
+        "wavelet": wavelet_json(check.method, method_args, storage),
         "size": { "width": check.size.width, "height": check.size.height },
         "against": against,
         "bound": check.bound.description(),
@@ -437,10 +476,20 @@ mod tests {
         assert!(!Bound::EveryPixel.holds(&few), "{few:?}");
         let many = frame(4, 3);
         assert!(!Bound::DriverCoverage.holds(&many), "{many:?}");
-        let options = MethodOptions::default();
-        assert_eq!(Bound::of("exact", &options), Bound::EveryPixel);
-        assert_eq!(Bound::of("wavelet", &options), Bound::EveryPixel);
-        assert_eq!(Bound::of("wboit", &options), Bound::DriverCoverage);
+        for storage in [Storage::Bins, Storage::Images] {
+            assert_eq!(Bound::of("exact", storage, true), Bound::EveryPixel);
+            assert_eq!(Bound::of("wavelet", storage, true), Bound::EveryPixel);
+            assert_eq!(Bound::of("wboit", storage, true), Bound::DriverCoverage);
+        }
+        // Without a geometry stage the images take the driver's depth.
+        assert_eq!(
+            Bound::of("wavelet", Storage::Images, false),
+            Bound::DriverCoverage
+        );
+        assert_eq!(
+            Bound::of("wavelet", Storage::Bins, false),
+            Bound::EveryPixel
+        );
     }
 
     #[test]

@@ -25,6 +25,19 @@ pub fn run() -> translucid::Result<()> {
             "    loop budget              {} iterations a dispatch",
             d.loop_budget
         );
+        // The wavelet storage the profile rendering takes picks (docs/gpu.md), and whether
+        // the coefficient images take the reference's depth there (a geometry stage).
+        let storage =
+            translucid::methods::wavelet::Storage::for_profile(forced.unwrap_or(d.profile));
+        println!(
+            "    wavelet storage          {} (--storage overrides; images {})",
+            storage.name(),
+            if d.geometry_shader {
+                "match the CPU model"
+            } else {
+                "take the driver's depth: no geometry stage"
+            }
+        );
         println!(
             "    shared memory            {} KB",
             d.max_shared_memory / 1024

@@ -101,10 +101,10 @@ pub fn options(
                 crate::Precision::Half => translucid::methods::wavelet::Precision::Half,
                 crate::Precision::Single => translucid::methods::wavelet::Precision::Single,
             },
-            storage: match method_args.storage {
+            storage: method_args.storage.map(|s| match s {
                 crate::Storage::Images => translucid::methods::wavelet::Storage::Images,
                 crate::Storage::Bins => translucid::methods::wavelet::Storage::Bins,
-            },
+            }),
         },
         depth_peeling: translucid::methods::depth_peeling::DepthPeelingOptions {
             passes: method_args.passes,
@@ -114,8 +114,15 @@ pub fn options(
     })
 }
 
-/// The wavelet settings as JSON fields, for the method's output lines.
-pub fn wavelet_json(method: &str, method_args: crate::MethodArgs) -> serde_json::Value {
+/// The wavelet settings as JSON fields, for the method's output lines. `storage` is where the
+/// coefficients lived: the renderer's ([`renderer_storage`]), which `--storage` names or the
+/// device's profile picks.
+pub fn wavelet_json(
+    method: &str,
+    method_args: crate::MethodArgs,
+    storage: translucid::methods::wavelet::Storage,
+) -> serde_json::Value {
+    use translucid::methods::wavelet::Storage;
     if method != "wavelet" {
         return serde_json::Value::Null;
     }
@@ -123,10 +130,20 @@ pub fn wavelet_json(method: &str, method_args: crate::MethodArgs) -> serde_json:
         "rank": method_args.rank.unwrap_or(translucid::methods::wavelet::DEFAULT_RANK),
         "noise": method_args.noise,
         // Only the images have a storage precision.
-        "precision": (method_args.storage == crate::Storage::Images)
+        "precision": (storage == Storage::Images)
             .then(|| format!("{:?}", method_args.precision).to_lowercase()),
-        "storage": format!("{:?}", method_args.storage).to_lowercase(),
+        "storage": storage.name(),
     })
+}
+
+/// Where `renderer` keeps the wavelet coefficients (the storage its last frame ran on): the
+/// option's, else the device profile's, or the images after a fallback.
+pub fn renderer_storage(renderer: &Renderer) -> translucid::methods::wavelet::Storage {
+    renderer
+        .learned_options(&MethodOptions::default())
+        .wavelet
+        .storage
+        .unwrap_or(translucid::methods::wavelet::Storage::Bins)
 }
 
 /// An image computed on the CPU that a method's frame is measured against.
@@ -136,7 +153,9 @@ pub enum Expected {
     Reference,
     /// The reference with the exact method's early stop at this transmittance.
     ReferenceUntil(f32),
-    /// The wavelet method's CPU model, with the settings the method runs with.
+    /// The wavelet method's CPU model, with the settings the method runs with: [`measure`]
+    /// takes the storage from the renderer (the device's, unless an option names one, or the
+    /// images a crowded frame fell back to).
     WaveletModel(Settings),
     /// The wboit method's CPU model.
     WboitModel,
@@ -151,7 +170,11 @@ impl Expected {
                 Self::ReferenceUntil(options.exact.threshold)
             }
             "exact" | "linked_list" | "depth_peeling" => Self::Reference,
-            "wavelet" => Self::WaveletModel(Settings::from_options(&options.wavelet)?),
+            // Checked here, before any file is loaded; the storage is the renderer's.
+            "wavelet" => Self::WaveletModel(Settings::from_options(
+                &options.wavelet,
+                translucid::gpu::Profile::CpuDriver,
+            )?),
             "wboit" => Self::WboitModel,
             "blend" => return Ok(None),
             // The renderer's own message, before any file is loaded.
@@ -209,6 +232,14 @@ pub fn measure(
         .opaque
         .as_ref()
         .expect("render(true) reads the opaque layer back");
+    let expected = match *expected {
+        // The storage the frame ran on.
+        Expected::WaveletModel(settings) => Expected::WaveletModel(Settings {
+            storage: renderer_storage(renderer),
+            ..settings
+        }),
+        other => other,
+    };
     let started = std::time::Instant::now();
     let expected = expected.render(scene, opaque)?;
     let expected_seconds = started.elapsed().as_secs_f64();

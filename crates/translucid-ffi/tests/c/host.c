@@ -210,9 +210,14 @@ static translucid_result engine_frame(const translucid_frame_info *info,
     return completed;
 }
 
-static void compare_with_standalone(uint32_t method, const scene *host_scene,
-                                    const scene *standalone_scene) {
+/* `wavelet` names the wavelet storage (NULL for the other methods): the bins composite onto
+ * the engine's images where they are, the coefficient images copy in and out. */
+static void compare_with_standalone(uint32_t method, const translucid_wavelet_settings *wavelet,
+                                    const scene *host_scene, const scene *standalone_scene) {
     translucid_frame_info info = frame_info(method, standalone_scene);
+    int in_place = method == TRANSLUCID_METHOD_EXACT ||
+                   (method == TRANSLUCID_METHOD_WAVELET && wavelet != NULL &&
+                    wavelet->storage == TRANSLUCID_WAVELET_STORAGE_BINS);
     translucid_frame frame;
     translucid_frame_statistics stats;
     static uint8_t expected[COLOUR_BYTES];
@@ -221,10 +226,12 @@ static void compare_with_standalone(uint32_t method, const scene *host_scene,
     size_t i;
     translucid_result completed;
 
+    info.next = wavelet;
     render_standalone(g_standalone, info, g_opaque_colour, g_opaque_depth, expected,
                       sizeof expected);
 
     info = frame_info(method, host_scene);
+    info.next = wavelet;
     /* An overflow says "record it again"; the grown buffers then suffice. */
     do {
         completed = engine_frame(&info, &frame);
@@ -238,7 +245,7 @@ static void compare_with_standalone(uint32_t method, const scene *host_scene,
     TRUE_OR_FAIL(completed == TRANSLUCID_RESULT_SUCCESS);
     /* The quads cover most of the frame: exact's first guess of bin entries (eight per
      * triangle) is too small, and the frame is rasterized in bands within its one recording
-     * (wavelet runs on exact's bins, its default storage): right the first time. */
+     * (wavelet's bins are exact's; its images have no lists): right the first time. */
     TRUE_OR_FAIL(attempts == 1);
 
     for (i = 0; i < COLOUR_BYTES; i++) {
@@ -253,7 +260,11 @@ static void compare_with_standalone(uint32_t method, const scene *host_scene,
         if (d > 2) g_failed++;
     }
     g_passed++;
-    printf("method %u: host-device vs standalone, worst difference %d/255\n", method, worst);
+    printf("method %u%s: host-device vs standalone, worst difference %d/255\n", method,
+           wavelet == NULL ? ""
+           : wavelet->storage == TRANSLUCID_WAVELET_STORAGE_BINS ? " (bins)"
+                                                                  : " (images)",
+           worst);
 
     TRUE_OR_FAIL(stats.method == method && stats.width == W && stats.height == H);
     if (method == TRANSLUCID_METHOD_BLEND) {
@@ -261,7 +272,7 @@ static void compare_with_standalone(uint32_t method, const scene *host_scene,
         TRUE_OR_FAIL(stats.stage_count == 1);
         TRUE_OR_FAIL(strcmp(stats.stages[0].name, "blend") == 0);
         TRUE_OR_FAIL(stats.dispatches == 0);
-    } else if (method == TRANSLUCID_METHOD_EXACT || method == TRANSLUCID_METHOD_WAVELET) {
+    } else if (in_place) {
         /* They sample the engine's depth and blend onto its colour where they are. */
         TRUE_OR_FAIL(stats.stage_count >= 2);
         TRUE_OR_FAIL(strcmp(stats.stages[0].name, "opaque") != 0);
@@ -560,7 +571,18 @@ int main(void) {
     make_scene(g_standalone, &standalone_scene);
     CHECK(g_host, translucid_method_get_available(methods, 8, &count));
     for (m = 0; m < count; m++) {
-        compare_with_standalone(methods[m], &host_scene, &standalone_scene);
+        if (methods[m] == TRANSLUCID_METHOD_WAVELET) {
+            /* Each storage, named: without settings the context's profile picks one. */
+            translucid_wavelet_settings wavelet;
+            memset(&wavelet, 0, sizeof wavelet);
+            wavelet.s_type = TRANSLUCID_STRUCTURE_TYPE_WAVELET_SETTINGS;
+            wavelet.storage = TRANSLUCID_WAVELET_STORAGE_BINS;
+            compare_with_standalone(methods[m], &wavelet, &host_scene, &standalone_scene);
+            wavelet.storage = TRANSLUCID_WAVELET_STORAGE_IMAGES;
+            compare_with_standalone(methods[m], &wavelet, &host_scene, &standalone_scene);
+        } else {
+            compare_with_standalone(methods[m], NULL, &host_scene, &standalone_scene);
+        }
     }
     frame_errors(&host_scene);
 

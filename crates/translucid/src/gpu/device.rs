@@ -620,6 +620,12 @@ impl Shared {
         &self.info
     }
 
+    /// The profile this device was made with: its own, or the one forced
+    /// ([`GpuOptions::profile`], `TRANSLUCID_PROFILE`).
+    pub fn profile(&self) -> Profile {
+        self.info.profile
+    }
+
     /// Fails with every validation error reported since the last check.
     pub fn check_validation(&self) -> Result<()> {
         let errors = self.validation.take();

@@ -161,6 +161,8 @@ pub struct FrameCheck {
     /// Pixels with more layers than the passes peeled (depth_peeling past its passes): their
     /// middle layers are missing.
     pub unpeeled_pixels: u64,
+    /// Where the wavelet method kept the frame's coefficients; `None` for other methods.
+    pub wavelet_storage: Option<wavelet::Storage>,
 }
 
 /// How the bin methods' stages were specialized and sized for a frame: what tests and tools

@@ -99,6 +99,10 @@ pub struct Frame {
     /// How the bin methods' stages were specialized and sized for the frame's last
     /// recording; `None` for the other methods.
     pub bins: Option<crate::methods::BinShape>,
+    /// Where the wavelet method kept the coefficients of the frame's last recording (the
+    /// option's storage, the device profile's, or the images a crowded frame fell back to);
+    /// `None` for the other methods.
+    pub wavelet_storage: Option<crate::methods::wavelet::Storage>,
     /// Rows exact suspended at the device's loop budget and resumed by a continuation
     /// dispatch in the frame's last recording, counted each time (0 for other methods).
     pub suspended_rows: u64,
@@ -584,6 +588,7 @@ impl Renderer {
             tail_fragments: check.tail_fragments,
             unpeeled_pixels: check.unpeeled_pixels,
             bins: check.bins,
+            wavelet_storage: check.wavelet_storage,
             suspended_rows: check.suspended_rows,
             pipelines_created: self.counted.0 - counted.0,
             bytes_allocated: self.counted.1 - counted.1,

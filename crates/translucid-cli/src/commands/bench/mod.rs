@@ -37,6 +37,8 @@ pub struct Measured {
     pub scene: String,
     pub method: String,
     pub motion: Motion,
+    /// Where the wavelet method's coefficients lived (its renderer's storage).
+    wavelet_storage: translucid::methods::wavelet::Storage,
     frames: u32,
     /// GPU time of everything the method recorded into the engine's frame (copies in and out
     /// included): its whole pass.
@@ -133,11 +135,13 @@ impl Timings {
         (scene, method, motion): (&str, &str, Motion),
         frames: u32,
         (pipelines_created, bytes_allocated): (u64, u64),
+        wavelet_storage: translucid::methods::wavelet::Storage,
     ) -> Measured {
         Measured {
             scene: scene.to_string(),
             method: method.to_string(),
             motion,
+            wavelet_storage,
             frames,
             whole_ms: median(self.wholes),
             method_ms: median(self.method_totals),
@@ -307,7 +311,8 @@ pub fn measure(
                 run.host.pipelines_created() - before.0,
                 run.host.bytes_allocated() - before.1,
             );
-            results.push(timing.result((spec, method, *motion), frames, built));
+            let storage = super::renderer_storage(&run.renderer);
+            results.push(timing.result((spec, method, *motion), frames, built, storage));
         }
     }
     bar.finish_and_clear();
@@ -398,7 +403,7 @@ fn print_results(results: &[Measured], bench: &Bench<'_>, json: bool) {
                 "scene": r.scene,
                 "method": r.method,
                 "threshold": threshold,
-                "wavelet": super::wavelet_json(&r.method, method_args),
+                "wavelet": super::wavelet_json(&r.method, method_args, r.wavelet_storage),
                 "fragments": r.fragments,
                 "triangles": r.triangles,
                 "tail_fragments": r.tail_fragments,

@@ -2,13 +2,13 @@
 //! is in [`math`], and [`model`] is the whole method on the CPU). Two variants, by where each
 //! pixel's coefficients live ([`Storage`]):
 //!
-//! **Bins** (the default): the bins the exact method reads ([`crate::methods::bins`]), with a
+//! **Bins** (CPU drivers' default; [`Storage::for_profile`]): the bins the exact method reads ([`crate::methods::bins`]), with a
 //! raster of its own (`shaders/common/wavelet_bins.glsl`, driven by `bin_raster.rs`) that
 //! keeps each pixel's coefficients in registers and walks its row's triangle list three
 //! times: bounds, coefficients, shading. No coefficient images, and every fragment is the CPU
 //! reference's.
 //!
-//! **Images**: four passes, each one draw of the scene or one full-screen triangle:
+//! **Images** (GPUs' default): four passes, each one draw of the scene or one full-screen triangle:
 //! 1. **bounds**: each pixel's nearest and farthest transparent view depth (MAX blend).
 //! 2. **transmittance**: every fragment adds its absorbance's Haar coefficients into
 //!    full-screen coefficient images (ADD blend). The coefficients of the three channels are
@@ -20,6 +20,12 @@
 //! 4. **shade**: every fragment in front of that depth (hidden ones fail the depth test before
 //!    shading) adds its radiance times the transmittance in front of it, its own share
 //!    removed, to the frame colour (ADD blend).
+//!
+//! The scene draws hand the driver the reference's snapped vertices (`mesh_vertex.glsl`), so it
+//! covers the reference's samples; where the device has a geometry stage they order each
+//! fragment by the reference's own depth (`scene/ordered.geom`), and textures are sampled at
+//! the reference's level of detail: every fragment is the CPU model's, as on the bins (see
+//! `passes::FragmentDepth` for a device without a geometry stage).
 //!
 //! Optional depth noise ([`WaveletOptions::noise`]) shifts each pixel's cell boundaries by a
 //! fixed hash, trading banding for noise; it is off by default and in the image tests.
@@ -33,7 +39,7 @@ use super::bins::BinOptions;
 use super::{FrameCheck, FrameDone, FrameSetup, Method, MethodOptions, RecordContext};
 use crate::assets::GpuScene;
 use crate::frame::FrameTargets;
-use crate::gpu::{Gpu, Retirement};
+use crate::gpu::{Gpu, Profile, Retirement};
 use crate::interface::specialization::{
     Specialization, WAVELET_ABSORBED, WAVELET_FIRST_TEXEL, WAVELET_NOISE,
 };
@@ -58,19 +64,50 @@ pub enum Precision {
     Single,
 }
 
-/// Where each pixel's coefficients live.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+/// Where each pixel's coefficients live. Unless an option names one, the device's profile
+/// picks it ([`Storage::for_profile`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Storage {
     /// Registers of its own raster over the bins, in single precision (`precision` is the
-    /// images' and does not apply). The default: 1.8 to 5.9 times faster than the images on
-    /// lavapipe, a third of their memory, and every fragment the reference's. It needs what
-    /// the exact method needs of the device (64-bit shader arithmetic, subgroups of 8 or
-    /// more); on a device without, and for frames with rows too crowded for its loop budget,
-    /// the method keeps the coefficients in images instead.
-    #[default]
+    /// images' and does not apply). CPU drivers' storage: 3.1 to 13 times faster than the
+    /// images on lavapipe at 1280x720 (docs/performance-log.md, 2026-12-06), about a third of
+    /// their memory. It needs what the exact method needs
+    /// of the device (64-bit shader arithmetic, subgroups of 8 or more); on a device without,
+    /// and for frames with rows too crowded for its loop budget, the method keeps the
+    /// coefficients in images instead.
     Bins,
-    /// Full-screen coefficient images, written and read by four graphics passes.
+    /// Full-screen coefficient images, written and read by four graphics passes: the
+    /// hardware rasterizes and blends every fragment, where the bins' raster runs a row of 8
+    /// pixels on each subgroup and walks its list three times. GPUs' storage.
     Images,
+}
+
+impl Storage {
+    /// The storage a device of `profile` gets when no option names one: the bins on CPU
+    /// drivers, where they are measured faster; the images on GPUs, whose rasterizer and
+    /// blending do in fixed function what the bins' raster does in a shader (docs/gpu.md).
+    pub fn for_profile(profile: Profile) -> Self {
+        match profile {
+            Profile::CpuDriver => Self::Bins,
+            Profile::Gpu => Self::Images,
+        }
+    }
+
+    /// `bins` or `images`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Bins => "bins",
+            Self::Images => "images",
+        }
+    }
+}
+
+/// Whether the coefficient images' fragments on `gpu` are the CPU reference's, coverage, order
+/// depth and texture level of detail, as the bins' are: where the device has a geometry stage
+/// (`passes::FragmentDepth`). Elsewhere they take the driver's depth, which differs in the
+/// last bits: a pixel whose fragments meet at one depth may then be a few 255ths off the model.
+pub fn images_match_the_model(gpu: &Gpu) -> bool {
+    passes::FragmentDepth::of(gpu) == passes::FragmentDepth::Reference
 }
 
 /// The wavelet method's settings, as given.
@@ -83,8 +120,9 @@ pub struct WaveletOptions {
     pub noise: f32,
     /// Storage precision of the coefficient images.
     pub precision: Precision,
-    /// Where the coefficients live (images, or registers in the bins' raster).
-    pub storage: Storage,
+    /// Where the coefficients live (images, or registers in the bins' raster); `None` is the
+    /// device profile's ([`Storage::for_profile`]).
+    pub storage: Option<Storage>,
 }
 
 /// The method's settings, checked.
@@ -97,7 +135,9 @@ pub struct Settings {
 }
 
 impl Settings {
-    pub fn from_options(options: &WaveletOptions) -> Result<Self> {
+    /// The settings `options` ask for on a device of `profile`, which picks the storage when
+    /// the options do not ([`Storage::for_profile`]; [`Gpu::profile`] is a device's).
+    pub fn from_options(options: &WaveletOptions, profile: Profile) -> Result<Self> {
         let rank = options.rank.unwrap_or(DEFAULT_RANK);
         if rank > math::MAX_RANK {
             return Err(Error::InvalidOption(format!(
@@ -115,7 +155,9 @@ impl Settings {
             rank,
             noise: options.noise,
             precision: options.precision,
-            storage: options.storage,
+            storage: options
+                .storage
+                .unwrap_or_else(|| Storage::for_profile(profile)),
         })
     }
 
@@ -187,7 +229,7 @@ impl Wavelet {
         bin_options: &BinOptions,
         options: &WaveletOptions,
     ) -> Result<Self> {
-        let mut settings = Settings::from_options(options)?;
+        let mut settings = Settings::from_options(options, gpu.profile())?;
         let constants = settings.constants();
         let bins = match settings.storage {
             Storage::Images => None,
@@ -272,11 +314,19 @@ impl Method for Wavelet {
             // its counters went with the bins, so it is reported for drawing again.
             return Ok(FrameCheck {
                 rerender: on_bins,
+                wavelet_storage: Some(if on_bins {
+                    Storage::Bins
+                } else {
+                    Storage::Images
+                }),
                 ..FrameCheck::default()
             });
         };
         if !raster.crowded(done.slot)? {
-            return raster.frame_done(done);
+            return Ok(FrameCheck {
+                wavelet_storage: Some(Storage::Bins),
+                ..raster.frame_done(done)?
+            });
         }
         // A row's three walks would pass the loop budget (the bins' raster does not resume
         // rows as exact's does): the coefficient images have no such limit. The renderer
@@ -298,12 +348,13 @@ impl Method for Wavelet {
             .retire(std::mem::replace(&mut self.variant, images));
         Ok(FrameCheck {
             rerender: true,
+            wavelet_storage: Some(Storage::Bins),
             ..FrameCheck::default()
         })
     }
 
     fn learned(&self, options: &mut MethodOptions) {
-        options.wavelet.storage = self.settings.storage;
+        options.wavelet.storage = Some(self.settings.storage);
         if let Variant::Bins(raster) = &self.variant {
             raster.learned(&mut options.bins);
         }

@@ -1,7 +1,7 @@
 //! The wavelet method's images, render passes and pipelines, one recording function per pass.
 
 use super::Settings;
-use crate::assets::GpuScene;
+use crate::assets::{GpuScene, MeshStages};
 use crate::frame::{FrameTargets, DEPTH_FORMAT};
 use crate::gpu::{
     fullscreen_pipeline, image_barrier, vk, Attachment, AttachmentPass, Blend, DepthAttachment,
@@ -26,29 +26,88 @@ const BOUNDS_FORMAT: vk::Format = vk::Format::R32G32_SFLOAT;
 type Pair = (Arc<GraphicsPipeline>, Arc<GraphicsPipeline>);
 
 /// SPIR-V of the rank's accumulate, resolve and shade shaders: the rank is compiled in, so
-/// that every loop over coefficients unrolls to constant indices.
-fn shaders(rank: u32) -> [&'static [u8]; 3] {
-    match rank {
-        0 => [
+/// that every loop over coefficients unrolls to constant indices. `depth` picks the order depth
+/// of the scene draws' fragments ([`FragmentDepth`]).
+fn shaders(rank: u32, depth: FragmentDepth) -> [&'static [u8]; 3] {
+    use FragmentDepth::{Driver, Reference};
+    match (rank.min(3), depth) {
+        (0, Reference) => [
             crate::spirv!("wavelet/accumulate_rank0.frag"),
             crate::spirv!("wavelet/resolve_rank0.frag"),
             crate::spirv!("wavelet/shade_rank0.frag"),
         ],
-        1 => [
+        (0, Driver) => [
+            crate::spirv!("wavelet/accumulate_rank0_driver_depth.frag"),
+            crate::spirv!("wavelet/resolve_rank0.frag"),
+            crate::spirv!("wavelet/shade_rank0_driver_depth.frag"),
+        ],
+        (1, Reference) => [
             crate::spirv!("wavelet/accumulate_rank1.frag"),
             crate::spirv!("wavelet/resolve_rank1.frag"),
             crate::spirv!("wavelet/shade_rank1.frag"),
         ],
-        2 => [
+        (1, Driver) => [
+            crate::spirv!("wavelet/accumulate_rank1_driver_depth.frag"),
+            crate::spirv!("wavelet/resolve_rank1.frag"),
+            crate::spirv!("wavelet/shade_rank1_driver_depth.frag"),
+        ],
+        (2, Reference) => [
             crate::spirv!("wavelet/accumulate_rank2.frag"),
             crate::spirv!("wavelet/resolve_rank2.frag"),
             crate::spirv!("wavelet/shade_rank2.frag"),
         ],
-        _ => [
+        (2, Driver) => [
+            crate::spirv!("wavelet/accumulate_rank2_driver_depth.frag"),
+            crate::spirv!("wavelet/resolve_rank2.frag"),
+            crate::spirv!("wavelet/shade_rank2_driver_depth.frag"),
+        ],
+        (_, Reference) => [
             crate::spirv!("wavelet/accumulate_rank3.frag"),
             crate::spirv!("wavelet/resolve_rank3.frag"),
             crate::spirv!("wavelet/shade_rank3.frag"),
         ],
+        (_, Driver) => [
+            crate::spirv!("wavelet/accumulate_rank3_driver_depth.frag"),
+            crate::spirv!("wavelet/resolve_rank3.frag"),
+            crate::spirv!("wavelet/shade_rank3_driver_depth.frag"),
+        ],
+    }
+}
+
+/// Where the scene draws' fragments take their order depth from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FragmentDepth {
+    /// The CPU reference's, computed at the pixel centre from the triangle's fixed-point setup,
+    /// which a geometry stage hands each fragment (`scene/ordered.geom`): every fragment then
+    /// is the CPU model's, coverage, depth and texture level of detail.
+    Reference,
+    /// The driver's interpolated depth, on a device without geometry shaders: it differs from
+    /// the reference's in the last bits, which moves a pixel whose fragments meet at one depth.
+    Driver,
+}
+
+impl FragmentDepth {
+    /// The reference's where the device has a geometry stage.
+    pub fn of(gpu: &Gpu) -> Self {
+        if gpu.info().geometry_shader {
+            Self::Reference
+        } else {
+            Self::Driver
+        }
+    }
+
+    fn stages(self) -> MeshStages {
+        match self {
+            Self::Reference => MeshStages::OrderDepth,
+            Self::Driver => MeshStages::Plain,
+        }
+    }
+
+    fn bounds_spirv(self) -> &'static [u8] {
+        match self {
+            Self::Reference => crate::spirv!("wavelet/bounds.frag"),
+            Self::Driver => crate::spirv!("wavelet/bounds_driver_depth.frag"),
+        }
     }
 }
 
@@ -193,14 +252,21 @@ impl Passes {
         settings: &Settings,
         constants: super::SpecConstants,
     ) -> Result<Self> {
-        let [accumulate_spirv, resolve_spirv, shade_spirv] = shaders(settings.rank);
+        let depth = FragmentDepth::of(gpu);
+        let [accumulate_spirv, resolve_spirv, shade_spirv] = shaders(settings.rank, depth);
         let images = Images::new(gpu, targets, settings)?;
         let sampler = Sampler::nearest_clamp(gpu)?;
         let layouts = Layouts::new(gpu)?;
         let sets = Sets::new(&layouts, &images, &sampler, targets)?;
         let fragment_constants = constants.specialization();
-        let (bounds_pass, bounds_pipelines) =
-            new_bounds_pass(gpu, gpu_scene, targets, &images.bounds, &fragment_constants)?;
+        let (bounds_pass, bounds_pipelines) = new_bounds_pass(
+            gpu,
+            gpu_scene,
+            targets,
+            &images.bounds,
+            depth,
+            &fragment_constants,
+        )?;
         // One draw per MAX_ATTACHMENTS texels, each told the first texel it writes.
         let accumulations = images
             .coefficients
@@ -216,7 +282,7 @@ impl Passes {
                     gpu_scene,
                     targets,
                     texels,
-                    accumulate_spirv,
+                    (accumulate_spirv, depth),
                     &layouts.bounds,
                     &chunk_constants.specialization(),
                 )
@@ -236,7 +302,7 @@ impl Passes {
             gpu_scene,
             targets,
             &images.depth,
-            shade_spirv,
+            (shade_spirv, depth),
             &layouts.read,
             &fragment_constants,
         )?;
@@ -360,6 +426,7 @@ fn new_bounds_pass(
     gpu_scene: &GpuScene,
     targets: &FrameTargets,
     bounds: &GpuImage,
+    depth: FragmentDepth,
     fragment_constants: &Specialization,
 ) -> Result<(AttachmentPass, Pair)> {
     let pass = AttachmentPass::new(
@@ -374,8 +441,8 @@ fn new_bounds_pass(
     let pipelines = gpu_scene.mesh_pipelines_with(
         gpu,
         pass.render_pass,
-        crate::assets::MeshStages::Plain,
-        crate::spirv!("wavelet/bounds.frag"),
+        depth.stages(),
+        depth.bounds_spirv(),
         &[],
         &PipelineState {
             blends: &[Blend::Max],
@@ -395,7 +462,7 @@ impl Accumulation {
         gpu_scene: &GpuScene,
         targets: &FrameTargets,
         texels: &[GpuImage],
-        accumulate_spirv: &[u8],
+        (accumulate_spirv, depth): (&[u8], FragmentDepth),
         bounds_layout: &DescriptorLayout,
         fragment_constants: &Specialization,
     ) -> Result<Self> {
@@ -416,7 +483,7 @@ impl Accumulation {
         let pipelines = gpu_scene.mesh_pipelines_with(
             gpu,
             pass.render_pass,
-            crate::assets::MeshStages::Plain,
+            depth.stages(),
             accumulate_spirv,
             &[bounds_layout],
             &PipelineState {
@@ -475,8 +542,8 @@ fn new_shade_pass(
     gpu: &Gpu,
     gpu_scene: &GpuScene,
     targets: &FrameTargets,
-    depth: &GpuImage,
-    shade_spirv: &[u8],
+    depth_image: &GpuImage,
+    (shade_spirv, depth): (&[u8], FragmentDepth),
     read_layout: &DescriptorLayout,
     fragment_constants: &Specialization,
 ) -> Result<(AttachmentPass, Pair)> {
@@ -485,7 +552,7 @@ fn new_shade_pass(
         &[Attachment::kept(&targets.colour, COLOUR)],
         Some(&DepthAttachment {
             attachment: Attachment {
-                image: depth,
+                image: depth_image,
                 load: Load::Keep,
                 layouts: (DEPTH, DEPTH),
             },
@@ -495,7 +562,7 @@ fn new_shade_pass(
     let pipelines = gpu_scene.mesh_pipelines_with(
         gpu,
         pass.render_pass,
-        crate::assets::MeshStages::Plain,
+        depth.stages(),
         shade_spirv,
         &[read_layout],
         &PipelineState {

@@ -1,0 +1,3 @@
+#version 450
+#define WAVELET_RANK 2
+#include "wavelet_accumulate.glsl"

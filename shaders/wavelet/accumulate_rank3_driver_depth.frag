@@ -1,0 +1,3 @@
+#version 450
+#define WAVELET_RANK 3
+#include "wavelet_accumulate.glsl"
