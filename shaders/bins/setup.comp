@@ -155,9 +155,9 @@ bool setupTriangle(vec4 c[3], out BinTriangle t, out ivec2 vertices[3], out bool
                          clampPixel((minY - HALF_PIXEL + 255) >> 8, u_push.height),
                          clampPixel(((maxX - HALF_PIXEL) >> 8) + 1, u_push.width),
                          clampPixel(((maxY - HALF_PIXEL) >> 8) + 1, u_push.height));
-        precise float invArea = 1.0 / float(abs(area2));
+        precise float invArea = quotient(1.0, float(abs(area2)));
         t.zNdc = vec4(fb[0].z, fb[1].z, fb[2].z, invArea);
-        precise vec4 invW = vec4(1.0 / c[0].w, 1.0 / c[1].w, 1.0 / c[2].w, 0.0);
+        precise vec4 invW = vec4(quotient(1.0, c[0].w), quotient(1.0, c[1].w), quotient(1.0, c[2].w), 0.0);
         t.invW = invW;
         front = area2 < 0;
     } else if (!HOMOGENEOUS_PATH) {
@@ -195,7 +195,7 @@ bool setupTriangle(vec4 c[3], out BinTriangle t, out ivec2 vertices[3], out bool
         h.line0 = vec4(raw0 * s, float(exponent));
         h.line1 = vec4(raw1 * s, 0.0);
         h.line2 = vec4(raw2 * s, 0.0);
-        precise float invDet = 1.0 / abs(det);
+        precise float invDet = quotient(1.0, abs(det));
         h.zInvDet = vec4(scaled[0].z, scaled[1].z, scaled[2].z, invDet);
         int mask = 0;
         int ties = 0;

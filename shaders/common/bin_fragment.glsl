@@ -15,6 +15,7 @@
 // every fragment there; constants compile it away. The host sets them from the scene and
 // falls back to the full shader if setup ever reports a triangle the constants excluded.
 #include "interface_specialization.glsl"
+#include "rounded_division.glsl"
 
 // A triangle's attributes at its three corners, as shading interpolates them.
 struct ShadingAttributes {
@@ -183,11 +184,13 @@ void barycentricGradients(BinTriangle t, uint x, uint y, out vec3 gx, out vec3 g
         gy = vec3(0.0);
         return;
     }
-    precise vec3 b = q / sum;
+    precise vec3 b = vec3(quotient(q.x, sum), quotient(q.y, sum), quotient(q.z, sum));
     precise float dsx = (dqx.x + dqx.y) + dqx.z;
     precise float dsy = (dqy.x + dqy.y) + dqy.z;
-    precise vec3 rx = (dqx - b * dsx) / sum;
-    precise vec3 ry = (dqy - b * dsy) / sum;
+    precise vec3 nx = dqx - b * dsx;
+    precise vec3 ny = dqy - b * dsy;
+    precise vec3 rx = vec3(quotient(nx.x, sum), quotient(nx.y, sum), quotient(nx.z, sum));
+    precise vec3 ry = vec3(quotient(ny.x, sum), quotient(ny.y, sum), quotient(ny.z, sum));
     gx = rx;
     gy = ry;
 }

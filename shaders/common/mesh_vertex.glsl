@@ -71,7 +71,7 @@ void main() {
     vec3 fb = viewportTransform(clip, u_frame.viewport.xy);
     bool fixedPath = clip.w > 0.0 && clip.z >= 0.0 && inGuardBand(fb.x) && inGuardBand(fb.y);
     v_snapped = fixedPath ? ivec3(int(snapCoord(fb.x)), int(snapCoord(fb.y)), 1) : ivec3(0);
-    precise float invW = 1.0 / clip.w;
+    precise float invW = quotient(1.0, clip.w);
     v_depth = vec2(fb.z, invW);
 #endif
 }

@@ -59,7 +59,7 @@ bool sampleHomogeneous(BinHomogeneous h, uint x, uint y, out RasterSample s) {
     if (!(sum > 0.0)) {
         return false;
     }
-    precise float d = 1.0 / sum;
+    precise float d = quotient(1.0, sum);
     precise float z = (e0 * h.zInvDet.x + e1 * h.zInvDet.y) + e2 * h.zInvDet.z;
     precise vec3 b = vec3(e0 * d, e1 * d, e2 * d);
     s.barycentric = b;

@@ -8,6 +8,7 @@
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 
 #include "interface_raster.glsl"
+#include "rounded_division.glsl"
 
 // view_projection * model, column by column as clipPosition (raster::model_view_projection).
 mat4 modelViewProjection(mat4 viewProjection, mat4 model) {
@@ -28,9 +29,9 @@ vec4 clipPosition(mat4 mvp, vec3 p) {
 
 // (x_fb, y_fb, z_ndc) of a clip-space vertex.
 vec3 viewportTransform(vec4 clip, vec2 size) {
-    precise float x = (clip.x / clip.w * 0.5 + 0.5) * size.x;
-    precise float y = (clip.y / clip.w * 0.5 + 0.5) * size.y;
-    precise float z = clip.z / clip.w;
+    precise float x = (quotient(clip.x, clip.w) * 0.5 + 0.5) * size.x;
+    precise float y = (quotient(clip.y, clip.w) * 0.5 + 0.5) * size.y;
+    precise float z = quotient(clip.z, clip.w);
     return vec3(x, y, z);
 }
 
@@ -95,7 +96,7 @@ RasterSample interpolateEdges(i64vec3 e, vec4 zNdcInvArea, vec3 invW) {
     // vertex, which is where the bins place the triangle (bin_lists.glsl).
     precise float inverse = min(max((q0 + q1) + q2, min(min(invW.x, invW.y), invW.z)),
                                 max(max(invW.x, invW.y), invW.z));
-    precise float depth = 1.0 / inverse;
+    precise float depth = quotient(1.0, inverse);
     precise vec3 b = vec3(q0 * depth, q1 * depth, q2 * depth);
     RasterSample s;
     s.barycentric = b;

@@ -18,16 +18,27 @@ vec4 decodeTexel(uint packed, bool srgb) {
     return unorm;
 }
 
-// Texel coordinate floor(c) and the one after it, wrapped into [0, size) by `mode`
-// (SAMPLER_WRAP_*). One 64-bit remainder by the mirrored period serves every mode: repeat
-// and mirror both read it, and clamping needs none. (The period fits 32 bits for any image a
-// device can create.)
+// floor(c) (an integer, saturated like a float-to-i64 cast) modulo `period`, in [0, period).
+// Coordinates within 2^31 take a 32-bit remainder, which a GPU runs several times faster than
+// a 64-bit one; only absurd texture coordinates pay for 64 bits.
+uint wrappedIndex(float c, int64_t i, uint period) {
+    if (abs(c) < 2147483648.0) {
+        int r = int(c) % int(period);
+        return uint(r < 0 ? r + int(period) : r);
+    }
+    int64_t r = i % int64_t(period);
+    return uint(r < 0 ? r + int64_t(period) : r);
+}
+
+// Texel coordinate c = floor(c) and the one after it, wrapped into [0, size) by `mode`
+// (SAMPLER_WRAP_*). One remainder by the mirrored period serves every mode: repeat and mirror
+// both read it, and clamping needs none. (The period fits 32 bits for any image a device can
+// create.)
 uvec2 wrapPair(float c, uint size, uint mode) {
     // Saturate like a float-to-i64 cast, with room for + 1.
     int64_t i = int64_t(clamp(c, -4.0e18, 4.0e18));
     uint period = 2u * size;
-    int64_t r = i % int64_t(period);
-    uint p0 = uint(r < 0 ? r + int64_t(period) : r);
+    uint p0 = wrappedIndex(c, i, period);
     uint p1 = p0 + 1u == period ? 0u : p0 + 1u;
     uvec2 repeated = uvec2(p0 >= size ? p0 - size : p0, p1 >= size ? p1 - size : p1);
     uvec2 mirrored = uvec2(p0 < size ? p0 : period - 1u - p0, p1 < size ? p1 : period - 1u - p1);

@@ -22,6 +22,7 @@ layout(location = 1) out vec3 o_normal;
 layout(location = 2) out vec2 o_uv;
 layout(location = 3) out vec4 o_colour;
 #include "order_setup.glsl"
+#include "rounded_division.glsl"
 
 void main() {
     ivec2 p0 = v_snapped[0].xy;
@@ -33,7 +34,7 @@ void main() {
                     (int64_t(p2.x) * p0.y - int64_t(p0.x) * p2.y);
     bool fixedPath = v_snapped[0].z != 0 && v_snapped[1].z != 0 && v_snapped[2].z != 0 &&
                      area2 != 0;
-    precise float invArea = 1.0 / float(abs(area2));
+    precise float invArea = quotient(1.0, float(abs(area2)));
     for (int i = 0; i < 3; i++) {
         gl_Position = gl_in[i].gl_Position;
         gl_PrimitiveID = gl_PrimitiveIDIn;

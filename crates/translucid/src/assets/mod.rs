@@ -400,7 +400,7 @@ impl GpuScene {
             &PipelineState {
                 blends: &[blend],
                 depth: DepthMode::Less(depth_write),
-                fragment_constants: &Specialization::NONE,
+                constants: &Specialization::NONE,
                 vertex_input: true,
             },
         )

@@ -81,8 +81,7 @@ impl DepthImport {
                 &PipelineState {
                     blends: &[],
                     depth: DepthMode::WriteAlways,
-                    fragment_constants: &Specialization::new()
-                        .with(IMPORTED_DEPTH_REVERSED, reversed),
+                    constants: &Specialization::new().with(IMPORTED_DEPTH_REVERSED, reversed),
                     vertex_input: false,
                 },
             )

@@ -34,6 +34,8 @@ mod pipeline_cache;
 mod profile;
 mod retirement;
 #[cfg(test)]
+mod rounded_division_tests;
+#[cfg(test)]
 mod spirv_checks;
 mod timestamps;
 mod validation;

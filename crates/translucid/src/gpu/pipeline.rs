@@ -1,8 +1,8 @@
 //! Shader modules, descriptor layouts and sets, samplers, render passes and pipelines.
 
 use super::error::vk_err;
-use super::{Buffer, Gpu};
-use crate::interface::specialization::Specialization;
+use super::{Buffer, Gpu, Profile};
+use crate::interface::specialization::{Specialization, ROUNDED_DIVISION};
 use crate::interface::{BindingType, SetDecl};
 use crate::{scene, Result};
 use ash::vk;
@@ -455,7 +455,7 @@ impl ComputePipeline {
                 return Err(e);
             }
         };
-        let (entries, data) = specialization_entries(constants);
+        let (entries, data) = specialization_entries(gpu, constants);
         let specialization = vk::SpecializationInfo::default()
             .map_entries(&entries)
             .data(&data);
@@ -635,14 +635,13 @@ pub enum DepthMode {
 }
 
 /// What [`GraphicsPipeline::with_state`] varies beyond [`GraphicsPipelineDesc`]: one blend
-/// per colour attachment, the depth mode, the fragment shader's specialization constants, and
-/// whether there is vertex input at
-/// all (full-screen passes have none). The desc's `blend` and `depth_write` are ignored.
+/// per colour attachment, the depth mode, the specialization constants (every stage's), and
+/// whether there is vertex input at all (full-screen passes have none). The desc's `blend` and `depth_write` are ignored.
 #[derive(Clone, Copy)]
 pub struct PipelineState<'a> {
     pub blends: &'a [Blend],
     pub depth: DepthMode,
-    pub fragment_constants: &'a Specialization,
+    pub constants: &'a Specialization,
     pub vertex_input: bool,
 }
 
@@ -675,7 +674,7 @@ pub(crate) struct GraphicsKey {
     cull_back: bool,
     blends: Vec<Blend>,
     depth: DepthMode,
-    fragment_constants: Specialization,
+    constants: Specialization,
     vertex_input: bool,
     render_pass: Vec<i64>,
     sets: Vec<(Vec<BindingKind>, u32)>,
@@ -731,7 +730,7 @@ impl GraphicsPipeline {
             &PipelineState {
                 blends: &[desc.blend],
                 depth: DepthMode::Less(desc.depth_write),
-                fragment_constants: &Specialization::NONE,
+                constants: &Specialization::NONE,
                 vertex_input: true,
             },
         )
@@ -766,7 +765,7 @@ impl GraphicsPipeline {
             cull_back: desc.cull_back,
             blends: state.blends.to_vec(),
             depth: state.depth,
-            fragment_constants: state.fragment_constants.clone(),
+            constants: state.constants.clone(),
             vertex_input: state.vertex_input,
             render_pass,
             sets: layout_definitions(desc.sets),
@@ -812,7 +811,7 @@ impl GraphicsPipeline {
                 }
             }
         }
-        let (entries, data) = specialization_entries(state.fragment_constants);
+        let (entries, data) = specialization_entries(gpu, state.constants);
         let specialization = vk::SpecializationInfo::default()
             .map_entries(&entries)
             .data(&data);
@@ -820,15 +819,11 @@ impl GraphicsPipeline {
             .iter()
             .zip(&modules)
             .map(|(&(stage, _), &module)| {
-                let info = vk::PipelineShaderStageCreateInfo::default()
+                vk::PipelineShaderStageCreateInfo::default()
                     .stage(stage)
                     .module(module)
-                    .name(c"main");
-                if stage == vk::ShaderStageFlags::FRAGMENT {
-                    info.specialization_info(&specialization)
-                } else {
-                    info
-                }
+                    .name(c"main")
+                    .specialization_info(&specialization)
             })
             .collect();
         let bindings = [vk::VertexInputBindingDescription {
@@ -1222,10 +1217,15 @@ impl Gpu {
     }
 }
 
-/// Vulkan's map entries and data for `constants`: a 32-bit word each.
+/// Vulkan's map entries and data for `constants`, a 32-bit word each, with those every
+/// pipeline takes from the device's profile. Ids a stage does not declare are ignored.
 fn specialization_entries(
+    gpu: &Gpu,
     constants: &Specialization,
 ) -> (Vec<vk::SpecializationMapEntry>, Vec<u8>) {
+    let constants = constants
+        .clone()
+        .with(ROUNDED_DIVISION, gpu.profile() == Profile::Gpu);
     let words = constants.words();
     let entries = (0..words.len() as u32)
         .zip(words)

@@ -187,6 +187,10 @@ spec_constants! {
     /// The rasters: branch where the subgroup agrees, as GPUs do for free (the GPU profile),
     /// instead of running both sides under a mask (CPU drivers: `gpu::Profile`).
     20 => pub const BRANCHING: bool = false;
+    /// Quotients that must be the reference's are corrected to the nearest float
+    /// (rounded_division.glsl): Vulkan lets a division be 2.5 ulp off, and only CPU drivers
+    /// divide exactly. Every pipeline gets it from the profile (`gpu::pipeline`).
+    21 => pub const ROUNDED_DIVISION: bool = false;
 }
 
 /// The GLSL of every constant.

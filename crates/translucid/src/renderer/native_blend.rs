@@ -63,7 +63,7 @@ impl EngineBlendPass {
                 &PipelineState {
                     blends: &[Blend::PremultipliedTransmittance],
                     depth,
-                    fragment_constants: &Specialization::NONE,
+                    constants: &Specialization::NONE,
                     vertex_input: true,
                 },
             )

@@ -118,7 +118,7 @@ impl Composite {
             &PipelineState {
                 blends: &[Blend::PremultipliedTransmittance],
                 depth: DepthMode::Off,
-                fragment_constants: &Specialization::NONE,
+                constants: &Specialization::NONE,
                 vertex_input: false,
             },
         )

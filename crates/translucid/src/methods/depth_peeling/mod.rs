@@ -316,7 +316,7 @@ fn first_pipelines(
         &PipelineState {
             blends: &[Blend::Max, Blend::Add],
             depth: DepthMode::Less(false),
-            fragment_constants: &Specialization::NONE,
+            constants: &Specialization::NONE,
             vertex_input: true,
         },
     )
@@ -349,7 +349,7 @@ fn peel_pipelines(
                 Blend::Under,
             ],
             depth: DepthMode::Less(false),
-            fragment_constants: &Specialization::NONE,
+            constants: &Specialization::NONE,
             vertex_input: true,
         },
     )

@@ -93,7 +93,7 @@ impl Passes {
             &PipelineState {
                 blends: &[Blend::PremultipliedTransmittance],
                 depth: DepthMode::Less(false),
-                fragment_constants: &constants,
+                constants: &constants,
                 vertex_input: true,
             },
         )?;

@@ -258,14 +258,14 @@ impl Passes {
         let sampler = Sampler::nearest_clamp(gpu)?;
         let layouts = Layouts::new(gpu)?;
         let sets = Sets::new(&layouts, &images, &sampler, targets)?;
-        let fragment_constants = constants.specialization();
+        let specialization = constants.specialization();
         let (bounds_pass, bounds_pipelines) = new_bounds_pass(
             gpu,
             gpu_scene,
             targets,
             &images.bounds,
             depth,
-            &fragment_constants,
+            &specialization,
         )?;
         // One draw per MAX_ATTACHMENTS texels, each told the first texel it writes.
         let accumulations = images
@@ -295,7 +295,7 @@ impl Passes {
             &images.depth,
             resolve_spirv,
             &layouts.resolve,
-            &fragment_constants,
+            &specialization,
         )?;
         let (shade_pass, shade_pipelines) = new_shade_pass(
             gpu,
@@ -304,7 +304,7 @@ impl Passes {
             &images.depth,
             (shade_spirv, depth),
             &layouts.read,
-            &fragment_constants,
+            &specialization,
         )?;
         Ok(Self {
             frame_depth: targets.depth.raw,
@@ -427,7 +427,7 @@ fn new_bounds_pass(
     targets: &FrameTargets,
     bounds: &GpuImage,
     depth: FragmentDepth,
-    fragment_constants: &Specialization,
+    constants: &Specialization,
 ) -> Result<(AttachmentPass, Pair)> {
     let pass = AttachmentPass::new(
         gpu,
@@ -447,7 +447,7 @@ fn new_bounds_pass(
         &PipelineState {
             blends: &[Blend::Max],
             depth: DepthMode::Less(false),
-            fragment_constants,
+            constants,
             vertex_input: true,
         },
     )?;
@@ -456,7 +456,7 @@ fn new_bounds_pass(
 
 impl Accumulation {
     /// The draw that ADD-blends every fragment's coefficients into `texels`;
-    /// `fragment_constants` tell the shader which texel the first of them is.
+    /// `constants` tell the shader which texel the first of them is.
     fn new(
         gpu: &Gpu,
         gpu_scene: &GpuScene,
@@ -464,7 +464,7 @@ impl Accumulation {
         texels: &[GpuImage],
         (accumulate_spirv, depth): (&[u8], FragmentDepth),
         bounds_layout: &DescriptorLayout,
-        fragment_constants: &Specialization,
+        constants: &Specialization,
     ) -> Result<Self> {
         let colours: Vec<Attachment<'_>> = texels
             .iter()
@@ -489,7 +489,7 @@ impl Accumulation {
             &PipelineState {
                 blends: &blends,
                 depth: DepthMode::Less(false),
-                fragment_constants,
+                constants,
                 vertex_input: true,
             },
         )?;
@@ -507,7 +507,7 @@ fn new_resolve_pass(
     depth: &GpuImage,
     resolve_spirv: &[u8],
     resolve_layout: &DescriptorLayout,
-    fragment_constants: &Specialization,
+    constants: &Specialization,
 ) -> Result<(AttachmentPass, Arc<GraphicsPipeline>)> {
     let pass = AttachmentPass::new(
         gpu,
@@ -529,7 +529,7 @@ fn new_resolve_pass(
         &PipelineState {
             blends: &[Blend::Multiply],
             depth: DepthMode::WriteAlways,
-            fragment_constants,
+            constants,
             vertex_input: false,
         },
     )?;
@@ -545,7 +545,7 @@ fn new_shade_pass(
     depth_image: &GpuImage,
     (shade_spirv, depth): (&[u8], FragmentDepth),
     read_layout: &DescriptorLayout,
-    fragment_constants: &Specialization,
+    constants: &Specialization,
 ) -> Result<(AttachmentPass, Pair)> {
     let pass = AttachmentPass::new(
         gpu,
@@ -568,7 +568,7 @@ fn new_shade_pass(
         &PipelineState {
             blends: &[Blend::Add],
             depth: DepthMode::Less(false),
-            fragment_constants,
+            constants,
             vertex_input: true,
         },
     )?;

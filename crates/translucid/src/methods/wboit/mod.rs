@@ -80,7 +80,7 @@ impl Wboit {
             &PipelineState {
                 blends: &[Blend::Add; 3],
                 depth: DepthMode::Less(false),
-                fragment_constants: &Specialization::NONE,
+                constants: &Specialization::NONE,
                 vertex_input: true,
             },
         )?;
@@ -103,7 +103,7 @@ impl Wboit {
             &PipelineState {
                 blends: &[Blend::PremultipliedTransmittance],
                 depth: DepthMode::Off,
-                fragment_constants: &Specialization::NONE,
+                constants: &Specialization::NONE,
                 vertex_input: false,
             },
         )?;
