@@ -582,6 +582,36 @@ fn exact_copies_only_the_textures_transparent_draws_use() {
     assert_matches_reference("exact_large_texture_drawn_transparent", &drawn, &frame);
 }
 
+/// Texture coordinates at the largest a mesh may have ([`translucid::scene::MAX_UV`]) on a
+/// 200-texel texture put the sampler's texel coordinates past 2^31 either way, where the
+/// software sampler leaves its 32-bit wrap for a 64-bit one; they must wrap as the
+/// reference's do. Every vertex takes the same coordinates, so that the level of detail is
+/// the first (a minified level would have fewer texels and smaller coordinates), and an odd
+/// one, so that a saturated or truncated coordinate picks another texel.
+#[test]
+fn exact_wraps_texture_coordinates_billions_of_texels_away() {
+    let (mut scene, large) = with_large_texture(&scene::load("textured").expect("scene"), 200);
+    scene.transparent.push(large);
+    let far = glam::Vec2::new(16_777_215.0, -16_777_215.0);
+    for mesh in &mut scene.meshes {
+        for uv in mesh.uvs.iter_mut().flatten() {
+            *uv = far;
+        }
+    }
+    let texels = far.x * 200.0;
+    assert!(
+        texels > 2f32.powi(31),
+        "texel coordinates of {texels} stay within 32 bits"
+    );
+    check(
+        &scene,
+        "far_texture_coordinates",
+        96,
+        64,
+        &MethodOptions::default(),
+    );
+}
+
 /// A frame rendered again unchanged creates no pipeline: everything it needs was built with
 /// the renderer or by the frames before.
 #[test]
