@@ -134,7 +134,10 @@ fn exact_matches_reference_with_the_deep_frame_settings_and_one_row_workgroups()
         let shape = frame.bins.expect("exact reports its shape");
         assert_eq!(shape.select_size, 16, "{label}: {shape:?}");
         assert!(shape.slabs >= 16, "{label}: {shape:?}");
-        assert_eq!(shape.rows_per_workgroup, 1, "{label}: {shape:?}");
+        assert_eq!(
+            shape.rows_per_workgroup, shape.tile_rows,
+            "{label}: {shape:?}"
+        );
     };
     for name in scene::generated::NAMES {
         let scene = scene::load(name).expect("generated scene");
@@ -211,6 +214,31 @@ fn exact_matches_reference_with_the_gpu_profile() {
         let frame = check_on(&gpu, &one_depth_stack(300), &label, (45, 37), &small_budget);
         assert!(frame.suspended_rows > 0, "{label}: no row suspended");
     }
+}
+
+/// Bins are tiles of one subgroup's pixels, 8 across and 1 to 8 rows down: on lavapipe the
+/// GPU profile's test above (shallow and deep frames, the vase, near-plane triangles,
+/// suspended tiles) runs again at wider vectors, and this test checks that each took the
+/// tiles its subgroups hold: 8x2 at 16 lanes (512 bits); at 1024 and 2048 bits lavapipe
+/// reports 32 and 64 lanes but runs 16 (`gpu::subgroup_probe`), and tiles stay a row.
+#[test]
+fn exact_matches_reference_with_every_tile_shape() {
+    let gpu = gpu();
+    let scene = scene::load("spheres").expect("scene");
+    let frame = check_on(&gpu, &scene, "tiles", (64, 48), &MethodOptions::default());
+    let shape = frame.bins.expect("exact reports its shape");
+    let tile_rows = 1 << translucid::methods::bins::features::tile_shift(gpu.info().into());
+    assert_eq!(shape.tile_rows, tile_rows, "{shape:?}");
+    if std::env::var("LP_NATIVE_VECTOR_WIDTH").as_deref() == Ok("512") {
+        assert_eq!(shape.tile_rows, 2, "16 lanes: {shape:?}");
+    }
+    translucid_tests::rerun_at_lavapipe_subgroup_sizes(
+        &gpu,
+        &[
+            "exact_matches_reference_with_the_gpu_profile",
+            "exact_matches_reference_with_every_tile_shape",
+        ],
+    );
 }
 
 /// Rows suspend at the device's loop budget and continuation dispatches finish them. Under a

@@ -143,6 +143,28 @@ fn wavelet_in_bins_matches_its_cpu_model() {
     check_wavelet_model(&gpu, &load("particles"), &bins_options(2, 1.0));
 }
 
+/// Wavelet's bins with every tile shape: a tile is one subgroup's pixels, so on lavapipe
+/// [`wavelet_in_bins_matches_its_cpu_model`] runs again at wider vectors (tiles of 8x2 at
+/// 512 bits; exact.rs's tile test says why not wider).
+#[test]
+fn wavelet_in_bins_matches_its_cpu_model_with_every_tile_shape() {
+    let gpu = gpu();
+    let frame = render(&gpu, &load("spheres"), "wavelet", &bins_options(3, 0.0));
+    let tile_rows = 1 << translucid::methods::bins::features::tile_shift(gpu.info().into());
+    let shape = frame.bins.expect("the bins report their shape");
+    assert_eq!(shape.tile_rows, tile_rows, "{shape:?}");
+    if std::env::var("LP_NATIVE_VECTOR_WIDTH").as_deref() == Ok("512") {
+        assert_eq!(shape.tile_rows, 2, "16 lanes: {shape:?}");
+    }
+    translucid_tests::rerun_at_lavapipe_subgroup_sizes(
+        &gpu,
+        &[
+            "wavelet_in_bins_matches_its_cpu_model",
+            "wavelet_in_bins_matches_its_cpu_model_with_every_tile_shape",
+        ],
+    );
+}
+
 /// The coefficient images on the scenes the bins are held to: deep (particles, planes) and
 /// textured (the vase, the generated textured stack, whose textures are minified under
 /// perspective): every pixel within 2/255. The images sample at the reference's level of

@@ -24,17 +24,17 @@ void main() {
     ivec2 rows = sliceRows(r);
     uvec2 depth = triangleDepthBits(t);
     uint slab = slabOf(depth.x, ti);
-    // Do-whiles (raster.comp says why) over the invocation's rows and each row's run of
-    // blocks.
-    int by = rows.x + binningLane();
-    if (by <= rows.y) do {
-        ivec2 run = rowColumns(t, by, r.xz);
+    // Do-whiles (raster.comp says why) over the invocation's tile rows and each one's run
+    // of blocks.
+    int ty = rows.x + binningLane();
+    if (ty <= rows.y) do {
+        ivec2 run = tileColumns(t, ty, r.xz);
         int bx = run.x;
         if (bx <= run.y) do {
-            uint b = binIndex(bx, by) * SLABS + slab;
+            uint b = binIndex(bx, ty) * SLABS + slab;
             atomicAdd(g_binEnds[b], 1u);
         } while (++bx <= run.y);
-    } while ((by += int(ROW_LANES)) <= rows.y);
+    } while ((ty += int(ROW_LANES)) <= rows.y);
     // The slabs' farthest depths take one atomic per subgroup and slab: one per triangle made
     // them the most contended words of the frame (binning a 100k-triangle mesh took twice
     // as long to count as to fill). So the subgroup takes its triangles' slabs one at a time,

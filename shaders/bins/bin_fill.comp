@@ -21,14 +21,14 @@ void main() {
     ivec2 rows = bandRows(sliceRows(r));
     uint capacity = g_counters.binEntryCapacity;
     uint slab = slabOf(triangleDepthBits(t).x, ti);
-    // Do-whiles (raster.comp says why) over the invocation's rows and each row's run of
-    // blocks.
-    int by = rows.x + binningLane();
-    if (by <= rows.y) do {
-        ivec2 run = bandColumns(by, rowColumns(t, by, r.xz));
+    // Do-whiles (raster.comp says why) over the invocation's tile rows and each one's run
+    // of blocks.
+    int ty = rows.x + binningLane();
+    if (ty <= rows.y) do {
+        ivec2 run = bandColumns(ty, tileColumns(t, ty, r.xz));
         int bx = run.x;
         if (bx <= run.y) do {
-            uint b = binIndex(bx, by) * SLABS + slab;
+            uint b = binIndex(bx, ty) * SLABS + slab;
             uint slot = atomicAdd(g_binEnds[b], 1u);
             if (slot < capacity) {
                 g_binEntries[slot] = ti;
@@ -36,5 +36,5 @@ void main() {
                 atomicOr(g_counters.overflow, OVERFLOW_BAND_LISTS);
             }
         } while (++bx <= run.y);
-    } while ((by += int(ROW_LANES)) <= rows.y);
+    } while ((ty += int(ROW_LANES)) <= rows.y);
 }

@@ -18,9 +18,9 @@ void writeBinOffsets() {
     uint block = i < count ? listed : u_push.binsX * u_push.binsY;
     uint first = block * BINS_PER_BLOCK;
     uint offset = blockStart(block);
-    [[unroll]] for (uint row = 0u; row < BIN_SIZE; row++) {
+    [[unroll]] for (uint tile = 0u; tile < TILES_PER_BLOCK; tile++) {
         for (uint k = 0u; k < SLABS; k++) {
-            uint bin = first + row * SLABS + k;
+            uint bin = first + tile * SLABS + k;
             uint binCount = texelFetch(u_binCountTexels, int(bin)).r;
             g_binEnds[bin] = offset;
             offset += binCount;

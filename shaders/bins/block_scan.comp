@@ -11,15 +11,15 @@ layout(local_size_x = SCAN_GROUP_SIZE) in;
 shared uint s_runTotals[SCAN_GROUP_SIZE];
 shared uint s_runListed[SCAN_GROUP_SIZE];
 
-// The per-block loops are unrolled over the block's rows; over the slabs of each row only
+// The per-block loops are unrolled over the block's tiles; over the slabs of each only
 // where the driver chooses to (deep frames have up to MAX_SLABS, too many to unroll).
 void sumBlock() {
     uint block = gl_GlobalInvocationID.x;
     uint first = block * BINS_PER_BLOCK;
     uint total = 0u;
-    [[unroll]] for (uint row = 0u; row < BIN_SIZE; row++) {
+    [[unroll]] for (uint tile = 0u; tile < TILES_PER_BLOCK; tile++) {
         for (uint k = 0u; k < SLABS; k++) {
-            total += texelFetch(u_binCountTexels, int(first + row * SLABS + k)).r;
+            total += texelFetch(u_binCountTexels, int(first + tile * SLABS + k)).r;
         }
     }
     g_blockTotals[block] = total;

@@ -401,7 +401,8 @@ void main() {
             // What the cull is worth, for the host's choice: the blocks the dropped triangles
             // would have been binned into, one atomic per subgroup.
             ivec4 r = binRect(t.bounds);
-            uint blocks = uint(r.z - r.x + 1) * uint(((r.w >> BIN_SHIFT) - (r.y >> BIN_SHIFT)) + 1);
+            uint blocks = uint(r.z - r.x + 1) *
+                          uint(((r.w >> BLOCK_TILE_SHIFT) - (r.y >> BLOCK_TILE_SHIFT)) + 1);
             uint dropped = subgroupAdd(occluded ? blocks : 0u);
             if (dropped > 0u && subgroupElect()) {
                 atomicAdd(g_counters.occludedBlocks, dropped);

@@ -35,7 +35,7 @@ void addToHistogram() {
         listed = r.y <= r.w && r.x <= r.z;
         bits = triangleDepthBits(t).x;
         bucket = bucketOf(bits, lo, range);
-        // The bins of its bounds: rowColumns narrows them, but costs more than the count
+        // The bins of its bounds: tileColumns narrows them, but costs more than the count
         // does.
         weight = listed ? min(uint(r.w - r.y + 1) * uint(r.z - r.x + 1), MOST_WEIGHT) : 0u;
     }

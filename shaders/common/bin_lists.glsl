@@ -22,16 +22,27 @@
 #include "interface_specialization.glsl"
 const uint SLABS = 1u << SLAB_BITS;
 
-// The bins a non-empty pixel rectangle touches: inclusive block columns (x, z) and pixel
+// A bin is a tile of a block: BIN_SIZE pixels across and TILE_ROWS rows down, the pixels one
+// subgroup rasterizes (a row at 8 lanes, 8x4 at 32, the whole block at 64), so that every
+// lane of a GPU's subgroup has a pixel and the subgroup's votes and broadcasts see the
+// whole tile. TILE_SHIFT is the device's (methods/bins/features.rs). Binning works in tile
+// rows (a block has TILES_PER_BLOCK of them) and enters a triangle in a tile where it may
+// cover a pixel centre on any of the tile's rows.
+const uint TILE_ROWS = 1u << TILE_SHIFT;
+const uint TILES_PER_BLOCK = uint(BIN_SIZE) >> TILE_SHIFT;
+const int BLOCK_TILE_SHIFT = BIN_SHIFT - int(TILE_SHIFT);
+
+// The bins a non-empty pixel rectangle touches: inclusive block columns (x, z) and tile
 // rows (y, w).
 ivec4 binRect(ivec4 bounds) {
-    return ivec4(bounds.x >> BIN_SHIFT, bounds.y, (bounds.z - 1) >> BIN_SHIFT, bounds.w - 1);
+    return ivec4(bounds.x >> BIN_SHIFT, bounds.y >> int(TILE_SHIFT), (bounds.z - 1) >> BIN_SHIFT,
+                 (bounds.w - 1) >> int(TILE_SHIFT));
 }
 
-// The bin of block column bx in pixel row y.
-uint binIndex(int bx, int y) {
-    uint block = uint(y >> BIN_SHIFT) * u_push.binsX + uint(bx);
-    return block * BIN_SIZE + uint(y & (BIN_SIZE - 1));
+// The bin of block column bx in tile row ty.
+uint binIndex(int bx, int ty) {
+    uint block = uint(ty >> BLOCK_TILE_SHIFT) * u_push.binsX + uint(bx);
+    return block * TILES_PER_BLOCK + uint(ty & int(TILES_PER_BLOCK - 1u));
 }
 
 // Where the lists of listed block `block` start within the current band's: its offset among
@@ -40,15 +51,15 @@ uint blockStart(uint block) {
     return texelFetch(u_blockTotalTexels, int(block)).r - g_counters.bandBase;
 }
 
-// Where the list of bin `bin` (its first slab's part) of row `row` of listed block `block`
+// Where the list of bin `bin` (its first slab's part) of tile `tile` of listed block `block`
 // starts, once filled: where the bin before it in the block ends (g_binEnds), or, for the
-// block's first row, at the block's start.
-uint binStart(uint block, uint row, uint bin) {
-    return row == 0u ? blockStart(block) : g_binEnds[max(bin, 1u) - 1u];
+// block's first tile, at the block's start.
+uint binStart(uint block, uint tile, uint bin) {
+    return tile == 0u ? blockStart(block) : g_binEnds[max(bin, 1u) - 1u];
 }
 
-// The pixel rows of `r` this binning invocation covers. A triangle's bins are split into
-// slices of u_push.binRowsPerSlice rows, one invocation each (gl_GlobalInvocationID.y), so
+// The tile rows of `r` this binning invocation covers. A triangle's bins are split into
+// slices of u_push.binRowsPerSlice tile rows, one invocation each (gl_GlobalInvocationID.y), so
 // that no invocation loops more than SLICE_ITERATIONS times (bins/mod.rs) however large the
 // triangle and frame; setup sizes the dispatch to the triangle that needs the most
 // (binningSlices). Shallow frames slice each triangle from its first row, so that a frame of
@@ -85,23 +96,24 @@ int binningLane() {
 
 // The slices a triangle with pixel bounds `bounds` needs (sliceRows).
 uint binningSlices(ivec4 bounds) {
-    uint rows = uint(max(bounds.w - (SLABS > 1u ? 0 : bounds.y), 0));
+    ivec4 r = binRect(bounds);
+    uint rows = uint(max(r.w + 1 - (SLABS > 1u ? 0 : r.y), 0));
     return max((rows + u_push.binRowsPerSlice - 1u) / u_push.binRowsPerSlice, 1u);
 }
 
-// The pixel rows of `rows` in the current band's blocks (g_counters.bandFirstBlock to
-// bandLastBlock, in block order), and, on pixel row y, the block columns of `run` in them:
+// The tile rows of `rows` in the current band's blocks (g_counters.bandFirstBlock to
+// bandLastBlock, in block order), and, on tile row ty, the block columns of `run` in them:
 // fill enters only the band's bins, whose lists the band's offsets place.
 ivec2 bandRows(ivec2 rows) {
-    int top = int(g_counters.bandFirstBlock / u_push.binsX) << BIN_SHIFT;
-    int bottom = (int(g_counters.bandLastBlock / u_push.binsX) << BIN_SHIFT) + BIN_SIZE - 1;
+    int top = int(g_counters.bandFirstBlock / u_push.binsX) << BLOCK_TILE_SHIFT;
+    int bottom = ((int(g_counters.bandLastBlock / u_push.binsX) + 1) << BLOCK_TILE_SHIFT) - 1;
     return ivec2(max(rows.x, top), min(rows.y, bottom));
 }
 
-ivec2 bandColumns(int y, ivec2 run) {
+ivec2 bandColumns(int ty, ivec2 run) {
     uint first = g_counters.bandFirstBlock;
     uint last = g_counters.bandLastBlock;
-    uint blockRow = uint(y >> BIN_SHIFT);
+    uint blockRow = uint(ty >> BLOCK_TILE_SHIFT);
     int lo = blockRow == first / u_push.binsX ? int(first % u_push.binsX) : run.x;
     int hi = blockRow == last / u_push.binsX ? int(last % u_push.binsX) : run.y;
     return ivec2(max(run.x, lo), min(run.y, hi));
@@ -184,20 +196,10 @@ void narrowRow(int a, int b, int64_t c, int bias, int py, inout float lo, inout 
     }
 }
 
-// The block columns of pixel row y, within `cols`, that binning enters triangle t in: those
-// that may hold one of its pixel centres. On one row each edge bounds the centres from one
-// side (narrowRow, which covers rounding), so the blocks holding covered centres are
-// consecutive and none of them needs a test of its own. Counting and filling both take the
-// row's blocks from here, so the counts and the lists agree. Homogeneous triangles keep
-// `cols`. Measured on lavapipe: testing every block against the edges as well cost
-// particles' binning 8 ms and hairball's 4; a whole pixel of margin each side instead of
-// narrowRow's slack put 65 % more entries in the dragon's lists, and its raster took a
-// third longer. Thin diagonal triangles (hair) would visit every block of their bounding
-// box without the rows' bounds.
-ivec2 rowColumns(BinTriangle t, int y, ivec2 cols) {
-    if (t.edgeB.w >= 0) {
-        return cols;
-    }
+// The pixel columns of pixel row y that may hold a centre triangle t covers: on one row
+// each edge bounds the centres from one side (narrowRow, which covers rounding), so they
+// are consecutive. Empty where first > last.
+vec2 rowSpan(BinTriangle t, int y) {
     int py = (y << 8) + 128;
     float lo = -1.0e30;
     float hi = 1.0e30;
@@ -207,14 +209,34 @@ ivec2 rowColumns(BinTriangle t, int y, ivec2 cols) {
     narrowRow(t.edgeA.z, t.edgeB.z, t.edgeC.z, (ties >> 2) & 1, py, lo, hi);
     // Pixel x has its centre at 256 x + 128: the first and the last pixel whose centre is in
     // (lo, hi). Scaling by 1/256 is exact.
-    float first = floor((lo - 128.0) * (1.0 / 256.0)) + 1.0;
-    float last = ceil((hi - 128.0) * (1.0 / 256.0)) - 1.0;
-    if (!(first <= last)) {
+    return vec2(floor((lo - 128.0) * (1.0 / 256.0)) + 1.0, ceil((hi - 128.0) * (1.0 / 256.0)) - 1.0);
+}
+
+// The block columns of tile row ty, within `cols`, that binning enters triangle t in: those
+// that may hold one of its pixel centres on one of the tile's rows. The blocks from the
+// first such column to the last, on any of the rows, none tested on its own. Counting and
+// filling both take the tile row's blocks from here, so the counts and the lists agree.
+// Homogeneous triangles keep `cols`. Measured on lavapipe (rows of one pixel): testing
+// every block against the edges as well cost particles' binning 8 ms and hairball's 4; a
+// whole pixel of margin each side instead of narrowRow's slack put 65 % more entries in the
+// dragon's lists, and its raster took a third longer. Thin diagonal triangles (hair) would
+// visit every block of their bounding box without the rows' bounds.
+ivec2 tileColumns(BinTriangle t, int ty, ivec2 cols) {
+    if (t.edgeB.w >= 0) {
+        return cols;
+    }
+    vec2 span = vec2(1.0e30, -1.0e30);
+    int y = ty << int(TILE_SHIFT);
+    do {
+        vec2 row = rowSpan(t, y);
+        span = row.x <= row.y ? vec2(min(span.x, row.x), max(span.y, row.y)) : span;
+    } while (++y < (ty + 1) << int(TILE_SHIFT));
+    if (!(span.x <= span.y)) {
         return ivec2(1, 0);
     }
     // Clamped before converting to int.
-    first = clamp(first, -1.0, 1.0e9);
-    last = clamp(last, -1.0, 1.0e9);
+    float first = clamp(span.x, -1.0, 1.0e9);
+    float last = clamp(span.y, -1.0, 1.0e9);
     return ivec2(max(cols.x, int(first) >> BIN_SHIFT), min(cols.y, int(last) >> BIN_SHIFT));
 }
 

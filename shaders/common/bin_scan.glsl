@@ -1,6 +1,6 @@
 // The scan of the bins' counts into list offsets (binning, pass 2), in three shaders:
-// 1. block_scan.comp: every invocation sums the counts of one block (BIN_SIZE rows of SLABS
-//    slabs) into g_blockTotals; then the workgroup that finishes last (last_group.glsl)
+// 1. block_scan.comp: every invocation sums the counts of one block (TILES_PER_BLOCK bins of
+//    SLABS slabs) into g_blockTotals; then the workgroup that finishes last (last_group.glsl)
 //    turns the block totals into block offsets in place (each invocation scans a contiguous
 //    run of blocks; the runs' sums are scanned in shared memory), lists the blocks with a
 //    non-empty bin, in block order, for the raster, and plans the first band;
@@ -23,7 +23,7 @@
 #include "bins_bindings.glsl"
 #include "bin_lists.glsl"
 
-const uint BINS_PER_BLOCK = BIN_SIZE * SLABS;
+const uint BINS_PER_BLOCK = TILES_PER_BLOCK * SLABS;
 
 // Where the lists of listed blocks [0, i) end: listed block i's offset, or every entry.
 uint listEnd(uint i, uint listed) {

@@ -3,9 +3,9 @@
 #define TRANSLUCID_WAVELET_BINS_GLSL
 // The wavelet method on the bins (shaders/bins/, which exact's raster reads too), with each
 // pixel's coefficients in registers instead of full-screen images. It runs per band, as
-// exact's raster does, one invocation per pixel and rows of BIN_SIZE pixels that walk their
-// row's list in step (raster.comp says why a subgroup must see one row). Three walks over the
-// list:
+// exact's raster does, one invocation per pixel and tiles (a subgroup each) that walk their
+// tile's list in step (raster.comp says why a subgroup must see one tile; "row" below is the
+// tile). Three walks over the list:
 // 1. bounds: the nearest and farthest order depth of the pixel's fragments;
 // 2. transmittance: each fragment adds its absorbance's Haar coefficients;
 // 3. shading: each fragment in front of full absorption adds its radiance times the
@@ -30,13 +30,11 @@
 #include "bins_bindings.glsl"
 #include "raster.glsl"
 #include "bin_lists.glsl"
+#include "raster_tile.glsl"
 #include "texture_sampler.glsl"
 #include "shading.glsl"
 #include "bin_fragment.glsl"
 #include "wavelet.glsl"
-
-// As raster.comp: gl_WorkGroupSize.y rows of a block per workgroup (RASTER_ROWS).
-layout(local_size_x = BIN_SIZE, local_size_y_id = RASTER_ROWS_ID) in;
 
 // Fragments a pixel keeps from walk 1 for the short form of walks 2 and 3.
 const int KEPT = 8;
@@ -62,12 +60,14 @@ void main() {
     // Loads first, outside all control flow (raster.comp says why).
     FrameInfo frame = u_frame;
     uint block = g_rasterBins[g_counters.bandFirst + linearWorkGroup()];
-    uint row = gl_WorkGroupID.y * gl_WorkGroupSize.y + gl_LocalInvocationID.y;
-    uint bin = (block * BIN_SIZE + row) * SLABS;
-    uint first = binStart(block, row, bin);
+    // As raster.comp: groupRows() rows of a block per workgroup, a bin a tile.
+    uint row = gl_WorkGroupID.y * groupRows() + laneRow();
+    uint tile = row >> TILE_SHIFT;
+    uint bin = (block * TILES_PER_BLOCK + tile) * SLABS;
+    uint first = binStart(block, tile, bin);
     uint end = g_binEnds[bin + SLABS - 1u];
     uint lastEntry = max(end, 1u) - 1u;
-    uint x = (block % u_push.binsX) * BIN_SIZE + gl_LocalInvocationID.x;
+    uint x = (block % u_push.binsX) * BIN_SIZE + laneColumn();
     uint y = (block / u_push.binsX) * BIN_SIZE + row;
     if (x >= u_push.width || y >= u_push.height) {
         return;

@@ -1,11 +1,10 @@
 #version 450
-// Bin raster: one invocation per pixel, rows of BIN_SIZE pixels; no shared memory and no
-// barriers. Each row has its own bin: the list of triangles that may cover it, and a row is
-// what subgroup operations (votes, broadcasts, reductions) must see. So a workgroup is one
-// row on devices whose subgroups are wider than a row (most GPUs: 32 or 64; one subgroup
-// then holds the whole workgroup), and a whole 8x8 block where subgroups are exactly a row
-// wide (lavapipe on AVX2), whose subgroups take consecutive invocations, so each is one row.
-// The host requires subgroups of at least BIN_SIZE.
+// Bin raster: one invocation per pixel, tiles of BIN_SIZE pixels across and TILE_ROWS rows
+// down; no shared memory and no barriers. Each tile has its own bin: the list of triangles
+// that may cover it, and a tile is what subgroup operations (votes, broadcasts, reductions)
+// must see: it is one subgroup (bin_lists.glsl, raster_tile.glsl). Below, "the row" is the
+// tile: one row of pixels where subgroups are 8 lanes. The host requires subgroups of at
+// least BIN_SIZE, and holds the device to the size the tiles are made for where it can.
 //
 // Each pixel keeps, as it walks its row's triangles, the SELECT_SIZE nearest fragments behind
 // the last one it composited, sorted in registers by a fully unrolled insertion (constant
@@ -54,6 +53,7 @@
 #include "bins_bindings.glsl"
 #include "raster.glsl"
 #include "bin_lists.glsl"
+#include "raster_tile.glsl"
 #include "texture_sampler.glsl"
 #include "shading.glsl"
 #include "bin_fragment.glsl"
@@ -61,12 +61,10 @@
 #include "pixel.glsl"
 #include "resume.glsl"
 
-// The first dispatch of a band covers the rows of the band's blocks with a non-empty bin
+// The first dispatch of a band covers the tiles of the band's blocks with a non-empty bin
 // (g_rasterBins from g_counters.bandFirst; blocks with none keep the opaque colour):
-// gl_WorkGroupSize.y rows per workgroup (RASTER_ROWS: BIN_SIZE or 1),
-// BIN_SIZE / gl_WorkGroupSize.y workgroups down each block. Continuations have one workgroup
-// per resumed row.
-layout(local_size_x = BIN_SIZE, local_size_y_id = RASTER_ROWS_ID) in;
+// groupRows() rows per workgroup (raster_tile.glsl), BIN_SIZE / groupRows() workgroups down
+// each block. Continuations have one workgroup per resumed tile.
 
 // The raster's own constants (interface_specialization.glsl): CONTINUATION, this dispatch
 // resumes the items of a resume list; SELECT_SIZE, the fragments a pixel keeps. Larger means
@@ -256,12 +254,13 @@ void main() {
     if (!rowToRaster(itemCapacity, resumeCapacity, block, row, stateSlot)) {
         return;
     }
-    // The row's own bin: its slabs' parts of the list, near to far, each ending where the
+    // The tile's own bin: its slabs' parts of the list, near to far, each ending where the
     // next starts (slabEnd).
-    uint bin = (block * BIN_SIZE + row) * SLABS;
-    uint first = binStart(block, row, bin);
+    uint tile = row >> TILE_SHIFT;
+    uint bin = (block * TILES_PER_BLOCK + tile) * SLABS;
+    uint first = binStart(block, tile, bin);
     uint end = g_binEnds[bin + SLABS - 1u];
-    uint x = (block % u_push.binsX) * BIN_SIZE + gl_LocalInvocationID.x;
+    uint x = (block % u_push.binsX) * BIN_SIZE + laneColumn();
     uint y = (block / u_push.binsX) * BIN_SIZE + row;
     if (x >= u_push.width || y >= u_push.height) {
         return;
@@ -274,7 +273,7 @@ void main() {
     Row r = freshRow();
     // A resumed row without a saved state starts over (its pixels are untouched so far).
     if (CONTINUATION && stateSlot != NO_STATE) {
-        resumePixel(stateSlot, resumeCapacity, p, selection, r);
+        resumePixel(stateSlot, resumeCapacity, row, p, selection, r);
     }
 
     // Sweeps of the list, each a loop over its stretches. What a sweep does at its start and

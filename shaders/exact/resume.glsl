@@ -17,13 +17,15 @@
 #include "bin_lists.glsl"
 #include "interface_exact.glsl"
 #include "pixel.glsl"
+#include "raster_tile.glsl"
 
 const bool PARTIAL_WALKS = SLABS > 1u || CONTINUATION;
 
-// The row this workgroup rasterizes: a row of one of the band's listed blocks (the first
-// dispatch), or the next item of resume list u_push.resumeList (a continuation), with its
-// state slot (NO_STATE: it starts over). False for a continuation's workgroup past the
-// list's items (its last row of workgroups may run past them; see suspendRow).
+// The pixel row of a block this invocation rasterizes: one of the band's listed blocks (the
+// first dispatch), or the tile of the next item of resume list u_push.resumeList (a
+// continuation, a workgroup a tile), with its state slot (NO_STATE: it starts over). False
+// for a continuation's workgroup past the list's items (its last row of workgroups may run
+// past them; see suspendRow).
 bool rowToRaster(uint itemCapacity, uint resumeCapacity, out uint block, out uint row,
                  out uint stateSlot) {
     stateSlot = NO_STATE;
@@ -33,21 +35,22 @@ bool rowToRaster(uint itemCapacity, uint resumeCapacity, out uint block, out uin
             return false;
         }
         uint item = g_resumeItems[u_push.resumeList * itemCapacity + index];
-        block = item / BIN_SIZE;
-        row = item % BIN_SIZE;
+        block = item / TILES_PER_BLOCK;
+        row = (item % TILES_PER_BLOCK) * TILE_ROWS + laneRow();
         stateSlot = index < resumeCapacity ? index : NO_STATE;
     } else {
         block = g_rasterBins[g_counters.bandFirst + linearWorkGroup()];
-        row = gl_WorkGroupID.y * gl_WorkGroupSize.y + gl_LocalInvocationID.y;
+        row = gl_WorkGroupID.y * groupRows() + laneRow();
     }
     return true;
 }
 
-// Where a resumed row's pixel left off, from state slot `stateSlot` of the list it resumes.
-void resumePixel(uint stateSlot, uint resumeCapacity, inout Pixel p,
+// Where a resumed tile's pixel (on pixel row `row` of its block) left off, from state slot
+// `stateSlot` of the list it resumes.
+void resumePixel(uint stateSlot, uint resumeCapacity, uint row, inout Pixel p,
                  inout uint64_t selection[SELECT_SIZE], inout Row r) {
     uint slot = u_push.resumeList * resumeCapacity + stateSlot;
-    ExactPixelState state = g_pixelStates[slot * BIN_SIZE + gl_LocalInvocationID.x];
+    ExactPixelState state = g_pixelStates[slot * TILE_PIXELS + tileLane(row)];
     p.radiance = state.radiance.xyz;
     p.transmittance = state.transmittance.xyz;
     p.doneKey = fragmentKey(state.done.x, state.done.y);
@@ -63,9 +66,9 @@ void resumePixel(uint stateSlot, uint resumeCapacity, inout Pixel p,
     }
 }
 
-// Puts the row on the other resume list for the next continuation, with its pixels' states
-// where it finds a state slot. A row without one starts over: what it composited here is
-// counted then (p.fragments is zeroed).
+// Puts the tile (that of pixel row `row` of `block`) on the other resume list for the next
+// continuation, with its pixels' states where it finds a state slot. A tile without one
+// starts over: what it composited here is counted then (p.fragments is zeroed).
 void suspendRow(inout Pixel p, uint64_t selection[SELECT_SIZE], Row r, uint block, uint row,
                 uint itemCapacity, uint resumeCapacity) {
     uint outList = u_push.resumeList ^ 1u;
@@ -88,12 +91,13 @@ void suspendRow(inout Pixel p, uint64_t selection[SELECT_SIZE], Row r, uint bloc
             atomicAdd(g_counters.restartedRows, 1u);
             slot = NO_STATE;
         }
-        g_resumeItems[outList * itemCapacity + item] = block * BIN_SIZE + row;
+        g_resumeItems[outList * itemCapacity + item] =
+            block * TILES_PER_BLOCK + (row >> TILE_SHIFT);
     }
     slot = subgroupBroadcastFirst(slot);
     p.fragments = slot == NO_STATE ? 0u : p.fragments;
     if (slot != NO_STATE) {
-        uint state = (outList * resumeCapacity + slot) * BIN_SIZE + gl_LocalInvocationID.x;
+        uint state = (outList * resumeCapacity + slot) * TILE_PIXELS + tileLane(row);
         g_pixelStates[state].radiance = vec4(p.radiance, 0.0);
         g_pixelStates[state].transmittance = vec4(p.transmittance, 0.0);
         g_pixelStates[state].done = uvec4(unpackUint2x32(p.doneKey).yx, p.finished ? 1u : 0u, 0u);

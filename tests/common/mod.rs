@@ -414,3 +414,39 @@ pub fn assert_one_depth_order(gpu: &Gpu, method: &str) {
         );
     }
 }
+
+/// Lavapipe's reported subgroups follow `LP_NATIVE_VECTOR_WIDTH` (bits): 16, 32 and 64
+/// lanes at 512, 1024 and 2048 (8, the default, at 256).
+const LAVAPIPE_WIDTHS: [(&str, u32); 3] = [("512", 16), ("1024", 32), ("2048", 64)];
+
+/// Runs `tests`, tests of this test binary, again in a child process for each of lavapipe's
+/// wider subgroup sizes, and fails if any fails there. Only from a process on lavapipe at its
+/// own width (else it runs nothing and says so): a GPU runs the tests at its own size, and a
+/// child does not start children.
+pub fn rerun_at_lavapipe_subgroup_sizes(gpu: &Gpu, tests: &[&str]) {
+    if !gpu.info().name.contains("llvmpipe") || std::env::var_os("LP_NATIVE_VECTOR_WIDTH").is_some()
+    {
+        eprintln!(
+            "{} with subgroups of {}: not rerun at other sizes",
+            gpu.info().name,
+            gpu.info().subgroup_size
+        );
+        return;
+    }
+    let exe = std::env::current_exe().expect("the test binary");
+    for (width, lanes) in LAVAPIPE_WIDTHS {
+        let out = std::process::Command::new(&exe)
+            .args(tests)
+            .args(["--exact", "--nocapture"])
+            .env("LP_NATIVE_VECTOR_WIDTH", width)
+            .output()
+            .expect("the test binary runs");
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        let passed = format!("{} passed; 0 failed", tests.len());
+        assert!(
+            out.status.success() && stdout.contains(&passed),
+            "{tests:?} with subgroups of {lanes} (LP_NATIVE_VECTOR_WIDTH={width}):\n{stdout}\n{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+}

@@ -11,6 +11,17 @@ pub fn run() -> translucid::Result<()> {
             d.index, d.name, d.kind, d.api_version, d.driver
         );
         println!("    subgroup size            {}", d.subgroup_size);
+        // The bin rasters' tiles: one subgroup's pixels where pipelines can be held to whole
+        // subgroups (docs/gpu.md).
+        let tile_rows = 1 << translucid::methods::bins::features::tile_shift((&d).into());
+        println!(
+            "    bin tiles                8x{tile_rows}{}",
+            if d.full_subgroups {
+                " (whole subgroups required)"
+            } else {
+                " (no subgroup size control: a row)"
+            }
+        );
         // The variants it gets (docs/gpu.md); TRANSLUCID_PROFILE forces another when rendering.
         let forced = translucid::gpu::Profile::from_env()?;
         println!(

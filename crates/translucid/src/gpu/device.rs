@@ -52,6 +52,12 @@ pub struct DeviceInfo {
     pub subgroup_size: u32,
     /// Compute shaders have the subgroup votes, ballots and reductions the exact raster uses.
     pub compute_subgroup_operations: bool,
+    /// Compute pipelines can be held to whole subgroups of `subgroup_size` invocations
+    /// (`VK_EXT_subgroup_size_control`'s required size and full subgroups, enabled on the
+    /// devices translucid makes): the bin rasters' tiles span a subgroup only where they are
+    /// (`methods::bins::features::tile_shift`). Off on an engine's device, whose enabled
+    /// features translucid cannot see past the core ones.
+    pub full_subgroups: bool,
     pub max_shared_memory: u32,
     pub max_storage_buffer_range: u32,
     pub max_texel_buffer_elements: u32,
@@ -227,9 +233,11 @@ pub(super) fn describe(
 ) -> DeviceInfo {
     let mut subgroup = vk::PhysicalDeviceSubgroupProperties::default();
     let mut driver = vk::PhysicalDeviceDriverProperties::default();
+    let mut size_control = vk::PhysicalDeviceSubgroupSizeControlProperties::default();
     let mut props2 = vk::PhysicalDeviceProperties2::default()
         .push_next(&mut subgroup)
-        .push_next(&mut driver);
+        .push_next(&mut driver)
+        .push_next(&mut size_control);
     // SAFETY: pd came from this instance; the chained structs outlive the call.
     let features = unsafe {
         instance.get_physical_device_properties2(pd, &mut props2);
@@ -238,7 +246,10 @@ pub(super) fn describe(
     let p = props2.properties;
     let limits = p.limits;
     let mut conditional = vk::PhysicalDeviceConditionalRenderingFeaturesEXT::default();
-    let mut features2 = vk::PhysicalDeviceFeatures2::default().push_next(&mut conditional);
+    let mut size_features = vk::PhysicalDeviceSubgroupSizeControlFeatures::default();
+    let mut features2 = vk::PhysicalDeviceFeatures2::default()
+        .push_next(&mut conditional)
+        .push_next(&mut size_features);
     // SAFETY: as above.
     let extensions = unsafe {
         instance.get_physical_device_features2(pd, &mut features2);
@@ -249,6 +260,16 @@ pub(super) fn describe(
         && extensions
             .iter()
             .any(|e| e.extension_name_as_c_str() == Ok(ash::ext::conditional_rendering::NAME));
+    let full_subgroups = size_features.subgroup_size_control == vk::TRUE
+        && size_features.compute_full_subgroups == vk::TRUE
+        && size_control
+            .required_subgroup_size_stages
+            .contains(vk::ShaderStageFlags::COMPUTE)
+        && (size_control.min_subgroup_size..=size_control.max_subgroup_size)
+            .contains(&subgroup.subgroup_size)
+        && extensions
+            .iter()
+            .any(|e| e.extension_name_as_c_str() == Ok(ash::ext::subgroup_size_control::NAME));
     let v = p.api_version;
     DeviceInfo {
         index,
@@ -277,6 +298,7 @@ pub(super) fn describe(
                     | vk::SubgroupFeatureFlags::ARITHMETIC
                     | vk::SubgroupFeatureFlags::BALLOT,
             ),
+        full_subgroups,
         max_shared_memory: limits.max_compute_shared_memory_size,
         max_storage_buffer_range: limits.max_storage_buffer_range,
         max_texel_buffer_elements: limits.max_texel_buffer_elements,
@@ -416,8 +438,8 @@ impl Gpu {
                 return Err(e);
             }
         };
-        match create_device(&instance, physical, &info) {
-            Ok((device, allocator, submission)) => Ok(Self(Arc::new(Shared {
+        let gpu = match create_device(&instance, physical, &info) {
+            Ok((device, allocator, submission)) => Self(Arc::new(Shared {
                 conditional_rendering: info
                     .conditional_rendering
                     .then(|| ash::ext::conditional_rendering::Device::new(&instance, &device)),
@@ -440,12 +462,36 @@ impl Gpu {
                 render_passes: Default::default(),
                 submitting: Mutex::new(()),
                 info,
-            }))),
+            })),
             Err(e) => {
                 destroy_instance(&instance, &messenger);
-                Err(e)
+                return Err(e);
             }
+        };
+        gpu.with_checked_subgroups()
+    }
+
+    /// This new device, with `full_subgroups` off unless a workgroup held to whole subgroups
+    /// really runs in one ([`subgroup_probe`](super::subgroup_probe)).
+    fn with_checked_subgroups(mut self) -> Result<Self> {
+        if !self.info.full_subgroups {
+            return Ok(self);
         }
+        let lanes = super::subgroup_probe::lanes_per_subgroup(&self)?;
+        let size = self.info.subgroup_size;
+        if lanes != size {
+            log::warn!(
+                "{}: a workgroup held to whole subgroups of {size} lanes ran in subgroups of \
+                 {lanes}; the bin rasters' tiles are one row",
+                self.info.name
+            );
+            // The probe's objects are gone, so this is the only reference.
+            Arc::get_mut(&mut self.0)
+                .expect("no clone of a device being made")
+                .info
+                .full_subgroups = false;
+        }
+        Ok(self)
     }
 }
 
@@ -459,6 +505,7 @@ impl Gpu {
         let submission = self.submission?;
         let info = &self.info;
         let features = enabled_features(info);
+        // (Its subgroup size control is not passed on: an engine's device has none.)
         let extensions = if info.conditional_rendering {
             vec![ash::ext::conditional_rendering::NAME.to_owned()]
         } else {
@@ -762,15 +809,22 @@ fn create_device(
     let features = enabled_features(info);
     let mut conditional =
         vk::PhysicalDeviceConditionalRenderingFeaturesEXT::default().conditional_rendering(true);
-    let conditional_name = [ash::ext::conditional_rendering::NAME.as_ptr()];
+    let mut size_control = vk::PhysicalDeviceSubgroupSizeControlFeatures::default()
+        .subgroup_size_control(true)
+        .compute_full_subgroups(true);
+    let mut extension_names = Vec::new();
     let mut create = vk::DeviceCreateInfo::default()
         .queue_create_infos(&queues)
         .enabled_features(&features);
     if info.conditional_rendering {
-        create = create
-            .enabled_extension_names(&conditional_name)
-            .push_next(&mut conditional);
+        extension_names.push(ash::ext::conditional_rendering::NAME.as_ptr());
+        create = create.push_next(&mut conditional);
     }
+    if info.full_subgroups {
+        extension_names.push(ash::ext::subgroup_size_control::NAME.as_ptr());
+        create = create.push_next(&mut size_control);
+    }
+    let create = create.enabled_extension_names(&extension_names);
     // SAFETY: create info and its pointees live until the call returns.
     let device = unsafe { instance.create_device(physical, &create, None) }
         .map_err(vk_err("vkCreateDevice"))?;

@@ -258,6 +258,7 @@ impl Gpu {
         info.geometry_shader = host.features.geometry_shader == vk::TRUE;
         info.independent_blend = host.features.independent_blend == vk::TRUE;
         info.conditional_rendering = false;
+        info.full_subgroups = false;
         info.profile = host
             .profile
             .or(super::Profile::from_env()?)

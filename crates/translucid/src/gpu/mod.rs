@@ -37,6 +37,7 @@ mod retirement;
 mod rounded_division_tests;
 #[cfg(test)]
 mod spirv_checks;
+mod subgroup_probe;
 mod timestamps;
 mod validation;
 

@@ -2,7 +2,7 @@
 
 use super::error::vk_err;
 use super::{Buffer, Gpu, Profile};
-use crate::interface::specialization::{Specialization, ROUNDED_DIVISION};
+use crate::interface::specialization::{Specialization, RASTER_GROUP_SIZE, ROUNDED_DIVISION};
 use crate::interface::{BindingType, SetDecl};
 use crate::{scene, Result};
 use ash::vk;
@@ -459,11 +459,25 @@ impl ComputePipeline {
         let specialization = vk::SpecializationInfo::default()
             .map_entries(&entries)
             .data(&data);
-        let stage = vk::PipelineShaderStageCreateInfo::default()
+        let mut stage = vk::PipelineShaderStageCreateInfo::default()
             .stage(vk::ShaderStageFlags::COMPUTE)
             .module(module)
             .name(c"main")
             .specialization_info(&specialization);
+        let subgroup_size = gpu.info().subgroup_size;
+        let mut required = vk::PipelineShaderStageRequiredSubgroupSizeCreateInfo::default()
+            .required_subgroup_size(subgroup_size);
+        // The bin rasters' workgroups (RASTER_GROUP_SIZE invocations) hold tiles of one
+        // subgroup each: a driver free to split a workgroup into partial subgroups (lavapipe
+        // does, at 32 lanes) would split tiles. Held to whole subgroups of the device's size
+        // where it can be (`DeviceInfo::full_subgroups`; else tiles are a row: see
+        // `methods::bins::features::tile_shift`).
+        let group = constants.word(RASTER_GROUP_SIZE);
+        if gpu.info().full_subgroups && group.is_some_and(|g| g % subgroup_size == 0) {
+            stage = stage
+                .flags(vk::PipelineShaderStageCreateFlags::REQUIRE_FULL_SUBGROUPS)
+                .push_next(&mut required);
+        }
         let info = [vk::ComputePipelineCreateInfo::default()
             .stage(stage)
             .layout(layout)];

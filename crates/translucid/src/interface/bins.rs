@@ -4,10 +4,10 @@
 use super::{Binding, Include, SetDecl, StructDecl};
 
 shader_constants! {
-    /// Blocks are BIN_SIZE x BIN_SIZE pixels; one workgroup rasterizes one block, one
-    /// subgroup-sized row of invocations per row of pixels. Each row of a block is a bin of its
-    /// own with its own triangle list (bin = block * BIN_SIZE + row), so a row walks only the
-    /// triangles that touch it.
+    /// Blocks are BIN_SIZE x BIN_SIZE pixels, in tiles of BIN_SIZE x TILE_ROWS, one subgroup's
+    /// pixels (bin_lists.glsl). Each tile is a bin of its own with its own triangle list
+    /// (bin = block * TILES_PER_BLOCK + tile), so a tile walks only the triangles that touch
+    /// it.
     pub const BIN_SHIFT: u32 as int = 3;
     pub const BIN_SIZE: u32 as int = 1 << BIN_SHIFT;
     /// A bin's list may be ordered by depth slab (bin_lists.glsl), into at most MAX_SLABS; the
@@ -418,7 +418,7 @@ pub const BINS_SET: SetDecl = SetDecl::new(
         )
         .doc(&[
             "Indirect dispatches written on the GPU, each a VkDispatchIndirectCommand padded to",
-            "16 bytes (x = count): k = 0, 1 dispatch the items of resume list k, the rows a",
+            "16 bytes (x = count): k = 0, 1 dispatch the items of resume list k, the tiles a",
             "raster dispatch left unfinished, one workgroup each, u_push.groupsX to a row in x",
             "and the rest in z (the fourth word counts them); DISPATCH_RASTER_BINS counts the",
             "current band's blocks with a non-empty bin (listed in g_rasterBins from the band's",
@@ -432,8 +432,8 @@ pub const BINS_SET: SetDecl = SetDecl::new(
             "DISPATCH_BAND_FILL for each band. DRAW_COMPOSITE is a VkDrawIndirectCommand: the",
             "composite's quad (6 vertices) for each listed block, counted by the scan.",
             "Items of resume list k start at k * g_counters.resumeItemCapacity (room for every",
-            "row of the frame): block * BIN_SIZE + row. Item i takes state slot i while there",
-            "is one (below resumeCapacity; the rows past them start over); what a slot keeps",
+            "tile of the frame): block * TILES_PER_BLOCK + tile. Item i takes state slot i while",
+            "there is one (below resumeCapacity; the tiles past them start over); what a slot keeps",
             "is the suspending raster's own binding (exact's: interface_exact.glsl).",
         ]),
         // Where the rasters write.

@@ -33,9 +33,9 @@ shader_struct! {
     }
 }
 
-/// The bins' set with the states of the rows the raster suspends: slot s of resume list k
-/// keeps its pixels' states at (k * resumeCapacity + s) * BIN_SIZE (interface_bins_set.glsl
-/// says how rows take slots).
+/// The bins' set with the states of the tiles the raster suspends: slot s of resume list k
+/// keeps its pixels' states at (k * resumeCapacity + s) * TILE_PIXELS (raster_tile.glsl;
+/// interface_bins_set.glsl says how tiles take slots).
 pub const EXACT_RASTER_SET: SetDecl = SetDecl {
     set: "1",
     extends: Some(&BINS_SET),

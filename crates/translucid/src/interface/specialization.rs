@@ -78,20 +78,29 @@ impl Specialization {
     pub fn words(&self) -> &[(u32, u32)] {
         &self.words
     }
+
+    /// The word `constant` is set to, if it is set.
+    pub fn word<T: SpecWord>(&self, constant: SpecConstant<T>) -> Option<u32> {
+        let i = self
+            .words
+            .binary_search_by_key(&constant.id, |&(id, _)| id)
+            .ok()?;
+        Some(self.words[i].1)
+    }
 }
 
 /// A constant's declaration, for the GLSL include.
 pub struct SpecDecl {
     pub id: u32,
     pub name: &'static str,
-    /// `None` for a workgroup size (`local_size_y_id = NAME_ID`), which is not declared as a
+    /// `None` for a workgroup size (`local_size_x_id = NAME_ID`), which is not declared as a
     /// constant.
     pub glsl: Option<(&'static str, String)>,
     pub doc: &'static [&'static str],
 }
 
 /// Declares the specialization constants: a typed [`SpecConstant`] each, and `declarations`,
-/// their GLSL. `workgroup_size` is a `u32` the shaders use as `local_size_y_id = NAME_ID`.
+/// their GLSL. `workgroup_size` is a `u32` the shaders use as `local_size_x_id = NAME_ID`.
 macro_rules! spec_constants {
     (@rust workgroup_size) => { u32 };
     (@rust $ty:ident) => { $ty };
@@ -167,8 +176,9 @@ spec_constants! {
     11 => pub const CONTINUATION: bool = false;
     /// The exact raster: fragments a pixel keeps as it walks its row's list.
     12 => pub const SELECT_SIZE: i32 = 8;
-    /// The rasters: rows of a block per workgroup (a subgroup must see one row).
-    13 => pub const RASTER_ROWS: workgroup_size = 1;
+    /// The rasters: invocations per workgroup, whole rows of a block's pixels (a subgroup
+    /// must see one tile: raster_tile.glsl).
+    13 => pub const RASTER_GROUP_SIZE: workgroup_size = 8;
     /// linked_list: nodes are written through a texel view (they pass one storage binding).
     14 => pub const NODES_AS_TEXELS: bool = false;
     /// The engine's depth import: the engine's depth is reversed-Z.
@@ -191,6 +201,9 @@ spec_constants! {
     /// (rounded_division.glsl): Vulkan lets a division be 2.5 ulp off, and only CPU drivers
     /// divide exactly. Every pipeline gets it from the profile (`gpu::pipeline`).
     21 => pub const ROUNDED_DIVISION: bool = false;
+    /// A bin is a tile of 2^TILE_SHIFT pixel rows of a block, one subgroup's pixels
+    /// (bin_lists.glsl): the device's subgroup size over BIN_SIZE.
+    22 => pub const TILE_SHIFT: u32 = 0;
 }
 
 /// The GLSL of every constant.

@@ -173,9 +173,11 @@ pub struct BinShape {
     pub select_size: u32,
     /// Depth slabs each bin's list is ordered by.
     pub slabs: u32,
+    /// Pixel rows of a bin's tile: one subgroup's pixels (8 across).
+    pub tile_rows: u32,
     /// Rows of a block per workgroup of a band's first raster dispatch.
     pub rows_per_workgroup: u32,
-    /// Bin rows one binning invocation covers at most.
+    /// Tile rows one binning invocation covers at most.
     pub rows_per_slice: u32,
     /// Loop iterations a raster's row took at most in one dispatch.
     pub loop_budget: u32,

@@ -9,8 +9,8 @@
 use super::layout::BIN_SIZE;
 use crate::interface::specialization::{
     Specialization, BRANCHING, DEEP_BINNING_LANES, FACE_NORMALS, FLAT_COLOURS, HOMOGENEOUS_PATH,
-    LOOP_BUDGET, RASTER_ROWS, RECORDS_AS_TEXELS, SKIP_OCCLUSION_CULL, SLAB_BITS, TEXTURES,
-    TRANSMISSION, VERTEX_COLOURS, VERTEX_NORMALS,
+    LOOP_BUDGET, RASTER_GROUP_SIZE, RECORDS_AS_TEXELS, SKIP_OCCLUSION_CULL, SLAB_BITS, TEXTURES,
+    TILE_SHIFT, TRANSMISSION, VERTEX_COLOURS, VERTEX_NORMALS,
 };
 use crate::raster::{clip_position, model_view_projection, viewport_transform, GUARD_BAND};
 use crate::scene::Scene;
@@ -28,8 +28,12 @@ pub struct RasterFeatures {
     pub face_normals: bool,
     /// Each bin's list holds 2^slab_bits depth slabs.
     pub slab_bits: u32,
+    /// A bin is a tile of 2^tile_shift pixel rows of a block, one subgroup's pixels
+    /// ([`tile_shift`]).
+    pub tile_shift: u32,
     /// Rows of a block per workgroup of the first raster dispatch: a subgroup must see one
-    /// row, so BIN_SIZE only where subgroups are exactly a row wide, else 1.
+    /// tile, so the whole block where subgroups are exactly a row wide (eight of them a
+    /// workgroup), else a tile (a workgroup a subgroup).
     pub rows: u32,
     /// Some draw's material transmits light (transmission above 0).
     pub transmission: bool,
@@ -56,10 +60,10 @@ impl RasterFeatures {
         meshes: &[MeshFacts],
         width: u32,
         height: u32,
-        subgroup_size: u32,
+        subgroups: Subgroups,
     ) -> Self {
         let near_plane = homogeneous_triangles(scene, meshes, width, height);
-        Self::of_frame(scene, meshes, near_plane, subgroup_size)
+        Self::of_frame(scene, meshes, near_plane, subgroups)
     }
 
     /// [`Self::of`] with [`homogeneous_triangles`] of the frame already counted
@@ -68,7 +72,7 @@ impl RasterFeatures {
         scene: &Scene,
         meshes: &[MeshFacts],
         near_plane: u64,
-        subgroup_size: u32,
+        subgroups: Subgroups,
     ) -> Self {
         let draws = || scene.transparent.iter();
         let lit = |d: &crate::scene::Draw| scene.materials[d.material].lit;
@@ -78,10 +82,11 @@ impl RasterFeatures {
             vertex_normals: draws().any(|d| lit(d) && scene.meshes[d.mesh].normals.is_some()),
             face_normals: draws().any(|d| lit(d) && scene.meshes[d.mesh].normals.is_none()),
             slab_bits: 0,
-            rows: if subgroup_size == BIN_SIZE {
+            tile_shift: tile_shift(subgroups),
+            rows: if subgroups.size == BIN_SIZE {
                 BIN_SIZE
             } else {
-                1
+                1 << tile_shift(subgroups)
             },
             transmission: draws().any(|d| scene.materials[d.material].transmission > 0.0),
             vertex_colours: draws()
@@ -103,6 +108,7 @@ impl RasterFeatures {
     pub fn for_frame(self, fresh: Self) -> Self {
         Self {
             slab_bits: self.slab_bits,
+            tile_shift: self.tile_shift,
             rows: self.rows,
             loop_budget: self.loop_budget,
             branching: self.branching,
@@ -133,10 +139,11 @@ impl RasterFeatures {
         1 << self.slab_bits
     }
 
-    /// The constants of the binning stages: the slabs and the lanes per triangle.
+    /// The constants of the binning stages: the slabs, the tiles and the lanes per triangle.
     pub fn binning_constants(&self) -> Specialization {
         Specialization::new()
             .with(SLAB_BITS, self.slab_bits)
+            .with(TILE_SHIFT, self.tile_shift)
             .with(DEEP_BINNING_LANES, self.deep_binning_lanes)
     }
 
@@ -166,9 +173,40 @@ impl RasterFeatures {
     pub fn raster_constants(&self) -> Specialization {
         self.record_constants()
             .with(TRANSMISSION, self.transmission)
-            .with(RASTER_ROWS, self.rows)
+            .with(RASTER_GROUP_SIZE, BIN_SIZE * self.rows)
             .with(LOOP_BUDGET, self.loop_budget)
             .with(BRANCHING, self.branching)
+    }
+}
+
+/// A device's compute subgroups, as the rasters' tiles need them.
+#[derive(Clone, Copy, Debug)]
+pub struct Subgroups {
+    /// Invocations in a subgroup.
+    pub size: u32,
+    /// Pipelines can be held to whole subgroups of that size (`DeviceInfo::full_subgroups`).
+    pub full: bool,
+}
+
+impl From<&crate::gpu::DeviceInfo> for Subgroups {
+    fn from(info: &crate::gpu::DeviceInfo) -> Self {
+        Self {
+            size: info.subgroup_size,
+            full: info.full_subgroups,
+        }
+    }
+}
+
+/// Pixel rows of a tile, as a power of two: a tile is one subgroup's pixels, so that none of
+/// its lanes idles (8x1 at 8 lanes, 8x2 at 16, 8x4 at 32, a whole 8x8 block at 64 or more).
+/// A device that cannot be held to whole subgroups may split a workgroup of several rows
+/// into partial subgroups, which would split a tile: there a tile is one row, in a workgroup
+/// of its own, as no subgroup is smaller than a row (`Bins::new` refuses such devices).
+pub fn tile_shift(subgroups: Subgroups) -> u32 {
+    if subgroups.full {
+        (subgroups.size / BIN_SIZE).clamp(1, BIN_SIZE).ilog2()
+    } else {
+        0
     }
 }
 
@@ -438,6 +476,7 @@ mod tests {
             vertex_normals: false,
             face_normals: false,
             slab_bits: 0,
+            tile_shift: 0,
             rows: 1,
             transmission: false,
             vertex_colours: false,
@@ -523,7 +562,7 @@ mod tests {
     fn generated_scenes_need_only_the_fixed_path_and_no_textures() {
         for name in ["layers", "spheres", "planes"] {
             let scene = crate::scene::generated::generate(name).expect("scene");
-            let f = RasterFeatures::of(&scene, &MeshFacts::of_scene(&scene), 640, 360, 8);
+            let f = RasterFeatures::of(&scene, &MeshFacts::of_scene(&scene), 640, 360, EIGHT);
             assert!(!f.homogeneous && !f.textures, "{name}: {f:?}");
         }
     }
@@ -576,6 +615,19 @@ mod tests {
         );
     }
 
+    const EIGHT: Subgroups = Subgroups {
+        size: 8,
+        full: true,
+    };
+
+    #[test]
+    fn a_tile_is_one_subgroups_pixels_up_to_a_block() {
+        let rows = |size| 1 << tile_shift(Subgroups { size, full: true });
+        assert_eq!([8, 16, 32, 64, 128].map(rows), [1, 2, 4, 8, 8]);
+        let partial = |size| 1 << tile_shift(Subgroups { size, full: false });
+        assert_eq!([8, 16, 32, 64, 128].map(partial), [1; 5]);
+    }
+
     #[test]
     fn deep_binning_takes_a_row_of_lanes_per_triangle_while_the_dispatch_allows() {
         assert_eq!(deep_binning_lanes(4096), BIN_SIZE);
@@ -587,8 +639,14 @@ mod tests {
     fn colours_are_flat_only_when_every_quad_has_one() {
         let particles = crate::scene::generated::generate("particles").expect("scene");
         assert!(
-            RasterFeatures::of(&particles, &MeshFacts::of_scene(&particles), 640, 360, 8)
-                .flat_colours
+            RasterFeatures::of(
+                &particles,
+                &MeshFacts::of_scene(&particles),
+                640,
+                360,
+                EIGHT
+            )
+            .flat_colours
         );
         let mut mesh = crate::scene::Mesh::from_quads("q", vec![Vec3::ZERO; 4], vec![[0, 1, 2, 3]]);
         assert!(flat_colours(&mesh), "no colours");

@@ -83,9 +83,9 @@ pub struct RasterNeeds {
 pub struct SuspendedRows {
     /// The bins' set extended by the binding.
     pub set: &'static SetDecl,
-    /// The binding's name in `set`, and the bytes it keeps for one row.
+    /// The binding's name in `set`, and the bytes it keeps for one tile.
     pub binding: &'static str,
-    pub bytes_per_row: u64,
+    pub bytes_per_tile: u64,
     /// State slots each of the two resume lists starts with (unless
     /// `BinOptions::initial_resume_rows` says otherwise).
     pub initial_slots: u32,
@@ -401,14 +401,14 @@ impl Bins {
         }
         let (width, height) = (targets.extent.width, targets.extent.height);
         let meshes = MeshFacts::of_scene(scene);
-        let state_bytes = raster.suspended_rows.map_or(0, |rows| rows.bytes_per_row);
+        let state_bytes = raster.suspended_rows.map_or(0, |rows| rows.bytes_per_tile);
         let most = most_capacities(gpu, options, state_bytes);
         let near_plane = features::homogeneous_triangles(scene, &meshes, width, height);
-        let mut features = RasterFeatures::of_frame(scene, &meshes, near_plane, info.subgroup_size);
+        let mut features = RasterFeatures::of_frame(scene, &meshes, near_plane, info.into());
         features.homogeneous &= !options.assume_fixed_path;
         features.slab_bits = raster.slab_bits;
         if options.assume_wide_subgroups {
-            features.rows = 1;
+            features.rows = 1 << features.tile_shift;
         }
         features.loop_budget = options.loop_budget.map_or(info.loop_budget, |b| {
             b.clamp(LEAST_LOOP_BUDGET, info.loop_budget)
@@ -555,8 +555,8 @@ impl Bins {
         // Triangles that may take the near-plane path: the records' bound and the feature.
         let near_plane = features::homogeneous_triangles(f.scene, &self.meshes, width, height);
         let homogeneous = homogeneous_bound(&self.most, near_plane);
-        let subgroup_size = self.gpu.info().subgroup_size;
-        let mut fresh = RasterFeatures::of_frame(f.scene, &self.meshes, near_plane, subgroup_size);
+        let subgroups = self.gpu.info().into();
+        let mut fresh = RasterFeatures::of_frame(f.scene, &self.meshes, near_plane, subgroups);
         fresh.homogeneous =
             (fresh.homogeneous && !self.fixed_path_forced) || self.homogeneous_missed;
         let features = self.features.for_frame(fresh);
@@ -974,6 +974,7 @@ impl Bins {
         super::BinShape {
             select_size: 0,
             slabs: recorded.features.slabs(),
+            tile_rows: 1 << recorded.features.tile_shift,
             rows_per_workgroup: recorded.features.rows,
             rows_per_slice: recorded.rows_per_slice,
             loop_budget: recorded.features.loop_budget,

@@ -307,7 +307,7 @@ fn growable(gpu: &Gpu, c: Capacities, suspended: Option<SuspendedRows>) -> Resul
     let triangles = u64::from(c.triangles);
     let resume_items = 2 * u64::from(c.resume_items);
     let row_states = |rows: SuspendedRows| {
-        let bytes = 2 * u64::from(c.resume.max(1)) * rows.bytes_per_row;
+        let bytes = 2 * u64::from(c.resume.max(1)) * rows.bytes_per_tile;
         storage_buffer(gpu, "suspended row states", bytes)
     };
     Ok(Growable {

@@ -96,7 +96,10 @@ impl Exact {
         let needs = RasterNeeds {
             method: "exact",
             slab_bits: depth.slab_bits,
-            suspended_rows: Some(resume::suspended_rows(deep)),
+            suspended_rows: Some(resume::suspended_rows(
+                deep,
+                features::tile_shift(gpu.info().into()),
+            )),
         };
         let mut bins = Bins::new(gpu, scene, gpu_scene, targets, bins, &expected, needs)?;
         bins.set_threshold(options.threshold);

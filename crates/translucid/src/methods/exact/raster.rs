@@ -5,7 +5,10 @@
 use super::depth::Depth;
 use crate::assets::GpuScene;
 use crate::gpu::ComputePipeline;
-use crate::interface::specialization::{Specialization, CONTINUATION, RASTER_ROWS, SELECT_SIZE};
+use crate::interface::bins::BIN_SIZE;
+use crate::interface::specialization::{
+    Specialization, CONTINUATION, RASTER_GROUP_SIZE, SELECT_SIZE,
+};
 use crate::methods::bins::features::RasterFeatures;
 use crate::methods::bins::Bins;
 use crate::Result;
@@ -16,7 +19,7 @@ const RASTER: &[u8] = crate::spirv!("exact/raster.comp");
 pub struct Raster {
     /// Over a band's blocks.
     pub first: Arc<ComputePipeline>,
-    /// Over the rows on a resume list, one workgroup each.
+    /// Over the tiles on a resume list, one workgroup each.
     pub continuation: Arc<ComputePipeline>,
     /// What they were specialized for.
     built_for: (RasterFeatures, Depth),
@@ -43,14 +46,14 @@ impl Raster {
 }
 
 /// The raster's constants: those of every raster over the bins, the selection, and whether
-/// it is a continuation (a workgroup a row).
+/// it is a continuation (a workgroup a tile).
 fn constants(features: &RasterFeatures, depth: Depth, continuation: bool) -> Specialization {
     let constants = features
         .raster_constants()
         .with(SELECT_SIZE, depth.select_size as i32)
         .with(CONTINUATION, continuation);
     if continuation {
-        constants.with(RASTER_ROWS, 1)
+        constants.with(RASTER_GROUP_SIZE, BIN_SIZE << features.tile_shift)
     } else {
         constants
     }

@@ -8,8 +8,9 @@ use crate::interface::exact::{ExactPixelState, EXACT_RASTER_SET};
 use crate::methods::bins::{Bins, SuspendedRows};
 use crate::methods::RecordContext;
 
-/// State slots each resume list starts with, in frames expected to be deep (`Depth::is_deep`)
-/// and in the others. Rows suspend only where one walks tens of thousands of list entries
+/// State slots each resume list starts with, in rows' worth, in frames expected to be deep
+/// (`Depth::is_deep`) and in the others (a tile of several rows takes one slot for all of
+/// them). Rows suspend only where one walks tens of thousands of list entries
 /// (pixels hundreds of fragments deep): none of the bench's six scenes at 1280x720 suspends
 /// one, and a shallow frame only in a crowded bin, whose block has BIN_SIZE rows. A slot holds
 /// a row's pixels (1.5 KB, and as much again on the other list), so slots for a sixteenth of a
@@ -18,16 +19,17 @@ use crate::methods::RecordContext;
 const DEEP_STATE_SLOTS: u32 = 256;
 const SHALLOW_STATE_SLOTS: u32 = 4 * BIN_SIZE;
 
-/// What the raster keeps of a suspended row: its pixels' states.
-pub fn suspended_rows(deep: bool) -> SuspendedRows {
+/// What the raster keeps of a suspended tile of 2^tile_shift rows: its pixels' states.
+pub fn suspended_rows(deep: bool, tile_shift: u32) -> SuspendedRows {
+    let pixels = u64::from(BIN_SIZE << tile_shift);
     SuspendedRows {
         set: &EXACT_RASTER_SET,
         binding: "PixelStateBlock",
-        bytes_per_row: u64::from(BIN_SIZE) * std::mem::size_of::<ExactPixelState>() as u64,
+        bytes_per_tile: pixels * std::mem::size_of::<ExactPixelState>() as u64,
         initial_slots: if deep {
-            DEEP_STATE_SLOTS
+            DEEP_STATE_SLOTS >> tile_shift
         } else {
-            SHALLOW_STATE_SLOTS
+            SHALLOW_STATE_SLOTS >> tile_shift
         },
     }
 }
