@@ -12,14 +12,17 @@ pub fn run() -> translucid::Result<()> {
         );
         println!("    subgroup size            {}", d.subgroup_size);
         // The bin rasters' tiles: one subgroup's pixels where pipelines can be held to whole
-        // subgroups (docs/gpu.md).
+        // subgroups, which a probe checks when a device is made (docs/gpu.md).
         let tile_rows = 1 << translucid::methods::bins::features::tile_shift((&d).into());
         println!(
-            "    bin tiles                8x{tile_rows}{}",
+            "    bin tiles                {}",
             if d.full_subgroups {
-                " (whole subgroups required)"
+                format!(
+                    "8x{tile_rows}, if a probe finds whole subgroups of {} lanes",
+                    d.subgroup_size
+                )
             } else {
-                " (no subgroup size control: a row)"
+                "8x1 (no subgroup size control)".to_string()
             }
         );
         // The variants it gets (docs/gpu.md); TRANSLUCID_PROFILE forces another when rendering.

@@ -472,25 +472,32 @@ impl Gpu {
     }
 
     /// This new device, with `full_subgroups` off unless a workgroup held to whole subgroups
-    /// really runs in one ([`subgroup_probe`](super::subgroup_probe)).
+    /// really runs in one ([`subgroup_probe`](super::subgroup_probe)), or where
+    /// `TRANSLUCID_BIN_TILES=row` asks for the bins' tiles of one row (docs/gpu.md, A/B).
     fn with_checked_subgroups(mut self) -> Result<Self> {
         if !self.info.full_subgroups {
             return Ok(self);
         }
-        let lanes = super::subgroup_probe::lanes_per_subgroup(&self)?;
-        let size = self.info.subgroup_size;
-        if lanes != size {
-            log::warn!(
-                "{}: a workgroup held to whole subgroups of {size} lanes ran in subgroups of \
-                 {lanes}; the bin rasters' tiles are one row",
-                self.info.name
-            );
-            // The probe's objects are gone, so this is the only reference.
-            Arc::get_mut(&mut self.0)
-                .expect("no clone of a device being made")
-                .info
-                .full_subgroups = false;
-        }
+        let keep = if row_tiles_forced()? {
+            log::info!("TRANSLUCID_BIN_TILES=row: the bins' tiles are one row");
+            false
+        } else {
+            let lanes = super::subgroup_probe::lanes_per_subgroup(&self)?;
+            let size = self.info.subgroup_size;
+            if lanes != size {
+                log::warn!(
+                    "{}: a workgroup held to whole subgroups of {size} lanes ran in subgroups \
+                     of {lanes}; the bins' tiles are one row",
+                    self.info.name
+                );
+            }
+            lanes == size
+        };
+        // The probe's objects are gone, so this is the only reference.
+        Arc::get_mut(&mut self.0)
+            .expect("no clone of a device being made")
+            .info
+            .full_subgroups = keep;
         Ok(self)
     }
 }
@@ -776,6 +783,18 @@ fn create_allocator(
 }
 
 type DeviceParts = (ash::Device, Allocator, Submission);
+
+/// Whether `TRANSLUCID_BIN_TILES` asks for tiles of one row (`row`) rather than the device's
+/// (`subgroup`, or unset).
+fn row_tiles_forced() -> Result<bool> {
+    match std::env::var("TRANSLUCID_BIN_TILES").as_deref() {
+        Ok("row") => Ok(true),
+        Ok("subgroup" | "") | Err(_) => Ok(false),
+        Ok(other) => Err(Error::InvalidOption(format!(
+            "TRANSLUCID_BIN_TILES: {other:?} is neither \"row\" nor \"subgroup\""
+        ))),
+    }
+}
 
 /// The features translucid enables on a device it makes: the optional ones where present
 /// (methods that need one check DeviceInfo).

@@ -25,8 +25,8 @@ pub struct HostRequirements {
     pub api_version: u32,
     /// What the queue family the engine names must support.
     pub queue_flags: vk::QueueFlags,
-    /// The features every method together needs (blend: dual-source blending; exact: 64-bit
-    /// shader integers and floats), each `vk::TRUE`.
+    /// The features every method together needs (blend: dual-source blending; exact and
+    /// wavelet: 64-bit shader integers), each `vk::TRUE`.
     pub features: vk::PhysicalDeviceFeatures,
     /// Device extensions; none today.
     pub extensions: &'static [&'static CStr],
