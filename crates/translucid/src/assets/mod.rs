@@ -76,18 +76,13 @@ impl SceneSlot {
         materials: &Buffer,
         draw_bytes: u64,
     ) -> Result<Self> {
-        let frame = gpu.create_buffer(
+        // Per-frame data: written by the host into the slot before each frame recorded in it.
+        let frame = gpu.create_per_frame_buffer(
             "frame info",
             std::mem::size_of::<GpuFrameInfo>() as u64,
             vk::BufferUsageFlags::UNIFORM_BUFFER,
-            MemoryLocation::CpuToGpu,
         )?;
-        let draws = gpu.create_buffer(
-            "scene draws",
-            draw_bytes,
-            SCENE_STORAGE,
-            MemoryLocation::CpuToGpu,
-        )?;
+        let draws = gpu.create_per_frame_buffer("scene draws", draw_bytes, SCENE_STORAGE)?;
         let set = layout.create_named_set(&[
             ("FrameBlock", Resource::Buffer(&frame)),
             ("DrawBlock", Resource::Buffer(&draws)),

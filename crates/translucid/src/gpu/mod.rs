@@ -5,7 +5,8 @@
 //!   names one, and with `TRANSLUCID_VALIDATION=1` turns on the Khronos validation layer and
 //!   fails every submission that produced a validation error (`validation.rs`).
 //! - `memory.rs`: buffers and images from `gpu-allocator`, with a running count of live bytes
-//!   and its peak so a frame can report its GPU memory; `append.rs`: buffers that grow by
+//!   and its peak so a frame can report its GPU memory, and a list of the live allocations
+//!   with their memory and role (per-frame data, staging); `append.rs`: buffers that grow by
 //!   appending, shared by the versions of a context's assets.
 //! - `commands.rs`: one-shot command buffers (record, submit, wait) and barrier helpers.
 //! - `pipeline.rs`: shader modules from build.rs's SPIR-V, descriptor layouts, pipelines.
@@ -53,7 +54,10 @@ pub use host::{
 };
 pub use host_depth::DepthImport;
 pub use memory::MemoryLocation;
-pub use memory::{Buffer, BufferView, GpuImage, MemoryStats, ViewedBuffer};
+pub use memory::{
+    AllocationInfo, AllocationUsage, Buffer, BufferView, GpuImage, MemoryRole, MemoryStats,
+    ViewedBuffer,
+};
 pub use pipeline::{
     BindingKind, Blend, ComputePipeline, DepthMode, DescriptorLayout, DescriptorSet,
     GraphicsPipeline, GraphicsPipelineDesc, PipelineState, RenderTarget, RenderTargetDesc,
