@@ -406,45 +406,30 @@ impl Buffer {
         &self.gpu
     }
 
-    /// Copies `data` into a host-visible buffer at `offset`, through a shared reference.
-    ///
-    /// # Safety
-    /// Nothing else on the host reads or writes `[offset, offset + data.len())` of the
-    /// mapping while it runs (no other call of this, no reference from [`Self::read`]). (The
-    /// GPU must not use the range meanwhile either, as for any write to mapped memory.)
-    pub(crate) unsafe fn write_unaliased(&self, offset: u64, data: &[u8]) -> Result<()> {
-        let mapped = self
-            .host_visible()
-            .and_then(|a| a.mapped_ptr())
-            .ok_or_else(|| {
-                crate::Error::Internal(format!(
-                    "write to {}, a buffer that is not host-visible",
-                    self.name
-                ))
-            })?;
+    /// Copies `data` into a host-visible buffer at `offset`. (A device-local buffer is
+    /// filled by an upload, `gpu::staging`: writing it fails on every device, also where its
+    /// memory is mapped.)
+    pub fn write(&mut self, offset: u64, data: &[u8]) -> Result<()> {
         let end = offset + data.len() as u64;
         if end > self.size {
             return Err(crate::Error::Internal(format!(
-                "write of {end} bytes past a {}-byte buffer",
-                self.size
+                "write of {end} bytes past the {}-byte {}",
+                self.size, self.name
             )));
         }
-        // SAFETY: the range is within the mapping (checked), and the caller guarantees
-        // that nothing else accesses it meanwhile.
-        unsafe {
-            std::ptr::copy_nonoverlapping(
-                data.as_ptr(),
-                mapped.as_ptr().cast::<u8>().add(offset as usize),
-                data.len(),
-            );
-        }
+        let name = &self.name;
+        let mapped = self
+            .allocation
+            .as_mut()
+            .filter(|m| m.location != MemoryLocation::GpuOnly)
+            .and_then(|m| m.allocation.mapped_slice_mut())
+            .ok_or_else(|| {
+                crate::Error::Internal(format!(
+                    "write to {name}, a buffer that is not host-visible"
+                ))
+            })?;
+        mapped[offset as usize..end as usize].copy_from_slice(data);
         Ok(())
-    }
-
-    /// Copies `data` into a host-visible buffer at `offset`.
-    pub fn write(&mut self, offset: u64, data: &[u8]) -> Result<()> {
-        // SAFETY: `&mut self` rules out every other host access to the mapping.
-        unsafe { self.write_unaliased(offset, data) }
     }
 
     /// The first word of a host-visible buffer the GPU may be writing right now (a frame the
@@ -517,13 +502,6 @@ impl ViewedBuffer {
             view: gpu.create_buffer_view(&buffer, format)?,
             buffer,
         })
-    }
-
-    /// Read-only `data`, uploaded once, viewed as texels of `format`.
-    pub fn with_data(gpu: &Gpu, name: &str, data: &[u8], format: vk::Format) -> Result<Self> {
-        let buffer =
-            gpu.create_buffer_with_data(name, vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER, data)?;
-        Self::new(gpu, buffer, format)
     }
 }
 

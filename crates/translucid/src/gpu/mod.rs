@@ -6,8 +6,10 @@
 //!   fails every submission that produced a validation error (`validation.rs`).
 //! - `memory.rs`: buffers and images from `gpu-allocator`, with a running count of live bytes
 //!   and its peak so a frame can report its GPU memory, and a list of the live allocations
-//!   with their memory and role (per-frame data, staging); `append.rs`: buffers that grow by
-//!   appending, shared by the versions of a context's assets.
+//!   with their memory and role (per-frame data, staging); `append.rs`: device-local buffers
+//!   that grow by appending, shared by the versions of a context's assets; `staging.rs`:
+//!   uploads into device-local memory (staged copies), run at once on translucid's own
+//!   device and carried by the next frame on the engine's.
 //! - `commands.rs`: one-shot command buffers (record, submit, wait) and barrier helpers.
 //! - `pipeline.rs`: shader modules from build.rs's SPIR-V, descriptor layouts, pipelines.
 //! - `attachments.rs`: render passes over a method's own sets of attachments.
@@ -36,6 +38,7 @@ mod profile;
 mod retirement;
 #[cfg(test)]
 mod spirv_checks;
+mod staging;
 mod timestamps;
 mod validation;
 
@@ -66,6 +69,7 @@ pub use pipeline::{
 pub use pipeline_cache::ComputePipelineCache;
 pub use profile::Profile;
 pub use retirement::Retirement;
+pub use staging::{Upload, Uploads};
 pub use timestamps::Timestamps;
 
 /// SPIR-V bytes compiled by build.rs from `shaders/<folder>/<file>`.
