@@ -915,9 +915,11 @@ typedef struct translucid_frame_statistics {
     uint64_t pipelines_created;
     /**
      * GPU memory that call allocated, in bytes: the first frames of a renderer, a frame
-     * larger than any before with its method and settings, frames that need larger buffers, the first frame after assets were created (their images;
-     * meshes and materials go into room left for them) or after so many were destroyed
-     * that the live ones are uploaded anew; 0 in a warm frame loop.
+     * larger than any before with its method and settings, frames that need larger buffers, the first frame after assets were created (their images, and
+     * the staging their texels are copied from, freed once copied; meshes and materials go
+     * into device-local room left for them, copied from staging only past 64 KiB of data)
+     * or after so many were destroyed that the live ones are uploaded anew; 0 in a warm
+     * frame loop.
      */
     uint64_t bytes_allocated;
     /**

@@ -17,7 +17,10 @@ use translucid::renderer::Renderer;
 use translucid::scene::motion::Orbit;
 use translucid::scene::{Camera, Projection, Scene};
 use translucid::OpaqueLayer;
-use translucid_tests::{crowded_bin, near_plane_scene, one_depth_stack};
+use translucid_tests::{
+    assert_only_per_frame_data_is_host_visible, asset, crowded_bin, near_plane_scene,
+    one_depth_stack, staging_allocations,
+};
 
 const W: u32 = 96;
 const H: u32 = 64;
@@ -1107,8 +1110,9 @@ fn engine_images_in_synchronization2_layouts() {
 
 /// On the engine's device, a texture added after the first frame (`ResidentAssets::extended`)
 /// is copied into its image by the next frame recorded over the grown assets, and again by a
-/// later one when the frame that carried it was never submitted. `blend` samples the images
-/// (the compute methods read the texels from a host-visible buffer): its frame over the
+/// later one when the frame that carried it was never submitted (its staging kept until
+/// then, freed once that frame completes); so is the mesh added with it, into the
+/// device-local vertex and index buffers. `blend` samples the images: its frame over the
 /// copies is the frame over the originals.
 #[test]
 fn textures_added_later_are_uploaded_by_the_next_frame() {
@@ -1120,9 +1124,15 @@ fn textures_added_later_are_uploaded_by_the_next_frame() {
         // SAFETY: the engine's live objects, outliving `gpu` (dropped at the end of this block).
         let gpu = unsafe { Gpu::from_host(&engine.host_device()) }.expect("host device");
         let images = EngineImages::of_layer(&gpu, &layer, 1).expect("engine images");
+        let engines = staging_allocations(&gpu);
         let mut first = Renderer::new(&gpu, &scene, MethodKind::Blend, W, H).expect("renderer");
         one_engine_frame(&engine, &gpu, &images, &mut first);
         let expected = images.srgb(0).expect("readback");
+        assert_eq!(
+            staging_allocations(&gpu),
+            engines,
+            "the first frame's uploads ran"
+        );
         let extended = std::sync::Arc::new(
             first
                 .resident()
@@ -1158,13 +1168,97 @@ fn textures_added_later_are_uploaded_by_the_next_frame() {
             // SAFETY: ended unsubmitted, reset by the next begin.
             unsafe { engine.device.end_command_buffer(engine.cmds[0]) }.expect("end");
         }
+        // The abandoned frame's uploads are pending again, their staging kept for the next.
+        let pending = staging_allocations(&gpu);
+        assert!(
+            pending.len() > engines.len(),
+            "the added texture's staging went with the abandoned frame: {pending:?}"
+        );
         one_engine_frame(&engine, &gpu, &images, &mut sharing());
+        assert_eq!(
+            staging_allocations(&gpu),
+            engines,
+            "the next frame's uploads completed"
+        );
         let got = images.srgb(0).expect("readback");
         let worst = worst_difference(&got, &expected);
         assert_eq!(
             worst, 0,
             "{worst}/255 off the frame over the original assets"
         );
+    }
+    assert_no_validation_errors();
+}
+
+/// On an engine's device, which translucid never submits to, the assets are device-local
+/// too: a vendored scene with a textured transparent surface (spot) is uploaded by staged
+/// copies that exact's first frame records into the engine's command buffer. Their staging
+/// lives until translucid knows that frame completed (a submission that ran is not enough),
+/// then goes: live memory drops by exactly its bytes, and only the engine's own staging (its
+/// opaque layer's) is left. The frame over the copies matches the reference, and nothing the
+/// pipelines read is host-visible but per-frame data.
+#[test]
+fn assets_are_device_local_and_their_staging_goes_when_the_first_frame_completes() {
+    let path = asset("spot/spot_blend.gltf");
+    let scene = translucid::scene::load(path.to_str().expect("utf-8 path")).expect("spot");
+    let layer = OpaqueLayer::clear(W, H, scene.background);
+    let engine = Engine::new();
+    {
+        // SAFETY: the engine's live objects, outliving `gpu` (dropped at the end of this block).
+        let gpu = unsafe { Gpu::from_host(&engine.host_device()) }.expect("host device");
+        let images = EngineImages::of_layer(&gpu, &layer, 1).expect("engine images");
+        let engines = staging_allocations(&gpu);
+        let mut renderer = Renderer::new(&gpu, &scene, MethodKind::Exact, W, H).expect("renderer");
+        let staged: Vec<_> = staging_allocations(&gpu)
+            .into_iter()
+            .filter(|s| !engines.contains(s))
+            .collect();
+        let texture_bytes = scene.textures[0].texel_bytes();
+        let staged_bytes: u64 = staged.iter().map(|(_, bytes)| bytes).sum();
+        assert!(
+            staged_bytes >= texture_bytes,
+            "the texture's {texture_bytes} bytes wait in staging for the first frame: {staged:?}"
+        );
+        record_engine_frame(&engine, &gpu, &images, &mut renderer, 0);
+        engine.submit_and_wait();
+        assert_eq!(
+            staging_allocations(&gpu).len(),
+            engines.len() + staged.len(),
+            "the staging goes only when translucid knows the frame completed"
+        );
+        let live = gpu.memory_in_use().0;
+        let done = renderer
+            .complete_host()
+            .expect("complete")
+            .expect("the submission finished, so the commands ran");
+        assert!(!done.overflowed, "{done:?}");
+        assert_eq!(
+            staging_allocations(&gpu),
+            engines,
+            "the uploads' staging outlived the frame that carried them"
+        );
+        assert_eq!(
+            live - gpu.memory_in_use().0,
+            staged_bytes,
+            "completing the frame freed other than the staging"
+        );
+        assert_only_per_frame_data_is_host_visible(
+            &gpu,
+            "exact on the engine's device",
+            &[
+                "scene vertices",
+                "scene quads",
+                "scene materials",
+                "sampled texels",
+                "sampled texture records",
+                scene.textures[0].name.as_str(),
+            ],
+        );
+        let want = translucid::reference::render(&scene, &layer)
+            .expect("reference")
+            .to_srgb8();
+        let worst = worst_difference(&images.srgb(0).expect("readback"), &want);
+        assert!(worst <= 2, "{worst}/255 off the reference");
     }
     assert_no_validation_errors();
 }

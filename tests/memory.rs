@@ -14,12 +14,18 @@
 //! triangles, as small, in a closed surface of the dragon's bounds, material and framing (exact
 //! 13.3 MB, linked_list 28.1 MB). The dragon itself, and the stained-glass lamp, are checked
 //! too when the collection is there.
+//!
+//! And where that memory is: the scene's assets in device-local memory, filled by staged
+//! copies; host-visible memory for per-frame data only (docs/gpu.md, "Memory").
 
 use glam::{Mat4, Vec3, Vec4};
 use translucid::methods::MethodKind;
 use translucid::renderer::Renderer;
 use translucid::scene::{self, Camera, Draw, Material, Mesh, Scene};
-use translucid_tests::{asset, gpu, say_no_shared_scenes, shared_scenes};
+use translucid_tests::{
+    assert_only_per_frame_data_is_host_visible, asset, gpu, say_no_shared_scenes, shared_scenes,
+    staging_allocations,
+};
 
 const SIZE: (u32, u32) = (1280, 720);
 
@@ -168,5 +174,51 @@ fn exact_takes_at_most_half_of_linked_lists_memory_on_shared_scenes() {
             .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
         let name = relative.rsplit('/').next().unwrap_or(relative);
         check(name, &scene);
+    }
+}
+
+/// No buffer a shader reads every frame is host-visible but the per-frame ones (frame info,
+/// the scene's and the bins' draws): on a vendored scene with a textured transparent
+/// surface (spot), exact's and blend's frames read the scene's vertices, indices, quads,
+/// materials, texture images and (exact) the software sampler's texels, records and sRGB
+/// table from device-local memory, and no staging outlives the uploads on translucid's own
+/// device.
+#[test]
+fn assets_are_device_local_and_only_per_frame_data_is_host_visible() {
+    let path = asset("spot/spot_blend.gltf");
+    let scene = scene::load(path.to_str().expect("utf-8 path")).expect("vendored scene");
+    assert!(
+        scene
+            .transparent
+            .iter()
+            .any(|d| scene.materials[d.material].texture.is_some()),
+        "spot has a textured transparent draw"
+    );
+    let texture = scene.textures[0].name.as_str();
+    let buffers = [
+        "scene vertices",
+        "scene indices",
+        "scene quads",
+        "scene materials",
+    ];
+    let sampled = ["sampled texels", "sampled texture records", "sRGB table"];
+    let gpu = gpu();
+    for kind in [MethodKind::Exact, MethodKind::Blend] {
+        let mut renderer = Renderer::new(&gpu, &scene, kind, 160, 120).expect("renderer");
+        for _ in 0..2 {
+            renderer.render(false).expect("frame");
+        }
+        let mut device_local = buffers.to_vec();
+        device_local.push(texture);
+        if kind == MethodKind::Exact {
+            device_local.extend(sampled);
+        }
+        assert_only_per_frame_data_is_host_visible(&gpu, kind.name(), &device_local);
+        let staging = staging_allocations(&gpu);
+        assert!(
+            staging.is_empty(),
+            "{}: staging left after the uploads: {staging:?}",
+            kind.name()
+        );
     }
 }

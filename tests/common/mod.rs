@@ -450,3 +450,58 @@ pub fn rerun_at_lavapipe_subgroup_sizes(gpu: &Gpu, tests: &[&str]) {
         );
     }
 }
+
+/// Checks where `gpu`'s live memory is (docs/gpu.md, "Memory"): no allocation the GPU's
+/// pipelines read (vertices, indices, uniforms, storage, texel buffers, images) was asked in
+/// host-visible memory unless it is per-frame data, written by the host for each frame
+/// ([`MemoryRole::PerFrame`]: frame info, draws). Everything else host-visible is staging
+/// or a readback, which only copies touch. Lavapipe's memory is all host-visible, so what
+/// is checked is the memory each allocation asked for, which is what a GPU gives.
+///
+/// Not vacuous: each of `device_local` (names of allocations, such as the scene's vertex
+/// buffer) must be live and device-local, and some per-frame buffer must be live.
+/// `what` names the case in the messages.
+pub fn assert_only_per_frame_data_is_host_visible(gpu: &Gpu, what: &str, device_local: &[&str]) {
+    use translucid::gpu::MemoryRole;
+    let live = gpu.allocations();
+    let offenders: Vec<String> = live
+        .iter()
+        .filter(|a| a.read_by_pipelines() && a.host_visible() && a.role != MemoryRole::PerFrame)
+        .map(|a| {
+            format!(
+                "{} ({} bytes, {:?}, {:?})",
+                a.name, a.bytes, a.location, a.usage
+            )
+        })
+        .collect();
+    assert!(
+        offenders.is_empty(),
+        "{what}: the pipelines read {} host-visible allocation(s) that are not per-frame \
+         data:\n  {}",
+        offenders.len(),
+        offenders.join("\n  ")
+    );
+    for name in device_local {
+        assert!(
+            live.iter()
+                .any(|a| a.name == *name && a.read_by_pipelines() && !a.host_visible()),
+            "{what}: no device-local allocation named {name:?} is live (live: {:?})",
+            live.iter().map(|a| &a.name).collect::<Vec<_>>()
+        );
+    }
+    assert!(
+        live.iter()
+            .any(|a| a.role == MemoryRole::PerFrame && a.host_visible() && a.read_by_pipelines()),
+        "{what}: no per-frame allocation is live, so the check above saw no frame's data"
+    );
+}
+
+/// The live staging allocations of `gpu` (host-visible data on its way into device-local
+/// memory), as (name, bytes).
+pub fn staging_allocations(gpu: &Gpu) -> Vec<(String, u64)> {
+    gpu.allocations()
+        .into_iter()
+        .filter(|a| a.role == translucid::gpu::MemoryRole::Staging)
+        .map(|a| (a.name, a.bytes))
+        .collect()
+}

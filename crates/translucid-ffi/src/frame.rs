@@ -239,9 +239,11 @@ pub struct translucid_frame_statistics {
     /// of the one it replaces).
     pub pipelines_created: u64,
     /// GPU memory that call allocated, in bytes: the first frames of a renderer, a frame
-    /// larger than any before with its method and settings, frames that need larger buffers, the first frame after assets were created (their images;
-    /// meshes and materials go into room left for them) or after so many were destroyed
-    /// that the live ones are uploaded anew; 0 in a warm frame loop.
+    /// larger than any before with its method and settings, frames that need larger buffers, the first frame after assets were created (their images, and
+    /// the staging their texels are copied from, freed once copied; meshes and materials go
+    /// into device-local room left for them, copied from staging only past 64 KiB of data)
+    /// or after so many were destroyed that the live ones are uploaded anew; 0 in a warm
+    /// frame loop.
     pub bytes_allocated: u64,
     /// Fragments blended unsorted because they found no room (`TRANSLUCID_METHOD_LINKED_LIST`
     /// past its `translucid_linked_list_settings::node_budget`): the image is not exact where

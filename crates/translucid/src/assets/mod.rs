@@ -15,7 +15,7 @@ pub use sampled::SampledViews;
 
 use crate::gpu::{
     vk, Buffer, DepthMode, DescriptorLayout, DescriptorSet, Gpu, GpuImage, GraphicsPipeline,
-    GraphicsPipelineDesc, MemoryLocation, PipelineState, Resource,
+    GraphicsPipelineDesc, MemoryLocation, PipelineState, Resource, Upload,
 };
 use crate::interface::scene::SCENE_SET;
 use crate::interface::specialization::Specialization;
@@ -76,18 +76,13 @@ impl SceneSlot {
         materials: &Buffer,
         draw_bytes: u64,
     ) -> Result<Self> {
-        let frame = gpu.create_buffer(
+        // Per-frame data: written by the host into the slot before each frame recorded in it.
+        let frame = gpu.create_per_frame_buffer(
             "frame info",
             std::mem::size_of::<GpuFrameInfo>() as u64,
             vk::BufferUsageFlags::UNIFORM_BUFFER,
-            MemoryLocation::CpuToGpu,
         )?;
-        let draws = gpu.create_buffer(
-            "scene draws",
-            draw_bytes,
-            SCENE_STORAGE,
-            MemoryLocation::CpuToGpu,
-        )?;
+        let draws = gpu.create_per_frame_buffer("scene draws", draw_bytes, SCENE_STORAGE)?;
         let set = layout.create_named_set(&[
             ("FrameBlock", Resource::Buffer(&frame)),
             ("DrawBlock", Resource::Buffer(&draws)),
@@ -161,6 +156,10 @@ pub struct GpuScene {
     extent: (u32, u32),
     /// Meshes whose vertices moved since the last frame was recorded.
     moved_meshes: Vec<usize>,
+    /// Frames recorded whole and frames completed (on the engine's device), which say
+    /// which frame carries the assets' pending uploads and when they ran.
+    frames_recorded: u64,
+    frames_completed: u64,
 }
 
 impl GpuScene {
@@ -209,6 +208,8 @@ impl GpuScene {
             transparent_calls: Vec::new(),
             extent: (width, height),
             moved_meshes: Vec::new(),
+            frames_recorded: 0,
+            frames_completed: 0,
         };
         gpu_scene.set_frame(gpu, scene)?;
         Ok(gpu_scene)
@@ -223,8 +224,8 @@ impl GpuScene {
             ));
         }
         resident.check_scene(scene)?;
-        // Uploads recorded into a frame still in flight are carried by the new version
-        // (`ResidentAssets::extended`), staging and all: the old version may go now.
+        // The versions share their buffers and the queue of uploads into them (staging
+        // and all, until the frames that carried them complete): the old version may go now.
         self.resident = resident;
         Ok(())
     }
@@ -492,24 +493,28 @@ impl GpuScene {
 }
 
 impl GpuScene {
-    /// On the engine's device: records the texture uploads into this frame's command buffer
-    /// unless a frame (of any renderer over the same assets) recorded them.
+    /// On the engine's device: records into this frame's command buffer the assets'
+    /// uploads (buffers, textures, the software sampler's copies) that no frame (of any
+    /// renderer over the same assets) carries, before anything reads them.
     pub fn record_pending_uploads(&self, gpu: &Gpu, cmd: vk::CommandBuffer) {
-        self.resident.record_pending_uploads(gpu, cmd);
+        self.resident
+            .record_pending_uploads(gpu, cmd, self.id, self.frames_recorded + 1);
     }
 
-    /// The frame that recorded the pending uploads (textures, moved vertices) was recorded
+    /// The frame that recorded the pending uploads (assets, moved vertices) was recorded
     /// whole (and submitted, or handed to the engine): later frames need not record them.
-    /// A recording that failed leaves them pending.
+    /// A recording that failed leaves them to the next.
     pub fn uploads_recorded(&mut self) {
-        self.resident.uploads_recorded(self.id);
+        self.frames_recorded += 1;
         self.moved_meshes.clear();
     }
 
-    /// A frame recorded with this scene completed: the texture staging goes if its uploads
-    /// were recorded here.
+    /// The oldest frame recorded with this scene and not completed yet completed: the
+    /// uploads it (or a frame before it) carried ran, and their staging goes.
     pub fn uploads_completed(&mut self) {
-        self.resident.uploads_completed(self.id);
+        self.frames_completed += 1;
+        self.resident
+            .uploads_completed(self.id, self.frames_completed);
     }
 }
 
@@ -521,13 +526,13 @@ impl Drop for GpuScene {
     }
 }
 
-/// Creates the textures' images (all mips) and their filled staging buffers.
+/// Creates the textures' images (all mips) and the uploads of their texels.
 pub(crate) fn create_textures<'a>(
     gpu: &Gpu,
     textures: impl Iterator<Item = &'a Texture>,
-) -> Result<(Vec<GpuImage>, Vec<Buffer>)> {
+) -> Result<(Vec<Arc<GpuImage>>, Vec<Upload>)> {
     let mut images = Vec::new();
-    let mut staging = Vec::new();
+    let mut uploads = Vec::new();
     let max = gpu.info().max_image_dimension_2d;
     for t in textures {
         // Checked before anything is created: a driver may crash on an image it cannot make.
@@ -544,7 +549,7 @@ pub(crate) fn create_textures<'a>(
         } else {
             vk::Format::R8G8B8A8_UNORM
         };
-        let image = gpu.create_image(
+        let image = Arc::new(gpu.create_image(
             &t.name,
             vk::Extent2D {
                 width: t.width(),
@@ -553,69 +558,14 @@ pub(crate) fn create_textures<'a>(
             format,
             vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST,
             t.levels.len() as u32,
-        )?;
+        )?);
         let bytes: Vec<u8> = t
             .levels
             .iter()
             .flat_map(|l| l.texels.iter().flatten().copied())
             .collect();
-        staging.push(gpu.create_buffer_with_data(
-            "texture staging",
-            vk::BufferUsageFlags::TRANSFER_SRC,
-            &bytes,
-        )?);
+        uploads.push(Upload::to_image(gpu, &image, &t.name, &bytes)?);
         images.push(image);
     }
-    Ok((images, staging))
-}
-
-/// Records the copies of `staging` into `images`, leaving them in SHADER_READ_ONLY_OPTIMAL.
-pub(crate) fn record_texture_uploads(
-    gpu: &Gpu,
-    cmd: vk::CommandBuffer,
-    images: &[GpuImage],
-    staging: &[Buffer],
-) {
-    for (image, buffer) in images.iter().zip(staging) {
-        // After every command before it: an upload recorded again (its first frame was
-        // abandoned while another was in flight) waits for the frames that read the image.
-        let before = (
-            vk::PipelineStageFlags::ALL_COMMANDS,
-            vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE,
-        );
-        let transfer = (
-            vk::PipelineStageFlags::TRANSFER,
-            vk::AccessFlags::TRANSFER_WRITE,
-        );
-        crate::gpu::image_barrier(
-            gpu,
-            cmd,
-            image,
-            vk::ImageLayout::UNDEFINED,
-            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-            before,
-            transfer,
-        );
-        let mut offset = 0u64;
-        let mut regions = Vec::new();
-        for level in 0..image.mip_levels {
-            let region = crate::gpu::mip_region(image, level, offset);
-            offset += u64::from(region.image_extent.width * region.image_extent.height * 4);
-            regions.push(region);
-        }
-        gpu.cmd_copy_buffer_to_image_levels(cmd, buffer, image, &regions);
-        let read = (
-            vk::PipelineStageFlags::FRAGMENT_SHADER | vk::PipelineStageFlags::COMPUTE_SHADER,
-            vk::AccessFlags::SHADER_READ,
-        );
-        crate::gpu::image_barrier(
-            gpu,
-            cmd,
-            image,
-            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-            transfer,
-            read,
-        );
-    }
+    Ok((images, uploads))
 }

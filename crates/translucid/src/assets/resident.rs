@@ -7,6 +7,10 @@
 //! Assets added later extend them ([`ResidentAssets::extended`]): the new version appends
 //! the new data to the same buffers (which have room to spare) and keeps the textures made
 //! before, so that adding a mesh uploads that mesh, not every asset again.
+//!
+//! Every buffer and image here is device-local, filled by uploads (`gpu::staging`): at once
+//! on translucid's own device; on an engine's, by the next frame recorded over any version
+//! of the assets, their staging kept until that frame completed.
 
 #![deny(unsafe_code)]
 
@@ -14,7 +18,7 @@ use super::sampled::{SampledTextures, SampledViews};
 use super::{MeshRange, SCENE_STORAGE};
 use crate::gpu::{
     vk, AppendBuffer, Buffer, BufferView, DescriptorLayout, DescriptorSet, Gpu, GpuImage, Resource,
-    Sampler,
+    Sampler, Upload, Uploads,
 };
 use crate::interface::methods::BASE_TEXTURE_SET;
 use crate::scene::{self, Mesh, Scene, Texture};
@@ -39,13 +43,17 @@ struct Buffers {
     /// The textures as the compute rasters' software sampler reads them, made for the first
     /// renderer whose method has one, holding those transparent draws use.
     sampled: Mutex<Option<SampledTextures>>,
+    /// The uploads into these buffers, the textures of every version and the sampled
+    /// textures that no frame is known to have run yet (on the engine's device).
+    uploads: Uploads,
 }
 
 /// A texture's image and the descriptor set that binds it with its sampler.
 struct ResidentTexture {
     // Declared first so that it is freed before the image its view names.
     set: DescriptorSet,
-    image: GpuImage,
+    // Kept while the set (whose view names it) lives.
+    _image: Arc<GpuImage>,
 }
 
 pub struct ResidentAssets {
@@ -69,31 +77,6 @@ pub struct ResidentAssets {
     /// scene is checked against.
     mesh_sizes: Vec<(usize, usize)>,
     counts: [usize; 2],
-    /// On the engine's device (which translucid never submits to), the texture uploads the
-    /// first frame recorded over these assets carries.
-    uploads: Mutex<Uploads>,
-}
-
-/// Texture uploads on the engine's device: the images and their staging buffers, kept until
-/// the frame that recorded the copies completed.
-struct Uploads {
-    pending: Vec<Arc<Upload>>,
-    state: UploadState,
-}
-
-/// A texture and the staging buffer its texels are copied from.
-struct Upload {
-    texture: Arc<ResidentTexture>,
-    staging: Buffer,
-}
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum UploadState {
-    /// No frame recorded the copies yet, or the one that did never ran.
-    Pending,
-    /// Recorded into a frame of the scene with this id, not yet completed.
-    Recorded(u64),
-    Done,
 }
 
 fn vertices_of(mesh: &Mesh) -> impl Iterator<Item = GpuVertex> + '_ {
@@ -179,16 +162,16 @@ fn with_room(bytes: usize) -> u64 {
 }
 
 /// The textures' images (with their sets over `layout` and a sampler from `samplers`,
-/// made there when new) and their filled staging buffers.
+/// made there when new), and the uploads of their texels.
 fn make_textures(
     gpu: &Gpu,
     layout: &DescriptorLayout,
     samplers: &mut Vec<(scene::Sampler, Arc<Sampler>)>,
     textures: &[Texture],
-) -> Result<Vec<Arc<Upload>>> {
-    let (images, staging) = super::create_textures(gpu, textures.iter())?;
+) -> Result<(Vec<Arc<ResidentTexture>>, Vec<Upload>)> {
+    let (images, uploads) = super::create_textures(gpu, textures.iter())?;
     let mut made = Vec::with_capacity(textures.len());
-    for ((image, staging), t) in images.into_iter().zip(staging).zip(textures) {
+    for (image, t) in images.into_iter().zip(textures) {
         let sampler = match samplers.iter().find(|(s, _)| *s == t.sampler) {
             Some((_, sampler)) => sampler.clone(),
             None => {
@@ -201,36 +184,9 @@ fn make_textures(
             "u_baseTexture",
             Resource::Images(&[image.view], sampler.raw),
         )])?;
-        made.push(Arc::new(Upload {
-            texture: Arc::new(ResidentTexture { set, image }),
-            staging,
-        }));
+        made.push(Arc::new(ResidentTexture { set, _image: image }));
     }
-    Ok(made)
-}
-
-/// Copies the textures' staging into their images: now on translucid's own device; on the
-/// engine's, by the first frame recorded (the returned uploads).
-fn upload(gpu: &Gpu, made: Vec<Arc<Upload>>) -> Result<Vec<Arc<Upload>>> {
-    if gpu.is_host_device() || made.is_empty() {
-        return Ok(made);
-    }
-    gpu.submit_and_wait(|cmd| {
-        record_uploads(gpu, cmd, &made);
-        Ok(())
-    })?;
-    Ok(Vec::new())
-}
-
-fn record_uploads(gpu: &Gpu, cmd: vk::CommandBuffer, uploads: &[Arc<Upload>]) {
-    for u in uploads {
-        super::record_texture_uploads(
-            gpu,
-            cmd,
-            std::slice::from_ref(&u.texture.image),
-            std::slice::from_ref(&u.staging),
-        );
-    }
+    Ok((made, uploads))
 }
 
 impl ResidentAssets {
@@ -239,8 +195,12 @@ impl ResidentAssets {
     pub fn new(gpu: &Gpu, scene: &Scene) -> Result<Self> {
         scene.validate()?;
         let packed = Packed::new(&scene.meshes, &scene.materials, 0);
-        let append = |name: &str, usage, data: &[u8], format| {
-            AppendBuffer::new(gpu, name, usage, with_room(data.len()), format, data)
+        let mut uploads = Vec::new();
+        let mut append = |name: &str, usage, data: &[u8], format| {
+            let (buffer, upload) =
+                AppendBuffer::new(gpu, name, usage, with_room(data.len()), format, data)?;
+            uploads.push(upload);
+            Ok::<_, Error>(buffer)
         };
         let vertices = append(
             "scene vertices",
@@ -256,24 +216,27 @@ impl ResidentAssets {
             bytemuck::cast_slice(&packed.quads),
             None,
         )?;
+        let indices = append(
+            "scene indices",
+            vk::BufferUsageFlags::INDEX_BUFFER | SCENE_STORAGE,
+            bytemuck::cast_slice(&packed.indices),
+            None,
+        )?;
+        let materials = append(
+            "scene materials",
+            SCENE_STORAGE,
+            bytemuck::cast_slice(&packed.materials),
+            Some(RGBA32UI),
+        )?;
         let buffers = Buffers {
             vertex_view: gpu.create_buffer_view(vertices.buffer(), RGBA32UI)?,
             quad_view: gpu.create_buffer_view(quads.buffer(), RGBA32UI)?,
             vertices,
             quads,
-            indices: append(
-                "scene indices",
-                vk::BufferUsageFlags::INDEX_BUFFER | SCENE_STORAGE,
-                bytemuck::cast_slice(&packed.indices),
-                None,
-            )?,
-            materials: append(
-                "scene materials",
-                SCENE_STORAGE,
-                bytemuck::cast_slice(&packed.materials),
-                Some(RGBA32UI),
-            )?,
+            indices,
+            materials,
             sampled: Mutex::new(None),
+            uploads: Uploads::default(),
         };
         let stages = vk::ShaderStageFlags::VERTEX
             | vk::ShaderStageFlags::FRAGMENT
@@ -281,16 +244,16 @@ impl ResidentAssets {
         let texture_layout = Arc::new(DescriptorLayout::declared(gpu, &BASE_TEXTURE_SET, stages)?);
         let mut samplers = Vec::new();
         let white = Texture::new("white", 1, 1, vec![[255; 4]], false);
-        let mut made = make_textures(gpu, &texture_layout, &mut samplers, &[white])?;
-        made.extend(make_textures(
-            gpu,
-            &texture_layout,
-            &mut samplers,
-            &scene.textures,
-        )?);
-        let white = made[0].texture.clone();
-        let textures = made[1..].iter().map(|u| u.texture.clone()).collect();
-        let pending = upload(gpu, made)?;
+        let (mut white, white_upload) =
+            make_textures(gpu, &texture_layout, &mut samplers, &[white])?;
+        let (textures, texture_uploads) =
+            make_textures(gpu, &texture_layout, &mut samplers, &scene.textures)?;
+        uploads.extend(white_upload);
+        uploads.extend(texture_uploads);
+        buffers.uploads.submit(gpu, uploads)?;
+        let white = white
+            .pop()
+            .ok_or_else(|| Error::Internal("no white texture made".into()))?;
         Ok(Self {
             buffers: Arc::new(buffers),
             textures,
@@ -302,22 +265,14 @@ impl ResidentAssets {
             first_quads: packed.first_quads,
             mesh_sizes: mesh_sizes(scene),
             counts: [scene.materials.len(), scene.textures.len()],
-            uploads: Mutex::new(Uploads {
-                state: if pending.is_empty() {
-                    UploadState::Done
-                } else {
-                    UploadState::Pending
-                },
-                pending,
-            }),
         })
     }
 
     /// These assets and those `scene` adds after them (its first meshes, materials and
     /// textures being these ones), appended to the same buffers: only the new ones are
     /// uploaded. `None` when the buffers have no room left for them (upload `scene` anew,
-    /// with [`Self::new`]). The frames recorded over these assets stay right; those recorded
-    /// over the new ones take over the uploads still pending here.
+    /// with [`Self::new`]). The frames recorded over these assets stay right; on the
+    /// engine's device the next frame recorded over either version carries the uploads.
     pub fn extended(&self, gpu: &Gpu, scene: &Scene) -> Result<Option<Self>> {
         scene.validate()?;
         let [materials, textures] = self.counts;
@@ -341,55 +296,54 @@ impl ResidentAssets {
             &scene.materials[materials..],
             first_vertex as u32,
         );
-        let at = |buffer: &AppendBuffer, data: &[u8], align: u64| buffer.append(data, align);
+        // (Room reserved for data that then does not fit with the rest is never read.)
+        let mut uploads = Vec::new();
+        let mut at = |buffer: &AppendBuffer, data: &[u8], align: u64| {
+            Ok::<_, Error>(buffer.append(gpu, data, align)?.map(|(at, upload)| {
+                uploads.push(upload);
+                at
+            }))
+        };
         let Some(vertex_at) = at(
             &b.vertices,
             bytemuck::cast_slice(&packed.vertices),
             vertex_stride,
-        ) else {
+        )?
+        else {
             return Ok(None);
         };
-        let Some(index_at) = at(&b.indices, bytemuck::cast_slice(&packed.indices), 4) else {
+        let Some(index_at) = at(&b.indices, bytemuck::cast_slice(&packed.indices), 4)? else {
             return Ok(None);
         };
-        let Some(quad_at) = at(&b.quads, bytemuck::cast_slice(&packed.quads), 16) else {
+        let Some(quad_at) = at(&b.quads, bytemuck::cast_slice(&packed.quads), 16)? else {
             return Ok(None);
         };
         // Materials are found by their index: they follow the ones before without a gap.
         let material_at = materials as u64 * MATERIAL_BYTES;
         if vertex_at != first_vertex * vertex_stride
             || b.materials.used() != material_at
-            || b.materials
-                .append(bytemuck::cast_slice(&packed.materials), MATERIAL_BYTES)
-                != Some(material_at)
+            || at(
+                &b.materials,
+                bytemuck::cast_slice(&packed.materials),
+                MATERIAL_BYTES,
+            )? != Some(material_at)
         {
             return Ok(None);
         }
         // (The software sampler's copies are made as frames first use the new textures.)
         let mut samplers = self.samplers.clone();
-        let made = make_textures(
+        let (made, texture_uploads) = make_textures(
             gpu,
             &self.texture_layout,
             &mut samplers,
             &scene.textures[textures..],
         )?;
+        uploads.extend(texture_uploads);
         let mut all_textures = self.textures.clone();
-        all_textures.extend(made.iter().map(|u| u.texture.clone()));
-        let mut pending = upload(gpu, made)?;
-        // Uploads no completed frame carried go with the first frame over the new version
-        // too: recorded into a frame in flight, they may yet be abandoned. (Copying them
-        // twice is safe: an upload waits for the frames before it.)
-        let state = {
-            let before = self.uploads();
-            if before.state != UploadState::Done {
-                pending.extend(before.pending.iter().cloned());
-            }
-            if pending.is_empty() {
-                UploadState::Done
-            } else {
-                UploadState::Pending
-            }
-        };
+        all_textures.extend(made);
+        // Shared by every version: uploads a frame over an earlier version carried and that
+        // may yet be abandoned stay queued until it completes.
+        b.uploads.submit(gpu, uploads)?;
         let first_index = (index_at / 4) as u32;
         let first_quad = (quad_at / 16) as u32;
         let mut ranges = self.ranges.clone();
@@ -411,7 +365,6 @@ impl ResidentAssets {
             first_quads,
             mesh_sizes: sizes,
             counts: [scene.materials.len(), scene.textures.len()],
-            uploads: Mutex::new(Uploads { pending, state }),
         }))
     }
 
@@ -457,10 +410,15 @@ impl ResidentAssets {
             .unwrap_or_else(|e| e.into_inner());
         let sampled = match sampled.as_mut() {
             Some(s) => {
-                s.hold_used(gpu, &self.host_textures, scene)?;
+                s.hold_used(gpu, &self.buffers.uploads, &self.host_textures, scene)?;
                 s
             }
-            None => sampled.insert(SampledTextures::new(gpu, &self.host_textures, scene)?),
+            None => sampled.insert(SampledTextures::new(
+                gpu,
+                &self.buffers.uploads,
+                &self.host_textures,
+                scene,
+            )?),
         };
         Ok(sampled.views())
     }
@@ -491,45 +449,21 @@ impl ResidentAssets {
         Ok(())
     }
 
-    fn uploads(&self) -> std::sync::MutexGuard<'_, Uploads> {
-        self.uploads.lock().unwrap_or_else(|e| e.into_inner())
+    /// On the engine's device: records into frame `frame` of recorder `by` (a renderer's
+    /// scene) the uploads no frame carries (`gpu::Uploads::record_pending`).
+    pub fn record_pending_uploads(&self, gpu: &Gpu, cmd: vk::CommandBuffer, by: u64, frame: u64) {
+        self.buffers.uploads.record_pending(gpu, cmd, by, frame);
     }
 
-    /// On the engine's device: records the texture uploads into the command buffer of a
-    /// frame, unless a frame recorded them already.
-    pub fn record_pending_uploads(&self, gpu: &Gpu, cmd: vk::CommandBuffer) {
-        let uploads = self.uploads();
-        if uploads.state == UploadState::Pending {
-            record_uploads(gpu, cmd, &uploads.pending);
-        }
+    /// Recorder `by`'s frames up to `frame` completed: the uploads they carried ran, and
+    /// their staging goes.
+    pub fn uploads_completed(&self, by: u64, frame: u64) {
+        self.buffers.uploads.completed(by, frame);
     }
 
-    /// The frame of scene `scene` that recorded the pending uploads was recorded whole:
-    /// later frames, of any renderer, need not record them. A recording that failed leaves
-    /// them pending.
-    pub fn uploads_recorded(&self, scene: u64) {
-        let mut uploads = self.uploads();
-        if uploads.state == UploadState::Pending {
-            uploads.state = UploadState::Recorded(scene);
-        }
-    }
-
-    /// A frame of scene `scene` completed: if that scene recorded the uploads, they ran (its
-    /// frames complete in order), and their staging goes.
-    pub fn uploads_completed(&self, scene: u64) {
-        let mut uploads = self.uploads();
-        if uploads.state == UploadState::Recorded(scene) {
-            uploads.state = UploadState::Done;
-            uploads.pending.clear();
-        }
-    }
-
-    /// Scene `scene` is gone without completing the frame that recorded the uploads (it was
+    /// Recorder `by` is gone without completing the frames that carried uploads (they were
     /// abandoned): the next frame recorded over these assets records them again.
-    pub fn uploads_lost(&self, scene: u64) {
-        let mut uploads = self.uploads();
-        if uploads.state == UploadState::Recorded(scene) {
-            uploads.state = UploadState::Pending;
-        }
+    pub fn uploads_lost(&self, by: u64) {
+        self.buffers.uploads.lost(by);
     }
 }

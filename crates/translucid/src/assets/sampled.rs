@@ -9,11 +9,13 @@
 //! in place when it fits: its texels go past every byte written before and its record was
 //! never read, so no frame in flight is written under. One that does not fit makes a new,
 //! larger set, which each renderer binds from its next frame on, keeping the old one until
-//! its frames in flight have completed.
+//! its frames in flight have completed. The buffers are device-local, written by uploads
+//! (`gpu::staging`): at once on translucid's own device, by the frame that first uses the
+//! textures on an engine's (it is recorded after them).
 
 use super::texture_records::{bin_texture, level_texels, BinTexture};
 use super::SCENE_STORAGE;
-use crate::gpu::{vk, AppendBuffer, Gpu, MemoryLocation, ViewedBuffer};
+use crate::gpu::{vk, AppendBuffer, Gpu, Upload, Uploads};
 use crate::scene::{srgb_lut, Scene, Texture};
 use crate::{Error, Result};
 use bytemuck::Zeroable;
@@ -27,10 +29,10 @@ const SPARE_TEXEL_BYTES: u64 = 64 << 10;
 /// The buffers one set of sampled textures lives in.
 pub struct SampledBuffers {
     /// One record per texture index up to the capacity: zero until the texture is packed.
-    records: ViewedBuffer,
+    records: AppendBuffer,
     record_capacity: usize,
     texels: AppendBuffer,
-    srgb: ViewedBuffer,
+    srgb: AppendBuffer,
 }
 
 /// What a renderer binds: the views of one set of buffers, which it keeps alive while bound.
@@ -58,14 +60,14 @@ pub struct SampledTextures {
 
 impl SampledTextures {
     /// A set holding the textures of `textures` (the assets', with their texels) that
-    /// `scene`'s transparent draws use.
-    pub fn new(gpu: &Gpu, textures: &[Texture], scene: &Scene) -> Result<Self> {
+    /// `scene`'s transparent draws use, uploaded through `uploads`.
+    pub fn new(gpu: &Gpu, uploads: &Uploads, textures: &[Texture], scene: &Scene) -> Result<Self> {
         let used = used_textures(textures, scene)?;
-        Self::holding(gpu, textures, &used)
+        Self::holding(gpu, uploads, textures, &used)
     }
 
     /// A set holding the textures of `used` (indices into `textures`).
-    fn holding(gpu: &Gpu, textures: &[Texture], used: &[usize]) -> Result<Self> {
+    fn holding(gpu: &Gpu, uploads: &Uploads, textures: &[Texture], used: &[usize]) -> Result<Self> {
         let mut packed = vec![false; textures.len()];
         for &t in used {
             packed[t] = true;
@@ -90,31 +92,39 @@ impl SampledTextures {
             texels.extend(texels_of(texture)?);
         }
         let texel_capacity = (bytes + bytes / 4 + SPARE_TEXEL_BYTES).min(most.max(bytes));
-        // Host-visible: records are written in place as textures are added.
-        let mut record_buffer = gpu.create_buffer(
+        let texel_view = vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER;
+        // Every record's room is taken: a texture added later rewrites its own.
+        let (records, records_upload) = AppendBuffer::new(
+            gpu,
             "sampled texture records",
+            texel_view,
             record_capacity as u64 * RECORD_BYTES,
-            vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER,
-            MemoryLocation::CpuToGpu,
+            Some(vk::Format::R32G32B32A32_UINT),
+            bytemuck::cast_slice(&records),
         )?;
-        record_buffer.write(0, bytemuck::cast_slice(&records))?;
+        let (texels, texels_upload) = AppendBuffer::new(
+            gpu,
+            "sampled texels",
+            SCENE_STORAGE,
+            texel_capacity,
+            Some(vk::Format::R32_UINT),
+            bytemuck::cast_slice(&texels),
+        )?;
+        let lut: &[u8] = bytemuck::cast_slice(srgb_lut());
+        let (srgb, srgb_upload) = AppendBuffer::new(
+            gpu,
+            "sRGB table",
+            texel_view,
+            lut.len() as u64,
+            Some(vk::Format::R32_SFLOAT),
+            lut,
+        )?;
+        uploads.submit(gpu, vec![records_upload, texels_upload, srgb_upload])?;
         let buffers = SampledBuffers {
-            records: ViewedBuffer::new(gpu, record_buffer, vk::Format::R32G32B32A32_UINT)?,
+            records,
             record_capacity,
-            texels: AppendBuffer::new(
-                gpu,
-                "sampled texels",
-                SCENE_STORAGE,
-                texel_capacity,
-                Some(vk::Format::R32_UINT),
-                bytemuck::cast_slice(&texels),
-            )?,
-            srgb: ViewedBuffer::with_data(
-                gpu,
-                "sRGB table",
-                bytemuck::cast_slice(srgb_lut()),
-                vk::Format::R32_SFLOAT,
-            )?,
+            texels,
+            srgb,
         };
         Ok(Self {
             buffers: Arc::new(buffers),
@@ -126,7 +136,13 @@ impl SampledTextures {
     /// when they do not fit, in a new set with every texture held so far. `textures` are
     /// the assets' (with their texels): a renderer's version of them, which may be older
     /// (fewer) than the version that made the set.
-    pub fn hold_used(&mut self, gpu: &Gpu, textures: &[Texture], scene: &Scene) -> Result<()> {
+    pub fn hold_used(
+        &mut self,
+        gpu: &Gpu,
+        uploads: &Uploads,
+        textures: &[Texture],
+        scene: &Scene,
+    ) -> Result<()> {
         let missing = |packed: &[bool], t: usize| !packed.get(t).copied().unwrap_or(false);
         if !scene_textures(scene)
             .flatten()
@@ -138,52 +154,57 @@ impl SampledTextures {
         new.retain(|&t| missing(&self.packed, t));
         self.packed
             .resize(textures.len().max(self.packed.len()), false);
-        if !self.add_in_place(textures, &new)? {
+        if !self.add_in_place(gpu, uploads, textures, &new)? {
             // Textures a newer version of the assets added are left out here, and added
             // again by the frames that use them.
             new.extend((0..textures.len()).filter(|&t| self.packed[t]));
-            *self = Self::holding(gpu, textures, &new)?;
+            *self = Self::holding(gpu, uploads, textures, &new)?;
         }
         Ok(())
     }
 
-    /// Adds textures `new` to the current set; false when they do not fit (some may have
-    /// been added, their room wasted: the caller makes a new set).
-    // The one write to a buffer frames in flight may be reading (other records of it): why
-    // that is sound is said where it is written.
-    #[allow(unsafe_code)]
-    fn add_in_place(&mut self, textures: &[Texture], new: &[usize]) -> Result<bool> {
+    /// Adds textures `new` to the current set, uploaded through `uploads`; false when they
+    /// do not fit (some may have been marked added, their room wasted and nothing uploaded:
+    /// the caller makes a new set).
+    fn add_in_place(
+        &mut self,
+        gpu: &Gpu,
+        uploads: &Uploads,
+        textures: &[Texture],
+        new: &[usize],
+    ) -> Result<bool> {
         let b = &self.buffers;
         if new.iter().any(|&t| t >= b.record_capacity) {
             return Ok(false);
         }
+        let mut added = Vec::with_capacity(2 * new.len());
         for &t in new {
             let texture = &textures[t];
             let texels = texels_of(texture)?;
-            let Some(at) = b.texels.append(bytemuck::cast_slice(&texels), 4) else {
+            let Some((at, texels)) = b.texels.append(gpu, bytemuck::cast_slice(&texels), 4)? else {
                 return Ok(false);
             };
             let record = bin_texture(texture, (at / 4) as u32);
-            // SAFETY: every writer of the records holds the assets' lock (we hold `&mut
-            // self`, which lives behind it), and the host never reads them. Record `t` is
-            // read only by frames whose transparent draws use texture `t`, and no frame was
-            // recorded with one yet: it would have added the texture.
-            unsafe {
+            // Record `t` is read only by frames whose transparent draws use texture `t`, and
+            // no frame was recorded with one yet: it would have added the texture. The upload
+            // is recorded before the frame that first does (or run now).
+            let record: Upload =
                 b.records
-                    .buffer
-                    .write_unaliased(t as u64 * RECORD_BYTES, bytemuck::bytes_of(&record))?;
-            }
+                    .rewrite(gpu, t as u64 * RECORD_BYTES, bytemuck::bytes_of(&record))?;
+            added.extend([texels, record]);
             self.packed[t] = true;
         }
+        uploads.submit(gpu, added)?;
         Ok(true)
     }
 
     pub fn views(&self) -> SampledViews {
         let b = &self.buffers;
+        let raw = |buffer: &AppendBuffer| buffer.view().map_or(vk::BufferView::null(), |v| v.raw);
         SampledViews {
-            records: b.records.view.raw,
-            texels: b.texels.view().map_or(vk::BufferView::null(), |v| v.raw),
-            srgb: b.srgb.view.raw,
+            records: raw(&b.records),
+            texels: raw(&b.texels),
+            srgb: raw(&b.srgb),
             buffers: b.clone(),
         }
     }

@@ -3,8 +3,8 @@
 //! hardware sampler the graphics passes bind (`Sampler::for_texture`, on textures uploaded as
 //! the renderer uploads them), both run by `shaders/test/sampler.comp`.
 
+use super::create_textures;
 use super::texture_records::texture_data;
-use super::{create_textures, record_texture_uploads};
 use crate::gpu::{
     memory_barrier, vk, BindingKind, ComputePipeline, DescriptorLayout, Gpu, GpuOptions,
     MemoryLocation, Resource, Sampler,
@@ -41,12 +41,10 @@ fn gpu_samplers_match_values_computed_by_hand() {
     let textures: Vec<Texture> = cases.iter().map(|c| c.texture.clone()).collect();
 
     // The hardware side: images and samplers as the renderer makes them.
-    let (images, staging) = create_textures(&gpu, textures.iter()).expect("textures");
-    gpu.submit_and_wait(|cmd| {
-        record_texture_uploads(&gpu, cmd, &images, &staging);
-        Ok(())
-    })
-    .expect("upload");
+    let (images, uploads) = create_textures(&gpu, textures.iter()).expect("textures");
+    crate::gpu::Uploads::default()
+        .submit(&gpu, uploads)
+        .expect("upload");
     let samplers: Vec<Sampler> = textures
         .iter()
         .map(|t| Sampler::for_texture(&gpu, &t.sampler).expect("sampler"))

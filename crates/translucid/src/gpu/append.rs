@@ -1,24 +1,29 @@
-//! Host-visible buffers that grow by appending, up to a capacity fixed at creation.
+//! Device-local buffers that grow by appending, up to a capacity fixed at creation, filled by
+//! uploads (`staging.rs`).
 
+use super::staging::Upload;
 use super::{vk, Buffer, BufferView, Gpu, MemoryLocation};
 use crate::Result;
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex};
 
-/// A host-visible buffer written by appending: what was written stays where it is, so the
+/// A device-local buffer written by appending: what was written stays where it is, so the
 /// descriptor sets and views naming the buffer stay valid, and the GPU work recorded
 /// before an append, which reads only what was written before it, is never written under.
-/// Several owners may share one (behind an `Arc`) and append to it.
+/// Several owners may share one (behind an `Arc`) and append to it. The data goes in by
+/// the [`Upload`]s the calls return, which the caller runs (`gpu::Uploads`) before any
+/// frame reads it.
 pub struct AppendBuffer {
     // Declared first so that it is destroyed before its buffer.
     view: Option<BufferView>,
-    buffer: Buffer,
-    /// Bytes written so far.
+    buffer: Arc<Buffer>,
+    /// Bytes reserved so far.
     used: Mutex<u64>,
 }
 
 impl AppendBuffer {
-    /// A buffer of `capacity` bytes (at least 16) with `usage`, viewed as texels of
-    /// `format` when given, holding `data` at its start.
+    /// A device-local buffer of `capacity` bytes (at least 16) with `usage` (and
+    /// TRANSFER_DST), viewed as texels of `format` when given, and the upload of `data` to
+    /// its start.
     pub fn new(
         gpu: &Gpu,
         name: &str,
@@ -26,18 +31,24 @@ impl AppendBuffer {
         capacity: u64,
         format: Option<vk::Format>,
         data: &[u8],
-    ) -> Result<Self> {
+    ) -> Result<(Self, Upload)> {
         let capacity = capacity.max(data.len() as u64).max(16);
-        let mut buffer = gpu.create_buffer(name, capacity, usage, MemoryLocation::CpuToGpu)?;
-        buffer.write(0, data)?;
+        let buffer = Arc::new(gpu.create_buffer(
+            name,
+            capacity,
+            usage | vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuOnly,
+        )?);
+        let upload = Upload::to_buffer(gpu, &buffer, 0, data)?;
         let view = format
             .map(|f| gpu.create_buffer_view(&buffer, f))
             .transpose()?;
-        Ok(Self {
+        let appended = Self {
             view,
             buffer,
             used: Mutex::new(data.len() as u64),
-        })
+        };
+        Ok((appended, upload))
     }
 
     pub fn buffer(&self) -> &Buffer {
@@ -49,25 +60,32 @@ impl AppendBuffer {
         self.view.as_ref()
     }
 
-    /// Bytes written so far.
+    /// Bytes reserved so far.
     pub fn used(&self) -> u64 {
         *self.used.lock().unwrap_or_else(|e| e.into_inner())
     }
 
-    /// Appends `data` at a multiple of `align` bytes; its offset, or `None` (writing
-    /// nothing) when the rest of the buffer is too small.
-    pub fn append(&self, data: &[u8], align: u64) -> Option<u64> {
+    /// Reserves room for `data` at a multiple of `align` bytes: its offset and the upload
+    /// that puts it there, or `None` (reserving nothing) when the rest of the buffer is too
+    /// small. The room is past every byte reserved before, which no GPU work recorded so
+    /// far reads.
+    pub fn append(&self, gpu: &Gpu, data: &[u8], align: u64) -> Result<Option<(u64, Upload)>> {
         let mut used = self.used.lock().unwrap_or_else(|e| e.into_inner());
         let offset = used.next_multiple_of(align.max(1));
-        let end = offset.checked_add(data.len() as u64)?;
+        let Some(end) = offset.checked_add(data.len() as u64) else {
+            return Ok(None);
+        };
         if end > self.buffer.size {
-            return None;
+            return Ok(None);
         }
-        // SAFETY: the range [offset, end) lies in the buffer's mapping, past every byte
-        // written before (the lock is held and `used` only grows), so no other write and no
-        // GPU work recorded so far touches it, and no Rust reference to the mapping is alive.
-        unsafe { self.buffer.write_unaliased(offset, data) }.ok()?;
+        let upload = Upload::to_buffer(gpu, &self.buffer, offset, data)?;
         *used = end;
-        Some(offset)
+        Ok(Some((offset, upload)))
+    }
+
+    /// The upload of `data` at `offset`, a range reserved before: the caller knows that no
+    /// GPU work recorded so far reads it (a record no frame has used yet).
+    pub fn rewrite(&self, gpu: &Gpu, offset: u64, data: &[u8]) -> Result<Upload> {
+        Upload::to_buffer(gpu, &self.buffer, offset, data)
     }
 }

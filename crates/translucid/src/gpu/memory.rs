@@ -7,14 +7,82 @@ use crate::Result;
 use ash::vk;
 use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
 pub use gpu_allocator::MemoryLocation;
+use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Mutex;
 
-/// Live bytes allocated through one device, their peak, and every byte ever allocated.
+/// What an allocation is for, which says where its memory should be (docs/gpu.md, "Memory"):
+/// what the GPU reads every frame is device-local, unless the host writes it for each frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MemoryRole {
+    /// Kept while its owner lives: assets, working buffers, images (device-local), and
+    /// readbacks the GPU writes for the host (host-visible, read by no shader).
+    Resource,
+    /// Written by the host for each frame and read by that frame's shaders (frame info,
+    /// draws): host-visible, one per frame slot.
+    PerFrame,
+    /// Host-visible data on its way into device-local memory, read only by copies: an
+    /// upload's staging (`gpu::staging`) is freed once its copies have run.
+    Staging,
+}
+
+/// What a live allocation holds and where its memory is: what [`Gpu::allocations`] lists.
+#[derive(Clone, Debug)]
+pub struct AllocationInfo {
+    pub name: String,
+    pub bytes: u64,
+    /// The memory asked for: `GpuOnly` (device-local), `CpuToGpu` or `GpuToCpu`
+    /// (host-visible).
+    pub location: MemoryLocation,
+    /// The memory type's flags the allocation got. (A CPU driver such as lavapipe has only
+    /// host-visible types: there, `location` says what a GPU would get.)
+    pub properties: vk::MemoryPropertyFlags,
+    pub usage: AllocationUsage,
+    pub role: MemoryRole,
+}
+
+/// A buffer's or an image's usage.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AllocationUsage {
+    Buffer(vk::BufferUsageFlags),
+    Image(vk::ImageUsageFlags),
+}
+
+impl AllocationInfo {
+    /// Whether the allocation was asked in host-visible memory.
+    pub fn host_visible(&self) -> bool {
+        self.location != MemoryLocation::GpuOnly
+    }
+
+    /// Whether the GPU's pipelines may read it (as vertices, indices, indirect arguments,
+    /// uniforms, storage, texels, sampled or attached images), not only copies.
+    pub fn read_by_pipelines(&self) -> bool {
+        match self.usage {
+            AllocationUsage::Buffer(u) => u.intersects(
+                vk::BufferUsageFlags::VERTEX_BUFFER
+                    | vk::BufferUsageFlags::INDEX_BUFFER
+                    | vk::BufferUsageFlags::INDIRECT_BUFFER
+                    | vk::BufferUsageFlags::UNIFORM_BUFFER
+                    | vk::BufferUsageFlags::STORAGE_BUFFER
+                    | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER
+                    | vk::BufferUsageFlags::STORAGE_TEXEL_BUFFER,
+            ),
+            AllocationUsage::Image(u) => !(u & !(vk::ImageUsageFlags::TRANSFER_SRC
+                | vk::ImageUsageFlags::TRANSFER_DST))
+                .is_empty(),
+        }
+    }
+}
+
+/// Live bytes allocated through one device, their peak, every byte ever allocated, and
+/// what each live allocation is.
 #[derive(Default)]
 pub struct MemoryStats {
     current: AtomicU64,
     peak: AtomicU64,
     total: AtomicU64,
+    next_id: AtomicU64,
+    live: Mutex<BTreeMap<u64, AllocationInfo>>,
 }
 
 impl MemoryStats {
@@ -43,6 +111,32 @@ impl MemoryStats {
         self.peak
             .store(self.current.load(Ordering::Relaxed), Ordering::Relaxed);
     }
+
+    fn live(&self) -> std::sync::MutexGuard<'_, BTreeMap<u64, AllocationInfo>> {
+        self.live.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// Notes a live allocation; its id, for [`Self::forget`].
+    fn note(&self, info: AllocationInfo) -> u64 {
+        let id = self.next_id.fetch_add(1, Ordering::Relaxed);
+        self.live().insert(id, info);
+        id
+    }
+
+    fn forget(&self, id: u64) {
+        self.live().remove(&id);
+    }
+
+    pub(crate) fn allocations(&self) -> Vec<AllocationInfo> {
+        self.live().values().cloned().collect()
+    }
+}
+
+/// An allocation and its entry among the device's live ones.
+struct Memory {
+    allocation: Allocation,
+    id: u64,
+    location: MemoryLocation,
 }
 
 impl Gpu {
@@ -51,8 +145,9 @@ impl Gpu {
         name: &str,
         requirements: vk::MemoryRequirements,
         location: MemoryLocation,
-        linear: bool,
-    ) -> Result<Allocation> {
+        (usage, role): (AllocationUsage, MemoryRole),
+    ) -> Result<Memory> {
+        let linear = matches!(usage, AllocationUsage::Buffer(_));
         let allocation = self
             .allocator
             .lock()
@@ -72,16 +167,36 @@ impl Gpu {
             })?;
         self.memory.add(allocation.size());
         // Which memory each object took (device-local, host-visible or both): what a GPU
-        // reads from every frame should be device-local (docs/gpu.md).
+        // reads from every frame should be device-local unless it is per-frame data
+        // (docs/gpu.md, "Memory").
         log::debug!(
-            "allocated {name}: {} bytes, {location:?} in {:?} memory",
+            "allocated {name}: {} bytes, {role:?}, {location:?} in {:?} memory, {usage:?}",
             allocation.size(),
             allocation.memory_properties()
         );
-        Ok(allocation)
+        let id = self.memory.note(AllocationInfo {
+            name: name.to_string(),
+            bytes: allocation.size(),
+            location,
+            properties: allocation.memory_properties(),
+            usage,
+            role,
+        });
+        Ok(Memory {
+            allocation,
+            id,
+            location,
+        })
     }
 
-    fn free(&self, allocation: Allocation) {
+    /// Every allocation alive on this device now: what it is, its memory and its use.
+    pub fn allocations(&self) -> Vec<AllocationInfo> {
+        self.memory.allocations()
+    }
+
+    fn free(&self, memory: Memory) {
+        let Memory { allocation, id, .. } = memory;
+        self.memory.forget(id);
         self.memory.sub(allocation.size());
         if let Ok(mut a) = self.allocator.lock() {
             if let Err(e) = a.free(allocation) {
@@ -91,13 +206,52 @@ impl Gpu {
     }
 
     /// A buffer of `size` bytes (made at least 16, so empty data still binds, as a buffer or
-    /// as a view of one RGBA32 texel; reads still return `size` bytes).
+    /// as a view of one RGBA32 texel; reads still return `size` bytes). A host-visible one
+    /// the pipelines read is staging ([`MemoryRole::Staging`]) when it is only copied from
+    /// (TRANSFER_SRC alone); else per-frame data is made with
+    /// [`Self::create_per_frame_buffer`].
     pub fn create_buffer(
         &self,
         name: &str,
         size: u64,
         usage: vk::BufferUsageFlags,
         location: MemoryLocation,
+    ) -> Result<Buffer> {
+        let role = if location == MemoryLocation::CpuToGpu
+            && usage == vk::BufferUsageFlags::TRANSFER_SRC
+        {
+            MemoryRole::Staging
+        } else {
+            MemoryRole::Resource
+        };
+        self.create_buffer_for(name, size, usage, location, role)
+    }
+
+    /// A host-visible buffer of `size` bytes the host writes for each frame and that frame's
+    /// pipelines read: one per frame slot, the only host-visible memory shaders read
+    /// ([`MemoryRole::PerFrame`]).
+    pub fn create_per_frame_buffer(
+        &self,
+        name: &str,
+        size: u64,
+        usage: vk::BufferUsageFlags,
+    ) -> Result<Buffer> {
+        self.create_buffer_for(
+            name,
+            size,
+            usage,
+            MemoryLocation::CpuToGpu,
+            MemoryRole::PerFrame,
+        )
+    }
+
+    fn create_buffer_for(
+        &self,
+        name: &str,
+        size: u64,
+        usage: vk::BufferUsageFlags,
+        location: MemoryLocation,
+        role: MemoryRole,
     ) -> Result<Buffer> {
         let len = size;
         let size = size.max(16);
@@ -120,20 +274,28 @@ impl Gpu {
         };
         // SAFETY: raw is a live buffer of this device.
         let requirements = unsafe { self.device.get_buffer_memory_requirements(raw) };
-        let allocation = self.allocate(name, requirements, location, true)?;
+        let memory = self.allocate(
+            name,
+            requirements,
+            location,
+            (AllocationUsage::Buffer(usage), role),
+        )?;
         // SAFETY: the allocation satisfies the buffer's requirements and is not bound elsewhere.
         unsafe {
-            self.device
-                .bind_buffer_memory(raw, allocation.memory(), allocation.offset())
+            self.device.bind_buffer_memory(
+                raw,
+                memory.allocation.memory(),
+                memory.allocation.offset(),
+            )
         }
         .map_err(vk_err("vkBindBufferMemory"))?;
-        buffer.allocation = Some(allocation);
+        buffer.allocation = Some(memory);
         Ok(buffer)
     }
 
-    /// A host-visible buffer holding `data`. On CPU and integrated devices this is as fast as
-    /// device-local memory; discrete GPUs read it over the bus, which is fine for the scene
-    /// sizes this crate uploads once.
+    /// A host-visible buffer holding `data`, for data the host hands over once (a caller's
+    /// opaque layer; the tests' inputs). What shaders read every frame goes into
+    /// device-local memory through `gpu::staging` instead.
     pub fn create_buffer_with_data(
         &self,
         name: &str,
@@ -193,14 +355,22 @@ impl Gpu {
         };
         // SAFETY: raw is a live image of this device.
         let requirements = unsafe { self.device.get_image_memory_requirements(raw) };
-        let allocation = self.allocate(name, requirements, MemoryLocation::GpuOnly, false)?;
+        let memory = self.allocate(
+            name,
+            requirements,
+            MemoryLocation::GpuOnly,
+            (AllocationUsage::Image(usage), MemoryRole::Resource),
+        )?;
         // SAFETY: the allocation satisfies the image's requirements and is not bound elsewhere.
         unsafe {
-            self.device
-                .bind_image_memory(raw, allocation.memory(), allocation.offset())
+            self.device.bind_image_memory(
+                raw,
+                memory.allocation.memory(),
+                memory.allocation.offset(),
+            )
         }
         .map_err(vk_err("vkBindImageMemory"))?;
-        image.allocation = Some(allocation);
+        image.allocation = Some(memory);
         let view_info = vk::ImageViewCreateInfo::default()
             .image(raw)
             .view_type(vk::ImageViewType::TYPE_2D)
@@ -227,7 +397,7 @@ pub struct Buffer {
     len: u64,
     /// What it holds, for messages.
     pub name: String,
-    allocation: Option<Allocation>,
+    allocation: Option<Memory>,
 }
 
 impl Buffer {
@@ -236,43 +406,30 @@ impl Buffer {
         &self.gpu
     }
 
-    /// Copies `data` into a host-visible buffer at `offset`, through a shared reference.
-    ///
-    /// # Safety
-    /// Nothing else on the host reads or writes `[offset, offset + data.len())` of the
-    /// mapping while it runs (no other call of this, no reference from [`Self::read`]). (The
-    /// GPU must not use the range meanwhile either, as for any write to mapped memory.)
-    pub(crate) unsafe fn write_unaliased(&self, offset: u64, data: &[u8]) -> Result<()> {
-        let mapped = self
-            .allocation
-            .as_ref()
-            .and_then(|a| a.mapped_ptr())
-            .ok_or_else(|| {
-                crate::Error::Internal("write to a buffer that is not host-visible".into())
-            })?;
+    /// Copies `data` into a host-visible buffer at `offset`. (A device-local buffer is
+    /// filled by an upload, `gpu::staging`: writing it fails on every device, also where its
+    /// memory is mapped.)
+    pub fn write(&mut self, offset: u64, data: &[u8]) -> Result<()> {
         let end = offset + data.len() as u64;
         if end > self.size {
             return Err(crate::Error::Internal(format!(
-                "write of {end} bytes past a {}-byte buffer",
-                self.size
+                "write of {end} bytes past the {}-byte {}",
+                self.size, self.name
             )));
         }
-        // SAFETY: the range is within the mapping (checked), and the caller guarantees
-        // that nothing else accesses it meanwhile.
-        unsafe {
-            std::ptr::copy_nonoverlapping(
-                data.as_ptr(),
-                mapped.as_ptr().cast::<u8>().add(offset as usize),
-                data.len(),
-            );
-        }
+        let name = &self.name;
+        let mapped = self
+            .allocation
+            .as_mut()
+            .filter(|m| m.location != MemoryLocation::GpuOnly)
+            .and_then(|m| m.allocation.mapped_slice_mut())
+            .ok_or_else(|| {
+                crate::Error::Internal(format!(
+                    "write to {name}, a buffer that is not host-visible"
+                ))
+            })?;
+        mapped[offset as usize..end as usize].copy_from_slice(data);
         Ok(())
-    }
-
-    /// Copies `data` into a host-visible buffer at `offset`.
-    pub fn write(&mut self, offset: u64, data: &[u8]) -> Result<()> {
-        // SAFETY: `&mut self` rules out every other host access to the mapping.
-        unsafe { self.write_unaliased(offset, data) }
     }
 
     /// The first word of a host-visible buffer the GPU may be writing right now (a frame the
@@ -290,10 +447,19 @@ impl Buffer {
         Ok(u32::from_le_bytes(word))
     }
 
-    /// The contents of a host-visible buffer.
-    pub fn read(&self) -> Result<&[u8]> {
+    /// The allocation of a buffer asked in host-visible memory: `None` for a device-local
+    /// one, even where the device maps it (a CPU driver's memory is all host-visible), so
+    /// that writing or reading it from the host fails on every device alike.
+    fn host_visible(&self) -> Option<&Allocation> {
         self.allocation
             .as_ref()
+            .filter(|m| m.location != MemoryLocation::GpuOnly)
+            .map(|m| &m.allocation)
+    }
+
+    /// The contents of a host-visible buffer.
+    pub fn read(&self) -> Result<&[u8]> {
+        self.host_visible()
             .and_then(|a| a.mapped_slice())
             .map(|s| &s[..self.len as usize])
             .ok_or_else(|| {
@@ -336,13 +502,6 @@ impl ViewedBuffer {
             view: gpu.create_buffer_view(&buffer, format)?,
             buffer,
         })
-    }
-
-    /// Read-only `data`, uploaded once, viewed as texels of `format`.
-    pub fn with_data(gpu: &Gpu, name: &str, data: &[u8], format: vk::Format) -> Result<Self> {
-        let buffer =
-            gpu.create_buffer_with_data(name, vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER, data)?;
-        Self::new(gpu, buffer, format)
     }
 }
 
@@ -420,7 +579,7 @@ pub struct GpuImage {
     pub format: vk::Format,
     pub aspect: vk::ImageAspectFlags,
     pub mip_levels: u32,
-    allocation: Option<Allocation>,
+    allocation: Option<Memory>,
 }
 
 impl GpuImage {

@@ -5,8 +5,11 @@
 //!   names one, and with `TRANSLUCID_VALIDATION=1` turns on the Khronos validation layer and
 //!   fails every submission that produced a validation error (`validation.rs`).
 //! - `memory.rs`: buffers and images from `gpu-allocator`, with a running count of live bytes
-//!   and its peak so a frame can report its GPU memory; `append.rs`: buffers that grow by
-//!   appending, shared by the versions of a context's assets.
+//!   and its peak so a frame can report its GPU memory, and a list of the live allocations
+//!   with their memory and role (per-frame data, staging); `append.rs`: device-local buffers
+//!   that grow by appending, shared by the versions of a context's assets; `staging.rs`:
+//!   uploads into device-local memory (staged copies), run at once on translucid's own
+//!   device and carried by the next frame on the engine's.
 //! - `commands.rs`: one-shot command buffers (record, submit, wait) and barrier helpers.
 //! - `pipeline.rs`: shader modules from build.rs's SPIR-V, descriptor layouts, pipelines.
 //! - `attachments.rs`: render passes over a method's own sets of attachments.
@@ -37,6 +40,7 @@ mod retirement;
 mod rounded_division_tests;
 #[cfg(test)]
 mod spirv_checks;
+mod staging;
 mod subgroup_probe;
 mod timestamps;
 mod validation;
@@ -56,7 +60,10 @@ pub use host::{
 };
 pub use host_depth::DepthImport;
 pub use memory::MemoryLocation;
-pub use memory::{Buffer, BufferView, GpuImage, MemoryStats, ViewedBuffer};
+pub use memory::{
+    AllocationInfo, AllocationUsage, Buffer, BufferView, GpuImage, MemoryRole, MemoryStats,
+    ViewedBuffer,
+};
 pub use pipeline::{
     BindingKind, Blend, ComputePipeline, DepthMode, DescriptorLayout, DescriptorSet,
     GraphicsPipeline, GraphicsPipelineDesc, PipelineState, RenderTarget, RenderTargetDesc,
@@ -65,6 +72,7 @@ pub use pipeline::{
 pub use pipeline_cache::ComputePipelineCache;
 pub use profile::Profile;
 pub use retirement::Retirement;
+pub use staging::{Upload, Uploads};
 pub use timestamps::Timestamps;
 
 /// SPIR-V bytes compiled by build.rs from `shaders/<folder>/<file>`.

@@ -506,8 +506,7 @@ impl Resources {
         let draw_bytes = (2 * draws.len()).max(crate::assets::FIRST_DRAWS) as u64
             * std::mem::size_of::<BinDraw>() as u64;
         for _ in 0..gpu_scene.slot_count() {
-            let mut buffer =
-                gpu.create_buffer("bin draws", draw_bytes, TEXELS, MemoryLocation::CpuToGpu)?;
+            let mut buffer = gpu.create_per_frame_buffer("bin draws", draw_bytes, TEXELS)?;
             buffer.write(0, bytemuck::cast_slice(&draws))?;
             let draws = Viewed::new(gpu, buffer, RGBA32UI)?;
             let scene_draws = (
@@ -814,12 +813,8 @@ impl Resources {
         let slot = &mut self.slots[self.slot];
         if bytes.len() as u64 > slot.draws.buffer.size {
             // Room for twice as many, so that a growing draw count reallocates rarely.
-            let buffer = gpu.create_buffer(
-                "bin draws",
-                2 * bytes.len() as u64,
-                TEXELS,
-                MemoryLocation::CpuToGpu,
-            )?;
+            let buffer =
+                gpu.create_per_frame_buffer("bin draws", 2 * bytes.len() as u64, TEXELS)?;
             slot.draws = Viewed::new(gpu, buffer, RGBA32UI)?;
             slot.generation = u64::MAX;
         }
