@@ -162,15 +162,8 @@ fn glsl_and_rust_shading_agree() {
             &count.to_ne_bytes(),
             [count.div_ceil(64), 1, 1],
         );
-        translucid::gpu::memory_barrier(
-            &gpu,
-            cmd,
-            (
-                vk::PipelineStageFlags::COMPUTE_SHADER,
-                vk::AccessFlags::SHADER_WRITE,
-            ),
-            (vk::PipelineStageFlags::HOST, vk::AccessFlags::HOST_READ),
-        );
+        use translucid::gpu::{memory_barrier, COMPUTE_WRITE, HOST_READ};
+        memory_barrier(&gpu, cmd, COMPUTE_WRITE, HOST_READ);
         Ok(())
     })
     .expect("dispatch");

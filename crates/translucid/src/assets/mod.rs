@@ -299,17 +299,10 @@ impl GpuScene {
             return Ok(());
         };
         staging.write(0, &bytes)?;
-        let any = (
-            vk::PipelineStageFlags::ALL_COMMANDS,
-            vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE,
-        );
-        let transfer = (
-            vk::PipelineStageFlags::TRANSFER,
-            vk::AccessFlags::TRANSFER_WRITE,
-        );
-        crate::gpu::memory_barrier(gpu, cmd, any, transfer);
+        use crate::gpu::{memory_barrier, ANY_ACCESS, TRANSFER_WRITE};
+        memory_barrier(gpu, cmd, ANY_ACCESS, TRANSFER_WRITE);
         gpu.cmd_copy_buffer_regions(cmd, staging, self.resident.vertices(), &regions);
-        crate::gpu::memory_barrier(gpu, cmd, transfer, any);
+        memory_barrier(gpu, cmd, TRANSFER_WRITE, ANY_ACCESS);
         Ok(())
     }
 

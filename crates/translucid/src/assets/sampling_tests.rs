@@ -7,7 +7,7 @@ use super::create_textures;
 use super::texture_records::texture_data;
 use crate::gpu::{
     memory_barrier, vk, BindingKind, ComputePipeline, DescriptorLayout, Gpu, GpuOptions,
-    MemoryLocation, Resource, Sampler,
+    MemoryLocation, Resource, Sampler, COMPUTE_WRITE, HOST_READ,
 };
 use crate::scene::srgb_lut;
 use crate::scene::texture_hand::hand_cases;
@@ -126,15 +126,7 @@ fn gpu_samplers_match_values_computed_by_hand() {
             let push = [i as u32, i as u32];
             pipeline.dispatch(cmd, &[set.raw], bytemuck::bytes_of(&push), [1, 1, 1]);
         }
-        memory_barrier(
-            &gpu,
-            cmd,
-            (
-                vk::PipelineStageFlags::COMPUTE_SHADER,
-                vk::AccessFlags::SHADER_WRITE,
-            ),
-            (vk::PipelineStageFlags::HOST, vk::AccessFlags::HOST_READ),
-        );
+        memory_barrier(&gpu, cmd, COMPUTE_WRITE, HOST_READ);
         Ok(())
     })
     .expect("dispatch");

@@ -371,6 +371,30 @@ pub fn image_barrier(
     };
 }
 
+/// A side of a [`memory_barrier`]: the stages and the accesses it orders.
+pub type Scope = (vk::PipelineStageFlags, vk::AccessFlags);
+
+/// Every command's reads and writes: what an upload recorded anywhere in a queue's stream
+/// must come after and before.
+pub const ANY_ACCESS: Scope = (
+    vk::PipelineStageFlags::ALL_COMMANDS,
+    vk::AccessFlags::from_raw(
+        vk::AccessFlags::MEMORY_READ.as_raw() | vk::AccessFlags::MEMORY_WRITE.as_raw(),
+    ),
+);
+/// Copies' and updates' writes.
+pub const TRANSFER_WRITE: Scope = (
+    vk::PipelineStageFlags::TRANSFER,
+    vk::AccessFlags::TRANSFER_WRITE,
+);
+/// Compute shaders' writes.
+pub const COMPUTE_WRITE: Scope = (
+    vk::PipelineStageFlags::COMPUTE_SHADER,
+    vk::AccessFlags::SHADER_WRITE,
+);
+/// The host's reads of mapped memory, once the submission has completed.
+pub const HOST_READ: Scope = (vk::PipelineStageFlags::HOST, vk::AccessFlags::HOST_READ);
+
 /// A global memory dependency between two pipeline stages.
 pub fn memory_barrier(
     gpu: &Gpu,

@@ -48,7 +48,10 @@ mod validation;
 pub use append::AppendBuffer;
 pub use ash::vk;
 pub use attachments::{fullscreen_pipeline, Attachment, AttachmentPass, DepthAttachment, Load};
-pub use commands::{image_barrier, memory_barrier, mip_region, whole_image_region};
+pub use commands::{
+    image_barrier, memory_barrier, mip_region, whole_image_region, Scope, ANY_ACCESS,
+    COMPUTE_WRITE, HOST_READ, TRANSFER_WRITE,
+};
 pub use device::{
     list_devices, DeviceInfo, Gpu, GpuOptions, Shared, CPU_DRIVER_LOOP_BUDGET, GPU_LOOP_BUDGET,
 };

@@ -4,7 +4,7 @@
 //! here, by hand, and the shader is run by `shaders/test/division.comp`.
 
 use super::{memory_barrier, vk, BindingKind, ComputePipeline, DescriptorLayout, Gpu, GpuOptions};
-use super::{MemoryLocation, Resource};
+use super::{MemoryLocation, Resource, COMPUTE_WRITE, HOST_READ};
 use bytemuck::{Pod, Zeroable};
 
 #[repr(C)]
@@ -147,15 +147,7 @@ fn rounded_quotients_are_rusts_from_estimates_a_few_ulps_off() {
             &count.to_ne_bytes(),
             [count.div_ceil(64), 1, 1],
         );
-        memory_barrier(
-            &gpu,
-            cmd,
-            (
-                vk::PipelineStageFlags::COMPUTE_SHADER,
-                vk::AccessFlags::SHADER_WRITE,
-            ),
-            (vk::PipelineStageFlags::HOST, vk::AccessFlags::HOST_READ),
-        );
+        memory_barrier(&gpu, cmd, COMPUTE_WRITE, HOST_READ);
         Ok(())
     })
     .expect("dispatch");

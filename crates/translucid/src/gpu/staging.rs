@@ -14,6 +14,7 @@
 //! failed) leaves them pending for the next frame.
 
 use super::{image_barrier, memory_barrier, mip_region, vk, Buffer, Gpu, GpuImage, MemoryLocation};
+use super::{Scope, ANY_ACCESS, TRANSFER_WRITE};
 use crate::Result;
 use std::sync::{Arc, Mutex};
 
@@ -93,14 +94,7 @@ impl Upload {
     /// included: an upload recorded again may land in a buffer they read elsewhere, or an
     /// image they sample) and before every command after it.
     pub fn record(&self, gpu: &Gpu, cmd: vk::CommandBuffer) {
-        let any = (
-            vk::PipelineStageFlags::ALL_COMMANDS,
-            vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE,
-        );
-        let transfer = (
-            vk::PipelineStageFlags::TRANSFER,
-            vk::AccessFlags::TRANSFER_WRITE,
-        );
+        let (any, transfer) = (ANY_ACCESS, TRANSFER_WRITE);
         match (&self.target, &self.source) {
             (Target::Buffer { .. }, Source::Inline(data)) if data.is_empty() => {}
             (Target::Buffer { buffer, offset }, source) => {
@@ -134,8 +128,6 @@ fn staging(gpu: &Gpu, name: &str, data: &[u8]) -> Result<Buffer> {
     buffer.write(0, data)?;
     Ok(buffer)
 }
-
-type Scope = (vk::PipelineStageFlags, vk::AccessFlags);
 
 fn record_image(
     gpu: &Gpu,

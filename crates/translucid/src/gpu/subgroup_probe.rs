@@ -6,7 +6,7 @@
 //! once, on the devices translucid makes, by one workgroup of `subgroup_size` invocations.
 
 use super::{memory_barrier, vk, BindingKind, ComputePipeline, DescriptorLayout, Gpu};
-use super::{MemoryLocation, Resource};
+use super::{MemoryLocation, Resource, COMPUTE_WRITE, HOST_READ};
 use crate::interface::specialization::{Specialization, RASTER_GROUP_SIZE};
 use crate::Result;
 
@@ -32,15 +32,7 @@ pub(super) fn lanes_per_subgroup(gpu: &Gpu) -> Result<u32> {
     )?;
     gpu.submit_and_wait(|cmd| {
         pipeline.dispatch(cmd, &[set.raw], &[], [1, 1, 1]);
-        memory_barrier(
-            gpu,
-            cmd,
-            (
-                vk::PipelineStageFlags::COMPUTE_SHADER,
-                vk::AccessFlags::SHADER_WRITE,
-            ),
-            (vk::PipelineStageFlags::HOST, vk::AccessFlags::HOST_READ),
-        );
+        memory_barrier(gpu, cmd, COMPUTE_WRITE, HOST_READ);
         Ok(())
     })?;
     let bytes = probe.read()?;
