@@ -110,12 +110,12 @@ pub struct BinOptions {
     /// like, so that tests can exercise the rebuild-and-render-again fallback.
     #[doc(hidden)]
     pub assume_fixed_path: bool,
-    /// Rasterize one row per workgroup, as on devices whose subgroups are wider than a row
-    /// (most GPUs), so that tests cover that path on lavapipe too.
+    /// Rasterize one tile per workgroup, as on devices whose subgroups are wider than a row
+    /// (most GPUs), so that tests cover that path on lavapipe's subgroups of 8 too.
     #[doc(hidden)]
     pub assume_wide_subgroups: bool,
-    /// Bin at most this many rows of a triangle per binning invocation (the shader loop
-    /// budget otherwise decides, about 370 rows at 1280 pixels across), so that tests cover
+    /// Bin at most this many tile rows of a triangle per binning invocation (the shader loop
+    /// budget otherwise decides, about 357 at 1280 pixels across), so that tests cover
     /// triangles split into several slices.
     #[doc(hidden)]
     pub bin_rows_per_slice: Option<u32>,
@@ -249,8 +249,9 @@ impl BinPush {
         self.height = height;
         self.bins_x = width.div_ceil(BIN_SIZE);
         self.bins_y = height.div_ceil(BIN_SIZE);
-        // A row of bins costs at most bins_x + 1 iterations.
-        self.bin_rows_per_slice = (SLICE_ITERATIONS / (self.bins_x + 1))
+        // A tile row of bins costs at most bins_x + BIN_SIZE iterations: its blocks, and a
+        // row span for each of its pixel rows (at most a block's).
+        self.bin_rows_per_slice = (SLICE_ITERATIONS / (self.bins_x + BIN_SIZE))
             .min(slice_rows_limit)
             .max(1);
     }
