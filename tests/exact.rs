@@ -226,12 +226,7 @@ fn exact_matches_reference_with_every_tile_shape() {
     let gpu = gpu();
     let scene = scene::load("spheres").expect("scene");
     let frame = check_on(&gpu, &scene, "tiles", (64, 48), &MethodOptions::default());
-    let shape = frame.bins.expect("exact reports its shape");
-    let tile_rows = 1 << translucid::methods::bins::features::tile_shift(gpu.info().into());
-    assert_eq!(shape.tile_rows, tile_rows, "{shape:?}");
-    if std::env::var("LP_NATIVE_VECTOR_WIDTH").as_deref() == Ok("512") {
-        assert_eq!(shape.tile_rows, 2, "16 lanes: {shape:?}");
-    }
+    translucid_tests::assert_device_tiles(&gpu, &frame);
     translucid_tests::rerun_at_lavapipe_subgroup_sizes(
         &gpu,
         &[

@@ -150,12 +150,7 @@ fn wavelet_in_bins_matches_its_cpu_model() {
 fn wavelet_in_bins_matches_its_cpu_model_with_every_tile_shape() {
     let gpu = gpu();
     let frame = render(&gpu, &load("spheres"), "wavelet", &bins_options(3, 0.0));
-    let tile_rows = 1 << translucid::methods::bins::features::tile_shift(gpu.info().into());
-    let shape = frame.bins.expect("the bins report their shape");
-    assert_eq!(shape.tile_rows, tile_rows, "{shape:?}");
-    if std::env::var("LP_NATIVE_VECTOR_WIDTH").as_deref() == Ok("512") {
-        assert_eq!(shape.tile_rows, 2, "16 lanes: {shape:?}");
-    }
+    translucid_tests::assert_device_tiles(&gpu, &frame);
     translucid_tests::rerun_at_lavapipe_subgroup_sizes(
         &gpu,
         &[

@@ -415,6 +415,17 @@ pub fn assert_one_depth_order(gpu: &Gpu, method: &str) {
     }
 }
 
+/// `frame`, a bin method's, ran on the tiles `gpu` gets (`features::tile_shift`): 8x2 on
+/// lavapipe at 512 bits, whose subgroups really hold 16 lanes.
+pub fn assert_device_tiles(gpu: &Gpu, frame: &Frame) {
+    let shape = frame.bins.expect("a bin method reports its shape");
+    let tile_rows = 1 << translucid::methods::bins::features::tile_shift(gpu.info().into());
+    assert_eq!(shape.tile_rows, tile_rows, "{shape:?}");
+    if std::env::var("LP_NATIVE_VECTOR_WIDTH").as_deref() == Ok("512") {
+        assert_eq!(shape.tile_rows, 2, "16 lanes: {shape:?}");
+    }
+}
+
 /// Lavapipe's reported subgroups follow `LP_NATIVE_VECTOR_WIDTH` (bits): 16, 32 and 64
 /// lanes at 512, 1024 and 2048 (8, the default, at 256).
 const LAVAPIPE_WIDTHS: [(&str, u32); 3] = [("512", 16), ("1024", 32), ("2048", 64)];

@@ -155,18 +155,9 @@ fn glsl_and_rust_shading_agree() {
         ComputePipeline::new(&gpu, translucid::spirv!("test/shading.comp"), &[&layout], 4)
             .expect("pipeline");
     let count = cases.len() as u32;
-    gpu.submit_and_wait(|cmd| {
-        pipeline.dispatch(
-            cmd,
-            &[set.raw],
-            &count.to_ne_bytes(),
-            [count.div_ceil(64), 1, 1],
-        );
-        use translucid::gpu::{memory_barrier, COMPUTE_WRITE, HOST_READ};
-        memory_barrier(&gpu, cmd, COMPUTE_WRITE, HOST_READ);
-        Ok(())
-    })
-    .expect("dispatch");
+    pipeline
+        .dispatch_and_wait(&[set.raw], &count.to_ne_bytes(), [count.div_ceil(64), 1, 1])
+        .expect("dispatch");
     let outcomes: Vec<Outcome> = bytemuck::pod_collect_to_vec(out_buf.read().expect("read"));
 
     for (i, (c, got)) in cases.iter().zip(&outcomes).enumerate() {

@@ -522,6 +522,21 @@ impl ComputePipeline {
         };
     }
 
+    /// Dispatches once on translucid's own device and waits, with what the shader wrote
+    /// visible to the host on return: GPU unit tests and device probes that read results.
+    pub fn dispatch_and_wait(
+        &self,
+        sets: &[vk::DescriptorSet],
+        push: &[u8],
+        groups: [u32; 3],
+    ) -> Result<()> {
+        self.gpu.submit_and_wait(|cmd| {
+            self.dispatch(cmd, sets, push, groups);
+            super::memory_barrier(&self.gpu, cmd, super::COMPUTE_WRITE, super::HOST_READ);
+            Ok(())
+        })
+    }
+
     /// Dispatches as many workgroups as the `VkDispatchIndirectCommand` at `offset` in `args`
     /// says when the command runs.
     pub fn dispatch_indirect(

@@ -3,8 +3,8 @@
 //! either way (Vulkan allows 2.5). lavapipe divides exactly, so the estimates are made off
 //! here, by hand, and the shader is run by `shaders/test/division.comp`.
 
-use super::{memory_barrier, vk, BindingKind, ComputePipeline, DescriptorLayout, Gpu, GpuOptions};
-use super::{MemoryLocation, Resource, COMPUTE_WRITE, HOST_READ};
+use super::{vk, BindingKind, ComputePipeline, DescriptorLayout, Gpu, GpuOptions};
+use super::{MemoryLocation, Resource};
 use bytemuck::{Pod, Zeroable};
 
 #[repr(C)]
@@ -140,17 +140,9 @@ fn rounded_quotients_are_rusts_from_estimates_a_few_ulps_off() {
     let pipeline = ComputePipeline::new(&gpu, crate::spirv!("test/division.comp"), &[&layout], 4)
         .expect("pipeline");
     let count = cases.len() as u32;
-    gpu.submit_and_wait(|cmd| {
-        pipeline.dispatch(
-            cmd,
-            &[set.raw],
-            &count.to_ne_bytes(),
-            [count.div_ceil(64), 1, 1],
-        );
-        memory_barrier(&gpu, cmd, COMPUTE_WRITE, HOST_READ);
-        Ok(())
-    })
-    .expect("dispatch");
+    pipeline
+        .dispatch_and_wait(&[set.raw], &count.to_ne_bytes(), [count.div_ceil(64), 1, 1])
+        .expect("dispatch");
     let results: Vec<f32> = bytemuck::pod_collect_to_vec(result_buffer.read().expect("read"));
 
     let failures: Vec<String> = cases

@@ -5,8 +5,7 @@
 //! subgroup would be split between two, which then disagree on what they vote. Checked
 //! once, on the devices translucid makes, by one workgroup of `subgroup_size` invocations.
 
-use super::{memory_barrier, vk, BindingKind, ComputePipeline, DescriptorLayout, Gpu};
-use super::{MemoryLocation, Resource, COMPUTE_WRITE, HOST_READ};
+use super::{vk, BindingKind, ComputePipeline, DescriptorLayout, Gpu, MemoryLocation, Resource};
 use crate::interface::specialization::{Specialization, RASTER_GROUP_SIZE};
 use crate::Result;
 
@@ -30,11 +29,7 @@ pub(super) fn lanes_per_subgroup(gpu: &Gpu) -> Result<u32> {
         0,
         &Specialization::new().with(RASTER_GROUP_SIZE, size),
     )?;
-    gpu.submit_and_wait(|cmd| {
-        pipeline.dispatch(cmd, &[set.raw], &[], [1, 1, 1]);
-        memory_barrier(gpu, cmd, COMPUTE_WRITE, HOST_READ);
-        Ok(())
-    })?;
+    pipeline.dispatch_and_wait(&[set.raw], &[], [1, 1, 1])?;
     let bytes = probe.read()?;
     let lanes = u32::from_ne_bytes(bytes[..4].try_into().expect("four bytes"));
     Ok(lanes)
