@@ -8,6 +8,7 @@ VkDevice g_device;
 VkQueue g_queue;
 uint32_t g_family;
 VkPhysicalDeviceFeatures g_features;
+VkBool32 g_subgroup_size_control;
 static VkDebugUtilsMessengerEXT g_messenger;
 
 void engine_fail(const char *what, const char *file, int line) {
@@ -92,6 +93,56 @@ static int has_features(VkPhysicalDevice device, const VkPhysicalDeviceFeatures 
     return 1;
 }
 
+/* Whether `device`'s subgroups are what `wanted` asks for (NULL: anything). */
+static int has_subgroups(VkPhysicalDevice device,
+                         const translucid_host_subgroup_requirements *wanted) {
+    VkPhysicalDeviceSubgroupProperties subgroups;
+    VkPhysicalDeviceProperties2 properties;
+    if (wanted == NULL) return 1;
+    memset(&subgroups, 0, sizeof subgroups);
+    subgroups.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES;
+    memset(&properties, 0, sizeof properties);
+    properties.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2;
+    properties.pNext = &subgroups;
+    vkGetPhysicalDeviceProperties2(device, &properties);
+    return (subgroups.supportedStages & wanted->stages) == wanted->stages &&
+           (subgroups.supportedOperations & wanted->operations) == wanted->operations &&
+           subgroups.subgroupSize >= wanted->min_size;
+}
+
+/* Whether `device` has subgroup size control for compute (the extension and both features),
+ * which translucid recommends enabling. */
+static int has_subgroup_size_control(VkPhysicalDevice device) {
+    VkExtensionProperties extensions[512];
+    uint32_t count = 512, i;
+    int listed = 0;
+    VkPhysicalDeviceSubgroupSizeControlFeaturesEXT size;
+    VkPhysicalDeviceFeatures2 features;
+    VkResult r = vkEnumerateDeviceExtensionProperties(device, NULL, &count, extensions);
+    if (r != VK_SUCCESS && r != VK_INCOMPLETE) return 0;
+    for (i = 0; i < count; i++) {
+        listed |= strcmp(extensions[i].extensionName,
+                         VK_EXT_SUBGROUP_SIZE_CONTROL_EXTENSION_NAME) == 0;
+    }
+    memset(&size, 0, sizeof size);
+    size.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_SIZE_CONTROL_FEATURES_EXT;
+    memset(&features, 0, sizeof features);
+    features.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2;
+    features.pNext = &size;
+    vkGetPhysicalDeviceFeatures2(device, &features);
+    return listed && size.subgroupSizeControl && size.computeFullSubgroups;
+}
+
+/* The subgroup requirements chained to `req`, or NULL. */
+static const translucid_host_subgroup_requirements *
+subgroup_requirements(const translucid_host_requirements *req) {
+    const translucid_host_subgroup_requirements *next =
+        (const translucid_host_subgroup_requirements *)req->next;
+    return next != NULL && next->s_type == TRANSLUCID_STRUCTURE_TYPE_HOST_SUBGROUP_REQUIREMENTS
+               ? next
+               : NULL;
+}
+
 void create_device(const translucid_host_requirements *req) {
     VkPhysicalDevice devices[8];
     uint32_t count = 8, i, d;
@@ -101,6 +152,8 @@ void create_device(const translucid_host_requirements *req) {
     float priority = 1.0f;
     VkDeviceQueueCreateInfo queue;
     VkDeviceCreateInfo info;
+    VkPhysicalDeviceSubgroupSizeControlFeaturesEXT size_control;
+    const char *extensions[8];
     VkResult r = vkEnumeratePhysicalDevices(g_instance, &count, devices);
 
     if ((r != VK_SUCCESS && r != VK_INCOMPLETE) || count == 0) {
@@ -110,7 +163,8 @@ void create_device(const translucid_host_requirements *req) {
     for (d = 0; d < count && g_physical == VK_NULL_HANDLE; d++) {
         vkGetPhysicalDeviceProperties(devices[d], &properties);
         if (properties.apiVersion < req->api_version ||
-            !has_features(devices[d], &req->features)) {
+            !has_features(devices[d], &req->features) ||
+            !has_subgroups(devices[d], subgroup_requirements(req))) {
             continue;
         }
         family_count = 16;
@@ -140,8 +194,21 @@ void create_device(const translucid_host_requirements *req) {
     info.queueCreateInfoCount = 1;
     info.pQueueCreateInfos = &queue;
     info.pEnabledFeatures = &g_features;
+    if (req->extension_count >= 8) engine_fail("too many extensions", __FILE__, __LINE__);
+    for (i = 0; i < req->extension_count; i++) extensions[i] = req->extensions[i];
     info.enabledExtensionCount = req->extension_count;
-    info.ppEnabledExtensionNames = req->extensions;
+    /* Recommended where the device has it: translucid's rasters then hold their workgroups
+     * to whole subgroups (host_device_info tells it so). */
+    g_subgroup_size_control = has_subgroup_size_control(g_physical) ? VK_TRUE : VK_FALSE;
+    if (g_subgroup_size_control) {
+        memset(&size_control, 0, sizeof size_control);
+        size_control.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_SIZE_CONTROL_FEATURES_EXT;
+        size_control.subgroupSizeControl = VK_TRUE;
+        size_control.computeFullSubgroups = VK_TRUE;
+        info.pNext = &size_control;
+        extensions[info.enabledExtensionCount++] = VK_EXT_SUBGROUP_SIZE_CONTROL_EXTENSION_NAME;
+    }
+    info.ppEnabledExtensionNames = extensions;
     VK_CHECK(vkCreateDevice(g_physical, &info, NULL, &g_device));
     vkGetDeviceQueue(g_device, g_family, 0, &g_queue);
 }
@@ -250,7 +317,8 @@ VkBufferImageCopy region(VkImageAspectFlags aspect, VkDeviceSize offset, uint32_
 }
 
 translucid_host_device_create_info host_device_info(void) {
-    static const char *none[1];
+    static const char *size_extension[1] = {VK_EXT_SUBGROUP_SIZE_CONTROL_EXTENSION_NAME};
+    static translucid_host_subgroup_size_control size_control;
     translucid_host_device_create_info hd;
     memset(&hd, 0, sizeof hd);
     hd.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_CREATE_INFO;
@@ -261,8 +329,14 @@ translucid_host_device_create_info host_device_info(void) {
     hd.queue_family_index = g_family;
     hd.get_instance_proc_addr = vkGetInstanceProcAddr;
     hd.enabled_features = &g_features;
-    hd.enabled_extension_count = 0;
-    hd.enabled_extensions = none;
+    hd.enabled_extension_count = g_subgroup_size_control ? 1 : 0;
+    hd.enabled_extensions = size_extension;
+    if (g_subgroup_size_control) {
+        memset(&size_control, 0, sizeof size_control);
+        size_control.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_SUBGROUP_SIZE_CONTROL;
+        size_control.enabled = VK_TRUE;
+        hd.next = &size_control;
+    }
     return hd;
 }
 

@@ -32,6 +32,8 @@ extern VkQueue g_queue;
 extern uint32_t g_family;
 /* The features the device was made with: translucid's requirements. */
 extern VkPhysicalDeviceFeatures g_features;
+/* Subgroup size control (VK_EXT_subgroup_size_control) is enabled: the device has it. */
+extern VkBool32 g_subgroup_size_control;
 
 /* Prints the failure (`what` at `file`:`line`) and exits. */
 void engine_fail(const char *what, const char *file, int line);
@@ -47,8 +49,9 @@ int env_is_1(const char *name);
 /* The instance, for Vulkan `api_version`. */
 void create_instance(uint32_t api_version);
 /* The first device that meets the requirements (its Vulkan version, every feature asked for,
- * a queue family with the queue flags and timestamps), made with exactly the features and
- * extensions translucid asks for, and its queue. */
+ * the subgroups of a translucid_host_subgroup_requirements chained to `req`, a queue family
+ * with the queue flags and timestamps), made with exactly the features and extensions
+ * translucid asks for, and subgroup size control where the device has it; and its queue. */
 void create_device(const translucid_host_requirements *req);
 /* Destroys the device, the validation messenger and the instance. */
 void destroy_engine(void);
@@ -70,7 +73,8 @@ void barrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, VkIm
 VkBufferImageCopy region(VkImageAspectFlags aspect, VkDeviceSize offset, uint32_t width,
                          uint32_t height);
 
-/* The engine's device, as the context create-info's `next` takes it. */
+/* The engine's device, as the context create-info's `next` takes it (with a
+ * translucid_host_subgroup_size_control where g_subgroup_size_control). */
 translucid_host_device_create_info host_device_info(void);
 
 /* Command buffers: reset and begun for one submission; ended and submitted with a fence;

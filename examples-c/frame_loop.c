@@ -82,8 +82,12 @@ static frame_slot g_slots[IN_FLIGHT];
 /* The engine's instance and device, made with what translucid asks for. */
 static void create_engine(void) {
     translucid_host_requirements req;
+    translucid_host_subgroup_requirements subgroups;
+    memset(&subgroups, 0, sizeof subgroups);
+    subgroups.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_SUBGROUP_REQUIREMENTS;
     memset(&req, 0, sizeof req);
     req.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_REQUIREMENTS;
+    req.next = &subgroups;
     CHECK(translucid_host_get_requirements(&req));
     create_instance(req.api_version);
     create_device(&req);

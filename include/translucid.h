@@ -335,6 +335,14 @@ enum translucid_structure_type
      * `translucid_host_frame_targets`.
      */
     TRANSLUCID_STRUCTURE_TYPE_HOST_FRAME_TARGETS = 102,
+    /**
+     * `translucid_host_subgroup_requirements`, chained to the requirements.
+     */
+    TRANSLUCID_STRUCTURE_TYPE_HOST_SUBGROUP_REQUIREMENTS = 103,
+    /**
+     * `translucid_host_subgroup_size_control`, chained to the host device create-info.
+     */
+    TRANSLUCID_STRUCTURE_TYPE_HOST_SUBGROUP_SIZE_CONTROL = 104,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -944,7 +952,7 @@ typedef struct translucid_frame_statistics {
 
 /**
  * What the engine must give its instance and device before translucid can use them. The
- * caller sets `s_type` (and `next` to NULL); translucid fills the rest.
+ * caller sets `s_type` and `next`; translucid fills the rest, and the structures chained.
  */
 typedef struct translucid_host_requirements {
     /**
@@ -952,7 +960,8 @@ typedef struct translucid_host_requirements {
      */
     uint32_t s_type;
     /**
-     * NULL, set by the caller.
+     * Set by the caller: NULL, or a `translucid_host_subgroup_requirements` for translucid
+     * to fill too.
      */
     void *next;
     /**
@@ -1363,7 +1372,7 @@ typedef struct translucid_host_device_create_info {
      */
     uint32_t s_type;
     /**
-     * NULL.
+     * NULL, or a `translucid_host_subgroup_size_control`.
      */
     const void *next;
     /**
@@ -1392,6 +1401,69 @@ typedef struct translucid_host_device_create_info {
      */
     const char *const *enabled_extensions;
 } translucid_host_device_create_info;
+
+/**
+ * What `TRANSLUCID_METHOD_EXACT` and `TRANSLUCID_METHOD_WAVELET` need of the device's
+ * subgroups (`VkPhysicalDeviceSubgroupProperties`): properties to choose a physical device
+ * by, not features to enable. Chained by the caller to `translucid_host_requirements::next`,
+ * with `s_type` and `next` set; translucid fills the rest. A frame of either method on a
+ * device without them fails with `TRANSLUCID_RESULT_ERROR_NO_DEVICE`, naming them.
+ *
+ * Recommended besides, on devices that have them: `subgroupSizeControl` and
+ * `computeFullSubgroups` enabled (`VkPhysicalDeviceVulkan13Features`, or
+ * `VkPhysicalDeviceSubgroupSizeControlFeaturesEXT` with `VK_EXT_subgroup_size_control`),
+ * and a `translucid_host_subgroup_size_control` saying so. Both methods then rasterize a
+ * tile of one subgroup's pixels at a time (8x4 at 32 lanes, 8x8 at 64) instead of a row of
+ * 8 pixels, which leaves most lanes of a wide subgroup idle.
+ */
+typedef struct translucid_host_subgroup_requirements {
+    /**
+     * `TRANSLUCID_STRUCTURE_TYPE_HOST_SUBGROUP_REQUIREMENTS`, set by the caller.
+     */
+    uint32_t s_type;
+    /**
+     * NULL, set by the caller.
+     */
+    void *next;
+    /**
+     * The stages that must be in `supportedStages` (`VK_SHADER_STAGE_COMPUTE_BIT`).
+     */
+    VkShaderStageFlags stages;
+    /**
+     * The operations that must be in `supportedOperations` (basic, vote, arithmetic and
+     * ballot).
+     */
+    VkSubgroupFeatureFlags operations;
+    /**
+     * The least `subgroupSize` (8).
+     */
+    uint32_t min_size;
+} translucid_host_subgroup_requirements;
+
+/**
+ * Says that the engine enabled `subgroupSizeControl` and `computeFullSubgroups` on its
+ * device (Vulkan 1.3's features, or `VK_EXT_subgroup_size_control`'s with the extension in
+ * `translucid_host_device_create_info::enabled_extensions`), chained to
+ * `translucid_host_device_create_info::next`. translucid cannot read enabled features past
+ * `VkPhysicalDeviceFeatures`, so without it the exact and wavelet rasters work a row of 8
+ * pixels at a time. `enabled` on a device that cannot have them (no such features, or no
+ * required subgroup size for compute shaders) is
+ * `TRANSLUCID_RESULT_ERROR_DEVICE_REQUIREMENTS`.
+ */
+typedef struct translucid_host_subgroup_size_control {
+    /**
+     * `TRANSLUCID_STRUCTURE_TYPE_HOST_SUBGROUP_SIZE_CONTROL`.
+     */
+    uint32_t s_type;
+    /**
+     * NULL.
+     */
+    const void *next;
+    /**
+     * `VK_TRUE`: both features are enabled.
+     */
+    VkBool32 enabled;
+} translucid_host_subgroup_size_control;
 
 #ifdef __cplusplus
 extern "C" {
@@ -1504,7 +1576,8 @@ translucid_result translucid_frame_abandon(struct translucid_context *context,
 
 /**
  * Fills `*out_requirements` (whose `s_type` the caller set to
- * `TRANSLUCID_STRUCTURE_TYPE_HOST_REQUIREMENTS`) with what the engine's instance
+ * `TRANSLUCID_STRUCTURE_TYPE_HOST_REQUIREMENTS`), and a
+ * `translucid_host_subgroup_requirements` chained to it, with what the engine's instance
  * and device must have: call it before creating them. Needs no context.
  */
 TRANSLUCID_MUST_USE

@@ -70,26 +70,34 @@ struct Engine {
     fences: Vec<vk::Fence>,
     features: vk::PhysicalDeviceFeatures,
     api_version: u32,
+    /// `subgroupSizeControl` and `computeFullSubgroups` are enabled, and said so.
+    subgroup_size_control: bool,
 }
 
 impl Engine {
     fn new() -> Self {
-        Self::with(false, false)
+        Self::with(false, false, false)
     }
 
     /// An engine on Vulkan 1.3 with synchronization2 enabled when `sync2`, whose images may
     /// then be in its layouts (ATTACHMENT_OPTIMAL, READ_ONLY_OPTIMAL).
     fn with_synchronization2(sync2: bool) -> Self {
-        Self::with(sync2, false)
+        Self::with(sync2, false, false)
     }
 
     /// An engine whose validation layer checks synchronization too (hazards between the
     /// engine's commands and translucid's are errors).
     fn with_synchronization_validation() -> Self {
-        Self::with(false, true)
+        Self::with(false, true, false)
     }
 
-    fn with(sync2: bool, sync_validation: bool) -> Self {
+    /// An engine that enables subgroup size control (`VK_EXT_subgroup_size_control` on
+    /// Vulkan 1.2) and tells translucid so, as the requirements recommend.
+    fn with_subgroup_size_control() -> Self {
+        Self::with(false, false, true)
+    }
+
+    fn with(sync2: bool, sync_validation: bool, size_control: bool) -> Self {
         // An engine that uses every method: each one's features ORed in.
         let optional: Vec<_> = MethodKind::ALL
             .iter()
@@ -147,11 +155,20 @@ impl Engine {
                 .queue_priorities(&priorities)];
             let features = wanted.features;
             let mut vulkan13 = vk::PhysicalDeviceVulkan13Features::default().synchronization2(true);
+            let mut size_features = vk::PhysicalDeviceSubgroupSizeControlFeatures::default()
+                .subgroup_size_control(true)
+                .compute_full_subgroups(true);
+            let size_extension = [ash::ext::subgroup_size_control::NAME.as_ptr()];
             let mut info = vk::DeviceCreateInfo::default()
                 .queue_create_infos(&queues)
                 .enabled_features(&features);
             if sync2 {
                 info = info.push_next(&mut vulkan13);
+            }
+            if size_control {
+                info = info
+                    .push_next(&mut size_features)
+                    .enabled_extension_names(&size_extension);
             }
             let device = instance
                 .create_device(physical, &info, None)
@@ -192,6 +209,7 @@ impl Engine {
                 fences,
                 features,
                 api_version,
+                subgroup_size_control: size_control,
             }
         }
     }
@@ -205,8 +223,13 @@ impl Engine {
             queue_family: self.family,
             api_version: self.api_version,
             features: self.features,
-            extensions: Vec::new(),
+            extensions: if self.subgroup_size_control {
+                vec![ash::ext::subgroup_size_control::NAME.to_owned()]
+            } else {
+                Vec::new()
+            },
             profile: None,
+            subgroup_size_control: self.subgroup_size_control,
         }
     }
 
@@ -1106,6 +1129,72 @@ fn engine_images_in_synchronization2_layouts() {
         }
     }
     assert_no_validation_errors();
+}
+
+/// An engine that enables subgroup size control and says so gets tiles of one subgroup's
+/// pixels for exact and wavelet, as translucid's own device does: 8x2 at lavapipe's 16 lanes
+/// (512 bits), where an engine that does not say so gets rows; a row at 8 lanes, and at
+/// 1024 and 2048 bits, where lavapipe runs 16 of the lanes it reports (docs/gpu.md). The
+/// frames match the reference under validation, which checks the pipelines' required
+/// subgroup sizes against what the engine enabled. Rerun at lavapipe's wider sizes.
+#[test]
+fn an_engine_with_subgroup_size_control_gets_subgroup_tiles() {
+    let (scene, layer, _) = spheres_standalone();
+    let width = std::env::var("LP_NATIVE_VECTOR_WIDTH").ok();
+    let expected_rows = if width.as_deref() == Some("512") {
+        2
+    } else {
+        1
+    };
+    let tile_rows =
+        |gpu: &Gpu| 1 << translucid::methods::bins::features::tile_shift(gpu.info().into());
+    let on_lavapipe;
+    {
+        let plain = Engine::new();
+        // SAFETY: the engine's live objects, outliving `gpu` (dropped at the end of this block).
+        let gpu = unsafe { Gpu::from_host(&plain.host_device()) }.expect("host device");
+        assert_eq!(tile_rows(&gpu), 1, "no size control said: rows");
+        on_lavapipe = gpu.info().name.contains("llvmpipe");
+    }
+    let engine = Engine::with_subgroup_size_control();
+    {
+        // SAFETY: as above.
+        let gpu = unsafe { Gpu::from_host(&engine.host_device()) }.expect("host device");
+        if on_lavapipe {
+            assert_eq!(tile_rows(&gpu), expected_rows, "{:?}", gpu.info());
+        }
+        // Wavelet in its bins, whose raster is the one with tiles, against its CPU model.
+        let mut options = MethodOptions::default();
+        options.wavelet.storage = Some(Storage::Bins);
+        let settings =
+            translucid::methods::wavelet::Settings::from_options(&options.wavelet, gpu.profile())
+                .expect("settings");
+        let model = translucid::methods::wavelet::model::Model::new(settings, &scene, W, H)
+            .render(&scene, &layer)
+            .expect("model");
+        let reference = translucid::reference::render(&scene, &layer).expect("reference");
+        for (kind, want) in [
+            (MethodKind::Exact, reference.to_srgb8()),
+            (MethodKind::Wavelet, model.to_srgb8()),
+        ] {
+            let mut renderer =
+                Renderer::with_frames_in_flight(&gpu, &scene, kind, W, H, &options, 1)
+                    .expect("renderer");
+            let images = EngineImages::of_layer(&gpu, &layer, 1).expect("engine images");
+            let done = one_engine_frame(&engine, &gpu, &images, &mut renderer);
+            assert!(!done.overflowed, "{kind:?}: {done:?}");
+            let worst = worst_difference(&images.srgb(0).expect("readback"), &want);
+            assert!(worst <= 2, "{kind:?}: {worst}/255 off");
+        }
+    }
+    assert_no_validation_errors();
+    if on_lavapipe {
+        let gpu = Gpu::new(&GpuOptions::default()).expect("device");
+        translucid_tests::rerun_at_lavapipe_subgroup_sizes(
+            &gpu,
+            &["an_engine_with_subgroup_size_control_gets_subgroup_tiles"],
+        );
+    }
 }
 
 /// On the engine's device, a texture added after the first frame (`ResidentAssets::extended`)

@@ -235,6 +235,18 @@ public:
                       "translucid_host_get_method_requirements");
         return req;
     }
+    /// What exact and wavelet need of the device's subgroups, to pick a physical device by
+    /// (translucid_host_subgroup_requirements).
+    static translucid_host_subgroup_requirements host_subgroup_requirements() {
+        translucid_host_subgroup_requirements subgroups{};
+        subgroups.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_SUBGROUP_REQUIREMENTS;
+        translucid_host_requirements req{};
+        req.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_REQUIREMENTS;
+        req.next = &subgroups;
+        detail::check(translucid_host_get_requirements(&req), nullptr,
+                      "translucid_host_get_requirements");
+        return subgroups;
+    }
     /// A context on the engine's device, taking up to `frames_in_flight` frames recorded and
     /// not completed (the engine's frames in flight times its views); `s_type` is filled in
     /// for you. Destroy the context (and every object from it) before the engine's device.

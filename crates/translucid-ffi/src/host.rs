@@ -9,7 +9,8 @@
 //! recorded it stays alive, even when the assets it drew were destroyed meanwhile.
 
 use crate::cast::{
-    check_header, translucid_context, try_out, try_out_structure, try_ref, try_slice, OutStructure,
+    check_header, check_type, translucid_base_in_structure, translucid_context, try_out,
+    try_out_structure, try_ref, try_slice, OutStructure,
 };
 use crate::context::Objects;
 use crate::frame::{translucid_frame, translucid_frame_info};
@@ -19,8 +20,9 @@ use crate::panic;
 use crate::result::{translucid_result, Failure, FfiResult};
 use crate::structure::translucid_structure_type;
 use crate::vulkan::{
-    PFN_vkGetInstanceProcAddr, VkCommandBuffer, VkDevice, VkFormat, VkImage, VkImageLayout,
-    VkInstance, VkPhysicalDevice, VkPhysicalDeviceFeatures, VkQueueFlags,
+    PFN_vkGetInstanceProcAddr, VkBool32, VkCommandBuffer, VkDevice, VkFormat, VkImage,
+    VkImageLayout, VkInstance, VkPhysicalDevice, VkPhysicalDeviceFeatures, VkQueueFlags,
+    VkShaderStageFlags, VkSubgroupFeatureFlags,
 };
 use std::ffi::{c_char, c_void, CStr, CString};
 use translucid::context::{Completion, Recording};
@@ -30,13 +32,14 @@ use translucid::gpu::{
 };
 
 /// What the engine must give its instance and device before translucid can use them. The
-/// caller sets `s_type` (and `next` to NULL); translucid fills the rest.
+/// caller sets `s_type` and `next`; translucid fills the rest, and the structures chained.
 #[allow(non_camel_case_types)]
 #[repr(C)]
 pub struct translucid_host_requirements {
     /// `TRANSLUCID_STRUCTURE_TYPE_HOST_REQUIREMENTS`, set by the caller.
     pub s_type: u32,
-    /// NULL, set by the caller.
+    /// Set by the caller: NULL, or a `translucid_host_subgroup_requirements` for translucid
+    /// to fill too.
     pub next: *mut c_void,
     /// The lowest `VkApplicationInfo::apiVersion` for the instance, and the lowest version of
     /// the physical device (`VK_API_VERSION_1_2`).
@@ -53,6 +56,53 @@ pub struct translucid_host_requirements {
     pub extensions: *const *const c_char,
 }
 
+/// What `TRANSLUCID_METHOD_EXACT` and `TRANSLUCID_METHOD_WAVELET` need of the device's
+/// subgroups (`VkPhysicalDeviceSubgroupProperties`): properties to choose a physical device
+/// by, not features to enable. Chained by the caller to `translucid_host_requirements::next`,
+/// with `s_type` and `next` set; translucid fills the rest. A frame of either method on a
+/// device without them fails with `TRANSLUCID_RESULT_ERROR_NO_DEVICE`, naming them.
+///
+/// Recommended besides, on devices that have them: `subgroupSizeControl` and
+/// `computeFullSubgroups` enabled (`VkPhysicalDeviceVulkan13Features`, or
+/// `VkPhysicalDeviceSubgroupSizeControlFeaturesEXT` with `VK_EXT_subgroup_size_control`),
+/// and a `translucid_host_subgroup_size_control` saying so. Both methods then rasterize a
+/// tile of one subgroup's pixels at a time (8x4 at 32 lanes, 8x8 at 64) instead of a row of
+/// 8 pixels, which leaves most lanes of a wide subgroup idle.
+#[allow(non_camel_case_types)]
+#[repr(C)]
+pub struct translucid_host_subgroup_requirements {
+    /// `TRANSLUCID_STRUCTURE_TYPE_HOST_SUBGROUP_REQUIREMENTS`, set by the caller.
+    pub s_type: u32,
+    /// NULL, set by the caller.
+    pub next: *mut c_void,
+    /// The stages that must be in `supportedStages` (`VK_SHADER_STAGE_COMPUTE_BIT`).
+    pub stages: VkShaderStageFlags,
+    /// The operations that must be in `supportedOperations` (basic, vote, arithmetic and
+    /// ballot).
+    pub operations: VkSubgroupFeatureFlags,
+    /// The least `subgroupSize` (8).
+    pub min_size: u32,
+}
+
+/// Says that the engine enabled `subgroupSizeControl` and `computeFullSubgroups` on its
+/// device (Vulkan 1.3's features, or `VK_EXT_subgroup_size_control`'s with the extension in
+/// `translucid_host_device_create_info::enabled_extensions`), chained to
+/// `translucid_host_device_create_info::next`. translucid cannot read enabled features past
+/// `VkPhysicalDeviceFeatures`, so without it the exact and wavelet rasters work a row of 8
+/// pixels at a time. `enabled` on a device that cannot have them (no such features, or no
+/// required subgroup size for compute shaders) is
+/// `TRANSLUCID_RESULT_ERROR_DEVICE_REQUIREMENTS`.
+#[allow(non_camel_case_types)]
+#[repr(C)]
+pub struct translucid_host_subgroup_size_control {
+    /// `TRANSLUCID_STRUCTURE_TYPE_HOST_SUBGROUP_SIZE_CONTROL`.
+    pub s_type: u32,
+    /// NULL.
+    pub next: *const c_void,
+    /// `VK_TRUE`: both features are enabled.
+    pub enabled: VkBool32,
+}
+
 /// The engine's device, chained to `translucid_context_create_info::next` with `mode`
 /// `TRANSLUCID_CONTEXT_MODE_HOST_DEVICE`. translucid never destroys these objects: destroy the
 /// context before them. The enabled features and extensions are checked against
@@ -64,7 +114,7 @@ pub struct translucid_host_requirements {
 pub struct translucid_host_device_create_info {
     /// `TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_CREATE_INFO`.
     pub s_type: u32,
-    /// NULL.
+    /// NULL, or a `translucid_host_subgroup_size_control`.
     pub next: *const c_void,
     /// The `apiVersion` the instance was created with.
     pub api_version: u32,
@@ -165,6 +215,7 @@ pub(crate) fn host_device(info: &translucid_host_device_create_info) -> FfiResul
         })
         .collect::<FfiResult<Vec<_>>>()?;
     Ok(HostDevice {
+        subgroup_size_control: subgroup_size_control(info.next)?,
         get_instance_proc_addr,
         instance: info.instance,
         physical_device: info.physical_device,
@@ -177,15 +228,38 @@ pub(crate) fn host_device(info: &translucid_host_device_create_info) -> FfiResul
     })
 }
 
+/// Whether the `translucid_host_subgroup_size_control` chained at `next` (if any) says the
+/// features are enabled.
+fn subgroup_size_control(next: *const c_void) -> FfiResult<bool> {
+    if next.is_null() {
+        return Ok(false);
+    }
+    let what = "translucid_host_device_create_info.next";
+    let link = try_ref(next.cast::<translucid_base_in_structure>(), what)?;
+    check_type(
+        link.s_type,
+        translucid_structure_type::HostSubgroupSizeControl,
+        what,
+    )?;
+    // A structure of the type its s_type names (C contract).
+    let control = try_ref(next.cast::<translucid_host_subgroup_size_control>(), what)?;
+    check_header(
+        control.s_type,
+        control.next,
+        translucid_structure_type::HostSubgroupSizeControl,
+        "translucid_host_subgroup_size_control",
+    )?;
+    Ok(control.enabled != 0)
+}
+
 /// Wraps the engine's device described by `info`, with the variants of `profile` (`None`:
 /// `TRANSLUCID_PROFILE`, else the device's).
 pub(crate) fn host_gpu(
     info: &translucid_host_device_create_info,
     profile: Option<Profile>,
 ) -> FfiResult<Gpu> {
-    check_header(
+    check_type(
         info.s_type,
-        info.next,
         translucid_structure_type::HostDeviceCreateInfo,
         "translucid_host_device_create_info",
     )?;
@@ -284,7 +358,8 @@ impl OutStructure for translucid_host_requirements {
 
 impl translucid_host_requirements {
     /// Fills `*out_requirements` (whose `s_type` the caller set to
-    /// `TRANSLUCID_STRUCTURE_TYPE_HOST_REQUIREMENTS`) with what the engine's instance
+    /// `TRANSLUCID_STRUCTURE_TYPE_HOST_REQUIREMENTS`), and a
+    /// `translucid_host_subgroup_requirements` chained to it, with what the engine's instance
     /// and device must have: call it before creating them. Needs no context.
     #[no_mangle]
     #[must_use]
@@ -322,8 +397,25 @@ fn write_requirements(
     out_requirements: *mut translucid_host_requirements,
     wanted: HostRequirements,
 ) -> FfiResult<translucid_result> {
-    let (header, out) = try_out_structure(out_requirements, "out_requirements")?;
+    let requirements = try_ref(out_requirements.cast_const(), "out_requirements")?;
+    check_type(
+        requirements.s_type,
+        translucid_structure_type::HostRequirements,
+        "translucid_host_requirements",
+    )?;
+    let header = (requirements.s_type, requirements.next);
+    let subgroups = subgroup_requirements_out(header.1)?;
+    let out = try_out(out_requirements, "out_requirements")?;
     debug_assert!(wanted.extensions.is_empty(), "list them in a static array");
+    if let Some((sub_header, sub_out)) = subgroups {
+        sub_out.write(translucid_host_subgroup_requirements {
+            s_type: sub_header.0,
+            next: sub_header.1,
+            stages: wanted.subgroups.stages,
+            operations: wanted.subgroups.operations,
+            min_size: wanted.subgroups.min_size,
+        });
+    }
     out.write(translucid_host_requirements {
         s_type: header.0,
         next: header.1,
@@ -334,6 +426,41 @@ fn write_requirements(
         extensions: std::ptr::null(),
     });
     Ok(translucid_result::Success)
+}
+
+impl OutStructure for translucid_host_subgroup_requirements {
+    const TYPE: translucid_structure_type = translucid_structure_type::HostSubgroupRequirements;
+    const NAME: &'static str = "translucid_host_subgroup_requirements";
+    fn header(&self) -> (u32, *mut c_void) {
+        (self.s_type, self.next)
+    }
+}
+
+/// The `translucid_host_subgroup_requirements` chained at `next` (the requirements' only
+/// chained structure), checked, to be written once the whole call succeeds.
+#[allow(clippy::type_complexity)]
+fn subgroup_requirements_out<'a>(
+    next: *mut c_void,
+) -> FfiResult<
+    Option<(
+        (u32, *mut c_void),
+        &'a mut std::mem::MaybeUninit<translucid_host_subgroup_requirements>,
+    )>,
+> {
+    if next.is_null() {
+        return Ok(None);
+    }
+    let what = "translucid_host_requirements.next";
+    let link = try_ref(
+        next.cast_const().cast::<translucid_base_in_structure>(),
+        what,
+    )?;
+    check_type(
+        link.s_type,
+        translucid_structure_type::HostSubgroupRequirements,
+        what,
+    )?;
+    try_out_structure(next.cast::<translucid_host_subgroup_requirements>(), what).map(Some)
 }
 
 /// `translucid_frame_record` and `translucid_frame_record_native_blend`: the arguments

@@ -29,10 +29,14 @@ pub enum translucid_structure_type {
     HostRequirements = 101,
     /// `translucid_host_frame_targets`.
     HostFrameTargets = 102,
+    /// `translucid_host_subgroup_requirements`, chained to the requirements.
+    HostSubgroupRequirements = 103,
+    /// `translucid_host_subgroup_size_control`, chained to the host device create-info.
+    HostSubgroupSizeControl = 104,
 }
 
 impl translucid_structure_type {
-    const ALL: [Self; 15] = [
+    const ALL: [Self; 17] = [
         Self::ContextCreateInfo,
         Self::MeshCreateInfo,
         Self::TextureCreateInfo,
@@ -48,6 +52,8 @@ impl translucid_structure_type {
         Self::HostDeviceCreateInfo,
         Self::HostRequirements,
         Self::HostFrameTargets,
+        Self::HostSubgroupRequirements,
+        Self::HostSubgroupSizeControl,
     ];
 
     pub fn from_raw(value: u32) -> Option<Self> {

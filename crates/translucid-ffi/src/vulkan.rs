@@ -15,6 +15,9 @@ pub type VkImage = vk::Image;
 pub type VkFormat = vk::Format;
 pub type VkImageLayout = vk::ImageLayout;
 pub type VkQueueFlags = vk::QueueFlags;
+pub type VkShaderStageFlags = vk::ShaderStageFlags;
+pub type VkSubgroupFeatureFlags = vk::SubgroupFeatureFlags;
+pub type VkBool32 = vk::Bool32;
 pub type VkPhysicalDeviceFeatures = vk::PhysicalDeviceFeatures;
 /// Nullable, as every Vulkan function pointer type is in C.
 pub type PFN_vkGetInstanceProcAddr = Option<vk::PFN_vkGetInstanceProcAddr>;

@@ -373,6 +373,8 @@ fn readme_c_snippets_compile_cleanly() {
              VkDevice device = VK_NULL_HANDLE;\n\
              uint32_t family = 0;\n\
              VkPhysicalDeviceFeatures enabled_features = {{0}};\n\
+             uint32_t extension_count = 0;\n\
+             const char *const *extensions = NULL;\n\
              VkCommandBuffer cmd = VK_NULL_HANDLE;\n\
              VkImage colour = VK_NULL_HANDLE, depth = VK_NULL_HANDLE;\n\
              VkImageLayout current = VK_IMAGE_LAYOUT_GENERAL;\n\

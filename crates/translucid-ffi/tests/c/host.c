@@ -337,6 +337,24 @@ static void context_errors(void) {
     hd.s_type = 0;
     EXPECT(NULL, translucid_context_create(&info, &ctx),
            TRANSLUCID_RESULT_ERROR_INVALID_STRUCTURE_TYPE);
+    if (g_subgroup_size_control) {
+        /* Subgroup size control said enabled, without the extension on a Vulkan 1.2 device;
+         * then a structure of another type chained in its place. */
+        translucid_base_in_structure other;
+        hd = host_device_info();
+        TRUE_OR_FAIL(hd.next != NULL);
+        hd.enabled_extension_count = 0;
+        EXPECT(NULL, translucid_context_create(&info, &ctx),
+               TRANSLUCID_RESULT_ERROR_DEVICE_REQUIREMENTS);
+        TRUE_OR_FAIL(strstr(translucid_context_get_last_error(NULL),
+                            "VK_EXT_subgroup_size_control") != NULL);
+        memset(&other, 0, sizeof other);
+        other.s_type = TRANSLUCID_STRUCTURE_TYPE_SAMPLER_INFO;
+        hd = host_device_info();
+        hd.next = &other;
+        EXPECT(NULL, translucid_context_create(&info, &ctx),
+               TRANSLUCID_RESULT_ERROR_INVALID_STRUCTURE_TYPE);
+    }
     hd = host_device_info();
     info.device = "lavapipe";
     EXPECT(NULL, translucid_context_create(&info, &ctx), TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
@@ -506,6 +524,7 @@ static void frame_errors(const scene *s) {
 
 int main(void) {
     translucid_host_requirements req;
+    translucid_host_subgroup_requirements subgroups;
     translucid_host_device_create_info hd;
     translucid_context_create_info info;
     scene host_scene, standalone_scene;
@@ -522,6 +541,25 @@ int main(void) {
     TRUE_OR_FAIL(req.api_version >= VK_API_VERSION_1_2);
     TRUE_OR_FAIL(req.queue_flags & VK_QUEUE_GRAPHICS_BIT);
     TRUE_OR_FAIL(req.features.geometryShader == VK_FALSE);
+
+    /* The subgroups exact and wavelet need, in a structure chained to the requirements; a
+     * chained structure of another type is refused, and nothing is written. */
+    memset(&subgroups, 0, sizeof subgroups);
+    subgroups.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_INFO;
+    req.next = &subgroups;
+    req.api_version = 0;
+    EXPECT(NULL, translucid_host_get_requirements(&req),
+           TRANSLUCID_RESULT_ERROR_INVALID_STRUCTURE_TYPE);
+    TRUE_OR_FAIL(req.api_version == 0 && subgroups.min_size == 0);
+    subgroups.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_SUBGROUP_REQUIREMENTS;
+    CHECK(NULL, translucid_host_get_requirements(&req));
+    TRUE_OR_FAIL(req.next == &subgroups && subgroups.next == NULL);
+    TRUE_OR_FAIL(req.api_version >= VK_API_VERSION_1_2);
+    TRUE_OR_FAIL(subgroups.stages == VK_SHADER_STAGE_COMPUTE_BIT);
+    TRUE_OR_FAIL(subgroups.operations ==
+                 (VK_SUBGROUP_FEATURE_BASIC_BIT | VK_SUBGROUP_FEATURE_VOTE_BIT |
+                  VK_SUBGROUP_FEATURE_ARITHMETIC_BIT | VK_SUBGROUP_FEATURE_BALLOT_BIT));
+    TRUE_OR_FAIL(subgroups.min_size == 8);
 
     /* A method's own list: every method's features, and its own; an engine using several ORs
      * their features together. */
@@ -554,6 +592,13 @@ int main(void) {
     /* 2. The engine's instance and device. */
     create_engine(&req);
     create_frame_resources();
+    {
+        /* Lavapipe has subgroup size control: the engine enables it and says so, so these
+         * checks run translucid's held subgroups on an engine's device. */
+        VkPhysicalDeviceProperties properties;
+        vkGetPhysicalDeviceProperties(g_physical, &properties);
+        TRUE_OR_FAIL(g_subgroup_size_control || strstr(properties.deviceName, "llvmpipe") == NULL);
+    }
 
     /* 3. The context on the engine's device, and a standalone one to compare with. */
     context_errors();

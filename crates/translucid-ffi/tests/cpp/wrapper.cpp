@@ -101,6 +101,10 @@ int main() {
         const translucid_host_requirements lists =
             translucid::Context::host_requirements(TRANSLUCID_METHOD_LINKED_LIST);
         EXPECT(lists.features.shaderInt64 == VK_TRUE && lists.features.geometryShader == VK_TRUE);
+        const translucid_host_subgroup_requirements subgroups =
+            translucid::Context::host_subgroup_requirements();
+        EXPECT(subgroups.min_size == 8 && subgroups.stages == VK_SHADER_STAGE_COMPUTE_BIT &&
+               (subgroups.operations & VK_SUBGROUP_FEATURE_BALLOT_BIT) != 0);
         try {
             translucid::Context::host_requirements(1000);
             EXPECT(false);

@@ -49,6 +49,8 @@ pub struct DeviceInfo {
     pub kind: &'static str,
     pub api_version: String,
     pub driver: String,
+    /// The driver's `VkDriverId` (`VK_DRIVER_ID_MESA_LLVMPIPE` for lavapipe).
+    pub driver_id: vk::DriverId,
     pub subgroup_size: u32,
     /// Compute shaders have the subgroup votes, ballots and reductions the exact raster uses.
     pub compute_subgroup_operations: bool,
@@ -288,16 +290,14 @@ pub(super) fn describe(
             .driver_info_as_c_str()
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_default(),
+        driver_id: driver.driver_id,
         subgroup_size: subgroup.subgroup_size,
         compute_subgroup_operations: subgroup
             .supported_stages
-            .contains(vk::ShaderStageFlags::COMPUTE)
-            && subgroup.supported_operations.contains(
-                vk::SubgroupFeatureFlags::BASIC
-                    | vk::SubgroupFeatureFlags::VOTE
-                    | vk::SubgroupFeatureFlags::ARITHMETIC
-                    | vk::SubgroupFeatureFlags::BALLOT,
-            ),
+            .contains(super::host::SUBGROUP_REQUIREMENTS.stages)
+            && subgroup
+                .supported_operations
+                .contains(super::host::SUBGROUP_REQUIREMENTS.operations),
         full_subgroups,
         max_shared_memory: limits.max_compute_shared_memory_size,
         max_storage_buffer_range: limits.max_storage_buffer_range,
@@ -516,12 +516,14 @@ impl Gpu {
         let submission = self.submission?;
         let info = &self.info;
         let features = enabled_features(info);
-        // (Its subgroup size control is not passed on: an engine's device has none.)
-        let extensions = if info.conditional_rendering {
-            vec![ash::ext::conditional_rendering::NAME.to_owned()]
-        } else {
-            Vec::new()
-        };
+        let mut extensions = Vec::new();
+        if info.conditional_rendering {
+            extensions.push(ash::ext::conditional_rendering::NAME.to_owned());
+        }
+        // Enabled when the device was made; passed on where the probe found it sound.
+        if info.full_subgroups {
+            extensions.push(ash::ext::subgroup_size_control::NAME.to_owned());
+        }
         Some(HostDevice {
             get_instance_proc_addr: self._entry.static_fn().get_instance_proc_addr,
             instance: self.instance.handle(),
@@ -533,6 +535,7 @@ impl Gpu {
             extensions,
             // The profile this device was made with (forced or its own).
             profile: Some(self.info.profile),
+            subgroup_size_control: info.full_subgroups,
         })
     }
 

@@ -30,7 +30,39 @@ pub struct HostRequirements {
     pub features: vk::PhysicalDeviceFeatures,
     /// Device extensions; none today.
     pub extensions: &'static [&'static CStr],
+    /// What exact and wavelet need of the device's subgroups, which are properties to pick a
+    /// device by, not features to enable.
+    pub subgroups: SubgroupRequirements,
 }
+
+/// The subgroups the bin rasters (exact, wavelet) need: a tile of pixels votes, broadcasts
+/// and reduces as one subgroup, and the smallest tile is a row of `BIN_SIZE` pixels.
+///
+/// Recommended besides: `subgroupSizeControl` and `computeFullSubgroups` enabled (Vulkan
+/// 1.3, or `VK_EXT_subgroup_size_control`) and said so in
+/// [`HostDevice::subgroup_size_control`]; the rasters' tiles then fill a whole subgroup
+/// (8x4 pixels at 32 lanes) instead of a row of 8.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SubgroupRequirements {
+    /// Stages that use subgroup operations (`VkPhysicalDeviceSubgroupProperties::supportedStages`).
+    pub stages: vk::ShaderStageFlags,
+    /// The operations they use (`supportedOperations`).
+    pub operations: vk::SubgroupFeatureFlags,
+    /// The least `subgroupSize`.
+    pub min_size: u32,
+}
+
+/// What the bin rasters need of subgroups ([`SubgroupRequirements`]).
+pub const SUBGROUP_REQUIREMENTS: SubgroupRequirements = SubgroupRequirements {
+    stages: vk::ShaderStageFlags::COMPUTE,
+    operations: vk::SubgroupFeatureFlags::from_raw(
+        vk::SubgroupFeatureFlags::BASIC.as_raw()
+            | vk::SubgroupFeatureFlags::VOTE.as_raw()
+            | vk::SubgroupFeatureFlags::ARITHMETIC.as_raw()
+            | vk::SubgroupFeatureFlags::BALLOT.as_raw(),
+    ),
+    min_size: crate::methods::bins::layout::BIN_SIZE,
+};
 
 /// What translucid needs of the engine's device.
 pub fn host_requirements() -> HostRequirements {
@@ -41,6 +73,7 @@ pub fn host_requirements() -> HostRequirements {
             .dual_src_blend(true)
             .shader_int64(true),
         extensions: &[],
+        subgroups: SUBGROUP_REQUIREMENTS,
     }
 }
 
@@ -149,6 +182,12 @@ pub struct HostDevice {
     /// Force the CPU-driver or the GPU variants; `None` follows `TRANSLUCID_PROFILE`, else
     /// the device.
     pub profile: Option<super::Profile>,
+    /// The engine enabled `subgroupSizeControl` and `computeFullSubgroups` (Vulkan 1.3's
+    /// features, or `VK_EXT_subgroup_size_control`'s with the extension), so that the bin
+    /// rasters may hold their workgroups to whole subgroups of the device's size and make a
+    /// tile one subgroup's pixels. Checked against what the device supports; translucid
+    /// cannot see enabled features beyond the core ones.
+    pub subgroup_size_control: bool,
 }
 
 fn version_string(v: u32) -> String {
@@ -258,7 +297,8 @@ impl Gpu {
         info.geometry_shader = host.features.geometry_shader == vk::TRUE;
         info.independent_blend = host.features.independent_blend == vk::TRUE;
         info.conditional_rendering = false;
-        info.full_subgroups = false;
+        info.full_subgroups = host.subgroup_size_control
+            && held_subgroups_usable(host, properties.api_version, &info)?;
         info.profile = host
             .profile
             .or(super::Profile::from_env()?)
@@ -267,6 +307,50 @@ impl Gpu {
         let device = unsafe { ash::Device::load(instance.fp_v1_0(), host.device) };
         Self::wrap_host(entry, instance, device, host.physical_device, info)
     }
+}
+
+/// Whether the bin rasters may hold workgroups to whole subgroups on the engine's device,
+/// which the engine says has `subgroupSizeControl` and `computeFullSubgroups` enabled: an
+/// error if the device cannot have them enabled (so the engine's word is wrong), `false` on
+/// a driver measured to split such workgroups.
+fn held_subgroups_usable(
+    host: &HostDevice,
+    device_version: u32,
+    info: &super::DeviceInfo,
+) -> Result<bool> {
+    let core = host.api_version >= vk::API_VERSION_1_3 && device_version >= vk::API_VERSION_1_3;
+    let extension = host
+        .extensions
+        .iter()
+        .any(|e| e.as_c_str() == ash::ext::subgroup_size_control::NAME);
+    // `describe` found the features, the extension, and a required size for compute that
+    // covers the device's subgroup size.
+    if !info.full_subgroups || !(core || extension) {
+        return Err(Error::HostRequirements(format!(
+            "subgroup_size_control is set, but {} {}; leave it unset, or enable \
+             subgroupSizeControl and computeFullSubgroups (Vulkan 1.3, or \
+             VK_EXT_subgroup_size_control)",
+            info.name,
+            if info.full_subgroups {
+                "was given neither Vulkan 1.3 nor the extension VK_EXT_subgroup_size_control"
+            } else {
+                "cannot hold compute workgroups to whole subgroups of its size"
+            }
+        )));
+    }
+    // translucid never submits on an engine's device, so it cannot probe it as it does its
+    // own (`subgroup_probe`). Lavapipe above 16 lanes reports subgroups of 32 or 64 but runs
+    // compute shaders 16 lanes at a time, held or not (docs/gpu.md).
+    if info.driver_id == vk::DriverId::MESA_LLVMPIPE && info.subgroup_size > 16 {
+        log::warn!(
+            "{}: runs compute shaders in subgroups of 16, not the {} it reports; the bins' \
+             tiles are one row",
+            info.name,
+            info.subgroup_size
+        );
+        return Ok(false);
+    }
+    Ok(true)
 }
 
 /// One of the engine's images: the layout it is in when the recorded commands run, and the

@@ -377,19 +377,21 @@ impl Bins {
                 info.name
             )));
         }
-        // The rasters run a workgroup per row of BIN_SIZE pixels and vote, broadcast and
-        // reduce over it: a subgroup must hold a whole row.
-        if !info.compute_subgroup_operations || info.subgroup_size < BIN_SIZE {
+        // The rasters' tiles, at least a row of BIN_SIZE pixels, vote, broadcast and reduce
+        // as one subgroup.
+        let wanted = crate::gpu::SUBGROUP_REQUIREMENTS;
+        if !info.compute_subgroup_operations || info.subgroup_size < wanted.min_size {
             return Err(Error::DeviceLacks(format!(
                 "{} has compute subgroups of {} invocations{}; the {method} method needs at least \
-                 {BIN_SIZE} with vote, ballot and arithmetic operations",
+                 {} with basic, vote, ballot and arithmetic operations",
                 info.name,
                 info.subgroup_size,
                 if info.compute_subgroup_operations {
                     ""
                 } else {
-                    " without all of vote, ballot and arithmetic"
-                }
+                    " without all of basic, vote, ballot and arithmetic"
+                },
+                wanted.min_size
             )));
         }
         let capacity = targets.capacity;
