@@ -214,6 +214,17 @@ fn exact_matches_reference_with_the_gpu_profile() {
         let frame = check_on(&gpu, &one_depth_stack(300), &label, (45, 37), &small_budget);
         assert!(frame.suspended_rows > 0, "{label}: no row suspended");
     }
+    // Rows that run to the device's own budget, which on lavapipe sits just under the
+    // driver's loop limit: every loop the GPU variants add must be in the budget (a
+    // correcting division's loop once ended lavapipe's rows early, 40/255 off).
+    let frame = check_on(
+        &gpu,
+        &one_depth_stack(1200),
+        "gpu_profile_device_budget_stack",
+        (45, 37),
+        &MethodOptions::default(),
+    );
+    assert!(frame.suspended_rows > 0, "no row ran to the device's budget");
 }
 
 /// Bins are tiles of one subgroup's pixels, 8 across and 1 to 8 rows down: on lavapipe the
