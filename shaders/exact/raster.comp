@@ -39,6 +39,15 @@
 // what is left of a row to a continuation dispatch of this same shader (CONTINUATION;
 // resume.glsl, where PARTIAL_WALKS says where a row stops).
 //
+// On GPUs (BRANCHING) a loop ends where the whole tile agrees (a vote), not lane by lane,
+// and pixels off the frame's edge stay in as finished pixels instead of returning: every
+// subgroup operation then runs with the whole tile, in uniform control flow, and the row's
+// values (its budget, where it suspends, whether a sweep ends early) are the tile's
+// without relying on lanes reconverging after a loop they left one by one, which Vulkan
+// does not promise (VK_KHR_shader_maximal_reconvergence would; glslang 11 cannot ask for
+// it). A GPU runs a subgroup until its last lane is done anyway; a CPU driver, where a vote
+// is a loop over the lanes, keeps the per-lane exits.
+//
 // main reads as the walk: find the row and its list, resume its pixels, then sweeps
 // (beginSweep) of stretches (walkStretch, nextStretch, compositeFinal) until every pixel is
 // finished or the budget runs out (endSweep); suspend the row or write its pixels.
@@ -133,6 +142,7 @@ uint walkStretch(inout Pixel p, inout uint64_t selection[SELECT_SIZE], uint64_t 
     uint last = max(end, 1u) - 1u;
     uint nextEntry = texelFetch(u_binEntryTexels, int(min(from, last))).r;
     uint e = from;
+    bool walking = true;
     if (e < walkTo) do {
         // The same entry for the whole row: a broadcast tells a GPU compiler so (one load and
         // one triangle's fetches for the subgroup); on CPU drivers it is a loop over the lanes
@@ -141,16 +151,22 @@ uint walkStretch(inout Pixel p, inout uint64_t selection[SELECT_SIZE], uint64_t 
         nextEntry = texelFetch(u_binEntryTexels, int(min(e + 1u, last))).r;
         // A pixel that dropped a fragment nearer than this slab's floor can composite
         // nothing from here on in this sweep, so its walk ends (the row's when every pixel's
-        // has). (A per-pixel break, since a loop ends when no lane is left in it; a vote
-        // would be another loop over the lanes.)
-        if (p.finished || p.dropped < floorKey) {
+        // has). (On CPU drivers a per-pixel break, since a loop ends when no lane is left in
+        // it; a vote would be another loop over the lanes.)
+        bool stop = p.finished || p.dropped < floorKey;
+        if (!BRANCHING && stop) {
+            break;
+        }
+        walking = walking && !stop;
+        if (BRANCHING && !subgroupAny(walking)) {
             break;
         }
         BinTriangle t = loadTriangle(entry);
         RasterSample s;
         bool take = coverSample(t, x, y, s);
         uint64_t key = fragmentKey(floatBitsToUint(s.viewDepth), t.order);
-        take = take && !p.finished && s.zNdc < opaqueDepth && key > p.doneKey;
+        take = take && (BRANCHING ? walking : !p.finished) && s.zNdc < opaqueDepth &&
+               key > p.doneKey;
         found += take ? 1u : 0u;
         // A fragment not taken changes nothing (NO_KEY): GPUs skip the insertion where no
         // lane takes one; CPU drivers, where an `if` runs masked anyway, insert NO_KEY.
@@ -184,24 +200,42 @@ bool nextStretch(uint bin, uint end, uint slab, uint to, inout Row r, out uint n
 // Shades and composites, nearest first, the selected fragments nearer than `final`, which
 // nothing unwalked or dropped can come before; the row's budget takes what the row's
 // longest such loop took, so that the whole row agrees on when to suspend.
+// Shades and composites the nearest selected fragment; whether the pixel is now opaque
+// enough to finish.
+bool compositeNearest(inout Pixel p, inout uint64_t selection[SELECT_SIZE], uint x, uint y,
+                      FrameInfo frame) {
+    BinTriangle t = loadShadingTriangle(uint(selection[0]));
+    RasterSample s;
+    sampleTriangle(t, x, y, s);
+    vec3 l;
+    vec3 tr;
+    shadeFragment(t, x, y, s, frame, l, tr);
+    p.radiance += p.transmittance * l;
+    p.transmittance *= tr;
+    p.doneKey = selection[0];
+    bool opaqueEnough =
+        u_push.threshold > 0.0 && all(lessThan(p.transmittance, vec3(u_push.threshold)));
+    takeNearest(selection);
+    return opaqueEnough;
+}
+
 void compositeFinal(inout Pixel p, inout uint64_t selection[SELECT_SIZE], uint64_t final,
                     uint x, uint y, FrameInfo frame, inout Row r) {
     uint composited = 0u;
     bool opaqueEnough = false;
-    if (selection[0] < final && !p.finished) do {
-        BinTriangle t = loadShadingTriangle(uint(selection[0]));
-        RasterSample s;
-        sampleTriangle(t, x, y, s);
-        vec3 l;
-        vec3 tr;
-        shadeFragment(t, x, y, s, frame, l, tr);
-        p.radiance += p.transmittance * l;
-        p.transmittance *= tr;
-        p.doneKey = selection[0];
+    bool more = selection[0] < final && !p.finished;
+    if (BRANCHING) {
+        // Until the tile agrees, so that the subgroupMax below sees all of it.
+        while (subgroupAny(more)) {
+            if (more) {
+                opaqueEnough = compositeNearest(p, selection, x, y, frame);
+                composited++;
+                more = selection[0] < final && !opaqueEnough;
+            }
+        }
+    } else if (more) do {
+        opaqueEnough = compositeNearest(p, selection, x, y, frame);
         composited++;
-        opaqueEnough = u_push.threshold > 0.0 &&
-                       all(lessThan(p.transmittance, vec3(u_push.threshold)));
-        takeNearest(selection);
     } while (selection[0] < final && !opaqueEnough);
     p.fragments += composited;
     p.passed = max(p.passed, final);
@@ -262,12 +296,16 @@ void main() {
     uint end = g_binEnds[bin + SLABS - 1u];
     uint x = (block % u_push.binsX) * BIN_SIZE + laneColumn();
     uint y = (block / u_push.binsX) * BIN_SIZE + row;
-    if (x >= u_push.width || y >= u_push.height) {
+    bool onFrame = x < u_push.width && y < u_push.height;
+    if (!BRANCHING && !onFrame) {
         return;
     }
-    float opaqueDepth = opaqueDepthAt(ivec2(x, y));
+    float opaqueDepth = opaqueDepthAt(
+        BRANCHING ? ivec2(min(x, u_push.width - 1u), min(y, u_push.height - 1u)) : ivec2(x, y));
 
     Pixel p = freshPixel();
+    // Off the frame (GPUs): a pixel finished from the start, which writes nothing.
+    p.finished = BRANCHING && !onFrame;
     uint64_t selection[SELECT_SIZE];
     clearSelection(selection);
     Row r = freshRow();
@@ -294,8 +332,9 @@ void main() {
         // The sweep ended before the list did, for a fragment some pixel of the row dropped.
         bool endedEarly = false;
         // A pixel leaves the stretch loop once it is finished, the row once all are or the
-        // sweep is over. (Its own exit: a vote would be a loop over the lanes.)
-        if (!p.finished) do {
+        // sweep is over. (On CPU drivers its own exit, a vote being a loop over the lanes;
+        // on GPUs the tile's: see the top.)
+        if (BRANCHING ? subgroupAny(!p.finished) : !p.finished) do {
             // Every entry of the stretch is of one slab, so its floor is the stretch's.
             uint64_t floorKey = slabFloorKey(min(slab, SLABS - 1u));
             // The entries of this stretch the budget has room for, after its shading and the
@@ -334,8 +373,10 @@ void main() {
             // where it could composite no more. (Ending for any drop, a pixel whose kept
             // fragments all lay past the next slab composited nothing, and the next sweep
             // ended in the same place: tilted stacks never finished.)
-            endedEarly = nextFound && subgroupAny(p.dropped < limit);
-        } while (nextFound && !p.finished && !endedEarly);
+            bool stillWorking = !BRANCHING || !p.finished;
+            endedEarly = nextFound && subgroupAny(stillWorking && p.dropped < limit);
+        } while (nextFound && !endedEarly &&
+                 (BRANCHING ? subgroupAny(!p.finished) : !p.finished));
         endSweep(p, selection, r, endedEarly);
     } while (!r.outOfBudget && subgroupAny(!p.finished));
     // After the loop, so that the suspension's code, which runs masked whenever it is not
@@ -349,7 +390,7 @@ void main() {
     }
     if (r.outOfBudget) {
         suspendRow(p, selection, r, block, row, itemCapacity, resumeCapacity);
-    } else if (p.fragments > 0u || CONTINUATION) {
+    } else if (onFrame && (p.fragments > 0u || CONTINUATION)) {
         // A resumed pixel writes what earlier dispatches gathered too.
         writePixel(ivec2(x, y), p.radiance, p.transmittance);
     }
