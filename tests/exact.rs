@@ -178,10 +178,9 @@ fn exact_matches_reference_with_the_gpu_profile() {
         &MethodOptions::default(),
     );
     let expected_own = gpu().info().profile == Profile::Gpu;
-    assert_eq!(
-        own.bins.expect("exact reports its shape").branching,
-        expected_own
-    );
+    let own = own.bins.expect("exact reports its shape");
+    assert_eq!(own.branching, expected_own);
+    assert_eq!(own.storage_walk, expected_own);
     let gpu = gpu_with(Some(Profile::Gpu));
     let mut deep = MethodOptions::default();
     deep.exact.assume_deep_pixels = true;
@@ -203,10 +202,8 @@ fn exact_matches_reference_with_the_gpu_profile() {
         for (name, scene, size) in &cases {
             let label = format!("gpu_profile_{settings}_{name}");
             let frame = check_on(&gpu, scene, &label, *size, &options);
-            assert!(
-                frame.bins.expect("exact reports its shape").branching,
-                "{label}"
-            );
+            let shape = frame.bins.expect("exact reports its shape");
+            assert!(shape.branching && shape.storage_walk, "{label}: {shape:?}");
         }
         let mut small_budget = options.clone();
         small_budget.bins.loop_budget = Some(4096);
@@ -224,7 +221,10 @@ fn exact_matches_reference_with_the_gpu_profile() {
         (45, 37),
         &MethodOptions::default(),
     );
-    assert!(frame.suspended_rows > 0, "no row ran to the device's budget");
+    assert!(
+        frame.suspended_rows > 0,
+        "no row ran to the device's budget"
+    );
 }
 
 /// Bins are tiles of one subgroup's pixels, 8 across and 1 to 8 rows down: on lavapipe the

@@ -160,6 +160,20 @@ fn wavelet_in_bins_matches_its_cpu_model_with_every_tile_shape() {
     );
 }
 
+/// Wavelet's bins with the GPU profile's variants forced on this device: the walk reads its
+/// entries and records as storage buffers (`storage_walk`), and is still the model's on
+/// every pixel of the deep and textured scenes.
+#[test]
+fn wavelet_in_bins_matches_its_cpu_model_with_the_gpu_profile() {
+    let gpu = translucid_tests::gpu_with(Some(translucid::gpu::Profile::Gpu));
+    let frame = render(&gpu, &load("particles"), "wavelet", &bins_options(3, 0.0));
+    let shape = frame.bins.expect("the bins report their shape");
+    assert!(shape.branching && shape.storage_walk, "{shape:?}");
+    for name in ["particles", "planes", "GlassVaseFlowers", "textured"] {
+        check_wavelet_model(&gpu, &load(name), &bins_options(3, 0.0));
+    }
+}
+
 /// The coefficient images on the scenes the bins are held to: deep (particles, planes) and
 /// textured (the vase, the generated textured stack, whose textures are minified under
 /// perspective): every pixel within 2/255. The images sample at the reference's level of

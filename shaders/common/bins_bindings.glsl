@@ -7,6 +7,7 @@
 #extension GL_EXT_control_flow_attributes : require
 
 #include "interface_scene.glsl"
+#include "interface_specialization.glsl"
 #include "bin_triangle.glsl"
 #include "transparent_layer.glsl"
 
@@ -142,6 +143,28 @@ BinTriangle loadTriangle(uint i) {
                           texelFetch(u_triangleTexels, base + 1),
                           texelFetch(u_triangleTexels, base + 2),
                           texelFetch(u_triangleTexels, base + 3));
+}
+
+// Triangle record i, read from the storage buffer setup wrote it to (only where the records
+// fit one storage binding: STORAGE_WALK).
+BinTriangle loadStoredTriangle(uint i) {
+    BinTriangleRecord r = g_triangles[i];
+    return unpackTriangle(i, uvec4(r.vertices01),
+                          uvec4(uvec2(r.vertex2), r.flags, r.boundsMin),
+                          uvec4(floatBitsToUint(r.zNdc), r.boundsEnd),
+                          uvec4(floatBitsToUint(r.invW), floatBitsToUint(r.invArea)));
+}
+
+// The record of a triangle a walk visits, the same in every lane of its tile: loaded as
+// STORAGE_WALK says (features.rs, storage_walk).
+BinTriangle loadWalkedTriangle(uint i) {
+    return STORAGE_WALK ? loadStoredTriangle(i) : loadTriangle(i);
+}
+
+// List entry e, clamped to `last` (so that a look-ahead never reads past the list).
+uint walkedEntry(uint e, uint last) {
+    return STORAGE_WALK ? g_binEntries[min(e, last)]
+                        : texelFetch(u_binEntryTexels, int(min(e, last))).r;
 }
 
 BinHomogeneous loadHomogeneous(int i) {

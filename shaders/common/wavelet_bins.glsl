@@ -43,7 +43,7 @@ const int KEPT = 8;
 // why). The walks fetch the next step's entry a step ahead, as raster.comp does, with the
 // index clamped to the list's last entry.
 uint entryTriangle(uint e, uint last) {
-    return texelFetch(u_binEntryTexels, int(min(e, last))).r;
+    return walkedEntry(e, last);
 }
 
 // The triangle of visit i of walks 2 and 3: kept slot i in the short form, else list entry
@@ -100,7 +100,7 @@ void main() {
         uint ti = nextTri;
         nextTri = entryTriangle(e + 1u, lastEntry);
         RasterSample s;
-        bool take = coverSample(loadTriangle(ti), x, y, s) && s.zNdc < opaqueDepth;
+        bool take = coverSample(loadWalkedTriangle(ti), x, y, s) && s.zNdc < opaqueDepth;
         nearest = take ? min(nearest, s.viewDepth) : nearest;
         farthest = take ? max(farthest, s.viewDepth) : farthest;
         fragments += take ? 1u : 0u;

@@ -140,7 +140,7 @@ uint walkStretch(inout Pixel p, inout uint64_t selection[SELECT_SIZE], uint64_t 
     // for it (3 % of deep rasters). Clamped, so no fetch falls past the list's end (the last
     // step re-reads its own entry).
     uint last = max(end, 1u) - 1u;
-    uint nextEntry = texelFetch(u_binEntryTexels, int(min(from, last))).r;
+    uint nextEntry = walkedEntry(from, last);
     uint e = from;
     bool walking = true;
     if (e < walkTo) do {
@@ -148,7 +148,7 @@ uint walkStretch(inout Pixel p, inout uint64_t selection[SELECT_SIZE], uint64_t 
         // one triangle's fetches for the subgroup); on CPU drivers it is a loop over the lanes
         // (3 % of the raster there).
         uint entry = BRANCHING ? subgroupBroadcastFirst(nextEntry) : nextEntry;
-        nextEntry = texelFetch(u_binEntryTexels, int(min(e + 1u, last))).r;
+        nextEntry = walkedEntry(e + 1u, last);
         // A pixel that dropped a fragment nearer than this slab's floor can composite
         // nothing from here on in this sweep, so its walk ends (the row's when every pixel's
         // has). (On CPU drivers a per-pixel break, since a loop ends when no lane is left in
@@ -161,7 +161,7 @@ uint walkStretch(inout Pixel p, inout uint64_t selection[SELECT_SIZE], uint64_t 
         if (BRANCHING && !subgroupAny(walking)) {
             break;
         }
-        BinTriangle t = loadTriangle(entry);
+        BinTriangle t = loadWalkedTriangle(entry);
         RasterSample s;
         bool take = coverSample(t, x, y, s);
         uint64_t key = fragmentKey(floatBitsToUint(s.viewDepth), t.order);

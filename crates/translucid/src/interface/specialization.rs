@@ -204,6 +204,9 @@ spec_constants! {
     /// A bin is a tile of 2^TILE_SHIFT pixel rows of a block, one subgroup's pixels
     /// (bin_lists.glsl): the device's subgroup size over BIN_SIZE.
     22 => pub const TILE_SHIFT: u32 = 0;
+    /// The rasters' walks read list entries and triangle records as storage buffers, not
+    /// texels (`methods::bins::features::storage_walk`).
+    23 => pub const STORAGE_WALK: bool = false;
 }
 
 /// The GLSL of every constant.

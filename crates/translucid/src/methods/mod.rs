@@ -183,6 +183,9 @@ pub struct BinShape {
     pub loop_budget: u32,
     /// The raster branched where its subgroup agreed (the GPU profile's variant).
     pub branching: bool,
+    /// The raster's walk read list entries and triangle records as storage buffers, not
+    /// texels (`bins::features::storage_walk`).
+    pub storage_walk: bool,
 }
 
 /// What a method is told when a frame it recorded has completed.

@@ -9,8 +9,8 @@
 use super::layout::BIN_SIZE;
 use crate::interface::specialization::{
     Specialization, BRANCHING, DEEP_BINNING_LANES, FACE_NORMALS, FLAT_COLOURS, HOMOGENEOUS_PATH,
-    LOOP_BUDGET, RASTER_GROUP_SIZE, RECORDS_AS_TEXELS, SKIP_OCCLUSION_CULL, SLAB_BITS, TEXTURES,
-    TILE_SHIFT, TRANSMISSION, VERTEX_COLOURS, VERTEX_NORMALS,
+    LOOP_BUDGET, RASTER_GROUP_SIZE, RECORDS_AS_TEXELS, SKIP_OCCLUSION_CULL, SLAB_BITS,
+    STORAGE_WALK, TEXTURES, TILE_SHIFT, TRANSMISSION, VERTEX_COLOURS, VERTEX_NORMALS,
 };
 use crate::raster::{clip_position, model_view_projection, viewport_transform, GUARD_BAND};
 use crate::scene::Scene;
@@ -50,6 +50,12 @@ pub struct RasterFeatures {
     pub loop_budget: u32,
     /// The rasters branch where the subgroup agrees (the GPU profile).
     pub branching: bool,
+    /// Setup writes the triangle records through texel views: they pass what one storage
+    /// binding holds (`Resources::records_pass_a_binding`).
+    pub records_as_texels: bool,
+    /// The rasters' walks read list entries and triangle records as storage buffers, not
+    /// texels ([`storage_walk`]).
+    pub storage_walk: bool,
 }
 
 impl RasterFeatures {
@@ -94,6 +100,8 @@ impl RasterFeatures {
             flat_colours: draws().all(|d| meshes[d.mesh].flat_colours),
             loop_budget: crate::gpu::CPU_DRIVER_LOOP_BUDGET,
             branching: false,
+            records_as_texels: false,
+            storage_walk: false,
             deep_binning_lanes: deep_binning_lanes(
                 draws()
                     .map(|d| scene.meshes[d.mesh].quads.len() as u64)
@@ -112,6 +120,8 @@ impl RasterFeatures {
             rows: self.rows,
             loop_budget: self.loop_budget,
             branching: self.branching,
+            records_as_texels: self.records_as_texels,
+            storage_walk: self.storage_walk,
             ..fresh
         }
     }
@@ -159,23 +169,34 @@ impl RasterFeatures {
             .with(FLAT_COLOURS, self.flat_colours)
     }
 
-    /// Setup's constants: it writes its records through texel views (`records_as_texels`),
-    /// and may skip its occlusion cull (`skip_cull`).
-    pub fn setup_constants(&self, records_as_texels: bool, skip_cull: bool) -> Specialization {
+    /// Setup's constants: it may write its records through texel views, and skip its
+    /// occlusion cull (`skip_cull`).
+    pub fn setup_constants(&self, skip_cull: bool) -> Specialization {
         self.record_constants()
-            .with(RECORDS_AS_TEXELS, records_as_texels)
+            .with(RECORDS_AS_TEXELS, self.records_as_texels)
             .with(SKIP_OCCLUSION_CULL, skip_cull)
     }
 
+    /// These features with the records where `records_as_texels` says, and the walks' loads
+    /// chosen for them ([`storage_walk`]).
+    pub fn with_records(self, records_as_texels: bool, texel_walk_forced: bool) -> Self {
+        Self {
+            records_as_texels,
+            storage_walk: storage_walk(self.branching, records_as_texels, texel_walk_forced),
+            ..self
+        }
+    }
+
     /// What every raster over the bins is specialized with: the records' constants, the
-    /// materials' transmission, a first dispatch's rows per workgroup, the loop budget and
-    /// whether they branch.
+    /// materials' transmission, a first dispatch's rows per workgroup, the loop budget,
+    /// whether they branch and how their walks load.
     pub fn raster_constants(&self) -> Specialization {
         self.record_constants()
             .with(TRANSMISSION, self.transmission)
             .with(RASTER_GROUP_SIZE, BIN_SIZE * self.rows)
             .with(LOOP_BUDGET, self.loop_budget)
             .with(BRANCHING, self.branching)
+            .with(STORAGE_WALK, self.storage_walk)
     }
 }
 
@@ -207,6 +228,29 @@ pub fn tile_shift(subgroups: Subgroups) -> u32 {
         (subgroups.size / BIN_SIZE).clamp(1, BIN_SIZE).ilog2()
     } else {
         0
+    }
+}
+
+/// Whether the rasters' walks read list entries and triangle records as storage buffers:
+/// on GPUs (`branching`), where the entry a tile walks is the same in every lane and a
+/// storage load at one address is one load for the subgroup (a scalar load on AMD), while a
+/// texel fetch goes through the texture units lane by lane; not on CPU drivers, where a
+/// storage load in divergent control flow is a loop over the lanes. Only while the records
+/// fit one storage binding (else setup writes them as texels and the walks read texels),
+/// and not where `TRANSLUCID_WALK_LOADS=texels` forces texels (the A/B of docs/gpu.md).
+pub fn storage_walk(branching: bool, records_as_texels: bool, texel_walk_forced: bool) -> bool {
+    branching && !records_as_texels && !texel_walk_forced
+}
+
+/// Whether `TRANSLUCID_WALK_LOADS` asks for texel loads in the walks (`texels`) rather than
+/// the device's choice (`device`, or unset).
+pub fn texel_walk_forced() -> crate::Result<bool> {
+    match std::env::var("TRANSLUCID_WALK_LOADS").as_deref() {
+        Ok("texels") => Ok(true),
+        Ok("device" | "") | Err(_) => Ok(false),
+        Ok(other) => Err(crate::Error::InvalidOption(format!(
+            "TRANSLUCID_WALK_LOADS: {other:?} is neither \"texels\" nor \"device\""
+        ))),
     }
 }
 
@@ -484,6 +528,8 @@ mod tests {
             deep_binning_lanes: 1,
             loop_budget: crate::gpu::CPU_DRIVER_LOOP_BUDGET,
             branching: false,
+            records_as_texels: false,
+            storage_walk: false,
         };
         assert_eq!(none.attribute_texels(), 0);
         let lit = RasterFeatures {

@@ -197,13 +197,12 @@ impl StagePipelines {
         gpu: &Gpu,
         layouts: &[&crate::gpu::DescriptorLayout],
         features: &RasterFeatures,
-        records_as_texels: bool,
     ) -> Result<Self> {
         let mut stage = |spirv: &'static [u8], constants: &Specialization| {
             cache.get(gpu, layouts, spirv, constants)
         };
-        let setup = features.setup_constants(records_as_texels, false);
-        let setup_unculled = features.setup_constants(records_as_texels, true);
+        let setup = features.setup_constants(false);
+        let setup_unculled = features.setup_constants(true);
         let binning = features.binning_constants();
         Ok(Self {
             depth_pyramid: stage(
@@ -316,9 +315,8 @@ pub struct Bins {
     slice_rows_limit: u32,
     /// The constants the stage pipelines (and the raster's) are specialized with.
     features: RasterFeatures,
-    /// Setup writes the triangle records through texel views: they pass what one storage
-    /// binding holds (`Resources::records_pass_a_binding`).
-    records_as_texels: bool,
+    /// `TRANSLUCID_WALK_LOADS=texels`: the walks read texels on any device.
+    texel_walk_forced: bool,
     /// Tests start without the near-plane path whatever the frame (BinOptions).
     fixed_path_forced: bool,
     /// Frames still to record without the occlusion cull.
@@ -440,9 +438,10 @@ impl Bins {
         .map_err(|e| in_errors(method, e))?;
         let layouts = [&gpu_scene.layout, &resources.layout];
         let mut cache = ComputePipelineCache::new(std::mem::size_of::<BinPush>() as u32);
-        let records_as_texels = resources.records_pass_a_binding(gpu);
-        let stages =
-            StagePipelines::select(&mut cache, gpu, &layouts, &features, records_as_texels)?;
+        let texel_walk_forced = features::texel_walk_forced()?;
+        let features =
+            features.with_records(resources.records_pass_a_binding(gpu), texel_walk_forced);
+        let stages = StagePipelines::select(&mut cache, gpu, &layouts, &features)?;
         let slice_rows_limit = options.bin_rows_per_slice.unwrap_or(u32::MAX);
         let mut push = BinPush {
             item_count: gpu_scene.transparent_quads,
@@ -471,7 +470,7 @@ impl Bins {
             push,
             slice_rows_limit,
             features,
-            records_as_texels,
+            texel_walk_forced,
             fixed_path_forced: options.assume_fixed_path,
             unculled_frames: 0,
             most,
@@ -588,10 +587,12 @@ impl Bins {
                 .grow(f.gpu, grown)
                 .map_err(|e| in_errors(self.method, e))?;
         }
+        let features = features.with_records(
+            self.resources.records_pass_a_binding(f.gpu),
+            self.texel_walk_forced,
+        );
         let changed = features != self.features;
-        let texels = self.resources.records_pass_a_binding(f.gpu);
-        if changed || texels != self.records_as_texels {
-            self.records_as_texels = texels;
+        if changed {
             self.select(f.gpu_scene, features)?;
         }
         Ok(changed)
@@ -604,13 +605,7 @@ impl Bins {
         // changes that.
         debug_assert!(features.attribute_texels() <= self.resources.capacities.attribute_texels);
         let layouts = [&gpu_scene.layout, &self.resources.layout];
-        self.stages = StagePipelines::select(
-            &mut self.cache,
-            &self.gpu,
-            &layouts,
-            &features,
-            self.records_as_texels,
-        )?;
+        self.stages = StagePipelines::select(&mut self.cache, &self.gpu, &layouts, &features)?;
         self.features = features;
         Ok(())
     }
@@ -982,6 +977,7 @@ impl Bins {
             rows_per_slice: recorded.rows_per_slice,
             loop_budget: recorded.features.loop_budget,
             branching: recorded.features.branching,
+            storage_walk: recorded.features.storage_walk,
         }
     }
 
