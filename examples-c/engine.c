@@ -113,24 +113,29 @@ static int has_subgroups(VkPhysicalDevice device,
 /* Whether `device` has subgroup size control for compute (the extension and both features),
  * which translucid recommends enabling. */
 static int has_subgroup_size_control(VkPhysicalDevice device) {
-    VkExtensionProperties extensions[512];
-    uint32_t count = 512, i;
+    VkExtensionProperties *extensions;
+    uint32_t count = 0, i;
     int listed = 0;
     VkPhysicalDeviceSubgroupSizeControlFeaturesEXT size;
     VkPhysicalDeviceFeatures2 features;
-    VkResult r = vkEnumerateDeviceExtensionProperties(device, NULL, &count, extensions);
-    if (r != VK_SUCCESS && r != VK_INCOMPLETE) return 0;
+    VK_CHECK(vkEnumerateDeviceExtensionProperties(device, NULL, &count, NULL));
+    extensions = (VkExtensionProperties *)calloc(count + 1, sizeof *extensions);
+    if (extensions == NULL) engine_fail("out of memory", __FILE__, __LINE__);
+    VK_CHECK(vkEnumerateDeviceExtensionProperties(device, NULL, &count, extensions));
     for (i = 0; i < count; i++) {
         listed |= strcmp(extensions[i].extensionName,
                          VK_EXT_SUBGROUP_SIZE_CONTROL_EXTENSION_NAME) == 0;
     }
+    free(extensions);
+    /* Its features are only asked of a device that lists it. */
+    if (!listed) return 0;
     memset(&size, 0, sizeof size);
     size.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_SIZE_CONTROL_FEATURES_EXT;
     memset(&features, 0, sizeof features);
     features.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2;
     features.pNext = &size;
     vkGetPhysicalDeviceFeatures2(device, &features);
-    return listed && size.subgroupSizeControl && size.computeFullSubgroups;
+    return size.subgroupSizeControl && size.computeFullSubgroups;
 }
 
 /* The subgroup requirements chained to `req`, or NULL. */

@@ -1446,9 +1446,9 @@ typedef struct translucid_host_subgroup_requirements {
  * `translucid_host_device_create_info::enabled_extensions`), chained to
  * `translucid_host_device_create_info::next`. translucid cannot read enabled features past
  * `VkPhysicalDeviceFeatures`, so without it the exact and wavelet rasters work a row of 8
- * pixels at a time. `enabled` on a device that cannot have them (no such features, or no
- * required subgroup size for compute shaders) is
- * `TRANSLUCID_RESULT_ERROR_DEVICE_REQUIREMENTS`.
+ * pixels at a time. `enabled` without Vulkan 1.3 or the extension is
+ * `TRANSLUCID_RESULT_ERROR_DEVICE_REQUIREMENTS`; on a device whose compute shaders cannot
+ * require its subgroup size, the rasters keep rows (and log a warning).
  */
 typedef struct translucid_host_subgroup_size_control {
     /**

@@ -180,7 +180,8 @@ fn exact_matches_reference_with_the_gpu_profile() {
     let expected_own = gpu().info().profile == Profile::Gpu;
     let own = own.bins.expect("exact reports its shape");
     assert_eq!(own.branching, expected_own);
-    assert_eq!(own.storage_walk, expected_own);
+    let texels_forced = translucid::methods::bins::features::texel_walk_forced().expect("env");
+    assert_eq!(own.storage_walk, expected_own && !texels_forced);
     let gpu = gpu_with(Some(Profile::Gpu));
     let mut deep = MethodOptions::default();
     deep.exact.assume_deep_pixels = true;
@@ -203,7 +204,8 @@ fn exact_matches_reference_with_the_gpu_profile() {
             let label = format!("gpu_profile_{settings}_{name}");
             let frame = check_on(&gpu, scene, &label, *size, &options);
             let shape = frame.bins.expect("exact reports its shape");
-            assert!(shape.branching && shape.storage_walk, "{label}: {shape:?}");
+            assert!(shape.branching, "{label}: {shape:?}");
+            assert_eq!(shape.storage_walk, !texels_forced, "{label}: {shape:?}");
         }
         let mut small_budget = options.clone();
         small_budget.bins.loop_budget = Some(4096);
@@ -221,10 +223,13 @@ fn exact_matches_reference_with_the_gpu_profile() {
         (45, 37),
         &MethodOptions::default(),
     );
-    assert!(
-        frame.suspended_rows > 0,
-        "no row ran to the device's budget"
-    );
+    // (A GPU's budget, 2^18, may hold these rows whole.)
+    if gpu.info().loop_budget == translucid::gpu::CPU_DRIVER_LOOP_BUDGET {
+        assert!(
+            frame.suspended_rows > 0,
+            "no row ran to the device's budget"
+        );
+    }
 }
 
 /// Bins are tiles of one subgroup's pixels, 8 across and 1 to 8 rows down: on lavapipe the

@@ -168,7 +168,9 @@ fn wavelet_in_bins_matches_its_cpu_model_with_the_gpu_profile() {
     let gpu = translucid_tests::gpu_with(Some(translucid::gpu::Profile::Gpu));
     let frame = render(&gpu, &load("particles"), "wavelet", &bins_options(3, 0.0));
     let shape = frame.bins.expect("the bins report their shape");
-    assert!(shape.branching && shape.storage_walk, "{shape:?}");
+    let texels_forced = translucid::methods::bins::features::texel_walk_forced().expect("env");
+    assert!(shape.branching, "{shape:?}");
+    assert_eq!(shape.storage_walk, !texels_forced, "{shape:?}");
     for name in ["particles", "planes", "GlassVaseFlowers", "textured"] {
         check_wavelet_model(&gpu, &load(name), &bins_options(3, 0.0));
     }

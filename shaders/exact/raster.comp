@@ -33,7 +33,7 @@
 // instead of inside the walk (measured 1.5-9x slower there). Those drivers test a loop's
 // exit at the end of each iteration, so a `for` or `while` runs its body once more, masked,
 // after its last lanes leave at the top: every loop here is a do-while (behind an `if` where
-// it may run no iteration), which took up to a third off the shallow scenes' rasters. Those
+// it may run no iteration; the GPU variant's shading loop, which exits by vote, excepted), which took up to a third off the shallow scenes' rasters. Those
 // drivers also end a shader's loops silently after 65535 iterations in all; the raster
 // counts against LOOP_BUDGET (the device's: under that limit there, larger on GPUs) and hands
 // what is left of a row to a continuation dispatch of this same shader (CONTINUATION;
@@ -197,9 +197,6 @@ bool nextStretch(uint bin, uint end, uint slab, uint to, inout Row r, out uint n
     return found;
 }
 
-// Shades and composites, nearest first, the selected fragments nearer than `final`, which
-// nothing unwalked or dropped can come before; the row's budget takes what the row's
-// longest such loop took, so that the whole row agrees on when to suspend.
 // Shades and composites the nearest selected fragment; whether the pixel is now opaque
 // enough to finish.
 bool compositeNearest(inout Pixel p, inout uint64_t selection[SELECT_SIZE], uint x, uint y,
@@ -219,6 +216,9 @@ bool compositeNearest(inout Pixel p, inout uint64_t selection[SELECT_SIZE], uint
     return opaqueEnough;
 }
 
+// Shades and composites, nearest first, the selected fragments nearer than `final`, which
+// nothing unwalked or dropped can come before; the row's budget takes what the row's
+// longest such loop took, so that the whole row agrees on when to suspend.
 void compositeFinal(inout Pixel p, inout uint64_t selection[SELECT_SIZE], uint64_t final,
                     uint x, uint y, FrameInfo frame, inout Row r) {
     uint composited = 0u;

@@ -39,6 +39,19 @@ pub fn run() -> translucid::Result<()> {
             "    loop budget              {} iterations a dispatch",
             d.loop_budget
         );
+        // How the bin rasters' walks load (docs/gpu.md): storage buffers on GPUs while the
+        // records fit one binding.
+        let gpu_profile = forced.unwrap_or(d.profile) == translucid::gpu::Profile::Gpu;
+        let texels_forced = translucid::methods::bins::features::texel_walk_forced()?;
+        println!(
+            "    walk loads               {}",
+            if translucid::methods::bins::features::storage_walk(gpu_profile, false, texels_forced)
+            {
+                "storage buffers (texels past one binding)"
+            } else {
+                "texels"
+            }
+        );
         // The wavelet storage the profile rendering takes picks (docs/gpu.md), and whether
         // the coefficient images take the reference's depth there (a geometry stage).
         let storage =

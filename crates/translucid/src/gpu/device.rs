@@ -54,11 +54,15 @@ pub struct DeviceInfo {
     pub subgroup_size: u32,
     /// Compute shaders have the subgroup votes, ballots and reductions the exact raster uses.
     pub compute_subgroup_operations: bool,
+    /// The device has `subgroupSizeControl` and `computeFullSubgroups`, and compute shaders
+    /// can require its subgroup size (enabled or not).
+    pub subgroup_size_control: bool,
     /// Compute pipelines can be held to whole subgroups of `subgroup_size` invocations
     /// (`VK_EXT_subgroup_size_control`'s required size and full subgroups, enabled on the
     /// devices translucid makes): the bin rasters' tiles span a subgroup only where they are
-    /// (`methods::bins::features::tile_shift`). Off on an engine's device, whose enabled
-    /// features translucid cannot see past the core ones.
+    /// (`methods::bins::features::tile_shift`). On an engine's device, only where the engine
+    /// says it enabled them (`HostDevice::subgroup_size_control`): translucid cannot see
+    /// enabled features past the core ones.
     pub full_subgroups: bool,
     pub max_shared_memory: u32,
     pub max_storage_buffer_range: u32,
@@ -262,13 +266,15 @@ pub(super) fn describe(
         && extensions
             .iter()
             .any(|e| e.extension_name_as_c_str() == Ok(ash::ext::conditional_rendering::NAME));
-    let full_subgroups = size_features.subgroup_size_control == vk::TRUE
+    let subgroup_size_control = size_features.subgroup_size_control == vk::TRUE
         && size_features.compute_full_subgroups == vk::TRUE
         && size_control
             .required_subgroup_size_stages
             .contains(vk::ShaderStageFlags::COMPUTE)
         && (size_control.min_subgroup_size..=size_control.max_subgroup_size)
-            .contains(&subgroup.subgroup_size)
+            .contains(&subgroup.subgroup_size);
+    // translucid's own devices are Vulkan 1.2 ones: they need the extension.
+    let full_subgroups = subgroup_size_control
         && extensions
             .iter()
             .any(|e| e.extension_name_as_c_str() == Ok(ash::ext::subgroup_size_control::NAME));
@@ -298,6 +304,7 @@ pub(super) fn describe(
             && subgroup
                 .supported_operations
                 .contains(super::host::SUBGROUP_REQUIREMENTS.operations),
+        subgroup_size_control,
         full_subgroups,
         max_shared_memory: limits.max_compute_shared_memory_size,
         max_storage_buffer_range: limits.max_storage_buffer_range,
@@ -793,7 +800,7 @@ type DeviceParts = (ash::Device, Allocator, Submission);
 
 /// Whether `TRANSLUCID_BIN_TILES` asks for tiles of one row (`row`) rather than the device's
 /// (`subgroup`, or unset).
-fn row_tiles_forced() -> Result<bool> {
+pub(super) fn row_tiles_forced() -> Result<bool> {
     match std::env::var("TRANSLUCID_BIN_TILES").as_deref() {
         Ok("row") => Ok(true),
         Ok("subgroup" | "") | Err(_) => Ok(false),

@@ -311,8 +311,10 @@ impl Gpu {
 
 /// Whether the bin rasters may hold workgroups to whole subgroups on the engine's device,
 /// which the engine says has `subgroupSizeControl` and `computeFullSubgroups` enabled: an
-/// error if the device cannot have them enabled (so the engine's word is wrong), `false` on
-/// a driver measured to split such workgroups.
+/// error if it was given neither Vulkan 1.3 nor the extension (so the features cannot be
+/// on), `false` (tiles of a row, with a warning) on a device whose compute shaders cannot
+/// require its subgroup size, on a driver measured to split such workgroups, or where
+/// `TRANSLUCID_BIN_TILES=row` asks for rows.
 fn held_subgroups_usable(
     host: &HostDevice,
     device_version: u32,
@@ -323,20 +325,26 @@ fn held_subgroups_usable(
         .extensions
         .iter()
         .any(|e| e.as_c_str() == ash::ext::subgroup_size_control::NAME);
-    // `describe` found the features, the extension, and a required size for compute that
-    // covers the device's subgroup size.
-    if !info.full_subgroups || !(core || extension) {
+    if !(core || extension) {
         return Err(Error::HostRequirements(format!(
-            "subgroup_size_control is set, but {} {}; leave it unset, or enable \
-             subgroupSizeControl and computeFullSubgroups (Vulkan 1.3, or \
-             VK_EXT_subgroup_size_control)",
-            info.name,
-            if info.full_subgroups {
-                "was given neither Vulkan 1.3 nor the extension VK_EXT_subgroup_size_control"
-            } else {
-                "cannot hold compute workgroups to whole subgroups of its size"
-            }
+            "subgroup_size_control is set, but {} was given neither Vulkan 1.3 nor the \
+             extension VK_EXT_subgroup_size_control; leave it unset, or enable \
+             subgroupSizeControl and computeFullSubgroups with one of them",
+            info.name
         )));
+    }
+    if super::device::row_tiles_forced()? {
+        log::info!("TRANSLUCID_BIN_TILES=row: the bins' tiles are one row");
+        return Ok(false);
+    }
+    if !info.subgroup_size_control {
+        log::warn!(
+            "{}: its compute shaders cannot require subgroups of {} with full subgroups; the \
+             bins' tiles are one row",
+            info.name,
+            info.subgroup_size
+        );
+        return Ok(false);
     }
     // translucid never submits on an engine's device, so it cannot probe it as it does its
     // own (`subgroup_probe`). Lavapipe above 16 lanes reports subgroups of 32 or 64 but runs

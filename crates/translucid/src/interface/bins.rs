@@ -335,9 +335,11 @@ pub fn include() -> Include {
 }
 
 /// Set 1 of the bin stages and of the rasters that read them (set 0 is the scene's)
-/// (`interface_bins_set.glsl`). What the hot loops read comes through texel buffers: CPU
-/// drivers such as lavapipe fetch texels with straight-line vector loads, where a storage
-/// buffer load inside divergent control flow is a per-lane loop with a branch per component.
+/// (`interface_bins_set.glsl`). What the hot loops read comes through texel buffers on CPU
+/// drivers: lavapipe fetches texels with straight-line vector loads, where a storage buffer
+/// load inside divergent control flow is a per-lane loop with a branch per component. On
+/// GPUs the walks read the entry and record a whole tile visits from the storage buffers
+/// (STORAGE_WALK).
 /// Records are read texel by texel in field order (`methods::bins::layout`'s tests check the
 /// loaders' offsets).
 pub const BINS_SET: SetDecl = SetDecl::new(
@@ -369,7 +371,8 @@ pub const BINS_SET: SetDecl = SetDecl::new(
         // What setup makes of the triangles.
         Binding::buffer("TriangleBlock", "", &["BinTriangleRecord g_triangles[]"]).doc(&[
             "Triangle records and quad attribute records (interface_bins.glsl), read through",
-            "u_triangleTexels and u_attributeTexels. Setup writes them as storage buffers, as",
+            "u_triangleTexels and u_attributeTexels (the walks' records from g_triangles",
+            "itself under STORAGE_WALK). Setup writes them as storage buffers, as",
             "far as one binding reaches, while they fit (faster on lavapipe than texel stores),",
             "else through u_triangleRecords and u_attributeRecords (RECORDS_AS_TEXELS).",
         ]),
