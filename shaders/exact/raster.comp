@@ -33,11 +33,12 @@
 // instead of inside the walk (measured 1.5-9x slower there). Those drivers test a loop's
 // exit at the end of each iteration, so a `for` or `while` runs its body once more, masked,
 // after its last lanes leave at the top: every loop here is a do-while (behind an `if` where
-// it may run no iteration; the GPU variant's shading loop, which exits by vote, excepted), which took up to a third off the shallow scenes' rasters. Those
-// drivers also end a shader's loops silently after 65535 iterations in all; the raster
-// counts against LOOP_BUDGET (the device's: under that limit there, larger on GPUs) and hands
-// what is left of a row to a continuation dispatch of this same shader (CONTINUATION;
-// resume.glsl, where PARTIAL_WALKS says where a row stops).
+// it may run no iteration; the GPU variant's shading loop, which exits by vote, excepted),
+// which took up to a third off the shallow scenes' rasters. Those drivers also end a
+// shader's loops silently after 65535 iterations in all; the raster counts against
+// LOOP_BUDGET (the device's: under that limit there, larger on GPUs) and hands what is left
+// of a row to a continuation dispatch of this same shader (CONTINUATION; resume.glsl, where
+// PARTIAL_WALKS says where a row stops).
 //
 // On GPUs (BRANCHING) a loop ends where the whole tile agrees (a vote), not lane by lane,
 // and pixels off the frame's edge stay in as finished pixels instead of returning: every
