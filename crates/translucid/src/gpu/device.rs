@@ -237,13 +237,30 @@ pub(super) fn describe(
     index: usize,
     pd: vk::PhysicalDevice,
 ) -> DeviceInfo {
+    // SAFETY: pd came from this instance.
+    let extensions =
+        unsafe { instance.enumerate_device_extension_properties(pd) }.unwrap_or_default();
+    let listed = |name: &std::ffi::CStr| {
+        extensions
+            .iter()
+            .any(|e| e.extension_name_as_c_str() == Ok(name))
+    };
+    // An extension's structures are only chained for a device that lists it (or, for size
+    // control, has it in core: Vulkan 1.3, which an engine's device may be).
+    // SAFETY: as above.
+    let version = unsafe { instance.get_physical_device_properties(pd) }.api_version;
+    let has_size_control = listed(ash::ext::subgroup_size_control::NAME);
+    let size_control_known = has_size_control || version >= vk::API_VERSION_1_3;
+    let has_conditional = listed(ash::ext::conditional_rendering::NAME);
     let mut subgroup = vk::PhysicalDeviceSubgroupProperties::default();
     let mut driver = vk::PhysicalDeviceDriverProperties::default();
     let mut size_control = vk::PhysicalDeviceSubgroupSizeControlProperties::default();
     let mut props2 = vk::PhysicalDeviceProperties2::default()
         .push_next(&mut subgroup)
-        .push_next(&mut driver)
-        .push_next(&mut size_control);
+        .push_next(&mut driver);
+    if size_control_known {
+        props2 = props2.push_next(&mut size_control);
+    }
     // SAFETY: pd came from this instance; the chained structs outlive the call.
     let features = unsafe {
         instance.get_physical_device_properties2(pd, &mut props2);
@@ -253,19 +270,16 @@ pub(super) fn describe(
     let limits = p.limits;
     let mut conditional = vk::PhysicalDeviceConditionalRenderingFeaturesEXT::default();
     let mut size_features = vk::PhysicalDeviceSubgroupSizeControlFeatures::default();
-    let mut features2 = vk::PhysicalDeviceFeatures2::default()
-        .push_next(&mut conditional)
-        .push_next(&mut size_features);
-    // SAFETY: as above.
-    let extensions = unsafe {
-        instance.get_physical_device_features2(pd, &mut features2);
-        instance.enumerate_device_extension_properties(pd)
+    let mut features2 = vk::PhysicalDeviceFeatures2::default();
+    if has_conditional {
+        features2 = features2.push_next(&mut conditional);
     }
-    .unwrap_or_default();
-    let conditional_rendering = conditional.conditional_rendering == vk::TRUE
-        && extensions
-            .iter()
-            .any(|e| e.extension_name_as_c_str() == Ok(ash::ext::conditional_rendering::NAME));
+    if size_control_known {
+        features2 = features2.push_next(&mut size_features);
+    }
+    // SAFETY: as above.
+    unsafe { instance.get_physical_device_features2(pd, &mut features2) };
+    let conditional_rendering = conditional.conditional_rendering == vk::TRUE;
     let subgroup_size_control = size_features.subgroup_size_control == vk::TRUE
         && size_features.compute_full_subgroups == vk::TRUE
         && size_control
@@ -274,10 +288,7 @@ pub(super) fn describe(
         && (size_control.min_subgroup_size..=size_control.max_subgroup_size)
             .contains(&subgroup.subgroup_size);
     // translucid's own devices are Vulkan 1.2 ones: they need the extension.
-    let full_subgroups = subgroup_size_control
-        && extensions
-            .iter()
-            .any(|e| e.extension_name_as_c_str() == Ok(ash::ext::subgroup_size_control::NAME));
+    let full_subgroups = subgroup_size_control && has_size_control;
     let v = p.api_version;
     DeviceInfo {
         index,
