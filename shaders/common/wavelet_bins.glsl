@@ -39,12 +39,9 @@
 // Fragments a pixel keeps from walk 1 for the short form of walks 2 and 3.
 const int KEPT = 8;
 
-// The triangle of list entry e, the same for the whole row (not broadcast: raster.comp says
-// why). The walks fetch the next step's entry a step ahead, as raster.comp does, with the
-// index clamped to the list's last entry.
-uint entryTriangle(uint e, uint last) {
-    return walkedEntry(e, last);
-}
+// The triangle of list entry e (walkedEntry) is the same for the whole row (not broadcast:
+// raster.comp says why). The walks fetch the next step's entry a step ahead, as raster.comp
+// does, with the index clamped to the list's last entry.
 
 // The triangle of visit i of walks 2 and 3: kept slot i in the short form, else list entry
 // first + i (selects over constant indices: a run-time index would put the slots in memory).
@@ -53,7 +50,7 @@ uint visitTriangle(bool shortForm, uint keptTri[KEPT], uint i, uint first, uint 
     [[unroll]] for (int k = 1; k < KEPT; k++) {
         kept = uint(k) == i ? keptTri[k] : kept;
     }
-    return shortForm ? kept : entryTriangle(first + i, last);
+    return shortForm ? kept : walkedEntry(first + i, last);
 }
 
 void main() {
@@ -93,12 +90,12 @@ void main() {
     [[unroll]] for (int k = 0; k < KEPT; k++) {
         keptTri[k] = 0u;
     }
-    uint nextTri = entryTriangle(first, lastEntry);
+    uint nextTri = walkedEntry(first, lastEntry);
     // Do-whiles throughout: raster.comp says why.
     uint e = first;
     if (e < end) do {
         uint ti = nextTri;
-        nextTri = entryTriangle(e + 1u, lastEntry);
+        nextTri = walkedEntry(e + 1u, lastEntry);
         RasterSample s;
         bool take = coverSample(loadWalkedTriangle(ti), x, y, s) && s.zNdc < opaqueDepth;
         nearest = take ? min(nearest, s.viewDepth) : nearest;

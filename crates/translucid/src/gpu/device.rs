@@ -812,13 +812,7 @@ type DeviceParts = (ash::Device, Allocator, Submission);
 /// Whether `TRANSLUCID_BIN_TILES` asks for tiles of one row (`row`) rather than the device's
 /// (`subgroup`, or unset).
 pub(super) fn row_tiles_forced() -> Result<bool> {
-    match std::env::var("TRANSLUCID_BIN_TILES").as_deref() {
-        Ok("row") => Ok(true),
-        Ok("subgroup" | "") | Err(_) => Ok(false),
-        Ok(other) => Err(Error::InvalidOption(format!(
-            "TRANSLUCID_BIN_TILES: {other:?} is neither \"row\" nor \"subgroup\""
-        ))),
-    }
+    super::profile::forced_by_env("TRANSLUCID_BIN_TILES", "row", "subgroup")
 }
 
 /// The features translucid enables on a device it makes: the optional ones where present

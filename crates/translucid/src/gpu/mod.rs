@@ -74,7 +74,7 @@ pub use pipeline::{
     Resource, Sampler,
 };
 pub use pipeline_cache::ComputePipelineCache;
-pub use profile::Profile;
+pub use profile::{forced_by_env, Profile};
 pub use retirement::Retirement;
 pub use staging::{Upload, Uploads};
 pub use timestamps::Timestamps;

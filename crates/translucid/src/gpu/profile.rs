@@ -54,6 +54,20 @@ impl Profile {
     }
 }
 
+/// Whether the environment variable `var`, an A/B switch of docs/gpu.md, is set to `forced`
+/// rather than to `device` (the device's choice, also when unset or empty); anything else is
+/// an error naming both.
+pub fn forced_by_env(var: &str, forced: &str, device: &str) -> Result<bool> {
+    match std::env::var(var) {
+        Ok(value) if value == forced => Ok(true),
+        Ok(value) if value == device || value.is_empty() => Ok(false),
+        Err(_) => Ok(false),
+        Ok(other) => Err(Error::InvalidOption(format!(
+            "{var}: {other:?} is neither {forced:?} nor {device:?}"
+        ))),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -245,13 +245,7 @@ pub fn storage_walk(branching: bool, records_as_texels: bool, texel_walk_forced:
 /// Whether `TRANSLUCID_WALK_LOADS` asks for texel loads in the walks (`texels`) rather than
 /// the device's choice (`device`, or unset).
 pub fn texel_walk_forced() -> crate::Result<bool> {
-    match std::env::var("TRANSLUCID_WALK_LOADS").as_deref() {
-        Ok("texels") => Ok(true),
-        Ok("device" | "") | Err(_) => Ok(false),
-        Ok(other) => Err(crate::Error::InvalidOption(format!(
-            "TRANSLUCID_WALK_LOADS: {other:?} is neither \"texels\" nor \"device\""
-        ))),
-    }
+    crate::gpu::forced_by_env("TRANSLUCID_WALK_LOADS", "texels", "device")
 }
 
 /// Quads the estimate of [`estimate`] looks at, at most: every k-th of larger scenes, scaled.
