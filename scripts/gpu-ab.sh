@@ -23,7 +23,8 @@ fi
 scenes="spheres particles hairball $dragon $lamp $vase"
 # variant name, then the environment that forces it ("" for the device's own).
 variants=("own" "" "profile-cpu" "TRANSLUCID_PROFILE=cpu" "profile-gpu" "TRANSLUCID_PROFILE=gpu"
-    "tiles-row" "TRANSLUCID_BIN_TILES=row" "walk-texels" "TRANSLUCID_WALK_LOADS=texels")
+    "tiles-row" "TRANSLUCID_BIN_TILES=row" "walk-texels" "TRANSLUCID_WALK_LOADS=texels"
+    "counts-global" "TRANSLUCID_BIN_COUNTS=global")
 for ((i = 0; i < ${#variants[@]}; i += 2)); do
     name=${variants[i]}
     env ${variants[i + 1]} timeout 40 "$tl" bench $scenes --method exact --method wavelet \

@@ -308,6 +308,57 @@ fn exact_matches_reference_with_triangles_binned_in_slices() {
     five_rows(check(&particles, "sliced_deep_particles", 213, 131, &deep));
 }
 
+/// Binning workgroups that tally their entries in shared memory (the GPU profile's binning:
+/// bin_tally.glsl) count and place the same entries as an atomic an entry: the lists need
+/// as many and every frame matches the reference. With the GPU's table, and with one of two
+/// slots, where most bins find no slot and take their own atomic beside tallied ones;
+/// shallow frames (a lane a triangle) and deep ones (a lane a row, slabs), near-plane
+/// triangles, and a frame whose lists pass their capacity and are filled in bands.
+#[test]
+fn exact_matches_reference_with_tallied_binning() {
+    let mut banded = MethodOptions::default();
+    banded.bins.initial_bin_entries = Some(2000);
+    banded.bins.bands = Some(64);
+    let mut deep = MethodOptions::default();
+    deep.exact.assume_deep_pixels = true;
+    let cases = [
+        (
+            "spheres",
+            scene::load("spheres").expect("spheres"),
+            MethodOptions::default(),
+        ),
+        (
+            "hairball",
+            scene::load("hairball").expect("hairball"),
+            banded,
+        ),
+        (
+            "particles",
+            scene::load("particles").expect("particles"),
+            deep.clone(),
+        ),
+        ("near_plane", near_plane_scene(), deep),
+    ];
+    for (name, scene, plain) in cases {
+        let untallied = check(&scene, &format!("untallied_{name}"), 213, 131, &plain);
+        let shape = untallied.bins.expect("exact reports its shape");
+        assert_eq!(shape.tally_slots, 0, "{name}: {shape:?}");
+        assert!(untallied.bin_entries > 0, "{name}: nothing binned");
+        for bits in [1, translucid::methods::bins::features::GPU_TALLY_BITS] {
+            let mut tallied = plain.clone();
+            tallied.bins.bin_tally_bits = Some(bits);
+            let label = format!("tallied_{bits}_{name}");
+            let frame = check(&scene, &label, 213, 131, &tallied);
+            let shape = frame.bins.expect("exact reports its shape");
+            assert_eq!(shape.tally_slots, 1 << bits, "{label}: {shape:?}");
+            assert_eq!(frame.bin_entries, untallied.bin_entries, "{label}");
+            if name == "hairball" {
+                assert!(frame.bands > 1, "{label}: filled in {} band", frame.bands);
+            }
+        }
+    }
+}
+
 /// One quad from x0 to x1 and from -y to y, at depth z, facing +z.
 fn square(x0: f32, x1: f32, y: f32, z: f32) -> Mesh {
     Mesh::from_quads(

@@ -9,16 +9,12 @@
 
 #include "bins_bindings.glsl"
 #include "bin_lists.glsl"
+#include "bin_tally.glsl"
 
 layout(local_size_x = BINNING_GROUP_SIZE) in;
 
-void main() {
-    uint ti = binningTriangle();
-    // Records sit at their triangles' order keys, two per quad; culled ones are holes with
-    // empty bounds, which enter no bin.
-    if (ti >= 2u * u_push.itemCount) {
-        return;
-    }
+// Counts the entries of triangle record ti on the invocation's rows.
+void countTriangle(uint ti) {
     BinTriangle t = loadTriangle(ti);
     ivec4 r = binRect(t.bounds);
     ivec2 rows = sliceRows(r);
@@ -32,7 +28,9 @@ void main() {
         int bx = run.x;
         if (bx <= run.y) do {
             uint b = binIndex(bx, ty) * SLABS + slab;
-            atomicAdd(g_binEnds[b], 1u);
+            if (!TALLIED || !tallyEntry(b)) {
+                atomicAdd(g_binEnds[b], 1u);
+            }
         } while (++bx <= run.y);
     } while ((ty += int(ROW_LANES)) <= rows.y);
     // The slabs' farthest depths take one atomic per subgroup and slab: one per triangle made
@@ -53,5 +51,20 @@ void main() {
             }
             pending = pending && slab != k;
         } while (subgroupAny(pending));
+    }
+}
+
+void main() {
+    if (TALLIED) {
+        clearTally();
+    }
+    uint ti = binningTriangle();
+    // Records sit at their triangles' order keys, two per quad; culled ones are holes with
+    // empty bounds, which enter no bin.
+    if (ti < 2u * u_push.itemCount) {
+        countTriangle(ti);
+    }
+    if (TALLIED) {
+        flushTally();
     }
 }

@@ -6,16 +6,13 @@
 
 #include "bins_bindings.glsl"
 #include "bin_lists.glsl"
+#include "bin_tally.glsl"
 
 layout(local_size_x = BINNING_GROUP_SIZE) in;
 
-void main() {
-    uint ti = binningTriangle();
-    // Records sit at their triangles' order keys, two per quad; culled ones are holes with
-    // empty bounds, which enter no bin.
-    if (ti >= 2u * u_push.itemCount) {
-        return;
-    }
+// The entries of triangle record ti on the invocation's rows: tallied (`place` false), or
+// written at their places in the lists.
+void fillTriangle(uint ti, bool place) {
     BinTriangle t = loadTriangle(ti);
     ivec4 r = binRect(t.bounds);
     ivec2 rows = bandRows(sliceRows(r));
@@ -29,12 +26,35 @@ void main() {
         int bx = run.x;
         if (bx <= run.y) do {
             uint b = binIndex(bx, ty) * SLABS + slab;
-            uint slot = atomicAdd(g_binEnds[b], 1u);
-            if (slot < capacity) {
-                g_binEntries[slot] = ti;
+            if (place) {
+                uint slot = nextPlace(b);
+                if (slot < capacity) {
+                    g_binEntries[slot] = ti;
+                } else {
+                    atomicOr(g_counters.overflow, OVERFLOW_BAND_LISTS);
+                }
             } else {
-                atomicOr(g_counters.overflow, OVERFLOW_BAND_LISTS);
+                tallyEntry(b);
             }
         } while (++bx <= run.y);
     } while ((ty += int(ROW_LANES)) <= rows.y);
+}
+
+void main() {
+    uint ti = binningTriangle();
+    // Records sit at their triangles' order keys, two per quad; culled ones are holes with
+    // empty bounds, which enter no bin.
+    bool listed = ti < 2u * u_push.itemCount;
+    // With a tally the walk runs twice: once to tally the workgroup's entries and reserve
+    // their places, once to write them there.
+    if (TALLIED) {
+        clearTally();
+        if (listed) {
+            fillTriangle(ti, false);
+        }
+        reserveTally();
+    }
+    if (listed) {
+        fillTriangle(ti, true);
+    }
 }

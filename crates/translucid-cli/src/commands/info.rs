@@ -52,6 +52,15 @@ pub fn run() -> translucid::Result<()> {
                 "texels"
             }
         );
+        // How binning counts (docs/gpu.md): a shared-memory tally per workgroup on GPUs.
+        let global_forced = translucid::methods::bins::features::global_counts_forced()?;
+        println!(
+            "    bin counts               {}",
+            match translucid::methods::bins::features::bin_tally_bits(gpu_profile, global_forced) {
+                0 => "an atomic an entry".to_string(),
+                bits => format!("a workgroup's tally of {} slots", 1 << bits),
+            }
+        );
         // The wavelet storage the profile rendering takes picks (docs/gpu.md), and whether
         // the coefficient images take the reference's depth there (a geometry stage).
         let storage =

@@ -207,6 +207,10 @@ spec_constants! {
     /// The rasters' walks read list entries and triangle records as storage buffers, not
     /// texels (`methods::bins::features::storage_walk`).
     23 => pub const STORAGE_WALK: bool = false;
+    /// Binning: each workgroup tallies its bin entries in a shared-memory table of
+    /// 2^BIN_TALLY_BITS slots, one global atomic a bin (bin_tally.glsl); 0 is off, an atomic
+    /// an entry (`methods::bins::features::bin_tally_bits`).
+    24 => pub const BIN_TALLY_BITS: u32 = 0;
 }
 
 /// The GLSL of every constant.

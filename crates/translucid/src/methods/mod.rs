@@ -150,6 +150,8 @@ pub struct FrameCheck {
     pub sweeps: u32,
     /// Transparent triangles left to rasterize after culling, where the method culls.
     pub triangles: u64,
+    /// Entries the bin methods' lists needed (for each triangle, each bin it may cover).
+    pub bin_entries: u64,
     /// Fragments blended unsorted because they found no room (linked_list past its node
     /// pool): the frame is not exact where they fell.
     pub tail_fragments: u64,
@@ -186,6 +188,9 @@ pub struct BinShape {
     /// The raster's walk read list entries and triangle records as storage buffers, not
     /// texels (`bins::features::storage_walk`).
     pub storage_walk: bool,
+    /// Slots of a binning workgroup's tally of its entries (`bins::features::bin_tally_bits`;
+    /// 0 without one).
+    pub tally_slots: u32,
 }
 
 /// What a method is told when a frame it recorded has completed.

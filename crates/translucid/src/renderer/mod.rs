@@ -83,6 +83,9 @@ pub struct Frame {
     /// Transparent triangles left to rasterize after culling (back faces, off screen, behind
     /// the opaque layer), for methods that cull them (0 otherwise).
     pub triangles: u64,
+    /// Entries the bin methods' lists needed: for each triangle left, each bin it may cover
+    /// (0 for other methods).
+    pub bin_entries: u64,
     /// Bands the bin methods rasterized the frame in: more than one when their bin lists
     /// passed the capacity (they grow for later frames); 0 for other methods.
     pub bands: u32,
@@ -583,6 +586,7 @@ impl Renderer {
             fragments: check.fragments,
             sweeps: check.sweeps,
             triangles: check.triangles,
+            bin_entries: check.bin_entries,
             bands: check.bands,
             dispatches: gpu.dispatches_recorded() - rendering_from,
             tail_fragments: check.tail_fragments,

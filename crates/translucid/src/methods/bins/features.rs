@@ -8,9 +8,9 @@
 
 use super::layout::BIN_SIZE;
 use crate::interface::specialization::{
-    Specialization, BRANCHING, DEEP_BINNING_LANES, FACE_NORMALS, FLAT_COLOURS, HOMOGENEOUS_PATH,
-    LOOP_BUDGET, RASTER_GROUP_SIZE, RECORDS_AS_TEXELS, SKIP_OCCLUSION_CULL, SLAB_BITS,
-    STORAGE_WALK, TEXTURES, TILE_SHIFT, TRANSMISSION, VERTEX_COLOURS, VERTEX_NORMALS,
+    Specialization, BIN_TALLY_BITS, BRANCHING, DEEP_BINNING_LANES, FACE_NORMALS, FLAT_COLOURS,
+    HOMOGENEOUS_PATH, LOOP_BUDGET, RASTER_GROUP_SIZE, RECORDS_AS_TEXELS, SKIP_OCCLUSION_CULL,
+    SLAB_BITS, STORAGE_WALK, TEXTURES, TILE_SHIFT, TRANSMISSION, VERTEX_COLOURS, VERTEX_NORMALS,
 };
 use crate::raster::{clip_position, model_view_projection, viewport_transform, GUARD_BAND};
 use crate::scene::Scene;
@@ -56,6 +56,9 @@ pub struct RasterFeatures {
     /// The rasters' walks read list entries and triangle records as storage buffers, not
     /// texels ([`storage_walk`]).
     pub storage_walk: bool,
+    /// Binning workgroups tally their entries in a shared table of 2^bin_tally_bits slots
+    /// (0: off; [`bin_tally_bits`]).
+    pub bin_tally_bits: u32,
 }
 
 impl RasterFeatures {
@@ -102,6 +105,7 @@ impl RasterFeatures {
             branching: false,
             records_as_texels: false,
             storage_walk: false,
+            bin_tally_bits: 0,
             deep_binning_lanes: deep_binning_lanes(
                 draws()
                     .map(|d| scene.meshes[d.mesh].quads.len() as u64)
@@ -122,6 +126,7 @@ impl RasterFeatures {
             branching: self.branching,
             records_as_texels: self.records_as_texels,
             storage_walk: self.storage_walk,
+            bin_tally_bits: self.bin_tally_bits,
             ..fresh
         }
     }
@@ -149,12 +154,14 @@ impl RasterFeatures {
         1 << self.slab_bits
     }
 
-    /// The constants of the binning stages: the slabs, the tiles and the lanes per triangle.
+    /// The constants of the binning stages: the slabs, the tiles, the lanes per triangle and
+    /// the tally.
     pub fn binning_constants(&self) -> Specialization {
         Specialization::new()
             .with(SLAB_BITS, self.slab_bits)
             .with(TILE_SHIFT, self.tile_shift)
             .with(DEEP_BINNING_LANES, self.deep_binning_lanes)
+            .with(BIN_TALLY_BITS, self.bin_tally_bits)
     }
 
     /// What the triangles and their attribute records hold: the constants of every stage that
@@ -246,6 +253,29 @@ pub fn storage_walk(branching: bool, records_as_texels: bool, texel_walk_forced:
 /// the device's choice (`device`, or unset).
 pub fn texel_walk_forced() -> crate::Result<bool> {
     crate::gpu::forced_by_env("TRANSLUCID_WALK_LOADS", "texels", "device")
+}
+
+/// Slots of a binning workgroup's tally on GPUs, as a power of two: 512, twice the entries
+/// its 64 triangles make when each enters a block or two on a few rows, in 4 KB of shared
+/// memory (more would cut the workgroups a GPU core holds).
+pub const GPU_TALLY_BITS: u32 = 9;
+
+/// The tally binning takes ([`RasterFeatures::bin_tally_bits`]): on GPUs (`branching`),
+/// where many invocations adding to one bin's count wait on each other, unless
+/// `TRANSLUCID_BIN_COUNTS=global` forces an atomic an entry (the A/B of docs/gpu.md); none on
+/// CPU drivers, where a lane's atomics do not contend and the table's probes cost more.
+pub fn bin_tally_bits(branching: bool, global_counts_forced: bool) -> u32 {
+    if branching && !global_counts_forced {
+        GPU_TALLY_BITS
+    } else {
+        0
+    }
+}
+
+/// Whether `TRANSLUCID_BIN_COUNTS` asks for a global atomic an entry (`global`) rather than
+/// the device's choice (`device`, or unset).
+pub fn global_counts_forced() -> crate::Result<bool> {
+    crate::gpu::forced_by_env("TRANSLUCID_BIN_COUNTS", "global", "device")
 }
 
 /// Quads the estimate of [`estimate`] looks at, at most: every k-th of larger scenes, scaled.
@@ -524,6 +554,7 @@ mod tests {
             branching: false,
             records_as_texels: false,
             storage_walk: false,
+            bin_tally_bits: 0,
         };
         assert_eq!(none.attribute_texels(), 0);
         let lit = RasterFeatures {

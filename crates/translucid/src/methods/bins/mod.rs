@@ -119,6 +119,10 @@ pub struct BinOptions {
     /// triangles split into several slices.
     #[doc(hidden)]
     pub bin_rows_per_slice: Option<u32>,
+    /// Binning workgroups tally their entries in 2^bits shared slots (1 to the GPU's), on
+    /// any device, so that tests can fill the table and spill from it.
+    #[doc(hidden)]
+    pub bin_tally_bits: Option<u32>,
     /// Bands of bins recorded per frame (`None`: [`BANDS`]), so that tests can reach the
     /// frames that need more than it records.
     #[doc(hidden)]
@@ -415,6 +419,10 @@ impl Bins {
             b.clamp(LEAST_LOOP_BUDGET, info.loop_budget)
         });
         features.branching = info.profile == crate::gpu::Profile::Gpu;
+        features.bin_tally_bits = match options.bin_tally_bits {
+            Some(bits) => bits.clamp(1, features::GPU_TALLY_BITS),
+            None => features::bin_tally_bits(features.branching, features::global_counts_forced()?),
+        };
         // Buffers per block and row are made for the largest frame.
         let capacities = Capacities::initial(
             gpu_scene.transparent_quads,
@@ -978,6 +986,10 @@ impl Bins {
             loop_budget: recorded.features.loop_budget,
             branching: recorded.features.branching,
             storage_walk: recorded.features.storage_walk,
+            tally_slots: match recorded.features.bin_tally_bits {
+                0 => 0,
+                bits => 1 << bits,
+            },
         }
     }
 

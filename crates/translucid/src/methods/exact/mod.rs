@@ -248,6 +248,7 @@ impl Method for Exact {
             fragments: kept(counters.fragments()),
             sweeps: counters.sweeps(),
             triangles: kept(u64::from(counters.triangle_count)),
+            bin_entries: kept(u64::from(counters.bin_entry_count)),
             suspended_rows: u64::from(counters.suspended_rows),
             bins: Some(BinShape {
                 select_size,

@@ -95,6 +95,7 @@ impl BinRaster {
             bands: bins.counters.bands,
             fragments: kept(bins.counters.fragments()),
             triangles: kept(u64::from(bins.counters.triangle_count)),
+            bin_entries: kept(u64::from(bins.counters.bin_entry_count)),
             bins: Some(self.bins.shape(done.slot)),
             ..FrameCheck::default()
         })
