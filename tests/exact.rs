@@ -182,6 +182,7 @@ fn exact_matches_reference_with_the_gpu_profile() {
     assert_eq!(own.branching, expected_own);
     let texels_forced = translucid::methods::bins::features::texel_walk_forced().expect("env");
     assert_eq!(own.storage_walk, expected_own && !texels_forced);
+    let global_forced = translucid::methods::bins::features::global_counts_forced().expect("env");
     let gpu = gpu_with(Some(Profile::Gpu));
     let mut deep = MethodOptions::default();
     deep.exact.assume_deep_pixels = true;
@@ -206,6 +207,21 @@ fn exact_matches_reference_with_the_gpu_profile() {
             let shape = frame.bins.expect("exact reports its shape");
             assert!(shape.branching, "{label}: {shape:?}");
             assert_eq!(shape.storage_walk, !texels_forced, "{label}: {shape:?}");
+            // Binning tallies the entries of frames of one slab, and slices tall triangles,
+            // as GPUs want.
+            let tally =
+                match translucid::methods::bins::features::bin_tally_bits(true, global_forced) {
+                    bits if bits > 0 && shape.slabs == 1 => 1 << bits,
+                    _ => 0,
+                };
+            assert_eq!(shape.tally_slots, tally, "{label}: {shape:?}");
+            let blocks_across = size.0.div_ceil(8);
+            let iterations = match shape.slabs {
+                1 => translucid::methods::bins::GPU_SLICE_ITERATIONS,
+                _ => translucid::methods::bins::SLICE_ITERATIONS,
+            };
+            let slice = (iterations / (blocks_across + 8)).max(1);
+            assert_eq!(shape.rows_per_slice, slice, "{label}: {shape:?}");
         }
         let mut small_budget = options.clone();
         small_budget.bins.loop_budget = Some(4096);
@@ -311,9 +327,9 @@ fn exact_matches_reference_with_triangles_binned_in_slices() {
 /// Binning workgroups that tally their entries in shared memory (the GPU profile's binning:
 /// bin_tally.glsl) count and place the same entries as an atomic an entry: the lists need
 /// as many and every frame matches the reference. With the GPU's table, and with one of two
-/// slots, where most bins find no slot and take their own atomic beside tallied ones;
-/// shallow frames (a lane a triangle) and deep ones (a lane a row, slabs), near-plane
-/// triangles, and a frame whose lists pass their capacity and are filled in bands.
+/// slots, where most bins find no slot and take their own atomic beside tallied ones; with
+/// near-plane triangles binned in slices, and a frame whose lists pass their capacity and
+/// are filled in bands. Deep frames (slabs, a lane a row) do not tally.
 #[test]
 fn exact_matches_reference_with_tallied_binning() {
     let mut banded = MethodOptions::default();
@@ -321,6 +337,8 @@ fn exact_matches_reference_with_tallied_binning() {
     banded.bins.bands = Some(64);
     let mut deep = MethodOptions::default();
     deep.exact.assume_deep_pixels = true;
+    let mut sliced = MethodOptions::default();
+    sliced.bins.bin_rows_per_slice = Some(5);
     let cases = [
         (
             "spheres",
@@ -337,7 +355,7 @@ fn exact_matches_reference_with_tallied_binning() {
             scene::load("particles").expect("particles"),
             deep.clone(),
         ),
-        ("near_plane", near_plane_scene(), deep),
+        ("near_plane", near_plane_scene(), sliced),
     ];
     for (name, scene, plain) in cases {
         let untallied = check(&scene, &format!("untallied_{name}"), 213, 131, &plain);
@@ -350,7 +368,8 @@ fn exact_matches_reference_with_tallied_binning() {
             let label = format!("tallied_{bits}_{name}");
             let frame = check(&scene, &label, 213, 131, &tallied);
             let shape = frame.bins.expect("exact reports its shape");
-            assert_eq!(shape.tally_slots, 1 << bits, "{label}: {shape:?}");
+            let slots = if name == "particles" { 0 } else { 1 << bits };
+            assert_eq!(shape.tally_slots, slots, "{label}: {shape:?}");
             assert_eq!(frame.bin_entries, untallied.bin_entries, "{label}");
             if name == "hairball" {
                 assert!(frame.bands > 1, "{label}: filled in {} band", frame.bands);

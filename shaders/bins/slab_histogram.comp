@@ -28,8 +28,9 @@ void addToHistogram() {
     uint bits = 0u;
     uint weight = 0u;
     // Records sit at their triangles' order keys, two per quad; culled ones are holes with
-    // empty bounds. Each triangle counts once, for its first binning lane.
-    if (ti < 2u * u_push.itemCount && binningLane() == 0) {
+    // empty bounds. Each triangle counts once, for its first binning lane of the first
+    // slice (the dispatch is binning's, which may slice its rows: bin_lists.glsl).
+    if (ti < 2u * u_push.itemCount && binningLane() == 0 && gl_GlobalInvocationID.y == 0u) {
         BinTriangle t = loadTriangle(ti);
         ivec4 r = binRect(t.bounds);
         listed = r.y <= r.w && r.x <= r.z;

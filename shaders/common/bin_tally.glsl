@@ -1,21 +1,25 @@
 // A binning workgroup's tally of its bin entries, so that the global count of a bin takes
-// one atomic per workgroup that enters it rather than one per entry (the GPU profile:
-// BIN_TALLY_BITS, methods/bins/features.rs). Neighbouring triangles of a mesh enter the same
-// bins, and on a GPU thousands of invocations adding to one word wait on each other; on a
-// CPU driver the table's probing costs more than the atomics it saves, so it is off there.
+// one atomic per workgroup that enters it rather than one per entry (the GPU profile, in
+// frames of one slab: BIN_TALLY_BITS, methods/bins/features.rs). Neighbouring triangles of
+// a mesh enter the same bins, and on a GPU thousands of invocations adding to one word wait
+// on each other; on a CPU driver the table's probes cost more than the atomics they save
+// (measured on lavapipe: docs/performance-log.md), so it is off there.
 //
 // The tally is a small open-addressing table in shared memory from bin to entries: a lane
 // claims a bin's slot by compare-and-swap and adds to it; a bin whose few probes all meet
 // other bins is not tallied and takes its global atomic at once. Slots are claimed and never
 // freed within a workgroup, so a bin is either tallied in every lane that enters it or in
 // none (its probes met the same claimed slots in each), and the count (flushTally) and the
-// fill (reserveTally, tallyCursor) agree on which.
+// fill (reserveTally, nextPlace) agree on which.
 #ifndef TRANSLUCID_BIN_TALLY_GLSL
 #define TRANSLUCID_BIN_TALLY_GLSL
 
-#include "interface_specialization.glsl"
+#include "bin_lists.glsl"
 
-const bool TALLIED = BIN_TALLY_BITS > 0u;
+// Only frames of one slab tally: a workgroup holds 64 triangles, mostly small and
+// neighbours. Deep frames' workgroups hold 8 large ones (ROW_LANES a triangle) whose
+// hundreds of entries each would overflow the table and pay its probes for nothing.
+const bool TALLIED = BIN_TALLY_BITS > 0u && SLABS == 1u;
 // One slot when off, which nothing reads.
 const uint TALLY_SLOTS = 1u << BIN_TALLY_BITS;
 const uint NO_TALLY = 0xFFFFFFFFu;

@@ -189,7 +189,7 @@ pub struct BinShape {
     /// texels (`bins::features::storage_walk`).
     pub storage_walk: bool,
     /// Slots of a binning workgroup's tally of its entries (`bins::features::bin_tally_bits`;
-    /// 0 without one).
+    /// 0 without one, as in frames of several slabs).
     pub tally_slots: u32,
 }
 

@@ -55,11 +55,19 @@ use layout::{
 use resources::{Capacities, Resources};
 use std::sync::Arc;
 
-/// Loop iterations one binning invocation takes at most: a triangle taller than that many
-/// bins' worth is binned by several invocations, in slices of rows (bin_lists.glsl). Within
-/// lavapipe's loop limit (`CPU_DRIVER_LOOP_BUDGET`), and short enough that a tall triangle's
-/// rows spread over many invocations on a GPU.
-const SLICE_ITERATIONS: u32 = 60_000;
+/// Loop iterations one binning invocation takes at most on CPU drivers: a triangle taller
+/// than that many bins' worth is binned by several invocations, in slices of rows
+/// (bin_lists.glsl). Within lavapipe's loop limit (`CPU_DRIVER_LOOP_BUDGET`), which whole
+/// rows of the frame at most sizes fit, so that a triangle is rarely binned twice.
+pub const SLICE_ITERATIONS: u32 = 60_000;
+
+/// The same in shallow frames on GPUs (the GPU profile), where a subgroup runs as long as
+/// its longest invocation: a tall triangle is binned as work items of at most this many
+/// iterations, (triangle, slice) pairs of its own invocations, so that one full-screen
+/// triangle does not hold its subgroup for a whole frame's bins (16 tile rows a slice at
+/// 1920 pixels across). Invocations of slices a triangle does not reach find no rows and do
+/// nothing more.
+pub const GPU_SLICE_ITERATIONS: u32 = 4096;
 
 /// The smallest loop budget a test may force (`BinOptions::loop_budget`): room for a
 /// stretch's shading and the searches over the most slabs, and some walking.
@@ -245,17 +253,28 @@ pub struct BinsDone {
 }
 
 impl BinPush {
-    /// Sizes the stages for a frame of `width` x `height`, binning slices of at most
-    /// `slice_rows_limit` rows.
-    fn set_size(&mut self, width: u32, height: u32, slice_rows_limit: u32) {
+    /// Sizes the stages for a frame of `width` x `height`.
+    fn set_size(&mut self, width: u32, height: u32) {
         self.width = width;
         self.height = height;
         self.bins_x = width.div_ceil(BIN_SIZE);
         self.bins_y = height.div_ceil(BIN_SIZE);
+    }
+
+    /// Slices binning's rows for stages specialized with `features`, at most `rows_limit`
+    /// rows a slice: shallow frames on GPUs in work items of GPU_SLICE_ITERATIONS, others
+    /// in SLICE_ITERATIONS (deep frames already spread a triangle's rows over a row of
+    /// lanes: bin_lists.glsl).
+    fn set_slices(&mut self, features: &RasterFeatures, rows_limit: u32) {
+        let iterations = if features.branching && features.slab_bits == 0 {
+            GPU_SLICE_ITERATIONS
+        } else {
+            SLICE_ITERATIONS
+        };
         // A tile row of bins costs at most bins_x + BIN_SIZE iterations: its blocks, and a
         // row span for each of its pixel rows (at most a block's).
-        self.bin_rows_per_slice = (SLICE_ITERATIONS / (self.bins_x + BIN_SIZE))
-            .min(slice_rows_limit)
+        self.bin_rows_per_slice = (iterations / (self.bins_x + BIN_SIZE))
+            .min(rows_limit)
             .max(1);
     }
 }
@@ -462,7 +481,8 @@ impl Bins {
                 .clamp(1, MOST_GROUPS_X),
             ..bytemuck::Zeroable::zeroed()
         };
-        push.set_size(width, height, slice_rows_limit);
+        push.set_size(width, height);
+        push.set_slices(&features, slice_rows_limit);
         Ok(Self {
             gpu: gpu.clone(),
             method,
@@ -542,7 +562,8 @@ impl Bins {
     /// must follow).
     pub fn set_frame(&mut self, f: &FrameSetup<'_>) -> Result<bool> {
         let (width, height) = (f.targets.extent.width, f.targets.extent.height);
-        self.push.set_size(width, height, self.slice_rows_limit);
+        self.push.set_size(width, height);
+        self.push.set_slices(&self.features, self.slice_rows_limit);
         self.resources.use_slot(f.slot);
         self.resources
             .set_frame(f.gpu, f.scene, f.gpu_scene, f.targets)?;
@@ -615,6 +636,7 @@ impl Bins {
         let layouts = [&gpu_scene.layout, &self.resources.layout];
         self.stages = StagePipelines::select(&mut self.cache, &self.gpu, &layouts, &features)?;
         self.features = features;
+        self.push.set_slices(&features, self.slice_rows_limit);
         Ok(())
     }
 
@@ -986,8 +1008,10 @@ impl Bins {
             loop_budget: recorded.features.loop_budget,
             branching: recorded.features.branching,
             storage_walk: recorded.features.storage_walk,
+            // Frames of several slabs do not tally (bin_tally.glsl).
             tally_slots: match recorded.features.bin_tally_bits {
                 0 => 0,
+                _ if recorded.features.slab_bits > 0 => 0,
                 bits => 1 << bits,
             },
         }
