@@ -357,7 +357,8 @@ fn exact_matches_reference_with_tallied_binning() {
         ),
         ("near_plane", near_plane_scene(), sliced),
     ];
-    for (name, scene, plain) in cases {
+    for (name, scene, mut plain) in cases {
+        plain.bins.bin_tally_bits = Some(0);
         let untallied = check(&scene, &format!("untallied_{name}"), 213, 131, &plain);
         let shape = untallied.bins.expect("exact reports its shape");
         assert_eq!(shape.tally_slots, 0, "{name}: {shape:?}");

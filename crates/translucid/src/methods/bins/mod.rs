@@ -127,8 +127,8 @@ pub struct BinOptions {
     /// triangles split into several slices.
     #[doc(hidden)]
     pub bin_rows_per_slice: Option<u32>,
-    /// Binning workgroups tally their entries in 2^bits shared slots (1 to the GPU's), on
-    /// any device, so that tests can fill the table and spill from it.
+    /// Binning workgroups tally their entries in 2^bits shared slots (at most the GPU's; 0:
+    /// no tally), on any device, so that tests can fill the table and spill from it.
     #[doc(hidden)]
     pub bin_tally_bits: Option<u32>,
     /// Bands of bins recorded per frame (`None`: [`BANDS`]), so that tests can reach the
@@ -439,7 +439,7 @@ impl Bins {
         });
         features.branching = info.profile == crate::gpu::Profile::Gpu;
         features.bin_tally_bits = match options.bin_tally_bits {
-            Some(bits) => bits.clamp(1, features::GPU_TALLY_BITS),
+            Some(bits) => bits.min(features::GPU_TALLY_BITS),
             None => features::bin_tally_bits(features.branching, features::global_counts_forced()?),
         };
         // Buffers per block and row are made for the largest frame.
