@@ -143,7 +143,12 @@ pub(crate) fn check_type(
 pub(crate) trait OutStructure {
     const TYPE: translucid_structure_type;
     const NAME: &'static str;
-    fn header(&self) -> (u32, *mut c_void);
+    /// The caller-set `s_type` and `next` of the struct at `ptr`, read field by field: the
+    /// rest is the caller's uninitialised memory, which no reference may cover.
+    ///
+    /// # Safety
+    /// `ptr` is non-NULL, aligned and valid for reads of those two fields.
+    unsafe fn header(ptr: *const Self) -> (u32, *mut c_void);
 }
 
 /// An out-struct at `ptr`: its caller-set `s_type` and `next` checked and returned (to be
@@ -152,9 +157,12 @@ pub(crate) fn try_out_structure<'a, T: OutStructure>(
     ptr: *mut T,
     what: &str,
 ) -> FfiResult<((u32, *mut c_void), &'a mut MaybeUninit<T>)> {
-    let header = try_ref(ptr.cast_const(), what)?.header();
+    let out = try_out(ptr, what)?;
+    // SAFETY: `try_out` checked that `ptr` is non-NULL and aligned; the C contract makes it
+    // valid for a T, whose `s_type` and `next` the caller set.
+    let header = unsafe { T::header(out.as_ptr()) };
     check_header(header.0, header.1.cast_const(), T::TYPE, T::NAME)?;
-    Ok((header, try_out(ptr, what)?))
+    Ok((header, out))
 }
 
 /// Moves a context to C.

@@ -262,8 +262,14 @@ pub struct translucid_frame_statistics {
 impl OutStructure for translucid_frame_statistics {
     const TYPE: translucid_structure_type = translucid_structure_type::FrameStatistics;
     const NAME: &'static str = "translucid_frame_statistics";
-    fn header(&self) -> (u32, *mut c_void) {
-        (self.s_type, self.next)
+    unsafe fn header(ptr: *const Self) -> (u32, *mut c_void) {
+        // SAFETY: the trait's contract; only the two fields are read.
+        unsafe {
+            (
+                std::ptr::addr_of!((*ptr).s_type).read(),
+                std::ptr::addr_of!((*ptr).next).read(),
+            )
+        }
     }
 }
 

@@ -351,8 +351,14 @@ fn complete(objects: &mut Objects, frame: translucid_frame) -> FfiResult<translu
 impl OutStructure for translucid_host_requirements {
     const TYPE: translucid_structure_type = translucid_structure_type::HostRequirements;
     const NAME: &'static str = "translucid_host_requirements";
-    fn header(&self) -> (u32, *mut c_void) {
-        (self.s_type, self.next)
+    unsafe fn header(ptr: *const Self) -> (u32, *mut c_void) {
+        // SAFETY: the trait's contract; only the two fields are read.
+        unsafe {
+            (
+                std::ptr::addr_of!((*ptr).s_type).read(),
+                std::ptr::addr_of!((*ptr).next).read(),
+            )
+        }
     }
 }
 
@@ -431,8 +437,14 @@ fn write_requirements(
 impl OutStructure for translucid_host_subgroup_requirements {
     const TYPE: translucid_structure_type = translucid_structure_type::HostSubgroupRequirements;
     const NAME: &'static str = "translucid_host_subgroup_requirements";
-    fn header(&self) -> (u32, *mut c_void) {
-        (self.s_type, self.next)
+    unsafe fn header(ptr: *const Self) -> (u32, *mut c_void) {
+        // SAFETY: the trait's contract; only the two fields are read.
+        unsafe {
+            (
+                std::ptr::addr_of!((*ptr).s_type).read(),
+                std::ptr::addr_of!((*ptr).next).read(),
+            )
+        }
     }
 }
 
