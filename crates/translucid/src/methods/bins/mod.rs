@@ -262,11 +262,12 @@ impl BinPush {
     }
 
     /// Slices binning's rows for stages specialized with `features`, at most `rows_limit`
-    /// rows a slice: shallow frames on GPUs in work items of GPU_SLICE_ITERATIONS, others
-    /// in SLICE_ITERATIONS (deep frames already spread a triangle's rows over a row of
-    /// lanes: bin_lists.glsl).
+    /// rows a slice: shallow frames on GPUs, or with a tally (whose fill walks each slice
+    /// twice), in work items of GPU_SLICE_ITERATIONS; others in SLICE_ITERATIONS (deep
+    /// frames already spread a triangle's rows over a row of lanes: bin_lists.glsl).
     fn set_slices(&mut self, features: &RasterFeatures, rows_limit: u32) {
-        let iterations = if features.branching && features.slab_bits == 0 {
+        let short = features.branching || features.bin_tally_bits > 0;
+        let iterations = if short && features.slab_bits == 0 {
             GPU_SLICE_ITERATIONS
         } else {
             SLICE_ITERATIONS
