@@ -85,6 +85,15 @@
 #define TRANSLUCID_CONTEXT_CREATE_PROFILE_GPU 4
 
 /**
+ * Sample textures in `exact` and `wavelet`'s bins with translucid's software sampler, bit
+ * for bit the CPU reference, where the device would sample them in hardware (GPUs that can
+ * index an array of textures per invocation: faster, and within the driver's filtering
+ * precision of the reference); `TRANSLUCID_SAMPLING=software` in the environment does the
+ * same. Engines' devices always sample in software.
+ */
+#define TRANSLUCID_CONTEXT_CREATE_SOFTWARE_SAMPLING 8
+
+/**
  * Most frames in flight a host-device context takes.
  */
 #define TRANSLUCID_MAX_FRAMES_IN_FLIGHT 4

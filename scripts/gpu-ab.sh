@@ -24,7 +24,7 @@ scenes="spheres particles hairball $dragon $lamp $vase"
 # variant name, then the environment that forces it ("" for the device's own).
 variants=("own" "" "profile-cpu" "TRANSLUCID_PROFILE=cpu" "profile-gpu" "TRANSLUCID_PROFILE=gpu"
     "tiles-row" "TRANSLUCID_BIN_TILES=row" "walk-texels" "TRANSLUCID_WALK_LOADS=texels"
-    "counts-global" "TRANSLUCID_BIN_COUNTS=global")
+    "counts-global" "TRANSLUCID_BIN_COUNTS=global" "sampling-software" "TRANSLUCID_SAMPLING=software")
 for ((i = 0; i < ${#variants[@]}; i += 2)); do
     name=${variants[i]}
     env ${variants[i + 1]} timeout 40 "$tl" bench $scenes --method exact --method wavelet \

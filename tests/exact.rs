@@ -379,6 +379,71 @@ fn exact_matches_reference_with_tallied_binning() {
     }
 }
 
+/// Textures sampled in hardware (the rasters' `HARDWARE_SAMPLING` variant, the GPU profile's
+/// default: docs/gpu.md) stay within the reference's tolerance on the textured scenes: the
+/// generated stack (minified under perspective, every wrap mode), the vase and spot, in
+/// shallow and deep frames. Forced here on lavapipe's CPU profile, whose default stays the
+/// software sampler; the software sampler can be forced where the profile would sample in
+/// hardware.
+#[test]
+fn exact_matches_reference_with_textures_sampled_in_hardware() {
+    let gpu = gpu();
+    let info = gpu.info();
+    let vase = asset("GlassVaseFlowers/GlassVaseFlowers.glb");
+    let spot = asset("spot/spot_blend.gltf");
+    let scenes = [
+        (
+            "textured",
+            scene::load("textured").expect("scene"),
+            (213, 131),
+        ),
+        (
+            "vase",
+            scene::load(vase.to_str().expect("utf-8")).expect("vase"),
+            (301, 177),
+        ),
+        (
+            "spot",
+            scene::load(spot.to_str().expect("utf-8")).expect("spot"),
+            (213, 131),
+        ),
+    ];
+    let mut deep = MethodOptions::default();
+    deep.exact.assume_deep_pixels = true;
+    for (settings, mut options) in [("shallow", MethodOptions::default()), ("deep", deep)] {
+        for (name, scene, size) in &scenes {
+            options.bins.hardware_sampling = Some(true);
+            let label = format!("hardware_sampled_{settings}_{name}");
+            let frame = check_on(&gpu, scene, &label, *size, &options);
+            let shape = frame.bins.expect("exact reports its shape");
+            assert!(shape.hardware_sampling, "{label}: {shape:?}");
+        }
+    }
+    let own = check(
+        &scenes[0].1,
+        "own_sampling",
+        64,
+        48,
+        &MethodOptions::default(),
+    );
+    let own = own.bins.expect("exact reports its shape");
+    assert_eq!(
+        own.hardware_sampling,
+        info.profile == translucid::gpu::Profile::Gpu && !info.software_sampling,
+        "{own:?}"
+    );
+    let mut software = MethodOptions::default();
+    software.bins.hardware_sampling = Some(false);
+    let frame = check_on(
+        &gpu_with(Some(translucid::gpu::Profile::Gpu)),
+        &scenes[0].1,
+        "gpu_profile_software_sampling",
+        (64, 48),
+        &software,
+    );
+    assert!(!frame.bins.expect("shape").hardware_sampling);
+}
+
 /// One quad from x0 to x1 and from -y to y, at depth z, facing +z.
 fn square(x0: f32, x1: f32, y: f32, z: f32) -> Mesh {
     Mesh::from_quads(
@@ -697,7 +762,9 @@ fn exact_copies_only_the_textures_transparent_draws_use() {
 /// software sampler leaves its 32-bit wrap for a 64-bit one; they must wrap as the
 /// reference's do. Every vertex takes the same coordinates, so that the level of detail is
 /// the first (a minified level would have fewer texels and smaller coordinates), and an odd
-/// one, so that a saturated or truncated coordinate picks another texel.
+/// one, so that a saturated or truncated coordinate picks another texel. Also where the
+/// raster samples in hardware, whose float coordinates cannot resolve texels that far: the
+/// software sampler takes those fragments.
 #[test]
 fn exact_wraps_texture_coordinates_billions_of_texels_away() {
     let (mut scene, large) = with_large_texture(&scene::load("textured").expect("scene"), 200);
@@ -713,13 +780,14 @@ fn exact_wraps_texture_coordinates_billions_of_texels_away() {
         texels > 2f32.powi(31),
         "texel coordinates of {texels} stay within 32 bits"
     );
-    check(
-        &scene,
-        "far_texture_coordinates",
-        96,
-        64,
-        &MethodOptions::default(),
-    );
+    for hardware in [false, true] {
+        let mut options = MethodOptions::default();
+        options.bins.hardware_sampling = Some(hardware);
+        let label = format!("far_texture_coordinates_hardware_{hardware}");
+        let frame = check(&scene, &label, 96, 64, &options);
+        let shape = frame.bins.expect("exact reports its shape");
+        assert_eq!(shape.hardware_sampling, hardware, "{label}: {shape:?}");
+    }
 }
 
 /// A frame rendered again unchanged creates no pipeline: everything it needs was built with

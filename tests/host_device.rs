@@ -369,6 +369,7 @@ fn spheres_standalone() -> (Scene, OpaqueLayer, translucid::renderer::Frame) {
         device: None,
         validation: true,
         profile: None,
+        software_sampling: false,
     })
     .expect("a Vulkan device with the validation layer");
     let mut reference =
@@ -1469,6 +1470,7 @@ fn native_blend_and_blend_draw_into_the_engines_images_what_standalone_blend_dra
         device: None,
         validation: true,
         profile: None,
+        software_sampling: false,
     })
     .expect("a Vulkan device with the validation layer");
     let engine = Engine::new();

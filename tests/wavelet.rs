@@ -161,8 +161,8 @@ fn wavelet_in_bins_matches_its_cpu_model_with_every_tile_shape() {
 }
 
 /// Wavelet's bins with the GPU profile's variants forced on this device: the walk reads its
-/// entries and records as storage buffers (`storage_walk`), and is still the model's on
-/// every pixel of the deep and textured scenes.
+/// entries and records as storage buffers (`storage_walk`), textures are sampled in
+/// hardware, and it is still the model's on every pixel of the deep and textured scenes.
 #[test]
 fn wavelet_in_bins_matches_its_cpu_model_with_the_gpu_profile() {
     let gpu = translucid_tests::gpu_with(Some(translucid::gpu::Profile::Gpu));
@@ -174,6 +174,14 @@ fn wavelet_in_bins_matches_its_cpu_model_with_the_gpu_profile() {
     for name in ["particles", "planes", "GlassVaseFlowers", "textured"] {
         check_wavelet_model(&gpu, &load(name), &bins_options(3, 0.0));
     }
+    // Textures sampled in hardware there (docs/textures.md), unless asked otherwise.
+    let textured = render(&gpu, &load("textured"), "wavelet", &bins_options(3, 0.0));
+    let shape = textured.bins.expect("the bins report their shape");
+    assert_eq!(
+        shape.hardware_sampling,
+        !gpu.info().software_sampling,
+        "{shape:?}"
+    );
 }
 
 /// The coefficient images on the scenes the bins are held to: deep (particles, planes) and

@@ -224,7 +224,7 @@ void shadeFragment(BinTriangle t, uint x, uint y, RasterSample s, FrameInfo fram
         BinTexture tex = loadTextureInfo(m.textureIndex);
         // Meshes without UVs read (0, 0) everywhere: level 0 at the origin, like the reference.
         if ((t.attributeFlags & TRIANGLE_HAS_UVS) == 0u) {
-            texel = sampleTexture(tex, vec2(0.0), 0.0);
+            texel = sampleBaseTexture(m.textureIndex, tex, vec2(0.0), 0.0);
         } else {
             vec2 uv0 = a.uv0;
             vec2 uv1 = a.uv1;
@@ -237,7 +237,7 @@ void shadeFragment(BinTriangle t, uint x, uint y, RasterSample s, FrameInfo fram
             precise vec2 uy = ((uv0 * gy.x + uv1 * gy.y) + uv2 * gy.z) * size;
             float rho = max(length(ux), length(uy));
             precise vec2 uv = (uv0 * b.x + uv1 * b.y) + uv2 * b.z;
-            texel = sampleTexture(tex, uv, log2(rho));
+            texel = sampleBaseTexture(m.textureIndex, tex, uv, log2(rho));
         }
     }
     shadeTransparent(m, frame, colour, texel, normal, radiance, transmittance);

@@ -100,4 +100,42 @@ vec4 sampleTexture(BinTexture t, vec2 uv, float lod) {
     return r;
 }
 
+// The base texture of a material: texture `index`, whose record is `t`, at uv and level of
+// detail lod. In software, bit for bit the reference's (sampleTexture). Where the raster
+// samples in hardware (HARDWARE_SAMPLING, defined by the variants the host picks on GPUs:
+// docs/gpu.md), the texture's own image and sampler at the same level, as the graphics
+// passes sample it: filtering within the driver's precision of the reference's. The lanes
+// of a tile may each want another texture, and indexing the array by a lane's own index
+// is an optional feature (lavapipe lacks it): each slot is a branch of its own, with a
+// constant index, which a GPU skips where no lane of the subgroup takes it (written out,
+// so that it costs the loop budget nothing).
+#ifdef HARDWARE_SAMPLING
+#include "interface_texture_array.glsl"
+
+// Texel coordinates from 2^20 on (or NaN) keep the software sampler: there a float
+// coordinate resolves an eighth of a texel or less, and what the reference's wrap makes of
+// its rounded coordinate is not what a hardware sampler's makes (72/255 off at 2^31).
+const float HARDWARE_TEXELS = 1048576.0;
+#endif
+
+vec4 sampleBaseTexture(int index, BinTexture t, vec2 uv, float lod) {
+#ifdef HARDWARE_SAMPLING
+    vec2 texels = abs(uv) * vec2(t.width, t.height);
+    if (!(max(texels.x, texels.y) < HARDWARE_TEXELS)) {
+        return sampleTexture(t, uv, lod);
+    }
+    // Magnified where lod <= 0 or NaN, as in sampleTexture.
+    float level = lod > 0.0 ? lod : 0.0;
+    vec4 texel = vec4(1.0);
+    [[unroll]] for (int slot = 0; slot < int(TEXTURE_ARRAY_SLOTS); slot++) {
+        if (index == slot) {
+            texel = textureLod(u_textureArray[slot], uv, level);
+        }
+    }
+    return texel;
+#else
+    return sampleTexture(t, uv, lod);
+#endif
+}
+
 #endif

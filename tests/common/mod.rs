@@ -20,6 +20,7 @@ pub fn gpu_with(profile: Option<translucid::gpu::Profile>) -> Gpu {
         device: std::env::var("TRANSLUCID_DEVICE").ok(),
         validation: true,
         profile,
+        software_sampling: false,
     })
     .expect("a Vulkan device with the Khronos validation layer (`make test` installs both)")
 }

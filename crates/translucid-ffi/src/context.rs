@@ -36,9 +36,16 @@ pub const TRANSLUCID_CONTEXT_CREATE_PROFILE_CPU: u32 = 2;
 /// Give the device the GPU variants (branching shaders), whatever it is, as
 /// `TRANSLUCID_PROFILE=gpu` does: so that they can be checked on a CPU driver.
 pub const TRANSLUCID_CONTEXT_CREATE_PROFILE_GPU: u32 = 4;
+/// Sample textures in `exact` and `wavelet`'s bins with translucid's software sampler, bit
+/// for bit the CPU reference, where the device would sample them in hardware (GPUs that can
+/// index an array of textures per invocation: faster, and within the driver's filtering
+/// precision of the reference); `TRANSLUCID_SAMPLING=software` in the environment does the
+/// same. Engines' devices always sample in software.
+pub const TRANSLUCID_CONTEXT_CREATE_SOFTWARE_SAMPLING: u32 = 8;
 const CONTEXT_CREATE_FLAGS: u32 = TRANSLUCID_CONTEXT_CREATE_VALIDATION
     | TRANSLUCID_CONTEXT_CREATE_PROFILE_CPU
-    | TRANSLUCID_CONTEXT_CREATE_PROFILE_GPU;
+    | TRANSLUCID_CONTEXT_CREATE_PROFILE_GPU
+    | TRANSLUCID_CONTEXT_CREATE_SOFTWARE_SAMPLING;
 
 /// How to create a context. Zero-initialise it, then set `s_type`, `header_version` and what
 /// you need; zero everywhere else means the default.
@@ -203,6 +210,7 @@ impl Context {
                 validation: info.flags & TRANSLUCID_CONTEXT_CREATE_VALIDATION != 0
                     || from_env.validation,
                 profile,
+                software_sampling: info.flags & TRANSLUCID_CONTEXT_CREATE_SOFTWARE_SAMPLING != 0,
             })
             .map_err(|e| match e {
                 translucid::Error::NoDevice(m) if m.starts_with("no device matches") => {

@@ -11,6 +11,7 @@ fn gpu() -> Gpu {
         device: std::env::var("TRANSLUCID_DEVICE").ok(),
         validation: true,
         profile: None,
+        software_sampling: false,
     })
     .expect("a Vulkan device with the validation layer (run `make test`, which installs both)")
 }

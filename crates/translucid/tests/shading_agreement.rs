@@ -97,6 +97,7 @@ fn glsl_and_rust_shading_agree() {
         device: std::env::var("TRANSLUCID_DEVICE").ok(),
         validation: true,
         profile: None,
+        software_sampling: false,
     })
     .expect("a Vulkan device with the validation layer");
     let light = Light {

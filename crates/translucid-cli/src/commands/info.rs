@@ -61,6 +61,19 @@ pub fn run() -> translucid::Result<()> {
                 bits => format!("a workgroup's tally of {} slots", 1 << bits),
             }
         );
+        // How the bin rasters sample textures (docs/textures.md).
+        let software = d.software_sampling || translucid::gpu::software_sampling_asked()?;
+        let slots = translucid::interface::bins::TEXTURE_ARRAY_SLOTS;
+        println!(
+            "    texture sampling         {}",
+            if !gpu_profile || software {
+                "software (bit for bit the reference)".to_string()
+            } else if d.max_stage_samplers <= slots {
+                format!("software (a stage binds {} samplers)", d.max_stage_samplers)
+            } else {
+                format!("hardware (frames using the first {slots} textures)")
+            }
+        );
         // The wavelet storage the profile rendering takes picks (docs/gpu.md), and whether
         // the coefficient images take the reference's depth there (a geometry stage).
         let storage =

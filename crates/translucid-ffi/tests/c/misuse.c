@@ -128,6 +128,11 @@ static void context_creation(void) {
     EXPECT(NULL, translucid_context_create(&info, &ctx), TRANSLUCID_RESULT_SUCCESS);
     translucid_context_destroy(ctx);
     ctx = sentinel;
+    /* the software sampler kept where the GPU profile would sample in hardware */
+    info.flags = TRANSLUCID_CONTEXT_CREATE_PROFILE_GPU | TRANSLUCID_CONTEXT_CREATE_SOFTWARE_SAMPLING;
+    EXPECT(NULL, translucid_context_create(&info, &ctx), TRANSLUCID_RESULT_SUCCESS);
+    translucid_context_destroy(ctx);
+    ctx = sentinel;
     info = context_info();
     memset(&link, 0, sizeof link);
     link.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_CREATE_INFO;

@@ -8,6 +8,7 @@ mod resident;
 mod sampled;
 #[cfg(test)]
 mod sampling_tests;
+pub mod texture_array;
 pub mod texture_records;
 
 pub use resident::ResidentAssets;
@@ -67,6 +68,9 @@ struct SceneSlot {
     set: DescriptorSet,
     /// Moved vertices on their way to the vertex buffer (made on the first move).
     staging: Option<Buffer>,
+    /// The texture array of the assets the slot's frame draws from, kept until the slot is
+    /// written again (its frame has completed), though the assets move on to a new version.
+    texture_array: Option<Arc<texture_array::TextureArray>>,
 }
 
 impl SceneSlot {
@@ -93,6 +97,7 @@ impl SceneSlot {
             draws,
             set,
             staging: None,
+            texture_array: None,
         })
     }
 }
@@ -332,6 +337,12 @@ impl GpuScene {
         &self.slots[self.slot].set
     }
 
+    /// The current slot's texture array (the bin rasters' hardware sampling), where the
+    /// device and the assets have one.
+    pub fn texture_array(&self) -> Option<&texture_array::TextureArray> {
+        self.slots[self.slot].texture_array.as_deref()
+    }
+
     /// The current slot's draw buffer.
     pub fn draws(&self) -> &Buffer {
         &self.slots[self.slot].draws
@@ -346,6 +357,7 @@ impl GpuScene {
         let frame_info = GpuFrameInfo::new(&scene.camera, &scene.light, width, height);
         let slot = &mut self.slots[self.slot];
         slot.frame.write(0, bytemuck::bytes_of(&frame_info))?;
+        slot.texture_array = self.resident.texture_array().cloned();
         let all_draws = scene.opaque.iter().chain(&scene.transparent);
         let draw_infos: Vec<GpuDrawInfo> = all_draws
             .clone()

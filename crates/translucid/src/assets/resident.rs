@@ -15,6 +15,7 @@
 #![deny(unsafe_code)]
 
 use super::sampled::{SampledTextures, SampledViews};
+use super::texture_array::TextureArray;
 use super::{MeshRange, SCENE_STORAGE};
 use crate::gpu::{
     vk, AppendBuffer, Buffer, BufferView, DescriptorLayout, DescriptorSet, Gpu, GpuImage, Resource,
@@ -49,14 +50,25 @@ struct Buffers {
 }
 
 /// A texture's image and the descriptor set that binds it with its sampler.
-struct ResidentTexture {
+pub(super) struct ResidentTexture {
     // Declared first so that it is freed before the image its view names.
     set: DescriptorSet,
+    sampler: Arc<Sampler>,
     // Kept while the set (whose view names it) lives.
-    _image: Arc<GpuImage>,
+    image: Arc<GpuImage>,
+}
+
+impl ResidentTexture {
+    /// Its view and sampler, for another set that binds it ([`TextureArray`]).
+    pub(super) fn descriptor(&self) -> (vk::ImageView, vk::Sampler) {
+        (self.image.view, self.sampler.raw)
+    }
 }
 
 pub struct ResidentAssets {
+    /// The first textures for the rasters that sample in hardware, where the device can
+    /// bind them ([`TextureArray::new`]). Declared before the textures it names.
+    texture_array: Option<Arc<TextureArray>>,
     buffers: Arc<Buffers>,
     textures: Vec<Arc<ResidentTexture>>,
     /// The same textures on the host, their texels shared with the scene's (not copied):
@@ -184,7 +196,11 @@ fn make_textures(
             "u_baseTexture",
             Resource::Images(&[image.view], sampler.raw),
         )])?;
-        made.push(Arc::new(ResidentTexture { set, _image: image }));
+        made.push(Arc::new(ResidentTexture {
+            set,
+            sampler,
+            image,
+        }));
     }
     Ok((made, uploads))
 }
@@ -255,6 +271,7 @@ impl ResidentAssets {
             .pop()
             .ok_or_else(|| Error::Internal("no white texture made".into()))?;
         Ok(Self {
+            texture_array: TextureArray::new(gpu, &textures, &white)?.map(Arc::new),
             buffers: Arc::new(buffers),
             textures,
             host_textures: scene.textures.clone(),
@@ -355,6 +372,7 @@ impl ResidentAssets {
         let mut first_quads = self.first_quads.clone();
         first_quads.extend(packed.first_quads.iter().map(|q| q + first_quad));
         Ok(Some(Self {
+            texture_array: TextureArray::new(gpu, &all_textures, &self.white)?.map(Arc::new),
             buffers: self.buffers.clone(),
             textures: all_textures,
             host_textures: scene.textures.clone(),
@@ -421,6 +439,12 @@ impl ResidentAssets {
             )?),
         };
         Ok(sampled.views())
+    }
+
+    /// The first textures in one set, where the device can bind them so
+    /// ([`TextureArray::new`]).
+    pub fn texture_array(&self) -> Option<&Arc<TextureArray>> {
+        self.texture_array.as_ref()
     }
 
     /// The set binding texture `index`, or the white texture for `index` = the number of

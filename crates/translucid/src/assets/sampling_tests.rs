@@ -35,6 +35,7 @@ fn gpu_samplers_match_values_computed_by_hand() {
         device: std::env::var("TRANSLUCID_DEVICE").ok(),
         validation: true,
         profile: None,
+        software_sampling: false,
     })
     .expect("a Vulkan device with the validation layer");
     let cases = hand_cases();

@@ -433,6 +433,7 @@ mod tests {
             device: std::env::var("TRANSLUCID_DEVICE").ok(),
             validation: true,
             profile: None,
+            software_sampling: false,
         })
         .expect("a Vulkan device with the validation layer");
         let buffer = gpu

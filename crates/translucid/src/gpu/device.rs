@@ -25,6 +25,10 @@ pub struct GpuOptions {
     /// Force the CPU-driver or the GPU variants (`Profile`); `None` follows
     /// `TRANSLUCID_PROFILE`, else the device.
     pub profile: Option<Profile>,
+    /// Sample textures in the bin rasters' software sampler, bit for bit the CPU
+    /// reference, where the device would sample them in hardware (GPUs: docs/gpu.md);
+    /// `TRANSLUCID_SAMPLING=software` does the same.
+    pub software_sampling: bool,
 }
 
 impl GpuOptions {
@@ -37,6 +41,7 @@ impl GpuOptions {
                 .filter(|s| !s.is_empty()),
             validation: std::env::var("TRANSLUCID_VALIDATION").is_ok_and(|v| v == "1"),
             profile: None,
+            software_sampling: false,
         }
     }
 }
@@ -89,6 +94,15 @@ pub struct DeviceInfo {
     /// the passes a frame does not need with it). Not used on an engine's device, whose
     /// enabled features translucid cannot see past the core ones.
     pub conditional_rendering: bool,
+    /// Samplers one compute stage may bind: the least of the device's per-stage and
+    /// per-set limits (the bin rasters' texture array: `assets::texture_array`).
+    pub max_stage_samplers: u32,
+    /// Sampled images (combined samplers and texel views included) one compute stage may
+    /// bind: the least of the device's per-stage and per-set limits for them.
+    pub max_stage_sampled_images: u32,
+    /// Asked for the software sampler where the device could sample in hardware
+    /// (`GpuOptions::software_sampling`, `TRANSLUCID_SAMPLING=software`).
+    pub software_sampling: bool,
     /// Loop iterations a shader invocation may take in one dispatch (the rasters'
     /// LOOP_BUDGET): [`CPU_DRIVER_LOOP_BUDGET`] on CPU drivers, [`GPU_LOOP_BUDGET`] elsewhere.
     /// The driver's, whatever the profile: a forced GPU profile on lavapipe keeps its limit.
@@ -330,6 +344,14 @@ pub(super) fn describe(
         geometry_shader: features.geometry_shader == vk::TRUE,
         independent_blend: features.independent_blend == vk::TRUE,
         conditional_rendering,
+        max_stage_samplers: limits
+            .max_per_stage_descriptor_samplers
+            .min(limits.max_descriptor_set_samplers),
+        max_stage_sampled_images: limits
+            .max_per_stage_descriptor_sampled_images
+            .min(limits.max_descriptor_set_sampled_images)
+            .min(limits.max_per_stage_resources),
+        software_sampling: false,
         loop_budget: match Profile::of_device(p.device_type, driver.driver_id) {
             Profile::CpuDriver => CPU_DRIVER_LOOP_BUDGET,
             Profile::Gpu => GPU_LOOP_BUDGET,
@@ -447,6 +469,7 @@ impl Gpu {
                     .profile
                     .or(Profile::from_env()?)
                     .unwrap_or(info.profile);
+                info.software_sampling = options.software_sampling || software_sampling_asked()?;
                 Ok((physical, info))
             });
         let (physical, info) = match chosen {
@@ -813,6 +836,12 @@ type DeviceParts = (ash::Device, Allocator, Submission);
 /// (`subgroup`, or unset).
 pub(super) fn row_tiles_forced() -> Result<bool> {
     super::profile::forced_by_env("TRANSLUCID_BIN_TILES", "row", "subgroup")
+}
+
+/// Whether `TRANSLUCID_SAMPLING` asks for the software sampler (`software`) rather than the
+/// device's choice (`device`, or unset).
+pub fn software_sampling_asked() -> Result<bool> {
+    super::profile::forced_by_env("TRANSLUCID_SAMPLING", "software", "device")
 }
 
 /// The features translucid enables on a device it makes: the optional ones where present

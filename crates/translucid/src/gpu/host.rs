@@ -297,6 +297,7 @@ impl Gpu {
         info.geometry_shader = host.features.geometry_shader == vk::TRUE;
         info.independent_blend = host.features.independent_blend == vk::TRUE;
         info.conditional_rendering = false;
+        info.software_sampling = super::device::software_sampling_asked()?;
         info.full_subgroups = host.subgroup_size_control
             && held_subgroups_usable(host, properties.api_version, &info)?;
         info.profile = host

@@ -53,7 +53,8 @@ pub use commands::{
     COMPUTE_WRITE, HOST_READ, TRANSFER_WRITE,
 };
 pub use device::{
-    list_devices, DeviceInfo, Gpu, GpuOptions, Shared, CPU_DRIVER_LOOP_BUDGET, GPU_LOOP_BUDGET,
+    list_devices, software_sampling_asked, DeviceInfo, Gpu, GpuOptions, Shared,
+    CPU_DRIVER_LOOP_BUDGET, GPU_LOOP_BUDGET,
 };
 pub use engine_images::{EngineImages, ENGINE_COLOUR_FORMAT};
 pub use engine_pass::{EngineDepthViews, EnginePass};

@@ -68,6 +68,8 @@ pub enum Resource<'a> {
     BufferPrefix(&'a Buffer),
     /// Image views (in SHADER_READ_ONLY_OPTIMAL) with one sampler.
     Images(&'a [vk::ImageView], vk::Sampler),
+    /// Image views (in SHADER_READ_ONLY_OPTIMAL), each with its own sampler.
+    Textures(&'a [(vk::ImageView, vk::Sampler)]),
     StorageImage(vk::ImageView),
     /// A texel buffer's view, for a `TexelBuffer` or a `StorageTexelBuffer` binding.
     TexelBuffer(vk::BufferView),
@@ -251,6 +253,14 @@ impl DescriptorLayout {
                     .iter()
                     .map(|&v| vk::DescriptorImageInfo {
                         sampler: *sampler,
+                        image_view: v,
+                        image_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+                    })
+                    .collect(),
+                Resource::Textures(textures) => textures
+                    .iter()
+                    .map(|&(v, sampler)| vk::DescriptorImageInfo {
+                        sampler,
                         image_view: v,
                         image_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
                     })

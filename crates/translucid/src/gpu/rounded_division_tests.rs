@@ -75,6 +75,7 @@ fn rounded_quotients_are_rusts_from_estimates_a_few_ulps_off() {
         device: std::env::var("TRANSLUCID_DEVICE").ok(),
         validation: true,
         profile: None,
+        software_sampling: false,
     })
     .expect("a Vulkan device with the validation layer");
     let mut cases = Vec::new();

@@ -4,6 +4,10 @@
 use super::{Binding, Include, SetDecl, StructDecl};
 
 shader_constants! {
+    /// Textures the bin rasters' hardware sampling binds: the assets' first ones. A frame
+    /// whose transparent draws use a later one samples in software. (Each slot is its own
+    /// branch of the sampler: texture_sampler.glsl.)
+    pub const TEXTURE_ARRAY_SLOTS: u32 = 16;
     /// Blocks are BIN_SIZE x BIN_SIZE pixels, in tiles of BIN_SIZE x TILE_ROWS, one subgroup's
     /// pixels (bin_lists.glsl). Each tile is a bin of its own with its own triangle list
     /// (bin = block * TILES_PER_BLOCK + tile), so a tile walks only the triangles that touch
@@ -453,6 +457,31 @@ pub const BINS_SET: SetDecl = SetDecl::new(
         ),
     ],
 );
+
+/// Set 2 of the bin rasters that sample in hardware (`HARDWARE_SAMPLING`): the assets' first
+/// TEXTURE_ARRAY_SLOTS textures, each with its own sampler, by texture index; the slots past
+/// them hold a white texture (`assets::texture_array`).
+pub const TEXTURE_ARRAY_SET: SetDecl = SetDecl::new(
+    "2",
+    &[
+        Binding::sampled("u_textureArray", "sampler2D", TEXTURE_ARRAY_SLOTS).doc(&[
+            "Indexed by constants only, which every Vulkan device can (a per-lane index needs",
+            "an optional feature that lavapipe and some GPUs lack).",
+        ]),
+    ],
+);
+
+pub fn texture_array_include() -> Include {
+    Include {
+        file: "interface_texture_array.glsl",
+        source: "bins.rs",
+        constants: &[],
+        structs: &[],
+        sets: vec![&TEXTURE_ARRAY_SET],
+        more: None,
+        needs: &[],
+    }
+}
 
 pub fn set_include() -> Include {
     Include {

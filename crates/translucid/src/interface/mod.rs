@@ -307,6 +307,7 @@ pub fn includes() -> Vec<Include> {
         raster::include(),
         bins::include(),
         bins::set_include(),
+        bins::texture_array_include(),
         bins::composite_include(),
         exact::include(),
         specialization::include(),

@@ -188,6 +188,9 @@ pub struct BinShape {
     /// The raster's walk read list entries and triangle records as storage buffers, not
     /// texels (`bins::features::storage_walk`).
     pub storage_walk: bool,
+    /// The raster sampled textures in hardware (`bins::features::hardware_sampling`), not
+    /// bit for bit as the reference.
+    pub hardware_sampling: bool,
     /// Slots of a binning workgroup's tally of its entries (`bins::features::bin_tally_bits`;
     /// 0 without one, as in frames of several slabs).
     pub tally_slots: u32,

@@ -59,6 +59,9 @@ pub struct RasterFeatures {
     /// Binning workgroups tally their entries in a shared table of 2^bin_tally_bits slots
     /// (0: off; [`bin_tally_bits`]).
     pub bin_tally_bits: u32,
+    /// The rasters sample textures in hardware (their `HARDWARE_SAMPLING` variant), from
+    /// the assets' texture array ([`hardware_sampling`]).
+    pub hardware_sampling: bool,
 }
 
 impl RasterFeatures {
@@ -106,6 +109,7 @@ impl RasterFeatures {
             records_as_texels: false,
             storage_walk: false,
             bin_tally_bits: 0,
+            hardware_sampling: false,
             deep_binning_lanes: deep_binning_lanes(
                 draws()
                     .map(|d| scene.meshes[d.mesh].quads.len() as u64)
@@ -276,6 +280,19 @@ pub fn bin_tally_bits(branching: bool, global_counts_forced: bool) -> u32 {
 /// the device's choice (`device`, or unset).
 pub fn global_counts_forced() -> crate::Result<bool> {
     crate::gpu::forced_by_env("TRANSLUCID_BIN_COUNTS", "global", "device")
+}
+
+/// Whether the rasters sample textures in hardware: on GPUs (`gpu_profile`), unless the
+/// device was asked for the software sampler (`DeviceInfo::software_sampling`: bit for bit
+/// the reference's), or `forced` says otherwise (tests); and only where the textures the
+/// frame uses are in the assets' texture array (`has_array`: `assets::texture_array`).
+pub fn hardware_sampling(
+    gpu_profile: bool,
+    software_asked: bool,
+    forced: Option<bool>,
+    has_array: bool,
+) -> bool {
+    forced.unwrap_or(gpu_profile && !software_asked) && has_array
 }
 
 /// Quads the estimate of [`estimate`] looks at, at most: every k-th of larger scenes, scaled.
@@ -555,6 +572,7 @@ mod tests {
             records_as_texels: false,
             storage_walk: false,
             bin_tally_bits: 0,
+            hardware_sampling: false,
         };
         assert_eq!(none.attribute_texels(), 0);
         let lit = RasterFeatures {

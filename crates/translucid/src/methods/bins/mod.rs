@@ -131,6 +131,11 @@ pub struct BinOptions {
     /// no tally), on any device, so that tests can fill the table and spill from it.
     #[doc(hidden)]
     pub bin_tally_bits: Option<u32>,
+    /// Sample textures in hardware (`Some(true)`, where the assets have a texture array)
+    /// or in software (`Some(false)`) whatever the profile, so that tests cover the
+    /// hardware path on lavapipe's CPU profile.
+    #[doc(hidden)]
+    pub hardware_sampling: Option<bool>,
     /// Bands of bins recorded per frame (`None`: [`BANDS`]), so that tests can reach the
     /// frames that need more than it records.
     #[doc(hidden)]
@@ -144,6 +149,33 @@ pub struct BinOptions {
     /// worth), so that tests reach that limit with a small frame.
     #[doc(hidden)]
     pub most_homogeneous: Option<u32>,
+}
+
+/// A raster's shader in its two variants: sampling textures in software (bit for bit the
+/// reference) and in hardware (`HARDWARE_SAMPLING`).
+#[derive(Clone, Copy)]
+pub struct RasterShader {
+    pub software: &'static [u8],
+    pub hardware_sampled: &'static [u8],
+}
+
+/// Whether a frame of `scene` over `gpu_scene` samples in hardware
+/// (`features::hardware_sampling`): only where the texture array holds every texture its
+/// transparent draws use.
+fn sampling(
+    info: &crate::gpu::DeviceInfo,
+    forced: Option<bool>,
+    gpu_scene: &GpuScene,
+    scene: &Scene,
+) -> bool {
+    features::hardware_sampling(
+        info.profile == crate::gpu::Profile::Gpu,
+        info.software_sampling,
+        forced,
+        gpu_scene
+            .texture_array()
+            .is_some_and(|a| a.holds_textures_of(scene)),
+    )
 }
 
 /// The workgroups in x every Vulkan device allows in one dispatch
@@ -337,6 +369,11 @@ pub struct Bins {
     push: BinPush,
     /// The most rows a slice of binning may take (BinOptions; normally no limit).
     slice_rows_limit: u32,
+    /// BinOptions::hardware_sampling.
+    hardware_sampling_forced: Option<bool>,
+    /// The texture array the frame being recorded binds where the rasters sample in
+    /// hardware (its frame slot keeps it alive: `GpuScene::texture_array`).
+    texture_array: vk::DescriptorSet,
     /// The constants the stage pipelines (and the raster's) are specialized with.
     features: RasterFeatures,
     /// `TRANSLUCID_WALK_LOADS=texels`: the walks read texels on any device.
@@ -439,6 +476,8 @@ impl Bins {
             b.clamp(LEAST_LOOP_BUDGET, info.loop_budget)
         });
         features.branching = info.profile == crate::gpu::Profile::Gpu;
+        let hardware_sampling_forced = options.hardware_sampling;
+        features.hardware_sampling = sampling(info, hardware_sampling_forced, gpu_scene, scene);
         features.bin_tally_bits = match options.bin_tally_bits {
             Some(bits) => bits.min(features::GPU_TALLY_BITS),
             None => features::bin_tally_bits(features.branching, features::global_counts_forced()?),
@@ -498,6 +537,10 @@ impl Bins {
             meshes,
             push,
             slice_rows_limit,
+            hardware_sampling_forced,
+            texture_array: gpu_scene
+                .texture_array()
+                .map_or(vk::DescriptorSet::null(), |a| a.set.raw),
             features,
             texel_walk_forced,
             fixed_path_forced: options.assume_fixed_path,
@@ -548,14 +591,24 @@ impl Bins {
     }
 
     /// A raster pipeline over the bins' descriptor sets and push constants, built unless it
-    /// was before.
+    /// was before: `shader`'s variant that samples textures as the features say, with the
+    /// assets' texture array as set 2 where it samples in hardware.
     pub fn pipeline(
         &mut self,
         gpu_scene: &GpuScene,
-        spirv: &'static [u8],
+        shader: RasterShader,
         constants: &Specialization,
     ) -> Result<Arc<ComputePipeline>> {
-        let layouts = [&gpu_scene.layout, &self.resources.layout];
+        let mut layouts = vec![&gpu_scene.layout, &self.resources.layout];
+        let spirv = if self.features.hardware_sampling {
+            let array = gpu_scene.texture_array().ok_or_else(|| {
+                Error::Internal("hardware sampling without a texture array".into())
+            })?;
+            layouts.push(&array.layout);
+            shader.hardware_sampled
+        } else {
+            shader.software
+        };
         self.cache.get(&self.gpu, &layouts, spirv, constants)
     }
 
@@ -591,7 +644,17 @@ impl Bins {
         let mut fresh = RasterFeatures::of_frame(f.scene, &self.meshes, near_plane, subgroups);
         fresh.homogeneous =
             (fresh.homogeneous && !self.fixed_path_forced) || self.homogeneous_missed;
-        let features = self.features.for_frame(fresh);
+        let mut features = self.features.for_frame(fresh);
+        features.hardware_sampling = sampling(
+            self.gpu.info(),
+            self.hardware_sampling_forced,
+            f.gpu_scene,
+            f.scene,
+        );
+        self.texture_array = f
+            .gpu_scene
+            .texture_array()
+            .map_or(vk::DescriptorSet::null(), |a| a.set.raw);
         // Draws that joined may need more of each quad's attributes (a first textured draw).
         let attribute_texels = features.attribute_texels();
         let capacities = self.resources.capacities;
@@ -756,6 +819,16 @@ impl Bins {
         }
     }
 
+    /// The sets a raster binds: the scene's, the bins', and the texture array where it
+    /// samples in hardware.
+    fn raster_sets(&self, ctx: &RecordContext<'_>) -> Vec<vk::DescriptorSet> {
+        let mut sets = vec![ctx.gpu_scene.set().raw, self.resources.set()];
+        if self.features.hardware_sampling {
+            sets.push(self.texture_array);
+        }
+        sets
+    }
+
     /// `raster` over the band's blocks (the indirect command its plan wrote), suspending rows
     /// onto resume list `suspend_to`.
     pub fn record_raster(
@@ -769,7 +842,13 @@ impl Bins {
             resume_list: suspend_to ^ 1,
             ..self.push
         };
-        self.dispatch_indirect(ctx, raster, DISPATCH_RASTER_BINS_OFFSET, &push);
+        raster.dispatch_indirect(
+            ctx.cmd,
+            &self.raster_sets(ctx),
+            bytemuck::bytes_of(&push),
+            self.resources.dispatches(),
+            DISPATCH_RASTER_BINS_OFFSET,
+        );
     }
 
     /// `raster` over the rows on resume list `list`, one workgroup each (counted on the GPU),
@@ -780,7 +859,13 @@ impl Bins {
             resume_list: list,
             ..self.push
         };
-        self.dispatch_indirect(ctx, raster, u64::from(list) * 16, &push);
+        raster.dispatch_indirect(
+            ctx.cmd,
+            &self.raster_sets(ctx),
+            bytemuck::bytes_of(&push),
+            self.resources.dispatches(),
+            u64::from(list) * 16,
+        );
     }
 
     /// Empties resume list `list` after the compute work before, for the dispatches after.
@@ -1009,6 +1094,7 @@ impl Bins {
             loop_budget: recorded.features.loop_budget,
             branching: recorded.features.branching,
             storage_walk: recorded.features.storage_walk,
+            hardware_sampling: recorded.features.hardware_sampling,
             // Frames of several slabs do not tally (bin_tally.glsl).
             tally_slots: match recorded.features.bin_tally_bits {
                 0 => 0,

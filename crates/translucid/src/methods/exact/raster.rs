@@ -10,11 +10,14 @@ use crate::interface::specialization::{
     Specialization, CONTINUATION, RASTER_GROUP_SIZE, SELECT_SIZE,
 };
 use crate::methods::bins::features::RasterFeatures;
-use crate::methods::bins::Bins;
+use crate::methods::bins::{Bins, RasterShader};
 use crate::Result;
 use std::sync::Arc;
 
-const RASTER: &[u8] = crate::spirv!("exact/raster.comp");
+const RASTER: RasterShader = RasterShader {
+    software: crate::spirv!("exact/raster.comp"),
+    hardware_sampled: crate::spirv!("exact/raster_sampled.comp"),
+};
 
 pub struct Raster {
     /// Over a band's blocks.

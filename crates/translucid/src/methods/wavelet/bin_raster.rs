@@ -6,19 +6,35 @@ use super::SpecConstants;
 use crate::assets::GpuScene;
 use crate::frame::FrameTargets;
 use crate::gpu::{ComputePipeline, Gpu};
-use crate::methods::bins::{features, BinOptions, Bins, RasterNeeds};
+use crate::methods::bins::{features, BinOptions, Bins, RasterNeeds, RasterShader};
 use crate::methods::{FrameCheck, FrameDone, FrameSetup, RecordContext};
 use crate::scene::Scene;
 use crate::Result;
 use std::sync::Arc;
 
 /// The raster of each rank.
-fn raster_spirv(rank: u32) -> &'static [u8] {
-    match rank {
-        0 => crate::spirv!("wavelet/bins_rank0.comp"),
-        1 => crate::spirv!("wavelet/bins_rank1.comp"),
-        2 => crate::spirv!("wavelet/bins_rank2.comp"),
-        _ => crate::spirv!("wavelet/bins_rank3.comp"),
+fn raster_spirv(rank: u32) -> RasterShader {
+    let (software, hardware_sampled): (&'static [u8], &'static [u8]) = match rank {
+        0 => (
+            crate::spirv!("wavelet/bins_rank0.comp"),
+            crate::spirv!("wavelet/bins_rank0_sampled.comp"),
+        ),
+        1 => (
+            crate::spirv!("wavelet/bins_rank1.comp"),
+            crate::spirv!("wavelet/bins_rank1_sampled.comp"),
+        ),
+        2 => (
+            crate::spirv!("wavelet/bins_rank2.comp"),
+            crate::spirv!("wavelet/bins_rank2_sampled.comp"),
+        ),
+        _ => (
+            crate::spirv!("wavelet/bins_rank3.comp"),
+            crate::spirv!("wavelet/bins_rank3_sampled.comp"),
+        ),
+    };
+    RasterShader {
+        software,
+        hardware_sampled,
     }
 }
 

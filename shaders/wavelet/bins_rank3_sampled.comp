@@ -1,0 +1,4 @@
+#version 450
+#define WAVELET_RANK 3
+#define HARDWARE_SAMPLING
+#include "wavelet_bins.glsl"
