@@ -86,10 +86,10 @@
 
 /**
  * Sample textures in `exact` and `wavelet`'s bins with translucid's software sampler, bit
- * for bit the CPU reference, where the device would sample them in hardware (GPUs that can
- * index an array of textures per invocation: faster, and within the driver's filtering
- * precision of the reference); `TRANSLUCID_SAMPLING=software` in the environment does the
- * same. Engines' devices always sample in software.
+ * for bit the CPU reference, where the GPU profile would sample them in hardware (faster,
+ * and within the driver's filtering precision of the reference: docs/textures.md), in
+ * standalone and host-device mode; `TRANSLUCID_SAMPLING=software` in the environment does
+ * the same.
  */
 #define TRANSLUCID_CONTEXT_CREATE_SOFTWARE_SAMPLING 8
 

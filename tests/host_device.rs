@@ -230,6 +230,7 @@ impl Engine {
             },
             profile: None,
             subgroup_size_control: self.subgroup_size_control,
+            software_sampling: false,
         }
     }
 

@@ -37,10 +37,10 @@ pub const TRANSLUCID_CONTEXT_CREATE_PROFILE_CPU: u32 = 2;
 /// `TRANSLUCID_PROFILE=gpu` does: so that they can be checked on a CPU driver.
 pub const TRANSLUCID_CONTEXT_CREATE_PROFILE_GPU: u32 = 4;
 /// Sample textures in `exact` and `wavelet`'s bins with translucid's software sampler, bit
-/// for bit the CPU reference, where the device would sample them in hardware (GPUs that can
-/// index an array of textures per invocation: faster, and within the driver's filtering
-/// precision of the reference); `TRANSLUCID_SAMPLING=software` in the environment does the
-/// same. Engines' devices always sample in software.
+/// for bit the CPU reference, where the GPU profile would sample them in hardware (faster,
+/// and within the driver's filtering precision of the reference: docs/textures.md), in
+/// standalone and host-device mode; `TRANSLUCID_SAMPLING=software` in the environment does
+/// the same.
 pub const TRANSLUCID_CONTEXT_CREATE_SOFTWARE_SAMPLING: u32 = 8;
 const CONTEXT_CREATE_FLAGS: u32 = TRANSLUCID_CONTEXT_CREATE_VALIDATION
     | TRANSLUCID_CONTEXT_CREATE_PROFILE_CPU
@@ -196,6 +196,7 @@ impl Context {
                     "next",
                 )?,
                 profile,
+                info.flags & TRANSLUCID_CONTEXT_CREATE_SOFTWARE_SAMPLING != 0,
             )?
         } else {
             let from_env = GpuOptions::from_env();

@@ -225,6 +225,7 @@ pub(crate) fn host_device(info: &translucid_host_device_create_info) -> FfiResul
         features,
         extensions,
         profile: None,
+        software_sampling: false,
     })
 }
 
@@ -253,10 +254,12 @@ fn subgroup_size_control(next: *const c_void) -> FfiResult<bool> {
 }
 
 /// Wraps the engine's device described by `info`, with the variants of `profile` (`None`:
-/// `TRANSLUCID_PROFILE`, else the device's).
+/// `TRANSLUCID_PROFILE`, else the device's), keeping the software sampler if
+/// `software_sampling`.
 pub(crate) fn host_gpu(
     info: &translucid_host_device_create_info,
     profile: Option<Profile>,
+    software_sampling: bool,
 ) -> FfiResult<Gpu> {
     check_type(
         info.s_type,
@@ -265,6 +268,7 @@ pub(crate) fn host_gpu(
     )?;
     let host = HostDevice {
         profile,
+        software_sampling,
         ..host_device(info)?
     };
     // SAFETY: the header documents that the handles are live objects of one instance made

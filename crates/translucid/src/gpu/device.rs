@@ -577,6 +577,7 @@ impl Gpu {
             // The profile this device was made with (forced or its own).
             profile: Some(self.info.profile),
             subgroup_size_control: info.full_subgroups,
+            software_sampling: self.info.software_sampling,
         })
     }
 

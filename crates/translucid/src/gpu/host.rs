@@ -188,6 +188,10 @@ pub struct HostDevice {
     /// tile one subgroup's pixels. Checked against what the device supports; translucid
     /// cannot see enabled features beyond the core ones.
     pub subgroup_size_control: bool,
+    /// Keep the bin rasters' software sampler where the profile would sample textures in
+    /// hardware (`GpuOptions::software_sampling`; `TRANSLUCID_SAMPLING=software` does the
+    /// same).
+    pub software_sampling: bool,
 }
 
 fn version_string(v: u32) -> String {
@@ -297,7 +301,8 @@ impl Gpu {
         info.geometry_shader = host.features.geometry_shader == vk::TRUE;
         info.independent_blend = host.features.independent_blend == vk::TRUE;
         info.conditional_rendering = false;
-        info.software_sampling = super::device::software_sampling_asked()?;
+        info.software_sampling =
+            host.software_sampling || super::device::software_sampling_asked()?;
         info.full_subgroups = host.subgroup_size_control
             && held_subgroups_usable(host, properties.api_version, &info)?;
         info.profile = host
