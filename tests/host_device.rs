@@ -1560,3 +1560,26 @@ fn native_blend_and_blend_draw_into_the_engines_images_what_standalone_blend_dra
     }
     assert_no_validation_errors();
 }
+
+/// An engine that asks for the software sampler (`HostDevice::software_sampling`, the C
+/// flag in host-device mode) keeps it where the GPU profile would sample textures in
+/// hardware, as translucid's own devices do (`GpuOptions::software_sampling`).
+#[test]
+fn an_engine_that_asks_for_the_software_sampler_keeps_it() {
+    let engine = Engine::new();
+    let from_env = translucid::gpu::software_sampling_asked().expect("environment");
+    for asked in [false, true] {
+        let host = HostDevice {
+            software_sampling: asked,
+            profile: Some(translucid::gpu::Profile::Gpu),
+            ..engine.host_device()
+        };
+        // SAFETY: the engine's live objects, outliving `gpu` (dropped in this iteration).
+        let gpu = unsafe { Gpu::from_host(&host) }.expect("host device");
+        assert_eq!(
+            gpu.info().software_sampling,
+            asked || from_env,
+            "asked: {asked}"
+        );
+    }
+}
