@@ -211,7 +211,7 @@ impl SampledTextures {
 }
 
 /// The texture of each of `scene`'s transparent draws' materials, if it has one.
-fn scene_textures(scene: &Scene) -> impl Iterator<Item = Option<usize>> + '_ {
+pub(super) fn scene_textures(scene: &Scene) -> impl Iterator<Item = Option<usize>> + '_ {
     scene
         .transparent
         .iter()

@@ -65,10 +65,8 @@ impl TextureArray {
 
     /// Whether the array holds every texture `scene`'s transparent draws use.
     pub fn holds_textures_of(&self, scene: &crate::scene::Scene) -> bool {
-        scene
-            .transparent
-            .iter()
-            .filter_map(|d| scene.materials[d.material].texture)
+        super::sampled::scene_textures(scene)
+            .flatten()
             .all(|t| t < self.textures)
     }
 }

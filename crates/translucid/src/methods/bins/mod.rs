@@ -371,9 +371,6 @@ pub struct Bins {
     slice_rows_limit: u32,
     /// BinOptions::hardware_sampling.
     hardware_sampling_forced: Option<bool>,
-    /// The texture array the frame being recorded binds where the rasters sample in
-    /// hardware (its frame slot keeps it alive: `GpuScene::texture_array`).
-    texture_array: vk::DescriptorSet,
     /// The constants the stage pipelines (and the raster's) are specialized with.
     features: RasterFeatures,
     /// `TRANSLUCID_WALK_LOADS=texels`: the walks read texels on any device.
@@ -538,9 +535,6 @@ impl Bins {
             push,
             slice_rows_limit,
             hardware_sampling_forced,
-            texture_array: gpu_scene
-                .texture_array()
-                .map_or(vk::DescriptorSet::null(), |a| a.set.raw),
             features,
             texel_walk_forced,
             fixed_path_forced: options.assume_fixed_path,
@@ -651,10 +645,6 @@ impl Bins {
             f.gpu_scene,
             f.scene,
         );
-        self.texture_array = f
-            .gpu_scene
-            .texture_array()
-            .map_or(vk::DescriptorSet::null(), |a| a.set.raw);
         // Draws that joined may need more of each quad's attributes (a first textured draw).
         let attribute_texels = features.attribute_texels();
         let capacities = self.resources.capacities;
@@ -820,11 +810,14 @@ impl Bins {
     }
 
     /// The sets a raster binds: the scene's, the bins', and the texture array where it
-    /// samples in hardware.
+    /// samples in hardware (the frame slot's, which set_frame found there and which the slot
+    /// keeps alive: `GpuScene::texture_array`).
     fn raster_sets(&self, ctx: &RecordContext<'_>) -> Vec<vk::DescriptorSet> {
         let mut sets = vec![ctx.gpu_scene.set().raw, self.resources.set()];
         if self.features.hardware_sampling {
-            sets.push(self.texture_array);
+            let array = ctx.gpu_scene.texture_array();
+            debug_assert!(array.is_some(), "hardware sampling without a texture array");
+            sets.extend(array.map(|a| a.set.raw));
         }
         sets
     }
