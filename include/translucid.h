@@ -1575,8 +1575,9 @@ translucid_result translucid_frame_destroy(struct translucid_context *context,
  * frames recorded after it end too (their handles stay, without statistics: destroy
  * them). You state that the GPU is not running the commands of any of them and never
  * will: they were never submitted, or their submissions finished and you do not want
- * their results. translucid frees what their recordings used once no older frame in
- * flight needs it; later frames build it anew. Reset their command buffers
+ * their results. translucid keeps what their recordings built (pipelines, grown
+ * buffers), and the next frame recorded carries the uploads and moved vertices they
+ * carried: it builds and allocates nothing for them. Reset their command buffers
  * (`vkResetCommandBuffer` or the pool) instead of ending or submitting them: the
  * objects they name may be destroyed.
  */

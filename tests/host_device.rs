@@ -1217,11 +1217,18 @@ fn an_engine_with_subgroup_size_control_gets_subgroup_tiles() {
 /// On the engine's device, a texture added after the first frame (`ResidentAssets::extended`)
 /// is copied into its image by the next frame recorded over the grown assets, and again by a
 /// later one when the frame that carried it was never submitted (its staging kept until
-/// then, freed once that frame completes); so is the mesh added with it, into the
+/// then, freed once that frame completes), whether the renderer that recorded it was dropped
+/// or told that the frame was abandoned and kept; so is the mesh added with it, into the
 /// device-local vertex and index buffers. `blend` samples the images: its frame over the
 /// copies is the frame over the originals.
 #[test]
 fn textures_added_later_are_uploaded_by_the_next_frame() {
+    for recorder_kept in [false, true] {
+        textures_added_later_are_uploaded_after_an_abandoned_frame(recorder_kept);
+    }
+}
+
+fn textures_added_later_are_uploaded_after_an_abandoned_frame(recorder_kept: bool) {
     let scene = translucid::scene::load("textured").expect("generated scene");
     let grown = translucid_tests::with_copied_assets(&scene);
     let layer = OpaqueLayer::clear(W, H, scene.background);
@@ -1263,17 +1270,23 @@ fn textures_added_later_are_uploaded_by_the_next_frame() {
             )
             .expect("renderer over the grown assets")
         };
-        // A frame that carries the texture's upload is recorded, never submitted, and its
-        // renderer dropped: the next renderer's frame uploads it.
-        {
-            let mut abandoned = sharing();
-            engine.begin(0);
-            images.record_opaque(&gpu, engine.cmds[0]);
-            // SAFETY: as above; the commands are never submitted.
-            unsafe { abandoned.record_host(&images.targets(engine.cmds[0])) }.expect("record");
-            // SAFETY: ended unsubmitted, reset by the next begin.
-            unsafe { engine.device.end_command_buffer(engine.cmds[0]) }.expect("end");
-        }
+        // A frame that carries the texture's upload is recorded, never submitted, and
+        // abandoned: its renderer dropped, or told so (`abandon_host`) and kept while another
+        // renderer's frame, the next, uploads it.
+        let mut abandoned = sharing();
+        engine.begin(0);
+        images.record_opaque(&gpu, engine.cmds[0]);
+        // SAFETY: as above; the commands are never submitted.
+        unsafe { abandoned.record_host(&images.targets(engine.cmds[0])) }.expect("record");
+        // SAFETY: ended unsubmitted, reset by the next begin.
+        unsafe { engine.device.end_command_buffer(engine.cmds[0]) }.expect("end");
+        let recorder = if recorder_kept {
+            abandoned.abandon_host(1).expect("abandon");
+            Some(abandoned)
+        } else {
+            drop(abandoned);
+            None
+        };
         // The abandoned frame's uploads are pending again, their staging kept for the next.
         let pending = staging_allocations(&gpu);
         assert!(
@@ -1290,8 +1303,9 @@ fn textures_added_later_are_uploaded_by_the_next_frame() {
         let worst = worst_difference(&got, &expected);
         assert_eq!(
             worst, 0,
-            "{worst}/255 off the frame over the original assets"
+            "{worst}/255 off the frame over the original assets (recorder kept: {recorder_kept})"
         );
+        drop(recorder);
     }
     assert_no_validation_errors();
 }

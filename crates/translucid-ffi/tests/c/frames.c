@@ -12,6 +12,8 @@
  * 4. A mesh destroyed while a frame that draws it is in flight.
  * 5. Misuse: too many frames in flight, abandoning a frame between others, bad updates.
  * 6. Every depth format an engine may hand over, with forward and reversed-Z depth.
+ * 7. Every method: frames abandoned unsubmitted (carrying a streamed mesh and moved vertices)
+ *    cost the next frame nothing: no pipeline built, no memory allocated, its image right.
  * And first, in the standalone context: an updated mesh draws as one created so.
  */
 #include <math.h>
@@ -720,6 +722,73 @@ static void misuse(void) {
     translucid_context_destroy(ctx);
 }
 
+/* 7. Each method, warmed by two frames; then two frames recorded and never submitted, the
+ * first carrying a streamed-in mesh's upload and moved vertices, are abandoned (as for an
+ * out-of-date swapchain). The next frame builds no pipeline, allocates nothing, and draws the
+ * streamed, moved mesh as the standalone context does. */
+static void abandon_keeps_what_is_built(translucid_method method) {
+    translucid_context *ctx = host_context(MOST_IN_FLIGHT);
+    scene host, standalone;
+    translucid_frame_info info;
+    translucid_frame_statistics stats;
+    uint64_t pipelines;
+    int k, allocated, worst;
+    make_scene(ctx, &host);
+    make_scene(g_standalone, &standalone);
+    for (k = 0; k < 5; k++) {
+        slot *s = &g_slots[k % MOST_IN_FLIGHT];
+        if (k == 2) {
+            make_quad(ctx, 0, TRANSLUCID_MATERIAL_LIT, &host.meshes[3], &host.materials[3],
+                      &host.draws[3]);
+            make_quad(g_standalone, 0, TRANSLUCID_MATERIAL_LIT, &standalone.meshes[3],
+                      &standalone.materials[3], &standalone.draws[3]);
+            host.draws[3].transform[13] = standalone.draws[3].transform[13] = 0.3f;
+        }
+        if (k <= 2) move_scene(ctx, &host, &standalone, k);
+        info = frame_info(&host, k < 2 ? QUADS : QUADS + 1, orbit_camera(0.1f * (float)k));
+        info.method = method;
+        info.camera.z_near = 0.5f;
+        begin_commands(s->cmd);
+        record_frame(ctx, s->cmd, s, &info);
+        if (k == 3) {
+            /* Frames 2 and 3 are dropped unsubmitted. */
+            CHECK(ctx, translucid_frame_abandon(ctx, g_slots[2].frame));
+            CHECK(ctx, translucid_frame_destroy(ctx, g_slots[0].frame));
+            VK_CHECK(vkEndCommandBuffer(g_slots[2].cmd));
+            VK_CHECK(vkEndCommandBuffer(g_slots[0].cmd));
+            g_slots[2].busy = g_slots[0].busy = 0;
+            continue;
+        }
+        if (k == 2) continue;
+        submit_commands(s->cmd, s->fence);
+        wait_fence(s->fence);
+        CHECK(ctx, translucid_frame_complete(ctx, s->frame));
+        if (k < 2) {
+            CHECK(ctx, translucid_frame_destroy(ctx, s->frame));
+            s->busy = 0;
+        }
+    }
+    /* Frame 4, in slot 1. */
+    built_by(ctx, &g_slots[1], &pipelines, &allocated);
+    render_expected(info, &standalone, g_slots[1].expected);
+    worst = worst_difference(g_slots[1].mapped + COLOUR_BYTES + DEPTH_BYTES, g_slots[1].expected);
+    memset(&stats, 0, sizeof stats);
+    stats.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_STATISTICS;
+    CHECK(ctx, translucid_frame_get_statistics(ctx, g_slots[1].frame, &stats));
+    if (pipelines != 0 || allocated || worst > 2 || stats.overflowed) {
+        printf("FAIL method %d after abandoned frames: %llu pipelines built, allocated %d, "
+               "%d/255 off the standalone frame, overflowed %u\n",
+               (int)method, (unsigned long long)pipelines, allocated, worst,
+               (unsigned)stats.overflowed);
+    }
+    TRUE_OR_FAIL(pipelines == 0 && !allocated && worst <= 2 && !stats.overflowed);
+    CHECK(ctx, translucid_frame_destroy(ctx, g_slots[1].frame));
+    g_slots[1].busy = 0;
+    printf("method %d: abandoned frames cost the next one nothing\n", (int)method);
+    translucid_context_destroy(ctx);
+    CHECK(g_standalone, translucid_mesh_destroy(g_standalone, standalone.meshes[3]));
+}
+
 int main(void) {
     static const float forward_bands[3] = {0.3f, 0.75f, 1.0f};
     translucid_host_requirements req;
@@ -730,6 +799,19 @@ int main(void) {
     memset(&req, 0, sizeof req);
     req.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_REQUIREMENTS;
     CHECK(NULL, translucid_host_get_requirements(&req));
+    {
+        /* Every method's features, which section 7 draws with. */
+        uint32_t methods[8];
+        size_t count = 0, m, f;
+        CHECK(NULL, translucid_method_get_available(methods, 8, &count));
+        for (m = 0; m < count; m++) {
+            translucid_host_requirements per_method = req;
+            VkBool32 *all = (VkBool32 *)&req.features;
+            const VkBool32 *own = (const VkBool32 *)&per_method.features;
+            CHECK(NULL, translucid_host_get_method_requirements(methods[m], &per_method));
+            for (f = 0; f < sizeof req.features / sizeof(VkBool32); f++) all[f] |= own[f];
+        }
+    }
     create_engine(&req);
     memset(&pool, 0, sizeof pool);
     pool.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO;
@@ -753,6 +835,15 @@ int main(void) {
     depth_formats();
     make_opaque_layer(forward_bands, 0);
     misuse();
+    {
+        static const translucid_method methods[] = {
+            TRANSLUCID_METHOD_EXACT,       TRANSLUCID_METHOD_WAVELET,
+            TRANSLUCID_METHOD_LINKED_LIST, TRANSLUCID_METHOD_DEPTH_PEELING,
+            TRANSLUCID_METHOD_WBOIT,       TRANSLUCID_METHOD_BLEND};
+        for (n = 0; n < sizeof methods / sizeof methods[0]; n++) {
+            abandon_keeps_what_is_built(methods[n]);
+        }
+    }
 
     translucid_context_destroy(g_standalone);
     for (n = 0; n < MOST_IN_FLIGHT; n++) destroy_slot(&g_slots[n]);

@@ -23,6 +23,7 @@ use crate::interface::specialization::Specialization;
 use crate::scene::{Scene, Texture};
 use crate::shader_types::{GpuDrawInfo, GpuFrameInfo, GpuVertex};
 use crate::Result;
+use std::collections::VecDeque;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
 
@@ -161,6 +162,9 @@ pub struct GpuScene {
     extent: (u32, u32),
     /// Meshes whose vertices moved since the last frame was recorded.
     moved_meshes: Vec<usize>,
+    /// On the engine's device, per frame in flight (oldest first): the meshes whose moves
+    /// it carried, to carry again if it is abandoned.
+    moved_in_flight: VecDeque<Vec<usize>>,
     /// Frames recorded whole and frames completed (on the engine's device), which say
     /// which frame carries the assets' pending uploads and when they ran.
     frames_recorded: u64,
@@ -213,6 +217,7 @@ impl GpuScene {
             transparent_calls: Vec::new(),
             extent: (width, height),
             moved_meshes: Vec::new(),
+            moved_in_flight: VecDeque::new(),
             frames_recorded: 0,
             frames_completed: 0,
         };
@@ -514,12 +519,36 @@ impl GpuScene {
         self.moved_meshes.clear();
     }
 
+    /// On the engine's device, as [`Self::uploads_recorded`]: the frame recorded is in
+    /// flight, to complete or be abandoned.
+    pub fn frame_recorded_in_flight(&mut self) {
+        self.moved_in_flight.push_back(self.moved_meshes.clone());
+        self.uploads_recorded();
+    }
+
     /// The oldest frame recorded with this scene and not completed yet completed: the
     /// uploads it (or a frame before it) carried ran, and their staging goes.
     pub fn uploads_completed(&mut self) {
+        self.moved_in_flight.pop_front();
         self.frames_completed += 1;
         self.resident
             .uploads_completed(self.id, self.frames_completed);
+    }
+
+    /// The newest `frames` recorded in flight will never run (abandoned): the uploads and
+    /// moved vertices they carried go with the next frame recorded.
+    pub fn frames_abandoned(&mut self, frames: u64) {
+        for _ in 0..frames {
+            for mesh in self.moved_in_flight.pop_back().unwrap_or_default() {
+                self.mesh_moved(mesh);
+            }
+        }
+        self.frames_recorded = self
+            .frames_recorded
+            .saturating_sub(frames)
+            .max(self.frames_completed);
+        self.resident
+            .uploads_abandoned(self.id, self.frames_recorded);
     }
 }
 

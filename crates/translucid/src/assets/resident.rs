@@ -485,6 +485,12 @@ impl ResidentAssets {
         self.buffers.uploads.completed(by, frame);
     }
 
+    /// Recorder `by`'s frames after `frame` were abandoned: the next frame recorded over
+    /// these assets records their uploads again.
+    pub fn uploads_abandoned(&self, by: u64, frame: u64) {
+        self.buffers.uploads.abandoned(by, frame);
+    }
+
     /// Recorder `by` is gone without completing the frames that carried uploads (they were
     /// abandoned): the next frame recorded over these assets records them again.
     pub fn uploads_lost(&self, by: u64) {

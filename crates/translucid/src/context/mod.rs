@@ -318,14 +318,17 @@ impl Context {
     }
 
     /// Ends `frame` and every frame recorded after it without completing them, and destroys
-    /// `frame` (the later ones keep their handles, without statistics). Their renderers take
-    /// no new frame, and are freed once the older frames they serve are completed.
+    /// `frame` (the later ones keep their handles, without statistics). Their renderers
+    /// forget them and keep what they built: the next frames build nothing for them.
     pub fn abandon(&mut self, frame: u64) -> Result<()> {
         self.frames.get(frame)?;
+        let mut abandoned: Vec<(u64, usize)> = Vec::new();
         for f in self.flight.abandon(frame)? {
             let renderer = self.frames.get(f)?.renderer;
-            self.renderers.frame_ended(renderer);
-            self.renderers.retire(renderer);
+            match abandoned.iter_mut().find(|(id, _)| *id == renderer) {
+                Some((_, frames)) => *frames += 1,
+                None => abandoned.push((renderer, 1)),
+            }
             if f == frame {
                 self.frames.remove(f)?;
             } else {
@@ -333,6 +336,10 @@ impl Context {
                 record.in_flight = false;
                 record.abandoned = true;
             }
+        }
+        // The frames abandoned are the newest in flight, so each renderer's are its newest.
+        for (renderer, frames) in abandoned {
+            self.renderers.frames_abandoned(renderer, frames);
         }
         Ok(())
     }

@@ -379,6 +379,19 @@ impl Renderers {
         }
     }
 
+    /// The newest `frames` frames in flight recorded with renderer `id` were abandoned: it
+    /// forgets them and takes the next frame with everything it built (pipelines, grown
+    /// buffers). A renderer that failed, or cannot forget them, takes no new frame.
+    pub fn frames_abandoned(&mut self, id: u64, frames: usize) {
+        if let Some(k) = self.get_mut(id) {
+            k.in_flight = k.in_flight.saturating_sub(frames);
+            if k.failed || k.renderer.abandon_host(frames).is_err() {
+                k.usable = false;
+            }
+        }
+        self.free_unused(None);
+    }
+
     /// Makes the renderer take no new frame (freed once no frame in flight uses it).
     pub fn retire(&mut self, id: u64) {
         if let Some(k) = self.get_mut(id) {

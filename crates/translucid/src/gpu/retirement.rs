@@ -27,6 +27,17 @@ impl Retirement {
         self.held.retain(|(last_user, _)| *last_user > completed);
     }
 
+    /// The newest `frames` recorded will never run (the engine abandoned them): what was
+    /// retired while they were recorded goes once the frames recorded before them complete.
+    pub fn abandoned(&mut self, frames: u64) {
+        self.recorded = self.recorded.saturating_sub(frames).max(self.completed);
+        let (recorded, completed) = (self.recorded, self.completed);
+        for (last_user, _) in &mut self.held {
+            *last_user = (*last_user).min(recorded);
+        }
+        self.held.retain(|(last_user, _)| *last_user > completed);
+    }
+
     /// Keeps `object` (buffers, views, sets, pipelines: anything whose drop frees Vulkan
     /// objects) until the frames recorded so far have completed.
     pub fn retire(&mut self, object: impl Any) {
@@ -56,6 +67,29 @@ mod tests {
         // Nothing in flight: dropped at once.
         r.completed();
         r.retire(object.clone());
+        assert_eq!(Rc::strong_count(&object), 1);
+    }
+
+    #[test]
+    fn abandoned_frames_hold_nothing() {
+        let mut r = Retirement::default();
+        let object = Rc::new(());
+        r.recorded();
+        r.recorded();
+        r.retire(object.clone());
+        r.recorded();
+        r.abandoned(2);
+        assert_eq!(Rc::strong_count(&object), 2, "frame 1 may still use it");
+        r.completed();
+        assert_eq!(
+            Rc::strong_count(&object),
+            1,
+            "frame 1 completed, 2 and 3 never run"
+        );
+        // Counting goes on from the frames that may run.
+        r.recorded();
+        r.retire(object.clone());
+        r.completed();
         assert_eq!(Rc::strong_count(&object), 1);
     }
 }

@@ -254,6 +254,16 @@ impl Uploads {
         }
     }
 
+    /// Recorder `by`'s frames after `frame` will never run (abandoned): the uploads they
+    /// carried go with the next frame recorded, by any recorder.
+    pub fn abandoned(&self, by: u64, frame: u64) {
+        for queued in self.queued().iter_mut() {
+            if matches!(queued.state, State::Recorded { by: b, frame: f } if b == by && f > frame) {
+                queued.state = State::Pending;
+            }
+        }
+    }
+
     /// Uploads not known to have run, and the staging bytes they hold.
     pub fn waiting(&self) -> (usize, u64) {
         let queued = self.queued();

@@ -261,11 +261,14 @@ pub trait Method {
     fn record_finish(&mut self, _ctx: &mut RecordContext<'_>) -> Result<()> {
         Ok(())
     }
-    /// Called after the frame's submission completed, for each frame recorded, in the order
-    /// they were recorded.
+    /// Called after the frame's submission completed, for each frame recorded and not
+    /// abandoned, in the order they were recorded.
     fn frame_done(&mut self, _done: &FrameDone<'_>) -> Result<FrameCheck> {
         Ok(FrameCheck::default())
     }
+    /// The newest `frames` this method recorded will never run (the engine abandoned them):
+    /// what the method keeps for frames in flight forgets them; everything it built stays.
+    fn frames_abandoned(&mut self, _frames: u64) {}
     /// Writes into `options` the buffer sizes this method's frames turned out to need, so
     /// that a method made for the next, similar frame starts there instead of overflowing.
     fn learned(&self, _options: &mut MethodOptions) {}

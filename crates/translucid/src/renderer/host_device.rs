@@ -243,7 +243,7 @@ impl Renderer {
     ) -> Result<()> {
         self.slot_dispatches[slot] = gpu.dispatches_recorded() - self.slot_dispatches[slot];
         self.completions[slot].record(gpu, cmd)?;
-        self.gpu_scene.uploads_recorded();
+        self.gpu_scene.frame_recorded_in_flight();
         self.in_flight.push_back((slot, kind));
         self.slot = (slot + 1) % self.timestamps.len();
         Ok(())
@@ -286,6 +286,31 @@ impl Renderer {
             degraded_rows: check.degraded_rows + check.unfinished_rows,
             overflowed: check.rerender || check.finish,
         }))
+    }
+
+    /// The newest `frames` frames recorded and not completed will never run: the engine
+    /// dropped their commands unsubmitted (as for an out-of-date swapchain), or let them
+    /// finish without completing them. The renderer forgets them and keeps everything it
+    /// built (pipelines, grown buffers): the next frame is recorded into the oldest one's
+    /// slot and carries the uploads and moved vertices they carried.
+    pub fn abandon_host(&mut self, frames: usize) -> Result<()> {
+        if frames > self.in_flight.len() {
+            return Err(Error::Internal(format!(
+                "{frames} frame(s) to abandon; {} in flight",
+                self.in_flight.len()
+            )));
+        }
+        let abandoned = self.in_flight.split_off(self.in_flight.len() - frames);
+        if let Some(&(oldest, _)) = abandoned.front() {
+            self.slot = oldest;
+        }
+        let method_frames = abandoned
+            .iter()
+            .filter(|(_, kind)| *kind == HostFrameKind::Method)
+            .count() as u64;
+        self.gpu_scene.frames_abandoned(frames as u64);
+        self.method.frames_abandoned(method_frames);
+        Ok(())
     }
 
     /// Frames recorded on the engine's device and not completed yet.

@@ -1121,6 +1121,11 @@ impl Bins {
         options.initial_resume_rows = Some(c.resume);
     }
 
+    /// The newest `frames` recorded will never run: see [`Method::frames_abandoned`].
+    pub fn frames_abandoned(&mut self, frames: u64) {
+        self.resources.retirement.abandoned(frames);
+    }
+
     /// Reads the completed frame's counters: grows the buffers for later frames and moves the
     /// features to what later frames need (`slab_bits` says how many depth slabs the raster
     /// wants lists ordered by, from the counters and the size the frame was recorded at).

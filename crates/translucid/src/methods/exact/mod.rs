@@ -179,6 +179,10 @@ impl Method for Exact {
         self.bins.record_end(ctx, self.lists.pending)
     }
 
+    fn frames_abandoned(&mut self, frames: u64) {
+        self.bins.frames_abandoned(frames);
+    }
+
     fn frame_done(&mut self, done: &FrameDone<'_>) -> Result<FrameCheck> {
         let Recorded {
             continuations: recorded,

@@ -368,6 +368,10 @@ impl Method for LinkedList {
         Ok(())
     }
 
+    fn frames_abandoned(&mut self, frames: u64) {
+        self.retirement.abandoned(frames);
+    }
+
     fn frame_done(&mut self, done: &FrameDone<'_>) -> Result<FrameCheck> {
         self.retirement.completed();
         let slot = done.slot % self.readbacks.len();

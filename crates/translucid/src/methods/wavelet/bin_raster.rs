@@ -99,6 +99,10 @@ impl BinRaster {
         self.bins.crowded(slot)
     }
 
+    pub fn frames_abandoned(&mut self, frames: u64) {
+        self.bins.frames_abandoned(frames);
+    }
+
     pub fn frame_done(&mut self, done: &FrameDone<'_>) -> Result<FrameCheck> {
         let bins = self.bins.frame_done(done, |_, _| 0)?;
         if bins.features_changed {

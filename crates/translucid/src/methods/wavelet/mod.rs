@@ -302,6 +302,13 @@ impl Method for Wavelet {
         Ok(())
     }
 
+    fn frames_abandoned(&mut self, frames: u64) {
+        self.retirement.abandoned(frames);
+        if let Variant::Bins(raster) = &mut self.variant {
+            raster.frames_abandoned(frames);
+        }
+    }
+
     fn frame_done(&mut self, done: &FrameDone<'_>) -> Result<FrameCheck> {
         self.retirement.completed();
         let on_bins = self
