@@ -255,6 +255,12 @@ enum translucid_result
      */
     TRANSLUCID_RESULT_ERROR_FRAME_IN_FLIGHT = -12,
     /**
+     * Another thread is in a call on the same context: calls on one context must not
+     * overlap. Nothing was done; the message (`translucid_context_get_last_error` on the
+     * refused thread) names the rule.
+     */
+    TRANSLUCID_RESULT_ERROR_CONTEXT_BUSY = -13,
+    /**
      * No Vulkan loader, no usable device, or the requested device does not exist; or the
      * device lacks what the frame's method needs (the message says what).
      */
@@ -1491,7 +1497,9 @@ translucid_result translucid_context_create(const struct translucid_context_crea
  * frames): their handles become invalid. Standalone mode waits for its device to be idle.
  * In host-device mode the GPU must be done with every frame recorded (the frame in flight
  * completed, or the engine's device idle); destroy the context before the engine's
- * device. NULL is allowed and does nothing.
+ * device. NULL is allowed and does nothing. A context another thread is in a call on
+ * is not destroyed (that would free what the call uses): the context stays, and
+ * `translucid_context_get_last_error(NULL)` says so.
  */
 void translucid_context_destroy(struct translucid_context *context);
 
@@ -1500,7 +1508,9 @@ void translucid_context_destroy(struct translucid_context *context);
  * context on this thread (`translucid_context_create`, calls given a NULL context) when
  * `context` is NULL. Never NULL; "" when nothing has failed yet (a successful call does
  * not clear it). Valid until the next call on the same context (or, for NULL, the next
- * failing context-less call on this thread).
+ * failing context-less call on this thread). After `TRANSLUCID_RESULT_ERROR_CONTEXT_BUSY`
+ * it is that refusal's message on the thread refused, until that thread's next call on
+ * the context.
  */
 const char *translucid_context_get_last_error(const struct translucid_context *context);
 

@@ -177,20 +177,20 @@ pub(crate) fn context_from_raw(ptr: *mut translucid_context) -> Option<Box<Conte
     (!ptr.is_null()).then(|| unsafe { Box::from_raw(ptr.cast::<Context>()) })
 }
 
-/// The context behind a pointer from `translucid_context_create`.
-pub(crate) fn context_mut<'a>(ptr: *mut translucid_context) -> FfiResult<&'a mut Context> {
+/// The context behind a pointer from `translucid_context_create`: shared, since other
+/// threads may hold it too; a call works on it through `Context::enter`.
+pub(crate) fn context_shared<'a>(ptr: *const translucid_context) -> FfiResult<&'a Context> {
     let ptr = ptr.cast::<Context>();
     check_pointer(ptr, "context")?;
-    // SAFETY: came from `context_into_raw`; the caller synchronises calls on one context
-    // (documented), so this is the only reference for the call's duration.
-    Ok(unsafe { &mut *ptr })
+    // SAFETY: came from `context_into_raw` and is not destroyed while a call uses it (C
+    // contract; `translucid_context_destroy` refuses while another call is in); only
+    // shared references to a `Context` are ever made from it.
+    Ok(unsafe { &*ptr })
 }
 
-/// Read-only access for the `const translucid_context *` queries.
+/// As [`context_shared`]; `None` for NULL or a misaligned pointer.
 pub(crate) fn context_ref<'a>(ptr: *const translucid_context) -> Option<&'a Context> {
-    let ptr = ptr.cast::<Context>();
-    // SAFETY: as `context_mut`; shared access only.
-    (!ptr.is_null() && ptr.is_aligned()).then(|| unsafe { &*ptr })
+    context_shared(ptr).ok()
 }
 
 fn check_pointer<T>(ptr: *const T, what: &str) -> FfiResult {

@@ -8,7 +8,10 @@ use crate::panic::{self, CallState};
 use crate::result::{translucid_result, Failure, FfiResult};
 use crate::structure::translucid_structure_type;
 use crate::version;
-use std::ffi::{c_char, c_void, CString};
+use std::cell::UnsafeCell;
+use std::ffi::{c_char, c_void, CStr, CString};
+use std::ops::{Deref, DerefMut};
+use std::sync::atomic::{AtomicBool, Ordering};
 use translucid::gpu::{Gpu, GpuOptions, Profile};
 
 /// How the context gets its device.
@@ -92,7 +95,6 @@ const _: () = assert!(TRANSLUCID_MAX_OBJECTS == translucid::context::handles::MA
 /// API converts to and from it.
 pub struct Objects {
     pub core: translucid::context::Context,
-    pub device_name: CString,
 }
 
 impl Objects {
@@ -103,8 +105,59 @@ impl Objects {
 
 /// The object behind `translucid_context *`.
 pub struct Context {
+    /// Set while a call runs on the context (`Context::enter`): calls on one context must
+    /// not overlap, and one that would is refused instead of let in.
+    in_call: AtomicBool,
+    /// Fixed at creation: the `const` queries read it whatever call runs meanwhile.
+    device_name: CString,
+    calls: UnsafeCell<Calls>,
+}
+
+/// What a call on the context works on, one call at a time.
+pub struct Calls {
     pub state: CallState,
     pub objects: Objects,
+}
+
+/// A call's hold on its context, from [`Context::enter`]; dropping it lets the next call in.
+pub struct Entered<'a> {
+    context: &'a Context,
+}
+
+impl Deref for Entered<'_> {
+    type Target = Calls;
+    fn deref(&self) -> &Calls {
+        // SAFETY: `in_call` was swapped from false to true by this `Entered` and stays true
+        // until it drops, so no other reference to `calls` exists meanwhile.
+        unsafe { &*self.context.calls.get() }
+    }
+}
+
+impl DerefMut for Entered<'_> {
+    fn deref_mut(&mut self) -> &mut Calls {
+        // SAFETY: as in `deref`; `&mut self` makes this the only use of the hold.
+        unsafe { &mut *self.context.calls.get() }
+    }
+}
+
+impl Drop for Entered<'_> {
+    fn drop(&mut self) {
+        self.context.in_call.store(false, Ordering::Release);
+    }
+}
+
+impl Context {
+    /// Starts a call on the context; `None` while another thread is in one.
+    pub fn enter(&self) -> Option<Entered<'_>> {
+        self.in_call
+            .compare_exchange(false, true, Ordering::Acquire, Ordering::Relaxed)
+            .ok()
+            .map(|_| Entered { context: self })
+    }
+
+    pub fn device_name(&self) -> &CStr {
+        &self.device_name
+    }
 }
 
 impl Context {
@@ -226,11 +279,14 @@ impl Context {
         }
         let device_name = CString::new(gpu.info().name.replace('\0', "")).unwrap_or_default();
         Ok(Self {
-            state: CallState::default(),
-            objects: Objects {
-                core: translucid::context::Context::new(gpu, frames_in_flight),
-                device_name,
-            },
+            in_call: AtomicBool::new(false),
+            device_name,
+            calls: UnsafeCell::new(Calls {
+                state: CallState::default(),
+                objects: Objects {
+                    core: translucid::context::Context::new(gpu, frames_in_flight),
+                },
+            }),
         })
     }
 }
@@ -257,24 +313,42 @@ impl translucid_context {
     /// frames): their handles become invalid. Standalone mode waits for its device to be idle.
     /// In host-device mode the GPU must be done with every frame recorded (the frame in flight
     /// completed, or the engine's device idle); destroy the context before the engine's
-    /// device. NULL is allowed and does nothing.
+    /// device. NULL is allowed and does nothing. A context another thread is in a call on
+    /// is not destroyed (that would free what the call uses): the context stays, and
+    /// `translucid_context_get_last_error(NULL)` says so.
     #[no_mangle]
     pub extern "C" fn translucid_context_destroy(context: *mut translucid_context) {
         // A panic while dropping leaks the rest of the context rather than unwinding into C.
-        panic::or_fallback((), || drop(cast::context_from_raw(context)));
+        panic::or_fallback((), || {
+            let Some(shared) = cast::context_ref(context) else {
+                return;
+            };
+            match shared.enter() {
+                Some(entered) => {
+                    // Held to the end: a call racing the destruction is refused, not let in.
+                    std::mem::forget(entered);
+                    drop(cast::context_from_raw(context));
+                }
+                None => {
+                    let _busy = panic::refuse_busy(context, "the context was not destroyed: ");
+                }
+            }
+        });
     }
 
     /// The message of the last failed call on `context`, or of the last failed call without a
     /// context on this thread (`translucid_context_create`, calls given a NULL context) when
     /// `context` is NULL. Never NULL; "" when nothing has failed yet (a successful call does
     /// not clear it). Valid until the next call on the same context (or, for NULL, the next
-    /// failing context-less call on this thread).
+    /// failing context-less call on this thread). After `TRANSLUCID_RESULT_ERROR_CONTEXT_BUSY`
+    /// it is that refusal's message on the thread refused, until that thread's next call on
+    /// the context.
     #[no_mangle]
     pub extern "C" fn translucid_context_get_last_error(
         context: *const translucid_context,
     ) -> *const c_char {
         panic::or_fallback(c"".as_ptr(), || match cast::context_ref(context) {
-            Some(context) => context.state.last_error(),
+            Some(shared) => panic::last_error_of(context, shared),
             None => panic::thread_last_error(),
         })
     }
@@ -321,7 +395,7 @@ impl translucid_context {
         context: *const translucid_context,
     ) -> *const c_char {
         panic::or_fallback(c"".as_ptr(), || match cast::context_ref(context) {
-            Some(context) => context.objects.device_name.as_ptr(),
+            Some(context) => context.device_name().as_ptr(),
             None => c"".as_ptr(),
         })
     }

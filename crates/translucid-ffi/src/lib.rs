@@ -8,7 +8,8 @@
 //! Conventions, the same for every export:
 //! - An opaque `translucid_context` owns a device and every object made on it. One context
 //!   must be used by one thread at a time (externally synchronised); different contexts may
-//!   be used from different threads at once.
+//!   be used from different threads at once. A call that finds another thread in a call on
+//!   its context is refused (`TRANSLUCID_RESULT_ERROR_CONTEXT_BUSY`) and does nothing.
 //! - Create-info structs are zero-initialised by the caller and start with `s_type` and
 //!   `next`; zero fields mean the default. Enums cross as `uint32_t`: an unknown value is an
 //!   error, never undefined behaviour.

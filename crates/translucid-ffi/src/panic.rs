@@ -3,7 +3,7 @@
 //! half-updated, so the context refuses all further work (it can still be destroyed).
 
 use crate::cast::{self, translucid_context};
-use crate::context::Objects;
+use crate::context::{Context, Objects};
 use crate::result::{translucid_result, FfiResult};
 use std::cell::RefCell;
 use std::ffi::{c_char, CString};
@@ -29,6 +29,40 @@ impl CallState {
 thread_local! {
     /// The last error of a call that had no context to keep it (creation, NULL context).
     static THREAD_ERROR: RefCell<CString> = RefCell::new(CString::default());
+    /// The context this thread's last call on it was refused (another thread was in a
+    /// call), and why: that call could not keep its error in the context.
+    static REFUSED: RefCell<Option<(usize, CString)>> = const { RefCell::new(None) };
+}
+
+/// Refuses a call on `context`, which another thread is in a call on: the thread keeps the
+/// message (after `prefix`), for `translucid_context_get_last_error` on this thread.
+pub fn refuse_busy(context: *const translucid_context, prefix: &str) -> translucid_result {
+    let message = format!(
+        "{prefix}another thread is in a call on this context; calls on one context must not \
+         overlap (use a context per thread, or hold a lock around each call); nothing was done"
+    );
+    REFUSED.with(|r| *r.borrow_mut() = Some((context as usize, to_c_string(&message))));
+    set_thread_error(&message);
+    translucid_result::ErrorContextBusy
+}
+
+/// `translucid_context_get_last_error` of `context`: the refusal of this thread's last call
+/// on it if it was refused, else the context's own last error (a fixed message while another
+/// thread is in a call, which may be changing it).
+pub fn last_error_of(context: *const translucid_context, shared: &Context) -> *const c_char {
+    let refused = REFUSED.with(|r| match &*r.borrow() {
+        Some((refused, message)) if *refused == context as usize => Some(message.as_ptr()),
+        _ => None,
+    });
+    if let Some(message) = refused {
+        return message;
+    }
+    match shared.enter() {
+        Some(entered) => entered.state.last_error(),
+        None => c"translucid_context_get_last_error: another thread is in a call on this \
+                  context, which may change its last error"
+            .as_ptr(),
+    }
 }
 
 /// The message of the last failed context-less call on this thread. The pointer stays valid
@@ -46,8 +80,22 @@ pub fn with_context(
     ptr: *mut translucid_context,
     body: impl FnOnce(&mut Objects) -> FfiResult<translucid_result>,
 ) -> translucid_result {
-    match cast::context_mut(ptr) {
-        Ok(context) => guarded(&mut context.state, &mut context.objects, body),
+    match cast::context_shared(ptr) {
+        Ok(context) => {
+            let Some(mut entered) = context.enter() else {
+                return refuse_busy(ptr, "");
+            };
+            REFUSED.with(|r| {
+                let mut r = r.borrow_mut();
+                if r.as_ref()
+                    .is_some_and(|(refused, _)| *refused == ptr as usize)
+                {
+                    *r = None;
+                }
+            });
+            let calls = &mut *entered;
+            guarded(&mut calls.state, &mut calls.objects, body)
+        }
         Err(failure) => {
             set_thread_error(&failure.message);
             failure.code

@@ -64,6 +64,10 @@ pub enum translucid_result {
     /// returned for the statistics of a frame in flight, and for destroying one (complete
     /// it, or abandon it with `translucid_frame_abandon`).
     ErrorFrameInFlight = -12,
+    /// Another thread is in a call on the same context: calls on one context must not
+    /// overlap. Nothing was done; the message (`translucid_context_get_last_error` on the
+    /// refused thread) names the rule.
+    ErrorContextBusy = -13,
 
     /// No Vulkan loader, no usable device, or the requested device does not exist; or the
     /// device lacks what the frame's method needs (the message says what).
@@ -94,7 +98,7 @@ pub enum translucid_result {
 impl translucid_result {
     /// Every code, for the to-string function and tests. (Not in the header: cbindgen would
     /// write it as a macro of Rust names.)
-    pub(crate) const ALL: [translucid_result; 25] = [
+    pub(crate) const ALL: [translucid_result; 26] = [
         Self::Success,
         Self::Incomplete,
         Self::NotReady,
@@ -111,6 +115,7 @@ impl translucid_result {
         Self::ErrorMethodUnavailable,
         Self::ErrorNotSupported,
         Self::ErrorFrameInFlight,
+        Self::ErrorContextBusy,
         Self::ErrorNoDevice,
         Self::ErrorVulkan,
         Self::ErrorOutOfMemory,
@@ -146,6 +151,7 @@ impl translucid_result {
             Self::ErrorMethodUnavailable => c"method not available in this build",
             Self::ErrorNotSupported => c"not supported in this mode or by this build",
             Self::ErrorFrameInFlight => c"a host-device frame is recorded and not completed",
+            Self::ErrorContextBusy => c"another thread is in a call on this context",
             Self::ErrorNoDevice => c"no usable Vulkan device",
             Self::ErrorVulkan => c"Vulkan call failed",
             Self::ErrorOutOfMemory => c"out of memory",

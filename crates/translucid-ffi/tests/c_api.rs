@@ -149,6 +149,12 @@ fn c_programs() -> Vec<Program> {
             sources: vec![tests.join("misuse.c")],
             libs: &[],
         },
+        // Two threads in calls on one context at once: refused, never let in.
+        Program {
+            name: "threads",
+            sources: vec![tests.join("threads.c")],
+            libs: &["-lpthread"],
+        },
         Program {
             name: "render",
             sources: vec![tests.join("render.c")],
