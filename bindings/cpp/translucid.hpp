@@ -7,10 +7,12 @@
 // handled inside the wrapper (TRANSLUCID_RESULT_INCOMPLETE) or returned as an enum
 // (Frame::complete's Completion).
 //
-// Ownership: Context, Mesh, Texture, Material and Frame are move-only. Each object keeps its
-// context alive (a shared reference to the C context), so destruction order does not matter:
-// the C context is destroyed when the last wrapper using it is gone. As with the C API, one
-// context and its objects must be used by one thread at a time.
+// Ownership: Context, Mesh, Texture, Material and Frame are move-only. The Context owns the C
+// context, and destroying it destroys the C context and every object made with it there and
+// then, so that an engine destroys it before its VkDevice whatever objects it still holds.
+// Objects that outlive their Context are empty: destroying them does nothing, and calls on
+// them throw TRANSLUCID_RESULT_ERROR_STALE_HANDLE. As with the C API, one context and its
+// objects must be used by one thread at a time.
 //
 // Frames in flight (host-device mode) must be completed or abandoned: the wrapper cannot tell
 // whether the GPU still runs a recorded frame, so it can neither free one nor end its flight.
@@ -54,6 +56,8 @@ private:
 namespace detail {
 
 using ContextPtr = std::shared_ptr<translucid_context>;
+/// What an object keeps of its context: it does not keep it alive.
+using ContextRef = std::weak_ptr<translucid_context>;
 
 inline void check(translucid_result result, const translucid_context *context, const char *call) {
     if (result < 0) {
@@ -67,8 +71,8 @@ template <typename Handle, translucid_result (*Destroy)(translucid_context *, Ha
 class Object {
 public:
     Object() noexcept : handle_{0} {}
-    Object(ContextPtr context, Handle handle) noexcept
-        : context_(std::move(context)), handle_(handle) {}
+    Object(const ContextPtr &context, Handle handle) noexcept
+        : context_(context), handle_(handle) {}
     Object(const Object &) = delete;
     Object &operator=(const Object &) = delete;
     Object(Object &&other) noexcept
@@ -85,21 +89,35 @@ public:
 
     /// The C handle, for use with the C API (still owned by this object).
     Handle handle() const noexcept { return handle_; }
-    explicit operator bool() const noexcept { return handle_.id != 0; }
+    /// False when empty: moved from, reset, or its Context destroyed.
+    explicit operator bool() const noexcept { return handle_.id != 0 && !context_.expired(); }
 
     /// Destroys the object now. Errors are ignored: destroying fails only for a handle the
     /// wrapper never hands out, or for a host-device frame in flight (see the top of this
-    /// file).
+    /// file). Nothing to do once its Context is destroyed, which destroyed the object too.
     void reset() noexcept {
-        if (context_ && handle_.id != 0) {
-            Destroy(context_.get(), handle_);
+        if (handle_.id != 0) {
+            if (const ContextPtr context = context_.lock()) {
+                Destroy(context.get(), handle_);
+            }
         }
         handle_ = Handle{0};
         context_.reset();
     }
 
 protected:
-    translucid_context *context() const noexcept { return context_.get(); }
+    /// The C context; throws TRANSLUCID_RESULT_ERROR_STALE_HANDLE once the Context is gone.
+    translucid_context *context() const {
+        // The Context holds the only owning reference, so the pointer stays valid while it
+        // lives, past this temporary.
+        const ContextPtr context = context_.lock();
+        if (!context) {
+            throw Error(TRANSLUCID_RESULT_ERROR_STALE_HANDLE,
+                        "the translucid::Context that made this object was destroyed, and the "
+                        "object with it");
+        }
+        return context.get();
+    }
     /// Forgets the handle without destroying it (the C API has freed it already).
     void release() noexcept {
         handle_ = Handle{0};
@@ -107,7 +125,7 @@ protected:
     }
 
 private:
-    ContextPtr context_;
+    ContextRef context_;
     Handle handle_;
 };
 
@@ -249,7 +267,8 @@ public:
     }
     /// A context on the engine's device, taking up to `frames_in_flight` frames recorded and
     /// not completed (the engine's frames in flight times its views); `s_type` is filled in
-    /// for you. Destroy the context (and every object from it) before the engine's device.
+    /// for you. Destroy the Context before the engine's device: that destroys every object
+    /// made with it, whichever wrappers the engine still holds.
     static Context host(translucid_host_device_create_info device,
                         std::uint32_t frames_in_flight = 1) {
         device.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_CREATE_INFO;
@@ -276,7 +295,7 @@ public:
     Context(Context &&) noexcept = default;
     Context &operator=(Context &&) noexcept = default;
 
-    /// The C context (owned by this wrapper and the objects made from it).
+    /// The C context (owned by this wrapper alone).
     translucid_context *get() const noexcept { return context_.get(); }
     std::string device_name() const { return translucid_context_get_device_name(context_.get()); }
 

@@ -63,6 +63,7 @@ int main() {
             EXPECT(std::fabs(linear[2] - 0.5f) < 2e-3f);
             EXPECT(frame.read_rgba8().size() == 8 * 4 * 4);
             EXPECT(frame.statistics().method == method);
+            EXPECT(frame);
             kept = std::move(frame);  // outlives the Context wrapper below
         }
 
@@ -129,8 +130,14 @@ int main() {
         std::printf("FAIL: unexpected error %d: %s\n", static_cast<int>(e.code()), e.what());
         return 1;
     }
-    // The frame still works: it keeps the C context alive.
-    EXPECT(kept && kept.read_rgba8().size() == 8 * 4 * 4);
+    // The Context took the frame with it: the wrapper left is empty, and a call on it throws.
+    EXPECT(!kept);
+    try {
+        kept.read_rgba8();
+        EXPECT(false);
+    } catch (const translucid::Error &e) {
+        EXPECT(e.code() == TRANSLUCID_RESULT_ERROR_STALE_HANDLE);
+    }
     kept.reset();
     EXPECT(!kept);
     std::printf("wrapper: %d failed\n", failures);
