@@ -1,7 +1,8 @@
 // The mesh pipelines' vertex stage (scene/mesh.vert, scene/ordered.vert). The clip position
 // is the CPU reference's, operation for operation (raster_rules.glsl), so that the driver
 // rasterizes the triangles the reference does. With ORDER_DEPTH defined it also hands
-// scene/ordered.geom what the reference's order depth needs of the vertex.
+// scene/ordered.geom what the reference's order depth needs of the vertex; with ORDER_ONLY
+// too, only that (scene/ordered_order_only.vert).
 #ifndef TRANSLUCID_MESH_VERTEX_GLSL
 #define TRANSLUCID_MESH_VERTEX_GLSL
 
@@ -13,10 +14,12 @@ layout(location = 1) in vec3 a_normal;
 layout(location = 2) in vec2 a_uv;
 layout(location = 3) in vec4 a_colour;
 
+#ifndef ORDER_ONLY
 layout(location = 0) out vec3 v_fromEye;       // world position minus the eye
 layout(location = 1) out vec3 v_normal;
 layout(location = 2) out vec2 v_uv;
 layout(location = 3) out vec4 v_colour;
+#endif
 #ifdef ORDER_DEPTH
 // The snapped framebuffer position (8 sub-pixel bits) and, in z, 1 when the vertex is on the
 // fixed-point path (in front of the eye and the near plane, inside the guard band).
@@ -61,10 +64,12 @@ vec4 snappedClipPosition(vec4 clip, vec2 size) {
 void main() {
     DrawInfo d = g_draws[u_push.drawIndex];
     vec4 world = d.model * vec4(a_position, 1.0);
+#ifndef ORDER_ONLY
     v_fromEye = world.xyz - u_frame.eye.xyz;
     v_normal = mat3(d.normalMatrix) * a_normal;
     v_uv = a_uv;
     v_colour = a_colour * d.tint;
+#endif
     vec4 clip = clipPosition(modelViewProjection(u_frame.viewProj, d.model), a_position);
     gl_Position = snappedClipPosition(clip, u_frame.viewport.xy);
 #ifdef ORDER_DEPTH

@@ -142,6 +142,10 @@ pub enum MeshStages {
     /// `ORDER_DEPTH`) finds each fragment's order depth as the CPU reference does, for the
     /// methods that sort fragments by it.
     OrderDepth,
+    /// As `OrderDepth`, the stages handing on nothing but what the order depth needs
+    /// (`scene/ordered_order_only.vert` and `.geom`), for fragment shaders that read it
+    /// alone (depth_peeling's first pass, wavelet's bounds): no output goes unread.
+    OrderOnly,
 }
 
 pub struct GpuScene {
@@ -437,14 +441,22 @@ impl GpuScene {
                     vertex: match stages {
                         MeshStages::Plain => crate::spirv!("scene/mesh.vert"),
                         MeshStages::OrderDepth => crate::spirv!("scene/ordered.vert"),
+                        MeshStages::OrderOnly => crate::spirv!("scene/ordered_order_only.vert"),
                     },
                     geometry: match stages {
                         MeshStages::Plain => None,
                         MeshStages::OrderDepth => Some(crate::spirv!("scene/ordered.geom")),
+                        MeshStages::OrderOnly => {
+                            Some(crate::spirv!("scene/ordered_order_only.geom"))
+                        }
                     },
                     fragment,
                     vertex_stride: VERTEX_STRIDE,
-                    attributes: &VERTEX_ATTRIBUTES,
+                    // The order depth needs the position alone.
+                    attributes: match stages {
+                        MeshStages::OrderOnly => &VERTEX_ATTRIBUTES[..1],
+                        _ => &VERTEX_ATTRIBUTES,
+                    },
                     cull_back,
                     depth_write: false,
                     blend: crate::gpu::Blend::None,

@@ -2,12 +2,21 @@
 //! anywhere (consumer GPUs run them at 1/16 to 1/64 rate, some have none), so that no method
 //! needs `shaderFloat64`. Specialization constants do not change a module's types or
 //! capabilities, so checking each module covers every variant the host builds from it.
+//! And what the mesh pipelines' stages hand on: every output the next stage reads, so that
+//! validation finds nothing left unread (`Shader-OutputNotConsumed`).
 
+use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
+const OP_ENTRY_POINT: u32 = 15;
 const OP_CAPABILITY: u32 = 17;
 const OP_TYPE_FLOAT: u32 = 22;
+const OP_VARIABLE: u32 = 59;
+const OP_DECORATE: u32 = 71;
 const CAPABILITY_FLOAT64: u32 = 10;
+const DECORATION_LOCATION: u32 = 30;
+const STORAGE_INPUT: u32 = 1;
+const STORAGE_OUTPUT: u32 = 3;
 
 /// Every `.spv` file under `dir`.
 fn modules(dir: &Path) -> Vec<PathBuf> {
@@ -46,6 +55,90 @@ fn float64_uses(words: &[u32]) -> Vec<String> {
             _ => None,
         })
         .collect()
+}
+
+/// The locations of the entry point's variables of `storage` (input or output).
+fn interface_locations(words: &[u32], storage: u32) -> BTreeSet<u32> {
+    let ops = instructions(words);
+    let interface: BTreeSet<u32> = ops
+        .iter()
+        .filter(|(op, _)| *op == OP_ENTRY_POINT)
+        .flat_map(|(_, operands)| {
+            // Model, id, a NUL-terminated name padded to words, then the interface ids.
+            let name_words = operands[2..]
+                .iter()
+                .position(|w| w.to_le_bytes().contains(&0))
+                .map_or(0, |p| p + 1);
+            operands[2 + name_words..].iter().copied()
+        })
+        .collect();
+    let of_storage: BTreeSet<u32> = ops
+        .iter()
+        .filter_map(|(op, operands)| match (*op, *operands) {
+            (OP_VARIABLE, [_, id, class, ..]) if *class == storage => Some(*id),
+            _ => None,
+        })
+        .collect();
+    ops.iter()
+        .filter_map(|(op, operands)| match (*op, *operands) {
+            (OP_DECORATE, [id, DECORATION_LOCATION, location])
+                if interface.contains(id) && of_storage.contains(id) =>
+            {
+                Some(*location)
+            }
+            _ => None,
+        })
+        .collect()
+}
+
+fn module_words(name: &str) -> Vec<u32> {
+    let path = Path::new(env!("OUT_DIR"))
+        .join("shaders")
+        .join(format!("{name}.spv"));
+    let bytes = std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    ash::util::read_spv(&mut std::io::Cursor::new(bytes)).expect("SPIR-V")
+}
+
+/// Each mesh pipeline that orders fragments as the reference does: vertex, geometry and
+/// fragment stage (`assets::MeshStages`), each stage's outputs all read by the next.
+#[test]
+fn mesh_stages_hand_on_only_what_the_next_stage_reads() {
+    let pipelines = [
+        [
+            "scene/ordered.vert",
+            "scene/ordered.geom",
+            "linked_list/append.frag",
+        ],
+        [
+            "scene/ordered.vert",
+            "scene/ordered.geom",
+            "depth_peeling/peel.frag",
+        ],
+        [
+            "scene/ordered_order_only.vert",
+            "scene/ordered_order_only.geom",
+            "depth_peeling/first.frag",
+        ],
+        [
+            "scene/ordered_order_only.vert",
+            "scene/ordered_order_only.geom",
+            "wavelet/bounds.frag",
+        ],
+    ];
+    for stages in pipelines {
+        for pair in stages.windows(2) {
+            let written = interface_locations(&module_words(pair[0]), STORAGE_OUTPUT);
+            let read = interface_locations(&module_words(pair[1]), STORAGE_INPUT);
+            assert!(!written.is_empty(), "{} writes no location", pair[0]);
+            let unread: Vec<_> = written.difference(&read).collect();
+            assert!(
+                unread.is_empty(),
+                "{} writes locations {unread:?} that {} does not read",
+                pair[0],
+                pair[1]
+            );
+        }
+    }
 }
 
 #[test]

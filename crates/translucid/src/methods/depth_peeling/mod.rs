@@ -310,7 +310,7 @@ fn first_pipelines(
     gpu_scene.mesh_pipelines_with(
         gpu,
         first.render_pass,
-        crate::assets::MeshStages::OrderDepth,
+        crate::assets::MeshStages::OrderOnly,
         crate::spirv!("depth_peeling/first.frag"),
         &[],
         &PipelineState {

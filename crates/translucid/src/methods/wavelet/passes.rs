@@ -103,6 +103,14 @@ impl FragmentDepth {
         }
     }
 
+    /// The bounds pass reads the order depth alone.
+    fn bounds_stages(self) -> MeshStages {
+        match self {
+            Self::Reference => MeshStages::OrderOnly,
+            Self::Driver => MeshStages::Plain,
+        }
+    }
+
     fn bounds_spirv(self) -> &'static [u8] {
         match self {
             Self::Reference => crate::spirv!("wavelet/bounds.frag"),
@@ -441,7 +449,7 @@ fn new_bounds_pass(
     let pipelines = gpu_scene.mesh_pipelines_with(
         gpu,
         pass.render_pass,
-        depth.stages(),
+        depth.bounds_stages(),
         depth.bounds_spirv(),
         &[],
         &PipelineState {
