@@ -140,6 +140,41 @@
 #define TRANSLUCID_MAX_INDICES (1 << 26)
 
 /**
+ * Textured materials.
+ */
+#define TRANSLUCID_CONTENT_TEXTURES 1
+
+/**
+ * Vertex colours or draw tints, one colour per quad (particles, billboards).
+ */
+#define TRANSLUCID_CONTENT_VERTEX_COLOURS 2
+
+/**
+ * Vertex colours that vary across a quad (covers `TRANSLUCID_CONTENT_VERTEX_COLOURS`).
+ */
+#define TRANSLUCID_CONTENT_CORNER_COLOURS 4
+
+/**
+ * Lit materials (`TRANSLUCID_MATERIAL_LIT`), on meshes with normals or without.
+ */
+#define TRANSLUCID_CONTENT_LIT 8
+
+/**
+ * Materials that transmit light (`transmission` above 0).
+ */
+#define TRANSLUCID_CONTENT_TRANSMISSION 16
+
+/**
+ * Triangles that cross the near plane, pass behind the eye or reach far outside the frame.
+ */
+#define TRANSLUCID_CONTENT_NEAR_PLANE 32
+
+/**
+ * All of the above.
+ */
+#define TRANSLUCID_CONTENT_ALL 63
+
+/**
  * Texels are sRGB-encoded (as colour images usually are) and decoded to linear on sampling.
  */
 #define TRANSLUCID_TEXTURE_SRGB 1
@@ -338,6 +373,10 @@ enum translucid_structure_type
     TRANSLUCID_STRUCTURE_TYPE_WAVELET_SETTINGS = 10,
     TRANSLUCID_STRUCTURE_TYPE_LINKED_LIST_SETTINGS = 11,
     TRANSLUCID_STRUCTURE_TYPE_DEPTH_PEELING_SETTINGS = 12,
+    /**
+     * `translucid_prepare_info`.
+     */
+    TRANSLUCID_STRUCTURE_TYPE_PREPARE_INFO = 13,
     /**
      * `translucid_host_device_create_info`, chained to the context create-info.
      */
@@ -1190,6 +1229,31 @@ typedef struct translucid_mesh_create_info {
 } translucid_mesh_create_info;
 
 /**
+ * What `translucid_context_prepare` builds for. Zero-initialise it, then set `s_type`.
+ */
+typedef struct translucid_prepare_info {
+    /**
+     * `TRANSLUCID_STRUCTURE_TYPE_PREPARE_INFO`.
+     */
+    uint32_t s_type;
+    /**
+     * NULL.
+     */
+    const void *next;
+    /**
+     * A frame like those of the loop: its method, the settings chained to it, and its
+     * width and height, the largest the loop records. Its draws and camera are only
+     * checked (`draw_count` 0 is fine).
+     */
+    const struct translucid_frame_info *frame;
+    /**
+     * `TRANSLUCID_CONTENT_*` bits: what the loop's frames may draw, streamed-in assets
+     * included. Added to what earlier calls declared.
+     */
+    uint32_t content;
+} translucid_prepare_info;
+
+/**
  * A texture. Zero-initialise, then set `s_type`, the size and `texels`.
  */
 typedef struct translucid_texture_create_info {
@@ -1782,6 +1846,26 @@ TRANSLUCID_MUST_USE
 translucid_result translucid_method_get_available(uint32_t *methods,
                                                   size_t capacity,
                                                   size_t *out_count);
+
+/**
+ * Declares what the frame loop's frames may draw (`content`) and builds, now, every
+ * pipeline frames like `frame` need for it: same method and settings, at most its size,
+ * over any assets, streamed-in ones included, whose content is within the declaration.
+ * Those frames then report `pipelines_created` 0 (but for the first frame on an engine's
+ * device that draws or composites into its colour format, or imports its depth format:
+ * it builds those passes' few pipelines). Frames draw with the declared shaders whether they need all of them
+ * or not: declare what the loop draws, not more. Call it at load time, once per method
+ * and settings the loop uses, after creating the assets or before; a later call that
+ * declares more makes the next frames build their renderers anew. Not declared, and
+ * still built when first needed (documented in the README, "No compile in the frame
+ * loop"): deeper frames' variants (more fragments per pass, depth slabs), content past
+ * the declaration, and a frame larger than the prepared one. `out_pipelines_created`
+ * (may be NULL) receives the pipelines this call built.
+ */
+TRANSLUCID_MUST_USE
+translucid_result translucid_context_prepare(struct translucid_context *context,
+                                             const struct translucid_prepare_info *info,
+                                             uint64_t *out_pipelines_created);
 
 /**
  * Returns a static, NUL-terminated description of `code`; never NULL. Unknown values

@@ -44,6 +44,7 @@ pub mod mesh;
 pub mod method;
 pub mod method_settings;
 pub mod panic;
+pub mod prepare;
 pub mod result;
 pub mod structure;
 pub mod texture;

@@ -23,6 +23,8 @@ pub enum translucid_structure_type {
     WaveletSettings = 10,
     LinkedListSettings = 11,
     DepthPeelingSettings = 12,
+    /// `translucid_prepare_info`.
+    PrepareInfo = 13,
     /// `translucid_host_device_create_info`, chained to the context create-info.
     HostDeviceCreateInfo = 100,
     /// `translucid_host_requirements`.
@@ -36,7 +38,7 @@ pub enum translucid_structure_type {
 }
 
 impl translucid_structure_type {
-    const ALL: [Self; 17] = [
+    const ALL: [Self; 18] = [
         Self::ContextCreateInfo,
         Self::MeshCreateInfo,
         Self::TextureCreateInfo,
@@ -49,6 +51,7 @@ impl translucid_structure_type {
         Self::WaveletSettings,
         Self::LinkedListSettings,
         Self::DepthPeelingSettings,
+        Self::PrepareInfo,
         Self::HostDeviceCreateInfo,
         Self::HostRequirements,
         Self::HostFrameTargets,

@@ -14,6 +14,8 @@
  * 6. Every depth format an engine may hand over, with forward and reversed-Z depth.
  * 7. Every method: frames abandoned unsubmitted (carrying a streamed mesh and moved vertices)
  *    cost the next frame nothing: no pipeline built, no memory allocated, its image right.
+ * 8. Every method in a declared loop (translucid_context_prepare): assets of every kind that
+ *    changes a shader variant, streamed in one per frame, build no pipeline.
  * And first, in the standalone context: an updated mesh draws as one created so.
  */
 #include <math.h>
@@ -789,6 +791,187 @@ static void abandon_keeps_what_is_built(translucid_method method) {
     CHECK(g_standalone, translucid_mesh_destroy(g_standalone, standalone.meshes[3]));
 }
 
+/* Section 8's assets, each bringing content the frames before did not draw. */
+enum streamed {
+    CORNER_COLOURS,
+    FIRST_TEXTURE,
+    FIRST_LIT,
+    FIRST_TRANSMISSIVE,
+    NEAR_PLANE,
+    STREAMED_KINDS
+};
+static const char *const k_streamed_names[STREAMED_KINDS] = {
+    "vertex colours per corner", "a first texture", "a first lit material",
+    "a first transmissive material", "a first near-plane crossing"};
+
+/* Creates streamed asset `kind` in `ctx`: a mesh, its material (and texture), and a draw. */
+static void stream_in(translucid_context *ctx, enum streamed kind, translucid_mesh *mesh,
+                      translucid_material *material, translucid_draw *draw) {
+    static const uint32_t triangles[] = {0, 1, 2, 0, 2, 3};
+    static const float corner_colours[16] = {1, 0, 0, 1, 0, 1, 0, 1, 0, 0, 1, 1, 1, 1, 1, 1};
+    static const float uvs[8] = {0, 0, 1, 0, 1, 1, 0, 1};
+    static const uint8_t texels[16] = {255, 40, 40, 255, 40, 255, 40, 160,
+                                       40, 40, 255, 255, 250, 250, 40, 200};
+    /* From behind the eye (at the origin, near plane 1) to well in front of it. */
+    static const float crossing[12] = {-0.6f, -0.4f, 0.5f, 0.6f, -0.4f, 0.5f,
+                                       0.6f,  -0.1f, -4.0f, -0.6f, -0.1f, -4.0f};
+    translucid_mesh_create_info mesh_info;
+    translucid_material_create_info material_info;
+    memset(&mesh_info, 0, sizeof mesh_info);
+    mesh_info.s_type = TRANSLUCID_STRUCTURE_TYPE_MESH_CREATE_INFO;
+    mesh_info.primitive = TRANSLUCID_PRIMITIVE_TRIANGLES;
+    mesh_info.vertex_count = 4;
+    mesh_info.positions = kind == NEAR_PLANE ? crossing : g_test_quads[(size_t)kind % TEST_QUADS];
+    mesh_info.index_count = 6;
+    mesh_info.indices = triangles;
+    memset(&material_info, 0, sizeof material_info);
+    material_info.s_type = TRANSLUCID_STRUCTURE_TYPE_MATERIAL_CREATE_INFO;
+    material_info.base_colour[0] = 0.9f;
+    material_info.base_colour[1] = 0.7f;
+    material_info.base_colour[2] = 0.3f;
+    material_info.base_colour[3] = 0.5f;
+    switch (kind) {
+    case CORNER_COLOURS:
+        mesh_info.colours = corner_colours;
+        break;
+    case FIRST_TEXTURE: {
+        translucid_texture_create_info texture;
+        memset(&texture, 0, sizeof texture);
+        texture.s_type = TRANSLUCID_STRUCTURE_TYPE_TEXTURE_CREATE_INFO;
+        texture.width = texture.height = 2;
+        texture.texels = texels;
+        CHECK(ctx, translucid_texture_create(ctx, &texture, &material_info.texture));
+        mesh_info.uvs = uvs;
+        break;
+    }
+    case FIRST_LIT:
+        material_info.flags = TRANSLUCID_MATERIAL_LIT;
+        break;
+    case FIRST_TRANSMISSIVE:
+        material_info.transmission = 0.6f;
+        material_info.transmission_tint[0] = 0.2f;
+        material_info.transmission_tint[1] = 0.8f;
+        material_info.transmission_tint[2] = 0.9f;
+        break;
+    default:
+        break;
+    }
+    CHECK(ctx, translucid_mesh_create(ctx, &mesh_info, mesh));
+    CHECK(ctx, translucid_material_create(ctx, &material_info, material));
+    memset(draw, 0, sizeof *draw);
+    draw->mesh = *mesh;
+    draw->material = *material;
+    draw->layer = TRANSLUCID_LAYER_TRANSPARENT;
+    draw->transform[0] = draw->transform[5] = draw->transform[10] = draw->transform[15] = 1.0f;
+    /* Apart from the quads already drawn. */
+    draw->transform[12] = kind == NEAR_PLANE ? 0.0f : 0.25f * (float)kind - 0.5f;
+    draw->transform[13] = kind == NEAR_PLANE ? 0.0f : 0.2f;
+}
+
+/* A frame of `count` draws by `method` from section 8's camera. The section's draws make at
+ * most seven layers: depth_peeling peels them all in its fixed passes, and linked_list's
+ * fixed pool holds them, so that no frame is sized by the one before (as section 8 streams
+ * in more layers, those frames would be, and complete degraded). */
+static translucid_frame_info frame_of(translucid_draw *draws, uint32_t count,
+                                      translucid_method method) {
+    static translucid_depth_peeling_settings peeling;
+    static translucid_linked_list_settings lists;
+    translucid_frame_info info;
+    memset(&peeling, 0, sizeof peeling);
+    peeling.s_type = TRANSLUCID_STRUCTURE_TYPE_DEPTH_PEELING_SETTINGS;
+    peeling.passes = 4;
+    memset(&lists, 0, sizeof lists);
+    lists.s_type = TRANSLUCID_STRUCTURE_TYPE_LINKED_LIST_SETTINGS;
+    lists.node_budget = W * H * 8;
+    memset(&info, 0, sizeof info);
+    if (method == TRANSLUCID_METHOD_DEPTH_PEELING) info.next = &peeling;
+    if (method == TRANSLUCID_METHOD_LINKED_LIST) info.next = &lists;
+    info.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_INFO;
+    info.method = method;
+    info.width = W;
+    info.height = H;
+    info.camera = orbit_camera(0.0f);
+    info.draws = draws;
+    info.draw_count = count;
+    return info;
+}
+
+/* The slot's readback against the standalone frame, for any method; its frame destroyed. */
+static void compare_any(translucid_context *ctx, slot *s, const char *what) {
+    translucid_frame_statistics stats;
+    int worst = worst_difference(s->mapped + COLOUR_BYTES + DEPTH_BYTES, s->expected);
+    memset(&stats, 0, sizeof stats);
+    stats.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_STATISTICS;
+    CHECK(ctx, translucid_frame_get_statistics(ctx, s->frame, &stats));
+    if (worst > 2 || stats.overflowed) {
+        printf("FAIL %s: %d/255 off the standalone frame, overflowed %u\n", what, worst,
+               (unsigned)stats.overflowed);
+    }
+    TRUE_OR_FAIL(worst <= 2 && !stats.overflowed);
+    CHECK(ctx, translucid_frame_destroy(ctx, s->frame));
+    s->busy = 0;
+}
+
+static void declared_loop(translucid_method method) {
+    translucid_context *ctx = host_context(MOST_IN_FLIGHT);
+    translucid_draw host_draws[2 + STREAMED_KINDS], standalone_draws[2 + STREAMED_KINDS];
+    translucid_mesh meshes[2][2 + STREAMED_KINDS];
+    translucid_material materials[2][2 + STREAMED_KINDS];
+    translucid_prepare_info prepare;
+    translucid_frame_info info;
+    uint64_t prepared = 0, pipelines;
+    int k, allocated;
+    char what[96];
+    /* Two plain quads: unlit, untextured, one colour each, in front of the near plane. */
+    for (k = 0; k < 2; k++) {
+        make_quad(ctx, (size_t)k, 0, &meshes[0][k], &materials[0][k], &host_draws[k]);
+        make_quad(g_standalone, (size_t)k, 0, &meshes[1][k], &materials[1][k],
+                  &standalone_draws[k]);
+    }
+    info = frame_of(host_draws, 2, method);
+    memset(&prepare, 0, sizeof prepare);
+    prepare.s_type = TRANSLUCID_STRUCTURE_TYPE_PREPARE_INFO;
+    prepare.frame = &info;
+    prepare.content = TRANSLUCID_CONTENT_ALL;
+    CHECK(ctx, translucid_context_prepare(ctx, &prepare, &prepared));
+    for (k = 0; k <= STREAMED_KINDS; k++) {
+        slot *s = &g_slots[k % MOST_IN_FLIGHT];
+        int draws = 2 + k;
+        if (k > 0) {
+            stream_in(ctx, (enum streamed)(k - 1), &meshes[0][k + 1], &materials[0][k + 1],
+                      &host_draws[k + 1]);
+            stream_in(g_standalone, (enum streamed)(k - 1), &meshes[1][k + 1],
+                      &materials[1][k + 1], &standalone_draws[k + 1]);
+        }
+        info = frame_of(standalone_draws, (uint32_t)draws, method);
+        render_standalone(g_standalone, info, g_opaque_colour, g_layer_depth, s->expected,
+                          COLOUR_BYTES);
+        info.draws = host_draws;
+        begin_commands(s->cmd);
+        record_frame(ctx, s->cmd, s, &info);
+        submit_commands(s->cmd, s->fence);
+        wait_fence(s->fence);
+        CHECK(ctx, translucid_frame_complete(ctx, s->frame));
+        built_by(ctx, s, &pipelines, &allocated);
+        snprintf(what, sizeof what, "method %d, declared loop, %s", (int)method,
+                 k == 0 ? "first frame" : k_streamed_names[k - 1]);
+        /* The first frame may build the in-place composite (made for the engine's colour
+         * format), and nothing else. */
+        if (k > 0 && pipelines != 0) printf("FAIL %s: %llu pipelines built\n", what,
+                                            (unsigned long long)pipelines);
+        TRUE_OR_FAIL(k == 0 || pipelines == 0);
+        if (k == 0) printf("method %d: prepare built %llu pipelines, the first frame %llu\n",
+                           (int)method, (unsigned long long)prepared,
+                           (unsigned long long)pipelines);
+        compare_any(ctx, s, what);
+    }
+    translucid_context_destroy(ctx);
+    for (k = 0; k < 2 + STREAMED_KINDS; k++) {
+        CHECK(g_standalone, translucid_mesh_destroy(g_standalone, meshes[1][k]));
+        CHECK(g_standalone, translucid_material_destroy(g_standalone, materials[1][k]));
+    }
+}
+
 int main(void) {
     static const float forward_bands[3] = {0.3f, 0.75f, 1.0f};
     translucid_host_requirements req;
@@ -843,6 +1026,7 @@ int main(void) {
         for (n = 0; n < sizeof methods / sizeof methods[0]; n++) {
             abandon_keeps_what_is_built(methods[n]);
         }
+        for (n = 0; n < sizeof methods / sizeof methods[0]; n++) declared_loop(methods[n]);
     }
 
     translucid_context_destroy(g_standalone);

@@ -173,6 +173,27 @@ impl Context {
         }
     }
 
+    /// Declares that the frames may draw `content` (added to what was declared before), and
+    /// builds now what frames like `request` need: the renderer for its method and settings
+    /// up to its size, over the current assets, with every shader of every frame within the
+    /// declaration. Frames of that method and those settings, up to that size, then build no
+    /// pipeline, also when assets streamed in bring content they did not draw before (see
+    /// [`DeclaredContent`] for what it covers and what it does not). Frames draw with the
+    /// declared variants whether or not they need all of them. Returns the pipelines built and
+    /// the bytes of GPU memory allocated.
+    ///
+    /// [`DeclaredContent`]: crate::methods::bins::features::DeclaredContent
+    pub fn prepare(
+        &mut self,
+        request: &FrameRequest,
+        content: crate::methods::bins::features::DeclaredContent,
+    ) -> Result<(u64, u64)> {
+        let before = built_so_far(&self.gpu);
+        self.renderers.declare(content);
+        self.renderers.for_frame(&self.gpu, &self.assets, request)?;
+        Ok(built_since(&self.gpu, before))
+    }
+
     /// Renders `request` on translucid's own device, over `layer` (else over its opaque
     /// draws), and waits for it; the frame's handle.
     pub fn render(&mut self, request: &FrameRequest, layer: Option<&OpaqueLayer>) -> Result<u64> {

@@ -15,6 +15,7 @@
 
 use super::assets::{Assets, Destroyed, MaterialRecord};
 use crate::gpu::Gpu;
+use crate::methods::bins::features::DeclaredContent;
 use crate::methods::{MethodKind, MethodOptions};
 use crate::renderer::{FrameShape, Renderer, ResidentAssets};
 use crate::scene::{Camera, Draw, FrameInput, Light, Mesh, Scene, Texture};
@@ -134,6 +135,8 @@ pub struct Renderers {
     uses: u64,
     /// The most frames in flight each renderer serves (the context's).
     frames_in_flight: u32,
+    /// What the engine declared its frames may draw: every renderer's shaders cover it.
+    declared: DeclaredContent,
 }
 
 impl Renderers {
@@ -144,6 +147,20 @@ impl Renderers {
             next_id: 1,
             uses: 0,
             frames_in_flight,
+            declared: DeclaredContent::default(),
+        }
+    }
+
+    /// Adds `content` to what frames may draw. Renderers made before a declaration that
+    /// adds to it take no new frame: the next ones cover all of it.
+    pub fn declare(&mut self, content: DeclaredContent) {
+        let declared = self.declared.union(content);
+        if declared != self.declared {
+            self.declared = declared;
+            for k in &mut self.kept {
+                k.usable = false;
+            }
+            self.free_unused(None);
         }
     }
 
@@ -211,7 +228,7 @@ impl Renderers {
                     .filter(|r| r.generation == assets.generation)
                     .map(|r| (&r.places, &r.graveyard));
                 let built = asset_scene(assets, request, base)?;
-                let options = self
+                let mut options = self
                     .kept
                     .iter()
                     .filter(|k| k.key == request.key)
@@ -220,6 +237,7 @@ impl Renderers {
                         || request.options.clone(),
                         |k| k.renderer.learned_options(&request.options),
                     );
+                options.bins.declared = self.declared;
                 let (resident, moved) = self.resident_for(gpu, assets, &built)?;
                 let AssetScene {
                     scene,

@@ -64,7 +64,68 @@ pub struct RasterFeatures {
     pub hardware_sampling: bool,
 }
 
+/// What an engine declares its frames may draw ([`crate::context::Context::prepare`]), so
+/// that the bins' shaders are built once for all of it: a frame then takes these features
+/// whether or not it draws them ([`RasterFeatures::covering`]), and content streamed in
+/// within the declaration needs no other variant. Each variant covers the frames without its
+/// feature too, pixel for pixel (every shader decides per draw or per triangle), only slower.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct DeclaredContent {
+    /// Textured materials.
+    pub textures: bool,
+    /// Vertex colours or draw tints, one colour per quad (particles, billboards).
+    pub vertex_colours: bool,
+    /// Vertex colours that vary across a quad (implies `vertex_colours`).
+    pub corner_colours: bool,
+    /// Lit materials, on meshes with normals or without.
+    pub lit: bool,
+    /// Materials that transmit light.
+    pub transmission: bool,
+    /// Triangles crossing the near plane or the guard band (the homogeneous path).
+    pub near_plane: bool,
+}
+
+impl DeclaredContent {
+    /// Everything a frame can draw.
+    pub const ALL: Self = Self {
+        textures: true,
+        vertex_colours: true,
+        corner_colours: true,
+        lit: true,
+        transmission: true,
+        near_plane: true,
+    };
+
+    /// What either declares.
+    pub fn union(self, other: Self) -> Self {
+        Self {
+            textures: self.textures || other.textures,
+            vertex_colours: self.vertex_colours || other.vertex_colours,
+            corner_colours: self.corner_colours || other.corner_colours,
+            lit: self.lit || other.lit,
+            transmission: self.transmission || other.transmission,
+            near_plane: self.near_plane || other.near_plane,
+        }
+    }
+}
+
 impl RasterFeatures {
+    /// These features widened to cover `declared`: the shaders built for the result draw
+    /// this frame and any frame within the declaration.
+    pub fn covering(self, declared: &DeclaredContent) -> Self {
+        let colours = declared.vertex_colours || declared.corner_colours;
+        Self {
+            homogeneous: self.homogeneous || declared.near_plane,
+            textures: self.textures || declared.textures,
+            vertex_normals: self.vertex_normals || declared.lit,
+            face_normals: self.face_normals || declared.lit,
+            transmission: self.transmission || declared.transmission,
+            vertex_colours: self.vertex_colours || colours,
+            flat_colours: self.flat_colours && !declared.corner_colours,
+            ..self
+        }
+    }
+
     /// The features of a frame of `scene`, whose meshes `meshes` describes
     /// ([`MeshFacts::of`] each).
     pub fn of(

@@ -149,6 +149,9 @@ pub struct BinOptions {
     /// worth), so that tests reach that limit with a small frame.
     #[doc(hidden)]
     pub most_homogeneous: Option<u32>,
+    /// What the engine declared its frames may draw: every frame's shaders cover it
+    /// ([`features::DeclaredContent`]).
+    pub declared: features::DeclaredContent,
 }
 
 /// A raster's shader in its two variants: sampling textures in software (bit for bit the
@@ -377,6 +380,8 @@ pub struct Bins {
     texel_walk_forced: bool,
     /// Tests start without the near-plane path whatever the frame (BinOptions).
     fixed_path_forced: bool,
+    /// What every frame's features cover (BinOptions::declared).
+    declared: features::DeclaredContent,
     /// Frames still to record without the occlusion cull.
     unculled_frames: u32,
     /// The largest buffers may grow to.
@@ -465,6 +470,7 @@ impl Bins {
         let near_plane = features::homogeneous_triangles(scene, &meshes, width, height);
         let mut features = RasterFeatures::of_frame(scene, &meshes, near_plane, info.into());
         features.homogeneous &= !options.assume_fixed_path;
+        let mut features = features.covering(&options.declared);
         features.slab_bits = raster.slab_bits;
         if options.assume_wide_subgroups {
             features.rows = 1 << features.tile_shift;
@@ -538,6 +544,7 @@ impl Bins {
             features,
             texel_walk_forced,
             fixed_path_forced: options.assume_fixed_path,
+            declared: options.declared,
             unculled_frames: 0,
             most,
             homogeneous_missed: false,
@@ -638,7 +645,7 @@ impl Bins {
         let mut fresh = RasterFeatures::of_frame(f.scene, &self.meshes, near_plane, subgroups);
         fresh.homogeneous =
             (fresh.homogeneous && !self.fixed_path_forced) || self.homogeneous_missed;
-        let mut features = self.features.for_frame(fresh);
+        let mut features = self.features.for_frame(fresh.covering(&self.declared));
         features.hardware_sampling = sampling(
             self.gpu.info(),
             self.hardware_sampling_forced,

@@ -1,0 +1,104 @@
+//! Building up front what a frame loop needs, so that no frame compiles a shader: the content
+//! the engine declares its frames may draw, and a frame like those it will make. Exports
+//! `translucid_context_prepare`.
+
+use crate::cast::{check_header, translucid_context, try_ref};
+use crate::frame::translucid_frame_info;
+use crate::frame_input::frame_request;
+use crate::panic;
+use crate::result::{translucid_result, Failure, FfiResult};
+use crate::structure::translucid_structure_type;
+use std::ffi::c_void;
+use translucid::methods::bins::features::DeclaredContent;
+
+/// Textured materials.
+pub const TRANSLUCID_CONTENT_TEXTURES: u32 = 1;
+/// Vertex colours or draw tints, one colour per quad (particles, billboards).
+pub const TRANSLUCID_CONTENT_VERTEX_COLOURS: u32 = 2;
+/// Vertex colours that vary across a quad (covers `TRANSLUCID_CONTENT_VERTEX_COLOURS`).
+pub const TRANSLUCID_CONTENT_CORNER_COLOURS: u32 = 4;
+/// Lit materials (`TRANSLUCID_MATERIAL_LIT`), on meshes with normals or without.
+pub const TRANSLUCID_CONTENT_LIT: u32 = 8;
+/// Materials that transmit light (`transmission` above 0).
+pub const TRANSLUCID_CONTENT_TRANSMISSION: u32 = 16;
+/// Triangles that cross the near plane, pass behind the eye or reach far outside the frame.
+pub const TRANSLUCID_CONTENT_NEAR_PLANE: u32 = 32;
+/// All of the above.
+pub const TRANSLUCID_CONTENT_ALL: u32 = 63;
+
+/// What `translucid_context_prepare` builds for. Zero-initialise it, then set `s_type`.
+#[allow(non_camel_case_types)]
+#[repr(C)]
+pub struct translucid_prepare_info {
+    /// `TRANSLUCID_STRUCTURE_TYPE_PREPARE_INFO`.
+    pub s_type: u32,
+    /// NULL.
+    pub next: *const c_void,
+    /// A frame like those of the loop: its method, the settings chained to it, and its
+    /// width and height, the largest the loop records. Its draws and camera are only
+    /// checked (`draw_count` 0 is fine).
+    pub frame: *const translucid_frame_info,
+    /// `TRANSLUCID_CONTENT_*` bits: what the loop's frames may draw, streamed-in assets
+    /// included. Added to what earlier calls declared.
+    pub content: u32,
+}
+
+fn declared(content: u32) -> FfiResult<DeclaredContent> {
+    if content & !TRANSLUCID_CONTENT_ALL != 0 {
+        return Err(Failure::argument(format!(
+            "translucid_prepare_info.content has unknown bits {:#x}",
+            content & !TRANSLUCID_CONTENT_ALL
+        )));
+    }
+    let has = |bit: u32| content & bit != 0;
+    Ok(DeclaredContent {
+        textures: has(TRANSLUCID_CONTENT_TEXTURES),
+        vertex_colours: has(TRANSLUCID_CONTENT_VERTEX_COLOURS),
+        corner_colours: has(TRANSLUCID_CONTENT_CORNER_COLOURS),
+        lit: has(TRANSLUCID_CONTENT_LIT),
+        transmission: has(TRANSLUCID_CONTENT_TRANSMISSION),
+        near_plane: has(TRANSLUCID_CONTENT_NEAR_PLANE),
+    })
+}
+
+impl translucid_prepare_info {
+    /// Declares what the frame loop's frames may draw (`content`) and builds, now, every
+    /// pipeline frames like `frame` need for it: same method and settings, at most its size,
+    /// over any assets, streamed-in ones included, whose content is within the declaration.
+    /// Those frames then report `pipelines_created` 0 (but for the first frame on an engine's
+    /// device that draws or composites into its colour format, or imports its depth format:
+    /// it builds those passes' few pipelines). Frames draw with the declared shaders whether they need all of them
+    /// or not: declare what the loop draws, not more. Call it at load time, once per method
+    /// and settings the loop uses, after creating the assets or before; a later call that
+    /// declares more makes the next frames build their renderers anew. Not declared, and
+    /// still built when first needed (documented in the README, "No compile in the frame
+    /// loop"): deeper frames' variants (more fragments per pass, depth slabs), content past
+    /// the declaration, and a frame larger than the prepared one. `out_pipelines_created`
+    /// (may be NULL) receives the pipelines this call built.
+    #[no_mangle]
+    #[must_use]
+    pub extern "C" fn translucid_context_prepare(
+        context: *mut translucid_context,
+        info: *const translucid_prepare_info,
+        out_pipelines_created: *mut u64,
+    ) -> translucid_result {
+        panic::with_context(context, |objects| {
+            let info = try_ref(info, "info")?;
+            check_header(
+                info.s_type,
+                info.next,
+                translucid_structure_type::PrepareInfo,
+                "translucid_prepare_info",
+            )?;
+            let content = declared(info.content)?;
+            let frame = try_ref(info.frame, "translucid_prepare_info.frame")?;
+            let (request, _layer) = frame_request(objects, frame)?;
+            let (pipelines, _bytes) = objects.core.prepare(&request, content)?;
+            if !out_pipelines_created.is_null() {
+                let out = crate::cast::try_out(out_pipelines_created, "out_pipelines_created")?;
+                out.write(pipelines);
+            }
+            Ok(translucid_result::Success)
+        })
+    }
+}
