@@ -18,6 +18,7 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use translucid::gpu::{Gpu, Profile};
+use translucid::methods::bins::features::DeclaredContent;
 use translucid::methods::wavelet::{model::Model, Settings, Storage, WaveletOptions};
 use translucid::methods::MethodOptions;
 use translucid::metrics::{self, Metrics};
@@ -69,6 +70,9 @@ const MIN_TEXTURED_PIXELS: u64 = 1000;
 #[derive(Clone, Copy, Debug)]
 enum Method {
     Exact,
+    /// Exact with every content declared (`Context::prepare`): its shaders' widest variants,
+    /// which every frame of a declared loop draws with.
+    ExactDeclaringAll,
     /// The wavelet method with its coefficients in this storage (named, so that the test
     /// covers both whatever the device's profile picks).
     Wavelet(Storage),
@@ -85,7 +89,7 @@ const METHODS: [Method; 4] = [
 impl Method {
     fn name(self) -> &'static str {
         match self {
-            Method::Exact => "exact",
+            Method::Exact | Method::ExactDeclaringAll => "exact",
             Method::Wavelet(_) => "wavelet",
             Method::Blend => "blend",
         }
@@ -95,15 +99,18 @@ impl Method {
     fn label(self) -> String {
         match self {
             Method::Wavelet(storage) => format!("wavelet {}", storage.name()),
+            Method::ExactDeclaringAll => "exact declaring all content".into(),
             _ => self.name().into(),
         }
     }
 
-    /// The options it runs with: the defaults, and wavelet's storage.
+    /// The options it runs with: the defaults, wavelet's storage, and the declaration.
     fn options(self) -> MethodOptions {
         let mut options = MethodOptions::default();
-        if let Method::Wavelet(storage) = self {
-            options.wavelet.storage = Some(storage);
+        match self {
+            Method::Wavelet(storage) => options.wavelet.storage = Some(storage),
+            Method::ExactDeclaringAll => options.bins.declared = DeclaredContent::ALL,
+            _ => {}
         }
         options
     }
@@ -112,7 +119,7 @@ impl Method {
     fn model(self, scene: &Scene, frame: &Frame) -> translucid::Result<Image> {
         let opaque = frame.opaque.as_ref().expect("opaque layer read back");
         match self {
-            Method::Exact => reference::render(scene, opaque),
+            Method::Exact | Method::ExactDeclaringAll => reference::render(scene, opaque),
             // The storage the frame ran on (the bins fall back to the images for a row too
             // crowded for them).
             Method::Wavelet(storage) => Model::new(
@@ -132,12 +139,14 @@ impl Method {
     /// Why `m` fails the method's bound, if it does.
     fn judge(self, m: &Metrics) -> Option<String> {
         let ok = match self {
-            Method::Exact | Method::Wavelet(_) => m.max_error <= TOLERANCE,
+            Method::Exact | Method::ExactDeclaringAll | Method::Wavelet(_) => {
+                m.max_error <= TOLERANCE
+            }
             // NaN fails both.
             Method::Blend => m.share_over <= BLEND_SHARE && m.psnr >= BLEND_PSNR,
         };
         (!ok).then(|| match self {
-            Method::Exact | Method::Wavelet(_) => {
+            Method::Exact | Method::ExactDeclaringAll | Method::Wavelet(_) => {
                 format!("bound: every pixel within {}/255", TOLERANCE * 255.0)
             }
             Method::Blend => format!(
@@ -350,6 +359,16 @@ fn sweep_shared(test: &str, method: Method) {
 #[test]
 fn exact_matches_reference_on_shared_scenes() {
     sweep_shared("exact_matches_reference_on_shared_scenes", Method::Exact);
+}
+
+/// The declared loop's widest shaders draw every shared scene as the reference does: a
+/// variant that covers content a frame lacks changes none of its pixels.
+#[test]
+fn exact_declaring_all_content_matches_reference_on_shared_scenes() {
+    sweep_shared(
+        "exact_declaring_all_content_matches_reference_on_shared_scenes",
+        Method::ExactDeclaringAll,
+    );
 }
 
 #[test]
