@@ -170,9 +170,16 @@
 #define TRANSLUCID_CONTENT_NEAR_PLANE 32
 
 /**
+ * Pixels many layers deep (more than 8 fragments a pixel on average, or pixels needing more
+ * than two passes): `exact`'s variants for them are built up front too, and its frames keep
+ * to those (at most 16 depth slabs).
+ */
+#define TRANSLUCID_CONTENT_DEEP 64
+
+/**
  * All of the above.
  */
-#define TRANSLUCID_CONTENT_ALL 63
+#define TRANSLUCID_CONTENT_ALL 127
 
 /**
  * Texels are sRGB-encoded (as colour images usually are) and decoded to linear on sampling.
@@ -968,15 +975,17 @@ typedef struct translucid_frame_statistics {
      */
     uint64_t frame_index;
     /**
-     * Pipelines the call that made the frame (`translucid_frame_render` or
-     * `translucid_frame_record`) created, each a shader compilation: a new method or new
-     * settings may need some; a frame loop past its first frames needs none, also when
-     * assets are created or destroyed (a renderer made for new assets takes the pipelines
-     * of the one it replaces).
+     * Pipelines the calls that made the frame created, each a shader compilation: the
+     * `translucid_frame_render` or `translucid_frame_record` call, and for a recorded frame
+     * its `translucid_frame_complete` (where `exact` moves to the variants of deeper frames).
+     * A new method or new settings may need some, as may content a loop did not draw
+     * before; a loop prepared for what it draws (`translucid_context_prepare`) needs none
+     * past its first frame, also when assets are created or destroyed (a renderer made for
+     * new assets takes the pipelines of the one it replaces).
      */
     uint64_t pipelines_created;
     /**
-     * GPU memory that call allocated, in bytes: the first frames of a renderer, a frame
+     * GPU memory those calls allocated, in bytes: the first frames of a renderer, a frame
      * larger than any before with its method and settings, frames that need larger buffers, the first frame after assets were created (their images, and
      * the staging their texels are copied from, freed once copied; meshes and materials go
      * into device-local room left for them, copied from staging only past 64 KiB of data)
@@ -1858,8 +1867,8 @@ translucid_result translucid_method_get_available(uint32_t *methods,
  * and settings the loop uses, after creating the assets or before; a later call that
  * declares more makes the next frames build their renderers anew. Not declared, and
  * still built when first needed (documented in the README, "No compile in the frame
- * loop"): deeper frames' variants (more fragments per pass, depth slabs), content past
- * the declaration, and a frame larger than the prepared one. `out_pipelines_created`
+ * loop"): deep frames' variants unless `TRANSLUCID_CONTENT_DEEP` is declared, content
+ * past the declaration, and a frame larger than the prepared one. `out_pipelines_created`
  * (may be NULL) receives the pipelines this call built.
  */
 TRANSLUCID_MUST_USE

@@ -232,13 +232,15 @@ pub struct translucid_frame_statistics {
     pub overflowed: u32,
     /// The frame's `translucid_frame_info::frame_index`.
     pub frame_index: u64,
-    /// Pipelines the call that made the frame (`translucid_frame_render` or
-    /// `translucid_frame_record`) created, each a shader compilation: a new method or new
-    /// settings may need some; a frame loop past its first frames needs none, also when
-    /// assets are created or destroyed (a renderer made for new assets takes the pipelines
-    /// of the one it replaces).
+    /// Pipelines the calls that made the frame created, each a shader compilation: the
+    /// `translucid_frame_render` or `translucid_frame_record` call, and for a recorded frame
+    /// its `translucid_frame_complete` (where `exact` moves to the variants of deeper frames).
+    /// A new method or new settings may need some, as may content a loop did not draw
+    /// before; a loop prepared for what it draws (`translucid_context_prepare`) needs none
+    /// past its first frame, also when assets are created or destroyed (a renderer made for
+    /// new assets takes the pipelines of the one it replaces).
     pub pipelines_created: u64,
-    /// GPU memory that call allocated, in bytes: the first frames of a renderer, a frame
+    /// GPU memory those calls allocated, in bytes: the first frames of a renderer, a frame
     /// larger than any before with its method and settings, frames that need larger buffers, the first frame after assets were created (their images, and
     /// the staging their texels are copied from, freed once copied; meshes and materials go
     /// into device-local room left for them, copied from staging only past 64 KiB of data)

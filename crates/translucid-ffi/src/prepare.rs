@@ -23,8 +23,12 @@ pub const TRANSLUCID_CONTENT_LIT: u32 = 8;
 pub const TRANSLUCID_CONTENT_TRANSMISSION: u32 = 16;
 /// Triangles that cross the near plane, pass behind the eye or reach far outside the frame.
 pub const TRANSLUCID_CONTENT_NEAR_PLANE: u32 = 32;
+/// Pixels many layers deep (more than 8 fragments a pixel on average, or pixels needing more
+/// than two passes): `exact`'s variants for them are built up front too, and its frames keep
+/// to those (at most 16 depth slabs).
+pub const TRANSLUCID_CONTENT_DEEP: u32 = 64;
 /// All of the above.
-pub const TRANSLUCID_CONTENT_ALL: u32 = 63;
+pub const TRANSLUCID_CONTENT_ALL: u32 = 127;
 
 /// What `translucid_context_prepare` builds for. Zero-initialise it, then set `s_type`.
 #[allow(non_camel_case_types)]
@@ -58,6 +62,7 @@ fn declared(content: u32) -> FfiResult<DeclaredContent> {
         lit: has(TRANSLUCID_CONTENT_LIT),
         transmission: has(TRANSLUCID_CONTENT_TRANSMISSION),
         near_plane: has(TRANSLUCID_CONTENT_NEAR_PLANE),
+        deep: has(TRANSLUCID_CONTENT_DEEP),
     })
 }
 
@@ -72,8 +77,8 @@ impl translucid_prepare_info {
     /// and settings the loop uses, after creating the assets or before; a later call that
     /// declares more makes the next frames build their renderers anew. Not declared, and
     /// still built when first needed (documented in the README, "No compile in the frame
-    /// loop"): deeper frames' variants (more fragments per pass, depth slabs), content past
-    /// the declaration, and a frame larger than the prepared one. `out_pipelines_created`
+    /// loop"): deep frames' variants unless `TRANSLUCID_CONTENT_DEEP` is declared, content
+    /// past the declaration, and a frame larger than the prepared one. `out_pipelines_created`
     /// (may be NULL) receives the pipelines this call built.
     #[no_mangle]
     #[must_use]

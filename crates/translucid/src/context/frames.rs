@@ -28,7 +28,9 @@ pub struct FrameRecord {
     /// The frame past a documented limit: not all of it is right (engine's device).
     pub overflowed: bool,
     pub dispatches: u64,
-    /// What the call that made the frame built: pipelines, and bytes of GPU memory.
+    /// What the calls that made the frame built (its recording, and on the engine's device
+    /// its completion, where the method moves to the variants its counters call for):
+    /// pipelines, and bytes of GPU memory.
     pub built: (u64, u64),
 }
 

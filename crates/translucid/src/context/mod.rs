@@ -297,6 +297,9 @@ impl Context {
             return Err(Error::InvalidArgument("no frame is in flight".into()));
         };
         let renderer = self.frames.get(frame)?.renderer;
+        // Pipelines a completion builds (the variants the frame's counters call for) stall
+        // the engine as a recording's would: the frame's statistics count them too.
+        let before = built_so_far(&self.gpu);
         let kept = self
             .renderers
             .get_mut(renderer)
@@ -331,6 +334,8 @@ impl Context {
         let done = done?;
         let degraded = done.overflowed;
         record.completed(done);
+        let completion = built_since(&self.gpu, before);
+        record.built = (record.built.0 + completion.0, record.built.1 + completion.1);
         Ok(if degraded {
             Completion::Degraded
         } else {

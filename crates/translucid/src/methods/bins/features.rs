@@ -83,6 +83,10 @@ pub struct DeclaredContent {
     pub transmission: bool,
     /// Triangles crossing the near plane or the guard band (the homogeneous path).
     pub near_plane: bool,
+    /// Deep pixels: exact's variants for them (more fragments per pass, depth slabs) are
+    /// built up front too, and its frames move between those alone (at most
+    /// `exact::depth::DEEP_SLAB_BITS` of slabs).
+    pub deep: bool,
 }
 
 impl DeclaredContent {
@@ -94,6 +98,7 @@ impl DeclaredContent {
         lit: true,
         transmission: true,
         near_plane: true,
+        deep: true,
     };
 
     /// What either declares.
@@ -105,6 +110,7 @@ impl DeclaredContent {
             lit: self.lit || other.lit,
             transmission: self.transmission || other.transmission,
             near_plane: self.near_plane || other.near_plane,
+            deep: self.deep || other.deep,
         }
     }
 }

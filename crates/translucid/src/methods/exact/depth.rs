@@ -100,6 +100,33 @@ impl Depth {
         }
     }
 
+    /// The depths a declared loop with deep pixels moves between, all built up front: the
+    /// two selections, with and without DEEP_SLAB_BITS of slabs.
+    pub const DECLARED: [Self; 4] = [
+        Self::SHALLOW,
+        Self {
+            select_size: DEEP_SELECT_SIZE,
+            slab_bits: 0,
+        },
+        Self {
+            select_size: SELECT_SIZE,
+            slab_bits: DEEP_SLAB_BITS,
+        },
+        Self {
+            select_size: DEEP_SELECT_SIZE,
+            slab_bits: DEEP_SLAB_BITS,
+        },
+    ];
+
+    /// This depth within what a declared loop built up front ([`Self::DECLARED`]): fewer
+    /// slabs than the frame would take, where it would take more (as right, a little slower).
+    pub fn declared(self) -> Self {
+        Self {
+            slab_bits: self.slab_bits.min(DEEP_SLAB_BITS),
+            ..self
+        }
+    }
+
     /// At least everything deep frames move to.
     pub fn deep(self) -> Self {
         Self {

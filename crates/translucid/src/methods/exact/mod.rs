@@ -92,6 +92,9 @@ impl Exact {
         if options.assume_deep_pixels {
             depth = depth.deep();
         }
+        if bins.declared.deep {
+            depth = depth.declared();
+        }
         let deep = Depth::is_deep(expected.fragments, width, height);
         let needs = RasterNeeds {
             method: "exact",
@@ -104,6 +107,12 @@ impl Exact {
         let mut bins = Bins::new(gpu, scene, gpu_scene, targets, bins, &expected, needs)?;
         bins.set_threshold(options.threshold);
         let raster = Raster::new(&mut bins, gpu_scene, depth)?;
+        if bins.declared().deep {
+            // Every depth the frames may move to is built now: they never build one.
+            for declared in Depth::DECLARED {
+                Raster::prebuild(&mut bins, gpu_scene, declared)?;
+            }
+        }
         Ok(Self {
             bins,
             depth,
@@ -195,6 +204,7 @@ impl Method for Exact {
         // fragments per pass, or order the bins by depth slab, from the next frame on (this
         // one is right either way).
         let depth = &mut self.depth;
+        let declared_deep = self.bins.declared().deep;
         let bins = self.bins.frame_done(done, |counters, (width, height)| {
             if counters.overflow & OVERFLOW_CROWDED_BIN != 0 {
                 *depth = depth.deep();
@@ -205,6 +215,9 @@ impl Method for Exact {
                 width,
                 height,
             );
+            if declared_deep {
+                *depth = depth.declared();
+            }
             depth.slab_bits
         })?;
         self.raster

@@ -32,6 +32,26 @@ impl Raster {
     /// The raster for `bins`' features and `depth`, built unless built before.
     pub fn new(bins: &mut Bins, gpu_scene: &GpuScene, depth: Depth) -> Result<Self> {
         let features = bins.features();
+        Self::with_features(bins, gpu_scene, features, depth)
+    }
+
+    /// Builds now the raster of frames at `depth` (its slabs too), with the bins' features
+    /// otherwise, so that a later move there builds nothing.
+    pub fn prebuild(bins: &mut Bins, gpu_scene: &GpuScene, depth: Depth) -> Result<()> {
+        bins.prebuild_stages(gpu_scene, depth.slab_bits)?;
+        let features = RasterFeatures {
+            slab_bits: depth.slab_bits,
+            ..bins.features()
+        };
+        Self::with_features(bins, gpu_scene, features, depth).map(drop)
+    }
+
+    fn with_features(
+        bins: &mut Bins,
+        gpu_scene: &GpuScene,
+        features: RasterFeatures,
+        depth: Depth,
+    ) -> Result<Self> {
         Ok(Self {
             first: bins.pipeline(gpu_scene, RASTER, &constants(&features, depth, false))?,
             continuation: bins.pipeline(gpu_scene, RASTER, &constants(&features, depth, true))?,
