@@ -125,6 +125,39 @@ pub struct MethodArgs {
     /// counted) [default: as many as the frame needs]
     #[arg(long)]
     pub passes: Option<u32>,
+    /// exact, wavelet: draw with the shaders of a loop declared to draw this content, as
+    /// `translucid_context_prepare` declares it (comma-separated: textures, vertex-colours,
+    /// corner-colours, lit, transmission, near-plane, deep, all) [default: none, each frame's
+    /// own]
+    #[arg(long, value_parser = parse_declared)]
+    pub declare: Option<translucid::methods::bins::features::DeclaredContent>,
+}
+
+/// `--declare`'s list.
+fn parse_declared(
+    list: &str,
+) -> Result<translucid::methods::bins::features::DeclaredContent, String> {
+    use translucid::methods::bins::features::DeclaredContent;
+    let mut declared = DeclaredContent::default();
+    for name in list.split(',').map(str::trim).filter(|n| !n.is_empty()) {
+        match name {
+            "textures" => declared.textures = true,
+            "vertex-colours" => declared.vertex_colours = true,
+            "corner-colours" => declared.corner_colours = true,
+            "lit" => declared.lit = true,
+            "transmission" => declared.transmission = true,
+            "near-plane" => declared.near_plane = true,
+            "deep" => declared.deep = true,
+            "all" => declared = DeclaredContent::ALL,
+            other => {
+                return Err(format!(
+                    "unknown content {other:?}: textures, vertex-colours, corner-colours, lit, \
+                     transmission, near-plane, deep or all"
+                ))
+            }
+        }
+    }
+    Ok(declared)
 }
 
 /// What changes between a bench's frames.

@@ -249,6 +249,23 @@ fn conformance_passes_on_the_vendored_scenes() {
     assert_eq!(doc["failed"], 0);
 }
 
+/// `--declare` draws with a declared loop's widest shaders: the vendored scenes as right, and
+/// an unknown content refused as a usage error.
+#[test]
+fn conformance_passes_with_every_content_declared() {
+    let scenes = vendored_scenes();
+    let folder = scenes.to_str().expect("utf-8 path");
+    let (ok, doc, stderr) = conformance_json(&[folder, "--declare", "all"]);
+    assert!(ok, "conformance failed: {doc}\n{stderr}");
+    assert_eq!(doc["failed"], 0, "{doc}");
+    assert!(doc["passed"].as_u64().is_some_and(|n| n > 0), "{doc}");
+    let (ok, _, stderr) = translucid(&["conformance", folder, "--declare", "textures,glitter"]);
+    assert!(
+        !ok && stderr.contains("unknown content \"glitter\""),
+        "{stderr}"
+    );
+}
+
 #[test]
 fn conformance_reports_a_broken_file_and_goes_on() {
     let dir = temp_folder("conformance-broken");

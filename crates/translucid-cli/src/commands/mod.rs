@@ -110,6 +110,10 @@ pub fn options(
             passes: method_args.passes,
             ..Default::default()
         },
+        bins: translucid::methods::bins::BinOptions {
+            declared: method_args.declare.unwrap_or_default(),
+            ..Default::default()
+        },
         ..Default::default()
     })
 }
