@@ -27,8 +27,9 @@ pub struct TextureArray {
 
 impl TextureArray {
     /// The set of the first TEXTURE_ARRAY_SLOTS of `textures` by index, `white` in the slots
-    /// past them; `None` without textures, or where a compute stage cannot bind that many
-    /// samplers besides the rasters' own (such frames sample in software).
+    /// past them; `None` where a compute stage cannot bind that many samplers besides the
+    /// rasters' own (such frames sample in software). Made without textures too, so that
+    /// the rasters keep their variant when the first texture streams in.
     pub(super) fn new(
         gpu: &Gpu,
         textures: &[Arc<ResidentTexture>],
@@ -37,7 +38,6 @@ impl TextureArray {
         let info = gpu.info();
         if info.max_stage_samplers < TEXTURE_ARRAY_SLOTS + RASTER_OWN_SAMPLERS
             || info.max_stage_sampled_images < TEXTURE_ARRAY_SLOTS + RASTER_OWN_SAMPLED_IMAGES
-            || textures.is_empty()
         {
             return Ok(None);
         }
