@@ -385,6 +385,10 @@ enum translucid_structure_type
      */
     TRANSLUCID_STRUCTURE_TYPE_PREPARE_INFO = 13,
     /**
+     * `translucid_memory_statistics`.
+     */
+    TRANSLUCID_STRUCTURE_TYPE_MEMORY_STATISTICS = 14,
+    /**
      * `translucid_host_device_create_info`, chained to the context create-info.
      */
     TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_CREATE_INFO = 100,
@@ -1186,6 +1190,42 @@ typedef struct translucid_material_create_info {
 } translucid_material_create_info;
 
 /**
+ * The GPU memory a context holds now, in bytes, by what it is for. Zero-initialise it, set
+ * `s_type`, and pass it to `translucid_context_get_memory_statistics`.
+ */
+typedef struct translucid_memory_statistics {
+    /**
+     * `TRANSLUCID_STRUCTURE_TYPE_MEMORY_STATISTICS`.
+     */
+    uint32_t s_type;
+    /**
+     * NULL.
+     */
+    void *next;
+    /**
+     * Device-local: the assets (vertices, textures, materials), the frame targets and the
+     * methods' working buffers, each sized for the largest frame its renderer drew.
+     */
+    uint64_t device_local_bytes;
+    /**
+     * Host-visible, written for each frame (one copy per frame in flight).
+     */
+    uint64_t per_frame_bytes;
+    /**
+     * Host-visible staging of uploads whose frames have not completed yet.
+     */
+    uint64_t staging_bytes;
+    /**
+     * Host-visible memory the GPU writes for the host: counters, timestamps, readbacks.
+     */
+    uint64_t readback_bytes;
+    /**
+     * All of it.
+     */
+    uint64_t total_bytes;
+} translucid_memory_statistics;
+
+/**
  * A mesh. Zero-initialise, then set `s_type` and the arrays. Every array is copied: the
  * caller may free it once the call returns.
  */
@@ -1805,6 +1845,26 @@ translucid_result translucid_material_create(struct translucid_context *context,
  */
 translucid_result translucid_material_destroy(struct translucid_context *context,
                                               struct translucid_material material);
+
+/**
+ * Writes the GPU memory the context holds now, by what it is for.
+ */
+TRANSLUCID_MUST_USE
+translucid_result translucid_context_get_memory_statistics(struct translucid_context *context,
+                                                           struct translucid_memory_statistics *out_statistics);
+
+/**
+ * Gives back the GPU memory no frame in flight uses: the frame targets and working
+ * buffers of the methods' renderers, which a renderer sizes for the largest frame it
+ * drew and never shrinks. Their pipelines are kept, and the assets stay uploaded: the
+ * next frame builds no pipeline, and allocates its buffers anew for its own size (after
+ * a resolution drop, less; buffers that grew for deep frames start where they had
+ * grown). Call it between frames, after a resolution or quality change, or on a level
+ * change. `out_bytes_freed` (may be NULL) receives the bytes given back.
+ */
+TRANSLUCID_MUST_USE
+translucid_result translucid_context_trim(struct translucid_context *context,
+                                          uint64_t *out_bytes_freed);
 
 /**
  * Creates a mesh from `info` (copying every array) and writes its handle to `*out_mesh`.

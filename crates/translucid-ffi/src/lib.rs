@@ -40,6 +40,7 @@ pub mod frame;
 pub mod frame_input;
 pub mod host;
 pub mod material;
+pub mod memory;
 pub mod mesh;
 pub mod method;
 pub mod method_settings;

@@ -25,6 +25,8 @@ pub enum translucid_structure_type {
     DepthPeelingSettings = 12,
     /// `translucid_prepare_info`.
     PrepareInfo = 13,
+    /// `translucid_memory_statistics`.
+    MemoryStatistics = 14,
     /// `translucid_host_device_create_info`, chained to the context create-info.
     HostDeviceCreateInfo = 100,
     /// `translucid_host_requirements`.
@@ -38,7 +40,7 @@ pub enum translucid_structure_type {
 }
 
 impl translucid_structure_type {
-    const ALL: [Self; 18] = [
+    const ALL: [Self; 19] = [
         Self::ContextCreateInfo,
         Self::MeshCreateInfo,
         Self::TextureCreateInfo,
@@ -52,6 +54,7 @@ impl translucid_structure_type {
         Self::LinkedListSettings,
         Self::DepthPeelingSettings,
         Self::PrepareInfo,
+        Self::MemoryStatistics,
         Self::HostDeviceCreateInfo,
         Self::HostRequirements,
         Self::HostFrameTargets,

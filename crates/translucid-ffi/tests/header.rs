@@ -159,7 +159,7 @@ fn functions_are_named_object_verb_what() {
     ];
     const VERBS: &[&str] = &[
         "create", "destroy", "get", "update", "render", "read", "write", "record", "complete",
-        "abandon", "prepare",
+        "abandon", "prepare", "trim",
     ];
     const NAMES_OF_CONSTANTS: &[&str] = &[
         "translucid_version",

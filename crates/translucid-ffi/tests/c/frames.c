@@ -17,6 +17,8 @@
  * 8. Every method in a declared loop (translucid_context_prepare): assets of every kind that
  *    changes a shader variant, streamed in one per frame, then a stack that makes the frames
  *    deep, build no pipeline.
+ * 9. A resolution drop then translucid_context_trim: memory given back, and the next frame
+ *    builds no pipeline and completes right.
  * And first, in the standalone context: an updated mesh draws as one created so.
  */
 #include <math.h>
@@ -1013,6 +1015,66 @@ static void declared_loop(translucid_method method) {
     }
 }
 
+/* The context's GPU memory now, in bytes. */
+static uint64_t memory_of(translucid_context *ctx) {
+    translucid_memory_statistics memory;
+    memset(&memory, 0, sizeof memory);
+    memory.s_type = TRANSLUCID_STRUCTURE_TYPE_MEMORY_STATISTICS;
+    CHECK(ctx, translucid_context_get_memory_statistics(ctx, &memory));
+    TRUE_OR_FAIL(memory.total_bytes == memory.device_local_bytes + memory.per_frame_bytes +
+                                           memory.staging_bytes + memory.readback_bytes);
+    return memory.total_bytes;
+}
+
+/* 9. Frames at the images' size, then at half of it (a dynamic resolution: the renderer keeps
+ * the buffers of the largest), then a trim: memory goes down, and the next half-size frame
+ * builds no pipeline, is not degraded, and holds less memory than before the trim. */
+static void trim_after_a_resolution_drop(translucid_method method) {
+    translucid_context *ctx = host_context(1);
+    scene host;
+    translucid_frame_info info;
+    uint64_t before, freed = 0, after, pipelines;
+    int k, allocated;
+    make_scene(ctx, &host);
+    info = frame_info(&host, QUADS, orbit_camera(0.2f));
+    info.method = method;
+    for (k = 0; k < 3; k++) {
+        slot *s = &g_slots[0];
+        if (k == 1) {
+            info.width = W / 2;
+            info.height = H / 2;
+        }
+        if (k == 2) {
+            before = memory_of(ctx);
+            CHECK(ctx, translucid_context_trim(ctx, &freed));
+            after = memory_of(ctx);
+            if (freed == 0 || after + freed != before) {
+                printf("FAIL method %d: trim freed %llu of %llu bytes, %llu left\n", (int)method,
+                       (unsigned long long)freed, (unsigned long long)before,
+                       (unsigned long long)after);
+            }
+            TRUE_OR_FAIL(freed > 0 && after + freed == before);
+        }
+        begin_commands(s->cmd);
+        record_frame(ctx, s->cmd, s, &info);
+        submit_commands(s->cmd, s->fence);
+        wait_fence(s->fence);
+        CHECK(ctx, translucid_frame_complete(ctx, s->frame));
+        built_by(ctx, s, &pipelines, &allocated);
+        if (k == 2) {
+            after = memory_of(ctx);
+            printf("method %d: %llu bytes at %dx%d, %llu trimmed, %llu at %dx%d after the "
+                   "next frame, which built %llu pipelines\n",
+                   (int)method, (unsigned long long)before, W, H, (unsigned long long)freed,
+                   (unsigned long long)after, W / 2, H / 2, (unsigned long long)pipelines);
+            TRUE_OR_FAIL(pipelines == 0 && after < before);
+        }
+        CHECK(ctx, translucid_frame_destroy(ctx, s->frame));
+        s->busy = 0;
+    }
+    translucid_context_destroy(ctx);
+}
+
 int main(void) {
     static const float forward_bands[3] = {0.3f, 0.75f, 1.0f};
     translucid_host_requirements req;
@@ -1068,6 +1130,9 @@ int main(void) {
             abandon_keeps_what_is_built(methods[n]);
         }
         for (n = 0; n < sizeof methods / sizeof methods[0]; n++) declared_loop(methods[n]);
+        for (n = 0; n < sizeof methods / sizeof methods[0]; n++) {
+            trim_after_a_resolution_drop(methods[n]);
+        }
     }
 
     translucid_context_destroy(g_standalone);

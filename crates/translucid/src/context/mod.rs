@@ -56,6 +56,28 @@ pub struct Context {
     flight: Flight,
     /// The largest frame index of a frame made so far.
     last_frame_index: u64,
+    /// The pipelines alive at the last trim, kept for the renderers made after it.
+    held_pipelines: Option<crate::gpu::HeldPipelines>,
+}
+
+/// The GPU memory a context holds, by what it is for (bytes).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct MemoryUse {
+    /// Device-local: the assets (vertices, textures, materials), the frame targets and the
+    /// methods' working buffers.
+    pub device_local: u64,
+    /// Host-visible, written by the host for each frame (one copy per frame in flight).
+    pub per_frame: u64,
+    /// Host-visible staging of uploads not known to have run yet.
+    pub staging: u64,
+    /// Host-visible memory the GPU writes for the host: counters, timestamps, readbacks.
+    pub readback: u64,
+}
+
+impl MemoryUse {
+    pub fn total(&self) -> u64 {
+        self.device_local + self.per_frame + self.staging + self.readback
+    }
 }
 
 impl Context {
@@ -70,7 +92,36 @@ impl Context {
             frames: Slots::new(Kind::Frame, tag),
             flight: Flight::new(frames_in_flight),
             last_frame_index: 0,
+            held_pipelines: None,
         }
+    }
+
+    /// The GPU memory the context holds now, by what it is for.
+    pub fn memory(&self) -> MemoryUse {
+        use crate::gpu::MemoryRole;
+        let mut used = MemoryUse::default();
+        for a in self.gpu.allocations() {
+            let bytes = match a.role {
+                MemoryRole::PerFrame => &mut used.per_frame,
+                MemoryRole::Staging => &mut used.staging,
+                MemoryRole::Resource if a.host_visible() => &mut used.readback,
+                MemoryRole::Resource => &mut used.device_local,
+            };
+            *bytes += a.bytes;
+        }
+        used
+    }
+
+    /// Frees what no frame in flight uses: the renderers idle now, with their frame targets
+    /// and working buffers, sized for the largest frame each drew. Their pipelines and what
+    /// their buffers learned are kept, and the assets stay uploaded: the next frame builds
+    /// no pipeline, and allocates its buffers anew for its own size (after a resolution
+    /// drop, less). Returns the bytes freed.
+    pub fn trim(&mut self) -> u64 {
+        let before = self.memory().total();
+        self.held_pipelines = Some(self.gpu.hold_pipelines());
+        self.renderers.free_idle();
+        before.saturating_sub(self.memory().total())
     }
 
     pub fn gpu(&self) -> &Gpu {

@@ -88,6 +88,8 @@ pub struct Kept {
     /// A completion failed: the core renderer must not be asked again.
     pub failed: bool,
     last_used: u64,
+    /// The options it was made with (its settings, and what earlier ones learned).
+    made_with: MethodOptions,
 }
 
 /// Destroyed assets the uploads still hold, by handle: a scene over the uploads keeps them
@@ -137,6 +139,9 @@ pub struct Renderers {
     frames_in_flight: u32,
     /// What the engine declared its frames may draw: every renderer's shaders cover it.
     declared: DeclaredContent,
+    /// What the renderers freed by a trim learned (buffer sizes, passes), by their settings:
+    /// the next ones with those settings start there.
+    learned: HashMap<SettingsKey, MethodOptions>,
 }
 
 impl Renderers {
@@ -148,6 +153,7 @@ impl Renderers {
             uses: 0,
             frames_in_flight,
             declared: DeclaredContent::default(),
+            learned: HashMap::new(),
         }
     }
 
@@ -234,7 +240,12 @@ impl Renderers {
                     .filter(|k| k.key == request.key)
                     .max_by_key(|k| k.last_used)
                     .map_or_else(
-                        || request.options.clone(),
+                        || {
+                            self.learned
+                                .get(&request.key)
+                                .cloned()
+                                .unwrap_or_else(|| request.options.clone())
+                        },
                         |k| k.renderer.learned_options(&request.options),
                     );
                 options.bins.declared = self.declared;
@@ -275,6 +286,7 @@ impl Renderers {
                     usable: true,
                     failed: false,
                     last_used: self.uses,
+                    made_with: options,
                 });
                 self.next_id += 1;
                 self.free_unused(Some(MAX_RENDERERS));
@@ -408,6 +420,17 @@ impl Renderers {
             }
         }
         self.free_unused(None);
+    }
+
+    /// Frees every renderer no frame in flight uses (their frame targets and working
+    /// buffers), keeping what they learned for the next ones with their settings. The
+    /// assets stay uploaded.
+    pub fn free_idle(&mut self) {
+        for k in self.kept.iter().filter(|k| k.in_flight == 0 && !k.failed) {
+            self.learned
+                .insert(k.key.clone(), k.renderer.learned_options(&k.made_with));
+        }
+        self.kept.retain(|k| k.in_flight > 0);
     }
 
     /// Makes the renderer take no new frame (freed once no frame in flight uses it).

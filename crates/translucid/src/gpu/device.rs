@@ -755,6 +755,15 @@ impl Shared {
         self.memory.reset_peak();
     }
 
+    /// Holds every pipeline alive on the device now, so that renderers made after the ones
+    /// holding them are gone still find them (a context's trim keeps them so).
+    pub fn hold_pipelines(&self) -> HeldPipelines {
+        HeldPipelines {
+            _compute: self.compute_pipelines.live(),
+            _graphics: self.graphics_pipelines.live(),
+        }
+    }
+
     /// Pipelines created on this device so far (compute and graphics).
     pub fn pipelines_created(&self) -> u64 {
         self.pipelines_created.load(Ordering::Relaxed)
@@ -995,4 +1004,10 @@ impl Drop for Shared {
             self.instance.destroy_instance(None);
         }
     }
+}
+
+/// Pipelines kept alive by [`Gpu::hold_pipelines`].
+pub struct HeldPipelines {
+    _compute: Vec<Arc<super::ComputePipeline>>,
+    _graphics: Vec<Arc<super::GraphicsPipeline>>,
 }

@@ -53,7 +53,7 @@ pub use commands::{
     COMPUTE_WRITE, HOST_READ, TRANSFER_WRITE,
 };
 pub use device::{
-    list_devices, software_sampling_asked, DeviceInfo, Gpu, GpuOptions, Shared,
+    list_devices, software_sampling_asked, DeviceInfo, Gpu, GpuOptions, HeldPipelines, Shared,
     CPU_DRIVER_LOOP_BUDGET, GPU_LOOP_BUDGET,
 };
 pub use engine_images::{EngineImages, ENGINE_COLOUR_FORMAT};

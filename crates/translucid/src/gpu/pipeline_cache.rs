@@ -55,6 +55,12 @@ impl<K: Eq + std::hash::Hash, P> SharedPipelines<K, P> {
         map.get(key).and_then(Weak::upgrade)
     }
 
+    /// Every pipeline alive now.
+    pub(crate) fn live(&self) -> Vec<Arc<P>> {
+        let map = self.0.lock().unwrap_or_else(|e| e.into_inner());
+        map.values().filter_map(Weak::upgrade).collect()
+    }
+
     pub(crate) fn insert(&self, key: K, pipeline: &Arc<P>) {
         let mut map = self.0.lock().unwrap_or_else(|e| e.into_inner());
         map.retain(|_, p| p.strong_count() > 0);

@@ -1,0 +1,91 @@
+//! The GPU memory a context holds, and giving back what no frame in flight uses. Exports
+//! `translucid_context_get_memory_statistics` and `translucid_context_trim`.
+
+use crate::cast::{translucid_context, try_out, try_out_structure, OutStructure};
+use crate::panic;
+use crate::result::translucid_result;
+use crate::structure::translucid_structure_type;
+use std::ffi::c_void;
+
+/// The GPU memory a context holds now, in bytes, by what it is for. Zero-initialise it, set
+/// `s_type`, and pass it to `translucid_context_get_memory_statistics`.
+#[allow(non_camel_case_types)]
+#[repr(C)]
+pub struct translucid_memory_statistics {
+    /// `TRANSLUCID_STRUCTURE_TYPE_MEMORY_STATISTICS`.
+    pub s_type: u32,
+    /// NULL.
+    pub next: *mut c_void,
+    /// Device-local: the assets (vertices, textures, materials), the frame targets and the
+    /// methods' working buffers, each sized for the largest frame its renderer drew.
+    pub device_local_bytes: u64,
+    /// Host-visible, written for each frame (one copy per frame in flight).
+    pub per_frame_bytes: u64,
+    /// Host-visible staging of uploads whose frames have not completed yet.
+    pub staging_bytes: u64,
+    /// Host-visible memory the GPU writes for the host: counters, timestamps, readbacks.
+    pub readback_bytes: u64,
+    /// All of it.
+    pub total_bytes: u64,
+}
+
+impl OutStructure for translucid_memory_statistics {
+    const TYPE: translucid_structure_type = translucid_structure_type::MemoryStatistics;
+    const NAME: &'static str = "translucid_memory_statistics";
+    unsafe fn header(ptr: *const Self) -> (u32, *mut c_void) {
+        // SAFETY: the trait's contract; only the two fields are read.
+        unsafe {
+            (
+                std::ptr::addr_of!((*ptr).s_type).read(),
+                std::ptr::addr_of!((*ptr).next).read(),
+            )
+        }
+    }
+}
+
+impl translucid_memory_statistics {
+    /// Writes the GPU memory the context holds now, by what it is for.
+    #[no_mangle]
+    #[must_use]
+    pub extern "C" fn translucid_context_get_memory_statistics(
+        context: *mut translucid_context,
+        out_statistics: *mut translucid_memory_statistics,
+    ) -> translucid_result {
+        panic::with_context(context, |objects| {
+            let ((s_type, next), out) = try_out_structure(out_statistics, "out_statistics")?;
+            let used = objects.core.memory();
+            out.write(translucid_memory_statistics {
+                s_type,
+                next,
+                device_local_bytes: used.device_local,
+                per_frame_bytes: used.per_frame,
+                staging_bytes: used.staging,
+                readback_bytes: used.readback,
+                total_bytes: used.total(),
+            });
+            Ok(translucid_result::Success)
+        })
+    }
+
+    /// Gives back the GPU memory no frame in flight uses: the frame targets and working
+    /// buffers of the methods' renderers, which a renderer sizes for the largest frame it
+    /// drew and never shrinks. Their pipelines are kept, and the assets stay uploaded: the
+    /// next frame builds no pipeline, and allocates its buffers anew for its own size (after
+    /// a resolution drop, less; buffers that grew for deep frames start where they had
+    /// grown). Call it between frames, after a resolution or quality change, or on a level
+    /// change. `out_bytes_freed` (may be NULL) receives the bytes given back.
+    #[no_mangle]
+    #[must_use]
+    pub extern "C" fn translucid_context_trim(
+        context: *mut translucid_context,
+        out_bytes_freed: *mut u64,
+    ) -> translucid_result {
+        panic::with_context(context, |objects| {
+            let freed = objects.core.trim();
+            if !out_bytes_freed.is_null() {
+                try_out(out_bytes_freed, "out_bytes_freed")?.write(freed);
+            }
+            Ok(translucid_result::Success)
+        })
+    }
+}
