@@ -321,6 +321,35 @@ public:
                       "translucid_material_create");
         return Material(context_, material);
     }
+    /// Declares what the loop's frames may draw (TRANSLUCID_CONTENT_* bits) and builds now
+    /// every pipeline frames like `frame` need (translucid_context_prepare); returns how many
+    /// it built.
+    std::uint64_t prepare(translucid_frame_info frame, std::uint32_t content) {
+        frame.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_INFO;
+        translucid_prepare_info info{};
+        info.s_type = TRANSLUCID_STRUCTURE_TYPE_PREPARE_INFO;
+        info.frame = &frame;
+        info.content = content;
+        std::uint64_t built = 0;
+        detail::check(translucid_context_prepare(get(), &info, &built), get(),
+                      "translucid_context_prepare");
+        return built;
+    }
+    /// The GPU memory the context holds, by kind (translucid_context_get_memory_statistics).
+    translucid_memory_statistics memory_statistics() const {
+        translucid_memory_statistics memory{};
+        memory.s_type = TRANSLUCID_STRUCTURE_TYPE_MEMORY_STATISTICS;
+        detail::check(translucid_context_get_memory_statistics(get(), &memory), get(),
+                      "translucid_context_get_memory_statistics");
+        return memory;
+    }
+    /// Gives back what no frame in flight uses (translucid_context_trim); the bytes freed.
+    std::uint64_t trim() {
+        std::uint64_t freed = 0;
+        detail::check(translucid_context_trim(get(), &freed), get(), "translucid_context_trim");
+        return freed;
+    }
+
     /// Renders one frame. Method settings are chained to `info.next` as in C
     /// (`translucid_wavelet_settings` and the like; without one, a method takes its defaults).
     Frame render(translucid_frame_info info) {

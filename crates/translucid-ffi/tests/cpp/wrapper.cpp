@@ -67,6 +67,19 @@ int main() {
             kept = std::move(frame);  // outlives the Context wrapper below
         }
 
+        // A declared loop, the memory it holds, and a trim that keeps its pipelines.
+        {
+            frame_info.method = TRANSLUCID_METHOD_EXACT;
+            EXPECT(context.prepare(frame_info, TRANSLUCID_CONTENT_ALL) > 0);
+            context.render(frame_info);  // builds its own opaque pass, the first time
+            EXPECT(context.render(frame_info).statistics().pipelines_created == 0);
+            const translucid_memory_statistics memory = context.memory_statistics();
+            EXPECT(memory.device_local_bytes > 0 && memory.total_bytes >= memory.device_local_bytes);
+            EXPECT(context.trim() > 0);
+            EXPECT(context.memory_statistics().total_bytes < memory.total_bytes);
+            EXPECT(context.render(frame_info).statistics().pipelines_created == 0);
+        }
+
         // A mesh moved by update() draws where it was moved: off screen, the pixel is clear.
         {
             static const float away[] = {20, 20, -2, 30, 20, -2, 30, 30, -2, 20, 30, -2};
