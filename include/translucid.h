@@ -94,9 +94,10 @@
 #define TRANSLUCID_CONTEXT_CREATE_SOFTWARE_SAMPLING 8
 
 /**
- * Most frames in flight a host-device context takes.
+ * Most frames in flight a host-device context takes: the engine's frames in flight times the
+ * views it records in each (4 frames of 4 views, 3 frames of stereo with the yardstick).
  */
-#define TRANSLUCID_MAX_FRAMES_IN_FLIGHT 4
+#define TRANSLUCID_MAX_FRAMES_IN_FLIGHT 16
 
 /**
  * Most live objects of one kind (meshes, textures, materials or frames) in one context.

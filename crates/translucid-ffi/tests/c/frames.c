@@ -19,6 +19,9 @@
  *    deep, build no pipeline.
  * 9. A resolution drop then translucid_context_trim: memory given back, and the next frame
  *    builds no pipeline and completes right.
+ * 10. Stereo with 3 frames in flight: each frame's two views (cameras) recorded into one
+ *    command buffer over their own images, 6 frames in flight, each view as the standalone
+ *    context renders it alone, and no pipeline built past the first frame.
  * And first, in the standalone context: an updated mesh draws as one created so.
  */
 #include <math.h>
@@ -28,6 +31,9 @@
 #define W 48
 #define H 36
 #define MOST_IN_FLIGHT 3
+/* Stereo: each frame in flight records two views, each into its own slot's images. */
+#define VIEWS 2
+#define SLOTS (MOST_IN_FLIGHT * VIEWS)
 #define FRAMES 9
 #define COLOUR_BYTES (W * H * 4)
 #define DEPTH_BYTES (W * H * 4)
@@ -49,7 +55,7 @@ typedef struct slot {
 } slot;
 
 static VkCommandPool g_pool;
-static slot g_slots[MOST_IN_FLIGHT];
+static slot g_slots[SLOTS];
 
 static void create_slot(slot *s) {
     VkCommandBufferAllocateInfo alloc;
@@ -1075,6 +1081,55 @@ static void trim_after_a_resolution_drop(translucid_method method) {
     translucid_context_destroy(ctx);
 }
 
+/* 10. Stereo, 3 frames in flight: frame k records its left and right views into slots
+ * 2 (k % 3) and 2 (k % 3) + 1, in the left slot's command buffer; when the engine comes back
+ * to them, it waits, completes the right view (which completes the left, recorded first)
+ * and checks both against the standalone context's single-view frames. */
+static void stereo_in_flight(void) {
+    translucid_context *ctx = host_context(MOST_IN_FLIGHT * VIEWS);
+    scene host, standalone;
+    int k, v, allocated;
+    uint64_t pipelines;
+    char what[64];
+    make_scene(ctx, &host);
+    make_scene(g_standalone, &standalone);
+    for (k = 0; k < FRAMES + MOST_IN_FLIGHT; k++) {
+        slot *views = &g_slots[(k % MOST_IN_FLIGHT) * VIEWS];
+        if (views[0].busy) {
+            int done = k - MOST_IN_FLIGHT;
+            wait_fence(views[0].fence);
+            CHECK(ctx, translucid_frame_complete(ctx, views[VIEWS - 1].frame));
+            for (v = 0; v < VIEWS; v++) {
+                built_by(ctx, &views[v], &pipelines, &allocated);
+                if (done > 0 && pipelines != 0) {
+                    printf("FAIL stereo frame %d, view %d: %llu pipelines built\n", done, v,
+                           (unsigned long long)pipelines);
+                }
+                TRUE_OR_FAIL(done == 0 || pipelines == 0);
+                snprintf(what, sizeof what, "stereo frame %d, view %d", done, v);
+                compare(ctx, &views[v], what);
+            }
+        }
+        if (k >= FRAMES) continue;
+        move_scene(ctx, &host, &standalone, k);
+        begin_commands(views[0].cmd);
+        for (v = 0; v < VIEWS; v++) {
+            /* Eyes 6 cm apart, turning with the frame. */
+            translucid_frame_info info =
+                frame_info(&host, QUADS, orbit_camera(0.1f * (float)k + (v ? 0.03f : -0.03f)));
+            info.camera.z_near = 0.5f;
+            info.frame_index = (uint64_t)k + 1;
+            render_expected(info, &standalone, views[v].expected);
+            record_frame(ctx, views[0].cmd, &views[v], &info);
+        }
+        submit_commands(views[0].cmd, views[0].fence);
+    }
+    printf("stereo: %d frames of %d views, %d frames in flight, as the standalone context "
+           "renders each view\n",
+           FRAMES, VIEWS, MOST_IN_FLIGHT);
+    translucid_context_destroy(ctx);
+}
+
 int main(void) {
     static const float forward_bands[3] = {0.3f, 0.75f, 1.0f};
     translucid_host_requirements req;
@@ -1104,7 +1159,7 @@ int main(void) {
     pool.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
     pool.queueFamilyIndex = g_family;
     VK_CHECK(vkCreateCommandPool(g_device, &pool, NULL, &g_pool));
-    for (n = 0; n < MOST_IN_FLIGHT; n++) create_slot(&g_slots[n]);
+    for (n = 0; n < SLOTS; n++) create_slot(&g_slots[n]);
 
     memset(&info, 0, sizeof info);
     info.s_type = TRANSLUCID_STRUCTURE_TYPE_CONTEXT_CREATE_INFO;
@@ -1116,6 +1171,7 @@ int main(void) {
     frame_loop(2);
     frame_loop(3);
     two_views();
+    stereo_in_flight();
     engine_projection();
     destroy_in_flight();
     depth_formats();
@@ -1136,7 +1192,7 @@ int main(void) {
     }
 
     translucid_context_destroy(g_standalone);
-    for (n = 0; n < MOST_IN_FLIGHT; n++) destroy_slot(&g_slots[n]);
+    for (n = 0; n < SLOTS; n++) destroy_slot(&g_slots[n]);
     vkDestroyCommandPool(g_device, g_pool, NULL);
     destroy_engine();
     printf("frames: %d checks passed, %d failed, %d validation messages\n", g_passed, g_failed,

@@ -217,8 +217,11 @@ pub struct FrameShape {
     pub frames_in_flight: u32,
 }
 
-/// The most frames an engine may keep recorded and not completed on one renderer.
-pub const MAX_FRAMES_IN_FLIGHT: u32 = 4;
+/// The most frames an engine may keep recorded and not completed on one renderer: its frames
+/// in flight times the views each records (4 frames of 4 views, or 3 frames of stereo with
+/// the yardstick beside each eye). Each costs a slot of per-frame data (the frame's and its
+/// draws' constants, timestamps, counters); the working buffers are shared.
+pub const MAX_FRAMES_IN_FLIGHT: u32 = 16;
 
 /// Submits a frame again at most this many times: rendered again when buffers overflow or
 /// a method must change its passes (buffers grow to at least what the GPU counted, so once
