@@ -1,8 +1,11 @@
 /*
  * translucid in an engine's frame loop (host-device mode): the engine owns the Vulkan
- * instance, device, images and command buffers, keeps 2 frames in flight, and each frame
- * moves its camera, sways a cloud of particles (translucid_mesh_update) and turns three glass
- * panes; halfway through, a fourth pane is streamed in (a mesh and a material created, and
+ * instance, device, images and command buffers, keeps 3 frames in flight, draws each in
+ * stereo (a left and a right view, each into its own images, both recorded into the frame's
+ * command buffer), and each frame moves its camera, sways a cloud of particles
+ * (translucid_mesh_update) and turns three glass panes; at load time it prepares what the
+ * loop needs (translucid_context_prepare), so that no frame past the first builds a
+ * pipeline; halfway through, a fourth pane is streamed in (a mesh and a material created, and
  * drawn from then on), and in the last quarter a dynamic resolution renders the frames at 70
  * to 90 % of the images' size (translucid draws their top-left corner). translucid records
  * the transparent pass into the engine's command buffer; the engine submits, and completes
@@ -12,14 +15,15 @@
  *
  * DRAWS adds that many small moving panes, one draw each (a draw-call-heavy frame).
  *
- * Before each frame, the engine draws the same transparent draws its own way, unsorted blending
+ * Before each view, the engine draws the same transparent draws its own way, unsorted blending
  * straight into its images (translucid_frame_record_native_blend, the yardstick), then clears
  * them again: each frame's GPU time over the yardstick's is what translucid costs next to the
  * engine's own blend.
  *
  * For exact and blend it prints each frame's CPU time in translucid_frame_record, its GPU
- * time and its ratio to the yardstick's, the loop's wall time per frame, and writes the last frame as
- * OUTPUT_DIR/frame_loop-<method>.png (read back by the engine).
+ * time and its ratio to the yardstick's (both views), what it built, the loop's wall time per
+ * frame, and writes the last frame's left view as OUTPUT_DIR/frame_loop-<method>.png (read
+ * back by the engine).
  *
  * The engine (its instance, device, images, buffers and submissions) is engine.c, which the
  * C API's host-device tests run on too. With TRANSLUCID_VALIDATION=1 its instance runs the
@@ -37,7 +41,9 @@
 
 #define WIDTH 480
 #define HEIGHT 270
-#define IN_FLIGHT 2
+#define IN_FLIGHT 3
+/* Stereo: each frame draws a left and a right view, each into its own images. */
+#define VIEWS 2
 #define PARTICLES 96
 #define PIXEL_BYTES (WIDTH * HEIGHT * 4)
 
@@ -62,10 +68,8 @@ static double now_ms(void) {
 
 static VkCommandPool g_pool;
 
-/* One frame in flight: its command buffer, fence, images and readback. */
-typedef struct frame_slot {
-    VkCommandBuffer cmd;
-    VkFence fence;
+/* One view of a frame: its images, readback and translucid's frames. */
+typedef struct view {
     VkImage colour, depth;
     VkDeviceMemory colour_memory, depth_memory, readback_memory;
     VkBuffer readback;
@@ -73,6 +77,13 @@ typedef struct frame_slot {
     translucid_frame frame;
     /* The yardstick's frame, recorded before `frame` into the same command buffer. */
     translucid_frame native;
+} view;
+
+/* One frame in flight: its command buffer, fence and views. */
+typedef struct frame_slot {
+    VkCommandBuffer cmd;
+    VkFence fence;
+    view views[VIEWS];
     int in_flight;
     double record_ms;
 } frame_slot;
@@ -98,7 +109,7 @@ static void create_slots(void) {
     VkCommandBufferAllocateInfo alloc;
     VkFenceCreateInfo fence;
     VkImageUsageFlags transfer = VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
-    int i;
+    int i, v;
 
     memset(&pool, 0, sizeof pool);
     pool.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO;
@@ -116,30 +127,37 @@ static void create_slots(void) {
         memset(&fence, 0, sizeof fence);
         fence.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO;
         VK_CHECK(vkCreateFence(g_device, &fence, NULL, &s->fence));
-        s->colour = create_image(VK_FORMAT_R8G8B8A8_SRGB,
-                                 transfer | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT, WIDTH, HEIGHT);
-        s->colour_memory = bind_image(s->colour);
-        /* Sampled: exact reads it where it is, as it blends onto the colour. */
-        s->depth = create_image(VK_FORMAT_D32_SFLOAT,
-                                transfer | VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT |
-                                    VK_IMAGE_USAGE_SAMPLED_BIT,
-                                WIDTH, HEIGHT);
-        s->depth_memory = bind_image(s->depth);
-        s->readback = create_host_buffer(PIXEL_BYTES, &s->readback_memory, &s->pixels);
+        for (v = 0; v < VIEWS; v++) {
+            view *e = &s->views[v];
+            e->colour = create_image(VK_FORMAT_R8G8B8A8_SRGB,
+                                     transfer | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT, WIDTH,
+                                     HEIGHT);
+            e->colour_memory = bind_image(e->colour);
+            /* Sampled: exact reads it where it is, as it blends onto the colour. */
+            e->depth = create_image(VK_FORMAT_D32_SFLOAT,
+                                    transfer | VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT |
+                                        VK_IMAGE_USAGE_SAMPLED_BIT,
+                                    WIDTH, HEIGHT);
+            e->depth_memory = bind_image(e->depth);
+            e->readback = create_host_buffer(PIXEL_BYTES, &e->readback_memory, &e->pixels);
+        }
         s->in_flight = 0;
     }
 }
 
 static void destroy_slots(void) {
-    int i;
+    int i, v;
     for (i = 0; i < IN_FLIGHT; i++) {
         frame_slot *s = &g_slots[i];
-        vkDestroyBuffer(g_device, s->readback, NULL);
-        vkFreeMemory(g_device, s->readback_memory, NULL);
-        vkDestroyImage(g_device, s->colour, NULL);
-        vkFreeMemory(g_device, s->colour_memory, NULL);
-        vkDestroyImage(g_device, s->depth, NULL);
-        vkFreeMemory(g_device, s->depth_memory, NULL);
+        for (v = 0; v < VIEWS; v++) {
+            view *e = &s->views[v];
+            vkDestroyBuffer(g_device, e->readback, NULL);
+            vkFreeMemory(g_device, e->readback_memory, NULL);
+            vkDestroyImage(g_device, e->colour, NULL);
+            vkFreeMemory(g_device, e->colour_memory, NULL);
+            vkDestroyImage(g_device, e->depth, NULL);
+            vkFreeMemory(g_device, e->depth_memory, NULL);
+        }
         vkDestroyFence(g_device, s->fence, NULL);
     }
     vkDestroyCommandPool(g_device, g_pool, NULL);
@@ -153,7 +171,7 @@ static void transition(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags as
 }
 
 /* The engine's opaque pass, here a clear: a dark sky, nothing in the way. */
-static void record_opaque(VkCommandBuffer cmd, const frame_slot *s) {
+static void record_opaque(VkCommandBuffer cmd, const view *s) {
     VkClearColorValue sky;
     VkClearDepthStencilValue far;
     VkImageSubresourceRange colour, depth;
@@ -434,35 +452,51 @@ static double median(double *v, int n) {
     return v[n / 2];
 }
 
-/* Ends the frame in flight in `s`: waits for its fence, completes it (and the yardstick's
- * before it), prints its times; its GPU time and its ratio to the yardstick's. */
+/* Ends the frame in flight in `s`: waits for its fence, completes its last view (and so the
+ * views and yardsticks recorded before it), prints its times (both views together); its GPU
+ * time and its ratio to the yardsticks'. */
 static void finish(frame_slot *s, int k, double *gpu_ms, double *ratio) {
     translucid_frame_statistics stats, native;
-    translucid_result done;
+    translucid_result done, degraded = TRANSLUCID_RESULT_SUCCESS;
+    double method_ms = 0.0, native_ms = 0.0, translucid_ms = 0.0;
+    uint64_t dispatches = 0, pipelines = 0, bytes = 0;
+    int v;
     wait_fence(s->fence);
-    done = translucid_frame_complete(g_context, s->frame);
-    CHECK(done);
-    memset(&stats, 0, sizeof stats);
-    stats.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_STATISTICS;
-    CHECK(translucid_frame_get_statistics(g_context, s->frame, &stats));
-    memset(&native, 0, sizeof native);
-    native.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_STATISTICS;
-    CHECK(translucid_frame_get_statistics(g_context, s->native, &native));
-    *gpu_ms = stats.gpu_milliseconds;
-    *ratio = stats.gpu_milliseconds / native.gpu_milliseconds;
+    for (v = VIEWS - 1; v >= 0; v--) {
+        done = translucid_frame_complete(g_context, s->views[v].frame);
+        /* The last view's completion completed the first's: it is not in flight any more. */
+        if (v == VIEWS - 1) CHECK(done);
+        if (done == TRANSLUCID_RESULT_FRAME_DEGRADED) degraded = done;
+    }
+    for (v = 0; v < VIEWS; v++) {
+        memset(&stats, 0, sizeof stats);
+        stats.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_STATISTICS;
+        CHECK(translucid_frame_get_statistics(g_context, s->views[v].frame, &stats));
+        memset(&native, 0, sizeof native);
+        native.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_STATISTICS;
+        CHECK(translucid_frame_get_statistics(g_context, s->views[v].native, &native));
+        degraded = stats.overflowed ? TRANSLUCID_RESULT_FRAME_DEGRADED : degraded;
+        translucid_ms += stats.gpu_milliseconds;
+        method_ms += stats.method_milliseconds;
+        native_ms += native.gpu_milliseconds;
+        dispatches += stats.dispatches;
+        pipelines += stats.pipelines_created;
+        bytes += stats.bytes_allocated;
+        CHECK(translucid_frame_destroy(g_context, s->views[v].native));
+        CHECK(translucid_frame_destroy(g_context, s->views[v].frame));
+    }
+    *gpu_ms = translucid_ms;
+    *ratio = translucid_ms / native_ms;
     printf("  frame %3d: record %.3f ms (CPU), GPU %.3f ms (method %.3f, %llu dispatches), x%.2f "
            "the engine's blend (%.3f ms)%s",
-           k, s->record_ms, stats.gpu_milliseconds, stats.method_milliseconds,
-           (unsigned long long)stats.dispatches, *ratio, native.gpu_milliseconds,
-           done == TRANSLUCID_RESULT_FRAME_DEGRADED ? ", past a limit: see the README" : "");
-    /* What recording it built: the first frames' pipelines and buffers, uploads. */
-    if (stats.pipelines_created != 0 || stats.bytes_allocated != 0) {
-        printf(", built %llu pipelines and %.1f KB of GPU memory",
-               (unsigned long long)stats.pipelines_created, stats.bytes_allocated / 1024.0);
-    }
+           k, s->record_ms, translucid_ms, method_ms, (unsigned long long)dispatches, *ratio,
+           native_ms,
+           degraded == TRANSLUCID_RESULT_FRAME_DEGRADED ? ", past a limit: see the README" : "");
+    /* What its recording and completion built: the first frame's pipelines; buffers and
+     * uploads (the first frames', the streamed pane's). */
+    if (pipelines != 0) printf(", built %llu pipelines", (unsigned long long)pipelines);
+    if (bytes != 0) printf(", allocated %.1f KB of GPU memory", bytes / 1024.0);
     printf("\n");
-    CHECK(translucid_frame_destroy(g_context, s->native));
-    CHECK(translucid_frame_destroy(g_context, s->frame));
     s->in_flight = 0;
 }
 
@@ -482,15 +516,15 @@ static void run(uint32_t method, int frames, uint32_t extra_draws, const char *p
     double *wall = malloc(sizeof(double) * (size_t)frames);
     double *ratio = malloc(sizeof(double) * (size_t)frames);
     double last = now_ms();
-    int k;
+    int k, v;
     if (record == NULL || gpu == NULL || wall == NULL || ratio == NULL) exit(1);
     make_scene(&sc, extra_draws);
     for (k = 4; k < (int)sc.draw_count; k++) {
         sc.draws[k].mesh = sc.pane;
         sc.draws[k].material = sc.glass[k % 3];
     }
-    printf("%s, %d frames at %dx%d, %u draws, %d in flight:\n", translucid_method_name(method),
-           frames, WIDTH, HEIGHT, sc.draw_count, IN_FLIGHT);
+    printf("%s, %d stereo frames at %dx%d a view, %u draws, %d in flight:\n",
+           translucid_method_name(method), frames, WIDTH, HEIGHT, sc.draw_count, IN_FLIGHT);
     {
         /* At load time, what the loop needs is built: no frame compiles a shader, the
          * streamed pane's included. The panes and particles are unlit and untextured, one
@@ -540,45 +574,52 @@ static void run(uint32_t method, int frames, uint32_t extra_draws, const char *p
         info.method = method;
         info.width = (uint32_t)(WIDTH * render_scale(k, frames));
         info.height = (uint32_t)(HEIGHT * render_scale(k, frames));
-        info.camera = orbit_camera(k);
         info.draws = sc.draws;
         info.draw_count = sc.draw_count;
 
         begin_commands(s->cmd);
-        record_opaque(s->cmd, s);
-        memset(&targets, 0, sizeof targets);
-        targets.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_FRAME_TARGETS;
-        targets.command_buffer = s->cmd;
-        targets.colour.image = s->colour;
-        targets.colour.format = VK_FORMAT_R8G8B8A8_SRGB;
-        targets.colour.width = targets.depth.width = WIDTH;
-        targets.colour.height = targets.depth.height = HEIGHT;
-        targets.colour.layout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
-        targets.colour.final_layout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
-        targets.depth.image = s->depth;
-        targets.depth.format = VK_FORMAT_D32_SFLOAT;
-        targets.depth.layout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
-        targets.depth.final_layout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
-        /* The yardstick: the engine's own blend of the same draws, then its opaque pass again. */
-        CHECK(translucid_frame_record_native_blend(g_context, &info, &targets, &s->native));
-        record_opaque(s->cmd, s);
-        started = now_ms();
-        CHECK(translucid_frame_record(g_context, &info, &targets, &s->frame));
-        s->record_ms = now_ms() - started;
-        record[k] = s->record_ms;
-        if (k == frames - 1) {
-            /* The engine reads its last frame back (translucid left it in TRANSFER_SRC). */
-            VkBufferImageCopy copy = region(VK_IMAGE_ASPECT_COLOR_BIT, 0, WIDTH, HEIGHT);
-            vkCmdCopyImageToBuffer(s->cmd, s->colour, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                                   s->readback, 1, &copy);
+        s->record_ms = 0.0;
+        for (v = 0; v < VIEWS; v++) {
+            view *e = &s->views[v];
+            /* The eyes 6.4 cm apart. */
+            info.camera = orbit_camera(k);
+            info.camera.view[12] += v == 0 ? 0.032f : -0.032f;
+            record_opaque(s->cmd, e);
+            memset(&targets, 0, sizeof targets);
+            targets.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_FRAME_TARGETS;
+            targets.command_buffer = s->cmd;
+            targets.colour.image = e->colour;
+            targets.colour.format = VK_FORMAT_R8G8B8A8_SRGB;
+            targets.colour.width = targets.depth.width = WIDTH;
+            targets.colour.height = targets.depth.height = HEIGHT;
+            targets.colour.layout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+            targets.colour.final_layout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+            targets.depth.image = e->depth;
+            targets.depth.format = VK_FORMAT_D32_SFLOAT;
+            targets.depth.layout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+            targets.depth.final_layout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
+            /* The yardstick: the engine's own blend of the same draws, then its opaque pass
+             * again. */
+            CHECK(translucid_frame_record_native_blend(g_context, &info, &targets, &e->native));
+            record_opaque(s->cmd, e);
+            started = now_ms();
+            CHECK(translucid_frame_record(g_context, &info, &targets, &e->frame));
+            s->record_ms += now_ms() - started;
+            if (k == frames - 1) {
+                /* The engine reads its last frame back (translucid left it in TRANSFER_SRC). */
+                VkBufferImageCopy copy = region(VK_IMAGE_ASPECT_COLOR_BIT, 0, WIDTH, HEIGHT);
+                vkCmdCopyImageToBuffer(s->cmd, e->colour, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                                       e->readback, 1, &copy);
+            }
         }
+        record[k] = s->record_ms;
         submit_commands(s->cmd, s->fence);
         s->in_flight = 1;
         wall[k] = now_ms() - last;
         last = now_ms();
     }
     /* The readback's memory is host-coherent and the fence was waited for. */
-    write_png(png, g_slots[(frames - 1) % IN_FLIGHT].pixels);
+    write_png(png, g_slots[(frames - 1) % IN_FLIGHT].views[0].pixels);
     printf("%s: median record %.3f ms (CPU), GPU %.3f ms (x%.2f the engine's blend), wall %.3f "
            "ms a frame; wrote %s\n",
            translucid_method_name(method), median(record, frames), median(gpu, frames),
@@ -610,8 +651,9 @@ int main(int argc, char **argv) {
     info.header_version = TRANSLUCID_HEADER_VERSION;
     info.mode = TRANSLUCID_CONTEXT_MODE_HOST_DEVICE;
     info.next = &host;
-    /* Each engine frame records two of translucid's: the yardstick's and the method's. */
-    info.frames_in_flight = 2 * IN_FLIGHT;
+    /* Each engine frame records four of translucid's: per view, the yardstick's and the
+     * method's. */
+    info.frames_in_flight = 2 * VIEWS * IN_FLIGHT;
     CHECK(translucid_context_create(&info, &g_context));
     printf("translucid %s on %s\n", translucid_version_string(),
            translucid_context_get_device_name(g_context));

@@ -224,6 +224,17 @@ fn c_programs_pass_with_validation() {
                     && !output.contains("Validation Error"),
                 "{output}"
             );
+            // The loop was prepared: in stereo with 3 frames in flight, no frame past the first
+            // builds a pipeline, the streamed pane's and the resized ones included.
+            let frames: Vec<&str> = output
+                .lines()
+                .filter(|l| l.trim_start().starts_with("frame") && l.contains("record"))
+                .collect();
+            assert!(frames.len() > 4, "{output}");
+            for line in frames.iter().filter(|l| !l.contains("frame   0:")) {
+                assert!(!line.contains("pipelines"), "{line}\n{output}");
+            }
+            assert!(output.contains("stereo frames"), "{output}");
             // The frames of the dynamic resolution build and allocate nothing.
             let resized = output.split("a dynamic resolution from here on").skip(1);
             assert_eq!(resized.clone().count(), 2, "{output}");
