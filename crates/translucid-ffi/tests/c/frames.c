@@ -264,6 +264,16 @@ static void record_frame(translucid_context *ctx, VkCommandBuffer cmd, slot *s,
 
 
 
+/* Records the slot's whole frame in its own command buffer, submits it, waits for it and
+ * completes it. */
+static void run_frame(translucid_context *ctx, slot *s, const translucid_frame_info *info) {
+    begin_commands(s->cmd);
+    record_frame(ctx, s->cmd, s, info);
+    submit_commands(s->cmd, s->fence);
+    wait_fence(s->fence);
+    CHECK(ctx, translucid_frame_complete(ctx, s->frame));
+}
+
 static int worst_difference(const uint8_t *a, const uint8_t *b);
 
 /* The slot's readback against what the standalone context rendered; its frame destroyed. */
@@ -994,11 +1004,7 @@ static void declared_loop(translucid_method method) {
         render_standalone(g_standalone, info, g_opaque_colour, g_layer_depth, s->expected,
                           COLOUR_BYTES);
         info.draws = host_draws;
-        begin_commands(s->cmd);
-        record_frame(ctx, s->cmd, s, &info);
-        submit_commands(s->cmd, s->fence);
-        wait_fence(s->fence);
-        CHECK(ctx, translucid_frame_complete(ctx, s->frame));
+        run_frame(ctx, s, &info);
         built_by(ctx, s, &pipelines, &allocated);
         snprintf(what, sizeof what, "method %d, declared loop, %s", (int)method,
                  k == 0                 ? "first frame"
@@ -1061,11 +1067,7 @@ static void trim_after_a_resolution_drop(translucid_method method) {
             }
             TRUE_OR_FAIL(freed > 0 && after + freed == before);
         }
-        begin_commands(s->cmd);
-        record_frame(ctx, s->cmd, s, &info);
-        submit_commands(s->cmd, s->fence);
-        wait_fence(s->fence);
-        CHECK(ctx, translucid_frame_complete(ctx, s->frame));
+        run_frame(ctx, s, &info);
         built_by(ctx, s, &pipelines, &allocated);
         if (k == 2) {
             after = memory_of(ctx);
