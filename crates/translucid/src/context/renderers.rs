@@ -426,7 +426,14 @@ impl Renderers {
     /// buffers), keeping what they learned for the next ones with their settings. The
     /// assets stay uploaded.
     pub fn free_idle(&mut self) {
-        for k in self.kept.iter().filter(|k| k.in_flight == 0 && !k.failed) {
+        let mut idle: Vec<&Kept> = self
+            .kept
+            .iter()
+            .filter(|k| k.in_flight == 0 && !k.failed)
+            .collect();
+        // The most recently used one of some settings is the one that learned last.
+        idle.sort_by_key(|k| k.last_used);
+        for k in idle {
             self.learned
                 .insert(k.key.clone(), k.renderer.learned_options(&k.made_with));
         }
