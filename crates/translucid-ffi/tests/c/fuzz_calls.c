@@ -902,7 +902,7 @@ static void frame_use(state *s) {
 
 /* Calls that need no objects, and calls a standalone context does not offer. */
 static void misc(state *s) {
-    switch (below(6)) {
+    switch (below(8)) {
     case 0: {
         uint32_t methods[8];
         size_t count = 0;
@@ -970,6 +970,62 @@ static void misc(state *s) {
             broken("translucid_frame_complete", __LINE__, "a standalone frame completed", got,
                    s->ctx);
         }
+        break;
+    }
+    case 5: {
+        /* A prepare that cannot be done (building pipelines is left to the tests). */
+        translucid_frame_info frame;
+        memset(&frame, 0, sizeof frame);
+        frame.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_INFO;
+        frame.width = frame.height = 8;
+        translucid_prepare_info info;
+        memset(&info, 0, sizeof info);
+        info.s_type = TRANSLUCID_STRUCTURE_TYPE_PREPARE_INFO;
+        info.frame = &frame;
+        const translucid_prepare_info *pinfo = &info;
+        uint64_t built = UNTOUCHED;
+        int want;
+        switch (below(5)) {
+        case 0: pinfo = NULL; want = TRANSLUCID_RESULT_ERROR_NULL_POINTER; break;
+        case 1: info.s_type = any_u32() | 0x100; want = TRANSLUCID_RESULT_ERROR_INVALID_STRUCTURE_TYPE;
+                break;
+        case 2: info.content = TRANSLUCID_CONTENT_ALL + 1 + below(1u << 20);
+                want = TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT; break;
+        case 3: info.frame = NULL; want = TRANSLUCID_RESULT_ERROR_NULL_POINTER; break;
+        default: frame.method = METHOD_END + below(1000); want = TRANSLUCID_RESULT_ERROR_INVALID_ENUM;
+                 break;
+        }
+        translucid_result got = translucid_context_prepare(s->ctx, pinfo, &built);
+        check(got, want, s->ctx, "translucid_context_prepare", __LINE__);
+        if (built != UNTOUCHED) {
+            broken("translucid_context_prepare", __LINE__, "wrote its out-parameter", got, s->ctx);
+        }
+        break;
+    }
+    case 6: {
+        /* The memory a context holds, asked rightly or not; then a trim. */
+        translucid_memory_statistics memory;
+        memset(&memory, 0, sizeof memory);
+        memory.s_type = TRANSLUCID_STRUCTURE_TYPE_MEMORY_STATISTICS;
+        int want = TRANSLUCID_RESULT_SUCCESS;
+        translucid_memory_statistics *out = &memory;
+        switch (below(3)) {
+        case 0: out = NULL; want = TRANSLUCID_RESULT_ERROR_NULL_POINTER; break;
+        case 1: memory.s_type = any_u32() | 0x100; want = TRANSLUCID_RESULT_ERROR_INVALID_STRUCTURE_TYPE;
+                break;
+        default: break;
+        }
+        translucid_result got = translucid_context_get_memory_statistics(s->ctx, out);
+        check(got, want, s->ctx, "translucid_context_get_memory_statistics", __LINE__);
+        if (got == TRANSLUCID_RESULT_SUCCESS &&
+            memory.total_bytes != memory.device_local_bytes + memory.per_frame_bytes +
+                                      memory.staging_bytes + memory.readback_bytes) {
+            broken("translucid_context_get_memory_statistics", __LINE__,
+                   "a total that is not the sum of its kinds", got, s->ctx);
+        }
+        uint64_t freed = 0;
+        got = translucid_context_trim(s->ctx, chance(50) ? &freed : NULL);
+        check(got, TRANSLUCID_RESULT_SUCCESS, s->ctx, "translucid_context_trim", __LINE__);
         break;
     }
     default: {
