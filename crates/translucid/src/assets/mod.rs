@@ -534,8 +534,9 @@ impl GpuScene {
     /// On the engine's device, as [`Self::uploads_recorded`]: the frame recorded is in
     /// flight, to complete or be abandoned.
     pub fn frame_recorded_in_flight(&mut self) {
-        self.moved_in_flight.push_back(self.moved_meshes.clone());
-        self.uploads_recorded();
+        self.frames_recorded += 1;
+        self.moved_in_flight
+            .push_back(std::mem::take(&mut self.moved_meshes));
     }
 
     /// The oldest frame recorded with this scene and not completed yet completed: the
