@@ -21,7 +21,8 @@
 //! called once per band by the method that owns the raster.
 //!
 //! Memory is sized from the frame: two triangle records per quad at most, bin lists grown to
-//! what the GPU counted. A frame whose lists pass their capacity is right all the same: the
+//! what the GPU counted, and sized again from the host's estimate when the transparent quads
+//! grow by a quarter (content streamed in, which frames in flight have not counted yet). A frame whose lists pass their capacity is right all the same: the
 //! scan lists the blocks in order and the frame is filled and rasterized in bands of blocks
 //! whose lists fit, one after another in the same command buffer (up to `BANDS`; bands
 //! without blocks are near-empty dispatches). A frame after one that fitted with room to
@@ -373,6 +374,8 @@ pub struct Bins {
     first_after_move: u64,
     /// What the features need of each mesh, its bounds kept up with moved vertices.
     meshes: Vec<MeshFacts>,
+    /// Transparent quads when the lists were last sized from the host's estimate.
+    estimated_quads: u32,
     push: BinPush,
     /// The most rows a slice of binning may take (BinOptions; normally no limit).
     slice_rows_limit: u32,
@@ -542,6 +545,7 @@ impl Bins {
             recordings: 0,
             first_after_move: 0,
             meshes,
+            estimated_quads: gpu_scene.transparent_quads,
             push,
             slice_rows_limit,
             hardware_sampling_forced,
@@ -676,9 +680,27 @@ impl Bins {
         // Draws that joined may need more of each quad's attributes (a first textured draw).
         let attribute_texels = features.attribute_texels();
         let capacities = self.resources.capacities;
+        // Transparent content a quarter past what the lists were last sized for (streamed
+        // in, draws joining): sized now from the host's estimate, as the first frame was, so
+        // that the frame is right on its first recording also when the frames in flight
+        // before it cannot have counted it.
+        let quads = f.gpu_scene.transparent_quads;
+        let mut bin_entries = capacities.bin_entries;
+        if quads
+            > self
+                .estimated_quads
+                .saturating_add(self.estimated_quads / 4)
+        {
+            let expected = features::estimate(f.scene, width, height);
+            self.estimated_quads = quads;
+            bin_entries = Capacities::expected_bin_entries(quads, &expected)
+                .min(self.most.bin_entries)
+                .max(bin_entries);
+        }
         if triangles > capacities.triangles
             || homogeneous > capacities.homogeneous
             || attribute_texels > capacities.attribute_texels
+            || bin_entries > capacities.bin_entries
         {
             // A quarter to spare: draws and meshes added one after another regrow rarely.
             let with_room = |needed: u32, now: u32| {
@@ -692,6 +714,7 @@ impl Bins {
                 triangles: with_room(triangles, capacities.triangles),
                 homogeneous: with_room(homogeneous, capacities.homogeneous),
                 attribute_texels: attribute_texels.max(capacities.attribute_texels),
+                bin_entries,
                 ..capacities
             };
             self.resources

@@ -53,17 +53,9 @@ impl Capacities {
         state_slots: u32,
         options: &super::BinOptions,
     ) -> Self {
-        /// The most bin entries an expected depth starts with: 128 MB, the least storage
-        /// binding every Vulkan device allows.
-        const EXPECTED_BIN_ENTRIES: u64 = 1 << 25;
         let triangles = quads.saturating_mul(2).max(1);
         let rows = blocks.saturating_mul(BIN_SIZE);
-        let entries = expected.bin_entries;
-        let expected_entries = (entries + entries / 4).min(EXPECTED_BIN_ENTRIES) as u32;
-        // Bands split a frame's lists between blocks, never inside one: a frame is right on
-        // its first recording only while every block's lists fit, and a block's take up to a
-        // row's entry from every triangle, whatever the camera.
-        let one_block = triangles.saturating_mul(BIN_SIZE);
+        let expected_entries = Self::expected_bin_entries(quads, expected);
         Self {
             resume: match state_slots {
                 0 => 0,
@@ -78,9 +70,22 @@ impl Capacities {
             homogeneous: options.initial_homogeneous.unwrap_or(homogeneous).max(1),
             bin_entries: options
                 .initial_bin_entries
-                .unwrap_or(expected_entries.max(rows).max(one_block))
+                .unwrap_or(expected_entries.max(rows))
                 .max(1),
         }
+    }
+
+    /// The bin entries a frame of `quads` transparent quads is expected to need: the
+    /// `expected` ones and a quarter more (up to 128 MB, the least storage binding every
+    /// Vulkan device allows), and at least one block's worth. Bands split a frame's lists
+    /// between blocks, never inside one: a frame is right on its first recording only while
+    /// every block's lists fit, and a block's take up to a row's entry from every triangle,
+    /// whatever the camera.
+    pub fn expected_bin_entries(quads: u32, expected: &super::features::FrameEstimate) -> u32 {
+        const EXPECTED_BIN_ENTRIES: u64 = 1 << 25;
+        let entries = expected.bin_entries;
+        let one_block = quads.saturating_mul(2).max(1).saturating_mul(BIN_SIZE);
+        ((entries + entries / 4).min(EXPECTED_BIN_ENTRIES) as u32).max(one_block)
     }
 
     /// The most of each growable buffer `gpu` binds (one storage buffer, one texel view):
