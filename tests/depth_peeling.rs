@@ -15,8 +15,8 @@ use translucid_tests::{
 const WIDTH: u32 = 160;
 const HEIGHT: u32 = 120;
 
-/// Every pixel within 2/255 of the reference once the passes (grown from a few, the frame
-/// rendered again) peel every layer, up to the dozens of spheres and boxes, crossing planes
+/// Every pixel within 2/255 of the reference once the passes (a few, those recorded ahead of
+/// them, grown if the frame needs more and rendered again) peel every layer, up to the dozens of spheres and boxes, crossing planes
 /// and the glass vase: fragments are ordered by the reference's depth.
 #[test]
 fn depth_peeling_matches_the_reference_on_every_pixel() {
@@ -112,8 +112,9 @@ fn fixed_passes_are_exact_when_they_cover_the_layers_and_count_the_pixels_they_d
         short.unpeeled_pixels
     );
 
-    // A frame deeper than the first passes grows them in one step, from its deepest
-    // pixel's fragment count: 60-deep particles are rendered again once, not once a doubling.
+    // A frame deeper than the first passes and those recorded ahead of them grows them in
+    // one step, from its deepest pixel's fragment count: the particles (more than
+    // 2 * (4 + PASSES_AHEAD) fragments deep) are rendered again once, not once a doubling.
     let particles = scene::load("particles").expect("generated scene");
     let deep = Renderer::new(&gpu, &particles, MethodKind::DepthPeeling, 96, 64)
         .and_then(|mut r| r.render(false))

@@ -479,12 +479,48 @@ impl GpuScene {
         calls: &[DrawCall],
         pipelines: (&crate::gpu::GraphicsPipeline, &crate::gpu::GraphicsPipeline),
     ) {
+        self.draw_each(gpu, cmd, calls, pipelines, |_, call| {
+            gpu.cmd_draw_indexed(
+                cmd,
+                call.range.index_count,
+                call.range.first_index,
+                call.range.vertex_offset,
+            );
+        });
+    }
+
+    /// As [`Self::draw`], each call i from the VkDrawIndexedIndirectCommand at `offset` + 20 i
+    /// of `args` ([`indirect_commands`] writes them; the GPU may zero their instance counts).
+    pub fn draw_indirect(
+        &self,
+        gpu: &Gpu,
+        cmd: vk::CommandBuffer,
+        calls: &[DrawCall],
+        pipelines: (&crate::gpu::GraphicsPipeline, &crate::gpu::GraphicsPipeline),
+        (args, offset): (&crate::gpu::Buffer, u64),
+    ) {
+        let stride = std::mem::size_of::<vk::DrawIndexedIndirectCommand>() as u64;
+        self.draw_each(gpu, cmd, calls, pipelines, |i, _| {
+            gpu.cmd_draw_indexed_indirect(cmd, args, offset + stride * i as u64);
+        });
+    }
+
+    /// Binds what `calls` need and has `issue` record each one (with its index) that draws
+    /// anything.
+    fn draw_each(
+        &self,
+        gpu: &Gpu,
+        cmd: vk::CommandBuffer,
+        calls: &[DrawCall],
+        pipelines: (&crate::gpu::GraphicsPipeline, &crate::gpu::GraphicsPipeline),
+        mut issue: impl FnMut(usize, &DrawCall),
+    ) {
         // The render pass is compatible with both pipelines, whose layouts take this scene's
         // sets 0 and 1 and a 4-byte push constant.
         gpu.cmd_bind_mesh_buffers(cmd, self.resident.vertices(), self.resident.indices());
         let mut bound: Option<bool> = None;
         let mut bound_texture: Option<usize> = None;
-        for call in calls {
+        for (i, call) in calls.iter().enumerate() {
             let pipeline = if call.cull_back {
                 pipelines.1
             } else {
@@ -503,15 +539,25 @@ impl GpuScene {
             }
             gpu.cmd_push_draw_constants(cmd, pipeline, &call.draw_index.to_ne_bytes());
             if call.range.index_count > 0 {
-                gpu.cmd_draw_indexed(
-                    cmd,
-                    call.range.index_count,
-                    call.range.first_index,
-                    call.range.vertex_offset,
-                );
+                issue(i, call);
             }
         }
     }
+}
+
+/// The VkDrawIndexedIndirectCommand of each of `calls`, one instance each, as
+/// [`GpuScene::draw_indirect`] reads them.
+pub fn indirect_commands(calls: &[DrawCall]) -> Vec<vk::DrawIndexedIndirectCommand> {
+    calls
+        .iter()
+        .map(|call| vk::DrawIndexedIndirectCommand {
+            index_count: call.range.index_count,
+            instance_count: 1,
+            first_index: call.range.first_index,
+            vertex_offset: call.range.vertex_offset,
+            first_instance: 0,
+        })
+        .collect()
 }
 
 impl GpuScene {

@@ -1254,6 +1254,24 @@ impl Gpu {
                 .cmd_draw_indexed(cmd, index_count, 1, first_index, vertex_offset, 0)
         };
     }
+
+    /// One indexed draw whose VkDrawIndexedIndirectCommand is at `offset` of `args` (made
+    /// with INDIRECT_BUFFER usage), written by the host or by an earlier pass.
+    pub fn cmd_draw_indexed_indirect(&self, cmd: vk::CommandBuffer, args: &Buffer, offset: u64) {
+        let size = std::mem::size_of::<vk::DrawIndexedIndirectCommand>() as u64;
+        assert!(
+            offset % 4 == 0 && offset + size <= args.size,
+            "indirect draw past {}",
+            args.name
+        );
+        // SAFETY: cmd is recording inside a render pass with a graphics pipeline and the
+        // buffers it reads bound; the command lies within args (asserted), and whoever
+        // writes it keeps its range within the bound index buffer.
+        unsafe {
+            self.device
+                .cmd_draw_indexed_indirect(cmd, args.raw, offset, 1, size as u32)
+        };
+    }
 }
 
 /// Vulkan's map entries and data for `constants`, a 32-bit word each, with those every

@@ -4,6 +4,13 @@
 
 use super::{Binding, Include, SetDecl, StructDecl};
 
+shader_constants! {
+    /// Words of one VkDrawIndexedIndirectCommand in depth_peeling's gate, and the word of its
+    /// instanceCount (1 for a pass that runs, 0 for one skipped).
+    pub const GATE_DRAW_WORDS: u32 = 5;
+    pub const GATE_INSTANCE_COUNT: u32 = 1;
+}
+
 /// The most coefficient images a wavelet pixel has (rank 3: 48 coefficients, 4 a texel).
 pub const WAVELET_MAX_TEXELS: u32 = 12;
 
@@ -65,6 +72,41 @@ pub const DEPTH_PEELING_COMPOSITE_SET: SetDecl = SetDecl::new(
         Binding::image("u_colour", ["rgba16f", "", "image2D"]),
         Binding::sampled("u_fragments", "sampler2D", 1)
             .doc(&["The first pass's count of each pixel's fragments."]),
+    ],
+);
+
+/// depth_peeling's gate after each composite: once a pass leaves no pixel anything to peel,
+/// the passes after it are skipped by the indirect commands it zeroes.
+pub const DEPTH_PEELING_GATE_SET: SetDecl = SetDecl::new(
+    "0",
+    &[
+        Binding::buffer_instance(
+            "PeelingFlags",
+            "readonly",
+            &[
+                "uint unpeeledPixels",
+                "uint mostFragments",
+                "uint fragmentsLeft[]",
+            ],
+            "g_flags",
+        )
+        .doc(&["The composites' Peeling buffer."]),
+        Binding::buffer_instance(
+            "PeelingGate",
+            "",
+            &[
+                "uint composite[4]",
+                "uint clearDraw[4]",
+                "uint gate[4]",
+                "uint draws[]",
+            ],
+            "g_gate",
+        )
+        .doc(&[
+            "The frame's indirect commands: the composite's dispatch, the clear's draw, the",
+            "gate's own dispatch, then the transparent draws' VkDrawIndexedIndirectCommands",
+            "(GATE_DRAW_WORDS words each, instanceCount at GATE_INSTANCE_COUNT).",
+        ]),
     ],
 );
 
@@ -157,6 +199,14 @@ pub fn includes() -> Vec<Include> {
             &DEPTH_PEELING_COMPOSITE_SET,
             &[],
         ),
+        Include {
+            constants: CONSTANTS,
+            ..set_include(
+                "interface_depth_peeling_gate.glsl",
+                &DEPTH_PEELING_GATE_SET,
+                &[],
+            )
+        },
         set_include("interface_linked_list.glsl", &LINKED_LIST_SET, &[]),
         set_include(
             "interface_linked_list_resolve.glsl",

@@ -16,9 +16,15 @@
 //! at one depth cover one another as the reference orders them (the first drawn nearer). The
 //! result is exact where the frame's pixels have at most 2N distinct depths. Past 2N, the middle layers
 //! are left out and the pixels counted ([`super::FrameCheck::unpeeled_pixels`]). With
-//! [`DepthPeelingOptions::passes`] N stays as given; by default it starts small and, when a
-//! frame has more layers, grows to half the most fragments a pixel has (the first pass counts
-//! them; a layer holds at least one), the frame rendered again (up to [`MOST_PASSES`]).
+//! [`DepthPeelingOptions::passes`] N stays as given. By default N follows the frames: half
+//! the most fragments a pixel of a completed frame had (the first pass counts them; a layer
+//! holds at least one), up to [`MOST_PASSES`]; and a frame records [`PASSES_AHEAD`] passes
+//! more, each skipped on the GPU once the pass before it left nothing to peel, so that a
+//! frame deeper than the ones before it, recorded before they completed (frames in flight),
+//! is right all the same ([`gate`]). A frame past even those is counted, and rendered again
+//! where translucid submits.
+
+mod gate;
 
 use super::{FrameCheck, FrameDone, Method, MethodOptions, RecordContext};
 use crate::assets::GpuScene;
@@ -37,6 +43,12 @@ use std::sync::Arc;
 pub const MOST_PASSES: u32 = 128;
 /// Where the pass count starts when it is not fixed.
 const FIRST_PASSES: u32 = 4;
+/// Passes a frame records past what the frames before it needed, skipped on the GPU where
+/// it needs none of them: a frame may peel 2 * PASSES_AHEAD layers more than they had.
+/// A skipped pass costs its render pass, its barriers and an indirect command per draw; a
+/// frame of many draws records fewer ahead, AHEAD_DRAWS of them in all (at least one pass).
+pub const PASSES_AHEAD: u32 = 32;
+const AHEAD_DRAWS: u32 = 4096;
 
 /// (-near, far): one MAX blend keeps both ends. 32-bit, so that the next pass finds each
 /// fragment's depth exactly.
@@ -133,10 +145,15 @@ pub struct DepthPeeling {
     peeling: Buffer,
     /// The peeling buffer of each frame slot, read once the frame completes.
     readbacks: Vec<Buffer>,
-    /// Passes recorded from now on, and per slot those its frame was recorded with.
+    /// Passes the frames so far needed (or the fixed count), and per slot the passes its
+    /// frame was recorded with.
     passes: u32,
     recorded: Vec<u32>,
     fixed: bool,
+    /// Skips the passes a frame records past what it needs.
+    gate: gate::Gate,
+    /// The first draw of each peeling pass: its attachments as it starts (clear.frag).
+    clear: Arc<GraphicsPipeline>,
 }
 
 impl DepthPeeling {
@@ -169,6 +186,8 @@ impl DepthPeeling {
         let composite_sets =
             composite_sets(&composite_layout, &images, &sampler, &peeling, targets)?;
         let readbacks = readback_buffers(gpu, gpu_scene.slot_count())?;
+        let gate = gate::Gate::new(gpu, &peeling, readbacks.len())?;
+        let clear = clear_pipeline(gpu, &peel[0])?;
         Ok(Self {
             images,
             first,
@@ -186,13 +205,26 @@ impl DepthPeeling {
             readbacks,
             passes,
             fixed: options.passes.is_some(),
+            gate,
+            clear,
         })
     }
 
-    /// Passes the next frame is recorded with.
+    /// Passes the frames so far needed: the next frame records these, and some more
+    /// ([`recorded_passes`]).
     pub fn passes(&self) -> u32 {
         self.passes
     }
+}
+
+/// Passes a frame of `draws` transparent draws records, where the frames before it needed
+/// `needed` (or were given that many, `fixed`).
+fn recorded_passes(needed: u32, fixed: bool, draws: usize) -> u32 {
+    if fixed {
+        return needed;
+    }
+    let ahead = (AHEAD_DRAWS / (draws.max(1) as u32).min(AHEAD_DRAWS)).clamp(1, PASSES_AHEAD);
+    (needed + ahead).min(MOST_PASSES)
 }
 
 /// What the method needs of the device: its optional features, blending in the range's and
@@ -284,15 +316,16 @@ impl RenderPasses {
             ],
             Some(&depth),
         )?;
+        // A peeling pass clears its attachments itself (peel_clears), where it is not
+        // skipped.
+        let discarded = |image| Attachment {
+            image,
+            load: Load::Discard,
+            layouts: (vk::ImageLayout::UNDEFINED, read),
+        };
         let peel_into = |range| {
-            let mut attachments = vec![cleared(range, NO_RANGE)];
-            // Empty layers: no radiance, full transmittance.
-            attachments.extend(
-                images
-                    .layers
-                    .iter()
-                    .map(|layer| cleared(layer, [0.0, 0.0, 0.0, 1.0])),
-            );
+            let mut attachments = vec![discarded(range)];
+            attachments.extend(images.layers.iter().map(discarded));
             AttachmentPass::new(gpu, &attachments, Some(&depth))
         };
         let peel = [peel_into(&images.ranges[0])?, peel_into(&images.ranges[1])?];
@@ -377,16 +410,29 @@ fn compute_pipelines(
     Ok((composite, resolve))
 }
 
-/// The peeling buffer ([`PEELING_WORDS`]): cleared each frame and copied to the slot's
-/// readback, and, where the device has conditional rendering, the predicate that skips a
-/// pass once the one before it left nothing to peel.
+/// The clear draw of the peeling passes: no blending, no depth test (every pixel starts
+/// empty, also behind the opaque layer).
+fn clear_pipeline(gpu: &Gpu, peel: &AttachmentPass) -> Result<Arc<GraphicsPipeline>> {
+    crate::gpu::fullscreen_pipeline(
+        gpu,
+        peel.render_pass,
+        crate::spirv!("depth_peeling/clear.frag"),
+        &[],
+        &PipelineState {
+            blends: &[Blend::None; 7],
+            depth: DepthMode::Off,
+            constants: &Specialization::NONE,
+            vertex_input: false,
+        },
+    )
+}
+
+/// The peeling buffer ([`PEELING_WORDS`]): cleared each frame, read by the gates and copied
+/// to the slot's readback.
 fn peeling_buffer(gpu: &Gpu) -> Result<Buffer> {
-    let mut usage = vk::BufferUsageFlags::STORAGE_BUFFER
+    let usage = vk::BufferUsageFlags::STORAGE_BUFFER
         | vk::BufferUsageFlags::TRANSFER_DST
         | vk::BufferUsageFlags::TRANSFER_SRC;
-    if gpu.info().conditional_rendering {
-        usage |= vk::BufferUsageFlags::CONDITIONAL_RENDERING_EXT;
-    }
     gpu.create_buffer(
         "depth peeling flags",
         PEELING_WORDS * 4,
@@ -474,8 +520,12 @@ impl Method for DepthPeeling {
     fn record(&mut self, ctx: &mut RecordContext<'_>) -> Result<()> {
         let (gpu, cmd) = (ctx.gpu, ctx.cmd);
         let extent = ctx.targets.extent;
-        let passes = self.passes;
+        let draws = &ctx.gpu_scene.transparent_calls;
+        let passes = recorded_passes(self.passes, self.fixed, draws.len());
         self.recorded[ctx.slot] = passes;
+        self.gate
+            .write(gpu, ctx.slot, &self.peeling, draws, extent)?;
+        let commands = self.gate.commands(ctx.slot);
         let transfer = (
             vk::PipelineStageFlags::TRANSFER,
             vk::AccessFlags::TRANSFER_WRITE,
@@ -502,7 +552,6 @@ impl Method for DepthPeeling {
             );
         }
 
-        let draws = &ctx.gpu_scene.transparent_calls;
         self.first.begin(cmd, extent);
         ctx.gpu_scene.draw(
             gpu,
@@ -513,42 +562,40 @@ impl Method for DepthPeeling {
         self.first.end(cmd);
         ctx.timestamps.mark(cmd, "depth peeling range");
 
-        let groups = [extent.width.div_ceil(8), extent.height.div_ceil(8), 1];
-        let conditional = gpu.info().conditional_rendering;
+        // Read by the passes' draws and composites, each zeroed by the gate before them.
+        let indirect = (
+            vk::PipelineStageFlags::DRAW_INDIRECT,
+            vk::AccessFlags::INDIRECT_COMMAND_READ,
+        );
+        let next_pass = (compute.0 | indirect.0, compute.1 | indirect.1);
         for pass in 1..=passes {
             // Range `pass % 2` is written, the other one read.
             let (into, from) = ((pass % 2) as usize, ((pass + 1) % 2) as usize);
-            // A pass after the first runs only when the one before it left fragments (its
-            // flag, word 2 + pass - 1); without conditional rendering every pass runs, and
-            // one with nothing left to peel adds nothing.
-            let flag = 4 * u64::from(pass + 1);
-            let skippable = pass > 1;
             let pipelines = &self.peel_pipelines;
-            self.peel[into].begin(cmd, extent);
-            let skipping = skippable && gpu.cmd_begin_conditional(cmd, &self.peeling, flag);
+            let peel = &self.peel[into];
+            peel.begin(cmd, extent);
+            gpu.cmd_draw_indirect(cmd, &self.clear, (&[], &[]), (commands, gate::CLEAR));
             gpu.cmd_bind_graphics_set(cmd, pipelines.0.layout, 2, self.peel_sets[from].raw);
-            ctx.gpu_scene
-                .draw(gpu, cmd, draws, (&pipelines.0, &pipelines.1));
-            if skipping {
-                gpu.cmd_end_conditional(cmd);
-            }
-            self.peel[into].end(cmd);
-            let skipping = skippable && gpu.cmd_begin_conditional(cmd, &self.peeling, flag);
-            self.composite.dispatch(
+            ctx.gpu_scene.draw_indirect(
+                gpu,
+                cmd,
+                draws,
+                (&pipelines.0, &pipelines.1),
+                (commands, gate::DRAWS),
+            );
+            peel.end(cmd);
+            self.composite.dispatch_indirect(
                 cmd,
                 &[self.composite_sets[into].raw],
                 &push(pass, pass == passes, extent),
-                groups,
+                commands,
+                gate::COMPOSITE,
             );
-            if skipping {
-                gpu.cmd_end_conditional(cmd);
+            if pass < passes {
+                memory_barrier(gpu, cmd, compute, compute);
+                self.gate.record(cmd, ctx.slot, pass, draws.len());
             }
-            let mut next = compute;
-            if conditional {
-                next.0 |= vk::PipelineStageFlags::CONDITIONAL_RENDERING_EXT;
-                next.1 |= vk::AccessFlags::CONDITIONAL_RENDERING_READ_EXT;
-            }
-            memory_barrier(gpu, cmd, compute, next);
+            memory_barrier(gpu, cmd, compute, next_pass);
         }
         ctx.timestamps.mark(cmd, "depth peeling passes");
 
@@ -561,6 +608,7 @@ impl Method for DepthPeeling {
             vk::PipelineStageFlags::ALL_COMMANDS,
             vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE,
         );
+        let groups = [extent.width.div_ceil(8), extent.height.div_ceil(8), 1];
         image_barrier(gpu, cmd, colour, attached, general, attachment, compute);
         self.resolve.dispatch(
             cmd,
@@ -597,18 +645,24 @@ impl Method for DepthPeeling {
             unpeeled_pixels: u64::from(unpeeled),
             ..FrameCheck::default()
         };
-        if unpeeled > 0 && !self.fixed && recorded < MOST_PASSES {
-            // Grown once for the frames recorded with too few passes: a layer holds at least
-            // one fragment, so half the deepest pixel's fragments peel it.
-            if recorded == self.passes {
-                self.passes = most_fragments.div_ceil(2).clamp(recorded + 1, MOST_PASSES);
-                log::info!(
-                    "depth_peeling: {unpeeled} pixels had more than {} layers (up to \
-                     {most_fragments} fragments); {} passes from now on",
-                    2 * recorded,
-                    self.passes
-                );
-            }
+        if self.fixed {
+            return Ok(check);
+        }
+        // A layer holds at least one fragment: half the deepest pixel's fragments peel it.
+        let needed = most_fragments.div_ceil(2).min(MOST_PASSES);
+        if needed > self.passes {
+            log::info!(
+                "depth_peeling: up to {most_fragments} fragments a pixel; {needed} passes from \
+                 now on (and {PASSES_AHEAD} ahead where the device can skip them)"
+            );
+            self.passes = needed;
+        }
+        if unpeeled > 0 && recorded < MOST_PASSES {
+            log::info!(
+                "depth_peeling: {unpeeled} pixels had more than the {} layers the frame's \
+                 passes peel",
+                2 * recorded
+            );
             check.rerender = true;
         }
         Ok(check)
