@@ -103,7 +103,7 @@ pub fn run() -> translucid::Result<()> {
         println!("    timestamp period         {} ns", d.timestamp_period_ns);
         let yes = |on: bool| if on { "yes" } else { "no" };
         println!("    dual-source blending     {}", yes(d.dual_source_blend));
-        // What the exact peers need, and what lets depth_peeling skip passes.
+        // What the exact peers need.
         println!(
             "    linked_list features     {} (fragmentStoresAndAtomics, geometryShader)",
             yes(d.fragment_stores_and_atomics && d.geometry_shader)
@@ -111,10 +111,6 @@ pub fn run() -> translucid::Result<()> {
         println!(
             "    independent blending     {} (depth_peeling)",
             yes(d.independent_blend)
-        );
-        println!(
-            "    conditional rendering    {} (depth_peeling skips passes with it)",
-            yes(d.conditional_rendering)
         );
     }
     Ok(())

@@ -222,36 +222,6 @@ impl Gpu {
         unsafe { self.device.cmd_copy_buffer(cmd, src.raw, dst.raw, regions) };
     }
 
-    /// Skips the draws and dispatches recorded until [`Self::cmd_end_conditional`] when the
-    /// 32-bit word at `offset` of `buffer` (made with CONDITIONAL_RENDERING_EXT usage) is 0
-    /// as they run. Returns false, and records nothing, on a device without
-    /// `VK_EXT_conditional_rendering`: everything runs there.
-    pub fn cmd_begin_conditional(
-        &self,
-        cmd: vk::CommandBuffer,
-        buffer: &Buffer,
-        offset: u64,
-    ) -> bool {
-        let Some(conditional) = &self.conditional_rendering else {
-            return false;
-        };
-        let info = vk::ConditionalRenderingBeginInfoEXT::default()
-            .buffer(buffer.raw)
-            .offset(offset);
-        // SAFETY: cmd is recording; the extension is enabled; offset is a multiple of 4
-        // inside the buffer (caller's contract).
-        unsafe { (conditional.fp().cmd_begin_conditional_rendering_ext)(cmd, &info) };
-        true
-    }
-
-    /// Ends what [`Self::cmd_begin_conditional`] began (when it returned true).
-    pub fn cmd_end_conditional(&self, cmd: vk::CommandBuffer) {
-        if let Some(conditional) = &self.conditional_rendering {
-            // SAFETY: cmd is recording, inside the conditional block its begin opened.
-            unsafe { (conditional.fp().cmd_end_conditional_rendering_ext)(cmd) };
-        }
-    }
-
     /// Fills the whole buffer with a repeated 32-bit value (it needs TRANSFER_DST usage).
     pub fn cmd_fill_buffer(&self, cmd: vk::CommandBuffer, buffer: &Buffer, value: u32) {
         // SAFETY: cmd is recording outside a render pass; WHOLE_SIZE stays inside the buffer.

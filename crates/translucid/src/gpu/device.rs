@@ -90,10 +90,6 @@ pub struct DeviceInfo {
     /// A blend state per colour attachment (the depth_peeling method keeps its depth range
     /// with MAX and its layers with sums and products in one pass).
     pub independent_blend: bool,
-    /// `VK_EXT_conditional_rendering`, on the devices translucid makes (depth_peeling skips
-    /// the passes a frame does not need with it). Not used on an engine's device, whose
-    /// enabled features translucid cannot see past the core ones.
-    pub conditional_rendering: bool,
     /// Samplers one compute stage may bind: the least of the device's per-stage and
     /// per-set limits (the bin rasters' texture array: `assets::texture_array`).
     pub max_stage_samplers: u32,
@@ -145,8 +141,6 @@ pub struct Shared {
     /// Boxed so its address, handed to the messenger, never moves.
     validation: Box<ValidationLog>,
     pub(crate) device: ash::Device,
-    /// `VK_EXT_conditional_rendering`'s commands, where it is enabled.
-    pub(crate) conditional_rendering: Option<ash::ext::conditional_rendering::Device>,
     /// The queue and command pool translucid submits with; `None` on the engine's device,
     /// where translucid only records into the engine's command buffers.
     pub(crate) submission: Option<Submission>,
@@ -265,7 +259,6 @@ pub(super) fn describe(
     let version = unsafe { instance.get_physical_device_properties(pd) }.api_version;
     let has_size_control = listed(ash::ext::subgroup_size_control::NAME);
     let size_control_known = has_size_control || version >= vk::API_VERSION_1_3;
-    let has_conditional = listed(ash::ext::conditional_rendering::NAME);
     let mut subgroup = vk::PhysicalDeviceSubgroupProperties::default();
     let mut driver = vk::PhysicalDeviceDriverProperties::default();
     let mut size_control = vk::PhysicalDeviceSubgroupSizeControlProperties::default();
@@ -282,18 +275,13 @@ pub(super) fn describe(
     };
     let p = props2.properties;
     let limits = p.limits;
-    let mut conditional = vk::PhysicalDeviceConditionalRenderingFeaturesEXT::default();
     let mut size_features = vk::PhysicalDeviceSubgroupSizeControlFeatures::default();
     let mut features2 = vk::PhysicalDeviceFeatures2::default();
-    if has_conditional {
-        features2 = features2.push_next(&mut conditional);
-    }
     if size_control_known {
         features2 = features2.push_next(&mut size_features);
     }
     // SAFETY: as above.
     unsafe { instance.get_physical_device_features2(pd, &mut features2) };
-    let conditional_rendering = conditional.conditional_rendering == vk::TRUE;
     let subgroup_size_control = size_features.subgroup_size_control == vk::TRUE
         && size_features.compute_full_subgroups == vk::TRUE
         && size_control
@@ -343,7 +331,6 @@ pub(super) fn describe(
         fragment_stores_and_atomics: features.fragment_stores_and_atomics == vk::TRUE,
         geometry_shader: features.geometry_shader == vk::TRUE,
         independent_blend: features.independent_blend == vk::TRUE,
-        conditional_rendering,
         max_stage_samplers: limits
             .max_per_stage_descriptor_samplers
             .min(limits.max_descriptor_set_samplers),
@@ -481,9 +468,6 @@ impl Gpu {
         };
         let gpu = match create_device(&instance, physical, &info) {
             Ok((device, allocator, submission)) => Self(Arc::new(Shared {
-                conditional_rendering: info
-                    .conditional_rendering
-                    .then(|| ash::ext::conditional_rendering::Device::new(&instance, &device)),
                 _entry: entry,
                 instance,
                 physical,
@@ -558,9 +542,6 @@ impl Gpu {
         let info = &self.info;
         let features = enabled_features(info);
         let mut extensions = Vec::new();
-        if info.conditional_rendering {
-            extensions.push(ash::ext::conditional_rendering::NAME.to_owned());
-        }
         // Enabled when the device was made; passed on where the probe found it sound.
         if info.full_subgroups {
             extensions.push(ash::ext::subgroup_size_control::NAME.to_owned());
@@ -598,7 +579,6 @@ impl Gpu {
             physical,
             messenger: None,
             validation: Box::default(),
-            conditional_rendering: None,
             device,
             submission: None,
             owns_device: false,
@@ -884,8 +864,6 @@ fn create_device(
         .queue_family_index(family)
         .queue_priorities(&priorities)];
     let features = enabled_features(info);
-    let mut conditional =
-        vk::PhysicalDeviceConditionalRenderingFeaturesEXT::default().conditional_rendering(true);
     let mut size_control = vk::PhysicalDeviceSubgroupSizeControlFeatures::default()
         .subgroup_size_control(true)
         .compute_full_subgroups(true);
@@ -893,10 +871,6 @@ fn create_device(
     let mut create = vk::DeviceCreateInfo::default()
         .queue_create_infos(&queues)
         .enabled_features(&features);
-    if info.conditional_rendering {
-        extension_names.push(ash::ext::conditional_rendering::NAME.as_ptr());
-        create = create.push_next(&mut conditional);
-    }
     if info.full_subgroups {
         extension_names.push(ash::ext::subgroup_size_control::NAME.as_ptr());
         create = create.push_next(&mut size_control);

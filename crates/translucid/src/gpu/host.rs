@@ -300,7 +300,6 @@ impl Gpu {
         info.fragment_stores_and_atomics = host.features.fragment_stores_and_atomics == vk::TRUE;
         info.geometry_shader = host.features.geometry_shader == vk::TRUE;
         info.independent_blend = host.features.independent_blend == vk::TRUE;
-        info.conditional_rendering = false;
         info.software_sampling =
             host.software_sampling || super::device::software_sampling_asked()?;
         info.full_subgroups = host.subgroup_size_control
