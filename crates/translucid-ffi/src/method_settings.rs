@@ -56,9 +56,12 @@ pub struct translucid_linked_list_settings {
     /// The next method settings structure, or NULL.
     pub next: *const c_void,
     /// The node pool, in fragments (28 bytes each). 0 (the default) sizes the pool from the
-    /// frame and grows it when a frame overflows: the frame is rendered again (standalone) or
-    /// completes with `TRANSLUCID_RESULT_FRAME_DEGRADED` (host device), and later frames
-    /// are exact. A budget stays as given: the fragments past it are blended unsorted and counted
+    /// frame's expected fragments (a quarter to spare), again whenever the transparent draws
+    /// grow by a quarter (assets streamed in: right on their first frame, frames in flight
+    /// included), and grows it when a frame overflows all the same (the same draws seen
+    /// deeper, as a camera moving into a cloud): that frame is rendered again (standalone) or
+    /// completes with `TRANSLUCID_RESULT_FRAME_DEGRADED` (host device), its tail counted, and
+    /// later frames are exact. A budget stays as given: the fragments past it are blended unsorted and counted
     /// (`translucid_frame_statistics::tail_fragments`). At most one storage buffer's worth of
     /// nodes; past it, `TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT`.
     pub node_budget: u32,

@@ -22,6 +22,10 @@
  * 10. Stereo with 3 frames in flight: each frame's two views (cameras) recorded into one
  *    command buffer over their own images, 6 frames in flight, each view as the standalone
  *    context renders it alone, and no pipeline built past the first frame.
+ * 11. Every method, 3 frames in flight and sized as it sizes itself, through a scene that
+ *    grows deep mid-loop (section 8's stack): every frame completes (none degraded) and is
+ *    as the standalone context renders it, though the frames recorded before the first deep
+ *    one completed could learn nothing from it.
  * And first, in the standalone context: an updated mesh draws as one created so.
  */
 #include <math.h>
@@ -1132,6 +1136,58 @@ static void stereo_in_flight(void) {
     translucid_context_destroy(ctx);
 }
 
+/* 11. Section 8's two quads, then from frame DEEP_FROM on its deep stack too, 3 frames in
+ * flight: each frame completed when the engine comes back to its slot. */
+#define DEEP_FRAMES 8
+#define DEEP_FROM 3
+static void grows_deep_in_flight(translucid_method method) {
+    translucid_context *ctx = host_context(MOST_IN_FLIGHT);
+    translucid_draw draws[2][3];
+    translucid_mesh meshes[2][3];
+    translucid_material materials[2][3];
+    int k, c;
+    char what[96];
+    for (c = 0; c < 2; c++) {
+        translucid_context *owner = c == 0 ? ctx : g_standalone;
+        for (k = 0; k < 2; k++) {
+            make_quad(owner, (size_t)k, 0, &meshes[c][k], &materials[c][k], &draws[c][k]);
+        }
+        stream_in(owner, DEEP_STACK, &meshes[c][2], &materials[c][2], &draws[c][2]);
+    }
+    for (k = 0; k < DEEP_FRAMES + MOST_IN_FLIGHT; k++) {
+        slot *s = &g_slots[k % MOST_IN_FLIGHT];
+        translucid_frame_info info;
+        if (s->busy) {
+            int done = k - MOST_IN_FLIGHT;
+            translucid_result result;
+            wait_fence(s->fence);
+            result = translucid_frame_complete(ctx, s->frame);
+            TRUE_OR_FAIL(result == TRANSLUCID_RESULT_SUCCESS);
+            snprintf(what, sizeof what, "method %d, %d frames in flight, frame %d%s",
+                     (int)method, MOST_IN_FLIGHT, done, done >= DEEP_FROM ? " (deep)" : "");
+            compare_any(ctx, s, what, method);
+        }
+        if (k >= DEEP_FRAMES) continue;
+        /* Sized by the method itself: no fixed passes or pool. */
+        info = frame_of(draws[1], k < DEEP_FROM ? 2 : 3, method);
+        info.next = NULL;
+        info.camera = orbit_camera(0.05f * (float)k);
+        render_standalone(g_standalone, info, g_opaque_colour, g_layer_depth, s->expected,
+                          COLOUR_BYTES);
+        info.draws = draws[0];
+        begin_commands(s->cmd);
+        record_frame(ctx, s->cmd, s, &info);
+        submit_commands(s->cmd, s->fence);
+    }
+    printf("method %d: %d frames growing deep, %d in flight, each checked\n", (int)method,
+           DEEP_FRAMES, MOST_IN_FLIGHT);
+    translucid_context_destroy(ctx);
+    for (k = 0; k < 3; k++) {
+        CHECK(g_standalone, translucid_mesh_destroy(g_standalone, meshes[1][k]));
+        CHECK(g_standalone, translucid_material_destroy(g_standalone, materials[1][k]));
+    }
+}
+
 int main(void) {
     static const float forward_bands[3] = {0.3f, 0.75f, 1.0f};
     translucid_host_requirements req;
@@ -1190,6 +1246,9 @@ int main(void) {
         for (n = 0; n < sizeof methods / sizeof methods[0]; n++) declared_loop(methods[n]);
         for (n = 0; n < sizeof methods / sizeof methods[0]; n++) {
             trim_after_a_resolution_drop(methods[n]);
+        }
+        for (n = 0; n < sizeof methods / sizeof methods[0]; n++) {
+            grows_deep_in_flight(methods[n]);
         }
     }
 

@@ -9,15 +9,17 @@
 //! The pool holds `capacity` nodes. A fragment past it is blended at once, unsorted, over the
 //! opaque layer (a tail the sorted nodes are then composited over) and counted
 //! ([`super::FrameCheck::tail_fragments`]). By default the pool is sized from the frame's
-//! expected fragments and grows for later frames when a frame finds it too small (that frame
-//! is rendered again, standalone, or reported overflowed); with
+//! expected fragments, sized so again when the transparent quads grow by a quarter (content
+//! streamed in, which the frames in flight have not counted), and grows for later frames when
+//! a frame finds it too small (that frame is rendered again, standalone, or completes
+//! degraded on an engine's device, its tail counted); with
 //! [`LinkedListOptions::node_budget`] it stays as given. Within its pool the result is exact.
 //! The passes reach the pool through a storage binding while it fits one (128 MB: 4.8
 //! million nodes on lavapipe), and through a storage texel view past it, whose stores cost
 //! more there: the larger of the two bounds the pool (on lavapipe the view, 512 MB: 19
 //! million nodes; on devices whose storage bindings reach further, the binding).
 
-use super::{FrameCheck, FrameDone, Method, RecordContext};
+use super::{FrameCheck, FrameDone, FrameSetup, Method, RecordContext};
 use crate::assets::GpuScene;
 use crate::frame::FrameTargets;
 use crate::gpu::{
@@ -123,6 +125,8 @@ pub struct LinkedList {
     /// Per frame slot, the pool its frame was recorded with.
     recorded: Vec<u32>,
     fixed: bool,
+    /// Transparent quads when the pool was last sized from the host's estimate.
+    estimated_quads: u32,
     /// `LinkedListOptions::nodes_as_texels`.
     texels_forced: bool,
     retirement: Retirement,
@@ -180,13 +184,7 @@ impl LinkedList {
                 )))
             }
             Some(budget) => budget,
-            None => {
-                let (width, height) = (targets.extent.width, targets.extent.height);
-                let expected = super::bins::features::estimated_fragments(scene, width, height);
-                (expected + expected / 4)
-                    .max(targets.capacity_pixels())
-                    .min(most)
-            }
+            None => expected_nodes(scene, targets, most),
         } as u32;
         let layouts = Layouts {
             append: DescriptorLayout::declared(
@@ -237,9 +235,31 @@ impl LinkedList {
             lists,
             counters,
             fixed: options.node_budget.is_some(),
+            estimated_quads: gpu_scene.transparent_quads,
             texels_forced: options.nodes_as_texels,
             retirement: Retirement::default(),
         })
+    }
+
+    /// A pool of `capacity` nodes from the next frame on (the old one kept while frames in
+    /// flight use it), and the passes that reach it.
+    fn grow(&mut self, gpu_scene: &GpuScene, targets: &FrameTargets, capacity: u32) -> Result<()> {
+        let lists = Self::lists(&self.gpu, &self.layouts, &self.counters, targets, capacity)?;
+        let old = std::mem::replace(&mut self.lists, lists);
+        self.retirement.retire(old);
+        let as_texels = self.texels_forced || nodes_pass_a_binding(&self.gpu, capacity);
+        if as_texels != self.passes.nodes_as_texels {
+            let passes = Passes::new(
+                &self.gpu,
+                gpu_scene,
+                self.append.render_pass,
+                &self.layouts,
+                as_texels,
+            )?;
+            let old = std::mem::replace(&mut self.passes, passes);
+            self.retirement.retire(old);
+        }
+        Ok(())
     }
 
     /// Heads for the largest frame and a pool of `capacity` nodes, with their set.
@@ -289,9 +309,41 @@ impl LinkedList {
     }
 }
 
+/// The pool a frame of `scene` into `targets` is expected to need: its expected fragments
+/// and a quarter more, at least a node a pixel, at most `most`.
+fn expected_nodes(scene: &Scene, targets: &FrameTargets, most: u64) -> u64 {
+    let (width, height) = (targets.extent.width, targets.extent.height);
+    let expected = super::bins::features::estimated_fragments(scene, width, height);
+    (expected + expected / 4)
+        .max(targets.capacity_pixels())
+        .min(most)
+}
+
 impl Method for LinkedList {
     fn name(&self) -> &'static str {
         "linked_list"
+    }
+
+    fn set_frame(&mut self, f: &FrameSetup<'_>) -> Result<()> {
+        // Transparent content a quarter past what the pool was last sized for: sized now from
+        // the host's estimate, as the first frame was, so that the frame is right on its
+        // first recording also when the frames in flight before it cannot have counted it.
+        let quads = f.gpu_scene.transparent_quads;
+        if self.fixed
+            || quads
+                <= self
+                    .estimated_quads
+                    .saturating_add(self.estimated_quads / 4)
+        {
+            return Ok(());
+        }
+        self.estimated_quads = quads;
+        let capacity = expected_nodes(f.scene, f.targets, most_nodes(&self.gpu)) as u32;
+        if capacity > self.lists.capacity {
+            log::info!("linked_list: the transparent draws grew; the pool grows to {capacity}");
+            self.grow(f.gpu_scene, f.targets, capacity)?;
+        }
+        Ok(())
     }
 
     fn record(&mut self, ctx: &mut RecordContext<'_>) -> Result<()> {
@@ -388,27 +440,7 @@ impl Method for LinkedList {
             // Grown once for the frames recorded with the pool that was too small.
             if recorded == self.lists.capacity && recorded < most {
                 let capacity = fragments.saturating_add(fragments / 4).min(most);
-                let lists = Self::lists(
-                    &self.gpu,
-                    &self.layouts,
-                    &self.counters,
-                    done.targets,
-                    capacity,
-                )?;
-                let old = std::mem::replace(&mut self.lists, lists);
-                self.retirement.retire(old);
-                let as_texels = self.texels_forced || nodes_pass_a_binding(&self.gpu, capacity);
-                if as_texels != self.passes.nodes_as_texels {
-                    let passes = Passes::new(
-                        &self.gpu,
-                        done.gpu_scene,
-                        self.append.render_pass,
-                        &self.layouts,
-                        as_texels,
-                    )?;
-                    let old = std::mem::replace(&mut self.passes, passes);
-                    self.retirement.retire(old);
-                }
+                self.grow(done.gpu_scene, done.targets, capacity)?;
                 log::info!("linked_list: {fragments} fragments; the pool grows to {capacity}");
             }
             // Rendered again with the grown pool; past its most the tail stays.
