@@ -313,7 +313,8 @@ enum translucid_result
      */
     TRANSLUCID_RESULT_ERROR_VULKAN = -101,
     /**
-     * The device or host ran out of memory.
+     * The device or host ran out of memory, or the call would have taken the context past
+     * its memory budget (`translucid_memory_create_info::budget_bytes`).
      */
     TRANSLUCID_RESULT_ERROR_OUT_OF_MEMORY = -102,
     /**
@@ -389,6 +390,10 @@ enum translucid_structure_type
      * `translucid_memory_statistics`.
      */
     TRANSLUCID_STRUCTURE_TYPE_MEMORY_STATISTICS = 14,
+    /**
+     * `translucid_memory_create_info`, chained to the context create-info.
+     */
+    TRANSLUCID_STRUCTURE_TYPE_MEMORY_CREATE_INFO = 15,
     /**
      * `translucid_host_device_create_info`, chained to the context create-info.
      */
@@ -677,6 +682,7 @@ typedef struct translucid_context_create_info {
     uint32_t s_type;
     /**
      * NULL in standalone mode; in host-device mode, a `translucid_host_device_create_info`.
+     * Either may come after a `translucid_memory_create_info` (a budget), chained first.
      */
     const void *next;
     /**
@@ -1492,6 +1498,34 @@ typedef struct translucid_base_in_structure {
      */
     const struct translucid_base_in_structure *next;
 } translucid_base_in_structure;
+
+/**
+ * What the engine controls of a context's memory, chained first to
+ * `translucid_context_create_info::next` (in host-device mode, its own `next` then holds the
+ * `translucid_host_device_create_info`).
+ */
+typedef struct translucid_memory_create_info {
+    /**
+     * `TRANSLUCID_STRUCTURE_TYPE_MEMORY_CREATE_INFO`.
+     */
+    uint32_t s_type;
+    /**
+     * NULL in standalone mode; in host-device mode, the
+     * `translucid_host_device_create_info`.
+     */
+    const void *next;
+    /**
+     * The most GPU memory the context may hold, in bytes, as
+     * `translucid_memory_statistics::total_bytes` counts it; 0: no limit. A call that would
+     * allocate past it (a first frame at a larger size, a grown buffer, an asset) fails with
+     * `TRANSLUCID_RESULT_ERROR_OUT_OF_MEMORY`, a message naming the budget, and nothing
+     * changed: the context goes on within it (`translucid_context_trim` gives back what no
+     * frame in flight uses). Within a budget the context reserves device memory in blocks
+     * of 4 MB, so what it reserves passes what it holds by at most one block per memory
+     * type; allocations larger than a block get memory of their own.
+     */
+    uint64_t budget_bytes;
+} translucid_memory_create_info;
 
 /**
  * The engine's device, chained to `translucid_context_create_info::next` with `mode`

@@ -231,6 +231,7 @@ impl Engine {
             profile: None,
             subgroup_size_control: self.subgroup_size_control,
             software_sampling: false,
+            memory_budget: None,
         }
     }
 
@@ -371,6 +372,7 @@ fn spheres_standalone() -> (Scene, OpaqueLayer, translucid::renderer::Frame) {
         validation: true,
         profile: None,
         software_sampling: false,
+        ..Default::default()
     })
     .expect("a Vulkan device with the validation layer");
     let mut reference =
@@ -1486,6 +1488,7 @@ fn native_blend_and_blend_draw_into_the_engines_images_what_standalone_blend_dra
         validation: true,
         profile: None,
         software_sampling: false,
+        ..Default::default()
     })
     .expect("a Vulkan device with the validation layer");
     let engine = Engine::new();

@@ -21,6 +21,7 @@ pub fn gpu_with(profile: Option<translucid::gpu::Profile>) -> Gpu {
         validation: true,
         profile,
         software_sampling: false,
+        ..Default::default()
     })
     .expect("a Vulkan device with the Khronos validation layer (`make test` installs both)")
 }

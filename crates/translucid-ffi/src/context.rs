@@ -58,6 +58,7 @@ pub struct translucid_context_create_info {
     /// `TRANSLUCID_STRUCTURE_TYPE_CONTEXT_CREATE_INFO`.
     pub s_type: u32,
     /// NULL in standalone mode; in host-device mode, a `translucid_host_device_create_info`.
+    /// Either may come after a `translucid_memory_create_info` (a budget), chained first.
     pub next: *const c_void,
     /// `TRANSLUCID_HEADER_VERSION`: lets the library refuse a header it is not compatible with.
     pub header_version: u32,
@@ -164,10 +165,13 @@ impl Context {
 impl Context {
     fn create(info: &translucid_context_create_info) -> FfiResult<Self> {
         let host_mode = info.mode == translucid_context_mode::HostDevice as u32;
-        // In host-device mode `next` holds the engine's device, checked below.
+        // A memory create-info first, then in host-device mode the engine's device, checked
+        // below.
+        let memory = crate::memory::memory_create_info(info.next)?;
+        let next = memory.map_or(info.next, |m| m.next);
         check_header(
             info.s_type,
-            if host_mode {
+            if host_mode || memory.is_some() {
                 std::ptr::null()
             } else {
                 info.next
@@ -175,6 +179,10 @@ impl Context {
             translucid_structure_type::ContextCreateInfo,
             "translucid_context_create_info",
         )?;
+        if memory.is_some() && !host_mode {
+            crate::memory::check_standalone_chain(next)?;
+        }
+        let memory_budget = memory.and_then(|m| m.budget());
         version::check_header_version(info.header_version)?;
         if !host_mode && info.mode != translucid_context_mode::Standalone as u32 {
             return Err(Failure::enumeration("translucid_context_mode", info.mode));
@@ -226,14 +234,14 @@ impl Context {
                     "device must be NULL in host-device mode: the engine's device is used",
                 ));
             }
-            if info.next.is_null() {
+            if next.is_null() {
                 return Err(Failure::null(
                     "next (host-device mode needs a translucid_host_device_create_info)",
                 ));
             }
             // Read the chained structure's type before the structure: a smaller one must not
             // be read as a host-device create info.
-            let link = try_ref(info.next.cast::<translucid_base_in_structure>(), "next")?;
+            let link = try_ref(next.cast::<translucid_base_in_structure>(), "next")?;
             if link.s_type != translucid_structure_type::HostDeviceCreateInfo as u32 {
                 return Err(Failure::new(
                     translucid_result::ErrorInvalidStructureType,
@@ -245,12 +253,10 @@ impl Context {
                 ));
             }
             host_gpu(
-                try_ref(
-                    info.next.cast::<translucid_host_device_create_info>(),
-                    "next",
-                )?,
+                try_ref(next.cast::<translucid_host_device_create_info>(), "next")?,
                 profile,
                 info.flags & TRANSLUCID_CONTEXT_CREATE_SOFTWARE_SAMPLING != 0,
+                memory_budget,
             )?
         } else {
             let from_env = GpuOptions::from_env();
@@ -266,6 +272,7 @@ impl Context {
                     || from_env.validation,
                 profile,
                 software_sampling: info.flags & TRANSLUCID_CONTEXT_CREATE_SOFTWARE_SAMPLING != 0,
+                memory_budget,
             })
             .map_err(|e| match e {
                 translucid::Error::NoDevice(m) if m.starts_with("no device matches") => {

@@ -215,6 +215,7 @@ pub(crate) fn host_device(info: &translucid_host_device_create_info) -> FfiResul
         })
         .collect::<FfiResult<Vec<_>>>()?;
     Ok(HostDevice {
+        memory_budget: None,
         subgroup_size_control: subgroup_size_control(info.next)?,
         get_instance_proc_addr,
         instance: info.instance,
@@ -260,6 +261,7 @@ pub(crate) fn host_gpu(
     info: &translucid_host_device_create_info,
     profile: Option<Profile>,
     software_sampling: bool,
+    memory_budget: Option<u64>,
 ) -> FfiResult<Gpu> {
     check_type(
         info.s_type,
@@ -269,6 +271,7 @@ pub(crate) fn host_gpu(
     let host = HostDevice {
         profile,
         software_sampling,
+        memory_budget,
         ..host_device(info)?
     };
     // SAFETY: the header documents that the handles are live objects of one instance made

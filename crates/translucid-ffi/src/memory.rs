@@ -1,11 +1,70 @@
-//! The GPU memory a context holds, and giving back what no frame in flight uses. Exports
-//! `translucid_context_get_memory_statistics` and `translucid_context_trim`.
+//! The GPU memory a context holds, the budget it holds it within, and giving back what no
+//! frame in flight uses. Exports `translucid_context_get_memory_statistics` and
+//! `translucid_context_trim`.
 
-use crate::cast::{translucid_context, try_out, try_out_structure, OutStructure};
+use crate::cast::{
+    check_header, translucid_base_in_structure, translucid_context, try_out, try_out_structure,
+    try_ref, OutStructure,
+};
 use crate::panic;
 use crate::result::translucid_result;
+use crate::result::FfiResult;
 use crate::structure::translucid_structure_type;
 use std::ffi::c_void;
+
+/// What the engine controls of a context's memory, chained first to
+/// `translucid_context_create_info::next` (in host-device mode, its own `next` then holds the
+/// `translucid_host_device_create_info`).
+#[allow(non_camel_case_types)]
+#[repr(C)]
+pub struct translucid_memory_create_info {
+    /// `TRANSLUCID_STRUCTURE_TYPE_MEMORY_CREATE_INFO`.
+    pub s_type: u32,
+    /// NULL in standalone mode; in host-device mode, the
+    /// `translucid_host_device_create_info`.
+    pub next: *const c_void,
+    /// The most GPU memory the context may hold, in bytes, as
+    /// `translucid_memory_statistics::total_bytes` counts it; 0: no limit. A call that would
+    /// allocate past it (a first frame at a larger size, a grown buffer, an asset) fails with
+    /// `TRANSLUCID_RESULT_ERROR_OUT_OF_MEMORY`, a message naming the budget, and nothing
+    /// changed: the context goes on within it (`translucid_context_trim` gives back what no
+    /// frame in flight uses). Within a budget the context reserves device memory in blocks
+    /// of 4 MB, so what it reserves passes what it holds by at most one block per memory
+    /// type; allocations larger than a block get memory of their own.
+    pub budget_bytes: u64,
+}
+
+/// The `translucid_memory_create_info` at the front of `next`, if one is there.
+pub(crate) fn memory_create_info<'a>(
+    next: *const c_void,
+) -> FfiResult<Option<&'a translucid_memory_create_info>> {
+    if next.is_null() {
+        return Ok(None);
+    }
+    let link = try_ref(next.cast::<translucid_base_in_structure>(), "next")?;
+    if link.s_type != translucid_structure_type::MemoryCreateInfo as u32 {
+        return Ok(None);
+    }
+    // A structure of the type its s_type names (C contract).
+    try_ref(next.cast::<translucid_memory_create_info>(), "next").map(Some)
+}
+
+impl translucid_memory_create_info {
+    /// The budget, `None` for no limit.
+    pub(crate) fn budget(&self) -> Option<u64> {
+        (self.budget_bytes > 0).then_some(self.budget_bytes)
+    }
+}
+
+/// Checks that nothing follows a memory create-info in standalone mode.
+pub(crate) fn check_standalone_chain(rest: *const c_void) -> FfiResult {
+    check_header(
+        translucid_structure_type::MemoryCreateInfo as u32,
+        rest,
+        translucid_structure_type::MemoryCreateInfo,
+        "translucid_memory_create_info",
+    )
+}
 
 /// The GPU memory a context holds now, in bytes, by what it is for. Zero-initialise it, set
 /// `s_type`, and pass it to `translucid_context_get_memory_statistics`.

@@ -74,7 +74,8 @@ pub enum translucid_result {
     ErrorNoDevice = -100,
     /// A Vulkan call failed; the message names it.
     ErrorVulkan = -101,
-    /// The device or host ran out of memory.
+    /// The device or host ran out of memory, or the call would have taken the context past
+    /// its memory budget (`translucid_memory_create_info::budget_bytes`).
     ErrorOutOfMemory = -102,
     /// The device was lost; the context cannot be used any more.
     ErrorDeviceLost = -103,
@@ -248,7 +249,7 @@ impl From<translucid::Error> for Failure {
                 _ => R::ErrorVulkan,
             },
             E::Validation(_) => R::ErrorValidation,
-            E::Allocation { .. } => R::ErrorOutOfMemory,
+            E::Allocation { .. } | E::MemoryBudget(_) => R::ErrorOutOfMemory,
             E::Image(_) | E::Io(_) | E::SceneIo { .. } => R::ErrorIo,
         };
         Self::new(code, error.to_string())

@@ -27,6 +27,8 @@ pub enum translucid_structure_type {
     PrepareInfo = 13,
     /// `translucid_memory_statistics`.
     MemoryStatistics = 14,
+    /// `translucid_memory_create_info`, chained to the context create-info.
+    MemoryCreateInfo = 15,
     /// `translucid_host_device_create_info`, chained to the context create-info.
     HostDeviceCreateInfo = 100,
     /// `translucid_host_requirements`.
@@ -40,7 +42,7 @@ pub enum translucid_structure_type {
 }
 
 impl translucid_structure_type {
-    const ALL: [Self; 19] = [
+    const ALL: [Self; 20] = [
         Self::ContextCreateInfo,
         Self::MeshCreateInfo,
         Self::TextureCreateInfo,
@@ -55,6 +57,7 @@ impl translucid_structure_type {
         Self::DepthPeelingSettings,
         Self::PrepareInfo,
         Self::MemoryStatistics,
+        Self::MemoryCreateInfo,
         Self::HostDeviceCreateInfo,
         Self::HostRequirements,
         Self::HostFrameTargets,

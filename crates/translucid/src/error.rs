@@ -92,6 +92,10 @@ pub enum Error {
     /// The Khronos validation layer reported errors (only with `TRANSLUCID_VALIDATION=1`).
     #[error("Vulkan validation errors:\n{0}")]
     Validation(String),
+    /// An allocation would take the device's memory past the budget it was given
+    /// (`GpuOptions::memory_budget`, `HostDevice::memory_budget`).
+    #[error("{0}")]
+    MemoryBudget(String),
     /// GPU memory allocation failed for `object`.
     #[error("GPU memory allocation for {object} failed: {source}")]
     Allocation {

@@ -12,6 +12,7 @@ fn gpu() -> Gpu {
         validation: true,
         profile: None,
         software_sampling: false,
+        ..Default::default()
     })
     .expect("a Vulkan device with the validation layer (run `make test`, which installs both)")
 }

@@ -98,6 +98,7 @@ fn glsl_and_rust_shading_agree() {
         validation: true,
         profile: None,
         software_sampling: false,
+        ..Default::default()
     })
     .expect("a Vulkan device with the validation layer");
     let light = Light {

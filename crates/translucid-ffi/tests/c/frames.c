@@ -26,9 +26,14 @@
  *    grows deep mid-loop (section 8's stack): every frame completes (none degraded) and is
  *    as the standalone context renders it, though the frames recorded before the first deep
  *    one completed could learn nothing from it.
+ * 12. Every method within a memory budget: frames as the standalone context renders them,
+ *    the context never holding more than the budget; a mesh too large for what is left of it
+ *    is refused with TRANSLUCID_RESULT_ERROR_OUT_OF_MEMORY, a message naming the budget, and
+ *    nothing changed: the next frame is as before.
  * And first, in the standalone context: an updated mesh draws as one created so.
  */
 #include <math.h>
+#include <stdlib.h>
 
 #include "checks.h"
 
@@ -1188,6 +1193,103 @@ static void grows_deep_in_flight(translucid_method method) {
     }
 }
 
+/* 12. A context of at most BUDGET bytes: a frame, a mesh of BIG_QUADS quads refused (at its
+ * creation or at the frame that uploads it), and the frame again. */
+#define BUDGET (16u << 20)
+#define BIG_QUADS 100000
+static void within_a_budget(translucid_method method) {
+    translucid_host_device_create_info hd = host_device_info();
+    translucid_memory_create_info memory;
+    translucid_context_create_info create;
+    translucid_context *ctx = NULL;
+    scene host, standalone;
+    translucid_frame_info info;
+    translucid_mesh_create_info big;
+    translucid_mesh big_mesh;
+    translucid_result result;
+    float *positions = calloc((size_t)BIG_QUADS * 12, sizeof(float));
+    uint32_t *indices = calloc((size_t)BIG_QUADS * 6, sizeof(uint32_t));
+    slot *s = &g_slots[0];
+    uint32_t q, pass;
+    const char *refused_by = "its creation";
+    char what[64];
+    memset(&memory, 0, sizeof memory);
+    memory.s_type = TRANSLUCID_STRUCTURE_TYPE_MEMORY_CREATE_INFO;
+    memory.next = &hd;
+    memory.budget_bytes = BUDGET;
+    memset(&create, 0, sizeof create);
+    create.s_type = TRANSLUCID_STRUCTURE_TYPE_CONTEXT_CREATE_INFO;
+    create.header_version = TRANSLUCID_HEADER_VERSION;
+    create.mode = TRANSLUCID_CONTEXT_MODE_HOST_DEVICE;
+    create.next = &memory;
+    CHECK(NULL, translucid_context_create(&create, &ctx));
+    make_scene(ctx, &host);
+    make_scene(g_standalone, &standalone);
+    info = frame_info(&host, QUADS, orbit_camera(0.3f));
+    info.method = method;
+
+    /* Small quads, one behind the other in front of the camera. */
+    TRUE_OR_FAIL(positions != NULL && indices != NULL);
+    if (positions == NULL || indices == NULL) return;
+    for (q = 0; q < BIG_QUADS; q++) {
+        static const float corners[4][2] = {{0, 0}, {0.01f, 0}, {0.01f, 0.01f}, {0, 0.01f}};
+        static const uint32_t triangles[6] = {0, 1, 2, 0, 2, 3};
+        uint32_t v;
+        for (v = 0; v < 4; v++) {
+            positions[q * 12 + v * 3] = corners[v][0];
+            positions[q * 12 + v * 3 + 1] = corners[v][1];
+            positions[q * 12 + v * 3 + 2] = -1.5f;
+        }
+        for (v = 0; v < 6; v++) indices[q * 6 + v] = q * 4 + triangles[v];
+    }
+    memset(&big, 0, sizeof big);
+    big.s_type = TRANSLUCID_STRUCTURE_TYPE_MESH_CREATE_INFO;
+    big.primitive = TRANSLUCID_PRIMITIVE_TRIANGLES;
+    big.vertex_count = BIG_QUADS * 4;
+    big.positions = positions;
+    big.index_count = BIG_QUADS * 6;
+    big.indices = indices;
+
+    for (pass = 0; pass < 2; pass++) {
+        snprintf(what, sizeof what, "method %d within a budget, frame %u", (int)method, pass);
+        render_expected(info, &standalone, s->expected);
+        run_frame(ctx, s, &info);
+        compare_any(ctx, s, what, method);
+        TRUE_OR_FAIL(memory_of(ctx) <= BUDGET);
+        if (pass == 1) break;
+        /* The large mesh: refused when it is created, or by the frame that would upload it. */
+        result = translucid_mesh_create(ctx, &big, &big_mesh);
+        if (result == TRANSLUCID_RESULT_SUCCESS) {
+            translucid_host_frame_targets t = targets_of(s->cmd, s);
+            translucid_frame_info with_big = info;
+            host.draws[QUADS].mesh = big_mesh;
+            with_big.draw_count = QUADS + 1;
+            begin_commands(s->cmd);
+            record_opaque(s->cmd, s);
+            result = translucid_frame_record(ctx, &with_big, &t, &s->frame);
+            refused_by = "the frame that uploads it";
+            CHECK(ctx, translucid_mesh_destroy(ctx, big_mesh));
+        }
+        if (result != TRANSLUCID_RESULT_ERROR_OUT_OF_MEMORY ||
+            strstr(translucid_context_get_last_error(ctx), "budget") == NULL) {
+            printf("FAIL method %d: a mesh past the budget gave %d: %s\n", (int)method,
+                   (int)result, translucid_context_get_last_error(ctx));
+        }
+        TRUE_OR_FAIL(result == TRANSLUCID_RESULT_ERROR_OUT_OF_MEMORY &&
+                     strstr(translucid_context_get_last_error(ctx), "budget") != NULL);
+        TRUE_OR_FAIL(memory_of(ctx) <= BUDGET);
+    }
+    printf("method %d: frames within a %u-byte budget, a mesh past it refused by %s\n",
+           (int)method, BUDGET, refused_by);
+    free(positions);
+    free(indices);
+    translucid_context_destroy(ctx);
+    for (q = 0; q < QUADS + 1; q++) {
+        CHECK(g_standalone, translucid_mesh_destroy(g_standalone, standalone.meshes[q]));
+        CHECK(g_standalone, translucid_material_destroy(g_standalone, standalone.materials[q]));
+    }
+}
+
 int main(void) {
     static const float forward_bands[3] = {0.3f, 0.75f, 1.0f};
     translucid_host_requirements req;
@@ -1250,6 +1352,7 @@ int main(void) {
         for (n = 0; n < sizeof methods / sizeof methods[0]; n++) {
             grows_deep_in_flight(methods[n]);
         }
+        for (n = 0; n < sizeof methods / sizeof methods[0]; n++) within_a_budget(methods[n]);
     }
 
     translucid_context_destroy(g_standalone);

@@ -119,6 +119,44 @@ static void context_creation(void) {
     link.s_type = 4242;
     EXPECT(NULL, translucid_context_create(&info, &ctx),
            TRANSLUCID_RESULT_ERROR_INVALID_STRUCTURE_TYPE);
+    {
+        /* A budget, chained first: taken in standalone mode, with nothing after it. */
+        translucid_memory_create_info memory;
+        memset(&memory, 0, sizeof memory);
+        memory.s_type = TRANSLUCID_STRUCTURE_TYPE_MEMORY_CREATE_INFO;
+        memory.budget_bytes = 64u << 20;
+        info = context_info();
+        info.next = &memory;
+        EXPECT(NULL, translucid_context_create(&info, &ctx), TRANSLUCID_RESULT_SUCCESS);
+        translucid_context_destroy(ctx);
+        ctx = sentinel;
+        link.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_CREATE_INFO;
+        memory.next = &link;
+        EXPECT(NULL, translucid_context_create(&info, &ctx),
+               TRANSLUCID_RESULT_ERROR_INVALID_STRUCTURE_TYPE);
+        /* A budget smaller than anything a context makes: its first allocation is refused. */
+        memory.next = NULL;
+        memory.budget_bytes = 1;
+        EXPECT(NULL, translucid_context_create(&info, &ctx), TRANSLUCID_RESULT_SUCCESS);
+        {
+            translucid_frame rendered;
+            translucid_frame_info frame;
+            memset(&frame, 0, sizeof frame);
+            frame.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_INFO;
+            frame.method = TRANSLUCID_METHOD_BLEND;
+            frame.width = frame.height = 1;
+            frame.camera.view[0] = frame.camera.view[5] = frame.camera.view[10] = 1;
+            frame.camera.view[15] = 1;
+            frame.camera.fov_y = 1;
+            frame.camera.z_near = 0.1f;
+            frame.camera.z_far = 10;
+            EXPECT(ctx, translucid_frame_render(ctx, &frame, &rendered),
+                   TRANSLUCID_RESULT_ERROR_OUT_OF_MEMORY);
+            TRUE_OR_FAIL(strstr(translucid_context_get_last_error(ctx), "budget") != NULL);
+        }
+        translucid_context_destroy(ctx);
+        ctx = sentinel;
+    }
     info = context_info();
     info.device = "no device is called this";
     EXPECT(NULL, translucid_context_create(&info, &ctx), TRANSLUCID_RESULT_ERROR_NO_DEVICE);

@@ -36,6 +36,7 @@ fn gpu_samplers_match_values_computed_by_hand() {
         validation: true,
         profile: None,
         software_sampling: false,
+        ..Default::default()
     })
     .expect("a Vulkan device with the validation layer");
     let cases = hand_cases();

@@ -404,6 +404,7 @@ mod tests {
             validation: true,
             profile: None,
             software_sampling: false,
+            ..Default::default()
         })
         .expect("a Vulkan device with the validation layer");
         let buffer = gpu

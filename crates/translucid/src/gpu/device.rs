@@ -29,6 +29,10 @@ pub struct GpuOptions {
     /// reference, where the device would sample them in hardware (GPUs: docs/gpu.md);
     /// `TRANSLUCID_SAMPLING=software` does the same.
     pub software_sampling: bool,
+    /// The most GPU memory everything made on the device may hold, in bytes; `None`: no
+    /// limit ([`Gpu::memory_budget`]). Within a budget the allocator reserves memory in
+    /// blocks of 4 MB.
+    pub memory_budget: Option<u64>,
 }
 
 impl GpuOptions {
@@ -42,6 +46,7 @@ impl GpuOptions {
             validation: std::env::var("TRANSLUCID_VALIDATION").is_ok_and(|v| v == "1"),
             profile: None,
             software_sampling: false,
+            memory_budget: None,
         }
     }
 }
@@ -148,6 +153,8 @@ pub struct Shared {
     owns_device: bool,
     pub(crate) allocator: ManuallyDrop<Mutex<Allocator>>,
     pub(crate) memory: MemoryStats,
+    /// The most bytes `memory` may hold: an allocation past it fails (MemoryBudget).
+    pub(crate) memory_budget: Option<u64>,
     /// Pipelines created on the device so far: each one costs a shader compilation, which
     /// a frame loop must not pay.
     pipelines_created: AtomicU64,
@@ -466,7 +473,7 @@ impl Gpu {
                 return Err(e);
             }
         };
-        let gpu = match create_device(&instance, physical, &info) {
+        let gpu = match create_device(&instance, physical, &info, options.memory_budget) {
             Ok((device, allocator, submission)) => Self(Arc::new(Shared {
                 _entry: entry,
                 instance,
@@ -478,6 +485,7 @@ impl Gpu {
                 owns_device: true,
                 allocator: ManuallyDrop::new(Mutex::new(allocator)),
                 memory: MemoryStats::default(),
+                memory_budget: options.memory_budget,
                 pipelines_created: AtomicU64::new(0),
                 dispatches_recorded: AtomicU64::new(0),
                 pipeline_cache: OnceLock::new(),
@@ -559,6 +567,7 @@ impl Gpu {
             profile: Some(self.info.profile),
             subgroup_size_control: info.full_subgroups,
             software_sampling: self.info.software_sampling,
+            memory_budget: self.memory_budget,
         })
     }
 
@@ -571,8 +580,9 @@ impl Gpu {
         device: ash::Device,
         physical: vk::PhysicalDevice,
         info: DeviceInfo,
+        memory_budget: Option<u64>,
     ) -> Result<Self> {
-        let allocator = create_allocator(&instance, &device, physical)?;
+        let allocator = create_allocator(&instance, &device, physical, memory_budget)?;
         Ok(Self(Arc::new(Shared {
             _entry: entry,
             instance,
@@ -584,6 +594,7 @@ impl Gpu {
             owns_device: false,
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
             memory: MemoryStats::default(),
+            memory_budget,
             pipelines_created: AtomicU64::new(0),
             dispatches_recorded: AtomicU64::new(0),
             pipeline_cache: OnceLock::new(),
@@ -725,6 +736,12 @@ impl Shared {
         self.memory.current_and_peak()
     }
 
+    /// The most bytes of GPU memory allocations on this device may hold (`None`: no limit):
+    /// an allocation past it fails with [`Error::MemoryBudget`].
+    pub fn memory_budget(&self) -> Option<u64> {
+        self.memory_budget
+    }
+
     /// Bytes of GPU memory allocated on this device so far, freed or not: a frame loop's
     /// figure stops growing once its buffers have reached their size.
     pub fn bytes_allocated(&self) -> u64 {
@@ -801,18 +818,27 @@ fn destroy_instance(
     }
 }
 
+/// The allocator of a device whose allocations hold at most `memory_budget` bytes: within a
+/// budget it reserves device memory in the smallest blocks (4 MB) it makes, so that what it
+/// reserves passes what is allocated by at most a block per memory type.
 fn create_allocator(
     instance: &ash::Instance,
     device: &ash::Device,
     physical: vk::PhysicalDevice,
+    memory_budget: Option<u64>,
 ) -> Result<Allocator> {
+    const SMALLEST_BLOCK: u64 = 4 << 20;
+    let allocation_sizes = match memory_budget {
+        Some(_) => gpu_allocator::AllocationSizes::new(SMALLEST_BLOCK, SMALLEST_BLOCK),
+        None => Default::default(),
+    };
     Allocator::new(&AllocatorCreateDesc {
         instance: instance.clone(),
         device: device.clone(),
         physical_device: physical,
         debug_settings: Default::default(),
         buffer_device_address: false,
-        allocation_sizes: Default::default(),
+        allocation_sizes,
     })
     .map_err(|source| crate::Error::Allocation {
         object: "the memory allocator".into(),
@@ -849,6 +875,7 @@ fn create_device(
     instance: &ash::Instance,
     physical: vk::PhysicalDevice,
     info: &DeviceInfo,
+    memory_budget: Option<u64>,
 ) -> Result<DeviceParts> {
     // SAFETY: physical came from this instance.
     let families = unsafe { instance.get_physical_device_queue_family_properties(physical) };
@@ -881,7 +908,7 @@ fn create_device(
         .map_err(vk_err("vkCreateDevice"))?;
     // SAFETY: family/index 0 were requested above.
     let queue = unsafe { device.get_device_queue(family, 0) };
-    let allocator = match create_allocator(instance, &device, physical) {
+    let allocator = match create_allocator(instance, &device, physical, memory_budget) {
         Ok(a) => a,
         Err(e) => {
             // SAFETY: nothing was created from the device yet.

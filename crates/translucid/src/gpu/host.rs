@@ -192,6 +192,9 @@ pub struct HostDevice {
     /// hardware (`GpuOptions::software_sampling`; `TRANSLUCID_SAMPLING=software` does the
     /// same).
     pub software_sampling: bool,
+    /// The most GPU memory translucid's objects on the device may hold, in bytes; `None`:
+    /// no limit.
+    pub memory_budget: Option<u64>,
 }
 
 fn version_string(v: u32) -> String {
@@ -310,7 +313,14 @@ impl Gpu {
             .unwrap_or(info.profile);
         // SAFETY: a live device of this instance (caller's guarantee).
         let device = unsafe { ash::Device::load(instance.fp_v1_0(), host.device) };
-        Self::wrap_host(entry, instance, device, host.physical_device, info)
+        Self::wrap_host(
+            entry,
+            instance,
+            device,
+            host.physical_device,
+            info,
+            host.memory_budget,
+        )
     }
 }
 

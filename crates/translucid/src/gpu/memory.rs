@@ -148,6 +148,17 @@ impl Gpu {
         (usage, role): (AllocationUsage, MemoryRole),
     ) -> Result<Memory> {
         let linear = matches!(usage, AllocationUsage::Buffer(_));
+        if let Some(budget) = self.memory_budget {
+            let (held, _) = self.memory.current_and_peak();
+            if held.saturating_add(requirements.size) > budget {
+                return Err(crate::Error::MemoryBudget(format!(
+                    "{name} needs {} bytes of GPU memory, and the context holds {held} of its \
+                     {budget}-byte memory budget (translucid_context_trim gives back what no \
+                     frame in flight uses)",
+                    requirements.size
+                )));
+            }
+        }
         let allocation = self
             .allocator
             .lock()

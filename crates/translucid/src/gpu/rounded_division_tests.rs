@@ -76,6 +76,7 @@ fn rounded_quotients_are_rusts_from_estimates_a_few_ulps_off() {
         validation: true,
         profile: None,
         software_sampling: false,
+        ..Default::default()
     })
     .expect("a Vulkan device with the validation layer");
     let mut cases = Vec::new();
