@@ -1525,6 +1525,16 @@ typedef struct translucid_memory_create_info {
      * type; allocations larger than a block get memory of their own.
      */
     uint64_t budget_bytes;
+    /**
+     * Host-device mode, optional: the engine's host allocator, which every Vulkan object
+     * translucid makes on the engine's device (buffers, images, views, pipelines, passes,
+     * sets) is created and destroyed with, as the engine's own are. Copied; its functions
+     * and `pUserData` must stay valid until the context is destroyed, and be callable from
+     * any thread the context is used on. Device memory comes from translucid's allocator
+     * (gpu-allocator), whose `vkAllocateMemory` calls pass none. Must be NULL in standalone
+     * mode, where translucid makes the device.
+     */
+    const VkAllocationCallbacks *allocation_callbacks;
 } translucid_memory_create_info;
 
 /**

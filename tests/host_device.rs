@@ -232,6 +232,7 @@ impl Engine {
             subgroup_size_control: self.subgroup_size_control,
             software_sampling: false,
             memory_budget: None,
+            allocation_callbacks: None,
         }
     }
 

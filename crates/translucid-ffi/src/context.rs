@@ -183,6 +183,13 @@ impl Context {
             crate::memory::check_standalone_chain(next)?;
         }
         let memory_budget = memory.and_then(|m| m.budget());
+        let allocation_callbacks = memory.map(|m| m.callbacks()).transpose()?.flatten();
+        if allocation_callbacks.is_some() && !host_mode {
+            return Err(Failure::argument(
+                "translucid_memory_create_info.allocation_callbacks must be NULL in standalone \
+                 mode: they are for the objects translucid makes on an engine's device",
+            ));
+        }
         version::check_header_version(info.header_version)?;
         if !host_mode && info.mode != translucid_context_mode::Standalone as u32 {
             return Err(Failure::enumeration("translucid_context_mode", info.mode));
@@ -256,7 +263,7 @@ impl Context {
                 try_ref(next.cast::<translucid_host_device_create_info>(), "next")?,
                 profile,
                 info.flags & TRANSLUCID_CONTEXT_CREATE_SOFTWARE_SAMPLING != 0,
-                memory_budget,
+                (memory_budget, allocation_callbacks),
             )?
         } else {
             let from_env = GpuOptions::from_env();

@@ -27,8 +27,8 @@ use crate::vulkan::{
 use std::ffi::{c_char, c_void, CStr, CString};
 use translucid::context::{Completion, Recording};
 use translucid::gpu::{
-    host_requirements, host_requirements_with, Gpu, HostDevice, HostImage, HostRequirements,
-    HostTargets, Profile,
+    host_requirements, host_requirements_with, AllocationCallbacks, Gpu, HostDevice, HostImage,
+    HostRequirements, HostTargets, Profile,
 };
 
 /// What the engine must give its instance and device before translucid can use them. The
@@ -216,6 +216,7 @@ pub(crate) fn host_device(info: &translucid_host_device_create_info) -> FfiResul
         .collect::<FfiResult<Vec<_>>>()?;
     Ok(HostDevice {
         memory_budget: None,
+        allocation_callbacks: None,
         subgroup_size_control: subgroup_size_control(info.next)?,
         get_instance_proc_addr,
         instance: info.instance,
@@ -261,7 +262,7 @@ pub(crate) fn host_gpu(
     info: &translucid_host_device_create_info,
     profile: Option<Profile>,
     software_sampling: bool,
-    memory_budget: Option<u64>,
+    (memory_budget, allocation_callbacks): (Option<u64>, Option<AllocationCallbacks>),
 ) -> FfiResult<Gpu> {
     check_type(
         info.s_type,
@@ -272,6 +273,7 @@ pub(crate) fn host_gpu(
         profile,
         software_sampling,
         memory_budget,
+        allocation_callbacks,
         ..host_device(info)?
     };
     // SAFETY: the header documents that the handles are live objects of one instance made

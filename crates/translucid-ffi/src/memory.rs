@@ -8,9 +8,11 @@ use crate::cast::{
 };
 use crate::panic;
 use crate::result::translucid_result;
-use crate::result::FfiResult;
+use crate::result::{Failure, FfiResult};
 use crate::structure::translucid_structure_type;
+use crate::vulkan::VkAllocationCallbacks;
 use std::ffi::c_void;
+use translucid::gpu::AllocationCallbacks;
 
 /// What the engine controls of a context's memory, chained first to
 /// `translucid_context_create_info::next` (in host-device mode, its own `next` then holds the
@@ -32,6 +34,14 @@ pub struct translucid_memory_create_info {
     /// of 4 MB, so what it reserves passes what it holds by at most one block per memory
     /// type; allocations larger than a block get memory of their own.
     pub budget_bytes: u64,
+    /// Host-device mode, optional: the engine's host allocator, which every Vulkan object
+    /// translucid makes on the engine's device (buffers, images, views, pipelines, passes,
+    /// sets) is created and destroyed with, as the engine's own are. Copied; its functions
+    /// and `pUserData` must stay valid until the context is destroyed, and be callable from
+    /// any thread the context is used on. Device memory comes from translucid's allocator
+    /// (gpu-allocator), whose `vkAllocateMemory` calls pass none. Must be NULL in standalone
+    /// mode, where translucid makes the device.
+    pub allocation_callbacks: *const VkAllocationCallbacks,
 }
 
 /// The `translucid_memory_create_info` at the front of `next`, if one is there.
@@ -53,6 +63,26 @@ impl translucid_memory_create_info {
     /// The budget, `None` for no limit.
     pub(crate) fn budget(&self) -> Option<u64> {
         (self.budget_bytes > 0).then_some(self.budget_bytes)
+    }
+
+    /// A copy of the engine's allocation callbacks, if it gave them.
+    pub(crate) fn callbacks(&self) -> FfiResult<Option<AllocationCallbacks>> {
+        if self.allocation_callbacks.is_null() {
+            return Ok(None);
+        }
+        let given = try_ref(
+            self.allocation_callbacks,
+            "translucid_memory_create_info.allocation_callbacks",
+        )?;
+        let (Some(_), Some(_), Some(_)) =
+            (given.pfn_allocation, given.pfn_reallocation, given.pfn_free)
+        else {
+            return Err(Failure::null(
+                "translucid_memory_create_info.allocation_callbacks: pfnAllocation, \
+                 pfnReallocation or pfnFree (Vulkan requires all three)",
+            ));
+        };
+        Ok(Some(AllocationCallbacks(*given)))
     }
 }
 

@@ -19,5 +19,6 @@ pub type VkShaderStageFlags = vk::ShaderStageFlags;
 pub type VkSubgroupFeatureFlags = vk::SubgroupFeatureFlags;
 pub type VkBool32 = vk::Bool32;
 pub type VkPhysicalDeviceFeatures = vk::PhysicalDeviceFeatures;
+pub type VkAllocationCallbacks = vk::AllocationCallbacks<'static>;
 /// Nullable, as every Vulkan function pointer type is in C.
 pub type PFN_vkGetInstanceProcAddr = Option<vk::PFN_vkGetInstanceProcAddr>;

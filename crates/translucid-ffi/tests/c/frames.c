@@ -1193,13 +1193,55 @@ static void grows_deep_in_flight(translucid_method method) {
     }
 }
 
-/* 12. A context of at most BUDGET bytes: a frame, a mesh of BIG_QUADS quads refused (at its
- * creation or at the frame that uploads it), and the frame again. */
+/* 12's host allocator: each block it hands out has its start and size stored before it, and
+ * the blocks live and handed out are counted (Vulkan may call from any thread). */
+static long g_host_blocks_live = 0, g_host_blocks_made = 0;
+static void *VKAPI_PTR counted_allocation(void *user, size_t size, size_t alignment,
+                                           VkSystemAllocationScope scope) {
+    size_t header = 2 * sizeof(size_t);
+    unsigned char *base, *block;
+    (void)user;
+    (void)scope;
+    if (alignment < header) alignment = header;
+    base = malloc(size + alignment + header);
+    if (base == NULL) return NULL;
+    block = base + header + (alignment - (size_t)(base + header) % alignment) % alignment;
+    ((size_t *)block)[-1] = size;
+    ((unsigned char **)block)[-2] = base;
+    __sync_fetch_and_add(&g_host_blocks_live, 1);
+    __sync_fetch_and_add(&g_host_blocks_made, 1);
+    return block;
+}
+static void VKAPI_PTR counted_free(void *user, void *memory) {
+    (void)user;
+    if (memory == NULL) return;
+    free(((unsigned char **)memory)[-2]);
+    __sync_fetch_and_sub(&g_host_blocks_live, 1);
+}
+static void *VKAPI_PTR counted_reallocation(void *user, void *original, size_t size,
+                                             size_t alignment, VkSystemAllocationScope scope) {
+    void *block;
+    if (original == NULL) return counted_allocation(user, size, alignment, scope);
+    if (size == 0) {
+        counted_free(user, original);
+        return NULL;
+    }
+    block = counted_allocation(user, size, alignment, scope);
+    if (block == NULL) return NULL;
+    memcpy(block, original, size < ((size_t *)original)[-1] ? size : ((size_t *)original)[-1]);
+    counted_free(user, original);
+    return block;
+}
+
+/* 12. A context of at most BUDGET bytes, on the engine's host allocator: a frame, a mesh of
+ * BIG_QUADS quads refused (at its creation or at the frame that uploads it), and the frame
+ * again; once the context is destroyed, every block it took from the allocator is back. */
 #define BUDGET (16u << 20)
 #define BIG_QUADS 100000
 static void within_a_budget(translucid_method method) {
     translucid_host_device_create_info hd = host_device_info();
     translucid_memory_create_info memory;
+    VkAllocationCallbacks callbacks;
     translucid_context_create_info create;
     translucid_context *ctx = NULL;
     scene host, standalone;
@@ -1213,10 +1255,16 @@ static void within_a_budget(translucid_method method) {
     uint32_t q, pass;
     const char *refused_by = "its creation";
     char what[64];
+    memset(&callbacks, 0, sizeof callbacks);
+    callbacks.pfnAllocation = counted_allocation;
+    callbacks.pfnReallocation = counted_reallocation;
+    callbacks.pfnFree = counted_free;
+    g_host_blocks_made = 0;
     memset(&memory, 0, sizeof memory);
     memory.s_type = TRANSLUCID_STRUCTURE_TYPE_MEMORY_CREATE_INFO;
     memory.next = &hd;
     memory.budget_bytes = BUDGET;
+    memory.allocation_callbacks = &callbacks;
     memset(&create, 0, sizeof create);
     create.s_type = TRANSLUCID_STRUCTURE_TYPE_CONTEXT_CREATE_INFO;
     create.header_version = TRANSLUCID_HEADER_VERSION;
@@ -1279,11 +1327,13 @@ static void within_a_budget(translucid_method method) {
                      strstr(translucid_context_get_last_error(ctx), "budget") != NULL);
         TRUE_OR_FAIL(memory_of(ctx) <= BUDGET);
     }
-    printf("method %d: frames within a %u-byte budget, a mesh past it refused by %s\n",
-           (int)method, BUDGET, refused_by);
     free(positions);
     free(indices);
     translucid_context_destroy(ctx);
+    printf("method %d: frames within a %u-byte budget, a mesh past it refused by %s; %ld "
+           "blocks from the engine's host allocator, %ld still out after the context\n",
+           (int)method, BUDGET, refused_by, g_host_blocks_made, g_host_blocks_live);
+    TRUE_OR_FAIL(g_host_blocks_made > 0 && g_host_blocks_live == 0);
     for (q = 0; q < QUADS + 1; q++) {
         CHECK(g_standalone, translucid_mesh_destroy(g_standalone, standalone.meshes[q]));
         CHECK(g_standalone, translucid_material_destroy(g_standalone, standalone.materials[q]));

@@ -134,6 +134,17 @@ static void context_creation(void) {
         memory.next = &link;
         EXPECT(NULL, translucid_context_create(&info, &ctx),
                TRANSLUCID_RESULT_ERROR_INVALID_STRUCTURE_TYPE);
+        /* Allocation callbacks are for an engine's device, and need all three functions. */
+        {
+            VkAllocationCallbacks callbacks;
+            memset(&callbacks, 0, sizeof callbacks);
+            memory.next = NULL;
+            memory.allocation_callbacks = &callbacks;
+            EXPECT(NULL, translucid_context_create(&info, &ctx),
+                   TRANSLUCID_RESULT_ERROR_NULL_POINTER);
+            TRUE_OR_FAIL(strstr(translucid_context_get_last_error(NULL), "pfnFree") != NULL);
+            memory.allocation_callbacks = NULL;
+        }
         /* A budget smaller than anything a context makes: its first allocation is refused. */
         memory.next = NULL;
         memory.budget_bytes = 1;

@@ -134,12 +134,13 @@ impl AttachmentPass {
             .height(extent.height)
             .layers(1);
         // SAFETY: the views are live, single-level and match the pass's formats.
-        let framebuffer = match unsafe { gpu.device.create_framebuffer(&fb_info, None) } {
+        let framebuffer = match unsafe { gpu.device.create_framebuffer(&fb_info, gpu.callbacks()) }
+        {
             Ok(f) => f,
             Err(e) => {
                 gpu.forget_render_pass(render_pass);
                 // SAFETY: unused render pass.
-                unsafe { gpu.device.destroy_render_pass(render_pass, None) };
+                unsafe { gpu.device.destroy_render_pass(render_pass, gpu.callbacks()) };
                 return Err(vk_err("vkCreateFramebuffer")(e));
             }
         };
@@ -188,9 +189,13 @@ impl Drop for AttachmentPass {
     fn drop(&mut self) {
         // SAFETY: no pending work uses them.
         unsafe {
-            self.gpu.device.destroy_framebuffer(self.framebuffer, None);
+            self.gpu
+                .device
+                .destroy_framebuffer(self.framebuffer, self.gpu.callbacks());
             self.gpu.forget_render_pass(self.render_pass);
-            self.gpu.device.destroy_render_pass(self.render_pass, None);
+            self.gpu
+                .device
+                .destroy_render_pass(self.render_pass, self.gpu.callbacks());
         }
     }
 }
@@ -218,7 +223,7 @@ pub(super) fn one_subpass_render_pass(
         .subpasses(&subpasses)
         .dependencies(&dependencies);
     // SAFETY: valid device; every pointee lives for the call.
-    let render_pass = unsafe { gpu.device.create_render_pass(&info, None) }
+    let render_pass = unsafe { gpu.device.create_render_pass(&info, gpu.callbacks()) }
         .map_err(vk_err("vkCreateRenderPass"))?;
     gpu.note_render_pass(
         render_pass,

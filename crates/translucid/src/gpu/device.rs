@@ -155,6 +155,10 @@ pub struct Shared {
     pub(crate) memory: MemoryStats,
     /// The most bytes `memory` may hold: an allocation past it fails (MemoryBudget).
     pub(crate) memory_budget: Option<u64>,
+    /// The engine's host allocator, on its device: every object translucid makes there is
+    /// created and destroyed with it. (Device memory comes from gpu-allocator, which takes
+    /// none: its blocks use the driver's own host allocations.)
+    allocation_callbacks: Option<super::host::AllocationCallbacks>,
     /// Pipelines created on the device so far: each one costs a shader compilation, which
     /// a frame loop must not pay.
     pipelines_created: AtomicU64,
@@ -486,6 +490,7 @@ impl Gpu {
                 allocator: ManuallyDrop::new(Mutex::new(allocator)),
                 memory: MemoryStats::default(),
                 memory_budget: options.memory_budget,
+                allocation_callbacks: None,
                 pipelines_created: AtomicU64::new(0),
                 dispatches_recorded: AtomicU64::new(0),
                 pipeline_cache: OnceLock::new(),
@@ -568,6 +573,7 @@ impl Gpu {
             subgroup_size_control: info.full_subgroups,
             software_sampling: self.info.software_sampling,
             memory_budget: self.memory_budget,
+            allocation_callbacks: self.allocation_callbacks,
         })
     }
 
@@ -581,6 +587,7 @@ impl Gpu {
         physical: vk::PhysicalDevice,
         info: DeviceInfo,
         memory_budget: Option<u64>,
+        allocation_callbacks: Option<super::host::AllocationCallbacks>,
     ) -> Result<Self> {
         let allocator = create_allocator(&instance, &device, physical, memory_budget)?;
         Ok(Self(Arc::new(Shared {
@@ -595,6 +602,7 @@ impl Gpu {
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
             memory: MemoryStats::default(),
             memory_budget,
+            allocation_callbacks,
             pipelines_created: AtomicU64::new(0),
             dispatches_recorded: AtomicU64::new(0),
             pipeline_cache: OnceLock::new(),
@@ -609,6 +617,12 @@ impl Gpu {
 }
 
 impl Shared {
+    /// What every Vulkan object made on the device is created and destroyed with: the
+    /// engine's allocation callbacks on its device, if it gave them.
+    pub(crate) fn callbacks(&self) -> Option<&vk::AllocationCallbacks<'static>> {
+        self.allocation_callbacks.as_ref().map(|c| &c.0)
+    }
+
     /// Runs `create` with the device's pipeline cache, as pipeline creation may: while no
     /// merge into it runs.
     pub(crate) fn with_pipeline_cache<T>(&self, create: impl FnOnce(vk::PipelineCache) -> T) -> T {
@@ -626,8 +640,10 @@ impl Shared {
         *self.pipeline_cache.get_or_init(|| {
             // SAFETY: valid device and create info.
             unsafe {
-                self.device
-                    .create_pipeline_cache(&vk::PipelineCacheCreateInfo::default(), None)
+                self.device.create_pipeline_cache(
+                    &vk::PipelineCacheCreateInfo::default(),
+                    self.callbacks(),
+                )
             }
             .unwrap_or_else(|e| {
                 log::warn!("vkCreatePipelineCache failed ({e}); pipelines are not cached");
@@ -662,7 +678,7 @@ impl Shared {
         }
         let info = vk::PipelineCacheCreateInfo::default().initial_data(data);
         // SAFETY: valid device; the data's header names this device (checked above).
-        let loaded = unsafe { self.device.create_pipeline_cache(&info, None) }
+        let loaded = unsafe { self.device.create_pipeline_cache(&info, self.callbacks()) }
             .map_err(super::error::vk_err("vkCreatePipelineCache"))?;
         let _exclusive = self
             .pipeline_cache_lock
@@ -672,7 +688,7 @@ impl Shared {
         // (the lock above); `loaded` is destroyed once merged.
         let merged = unsafe {
             let merged = self.device.merge_pipeline_caches(cache, &[loaded]);
-            self.device.destroy_pipeline_cache(loaded, None);
+            self.device.destroy_pipeline_cache(loaded, self.callbacks());
             merged
         };
         merged.map_err(super::error::vk_err("vkMergePipelineCaches"))?;
@@ -977,7 +993,7 @@ impl Drop for Shared {
         if let Some(&cache) = self.pipeline_cache.get() {
             // SAFETY: every pipeline made through the cache has been created (creation is
             // synchronous); the cache is ours on either kind of device.
-            unsafe { self.device.destroy_pipeline_cache(cache, None) };
+            unsafe { self.device.destroy_pipeline_cache(cache, self.callbacks()) };
         }
         let (live, _) = self.memory.current_and_peak();
         if live != 0 {

@@ -22,9 +22,13 @@ impl Drop for FrameViews {
     fn drop(&mut self) {
         // SAFETY: kept until the frame that drew through them completed (see `EnginePass`).
         unsafe {
-            self.gpu.device.destroy_framebuffer(self.framebuffer, None);
+            self.gpu
+                .device
+                .destroy_framebuffer(self.framebuffer, self.gpu.callbacks());
             for &view in &self.views {
-                self.gpu.device.destroy_image_view(view, None);
+                self.gpu
+                    .device
+                    .destroy_image_view(view, self.gpu.callbacks());
             }
         }
     }
@@ -66,7 +70,8 @@ fn engine_view(
         });
     // SAFETY: the engine's live image of this device, of the format named (the record_host
     // contract), with one level and one layer.
-    unsafe { gpu.device.create_image_view(&info, None) }.map_err(vk_err("vkCreateImageView"))
+    unsafe { gpu.device.create_image_view(&info, gpu.callbacks()) }
+        .map_err(vk_err("vkCreateImageView"))
 }
 
 /// Per frame slot, a view of the engine's depth image (its depth aspect, for sampling) made
@@ -189,8 +194,12 @@ impl EnginePass {
             .height(extent.height)
             .layers(1);
         // SAFETY: the views are live, single-level and match the pass's formats.
-        frame.framebuffer = unsafe { self.gpu.device.create_framebuffer(&info, None) }
-            .map_err(vk_err("vkCreateFramebuffer"))?;
+        frame.framebuffer = unsafe {
+            self.gpu
+                .device
+                .create_framebuffer(&info, self.gpu.callbacks())
+        }
+        .map_err(vk_err("vkCreateFramebuffer"))?;
         let framebuffer = frame.framebuffer;
         self.slots[slot] = Some(frame);
 
@@ -234,7 +243,9 @@ impl Drop for EnginePass {
         // SAFETY: no pending work uses it (the renderer outlives its frames in flight).
         unsafe {
             self.gpu.forget_render_pass(self.render_pass);
-            self.gpu.device.destroy_render_pass(self.render_pass, None);
+            self.gpu
+                .device
+                .destroy_render_pass(self.render_pass, self.gpu.callbacks());
         }
     }
 }

@@ -195,7 +195,21 @@ pub struct HostDevice {
     /// The most GPU memory translucid's objects on the device may hold, in bytes; `None`:
     /// no limit.
     pub memory_budget: Option<u64>,
+    /// The engine's host allocator, which every Vulkan object translucid makes on the device
+    /// is created and destroyed with.
+    pub allocation_callbacks: Option<AllocationCallbacks>,
 }
+
+/// An engine's `VkAllocationCallbacks`, kept for the device's lifetime.
+#[derive(Clone, Copy, Debug)]
+pub struct AllocationCallbacks(pub vk::AllocationCallbacks<'static>);
+
+// SAFETY: Vulkan calls an object's allocation callbacks from whichever thread uses the object,
+// so the engine that hands them over makes them (and their user data) callable from any
+// thread, as the header says; translucid only passes them to Vulkan.
+unsafe impl Send for AllocationCallbacks {}
+// SAFETY: as for Send; translucid never calls or changes them itself.
+unsafe impl Sync for AllocationCallbacks {}
 
 fn version_string(v: u32) -> String {
     format!("{}.{}", vk::api_version_major(v), vk::api_version_minor(v))
@@ -320,6 +334,7 @@ impl Gpu {
             host.physical_device,
             info,
             host.memory_budget,
+            host.allocation_callbacks,
         )
     }
 }

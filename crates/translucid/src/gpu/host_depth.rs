@@ -27,7 +27,11 @@ struct EngineDepthView {
 impl Drop for EngineDepthView {
     fn drop(&mut self) {
         // SAFETY: kept until the frame that sampled it completed (see `DepthImport::slots`).
-        unsafe { self.gpu.device.destroy_image_view(self.raw, None) };
+        unsafe {
+            self.gpu
+                .device
+                .destroy_image_view(self.raw, self.gpu.callbacks())
+        };
     }
 }
 
@@ -123,8 +127,12 @@ impl DepthImport {
             });
         // SAFETY: the engine's live depth image of this device, of the format named (the
         // record_host contract), with one level and one layer.
-        let raw = unsafe { self.gpu.device.create_image_view(&info, None) }
-            .map_err(vk_err("vkCreateImageView"))?;
+        let raw = unsafe {
+            self.gpu
+                .device
+                .create_image_view(&info, self.gpu.callbacks())
+        }
+        .map_err(vk_err("vkCreateImageView"))?;
         let view = EngineDepthView {
             gpu: self.gpu.clone(),
             raw,

@@ -271,10 +271,9 @@ impl Gpu {
             .usage(usage)
             .sharing_mode(vk::SharingMode::EXCLUSIVE);
         // SAFETY: valid device and create info.
-        let raw = unsafe { self.device.create_buffer(&info, None) }.map_err(vk_err_for(
-            "vkCreateBuffer",
-            format!("{name} ({size} bytes)"),
-        ))?;
+        let raw = unsafe { self.device.create_buffer(&info, self.callbacks()) }.map_err(
+            vk_err_for("vkCreateBuffer", format!("{name} ({size} bytes)")),
+        )?;
         let mut buffer = Buffer {
             gpu: self.clone(),
             raw,
@@ -350,10 +349,11 @@ impl Gpu {
             .usage(usage)
             .initial_layout(vk::ImageLayout::UNDEFINED);
         // SAFETY: valid device and create info.
-        let raw = unsafe { self.device.create_image(&info, None) }.map_err(vk_err_for(
-            "vkCreateImage",
-            format!("{name} ({}x{})", extent.width, extent.height),
-        ))?;
+        let raw =
+            unsafe { self.device.create_image(&info, self.callbacks()) }.map_err(vk_err_for(
+                "vkCreateImage",
+                format!("{name} ({}x{})", extent.width, extent.height),
+            ))?;
         let mut image = GpuImage {
             gpu: self.clone(),
             raw,
@@ -392,7 +392,7 @@ impl Gpu {
                 ..image.full_range()
             });
         // SAFETY: the image is bound to memory; the range is within it.
-        image.view = unsafe { self.device.create_image_view(&view_info, None) }
+        image.view = unsafe { self.device.create_image_view(&view_info, self.callbacks()) }
             .map_err(vk_err("vkCreateImageView"))?;
         Ok(image)
     }
@@ -483,7 +483,11 @@ impl Drop for Buffer {
     fn drop(&mut self) {
         // SAFETY: every submission is waited for before its resources can be dropped, so the
         // buffer is not in use.
-        unsafe { self.gpu.device.destroy_buffer(self.raw, None) };
+        unsafe {
+            self.gpu
+                .device
+                .destroy_buffer(self.raw, self.gpu.callbacks())
+        };
         if let Some(a) = self.allocation.take() {
             self.gpu.free(a);
         }
@@ -564,7 +568,7 @@ impl Gpu {
             .offset(0)
             .range(bytes);
         // SAFETY: valid device, a live buffer, and a range within it of whole texels.
-        let raw = unsafe { self.device.create_buffer_view(&info, None) }
+        let raw = unsafe { self.device.create_buffer_view(&info, self.callbacks()) }
             .map_err(vk_err("vkCreateBufferView"))?;
         Ok(BufferView {
             gpu: self.clone(),
@@ -577,7 +581,11 @@ impl Drop for BufferView {
     fn drop(&mut self) {
         // SAFETY: as for Buffer: no submission using the view is pending. The owner keeps the
         // view next to (and dropped before or with) its buffer.
-        unsafe { self.gpu.device.destroy_buffer_view(self.raw, None) };
+        unsafe {
+            self.gpu
+                .device
+                .destroy_buffer_view(self.raw, self.gpu.callbacks())
+        };
     }
 }
 
@@ -619,9 +627,13 @@ impl Drop for GpuImage {
         // SAFETY: as for Buffer: no submission using the image is pending.
         unsafe {
             if self.view != vk::ImageView::null() {
-                self.gpu.device.destroy_image_view(self.view, None);
+                self.gpu
+                    .device
+                    .destroy_image_view(self.view, self.gpu.callbacks());
             }
-            self.gpu.device.destroy_image(self.raw, None);
+            self.gpu
+                .device
+                .destroy_image(self.raw, self.gpu.callbacks());
         }
         if let Some(a) = self.allocation.take() {
             self.gpu.free(a);

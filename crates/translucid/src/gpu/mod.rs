@@ -59,9 +59,9 @@ pub use device::{
 pub use engine_images::{EngineImages, ENGINE_COLOUR_FORMAT};
 pub use engine_pass::{EngineDepthViews, EnginePass};
 pub use host::{
-    host_requirements, host_requirements_with, HostDevice, HostImage, HostRequirements,
-    HostTargets, OptionalFeature, SubgroupRequirements, HOST_API_VERSION, HOST_DEPTH_FORMAT,
-    HOST_DEPTH_FORMATS, SUBGROUP_REQUIREMENTS,
+    host_requirements, host_requirements_with, AllocationCallbacks, HostDevice, HostImage,
+    HostRequirements, HostTargets, OptionalFeature, SubgroupRequirements, HOST_API_VERSION,
+    HOST_DEPTH_FORMAT, HOST_DEPTH_FORMATS, SUBGROUP_REQUIREMENTS,
 };
 pub use host_depth::DepthImport;
 pub use memory::MemoryLocation;

@@ -98,8 +98,11 @@ impl DescriptorLayout {
             .collect();
         let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
         // SAFETY: valid device and create info.
-        let raw = unsafe { gpu.device.create_descriptor_set_layout(&info, None) }
-            .map_err(vk_err("vkCreateDescriptorSetLayout"))?;
+        let raw = unsafe {
+            gpu.device
+                .create_descriptor_set_layout(&info, gpu.callbacks())
+        }
+        .map_err(vk_err("vkCreateDescriptorSetLayout"))?;
         Ok(Self {
             gpu: gpu.clone(),
             raw,
@@ -188,8 +191,12 @@ impl DescriptorLayout {
             .max_sets(1)
             .pool_sizes(&sizes);
         // SAFETY: valid device and create info.
-        let pool = unsafe { self.gpu.device.create_descriptor_pool(&pool_info, None) }
-            .map_err(vk_err("vkCreateDescriptorPool"))?;
+        let pool = unsafe {
+            self.gpu
+                .device
+                .create_descriptor_pool(&pool_info, self.gpu.callbacks())
+        }
+        .map_err(vk_err("vkCreateDescriptorPool"))?;
         let mut set = DescriptorSet {
             gpu: self.gpu.clone(),
             pool,
@@ -323,7 +330,7 @@ impl Drop for DescriptorLayout {
         unsafe {
             self.gpu
                 .device
-                .destroy_descriptor_set_layout(self.raw, None)
+                .destroy_descriptor_set_layout(self.raw, self.gpu.callbacks())
         };
     }
 }
@@ -331,7 +338,11 @@ impl Drop for DescriptorLayout {
 impl Drop for DescriptorSet {
     fn drop(&mut self) {
         // SAFETY: no pending submission uses the set once its owner drops it.
-        unsafe { self.gpu.device.destroy_descriptor_pool(self.pool, None) };
+        unsafe {
+            self.gpu
+                .device
+                .destroy_descriptor_pool(self.pool, self.gpu.callbacks())
+        };
     }
 }
 
@@ -407,7 +418,8 @@ fn shader_module(gpu: &Gpu, spirv: &[u8]) -> Result<vk::ShaderModule> {
     let words = ash::util::read_spv(&mut std::io::Cursor::new(spirv))?;
     let info = vk::ShaderModuleCreateInfo::default().code(&words);
     // SAFETY: the words are SPIR-V produced by glslc at build time.
-    unsafe { gpu.device.create_shader_module(&info, None) }.map_err(vk_err("vkCreateShaderModule"))
+    unsafe { gpu.device.create_shader_module(&info, gpu.callbacks()) }
+        .map_err(vk_err("vkCreateShaderModule"))
 }
 
 fn pipeline_layout(
@@ -426,7 +438,7 @@ fn pipeline_layout(
         .set_layouts(&raw_sets)
         .push_constant_ranges(if push_bytes > 0 { &ranges } else { &[] });
     // SAFETY: valid device and create info.
-    unsafe { gpu.device.create_pipeline_layout(&info, None) }
+    unsafe { gpu.device.create_pipeline_layout(&info, gpu.callbacks()) }
         .map_err(vk_err("vkCreatePipelineLayout"))
 }
 
@@ -461,7 +473,7 @@ impl ComputePipeline {
             Ok(m) => m,
             Err(e) => {
                 // SAFETY: the layout was just created and is unused.
-                unsafe { gpu.device.destroy_pipeline_layout(layout, None) };
+                unsafe { gpu.device.destroy_pipeline_layout(layout, gpu.callbacks()) };
                 return Err(e);
             }
         };
@@ -493,10 +505,11 @@ impl ComputePipeline {
             .layout(layout)];
         // SAFETY: valid module and layout.
         let created = gpu.with_pipeline_cache(|cache| unsafe {
-            gpu.device.create_compute_pipelines(cache, &info, None)
+            gpu.device
+                .create_compute_pipelines(cache, &info, gpu.callbacks())
         });
         // SAFETY: the module is no longer needed once the pipeline exists (or failed).
-        unsafe { gpu.device.destroy_shader_module(module, None) };
+        unsafe { gpu.device.destroy_shader_module(module, gpu.callbacks()) };
         match created {
             Ok(p) => {
                 gpu.count_pipeline();
@@ -508,7 +521,7 @@ impl ComputePipeline {
             }
             Err((_, e)) => {
                 // SAFETY: unused layout.
-                unsafe { gpu.device.destroy_pipeline_layout(layout, None) };
+                unsafe { gpu.device.destroy_pipeline_layout(layout, gpu.callbacks()) };
                 Err(vk_err("vkCreateComputePipelines")(e))
             }
         }
@@ -590,8 +603,12 @@ impl Drop for ComputePipeline {
     fn drop(&mut self) {
         // SAFETY: no pending work uses the pipeline.
         unsafe {
-            self.gpu.device.destroy_pipeline(self.raw, None);
-            self.gpu.device.destroy_pipeline_layout(self.layout, None);
+            self.gpu
+                .device
+                .destroy_pipeline(self.raw, self.gpu.callbacks());
+            self.gpu
+                .device
+                .destroy_pipeline_layout(self.layout, self.gpu.callbacks());
         }
     }
 }
@@ -835,7 +852,7 @@ impl GraphicsPipeline {
         let destroy_modules = |modules: &[vk::ShaderModule]| {
             for &m in modules {
                 // SAFETY: modules are not needed once the pipeline is made (or not).
-                unsafe { gpu.device.destroy_shader_module(m, None) };
+                unsafe { gpu.device.destroy_shader_module(m, gpu.callbacks()) };
             }
         };
         let mut modules = Vec::with_capacity(sources.len());
@@ -845,7 +862,7 @@ impl GraphicsPipeline {
                 Err(e) => {
                     destroy_modules(&modules);
                     // SAFETY: unused layout.
-                    unsafe { gpu.device.destroy_pipeline_layout(layout, None) };
+                    unsafe { gpu.device.destroy_pipeline_layout(layout, gpu.callbacks()) };
                     return Err(e);
                 }
             }
@@ -934,7 +951,8 @@ impl GraphicsPipeline {
             .subpass(0)];
         // SAFETY: every pointee lives until the call returns.
         let created = gpu.with_pipeline_cache(|cache| unsafe {
-            gpu.device.create_graphics_pipelines(cache, &info, None)
+            gpu.device
+                .create_graphics_pipelines(cache, &info, gpu.callbacks())
         });
         destroy_modules(&modules);
         match created {
@@ -948,7 +966,7 @@ impl GraphicsPipeline {
             }
             Err((_, e)) => {
                 // SAFETY: unused layout.
-                unsafe { gpu.device.destroy_pipeline_layout(layout, None) };
+                unsafe { gpu.device.destroy_pipeline_layout(layout, gpu.callbacks()) };
                 Err(vk_err("vkCreateGraphicsPipelines")(e))
             }
         }
@@ -959,8 +977,12 @@ impl Drop for GraphicsPipeline {
     fn drop(&mut self) {
         // SAFETY: no pending work uses the pipeline.
         unsafe {
-            self.gpu.device.destroy_pipeline(self.raw, None);
-            self.gpu.device.destroy_pipeline_layout(self.layout, None);
+            self.gpu
+                .device
+                .destroy_pipeline(self.raw, self.gpu.callbacks());
+            self.gpu
+                .device
+                .destroy_pipeline_layout(self.layout, self.gpu.callbacks());
         }
     }
 }
@@ -1001,8 +1023,8 @@ impl Sampler {
             .min_lod(0.0)
             .max_lod(max_lod);
         // SAFETY: valid device and create info.
-        let raw =
-            unsafe { gpu.device.create_sampler(&info, None) }.map_err(vk_err("vkCreateSampler"))?;
+        let raw = unsafe { gpu.device.create_sampler(&info, gpu.callbacks()) }
+            .map_err(vk_err("vkCreateSampler"))?;
         Ok(Self {
             gpu: gpu.clone(),
             raw,
@@ -1021,8 +1043,8 @@ impl Sampler {
             .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
             .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE);
         // SAFETY: valid device and create info.
-        let raw =
-            unsafe { gpu.device.create_sampler(&info, None) }.map_err(vk_err("vkCreateSampler"))?;
+        let raw = unsafe { gpu.device.create_sampler(&info, gpu.callbacks()) }
+            .map_err(vk_err("vkCreateSampler"))?;
         Ok(Self {
             gpu: gpu.clone(),
             raw,
@@ -1033,7 +1055,11 @@ impl Sampler {
 impl Drop for Sampler {
     fn drop(&mut self) {
         // SAFETY: no pending work uses the sampler.
-        unsafe { self.gpu.device.destroy_sampler(self.raw, None) };
+        unsafe {
+            self.gpu
+                .device
+                .destroy_sampler(self.raw, self.gpu.callbacks())
+        };
     }
 }
 
@@ -1122,7 +1148,7 @@ impl RenderTarget {
             .subpasses(&subpass)
             .dependencies(&dependencies);
         // SAFETY: valid device; pointees live for the call.
-        let render_pass = unsafe { gpu.device.create_render_pass(&info, None) }
+        let render_pass = unsafe { gpu.device.create_render_pass(&info, gpu.callbacks()) }
             .map_err(vk_err("vkCreateRenderPass"))?;
         gpu.note_render_pass(render_pass, render_pass_definition(&attachments, 1, true));
         let views = [colour.view, depth.view];
@@ -1133,12 +1159,13 @@ impl RenderTarget {
             .height(colour.extent.height)
             .layers(1);
         // SAFETY: the views are live and match the pass's formats.
-        let framebuffer = match unsafe { gpu.device.create_framebuffer(&fb_info, None) } {
+        let framebuffer = match unsafe { gpu.device.create_framebuffer(&fb_info, gpu.callbacks()) }
+        {
             Ok(f) => f,
             Err(e) => {
                 gpu.forget_render_pass(render_pass);
                 // SAFETY: unused render pass.
-                unsafe { gpu.device.destroy_render_pass(render_pass, None) };
+                unsafe { gpu.device.destroy_render_pass(render_pass, gpu.callbacks()) };
                 return Err(vk_err("vkCreateFramebuffer")(e));
             }
         };
@@ -1185,9 +1212,13 @@ impl Drop for RenderTarget {
     fn drop(&mut self) {
         // SAFETY: no pending work uses them.
         unsafe {
-            self.gpu.device.destroy_framebuffer(self.framebuffer, None);
+            self.gpu
+                .device
+                .destroy_framebuffer(self.framebuffer, self.gpu.callbacks());
             self.gpu.forget_render_pass(self.render_pass);
-            self.gpu.device.destroy_render_pass(self.render_pass, None);
+            self.gpu
+                .device
+                .destroy_render_pass(self.render_pass, self.gpu.callbacks());
         }
     }
 }

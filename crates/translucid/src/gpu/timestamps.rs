@@ -20,7 +20,7 @@ impl Timestamps {
             .query_type(vk::QueryType::TIMESTAMP)
             .query_count(capacity);
         // SAFETY: valid device and create info.
-        let pool = unsafe { gpu.device.create_query_pool(&info, None) }
+        let pool = unsafe { gpu.device.create_query_pool(&info, gpu.callbacks()) }
             .map_err(vk_err("vkCreateQueryPool"))?;
         Ok(Self {
             gpu: gpu.clone(),
@@ -114,6 +114,10 @@ impl Timestamps {
 impl Drop for Timestamps {
     fn drop(&mut self) {
         // SAFETY: no pending submission uses the pool once its owner is dropped.
-        unsafe { self.gpu.device.destroy_query_pool(self.pool, None) };
+        unsafe {
+            self.gpu
+                .device
+                .destroy_query_pool(self.pool, self.gpu.callbacks())
+        };
     }
 }
