@@ -414,6 +414,10 @@ enum translucid_structure_type
      * `translucid_host_subgroup_size_control`, chained to the host device create-info.
      */
     TRANSLUCID_STRUCTURE_TYPE_HOST_SUBGROUP_SIZE_CONTROL = 104,
+    /**
+     * `translucid_host_image_layers`, chained to the frame targets.
+     */
+    TRANSLUCID_STRUCTURE_TYPE_HOST_IMAGE_LAYERS = 105,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -1105,7 +1109,7 @@ typedef struct translucid_host_frame_targets {
      */
     uint32_t s_type;
     /**
-     * NULL.
+     * NULL, or a `translucid_host_image_layers` for images of several array layers.
      */
     const void *next;
     /**
@@ -1643,6 +1647,34 @@ typedef struct translucid_host_subgroup_size_control {
      */
     VkBool32 enabled;
 } translucid_host_subgroup_size_control;
+
+/**
+ * The array layers a frame reads and writes, chained to `translucid_host_frame_targets::next`
+ * where its images have several: each view of a layered image (stereo into an XR swapchain's
+ * two layers) is a frame of its own, into its layer; the other layers are left as they are.
+ * Without it, both images' layer 0.
+ */
+typedef struct translucid_host_image_layers {
+    /**
+     * `TRANSLUCID_STRUCTURE_TYPE_HOST_IMAGE_LAYERS`.
+     */
+    uint32_t s_type;
+    /**
+     * NULL.
+     */
+    const void *next;
+    /**
+     * The colour image's layer, and how many it has (its `arrayLayers`: translucid cannot
+     * query it, so it checks the layer against this; 0 means 1).
+     */
+    uint32_t colour_layer;
+    uint32_t colour_layer_count;
+    /**
+     * The same of the depth image.
+     */
+    uint32_t depth_layer;
+    uint32_t depth_layer_count;
+} translucid_host_image_layers;
 
 #ifdef __cplusplus
 extern "C" {

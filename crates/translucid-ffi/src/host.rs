@@ -167,7 +167,7 @@ pub struct translucid_host_image {
 pub struct translucid_host_frame_targets {
     /// `TRANSLUCID_STRUCTURE_TYPE_HOST_FRAME_TARGETS`.
     pub s_type: u32,
-    /// NULL.
+    /// NULL, or a `translucid_host_image_layers` for images of several array layers.
     pub next: *const c_void,
     /// A primary command buffer of the engine's device, recording, outside any render pass,
     /// to be submitted on the queue family named at context creation.
@@ -192,6 +192,62 @@ pub struct translucid_host_frame_targets {
     /// `TRANSLUCID_METHOD_BLEND` and the yardstick test against it as a depth attachment:
     /// DEPTH_STENCIL_ATTACHMENT usage too.
     pub depth: translucid_host_image,
+}
+
+/// The array layers a frame reads and writes, chained to `translucid_host_frame_targets::next`
+/// where its images have several: each view of a layered image (stereo into an XR swapchain's
+/// two layers) is a frame of its own, into its layer; the other layers are left as they are.
+/// Without it, both images' layer 0.
+#[allow(non_camel_case_types)]
+#[repr(C)]
+pub struct translucid_host_image_layers {
+    /// `TRANSLUCID_STRUCTURE_TYPE_HOST_IMAGE_LAYERS`.
+    pub s_type: u32,
+    /// NULL.
+    pub next: *const c_void,
+    /// The colour image's layer, and how many it has (its `arrayLayers`: translucid cannot
+    /// query it, so it checks the layer against this; 0 means 1).
+    pub colour_layer: u32,
+    pub colour_layer_count: u32,
+    /// The same of the depth image.
+    pub depth_layer: u32,
+    pub depth_layer_count: u32,
+}
+
+/// The (colour, depth) layers `next` of the frame targets names: a
+/// `translucid_host_image_layers`, checked, or both 0.
+fn image_layers(next: *const c_void) -> FfiResult<(u32, u32)> {
+    if next.is_null() {
+        return Ok((0, 0));
+    }
+    let what = "translucid_host_frame_targets.next";
+    let link = try_ref(next.cast::<translucid_base_in_structure>(), what)?;
+    check_type(
+        link.s_type,
+        translucid_structure_type::HostImageLayers,
+        what,
+    )?;
+    // A structure of the type its s_type names (C contract).
+    let layers = try_ref(next.cast::<translucid_host_image_layers>(), what)?;
+    check_header(
+        layers.s_type,
+        layers.next,
+        translucid_structure_type::HostImageLayers,
+        "translucid_host_image_layers",
+    )?;
+    for (what, layer, count) in [
+        ("colour", layers.colour_layer, layers.colour_layer_count),
+        ("depth", layers.depth_layer, layers.depth_layer_count),
+    ] {
+        if layer >= count.max(1) {
+            return Err(Failure::argument(format!(
+                "translucid_host_image_layers: the {what} image's layer {layer}, but it has \
+                 {} (its {what}_layer_count)",
+                count.max(1)
+            )));
+        }
+    }
+    Ok((layers.colour_layer, layers.depth_layer))
 }
 
 /// The engine's device description as the core takes it.
@@ -281,12 +337,13 @@ pub(crate) fn host_gpu(
     Ok(unsafe { Gpu::from_host(&host) }?)
 }
 
-fn host_image(image: &translucid_host_image) -> HostImage {
+fn host_image(image: &translucid_host_image, layer: u32) -> HostImage {
     HostImage {
         image: image.image,
         format: image.format,
         layout: image.layout,
         final_layout: image.final_layout,
+        layer,
     }
 }
 
@@ -308,12 +365,12 @@ fn record(
     targets: &translucid_host_frame_targets,
     recording: Recording,
 ) -> FfiResult<u64> {
-    check_header(
+    check_type(
         targets.s_type,
-        targets.next,
         translucid_structure_type::HostFrameTargets,
         "translucid_host_frame_targets",
     )?;
+    let (colour_layer, depth_layer) = image_layers(targets.next)?;
     if !objects.gpu().is_host_device() {
         return Err(not_host("translucid_frame_record"));
     }
@@ -336,8 +393,8 @@ fn record(
     }
     let t = HostTargets {
         cmd: targets.command_buffer,
-        colour: host_image(&targets.colour),
-        depth: host_image(&targets.depth),
+        colour: host_image(&targets.colour, colour_layer),
+        depth: host_image(&targets.depth, depth_layer),
     };
     // SAFETY: the header documents the engine's side: a recording command buffer outside a
     // render pass and images of at least the frame's size with the usages listed (for the

@@ -39,10 +39,12 @@ pub enum translucid_structure_type {
     HostSubgroupRequirements = 103,
     /// `translucid_host_subgroup_size_control`, chained to the host device create-info.
     HostSubgroupSizeControl = 104,
+    /// `translucid_host_image_layers`, chained to the frame targets.
+    HostImageLayers = 105,
 }
 
 impl translucid_structure_type {
-    const ALL: [Self; 20] = [
+    const ALL: [Self; 21] = [
         Self::ContextCreateInfo,
         Self::MeshCreateInfo,
         Self::TextureCreateInfo,
@@ -63,6 +65,7 @@ impl translucid_structure_type {
         Self::HostFrameTargets,
         Self::HostSubgroupRequirements,
         Self::HostSubgroupSizeControl,
+        Self::HostImageLayers,
     ];
 
     pub fn from_raw(value: u32) -> Option<Self> {

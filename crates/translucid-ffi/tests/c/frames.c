@@ -30,6 +30,9 @@
  *    the context never holding more than the budget; a mesh too large for what is left of it
  *    is refused with TRANSLUCID_RESULT_ERROR_OUT_OF_MEMORY, a message naming the budget, and
  *    nothing changed: the next frame is as before.
+ * 13. Every method in stereo into layered images, as an XR swapchain hands them: one colour
+ *    and one depth image of two layers, each view a frame into its own layer, both in one
+ *    command buffer; each layer as the standalone context renders its view alone.
  * And first, in the standalone context: an updated mesh draws as one created so.
  */
 #include <math.h>
@@ -1340,6 +1343,148 @@ static void within_a_budget(translucid_method method) {
     }
 }
 
+/* 13's images: `layers` array layers of W x H. */
+static VkImage create_layered_image(VkFormat format, VkImageUsageFlags usage, uint32_t layers) {
+    VkImageCreateInfo info;
+    VkImage image;
+    memset(&info, 0, sizeof info);
+    info.sType = VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO;
+    info.imageType = VK_IMAGE_TYPE_2D;
+    info.format = format;
+    info.extent.width = W;
+    info.extent.height = H;
+    info.extent.depth = 1;
+    info.mipLevels = 1;
+    info.arrayLayers = layers;
+    info.samples = VK_SAMPLE_COUNT_1_BIT;
+    info.tiling = VK_IMAGE_TILING_OPTIMAL;
+    info.usage = usage;
+    info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+    VK_CHECK(vkCreateImage(g_device, &info, NULL, &image));
+    return image;
+}
+
+/* Every layer of `image` from layout `from` to `to`, after and before anything. */
+static void every_layer(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect,
+                        VkImageLayout from, VkImageLayout to) {
+    VkImageMemoryBarrier b;
+    memset(&b, 0, sizeof b);
+    b.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER;
+    b.srcAccessMask = b.dstAccessMask = VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT;
+    b.oldLayout = from;
+    b.newLayout = to;
+    b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    b.image = image;
+    b.subresourceRange.aspectMask = aspect;
+    b.subresourceRange.levelCount = 1;
+    b.subresourceRange.layerCount = VK_REMAINING_ARRAY_LAYERS;
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
+                         VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 0, NULL, 0, NULL, 1, &b);
+}
+
+/* 13. One frame of two views into the layers of one colour and one depth image. */
+static void layered_stereo(translucid_method method) {
+    translucid_context *ctx = host_context(VIEWS);
+    scene host, standalone;
+    VkImageUsageFlags transfer = VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+    VkImage colour = create_layered_image(
+        VK_FORMAT_R8G8B8A8_SRGB, transfer | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT, VIEWS);
+    VkImage depth = create_layered_image(VK_FORMAT_D32_SFLOAT,
+                                         transfer | VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT |
+                                             VK_IMAGE_USAGE_SAMPLED_BIT,
+                                         VIEWS);
+    VkDeviceMemory colour_memory = bind_image(colour), depth_memory = bind_image(depth);
+    VkDeviceMemory buffer_memory;
+    void *m;
+    /* The opaque colour and depth, then each layer's readback. */
+    VkBuffer buffer =
+        create_host_buffer(COLOUR_BYTES + DEPTH_BYTES + VIEWS * COLOUR_BYTES, &buffer_memory, &m);
+    uint8_t *mapped = m;
+    static uint8_t expected[VIEWS][COLOUR_BYTES];
+    translucid_frame frames[VIEWS];
+    VkCommandBuffer cmd = g_slots[0].cmd;
+    VkMemoryBarrier host_read;
+    uint32_t v;
+    memcpy(mapped, g_opaque_colour, COLOUR_BYTES);
+    memcpy(mapped + COLOUR_BYTES, g_engine_depth, DEPTH_BYTES);
+    make_scene(ctx, &host);
+    make_scene(g_standalone, &standalone);
+
+    begin_commands(cmd);
+    every_layer(cmd, colour, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+                VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL);
+    every_layer(cmd, depth, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+                VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL);
+    for (v = 0; v < VIEWS; v++) {
+        VkBufferImageCopy c = region(VK_IMAGE_ASPECT_COLOR_BIT, 0, W, H);
+        VkBufferImageCopy d = region(VK_IMAGE_ASPECT_DEPTH_BIT, COLOUR_BYTES, W, H);
+        c.imageSubresource.baseArrayLayer = d.imageSubresource.baseArrayLayer = v;
+        vkCmdCopyBufferToImage(cmd, buffer, colour, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &c);
+        vkCmdCopyBufferToImage(cmd, buffer, depth, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &d);
+    }
+    every_layer(cmd, colour, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
+    every_layer(cmd, depth, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
+    for (v = 0; v < VIEWS; v++) {
+        translucid_frame_info info =
+            frame_info(&host, QUADS, orbit_camera(0.4f + (v ? 0.03f : -0.03f)));
+        translucid_host_frame_targets t = targets_of(cmd, &g_slots[0]);
+        translucid_host_image_layers layers;
+        info.method = method;
+        info.camera.z_near = 0.5f;
+        render_expected(info, &standalone, expected[v]);
+        memset(&layers, 0, sizeof layers);
+        layers.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_IMAGE_LAYERS;
+        layers.colour_layer = layers.depth_layer = v;
+        layers.colour_layer_count = layers.depth_layer_count = VIEWS;
+        t.next = &layers;
+        t.colour.image = colour;
+        t.depth.image = depth;
+        CHECK(ctx, translucid_frame_record(ctx, &info, &t, &frames[v]));
+    }
+    for (v = 0; v < VIEWS; v++) {
+        VkBufferImageCopy c =
+            region(VK_IMAGE_ASPECT_COLOR_BIT, COLOUR_BYTES + DEPTH_BYTES + v * COLOUR_BYTES, W, H);
+        c.imageSubresource.baseArrayLayer = v;
+        vkCmdCopyImageToBuffer(cmd, colour, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, buffer, 1, &c);
+    }
+    memset(&host_read, 0, sizeof host_read);
+    host_read.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
+    host_read.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    host_read.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1,
+                         &host_read, 0, NULL, 0, NULL);
+    submit_commands(cmd, g_slots[0].fence);
+    wait_fence(g_slots[0].fence);
+    CHECK(ctx, translucid_frame_complete(ctx, frames[VIEWS - 1]));
+    for (v = 0; v < VIEWS; v++) {
+        int bound = method == TRANSLUCID_METHOD_BLEND ? 8 : 2;
+        int worst = worst_difference(mapped + COLOUR_BYTES + DEPTH_BYTES + v * COLOUR_BYTES,
+                                     expected[v]);
+        if (worst > bound) {
+            printf("FAIL method %d, layer %u: %d/255 off the standalone view\n", (int)method, v,
+                   worst);
+        }
+        TRUE_OR_FAIL(worst <= bound);
+        CHECK(ctx, translucid_frame_destroy(ctx, frames[v]));
+    }
+    printf("method %d: stereo into the %d layers of one colour and one depth image, each as "
+           "the standalone context renders its view\n",
+           (int)method, VIEWS);
+    translucid_context_destroy(ctx);
+    vkDestroyBuffer(g_device, buffer, NULL);
+    vkFreeMemory(g_device, buffer_memory, NULL);
+    vkDestroyImage(g_device, colour, NULL);
+    vkFreeMemory(g_device, colour_memory, NULL);
+    vkDestroyImage(g_device, depth, NULL);
+    vkFreeMemory(g_device, depth_memory, NULL);
+    for (v = 0; v < QUADS + 1; v++) {
+        CHECK(g_standalone, translucid_mesh_destroy(g_standalone, standalone.meshes[v]));
+        CHECK(g_standalone, translucid_material_destroy(g_standalone, standalone.materials[v]));
+    }
+}
+
 int main(void) {
     static const float forward_bands[3] = {0.3f, 0.75f, 1.0f};
     translucid_host_requirements req;
@@ -1403,6 +1548,7 @@ int main(void) {
             grows_deep_in_flight(methods[n]);
         }
         for (n = 0; n < sizeof methods / sizeof methods[0]; n++) within_a_budget(methods[n]);
+        for (n = 0; n < sizeof methods / sizeof methods[0]; n++) layered_stereo(methods[n]);
     }
 
     translucid_context_destroy(g_standalone);

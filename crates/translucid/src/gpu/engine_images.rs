@@ -136,12 +136,14 @@ impl EngineImages {
                 format: ENGINE_COLOUR_FORMAT,
                 layout: self.layouts.0,
                 final_layout: colour_final,
+                layer: 0,
             },
             depth: HostImage {
                 image: self.depth.raw,
                 format: self.depth_format,
                 layout: self.layouts.1,
                 final_layout: self.layouts.1,
+                layer: 0,
             },
         }
     }

@@ -51,7 +51,7 @@ impl PassKey {
     }
 }
 
-/// A view of one of the engine's images: `aspect` of its one level and layer.
+/// A view of one of the engine's images: `aspect` of its one level and the frame's layer.
 fn engine_view(
     gpu: &Gpu,
     image: &HostImage,
@@ -65,11 +65,11 @@ fn engine_view(
             aspect_mask: aspect,
             base_mip_level: 0,
             level_count: 1,
-            base_array_layer: 0,
+            base_array_layer: image.layer,
             layer_count: 1,
         });
     // SAFETY: the engine's live image of this device, of the format named (the record_host
-    // contract), with one level and one layer.
+    // contract), with one level and at least `layer + 1` layers.
     unsafe { gpu.device.create_image_view(&info, gpu.callbacks()) }
         .map_err(vk_err("vkCreateImageView"))
 }

@@ -399,11 +399,14 @@ pub struct HostImage {
     pub format: vk::Format,
     pub layout: vk::ImageLayout,
     pub final_layout: vk::ImageLayout,
+    /// The array layer the frame reads and writes (0 for an image of one layer): each view
+    /// of a layered image, as XR swapchains hand them, is a frame of its own.
+    pub layer: u32,
 }
 
 /// What a host-device frame records into: the engine's command buffer (recording, outside a
 /// render pass) and its colour and depth images, both single-sample 2D images of the frame's
-/// size with one mip level and one layer.
+/// size with one mip level, of which the frame reads and writes one array layer each.
 #[derive(Clone, Copy, Debug)]
 pub struct HostTargets {
     pub cmd: vk::CommandBuffer,
@@ -578,23 +581,33 @@ fn is_integer_or_depth(f: vk::Format) -> bool {
     name.contains("INT") || name.starts_with('D') || name.starts_with("S8")
 }
 
-/// The whole colour (or depth) subresource of a host image.
-fn range(aspect: vk::ImageAspectFlags) -> vk::ImageSubresourceRange {
+/// The colour (or depth) subresource of an image's one level and `layer`.
+fn range(aspect: vk::ImageAspectFlags, layer: u32) -> vk::ImageSubresourceRange {
     vk::ImageSubresourceRange {
         aspect_mask: aspect,
         base_mip_level: 0,
         level_count: 1,
-        base_array_layer: 0,
+        base_array_layer: layer,
         layer_count: 1,
     }
 }
 
-fn layers(aspect: vk::ImageAspectFlags) -> vk::ImageSubresourceLayers {
+fn layers(aspect: vk::ImageAspectFlags, layer: u32) -> vk::ImageSubresourceLayers {
     vk::ImageSubresourceLayers {
         aspect_mask: aspect,
         mip_level: 0,
-        base_array_layer: 0,
+        base_array_layer: layer,
         layer_count: 1,
+    }
+}
+
+/// An image and the array layer of it a command reads or writes.
+pub(super) type Layer = (vk::Image, u32);
+
+impl HostImage {
+    /// The image and its frame's layer.
+    pub(super) fn layer(&self) -> Layer {
+        (self.image, self.layer)
     }
 }
 
@@ -622,10 +635,10 @@ const TRANSFER_WRITE: (vk::PipelineStageFlags, vk::AccessFlags) = (
 /// Pipeline stages and the accesses in them.
 type Access = (vk::PipelineStageFlags, vk::AccessFlags);
 
-/// One layout transition of a raw image: the image, its aspect, (old, new) layouts, and the
-/// source and destination stages and accesses.
+/// One layout transition of a raw image's layer: the image and layer, its aspect, (old, new)
+/// layouts, and the source and destination stages and accesses.
 pub(super) struct Transition(
-    pub vk::Image,
+    pub Layer,
     pub vk::ImageAspectFlags,
     pub (L, L),
     pub (vk::PipelineStageFlags, vk::AccessFlags),
@@ -644,8 +657,8 @@ impl Gpu {
                     .dst_access_mask(dst.1)
                     .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
                     .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-                    .image(*image)
-                    .subresource_range(range(*aspect))
+                    .image(image.0)
+                    .subresource_range(range(*aspect, image.1))
             })
             .collect();
         let src = list
@@ -669,25 +682,25 @@ impl Gpu {
         };
     }
 
-    fn blit(&self, cmd: vk::CommandBuffer, from: vk::Image, to: vk::Image, extent: vk::Extent2D) {
+    fn blit(&self, cmd: vk::CommandBuffer, from: Layer, to: Layer, extent: vk::Extent2D) {
         let corner = vk::Offset3D {
             x: extent.width as i32,
             y: extent.height as i32,
             z: 1,
         };
         let region = vk::ImageBlit::default()
-            .src_subresource(layers(vk::ImageAspectFlags::COLOR))
+            .src_subresource(layers(vk::ImageAspectFlags::COLOR, from.1))
             .src_offsets([vk::Offset3D::default(), corner])
-            .dst_subresource(layers(vk::ImageAspectFlags::COLOR))
+            .dst_subresource(layers(vk::ImageAspectFlags::COLOR, to.1))
             .dst_offsets([vk::Offset3D::default(), corner]);
         // SAFETY: both images are in the transfer layouts named here (set by the barriers
         // before), have blittable formats (checked) and are at least `extent` large.
         unsafe {
             self.device.cmd_blit_image(
                 cmd,
-                from,
+                from.0,
                 vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                to,
+                to.0,
                 vk::ImageLayout::TRANSFER_DST_OPTIMAL,
                 &[region],
                 vk::Filter::NEAREST,
@@ -711,24 +724,24 @@ impl Gpu {
         let (src, dst) = (L::TRANSFER_SRC_OPTIMAL, L::TRANSFER_DST_OPTIMAL);
         let mut before = vec![
             Transition(
-                t.colour.image,
+                t.colour.layer(),
                 c,
                 (t.colour.layout, src),
                 ANY,
                 TRANSFER_READ,
             ),
-            Transition(colour.raw, c, (L::UNDEFINED, dst), ANY, TRANSFER_WRITE),
+            Transition((colour.raw, 0), c, (L::UNDEFINED, dst), ANY, TRANSFER_WRITE),
         ];
         if let Some(depth) = depth {
             before.push(Transition(
-                t.depth.image,
+                t.depth.layer(),
                 d,
                 (t.depth.layout, src),
                 ANY,
                 TRANSFER_READ,
             ));
             before.push(Transition(
-                depth.raw,
+                (depth.raw, 0),
                 d,
                 (L::UNDEFINED, dst),
                 ANY,
@@ -736,9 +749,9 @@ impl Gpu {
             ));
         }
         self.transitions(t.cmd, &before);
-        self.blit(t.cmd, t.colour.image, colour.raw, extent);
+        self.blit(t.cmd, t.colour.layer(), (colour.raw, 0), extent);
         let mut after = vec![Transition(
-            colour.raw,
+            (colour.raw, 0),
             c,
             (dst, L::COLOR_ATTACHMENT_OPTIMAL),
             TRANSFER_WRITE,
@@ -746,8 +759,8 @@ impl Gpu {
         )];
         if let Some(depth) = depth {
             let copy = vk::ImageCopy::default()
-                .src_subresource(layers(d))
-                .dst_subresource(layers(d))
+                .src_subresource(layers(d, t.depth.layer))
+                .dst_subresource(layers(d, 0))
                 .extent(vk::Extent3D {
                     width: extent.width,
                     height: extent.height,
@@ -761,14 +774,14 @@ impl Gpu {
                     .cmd_copy_image(t.cmd, t.depth.image, src, depth.raw, dst, &[copy])
             };
             after.push(Transition(
-                t.depth.image,
+                t.depth.layer(),
                 d,
                 (src, t.depth.final_layout),
                 TRANSFER_READ,
                 ANY,
             ));
             after.push(Transition(
-                depth.raw,
+                (depth.raw, 0),
                 d,
                 (dst, L::DEPTH_STENCIL_ATTACHMENT_OPTIMAL),
                 TRANSFER_WRITE,
@@ -801,7 +814,7 @@ impl Gpu {
         (after, before): (Access, Access),
     ) {
         let aspects = depth_format_aspects(t.depth.format);
-        let transition = Transition(t.depth.image, aspects, layouts, after, before);
+        let transition = Transition(t.depth.layer(), aspects, layouts, after, before);
         self.transitions(t.cmd, &[transition]);
     }
 
@@ -820,13 +833,19 @@ impl Gpu {
         self.transitions(
             t.cmd,
             &[
-                Transition(colour.raw, c, (attachment, src), ANY, TRANSFER_READ),
-                Transition(t.colour.image, c, (src, dst), TRANSFER_READ, TRANSFER_WRITE),
+                Transition((colour.raw, 0), c, (attachment, src), ANY, TRANSFER_READ),
+                Transition(
+                    t.colour.layer(),
+                    c,
+                    (src, dst),
+                    TRANSFER_READ,
+                    TRANSFER_WRITE,
+                ),
             ],
         );
-        self.blit(t.cmd, colour.raw, t.colour.image, extent);
+        self.blit(t.cmd, (colour.raw, 0), t.colour.layer(), extent);
         let last = Transition(
-            t.colour.image,
+            t.colour.layer(),
             c,
             (dst, t.colour.final_layout),
             TRANSFER_WRITE,

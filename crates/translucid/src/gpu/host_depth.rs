@@ -122,11 +122,11 @@ impl DepthImport {
                 aspect_mask: vk::ImageAspectFlags::DEPTH,
                 base_mip_level: 0,
                 level_count: 1,
-                base_array_layer: 0,
+                base_array_layer: depth.layer,
                 layer_count: 1,
             });
         // SAFETY: the engine's live depth image of this device, of the format named (the
-        // record_host contract), with one level and one layer.
+        // record_host contract), with one level and at least `layer + 1` layers.
         let raw = unsafe {
             self.gpu
                 .device
@@ -161,7 +161,7 @@ impl DepthImport {
         self.gpu.transitions(
             cmd,
             &[Transition(
-                depth.image,
+                depth.layer(),
                 aspects,
                 (depth.layout, read),
                 ANY,
@@ -175,7 +175,7 @@ impl DepthImport {
         self.gpu.transitions(
             cmd,
             &[Transition(
-                depth.image,
+                depth.layer(),
                 aspects,
                 (read, depth.final_layout),
                 SAMPLED,
