@@ -11,7 +11,8 @@ use crate::structure::translucid_structure_type;
 use std::ffi::c_void;
 use translucid::methods::bins::features::DeclaredContent;
 
-/// Textured materials.
+/// Textured materials. (Both variants are built: frames without a textured transparent draw
+/// run without the texturing code, which costs them most of all the declared content.)
 pub const TRANSLUCID_CONTENT_TEXTURES: u32 = 1;
 /// Vertex colours or draw tints, one colour per quad (particles, billboards).
 pub const TRANSLUCID_CONTENT_VERTEX_COLOURS: u32 = 2;
@@ -72,7 +73,7 @@ impl translucid_prepare_info {
     /// over any assets, streamed-in ones included, whose content is within the declaration.
     /// Those frames then report `pipelines_created` 0 (but for the first frame on an engine's
     /// device that draws or composites into its colour format, or imports its depth format:
-    /// it builds those passes' few pipelines). Frames draw with the declared shaders whether they need all of them
+    /// it builds those passes' few pipelines). Frames draw with the declared shaders whether they need all of them (textures apart: a frame without a textured draw takes the untextured variant, built too)
     /// or not: declare what the loop draws, not more. Call it at load time, once per method
     /// and settings the loop uses, after creating the assets or before; a later call that
     /// declares more makes the next frames build their renderers anew. Not declared, and

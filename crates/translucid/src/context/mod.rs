@@ -230,7 +230,8 @@ impl Context {
     /// declaration. Frames of that method and those settings, up to that size, then build no
     /// pipeline, also when assets streamed in bring content they did not draw before (see
     /// [`DeclaredContent`] for what it covers and what it does not). Frames draw with the
-    /// declared variants whether or not they need all of them. Returns the pipelines built and
+    /// declared variants whether or not they need all of them, textures apart (both their
+    /// variants are built, and a frame takes its own). Returns the pipelines built and
     /// the bytes of GPU memory allocated.
     ///
     /// [`DeclaredContent`]: crate::methods::bins::features::DeclaredContent

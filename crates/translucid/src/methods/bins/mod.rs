@@ -492,10 +492,16 @@ impl Bins {
             Some(bits) => bits.min(features::GPU_TALLY_BITS),
             None => features::bin_tally_bits(features.branching, features::global_counts_forced()?),
         };
-        // Buffers per block and row are made for the largest frame.
+        // Buffers per block and row are made for the largest frame; attribute records for
+        // the textured frames of a loop that declared them.
+        let declared_texels = RasterFeatures {
+            textures: features.textures || options.declared.textures,
+            ..features
+        }
+        .attribute_texels();
         let capacities = Capacities::initial(
             gpu_scene.transparent_quads,
-            features.attribute_texels(),
+            declared_texels,
             capacity.width.div_ceil(BIN_SIZE) * capacity.height.div_ceil(BIN_SIZE),
             expected,
             homogeneous_bound(&most, near_plane),
@@ -588,6 +594,29 @@ impl Bins {
     /// What the engine declared its frames may draw.
     pub fn declared(&self) -> features::DeclaredContent {
         self.declared
+    }
+
+    /// Where the engine declared textures, builds now the variant of frames with the other
+    /// texture state than this one's (textured draws or none): its stages, and what `raster`
+    /// builds of the method's raster for the bins' features as they are then; so that the
+    /// loop moves between the two and builds nothing.
+    pub fn prebuild_texture_variant(
+        &mut self,
+        gpu_scene: &GpuScene,
+        raster: impl FnOnce(&mut Self) -> Result<()>,
+    ) -> Result<()> {
+        if !self.declared.textures {
+            return Ok(());
+        }
+        let current = self.features;
+        let other = RasterFeatures {
+            textures: !current.textures,
+            ..current
+        };
+        self.select(gpu_scene, other)?;
+        let built = raster(self);
+        self.select(gpu_scene, current)?;
+        built
     }
 
     /// Builds now the stages of frames whose lists hold 2^`slab_bits` slabs, with these

@@ -107,10 +107,14 @@ impl Exact {
         let mut bins = Bins::new(gpu, scene, gpu_scene, targets, bins, &expected, needs)?;
         bins.set_threshold(options.threshold);
         let raster = Raster::new(&mut bins, gpu_scene, depth)?;
+        bins.prebuild_texture_variant(gpu_scene, |bins| Raster::prebuild(bins, gpu_scene, depth))?;
         if bins.declared().deep {
             // Every depth the frames may move to is built now: they never build one.
             for declared in Depth::DECLARED {
                 Raster::prebuild(&mut bins, gpu_scene, declared)?;
+                bins.prebuild_texture_variant(gpu_scene, |bins| {
+                    Raster::prebuild(bins, gpu_scene, declared)
+                })?;
             }
         }
         Ok(Self {

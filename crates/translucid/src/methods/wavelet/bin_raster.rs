@@ -65,6 +65,9 @@ impl BinRaster {
         };
         let mut bins = Bins::new(gpu, scene, gpu_scene, targets, options, &expected, needs)?;
         let raster = select(&mut bins, gpu_scene, rank, constants)?;
+        bins.prebuild_texture_variant(gpu_scene, |bins| {
+            select(bins, gpu_scene, rank, constants).map(drop)
+        })?;
         Ok(Self {
             bins,
             rank,
