@@ -2006,8 +2006,9 @@ translucid_result translucid_method_get_available(uint32_t *methods,
  * over any assets, streamed-in ones included, whose content is within the declaration.
  * Those frames then report `pipelines_created` 0 (but for the first frame on an engine's
  * device that draws or composites into its colour format, or imports its depth format:
- * it builds those passes' few pipelines). Frames draw with the declared shaders whether they need all of them (textures apart: a frame without a textured draw takes the untextured variant, built too)
- * or not: declare what the loop draws, not more. Call it at load time, once per method
+ * it builds those passes' few pipelines). Frames draw with the declared shaders whether
+ * they need all of them or not (textures apart: a frame without a textured draw takes
+ * the untextured variant, built too): declare what the loop draws, not more. Call it at load time, once per method
  * and settings the loop uses, after creating the assets or before; a later call that
  * declares more makes the next frames build their renderers anew. Not declared, and
  * still built when first needed (documented in the README, "No compile in the frame

@@ -16,8 +16,9 @@ const WIDTH: u32 = 160;
 const HEIGHT: u32 = 120;
 
 /// Every pixel within 2/255 of the reference once the passes (a few, those recorded ahead of
-/// them, grown if the frame needs more and rendered again) peel every layer, up to the dozens of spheres and boxes, crossing planes
-/// and the glass vase: fragments are ordered by the reference's depth.
+/// them, grown if the frame needs more and rendered again) peel every layer, up to the
+/// dozens of spheres and boxes, crossing planes and the glass vase: fragments are ordered by
+/// the reference's depth.
 #[test]
 fn depth_peeling_matches_the_reference_on_every_pixel() {
     let vase = asset("GlassVaseFlowers/GlassVaseFlowers.glb");

@@ -68,8 +68,8 @@ pub struct RasterFeatures {
 /// that the bins' shaders are built once for all of it: a frame then takes these features
 /// whether or not it draws them ([`RasterFeatures::covering`]; textures apart, whose two
 /// variants are both built), and content streamed in within the declaration needs no other
-/// variant. Each variant covers the frames without its
-/// feature too, pixel for pixel (every shader decides per draw or per triangle), only slower.
+/// variant. Each variant covers the frames without its feature too, pixel for pixel (every
+/// shader decides per draw or per triangle), only slower.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub struct DeclaredContent {
     /// Textured materials.

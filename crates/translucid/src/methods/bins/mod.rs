@@ -22,8 +22,9 @@
 //!
 //! Memory is sized from the frame: two triangle records per quad at most, bin lists grown to
 //! what the GPU counted, and sized again from the host's estimate when the transparent quads
-//! grow by a quarter (content streamed in, which frames in flight have not counted yet). A frame whose lists pass their capacity is right all the same: the
-//! scan lists the blocks in order and the frame is filled and rasterized in bands of blocks
+//! grow by a quarter (content streamed in, which frames in flight have not counted yet). A
+//! frame whose lists pass their capacity is right all the same: the scan lists the blocks in
+//! order and the frame is filled and rasterized in bands of blocks
 //! whose lists fit, one after another in the same command buffer (up to `BANDS`; bands
 //! without blocks are near-empty dispatches). A frame after one that fitted with room to
 //! spare records one band only. Counters come back every frame and grow the

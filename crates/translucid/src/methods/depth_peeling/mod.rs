@@ -316,8 +316,8 @@ impl RenderPasses {
             ],
             Some(&depth),
         )?;
-        // A peeling pass clears its attachments itself (peel_clears), where it is not
-        // skipped.
+        // A peeling pass clears its attachments by its first draw (clear.frag), which the
+        // gate skips with the rest of a pass that has nothing to peel.
         let discarded = |image| Attachment {
             image,
             load: Load::Discard,
