@@ -2,7 +2,8 @@
 // is the CPU reference's, operation for operation (raster_rules.glsl), so that the driver
 // rasterizes the triangles the reference does. With ORDER_DEPTH defined it also hands
 // scene/ordered.geom what the reference's order depth needs of the vertex; with ORDER_ONLY
-// too, only that (scene/ordered_order_only.vert).
+// too, only that (scene/ordered_order_only.vert); with UNLIT, no eye vector or normal
+// (scene/ordered_unlit.vert).
 #ifndef TRANSLUCID_MESH_VERTEX_GLSL
 #define TRANSLUCID_MESH_VERTEX_GLSL
 
@@ -15,8 +16,10 @@ layout(location = 2) in vec2 a_uv;
 layout(location = 3) in vec4 a_colour;
 
 #ifndef ORDER_ONLY
+#ifndef UNLIT
 layout(location = 0) out vec3 v_fromEye;       // world position minus the eye
 layout(location = 1) out vec3 v_normal;
+#endif
 layout(location = 2) out vec2 v_uv;
 layout(location = 3) out vec4 v_colour;
 #endif
@@ -65,8 +68,10 @@ void main() {
     DrawInfo d = g_draws[u_push.drawIndex];
     vec4 world = d.model * vec4(a_position, 1.0);
 #ifndef ORDER_ONLY
+#ifndef UNLIT
     v_fromEye = world.xyz - u_frame.eye.xyz;
     v_normal = mat3(d.normalMatrix) * a_normal;
+#endif
     v_uv = a_uv;
     v_colour = a_colour * d.tint;
 #endif

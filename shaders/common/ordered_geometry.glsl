@@ -4,7 +4,9 @@
 // depth (mesh_fragment.glsl) instead of the driver's, whose rounding differs. Surfaces at
 // nearly one depth (coplanar, or mirror images meeting) are then ordered as the reference
 // orders them. The triangle passes through unchanged. With ORDER_ONLY it hands on the order
-// setup alone, for fragment stages that read nothing else (no output left unread).
+// setup alone, for fragment stages that read nothing else (no output left unread); with
+// UNLIT, everything but the eye vector and the normal, for those that shade transmittance
+// alone.
 #ifndef TRANSLUCID_ORDERED_GEOMETRY_GLSL
 #define TRANSLUCID_ORDERED_GEOMETRY_GLSL
 
@@ -14,8 +16,10 @@ layout(triangles) in;
 layout(triangle_strip, max_vertices = 3) out;
 
 #ifndef ORDER_ONLY
+#ifndef UNLIT
 layout(location = 0) in vec3 v_fromEye[];
 layout(location = 1) in vec3 v_normal[];
+#endif
 layout(location = 2) in vec2 v_uv[];
 layout(location = 3) in vec4 v_colour[];
 #endif
@@ -23,8 +27,10 @@ layout(location = 4) flat in ivec3 v_snapped[];
 layout(location = 5) in vec2 v_depth[];
 
 #ifndef ORDER_ONLY
+#ifndef UNLIT
 layout(location = 0) out vec3 o_fromEye;
 layout(location = 1) out vec3 o_normal;
+#endif
 layout(location = 2) out vec2 o_uv;
 layout(location = 3) out vec4 o_colour;
 #endif
@@ -46,8 +52,10 @@ void main() {
         gl_Position = gl_in[i].gl_Position;
         gl_PrimitiveID = gl_PrimitiveIDIn;
 #ifndef ORDER_ONLY
+#ifndef UNLIT
         o_fromEye = v_fromEye[i];
         o_normal = v_normal[i];
+#endif
         o_uv = v_uv[i];
         o_colour = v_colour[i];
 #endif

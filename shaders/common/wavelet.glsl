@@ -20,6 +20,10 @@ const int WAVELET_COUNT = 2 << WAVELET_RANK;
 const int WAVELET_SLOTS = 3 * WAVELET_COUNT;
 // Texels of coefficient images: ceil(3N / 4).
 const int WAVELET_TEXELS = (WAVELET_SLOTS + 3) / 4;
+// Texels one accumulate draw writes, at most 8 colour attachments: the rank's texels in
+// equal parts (rank 3's 12 in two draws of 6), so that no draw writes an output its render
+// pass has no attachment for (methods/wavelet/passes.rs, `draw_texels`).
+const int WAVELET_DRAW_TEXELS = WAVELET_TEXELS / ((WAVELET_TEXELS + 7) / 8);
 #define WAVELET_MAX_TEXELS 12
 #define WAVELET_MAX_COUNT 16
 #define WAVELET_MAX_RANK 3

@@ -2,9 +2,10 @@
 #ifndef TRANSLUCID_WAVELET_ACCUMULATE_GLSL
 #define TRANSLUCID_WAVELET_ACCUMULATE_GLSL
 // Pass 2, transmittance: each fragment adds its absorbance -ln T, projected onto the Haar
-// basis, into the coefficient images by an ADD blend. One draw of the scene writes up to 8
-// texels (colour attachments); rank 3 needs 12, so it draws twice, starting at
-// WAVELET_FIRST_TEXEL. Every output is written: zero where the event adds nothing.
+// basis, into the coefficient images by an ADD blend. One draw of the scene writes
+// WAVELET_DRAW_TEXELS texels (colour attachments, 8 at most); rank 3 needs 12, so it draws
+// twice, 6 each, starting at WAVELET_FIRST_TEXEL. Every output is written: zero where the
+// event adds nothing.
 
 #include "wavelet_fragment.glsl"
 #include "shading.glsl"
@@ -12,7 +13,7 @@
 
 #include "interface_wavelet_bounds.glsl"
 
-layout(location = 0) out vec4 o_texels[8];
+layout(location = 0) out vec4 o_texels[WAVELET_DRAW_TEXELS];
 
 void main() {
     DrawInfo d = g_draws[u_push.drawIndex];
@@ -25,7 +26,7 @@ void main() {
     float v = waveletNormalizedDepth(waveletFragmentDepth(), vec2(-b.x, b.y));
     float p = waveletCellPosition(v, uvec2(gl_FragCoord.xy));
     vec3 a = waveletAbsorbance(transmittance);
-    [[unroll]] for (int k = 0; k < 8; k++) {
+    [[unroll]] for (int k = 0; k < WAVELET_DRAW_TEXELS; k++) {
         o_texels[k] = waveletAddendTexel(WAVELET_FIRST_TEXEL + k, p, a);
     }
 }

@@ -34,6 +34,12 @@ pub const VERTEX_ATTRIBUTES: [(u32, vk::Format, u32); 4] = [
     (2, vk::Format::R32G32_SFLOAT, 24),
     (3, vk::Format::R32G32B32A32_SFLOAT, 32),
 ];
+/// The same without the normal, which `MeshStages::OrderUnlit` does not read.
+const UNLIT_ATTRIBUTES: [(u32, vk::Format, u32); 3] = [
+    VERTEX_ATTRIBUTES[0],
+    VERTEX_ATTRIBUTES[2],
+    VERTEX_ATTRIBUTES[3],
+];
 pub const VERTEX_STRIDE: u32 = std::mem::size_of::<GpuVertex>() as u32;
 
 /// Usage of the scene's buffers: compute methods read them through texel views as well.
@@ -146,6 +152,10 @@ pub enum MeshStages {
     /// (`scene/ordered_order_only.vert` and `.geom`), for fragment shaders that read it
     /// alone (depth_peeling's first pass, wavelet's bounds): no output goes unread.
     OrderOnly,
+    /// As `OrderDepth`, without the eye vector and the normal (`scene/ordered_unlit.vert`
+    /// and `.geom`), for fragment shaders that shade transmittance alone (wavelet's
+    /// accumulate pass).
+    OrderUnlit,
 }
 
 pub struct GpuScene {
@@ -442,6 +452,7 @@ impl GpuScene {
                         MeshStages::Plain => crate::spirv!("scene/mesh.vert"),
                         MeshStages::OrderDepth => crate::spirv!("scene/ordered.vert"),
                         MeshStages::OrderOnly => crate::spirv!("scene/ordered_order_only.vert"),
+                        MeshStages::OrderUnlit => crate::spirv!("scene/ordered_unlit.vert"),
                     },
                     geometry: match stages {
                         MeshStages::Plain => None,
@@ -449,12 +460,14 @@ impl GpuScene {
                         MeshStages::OrderOnly => {
                             Some(crate::spirv!("scene/ordered_order_only.geom"))
                         }
+                        MeshStages::OrderUnlit => Some(crate::spirv!("scene/ordered_unlit.geom")),
                     },
                     fragment,
                     vertex_stride: VERTEX_STRIDE,
                     // The order depth needs the position alone.
                     attributes: match stages {
                         MeshStages::OrderOnly => &VERTEX_ATTRIBUTES[..1],
+                        MeshStages::OrderUnlit => &UNLIT_ATTRIBUTES,
                         _ => &VERTEX_ATTRIBUTES,
                     },
                     cull_back,

@@ -124,6 +124,26 @@ fn mesh_stages_hand_on_only_what_the_next_stage_reads() {
             "scene/ordered_order_only.geom",
             "wavelet/bounds.frag",
         ],
+        [
+            "scene/ordered_unlit.vert",
+            "scene/ordered_unlit.geom",
+            "wavelet/accumulate_rank0.frag",
+        ],
+        [
+            "scene/ordered_unlit.vert",
+            "scene/ordered_unlit.geom",
+            "wavelet/accumulate_rank3.frag",
+        ],
+        [
+            "scene/ordered.vert",
+            "scene/ordered.geom",
+            "wavelet/shade_rank0.frag",
+        ],
+        [
+            "scene/ordered.vert",
+            "scene/ordered.geom",
+            "wavelet/shade_rank3.frag",
+        ],
     ];
     for stages in pipelines {
         for pair in stages.windows(2) {

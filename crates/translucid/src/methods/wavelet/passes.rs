@@ -18,6 +18,15 @@ use std::sync::Arc;
 
 /// Colour attachments one draw may write (the Vulkan minimum, and lavapipe's limit).
 const MAX_ATTACHMENTS: usize = 8;
+
+/// Texels each accumulate draw writes, of a rank's `texels`: equal parts of at most
+/// MAX_ATTACHMENTS (`WAVELET_DRAW_TEXELS` of wavelet.glsl), so that every output a draw's
+/// shader writes has its attachment.
+fn draw_texels(texels: usize) -> usize {
+    let draws = texels.div_ceil(MAX_ATTACHMENTS);
+    debug_assert_eq!(texels % draws, 0, "{texels} texels in {draws} equal draws");
+    texels / draws
+}
 /// Coefficient texels at rank 3; the shaders' sampler array has this many slots.
 const MAX_TEXELS: usize = WAVELET_MAX_TEXELS as usize;
 
@@ -99,6 +108,14 @@ impl FragmentDepth {
     fn stages(self) -> MeshStages {
         match self {
             Self::Reference => MeshStages::OrderDepth,
+            Self::Driver => MeshStages::Plain,
+        }
+    }
+
+    /// The accumulate pass shades transmittance alone: no eye vector or normal.
+    fn accumulate_stages(self) -> MeshStages {
+        match self {
+            Self::Reference => MeshStages::OrderUnlit,
             Self::Driver => MeshStages::Plain,
         }
     }
@@ -275,14 +292,15 @@ impl Passes {
             depth,
             &specialization,
         )?;
-        // One draw per MAX_ATTACHMENTS texels, each told the first texel it writes.
+        // Draws of equal parts, each told the first texel it writes.
+        let per_draw = draw_texels(images.coefficients.len());
         let accumulations = images
             .coefficients
-            .chunks(MAX_ATTACHMENTS)
+            .chunks(per_draw)
             .enumerate()
             .map(|(chunk, texels)| {
                 let chunk_constants = super::SpecConstants {
-                    first_texel: (chunk * MAX_ATTACHMENTS) as i32,
+                    first_texel: (chunk * per_draw) as i32,
                     ..constants
                 };
                 Accumulation::new(
@@ -491,7 +509,7 @@ impl Accumulation {
         let pipelines = gpu_scene.mesh_pipelines_with(
             gpu,
             pass.render_pass,
-            depth.stages(),
+            depth.accumulate_stages(),
             accumulate_spirv,
             &[bounds_layout],
             &PipelineState {
@@ -581,4 +599,21 @@ fn new_shade_pass(
         },
     )?;
     Ok((pass, pipelines))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every rank's texels split into equal draws within the attachments, as the shaders
+    /// size their outputs: 2, 3 and 6 in one draw, rank 3's 12 in two of 6.
+    #[test]
+    fn accumulate_draws_write_equal_parts_within_the_attachments() {
+        let ranks: Vec<usize> = (0..4)
+            .map(|rank| (3 * super::super::math::coefficient_count(rank)).div_ceil(4))
+            .collect();
+        assert_eq!(ranks, [2, 3, 6, 12]);
+        let draws: Vec<usize> = ranks.iter().map(|&t| draw_texels(t)).collect();
+        assert_eq!(draws, [2, 3, 6, 6]);
+    }
 }
