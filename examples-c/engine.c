@@ -246,6 +246,11 @@ VkDeviceMemory bind_image(VkImage image) {
 }
 
 VkImage create_image(VkFormat format, VkImageUsageFlags usage, uint32_t width, uint32_t height) {
+    return create_image_layers(format, usage, width, height, 1);
+}
+
+VkImage create_image_layers(VkFormat format, VkImageUsageFlags usage, uint32_t width,
+                            uint32_t height, uint32_t layers) {
     VkImageCreateInfo info;
     VkImage image;
     memset(&info, 0, sizeof info);
@@ -256,7 +261,7 @@ VkImage create_image(VkFormat format, VkImageUsageFlags usage, uint32_t width, u
     info.extent.height = height;
     info.extent.depth = 1;
     info.mipLevels = 1;
-    info.arrayLayers = 1;
+    info.arrayLayers = layers;
     info.samples = VK_SAMPLE_COUNT_1_BIT;
     info.tiling = VK_IMAGE_TILING_OPTIMAL;
     info.usage = usage;

@@ -62,6 +62,9 @@ uint32_t memory_type(uint32_t bits, VkMemoryPropertyFlags wanted);
 VkDeviceMemory bind_image(VkImage image);
 /* A 2D image of one level and one sample, optimal tiling, its memory not yet bound. */
 VkImage create_image(VkFormat format, VkImageUsageFlags usage, uint32_t width, uint32_t height);
+/* The same with `layers` array layers (an XR swapchain's, one a view). */
+VkImage create_image_layers(VkFormat format, VkImageUsageFlags usage, uint32_t width,
+                            uint32_t height, uint32_t layers);
 /* A host-visible, coherent transfer buffer of `size` bytes, mapped at `*mapped`. */
 VkBuffer create_host_buffer(VkDeviceSize size, VkDeviceMemory *memory, void **mapped);
 

@@ -232,18 +232,23 @@ static void record_opaque(VkCommandBuffer cmd, slot *s) {
     record_opaque_into(cmd, s, s->depth, VK_IMAGE_ASPECT_DEPTH_BIT);
 }
 
-/* After translucid: the slot's colour (left in TRANSFER_SRC_OPTIMAL) into its buffer. */
-static void record_readback(VkCommandBuffer cmd, slot *s) {
-    VkBufferImageCopy colour = region(VK_IMAGE_ASPECT_COLOR_BIT, COLOUR_BYTES + DEPTH_BYTES, W, H);
+/* The copies recorded before, made visible to the host once the commands have run. */
+static void copies_to_host(VkCommandBuffer cmd) {
     VkMemoryBarrier host;
-    vkCmdCopyImageToBuffer(cmd, s->colour, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, s->buffer, 1,
-                           &colour);
     memset(&host, 0, sizeof host);
     host.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
     host.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
     host.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
     vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1,
                          &host, 0, NULL, 0, NULL);
+}
+
+/* After translucid: the slot's colour (left in TRANSFER_SRC_OPTIMAL) into its buffer. */
+static void record_readback(VkCommandBuffer cmd, slot *s) {
+    VkBufferImageCopy colour = region(VK_IMAGE_ASPECT_COLOR_BIT, COLOUR_BYTES + DEPTH_BYTES, W, H);
+    vkCmdCopyImageToBuffer(cmd, s->colour, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, s->buffer, 1,
+                           &colour);
+    copies_to_host(cmd);
 }
 
 static translucid_host_frame_targets targets_of(VkCommandBuffer cmd, const slot *s) {
@@ -1343,27 +1348,6 @@ static void within_a_budget(translucid_method method) {
     }
 }
 
-/* 13's images: `layers` array layers of W x H. */
-static VkImage create_layered_image(VkFormat format, VkImageUsageFlags usage, uint32_t layers) {
-    VkImageCreateInfo info;
-    VkImage image;
-    memset(&info, 0, sizeof info);
-    info.sType = VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO;
-    info.imageType = VK_IMAGE_TYPE_2D;
-    info.format = format;
-    info.extent.width = W;
-    info.extent.height = H;
-    info.extent.depth = 1;
-    info.mipLevels = 1;
-    info.arrayLayers = layers;
-    info.samples = VK_SAMPLE_COUNT_1_BIT;
-    info.tiling = VK_IMAGE_TILING_OPTIMAL;
-    info.usage = usage;
-    info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-    VK_CHECK(vkCreateImage(g_device, &info, NULL, &image));
-    return image;
-}
-
 /* Every layer of `image` from layout `from` to `to`, after and before anything. */
 static void every_layer(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect,
                         VkImageLayout from, VkImageLayout to) {
@@ -1387,12 +1371,13 @@ static void layered_stereo(translucid_method method) {
     translucid_context *ctx = host_context(VIEWS);
     scene host, standalone;
     VkImageUsageFlags transfer = VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
-    VkImage colour = create_layered_image(
-        VK_FORMAT_R8G8B8A8_SRGB, transfer | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT, VIEWS);
-    VkImage depth = create_layered_image(VK_FORMAT_D32_SFLOAT,
-                                         transfer | VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT |
-                                             VK_IMAGE_USAGE_SAMPLED_BIT,
+    VkImage colour = create_image_layers(VK_FORMAT_R8G8B8A8_SRGB,
+                                         transfer | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT, W, H,
                                          VIEWS);
+    VkImage depth = create_image_layers(VK_FORMAT_D32_SFLOAT,
+                                        transfer | VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT |
+                                            VK_IMAGE_USAGE_SAMPLED_BIT,
+                                        W, H, VIEWS);
     VkDeviceMemory colour_memory = bind_image(colour), depth_memory = bind_image(depth);
     VkDeviceMemory buffer_memory;
     void *m;
@@ -1403,7 +1388,6 @@ static void layered_stereo(translucid_method method) {
     static uint8_t expected[VIEWS][COLOUR_BYTES];
     translucid_frame frames[VIEWS];
     VkCommandBuffer cmd = g_slots[0].cmd;
-    VkMemoryBarrier host_read;
     uint32_t v;
     memcpy(mapped, g_opaque_colour, COLOUR_BYTES);
     memcpy(mapped + COLOUR_BYTES, g_engine_depth, DEPTH_BYTES);
@@ -1449,12 +1433,7 @@ static void layered_stereo(translucid_method method) {
         c.imageSubresource.baseArrayLayer = v;
         vkCmdCopyImageToBuffer(cmd, colour, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, buffer, 1, &c);
     }
-    memset(&host_read, 0, sizeof host_read);
-    host_read.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
-    host_read.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-    host_read.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1,
-                         &host_read, 0, NULL, 0, NULL);
+    copies_to_host(cmd);
     submit_commands(cmd, g_slots[0].fence);
     wait_fence(g_slots[0].fence);
     CHECK(ctx, translucid_frame_complete(ctx, frames[VIEWS - 1]));

@@ -620,11 +620,9 @@ fn bounds_on_fixed_path(mvp: &Mat4, (lo, hi): (Vec3, Vec3), width: u32, height: 
 mod tests {
     use super::*;
 
-    /// A declared loop's frame takes every declared feature but textures, which it keeps as
-    /// its own draws have them (untextured frames run without the texturing code).
-    #[test]
-    fn a_declared_loop_covers_all_but_the_frames_textures() {
-        let plain = RasterFeatures {
+    /// Features of a frame that draws none of the optional content.
+    fn none() -> RasterFeatures {
+        RasterFeatures {
             homogeneous: false,
             textures: false,
             vertex_normals: false,
@@ -634,7 +632,7 @@ mod tests {
             rows: 1,
             transmission: false,
             vertex_colours: false,
-            flat_colours: true,
+            flat_colours: false,
             deep_binning_lanes: 1,
             loop_budget: crate::gpu::CPU_DRIVER_LOOP_BUDGET,
             branching: false,
@@ -642,6 +640,16 @@ mod tests {
             storage_walk: false,
             bin_tally_bits: 0,
             hardware_sampling: false,
+        }
+    }
+
+    /// A declared loop's frame takes every declared feature but textures, which it keeps as
+    /// its own draws have them (untextured frames run without the texturing code).
+    #[test]
+    fn a_declared_loop_covers_all_but_the_frames_textures() {
+        let plain = RasterFeatures {
+            flat_colours: true,
+            ..none()
         };
         let covered = plain.covering(&DeclaredContent::ALL);
         assert_eq!(
@@ -668,25 +676,7 @@ mod tests {
     /// one colour and uvs.
     #[test]
     fn attribute_records_hold_what_shading_reads() {
-        let none = RasterFeatures {
-            homogeneous: false,
-            textures: false,
-            vertex_normals: false,
-            face_normals: false,
-            slab_bits: 0,
-            tile_shift: 0,
-            rows: 1,
-            transmission: false,
-            vertex_colours: false,
-            flat_colours: false,
-            deep_binning_lanes: 1,
-            loop_budget: crate::gpu::CPU_DRIVER_LOOP_BUDGET,
-            branching: false,
-            records_as_texels: false,
-            storage_walk: false,
-            bin_tally_bits: 0,
-            hardware_sampling: false,
-        };
+        let none = none();
         assert_eq!(none.attribute_texels(), 0);
         let lit = RasterFeatures {
             vertex_normals: true,
