@@ -1,7 +1,8 @@
 //! The context: one device and every object created on it. Exports `translucid_context_*`.
 
 use crate::cast::{
-    self, check_header, translucid_base_in_structure, translucid_context, try_out, try_ref, try_str,
+    self, check_header, check_type, translucid_base_in_structure, translucid_context, try_out,
+    try_ref, try_str,
 };
 use crate::host::{host_gpu, translucid_host_device_create_info};
 use crate::panic::{self, CallState};
@@ -165,22 +166,25 @@ impl Context {
 impl Context {
     fn create(info: &translucid_context_create_info) -> FfiResult<Self> {
         let host_mode = info.mode == translucid_context_mode::HostDevice as u32;
+        let what = "translucid_context_create_info";
+        check_type(
+            info.s_type,
+            translucid_structure_type::ContextCreateInfo,
+            what,
+        )?;
         // A memory create-info first, then in host-device mode the engine's device, checked
-        // below.
+        // below; nothing else in standalone mode.
         let memory = crate::memory::memory_create_info(info.next)?;
         let next = memory.map_or(info.next, |m| m.next);
-        check_header(
-            info.s_type,
-            if host_mode || memory.is_some() {
-                std::ptr::null()
-            } else {
-                info.next
-            },
-            translucid_structure_type::ContextCreateInfo,
-            "translucid_context_create_info",
-        )?;
-        if memory.is_some() && !host_mode {
-            crate::memory::check_standalone_chain(next)?;
+        match (host_mode, memory) {
+            (true, _) => {}
+            (false, Some(_)) => crate::memory::check_standalone_chain(next)?,
+            (false, None) => check_header(
+                info.s_type,
+                info.next,
+                translucid_structure_type::ContextCreateInfo,
+                what,
+            )?,
         }
         let memory_budget = memory.and_then(|m| m.budget());
         let allocation_callbacks = memory.map(|m| m.callbacks()).transpose()?.flatten();
