@@ -22,13 +22,8 @@ lint: deps
 	$(CARGO) fmt --all -- --check
 	$(CARGO) clippy --workspace --all-targets -- -D warnings
 
-# Lavapipe 22.3's LLVM JIT crashes now and then inside LLVM, depending on where address
-# space layout randomization puts its code (docs/gpu.md): the suite runs with it off, so
-# that a run repeats. (setarch is util-linux's; without it the suite runs as it is.)
-NO_ASLR := $(shell setarch $$(uname -m) -R true 2>/dev/null && echo setarch $$(uname -m) -R)
-
 test: deps lint
-	$(NO_ASLR) $(CARGO) test --workspace
+	$(CARGO) test --workspace
 
 # Runs the glTF import fuzzer, then the C API fuzzer, for FUZZ_SECONDS each (README,
 # "Fuzzing"). `make test` runs both on fixed cases instead.
