@@ -140,6 +140,15 @@ static void make_scene(translucid_context *ctx, scene *s) {
     }
 }
 
+/* The scene's meshes and materials, destroyed (its frames done with them). */
+static void destroy_scene(translucid_context *ctx, scene *s) {
+    size_t i;
+    for (i = 0; i < QUADS + 1; i++) {
+        CHECK(ctx, translucid_mesh_destroy(ctx, s->meshes[i]));
+        CHECK(ctx, translucid_material_destroy(ctx, s->materials[i]));
+    }
+}
+
 /* Frame `k`'s motion, in both contexts: quad 2's vertices sway, quad 1 slides. */
 static void move_scene(translucid_context *host_ctx, scene *host, scene *standalone, int k) {
     float positions[12];
@@ -1342,10 +1351,7 @@ static void within_a_budget(translucid_method method) {
            "blocks from the engine's host allocator, %ld still out after the context\n",
            (int)method, BUDGET, refused_by, g_host_blocks_made, g_host_blocks_live);
     TRUE_OR_FAIL(g_host_blocks_made > 0 && g_host_blocks_live == 0);
-    for (q = 0; q < QUADS + 1; q++) {
-        CHECK(g_standalone, translucid_mesh_destroy(g_standalone, standalone.meshes[q]));
-        CHECK(g_standalone, translucid_material_destroy(g_standalone, standalone.materials[q]));
-    }
+    destroy_scene(g_standalone, &standalone);
 }
 
 /* Every layer of `image` from layout `from` to `to`, after and before anything. */
@@ -1458,10 +1464,7 @@ static void layered_stereo(translucid_method method) {
     vkFreeMemory(g_device, colour_memory, NULL);
     vkDestroyImage(g_device, depth, NULL);
     vkFreeMemory(g_device, depth_memory, NULL);
-    for (v = 0; v < QUADS + 1; v++) {
-        CHECK(g_standalone, translucid_mesh_destroy(g_standalone, standalone.meshes[v]));
-        CHECK(g_standalone, translucid_material_destroy(g_standalone, standalone.materials[v]));
-    }
+    destroy_scene(g_standalone, &standalone);
 }
 
 int main(void) {
