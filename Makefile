@@ -22,8 +22,12 @@ lint: deps
 	$(CARGO) fmt --all -- --check
 	$(CARGO) clippy --workspace --all-targets -- -D warnings
 
+# Lavapipe 22.3 keys its shader cache without its vector width, so a process at one
+# LP_NATIVE_VECTOR_WIDTH can load code compiled at another and corrupt its memory
+# (docs/gpu.md): the suite keeps a cache of its own for the width it runs at.
 test: deps lint
-	$(CARGO) test --workspace
+	MESA_SHADER_CACHE_DIR=$(CURDIR)/target/mesa-shader-cache-$${LP_NATIVE_VECTOR_WIDTH:-256} \
+		$(CARGO) test --workspace
 
 # Runs the glTF import fuzzer, then the C API fuzzer, for FUZZ_SECONDS each (README,
 # "Fuzzing"). `make test` runs both on fixed cases instead.

@@ -1144,3 +1144,11 @@ fn occlusion_patches(
     }
     kept
 }
+
+/// One plain blended frame: what the reruns at lavapipe's wider sizes run, where a rerun dies,
+/// to tell lavapipe's own compiler dying on any draw there from this binary's tests failing
+/// (`translucid_tests::rerun_at_lavapipe_subgroup_sizes`).
+#[test]
+fn lavapipe_draws_a_plain_frame() {
+    translucid_tests::draw_one_plain_frame();
+}

@@ -1601,3 +1601,11 @@ fn an_engine_that_asks_for_the_software_sampler_keeps_it() {
         );
     }
 }
+
+/// One plain blended frame: what the reruns at lavapipe's wider sizes run, where a rerun dies,
+/// to tell lavapipe's own compiler dying on any draw there from this binary's tests failing
+/// (`translucid_tests::rerun_at_lavapipe_subgroup_sizes`).
+#[test]
+fn lavapipe_draws_a_plain_frame() {
+    translucid_tests::draw_one_plain_frame();
+}

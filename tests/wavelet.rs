@@ -438,3 +438,11 @@ fn wavelet_draws_a_lone_opaque_surface_exactly() {
         }
     }
 }
+
+/// One plain blended frame: what the reruns at lavapipe's wider sizes run, where a rerun dies,
+/// to tell lavapipe's own compiler dying on any draw there from this binary's tests failing
+/// (`translucid_tests::rerun_at_lavapipe_subgroup_sizes`).
+#[test]
+fn lavapipe_draws_a_plain_frame() {
+    translucid_tests::draw_one_plain_frame();
+}
