@@ -443,10 +443,10 @@ pub fn draw_one_plain_frame() {
     render(&gpu, &scene, "blend", 64, 64);
 }
 
-/// A shader cache of its own for a child process at lavapipe's vector width `width`: lavapipe
-/// 22.3 keys its cache without the width, so a process at one width loads code another
-/// compiled at another width and runs it on the wrong vector layout (docs/gpu.md), and a
-/// new one holds nothing, so that a child compiles what it runs.
+/// A new, empty shader cache for a child process at lavapipe's vector width `width`:
+/// lavapipe 22.3 keys its cache without the width, so a shared cache hands one width's
+/// code to a process at another (docs/gpu.md); an empty one makes the child compile what it
+/// runs.
 fn fresh_shader_cache(width: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!(
         "translucid-tests-mesa-cache-{width}-{}",

@@ -19,6 +19,9 @@ use std::sync::Arc;
 /// Colour attachments one draw may write (the Vulkan minimum, and lavapipe's limit).
 const MAX_ATTACHMENTS: usize = 8;
 
+/// Coefficient texels at rank 3; the shaders' sampler array has this many slots.
+const MAX_TEXELS: usize = WAVELET_MAX_TEXELS as usize;
+
 /// Texels each accumulate draw writes, of a rank's `texels`: equal parts of at most
 /// MAX_ATTACHMENTS (`WAVELET_DRAW_TEXELS` of wavelet.glsl), so that every output a draw's
 /// shader writes has its attachment.
@@ -27,8 +30,6 @@ fn draw_texels(texels: usize) -> usize {
     debug_assert_eq!(texels % draws, 0, "{texels} texels in {draws} equal draws");
     texels / draws
 }
-/// Coefficient texels at rank 3; the shaders' sampler array has this many slots.
-const MAX_TEXELS: usize = WAVELET_MAX_TEXELS as usize;
 
 const BOUNDS_FORMAT: vk::Format = vk::Format::R32G32_SFLOAT;
 
