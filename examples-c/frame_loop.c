@@ -4,8 +4,8 @@
  * stereo (a left and a right view, each into its own images, both recorded into the frame's
  * command buffer), and each frame moves its camera, sways a cloud of particles
  * (translucid_mesh_update) and turns three glass panes; at load time it prepares what the
- * loop needs (translucid_context_prepare), so that no frame past the first builds a
- * pipeline; halfway through, a fourth pane is streamed in (a mesh and a material created, and
+ * loop needs (translucid_context_prepare, with the formats of its images), so that no frame
+ * builds a pipeline; halfway through, a fourth pane is streamed in (a mesh and a material created, and
  * drawn from then on), and in the last quarter a dynamic resolution renders the frames at 70
  * to 90 % of the images' size (translucid draws their top-left corner). translucid records
  * the transparent pass into the engine's command buffer; the engine submits, and completes
@@ -492,8 +492,8 @@ static void finish(frame_slot *s, int k, double *gpu_ms, double *ratio) {
            k, s->record_ms, translucid_ms, method_ms, (unsigned long long)dispatches, *ratio,
            native_ms,
            degraded == TRANSLUCID_RESULT_FRAME_DEGRADED ? ", past a limit: see the README" : "");
-    /* What its recording and completion built: the first frame's pipelines; buffers and
-     * uploads (the first frames', the streamed pane's). */
+    /* What its recording and completion built: no pipeline (the loop was prepared); buffers
+     * and uploads (the first frames', the streamed pane's). */
     if (pipelines != 0) printf(", built %llu pipelines", (unsigned long long)pipelines);
     if (bytes != 0) printf(", allocated %.1f KB of GPU memory", bytes / 1024.0);
     printf("\n");
@@ -527,11 +527,21 @@ static void run(uint32_t method, int frames, uint32_t extra_draws, const char *p
            translucid_method_name(method), frames, WIDTH, HEIGHT, sc.draw_count, IN_FLIGHT);
     {
         /* At load time, what the loop needs is built: no frame compiles a shader, the
-         * streamed pane's included. The panes and particles are unlit and untextured, one
-         * colour each: nothing to declare (an engine declares what its levels may hold). */
+         * first's and the streamed pane's included. The panes and particles are unlit and
+         * untextured, one colour each: nothing to declare (an engine declares what its levels
+         * may hold). The images' formats and layouts are those of the frame targets below. */
+        translucid_host_image_formats formats;
         translucid_prepare_info prepare;
         translucid_frame_info like;
         uint64_t built = 0;
+        memset(&formats, 0, sizeof formats);
+        formats.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_IMAGE_FORMATS;
+        formats.colour_format = VK_FORMAT_R8G8B8A8_SRGB;
+        formats.colour_layout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+        formats.colour_final_layout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+        formats.depth_format = VK_FORMAT_D32_SFLOAT;
+        formats.depth_layout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+        formats.depth_final_layout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
         memset(&like, 0, sizeof like);
         like.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_INFO;
         like.method = method;
@@ -540,6 +550,7 @@ static void run(uint32_t method, int frames, uint32_t extra_draws, const char *p
         like.camera = orbit_camera(0);
         memset(&prepare, 0, sizeof prepare);
         prepare.s_type = TRANSLUCID_STRUCTURE_TYPE_PREPARE_INFO;
+        prepare.next = &formats;
         prepare.frame = &like;
         prepare.content = 0;
         CHECK(translucid_context_prepare(g_context, &prepare, &built));

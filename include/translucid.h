@@ -419,6 +419,10 @@ enum translucid_structure_type
      * `translucid_host_image_layers`, chained to the frame targets.
      */
     TRANSLUCID_STRUCTURE_TYPE_HOST_IMAGE_LAYERS = 105,
+    /**
+     * `translucid_host_image_formats`, chained to the prepare info.
+     */
+    TRANSLUCID_STRUCTURE_TYPE_HOST_IMAGE_FORMATS = 106,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -1298,7 +1302,8 @@ typedef struct translucid_prepare_info {
      */
     uint32_t s_type;
     /**
-     * NULL.
+     * NULL, or in host-device mode a `translucid_host_image_formats`: the engine's images
+     * the loop records into, so that its first frame builds nothing for them either.
      */
     const void *next;
     /**
@@ -1677,6 +1682,32 @@ typedef struct translucid_host_image_layers {
     uint32_t depth_layer_count;
 } translucid_host_image_layers;
 
+/**
+ * The formats and layouts of the engine's images that a frame loop records into, chained to
+ * `translucid_prepare_info::next` in host-device mode, as the loop's
+ * `translucid_host_frame_targets` will give them (`translucid_host_image`'s `format`,
+ * `layout` and `final_layout`; checked as those are): `translucid_context_prepare` then
+ * also builds what the first frame into such images would build, so that it builds
+ * nothing. For a loop that records into several kinds of images (an XR swapchain and a
+ * mirror window), prepare once for each.
+ */
+typedef struct translucid_host_image_formats {
+    /**
+     * `TRANSLUCID_STRUCTURE_TYPE_HOST_IMAGE_FORMATS`.
+     */
+    uint32_t s_type;
+    /**
+     * NULL.
+     */
+    const void *next;
+    VkFormat colour_format;
+    VkImageLayout colour_layout;
+    VkImageLayout colour_final_layout;
+    VkFormat depth_format;
+    VkImageLayout depth_layout;
+    VkImageLayout depth_final_layout;
+} translucid_host_image_formats;
+
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -2004,9 +2035,12 @@ translucid_result translucid_method_get_available(uint32_t *methods,
  * Declares what the frame loop's frames may draw (`content`) and builds, now, every
  * pipeline frames like `frame` need for it: same method and settings, at most its size,
  * over any assets, streamed-in ones included, whose content is within the declaration.
- * Those frames then report `pipelines_created` 0 (but for the first frame on an engine's
- * device that draws or composites into its colour format, or imports its depth format:
- * it builds those passes' few pipelines). Frames draw with the declared shaders whether
+ * Those frames then report `pipelines_created` 0. On an engine's device, chain the
+ * formats and layouts of the images the loop records into (`translucid_host_image_formats`,
+ * once per kind of images): without them, the first frame into each kind builds the few
+ * pipelines of the passes made for those images (`blend`'s pass into them, the composite
+ * of `exact` and `wavelet` onto a colour format that blends, the import of depth the
+ * other methods cannot copy). Frames draw with the declared shaders whether
  * they need all of them or not (textures apart: a frame without a textured draw takes
  * the untextured variant, built too): declare what the loop draws, not more. Call it at load time, once per method
  * and settings the loop uses, after creating the assets or before; a later call that

@@ -322,12 +322,21 @@ public:
         return Material(context_, material);
     }
     /// Declares what the loop's frames may draw (TRANSLUCID_CONTENT_* bits) and builds now
-    /// every pipeline frames like `frame` need (translucid_context_prepare); returns how many
-    /// it built.
-    std::uint64_t prepare(translucid_frame_info frame, std::uint32_t content) {
+    /// every pipeline frames like `frame` need (translucid_context_prepare), and with
+    /// `formats` (host-device mode) those of the passes made for the engine's images; returns
+    /// how many it built.
+    std::uint64_t prepare(translucid_frame_info frame, std::uint32_t content,
+                          const translucid_host_image_formats *formats = nullptr) {
         frame.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_INFO;
+        translucid_host_image_formats chained{};
+        if (formats != nullptr) {
+            chained = *formats;
+            chained.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_IMAGE_FORMATS;
+            chained.next = nullptr;
+        }
         translucid_prepare_info info{};
         info.s_type = TRANSLUCID_STRUCTURE_TYPE_PREPARE_INFO;
+        info.next = formats != nullptr ? &chained : nullptr;
         info.frame = &frame;
         info.content = content;
         std::uint64_t built = 0;

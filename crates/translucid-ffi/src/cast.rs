@@ -80,8 +80,6 @@ pub struct translucid_base_in_structure {
     pub next: *const translucid_base_in_structure,
 }
 
-/// Checks a struct's `s_type` and that its `next` chain is empty: the only extension structure
-/// (the host device, chained to the context create-info) is looked for by the context.
 /// An enum value's name as the header spells it: `prefix`, then the Rust variant's words in
 /// capitals (`MeshCreateInfo` -> `PREFIX_MESH_CREATE_INFO`), as cbindgen writes them.
 pub(crate) fn c_enum_name(prefix: &str, variant: &str) -> String {
@@ -95,6 +93,8 @@ pub(crate) fn c_enum_name(prefix: &str, variant: &str) -> String {
     name
 }
 
+/// Checks a struct's `s_type` and that its `next` chain is empty, for a structure that takes
+/// no extension structure (those that do walk their chains themselves).
 pub(crate) fn check_header(
     s_type: u32,
     next: *const c_void,

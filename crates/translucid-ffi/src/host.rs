@@ -250,6 +250,70 @@ fn image_layers(next: *const c_void) -> FfiResult<(u32, u32)> {
     Ok((layers.colour_layer, layers.depth_layer))
 }
 
+/// The formats and layouts of the engine's images that a frame loop records into, chained to
+/// `translucid_prepare_info::next` in host-device mode, as the loop's
+/// `translucid_host_frame_targets` will give them (`translucid_host_image`'s `format`,
+/// `layout` and `final_layout`; checked as those are): `translucid_context_prepare` then
+/// also builds what the first frame into such images would build, so that it builds
+/// nothing. For a loop that records into several kinds of images (an XR swapchain and a
+/// mirror window), prepare once for each.
+#[allow(non_camel_case_types)]
+#[repr(C)]
+pub struct translucid_host_image_formats {
+    /// `TRANSLUCID_STRUCTURE_TYPE_HOST_IMAGE_FORMATS`.
+    pub s_type: u32,
+    /// NULL.
+    pub next: *const c_void,
+    pub colour_format: VkFormat,
+    pub colour_layout: VkImageLayout,
+    pub colour_final_layout: VkImageLayout,
+    pub depth_format: VkFormat,
+    pub depth_layout: VkImageLayout,
+    pub depth_final_layout: VkImageLayout,
+}
+
+/// The (colour, depth) images, without handles, that the `translucid_host_image_formats`
+/// chained at `next` (of the prepare info) describes; `None` when `next` is NULL.
+pub(crate) fn image_formats(next: *const c_void) -> FfiResult<Option<(HostImage, HostImage)>> {
+    if next.is_null() {
+        return Ok(None);
+    }
+    let what = "translucid_prepare_info.next";
+    let link = try_ref(next.cast::<translucid_base_in_structure>(), what)?;
+    check_type(
+        link.s_type,
+        translucid_structure_type::HostImageFormats,
+        what,
+    )?;
+    // A structure of the type its s_type names (C contract).
+    let formats = try_ref(next.cast::<translucid_host_image_formats>(), what)?;
+    check_header(
+        formats.s_type,
+        formats.next,
+        translucid_structure_type::HostImageFormats,
+        "translucid_host_image_formats",
+    )?;
+    let image = |format, layout, final_layout| HostImage {
+        image: VkImage::null(),
+        format,
+        layout,
+        final_layout,
+        layer: 0,
+    };
+    Ok(Some((
+        image(
+            formats.colour_format,
+            formats.colour_layout,
+            formats.colour_final_layout,
+        ),
+        image(
+            formats.depth_format,
+            formats.depth_layout,
+            formats.depth_final_layout,
+        ),
+    )))
+}
+
 /// The engine's device description as the core takes it.
 pub(crate) fn host_device(info: &translucid_host_device_create_info) -> FfiResult<HostDevice> {
     let get_instance_proc_addr = info

@@ -2,9 +2,10 @@
 //! the engine declares its frames may draw, and a frame like those it will make. Exports
 //! `translucid_context_prepare`.
 
-use crate::cast::{check_header, translucid_context, try_ref};
+use crate::cast::{check_type, translucid_context, try_ref};
 use crate::frame::translucid_frame_info;
 use crate::frame_input::frame_request;
+use crate::host::image_formats;
 use crate::panic;
 use crate::result::{translucid_result, Failure, FfiResult};
 use crate::structure::translucid_structure_type;
@@ -37,7 +38,8 @@ pub const TRANSLUCID_CONTENT_ALL: u32 = 127;
 pub struct translucid_prepare_info {
     /// `TRANSLUCID_STRUCTURE_TYPE_PREPARE_INFO`.
     pub s_type: u32,
-    /// NULL.
+    /// NULL, or in host-device mode a `translucid_host_image_formats`: the engine's images
+    /// the loop records into, so that its first frame builds nothing for them either.
     pub next: *const c_void,
     /// A frame like those of the loop: its method, the settings chained to it, and its
     /// width and height, the largest the loop records. Its draws and camera are only
@@ -71,9 +73,12 @@ impl translucid_prepare_info {
     /// Declares what the frame loop's frames may draw (`content`) and builds, now, every
     /// pipeline frames like `frame` need for it: same method and settings, at most its size,
     /// over any assets, streamed-in ones included, whose content is within the declaration.
-    /// Those frames then report `pipelines_created` 0 (but for the first frame on an engine's
-    /// device that draws or composites into its colour format, or imports its depth format:
-    /// it builds those passes' few pipelines). Frames draw with the declared shaders whether
+    /// Those frames then report `pipelines_created` 0. On an engine's device, chain the
+    /// formats and layouts of the images the loop records into (`translucid_host_image_formats`,
+    /// once per kind of images): without them, the first frame into each kind builds the few
+    /// pipelines of the passes made for those images (`blend`'s pass into them, the composite
+    /// of `exact` and `wavelet` onto a colour format that blends, the import of depth the
+    /// other methods cannot copy). Frames draw with the declared shaders whether
     /// they need all of them or not (textures apart: a frame without a textured draw takes
     /// the untextured variant, built too): declare what the loop draws, not more. Call it at load time, once per method
     /// and settings the loop uses, after creating the assets or before; a later call that
@@ -91,16 +96,19 @@ impl translucid_prepare_info {
     ) -> translucid_result {
         panic::with_context(context, |objects| {
             let info = try_ref(info, "info")?;
-            check_header(
+            check_type(
                 info.s_type,
-                info.next,
                 translucid_structure_type::PrepareInfo,
                 "translucid_prepare_info",
             )?;
+            let engine_images = image_formats(info.next)?;
             let content = declared(info.content)?;
             let frame = try_ref(info.frame, "translucid_prepare_info.frame")?;
             let (request, _layer) = frame_request(objects, frame)?;
-            let (pipelines, _bytes) = objects.core.prepare(&request, content)?;
+            let images = engine_images
+                .as_ref()
+                .map(|(colour, depth)| (colour, depth));
+            let (pipelines, _bytes) = objects.core.prepare(&request, content, images)?;
             if !out_pipelines_created.is_null() {
                 let out = crate::cast::try_out(out_pipelines_created, "out_pipelines_created")?;
                 out.write(pipelines);

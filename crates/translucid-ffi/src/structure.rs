@@ -41,10 +41,12 @@ pub enum translucid_structure_type {
     HostSubgroupSizeControl = 104,
     /// `translucid_host_image_layers`, chained to the frame targets.
     HostImageLayers = 105,
+    /// `translucid_host_image_formats`, chained to the prepare info.
+    HostImageFormats = 106,
 }
 
 impl translucid_structure_type {
-    const ALL: [Self; 21] = [
+    const ALL: [Self; 22] = [
         Self::ContextCreateInfo,
         Self::MeshCreateInfo,
         Self::TextureCreateInfo,
@@ -66,6 +68,7 @@ impl translucid_structure_type {
         Self::HostSubgroupRequirements,
         Self::HostSubgroupSizeControl,
         Self::HostImageLayers,
+        Self::HostImageFormats,
     ];
 
     pub fn from_raw(value: u32) -> Option<Self> {

@@ -10,13 +10,16 @@
  * 2. Two views (cameras) in one command buffer, each over its own images.
  * 3. The engine's own projection: reversed-Z with an infinite far plane, and a jitter.
  * 4. A mesh destroyed while a frame that draws it is in flight.
- * 5. Misuse: too many frames in flight, abandoning a frame between others, bad updates.
- * 6. Every depth format an engine may hand over, with forward and reversed-Z depth.
+ * 5. Misuse: too many frames in flight, abandoning a frame between others, bad updates,
+ *    preparing for images no frame could record into.
+ * 6. Every depth format an engine may hand over, with forward and reversed-Z depth, each
+ *    prepared for (translucid_host_image_formats): its frame builds no pipeline. For exact,
+ *    which samples the engine's depth, and linked_list, which imports it.
  * 7. Every method: frames abandoned unsubmitted (carrying a streamed mesh and moved vertices)
  *    cost the next frame nothing: no pipeline built, its image right.
- * 8. Every method in a declared loop (translucid_context_prepare): assets of every kind that
- *    changes a shader variant, streamed in one per frame, then a stack that makes the frames
- *    deep, build no pipeline.
+ * 8. Every method in a declared loop (translucid_context_prepare, with the engine's image
+ *    formats): the first frame, assets of every kind that changes a shader variant, streamed
+ *    in one per frame, then a stack that makes the frames deep, build no pipeline.
  * 9. A resolution drop then translucid_context_trim: memory given back, and the next frame
  *    builds no pipeline and completes right.
  * 10. Stereo with 3 frames in flight: each frame's two views (cameras) recorded into one
@@ -276,6 +279,30 @@ static translucid_host_frame_targets targets_of(VkCommandBuffer cmd, const slot 
     t.depth.layout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
     t.depth.final_layout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
     return t;
+}
+
+/* Declares everything and builds what frames like `info` into images like `t`'s need;
+ * returns the pipelines it built. */
+static uint64_t prepare_for(translucid_context *ctx, const translucid_frame_info *info,
+                            const translucid_host_frame_targets *t) {
+    translucid_host_image_formats formats;
+    translucid_prepare_info prepare;
+    uint64_t built = 0;
+    memset(&formats, 0, sizeof formats);
+    formats.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_IMAGE_FORMATS;
+    formats.colour_format = t->colour.format;
+    formats.colour_layout = t->colour.layout;
+    formats.colour_final_layout = t->colour.final_layout;
+    formats.depth_format = t->depth.format;
+    formats.depth_layout = t->depth.layout;
+    formats.depth_final_layout = t->depth.final_layout;
+    memset(&prepare, 0, sizeof prepare);
+    prepare.s_type = TRANSLUCID_STRUCTURE_TYPE_PREPARE_INFO;
+    prepare.next = &formats;
+    prepare.frame = info;
+    prepare.content = TRANSLUCID_CONTENT_ALL;
+    CHECK(ctx, translucid_context_prepare(ctx, &prepare, &built));
+    return built;
 }
 
 /* Records the slot's whole frame (opaque, translucid, readback) into `cmd`. */
@@ -581,7 +608,7 @@ static void encode_depth(VkFormat format, int reversed, uint8_t *out) {
 
 /* 6. Every depth format an engine may hand over, forward and reversed-Z: the opaque bands
  * hide part of the quads, read from each format (the stencil of D24S8 and D32S8 ignored). */
-static void depth_formats(void) {
+static void depth_formats(translucid_method method) {
     static const VkFormat formats[5] = {VK_FORMAT_D16_UNORM, VK_FORMAT_X8_D24_UNORM_PACK32,
                                         VK_FORMAT_D24_UNORM_S8_UINT, VK_FORMAT_D32_SFLOAT,
                                         VK_FORMAT_D32_SFLOAT_S8_UINT};
@@ -605,6 +632,7 @@ static void depth_formats(void) {
         }
         make_opaque_layer(reversed ? reversed_bands : forward_bands, reversed);
         info = frame_info(&host, QUADS + 1, camera);
+        info.method = method;
         for (f = 0; f < 5; f++) {
             VkFormat format = formats[f];
             int stencil = format == VK_FORMAT_D24_UNORM_S8_UINT ||
@@ -618,11 +646,17 @@ static void depth_formats(void) {
                 W, H);
             VkDeviceMemory memory = bind_image(depth);
             translucid_host_frame_targets t = targets_of(s->cmd, s);
-            char what[64];
+            char what[96];
+            uint64_t pipelines;
+            int allocated;
             encode_depth(format, reversed, s->mapped + COLOUR_BYTES);
             render_expected(info, &standalone, s->expected);
             t.depth.image = depth;
             t.depth.format = format;
+            snprintf(what, sizeof what, "method %d, depth format %d%s", (int)method,
+                     (int)format, reversed ? ", reversed-Z" : "");
+            /* Prepared for these images, the frame into them builds nothing. */
+            prepare_for(ctx, &info, &t);
             begin_commands(s->cmd);
             record_opaque_into(s->cmd, s, depth, aspects);
             CHECK(ctx, translucid_frame_record(ctx, &info, &t, &s->frame));
@@ -630,14 +664,20 @@ static void depth_formats(void) {
             submit_commands(s->cmd, s->fence);
             wait_fence(s->fence);
             CHECK(ctx, translucid_frame_complete(ctx, s->frame));
-            snprintf(what, sizeof what, "depth format %d%s", (int)format,
-                     reversed ? ", reversed-Z" : "");
+            built_by(ctx, s, &pipelines, &allocated);
+            if (pipelines != 0) {
+                printf("FAIL %s: prepared, the frame built %llu pipelines\n", what,
+                       (unsigned long long)pipelines);
+            }
+            TRUE_OR_FAIL(pipelines == 0);
             compare(ctx, s, what);
             vkDestroyImage(g_device, depth, NULL);
             vkFreeMemory(g_device, memory, NULL);
         }
     }
-    printf("every depth format, forward and reversed-Z, as the standalone context renders it\n");
+    printf("method %d: every depth format, forward and reversed-Z, as the standalone context "
+           "renders it, prepared for\n",
+           (int)method);
     translucid_context_destroy(ctx);
 }
 
@@ -669,6 +709,44 @@ static void misuse(void) {
     ctx = host_context(MOST_IN_FLIGHT);
     make_scene(ctx, &host);
     info = frame_info(&host, QUADS, orbit_camera(0.0f));
+    {
+        /* Preparing for images no frame could record into, or with a stranger chained. */
+        translucid_host_image_formats formats;
+        translucid_frame_statistics wrong;
+        translucid_prepare_info prepare;
+        memset(&formats, 0, sizeof formats);
+        formats.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_IMAGE_FORMATS;
+        formats.colour_format = VK_FORMAT_R8G8B8A8_UNORM;
+        formats.colour_layout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+        formats.colour_final_layout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+        formats.depth_format = VK_FORMAT_R32_SFLOAT;
+        formats.depth_layout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
+        formats.depth_final_layout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
+        memset(&prepare, 0, sizeof prepare);
+        prepare.s_type = TRANSLUCID_STRUCTURE_TYPE_PREPARE_INFO;
+        prepare.next = &formats;
+        prepare.frame = &info;
+        EXPECT(ctx, translucid_context_prepare(ctx, &prepare, NULL),
+               TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+        TRUE_OR_FAIL(strstr(translucid_context_get_last_error(ctx), "depth format") != NULL);
+        formats.depth_format = VK_FORMAT_D32_SFLOAT;
+        formats.colour_layout = VK_IMAGE_LAYOUT_UNDEFINED;
+        EXPECT(ctx, translucid_context_prepare(ctx, &prepare, NULL),
+               TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+        memset(&wrong, 0, sizeof wrong);
+        wrong.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_STATISTICS;
+        prepare.next = &wrong;
+        EXPECT(ctx, translucid_context_prepare(ctx, &prepare, NULL),
+               TRANSLUCID_RESULT_ERROR_INVALID_STRUCTURE_TYPE);
+        /* A standalone context records into no engine image. */
+        formats.colour_layout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+        prepare.next = &formats;
+        info.draws = NULL;
+        info.draw_count = 0;
+        EXPECT(g_standalone, translucid_context_prepare(g_standalone, &prepare, NULL),
+               TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+        info = frame_info(&host, QUADS, orbit_camera(0.0f));
+    }
     /* Updates: a range past the mesh, a NaN, a destroyed mesh. */
     memcpy(positions, g_test_quads[0], sizeof positions);
     EXPECT(ctx, translucid_mesh_update(ctx, host.meshes[0], 2, 4, positions),
@@ -998,7 +1076,6 @@ static void declared_loop(translucid_method method) {
     translucid_draw host_draws[2 + STREAMED_KINDS], standalone_draws[2 + STREAMED_KINDS];
     translucid_mesh meshes[2][2 + STREAMED_KINDS];
     translucid_material materials[2][2 + STREAMED_KINDS];
-    translucid_prepare_info prepare;
     translucid_frame_info info;
     uint64_t prepared = 0, pipelines;
     int k, allocated;
@@ -1010,11 +1087,10 @@ static void declared_loop(translucid_method method) {
                   &standalone_draws[k]);
     }
     info = frame_of(host_draws, 2, method);
-    memset(&prepare, 0, sizeof prepare);
-    prepare.s_type = TRANSLUCID_STRUCTURE_TYPE_PREPARE_INFO;
-    prepare.frame = &info;
-    prepare.content = TRANSLUCID_CONTENT_ALL;
-    CHECK(ctx, translucid_context_prepare(ctx, &prepare, &prepared));
+    {
+        translucid_host_frame_targets t = targets_of(g_slots[0].cmd, &g_slots[0]);
+        prepared = prepare_for(ctx, &info, &t);
+    }
     /* The first frame, one per streamed kind, and one more: deep frames move to their
      * variants after the first deep frame completes. */
     for (k = 0; k <= STREAMED_KINDS + 1; k++) {
@@ -1036,14 +1112,11 @@ static void declared_loop(translucid_method method) {
                  k == 0                 ? "first frame"
                  : k > STREAMED_KINDS ? "the frame after the deep one"
                                         : k_streamed_names[k - 1]);
-        /* The first frame may build the in-place composite (made for the engine's colour
-         * format), and nothing else. */
-        if (k > 0 && pipelines != 0) printf("FAIL %s: %llu pipelines built\n", what,
-                                            (unsigned long long)pipelines);
-        TRUE_OR_FAIL(k == 0 || pipelines == 0);
-        if (k == 0) printf("method %d: prepare built %llu pipelines, the first frame %llu\n",
-                           (int)method, (unsigned long long)prepared,
-                           (unsigned long long)pipelines);
+        if (pipelines != 0) printf("FAIL %s: %llu pipelines built\n", what,
+                                   (unsigned long long)pipelines);
+        TRUE_OR_FAIL(pipelines == 0);
+        if (k == 0) printf("method %d: prepare built %llu pipelines\n", (int)method,
+                           (unsigned long long)prepared);
         compare_any(ctx, s, what, method);
     }
     translucid_context_destroy(ctx);
@@ -1511,7 +1584,9 @@ int main(void) {
     stereo_in_flight();
     engine_projection();
     destroy_in_flight();
-    depth_formats();
+    /* One method that samples the engine's depth where it is, one that imports it. */
+    depth_formats(TRANSLUCID_METHOD_EXACT);
+    depth_formats(TRANSLUCID_METHOD_LINKED_LIST);
     make_opaque_layer(forward_bands, 0);
     misuse();
     {

@@ -216,11 +216,22 @@ void frames_in_flight(translucid::Context &host, translucid::Context &standalone
                       Slot &spare) {
     Scene engine(host), reference(standalone);
     const int frames = 6;
+    // Prepared with the slots' image formats, no frame builds a pipeline, the first included.
+    const translucid_host_frame_targets like = targets_of(slots[0]);
+    translucid_host_image_formats formats{};
+    formats.colour_format = like.colour.format;
+    formats.colour_layout = like.colour.layout;
+    formats.colour_final_layout = like.colour.final_layout;
+    formats.depth_format = like.depth.format;
+    formats.depth_layout = like.depth.layout;
+    formats.depth_final_layout = like.depth.final_layout;
+    TRUE_OR_FAIL(host.prepare(engine.frame(0), 0, &formats) > 0);
     for (int k = 0; k < frames; k++) {
         Slot &s = slots[k % IN_FLIGHT];
         if (s.frame) {
             wait_fence(s.fence);
             TRUE_OR_FAIL(s.frame.complete() == translucid::Frame::Completion::done);
+            TRUE_OR_FAIL(s.frame.statistics().pipelines_created == 0);
             compare(s, "a frame completed in its turn");
         }
         s.expected = standalone.render(reference.frame(k)).read_rgba8();

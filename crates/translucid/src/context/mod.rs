@@ -17,7 +17,7 @@ pub mod frames;
 pub mod handles;
 pub mod renderers;
 
-use crate::gpu::{Gpu, HostTargets};
+use crate::gpu::{Gpu, HostImage, HostTargets};
 use crate::scene::{Material, Mesh, Texture};
 use crate::{Error, OpaqueLayer, Result};
 use assets::{Assets, Destroyed, MaterialRecord};
@@ -234,15 +234,33 @@ impl Context {
     /// variants are built, and a frame takes its own). Returns the pipelines built and
     /// the bytes of GPU memory allocated.
     ///
+    /// On an engine's device, `engine_images` (colour, depth) are images like those the
+    /// frames will record into (their formats and layouts; the handles are not used): what
+    /// the first frame into such images would build for them is built now too
+    /// ([`crate::renderer::Renderer::prepare_host`]).
+    ///
     /// [`DeclaredContent`]: crate::methods::bins::features::DeclaredContent
     pub fn prepare(
         &mut self,
         request: &FrameRequest,
         content: crate::methods::bins::features::DeclaredContent,
+        engine_images: Option<(&HostImage, &HostImage)>,
     ) -> Result<(u64, u64)> {
+        if engine_images.is_some() && !self.gpu.is_host_device() {
+            return Err(Error::InvalidArgument(
+                "engine images are prepared for on a context on the engine's device                  (host-device mode); a standalone context has none"
+                    .into(),
+            ));
+        }
+        if let Some((colour, depth)) = engine_images {
+            self.gpu.check_host_formats(colour, depth)?;
+        }
         let before = built_so_far(&self.gpu);
         self.renderers.declare(content);
-        self.renderers.for_frame(&self.gpu, &self.assets, request)?;
+        let kept = self.renderers.for_frame(&self.gpu, &self.assets, request)?;
+        if let Some((colour, depth)) = engine_images {
+            kept.renderer.prepare_host(colour, depth)?;
+        }
         Ok(built_since(&self.gpu, before))
     }
 

@@ -518,24 +518,30 @@ impl Gpu {
                 "the colour and depth images are the same image".into(),
             ));
         }
-        check_layouts("colour", &t.colour, &COLOUR_LAYOUTS)?;
-        check_layouts("depth", &t.depth, &DEPTH_LAYOUTS)?;
-        if depth_format_aspects(t.depth.format).contains(vk::ImageAspectFlags::STENCIL) {
-            for layout in [t.depth.layout, t.depth.final_layout] {
+        self.check_host_formats(&t.colour, &t.depth)
+    }
+
+    /// Checks the formats and layouts of an engine's colour and depth images (their handles
+    /// aside) against what host-device frames take.
+    pub fn check_host_formats(&self, colour: &HostImage, depth: &HostImage) -> Result<()> {
+        check_layouts("colour", colour, &COLOUR_LAYOUTS)?;
+        check_layouts("depth", depth, &DEPTH_LAYOUTS)?;
+        if depth_format_aspects(depth.format).contains(vk::ImageAspectFlags::STENCIL) {
+            for layout in [depth.layout, depth.final_layout] {
                 if DEPTH_ONLY_LAYOUTS.contains(&layout) {
                     return Err(Error::HostFrame(format!(
                         "depth layout {layout:?} names the depth aspect alone, but \
                          VK_FORMAT_{:?} has stencil too: use a layout of both aspects \
                          (DEPTH_STENCIL_ATTACHMENT_OPTIMAL, DEPTH_STENCIL_READ_ONLY_OPTIMAL, \
                          GENERAL...)",
-                        t.depth.format
+                        depth.format
                     )));
                 }
             }
         }
         let sampled = vk::FormatFeatureFlags::SAMPLED_IMAGE;
-        if !HOST_DEPTH_FORMATS.contains(&t.depth.format)
-            || !self.format_features(t.depth.format).contains(sampled)
+        if !HOST_DEPTH_FORMATS.contains(&depth.format)
+            || !self.format_features(depth.format).contains(sampled)
         {
             let names: Vec<String> = HOST_DEPTH_FORMATS
                 .iter()
@@ -544,20 +550,20 @@ impl Gpu {
             return Err(Error::HostFrame(format!(
                 "depth format is VK_FORMAT_{:?}; translucid reads depth images of {} that \
                  this device can sample",
-                t.depth.format,
+                depth.format,
                 names.join(", ")
             )));
         }
         let blit = vk::FormatFeatureFlags::BLIT_SRC | vk::FormatFeatureFlags::BLIT_DST;
-        let props = self.format_features(t.colour.format);
-        if t.colour.format == vk::Format::UNDEFINED
+        let props = self.format_features(colour.format);
+        if colour.format == vk::Format::UNDEFINED
             || !props.contains(blit)
-            || is_integer_or_depth(t.colour.format)
+            || is_integer_or_depth(colour.format)
         {
             return Err(Error::HostFrame(format!(
                 "colour format {:?} cannot be blitted to and from on this device (use a \
                  UNORM, SRGB or float colour format)",
-                t.colour.format
+                colour.format
             )));
         }
         Ok(())

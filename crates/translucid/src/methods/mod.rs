@@ -284,6 +284,12 @@ pub trait Method {
     fn composites_in_place(&self) -> bool {
         false
     }
+
+    /// For a method that composites in place: builds now what its first frame onto colour
+    /// images like `colour` (format and layouts) would build.
+    fn prepare_composite(&mut self, _colour: &HostImage) -> Result<()> {
+        Ok(())
+    }
 }
 
 /// Creates method `kind` for `scene` (uploaded as `gpu_scene`) and `targets`.

@@ -17,8 +17,8 @@
 
 use super::{method_ms, Renderer};
 use crate::gpu::{
-    memory_barrier, vk, Buffer, DepthImport, EngineDepthViews, Gpu, HostTargets, MemoryLocation,
-    HOST_DEPTH_FORMAT,
+    memory_barrier, vk, Buffer, DepthImport, EngineDepthViews, Gpu, HostImage, HostTargets,
+    MemoryLocation, HOST_DEPTH_FORMAT,
 };
 use crate::methods::{FrameCheck, FrameDone, InPlace};
 use crate::{Error, Result};
@@ -151,13 +151,8 @@ impl Renderer {
         let extent = self.targets.extent;
         if reversed || targets.depth.format != HOST_DEPTH_FORMAT {
             gpu.record_host_input(targets, extent, &self.targets.colour, None);
-            if self.depth_import.is_none() {
-                let slots = self.timestamps.len();
-                self.depth_import = Some(DepthImport::new(&gpu, &self.targets.depth, slots)?);
-            }
-            if let Some(import) = &mut self.depth_import {
-                import.record(cmd, slot, &targets.depth, (extent, reversed))?;
-            }
+            let import = self.depth_import()?;
+            import.record(cmd, slot, &targets.depth, (extent, reversed))?;
         } else {
             let depth = Some(&self.targets.depth);
             gpu.record_host_input(targets, extent, &self.targets.colour, depth);
@@ -167,6 +162,36 @@ impl Renderer {
         gpu.record_host_output(targets, extent, &self.targets.colour);
         self.timestamps[slot].mark(cmd, "output");
         self.end_host_frame(&gpu, cmd, slot, HostFrameKind::Method)
+    }
+
+    /// Builds now what the first frame into engine images like `colour` and `depth` (their
+    /// formats and layouts; the handles are not used) would build: `blend`'s pass into
+    /// them, the composite of a method that composites in place, or the import of depth
+    /// the other methods cannot copy. Frames into such images then build no pipeline for
+    /// them. The frame camera's depth direction is the one this renderer was set to.
+    pub fn prepare_host(&mut self, colour: &HostImage, depth: &HostImage) -> Result<()> {
+        let gpu = self.gpu.clone();
+        gpu.check_host_formats(colour, depth)?;
+        let blends = super::native_blend::can_blend_into(&gpu, colour.format);
+        if blends && self.method.blends_in_place() {
+            return self.engine_blend_pass(colour, depth).map(|_| ());
+        }
+        if blends && self.method.composites_in_place() {
+            return self.method.prepare_composite(colour);
+        }
+        if self.scene.camera.reversed_depth() || depth.format != HOST_DEPTH_FORMAT {
+            self.depth_import()?;
+        }
+        Ok(())
+    }
+
+    /// The pass that imports depth the method cannot copy, made on first use.
+    fn depth_import(&mut self) -> Result<&mut DepthImport> {
+        let import = match self.depth_import.take() {
+            Some(import) => import,
+            None => DepthImport::new(&self.gpu, &self.targets.depth, self.timestamps.len())?,
+        };
+        Ok(self.depth_import.insert(import))
     }
 
     /// A frame of a method that composites in place: the engine's depth sampled where it is,

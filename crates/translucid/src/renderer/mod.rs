@@ -174,9 +174,10 @@ pub struct Renderer {
     in_flight: std::collections::VecDeque<(usize, host_device::HostFrameKind)>,
     /// Host-device mode: per slot, the compute dispatches its last frame recorded.
     slot_dispatches: Vec<u64>,
-    /// Host-device mode: the yardstick's pass and pipelines, made for the first frame that
-    /// records it ([`Renderer::record_native_blend`]).
-    native_blend: Option<native_blend::NativeBlend>,
+    /// Host-device mode: the yardstick's passes and pipelines, which `blend` draws with too,
+    /// one per kind of engine image, made for the first frame into one
+    /// ([`Renderer::record_native_blend`]) or by [`Renderer::prepare_host`].
+    native_blend: native_blend::NativeBlend,
     /// Host-device mode: the pass that samples engine depth images it cannot copy, made
     /// for the first frame that needs it.
     depth_import: Option<crate::gpu::DepthImport>,
@@ -357,7 +358,7 @@ impl Renderer {
             completions: Vec::new(),
             depth_import: None,
             engine_depth_views: None,
-            native_blend: None,
+            native_blend: native_blend::NativeBlend::default(),
             slot_dispatches: vec![0; slots],
             in_flight: std::collections::VecDeque::new(),
             counted: (gpu.pipelines_created(), gpu.bytes_allocated()),

@@ -10,7 +10,7 @@ use super::host_device::HostFrameKind;
 use super::Renderer;
 use crate::assets::{GpuScene, MeshStages};
 use crate::gpu::{
-    vk, Blend, DepthMode, EnginePass, Gpu, GraphicsPipeline, HostTargets, PipelineState,
+    vk, Blend, DepthMode, EnginePass, Gpu, GraphicsPipeline, HostImage, HostTargets, PipelineState,
 };
 use crate::interface::specialization::Specialization;
 use crate::{Error, Result};
@@ -43,8 +43,13 @@ pub(super) fn can_blend_into(gpu: &Gpu, format: vk::Format) -> bool {
 }
 
 impl EngineBlendPass {
-    fn new(gpu: &Gpu, gpu_scene: &GpuScene, targets: &HostTargets, slots: usize) -> Result<Self> {
-        let format = targets.colour.format;
+    fn new(
+        gpu: &Gpu,
+        gpu_scene: &GpuScene,
+        (colour, depth): (&HostImage, &HostImage),
+        slots: usize,
+    ) -> Result<Self> {
+        let format = colour.format;
         if !can_blend_into(gpu, format) {
             return Err(Error::HostRequirements(format!(
                 "native_blend blends into the engine's colour image with dual-source blending: \
@@ -52,7 +57,7 @@ impl EngineBlendPass {
                 gpu.info().name
             )));
         }
-        let pass = EnginePass::new(gpu, &targets.colour, Some(&targets.depth), slots)?;
+        let pass = EnginePass::new(gpu, colour, Some(depth), slots)?;
         let pipelines = |depth| {
             gpu_scene.mesh_pipelines_with(
                 gpu,
@@ -90,6 +95,23 @@ impl Renderer {
         self.record_engine_blend(targets, "native blend", HostFrameKind::NativeBlend)
     }
 
+    /// The index of the yardstick's pass (and pipelines) into images like `colour` and
+    /// `depth` (their formats and layouts), built now if no earlier frame drew into such.
+    pub(super) fn engine_blend_pass(
+        &mut self,
+        colour: &HostImage,
+        depth: &HostImage,
+    ) -> Result<usize> {
+        let passes = &mut self.native_blend.passes;
+        if let Some(i) = passes.iter().position(|p| p.pass.fits(colour, Some(depth))) {
+            return Ok(i);
+        }
+        let slots = self.timestamps.len();
+        let made = EngineBlendPass::new(&self.gpu, &self.gpu_scene, (colour, depth), slots)?;
+        passes.push(made);
+        Ok(passes.len() - 1)
+    }
+
     /// One frame of the yardstick's pass into `targets`, its stage named `stage`: the
     /// yardstick's frame, or the `blend` method's on an engine's device.
     pub(super) fn record_engine_blend(
@@ -100,22 +122,9 @@ impl Renderer {
     ) -> Result<()> {
         let (gpu, slot) = self.begin_host_frame(targets)?;
         let cmd = targets.cmd;
-        let slots = self.timestamps.len();
-        let native = self.native_blend.get_or_insert_with(NativeBlend::default);
+        let index = self.engine_blend_pass(&targets.colour, &targets.depth)?;
+        let native = &mut self.native_blend.passes[index];
         let images = (&targets.colour, Some(&targets.depth));
-        let index = match native
-            .passes
-            .iter()
-            .position(|p| p.pass.fits(images.0, images.1))
-        {
-            Some(i) => i,
-            None => {
-                let made = EngineBlendPass::new(&gpu, &self.gpu_scene, targets, slots)?;
-                native.passes.push(made);
-                native.passes.len() - 1
-            }
-        };
-        let native = &mut native.passes[index];
         let reversed = self.scene.camera.reversed_depth();
         let extent = self.targets.extent;
         native.pass.begin(cmd, images, slot, (extent, reversed))?;

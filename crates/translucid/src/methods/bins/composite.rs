@@ -69,19 +69,7 @@ impl Composite {
     /// Records the pass; the transparent layer and the draw's command are written and
     /// visible to the vertex, fragment and indirect stages.
     pub fn record(&mut self, cmd: vk::CommandBuffer, frame: &CompositeFrame<'_>) -> Result<()> {
-        let index = match self
-            .passes
-            .iter()
-            .position(|(p, _)| p.fits(frame.colour, None))
-        {
-            Some(i) => i,
-            None => {
-                let pass = EnginePass::new(&self.gpu, frame.colour, None, self.slots)?;
-                let pipeline = self.pipeline(pass.render_pass)?;
-                self.passes.push((pass, pipeline));
-                self.passes.len() - 1
-            }
-        };
+        let index = self.pass_for(frame.colour)?;
         let (pass, pipeline) = &mut self.passes[index];
         pass.begin(cmd, (frame.colour, None), frame.slot, (frame.extent, false))?;
         let push = CompositePush {
@@ -97,6 +85,18 @@ impl Composite {
         );
         pass.end(cmd);
         Ok(())
+    }
+
+    /// The index of the pass (and pipeline) onto colour images like `colour` (its format and
+    /// layouts), built now if no earlier frame composited onto one.
+    pub fn pass_for(&mut self, colour: &HostImage) -> Result<usize> {
+        if let Some(i) = self.passes.iter().position(|(p, _)| p.fits(colour, None)) {
+            return Ok(i);
+        }
+        let pass = EnginePass::new(&self.gpu, colour, None, self.slots)?;
+        let pipeline = self.pipeline(pass.render_pass)?;
+        self.passes.push((pass, pipeline));
+        Ok(self.passes.len() - 1)
     }
 
     fn pipeline(&self, render_pass: vk::RenderPass) -> Result<Arc<GraphicsPipeline>> {

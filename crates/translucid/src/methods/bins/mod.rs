@@ -787,8 +787,8 @@ impl Bins {
             None => ctx.targets.depth.view,
         };
         self.push.opaque_depth_reversed = ctx.in_place.is_some_and(|e| e.reversed).into();
-        if ctx.in_place.is_some() && self.resources.make_layer(&self.gpu)? {
-            self.layer_cleared = false;
+        if ctx.in_place.is_some() {
+            self.make_layer()?;
         }
         self.resources.refresh_set(depth, ctx.in_place.is_some())?;
         self.resources.retirement.recorded();
@@ -1018,15 +1018,8 @@ impl Bins {
                 vk::AccessFlags::SHADER_READ | vk::AccessFlags::INDIRECT_COMMAND_READ,
             ),
         );
-        let composite = match &mut self.composite {
-            Some(c) => c,
-            None => self.composite.insert(composite::Composite::new(
-                &self.gpu,
-                &self.resources.raster_bins,
-                &self.resources.transparent_layer,
-                self.recorded.len(),
-            )?),
-        };
+        let slots = self.recorded.len();
+        let composite = made_composite(&mut self.composite, &self.gpu, &self.resources, slots)?;
         let frame = composite::CompositeFrame {
             colour,
             slot,
@@ -1036,6 +1029,25 @@ impl Bins {
             draw: (self.resources.dispatches(), DRAW_COMPOSITE_OFFSET),
         };
         composite.record(cmd, &frame)
+    }
+
+    /// Builds now the composite onto colour images like `colour` (format and layouts), which
+    /// the first frame onto one would build.
+    pub fn prepare_composite(&mut self, colour: &crate::gpu::HostImage) -> Result<()> {
+        // The composite's set names the transparent layer, which is made first.
+        self.make_layer()?;
+        let slots = self.recorded.len();
+        let composite = made_composite(&mut self.composite, &self.gpu, &self.resources, slots)?;
+        composite.pass_for(colour).map(|_| ())
+    }
+
+    /// Makes the transparent layer that frames on an engine's device leave for the
+    /// composite, once; a new one is cleared before it is used.
+    fn make_layer(&mut self) -> Result<()> {
+        if self.resources.make_layer(&self.gpu)? {
+            self.layer_cleared = false;
+        }
+        Ok(())
     }
 
     /// Starts a submission of the frame in `slot`: on an engine's device (`in_place`), its
@@ -1316,4 +1328,23 @@ fn in_errors(method: &str, e: Error) -> Error {
         Error::TooLarge(message) => Error::TooLarge(format!("{method}: {message}")),
         other => other,
     }
+}
+
+/// The bins' composite, made on first use (only frames on an engine's device composite).
+fn made_composite<'a>(
+    composite: &'a mut Option<composite::Composite>,
+    gpu: &Gpu,
+    resources: &Resources,
+    slots: usize,
+) -> Result<&'a mut composite::Composite> {
+    let composite_pass = match composite.take() {
+        Some(c) => c,
+        None => composite::Composite::new(
+            gpu,
+            &resources.raster_bins,
+            &resources.transparent_layer,
+            slots,
+        )?,
+    };
+    Ok(composite.insert(composite_pass))
 }

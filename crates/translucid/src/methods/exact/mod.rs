@@ -144,6 +144,10 @@ impl Method for Exact {
         true
     }
 
+    fn prepare_composite(&mut self, colour: &crate::gpu::HostImage) -> Result<()> {
+        self.bins.prepare_composite(colour)
+    }
+
     fn set_frame(&mut self, f: &FrameSetup<'_>) -> Result<()> {
         self.bins.set_frame(f)?;
         self.raster.follow(&mut self.bins, f.gpu_scene, self.depth)

@@ -84,6 +84,11 @@ impl BinRaster {
     }
 
     /// The frame: the bins, and the raster over each band. The raster suspends no rows.
+    /// See [`Bins::prepare_composite`].
+    pub fn prepare_composite(&mut self, colour: &crate::gpu::HostImage) -> Result<()> {
+        self.bins.prepare_composite(colour)
+    }
+
     pub fn record(&mut self, ctx: &mut RecordContext<'_>) -> Result<()> {
         let cmd = ctx.cmd;
         self.bins.record_binning(ctx)?;

@@ -272,6 +272,13 @@ impl Method for Wavelet {
         matches!(self.variant, Variant::Bins(_))
     }
 
+    fn prepare_composite(&mut self, colour: &crate::gpu::HostImage) -> Result<()> {
+        match &mut self.variant {
+            Variant::Bins(raster) => raster.prepare_composite(colour),
+            Variant::Images(_) => Ok(()),
+        }
+    }
+
     fn set_frame(&mut self, f: &FrameSetup<'_>) -> Result<()> {
         // The camera's depth mapping is in the frame constants: the coefficient images'
         // passes take any frame as they are.
