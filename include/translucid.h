@@ -227,7 +227,8 @@ enum translucid_result
     /**
      * From `translucid_frame_complete`: the frame's commands have not run (not submitted,
      * or still running). Nothing changed; the frame stays in flight: complete it after the
-     * submission finished, or abandon it.
+     * submission finished, or abandon it. From `translucid_context_get_prepare_status`:
+     * work preparing in the background is still running.
      */
     TRANSLUCID_RESULT_NOT_READY = 2,
     /**
@@ -2054,6 +2055,37 @@ TRANSLUCID_MUST_USE
 translucid_result translucid_context_prepare(struct translucid_context *context,
                                              const struct translucid_prepare_info *info,
                                              uint64_t *out_pipelines_created);
+
+/**
+ * `translucid_context_prepare` on a thread of translucid's own, for a loop that goes on
+ * meanwhile (streaming in a level while the current one plays): returns once `info` is
+ * checked and the work has started. Frames recorded meanwhile draw with what was
+ * declared before (content past that is built when first drawn, as without preparing).
+ * Once the work has finished, the next call on the context takes it in: `content` is
+ * declared, and the next frame of each method makes its renderer anew from the
+ * pipelines built (no shader compiled; its buffers are allocated again). Ask
+ * `translucid_context_get_prepare_status` whether it has; several may run at once.
+ * The work's pipelines and memory are not counted in the statistics of the frames
+ * recorded meanwhile, but its memory counts against the context's budget.
+ * `translucid_context_destroy` waits for work still running.
+ */
+TRANSLUCID_MUST_USE
+translucid_result translucid_context_prepare_in_background(struct translucid_context *context,
+                                                           const struct translucid_prepare_info *info);
+
+/**
+ * Whether the work `translucid_context_prepare_in_background` started has finished, taking
+ * in what has. Returns:
+ * - `TRANSLUCID_RESULT_SUCCESS`: none is running, and all of it is in effect:
+ *   `out_pipelines_created` (may be NULL) receives the pipelines built by the work taken in
+ *   since the last call.
+ * - `TRANSLUCID_RESULT_NOT_READY`: some is still running; nothing is written.
+ * - An error that some work ended with (reported once; its content is not declared, and
+ *   frames build what it would have when they first need it).
+ */
+TRANSLUCID_MUST_USE
+translucid_result translucid_context_get_prepare_status(struct translucid_context *context,
+                                                        uint64_t *out_pipelines_created);
 
 /**
  * Returns a static, NUL-terminated description of `code`; never NULL. Unknown values

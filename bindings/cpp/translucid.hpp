@@ -327,22 +327,30 @@ public:
     /// how many it built.
     std::uint64_t prepare(translucid_frame_info frame, std::uint32_t content,
                           const translucid_host_image_formats *formats = nullptr) {
-        frame.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_INFO;
-        translucid_host_image_formats chained{};
-        if (formats != nullptr) {
-            chained = *formats;
-            chained.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_IMAGE_FORMATS;
-            chained.next = nullptr;
-        }
-        translucid_prepare_info info{};
-        info.s_type = TRANSLUCID_STRUCTURE_TYPE_PREPARE_INFO;
-        info.next = formats != nullptr ? &chained : nullptr;
-        info.frame = &frame;
-        info.content = content;
         std::uint64_t built = 0;
-        detail::check(translucid_context_prepare(get(), &info, &built), get(),
-                      "translucid_context_prepare");
+        with_prepare_info(frame, content, formats, [&](const translucid_prepare_info &info) {
+            detail::check(translucid_context_prepare(get(), &info, &built), get(),
+                          "translucid_context_prepare");
+        });
         return built;
+    }
+    /// The same on a thread of translucid's own, while the loop goes on
+    /// (translucid_context_prepare_in_background); `prepare_ready` says when it is in effect.
+    void prepare_in_background(translucid_frame_info frame, std::uint32_t content,
+                               const translucid_host_image_formats *formats = nullptr) {
+        with_prepare_info(frame, content, formats, [&](const translucid_prepare_info &info) {
+            detail::check(translucid_context_prepare_in_background(get(), &info), get(),
+                          "translucid_context_prepare_in_background");
+        });
+    }
+    /// Whether no preparation runs in the background any more, all of it in effect
+    /// (translucid_context_get_prepare_status); `built` (may be null) receives the pipelines
+    /// it built since the last call. Throws the error such work ended with.
+    bool prepare_ready(std::uint64_t *built = nullptr) {
+        const translucid_result status = translucid_context_get_prepare_status(get(), built);
+        if (status == TRANSLUCID_RESULT_NOT_READY) return false;
+        detail::check(status, get(), "translucid_context_get_prepare_status");
+        return true;
     }
     /// The GPU memory the context holds, by kind (translucid_context_get_memory_statistics).
     translucid_memory_statistics memory_statistics() const {
@@ -414,6 +422,24 @@ private:
         detail::check(translucid_context_create(&info, &raw), nullptr,
                       "translucid_context_create");
         context_ = detail::ContextPtr(raw, translucid_context_destroy);
+    }
+    // Calls `use` with a prepare info for `frame` and `content`, `formats` chained if given.
+    template <typename Use>
+    static void with_prepare_info(translucid_frame_info frame, std::uint32_t content,
+                                  const translucid_host_image_formats *formats, Use use) {
+        frame.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_INFO;
+        translucid_host_image_formats chained{};
+        if (formats != nullptr) {
+            chained = *formats;
+            chained.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_IMAGE_FORMATS;
+            chained.next = nullptr;
+        }
+        translucid_prepare_info info{};
+        info.s_type = TRANSLUCID_STRUCTURE_TYPE_PREPARE_INFO;
+        info.next = formats != nullptr ? &chained : nullptr;
+        info.frame = &frame;
+        info.content = content;
+        use(info);
     }
 
     detail::ContextPtr context_;

@@ -234,7 +234,8 @@ fn check_frame_size(gpu: &translucid::gpu::Gpu, width: u32, height: u32) -> FfiR
         }
         if value > most {
             return Err(Failure::size(format!(
-                "translucid_frame_info.{field} {value} is over {most}, the largest frame this                  device renders (VkPhysicalDeviceLimits::maxImageDimension2D)"
+                "translucid_frame_info.{field} {value} is over {most}, the largest frame this \
+                 device renders (VkPhysicalDeviceLimits::maxImageDimension2D)"
             )));
         }
     }

@@ -1,8 +1,10 @@
 //! Building up front what a frame loop needs, so that no frame compiles a shader: the content
-//! the engine declares its frames may draw, and a frame like those it will make. Exports
-//! `translucid_context_prepare`.
+//! the engine declares its frames may draw, and a frame like those it will make, now or on a
+//! thread beside the frame loop. Exports `translucid_context_prepare`,
+//! `translucid_context_prepare_in_background` and `translucid_context_get_prepare_status`.
 
 use crate::cast::{check_type, translucid_context, try_ref};
+use crate::context::Objects;
 use crate::frame::translucid_frame_info;
 use crate::frame_input::frame_request;
 use crate::host::image_formats;
@@ -10,6 +12,9 @@ use crate::panic;
 use crate::result::{translucid_result, Failure, FfiResult};
 use crate::structure::translucid_structure_type;
 use std::ffi::c_void;
+use translucid::context::background::PrepareStatus;
+use translucid::context::renderers::FrameRequest;
+use translucid::gpu::HostImage;
 use translucid::methods::bins::features::DeclaredContent;
 
 /// Textured materials. (Both variants are built: frames without a textured transparent draw
@@ -95,25 +100,95 @@ impl translucid_prepare_info {
         out_pipelines_created: *mut u64,
     ) -> translucid_result {
         panic::with_context(context, |objects| {
-            let info = try_ref(info, "info")?;
-            check_type(
-                info.s_type,
-                translucid_structure_type::PrepareInfo,
-                "translucid_prepare_info",
-            )?;
-            let engine_images = image_formats(info.next)?;
-            let content = declared(info.content)?;
-            let frame = try_ref(info.frame, "translucid_prepare_info.frame")?;
-            let (request, _layer) = frame_request(objects, frame)?;
+            let (request, content, engine_images) = prepared(objects, info)?;
             let images = engine_images
                 .as_ref()
                 .map(|(colour, depth)| (colour, depth));
             let (pipelines, _bytes) = objects.core.prepare(&request, content, images)?;
-            if !out_pipelines_created.is_null() {
-                let out = crate::cast::try_out(out_pipelines_created, "out_pipelines_created")?;
-                out.write(pipelines);
-            }
+            write_optional(out_pipelines_created, pipelines)?;
             Ok(translucid_result::Success)
         })
     }
+
+    /// `translucid_context_prepare` on a thread of translucid's own, for a loop that goes on
+    /// meanwhile (streaming in a level while the current one plays): returns once `info` is
+    /// checked and the work has started. Frames recorded meanwhile draw with what was
+    /// declared before (content past that is built when first drawn, as without preparing).
+    /// Once the work has finished, the next call on the context takes it in: `content` is
+    /// declared, and the next frame of each method makes its renderer anew from the
+    /// pipelines built (no shader compiled; its buffers are allocated again). Ask
+    /// `translucid_context_get_prepare_status` whether it has; several may run at once.
+    /// The work's pipelines and memory are not counted in the statistics of the frames
+    /// recorded meanwhile, but its memory counts against the context's budget.
+    /// `translucid_context_destroy` waits for work still running.
+    #[no_mangle]
+    #[must_use]
+    pub extern "C" fn translucid_context_prepare_in_background(
+        context: *mut translucid_context,
+        info: *const translucid_prepare_info,
+    ) -> translucid_result {
+        panic::with_context(context, |objects| {
+            let (request, content, engine_images) = prepared(objects, info)?;
+            let images = engine_images
+                .as_ref()
+                .map(|(colour, depth)| (colour, depth));
+            objects
+                .core
+                .prepare_in_background(&request, content, images)?;
+            Ok(translucid_result::Success)
+        })
+    }
+}
+
+/// Whether the work `translucid_context_prepare_in_background` started has finished, taking
+/// in what has. Returns:
+/// - `TRANSLUCID_RESULT_SUCCESS`: none is running, and all of it is in effect:
+///   `out_pipelines_created` (may be NULL) receives the pipelines built by the work taken in
+///   since the last call.
+/// - `TRANSLUCID_RESULT_NOT_READY`: some is still running; nothing is written.
+/// - An error that some work ended with (reported once; its content is not declared, and
+///   frames build what it would have when they first need it).
+#[no_mangle]
+#[must_use]
+pub extern "C" fn translucid_context_get_prepare_status(
+    context: *mut translucid_context,
+    out_pipelines_created: *mut u64,
+) -> translucid_result {
+    panic::with_context(context, |objects| match objects.core.prepare_status()? {
+        PrepareStatus::Building => Ok(translucid_result::NotReady),
+        PrepareStatus::Ready { pipelines } => {
+            write_optional(out_pipelines_created, pipelines)?;
+            Ok(translucid_result::Success)
+        }
+    })
+}
+
+/// What a prepare info asks for: frames like its frame request, drawing its content, into
+/// engine images like its (colour, depth).
+type Prepared = (
+    FrameRequest,
+    DeclaredContent,
+    Option<(HostImage, HostImage)>,
+);
+
+/// The frame request, content and engine images `info` describes, checked.
+fn prepared(objects: &mut Objects, info: *const translucid_prepare_info) -> FfiResult<Prepared> {
+    let info = try_ref(info, "info")?;
+    check_type(
+        info.s_type,
+        translucid_structure_type::PrepareInfo,
+        "translucid_prepare_info",
+    )?;
+    let engine_images = image_formats(info.next)?;
+    let content = declared(info.content)?;
+    let frame = try_ref(info.frame, "translucid_prepare_info.frame")?;
+    let (request, _layer) = frame_request(objects, frame)?;
+    Ok((request, content, engine_images))
+}
+
+fn write_optional(out: *mut u64, value: u64) -> FfiResult {
+    if !out.is_null() {
+        crate::cast::try_out(out, "out_pipelines_created")?.write(value);
+    }
+    Ok(())
 }

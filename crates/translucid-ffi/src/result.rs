@@ -19,7 +19,8 @@ pub enum translucid_result {
     Incomplete = 1,
     /// From `translucid_frame_complete`: the frame's commands have not run (not submitted,
     /// or still running). Nothing changed; the frame stays in flight: complete it after the
-    /// submission finished, or abandon it.
+    /// submission finished, or abandon it. From `translucid_context_get_prepare_status`:
+    /// work preparing in the background is still running.
     NotReady = 2,
     /// From `translucid_frame_complete`: the frame ran but went past a limit of one
     /// recording, so pixel rows it could not finish kept the opaque colour
@@ -138,7 +139,9 @@ impl translucid_result {
         match self {
             Self::Success => c"success",
             Self::Incomplete => c"incomplete: the list was cut short by the caller's capacity",
-            Self::NotReady => c"not ready: the frame's commands have not run yet",
+            Self::NotReady => {
+                c"not ready: the frame's commands (or the preparation) have not finished yet"
+            }
             Self::FrameDegraded => c"frame degraded: past a limit, rows kept the opaque colour",
             Self::ErrorNullPointer => c"a required pointer was NULL",
             Self::ErrorInvalidStructureType => c"wrong or unknown structure type (s_type)",

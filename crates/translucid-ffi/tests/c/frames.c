@@ -36,10 +36,16 @@
  * 13. Every method in stereo into layered images, as an XR swapchain hands them: one colour
  *    and one depth image of two layers, each view a frame into its own layer, both in one
  *    command buffer; each layer as the standalone context renders its view alone.
+ * 14. Every method, a level streamed in while the loop plays: what it may draw prepared in
+ *    the background (translucid_context_prepare_in_background) while frames go on, building
+ *    nothing; once taken in, its assets of every variant-changing kind build nothing either.
  * And first, in the standalone context: an updated mesh draws as one created so.
  */
+/* nanosleep, to wait for work in the background without taking a core from it. */
+#define _POSIX_C_SOURCE 199309L
 #include <math.h>
 #include <stdlib.h>
+#include <time.h>
 
 #include "checks.h"
 
@@ -281,6 +287,26 @@ static translucid_host_frame_targets targets_of(VkCommandBuffer cmd, const slot 
     return t;
 }
 
+/* Fills `prepare` (with `formats` chained) for frames like `info` into images like `t`'s
+ * that may draw `content`. */
+static void fill_prepare(translucid_prepare_info *prepare, translucid_host_image_formats *formats,
+                         const translucid_frame_info *info,
+                         const translucid_host_frame_targets *t, uint32_t content) {
+    memset(formats, 0, sizeof *formats);
+    formats->s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_IMAGE_FORMATS;
+    formats->colour_format = t->colour.format;
+    formats->colour_layout = t->colour.layout;
+    formats->colour_final_layout = t->colour.final_layout;
+    formats->depth_format = t->depth.format;
+    formats->depth_layout = t->depth.layout;
+    formats->depth_final_layout = t->depth.final_layout;
+    memset(prepare, 0, sizeof *prepare);
+    prepare->s_type = TRANSLUCID_STRUCTURE_TYPE_PREPARE_INFO;
+    prepare->next = formats;
+    prepare->frame = info;
+    prepare->content = content;
+}
+
 /* Declares everything and builds what frames like `info` into images like `t`'s need;
  * returns the pipelines it built. */
 static uint64_t prepare_for(translucid_context *ctx, const translucid_frame_info *info,
@@ -288,19 +314,7 @@ static uint64_t prepare_for(translucid_context *ctx, const translucid_frame_info
     translucid_host_image_formats formats;
     translucid_prepare_info prepare;
     uint64_t built = 0;
-    memset(&formats, 0, sizeof formats);
-    formats.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_IMAGE_FORMATS;
-    formats.colour_format = t->colour.format;
-    formats.colour_layout = t->colour.layout;
-    formats.colour_final_layout = t->colour.final_layout;
-    formats.depth_format = t->depth.format;
-    formats.depth_layout = t->depth.layout;
-    formats.depth_final_layout = t->depth.final_layout;
-    memset(&prepare, 0, sizeof prepare);
-    prepare.s_type = TRANSLUCID_STRUCTURE_TYPE_PREPARE_INFO;
-    prepare.next = &formats;
-    prepare.frame = info;
-    prepare.content = TRANSLUCID_CONTENT_ALL;
+    fill_prepare(&prepare, &formats, info, t, TRANSLUCID_CONTENT_ALL);
     CHECK(ctx, translucid_context_prepare(ctx, &prepare, &built));
     return built;
 }
@@ -1126,6 +1140,112 @@ static void declared_loop(translucid_method method) {
     }
 }
 
+/* 14. A level streamed in while the loop plays: the loop's plain quads prepared for at
+ * load time, then everything the next level may draw prepared in the background while frames
+ * go on (each builds nothing and is right); once that is taken in, assets of every kind that
+ * changes a shader variant, streamed in one per frame, build nothing either. A context
+ * destroyed while such work runs waits for it. */
+#define BACKGROUND_FRAMES 24
+static void background_prepare(translucid_method method) {
+    translucid_context *ctx = host_context(MOST_IN_FLIGHT);
+    translucid_draw host_draws[2 + STREAMED_KINDS], standalone_draws[2 + STREAMED_KINDS];
+    translucid_mesh meshes[2][2 + STREAMED_KINDS];
+    translucid_material materials[2][2 + STREAMED_KINDS];
+    translucid_host_image_formats formats;
+    translucid_prepare_info prepare;
+    translucid_host_frame_targets t = targets_of(g_slots[0].cmd, &g_slots[0]);
+    translucid_frame_info info;
+    translucid_result status = TRANSLUCID_RESULT_NOT_READY;
+    uint64_t built = 0, pipelines;
+    int k, allocated, meanwhile = 0;
+    char what[96];
+    for (k = 0; k < 2; k++) {
+        make_quad(ctx, (size_t)k, 0, &meshes[0][k], &materials[0][k], &host_draws[k]);
+        make_quad(g_standalone, (size_t)k, 0, &meshes[1][k], &materials[1][k],
+                  &standalone_draws[k]);
+    }
+    info = frame_of(host_draws, 2, method);
+    fill_prepare(&prepare, &formats, &info, &t, 0);
+    CHECK(ctx, translucid_context_prepare(ctx, &prepare, NULL));
+    prepare.content = TRANSLUCID_CONTENT_ALL;
+    CHECK(ctx, translucid_context_prepare_in_background(ctx, &prepare));
+    /* The loop goes on, one frame per slot in turn, until the work is taken in (past
+     * BACKGROUND_FRAMES frames, the test only waits). */
+    for (k = 0; status == TRANSLUCID_RESULT_NOT_READY; k++) {
+        slot *s = &g_slots[k % MOST_IN_FLIGHT];
+        status = translucid_context_get_prepare_status(ctx, &built);
+        if (status != TRANSLUCID_RESULT_NOT_READY) {
+            CHECK(ctx, status);
+            break;
+        }
+        if (k >= BACKGROUND_FRAMES) {
+            const struct timespec pause = {0, 10 * 1000 * 1000};
+            nanosleep(&pause, NULL);
+            continue;
+        }
+        info = frame_of(standalone_draws, 2, method);
+        info.camera = orbit_camera(0.05f * (float)k);
+        render_standalone(g_standalone, info, g_opaque_colour, g_layer_depth, s->expected,
+                          COLOUR_BYTES);
+        info.draws = host_draws;
+        run_frame(ctx, s, &info);
+        built_by(ctx, s, &pipelines, &allocated);
+        if (pipelines != 0) {
+            printf("FAIL method %d, frame %d while preparing in the background: %llu "
+                   "pipelines built\n",
+                   (int)method, k, (unsigned long long)pipelines);
+        }
+        TRUE_OR_FAIL(pipelines == 0);
+        compare_any(ctx, s, "a frame while preparing in the background", method);
+        meanwhile++;
+    }
+    /* exact and wavelet have variants for content the loop did not draw; the other methods
+     * had built everything for the loop. */
+    if (method == TRANSLUCID_METHOD_EXACT || method == TRANSLUCID_METHOD_WAVELET) {
+        if (built == 0) printf("FAIL method %d: the background work built nothing\n", (int)method);
+        TRUE_OR_FAIL(built > 0);
+    }
+    printf("method %d: %llu pipelines built in the background while %d frames went on\n",
+           (int)method, (unsigned long long)built, meanwhile);
+    /* The next level streams in. */
+    for (k = 0; k <= STREAMED_KINDS + 1; k++) {
+        slot *s = &g_slots[k % MOST_IN_FLIGHT];
+        int draws = 2 + (k > STREAMED_KINDS ? STREAMED_KINDS : k);
+        if (k > 0 && k <= STREAMED_KINDS) {
+            stream_in(ctx, (enum streamed)(k - 1), &meshes[0][k + 1], &materials[0][k + 1],
+                      &host_draws[k + 1]);
+            stream_in(g_standalone, (enum streamed)(k - 1), &meshes[1][k + 1],
+                      &materials[1][k + 1], &standalone_draws[k + 1]);
+        }
+        info = frame_of(standalone_draws, (uint32_t)draws, method);
+        render_standalone(g_standalone, info, g_opaque_colour, g_layer_depth, s->expected,
+                          COLOUR_BYTES);
+        info.draws = host_draws;
+        run_frame(ctx, s, &info);
+        built_by(ctx, s, &pipelines, &allocated);
+        snprintf(what, sizeof what, "method %d, prepared in the background, %s", (int)method,
+                 k == 0                 ? "the first frame after"
+                 : k > STREAMED_KINDS ? "the frame after the deep one"
+                                        : k_streamed_names[k - 1]);
+        if (pipelines != 0) printf("FAIL %s: %llu pipelines built\n", what,
+                                   (unsigned long long)pipelines);
+        TRUE_OR_FAIL(pipelines == 0);
+        compare_any(ctx, s, what, method);
+    }
+    translucid_context_destroy(ctx);
+    for (k = 0; k < 2 + STREAMED_KINDS; k++) {
+        CHECK(g_standalone, translucid_mesh_destroy(g_standalone, meshes[1][k]));
+        CHECK(g_standalone, translucid_material_destroy(g_standalone, materials[1][k]));
+    }
+    /* Destroyed while the work runs: the destruction waits for it. */
+    ctx = host_context(MOST_IN_FLIGHT);
+    make_quad(ctx, 0, 0, &meshes[0][0], &materials[0][0], &host_draws[0]);
+    info = frame_of(host_draws, 1, method);
+    fill_prepare(&prepare, &formats, &info, &t, TRANSLUCID_CONTENT_ALL);
+    CHECK(ctx, translucid_context_prepare_in_background(ctx, &prepare));
+    translucid_context_destroy(ctx);
+}
+
 /* The context's GPU memory now, in bytes. */
 static uint64_t memory_of(translucid_context *ctx) {
     translucid_memory_statistics memory;
@@ -1606,6 +1726,9 @@ int main(void) {
         }
         for (n = 0; n < sizeof methods / sizeof methods[0]; n++) within_a_budget(methods[n]);
         for (n = 0; n < sizeof methods / sizeof methods[0]; n++) layered_stereo(methods[n]);
+        for (n = 0; n < sizeof methods / sizeof methods[0]; n++) {
+            background_prepare(methods[n]);
+        }
     }
 
     translucid_context_destroy(g_standalone);

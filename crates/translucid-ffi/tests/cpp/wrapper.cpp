@@ -1,7 +1,9 @@
 // The C++ wrapper in use: RAII objects, exceptions with codes, every available method.
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <thread>
 #include <type_traits>
 
 #include "translucid.hpp"
@@ -77,6 +79,18 @@ int main() {
             EXPECT(memory.device_local_bytes > 0 && memory.total_bytes >= memory.device_local_bytes);
             EXPECT(context.trim() > 0);
             EXPECT(context.memory_statistics().total_bytes < memory.total_bytes);
+            EXPECT(context.render(frame_info).statistics().pipelines_created == 0);
+        }
+
+        // wavelet's loop prepared in the background: once ready, its frames build nothing.
+        {
+            frame_info.method = TRANSLUCID_METHOD_WAVELET;
+            context.prepare_in_background(frame_info, TRANSLUCID_CONTENT_ALL);
+            std::uint64_t built = 0;
+            while (!context.prepare_ready(&built)) {
+                std::this_thread::sleep_for(std::chrono::milliseconds(5));
+            }
+            EXPECT(built > 0);
             EXPECT(context.render(frame_info).statistics().pipelines_created == 0);
         }
 

@@ -12,6 +12,7 @@
 //! - This module: [`Context`], which ties them together.
 
 pub mod assets;
+pub mod background;
 pub mod flight;
 pub mod frames;
 pub mod handles;
@@ -48,6 +49,9 @@ pub enum Recording {
 
 /// One device and every object made on it.
 pub struct Context {
+    /// First, so that it is dropped first: its threads are waited for before anything they
+    /// use goes (the engine destroys its device once the context is gone).
+    background: background::Background,
     gpu: Gpu,
     assets: Assets,
     renderers: Renderers,
@@ -86,6 +90,7 @@ impl Context {
     pub fn new(gpu: Gpu, frames_in_flight: u32) -> Self {
         let tag = handles::next_context_tag();
         Self {
+            background: background::Background::default(),
             gpu,
             assets: Assets::new(tag),
             renderers: Renderers::new(frames_in_flight),
@@ -246,15 +251,8 @@ impl Context {
         content: crate::methods::bins::features::DeclaredContent,
         engine_images: Option<(&HostImage, &HostImage)>,
     ) -> Result<(u64, u64)> {
-        if engine_images.is_some() && !self.gpu.is_host_device() {
-            return Err(Error::InvalidArgument(
-                "engine images are prepared for on a context on the engine's device                  (host-device mode); a standalone context has none"
-                    .into(),
-            ));
-        }
-        if let Some((colour, depth)) = engine_images {
-            self.gpu.check_host_formats(colour, depth)?;
-        }
+        self.check_engine_images(engine_images)?;
+        self.take_in_background_work();
         let before = built_so_far(&self.gpu);
         self.renderers.declare(content);
         let kept = self.renderers.for_frame(&self.gpu, &self.assets, request)?;
@@ -262,6 +260,57 @@ impl Context {
             kept.renderer.prepare_host(colour, depth)?;
         }
         Ok(built_since(&self.gpu, before))
+    }
+
+    /// As [`Self::prepare`], but on a thread of its own: returns once the work has started.
+    /// Frames recorded meanwhile draw with what was declared before (content past it is
+    /// built when first drawn, as without preparing). Once the work has finished, and a
+    /// call here, [`Self::prepare_status`], or a frame's recording or rendering has taken it
+    /// in, `content` is declared and the renderers made from then on find every pipeline
+    /// built: the next frame of each method makes its renderer anew without compiling (its
+    /// buffers are allocated again). Only `prepare_status` reports the work's outcome.
+    pub fn prepare_in_background(
+        &mut self,
+        request: &FrameRequest,
+        content: crate::methods::bins::features::DeclaredContent,
+        engine_images: Option<(&HostImage, &HostImage)>,
+    ) -> Result<()> {
+        self.check_engine_images(engine_images)?;
+        self.take_in_background_work();
+        let inputs = self
+            .renderers
+            .inputs_for(&self.gpu, &self.assets, request, content)?;
+        let images = engine_images.map(|(colour, depth)| (*colour, *depth));
+        self.background.start(inputs, images, content)
+    }
+
+    /// Where the background preparation stands: building, or every job taken in (and the
+    /// pipelines those taken in since the last call built); a job that failed gives its
+    /// error once, and its content is not declared.
+    pub fn prepare_status(&mut self) -> Result<background::PrepareStatus> {
+        self.take_in_background_work();
+        self.background.status()
+    }
+
+    /// Declares the content of the background jobs that finished.
+    fn take_in_background_work(&mut self) {
+        for content in self.background.take_finished() {
+            self.renderers.declare(content);
+        }
+    }
+
+    fn check_engine_images(&self, engine_images: Option<(&HostImage, &HostImage)>) -> Result<()> {
+        let Some((colour, depth)) = engine_images else {
+            return Ok(());
+        };
+        if !self.gpu.is_host_device() {
+            return Err(Error::InvalidArgument(
+                "engine images are prepared for on a context on the engine's device \
+                 (host-device mode); a standalone context has none"
+                    .into(),
+            ));
+        }
+        self.gpu.check_host_formats(colour, depth)
     }
 
     /// Renders `request` on translucid's own device, over `layer` (else over its opaque
@@ -274,6 +323,7 @@ impl Context {
                     .into(),
             ));
         }
+        self.take_in_background_work();
         let before = built_so_far(&self.gpu);
         let kept = self.renderers.for_frame(&self.gpu, &self.assets, request)?;
         let id = kept.id;
@@ -311,6 +361,7 @@ impl Context {
         recording: Recording,
     ) -> Result<u64> {
         self.flight_room()?;
+        self.take_in_background_work();
         let before = built_so_far(&self.gpu);
         let kept = self.renderers.for_frame(&self.gpu, &self.assets, request)?;
         let id = kept.id;

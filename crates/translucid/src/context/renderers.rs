@@ -128,6 +128,43 @@ struct Resident {
     moved: HashSet<u64>,
 }
 
+/// What a renderer is made from, owned, so that another thread can make it
+/// ([`Renderers::inputs_for`]).
+pub struct RendererInputs {
+    gpu: Gpu,
+    resident: Arc<ResidentAssets>,
+    scene: Scene,
+    method: MethodKind,
+    shape: FrameShape,
+    options: MethodOptions,
+}
+
+impl RendererInputs {
+    pub fn gpu(&self) -> &Gpu {
+        &self.gpu
+    }
+
+    /// Makes the renderer, and with `engine_images` (colour, depth) what its first frame
+    /// into such images builds ([`Renderer::prepare_host`]).
+    pub fn build(
+        &self,
+        engine_images: Option<(&crate::gpu::HostImage, &crate::gpu::HostImage)>,
+    ) -> Result<Renderer> {
+        let mut renderer = Renderer::sharing(
+            &self.gpu,
+            self.resident.clone(),
+            &self.scene,
+            self.method,
+            self.shape,
+            &self.options,
+        )?;
+        if let Some((colour, depth)) = engine_images {
+            renderer.prepare_host(colour, depth)?;
+        }
+        Ok(renderer)
+    }
+}
+
 /// The context's renderers.
 pub struct Renderers {
     kept: Vec<Kept>,
@@ -234,21 +271,7 @@ impl Renderers {
                     .filter(|r| r.generation == assets.generation)
                     .map(|r| (&r.places, &r.graveyard));
                 let built = asset_scene(assets, request, base)?;
-                let mut options = self
-                    .kept
-                    .iter()
-                    .filter(|k| k.key == request.key)
-                    .max_by_key(|k| k.last_used)
-                    .map_or_else(
-                        || {
-                            self.learned
-                                .get(&request.key)
-                                .cloned()
-                                .unwrap_or_else(|| request.options.clone())
-                        },
-                        |k| k.renderer.learned_options(&request.options),
-                    );
-                options.bins.declared = self.declared;
+                let options = self.options_for(request, self.declared);
                 let (resident, moved) = self.resident_for(gpu, assets, &built)?;
                 let AssetScene {
                     scene,
@@ -296,6 +319,60 @@ impl Renderers {
         let k = &mut self.kept[position];
         k.last_used = self.uses;
         Ok(k)
+    }
+
+    /// The options a new renderer for `request` starts from: where the last one with its
+    /// settings left its buffers (or what a trim kept of them), with `declared` content.
+    fn options_for(&self, request: &FrameRequest, declared: DeclaredContent) -> MethodOptions {
+        let mut options = self
+            .kept
+            .iter()
+            .filter(|k| k.key == request.key)
+            .max_by_key(|k| k.last_used)
+            .map_or_else(
+                || {
+                    self.learned
+                        .get(&request.key)
+                        .cloned()
+                        .unwrap_or_else(|| request.options.clone())
+                },
+                |k| k.renderer.learned_options(&request.options),
+            );
+        options.bins.declared = declared;
+        options
+    }
+
+    /// What a renderer for `request` over the current assets would be made from, were
+    /// `content` declared besides what is: for building its pipelines on another thread
+    /// ([`RendererInputs::build`]). Uploads the assets if no renderer drew them yet.
+    pub fn inputs_for(
+        &mut self,
+        gpu: &Gpu,
+        assets: &Assets,
+        request: &FrameRequest,
+        content: DeclaredContent,
+    ) -> Result<RendererInputs> {
+        self.adopt_created_assets(gpu, assets, request)?;
+        let base = self
+            .resident
+            .as_ref()
+            .filter(|r| r.generation == assets.generation)
+            .map(|r| (&r.places, &r.graveyard));
+        let built = asset_scene(assets, request, base)?;
+        let options = self.options_for(request, self.declared.union(content));
+        let (resident, _moved) = self.resident_for(gpu, assets, &built)?;
+        Ok(RendererInputs {
+            gpu: gpu.clone(),
+            resident,
+            scene: built.scene,
+            method: request.method,
+            shape: FrameShape {
+                width: request.width,
+                height: request.height,
+                frames_in_flight: self.frames_in_flight,
+            },
+            options,
+        })
     }
 
     /// When assets were created, or destroyed with the uploads keeping their places, since

@@ -783,7 +783,9 @@ impl Shared {
     }
 
     pub(crate) fn count_pipeline(&self) {
-        self.pipelines_created.fetch_add(1, Ordering::Relaxed);
+        if !super::background::count_background_pipeline() {
+            self.pipelines_created.fetch_add(1, Ordering::Relaxed);
+        }
     }
 
     /// Compute dispatches recorded on this device so far: what a frame records is the

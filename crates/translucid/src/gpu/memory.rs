@@ -87,7 +87,10 @@ pub struct MemoryStats {
 
 impl MemoryStats {
     fn add(&self, bytes: u64) {
-        self.total.fetch_add(bytes, Ordering::Relaxed);
+        // What background work allocates is not the frames' (the budget counts it still).
+        if !super::background::is_background() {
+            self.total.fetch_add(bytes, Ordering::Relaxed);
+        }
         let now = self.current.fetch_add(bytes, Ordering::Relaxed) + bytes;
         self.peak.fetch_max(now, Ordering::Relaxed);
     }

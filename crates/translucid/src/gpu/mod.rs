@@ -14,6 +14,7 @@
 //! - `pipeline.rs`: shader modules from build.rs's SPIR-V, descriptor layouts, pipelines.
 //! - `attachments.rs`: render passes over a method's own sets of attachments.
 //! - `timestamps.rs`: GPU timestamps around every stage.
+//! - `background.rs`: work on a worker thread (preparation) counted apart from the frames'.
 //! - `host.rs`: host-device mode: the engine's device wrapped without being owned, and the
 //!   copies between the engine's images and the frame targets.
 //!
@@ -24,6 +25,7 @@
 
 mod append;
 mod attachments;
+mod background;
 mod commands;
 mod device;
 mod engine_images;
@@ -48,6 +50,7 @@ mod validation;
 pub use append::AppendBuffer;
 pub use ash::vk;
 pub use attachments::{fullscreen_pipeline, Attachment, AttachmentPass, DepthAttachment, Load};
+pub use background::in_background;
 pub use commands::{
     image_barrier, memory_barrier, mip_region, whole_image_region, Scope, ANY_ACCESS,
     COMPUTE_WRITE, HOST_READ, TRANSFER_WRITE,
