@@ -5,8 +5,10 @@
  * command buffer), and each frame moves its camera, sways a cloud of particles
  * (translucid_mesh_update) and turns three glass panes; at load time it prepares what the
  * loop needs (translucid_context_prepare, with the formats of its images), so that no frame
- * builds a pipeline; halfway through, a fourth pane is streamed in (a mesh and a material created, and
- * drawn from then on), and in the last quarter a dynamic resolution renders the frames at 70
+ * builds a pipeline; an eighth through, the shaders of the next level's lit pane build in the
+ * background (translucid_context_prepare_in_background) while the loop goes on, and from
+ * halfway, once they are ready, that pane is streamed in (a mesh and a material created, and
+ * drawn from then on); in the last quarter a dynamic resolution renders the frames at 70
  * to 90 % of the images' size (translucid draws their top-left corner). translucid records
  * the transparent pass into the engine's command buffer; the engine submits, and completes
  * each frame when it comes back to its slot.
@@ -360,6 +362,7 @@ static void make_scene(scene *s, uint32_t extra_draws) {
     int i;
 
     s->pane = make_quads(pane, 4, "pane");
+    s->streamed.id = 0;
     place_particles(s, 0);
     s->particles = make_quads(s->particle_positions, PARTICLES * 4, "particles");
     s->glass[0] = make_material(1.0f, 0.15f, 0.1f, 0.5f, 0);
@@ -409,12 +412,12 @@ static void move_panes(scene *s, int k) {
 }
 
 /* An asset streamed in mid-loop, as an engine loads a level's parts: a smaller amber pane
- * (its own mesh and material, created now), drawn from the next frame on. */
+ * (its own mesh and lit material, created now), drawn from the next frame on. */
 static void stream_in_pane(scene *s) {
     static const float pane[] = {-0.3f, -0.5f, 0, 0.3f, -0.5f, 0, 0.3f, 0.5f, 0, -0.3f, 0.5f, 0};
     translucid_draw *d = &s->draws[s->draw_count];
     s->streamed = make_quads(pane, 4, "streamed pane");
-    s->amber = make_material(1.0f, 0.6f, 0.1f, 0.45f, 0);
+    s->amber = make_material(1.0f, 0.6f, 0.1f, 0.45f, TRANSLUCID_MATERIAL_LIT);
     d->mesh = s->streamed;
     d->material = s->amber;
     d->transform[0] = d->transform[5] = d->transform[10] = d->transform[15] = 1.0f;
@@ -516,6 +519,11 @@ static void run(uint32_t method, int frames, uint32_t extra_draws, const char *p
     double *wall = malloc(sizeof(double) * (size_t)frames);
     double *ratio = malloc(sizeof(double) * (size_t)frames);
     double last = now_ms();
+    translucid_host_image_formats formats;
+    translucid_prepare_info prepare;
+    translucid_frame_info like;
+    /* The streamed pane's level: its preparation's first frame, and whether it is ready. */
+    int level_from = frames / 8, level_ready = 0;
     int k, v;
     if (record == NULL || gpu == NULL || wall == NULL || ratio == NULL) exit(1);
     make_scene(&sc, extra_draws);
@@ -527,12 +535,9 @@ static void run(uint32_t method, int frames, uint32_t extra_draws, const char *p
            translucid_method_name(method), frames, WIDTH, HEIGHT, sc.draw_count, IN_FLIGHT);
     {
         /* At load time, what the loop needs is built: no frame compiles a shader, the
-         * first's and the streamed pane's included. The panes and particles are unlit and
-         * untextured, one colour each: nothing to declare (an engine declares what its levels
-         * may hold). The images' formats and layouts are those of the frame targets below. */
-        translucid_host_image_formats formats;
-        translucid_prepare_info prepare;
-        translucid_frame_info like;
+         * first's included. The panes and particles are unlit and untextured, one colour
+         * each: nothing to declare (an engine declares what its levels may hold). The images'
+         * formats and layouts are those of the frame targets below. */
         uint64_t built = 0;
         memset(&formats, 0, sizeof formats);
         formats.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_IMAGE_FORMATS;
@@ -565,9 +570,29 @@ static void run(uint32_t method, int frames, uint32_t extra_draws, const char *p
         if (s->in_flight) finish(s, k - IN_FLIGHT, &gpu[k - IN_FLIGHT], &ratio[k - IN_FLIGHT]);
         if (k >= frames) continue;
 
-        if (k == frames / 2) {
+        /* The next level's pane is lit: its shaders are built in the background while the
+         * loop goes on, and it streams in once they are ready. */
+        if (k == level_from) {
+            prepare.content = TRANSLUCID_CONTENT_LIT;
+            CHECK(translucid_context_prepare_in_background(g_context, &prepare));
+            printf("  frame %3d: the next level's shaders building in the background "
+                   "(translucid_context_prepare_in_background)\n",
+                   k);
+        }
+        if (k > level_from && !level_ready) {
+            uint64_t built = 0;
+            translucid_result status = translucid_context_get_prepare_status(g_context, &built);
+            if (status != TRANSLUCID_RESULT_NOT_READY) {
+                CHECK(status);
+                level_ready = 1;
+                printf("  frame %3d: ready, %llu pipelines built in the background over %d "
+                       "frames\n",
+                       k, (unsigned long long)built, k - level_from);
+            }
+        }
+        if (k >= frames / 2 && level_ready && sc.streamed.id == 0) {
             stream_in_pane(&sc);
-            printf("  frame %3d: a pane streamed in (translucid_mesh_create, "
+            printf("  frame %3d: a lit pane streamed in (translucid_mesh_create, "
                    "translucid_material_create)\n",
                    k);
         }

@@ -4,6 +4,7 @@
  * Conventions (every function follows them):
  * - A translucid_context owns a device and everything created on it. Use one context from one
  *   thread at a time (external synchronisation); separate contexts may run on separate threads.
+ *   (A context's own threads, preparing in the background, are translucid's to synchronise.)
  * - Zero-initialise create-info structs, then set s_type (a TRANSLUCID_STRUCTURE_TYPE_* value)
  *   and what you need; next must be NULL unless documented otherwise. Zero means the default.
  * - Fallible calls return translucid_result: 0 success, > 0 a status that is not an error,
@@ -1541,7 +1542,8 @@ typedef struct translucid_memory_create_info {
      * translucid makes on the engine's device (buffers, images, views, pipelines, passes,
      * sets) is created and destroyed with, as the engine's own are. Copied; its functions
      * and `pUserData` must stay valid until the context is destroyed, and be callable from
-     * any thread the context is used on. Device memory comes from translucid's allocator
+     * any thread the context is used on and from the threads that prepare in the
+     * background (`translucid_context_prepare_in_background`). Device memory comes from translucid's allocator
      * (gpu-allocator), whose `vkAllocateMemory` calls pass none. Must be NULL in standalone
      * mode, where translucid makes the device.
      */
@@ -1724,7 +1726,8 @@ translucid_result translucid_context_create(const struct translucid_context_crea
 /**
  * Destroys a context and everything created with it (meshes, textures, materials,
  * frames): their handles become invalid. Standalone mode waits for its device to be idle.
- * In host-device mode the GPU must be done with every frame recorded (the frame in flight
+ * Preparation still running in the background is waited for (not cancelled). In
+ * host-device mode the GPU must be done with every frame recorded (the frame in flight
  * completed, or the engine's device idle); destroy the context before the engine's
  * device. NULL is allowed and does nothing. A context another thread is in a call on
  * is not destroyed (that would free what the call uses): the context stays, and

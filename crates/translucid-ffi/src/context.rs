@@ -330,7 +330,8 @@ impl translucid_context {
 
     /// Destroys a context and everything created with it (meshes, textures, materials,
     /// frames): their handles become invalid. Standalone mode waits for its device to be idle.
-    /// In host-device mode the GPU must be done with every frame recorded (the frame in flight
+    /// Preparation still running in the background is waited for (not cancelled). In
+    /// host-device mode the GPU must be done with every frame recorded (the frame in flight
     /// completed, or the engine's device idle); destroy the context before the engine's
     /// device. NULL is allowed and does nothing. A context another thread is in a call on
     /// is not destroyed (that would free what the call uses): the context stays, and

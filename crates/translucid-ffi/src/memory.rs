@@ -38,7 +38,8 @@ pub struct translucid_memory_create_info {
     /// translucid makes on the engine's device (buffers, images, views, pipelines, passes,
     /// sets) is created and destroyed with, as the engine's own are. Copied; its functions
     /// and `pUserData` must stay valid until the context is destroyed, and be callable from
-    /// any thread the context is used on. Device memory comes from translucid's allocator
+    /// any thread the context is used on and from the threads that prepare in the
+    /// background (`translucid_context_prepare_in_background`). Device memory comes from translucid's allocator
     /// (gpu-allocator), whose `vkAllocateMemory` calls pass none. Must be NULL in standalone
     /// mode, where translucid makes the device.
     pub allocation_callbacks: *const VkAllocationCallbacks,

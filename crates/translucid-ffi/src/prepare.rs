@@ -101,10 +101,7 @@ impl translucid_prepare_info {
     ) -> translucid_result {
         panic::with_context(context, |objects| {
             let (request, content, engine_images) = prepared(objects, info)?;
-            let images = engine_images
-                .as_ref()
-                .map(|(colour, depth)| (colour, depth));
-            let (pipelines, _bytes) = objects.core.prepare(&request, content, images)?;
+            let (pipelines, _bytes) = objects.core.prepare(&request, content, engine_images)?;
             write_optional(out_pipelines_created, pipelines)?;
             Ok(translucid_result::Success)
         })
@@ -129,12 +126,9 @@ impl translucid_prepare_info {
     ) -> translucid_result {
         panic::with_context(context, |objects| {
             let (request, content, engine_images) = prepared(objects, info)?;
-            let images = engine_images
-                .as_ref()
-                .map(|(colour, depth)| (colour, depth));
             objects
                 .core
-                .prepare_in_background(&request, content, images)?;
+                .prepare_in_background(&request, content, engine_images)?;
             Ok(translucid_result::Success)
         })
     }

@@ -236,6 +236,20 @@ fn c_programs_pass_with_validation() {
                 assert!(!line.contains("pipelines"), "{line}\n{output}");
             }
             assert!(output.contains("stereo frames"), "{output}");
+            // The next level prepared in the background while the loop went on, for each
+            // method, and its pane streamed in once ready.
+            assert_eq!(
+                output
+                    .matches("pipelines built in the background over")
+                    .count(),
+                2,
+                "{output}"
+            );
+            assert_eq!(
+                output.matches("a lit pane streamed in").count(),
+                2,
+                "{output}"
+            );
             // The frames of the dynamic resolution build and allocate nothing.
             let resized = output.split("a dynamic resolution from here on").skip(1);
             assert_eq!(resized.clone().count(), 2, "{output}");

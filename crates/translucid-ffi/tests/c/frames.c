@@ -1085,59 +1085,79 @@ static void compare_any(translucid_context *ctx, slot *s, const char *what,
     s->busy = 0;
 }
 
-static void declared_loop(translucid_method method) {
-    translucid_context *ctx = host_context(MOST_IN_FLIGHT);
-    translucid_draw host_draws[2 + STREAMED_KINDS], standalone_draws[2 + STREAMED_KINDS];
+/* Section 8's draws in the host context ([0]) and the standalone one ([1]): two plain quads
+ * (unlit, untextured, one colour each, in front of the near plane), then the streamed assets. */
+typedef struct streamed_scene {
+    translucid_draw draws[2][2 + STREAMED_KINDS];
     translucid_mesh meshes[2][2 + STREAMED_KINDS];
     translucid_material materials[2][2 + STREAMED_KINDS];
-    translucid_frame_info info;
-    uint64_t prepared = 0, pipelines;
-    int k, allocated;
-    char what[96];
-    /* Two plain quads: unlit, untextured, one colour each, in front of the near plane. */
+} streamed_scene;
+
+static void make_plain_quads(translucid_context *ctx, streamed_scene *sc) {
+    size_t k;
     for (k = 0; k < 2; k++) {
-        make_quad(ctx, (size_t)k, 0, &meshes[0][k], &materials[0][k], &host_draws[k]);
-        make_quad(g_standalone, (size_t)k, 0, &meshes[1][k], &materials[1][k],
-                  &standalone_draws[k]);
+        make_quad(ctx, k, 0, &sc->meshes[0][k], &sc->materials[0][k], &sc->draws[0][k]);
+        make_quad(g_standalone, k, 0, &sc->meshes[1][k], &sc->materials[1][k],
+                  &sc->draws[1][k]);
     }
-    info = frame_of(host_draws, 2, method);
-    {
-        translucid_host_frame_targets t = targets_of(g_slots[0].cmd, &g_slots[0]);
-        prepared = prepare_for(ctx, &info, &t);
-    }
-    /* The first frame, one per streamed kind, and one more: deep frames move to their
-     * variants after the first deep frame completes. */
+}
+
+/* `ctx`'s frames of the plain quads, the first, then one per kind streamed in before it,
+ * and one more (deep frames move to their variants after the first deep frame completes):
+ * each builds no pipeline and is as the standalone context renders it. `loop` names them. */
+static void stream_every_kind(translucid_context *ctx, translucid_method method,
+                              streamed_scene *sc, const char *loop) {
+    translucid_frame_info info;
+    uint64_t pipelines;
+    int k, allocated;
+    char what[112];
     for (k = 0; k <= STREAMED_KINDS + 1; k++) {
         slot *s = &g_slots[k % MOST_IN_FLIGHT];
-        int draws = 2 + (k > STREAMED_KINDS ? STREAMED_KINDS : k);
+        int draws = 2 + (k > STREAMED_KINDS ? STREAMED_KINDS : k), i;
         if (k > 0 && k <= STREAMED_KINDS) {
-            stream_in(ctx, (enum streamed)(k - 1), &meshes[0][k + 1], &materials[0][k + 1],
-                      &host_draws[k + 1]);
-            stream_in(g_standalone, (enum streamed)(k - 1), &meshes[1][k + 1],
-                      &materials[1][k + 1], &standalone_draws[k + 1]);
+            for (i = 0; i < 2; i++) {
+                stream_in(i == 0 ? ctx : g_standalone, (enum streamed)(k - 1),
+                          &sc->meshes[i][k + 1], &sc->materials[i][k + 1],
+                          &sc->draws[i][k + 1]);
+            }
         }
-        info = frame_of(standalone_draws, (uint32_t)draws, method);
+        info = frame_of(sc->draws[1], (uint32_t)draws, method);
         render_standalone(g_standalone, info, g_opaque_colour, g_layer_depth, s->expected,
                           COLOUR_BYTES);
-        info.draws = host_draws;
+        info.draws = sc->draws[0];
         run_frame(ctx, s, &info);
         built_by(ctx, s, &pipelines, &allocated);
-        snprintf(what, sizeof what, "method %d, declared loop, %s", (int)method,
+        snprintf(what, sizeof what, "method %d, %s, %s", (int)method, loop,
                  k == 0                 ? "first frame"
                  : k > STREAMED_KINDS ? "the frame after the deep one"
                                         : k_streamed_names[k - 1]);
         if (pipelines != 0) printf("FAIL %s: %llu pipelines built\n", what,
                                    (unsigned long long)pipelines);
         TRUE_OR_FAIL(pipelines == 0);
-        if (k == 0) printf("method %d: prepare built %llu pipelines\n", (int)method,
-                           (unsigned long long)prepared);
         compare_any(ctx, s, what, method);
     }
-    translucid_context_destroy(ctx);
+}
+
+static void destroy_standalone_assets(streamed_scene *sc) {
+    int k;
     for (k = 0; k < 2 + STREAMED_KINDS; k++) {
-        CHECK(g_standalone, translucid_mesh_destroy(g_standalone, meshes[1][k]));
-        CHECK(g_standalone, translucid_material_destroy(g_standalone, materials[1][k]));
+        CHECK(g_standalone, translucid_mesh_destroy(g_standalone, sc->meshes[1][k]));
+        CHECK(g_standalone, translucid_material_destroy(g_standalone, sc->materials[1][k]));
     }
+}
+
+static void declared_loop(translucid_method method) {
+    translucid_context *ctx = host_context(MOST_IN_FLIGHT);
+    translucid_host_frame_targets t = targets_of(g_slots[0].cmd, &g_slots[0]);
+    static streamed_scene sc;
+    translucid_frame_info info;
+    make_plain_quads(ctx, &sc);
+    info = frame_of(sc.draws[0], 2, method);
+    printf("method %d: prepare built %llu pipelines\n", (int)method,
+           (unsigned long long)prepare_for(ctx, &info, &t));
+    stream_every_kind(ctx, method, &sc, "declared loop");
+    translucid_context_destroy(ctx);
+    destroy_standalone_assets(&sc);
 }
 
 /* 14. A level streamed in while the loop plays: the loop's plain quads prepared for at
@@ -1148,9 +1168,7 @@ static void declared_loop(translucid_method method) {
 #define BACKGROUND_FRAMES 24
 static void background_prepare(translucid_method method) {
     translucid_context *ctx = host_context(MOST_IN_FLIGHT);
-    translucid_draw host_draws[2 + STREAMED_KINDS], standalone_draws[2 + STREAMED_KINDS];
-    translucid_mesh meshes[2][2 + STREAMED_KINDS];
-    translucid_material materials[2][2 + STREAMED_KINDS];
+    static streamed_scene sc;
     translucid_host_image_formats formats;
     translucid_prepare_info prepare;
     translucid_host_frame_targets t = targets_of(g_slots[0].cmd, &g_slots[0]);
@@ -1158,13 +1176,8 @@ static void background_prepare(translucid_method method) {
     translucid_result status = TRANSLUCID_RESULT_NOT_READY;
     uint64_t built = 0, pipelines;
     int k, allocated, meanwhile = 0;
-    char what[96];
-    for (k = 0; k < 2; k++) {
-        make_quad(ctx, (size_t)k, 0, &meshes[0][k], &materials[0][k], &host_draws[k]);
-        make_quad(g_standalone, (size_t)k, 0, &meshes[1][k], &materials[1][k],
-                  &standalone_draws[k]);
-    }
-    info = frame_of(host_draws, 2, method);
+    make_plain_quads(ctx, &sc);
+    info = frame_of(sc.draws[0], 2, method);
     fill_prepare(&prepare, &formats, &info, &t, 0);
     CHECK(ctx, translucid_context_prepare(ctx, &prepare, NULL));
     prepare.content = TRANSLUCID_CONTENT_ALL;
@@ -1183,11 +1196,11 @@ static void background_prepare(translucid_method method) {
             nanosleep(&pause, NULL);
             continue;
         }
-        info = frame_of(standalone_draws, 2, method);
+        info = frame_of(sc.draws[1], 2, method);
         info.camera = orbit_camera(0.05f * (float)k);
         render_standalone(g_standalone, info, g_opaque_colour, g_layer_depth, s->expected,
                           COLOUR_BYTES);
-        info.draws = host_draws;
+        info.draws = sc.draws[0];
         run_frame(ctx, s, &info);
         built_by(ctx, s, &pipelines, &allocated);
         if (pipelines != 0) {
@@ -1207,40 +1220,13 @@ static void background_prepare(translucid_method method) {
     }
     printf("method %d: %llu pipelines built in the background while %d frames went on\n",
            (int)method, (unsigned long long)built, meanwhile);
-    /* The next level streams in. */
-    for (k = 0; k <= STREAMED_KINDS + 1; k++) {
-        slot *s = &g_slots[k % MOST_IN_FLIGHT];
-        int draws = 2 + (k > STREAMED_KINDS ? STREAMED_KINDS : k);
-        if (k > 0 && k <= STREAMED_KINDS) {
-            stream_in(ctx, (enum streamed)(k - 1), &meshes[0][k + 1], &materials[0][k + 1],
-                      &host_draws[k + 1]);
-            stream_in(g_standalone, (enum streamed)(k - 1), &meshes[1][k + 1],
-                      &materials[1][k + 1], &standalone_draws[k + 1]);
-        }
-        info = frame_of(standalone_draws, (uint32_t)draws, method);
-        render_standalone(g_standalone, info, g_opaque_colour, g_layer_depth, s->expected,
-                          COLOUR_BYTES);
-        info.draws = host_draws;
-        run_frame(ctx, s, &info);
-        built_by(ctx, s, &pipelines, &allocated);
-        snprintf(what, sizeof what, "method %d, prepared in the background, %s", (int)method,
-                 k == 0                 ? "the first frame after"
-                 : k > STREAMED_KINDS ? "the frame after the deep one"
-                                        : k_streamed_names[k - 1]);
-        if (pipelines != 0) printf("FAIL %s: %llu pipelines built\n", what,
-                                   (unsigned long long)pipelines);
-        TRUE_OR_FAIL(pipelines == 0);
-        compare_any(ctx, s, what, method);
-    }
+    stream_every_kind(ctx, method, &sc, "prepared in the background");
     translucid_context_destroy(ctx);
-    for (k = 0; k < 2 + STREAMED_KINDS; k++) {
-        CHECK(g_standalone, translucid_mesh_destroy(g_standalone, meshes[1][k]));
-        CHECK(g_standalone, translucid_material_destroy(g_standalone, materials[1][k]));
-    }
+    destroy_standalone_assets(&sc);
     /* Destroyed while the work runs: the destruction waits for it. */
     ctx = host_context(MOST_IN_FLIGHT);
-    make_quad(ctx, 0, 0, &meshes[0][0], &materials[0][0], &host_draws[0]);
-    info = frame_of(host_draws, 1, method);
+    make_quad(ctx, 0, 0, &sc.meshes[0][0], &sc.materials[0][0], &sc.draws[0][0]);
+    info = frame_of(sc.draws[0], 1, method);
     fill_prepare(&prepare, &formats, &info, &t, TRANSLUCID_CONTENT_ALL);
     CHECK(ctx, translucid_context_prepare_in_background(ctx, &prepare));
     translucid_context_destroy(ctx);

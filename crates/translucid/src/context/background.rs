@@ -52,8 +52,7 @@ impl Background {
             .name("translucid prepare".into())
             .spawn(move || {
                 let (built, pipelines) = crate::gpu::in_background(|| {
-                    let images = engine_images.as_ref().map(|(c, d)| (c, d));
-                    let renderer = inputs.build(images)?;
+                    let renderer = inputs.build(engine_images)?;
                     // Held before the renderer goes: pipelines live while someone holds them.
                     let held = inputs.gpu().hold_pipelines();
                     drop(renderer);

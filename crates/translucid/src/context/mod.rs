@@ -249,14 +249,14 @@ impl Context {
         &mut self,
         request: &FrameRequest,
         content: crate::methods::bins::features::DeclaredContent,
-        engine_images: Option<(&HostImage, &HostImage)>,
+        engine_images: Option<(HostImage, HostImage)>,
     ) -> Result<(u64, u64)> {
         self.check_engine_images(engine_images)?;
         self.take_in_background_work();
         let before = built_so_far(&self.gpu);
         self.renderers.declare(content);
         let kept = self.renderers.for_frame(&self.gpu, &self.assets, request)?;
-        if let Some((colour, depth)) = engine_images {
+        if let Some((colour, depth)) = &engine_images {
             kept.renderer.prepare_host(colour, depth)?;
         }
         Ok(built_since(&self.gpu, before))
@@ -273,15 +273,14 @@ impl Context {
         &mut self,
         request: &FrameRequest,
         content: crate::methods::bins::features::DeclaredContent,
-        engine_images: Option<(&HostImage, &HostImage)>,
+        engine_images: Option<(HostImage, HostImage)>,
     ) -> Result<()> {
         self.check_engine_images(engine_images)?;
         self.take_in_background_work();
         let inputs = self
             .renderers
             .inputs_for(&self.gpu, &self.assets, request, content)?;
-        let images = engine_images.map(|(colour, depth)| (*colour, *depth));
-        self.background.start(inputs, images, content)
+        self.background.start(inputs, engine_images, content)
     }
 
     /// Where the background preparation stands: building, or every job taken in (and the
@@ -299,7 +298,7 @@ impl Context {
         }
     }
 
-    fn check_engine_images(&self, engine_images: Option<(&HostImage, &HostImage)>) -> Result<()> {
+    fn check_engine_images(&self, engine_images: Option<(HostImage, HostImage)>) -> Result<()> {
         let Some((colour, depth)) = engine_images else {
             return Ok(());
         };
@@ -310,7 +309,7 @@ impl Context {
                     .into(),
             ));
         }
-        self.gpu.check_host_formats(colour, depth)
+        self.gpu.check_host_formats(&colour, &depth)
     }
 
     /// Renders `request` on translucid's own device, over `layer` (else over its opaque

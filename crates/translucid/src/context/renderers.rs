@@ -148,7 +148,7 @@ impl RendererInputs {
     /// into such images builds ([`Renderer::prepare_host`]).
     pub fn build(
         &self,
-        engine_images: Option<(&crate::gpu::HostImage, &crate::gpu::HostImage)>,
+        engine_images: Option<(crate::gpu::HostImage, crate::gpu::HostImage)>,
     ) -> Result<Renderer> {
         let mut renderer = Renderer::sharing(
             &self.gpu,
@@ -159,7 +159,7 @@ impl RendererInputs {
             &self.options,
         )?;
         if let Some((colour, depth)) = engine_images {
-            renderer.prepare_host(colour, depth)?;
+            renderer.prepare_host(&colour, &depth)?;
         }
         Ok(renderer)
     }
@@ -263,14 +263,7 @@ impl Renderers {
                 self.position(id)
             }
             None => {
-                // Over the current uploads, the scene keeps their places (destroyed assets'
-                // included); otherwise it is made, and uploaded, anew.
-                let base = self
-                    .resident
-                    .as_ref()
-                    .filter(|r| r.generation == assets.generation)
-                    .map(|r| (&r.places, &r.graveyard));
-                let built = asset_scene(assets, request, base)?;
+                let built = self.scene_for(assets, request)?;
                 let options = self.options_for(request, self.declared);
                 let (resident, moved) = self.resident_for(gpu, assets, &built)?;
                 let AssetScene {
@@ -321,6 +314,17 @@ impl Renderers {
         Ok(k)
     }
 
+    /// The scene of every asset for `request`: over the current uploads, it keeps their
+    /// places (destroyed assets' included); otherwise it is made, to be uploaded, anew.
+    fn scene_for(&self, assets: &Assets, request: &FrameRequest) -> Result<AssetScene> {
+        let base = self
+            .resident
+            .as_ref()
+            .filter(|r| r.generation == assets.generation)
+            .map(|r| (&r.places, &r.graveyard));
+        asset_scene(assets, request, base)
+    }
+
     /// The options a new renderer for `request` starts from: where the last one with its
     /// settings left its buffers (or what a trim kept of them), with `declared` content.
     fn options_for(&self, request: &FrameRequest, declared: DeclaredContent) -> MethodOptions {
@@ -353,12 +357,7 @@ impl Renderers {
         content: DeclaredContent,
     ) -> Result<RendererInputs> {
         self.adopt_created_assets(gpu, assets, request)?;
-        let base = self
-            .resident
-            .as_ref()
-            .filter(|r| r.generation == assets.generation)
-            .map(|r| (&r.places, &r.graveyard));
-        let built = asset_scene(assets, request, base)?;
+        let built = self.scene_for(assets, request)?;
         let options = self.options_for(request, self.declared.union(content));
         let (resident, _moved) = self.resident_for(gpu, assets, &built)?;
         Ok(RendererInputs {
