@@ -425,6 +425,10 @@ enum translucid_structure_type
      * `translucid_host_image_formats`, chained to the prepare info.
      */
     TRANSLUCID_STRUCTURE_TYPE_HOST_IMAGE_FORMATS = 106,
+    /**
+     * `translucid_host_image_region`, chained to the frame targets.
+     */
+    TRANSLUCID_STRUCTURE_TYPE_HOST_IMAGE_REGION = 107,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -1079,7 +1083,8 @@ typedef struct translucid_host_requirements {
  * height) with one mip level and one array layer, owned by the queue family named at
  * context creation (or created with concurrent sharing). A larger image holds the frame in
  * its top-left corner (a dynamic resolution drawing into images made for the largest
- * size); translucid reads and writes only that corner. translucid cannot query an image's
+ * size), or where a `translucid_host_image_region` says; translucid reads and writes only
+ * the frame's pixels. translucid cannot query an image's
  * size, so it checks the `width` and `height` given against the frame's; an image smaller
  * than it says is undefined behaviour, as in Vulkan.
  */
@@ -1116,7 +1121,8 @@ typedef struct translucid_host_frame_targets {
      */
     uint32_t s_type;
     /**
-     * NULL, or a `translucid_host_image_layers` for images of several array layers.
+     * NULL, or a `translucid_host_image_layers` for images of several array layers and
+     * a `translucid_host_image_region` for a frame in a part of the images, in either order.
      */
     const void *next;
     /**
@@ -1669,7 +1675,7 @@ typedef struct translucid_host_image_layers {
      */
     uint32_t s_type;
     /**
-     * NULL.
+     * NULL, or a `translucid_host_image_region`.
      */
     const void *next;
     /**
@@ -1710,6 +1716,27 @@ typedef struct translucid_host_image_formats {
     VkImageLayout depth_layout;
     VkImageLayout depth_final_layout;
 } translucid_host_image_formats;
+
+/**
+ * Where in the images a frame is, chained to `translucid_host_frame_targets::next` (before or
+ * after a `translucid_host_image_layers`) for a view in a part of them: a split screen, or one
+ * half of a side-by-side stereo image. The frame reads and writes its `width` x `height`
+ * pixels from (`x`, `y`) in both images, which must hold them (the images' `width` at least
+ * `x` plus the frame's, their `height` at least `y` plus the frame's); the other pixels are
+ * left as they are. Without it, (0, 0).
+ */
+typedef struct translucid_host_image_region {
+    /**
+     * `TRANSLUCID_STRUCTURE_TYPE_HOST_IMAGE_REGION`.
+     */
+    uint32_t s_type;
+    /**
+     * NULL, or a `translucid_host_image_layers`.
+     */
+    const void *next;
+    uint32_t x;
+    uint32_t y;
+} translucid_host_image_region;
 
 #ifdef __cplusplus
 extern "C" {

@@ -9,7 +9,8 @@ layout(location = 0, index = 0) out vec4 o_radiance;
 layout(location = 0, index = 1) out vec4 o_transmittance;
 
 void main() {
-    ivec2 pixel = ivec2(gl_FragCoord.xy);
+    // The layer holds the frame from its own corner; the colour image from the frame's.
+    ivec2 pixel = ivec2(gl_FragCoord.xy) - ivec2(u_push.originX, u_push.originY);
     LayerTexel texel;
     texel.second = imageLoad(u_transparentLayerStamps, pixel).x;
     if (transparentLayerStamp(texel) != u_push.stamp) {

@@ -15,15 +15,21 @@
 
 layout(push_constant) uniform BinPushBlock { BinPush u_push; };
 
-// Opaque depth as translucid's depth grows, away from the eye, at a pixel, and over the four
-// texels of a gather.
+// Opaque depth as translucid's depth grows, away from the eye, at a pixel of the frame, and
+// over the four texels around `corner` (a point between texels, in the frame's pixels); the
+// frame starts at the push constants' corner of the depth image.
+ivec2 opaqueDepthOrigin() {
+    return ivec2(u_push.opaqueDepthX, u_push.opaqueDepthY);
+}
+
 float opaqueDepthAt(ivec2 pixel) {
-    float d = texelFetch(u_opaqueDepth, pixel, 0).r;
+    float d = texelFetch(u_opaqueDepth, pixel + opaqueDepthOrigin(), 0).r;
     return u_push.opaqueDepthReversed != 0u ? 1.0 - d : d;
 }
 
-vec4 opaqueDepthGather(vec2 uv) {
-    vec4 d = textureGather(u_opaqueDepth, uv, 0);
+vec4 opaqueDepthGather(vec2 corner) {
+    vec2 texelSize = 1.0 / vec2(textureSize(u_opaqueDepth, 0));
+    vec4 d = textureGather(u_opaqueDepth, (corner + vec2(opaqueDepthOrigin())) * texelSize, 0);
     return u_push.opaqueDepthReversed != 0u ? 1.0 - d : d;
 }
 

@@ -7,7 +7,11 @@
 
 #include "interface_depth_import.glsl"
 
+layout(push_constant) uniform DepthImportPushBlock { DepthImportPush u_push; };
+
 void main() {
-    float depth = texelFetch(u_engineDepth, ivec2(gl_FragCoord.xy), 0).x;
+    // The target holds the frame from its own corner; the engine's image from the frame's.
+    ivec2 pixel = ivec2(gl_FragCoord.xy) + ivec2(u_push.originX, u_push.originY);
+    float depth = texelFetch(u_engineDepth, pixel, 0).x;
     gl_FragDepth = IMPORTED_DEPTH_REVERSED ? 1.0 - depth : depth;
 }

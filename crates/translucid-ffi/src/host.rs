@@ -137,7 +137,8 @@ pub struct translucid_host_device_create_info {
 /// height) with one mip level and one array layer, owned by the queue family named at
 /// context creation (or created with concurrent sharing). A larger image holds the frame in
 /// its top-left corner (a dynamic resolution drawing into images made for the largest
-/// size); translucid reads and writes only that corner. translucid cannot query an image's
+/// size), or where a `translucid_host_image_region` says; translucid reads and writes only
+/// the frame's pixels. translucid cannot query an image's
 /// size, so it checks the `width` and `height` given against the frame's; an image smaller
 /// than it says is undefined behaviour, as in Vulkan.
 #[allow(non_camel_case_types)]
@@ -167,7 +168,8 @@ pub struct translucid_host_image {
 pub struct translucid_host_frame_targets {
     /// `TRANSLUCID_STRUCTURE_TYPE_HOST_FRAME_TARGETS`.
     pub s_type: u32,
-    /// NULL, or a `translucid_host_image_layers` for images of several array layers.
+    /// NULL, or a `translucid_host_image_layers` for images of several array layers and
+    /// a `translucid_host_image_region` for a frame in a part of the images, in either order.
     pub next: *const c_void,
     /// A primary command buffer of the engine's device, recording, outside any render pass,
     /// to be submitted on the queue family named at context creation.
@@ -203,7 +205,7 @@ pub struct translucid_host_frame_targets {
 pub struct translucid_host_image_layers {
     /// `TRANSLUCID_STRUCTURE_TYPE_HOST_IMAGE_LAYERS`.
     pub s_type: u32,
-    /// NULL.
+    /// NULL, or a `translucid_host_image_region`.
     pub next: *const c_void,
     /// The colour image's layer, and how many it has (its `arrayLayers`: translucid cannot
     /// query it, so it checks the layer against this; 0 means 1).
@@ -214,27 +216,74 @@ pub struct translucid_host_image_layers {
     pub depth_layer_count: u32,
 }
 
-/// The (colour, depth) layers `next` of the frame targets names: a
-/// `translucid_host_image_layers`, checked, or both 0.
-fn image_layers(next: *const c_void) -> FfiResult<(u32, u32)> {
-    if next.is_null() {
-        return Ok((0, 0));
+/// Where in the images a frame is, chained to `translucid_host_frame_targets::next` (before or
+/// after a `translucid_host_image_layers`) for a view in a part of them: a split screen, or one
+/// half of a side-by-side stereo image. The frame reads and writes its `width` x `height`
+/// pixels from (`x`, `y`) in both images, which must hold them (the images' `width` at least
+/// `x` plus the frame's, their `height` at least `y` plus the frame's); the other pixels are
+/// left as they are. Without it, (0, 0).
+#[allow(non_camel_case_types)]
+#[repr(C)]
+pub struct translucid_host_image_region {
+    /// `TRANSLUCID_STRUCTURE_TYPE_HOST_IMAGE_REGION`.
+    pub s_type: u32,
+    /// NULL, or a `translucid_host_image_layers`.
+    pub next: *const c_void,
+    pub x: u32,
+    pub y: u32,
+}
+
+/// Where the frame is in the engine's images, as the structures chained to the frame targets
+/// say: the (colour, depth) layers and the frame's corner.
+#[derive(Default)]
+struct Place {
+    layers: (u32, u32),
+    corner: (u32, u32),
+}
+
+/// The place the chain at `next` of the frame targets describes, checked: at most one
+/// `translucid_host_image_layers` and one `translucid_host_image_region`, in either order.
+fn image_place(next: *const c_void) -> FfiResult<Place> {
+    let mut place = Place::default();
+    let (mut layers_seen, mut region_seen) = (false, false);
+    let mut link = next;
+    while !link.is_null() {
+        let what = "a structure chained to translucid_host_frame_targets";
+        let base = try_ref(link.cast::<translucid_base_in_structure>(), what)?;
+        let kind = translucid_structure_type::from_raw(base.s_type);
+        match kind {
+            Some(translucid_structure_type::HostImageLayers) if !layers_seen => {
+                layers_seen = true;
+                // A structure of the type its s_type names (C contract).
+                let layers = try_ref(link.cast::<translucid_host_image_layers>(), what)?;
+                place.layers = image_layers(layers)?;
+                link = layers.next;
+            }
+            Some(translucid_structure_type::HostImageRegion) if !region_seen => {
+                region_seen = true;
+                // A structure of the type its s_type names (C contract).
+                let region = try_ref(link.cast::<translucid_host_image_region>(), what)?;
+                place.corner = (region.x, region.y);
+                link = region.next;
+            }
+            _ => {
+                let name = kind.map_or_else(|| base.s_type.to_string(), |k| k.c_name());
+                return Err(Failure::new(
+                    translucid_result::ErrorInvalidStructureType,
+                    format!(
+                        "translucid_host_frame_targets.next: structure type {name} is not taken \
+                         there, or is chained twice; chain at most one \
+                         translucid_host_image_layers and one translucid_host_image_region"
+                    ),
+                ));
+            }
+        }
     }
-    let what = "translucid_host_frame_targets.next";
-    let link = try_ref(next.cast::<translucid_base_in_structure>(), what)?;
-    check_type(
-        link.s_type,
-        translucid_structure_type::HostImageLayers,
-        what,
-    )?;
-    // A structure of the type its s_type names (C contract).
-    let layers = try_ref(next.cast::<translucid_host_image_layers>(), what)?;
-    check_header(
-        layers.s_type,
-        layers.next,
-        translucid_structure_type::HostImageLayers,
-        "translucid_host_image_layers",
-    )?;
+    Ok(place)
+}
+
+/// The (colour, depth) layers `layers` names, checked against the counts it gives.
+fn image_layers(layers: &translucid_host_image_layers) -> FfiResult<(u32, u32)> {
     for (what, layer, count) in [
         ("colour", layers.colour_layer, layers.colour_layer_count),
         ("depth", layers.depth_layer, layers.depth_layer_count),
@@ -299,6 +348,7 @@ pub(crate) fn image_formats(next: *const c_void) -> FfiResult<Option<(HostImage,
         layout,
         final_layout,
         layer: 0,
+        origin: translucid::gpu::vk::Offset2D::default(),
     };
     Ok(Some((
         image(
@@ -401,13 +451,18 @@ pub(crate) fn host_gpu(
     Ok(unsafe { Gpu::from_host(&host) }?)
 }
 
-fn host_image(image: &translucid_host_image, layer: u32) -> HostImage {
+fn host_image(
+    image: &translucid_host_image,
+    layer: u32,
+    origin: translucid::gpu::vk::Offset2D,
+) -> HostImage {
     HostImage {
         image: image.image,
         format: image.format,
         layout: image.layout,
         final_layout: image.final_layout,
         layer,
+        origin,
     }
 }
 
@@ -434,21 +489,31 @@ fn record(
         translucid_structure_type::HostFrameTargets,
         "translucid_host_frame_targets",
     )?;
-    let (colour_layer, depth_layer) = image_layers(targets.next)?;
+    let place = image_place(targets.next)?;
     if !objects.gpu().is_host_device() {
         return Err(not_host("translucid_frame_record"));
     }
     objects.core.flight_room()?;
     let (request, _) = frame_request(objects, info)?;
+    let (x, y) = place.corner;
+    let (right, bottom) = (
+        u64::from(x) + u64::from(info.width),
+        u64::from(y) + u64::from(info.height),
+    );
     for (what, image) in [("colour", &targets.colour), ("depth", &targets.depth)] {
-        if image.width < info.width || image.height < info.height {
+        if u64::from(image.width) < right || u64::from(image.height) < bottom {
             return Err(Failure::size(format!(
                 "translucid_host_frame_targets.{what} is {}x{} (width, height), but the frame \
-                 is {}x{}: the images must be at least the frame's size",
+                 is {}x{} from ({x}, {y}): the images must hold it",
                 image.width, image.height, info.width, info.height
             )));
         }
     }
+    // Within an image, which no device makes past i32::MAX pixels across.
+    let origin = translucid::gpu::vk::Offset2D {
+        x: i32::try_from(x).map_err(|_| Failure::size("translucid_host_image_region.x"))?,
+        y: i32::try_from(y).map_err(|_| Failure::size("translucid_host_image_region.y"))?,
+    };
     if !info.opaque_layer.is_null() {
         return Err(Failure::argument(
             "translucid_frame_info.opaque_layer must be NULL in host-device mode: the opaque \
@@ -457,8 +522,8 @@ fn record(
     }
     let t = HostTargets {
         cmd: targets.command_buffer,
-        colour: host_image(&targets.colour, colour_layer),
-        depth: host_image(&targets.depth, depth_layer),
+        colour: host_image(&targets.colour, place.layers.0, origin),
+        depth: host_image(&targets.depth, place.layers.1, origin),
     };
     // SAFETY: the header documents the engine's side: a recording command buffer outside a
     // render pass and images of at least the frame's size with the usages listed (for the

@@ -43,10 +43,12 @@ pub enum translucid_structure_type {
     HostImageLayers = 105,
     /// `translucid_host_image_formats`, chained to the prepare info.
     HostImageFormats = 106,
+    /// `translucid_host_image_region`, chained to the frame targets.
+    HostImageRegion = 107,
 }
 
 impl translucid_structure_type {
-    const ALL: [Self; 22] = [
+    const ALL: [Self; 23] = [
         Self::ContextCreateInfo,
         Self::MeshCreateInfo,
         Self::TextureCreateInfo,
@@ -69,6 +71,7 @@ impl translucid_structure_type {
         Self::HostSubgroupSizeControl,
         Self::HostImageLayers,
         Self::HostImageFormats,
+        Self::HostImageRegion,
     ];
 
     pub fn from_raw(value: u32) -> Option<Self> {

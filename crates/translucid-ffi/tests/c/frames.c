@@ -39,6 +39,9 @@
  * 14. Every method, a level streamed in while the loop plays: what it may draw prepared in
  *    the background (translucid_context_prepare_in_background) while frames go on, building
  *    nothing; once taken in, its assets of every variant-changing kind build nothing either.
+ * 15. Every method in a split screen: two views side by side in one colour and one depth
+ *    image (translucid_host_image_region), each half as the standalone context renders its
+ *    view, the pixels between them untouched.
  * And first, in the standalone context: an updated mesh draws as one created so.
  */
 /* nanosleep, to wait for work in the background without taking a core from it. */
@@ -1646,6 +1649,153 @@ static void layered_stereo(translucid_method method) {
     destroy_scene(g_standalone, &standalone);
 }
 
+/* 15. Every method in a split screen: two views side by side in one colour and one D16 depth
+ * image twice the frame's width, each view a frame into its half
+ * (translucid_host_image_region), both in one command buffer; each half as the standalone
+ * context renders its view alone, and the pixels between the halves' frames untouched. The
+ * second view's opaque layer is the first's mirrored, so that a view that read the other's
+ * place would be off. The methods that sample the engine's depth do so at the view's place,
+ * the others import it from there (D16 cannot be copied). */
+static void split_screen(translucid_method method) {
+    translucid_context *ctx = host_context(VIEWS);
+    scene host, standalone;
+    VkImageUsageFlags transfer = VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+    /* One column between the views, which neither frame may write. */
+    const uint32_t width = VIEWS * W + 1;
+    VkImage colour = create_image(VK_FORMAT_R8G8B8A8_SRGB,
+                                  transfer | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT, width, H);
+    VkImage depth = create_image(VK_FORMAT_D16_UNORM,
+                                 transfer | VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT |
+                                     VK_IMAGE_USAGE_SAMPLED_BIT,
+                                 width, H);
+    VkDeviceMemory colour_memory = bind_image(colour), depth_memory = bind_image(depth);
+    VkDeviceMemory buffer_memory;
+    void *m;
+    /* Per view, its opaque colour and depth (D16); then the whole colour image's readback. */
+    const size_t layer_bytes = COLOUR_BYTES + DEPTH_BYTES, image_bytes = (size_t)width * H * 4;
+    VkBuffer buffer =
+        create_host_buffer(VIEWS * layer_bytes + image_bytes, &buffer_memory, &m);
+    uint8_t *mapped = m, *read = (uint8_t *)m + VIEWS * layer_bytes;
+    /* Per view, the opaque layer as the standalone context takes it. */
+    static uint8_t opaque[VIEWS][COLOUR_BYTES], expected[VIEWS][COLOUR_BYTES], view[COLOUR_BYTES];
+    static float held[VIEWS][W * H], scratch[W * H];
+    translucid_frame frames[VIEWS];
+    VkCommandBuffer cmd = g_slots[0].cmd;
+    VkClearColorValue marker;
+    VkImageSubresourceRange whole;
+    uint32_t v, x, y;
+    encode_depth(VK_FORMAT_D16_UNORM, 0, mapped + COLOUR_BYTES);
+    for (y = 0; y < H; y++) {
+        for (x = 0; x < W; x++) {
+            size_t i = (size_t)y * W + x, mirrored = (size_t)y * W + (W - 1 - x);
+            uint16_t k = (uint16_t)((double)g_layer_depth[mirrored] * 65535.0 + 0.5);
+            memcpy(opaque[0] + i * 4, g_opaque_colour + i * 4, 4);
+            memcpy(opaque[1] + i * 4, g_opaque_colour + mirrored * 4, 4);
+            held[0][i] = g_layer_depth[i];
+            held[1][i] = g_layer_depth[mirrored];
+            memcpy(mapped + layer_bytes + COLOUR_BYTES + i * 2, &k, 2);
+        }
+    }
+    for (v = 0; v < VIEWS; v++) memcpy(mapped + v * layer_bytes, opaque[v], COLOUR_BYTES);
+    make_scene(ctx, &host);
+    make_scene(g_standalone, &standalone);
+
+    begin_commands(cmd);
+    every_layer(cmd, colour, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+                VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL);
+    every_layer(cmd, depth, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+                VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL);
+    /* A marker colour everywhere, then each view's opaque layer in its half. */
+    memset(&marker, 0, sizeof marker);
+    marker.float32[1] = 1.0f;
+    marker.float32[3] = 1.0f;
+    memset(&whole, 0, sizeof whole);
+    whole.aspectMask = VK_IMAGE_ASPECT_COLOR_BIT;
+    whole.levelCount = whole.layerCount = 1;
+    vkCmdClearColorImage(cmd, colour, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &marker, 1, &whole);
+    barrier(cmd, colour, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+            VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_PIPELINE_STAGE_TRANSFER_BIT,
+            VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+            VK_ACCESS_TRANSFER_WRITE_BIT);
+    for (v = 0; v < VIEWS; v++) {
+        VkBufferImageCopy c = region(VK_IMAGE_ASPECT_COLOR_BIT, v * layer_bytes, W, H);
+        VkBufferImageCopy d =
+            region(VK_IMAGE_ASPECT_DEPTH_BIT, v * layer_bytes + COLOUR_BYTES, W, H);
+        c.imageOffset.x = d.imageOffset.x = (int32_t)(v * (W + 1));
+        vkCmdCopyBufferToImage(cmd, buffer, colour, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &c);
+        vkCmdCopyBufferToImage(cmd, buffer, depth, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &d);
+    }
+    every_layer(cmd, colour, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
+    every_layer(cmd, depth, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
+    for (v = 0; v < VIEWS; v++) {
+        translucid_frame_info info =
+            frame_info(&host, QUADS, orbit_camera(0.4f + (v ? 0.03f : -0.03f)));
+        translucid_host_frame_targets t = targets_of(cmd, &g_slots[0]);
+        translucid_host_image_region place;
+        info.method = method;
+        info.camera.z_near = 0.5f;
+        info.draws = standalone.draws;
+        render_standalone(g_standalone, info, opaque[v], held[v], expected[v], COLOUR_BYTES);
+        info.draws = host.draws;
+        memset(&place, 0, sizeof place);
+        place.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_IMAGE_REGION;
+        place.x = v * (W + 1);
+        t.next = &place;
+        t.colour.image = colour;
+        t.colour.width = t.depth.width = width;
+        /* The views share the image: the first leaves it as the second takes it. */
+        if (v + 1 < VIEWS) t.colour.final_layout = t.colour.layout;
+        t.depth.image = depth;
+        t.depth.format = VK_FORMAT_D16_UNORM;
+        CHECK(ctx, translucid_frame_record(ctx, &info, &t, &frames[v]));
+    }
+    {
+        VkBufferImageCopy c = region(VK_IMAGE_ASPECT_COLOR_BIT, VIEWS * layer_bytes, width, H);
+        vkCmdCopyImageToBuffer(cmd, colour, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, buffer, 1, &c);
+    }
+    copies_to_host(cmd);
+    submit_commands(cmd, g_slots[0].fence);
+    wait_fence(g_slots[0].fence);
+    CHECK(ctx, translucid_frame_complete(ctx, frames[VIEWS - 1]));
+    for (v = 0; v < VIEWS; v++) {
+        int bound = method == TRANSLUCID_METHOD_BLEND ? 8 : 2;
+        int worst;
+        for (y = 0; y < H; y++) {
+            memcpy(view + (size_t)y * W * 4, read + ((size_t)y * width + v * (W + 1)) * 4,
+                   (size_t)W * 4);
+        }
+        worst = worst_difference(view, expected[v]);
+        if (worst > bound) {
+            printf("FAIL method %d, split-screen view %u: %d/255 off the standalone view\n",
+                   (int)method, v, worst);
+        }
+        TRUE_OR_FAIL(worst <= bound);
+        CHECK(ctx, translucid_frame_destroy(ctx, frames[v]));
+    }
+    /* The column between the frames keeps the marker (sRGB green). */
+    for (y = 0; y < H; y++) {
+        const uint8_t *p = read + ((size_t)y * width + W) * 4;
+        x = p[0] == 0 && p[1] == 255 && p[2] == 0;
+        if (!x) printf("FAIL method %d: row %u between the views was written\n", (int)method, y);
+        TRUE_OR_FAIL(x);
+    }
+    printf("method %d: a split screen of %d views in one colour and one D16 depth image, each "
+           "as the standalone context renders it\n",
+           (int)method, VIEWS);
+    translucid_context_destroy(ctx);
+    vkDestroyBuffer(g_device, buffer, NULL);
+    vkFreeMemory(g_device, buffer_memory, NULL);
+    vkDestroyImage(g_device, colour, NULL);
+    vkFreeMemory(g_device, colour_memory, NULL);
+    vkDestroyImage(g_device, depth, NULL);
+    vkFreeMemory(g_device, depth_memory, NULL);
+    destroy_scene(g_standalone, &standalone);
+    /* The opaque layer as the other sections read it (D32). */
+    encode_depth(VK_FORMAT_D32_SFLOAT, 0, (uint8_t *)scratch);
+}
+
 int main(void) {
     static const float forward_bands[3] = {0.3f, 0.75f, 1.0f};
     translucid_host_requirements req;
@@ -1715,6 +1865,7 @@ int main(void) {
         for (n = 0; n < sizeof methods / sizeof methods[0]; n++) {
             background_prepare(methods[n]);
         }
+        for (n = 0; n < sizeof methods / sizeof methods[0]; n++) split_screen(methods[n]);
     }
 
     translucid_context_destroy(g_standalone);

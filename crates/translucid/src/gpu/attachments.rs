@@ -176,9 +176,9 @@ impl AttachmentPass {
         &self,
         cmd: vk::CommandBuffer,
         pipeline: &super::GraphicsPipeline,
-        sets: &[vk::DescriptorSet],
+        (sets, push): (&[vk::DescriptorSet], &[u8]),
     ) {
-        self.gpu.cmd_bind_graphics(cmd, pipeline, (sets, &[]));
+        self.gpu.cmd_bind_graphics(cmd, pipeline, (sets, push));
         // SAFETY: cmd is inside this render pass, the pipeline was made for it and takes no
         // vertex input; it is bound with its sets.
         unsafe { self.gpu.device.cmd_draw(cmd, 3, 1, 0, 0) };
@@ -238,7 +238,7 @@ pub fn fullscreen_pipeline(
     gpu: &Gpu,
     render_pass: vk::RenderPass,
     fragment: &[u8],
-    sets: &[&super::DescriptorLayout],
+    (sets, push_bytes): (&[&super::DescriptorLayout], u32),
     state: &super::PipelineState<'_>,
 ) -> Result<std::sync::Arc<super::GraphicsPipeline>> {
     super::GraphicsPipeline::shared(
@@ -254,7 +254,7 @@ pub fn fullscreen_pipeline(
             blend: super::Blend::None,
             render_pass,
             sets,
-            push_bytes: 0,
+            push_bytes,
         },
         &super::PipelineState {
             vertex_input: false,

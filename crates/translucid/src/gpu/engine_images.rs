@@ -137,6 +137,7 @@ impl EngineImages {
                 layout: self.layouts.0,
                 final_layout: colour_final,
                 layer: 0,
+                origin: vk::Offset2D::default(),
             },
             depth: HostImage {
                 image: self.depth.raw,
@@ -144,6 +145,7 @@ impl EngineImages {
                 layout: self.layouts.1,
                 final_layout: self.layouts.1,
                 layer: 0,
+                origin: vk::Offset2D::default(),
             },
         }
     }

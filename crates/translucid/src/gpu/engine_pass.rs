@@ -162,8 +162,8 @@ impl EnginePass {
         self.key == PassKey::of(colour, depth)
     }
 
-    /// Begins the pass in `cmd` over the top-left `extent` of `colour` and `depth` (images
-    /// like the pass's, checked to be at least that large) for the frame recorded in `slot`,
+    /// Begins the pass in `cmd` over `extent` pixels of `colour` and `depth` from their
+    /// origin (images like the pass's, checked to hold them) for the frame recorded in `slot`,
     /// whose last frame has completed. The viewport maps depth as the engine's image holds
     /// it: turned around when `reversed` (the pipelines then test GREATER).
     pub fn begin(
@@ -187,11 +187,13 @@ impl EnginePass {
             let aspects = depth_format_aspects(depth.format);
             frame.views.push(view(depth, aspects)?);
         }
+        // The frame's pixels from its origin (the same in both images).
+        let origin = colour.origin;
         let info = vk::FramebufferCreateInfo::default()
             .render_pass(self.render_pass)
             .attachments(&frame.views)
-            .width(extent.width)
-            .height(extent.height)
+            .width(origin.x as u32 + extent.width)
+            .height(origin.y as u32 + extent.height)
             .layers(1);
         // SAFETY: the views are live, single-level and match the pass's formats.
         frame.framebuffer = unsafe {
@@ -204,7 +206,7 @@ impl EnginePass {
         self.slots[slot] = Some(frame);
 
         let area = vk::Rect2D {
-            offset: vk::Offset2D::default(),
+            offset: origin,
             extent,
         };
         let begin = vk::RenderPassBeginInfo::default()
@@ -213,8 +215,8 @@ impl EnginePass {
             .render_area(area);
         let (min_depth, max_depth) = if reversed { (1.0, 0.0) } else { (0.0, 1.0) };
         let viewport = vk::Viewport {
-            x: 0.0,
-            y: 0.0,
+            x: origin.x as f32,
+            y: origin.y as f32,
             width: extent.width as f32,
             height: extent.height as f32,
             min_depth,

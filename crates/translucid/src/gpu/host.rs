@@ -402,6 +402,9 @@ pub struct HostImage {
     /// The array layer the frame reads and writes (0 for an image of one layer): each view
     /// of a layered image, as XR swapchains hand them, is a frame of its own.
     pub layer: u32,
+    /// The frame's top-left corner in the image ((0, 0) but for a view in a part of it: a
+    /// split screen, or one half of a side-by-side stereo image).
+    pub origin: vk::Offset2D,
 }
 
 /// What a host-device frame records into: the engine's command buffer (recording, outside a
@@ -688,19 +691,36 @@ impl Gpu {
         };
     }
 
-    fn blit(&self, cmd: vk::CommandBuffer, from: Layer, to: Layer, extent: vk::Extent2D) {
-        let corner = vk::Offset3D {
-            x: extent.width as i32,
-            y: extent.height as i32,
-            z: 1,
+    /// Blits `extent` pixels from `from` at its origin to `to` at its origin.
+    fn blit(
+        &self,
+        cmd: vk::CommandBuffer,
+        from: (Layer, vk::Offset2D),
+        to: (Layer, vk::Offset2D),
+        extent: vk::Extent2D,
+    ) {
+        let corners = |origin: vk::Offset2D| {
+            [
+                vk::Offset3D {
+                    x: origin.x,
+                    y: origin.y,
+                    z: 0,
+                },
+                vk::Offset3D {
+                    x: origin.x + extent.width as i32,
+                    y: origin.y + extent.height as i32,
+                    z: 1,
+                },
+            ]
         };
+        let ((from, from_origin), (to, to_origin)) = (from, to);
         let region = vk::ImageBlit::default()
             .src_subresource(layers(vk::ImageAspectFlags::COLOR, from.1))
-            .src_offsets([vk::Offset3D::default(), corner])
+            .src_offsets(corners(from_origin))
             .dst_subresource(layers(vk::ImageAspectFlags::COLOR, to.1))
-            .dst_offsets([vk::Offset3D::default(), corner]);
+            .dst_offsets(corners(to_origin));
         // SAFETY: both images are in the transfer layouts named here (set by the barriers
-        // before), have blittable formats (checked) and are at least `extent` large.
+        // before), have blittable formats (checked) and hold `extent` from their origins.
         unsafe {
             self.device.cmd_blit_image(
                 cmd,
@@ -714,8 +734,8 @@ impl Gpu {
         };
     }
 
-    /// Records the copy of the engine's colour (`extent` large, the frame's size) into the
-    /// top-left `extent` of `colour` (a frame target, left in COLOR_ATTACHMENT_OPTIMAL), and
+    /// Records the copy of the engine's colour (`extent` large from its origin, the frame's
+    /// size) into the top-left `extent` of `colour` (a frame target, left in COLOR_ATTACHMENT_OPTIMAL), and
     /// of its depth into `depth` when given (left in DEPTH_STENCIL_ATTACHMENT_OPTIMAL; `None`
     /// when [`super::DepthImport`] samples it instead). The engine's colour is left in
     /// TRANSFER_SRC_OPTIMAL for [`Gpu::record_host_output`], its depth in its final layout.
@@ -755,7 +775,8 @@ impl Gpu {
             ));
         }
         self.transitions(t.cmd, &before);
-        self.blit(t.cmd, t.colour.layer(), (colour.raw, 0), extent);
+        let target = ((colour.raw, 0), vk::Offset2D::default());
+        self.blit(t.cmd, (t.colour.layer(), t.colour.origin), target, extent);
         let mut after = vec![Transition(
             (colour.raw, 0),
             c,
@@ -766,6 +787,11 @@ impl Gpu {
         if let Some(depth) = depth {
             let copy = vk::ImageCopy::default()
                 .src_subresource(layers(d, t.depth.layer))
+                .src_offset(vk::Offset3D {
+                    x: t.depth.origin.x,
+                    y: t.depth.origin.y,
+                    z: 0,
+                })
                 .dst_subresource(layers(d, 0))
                 .extent(vk::Extent3D {
                     width: extent.width,
@@ -826,7 +852,7 @@ impl Gpu {
 
     /// Records the copy of the top-left `extent` of the composited `colour` (a frame target
     /// in COLOR_ATTACHMENT_OPTIMAL, left in TRANSFER_SRC_OPTIMAL) back into the engine's
-    /// colour image, which ends in its final layout.
+    /// colour image at its origin, which ends in its final layout.
     pub(crate) fn record_host_output(
         &self,
         t: &HostTargets,
@@ -849,7 +875,8 @@ impl Gpu {
                 ),
             ],
         );
-        self.blit(t.cmd, (colour.raw, 0), t.colour.layer(), extent);
+        let target = ((colour.raw, 0), vk::Offset2D::default());
+        self.blit(t.cmd, target, (t.colour.layer(), t.colour.origin), extent);
         let last = Transition(
             t.colour.layer(),
             c,

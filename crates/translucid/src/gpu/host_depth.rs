@@ -12,7 +12,7 @@ use super::{
     DescriptorSet, Gpu, GpuImage, GraphicsPipeline, HostImage, Load, PipelineState, Resource,
     Sampler,
 };
-use crate::interface::methods::DEPTH_IMPORT_SET;
+use crate::interface::methods::{DepthImportPush, DEPTH_IMPORT_SET};
 use crate::interface::specialization::{Specialization, IMPORTED_DEPTH_REVERSED};
 use crate::Result;
 use ash::vk;
@@ -81,7 +81,7 @@ impl DepthImport {
                 gpu,
                 pass.render_pass,
                 crate::spirv!("host/depth_import.frag"),
-                &[&layout],
+                (&[&layout], std::mem::size_of::<DepthImportPush>() as u32),
                 &PipelineState {
                     blends: &[],
                     depth: DepthMode::WriteAlways,
@@ -101,8 +101,8 @@ impl DepthImport {
         })
     }
 
-    /// Records the import of `depth` (the engine's, checked, `extent` large: the frame's
-    /// size) into the target's top-left `extent`, for the frame recorded in `slot` (whose
+    /// Records the import of `depth` (the engine's, checked, holding `extent` from its
+    /// origin: the frame's size) into the target's top-left `extent`, for the frame recorded in `slot` (whose
     /// last frame has completed), turned around when `reversed`. The engine's image ends in
     /// its final layout, the target in DEPTH_STENCIL_ATTACHMENT_OPTIMAL.
     pub fn record(
@@ -169,8 +169,14 @@ impl DepthImport {
             )],
         );
         self.pass.begin(cmd, extent);
+        // The frame's pixels start at its origin in the engine's image.
+        let push = DepthImportPush {
+            origin_x: depth.origin.x as u32,
+            origin_y: depth.origin.y as u32,
+        };
+        let pipeline = &self.pipelines[usize::from(reversed)];
         self.pass
-            .draw_fullscreen(cmd, &self.pipelines[usize::from(reversed)], &[set]);
+            .draw_fullscreen(cmd, pipeline, (&[set], bytemuck::bytes_of(&push)));
         self.pass.end(cmd);
         self.gpu.transitions(
             cmd,

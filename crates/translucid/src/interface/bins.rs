@@ -309,6 +309,10 @@ shader_struct! {
         pub stamp: uint,
         /// 1: u_opaqueDepth holds reversed-Z depth, 1 at the eye.
         pub opaque_depth_reversed: uint,
+        /// The frame's top-left corner in u_opaqueDepth (an engine's image holding the
+        /// frame in a part of it); else 0.
+        pub opaque_depth_x: uint,
+        pub opaque_depth_y: uint,
     }
 }
 
@@ -504,6 +508,9 @@ shader_struct! {
         pub stamp: uint,
         /// The frame's size in pixels.
         pub extent: vec2,
+        /// The frame's top-left corner in the colour image.
+        pub origin_x: uint,
+        pub origin_y: uint,
     }
 }
 

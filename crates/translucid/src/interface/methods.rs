@@ -184,11 +184,28 @@ fn set_include(
     }
 }
 
+shader_struct! {
+    /// The push constants of the depth import (host/depth_import.frag).
+    pub struct DepthImportPush as DepthImportPush {
+        /// The frame's top-left corner in the engine's depth image.
+        pub origin_x: uint,
+        pub origin_y: uint,
+    }
+}
+
+fn depth_import_include() -> Include {
+    const STRUCTS: &[&StructDecl] = &[&DepthImportPush::GLSL];
+    Include {
+        structs: STRUCTS,
+        ..set_include("interface_depth_import.glsl", &DEPTH_IMPORT_SET, &[])
+    }
+}
+
 pub fn includes() -> Vec<Include> {
     vec![
         set_include("interface_base_texture.glsl", &BASE_TEXTURE_SET, &[]),
         set_include("interface_wboit.glsl", &WBOIT_COMPOSITE_SET, &[]),
-        set_include("interface_depth_import.glsl", &DEPTH_IMPORT_SET, &[]),
+        depth_import_include(),
         set_include(
             "interface_depth_peeling_peel.glsl",
             &DEPTH_PEELING_PEEL_SET,

@@ -76,6 +76,8 @@ impl Composite {
             bins_x: frame.bins_x,
             stamp: frame.stamp,
             extent: [frame.extent.width as f32, frame.extent.height as f32],
+            origin_x: frame.colour.origin.x as u32,
+            origin_y: frame.colour.origin.y as u32,
         };
         self.gpu.cmd_draw_indirect(
             cmd,

@@ -787,6 +787,11 @@ impl Bins {
             None => ctx.targets.depth.view,
         };
         self.push.opaque_depth_reversed = ctx.in_place.is_some_and(|e| e.reversed).into();
+        // The frame's corner in the engine's images (both hold it at the same place).
+        let origin = ctx
+            .in_place
+            .map_or(vk::Offset2D::default(), |e| e.colour.origin);
+        (self.push.opaque_depth_x, self.push.opaque_depth_y) = (origin.x as u32, origin.y as u32);
         if ctx.in_place.is_some() {
             self.make_layer()?;
         }

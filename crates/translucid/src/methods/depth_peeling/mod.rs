@@ -417,7 +417,7 @@ fn clear_pipeline(gpu: &Gpu, peel: &AttachmentPass) -> Result<Arc<GraphicsPipeli
         gpu,
         peel.render_pass,
         crate::spirv!("depth_peeling/clear.frag"),
-        &[],
+        (&[], 0),
         &PipelineState {
             blends: &[Blend::None; 7],
             depth: DepthMode::Off,

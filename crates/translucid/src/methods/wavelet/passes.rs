@@ -404,7 +404,7 @@ impl Passes {
         self.resolve_pass.draw_fullscreen(
             ctx.cmd,
             &self.resolve_pipeline,
-            &[ctx.gpu_scene.set().raw, self.resolve_set.raw],
+            (&[ctx.gpu_scene.set().raw, self.resolve_set.raw], &[]),
         );
         self.resolve_pass.end(ctx.cmd);
         let attachment = (
@@ -552,7 +552,7 @@ fn new_resolve_pass(
         gpu,
         pass.render_pass,
         resolve_spirv,
-        &[&gpu_scene.layout, resolve_layout],
+        (&[&gpu_scene.layout, resolve_layout], 0),
         &PipelineState {
             blends: &[Blend::Multiply],
             depth: DepthMode::WriteAlways,

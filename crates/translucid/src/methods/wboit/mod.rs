@@ -99,7 +99,7 @@ impl Wboit {
             gpu,
             composite.render_pass,
             crate::spirv!("wboit/composite.frag"),
-            &[&layout],
+            (&[&layout], 0),
             &PipelineState {
                 blends: &[Blend::PremultipliedTransmittance],
                 depth: DepthMode::Off,
@@ -137,7 +137,7 @@ impl Method for Wboit {
         ctx.timestamps.mark(ctx.cmd, "wboit accumulate");
         self.composite.begin(ctx.cmd, ctx.targets.extent);
         self.composite
-            .draw_fullscreen(ctx.cmd, &self.composite_pipeline, &[self.set.raw]);
+            .draw_fullscreen(ctx.cmd, &self.composite_pipeline, (&[self.set.raw], &[]));
         self.composite.end(ctx.cmd);
         ctx.timestamps.mark(ctx.cmd, "wboit composite");
         Ok(())
