@@ -822,6 +822,27 @@ static void misuse(void) {
                      strstr(message, "maxImageDimension2D") != NULL);
     }
 
+    /* A region the images do not hold, and chained structures repeated: refused before
+     * anything is recorded. */
+    {
+        translucid_host_frame_targets t = targets_of(g_slots[0].cmd, &g_slots[0]);
+        translucid_host_image_region place, again;
+        memset(&place, 0, sizeof place);
+        place.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_IMAGE_REGION;
+        place.x = 1;
+        t.next = &place;
+        EXPECT(ctx, translucid_frame_record(ctx, &info, &t, &extra),
+               TRANSLUCID_RESULT_ERROR_INVALID_SIZE);
+        TRUE_OR_FAIL(strstr(translucid_context_get_last_error(ctx), "from (1, 0)") != NULL);
+        again = place;
+        place.x = 0;
+        place.next = &again;
+        EXPECT(ctx, translucid_frame_record(ctx, &info, &t, &extra),
+               TRANSLUCID_RESULT_ERROR_INVALID_STRUCTURE_TYPE);
+        TRUE_OR_FAIL(strstr(translucid_context_get_last_error(ctx), "chained twice") != NULL);
+        VK_CHECK(vkResetCommandBuffer(g_slots[0].cmd, 0));
+    }
+
     /* As many frames in flight as the context takes; one more is refused. The first is
      * submitted, the others are not: abandoning the second ends it and the third, and the
      * first completes as usual. */
