@@ -175,7 +175,8 @@
 /**
  * Pixels many layers deep (more than 8 fragments a pixel on average, or pixels needing more
  * than two passes): `exact`'s variants for them are built up front too, and its frames keep
- * to those (at most 16 depth slabs).
+ * to those (at most 16 depth slabs); so are the pipelines of `wavelet`'s coefficient
+ * images, which its frames move to from the bins where a row is too crowded for them.
  */
 #define TRANSLUCID_CONTENT_DEEP 64
 

@@ -4,6 +4,7 @@
 
 use glam::Vec3;
 use translucid::gpu::Gpu;
+use translucid::methods::bins::features::DeclaredContent;
 use translucid::methods::wavelet::{model::Model, Precision, Settings, Storage, WaveletOptions};
 use translucid::methods::{wboit, MethodKind, MethodOptions};
 use translucid::metrics::{self, Metrics};
@@ -288,6 +289,51 @@ fn wavelet_in_bins_falls_back_to_images_for_crowded_rows() {
             .iter()
             .any(|(name, _)| *name == "wavelet resolve"),
         "200 layers fell back too"
+    );
+}
+
+/// Where deep content is declared, a frame too crowded for the bins' raster moves to the
+/// coefficient images without compiling a shader: their pipelines were built with the
+/// renderer.
+#[test]
+fn wavelet_declared_deep_moves_to_images_without_compiling() {
+    let gpu = gpu();
+    let mut options = bins_options(3, 0.0);
+    options.bins.declared = DeclaredContent {
+        textures: true,
+        deep: true,
+        ..DeclaredContent::default()
+    };
+    let renderer = |layers| {
+        Renderer::with_options(
+            &gpu,
+            &textured_stack_scene(layers),
+            MethodKind::Wavelet,
+            45,
+            37,
+            &options,
+        )
+        .expect("renderer")
+    };
+    // What every frame with these settings builds on its first render (the opaque pass), by
+    // a frame that stays on the bins; the renderer lives on, holding it.
+    let mut shallow = renderer(200);
+    shallow.render(true).expect("shallow frame");
+    let mut crowded = renderer(800);
+    let before = gpu.pipelines_created();
+    let frame = crowded.render(true).expect("crowded frame");
+    assert!(
+        frame
+            .stages
+            .iter()
+            .any(|(name, _)| *name == "wavelet resolve"),
+        "the frame did not move to the images: {:?}",
+        frame.stages
+    );
+    assert_eq!(
+        gpu.pipelines_created() - before,
+        0,
+        "moving to the images compiled"
     );
 }
 

@@ -39,7 +39,7 @@ use super::bins::BinOptions;
 use super::{FrameCheck, FrameDone, FrameSetup, Method, MethodOptions, RecordContext};
 use crate::assets::GpuScene;
 use crate::frame::FrameTargets;
-use crate::gpu::{Gpu, Profile, Retirement};
+use crate::gpu::{Gpu, HeldPipelines, Profile, Retirement};
 use crate::interface::specialization::{
     Specialization, WAVELET_ABSORBED, WAVELET_FIRST_TEXEL, WAVELET_NOISE,
 };
@@ -213,6 +213,9 @@ pub struct Wavelet {
     /// Per frame slot, whether its last frame ran on the bins (a frame in flight when the
     /// method moved to images must still be checked as a bins frame).
     recorded_on_bins: Vec<bool>,
+    /// Where deep content is declared, the coefficient images' pipelines, built up front so
+    /// that moving to them mid-loop compiles nothing.
+    _images_pipelines: Option<HeldPipelines>,
 }
 
 enum Variant {
@@ -253,14 +256,40 @@ impl Wavelet {
                 gpu, gpu_scene, targets, &settings, constants,
             )?)),
         };
+        // Deep content may crowd a row past the bins' raster, which then moves to the images.
+        let images_pipelines = match &variant {
+            Variant::Bins(_) if bin_options.declared.deep => {
+                Some(images_pipelines(gpu, gpu_scene, targets, settings)?)
+            }
+            _ => None,
+        };
         Ok(Self {
             gpu: gpu.clone(),
             settings,
             variant,
             retirement: Retirement::default(),
             recorded_on_bins: Vec::new(),
+            _images_pipelines: images_pipelines,
         })
     }
+}
+
+/// The pipelines of the coefficient images' passes with `settings` but for the storage, held:
+/// the passes are made (their images allocated for the while) and dropped.
+fn images_pipelines(
+    gpu: &Gpu,
+    gpu_scene: &GpuScene,
+    targets: &FrameTargets,
+    settings: Settings,
+) -> Result<HeldPipelines> {
+    let settings = Settings {
+        storage: Storage::Images,
+        ..settings
+    };
+    let passes = passes::Passes::new(gpu, gpu_scene, targets, &settings, settings.constants())?;
+    let held = gpu.hold_pipelines();
+    drop(passes);
+    Ok(held)
 }
 
 impl Method for Wavelet {
