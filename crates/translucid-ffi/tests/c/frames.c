@@ -1575,25 +1575,70 @@ static void every_layer(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags a
                          VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 0, NULL, 0, NULL, 1, &b);
 }
 
+/* One colour and one depth image that several views of a frame share, and a host buffer for
+ * their opaque layers and readback (sections 13 and 15). */
+typedef struct shared_images {
+    VkImage colour, depth;
+    VkDeviceMemory colour_memory, depth_memory, buffer_memory;
+    VkBuffer buffer;
+    uint8_t *mapped;
+} shared_images;
+
+static shared_images create_shared_images(VkImage colour, VkImage depth, VkDeviceSize bytes) {
+    shared_images i;
+    void *m;
+    i.colour = colour;
+    i.depth = depth;
+    i.colour_memory = bind_image(colour);
+    i.depth_memory = bind_image(depth);
+    i.buffer = create_host_buffer(bytes, &i.buffer_memory, &m);
+    i.mapped = m;
+    return i;
+}
+
+static void destroy_shared_images(shared_images *i) {
+    vkDestroyBuffer(g_device, i->buffer, NULL);
+    vkFreeMemory(g_device, i->buffer_memory, NULL);
+    vkDestroyImage(g_device, i->colour, NULL);
+    vkFreeMemory(g_device, i->colour_memory, NULL);
+    vkDestroyImage(g_device, i->depth, NULL);
+    vkFreeMemory(g_device, i->depth_memory, NULL);
+}
+
+/* Moves every layer of both images between layouts: (colour from, colour to) and the same of
+ * depth. */
+static void shared_images_to(VkCommandBuffer cmd, const shared_images *i, VkImageLayout from,
+                             VkImageLayout colour, VkImageLayout depth) {
+    every_layer(cmd, i->colour, VK_IMAGE_ASPECT_COLOR_BIT, from, colour);
+    every_layer(cmd, i->depth, VK_IMAGE_ASPECT_DEPTH_BIT, from, depth);
+}
+
+/* View `v` of the stereo frame sections 13 and 15 record, by `method`. */
+static translucid_frame_info stereo_view(const scene *host, translucid_method method, uint32_t v) {
+    translucid_frame_info info =
+        frame_info(host, QUADS, orbit_camera(0.4f + (v ? 0.03f : -0.03f)));
+    info.method = method;
+    info.camera.z_near = 0.5f;
+    return info;
+}
+
 /* 13. One frame of two views into the layers of one colour and one depth image. */
 static void layered_stereo(translucid_method method) {
     translucid_context *ctx = host_context(VIEWS);
     scene host, standalone;
     VkImageUsageFlags transfer = VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
-    VkImage colour = create_image_layers(VK_FORMAT_R8G8B8A8_SRGB,
-                                         transfer | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT, W, H,
-                                         VIEWS);
-    VkImage depth = create_image_layers(VK_FORMAT_D32_SFLOAT,
-                                        transfer | VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT |
-                                            VK_IMAGE_USAGE_SAMPLED_BIT,
-                                        W, H, VIEWS);
-    VkDeviceMemory colour_memory = bind_image(colour), depth_memory = bind_image(depth);
-    VkDeviceMemory buffer_memory;
-    void *m;
     /* The opaque colour and depth, then each layer's readback. */
-    VkBuffer buffer =
-        create_host_buffer(COLOUR_BYTES + DEPTH_BYTES + VIEWS * COLOUR_BYTES, &buffer_memory, &m);
-    uint8_t *mapped = m;
+    shared_images images = create_shared_images(
+        create_image_layers(VK_FORMAT_R8G8B8A8_SRGB,
+                            transfer | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT, W, H, VIEWS),
+        create_image_layers(VK_FORMAT_D32_SFLOAT,
+                            transfer | VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT |
+                                VK_IMAGE_USAGE_SAMPLED_BIT,
+                            W, H, VIEWS),
+        COLOUR_BYTES + DEPTH_BYTES + VIEWS * COLOUR_BYTES);
+    VkImage colour = images.colour, depth = images.depth;
+    VkBuffer buffer = images.buffer;
+    uint8_t *mapped = images.mapped;
     static uint8_t expected[VIEWS][COLOUR_BYTES];
     translucid_frame frames[VIEWS];
     VkCommandBuffer cmd = g_slots[0].cmd;
@@ -1604,10 +1649,8 @@ static void layered_stereo(translucid_method method) {
     make_scene(g_standalone, &standalone);
 
     begin_commands(cmd);
-    every_layer(cmd, colour, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
-                VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL);
-    every_layer(cmd, depth, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
-                VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL);
+    shared_images_to(cmd, &images, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                     VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL);
     for (v = 0; v < VIEWS; v++) {
         VkBufferImageCopy c = region(VK_IMAGE_ASPECT_COLOR_BIT, 0, W, H);
         VkBufferImageCopy d = region(VK_IMAGE_ASPECT_DEPTH_BIT, COLOUR_BYTES, W, H);
@@ -1615,17 +1658,13 @@ static void layered_stereo(translucid_method method) {
         vkCmdCopyBufferToImage(cmd, buffer, colour, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &c);
         vkCmdCopyBufferToImage(cmd, buffer, depth, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &d);
     }
-    every_layer(cmd, colour, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-                VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
-    every_layer(cmd, depth, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-                VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
+    shared_images_to(cmd, &images, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                     VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                     VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
     for (v = 0; v < VIEWS; v++) {
-        translucid_frame_info info =
-            frame_info(&host, QUADS, orbit_camera(0.4f + (v ? 0.03f : -0.03f)));
+        translucid_frame_info info = stereo_view(&host, method, v);
         translucid_host_frame_targets t = targets_of(cmd, &g_slots[0]);
         translucid_host_image_layers layers;
-        info.method = method;
-        info.camera.z_near = 0.5f;
         render_expected(info, &standalone, expected[v]);
         memset(&layers, 0, sizeof layers);
         layers.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_IMAGE_LAYERS;
@@ -1661,12 +1700,7 @@ static void layered_stereo(translucid_method method) {
            "the standalone context renders its view\n",
            (int)method, VIEWS);
     translucid_context_destroy(ctx);
-    vkDestroyBuffer(g_device, buffer, NULL);
-    vkFreeMemory(g_device, buffer_memory, NULL);
-    vkDestroyImage(g_device, colour, NULL);
-    vkFreeMemory(g_device, colour_memory, NULL);
-    vkDestroyImage(g_device, depth, NULL);
-    vkFreeMemory(g_device, depth_memory, NULL);
+    destroy_shared_images(&images);
     destroy_scene(g_standalone, &standalone);
 }
 
@@ -1683,20 +1717,19 @@ static void split_screen(translucid_method method) {
     VkImageUsageFlags transfer = VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
     /* One column between the views, which neither frame may write. */
     const uint32_t width = VIEWS * W + 1;
-    VkImage colour = create_image(VK_FORMAT_R8G8B8A8_SRGB,
-                                  transfer | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT, width, H);
-    VkImage depth = create_image(VK_FORMAT_D16_UNORM,
-                                 transfer | VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT |
-                                     VK_IMAGE_USAGE_SAMPLED_BIT,
-                                 width, H);
-    VkDeviceMemory colour_memory = bind_image(colour), depth_memory = bind_image(depth);
-    VkDeviceMemory buffer_memory;
-    void *m;
     /* Per view, its opaque colour and depth (D16); then the whole colour image's readback. */
     const size_t layer_bytes = COLOUR_BYTES + DEPTH_BYTES, image_bytes = (size_t)width * H * 4;
-    VkBuffer buffer =
-        create_host_buffer(VIEWS * layer_bytes + image_bytes, &buffer_memory, &m);
-    uint8_t *mapped = m, *read = (uint8_t *)m + VIEWS * layer_bytes;
+    shared_images images = create_shared_images(
+        create_image(VK_FORMAT_R8G8B8A8_SRGB, transfer | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT,
+                     width, H),
+        create_image(VK_FORMAT_D16_UNORM,
+                     transfer | VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT |
+                         VK_IMAGE_USAGE_SAMPLED_BIT,
+                     width, H),
+        VIEWS * layer_bytes + image_bytes);
+    VkImage colour = images.colour, depth = images.depth;
+    VkBuffer buffer = images.buffer;
+    uint8_t *mapped = images.mapped, *read = images.mapped + VIEWS * layer_bytes;
     /* Per view, the opaque layer as the standalone context takes it. */
     static uint8_t opaque[VIEWS][COLOUR_BYTES], expected[VIEWS][COLOUR_BYTES], view[COLOUR_BYTES];
     static float held[VIEWS][W * H], scratch[W * H];
@@ -1722,10 +1755,8 @@ static void split_screen(translucid_method method) {
     make_scene(g_standalone, &standalone);
 
     begin_commands(cmd);
-    every_layer(cmd, colour, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
-                VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL);
-    every_layer(cmd, depth, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
-                VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL);
+    shared_images_to(cmd, &images, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                     VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL);
     /* A marker colour everywhere, then each view's opaque layer in its half. */
     memset(&marker, 0, sizeof marker);
     marker.float32[1] = 1.0f;
@@ -1746,17 +1777,13 @@ static void split_screen(translucid_method method) {
         vkCmdCopyBufferToImage(cmd, buffer, colour, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &c);
         vkCmdCopyBufferToImage(cmd, buffer, depth, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &d);
     }
-    every_layer(cmd, colour, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-                VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
-    every_layer(cmd, depth, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-                VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
+    shared_images_to(cmd, &images, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                     VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                     VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
     for (v = 0; v < VIEWS; v++) {
-        translucid_frame_info info =
-            frame_info(&host, QUADS, orbit_camera(0.4f + (v ? 0.03f : -0.03f)));
+        translucid_frame_info info = stereo_view(&host, method, v);
         translucid_host_frame_targets t = targets_of(cmd, &g_slots[0]);
         translucid_host_image_region place;
-        info.method = method;
-        info.camera.z_near = 0.5f;
         info.draws = standalone.draws;
         render_standalone(g_standalone, info, opaque[v], held[v], expected[v], COLOUR_BYTES);
         info.draws = host.draws;
@@ -1806,12 +1833,7 @@ static void split_screen(translucid_method method) {
            "as the standalone context renders it\n",
            (int)method, VIEWS);
     translucid_context_destroy(ctx);
-    vkDestroyBuffer(g_device, buffer, NULL);
-    vkFreeMemory(g_device, buffer_memory, NULL);
-    vkDestroyImage(g_device, colour, NULL);
-    vkFreeMemory(g_device, colour_memory, NULL);
-    vkDestroyImage(g_device, depth, NULL);
-    vkFreeMemory(g_device, depth_memory, NULL);
+    destroy_shared_images(&images);
     destroy_scene(g_standalone, &standalone);
     /* The opaque layer as the other sections read it (D32). */
     encode_depth(VK_FORMAT_D32_SFLOAT, 0, (uint8_t *)scratch);
