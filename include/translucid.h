@@ -1006,9 +1006,10 @@ typedef struct translucid_frame_statistics {
      * `translucid_frame_render` or `translucid_frame_record` call, and for a recorded frame
      * its `translucid_frame_complete` (where `exact` moves to the variants of deeper frames).
      * A new method or new settings may need some, as may content a loop did not draw
-     * before; a loop prepared for what it draws (`translucid_context_prepare`) needs none
-     * past its first frame, also when assets are created or destroyed (a renderer made for
-     * new assets takes the pipelines of the one it replaces).
+     * before; a loop prepared for what it draws (`translucid_context_prepare`) needs none,
+     * its first frame included where the engine's image formats were prepared for too, also
+     * when assets are created or destroyed (a renderer made for new assets takes the
+     * pipelines of the one it replaces).
      */
     uint64_t pipelines_created;
     /**
@@ -1698,8 +1699,9 @@ typedef struct translucid_host_image_layers {
  * `translucid_host_frame_targets` will give them (`translucid_host_image`'s `format`,
  * `layout` and `final_layout`; checked as those are): `translucid_context_prepare` then
  * also builds what the first frame into such images would build, so that it builds
- * nothing. For a loop that records into several kinds of images (an XR swapchain and a
- * mirror window), prepare once for each.
+ * nothing. For a loop that records with several such sets (an XR swapchain and a mirror
+ * window; two views sharing one image, whose layouts differ), prepare once for each. A
+ * standalone context takes none (`TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT`).
  */
 typedef struct translucid_host_image_formats {
     /**
@@ -1722,9 +1724,12 @@ typedef struct translucid_host_image_formats {
  * Where in the images a frame is, chained to `translucid_host_frame_targets::next` (before or
  * after a `translucid_host_image_layers`) for a view in a part of them: a split screen, or one
  * half of a side-by-side stereo image. The frame reads and writes its `width` x `height`
- * pixels from (`x`, `y`) in both images, which must hold them (the images' `width` at least
- * `x` plus the frame's, their `height` at least `y` plus the frame's); the other pixels are
- * left as they are. Without it, (0, 0).
+ * pixels from (`x`, `y`) in both images (one place for colour and depth), which must hold
+ * them (the images' `width` at least `x` plus the frame's, their `height` at least `y`
+ * plus the frame's); the other pixels are left as they are. Without it, (0, 0). The frame
+ * is the view: its size and camera are the view's (the camera projects onto the region).
+ * Views that share an image are recorded one after another, each taking the image in the
+ * layout the one before left it in (its `layout` the previous view's `final_layout`).
  */
 typedef struct translucid_host_image_region {
     /**
@@ -2069,7 +2074,8 @@ translucid_result translucid_method_get_available(uint32_t *methods,
  * over any assets, streamed-in ones included, whose content is within the declaration.
  * Those frames then report `pipelines_created` 0. On an engine's device, chain the
  * formats and layouts of the images the loop records into (`translucid_host_image_formats`,
- * once per kind of images): without them, the first frame into each kind builds the few
+ * once for each set of formats, layouts and final layouts the loop hands over; a call
+ * that declares nothing more only builds what is missing): without them, the first frame into each kind builds the few
  * pipelines of the passes made for those images (`blend`'s pass into them, the composite
  * of `exact` and `wavelet` onto a colour format that blends, the import of depth the
  * other methods cannot copy). Frames draw with the declared shaders whether
@@ -2090,14 +2096,18 @@ translucid_result translucid_context_prepare(struct translucid_context *context,
 /**
  * `translucid_context_prepare` on a thread of translucid's own, for a loop that goes on
  * meanwhile (streaming in a level while the current one plays): returns once `info` is
- * checked and the work has started. Frames recorded meanwhile draw with what was
- * declared before (content past that is built when first drawn, as without preparing).
- * Once the work has finished, the next call on the context takes it in: `content` is
+ * checked (and copied) and the work has started. Frames recorded meanwhile draw with
+ * what was declared before (content past that is built when first drawn, as without
+ * preparing). The work takes effect only in the `translucid_context_get_prepare_status`
+ * call that finds it finished, never in another call, so that the engine picks the
+ * frame (between engine frames, not between the views of one): its content is
  * declared, and the next frame of each method makes its renderer anew from the
- * pipelines built (no shader compiled; its buffers are allocated again). Ask
- * `translucid_context_get_prepare_status` whether it has; several may run at once.
- * The work's pipelines and memory are not counted in the statistics of the frames
- * recorded meanwhile, but its memory counts against the context's budget.
+ * pipelines built (no shader compiled; its buffers are allocated again, while frames
+ * in flight keep the old ones until they complete). Several may run at once, and
+ * beside `translucid_context_prepare`; none can be cancelled. The work makes a renderer
+ * of its own for the while (a frame's buffers, counted against the context's memory
+ * budget, but not in the statistics of the frames recorded meanwhile); its pipelines
+ * stay with the context and go into `translucid_context_get_pipeline_cache_data`.
  * `translucid_context_destroy` waits for work still running.
  */
 TRANSLUCID_MUST_USE
@@ -2105,14 +2115,15 @@ translucid_result translucid_context_prepare_in_background(struct translucid_con
                                                            const struct translucid_prepare_info *info);
 
 /**
- * Whether the work `translucid_context_prepare_in_background` started has finished, taking
- * in what has. Returns:
- * - `TRANSLUCID_RESULT_SUCCESS`: none is running, and all of it is in effect:
- *   `out_pipelines_created` (may be NULL) receives the pipelines built by the work taken in
- *   since the last call.
- * - `TRANSLUCID_RESULT_NOT_READY`: some is still running; nothing is written.
- * - An error that some work ended with (reported once; its content is not declared, and
- *   frames build what it would have when they first need it).
+ * Whether the work `translucid_context_prepare_in_background` started has finished, and
+ * where it has, puts it in effect (this call only: call it between engine frames). Returns:
+ * - `TRANSLUCID_RESULT_SUCCESS`: none is running, and all of it is in effect (also when
+ *   none was started): `out_pipelines_created` (may be NULL) receives the pipelines built
+ *   by the work put in effect since the last call.
+ * - `TRANSLUCID_RESULT_NOT_READY`: some is still running (what has finished is in effect);
+ *   nothing is written.
+ * - An error that some work ended with, reported once (its content is not declared, and
+ *   frames build what it would have when they first need it); other work goes on.
  */
 TRANSLUCID_MUST_USE
 translucid_result translucid_context_get_prepare_status(struct translucid_context *context,

@@ -344,8 +344,9 @@ public:
         });
     }
     /// Whether no preparation runs in the background any more, all of it in effect
-    /// (translucid_context_get_prepare_status); `built` (may be null) receives the pipelines
-    /// it built since the last call. Throws the error such work ended with.
+    /// (translucid_context_get_prepare_status, which alone puts finished work in effect:
+    /// call it between frames); `built` (may be null) receives the pipelines it built since
+    /// the last call. Throws the error such work ended with (other work goes on).
     bool prepare_ready(std::uint64_t *built = nullptr) {
         const translucid_result status = translucid_context_get_prepare_status(get(), built);
         if (status == TRANSLUCID_RESULT_NOT_READY) return false;

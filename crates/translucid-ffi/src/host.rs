@@ -219,9 +219,12 @@ pub struct translucid_host_image_layers {
 /// Where in the images a frame is, chained to `translucid_host_frame_targets::next` (before or
 /// after a `translucid_host_image_layers`) for a view in a part of them: a split screen, or one
 /// half of a side-by-side stereo image. The frame reads and writes its `width` x `height`
-/// pixels from (`x`, `y`) in both images, which must hold them (the images' `width` at least
-/// `x` plus the frame's, their `height` at least `y` plus the frame's); the other pixels are
-/// left as they are. Without it, (0, 0).
+/// pixels from (`x`, `y`) in both images (one place for colour and depth), which must hold
+/// them (the images' `width` at least `x` plus the frame's, their `height` at least `y`
+/// plus the frame's); the other pixels are left as they are. Without it, (0, 0). The frame
+/// is the view: its size and camera are the view's (the camera projects onto the region).
+/// Views that share an image are recorded one after another, each taking the image in the
+/// layout the one before left it in (its `layout` the previous view's `final_layout`).
 #[allow(non_camel_case_types)]
 #[repr(C)]
 pub struct translucid_host_image_region {
@@ -304,8 +307,9 @@ fn image_layers(layers: &translucid_host_image_layers) -> FfiResult<(u32, u32)> 
 /// `translucid_host_frame_targets` will give them (`translucid_host_image`'s `format`,
 /// `layout` and `final_layout`; checked as those are): `translucid_context_prepare` then
 /// also builds what the first frame into such images would build, so that it builds
-/// nothing. For a loop that records into several kinds of images (an XR swapchain and a
-/// mirror window), prepare once for each.
+/// nothing. For a loop that records with several such sets (an XR swapchain and a mirror
+/// window; two views sharing one image, whose layouts differ), prepare once for each. A
+/// standalone context takes none (`TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT`).
 #[allow(non_camel_case_types)]
 #[repr(C)]
 pub struct translucid_host_image_formats {

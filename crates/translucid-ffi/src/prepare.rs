@@ -81,7 +81,8 @@ impl translucid_prepare_info {
     /// over any assets, streamed-in ones included, whose content is within the declaration.
     /// Those frames then report `pipelines_created` 0. On an engine's device, chain the
     /// formats and layouts of the images the loop records into (`translucid_host_image_formats`,
-    /// once per kind of images): without them, the first frame into each kind builds the few
+    /// once for each set of formats, layouts and final layouts the loop hands over; a call
+    /// that declares nothing more only builds what is missing): without them, the first frame into each kind builds the few
     /// pipelines of the passes made for those images (`blend`'s pass into them, the composite
     /// of `exact` and `wavelet` onto a colour format that blends, the import of depth the
     /// other methods cannot copy). Frames draw with the declared shaders whether
@@ -110,14 +111,18 @@ impl translucid_prepare_info {
 
     /// `translucid_context_prepare` on a thread of translucid's own, for a loop that goes on
     /// meanwhile (streaming in a level while the current one plays): returns once `info` is
-    /// checked and the work has started. Frames recorded meanwhile draw with what was
-    /// declared before (content past that is built when first drawn, as without preparing).
-    /// Once the work has finished, the next call on the context takes it in: `content` is
+    /// checked (and copied) and the work has started. Frames recorded meanwhile draw with
+    /// what was declared before (content past that is built when first drawn, as without
+    /// preparing). The work takes effect only in the `translucid_context_get_prepare_status`
+    /// call that finds it finished, never in another call, so that the engine picks the
+    /// frame (between engine frames, not between the views of one): its content is
     /// declared, and the next frame of each method makes its renderer anew from the
-    /// pipelines built (no shader compiled; its buffers are allocated again). Ask
-    /// `translucid_context_get_prepare_status` whether it has; several may run at once.
-    /// The work's pipelines and memory are not counted in the statistics of the frames
-    /// recorded meanwhile, but its memory counts against the context's budget.
+    /// pipelines built (no shader compiled; its buffers are allocated again, while frames
+    /// in flight keep the old ones until they complete). Several may run at once, and
+    /// beside `translucid_context_prepare`; none can be cancelled. The work makes a renderer
+    /// of its own for the while (a frame's buffers, counted against the context's memory
+    /// budget, but not in the statistics of the frames recorded meanwhile); its pipelines
+    /// stay with the context and go into `translucid_context_get_pipeline_cache_data`.
     /// `translucid_context_destroy` waits for work still running.
     #[no_mangle]
     #[must_use]
@@ -135,14 +140,15 @@ impl translucid_prepare_info {
     }
 }
 
-/// Whether the work `translucid_context_prepare_in_background` started has finished, taking
-/// in what has. Returns:
-/// - `TRANSLUCID_RESULT_SUCCESS`: none is running, and all of it is in effect:
-///   `out_pipelines_created` (may be NULL) receives the pipelines built by the work taken in
-///   since the last call.
-/// - `TRANSLUCID_RESULT_NOT_READY`: some is still running; nothing is written.
-/// - An error that some work ended with (reported once; its content is not declared, and
-///   frames build what it would have when they first need it).
+/// Whether the work `translucid_context_prepare_in_background` started has finished, and
+/// where it has, puts it in effect (this call only: call it between engine frames). Returns:
+/// - `TRANSLUCID_RESULT_SUCCESS`: none is running, and all of it is in effect (also when
+///   none was started): `out_pipelines_created` (may be NULL) receives the pipelines built
+///   by the work put in effect since the last call.
+/// - `TRANSLUCID_RESULT_NOT_READY`: some is still running (what has finished is in effect);
+///   nothing is written.
+/// - An error that some work ended with, reported once (its content is not declared, and
+///   frames build what it would have when they first need it); other work goes on.
 #[no_mangle]
 #[must_use]
 pub extern "C" fn translucid_context_get_prepare_status(

@@ -1,9 +1,9 @@
 //! Preparation on worker threads: a declaration's pipelines built beside the frame loop. Each
 //! job makes, on its own thread, the renderer a frame would be made with under the new
 //! declaration, holds every pipeline it built (they are shared on the device by what they
-//! were made from), and drops the renderer. Until a job is taken in, frames draw with the
-//! declaration before it; once taken in, its content is declared, and the renderers made
-//! from then on find their pipelines built.
+//! were made from), and drops the renderer. Until a job is taken in (by the context's status
+//! query only), frames draw with the declaration before it; once taken in, its content is
+//! declared, and the renderers made from then on find their pipelines built.
 
 use crate::gpu::{HeldPipelines, HostImage};
 use crate::methods::bins::features::DeclaredContent;

@@ -252,7 +252,6 @@ impl Context {
         engine_images: Option<(HostImage, HostImage)>,
     ) -> Result<(u64, u64)> {
         self.check_engine_images(engine_images)?;
-        self.take_in_background_work();
         let before = built_so_far(&self.gpu);
         self.renderers.declare(content);
         let kept = self.renderers.for_frame(&self.gpu, &self.assets, request)?;
@@ -264,11 +263,11 @@ impl Context {
 
     /// As [`Self::prepare`], but on a thread of its own: returns once the work has started.
     /// Frames recorded meanwhile draw with what was declared before (content past it is
-    /// built when first drawn, as without preparing). Once the work has finished, and a
-    /// call here, [`Self::prepare_status`], or a frame's recording or rendering has taken it
-    /// in, `content` is declared and the renderers made from then on find every pipeline
-    /// built: the next frame of each method makes its renderer anew without compiling (its
-    /// buffers are allocated again). Only `prepare_status` reports the work's outcome.
+    /// built when first drawn, as without preparing). The work takes effect only where
+    /// [`Self::prepare_status`] finds it finished, so that the engine chooses the frame:
+    /// `content` is declared, and the renderers made from then on find every pipeline built
+    /// (the next frame of each method makes its renderer anew without compiling; its
+    /// buffers are allocated again).
     pub fn prepare_in_background(
         &mut self,
         request: &FrameRequest,
@@ -276,26 +275,21 @@ impl Context {
         engine_images: Option<(HostImage, HostImage)>,
     ) -> Result<()> {
         self.check_engine_images(engine_images)?;
-        self.take_in_background_work();
         let inputs = self
             .renderers
             .inputs_for(&self.gpu, &self.assets, request, content)?;
         self.background.start(inputs, engine_images, content)
     }
 
-    /// Where the background preparation stands: building, or every job taken in (and the
-    /// pipelines those taken in since the last call built); a job that failed gives its
-    /// error once, and its content is not declared.
+    /// Where the background preparation stands, taking in (declaring the content of) the
+    /// jobs that finished: building, or every job taken in (and the pipelines those taken in
+    /// since the last call built); a job that failed gives its error once, and its content
+    /// is not declared.
     pub fn prepare_status(&mut self) -> Result<background::PrepareStatus> {
-        self.take_in_background_work();
-        self.background.status()
-    }
-
-    /// Declares the content of the background jobs that finished.
-    fn take_in_background_work(&mut self) {
         for content in self.background.take_finished() {
             self.renderers.declare(content);
         }
+        self.background.status()
     }
 
     fn check_engine_images(&self, engine_images: Option<(HostImage, HostImage)>) -> Result<()> {
@@ -322,7 +316,6 @@ impl Context {
                     .into(),
             ));
         }
-        self.take_in_background_work();
         let before = built_so_far(&self.gpu);
         let kept = self.renderers.for_frame(&self.gpu, &self.assets, request)?;
         let id = kept.id;
@@ -360,7 +353,6 @@ impl Context {
         recording: Recording,
     ) -> Result<u64> {
         self.flight_room()?;
-        self.take_in_background_work();
         let before = built_so_far(&self.gpu);
         let kept = self.renderers.for_frame(&self.gpu, &self.assets, request)?;
         let id = kept.id;
