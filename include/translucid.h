@@ -1551,9 +1551,9 @@ typedef struct translucid_memory_create_info {
      * sets) is created and destroyed with, as the engine's own are. Copied; its functions
      * and `pUserData` must stay valid until the context is destroyed, and be callable from
      * any thread the context is used on and from the threads that prepare in the
-     * background (`translucid_context_prepare_in_background`). Device memory comes from translucid's allocator
-     * (gpu-allocator), whose `vkAllocateMemory` calls pass none. Must be NULL in standalone
-     * mode, where translucid makes the device.
+     * background (`translucid_context_prepare_in_background`). Device memory comes from
+     * translucid's allocator (gpu-allocator), whose `vkAllocateMemory` calls pass none.
+     * Must be NULL in standalone mode, where translucid makes the device.
      */
     const VkAllocationCallbacks *allocation_callbacks;
 } translucid_memory_create_info;
@@ -2075,8 +2075,8 @@ translucid_result translucid_method_get_available(uint32_t *methods,
  * Those frames then report `pipelines_created` 0. On an engine's device, chain the
  * formats and layouts of the images the loop records into (`translucid_host_image_formats`,
  * once for each set of formats, layouts and final layouts the loop hands over; a call
- * that declares nothing more only builds what is missing): without them, the first frame into each kind builds the few
- * pipelines of the passes made for those images (`blend`'s pass into them, the composite
+ * that declares nothing more only builds what is missing): without them, the first
+ * frame into each set builds the few pipelines of the passes made for those images (`blend`'s pass into them, the composite
  * of `exact` and `wavelet` onto a colour format that blends, the import of depth the
  * other methods cannot copy). Frames draw with the declared shaders whether
  * they need all of them or not (textures apart: a frame without a textured draw takes

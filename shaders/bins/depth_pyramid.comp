@@ -23,6 +23,7 @@ void buildLevelZero() {
         return;
     }
     vec2 origin = vec2(cell % u_push.binsX, cell / u_push.binsX) * BIN_SIZE;
+    vec2 texelSize = 1.0 / vec2(textureSize(u_opaqueDepth, 0));
     // The corner between the frame's last two texels (or the only one's, with the clamp-to-
     // edge sampler repeating it) along each side.
     vec2 lastCorner = max(vec2(u_push.width, u_push.height) - 1.0, vec2(0.0));
@@ -32,7 +33,7 @@ void buildLevelZero() {
             // The shared corner of texels (x, y) .. (x + 1, y + 1): half a texel from any
             // other choice, so rounding cannot move the gather.
             vec2 corner = min(origin + vec2(x + 1, y + 1), lastCorner);
-            vec4 quad = opaqueDepthGather(corner);
+            vec4 quad = opaqueDepthGather(corner, texelSize);
             farthest = max(farthest, max(max(quad.x, quad.y), max(quad.z, quad.w)));
         }
     }

@@ -16,8 +16,9 @@
 layout(push_constant) uniform BinPushBlock { BinPush u_push; };
 
 // Opaque depth as translucid's depth grows, away from the eye, at a pixel of the frame, and
-// over the four texels around `corner` (a point between texels, in the frame's pixels); the
-// frame starts at the push constants' corner of the depth image.
+// over the four texels around `corner` (a point between texels, in the frame's pixels, with
+// `texelSize` the depth image's); the frame starts at the push constants' corner of the
+// depth image.
 ivec2 opaqueDepthOrigin() {
     return ivec2(u_push.opaqueDepthX, u_push.opaqueDepthY);
 }
@@ -27,8 +28,7 @@ float opaqueDepthAt(ivec2 pixel) {
     return u_push.opaqueDepthReversed != 0u ? 1.0 - d : d;
 }
 
-vec4 opaqueDepthGather(vec2 corner) {
-    vec2 texelSize = 1.0 / vec2(textureSize(u_opaqueDepth, 0));
+vec4 opaqueDepthGather(vec2 corner, vec2 texelSize) {
     vec4 d = textureGather(u_opaqueDepth, (corner + vec2(opaqueDepthOrigin())) * texelSize, 0);
     return u_push.opaqueDepthReversed != 0u ? 1.0 - d : d;
 }

@@ -58,6 +58,14 @@ pub(crate) fn try_out<'a, T>(ptr: *mut T, what: &str) -> FfiResult<&'a mut Maybe
     Ok(unsafe { &mut *ptr.cast::<MaybeUninit<T>>() })
 }
 
+/// Writes `value` to an optional out-parameter: nothing where it is NULL.
+pub(crate) fn write_optional<T>(ptr: *mut T, what: &str, value: T) -> FfiResult {
+    if !ptr.is_null() {
+        try_out(ptr, what)?.write(value);
+    }
+    Ok(())
+}
+
 /// An optional NUL-terminated UTF-8 string; NULL gives `None`.
 pub(crate) fn try_str<'a>(ptr: *const c_char, what: &str) -> FfiResult<Option<&'a str>> {
     if ptr.is_null() {

@@ -346,13 +346,17 @@ pub(crate) fn image_formats(next: *const c_void) -> FfiResult<Option<(HostImage,
         translucid_structure_type::HostImageFormats,
         "translucid_host_image_formats",
     )?;
-    let image = |format, layout, final_layout| HostImage {
-        image: VkImage::null(),
-        format,
-        layout,
-        final_layout,
-        layer: 0,
-        origin: translucid::gpu::vk::Offset2D::default(),
+    // An image of the frame targets in all that is prepared for: no handle, no size.
+    let image = |format, layout, final_layout| {
+        let described = translucid_host_image {
+            image: VkImage::null(),
+            format,
+            layout,
+            final_layout,
+            width: 0,
+            height: 0,
+        };
+        host_image(&described, 0, translucid::gpu::vk::Offset2D::default())
     };
     Ok(Some((
         image(

@@ -3,8 +3,8 @@
 //! `translucid_context_trim`.
 
 use crate::cast::{
-    check_header, translucid_base_in_structure, translucid_context, try_out, try_out_structure,
-    try_ref, OutStructure,
+    check_header, translucid_base_in_structure, translucid_context, try_out_structure, try_ref,
+    write_optional, OutStructure,
 };
 use crate::panic;
 use crate::result::translucid_result;
@@ -39,9 +39,9 @@ pub struct translucid_memory_create_info {
     /// sets) is created and destroyed with, as the engine's own are. Copied; its functions
     /// and `pUserData` must stay valid until the context is destroyed, and be callable from
     /// any thread the context is used on and from the threads that prepare in the
-    /// background (`translucid_context_prepare_in_background`). Device memory comes from translucid's allocator
-    /// (gpu-allocator), whose `vkAllocateMemory` calls pass none. Must be NULL in standalone
-    /// mode, where translucid makes the device.
+    /// background (`translucid_context_prepare_in_background`). Device memory comes from
+    /// translucid's allocator (gpu-allocator), whose `vkAllocateMemory` calls pass none.
+    /// Must be NULL in standalone mode, where translucid makes the device.
     pub allocation_callbacks: *const VkAllocationCallbacks,
 }
 
@@ -172,9 +172,7 @@ impl translucid_memory_statistics {
     ) -> translucid_result {
         panic::with_context(context, |objects| {
             let freed = objects.core.trim();
-            if !out_bytes_freed.is_null() {
-                try_out(out_bytes_freed, "out_bytes_freed")?.write(freed);
-            }
+            write_optional(out_bytes_freed, "out_bytes_freed", freed)?;
             Ok(translucid_result::Success)
         })
     }

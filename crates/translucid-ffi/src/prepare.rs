@@ -3,7 +3,7 @@
 //! thread beside the frame loop. Exports `translucid_context_prepare`,
 //! `translucid_context_prepare_in_background` and `translucid_context_get_prepare_status`.
 
-use crate::cast::{check_type, translucid_context, try_ref};
+use crate::cast::{check_type, translucid_context, try_ref, write_optional};
 use crate::context::Objects;
 use crate::frame::translucid_frame_info;
 use crate::frame_input::frame_request;
@@ -82,8 +82,8 @@ impl translucid_prepare_info {
     /// Those frames then report `pipelines_created` 0. On an engine's device, chain the
     /// formats and layouts of the images the loop records into (`translucid_host_image_formats`,
     /// once for each set of formats, layouts and final layouts the loop hands over; a call
-    /// that declares nothing more only builds what is missing): without them, the first frame into each kind builds the few
-    /// pipelines of the passes made for those images (`blend`'s pass into them, the composite
+    /// that declares nothing more only builds what is missing): without them, the first
+    /// frame into each set builds the few pipelines of the passes made for those images (`blend`'s pass into them, the composite
     /// of `exact` and `wavelet` onto a colour format that blends, the import of depth the
     /// other methods cannot copy). Frames draw with the declared shaders whether
     /// they need all of them or not (textures apart: a frame without a textured draw takes
@@ -104,7 +104,7 @@ impl translucid_prepare_info {
         panic::with_context(context, |objects| {
             let (request, content, engine_images) = prepared(objects, info)?;
             let (pipelines, _bytes) = objects.core.prepare(&request, content, engine_images)?;
-            write_optional(out_pipelines_created, pipelines)?;
+            write_optional(out_pipelines_created, "out_pipelines_created", pipelines)?;
             Ok(translucid_result::Success)
         })
     }
@@ -158,7 +158,7 @@ pub extern "C" fn translucid_context_get_prepare_status(
     panic::with_context(context, |objects| match objects.core.prepare_status()? {
         PrepareStatus::Building => Ok(translucid_result::NotReady),
         PrepareStatus::Ready { pipelines } => {
-            write_optional(out_pipelines_created, pipelines)?;
+            write_optional(out_pipelines_created, "out_pipelines_created", pipelines)?;
             Ok(translucid_result::Success)
         }
     })
@@ -185,11 +185,4 @@ fn prepared(objects: &mut Objects, info: *const translucid_prepare_info) -> FfiR
     let frame = try_ref(info.frame, "translucid_prepare_info.frame")?;
     let (request, _layer) = frame_request(objects, frame)?;
     Ok((request, content, engine_images))
-}
-
-fn write_optional(out: *mut u64, value: u64) -> FfiResult {
-    if !out.is_null() {
-        crate::cast::try_out(out, "out_pipelines_created")?.write(value);
-    }
-    Ok(())
 }

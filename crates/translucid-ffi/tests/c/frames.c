@@ -731,18 +731,9 @@ static void misuse(void) {
         translucid_host_image_formats formats;
         translucid_frame_statistics wrong;
         translucid_prepare_info prepare;
-        memset(&formats, 0, sizeof formats);
-        formats.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_IMAGE_FORMATS;
-        formats.colour_format = VK_FORMAT_R8G8B8A8_UNORM;
-        formats.colour_layout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
-        formats.colour_final_layout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+        translucid_host_frame_targets t = targets_of(g_slots[0].cmd, &g_slots[0]);
+        fill_prepare(&prepare, &formats, &info, &t, 0);
         formats.depth_format = VK_FORMAT_R32_SFLOAT;
-        formats.depth_layout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
-        formats.depth_final_layout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
-        memset(&prepare, 0, sizeof prepare);
-        prepare.s_type = TRANSLUCID_STRUCTURE_TYPE_PREPARE_INFO;
-        prepare.next = &formats;
-        prepare.frame = &info;
         EXPECT(ctx, translucid_context_prepare(ctx, &prepare, NULL),
                TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
         TRUE_OR_FAIL(strstr(translucid_context_get_last_error(ctx), "depth format") != NULL);

@@ -735,7 +735,8 @@ impl Gpu {
     }
 
     /// Records the copy of the engine's colour (`extent` large from its origin, the frame's
-    /// size) into the top-left `extent` of `colour` (a frame target, left in COLOR_ATTACHMENT_OPTIMAL), and
+    /// size) into the top-left `extent` of `colour` (a frame target, left in
+    /// COLOR_ATTACHMENT_OPTIMAL), and
     /// of its depth into `depth` when given (left in DEPTH_STENCIL_ATTACHMENT_OPTIMAL; `None`
     /// when [`super::DepthImport`] samples it instead). The engine's colour is left in
     /// TRANSFER_SRC_OPTIMAL for [`Gpu::record_host_output`], its depth in its final layout.

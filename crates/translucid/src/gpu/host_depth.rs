@@ -102,7 +102,8 @@ impl DepthImport {
     }
 
     /// Records the import of `depth` (the engine's, checked, holding `extent` from its
-    /// origin: the frame's size) into the target's top-left `extent`, for the frame recorded in `slot` (whose
+    /// origin: the frame's size) into the target's top-left `extent`, for the frame recorded
+    /// in `slot` (whose
     /// last frame has completed), turned around when `reversed`. The engine's image ends in
     /// its final layout, the target in DEPTH_STENCIL_ATTACHMENT_OPTIMAL.
     pub fn record(
