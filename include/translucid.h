@@ -209,6 +209,11 @@
 #define TRANSLUCID_HEADER_VERSION (((TRANSLUCID_VERSION_MAJOR << 22) | (TRANSLUCID_VERSION_MINOR << 12)) | TRANSLUCID_VERSION_PATCH)
 
 /**
+ * The most views a frame has.
+ */
+#define TRANSLUCID_MAX_VIEWS 4
+
+/**
  * What every fallible call returns. Errors are negative; test with `result < 0`.
  */
 enum translucid_result
@@ -430,6 +435,10 @@ enum translucid_structure_type
      * `translucid_host_image_region`, chained to the frame targets.
      */
     TRANSLUCID_STRUCTURE_TYPE_HOST_IMAGE_REGION = 107,
+    /**
+     * `translucid_host_frame_views`, chained to the frame targets.
+     */
+    TRANSLUCID_STRUCTURE_TYPE_HOST_FRAME_VIEWS = 108,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -721,8 +730,8 @@ typedef struct translucid_context_create_info {
     const char *device;
     /**
      * Host-device mode: the most frames recorded and not yet completed at any time, 1 to
-     * `TRANSLUCID_MAX_FRAMES_IN_FLIGHT`: the engine's frames in flight times the views it
-     * records in each. 0 means 1. Standalone frames complete within their call: 0 or 1.
+     * `TRANSLUCID_MAX_FRAMES_IN_FLIGHT` (a frame of several views counts once; views
+     * recorded as frames of their own count each). 0 means 1. Standalone frames complete within their call: 0 or 1.
      */
     uint32_t frames_in_flight;
     /**
@@ -1600,6 +1609,14 @@ typedef struct translucid_host_device_create_info {
      * `enabled_extension_count` extension names the device was created with.
      */
     const char *const *enabled_extensions;
+    /**
+     * The most views a frame has (`translucid_host_frame_views`), 1 to
+     * `TRANSLUCID_MAX_VIEWS`; 0 means 1. Views count apart from frames in flight: each
+     * view of a frame in flight takes a slot of per-frame data, and `frames_in_flight`
+     * times `views_per_frame` may be at most `TRANSLUCID_MAX_FRAMES_IN_FLIGHT` (3 frames of
+     * stereo: 3 and 2).
+     */
+    uint32_t views_per_frame;
 } translucid_host_device_create_info;
 
 /**
@@ -1667,9 +1684,10 @@ typedef struct translucid_host_subgroup_size_control {
 
 /**
  * The array layers a frame reads and writes, chained to `translucid_host_frame_targets::next`
- * where its images have several: each view of a layered image (stereo into an XR swapchain's
- * two layers) is a frame of its own, into its layer; the other layers are left as they are.
- * Without it, both images' layer 0.
+ * where its images have several: a view of a layered image recorded as a frame of its own
+ * (one eye of stereo into an XR swapchain's two layers), into its layer; the other layers
+ * are left as they are. Without it, both images' layer 0. A frame of several views gives
+ * each view's layer in its `translucid_host_frame_views` instead.
  */
 typedef struct translucid_host_image_layers {
     /**
@@ -1728,8 +1746,10 @@ typedef struct translucid_host_image_formats {
  * them (the images' `width` at least `x` plus the frame's, their `height` at least `y`
  * plus the frame's); the other pixels are left as they are. Without it, (0, 0). The frame
  * is the view: its size and camera are the view's (the camera projects onto the region).
- * Views that share an image are recorded one after another, each taking the image in the
- * layout the one before left it in (its `layout` the previous view's `final_layout`).
+ * Views recorded as frames of their own that share an image are recorded one after
+ * another, each taking the image in the layout the one before left it in (its `layout`
+ * the previous view's `final_layout`); a frame of several views (`translucid_host_frame_views`)
+ * does that itself.
  */
 typedef struct translucid_host_image_region {
     /**
@@ -1743,6 +1763,69 @@ typedef struct translucid_host_image_region {
     uint32_t x;
     uint32_t y;
 } translucid_host_image_region;
+
+/**
+ * One view of a frame of several (`translucid_host_frame_views`): its camera and its place
+ * in the engine's images.
+ */
+typedef struct translucid_frame_view {
+    /**
+     * The view's camera (`translucid_frame_info::camera` is not read), as the engine drew
+     * the view's depth: its own view, projection and jitter.
+     */
+    struct translucid_camera camera;
+    /**
+     * The view's top-left corner, in both images: the view is the frame's `width` x
+     * `height` pixels from there (as a `translucid_host_image_region`), and the images
+     * must hold it.
+     */
+    uint32_t x;
+    uint32_t y;
+    /**
+     * The view's array layer of the colour image and of the depth image, below the
+     * counts the `translucid_host_frame_views` gives.
+     */
+    uint32_t colour_layer;
+    uint32_t depth_layer;
+} translucid_frame_view;
+
+/**
+ * A frame of several views (stereo, a split screen), chained to
+ * `translucid_host_frame_targets::next` instead of a `translucid_host_image_layers` or
+ * `translucid_host_image_region`: `translucid_frame_record` records the frame once for
+ * each view, with the view's camera, into the view's layer and region of the targets'
+ * images. The views share the frame's method, size, settings, light and draws, and its
+ * uploads (assets, textures and moved vertices go up once); each view has a slot of
+ * per-frame data of its own, and they run one after another. The frame is one frame in
+ * flight and completes once, with its views' times and counts added up in its
+ * statistics. Views in one layer of an image may not overlap; a later view takes an
+ * image layer an earlier one wrote in its `final_layout`, so images start in their
+ * `layout` and end in their `final_layout` as with one view.
+ */
+typedef struct translucid_host_frame_views {
+    /**
+     * `TRANSLUCID_STRUCTURE_TYPE_HOST_FRAME_VIEWS`.
+     */
+    uint32_t s_type;
+    /**
+     * NULL.
+     */
+    const void *next;
+    /**
+     * The colour image's and the depth image's array layers (their `arrayLayers`: the
+     * views' layers are checked against them; 0 means 1).
+     */
+    uint32_t colour_layer_count;
+    uint32_t depth_layer_count;
+    /**
+     * 1 to the context's `translucid_host_device_create_info::views_per_frame`.
+     */
+    uint32_t view_count;
+    /**
+     * `view_count` views.
+     */
+    const struct translucid_frame_view *views;
+} translucid_host_frame_views;
 
 #ifdef __cplusplus
 extern "C" {

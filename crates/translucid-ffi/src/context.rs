@@ -72,8 +72,8 @@ pub struct translucid_context_create_info {
     /// (discrete, integrated, then CPU). Must be NULL in host-device mode.
     pub device: *const c_char,
     /// Host-device mode: the most frames recorded and not yet completed at any time, 1 to
-    /// `TRANSLUCID_MAX_FRAMES_IN_FLIGHT`: the engine's frames in flight times the views it
-    /// records in each. 0 means 1. Standalone frames complete within their call: 0 or 1.
+    /// `TRANSLUCID_MAX_FRAMES_IN_FLIGHT` (a frame of several views counts once; views
+    /// recorded as frames of their own count each). 0 means 1. Standalone frames complete within their call: 0 or 1.
     pub frames_in_flight: u32,
     /// Optional: `pipeline_cache_size` bytes that `translucid_context_get_pipeline_cache_data`
     /// gave on an earlier run, merged into the context's pipeline cache so that its first
@@ -239,6 +239,7 @@ impl Context {
                 )
             })
             .transpose()?;
+        let mut views_per_frame = 1;
         let gpu = if host_mode {
             if device.is_some() {
                 return Err(Failure::argument(
@@ -263,8 +264,10 @@ impl Context {
                     ),
                 ));
             }
+            let host = try_ref(next.cast::<translucid_host_device_create_info>(), "next")?;
+            views_per_frame = crate::views::views_per_frame(host, frames_in_flight)?;
             host_gpu(
-                try_ref(next.cast::<translucid_host_device_create_info>(), "next")?,
+                host,
                 profile,
                 info.flags & TRANSLUCID_CONTEXT_CREATE_SOFTWARE_SAMPLING != 0,
                 (memory_budget, allocation_callbacks),
@@ -303,7 +306,7 @@ impl Context {
             calls: UnsafeCell::new(Calls {
                 state: CallState::default(),
                 objects: Objects {
-                    core: translucid::context::Context::new(gpu, frames_in_flight),
+                    core: translucid::context::Context::new(gpu, frames_in_flight, views_per_frame),
                 },
             }),
         })

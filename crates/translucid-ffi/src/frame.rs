@@ -303,7 +303,7 @@ fn render(objects: &mut Objects, info: &translucid_frame_info) -> FfiResult<u64>
              records with translucid_frame_record",
         ));
     }
-    let (request, layer) = frame_request(objects, info)?;
+    let (request, layer) = frame_request(objects, info, None)?;
     let layer = layer
         .map(|l| opaque_layer_from(l, info.width, info.height))
         .transpose()?;

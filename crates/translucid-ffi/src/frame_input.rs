@@ -35,7 +35,7 @@ fn rgb(v: [f32; 3], what: &str) -> FfiResult<Vec3> {
 
 /// The core's camera from the C one: the engine's projection matrix when it gave one, else
 /// the field-of-view helper.
-fn camera_from(c: &translucid_camera) -> FfiResult<Camera> {
+pub(crate) fn camera_from(c: &translucid_camera) -> FfiResult<Camera> {
     let projection = if c.projection.iter().all(|&v| v == 0.0) {
         Projection::Perspective {
             fov_y: c.fov_y,
@@ -108,9 +108,12 @@ fn draw_from(i: usize, d: &translucid_draw) -> FfiResult<DrawRequest> {
     })
 }
 
+/// `camera`, when given, replaces `info.camera`, which is then not read (a frame of several
+/// views, whose views give theirs).
 pub(crate) fn frame_request<'a>(
     objects: &Objects,
     info: &'a translucid_frame_info,
+    camera: Option<Camera>,
 ) -> FfiResult<(FrameRequest, Option<&'a translucid_opaque_layer>)> {
     check_type(
         info.s_type,
@@ -169,7 +172,10 @@ pub(crate) fn frame_request<'a>(
         width: info.width,
         height: info.height,
         options: settings.options()?,
-        camera: camera_from(&info.camera)?,
+        camera: match camera {
+            Some(camera) => camera,
+            None => camera_from(&info.camera)?,
+        },
         light: light_from(light)?,
         background: rgb(info.background, "background")?,
         draws: draws

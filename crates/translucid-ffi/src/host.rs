@@ -18,6 +18,7 @@ use crate::frame_input::frame_request;
 use crate::method::translucid_method;
 use crate::panic;
 use crate::result::{translucid_result, Failure, FfiResult};
+use crate::views::FrameViews;
 use crate::structure::translucid_structure_type;
 use crate::vulkan::{
     PFN_vkGetInstanceProcAddr, VkBool32, VkCommandBuffer, VkDevice, VkFormat, VkImage,
@@ -28,7 +29,7 @@ use std::ffi::{c_char, c_void, CStr, CString};
 use translucid::context::{Completion, Recording};
 use translucid::gpu::{
     host_requirements, host_requirements_with, AllocationCallbacks, Gpu, HostDevice, HostImage,
-    HostRequirements, HostTargets, Profile,
+    HostRequirements, Profile,
 };
 
 /// What the engine must give its instance and device before translucid can use them. The
@@ -131,6 +132,12 @@ pub struct translucid_host_device_create_info {
     pub enabled_extension_count: u32,
     /// `enabled_extension_count` extension names the device was created with.
     pub enabled_extensions: *const *const c_char,
+    /// The most views a frame has (`translucid_host_frame_views`), 1 to
+    /// `TRANSLUCID_MAX_VIEWS`; 0 means 1. Views count apart from frames in flight: each
+    /// view of a frame in flight takes a slot of per-frame data, and `frames_in_flight`
+    /// times `views_per_frame` may be at most `TRANSLUCID_MAX_FRAMES_IN_FLIGHT` (3 frames of
+    /// stereo: 3 and 2).
+    pub views_per_frame: u32,
 }
 
 /// One of the engine's images: a single-sample 2D image at least the frame's size (width x
@@ -194,112 +201,6 @@ pub struct translucid_host_frame_targets {
     /// `TRANSLUCID_METHOD_BLEND` and the yardstick test against it as a depth attachment:
     /// DEPTH_STENCIL_ATTACHMENT usage too.
     pub depth: translucid_host_image,
-}
-
-/// The array layers a frame reads and writes, chained to `translucid_host_frame_targets::next`
-/// where its images have several: each view of a layered image (stereo into an XR swapchain's
-/// two layers) is a frame of its own, into its layer; the other layers are left as they are.
-/// Without it, both images' layer 0.
-#[allow(non_camel_case_types)]
-#[repr(C)]
-pub struct translucid_host_image_layers {
-    /// `TRANSLUCID_STRUCTURE_TYPE_HOST_IMAGE_LAYERS`.
-    pub s_type: u32,
-    /// NULL, or a `translucid_host_image_region`.
-    pub next: *const c_void,
-    /// The colour image's layer, and how many it has (its `arrayLayers`: translucid cannot
-    /// query it, so it checks the layer against this; 0 means 1).
-    pub colour_layer: u32,
-    pub colour_layer_count: u32,
-    /// The same of the depth image.
-    pub depth_layer: u32,
-    pub depth_layer_count: u32,
-}
-
-/// Where in the images a frame is, chained to `translucid_host_frame_targets::next` (before or
-/// after a `translucid_host_image_layers`) for a view in a part of them: a split screen, or one
-/// half of a side-by-side stereo image. The frame reads and writes its `width` x `height`
-/// pixels from (`x`, `y`) in both images (one place for colour and depth), which must hold
-/// them (the images' `width` at least `x` plus the frame's, their `height` at least `y`
-/// plus the frame's); the other pixels are left as they are. Without it, (0, 0). The frame
-/// is the view: its size and camera are the view's (the camera projects onto the region).
-/// Views that share an image are recorded one after another, each taking the image in the
-/// layout the one before left it in (its `layout` the previous view's `final_layout`).
-#[allow(non_camel_case_types)]
-#[repr(C)]
-pub struct translucid_host_image_region {
-    /// `TRANSLUCID_STRUCTURE_TYPE_HOST_IMAGE_REGION`.
-    pub s_type: u32,
-    /// NULL, or a `translucid_host_image_layers`.
-    pub next: *const c_void,
-    pub x: u32,
-    pub y: u32,
-}
-
-/// Where the frame is in the engine's images, as the structures chained to the frame targets
-/// say: the (colour, depth) layers and the frame's corner.
-#[derive(Default)]
-struct Place {
-    layers: (u32, u32),
-    corner: (u32, u32),
-}
-
-/// The place the chain at `next` of the frame targets describes, checked: at most one
-/// `translucid_host_image_layers` and one `translucid_host_image_region`, in either order.
-fn image_place(next: *const c_void) -> FfiResult<Place> {
-    let mut place = Place::default();
-    let (mut layers_seen, mut region_seen) = (false, false);
-    let mut link = next;
-    while !link.is_null() {
-        let what = "a structure chained to translucid_host_frame_targets";
-        let base = try_ref(link.cast::<translucid_base_in_structure>(), what)?;
-        let kind = translucid_structure_type::from_raw(base.s_type);
-        match kind {
-            Some(translucid_structure_type::HostImageLayers) if !layers_seen => {
-                layers_seen = true;
-                // A structure of the type its s_type names (C contract).
-                let layers = try_ref(link.cast::<translucid_host_image_layers>(), what)?;
-                place.layers = image_layers(layers)?;
-                link = layers.next;
-            }
-            Some(translucid_structure_type::HostImageRegion) if !region_seen => {
-                region_seen = true;
-                // A structure of the type its s_type names (C contract).
-                let region = try_ref(link.cast::<translucid_host_image_region>(), what)?;
-                place.corner = (region.x, region.y);
-                link = region.next;
-            }
-            _ => {
-                let name = kind.map_or_else(|| base.s_type.to_string(), |k| k.c_name());
-                return Err(Failure::new(
-                    translucid_result::ErrorInvalidStructureType,
-                    format!(
-                        "translucid_host_frame_targets.next: structure type {name} is not taken \
-                         there, or is chained twice; chain at most one \
-                         translucid_host_image_layers and one translucid_host_image_region"
-                    ),
-                ));
-            }
-        }
-    }
-    Ok(place)
-}
-
-/// The (colour, depth) layers `layers` names, checked against the counts it gives.
-fn image_layers(layers: &translucid_host_image_layers) -> FfiResult<(u32, u32)> {
-    for (what, layer, count) in [
-        ("colour", layers.colour_layer, layers.colour_layer_count),
-        ("depth", layers.depth_layer, layers.depth_layer_count),
-    ] {
-        if layer >= count.max(1) {
-            return Err(Failure::argument(format!(
-                "translucid_host_image_layers: the {what} image's layer {layer}, but it has \
-                 {} (its {what}_layer_count)",
-                count.max(1)
-            )));
-        }
-    }
-    Ok((layers.colour_layer, layers.depth_layer))
 }
 
 /// The formats and layouts of the engine's images that a frame loop records into, chained to
@@ -459,7 +360,7 @@ pub(crate) fn host_gpu(
     Ok(unsafe { Gpu::from_host(&host) }?)
 }
 
-fn host_image(
+pub(crate) fn host_image(
     image: &translucid_host_image,
     layer: u32,
     origin: translucid::gpu::vk::Offset2D,
@@ -497,47 +398,25 @@ fn record(
         translucid_structure_type::HostFrameTargets,
         "translucid_host_frame_targets",
     )?;
-    let place = image_place(targets.next)?;
+    let views = FrameViews::from_chain(targets.next)?;
     if !objects.gpu().is_host_device() {
         return Err(not_host("translucid_frame_record"));
     }
     objects.core.flight_room()?;
-    let (request, _) = frame_request(objects, info)?;
-    let (x, y) = place.corner;
-    let (right, bottom) = (
-        u64::from(x) + u64::from(info.width),
-        u64::from(y) + u64::from(info.height),
-    );
-    for (what, image) in [("colour", &targets.colour), ("depth", &targets.depth)] {
-        if u64::from(image.width) < right || u64::from(image.height) < bottom {
-            return Err(Failure::size(format!(
-                "translucid_host_frame_targets.{what} is {}x{} (width, height), but the frame \
-                 is {}x{} from ({x}, {y}): the images must hold it",
-                image.width, image.height, info.width, info.height
-            )));
-        }
-    }
-    // Within an image, which no device makes past i32::MAX pixels across.
-    let origin = translucid::gpu::vk::Offset2D {
-        x: i32::try_from(x).map_err(|_| Failure::size("translucid_host_image_region.x"))?,
-        y: i32::try_from(y).map_err(|_| Failure::size("translucid_host_image_region.y"))?,
-    };
+    let (mut request, _) = frame_request(objects, info, views.camera())?;
+    let size = (info.width, info.height);
+    let views = views.host_views(targets, size, request.camera)?;
     if !info.opaque_layer.is_null() {
         return Err(Failure::argument(
             "translucid_frame_info.opaque_layer must be NULL in host-device mode: the opaque \
              layer is the colour and depth images of the translucid_host_frame_targets",
         ));
     }
-    let t = HostTargets {
-        cmd: targets.command_buffer,
-        colour: host_image(&targets.colour, place.layers.0, origin),
-        depth: host_image(&targets.depth, place.layers.1, origin),
-    };
     // SAFETY: the header documents the engine's side: a recording command buffer outside a
     // render pass and images of at least the frame's size with the usages listed (for the
     // yardstick, attachment usages too), all of the device this context wraps. Handles,
-    // formats and layouts are checked first.
-    Ok(unsafe { objects.core.record(&request, &t, recording) }?)
+    // formats, layouts and each view's place are checked first.
+    Ok(unsafe { objects.core.record(&mut request, &views, recording) }?)
 }
 
 fn complete(objects: &mut Objects, frame: translucid_frame) -> FfiResult<translucid_result> {

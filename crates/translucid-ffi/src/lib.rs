@@ -32,7 +32,8 @@
 //! boundary), [`result`], [`structure`], [`version`], then one module per object
 //! with its exports: [`context`], [`method`], [`mesh`], [`texture`], [`material`], [`frame`]
 //! (with [`frame_input`] building the core scene), [`host`] (host-device mode, with the
-//! Vulkan types of [`vulkan`]).
+//! Vulkan types of [`vulkan`], and [`views`]: where a frame's views are in the engine's
+//! images).
 
 pub mod cast;
 pub mod context;
@@ -50,6 +51,7 @@ pub mod result;
 pub mod structure;
 pub mod texture;
 pub mod version;
+pub mod views;
 pub mod vulkan;
 
 pub use result::translucid_result;

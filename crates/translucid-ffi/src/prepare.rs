@@ -183,6 +183,6 @@ fn prepared(objects: &mut Objects, info: *const translucid_prepare_info) -> FfiR
     let engine_images = image_formats(info.next)?;
     let content = declared(info.content)?;
     let frame = try_ref(info.frame, "translucid_prepare_info.frame")?;
-    let (request, _layer) = frame_request(objects, frame)?;
+    let (request, _layer) = frame_request(objects, frame, None)?;
     Ok((request, content, engine_images))
 }

@@ -45,10 +45,12 @@ pub enum translucid_structure_type {
     HostImageFormats = 106,
     /// `translucid_host_image_region`, chained to the frame targets.
     HostImageRegion = 107,
+    /// `translucid_host_frame_views`, chained to the frame targets.
+    HostFrameViews = 108,
 }
 
 impl translucid_structure_type {
-    const ALL: [Self; 23] = [
+    const ALL: [Self; 24] = [
         Self::ContextCreateInfo,
         Self::MeshCreateInfo,
         Self::TextureCreateInfo,
@@ -72,6 +74,7 @@ impl translucid_structure_type {
         Self::HostImageLayers,
         Self::HostImageFormats,
         Self::HostImageRegion,
+        Self::HostFrameViews,
     ];
 
     pub fn from_raw(value: u32) -> Option<Self> {

@@ -40,8 +40,12 @@
  *    the background (translucid_context_prepare_in_background) while frames go on, building
  *    nothing; once taken in, its assets of every variant-changing kind build nothing either.
  * 15. Every method in a split screen: two views side by side in one colour and one depth
- *    image (translucid_host_image_region), each half as the standalone context renders its
- *    view, the pixels between them untouched.
+ *    image, each half as the standalone context renders its view, the pixels between them
+ *    untouched; the views as two frames (translucid_host_image_region), then as one frame
+ *    of two views (translucid_host_frame_views), prepared for, building nothing.
+ * 16. Every method in stereo, 3 frames of 2 views in flight (translucid_host_frame_views
+ *    into layered images), prepared for: no frame builds a pipeline, and each layer of each
+ *    frame is as the standalone context renders its view.
  * And first, in the standalone context: an updated mesh draws as one created so.
  */
 /* nanosleep, to wait for work in the background without taking a core from it. */
@@ -408,7 +412,8 @@ static void updates_move_the_mesh(void) {
     CHECK(g_standalone, translucid_mesh_destroy(g_standalone, moved));
 }
 
-static translucid_context *host_context(uint32_t frames_in_flight) {
+/* A host-device context for `frames_in_flight` frames of up to `views` views each. */
+static translucid_context *host_context_views(uint32_t frames_in_flight, uint32_t views) {
     translucid_host_device_create_info hd = host_device_info();
     translucid_context_create_info info;
     translucid_context *ctx = NULL;
@@ -418,19 +423,30 @@ static translucid_context *host_context(uint32_t frames_in_flight) {
     info.mode = TRANSLUCID_CONTEXT_MODE_HOST_DEVICE;
     info.next = &hd;
     info.frames_in_flight = frames_in_flight;
+    hd.views_per_frame = views;
     CHECK(NULL, translucid_context_create(&info, &ctx));
     return ctx;
 }
 
-/* What the call that recorded a slot's frame built, as its statistics say: pipelines, and
- * whether it allocated GPU memory. */
-static void built_by(translucid_context *ctx, const slot *s, uint64_t *pipelines, int *allocated) {
+static translucid_context *host_context(uint32_t frames_in_flight) {
+    return host_context_views(frames_in_flight, 1);
+}
+
+/* What the call that recorded `frame` built, as its statistics say: pipelines, and whether
+ * it allocated GPU memory. */
+static void built_by_frame(translucid_context *ctx, translucid_frame frame, uint64_t *pipelines,
+                           int *allocated) {
     translucid_frame_statistics stats;
     memset(&stats, 0, sizeof stats);
     stats.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_STATISTICS;
-    CHECK(ctx, translucid_frame_get_statistics(ctx, s->frame, &stats));
+    CHECK(ctx, translucid_frame_get_statistics(ctx, frame, &stats));
     *pipelines = stats.pipelines_created;
     *allocated = stats.bytes_allocated > 0;
+}
+
+/* The same of a slot's frame. */
+static void built_by(translucid_context *ctx, const slot *s, uint64_t *pipelines, int *allocated) {
+    built_by_frame(ctx, s->frame, pipelines, allocated);
 }
 
 /* 1. FRAMES moving frames with `in_flight` of them in flight: a frame is completed when the
@@ -1696,14 +1712,16 @@ static void layered_stereo(translucid_method method) {
 }
 
 /* 15. Every method in a split screen: two views side by side in one colour and one D16 depth
- * image twice the frame's width, each view a frame into its half
- * (translucid_host_image_region), both in one command buffer; each half as the standalone
+ * image twice the frame's width, both in one command buffer; each half as the standalone
  * context renders its view alone, and the pixels between the halves' frames untouched. The
  * second view's opaque layer is the first's mirrored, so that a view that read the other's
  * place would be off. The methods that sample the engine's depth do so at the view's place,
- * the others import it from there (D16 cannot be copied). */
-static void split_screen(translucid_method method) {
-    translucid_context *ctx = host_context(VIEWS);
+ * the others import it from there (D16 cannot be copied). With `one_frame` 0, each view is
+ * a frame into its half (translucid_host_image_region); with 1, the views are one frame
+ * (translucid_host_frame_views, the frame info's camera left zero), prepared for, which
+ * builds no pipeline. */
+static void split_screen(translucid_method method, int one_frame) {
+    translucid_context *ctx = host_context_views(one_frame ? 1 : VIEWS, one_frame ? VIEWS : 1);
     scene host, standalone;
     VkImageUsageFlags transfer = VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
     /* One column between the views, which neither frame may write. */
@@ -1729,6 +1747,15 @@ static void split_screen(translucid_method method) {
     VkClearColorValue marker;
     VkImageSubresourceRange whole;
     uint32_t v, x, y;
+    translucid_frame_view view_list[VIEWS];
+    translucid_host_frame_views views;
+    uint64_t pipelines;
+    int allocated;
+    memset(view_list, 0, sizeof view_list);
+    memset(&views, 0, sizeof views);
+    views.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_FRAME_VIEWS;
+    views.view_count = VIEWS;
+    views.views = view_list;
     encode_depth(VK_FORMAT_D16_UNORM, 0, mapped + COLOUR_BYTES);
     for (y = 0; y < H; y++) {
         for (x = 0; x < W; x++) {
@@ -1784,10 +1811,21 @@ static void split_screen(translucid_method method) {
         t.next = &place;
         t.colour.image = colour;
         t.colour.width = t.depth.width = width;
-        /* The views share the image: the first leaves it as the second takes it. */
-        if (v + 1 < VIEWS) t.colour.final_layout = t.colour.layout;
         t.depth.image = depth;
         t.depth.format = VK_FORMAT_D16_UNORM;
+        if (one_frame) {
+            view_list[v].camera = info.camera;
+            view_list[v].x = place.x;
+            if (v + 1 < VIEWS) continue;
+            t.next = &views;
+            TRUE_OR_FAIL(prepare_for(ctx, &info, &t) > 0);
+            /* The camera is the views'. */
+            memset(&info.camera, 0, sizeof info.camera);
+            CHECK(ctx, translucid_frame_record(ctx, &info, &t, &frames[0]));
+            break;
+        }
+        /* The views share the image: the first leaves it as the second takes it. */
+        if (v + 1 < VIEWS) t.colour.final_layout = t.colour.layout;
         CHECK(ctx, translucid_frame_record(ctx, &info, &t, &frames[v]));
     }
     {
@@ -1797,7 +1835,15 @@ static void split_screen(translucid_method method) {
     copies_to_host(cmd);
     submit_commands(cmd, g_slots[0].fence);
     wait_fence(g_slots[0].fence);
-    CHECK(ctx, translucid_frame_complete(ctx, frames[VIEWS - 1]));
+    CHECK(ctx, translucid_frame_complete(ctx, frames[one_frame ? 0 : VIEWS - 1]));
+    if (one_frame) {
+        built_by_frame(ctx, frames[0], &pipelines, &allocated);
+        if (pipelines != 0) {
+            printf("FAIL method %d: a prepared frame of %d views built %llu pipelines\n",
+                   (int)method, VIEWS, (unsigned long long)pipelines);
+        }
+        TRUE_OR_FAIL(pipelines == 0);
+    }
     for (v = 0; v < VIEWS; v++) {
         int bound = method == TRANSLUCID_METHOD_BLEND ? 8 : 2;
         int worst;
@@ -1807,11 +1853,11 @@ static void split_screen(translucid_method method) {
         }
         worst = worst_difference(view, expected[v]);
         if (worst > bound) {
-            printf("FAIL method %d, split-screen view %u: %d/255 off the standalone view\n",
-                   (int)method, v, worst);
+            printf("FAIL method %d, split-screen view %u%s: %d/255 off the standalone view\n",
+                   (int)method, v, one_frame ? " of one frame" : "", worst);
         }
         TRUE_OR_FAIL(worst <= bound);
-        CHECK(ctx, translucid_frame_destroy(ctx, frames[v]));
+        if (!one_frame || v == 0) CHECK(ctx, translucid_frame_destroy(ctx, frames[v]));
     }
     /* The column between the frames keeps the marker (sRGB green). */
     for (y = 0; y < H; y++) {
@@ -1820,14 +1866,143 @@ static void split_screen(translucid_method method) {
         if (!x) printf("FAIL method %d: row %u between the views was written\n", (int)method, y);
         TRUE_OR_FAIL(x);
     }
-    printf("method %d: a split screen of %d views in one colour and one D16 depth image, each "
-           "as the standalone context renders it\n",
-           (int)method, VIEWS);
+    printf("method %d: a split screen of %d views%s in one colour and one D16 depth image, "
+           "each as the standalone context renders it\n",
+           (int)method, VIEWS, one_frame ? " in one frame" : "");
     translucid_context_destroy(ctx);
     destroy_shared_images(&images);
     destroy_scene(g_standalone, &standalone);
     /* The opaque layer as the other sections read it (D32). */
     encode_depth(VK_FORMAT_D32_SFLOAT, 0, (uint8_t *)scratch);
+}
+
+/* 16. Every method in stereo with 3 frames in flight, as an XR runtime hands out swapchain
+ * images: per frame in flight, one colour and one depth image of two layers, and each frame
+ * one translucid frame of two views (translucid_host_frame_views), one per layer, the eyes
+ * turning with the frame. The context is made for 3 frames of 2 views; the loop is prepared
+ * for, and no frame builds a pipeline. Each layer of each frame is as the standalone context
+ * renders its view alone, under synchronization validation. */
+#define STEREO_FRAMES 6
+static void stereo_frames_in_flight(translucid_method method) {
+    translucid_context *ctx = host_context_views(MOST_IN_FLIGHT, VIEWS);
+    scene host, standalone;
+    VkImageUsageFlags transfer = VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+    const size_t readback = COLOUR_BYTES + DEPTH_BYTES;
+    shared_images images[MOST_IN_FLIGHT];
+    static uint8_t expected[MOST_IN_FLIGHT][VIEWS][COLOUR_BYTES];
+    translucid_frame frames[MOST_IN_FLIGHT];
+    int busy[MOST_IN_FLIGHT] = {0};
+    int k, i, allocated;
+    uint32_t v;
+    uint64_t pipelines;
+    for (i = 0; i < MOST_IN_FLIGHT; i++) {
+        images[i] = create_shared_images(
+            create_image_layers(VK_FORMAT_R8G8B8A8_SRGB,
+                                transfer | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT, W, H, VIEWS),
+            create_image_layers(VK_FORMAT_D32_SFLOAT,
+                                transfer | VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT |
+                                    VK_IMAGE_USAGE_SAMPLED_BIT,
+                                W, H, VIEWS),
+            readback + VIEWS * COLOUR_BYTES);
+        memcpy(images[i].mapped, g_opaque_colour, COLOUR_BYTES);
+        memcpy(images[i].mapped + COLOUR_BYTES, g_engine_depth, DEPTH_BYTES);
+    }
+    make_scene(ctx, &host);
+    make_scene(g_standalone, &standalone);
+    for (k = 0; k < STEREO_FRAMES + MOST_IN_FLIGHT; k++) {
+        int at = k % MOST_IN_FLIGHT;
+        shared_images *im = &images[at];
+        VkCommandBuffer cmd = g_slots[at].cmd;
+        translucid_frame_view view_list[VIEWS];
+        translucid_host_frame_views views;
+        translucid_frame_info info;
+        translucid_host_frame_targets t;
+        if (busy[at]) {
+            int done = k - MOST_IN_FLIGHT;
+            wait_fence(g_slots[at].fence);
+            CHECK(ctx, translucid_frame_complete(ctx, frames[at]));
+            built_by_frame(ctx, frames[at], &pipelines, &allocated);
+            if (pipelines != 0) {
+                printf("FAIL method %d, stereo frame %d: %llu pipelines built\n", (int)method,
+                       done, (unsigned long long)pipelines);
+            }
+            TRUE_OR_FAIL(pipelines == 0);
+            for (v = 0; v < VIEWS; v++) {
+                int bound = method == TRANSLUCID_METHOD_BLEND ? 8 : 2;
+                int worst = worst_difference(im->mapped + readback + v * COLOUR_BYTES,
+                                             expected[at][v]);
+                if (worst > bound) {
+                    printf("FAIL method %d, stereo frame %d, view %u: %d/255 off the "
+                           "standalone view\n",
+                           (int)method, done, v, worst);
+                }
+                TRUE_OR_FAIL(worst <= bound);
+            }
+            CHECK(ctx, translucid_frame_destroy(ctx, frames[at]));
+            busy[at] = 0;
+        }
+        if (k >= STEREO_FRAMES) continue;
+        move_scene(ctx, &host, &standalone, k);
+        memset(view_list, 0, sizeof view_list);
+        for (v = 0; v < VIEWS; v++) {
+            /* Eyes 6 cm apart, turning with the frame. */
+            translucid_frame_info eye = frame_info(
+                &host, QUADS, orbit_camera(0.1f * (float)k + (v ? 0.03f : -0.03f)));
+            eye.method = method;
+            eye.camera.z_near = 0.5f;
+            render_expected(eye, &standalone, expected[at][v]);
+            view_list[v].camera = eye.camera;
+            view_list[v].colour_layer = view_list[v].depth_layer = v;
+        }
+        memset(&views, 0, sizeof views);
+        views.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_FRAME_VIEWS;
+        views.colour_layer_count = views.depth_layer_count = VIEWS;
+        views.view_count = VIEWS;
+        views.views = view_list;
+        info = frame_info(&host, QUADS, view_list[0].camera);
+        info.method = method;
+        info.frame_index = (uint64_t)k + 1;
+        t = targets_of(cmd, &g_slots[0]);
+        t.colour.image = im->colour;
+        t.depth.image = im->depth;
+        t.next = &views;
+        if (k == 0) prepare_for(ctx, &info, &t);
+        begin_commands(cmd);
+        shared_images_to(cmd, im, VK_IMAGE_LAYOUT_UNDEFINED,
+                         VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                         VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL);
+        for (v = 0; v < VIEWS; v++) {
+            VkBufferImageCopy c = region(VK_IMAGE_ASPECT_COLOR_BIT, 0, W, H);
+            VkBufferImageCopy d = region(VK_IMAGE_ASPECT_DEPTH_BIT, COLOUR_BYTES, W, H);
+            c.imageSubresource.baseArrayLayer = d.imageSubresource.baseArrayLayer = v;
+            vkCmdCopyBufferToImage(cmd, im->buffer, im->colour,
+                                   VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &c);
+            vkCmdCopyBufferToImage(cmd, im->buffer, im->depth,
+                                   VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &d);
+        }
+        shared_images_to(cmd, im, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                         VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                         VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
+        /* The frame info's camera is not read: the views give theirs. */
+        memset(&info.camera, 0, sizeof info.camera);
+        CHECK(ctx, translucid_frame_record(ctx, &info, &t, &frames[at]));
+        for (v = 0; v < VIEWS; v++) {
+            VkBufferImageCopy c =
+                region(VK_IMAGE_ASPECT_COLOR_BIT, readback + v * COLOUR_BYTES, W, H);
+            c.imageSubresource.baseArrayLayer = v;
+            vkCmdCopyImageToBuffer(cmd, im->colour, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                                   im->buffer, 1, &c);
+        }
+        copies_to_host(cmd);
+        submit_commands(cmd, g_slots[at].fence);
+        busy[at] = 1;
+    }
+    printf("method %d: stereo, %d frames of %d views with %d in flight, each view as the "
+           "standalone context renders it, no pipeline built\n",
+           (int)method, STEREO_FRAMES, VIEWS, MOST_IN_FLIGHT);
+    translucid_context_destroy(ctx);
+    for (i = 0; i < MOST_IN_FLIGHT; i++) destroy_shared_images(&images[i]);
+    destroy_scene(g_standalone, &standalone);
 }
 
 int main(void) {
@@ -1899,7 +2074,13 @@ int main(void) {
         for (n = 0; n < sizeof methods / sizeof methods[0]; n++) {
             background_prepare(methods[n]);
         }
-        for (n = 0; n < sizeof methods / sizeof methods[0]; n++) split_screen(methods[n]);
+        for (n = 0; n < sizeof methods / sizeof methods[0]; n++) {
+            split_screen(methods[n], 0);
+            split_screen(methods[n], 1);
+        }
+        for (n = 0; n < sizeof methods / sizeof methods[0]; n++) {
+            stereo_frames_in_flight(methods[n]);
+        }
     }
 
     translucid_context_destroy(g_standalone);

@@ -15,6 +15,8 @@ pub struct FrameRecord {
     pub in_flight: bool,
     /// The renderer that drew it (`Renderers`).
     pub renderer: u64,
+    /// Its views (engine's device): the renderer recorded each as a frame of its own.
+    pub views: u32,
     /// Ended without completing, by the abandonment of an earlier frame: no statistics.
     pub abandoned: bool,
     pub frame_index: u64,
@@ -44,6 +46,7 @@ impl FrameRecord {
             image: None,
             in_flight: true,
             renderer,
+            views: 1,
             abandoned: false,
             frame_index: index,
             stages: Vec::new(),
@@ -78,16 +81,26 @@ impl FrameRecord {
         }
     }
 
-    /// Takes what a completed frame on the engine's device reports.
-    pub fn completed(&mut self, done: HostFrame) {
+    /// Takes what a completed frame on the engine's device reports, for each of its views:
+    /// their times and counts added up, stage by stage.
+    pub fn completed(&mut self, views: Vec<HostFrame>) {
         self.in_flight = false;
-        self.method_ms = done.method_ms;
-        self.stages = done.stages;
-        self.peak_gpu_bytes = done.peak_gpu_bytes;
-        self.fragments = done.fragments;
-        self.tail_fragments = done.tail_fragments;
-        self.unpeeled_pixels = done.unpeeled_pixels;
-        self.overflowed = done.overflowed;
-        self.dispatches = done.dispatches;
+        let mut stages: Vec<(&'static str, f64)> = Vec::new();
+        for done in views {
+            for (name, ms) in done.stages {
+                match stages.iter_mut().find(|(n, _)| *n == name) {
+                    Some((_, total)) => *total += ms,
+                    None => stages.push((name, ms)),
+                }
+            }
+            self.method_ms += done.method_ms;
+            self.peak_gpu_bytes = self.peak_gpu_bytes.max(done.peak_gpu_bytes);
+            self.fragments += done.fragments;
+            self.tail_fragments += done.tail_fragments;
+            self.unpeeled_pixels += done.unpeeled_pixels;
+            self.overflowed |= done.overflowed;
+            self.dispatches += done.dispatches;
+        }
+        self.stages = stages;
     }
 }

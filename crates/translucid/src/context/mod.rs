@@ -19,12 +19,13 @@ pub mod handles;
 pub mod renderers;
 
 use crate::gpu::{Gpu, HostImage, HostTargets};
-use crate::scene::{Material, Mesh, Texture};
+use crate::scene::{Camera, Material, Mesh, Texture};
 use crate::{Error, OpaqueLayer, Result};
 use assets::{Assets, Destroyed, MaterialRecord};
 use flight::Flight;
 use frames::FrameRecord;
 use handles::{Kind, Slots};
+use crate::renderer::{HostFrame, Renderer};
 use renderers::{FrameRequest, Renderers};
 
 /// What completing a frame in flight found.
@@ -47,6 +48,13 @@ pub enum Recording {
     NativeBlend,
 }
 
+/// One view of a frame on the engine's device: its camera, and the engine's command buffer
+/// and images with the place (layers, corner) it is drawn in.
+pub struct HostView {
+    pub camera: Camera,
+    pub targets: HostTargets,
+}
+
 /// One device and every object made on it.
 pub struct Context {
     /// First, so that it is dropped first: its threads are waited for before anything they
@@ -58,6 +66,8 @@ pub struct Context {
     frames: Slots<FrameRecord>,
     /// Frames recorded on the engine's device and not yet completed.
     flight: Flight,
+    /// The most views a frame on the engine's device may have.
+    views_per_frame: u32,
     /// The largest frame index of a frame made so far.
     last_frame_index: u64,
     /// The pipelines alive at the last trim, kept for the renderers made after it.
@@ -85,17 +95,20 @@ impl MemoryUse {
 }
 
 impl Context {
-    /// A context on `gpu` for up to `frames_in_flight` frames in flight (engine's device;
-    /// standalone frames complete as they are made).
-    pub fn new(gpu: Gpu, frames_in_flight: u32) -> Self {
+    /// A context on `gpu` for up to `frames_in_flight` frames in flight of up to
+    /// `views_per_frame` views each (engine's device; standalone frames complete as they are
+    /// made, one view each). Each view of a frame in flight takes a slot of per-frame data
+    /// in the renderer that records it.
+    pub fn new(gpu: Gpu, frames_in_flight: u32, views_per_frame: u32) -> Self {
         let tag = handles::next_context_tag();
         Self {
             background: background::Background::default(),
             gpu,
             assets: Assets::new(tag),
-            renderers: Renderers::new(frames_in_flight),
+            renderers: Renderers::new(frames_in_flight * views_per_frame),
             frames: Slots::new(Kind::Frame, tag),
             flight: Flight::new(frames_in_flight),
+            views_per_frame,
             last_frame_index: 0,
             held_pipelines: None,
         }
@@ -251,11 +264,11 @@ impl Context {
         content: crate::methods::bins::features::DeclaredContent,
         engine_images: Option<(HostImage, HostImage)>,
     ) -> Result<(u64, u64)> {
-        self.check_engine_images(engine_images)?;
+        let engine_images = self.engine_image_sets(engine_images)?;
         let before = built_so_far(&self.gpu);
         self.renderers.declare(content);
         let kept = self.renderers.for_frame(&self.gpu, &self.assets, request)?;
-        if let Some((colour, depth)) = &engine_images {
+        for (colour, depth) in &engine_images {
             kept.renderer.prepare_host(colour, depth)?;
         }
         Ok(built_since(&self.gpu, before))
@@ -274,7 +287,7 @@ impl Context {
         content: crate::methods::bins::features::DeclaredContent,
         engine_images: Option<(HostImage, HostImage)>,
     ) -> Result<()> {
-        self.check_engine_images(engine_images)?;
+        let engine_images = self.engine_image_sets(engine_images)?;
         let inputs = self
             .renderers
             .inputs_for(&self.gpu, &self.assets, request, content)?;
@@ -292,9 +305,15 @@ impl Context {
         self.background.status()
     }
 
-    fn check_engine_images(&self, engine_images: Option<(HostImage, HostImage)>) -> Result<()> {
+    /// The engine images (colour, depth) that frames like `engine_images` record into,
+    /// checked: those, and where frames have several views, the same images as a later view
+    /// of a frame finds them (in their final layouts, where an earlier view left them).
+    fn engine_image_sets(
+        &self,
+        engine_images: Option<(HostImage, HostImage)>,
+    ) -> Result<Vec<(HostImage, HostImage)>> {
         let Some((colour, depth)) = engine_images else {
-            return Ok(());
+            return Ok(Vec::new());
         };
         if !self.gpu.is_host_device() {
             return Err(Error::InvalidArgument(
@@ -303,7 +322,23 @@ impl Context {
                     .into(),
             ));
         }
-        self.gpu.check_host_formats(&colour, &depth)
+        self.gpu.check_host_formats(&colour, &depth)?;
+        let mut sets = vec![(colour, depth)];
+        let later = (
+            HostImage {
+                layout: colour.final_layout,
+                ..colour
+            },
+            HostImage {
+                layout: depth.final_layout,
+                ..depth
+            },
+        );
+        let differs = later.0.layout != colour.layout || later.1.layout != depth.layout;
+        if self.views_per_frame > 1 && differs {
+            sets.push(later);
+        }
+        Ok(sets)
     }
 
     /// Renders `request` on translucid's own device, over `layer` (else over its opaque
@@ -338,44 +373,68 @@ impl Context {
         self.flight.room()
     }
 
-    /// Records `request` into the engine's command buffer of `targets` (the method, or the
-    /// yardstick), in flight until [`Self::complete`] or [`Self::abandon`]; the frame's
-    /// handle.
+    /// Records `request` into the engine's command buffer, once for each of `views` (the
+    /// method, or the yardstick), in flight until [`Self::complete`] or [`Self::abandon`];
+    /// the frame's handle. The views share the frame's uploads; each is recorded after the
+    /// one before it, with its own camera and its own slot of per-frame data.
     ///
     /// # Safety
-    /// As [`crate::renderer::Renderer::record_host`]: `targets` names a recording command
-    /// buffer outside a render pass and images of the frame's size or larger with the
-    /// documented usages, all of the engine's device this context wraps.
+    /// As [`crate::renderer::Renderer::record_host`], for each view: its targets name a
+    /// recording command buffer outside a render pass and images of the frame's size or
+    /// larger with the documented usages, all of the engine's device this context wraps;
+    /// an image a view shares with an earlier one is in the layout that one left it in.
     pub unsafe fn record(
         &mut self,
-        request: &FrameRequest,
-        targets: &HostTargets,
+        request: &mut FrameRequest,
+        views: &[HostView],
         recording: Recording,
     ) -> Result<u64> {
         self.flight_room()?;
-        let before = built_so_far(&self.gpu);
-        let kept = self.renderers.for_frame(&self.gpu, &self.assets, request)?;
-        let id = kept.id;
-        // SAFETY: the caller's, above.
-        let recorded = unsafe {
-            match recording {
-                Recording::Method => kept.renderer.record_host(targets),
-                Recording::NativeBlend => kept.renderer.record_native_blend(targets),
-            }
-        };
-        if let Err(e) = recorded {
-            // Part of the frame may be recorded (the engine resets its command buffer), and
-            // the renderer believes it: it takes no new frame.
-            self.renderers.retire(id);
-            return Err(e);
+        let count = views.len();
+        if count == 0 || count > self.views_per_frame as usize {
+            return Err(Error::InvalidArgument(format!(
+                "{count} view(s) in one frame; the context was made for 1 to {} \
+                 (translucid_host_device_create_info.views_per_frame)",
+                self.views_per_frame
+            )));
         }
-        kept.in_flight += 1;
+        let before = built_so_far(&self.gpu);
+        let mut renderer = None;
+        for view in views {
+            request.camera = view.camera;
+            let kept = self.renderers.for_frame(&self.gpu, &self.assets, request)?;
+            let id = kept.id;
+            // One renderer records every view: the assets and settings are the frame's.
+            if renderer.is_some_and(|r| r != id) {
+                self.renderers.retire(id);
+                return Err(Error::Internal(
+                    "the views of one frame went to different renderers".into(),
+                ));
+            }
+            renderer = Some(id);
+            // SAFETY: the caller's, above.
+            let recorded = unsafe {
+                match recording {
+                    Recording::Method => kept.renderer.record_host(&view.targets),
+                    Recording::NativeBlend => kept.renderer.record_native_blend(&view.targets),
+                }
+            };
+            if let Err(e) = recorded {
+                // Part of the frame may be recorded (the engine resets its command buffer),
+                // and the renderer believes it: it takes no new frame.
+                self.renderers.retire(id);
+                return Err(e);
+            }
+            kept.in_flight += 1;
+        }
+        let id = renderer.expect("at least one view");
         let size = (request.width, request.height);
         let mut record = FrameRecord::recorded(request.method, size, id, request.frame_index);
+        record.views = count as u32;
         record.built = built_since(&self.gpu, before);
         let handle = self.frames.insert(record).inspect_err(|_| {
             // Recorded but untracked: the renderer must not be trusted again.
-            self.renderers.frame_ended(id);
+            self.renderers.frames_abandoned(id, count);
             self.renderers.retire(id);
         })?;
         self.flight.recorded(handle);
@@ -416,6 +475,7 @@ impl Context {
             .renderers
             .get_mut(renderer)
             .ok_or_else(|| Error::Internal("the frame's renderer is gone".into()))?;
+        let views = self.frames.get(frame)?.views as usize;
         let done = if kept.failed {
             Err(Error::InvalidArgument(
                 "an earlier frame recorded with the same renderer failed to complete; this \
@@ -423,7 +483,7 @@ impl Context {
                     .into(),
             ))
         } else {
-            match kept.renderer.complete_host() {
+            match complete_views(&mut kept.renderer, views) {
                 Ok(None) => return Ok(Completion::NotReady),
                 Ok(Some(done)) => Ok(done),
                 Err(e) => {
@@ -434,7 +494,9 @@ impl Context {
         };
         // The commands ran: the frame's flight is over whatever the method reports.
         let failed = kept.failed;
-        self.renderers.frame_ended(renderer);
+        for _ in 0..views {
+            self.renderers.frame_ended(renderer);
+        }
         self.flight.oldest_completed();
         if failed {
             self.renderers.retire(renderer);
@@ -444,7 +506,7 @@ impl Context {
         let record = self.frames.get_mut(frame)?;
         record.in_flight = false;
         let done = done?;
-        let degraded = done.overflowed;
+        let degraded = done.iter().any(|view| view.overflowed);
         record.completed(done);
         let completion = built_since(&self.gpu, before);
         record.built = (record.built.0 + completion.0, record.built.1 + completion.1);
@@ -462,10 +524,11 @@ impl Context {
         self.frames.get(frame)?;
         let mut abandoned: Vec<(u64, usize)> = Vec::new();
         for f in self.flight.abandon(frame)? {
-            let renderer = self.frames.get(f)?.renderer;
+            let record = self.frames.get(f)?;
+            let (renderer, views) = (record.renderer, record.views as usize);
             match abandoned.iter_mut().find(|(id, _)| *id == renderer) {
-                Some((_, frames)) => *frames += 1,
-                None => abandoned.push((renderer, 1)),
+                Some((_, frames)) => *frames += views,
+                None => abandoned.push((renderer, views)),
             }
             if f == frame {
                 self.frames.remove(f)?;
@@ -475,7 +538,8 @@ impl Context {
                 record.abandoned = true;
             }
         }
-        // The frames abandoned are the newest in flight, so each renderer's are its newest.
+        // The frames abandoned are the newest in flight, so each renderer's are its newest
+        // (a view is a frame to a renderer).
         for (renderer, frames) in abandoned {
             self.renderers.frames_abandoned(renderer, frames);
         }
@@ -502,6 +566,22 @@ impl Context {
     fn note_frame_index(&mut self, index: u64) {
         self.last_frame_index = self.last_frame_index.max(index);
     }
+}
+
+/// Completes the oldest `views` frames `renderer` recorded: the views of one frame, in one
+/// command buffer. `None`, changing nothing, until all of them ran.
+fn complete_views(renderer: &mut Renderer, views: usize) -> Result<Option<Vec<HostFrame>>> {
+    if !renderer.host_frames_ran(views)? {
+        return Ok(None);
+    }
+    (0..views)
+        .map(|_| {
+            renderer.complete_host()?.ok_or_else(|| {
+                Error::Internal("a view that ran had no timestamps to read".into())
+            })
+        })
+        .collect::<Result<Vec<_>>>()
+        .map(Some)
 }
 
 /// What the device has built so far: pipelines created, and bytes of GPU memory allocated.

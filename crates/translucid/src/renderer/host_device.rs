@@ -313,6 +313,20 @@ impl Renderer {
         }))
     }
 
+    /// Whether the oldest `frames` frames recorded and not completed have all run (the views
+    /// of one engine frame, completed together). False when fewer are in flight.
+    pub fn host_frames_ran(&self, frames: usize) -> Result<bool> {
+        if frames > self.in_flight.len() {
+            return Ok(false);
+        }
+        for &(slot, _) in self.in_flight.iter().take(frames) {
+            if !self.completions[slot].ran()? {
+                return Ok(false);
+            }
+        }
+        Ok(true)
+    }
+
     /// The newest `frames` frames recorded and not completed will never run: the engine
     /// dropped their commands unsubmitted (as for an out-of-date swapchain), or let them
     /// finish without completing them. The renderer forgets them and keeps everything it
