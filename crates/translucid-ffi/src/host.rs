@@ -18,8 +18,8 @@ use crate::frame_input::frame_request;
 use crate::method::translucid_method;
 use crate::panic;
 use crate::result::{translucid_result, Failure, FfiResult};
-use crate::views::FrameViews;
 use crate::structure::translucid_structure_type;
+use crate::views::FrameViews;
 use crate::vulkan::{
     PFN_vkGetInstanceProcAddr, VkBool32, VkCommandBuffer, VkDevice, VkFormat, VkImage,
     VkImageLayout, VkInstance, VkPhysicalDevice, VkPhysicalDeviceFeatures, VkQueueFlags,

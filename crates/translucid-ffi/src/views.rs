@@ -347,4 +347,3 @@ fn image_layers(layers: &translucid_host_image_layers) -> FfiResult<(u32, u32)> 
     }
     Ok((layers.colour_layer, layers.depth_layer))
 }
-

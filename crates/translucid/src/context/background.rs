@@ -41,18 +41,18 @@ pub struct Background {
 
 impl Background {
     /// Starts building, on a new thread, the renderer `inputs` describe (with what its
-    /// first frame into each of `engine_images` builds); `content` is declared once it is taken in.
+    /// first frame into `engine_images` builds); `content` is declared once it is taken in.
     pub fn start(
         &mut self,
         inputs: RendererInputs,
-        engine_images: Vec<(HostImage, HostImage)>,
+        engine_images: Option<(HostImage, HostImage)>,
         content: DeclaredContent,
     ) -> Result<()> {
         let worker = std::thread::Builder::new()
             .name("translucid prepare".into())
             .spawn(move || {
                 let (built, pipelines) = crate::gpu::in_background(|| {
-                    let renderer = inputs.build(&engine_images)?;
+                    let renderer = inputs.build(engine_images)?;
                     // Held before the renderer goes: pipelines live while someone holds them.
                     let held = inputs.gpu().hold_pipelines();
                     drop(renderer);

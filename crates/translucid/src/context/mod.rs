@@ -19,13 +19,13 @@ pub mod handles;
 pub mod renderers;
 
 use crate::gpu::{Gpu, HostImage, HostTargets};
+use crate::renderer::{HostFrame, Renderer};
 use crate::scene::{Camera, Material, Mesh, Texture};
 use crate::{Error, OpaqueLayer, Result};
 use assets::{Assets, Destroyed, MaterialRecord};
 use flight::Flight;
 use frames::FrameRecord;
 use handles::{Kind, Slots};
-use crate::renderer::{HostFrame, Renderer};
 use renderers::{FrameRequest, Renderers};
 
 /// What completing a frame in flight found.
@@ -264,11 +264,11 @@ impl Context {
         content: crate::methods::bins::features::DeclaredContent,
         engine_images: Option<(HostImage, HostImage)>,
     ) -> Result<(u64, u64)> {
-        let engine_images = self.engine_image_sets(engine_images)?;
+        self.check_engine_images(engine_images)?;
         let before = built_so_far(&self.gpu);
         self.renderers.declare(content);
         let kept = self.renderers.for_frame(&self.gpu, &self.assets, request)?;
-        for (colour, depth) in &engine_images {
+        if let Some((colour, depth)) = &engine_images {
             kept.renderer.prepare_host(colour, depth)?;
         }
         Ok(built_since(&self.gpu, before))
@@ -287,7 +287,7 @@ impl Context {
         content: crate::methods::bins::features::DeclaredContent,
         engine_images: Option<(HostImage, HostImage)>,
     ) -> Result<()> {
-        let engine_images = self.engine_image_sets(engine_images)?;
+        self.check_engine_images(engine_images)?;
         let inputs = self
             .renderers
             .inputs_for(&self.gpu, &self.assets, request, content)?;
@@ -305,15 +305,9 @@ impl Context {
         self.background.status()
     }
 
-    /// The engine images (colour, depth) that frames like `engine_images` record into,
-    /// checked: those, and where frames have several views, the same images as a later view
-    /// of a frame finds them (in their final layouts, where an earlier view left them).
-    fn engine_image_sets(
-        &self,
-        engine_images: Option<(HostImage, HostImage)>,
-    ) -> Result<Vec<(HostImage, HostImage)>> {
+    fn check_engine_images(&self, engine_images: Option<(HostImage, HostImage)>) -> Result<()> {
         let Some((colour, depth)) = engine_images else {
-            return Ok(Vec::new());
+            return Ok(());
         };
         if !self.gpu.is_host_device() {
             return Err(Error::InvalidArgument(
@@ -322,23 +316,7 @@ impl Context {
                     .into(),
             ));
         }
-        self.gpu.check_host_formats(&colour, &depth)?;
-        let mut sets = vec![(colour, depth)];
-        let later = (
-            HostImage {
-                layout: colour.final_layout,
-                ..colour
-            },
-            HostImage {
-                layout: depth.final_layout,
-                ..depth
-            },
-        );
-        let differs = later.0.layout != colour.layout || later.1.layout != depth.layout;
-        if self.views_per_frame > 1 && differs {
-            sets.push(later);
-        }
-        Ok(sets)
+        self.gpu.check_host_formats(&colour, &depth)
     }
 
     /// Renders `request` on translucid's own device, over `layer` (else over its opaque
@@ -576,9 +554,9 @@ fn complete_views(renderer: &mut Renderer, views: usize) -> Result<Option<Vec<Ho
     }
     (0..views)
         .map(|_| {
-            renderer.complete_host()?.ok_or_else(|| {
-                Error::Internal("a view that ran had no timestamps to read".into())
-            })
+            renderer
+                .complete_host()?
+                .ok_or_else(|| Error::Internal("a view that ran had no timestamps to read".into()))
         })
         .collect::<Result<Vec<_>>>()
         .map(Some)

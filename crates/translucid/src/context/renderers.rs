@@ -144,11 +144,11 @@ impl RendererInputs {
         &self.gpu
     }
 
-    /// Makes the renderer, and for each of `engine_images` (colour, depth) what its first
-    /// frame into such images builds ([`Renderer::prepare_host`]).
+    /// Makes the renderer, and with `engine_images` (colour, depth) what its first frame
+    /// into such images builds ([`Renderer::prepare_host`]).
     pub fn build(
         &self,
-        engine_images: &[(crate::gpu::HostImage, crate::gpu::HostImage)],
+        engine_images: Option<(crate::gpu::HostImage, crate::gpu::HostImage)>,
     ) -> Result<Renderer> {
         let mut renderer = Renderer::sharing(
             &self.gpu,
@@ -158,8 +158,8 @@ impl RendererInputs {
             self.shape,
             &self.options,
         )?;
-        for (colour, depth) in engine_images {
-            renderer.prepare_host(colour, depth)?;
+        if let Some((colour, depth)) = engine_images {
+            renderer.prepare_host(&colour, &depth)?;
         }
         Ok(renderer)
     }
