@@ -95,8 +95,8 @@
 #define TRANSLUCID_CONTEXT_CREATE_SOFTWARE_SAMPLING 8
 
 /**
- * Most frames in flight a host-device context takes: the engine's frames in flight times the
- * views it records in each (4 frames of 4 views, 3 frames of stereo with the yardstick).
+ * Most frames in flight a host-device context takes, times its views per frame
+ * (`translucid_host_device_create_info::views_per_frame`): 4 frames of 4 views, 8 of stereo.
  */
 #define TRANSLUCID_MAX_FRAMES_IN_FLIGHT 16
 
@@ -1972,9 +1972,10 @@ translucid_result translucid_host_get_method_requirements(uint32_t method,
  * colour and depth from the engine's images, composite the transparent draws over the
  * colour, copy the result into the colour image and leave both images in their
  * `final_layout` (`TRANSLUCID_METHOD_BLEND` draws straight into the images instead,
- * where the colour format blends: one stage, "blend"). `info->opaque_layer` must be NULL and no draw opaque; `info->width` and
- * `height` are the frame's size, which covers the top-left corner of the images (all of
- * them when they are that size).
+ * where the colour format blends: one stage, "blend"). `info->opaque_layer` must be
+ * NULL and no draw opaque; `info->width` and `height` are the frame's size (each
+ * view's), which covers the top-left corner of the images (all of them when they are
+ * that size) unless a structure chained to `targets` places it.
  *
  * The engine's obligations:
  * - The command buffer is recording, outside any render pass, and its pool is not used
@@ -1989,9 +1990,14 @@ translucid_result translucid_host_get_method_requirements(uint32_t method,
  *   overwritten. Depth is the frame camera's (`translucid_camera`): the engine's
  *   projection matrix, or the field-of-view perspective, with the same jitter.
  *
+ * Views: a frame of several views (stereo, a split screen) chains a
+ * `translucid_host_frame_views` to `targets`; the views share the frame's uploads, and
+ * the frame is one frame in flight. Views may also be recorded as frames of their own,
+ * each counting as a frame in flight.
+ *
  * Frames in flight: up to the context's `frames_in_flight` frames may be recorded and
- * not completed, in one command buffer or several (two views of one engine frame are
- * two frames); past that, recording returns `TRANSLUCID_RESULT_ERROR_FRAME_IN_FLIGHT`.
+ * not completed, in one command buffer or several; past that, recording returns
+ * `TRANSLUCID_RESULT_ERROR_FRAME_IN_FLIGHT`.
  * Submit them to one queue in the order they were recorded. Each frame's own data
  * (draws, constants, counters, timestamps) has a slot of its own; the working buffers
  * are shared, so the frames run one after another on the GPU. A frame uses the

@@ -83,8 +83,8 @@ pub struct translucid_context_create_info {
     pub pipeline_cache_size: usize,
 }
 
-/// Most frames in flight a host-device context takes: the engine's frames in flight times the
-/// views it records in each (4 frames of 4 views, 3 frames of stereo with the yardstick).
+/// Most frames in flight a host-device context takes, times its views per frame
+/// (`translucid_host_device_create_info::views_per_frame`): 4 frames of 4 views, 8 of stereo.
 pub const TRANSLUCID_MAX_FRAMES_IN_FLIGHT: u32 = 16;
 const _: () =
     assert!(TRANSLUCID_MAX_FRAMES_IN_FLIGHT == translucid::renderer::MAX_FRAMES_IN_FLIGHT);
