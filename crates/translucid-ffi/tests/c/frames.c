@@ -10,8 +10,8 @@
  * 2. Two views (cameras) in one command buffer, each over its own images.
  * 3. The engine's own projection: reversed-Z with an infinite far plane, and a jitter.
  * 4. A mesh destroyed while a frame that draws it is in flight.
- * 5. Misuse: too many frames in flight, abandoning a frame between others, bad updates,
- *    preparing for images no frame could record into.
+ * 5. Misuse: too many frames in flight or views, abandoning a frame between others, bad
+ *    updates, preparing for images no frame could record into, views that cannot be.
  * 6. Every depth format an engine may hand over, with forward and reversed-Z depth, each
  *    prepared for (translucid_host_image_formats): its frame builds no pipeline. For exact,
  *    which samples the engine's depth, and linked_list, which imports it.
@@ -734,6 +734,16 @@ static void misuse(void) {
     create.frames_in_flight = TRANSLUCID_MAX_FRAMES_IN_FLIGHT + 1;
     EXPECT(NULL, translucid_context_create(&create, &ctx), TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
     TRUE_OR_FAIL(strstr(translucid_context_get_last_error(NULL), "frames_in_flight") != NULL);
+    /* Views past TRANSLUCID_MAX_VIEWS, or past the slots with the frames in flight. */
+    create.frames_in_flight = 1;
+    hd.views_per_frame = TRANSLUCID_MAX_VIEWS + 1;
+    EXPECT(NULL, translucid_context_create(&create, &ctx), TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    TRUE_OR_FAIL(strstr(translucid_context_get_last_error(NULL), "views_per_frame") != NULL);
+    create.frames_in_flight = TRANSLUCID_MAX_FRAMES_IN_FLIGHT / 2 + 1;
+    hd.views_per_frame = 2;
+    EXPECT(NULL, translucid_context_create(&create, &ctx), TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+    TRUE_OR_FAIL(strstr(translucid_context_get_last_error(NULL), "views_per_frame") != NULL);
+    hd.views_per_frame = 0;
     create.mode = TRANSLUCID_CONTEXT_MODE_STANDALONE;
     create.next = NULL;
     create.frames_in_flight = 2;
@@ -847,6 +857,57 @@ static void misuse(void) {
         EXPECT(ctx, translucid_frame_record(ctx, &info, &t, &extra),
                TRANSLUCID_RESULT_ERROR_INVALID_STRUCTURE_TYPE);
         TRUE_OR_FAIL(strstr(translucid_context_get_last_error(ctx), "chained twice") != NULL);
+        VK_CHECK(vkResetCommandBuffer(g_slots[0].cmd, 0));
+    }
+
+    /* Frames of several views that cannot be: refused before anything is recorded. */
+    {
+        translucid_host_frame_targets t = targets_of(g_slots[0].cmd, &g_slots[0]);
+        translucid_host_image_region place;
+        translucid_frame_view list[2];
+        translucid_host_frame_views views;
+        const char *message;
+        memset(list, 0, sizeof list);
+        list[0].camera = list[1].camera = info.camera;
+        memset(&views, 0, sizeof views);
+        views.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_FRAME_VIEWS;
+        views.views = list;
+        t.next = &views;
+        /* No view. */
+        EXPECT(ctx, translucid_frame_record(ctx, &info, &t, &extra),
+               TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+        TRUE_OR_FAIL(strstr(translucid_context_get_last_error(ctx), "view_count is 0") != NULL);
+        /* Two views in one place. */
+        views.view_count = 2;
+        EXPECT(ctx, translucid_frame_record(ctx, &info, &t, &extra),
+               TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+        message = translucid_context_get_last_error(ctx);
+        TRUE_OR_FAIL(strstr(message, "views[1] overlaps views[0]") != NULL);
+        /* A layer past the count given. */
+        list[1].colour_layer = list[1].depth_layer = 1;
+        EXPECT(ctx, translucid_frame_record(ctx, &info, &t, &extra),
+               TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+        TRUE_OR_FAIL(strstr(translucid_context_get_last_error(ctx), "views[1]: colour_layer") !=
+                     NULL);
+        /* More views than the context was made for (1). */
+        views.colour_layer_count = views.depth_layer_count = 2;
+        EXPECT(ctx, translucid_frame_record(ctx, &info, &t, &extra),
+               TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+        TRUE_OR_FAIL(strstr(translucid_context_get_last_error(ctx), "views_per_frame") != NULL);
+        /* A view without a camera. */
+        memset(&list[1].camera, 0, sizeof list[1].camera);
+        EXPECT(ctx, translucid_frame_record(ctx, &info, &t, &extra),
+               TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+        TRUE_OR_FAIL(strstr(translucid_context_get_last_error(ctx), "views[1]: translucid_camera") !=
+                     NULL);
+        /* Views with a region besides. */
+        memset(&place, 0, sizeof place);
+        place.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_IMAGE_REGION;
+        place.next = &views;
+        t.next = &place;
+        EXPECT(ctx, translucid_frame_record(ctx, &info, &t, &extra),
+               TRANSLUCID_RESULT_ERROR_INVALID_STRUCTURE_TYPE);
+        TRUE_OR_FAIL(strstr(translucid_context_get_last_error(ctx), "alone") != NULL);
         VK_CHECK(vkResetCommandBuffer(g_slots[0].cmd, 0));
     }
 
