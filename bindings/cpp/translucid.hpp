@@ -266,12 +266,13 @@ public:
         return subgroups;
     }
     /// A context on the engine's device, taking up to `frames_in_flight` frames recorded and
-    /// not completed (the engine's frames in flight times its views); `s_type` is filled in
-    /// for you. Destroy the Context before the engine's device: that destroys every object
-    /// made with it, whichever wrappers the engine still holds.
+    /// not completed, each of up to `views_per_frame` views (record with views); `s_type` is
+    /// filled in for you. Destroy the Context before the engine's device: that destroys every
+    /// object made with it, whichever wrappers the engine still holds.
     static Context host(translucid_host_device_create_info device,
-                        std::uint32_t frames_in_flight = 1) {
+                        std::uint32_t frames_in_flight = 1, std::uint32_t views_per_frame = 1) {
         device.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_CREATE_INFO;
+        device.views_per_frame = views_per_frame;
         translucid_context_create_info info{};
         info.s_type = TRANSLUCID_STRUCTURE_TYPE_CONTEXT_CREATE_INFO;
         info.header_version = TRANSLUCID_HEADER_VERSION;
@@ -389,6 +390,24 @@ public:
         detail::check(translucid_frame_record(get(), &info, &targets, &frame), get(),
                       "translucid_frame_record");
         return Frame(context_, frame);
+    }
+
+    /// Host-device mode: records one frame of several views (stereo, a split screen), each
+    /// with its own camera, layer and corner in the targets' images, whose layer counts are
+    /// `colour_layers` and `depth_layers` (translucid_host_frame_views, chained to `targets`
+    /// in place of anything chained there; `info.camera` is not read). The frame is one
+    /// frame in flight and completes once.
+    [[nodiscard]] Frame record(translucid_frame_info info, translucid_host_frame_targets targets,
+                               const std::vector<translucid_frame_view> &views,
+                               std::uint32_t colour_layers = 1, std::uint32_t depth_layers = 1) {
+        translucid_host_frame_views chain{};
+        chain.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_FRAME_VIEWS;
+        chain.colour_layer_count = colour_layers;
+        chain.depth_layer_count = depth_layers;
+        chain.view_count = static_cast<std::uint32_t>(views.size());
+        chain.views = views.data();
+        targets.next = &chain;
+        return record(info, targets);
     }
 
     /// Host-device mode, for measuring: records native_blend, the yardstick (the engine's

@@ -171,10 +171,17 @@ translucid_host_frame_targets targets_of(const Slot &s) {
 }
 
 // Records the slot's whole frame (opaque, translucid, readback) and submits it.
-void record_and_submit(translucid::Context &host, Slot &s, const translucid_frame_info &info) {
+// With `views`, the frame is recorded as a frame of those views (its info's camera not read).
+void record_and_submit(translucid::Context &host, Slot &s, translucid_frame_info info,
+                       const std::vector<translucid_frame_view> *views = nullptr) {
     begin_commands(s.cmd);
     record_opaque(s);
-    s.frame = host.record(info, targets_of(s));
+    if (views != nullptr) {
+        info.camera = translucid_camera{};
+        s.frame = host.record(info, targets_of(s), *views);
+    } else {
+        s.frame = host.record(info, targets_of(s));
+    }
     const VkBufferImageCopy colour = region(VK_IMAGE_ASPECT_COLOR_BIT, 0, W, H);
     vkCmdCopyImageToBuffer(s.cmd, s.colour, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, s.readback, 1,
                            &colour);
@@ -273,10 +280,13 @@ void frames_in_flight(translucid::Context &host, translucid::Context &standalone
     slots[1].frame.reset();
     for (std::uint32_t i = 0; i < IN_FLIGHT; i++) VK_CHECK(vkResetCommandBuffer(slots[i].cmd, 0));
 
-    // The context takes frames again, and they come out right.
+    // The context takes frames again, and they come out right: this one recorded as a frame
+    // of views (one, with the frame's camera; the frame info's is left zero).
     Slot &s = slots[0];
     s.expected = standalone.render(reference.frame(frames + 3)).read_rgba8();
-    record_and_submit(host, s, engine.frame(frames + 3));
+    std::vector<translucid_frame_view> views(1);
+    views[0].camera = engine.frame(frames + 3).camera;
+    record_and_submit(host, s, engine.frame(frames + 3), &views);
     wait_fence(s.fence);
     TRUE_OR_FAIL(s.frame.complete() == translucid::Frame::Completion::done);
     compare(s, "a frame after an abandoned pair");
