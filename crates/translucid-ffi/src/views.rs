@@ -347,3 +347,21 @@ fn image_layers(layers: &translucid_host_image_layers) -> FfiResult<(u32, u32)> 
     }
     Ok((layers.colour_layer, layers.depth_layer))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn at(x: i32, y: i32) -> vk::Offset2D {
+        vk::Offset2D { x, y }
+    }
+
+    #[test]
+    fn views_side_by_side_do_not_overlap_and_a_shared_pixel_does() {
+        let size = (48, 36);
+        assert!(!overlap(at(0, 0), at(48, 0), size));
+        assert!(!overlap(at(0, 0), at(0, 36), size));
+        assert!(overlap(at(0, 0), at(47, 35), size));
+        assert!(overlap(at(10, 5), at(0, 0), size));
+    }
+}

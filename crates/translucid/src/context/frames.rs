@@ -104,3 +104,39 @@ impl FrameRecord {
         self.stages = stages;
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn view(stages: Vec<(&'static str, f64)>, fragments: u64, overflowed: bool) -> HostFrame {
+        HostFrame {
+            method_ms: stages.iter().map(|(_, ms)| ms).sum(),
+            stages,
+            peak_gpu_bytes: 100,
+            fragments,
+            triangles: 0,
+            dispatches: 10,
+            tail_fragments: 0,
+            unpeeled_pixels: 0,
+            bands: 1,
+            degraded_rows: 0,
+            overflowed,
+        }
+    }
+
+    #[test]
+    fn a_frame_of_views_adds_up_their_stages_and_counts() {
+        let mut record = FrameRecord::recorded(MethodKind::Exact, (48, 36), 1, 0);
+        record.views = 2;
+        record.completed(vec![
+            view(vec![("setup", 1.0), ("raster", 2.0)], 5, false),
+            view(vec![("setup", 0.5), ("raster", 3.0)], 7, true),
+        ]);
+        assert_eq!(record.stages, [("setup", 1.5), ("raster", 5.0)]);
+        assert_eq!(record.method_ms, 6.5);
+        assert_eq!((record.fragments, record.dispatches), (12, 20));
+        assert_eq!(record.peak_gpu_bytes, 100);
+        assert!(record.overflowed && !record.in_flight);
+    }
+}
