@@ -1475,13 +1475,16 @@ typedef struct translucid_linked_list_settings {
      */
     const void *next;
     /**
-     * The node pool, in fragments (28 bytes each). 0 (the default) sizes the pool from the
-     * frame's expected fragments (a quarter to spare), again whenever the transparent draws
-     * grow by a quarter (assets streamed in: right on their first frame, frames in flight
-     * included), and grows it when a frame overflows all the same (the same draws seen
-     * deeper, as a camera moving into a cloud): that frame is rendered again (standalone) or
+     * The node pool, in fragments (28 bytes each). 0 (the default) sizes the pool from each
+     * frame's expected fragments before the frame is recorded (its transparent quads' area on
+     * screen, from a sample of at most 4096 of them; a quarter to spare, grown with half to
+     * spare), so that a frame is right on its first recording, frames in flight included,
+     * when assets stream in or the same draws are seen deeper (a camera moving into a
+     * cloud). A frame with more fragments than that all the same (a sample that missed what
+     * is dense), or whose growth a memory budget refuses, is rendered again (standalone) or
      * completes with `TRANSLUCID_RESULT_FRAME_DEGRADED` (host device), its tail counted, and
-     * later frames are exact. A budget stays as given: the fragments past it are blended unsorted and counted
+     * the pool grows for later frames. A budget stays as given: the fragments past it are
+     * blended unsorted and counted
      * (`translucid_frame_statistics::tail_fragments`). At most one storage buffer's worth of
      * nodes; past it, `TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT`.
      */

@@ -1609,3 +1609,74 @@ fn an_engine_that_asks_for_the_software_sampler_keeps_it() {
 fn lavapipe_draws_a_plain_frame() {
     translucid_tests::draw_one_plain_frame();
 }
+
+/// linked_list, whose pool the frames before could not have sized: a camera moving into a
+/// cloud of particles (the same draws, more of the screen and more layers every frame), 3
+/// frames in flight, each recorded once. The pool is sized from each frame's estimate before
+/// it is recorded: no frame overflows or blends a fragment unsorted. (depth_peeling's limit,
+/// 64 layers past the frames before, is passed by this cloud's first frame: 576 pixels.)
+#[test]
+fn a_camera_moving_into_a_cloud_is_right_on_every_frame_in_flight() {
+    const FRAMES: usize = 9;
+    const IN_FLIGHT: usize = 3;
+    let scene = translucid::scene::load("particles").expect("generated scene");
+    // Along the camera's axis, from where it stands to a tenth of the way from the cloud's
+    // centre.
+    let centre = {
+        let points: Vec<Vec3> = scene
+            .transparent
+            .iter()
+            .flat_map(|d| {
+                scene.meshes[d.mesh]
+                    .positions
+                    .iter()
+                    .map(|&p| d.transform.transform_point3(p))
+            })
+            .collect();
+        points.iter().copied().sum::<Vec3>() / points.len() as f32
+    };
+    let depth = -scene.camera.view.transform_point3(centre).z;
+    let frame_scene = |f: usize| {
+        let mut s = scene.clone();
+        let forward = depth * 0.9 * f as f32 / (FRAMES - 1) as f32;
+        s.camera.view = Mat4::from_translation(Vec3::new(0.0, 0.0, forward)) * scene.camera.view;
+        s
+    };
+    let layer = OpaqueLayer::clear(W, H, scene.background);
+    let engine = Engine::new();
+    {
+        let kind = MethodKind::LinkedList;
+        // SAFETY: the engine's live objects, outliving `gpu` (dropped at the end of the block).
+        let gpu = unsafe { Gpu::from_host(&engine.host_device()) }.expect("host device");
+        let images = EngineImages::of_layer(&gpu, &layer, IN_FLIGHT).expect("engine images");
+        let options = MethodOptions::default();
+        let mut renderer =
+            Renderer::with_frames_in_flight(&gpu, &scene, kind, W, H, &options, IN_FLIGHT as u32)
+                .expect("renderer");
+        let mut fragments = Vec::new();
+        for first in (0..FRAMES).step_by(IN_FLIGHT) {
+            let batch = first..(first + IN_FLIGHT).min(FRAMES);
+            for (k, f) in batch.clone().enumerate() {
+                renderer
+                    .set_frame(&frame_scene(f).frame_input())
+                    .expect("set frame");
+                record_engine_frame(&engine, &gpu, &images, &mut renderer, k);
+            }
+            for (f, done) in batch.zip(submit_and_complete(&engine, &mut renderer, IN_FLIGHT)) {
+                assert!(
+                    !done.overflowed && done.tail_fragments == 0,
+                    "{kind:?}, frame {f}: {done:?}"
+                );
+                fragments.push(done.fragments);
+            }
+        }
+        // The camera did come into the cloud: the deepest frame has three times the first's
+        // fragments (the last ones fewer: part of the cloud is behind it).
+        let deepest = fragments.iter().copied().max().unwrap_or(0);
+        assert!(
+            deepest > 3 * fragments[0],
+            "fragments per frame: {fragments:?}"
+        );
+    }
+    assert_no_validation_errors();
+}

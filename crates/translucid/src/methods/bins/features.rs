@@ -366,7 +366,7 @@ pub fn hardware_sampling(
 }
 
 /// Quads the estimate of [`estimate`] looks at, at most: every k-th of larger scenes, scaled.
-const ESTIMATE_QUADS: u64 = 1 << 16;
+pub const ESTIMATE_QUADS: u64 = 1 << 16;
 
 /// What a frame of a scene is expected to put in the bins, before any frame has counted it.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -378,9 +378,9 @@ pub struct FrameEstimate {
 }
 
 /// About how many fragments the scene's transparent draws put over a `width` x `height`
-/// frame ([`estimate`]).
-pub fn estimated_fragments(scene: &Scene, width: u32, height: u32) -> u64 {
-    estimate(scene, width, height).fragments
+/// frame ([`estimate`]), from at most `most_quads` of their quads (every k-th, scaled).
+pub fn estimated_fragments(scene: &Scene, width: u32, height: u32, most_quads: u64) -> u64 {
+    estimate_sampled(scene, width, height, most_quads).fragments
 }
 
 /// What the scene's transparent draws put over a `width` x `height` frame, about: their
@@ -390,24 +390,33 @@ pub fn estimated_fragments(scene: &Scene, width: u32, height: u32) -> u64 {
 /// about its area / BIN_SIZE and a block per row. It ignores what the opaque layer hides
 /// and what faces away.
 pub fn estimate(scene: &Scene, width: u32, height: u32) -> FrameEstimate {
+    estimate_sampled(scene, width, height, ESTIMATE_QUADS)
+}
+
+/// [`estimate`] from at most `most_quads` of the quads (every k-th of larger scenes, scaled):
+/// rougher, and cheaper where it is made every frame.
+pub fn estimate_sampled(scene: &Scene, width: u32, height: u32, most_quads: u64) -> FrameEstimate {
     let view_projection = scene.camera.view_projection(width, height);
     let quads: u64 = scene
         .transparent
         .iter()
         .map(|d| scene.meshes[d.mesh].quads.len() as u64)
         .sum();
-    let stride = quads.div_ceil(ESTIMATE_QUADS).max(1);
+    let stride = quads.div_ceil(most_quads.max(1)).max(1);
     let mut area = 0.0f64;
     let mut triangle_rows = 0.0f64;
-    let mut index = 0u64;
+    // Quads seen so far; every `stride`-th of them is looked at (the stride-th, the
+    // 2 stride-th, ...), without walking the others.
+    let mut seen = 0u64;
     for draw in &scene.transparent {
-        let mvp = model_view_projection(&view_projection, &draw.transform);
         let mesh = &scene.meshes[draw.mesh];
-        for quad in &mesh.quads {
-            index += 1;
-            if index % stride != 0 {
-                continue;
-            }
+        let first = (stride - 1 - seen % stride) as usize;
+        seen += mesh.quads.len() as u64;
+        if first >= mesh.quads.len() {
+            continue;
+        }
+        let mvp = model_view_projection(&view_projection, &draw.transform);
+        for quad in mesh.quads.iter().skip(first).step_by(stride as usize) {
             let clip = quad.map(|v| clip_position(&mvp, mesh.positions[v as usize]));
             let lone = quad[3] == quad[2] || quad[3] == quad[0];
             let footprint = if clip.iter().all(|c| c.w > 0.0) {
@@ -784,27 +793,52 @@ mod tests {
             scene
         };
         // Ten layers far wider than the screen: ten fragments a pixel, not their whole area.
-        let full = estimated_fragments(&quad(-1.0, 50.0), 64, 48);
+        let full = estimated_fragments(&quad(-1.0, 50.0), 64, 48, ESTIMATE_QUADS);
         assert_eq!(full, 10 * 64 * 48);
         // Their bin entries: a block for every 8 pixels of a row, and one more for each row
         // of each of a quad's two triangles.
         let entries = estimate(&quad(-1.0, 50.0), 64, 48).bin_entries;
         assert_eq!(entries, 10 * (64 * 48 / 8 + 2 * 48));
         // Ten small layers: about their area.
-        let small = estimated_fragments(&quad(-1.0, 0.1), 64, 48) as f64;
+        let small = estimated_fragments(&quad(-1.0, 0.1), 64, 48, ESTIMATE_QUADS) as f64;
         let side = 0.2 / (2.0 * 4.0 * (0.4f64).tan()) * 48.0;
         assert!((small / (10.0 * side * side) - 1.0).abs() < 0.05, "{small}");
         // Behind the eye: nothing.
-        assert_eq!(estimated_fragments(&quad(5.0, 50.0), 64, 48), 0);
+        assert_eq!(
+            estimated_fragments(&quad(5.0, 50.0), 64, 48, ESTIMATE_QUADS),
+            0
+        );
         // Through the camera plane: what lies beyond the near plane. (Such quads counted
         // nothing, and a frame of 200 of them started with bin lists 50 bands short.)
         let mut floor = quad(-1.0, 50.0);
         floor.camera = crate::scene::Camera::look_at(Vec3::Z * 3.0, Vec3::NEG_Y, 0.8, 0.1, 20.0);
-        let through = estimated_fragments(&floor, 64, 48);
+        let through = estimated_fragments(&floor, 64, 48, ESTIMATE_QUADS);
         assert!(
             through > 5 * 64 * 48 && through <= 10 * 64 * 48,
             "{through}"
         );
+    }
+
+    /// A sample of the quads, scaled, estimates what all of them do where they are alike:
+    /// every k-th quad across the draws (a draw with none of them sampled included).
+    #[test]
+    fn a_sampled_estimate_scales_every_kth_quad() {
+        let mut scene = crate::scene::generated::generate("spheres").expect("scene");
+        scene.transparent.truncate(1);
+        let mesh = scene.transparent[0].mesh;
+        let quads = scene.meshes[mesh].quads.len() as u64;
+        let one = estimated_fragments(&scene, 64, 48, ESTIMATE_QUADS);
+        // The same draw 12 times: every third quad of 12 x quads, scaled by 3.
+        let draw = scene.transparent[0].clone();
+        scene.transparent = vec![draw; 12];
+        let all = estimated_fragments(&scene, 64, 48, 12 * quads);
+        let sampled = estimated_fragments(&scene, 64, 48, 4 * quads);
+        assert!(all.abs_diff(12 * one) <= 12, "{all} against 12 x {one}");
+        let ratio = sampled as f64 / all as f64;
+        assert!((ratio - 1.0).abs() < 0.02, "{sampled} of {all}");
+        // Fewer quads looked at than draws: some draws have none, and the rest stand for them.
+        let sparse = estimated_fragments(&scene, 64, 48, 5);
+        assert!(sparse > 0, "{sparse}");
     }
 
     const EIGHT: Subgroups = Subgroups {

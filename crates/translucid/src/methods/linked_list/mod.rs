@@ -8,17 +8,19 @@
 //!
 //! The pool holds `capacity` nodes. A fragment past it is blended at once, unsorted, over the
 //! opaque layer (a tail the sorted nodes are then composited over) and counted
-//! ([`super::FrameCheck::tail_fragments`]). By default the pool is sized from the frame's
-//! expected fragments, sized so again when the transparent quads grow by a quarter (content
-//! streamed in, which the frames in flight have not counted), and grows for later frames when
-//! a frame finds it too small (that frame is rendered again, standalone, or completes
-//! degraded on an engine's device, its tail counted); with
+//! ([`super::FrameCheck::tail_fragments`]). By default the pool is sized from each frame's
+//! expected fragments before it is recorded (a sample of its quads' area on screen: content
+//! streamed in, or the same draws seen nearer, which the frames in flight have not counted),
+//! and grows for later frames when a frame finds it too small all the same (that frame is
+//! rendered again, standalone, or completes degraded on an engine's device, its tail
+//! counted); with
 //! [`LinkedListOptions::node_budget`] it stays as given. Within its pool the result is exact.
 //! The passes reach the pool through a storage binding while it fits one (128 MB: 4.8
 //! million nodes on lavapipe), and through a storage texel view past it, whose stores cost
 //! more there: the larger of the two bounds the pool (on lavapipe the view, 512 MB: 19
 //! million nodes; on devices whose storage bindings reach further, the binding).
 
+use super::bins::features::ESTIMATE_QUADS;
 use super::{FrameCheck, FrameDone, FrameSetup, Method, RecordContext};
 use crate::assets::GpuScene;
 use crate::frame::FrameTargets;
@@ -125,8 +127,6 @@ pub struct LinkedList {
     /// Per frame slot, the pool its frame was recorded with.
     recorded: Vec<u32>,
     fixed: bool,
-    /// Transparent quads when the pool was last sized from the host's estimate.
-    estimated_quads: u32,
     /// `LinkedListOptions::nodes_as_texels`.
     texels_forced: bool,
     retirement: Retirement,
@@ -184,7 +184,10 @@ impl LinkedList {
                 )))
             }
             Some(budget) => budget,
-            None => expected_nodes(scene, targets, most),
+            None => {
+                let expected = expected_fragments(scene, targets, ESTIMATE_QUADS);
+                pool_for(expected, 0.25, targets, most)
+            }
         } as u32;
         let layouts = Layouts {
             append: DescriptorLayout::declared(
@@ -235,7 +238,6 @@ impl LinkedList {
             lists,
             counters,
             fixed: options.node_budget.is_some(),
-            estimated_quads: gpu_scene.transparent_quads,
             texels_forced: options.nodes_as_texels,
             retirement: Retirement::default(),
         })
@@ -309,12 +311,21 @@ impl LinkedList {
     }
 }
 
-/// The pool a frame of `scene` into `targets` is expected to need: its expected fragments
-/// and a quarter more, at least a node a pixel, at most `most`.
-fn expected_nodes(scene: &Scene, targets: &FrameTargets, most: u64) -> u64 {
+/// Quads of the scene each frame's estimate looks at, at most (every k-th of larger scenes):
+/// a check made every frame, kept to some tens of microseconds.
+const FRAME_ESTIMATE_QUADS: u64 = 1 << 12;
+
+/// The fragments a frame of `scene` into `targets` is expected to have, from at most
+/// `most_quads` of its quads.
+fn expected_fragments(scene: &Scene, targets: &FrameTargets, most_quads: u64) -> u64 {
     let (width, height) = (targets.extent.width, targets.extent.height);
-    let expected = super::bins::features::estimated_fragments(scene, width, height);
-    (expected + expected / 4)
+    super::bins::features::estimated_fragments(scene, width, height, most_quads)
+}
+
+/// A pool for `fragments` expected fragments and `spare` (a fraction) more, at least a node
+/// a pixel, at most `most`.
+fn pool_for(fragments: u64, spare: f64, targets: &FrameTargets, most: u64) -> u64 {
+    (fragments + (fragments as f64 * spare) as u64)
         .max(targets.capacity_pixels())
         .min(most)
 }
@@ -325,25 +336,32 @@ impl Method for LinkedList {
     }
 
     fn set_frame(&mut self, f: &FrameSetup<'_>) -> Result<()> {
-        // Transparent content a quarter past what the pool was last sized for: sized now from
-        // the host's estimate, as the first frame was, so that the frame is right on its
-        // first recording also when the frames in flight before it cannot have counted it.
-        let quads = f.gpu_scene.transparent_quads;
-        if self.fixed
-            || quads
-                <= self
-                    .estimated_quads
-                    .saturating_add(self.estimated_quads / 4)
-        {
+        // Sized from the frame's own estimate before it is recorded, so that it is right on
+        // its first recording also where the frames in flight before it saw less: content
+        // streamed in, or the same draws seen nearer (a camera moving into a cloud). Grown
+        // with half to spare, so that a camera coming closer frame by frame regrows rarely.
+        if self.fixed {
             return Ok(());
         }
-        self.estimated_quads = quads;
-        let capacity = expected_nodes(f.scene, f.targets, most_nodes(&self.gpu)) as u32;
-        if capacity > self.lists.capacity {
-            log::info!("linked_list: the transparent draws grew; the pool grows to {capacity}");
-            self.grow(f.gpu_scene, f.targets, capacity)?;
+        let expected = expected_fragments(f.scene, f.targets, FRAME_ESTIMATE_QUADS);
+        let most = most_nodes(&self.gpu);
+        if pool_for(expected, 0.25, f.targets, most) <= u64::from(self.lists.capacity) {
+            return Ok(());
         }
-        Ok(())
+        let capacity = pool_for(expected, 0.5, f.targets, most) as u32;
+        log::info!("linked_list: {expected} fragments expected; the pool grows to {capacity}");
+        match self.grow(f.gpu_scene, f.targets, capacity) {
+            // Past the context's budget the frame keeps the pool it has: the fragments past
+            // it are blended unsorted and counted, as for any frame the pool is too small for.
+            Err(Error::MemoryBudget(e)) => {
+                log::warn!(
+                    "linked_list: the pool stays at {}: {e}",
+                    self.lists.capacity
+                );
+                Ok(())
+            }
+            grown => grown,
+        }
     }
 
     fn record(&mut self, ctx: &mut RecordContext<'_>) -> Result<()> {
