@@ -377,35 +377,17 @@ impl Context {
             )));
         }
         let before = built_so_far(&self.gpu);
-        let mut renderer = None;
-        for view in views {
-            request.camera = view.camera;
-            let kept = self.renderers.for_frame(&self.gpu, &self.assets, request)?;
-            let id = kept.id;
-            // One renderer records every view: the assets and settings are the frame's.
-            if renderer.is_some_and(|r| r != id) {
-                self.renderers.retire(id);
-                return Err(Error::Internal(
-                    "the views of one frame went to different renderers".into(),
-                ));
-            }
-            renderer = Some(id);
-            // SAFETY: the caller's, above.
-            let recorded = unsafe {
-                match recording {
-                    Recording::Method => kept.renderer.record_host(&view.targets),
-                    Recording::NativeBlend => kept.renderer.record_native_blend(&view.targets),
-                }
-            };
-            if let Err(e) = recorded {
-                // Part of the frame may be recorded (the engine resets its command buffer),
-                // and the renderer believes it: it takes no new frame.
-                self.renderers.retire(id);
-                return Err(e);
-            }
-            kept.in_flight += 1;
+        request.camera = views[0].camera;
+        let kept = self.renderers.for_frame(&self.gpu, &self.assets, request)?;
+        let id = kept.id;
+        // SAFETY: the caller's, above.
+        if let Err(e) = unsafe { record_views(&mut kept.renderer, views, recording) } {
+            // Part of the frame may be recorded (the engine resets its command buffer), and
+            // the renderer believes it: it takes no new frame.
+            self.renderers.retire(id);
+            return Err(e);
         }
-        let id = renderer.expect("at least one view");
+        kept.in_flight += count;
         let size = (request.width, request.height);
         let mut record = FrameRecord::recorded(request.method, size, id, request.frame_index);
         record.views = count as u32;
@@ -544,6 +526,31 @@ impl Context {
     fn note_frame_index(&mut self, index: u64) {
         self.last_frame_index = self.last_frame_index.max(index);
     }
+}
+
+/// Records each of `views` with `renderer`, set to the frame (the first view's camera): the
+/// frame's draws are resolved once, and each view after the first changes only the camera.
+///
+/// # Safety
+/// As [`Context::record`].
+unsafe fn record_views(
+    renderer: &mut Renderer,
+    views: &[HostView],
+    recording: Recording,
+) -> Result<()> {
+    for (i, view) in views.iter().enumerate() {
+        if i > 0 {
+            renderer.set_camera(view.camera)?;
+        }
+        // SAFETY: the caller's.
+        unsafe {
+            match recording {
+                Recording::Method => renderer.record_host(&view.targets),
+                Recording::NativeBlend => renderer.record_native_blend(&view.targets),
+            }
+        }?;
+    }
+    Ok(())
 }
 
 /// Completes the oldest `views` frames `renderer` recorded: the views of one frame, in one

@@ -385,6 +385,15 @@ impl Renderer {
         Ok(())
     }
 
+    /// Makes `camera` the camera of the frame set last ([`Self::set_frame`]), as for the next
+    /// view of a frame of several: its draws stay as they were set.
+    pub fn set_camera(&mut self, camera: crate::scene::Camera) -> Result<()> {
+        camera.validate().map_err(Error::InvalidScene)?;
+        self.scene.camera = camera;
+        self.frame_serial += 1;
+        Ok(())
+    }
+
     /// Makes `width` x `height` the size of the frames from the next one recorded: any size
     /// from 1x1 up to the one the renderer was made for, as an engine's dynamic resolution
     /// moves it. Nothing is rebuilt or allocated for it: the frames draw into the top-left
