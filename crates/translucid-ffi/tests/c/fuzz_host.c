@@ -45,6 +45,8 @@ void fuzz_host_start(void) {
     }
     create_engine(&req);
     g_device_info = host_device_info();
+    /* Frames of two views side by side: see fuzz_host_frame. */
+    g_device_info.views_per_frame = 2;
 }
 
 int fuzz_host_stop(void) {
@@ -174,8 +176,13 @@ translucid_result fuzz_host_frame(translucid_context *ctx, const translucid_fram
     thread_start();
     outcome->completed = -1;
     outcome->finite = 1;
+    /* A third of the frames are two views side by side, each with the frame's camera (a
+     * bad one is refused as it would be alone), into images twice as wide. */
+    int two_views = below(3) == 0;
     /* Sizes past the largest frame the fuzzer makes are left to the frame's checks. */
-    uint32_t width = info->width >= 1 && info->width <= 40 ? info->width + below(3) : 8;
+    uint32_t width = info->width >= 1 && info->width <= 40
+                         ? info->width * (two_views ? 2 : 1) + below(3)
+                         : 8;
     uint32_t height = info->height >= 1 && info->height <= 40 ? info->height + below(3) : 8;
     const colour_format *colour = pick_colour(below);
     VkFormat depth_format = pick_depth(below);
@@ -231,6 +238,18 @@ translucid_result fuzz_host_frame(translucid_context *ctx, const translucid_fram
     transition(depth_image, depth_aspects, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
                targets.depth.layout);
 
+    translucid_frame_view views[2];
+    translucid_host_frame_views chain;
+    if (two_views) {
+        memset(views, 0, sizeof views);
+        views[0].camera = views[1].camera = info->camera;
+        views[1].x = info->width;
+        memset(&chain, 0, sizeof chain);
+        chain.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_FRAME_VIEWS;
+        chain.view_count = 2;
+        chain.views = views;
+        targets.next = &chain;
+    }
     translucid_result got = translucid_frame_record(ctx, info, &targets, out);
     int recorded = got == TRANSLUCID_RESULT_SUCCESS && out != NULL;
     VkImageLayout colour_now = recorded ? targets.colour.final_layout : targets.colour.layout;
