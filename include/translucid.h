@@ -1506,10 +1506,14 @@ typedef struct translucid_depth_peeling_settings {
     /**
      * Peeling passes, each peeling a pixel's nearest and farthest layer left, 1 to 128. 0
      * (the default) follows the frames: the passes the frames before needed (half their
-     * deepest pixel's fragments) and up to 32 more, skipped on the GPU where the frame needs
-     * none of them, so that a frame up to 64 layers deeper than those before it is right on
-     * its first recording, frames in flight included (a frame of many draws records fewer
-     * ahead: 4096 skippable draws in all). Past them it is rendered again, or completes with
+     * deepest pixel's fragments) and up to 32 more, or as many as the frame's own estimate
+     * calls for (half the most transparent quads whose bounds on screen meet over one cell of
+     * 8 x 8 pixels, larger past 512 pixels a side; from a sample of at most 4096 quads),
+     * skipped on the GPU where the
+     * frame needs none of them, so that a frame deeper than those before it (a camera moving
+     * into a cloud) is right on its first recording, frames in flight included (a frame of
+     * many draws records fewer ahead: 4096 skippable draws in all). Past them it is rendered
+     * again, or completes with
      * `TRANSLUCID_RESULT_FRAME_DEGRADED` on an engine's device. A count stays as given:
      * pixels with more than twice as many layers lose their middle ones and are counted
      * (`translucid_frame_statistics::unpeeled_pixels`).

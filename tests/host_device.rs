@@ -1610,11 +1610,13 @@ fn lavapipe_draws_a_plain_frame() {
     translucid_tests::draw_one_plain_frame();
 }
 
-/// linked_list, whose pool the frames before could not have sized: a camera moving into a
-/// cloud of particles (the same draws, more of the screen and more layers every frame), 3
-/// frames in flight, each recorded once. The pool is sized from each frame's estimate before
-/// it is recorded: no frame overflows or blends a fragment unsorted. (depth_peeling's limit,
-/// 64 layers past the frames before, is passed by this cloud's first frame: 576 pixels.)
+/// The methods sized from the frames before, which cannot have counted this one: a camera
+/// moving into a cloud of particles (the same draws, more of the screen and more layers
+/// every frame), 3 frames in flight, each recorded once. linked_list's pool and
+/// depth_peeling's passes follow each frame's estimate, made before it is recorded: no frame
+/// overflows, blends a fragment unsorted or leaves a layer unpeeled. (Before the estimate,
+/// linked_list's frame 1 left 4,956 fragments unsorted, and depth_peeling's first frame,
+/// 72 layers deep, 576 pixels unpeeled.)
 #[test]
 fn a_camera_moving_into_a_cloud_is_right_on_every_frame_in_flight() {
     const FRAMES: usize = 9;
@@ -1644,9 +1646,8 @@ fn a_camera_moving_into_a_cloud_is_right_on_every_frame_in_flight() {
     };
     let layer = OpaqueLayer::clear(W, H, scene.background);
     let engine = Engine::new();
-    {
-        let kind = MethodKind::LinkedList;
-        // SAFETY: the engine's live objects, outliving `gpu` (dropped at the end of the block).
+    for kind in [MethodKind::LinkedList, MethodKind::DepthPeeling] {
+        // SAFETY: the engine's live objects, outliving `gpu` (dropped at the end of the loop).
         let gpu = unsafe { Gpu::from_host(&engine.host_device()) }.expect("host device");
         let images = EngineImages::of_layer(&gpu, &layer, IN_FLIGHT).expect("engine images");
         let options = MethodOptions::default();
@@ -1664,19 +1665,21 @@ fn a_camera_moving_into_a_cloud_is_right_on_every_frame_in_flight() {
             }
             for (f, done) in batch.zip(submit_and_complete(&engine, &mut renderer, IN_FLIGHT)) {
                 assert!(
-                    !done.overflowed && done.tail_fragments == 0,
+                    !done.overflowed && done.tail_fragments == 0 && done.unpeeled_pixels == 0,
                     "{kind:?}, frame {f}: {done:?}"
                 );
                 fragments.push(done.fragments);
             }
         }
-        // The camera did come into the cloud: the deepest frame has three times the first's
-        // fragments (the last ones fewer: part of the cloud is behind it).
-        let deepest = fragments.iter().copied().max().unwrap_or(0);
-        assert!(
-            deepest > 3 * fragments[0],
-            "fragments per frame: {fragments:?}"
-        );
+        if kind == MethodKind::LinkedList {
+            // The camera did come into the cloud: the deepest frame has three times the
+            // first's fragments (the last ones fewer: part of the cloud is behind it).
+            let deepest = fragments.iter().copied().max().unwrap_or(0);
+            assert!(
+                deepest > 3 * fragments[0],
+                "fragments per frame: {fragments:?}"
+            );
+        }
     }
     assert_no_validation_errors();
 }

@@ -368,6 +368,9 @@ pub fn hardware_sampling(
 /// Quads the estimate of [`estimate`] looks at, at most: every k-th of larger scenes, scaled.
 pub const ESTIMATE_QUADS: u64 = 1 << 16;
 
+/// Quads an estimate made for every frame looks at, at most: some tens of microseconds.
+pub const FRAME_ESTIMATE_QUADS: u64 = 1 << 12;
+
 /// What a frame of a scene is expected to put in the bins, before any frame has counted it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FrameEstimate {
@@ -375,6 +378,10 @@ pub struct FrameEstimate {
     pub fragments: u64,
     /// Bin entries: a triangle takes one for each block its span on each pixel row touches.
     pub bin_entries: u64,
+    /// The most quads whose bounds on screen meet in one cell of a coarse grid (at most
+    /// 64 x 64 cells): about the most fragments a pixel has, from above where every quad is
+    /// looked at (a quad covers a pixel once, and its bounds cover at least what it does).
+    pub deepest: u64,
 }
 
 /// About how many fragments the scene's transparent draws put over a `width` x `height`
@@ -405,6 +412,7 @@ pub fn estimate_sampled(scene: &Scene, width: u32, height: u32, most_quads: u64)
     let stride = quads.div_ceil(most_quads.max(1)).max(1);
     let mut area = 0.0f64;
     let mut triangle_rows = 0.0f64;
+    let mut depth = DepthGrid::new(width, height);
     // Quads seen so far; every `stride`-th of them is looked at (the stride-th, the
     // 2 stride-th, ...), without walking the others.
     let mut seen = 0u64;
@@ -432,8 +440,8 @@ pub fn estimate_sampled(scene: &Scene, width: u32, height: u32, most_quads: u64)
                     screen_footprint(&[a, c, d], width, height).rows
                 };
                 Footprint {
-                    area: quad.area,
                     rows: first + second,
+                    ..quad
                 }
             } else {
                 // Through the camera plane: its part beyond the near plane, as setup bins it.
@@ -444,18 +452,89 @@ pub fn estimate_sampled(scene: &Scene, width: u32, height: u32, most_quads: u64)
                     .collect();
                 let quad = screen_footprint(&on_screen, width, height);
                 Footprint {
-                    area: quad.area,
                     rows: quad.rows * if lone { 1.0 } else { 2.0 },
+                    ..quad
                 }
             };
             area += footprint.area;
             triangle_rows += footprint.rows;
+            depth.add(footprint.bounds);
         }
     }
     let scaled = |v: f64| (v * stride as f64) as u64;
     FrameEstimate {
         fragments: scaled(area),
         bin_entries: scaled(area / f64::from(BIN_SIZE) + triangle_rows),
+        deepest: depth.deepest() * stride,
+    }
+}
+
+/// Counts, per cell of a coarse grid over the screen, the quads whose bounds meet it: each
+/// quad adds at four corners of a difference table, summed once at the end.
+struct DepthGrid {
+    columns: usize,
+    rows: usize,
+    /// Pixels a cell spans (x, y).
+    cell: (f64, f64),
+    /// (rows + 1) x (columns + 1) differences.
+    table: Vec<i64>,
+}
+
+impl DepthGrid {
+    /// Cells of 8 x 8 pixels, or larger ones past 64 a side.
+    fn new(width: u32, height: u32) -> Self {
+        let columns = width.div_ceil(8).clamp(1, 64) as usize;
+        let rows = height.div_ceil(8).clamp(1, 64) as usize;
+        Self {
+            columns,
+            rows,
+            cell: (
+                f64::from(width) / columns as f64,
+                f64::from(height) / rows as f64,
+            ),
+            table: vec![0; (rows + 1) * (columns + 1)],
+        }
+    }
+
+    /// A quad whose on-screen bounds are `bounds`, if it has any.
+    fn add(&mut self, bounds: Option<[f64; 4]>) {
+        let Some([x0, y0, x1, y1]) = bounds else {
+            return;
+        };
+        let span = |lo: f64, hi: f64, size: f64, count: usize| {
+            let first = ((lo / size).floor().max(0.0) as usize).min(count - 1);
+            let last = ((hi / size).ceil() as usize).clamp(first + 1, count);
+            (first, last)
+        };
+        let (c0, c1) = span(x0, x1, self.cell.0, self.columns);
+        let (r0, r1) = span(y0, y1, self.cell.1, self.rows);
+        let stride = self.columns + 1;
+        self.table[r0 * stride + c0] += 1;
+        self.table[r0 * stride + c1] -= 1;
+        self.table[r1 * stride + c0] -= 1;
+        self.table[r1 * stride + c1] += 1;
+    }
+
+    /// The most quads any cell counts.
+    fn deepest(&self) -> u64 {
+        let stride = self.columns + 1;
+        let mut sums = vec![0i64; self.table.len()];
+        let mut most = 0;
+        for r in 0..self.rows {
+            for c in 0..self.columns {
+                let i = r * stride + c;
+                let above = if r > 0 { sums[i - stride] } else { 0 };
+                let left = if c > 0 { sums[i - 1] } else { 0 };
+                let corner = if r > 0 && c > 0 {
+                    sums[i - stride - 1]
+                } else {
+                    0
+                };
+                sums[i] = self.table[i] + above + left - corner;
+                most = most.max(sums[i]);
+            }
+        }
+        most.max(0) as u64
     }
 }
 
@@ -476,6 +555,8 @@ struct Footprint {
     area: f64,
     /// Pixel rows its bounding box spans on the screen.
     rows: f64,
+    /// Its bounding box within the screen (x0, y0, x1, y1, in pixels), where they meet.
+    bounds: Option<[f64; 4]>,
 }
 
 /// What the convex polygon `points` (framebuffer coordinates, in order) covers of a
@@ -485,6 +566,7 @@ fn screen_footprint(points: &[Vec3], width: u32, height: u32) -> Footprint {
         return Footprint {
             area: 0.0,
             rows: 0.0,
+            bounds: None,
         };
     };
     let xy = |p: &Vec3| (f64::from(p.x), f64::from(p.y));
@@ -507,14 +589,18 @@ fn screen_footprint(points: &[Vec3], width: u32, height: u32) -> Footprint {
     let rows = overlap(lo.1, hi.1, height);
     let bounded = overlap(lo.0, hi.0, width) * rows;
     if area.is_finite() {
+        let (w, h) = (f64::from(width), f64::from(height));
         Footprint {
             area: area.min(bounded),
             rows,
+            bounds: (bounded > 0.0)
+                .then(|| [lo.0.max(0.0), lo.1.max(0.0), hi.0.min(w), hi.1.min(h)]),
         }
     } else {
         Footprint {
             area: 0.0,
             rows: 0.0,
+            bounds: None,
         }
     }
 }
@@ -799,6 +885,10 @@ mod tests {
         // of each of a quad's two triangles.
         let entries = estimate(&quad(-1.0, 50.0), 64, 48).bin_entries;
         assert_eq!(entries, 10 * (64 * 48 / 8 + 2 * 48));
+        // Ten layers deep wherever they are, wide or small; none behind the eye.
+        assert_eq!(estimate(&quad(-1.0, 50.0), 64, 48).deepest, 10);
+        assert_eq!(estimate(&quad(-1.0, 0.1), 64, 48).deepest, 10);
+        assert_eq!(estimate(&quad(5.0, 50.0), 64, 48).deepest, 0);
         // Ten small layers: about their area.
         let small = estimated_fragments(&quad(-1.0, 0.1), 64, 48, ESTIMATE_QUADS) as f64;
         let side = 0.2 / (2.0 * 4.0 * (0.4f64).tan()) * 48.0;
@@ -836,6 +926,14 @@ mod tests {
         assert!(all.abs_diff(12 * one) <= 12, "{all} against 12 x {one}");
         let ratio = sampled as f64 / all as f64;
         assert!((ratio - 1.0).abs() < 0.02, "{sampled} of {all}");
+        // The same draw 12 times is 12 times as deep, sampled or not.
+        let deepest = estimate_sampled(&scene, 64, 48, 12 * quads).deepest;
+        assert_eq!(deepest % 12, 0, "{deepest}");
+        let sampled_deepest = estimate_sampled(&scene, 64, 48, 4 * quads).deepest;
+        assert!(
+            sampled_deepest.abs_diff(deepest) * 50 <= deepest,
+            "{sampled_deepest} against {deepest}"
+        );
         // Fewer quads looked at than draws: some draws have none, and the rest stand for them.
         let sparse = estimated_fragments(&scene, 64, 48, 5);
         assert!(sparse > 0, "{sparse}");

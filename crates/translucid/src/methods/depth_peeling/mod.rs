@@ -19,14 +19,16 @@
 //! [`DepthPeelingOptions::passes`] N stays as given. By default N follows the frames: half
 //! the most fragments a pixel of a completed frame had (the first pass counts them; a layer
 //! holds at least one), up to [`MOST_PASSES`]; and a frame records [`PASSES_AHEAD`] passes
-//! more, each skipped on the GPU once the pass before it left nothing to peel, so that a
-//! frame deeper than the ones before it, recorded before they completed (frames in flight),
-//! is right all the same ([`gate`]). A frame past even those is counted, and rendered again
+//! more, or as many as its own estimate calls for (half the most quads whose bounds on
+//! screen meet over one part of it, `FrameEstimate::deepest`), each skipped on the GPU once
+//! the pass before it left nothing to peel, so that a frame deeper than the ones before it,
+//! recorded before they completed (frames in flight), is right all the same ([`gate`]). A frame past even those is counted, and rendered again
 //! where translucid submits.
 
 mod gate;
 
-use super::{FrameCheck, FrameDone, Method, MethodOptions, RecordContext};
+use super::bins::features::{estimate_sampled, FRAME_ESTIMATE_QUADS};
+use super::{FrameCheck, FrameDone, FrameSetup, Method, MethodOptions, RecordContext};
 use crate::assets::GpuScene;
 use crate::frame::FrameTargets;
 use crate::gpu::{
@@ -150,6 +152,9 @@ pub struct DepthPeeling {
     passes: u32,
     recorded: Vec<u32>,
     fixed: bool,
+    /// Passes the frame set last is expected to need, from its estimate (half the most
+    /// quads over one part of the screen).
+    expected: u32,
     /// Skips the passes a frame records past what it needs.
     gate: gate::Gate,
     /// The first draw of each peeling pass: its attachments as it starts (clear.frag).
@@ -205,6 +210,7 @@ impl DepthPeeling {
             readbacks,
             passes,
             fixed: options.passes.is_some(),
+            expected: 0,
             gate,
             clear,
         })
@@ -218,13 +224,18 @@ impl DepthPeeling {
 }
 
 /// Passes a frame of `draws` transparent draws records, where the frames before it needed
-/// `needed` (or were given that many, `fixed`).
-fn recorded_passes(needed: u32, fixed: bool, draws: usize) -> u32 {
+/// `needed` (or were given that many, `fixed`) and its estimate `expected`: PASSES_AHEAD
+/// past `needed`, or as far as `expected` where the draws allow it (AHEAD_DRAWS skippable
+/// draws in all).
+fn recorded_passes(needed: u32, expected: u32, fixed: bool, draws: usize) -> u32 {
     if fixed {
         return needed;
     }
-    let ahead = (AHEAD_DRAWS / (draws.max(1) as u32).min(AHEAD_DRAWS)).clamp(1, PASSES_AHEAD);
-    (needed + ahead).min(MOST_PASSES)
+    let allowed = (AHEAD_DRAWS / (draws.max(1) as u32).min(AHEAD_DRAWS)).max(1);
+    let ahead = allowed.min(PASSES_AHEAD);
+    (needed + ahead)
+        .max(expected.min(needed + allowed))
+        .min(MOST_PASSES)
 }
 
 /// What the method needs of the device: its optional features, blending in the range's and
@@ -517,11 +528,25 @@ impl Method for DepthPeeling {
         "depth_peeling"
     }
 
+    fn set_frame(&mut self, f: &FrameSetup<'_>) -> Result<()> {
+        // The frame's own estimate, so that a frame deeper than those before it (a camera
+        // moving into a cloud, the first frame of a deep scene) records the passes it needs
+        // though they have not completed.
+        if !self.fixed {
+            let extent = f.targets.extent;
+            let deepest =
+                estimate_sampled(f.scene, extent.width, extent.height, FRAME_ESTIMATE_QUADS)
+                    .deepest;
+            self.expected = deepest.div_ceil(2).min(u64::from(MOST_PASSES)) as u32;
+        }
+        Ok(())
+    }
+
     fn record(&mut self, ctx: &mut RecordContext<'_>) -> Result<()> {
         let (gpu, cmd) = (ctx.gpu, ctx.cmd);
         let extent = ctx.targets.extent;
         let draws = &ctx.gpu_scene.transparent_calls;
-        let passes = recorded_passes(self.passes, self.fixed, draws.len());
+        let passes = recorded_passes(self.passes, self.expected, self.fixed, draws.len());
         self.recorded[ctx.slot] = passes;
         self.gate
             .write(gpu, ctx.slot, &self.peeling, draws, extent)?;

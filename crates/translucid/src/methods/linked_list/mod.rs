@@ -20,7 +20,7 @@
 //! more there: the larger of the two bounds the pool (on lavapipe the view, 512 MB: 19
 //! million nodes; on devices whose storage bindings reach further, the binding).
 
-use super::bins::features::ESTIMATE_QUADS;
+use super::bins::features::{ESTIMATE_QUADS, FRAME_ESTIMATE_QUADS};
 use super::{FrameCheck, FrameDone, FrameSetup, Method, RecordContext};
 use crate::assets::GpuScene;
 use crate::frame::FrameTargets;
@@ -310,10 +310,6 @@ impl LinkedList {
         })
     }
 }
-
-/// Quads of the scene each frame's estimate looks at, at most (every k-th of larger scenes):
-/// a check made every frame, kept to some tens of microseconds.
-const FRAME_ESTIMATE_QUADS: u64 = 1 << 12;
 
 /// The fragments a frame of `scene` into `targets` is expected to have, from at most
 /// `most_quads` of its quads.
