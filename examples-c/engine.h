@@ -68,7 +68,8 @@ VkImage create_image_layers(VkFormat format, VkImageUsageFlags usage, uint32_t w
 /* A host-visible, coherent transfer buffer of `size` bytes, mapped at `*mapped`. */
 VkBuffer create_host_buffer(VkDeviceSize size, VkDeviceMemory *memory, void **mapped);
 
-/* A layout transition of the whole image's `aspect`, between the stages and accesses given. */
+/* A layout transition of the image's `aspect` in its first array layer, between the stages and
+ * accesses given. */
 void barrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, VkImageLayout from,
              VkImageLayout to, VkPipelineStageFlags src_stage, VkAccessFlags src,
              VkPipelineStageFlags dst_stage, VkAccessFlags dst);

@@ -141,7 +141,8 @@ pub struct translucid_host_device_create_info {
 }
 
 /// One of the engine's images: a single-sample 2D image at least the frame's size (width x
-/// height) with one mip level and one array layer, owned by the queue family named at
+/// height) with one mip level (and array layers as a `translucid_host_image_layers` or a
+/// `translucid_host_frame_views` says; layer 0 without them), owned by the queue family named at
 /// context creation (or created with concurrent sharing). A larger image holds the frame in
 /// its top-left corner (a dynamic resolution drawing into images made for the largest
 /// size), or where a `translucid_host_image_region` says; translucid reads and writes only
@@ -209,7 +210,8 @@ pub struct translucid_host_frame_targets {
 /// `layout` and `final_layout`; checked as those are): `translucid_context_prepare` then
 /// also builds what the first frame into such images would build, so that it builds
 /// nothing. For a loop that records with several such sets (an XR swapchain and a mirror
-/// window; two views sharing one image, whose layouts differ), prepare once for each. A
+/// window), prepare once for each; the views of a frame of several take one (a view after
+/// another in the same layer differs only in its layouts, which need nothing built). A
 /// standalone context takes none (`TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT`).
 #[allow(non_camel_case_types)]
 #[repr(C)]
@@ -403,6 +405,7 @@ fn record(
         return Err(not_host("translucid_frame_record"));
     }
     objects.core.flight_room()?;
+    objects.core.check_view_count(views.count())?;
     let (mut request, _) = frame_request(objects, info, views.camera())?;
     let size = (info.width, info.height);
     let views = views.host_views(targets, size, request.camera)?;
@@ -598,7 +601,7 @@ impl translucid_frame {
     ///   `vkWaitSemaphores`, or `vkDeviceWaitIdle`); a semaphore another queue waits on is
     ///   not enough.
     /// - Colour in a UNORM format is taken as linear, in an SRGB format as sRGB; its alpha is
-    ///   overwritten. Depth is the frame camera's (`translucid_camera`): the engine's
+    ///   kept or overwritten as `targets.colour` says. Depth is the frame camera's (`translucid_camera`): the engine's
     ///   projection matrix, or the field-of-view perspective, with the same jitter.
     ///
     /// Views: a frame of several views (stereo, a split screen) chains a
@@ -685,10 +688,10 @@ impl translucid_frame {
     /// - `TRANSLUCID_RESULT_NOT_READY`: the commands have not run (not submitted, or still
     ///   running). Nothing changed and the frame stays in flight.
     /// - `TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT` for a frame not in flight (completed,
-    ///   also by the completion of a newer frame, or abandoned already), or another error from
-    ///   the method (such as a bin too crowded for
-    ///   this device): the frame's flight is over either way, and the next recording builds
-    ///   its resources anew.
+    ///   also by the completion of a newer frame, or abandoned already): nothing changes, and
+    ///   its statistics are there if it completed. Or another error from the method (such as
+    ///   a bin too crowded for this device): the frame's flight is over, and the next
+    ///   recording with its method builds that method's resources anew.
     #[no_mangle]
     #[must_use]
     pub extern "C" fn translucid_frame_complete(

@@ -47,9 +47,11 @@ pub struct translucid_prepare_info {
     /// NULL, or in host-device mode a `translucid_host_image_formats`: the engine's images
     /// the loop records into, so that its first frame builds nothing for them either.
     pub next: *const c_void,
-    /// A frame like those of the loop: its method, the settings chained to it, and its
-    /// width and height, the largest the loop records. Its draws and camera are only
-    /// checked (`draw_count` 0 is fine).
+    /// A frame like those of the loop: its method, the settings chained to it, its width
+    /// and height, the largest the loop records, and a camera like the loop's (its depth
+    /// direction, forward or reversed-Z, is read; give one also for a loop of frames of
+    /// several views, whose frame infos' cameras are not read). Its draws are only checked
+    /// (`draw_count` 0 is fine).
     pub frame: *const translucid_frame_info,
     /// `TRANSLUCID_CONTENT_*` bits: what the loop's frames may draw, streamed-in assets
     /// included. Added to what earlier calls declared.

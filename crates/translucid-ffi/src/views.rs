@@ -227,9 +227,10 @@ impl FrameViews {
                 for (what, layer, count) in layers {
                     if layer >= count.max(1) {
                         return Err(in_view(Failure::argument(format!(
-                            "{what}_layer is {layer}, but the {what} image has {} \
-                             ({what}_layer_count)",
-                            count.max(1)
+                            "{what}_layer is {layer}; it must be below \
+                             translucid_host_frame_views.{what}_layer_count, the {what} \
+                             image's array layers ({count}{})",
+                            if count == 0 { ", taken as 1" } else { "" }
                         ))));
                     }
                 }
@@ -241,6 +242,11 @@ impl FrameViews {
             })
             .collect::<FfiResult<Vec<_>>>()?;
         Ok(Self(places))
+    }
+
+    /// How many views.
+    pub(crate) fn count(&self) -> usize {
+        self.0.len()
     }
 
     /// The camera of the first view, where the views give theirs (the frame info's is then

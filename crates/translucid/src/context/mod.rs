@@ -351,6 +351,19 @@ impl Context {
         self.flight.room()
     }
 
+    /// Whether a frame of `count` views may be recorded: 1 to the views per frame the context
+    /// was made for.
+    pub fn check_view_count(&self, count: usize) -> Result<()> {
+        if count == 0 || count > self.views_per_frame as usize {
+            return Err(Error::InvalidArgument(format!(
+                "{count} view(s) in one frame; the context was made for 1 to {} \
+                 (translucid_host_device_create_info.views_per_frame)",
+                self.views_per_frame
+            )));
+        }
+        Ok(())
+    }
+
     /// Records `request` into the engine's command buffer, once for each of `views` (the
     /// method, or the yardstick), in flight until [`Self::complete`] or [`Self::abandon`];
     /// the frame's handle. The views share the frame's uploads; each is recorded after the
@@ -368,14 +381,8 @@ impl Context {
         recording: Recording,
     ) -> Result<u64> {
         self.flight_room()?;
+        self.check_view_count(views.len())?;
         let count = views.len();
-        if count == 0 || count > self.views_per_frame as usize {
-            return Err(Error::InvalidArgument(format!(
-                "{count} view(s) in one frame; the context was made for 1 to {} \
-                 (translucid_host_device_create_info.views_per_frame)",
-                self.views_per_frame
-            )));
-        }
         let before = built_so_far(&self.gpu);
         request.camera = views[0].camera;
         let kept = self.renderers.for_frame(&self.gpu, &self.assets, request)?;
