@@ -73,6 +73,10 @@ VkBuffer create_host_buffer(VkDeviceSize size, VkDeviceMemory *memory, void **ma
 void barrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, VkImageLayout from,
              VkImageLayout to, VkPipelineStageFlags src_stage, VkAccessFlags src,
              VkPipelineStageFlags dst_stage, VkAccessFlags dst);
+/* Every array layer of `image` (its `aspect`) from layout `from` to `to`, after and before
+ * anything. */
+void every_layer(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect,
+                 VkImageLayout from, VkImageLayout to);
 /* A copy region of a whole width x height image's aspect, at `offset` in a buffer. */
 VkBufferImageCopy region(VkImageAspectFlags aspect, VkDeviceSize offset, uint32_t width,
                          uint32_t height);

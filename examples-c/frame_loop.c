@@ -156,24 +156,6 @@ static void destroy_slots(void) {
     vkDestroyCommandPool(g_device, g_pool, NULL);
 }
 
-/* Every layer of `image` from `from` to `to`, after and before anything. */
-static void transition(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect,
-                       VkImageLayout from, VkImageLayout to) {
-    VkImageMemoryBarrier b;
-    memset(&b, 0, sizeof b);
-    b.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER;
-    b.srcAccessMask = b.dstAccessMask = VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT;
-    b.oldLayout = from;
-    b.newLayout = to;
-    b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    b.image = image;
-    b.subresourceRange.aspectMask = aspect;
-    b.subresourceRange.levelCount = 1;
-    b.subresourceRange.layerCount = VIEWS;
-    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
-                         VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 0, NULL, 0, NULL, 1, &b);
-}
-
 /* The engine's opaque pass over both views, here a clear: a dark sky, nothing in the way. */
 static void record_opaque(VkCommandBuffer cmd, const frame_slot *s) {
     VkClearColorValue sky;
@@ -192,9 +174,9 @@ static void record_opaque(VkCommandBuffer cmd, const frame_slot *s) {
     colour.layerCount = VIEWS;
     depth = colour;
     depth.aspectMask = VK_IMAGE_ASPECT_DEPTH_BIT;
-    transition(cmd, s->colour, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+    every_layer(cmd, s->colour, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
                VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL);
-    transition(cmd, s->depth, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+    every_layer(cmd, s->depth, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
                VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL);
     vkCmdClearColorImage(cmd, s->colour, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &sky, 1, &colour);
     vkCmdClearDepthStencilImage(cmd, s->depth, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &far, 1,

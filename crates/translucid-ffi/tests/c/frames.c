@@ -1629,24 +1629,6 @@ static void within_a_budget(translucid_method method) {
     destroy_scene(g_standalone, &standalone);
 }
 
-/* Every layer of `image` from layout `from` to `to`, after and before anything. */
-static void every_layer(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect,
-                        VkImageLayout from, VkImageLayout to) {
-    VkImageMemoryBarrier b;
-    memset(&b, 0, sizeof b);
-    b.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER;
-    b.srcAccessMask = b.dstAccessMask = VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT;
-    b.oldLayout = from;
-    b.newLayout = to;
-    b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    b.image = image;
-    b.subresourceRange.aspectMask = aspect;
-    b.subresourceRange.levelCount = 1;
-    b.subresourceRange.layerCount = VK_REMAINING_ARRAY_LAYERS;
-    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
-                         VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 0, NULL, 0, NULL, 1, &b);
-}
-
 /* One colour and one depth image that several views of a frame share, and a host buffer for
  * their opaque layers and readback (sections 13 and 15). */
 typedef struct shared_images {
@@ -1666,6 +1648,19 @@ static shared_images create_shared_images(VkImage colour, VkImage depth, VkDevic
     i.buffer = create_host_buffer(bytes, &i.buffer_memory, &m);
     i.mapped = m;
     return i;
+}
+
+/* A colour (sRGB) and a depth (D32) image of VIEWS layers, and `bytes` of host buffer. */
+static shared_images create_layered_images(VkDeviceSize bytes) {
+    VkImageUsageFlags transfer = VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+    return create_shared_images(
+        create_image_layers(VK_FORMAT_R8G8B8A8_SRGB,
+                            transfer | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT, W, H, VIEWS),
+        create_image_layers(VK_FORMAT_D32_SFLOAT,
+                            transfer | VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT |
+                                VK_IMAGE_USAGE_SAMPLED_BIT,
+                            W, H, VIEWS),
+        bytes);
 }
 
 static void destroy_shared_images(shared_images *i) {
@@ -1698,16 +1693,9 @@ static translucid_frame_info stereo_view(const scene *host, translucid_method me
 static void layered_stereo(translucid_method method) {
     translucid_context *ctx = host_context(VIEWS);
     scene host, standalone;
-    VkImageUsageFlags transfer = VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
     /* The opaque colour and depth, then each layer's readback. */
-    shared_images images = create_shared_images(
-        create_image_layers(VK_FORMAT_R8G8B8A8_SRGB,
-                            transfer | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT, W, H, VIEWS),
-        create_image_layers(VK_FORMAT_D32_SFLOAT,
-                            transfer | VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT |
-                                VK_IMAGE_USAGE_SAMPLED_BIT,
-                            W, H, VIEWS),
-        COLOUR_BYTES + DEPTH_BYTES + VIEWS * COLOUR_BYTES);
+    shared_images images =
+        create_layered_images(COLOUR_BYTES + DEPTH_BYTES + VIEWS * COLOUR_BYTES);
     VkImage colour = images.colour, depth = images.depth;
     VkBuffer buffer = images.buffer;
     uint8_t *mapped = images.mapped;
@@ -1951,7 +1939,6 @@ static void split_screen(translucid_method method, int one_frame) {
 static void stereo_frames_in_flight(translucid_method method) {
     translucid_context *ctx = host_context_views(MOST_IN_FLIGHT, VIEWS);
     scene host, standalone;
-    VkImageUsageFlags transfer = VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
     const size_t readback = COLOUR_BYTES + DEPTH_BYTES;
     shared_images images[MOST_IN_FLIGHT];
     static uint8_t expected[MOST_IN_FLIGHT][VIEWS][COLOUR_BYTES];
@@ -1961,14 +1948,7 @@ static void stereo_frames_in_flight(translucid_method method) {
     uint32_t v;
     uint64_t pipelines;
     for (i = 0; i < MOST_IN_FLIGHT; i++) {
-        images[i] = create_shared_images(
-            create_image_layers(VK_FORMAT_R8G8B8A8_SRGB,
-                                transfer | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT, W, H, VIEWS),
-            create_image_layers(VK_FORMAT_D32_SFLOAT,
-                                transfer | VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT |
-                                    VK_IMAGE_USAGE_SAMPLED_BIT,
-                                W, H, VIEWS),
-            readback + VIEWS * COLOUR_BYTES);
+        images[i] = create_layered_images(readback + VIEWS * COLOUR_BYTES);
         memcpy(images[i].mapped, g_opaque_colour, COLOUR_BYTES);
         memcpy(images[i].mapped + COLOUR_BYTES, g_engine_depth, DEPTH_BYTES);
     }
