@@ -730,8 +730,11 @@ typedef struct translucid_context_create_info {
     const char *device;
     /**
      * Host-device mode: the most frames recorded and not yet completed at any time, 1 to
-     * `TRANSLUCID_MAX_FRAMES_IN_FLIGHT` (a frame of several views counts once; views
-     * recorded as frames of their own count each). 0 means 1. Standalone frames complete within their call: 0 or 1.
+     * `TRANSLUCID_MAX_FRAMES_IN_FLIGHT`, and times
+     * `translucid_host_device_create_info::views_per_frame` at most that (8 frames of
+     * stereo). A frame of several views counts once; views recorded as frames of their own
+     * count each (the yardstick's frames too). 0 means 1. Standalone frames complete within
+     * their call: 0 or 1.
      */
     uint32_t frames_in_flight;
     /**

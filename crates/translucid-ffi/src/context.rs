@@ -72,8 +72,11 @@ pub struct translucid_context_create_info {
     /// (discrete, integrated, then CPU). Must be NULL in host-device mode.
     pub device: *const c_char,
     /// Host-device mode: the most frames recorded and not yet completed at any time, 1 to
-    /// `TRANSLUCID_MAX_FRAMES_IN_FLIGHT` (a frame of several views counts once; views
-    /// recorded as frames of their own count each). 0 means 1. Standalone frames complete within their call: 0 or 1.
+    /// `TRANSLUCID_MAX_FRAMES_IN_FLIGHT`, and times
+    /// `translucid_host_device_create_info::views_per_frame` at most that (8 frames of
+    /// stereo). A frame of several views counts once; views recorded as frames of their own
+    /// count each (the yardstick's frames too). 0 means 1. Standalone frames complete within
+    /// their call: 0 or 1.
     pub frames_in_flight: u32,
     /// Optional: `pipeline_cache_size` bytes that `translucid_context_get_pipeline_cache_data`
     /// gave on an earlier run, merged into the context's pipeline cache so that its first
