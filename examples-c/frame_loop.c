@@ -658,6 +658,7 @@ int main(int argc, char **argv) {
     long draws = argc > 3 ? atol(argv[3]) : 0;
     static const uint32_t methods[2] = {TRANSLUCID_METHOD_EXACT, TRANSLUCID_METHOD_BLEND};
     translucid_host_device_create_info host;
+    translucid_host_views_create_info views;
     translucid_context_create_info info;
     char path[1024];
     int m;
@@ -675,7 +676,11 @@ int main(int argc, char **argv) {
     /* Each engine frame records two of translucid's, the yardstick's and the method's, each
      * of two views. */
     info.frames_in_flight = 2 * IN_FLIGHT;
-    host.views_per_frame = VIEWS;
+    memset(&views, 0, sizeof views);
+    views.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_VIEWS_CREATE_INFO;
+    views.next = host.next;
+    views.views_per_frame = VIEWS;
+    host.next = &views;
     CHECK(translucid_context_create(&info, &g_context));
     printf("translucid %s on %s\n", translucid_version_string(),
            translucid_context_get_device_name(g_context));

@@ -96,7 +96,7 @@
 
 /**
  * Most frames in flight a host-device context takes, times its views per frame
- * (`translucid_host_device_create_info::views_per_frame`): 4 frames of 4 views, 8 of stereo.
+ * (`translucid_host_views_create_info::views_per_frame`): 4 frames of 4 views, 8 of stereo.
  */
 #define TRANSLUCID_MAX_FRAMES_IN_FLIGHT 16
 
@@ -439,6 +439,10 @@ enum translucid_structure_type
      * `translucid_host_frame_views`, chained to the frame targets.
      */
     TRANSLUCID_STRUCTURE_TYPE_HOST_FRAME_VIEWS = 108,
+    /**
+     * `translucid_host_views_create_info`, chained to the engine's device description.
+     */
+    TRANSLUCID_STRUCTURE_TYPE_HOST_VIEWS_CREATE_INFO = 109,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -731,7 +735,7 @@ typedef struct translucid_context_create_info {
     /**
      * Host-device mode: the most frames recorded and not yet completed at any time, 1 to
      * `TRANSLUCID_MAX_FRAMES_IN_FLIGHT`, and times
-     * `translucid_host_device_create_info::views_per_frame` at most that (8 frames of
+     * `translucid_host_views_create_info::views_per_frame` at most that (8 frames of
      * stereo). A frame of several views counts once; views recorded as frames of their own
      * count each (the yardstick's frames too). 0 means 1. Standalone frames complete within
      * their call: 0 or 1.
@@ -1594,7 +1598,8 @@ typedef struct translucid_host_device_create_info {
      */
     uint32_t s_type;
     /**
-     * NULL, or a `translucid_host_subgroup_size_control`.
+     * NULL, or a `translucid_host_subgroup_size_control` and a
+     * `translucid_host_views_create_info`, each at most once, in either order.
      */
     const void *next;
     /**
@@ -1622,14 +1627,6 @@ typedef struct translucid_host_device_create_info {
      * `enabled_extension_count` extension names the device was created with.
      */
     const char *const *enabled_extensions;
-    /**
-     * The most views a frame has (`translucid_host_frame_views`), 1 to
-     * `TRANSLUCID_MAX_VIEWS`; 0 means 1. Views count apart from frames in flight: each
-     * view of a frame in flight takes a slot of per-frame data, and `frames_in_flight`
-     * times `views_per_frame` may be at most `TRANSLUCID_MAX_FRAMES_IN_FLIGHT` (3 frames of
-     * stereo: 3 and 2).
-     */
-    uint32_t views_per_frame;
 } translucid_host_device_create_info;
 
 /**
@@ -1686,7 +1683,7 @@ typedef struct translucid_host_subgroup_size_control {
      */
     uint32_t s_type;
     /**
-     * NULL.
+     * NULL, or a `translucid_host_views_create_info`.
      */
     const void *next;
     /**
@@ -1832,7 +1829,7 @@ typedef struct translucid_host_frame_views {
     uint32_t colour_layer_count;
     uint32_t depth_layer_count;
     /**
-     * 1 to the context's `translucid_host_device_create_info::views_per_frame`.
+     * 1 to the context's `translucid_host_views_create_info::views_per_frame`.
      */
     uint32_t view_count;
     /**
@@ -1840,6 +1837,31 @@ typedef struct translucid_host_frame_views {
      */
     const struct translucid_frame_view *views;
 } translucid_host_frame_views;
+
+/**
+ * How many views the frames of a host-device context have at most, chained to
+ * `translucid_host_device_create_info::next` (with or without a
+ * `translucid_host_subgroup_size_control`, in either order). Without it, frames have one
+ * view. Views count apart from frames in flight: each view of a frame in flight takes a
+ * slot of per-frame data, and `translucid_context_create_info::frames_in_flight` times
+ * `views_per_frame` may be at most `TRANSLUCID_MAX_FRAMES_IN_FLIGHT` (3 frames of stereo:
+ * 3 and 2).
+ */
+typedef struct translucid_host_views_create_info {
+    /**
+     * `TRANSLUCID_STRUCTURE_TYPE_HOST_VIEWS_CREATE_INFO`.
+     */
+    uint32_t s_type;
+    /**
+     * NULL, or a `translucid_host_subgroup_size_control`.
+     */
+    const void *next;
+    /**
+     * The most views a frame has (`translucid_host_frame_views`), 1 to
+     * `TRANSLUCID_MAX_VIEWS`; 0 means 1.
+     */
+    uint32_t views_per_frame;
+} translucid_host_views_create_info;
 
 #ifdef __cplusplus
 extern "C" {

@@ -272,7 +272,11 @@ public:
     static Context host(translucid_host_device_create_info device,
                         std::uint32_t frames_in_flight = 1, std::uint32_t views_per_frame = 1) {
         device.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_CREATE_INFO;
-        device.views_per_frame = views_per_frame;
+        translucid_host_views_create_info views{};
+        views.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_VIEWS_CREATE_INFO;
+        views.next = device.next;
+        views.views_per_frame = views_per_frame;
+        device.next = &views;
         translucid_context_create_info info{};
         info.s_type = TRANSLUCID_STRUCTURE_TYPE_CONTEXT_CREATE_INFO;
         info.header_version = TRANSLUCID_HEADER_VERSION;

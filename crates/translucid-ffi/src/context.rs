@@ -73,7 +73,7 @@ pub struct translucid_context_create_info {
     pub device: *const c_char,
     /// Host-device mode: the most frames recorded and not yet completed at any time, 1 to
     /// `TRANSLUCID_MAX_FRAMES_IN_FLIGHT`, and times
-    /// `translucid_host_device_create_info::views_per_frame` at most that (8 frames of
+    /// `translucid_host_views_create_info::views_per_frame` at most that (8 frames of
     /// stereo). A frame of several views counts once; views recorded as frames of their own
     /// count each (the yardstick's frames too). 0 means 1. Standalone frames complete within
     /// their call: 0 or 1.
@@ -87,7 +87,7 @@ pub struct translucid_context_create_info {
 }
 
 /// Most frames in flight a host-device context takes, times its views per frame
-/// (`translucid_host_device_create_info::views_per_frame`): 4 frames of 4 views, 8 of stereo.
+/// (`translucid_host_views_create_info::views_per_frame`): 4 frames of 4 views, 8 of stereo.
 pub const TRANSLUCID_MAX_FRAMES_IN_FLIGHT: u32 = 16;
 const _: () =
     assert!(TRANSLUCID_MAX_FRAMES_IN_FLIGHT == translucid::renderer::MAX_FRAMES_IN_FLIGHT);

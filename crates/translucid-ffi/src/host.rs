@@ -19,7 +19,7 @@ use crate::method::translucid_method;
 use crate::panic;
 use crate::result::{translucid_result, Failure, FfiResult};
 use crate::structure::translucid_structure_type;
-use crate::views::FrameViews;
+use crate::views::{translucid_host_views_create_info, FrameViews};
 use crate::vulkan::{
     PFN_vkGetInstanceProcAddr, VkBool32, VkCommandBuffer, VkDevice, VkFormat, VkImage,
     VkImageLayout, VkInstance, VkPhysicalDevice, VkPhysicalDeviceFeatures, VkQueueFlags,
@@ -98,7 +98,7 @@ pub struct translucid_host_subgroup_requirements {
 pub struct translucid_host_subgroup_size_control {
     /// `TRANSLUCID_STRUCTURE_TYPE_HOST_SUBGROUP_SIZE_CONTROL`.
     pub s_type: u32,
-    /// NULL.
+    /// NULL, or a `translucid_host_views_create_info`.
     pub next: *const c_void,
     /// `VK_TRUE`: both features are enabled.
     pub enabled: VkBool32,
@@ -115,7 +115,8 @@ pub struct translucid_host_subgroup_size_control {
 pub struct translucid_host_device_create_info {
     /// `TRANSLUCID_STRUCTURE_TYPE_HOST_DEVICE_CREATE_INFO`.
     pub s_type: u32,
-    /// NULL, or a `translucid_host_subgroup_size_control`.
+    /// NULL, or a `translucid_host_subgroup_size_control` and a
+    /// `translucid_host_views_create_info`, each at most once, in either order.
     pub next: *const c_void,
     /// The `apiVersion` the instance was created with.
     pub api_version: u32,
@@ -132,12 +133,6 @@ pub struct translucid_host_device_create_info {
     pub enabled_extension_count: u32,
     /// `enabled_extension_count` extension names the device was created with.
     pub enabled_extensions: *const *const c_char,
-    /// The most views a frame has (`translucid_host_frame_views`), 1 to
-    /// `TRANSLUCID_MAX_VIEWS`; 0 means 1. Views count apart from frames in flight: each
-    /// view of a frame in flight takes a slot of per-frame data, and `frames_in_flight`
-    /// times `views_per_frame` may be at most `TRANSLUCID_MAX_FRAMES_IN_FLIGHT` (3 frames of
-    /// stereo: 3 and 2).
-    pub views_per_frame: u32,
 }
 
 /// One of the engine's images: a single-sample 2D image at least the frame's size (width x
@@ -298,7 +293,7 @@ pub(crate) fn host_device(info: &translucid_host_device_create_info) -> FfiResul
     Ok(HostDevice {
         memory_budget: None,
         allocation_callbacks: None,
-        subgroup_size_control: subgroup_size_control(info.next)?,
+        subgroup_size_control: host_device_chain(info.next)?.subgroup_size_control,
         get_instance_proc_addr,
         instance: info.instance,
         physical_device: info.physical_device,
@@ -312,28 +307,56 @@ pub(crate) fn host_device(info: &translucid_host_device_create_info) -> FfiResul
     })
 }
 
-/// Whether the `translucid_host_subgroup_size_control` chained at `next` (if any) says the
-/// features are enabled.
-fn subgroup_size_control(next: *const c_void) -> FfiResult<bool> {
-    if next.is_null() {
-        return Ok(false);
+/// What the structures chained to `translucid_host_device_create_info::next` say.
+#[derive(Default)]
+pub(crate) struct HostDeviceChain {
+    /// A `translucid_host_subgroup_size_control` says both features are enabled.
+    pub subgroup_size_control: bool,
+    /// `translucid_host_views_create_info::views_per_frame`, as given (0 without it).
+    pub views_per_frame: u32,
+}
+
+/// The chain at `next` of the engine's device description, checked: at most one
+/// `translucid_host_subgroup_size_control` and one `translucid_host_views_create_info`, in
+/// either order.
+pub(crate) fn host_device_chain(next: *const c_void) -> FfiResult<HostDeviceChain> {
+    let mut chain = HostDeviceChain::default();
+    let (mut control_seen, mut views_seen) = (false, false);
+    let mut link = next;
+    while !link.is_null() {
+        let what = "a structure chained to translucid_host_device_create_info";
+        let base = try_ref(link.cast::<translucid_base_in_structure>(), what)?;
+        let kind = translucid_structure_type::from_raw(base.s_type);
+        match kind {
+            Some(translucid_structure_type::HostSubgroupSizeControl) if !control_seen => {
+                control_seen = true;
+                // A structure of the type its s_type names (C contract).
+                let control = try_ref(link.cast::<translucid_host_subgroup_size_control>(), what)?;
+                chain.subgroup_size_control = control.enabled != 0;
+                link = control.next;
+            }
+            Some(translucid_structure_type::HostViewsCreateInfo) if !views_seen => {
+                views_seen = true;
+                // A structure of the type its s_type names (C contract).
+                let views = try_ref(link.cast::<translucid_host_views_create_info>(), what)?;
+                chain.views_per_frame = views.views_per_frame;
+                link = views.next;
+            }
+            _ => {
+                let name = kind.map_or_else(|| base.s_type.to_string(), |k| k.c_name());
+                return Err(Failure::new(
+                    translucid_result::ErrorInvalidStructureType,
+                    format!(
+                        "translucid_host_device_create_info.next: structure type {name} is not \
+                         taken there, or is chained twice; chain at most one \
+                         translucid_host_subgroup_size_control and one \
+                         translucid_host_views_create_info"
+                    ),
+                ));
+            }
+        }
     }
-    let what = "translucid_host_device_create_info.next";
-    let link = try_ref(next.cast::<translucid_base_in_structure>(), what)?;
-    check_type(
-        link.s_type,
-        translucid_structure_type::HostSubgroupSizeControl,
-        what,
-    )?;
-    // A structure of the type its s_type names (C contract).
-    let control = try_ref(next.cast::<translucid_host_subgroup_size_control>(), what)?;
-    check_header(
-        control.s_type,
-        control.next,
-        translucid_structure_type::HostSubgroupSizeControl,
-        "translucid_host_subgroup_size_control",
-    )?;
-    Ok(control.enabled != 0)
+    Ok(chain)
 }
 
 /// Wraps the engine's device described by `info`, with the variants of `profile` (`None`:

@@ -47,10 +47,12 @@ pub enum translucid_structure_type {
     HostImageRegion = 107,
     /// `translucid_host_frame_views`, chained to the frame targets.
     HostFrameViews = 108,
+    /// `translucid_host_views_create_info`, chained to the engine's device description.
+    HostViewsCreateInfo = 109,
 }
 
 impl translucid_structure_type {
-    const ALL: [Self; 24] = [
+    const ALL: [Self; 25] = [
         Self::ContextCreateInfo,
         Self::MeshCreateInfo,
         Self::TextureCreateInfo,
@@ -75,6 +77,7 @@ impl translucid_structure_type {
         Self::HostImageFormats,
         Self::HostImageRegion,
         Self::HostFrameViews,
+        Self::HostViewsCreateInfo,
     ];
 
     pub fn from_raw(value: u32) -> Option<Self> {

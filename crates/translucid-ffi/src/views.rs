@@ -6,7 +6,10 @@
 use crate::cast::{translucid_base_in_structure, try_ref, try_slice};
 use crate::frame::translucid_camera;
 use crate::frame_input::camera_from;
-use crate::host::{host_image, translucid_host_device_create_info, translucid_host_frame_targets};
+use crate::host::{
+    host_device_chain, host_image, translucid_host_device_create_info,
+    translucid_host_frame_targets,
+};
 use crate::result::{translucid_result, Failure, FfiResult};
 use crate::structure::translucid_structure_type;
 use std::ffi::c_void;
@@ -102,10 +105,29 @@ pub struct translucid_host_frame_views {
     /// views' layers are checked against them; 0 means 1).
     pub colour_layer_count: u32,
     pub depth_layer_count: u32,
-    /// 1 to the context's `translucid_host_device_create_info::views_per_frame`.
+    /// 1 to the context's `translucid_host_views_create_info::views_per_frame`.
     pub view_count: u32,
     /// `view_count` views.
     pub views: *const translucid_frame_view,
+}
+
+/// How many views the frames of a host-device context have at most, chained to
+/// `translucid_host_device_create_info::next` (with or without a
+/// `translucid_host_subgroup_size_control`, in either order). Without it, frames have one
+/// view. Views count apart from frames in flight: each view of a frame in flight takes a
+/// slot of per-frame data, and `translucid_context_create_info::frames_in_flight` times
+/// `views_per_frame` may be at most `TRANSLUCID_MAX_FRAMES_IN_FLIGHT` (3 frames of stereo:
+/// 3 and 2).
+#[allow(non_camel_case_types)]
+#[repr(C)]
+pub struct translucid_host_views_create_info {
+    /// `TRANSLUCID_STRUCTURE_TYPE_HOST_VIEWS_CREATE_INFO`.
+    pub s_type: u32,
+    /// NULL, or a `translucid_host_subgroup_size_control`.
+    pub next: *const c_void,
+    /// The most views a frame has (`translucid_host_frame_views`), 1 to
+    /// `TRANSLUCID_MAX_VIEWS`; 0 means 1.
+    pub views_per_frame: u32,
 }
 
 /// The most views a frame of a context made with `host` has, checked with the context's
@@ -114,14 +136,14 @@ pub(crate) fn views_per_frame(
     host: &translucid_host_device_create_info,
     frames_in_flight: u32,
 ) -> FfiResult<u32> {
-    let views = host.views_per_frame.max(1);
+    let given = host_device_chain(host.next)?.views_per_frame;
+    let views = given.max(1);
     let slots = crate::context::TRANSLUCID_MAX_FRAMES_IN_FLIGHT;
     if views > TRANSLUCID_MAX_VIEWS || views * frames_in_flight > slots {
         return Err(Failure::argument(format!(
-            "translucid_host_device_create_info.views_per_frame is {}; it must be 0 to \
+            "translucid_host_views_create_info.views_per_frame is {given}; it must be 0 to \
              TRANSLUCID_MAX_VIEWS ({TRANSLUCID_MAX_VIEWS}), and times frames_in_flight \
-             ({frames_in_flight}) at most TRANSLUCID_MAX_FRAMES_IN_FLIGHT ({slots})",
-            host.views_per_frame
+             ({frames_in_flight}) at most TRANSLUCID_MAX_FRAMES_IN_FLIGHT ({slots})"
         )));
     }
     Ok(views)

@@ -415,6 +415,7 @@ static void updates_move_the_mesh(void) {
 /* A host-device context for `frames_in_flight` frames of up to `views` views each. */
 static translucid_context *host_context_views(uint32_t frames_in_flight, uint32_t views) {
     translucid_host_device_create_info hd = host_device_info();
+    translucid_host_views_create_info view_info;
     translucid_context_create_info info;
     translucid_context *ctx = NULL;
     memset(&info, 0, sizeof info);
@@ -423,7 +424,11 @@ static translucid_context *host_context_views(uint32_t frames_in_flight, uint32_
     info.mode = TRANSLUCID_CONTEXT_MODE_HOST_DEVICE;
     info.next = &hd;
     info.frames_in_flight = frames_in_flight;
-    hd.views_per_frame = views;
+    memset(&view_info, 0, sizeof view_info);
+    view_info.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_VIEWS_CREATE_INFO;
+    view_info.next = hd.next;
+    view_info.views_per_frame = views;
+    hd.next = &view_info;
     CHECK(NULL, translucid_context_create(&info, &ctx));
     return ctx;
 }
@@ -734,16 +739,32 @@ static void misuse(void) {
     create.frames_in_flight = TRANSLUCID_MAX_FRAMES_IN_FLIGHT + 1;
     EXPECT(NULL, translucid_context_create(&create, &ctx), TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
     TRUE_OR_FAIL(strstr(translucid_context_get_last_error(NULL), "frames_in_flight") != NULL);
-    /* Views past TRANSLUCID_MAX_VIEWS, or past the slots with the frames in flight. */
-    create.frames_in_flight = 1;
-    hd.views_per_frame = TRANSLUCID_MAX_VIEWS + 1;
-    EXPECT(NULL, translucid_context_create(&create, &ctx), TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
-    TRUE_OR_FAIL(strstr(translucid_context_get_last_error(NULL), "views_per_frame") != NULL);
-    create.frames_in_flight = TRANSLUCID_MAX_FRAMES_IN_FLIGHT / 2 + 1;
-    hd.views_per_frame = 2;
-    EXPECT(NULL, translucid_context_create(&create, &ctx), TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
-    TRUE_OR_FAIL(strstr(translucid_context_get_last_error(NULL), "views_per_frame") != NULL);
-    hd.views_per_frame = 0;
+    /* Views past TRANSLUCID_MAX_VIEWS, or past the slots with the frames in flight; the
+     * views' structure chained twice. */
+    {
+        translucid_host_views_create_info views, again;
+        memset(&views, 0, sizeof views);
+        views.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_VIEWS_CREATE_INFO;
+        views.next = hd.next;
+        hd.next = &views;
+        create.frames_in_flight = 1;
+        views.views_per_frame = TRANSLUCID_MAX_VIEWS + 1;
+        EXPECT(NULL, translucid_context_create(&create, &ctx),
+               TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+        TRUE_OR_FAIL(strstr(translucid_context_get_last_error(NULL), "views_per_frame") != NULL);
+        create.frames_in_flight = TRANSLUCID_MAX_FRAMES_IN_FLIGHT / 2 + 1;
+        views.views_per_frame = 2;
+        EXPECT(NULL, translucid_context_create(&create, &ctx),
+               TRANSLUCID_RESULT_ERROR_INVALID_ARGUMENT);
+        TRUE_OR_FAIL(strstr(translucid_context_get_last_error(NULL), "views_per_frame") != NULL);
+        create.frames_in_flight = 1;
+        again = views;
+        views.next = &again;
+        EXPECT(NULL, translucid_context_create(&create, &ctx),
+               TRANSLUCID_RESULT_ERROR_INVALID_STRUCTURE_TYPE);
+        TRUE_OR_FAIL(strstr(translucid_context_get_last_error(NULL), "chained twice") != NULL);
+        hd = host_device_info();
+    }
     create.mode = TRANSLUCID_CONTEXT_MODE_STANDALONE;
     create.next = NULL;
     create.frames_in_flight = 2;

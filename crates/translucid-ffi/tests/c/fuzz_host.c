@@ -8,6 +8,7 @@
 #include "fuzz_host.h"
 
 static translucid_host_device_create_info g_device_info;
+static translucid_host_views_create_info g_views_info;
 /* Queue submissions are externally synchronized: the threads take turns. */
 static pthread_mutex_t g_queue_lock = PTHREAD_MUTEX_INITIALIZER;
 
@@ -46,7 +47,10 @@ void fuzz_host_start(void) {
     create_engine(&req);
     g_device_info = host_device_info();
     /* Frames of two views side by side: see fuzz_host_frame. */
-    g_device_info.views_per_frame = 2;
+    g_views_info.s_type = TRANSLUCID_STRUCTURE_TYPE_HOST_VIEWS_CREATE_INFO;
+    g_views_info.next = g_device_info.next;
+    g_views_info.views_per_frame = 2;
+    g_device_info.next = &g_views_info;
 }
 
 int fuzz_host_stop(void) {

@@ -357,7 +357,7 @@ impl Context {
         if count == 0 || count > self.views_per_frame as usize {
             return Err(Error::InvalidArgument(format!(
                 "{count} view(s) in one frame; the context was made for 1 to {} \
-                 (translucid_host_device_create_info.views_per_frame)",
+                 (translucid_host_views_create_info.views_per_frame)",
                 self.views_per_frame
             )));
         }
