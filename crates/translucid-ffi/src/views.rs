@@ -1,7 +1,8 @@
 //! Where a frame is in the engine's images: the structures chained to the frame targets
 //! (`translucid_host_image_layers` and `translucid_host_image_region` for a frame of one
 //! view, `translucid_host_frame_views` for a frame of several), turned into the core's
-//! views, each checked against the images before anything is recorded.
+//! views, each checked against the images before anything is recorded; and how many views
+//! a context's frames may have (`translucid_host_views_create_info`).
 
 use crate::cast::{translucid_base_in_structure, try_ref, try_slice};
 use crate::frame::translucid_camera;
