@@ -329,6 +329,7 @@ pub fn create(
         )?),
         MethodKind::DepthPeeling => Box::new(depth_peeling::DepthPeeling::new(
             gpu,
+            scene,
             gpu_scene,
             targets,
             &options.depth_peeling,

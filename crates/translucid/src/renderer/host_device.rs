@@ -320,7 +320,7 @@ impl Renderer {
             return Ok(false);
         }
         for &(slot, _) in self.in_flight.iter().take(frames) {
-            if !self.completions[slot].ran()? {
+            if !self.completions[slot].ran()? || self.timestamps[slot].try_read()?.is_none() {
                 return Ok(false);
             }
         }

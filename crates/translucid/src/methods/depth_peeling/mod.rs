@@ -38,6 +38,7 @@ use crate::gpu::{
 };
 use crate::interface::methods::{DEPTH_PEELING_COMPOSITE_SET, DEPTH_PEELING_PEEL_SET};
 use crate::interface::specialization::Specialization;
+use crate::scene::Scene;
 use crate::{Error, Result};
 use std::sync::Arc;
 
@@ -164,6 +165,7 @@ pub struct DepthPeeling {
 impl DepthPeeling {
     pub fn new(
         gpu: &Gpu,
+        scene: &Scene,
         gpu_scene: &GpuScene,
         targets: &FrameTargets,
         options: &DepthPeelingOptions,
@@ -210,7 +212,8 @@ impl DepthPeeling {
             readbacks,
             passes,
             fixed: options.passes.is_some(),
-            expected: 0,
+            // The renderer's first frame is the scene it was made with, set no other way.
+            expected: expected_passes(scene, targets),
             gate,
             clear,
         })
@@ -221,6 +224,14 @@ impl DepthPeeling {
     pub fn passes(&self) -> u32 {
         self.passes
     }
+}
+
+/// The passes a frame of `scene` into `targets` is expected to need, from its estimate: half
+/// the most quads over one part of the screen (a layer holds at least one).
+fn expected_passes(scene: &Scene, targets: &FrameTargets) -> u32 {
+    let extent = targets.extent;
+    let estimate = estimate_sampled(scene, extent.width, extent.height, FRAME_ESTIMATE_QUADS);
+    estimate.deepest.div_ceil(2).min(u64::from(MOST_PASSES)) as u32
 }
 
 /// Passes a frame of `draws` transparent draws records, where the frames before it needed
@@ -533,11 +544,7 @@ impl Method for DepthPeeling {
         // moving into a cloud, the first frame of a deep scene) records the passes it needs
         // though they have not completed.
         if !self.fixed {
-            let extent = f.targets.extent;
-            let deepest =
-                estimate_sampled(f.scene, extent.width, extent.height, FRAME_ESTIMATE_QUADS)
-                    .deepest;
-            self.expected = deepest.div_ceil(2).min(u64::from(MOST_PASSES)) as u32;
+            self.expected = expected_passes(f.scene, f.targets);
         }
         Ok(())
     }

@@ -127,6 +127,8 @@ pub struct LinkedList {
     /// Per frame slot, the pool its frame was recorded with.
     recorded: Vec<u32>,
     fixed: bool,
+    /// A pool the memory budget refused: no frame asks for one as large again.
+    refused: u32,
     /// `LinkedListOptions::nodes_as_texels`.
     texels_forced: bool,
     retirement: Retirement,
@@ -238,6 +240,7 @@ impl LinkedList {
             lists,
             counters,
             fixed: options.node_budget.is_some(),
+            refused: u32::MAX,
             texels_forced: options.nodes_as_texels,
             retirement: Retirement::default(),
         })
@@ -345,6 +348,9 @@ impl Method for LinkedList {
             return Ok(());
         }
         let capacity = pool_for(expected, 0.5, f.targets, most) as u32;
+        if capacity >= self.refused {
+            return Ok(());
+        }
         log::info!("linked_list: {expected} fragments expected; the pool grows to {capacity}");
         match self.grow(f.gpu_scene, f.targets, capacity) {
             // Past the context's budget the frame keeps the pool it has: the fragments past
@@ -354,6 +360,7 @@ impl Method for LinkedList {
                     "linked_list: the pool stays at {}: {e}",
                     self.lists.capacity
                 );
+                self.refused = capacity;
                 Ok(())
             }
             grown => grown,
