@@ -19,7 +19,9 @@
  *    cost the next frame nothing: no pipeline built, its image right.
  * 8. Every method in a declared loop (translucid_context_prepare, with the engine's image
  *    formats): the first frame, assets of every kind that changes a shader variant, streamed
- *    in one per frame, then a stack that makes the frames deep, build no pipeline.
+ *    in one per frame, then a stack that makes the frames deep, build no pipeline. Then
+ *    again with nothing declared but what the first frame draws: each streamed kind is past
+ *    the declaration, drawn with the superset variant, and builds nothing either.
  * 9. A resolution drop then translucid_context_trim: memory given back, and the next frame
  *    builds no pipeline and completes right.
  * 10. Stereo with 3 frames in flight: each frame's two views (cameras) recorded into one
@@ -1263,16 +1265,24 @@ static void destroy_standalone_assets(streamed_scene *sc) {
     }
 }
 
-static void declared_loop(translucid_method method) {
+/* Section 8, the loop declaring `content` (besides what its first frame draws). */
+static void declared_loop(translucid_method method, uint32_t content) {
     translucid_context *ctx = host_context(MOST_IN_FLIGHT);
     translucid_host_frame_targets t = targets_of(g_slots[0].cmd, &g_slots[0]);
     static streamed_scene sc;
     translucid_frame_info info;
+    translucid_host_image_formats formats;
+    translucid_prepare_info prepare;
+    uint64_t built = 0;
     make_plain_quads(ctx, &sc);
     info = frame_of(sc.draws[0], 2, method);
-    printf("method %d: prepare built %llu pipelines\n", (int)method,
-           (unsigned long long)prepare_for(ctx, &info, &t));
-    stream_every_kind(ctx, method, &sc, "declared loop");
+    fill_prepare(&prepare, &formats, &info, &t, content);
+    CHECK(ctx, translucid_context_prepare(ctx, &prepare, &built));
+    printf("method %d: prepare for content %#x built %llu pipelines\n", (int)method,
+           (unsigned)content, (unsigned long long)built);
+    stream_every_kind(ctx, method, &sc,
+                      content == TRANSLUCID_CONTENT_ALL ? "declared loop"
+                                                        : "past the declaration");
     translucid_context_destroy(ctx);
     destroy_standalone_assets(&sc);
 }
@@ -2128,7 +2138,10 @@ int main(void) {
         for (n = 0; n < sizeof methods / sizeof methods[0]; n++) {
             abandon_keeps_what_is_built(methods[n]);
         }
-        for (n = 0; n < sizeof methods / sizeof methods[0]; n++) declared_loop(methods[n]);
+        for (n = 0; n < sizeof methods / sizeof methods[0]; n++) {
+            declared_loop(methods[n], TRANSLUCID_CONTENT_ALL);
+            declared_loop(methods[n], 0);
+        }
         for (n = 0; n < sizeof methods / sizeof methods[0]; n++) {
             trim_after_a_resolution_drop(methods[n]);
         }

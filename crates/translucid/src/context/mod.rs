@@ -266,7 +266,8 @@ impl Context {
     ) -> Result<(u64, u64)> {
         self.check_engine_images(engine_images)?;
         let before = built_so_far(&self.gpu);
-        self.renderers.declare(content);
+        let drawn = self.renderers.drawn_content(&self.assets, request)?;
+        self.renderers.declare(content.union(drawn));
         let kept = self.renderers.for_frame(&self.gpu, &self.assets, request)?;
         if let Some((colour, depth)) = &engine_images {
             kept.renderer.prepare_host(colour, depth)?;
@@ -288,6 +289,7 @@ impl Context {
         engine_images: Option<(HostImage, HostImage)>,
     ) -> Result<()> {
         self.check_engine_images(engine_images)?;
+        let content = content.union(self.renderers.drawn_content(&self.assets, request)?);
         let inputs = self
             .renderers
             .inputs_for(&self.gpu, &self.assets, request, content)?;

@@ -176,6 +176,9 @@ pub struct Renderers {
     frames_in_flight: u32,
     /// What the engine declared its frames may draw: every renderer's shaders cover it.
     declared: DeclaredContent,
+    /// The engine prepared the loop: frames past the declaration draw with the superset
+    /// variant (`BinOptions::prepared`).
+    prepared: bool,
     /// What the renderers freed by a trim learned (buffer sizes, passes), by their settings:
     /// the next ones with those settings start there.
     learned: HashMap<SettingsKey, MethodOptions>,
@@ -190,16 +193,19 @@ impl Renderers {
             uses: 0,
             frames_in_flight,
             declared: DeclaredContent::default(),
+            prepared: false,
             learned: HashMap::new(),
         }
     }
 
-    /// Adds `content` to what frames may draw. Renderers made before a declaration that
-    /// adds to it take no new frame: the next ones cover all of it.
+    /// Adds `content` to what frames may draw, the loop prepared from now on. Renderers
+    /// made before a declaration that adds to it (or before the first) take no new frame:
+    /// the next ones cover all of it.
     pub fn declare(&mut self, content: DeclaredContent) {
         let declared = self.declared.union(content);
-        if declared != self.declared {
+        if declared != self.declared || !self.prepared {
             self.declared = declared;
+            self.prepared = true;
             for k in &mut self.kept {
                 k.usable = false;
             }
@@ -343,7 +349,23 @@ impl Renderers {
                 |k| k.renderer.learned_options(&request.options),
             );
         options.bins.declared = declared;
+        options.bins.prepared = self.prepared;
         options
+    }
+
+    /// What `request`'s frame draws over the current assets: a prepared loop declares it
+    /// besides what the engine names.
+    pub fn drawn_content(
+        &self,
+        assets: &Assets,
+        request: &FrameRequest,
+    ) -> Result<DeclaredContent> {
+        let built = self.scene_for(assets, request)?;
+        Ok(DeclaredContent::drawn_by(
+            &built.scene,
+            request.width,
+            request.height,
+        ))
     }
 
     /// What a renderer for `request` over the current assets would be made from, were
@@ -358,7 +380,8 @@ impl Renderers {
     ) -> Result<RendererInputs> {
         self.adopt_created_assets(gpu, assets, request)?;
         let built = self.scene_for(assets, request)?;
-        let options = self.options_for(request, self.declared.union(content));
+        let mut options = self.options_for(request, self.declared.union(content));
+        options.bins.prepared = true;
         let (resident, _moved) = self.resident_for(gpu, assets, &built)?;
         Ok(RendererInputs {
             gpu: gpu.clone(),

@@ -341,8 +341,12 @@ impl Renderer {
             .collect::<Result<Vec<_>>>()?;
         gpu.check_validation()?;
         // Slot 0 holds the scene's own frame; the others are written before their first use.
+        // A prepared loop's methods start from the declared variants: its first frame is set
+        // like any other, taking the superset where it draws past the declaration.
         let mut slot_serials = vec![u64::MAX; slots];
-        slot_serials[0] = 0;
+        if !options.bins.prepared {
+            slot_serials[0] = 0;
+        }
         Ok(Self {
             gpu: gpu.clone(),
             scene: scene.without_texels(),

@@ -102,6 +102,50 @@ impl DeclaredContent {
         deep: true,
     };
 
+    /// What a frame with `features` (its own, before [`RasterFeatures::covering`]) draws.
+    /// Deep pixels are not a shader variant of the bins: never set.
+    pub fn of_features(features: &RasterFeatures) -> Self {
+        Self {
+            textures: features.textures,
+            vertex_colours: features.vertex_colours,
+            corner_colours: features.vertex_colours && !features.flat_colours,
+            lit: features.vertex_normals || features.face_normals,
+            transmission: features.transmission,
+            near_plane: features.homogeneous,
+            deep: false,
+        }
+    }
+
+    /// What a frame of `scene` at `width` x `height` draws (deep pixels aside).
+    pub fn drawn_by(scene: &Scene, width: u32, height: u32) -> Self {
+        let meshes = MeshFacts::of_scene(scene);
+        let near_plane = homogeneous_triangles(scene, &meshes, width, height);
+        // The subgroups shape the raster, not the content.
+        let subgroups = Subgroups {
+            size: BIN_SIZE,
+            full: false,
+        };
+        Self::of_features(&RasterFeatures::of_frame(
+            scene, &meshes, near_plane, subgroups,
+        ))
+    }
+
+    /// Whether a frame drawing `content` is within this declaration: the shaders built for
+    /// it draw that frame.
+    pub fn covers(&self, content: &Self) -> bool {
+        let within = |drawn: bool, declared: bool| !drawn || declared;
+        within(content.textures, self.textures)
+            && within(
+                content.vertex_colours,
+                self.vertex_colours || self.corner_colours,
+            )
+            && within(content.corner_colours, self.corner_colours)
+            && within(content.lit, self.lit)
+            && within(content.transmission, self.transmission)
+            && within(content.near_plane, self.near_plane)
+            && within(content.deep, self.deep)
+    }
+
     /// What either declares.
     pub fn union(self, other: Self) -> Self {
         Self {
@@ -131,6 +175,34 @@ impl RasterFeatures {
             transmission: self.transmission || declared.transmission,
             vertex_colours: self.vertex_colours || colours,
             flat_colours: self.flat_colours && !declared.corner_colours,
+            ..self
+        }
+    }
+
+    /// The superset variant of these features: covering every content a frame can draw,
+    /// textures included. A prepared loop builds it up front, and its frames whose content
+    /// is past the declaration draw with it (right, only slower) instead of building their
+    /// own variant in the frame.
+    pub fn superset(self) -> Self {
+        Self {
+            textures: true,
+            ..self.covering(&DeclaredContent::ALL)
+        }
+    }
+
+    /// These features with their content cut down to what `declared` names: where a
+    /// prepared loop's renderer starts, its frames past the declaration drawn with the
+    /// superset ([`Self::superset`]) from the first.
+    pub fn within(self, declared: &DeclaredContent) -> Self {
+        Self {
+            homogeneous: self.homogeneous && declared.near_plane,
+            textures: self.textures && declared.textures,
+            vertex_normals: self.vertex_normals && declared.lit,
+            face_normals: self.face_normals && declared.lit,
+            transmission: self.transmission && declared.transmission,
+            vertex_colours: self.vertex_colours
+                && (declared.vertex_colours || declared.corner_colours),
+            flat_colours: self.flat_colours || !declared.corner_colours,
             ..self
         }
     }
@@ -764,6 +836,113 @@ mod tests {
             ..plain
         };
         assert!(textured.covering(&DeclaredContent::ALL).textures);
+    }
+
+    /// A frame is within a declaration when each thing it draws is declared; corner colours
+    /// take their own declaration, and one colour a quad is within either.
+    #[test]
+    fn a_declaration_covers_what_it_names_and_no_more() {
+        let plain = DeclaredContent::default();
+        let flat = RasterFeatures {
+            vertex_colours: true,
+            flat_colours: true,
+            ..none()
+        };
+        let corners = RasterFeatures {
+            flat_colours: false,
+            ..flat
+        };
+        let drawn = DeclaredContent::of_features;
+        assert!(plain.covers(&drawn(&none())));
+        assert!(!plain.covers(&drawn(&flat)));
+        let colours = DeclaredContent {
+            vertex_colours: true,
+            ..plain
+        };
+        assert!(colours.covers(&drawn(&flat)));
+        assert!(!colours.covers(&drawn(&corners)));
+        let corner_colours = DeclaredContent {
+            corner_colours: true,
+            ..plain
+        };
+        assert!(corner_colours.covers(&drawn(&flat)));
+        assert!(corner_colours.covers(&drawn(&corners)));
+        for past in [
+            RasterFeatures {
+                textures: true,
+                ..none()
+            },
+            RasterFeatures {
+                face_normals: true,
+                ..none()
+            },
+            RasterFeatures {
+                transmission: true,
+                ..none()
+            },
+            RasterFeatures {
+                homogeneous: true,
+                ..none()
+            },
+        ] {
+            assert!(!plain.covers(&drawn(&past)), "{past:?}");
+            assert!(DeclaredContent::ALL.covers(&drawn(&past)), "{past:?}");
+        }
+    }
+
+    /// The superset variant draws any frame: every content feature on, the raster's own
+    /// choices (slabs, rows, sampling) kept.
+    #[test]
+    fn the_superset_covers_every_content_and_keeps_the_rasters_choices() {
+        let frame = RasterFeatures {
+            slab_bits: 4,
+            rows: 8,
+            hardware_sampling: true,
+            flat_colours: true,
+            ..none()
+        };
+        let superset = frame.superset();
+        assert!(
+            DeclaredContent::of_features(&superset).covers(&DeclaredContent {
+                deep: false,
+                ..DeclaredContent::ALL
+            })
+        );
+        assert_eq!(
+            (
+                superset.slab_bits,
+                superset.rows,
+                superset.hardware_sampling
+            ),
+            (4, 8, true)
+        );
+        assert_eq!(superset.superset(), superset);
+    }
+
+    /// A frame's features cut down to a declaration are within it, and a frame within it
+    /// keeps its own.
+    #[test]
+    fn features_within_a_declaration_are_covered_by_it() {
+        let everything = RasterFeatures {
+            textures: true,
+            vertex_normals: true,
+            face_normals: true,
+            transmission: true,
+            vertex_colours: true,
+            homogeneous: true,
+            ..none()
+        };
+        let colours = DeclaredContent {
+            vertex_colours: true,
+            lit: true,
+            ..DeclaredContent::default()
+        };
+        for declared in [DeclaredContent::default(), colours, DeclaredContent::ALL] {
+            let within = everything.within(&declared);
+            assert!(declared.covers(&DeclaredContent::of_features(&within)));
+            assert_eq!(within.within(&declared), within);
+        }
+        assert_eq!(everything.within(&DeclaredContent::ALL), everything);
     }
 
     /// A quad's attribute record holds the sections its frame's shading reads, and no more:

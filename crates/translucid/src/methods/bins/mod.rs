@@ -48,7 +48,7 @@ use crate::interface::specialization::Specialization;
 use crate::interface::SetDecl;
 use crate::scene::Scene;
 use crate::{Error, Result};
-use features::{FrameEstimate, MeshFacts, RasterFeatures};
+use features::{DeclaredContent, FrameEstimate, MeshFacts, RasterFeatures};
 use layout::{
     BinCounters, BinPush, BIN_SIZE, DISPATCH_BAND_FILL_OFFSET, DISPATCH_BINNING_OFFSET,
     DISPATCH_BIN_OFFSETS_OFFSET, DISPATCH_RASTER_BINS_OFFSET, DRAW_COMPOSITE_OFFSET, LAST_STAMP,
@@ -154,6 +154,10 @@ pub struct BinOptions {
     /// What the engine declared its frames may draw: every frame's shaders cover it
     /// ([`features::DeclaredContent`]).
     pub declared: features::DeclaredContent,
+    /// The loop was prepared (`Context::prepare`): the superset variant is built up front
+    /// too, and frames whose content is past `declared` draw with it rather than build
+    /// their own ([`RasterFeatures::superset`]).
+    pub prepared: bool,
 }
 
 /// A raster's shader in its two variants: sampling textures in software (bit for bit the
@@ -390,6 +394,10 @@ pub struct Bins {
     fixed_path_forced: bool,
     /// What every frame's features cover (BinOptions::declared).
     declared: features::DeclaredContent,
+    /// BinOptions::prepared.
+    prepared: bool,
+    /// A frame past the declaration was drawn with the superset variant (said once).
+    superset_drawn: bool,
     /// Frames still to record without the occlusion cull.
     unculled_frames: u32,
     /// The largest buffers may grow to.
@@ -478,6 +486,12 @@ impl Bins {
         let near_plane = features::homogeneous_triangles(scene, &meshes, width, height);
         let mut features = RasterFeatures::of_frame(scene, &meshes, near_plane, info.into());
         features.homogeneous &= !options.assume_fixed_path;
+        if options.prepared {
+            // The declared variants, whatever this frame draws: the renderer's frames (this
+            // one included, `Renderer::sharing`) are set one by one, those past the
+            // declaration drawn with the superset.
+            features = features.within(&options.declared);
+        }
         let mut features = features.covering(&options.declared);
         features.slab_bits = raster.slab_bits;
         if options.assume_wide_subgroups {
@@ -560,6 +574,8 @@ impl Bins {
             texel_walk_forced,
             fixed_path_forced: options.assume_fixed_path,
             declared: options.declared,
+            prepared: options.prepared,
+            superset_drawn: false,
             unculled_frames: 0,
             most,
             homogeneous_missed: false,
@@ -597,6 +613,11 @@ impl Bins {
         self.declared
     }
 
+    /// Whether the loop was prepared (BinOptions::prepared).
+    pub fn prepared(&self) -> bool {
+        self.prepared
+    }
+
     /// Where the engine declared textures, builds now the variant of frames with the other
     /// texture state than this one's (textured draws or none): its stages, and what `raster`
     /// builds of the method's raster for the bins' features as they are then; so that the
@@ -617,6 +638,29 @@ impl Bins {
         self.select(gpu_scene, other)?;
         let built = raster(self);
         self.select(gpu_scene, current)?;
+        built
+    }
+
+    /// In a prepared loop, builds now the superset variant ([`RasterFeatures::superset`]):
+    /// its stages, and what `raster` builds of the method's raster for the bins' features
+    /// as they are then; so that frames past the declaration build nothing. Its buffers are
+    /// sized by the first frame that draws with it.
+    pub fn prebuild_superset(
+        &mut self,
+        gpu_scene: &GpuScene,
+        raster: impl FnOnce(&mut Self) -> Result<()>,
+    ) -> Result<()> {
+        let current = self.features;
+        let superset = current.superset();
+        if !self.prepared || superset == current {
+            return Ok(());
+        }
+        // Not `select`: the buffers stay sized for the current features.
+        let layouts = [&gpu_scene.layout, &self.resources.layout];
+        StagePipelines::select(&mut self.cache, &self.gpu, &layouts, &superset)?;
+        self.features = superset;
+        let built = raster(self);
+        self.features = current;
         built
     }
 
@@ -701,6 +745,18 @@ impl Bins {
         fresh.homogeneous =
             (fresh.homogeneous && !self.fixed_path_forced) || self.homogeneous_missed;
         let mut features = self.features.for_frame(fresh.covering(&self.declared));
+        if self.prepared && !self.declared.covers(&DeclaredContent::of_features(&fresh)) {
+            if !self.superset_drawn {
+                log::warn!(
+                    "{}: a frame draws content past what the loop declared; it and such \
+                     frames after it draw with the superset variant, slower (declare the \
+                     content to draw them with their own)",
+                    self.method
+                );
+                self.superset_drawn = true;
+            }
+            features = features.superset();
+        }
         features.hardware_sampling = sampling(
             self.gpu.info(),
             self.hardware_sampling_forced,

@@ -65,6 +65,8 @@ pub struct Exact {
     lists: ResumeLists,
     /// Per frame slot, what its last submission was recorded with.
     recorded: Vec<Recorded>,
+    /// A prepared loop's frames were deeper than declared (said once).
+    deeper_than_declared: bool,
 }
 
 /// What a submission was recorded with.
@@ -117,6 +119,15 @@ impl Exact {
                 })?;
             }
         }
+        bins.prebuild_superset(gpu_scene, |bins| {
+            Raster::prebuild(bins, gpu_scene, depth)?;
+            if bins.declared().deep {
+                for declared in Depth::DECLARED {
+                    Raster::prebuild(bins, gpu_scene, declared)?;
+                }
+            }
+            Ok(())
+        })?;
         Ok(Self {
             bins,
             depth,
@@ -131,6 +142,7 @@ impl Exact {
                 };
                 gpu_scene.slot_count()
             ],
+            deeper_than_declared: false,
         })
     }
 }
@@ -213,7 +225,12 @@ impl Method for Exact {
         // one is right either way).
         let depth = &mut self.depth;
         let declared_deep = self.bins.declared().deep;
+        // A prepared loop builds nothing in its frames: without deep pixels declared, it
+        // stays at the depth it has (right, slower on deep frames).
+        let stays = self.bins.prepared() && !declared_deep;
+        let deeper_noted = &mut self.deeper_than_declared;
         let bins = self.bins.frame_done(done, |counters, (width, height)| {
+            let before = *depth;
             if counters.overflow & OVERFLOW_CROWDED_BIN != 0 {
                 *depth = depth.deep();
             }
@@ -225,6 +242,16 @@ impl Method for Exact {
             );
             if declared_deep {
                 *depth = depth.declared();
+            }
+            if stays && *depth != before {
+                if !*deeper_noted {
+                    log::warn!(
+                        "exact: the loop's frames are deeper than declared; they stay at \
+                         the variants built (declare deep pixels for the faster ones)"
+                    );
+                    *deeper_noted = true;
+                }
+                *depth = before;
             }
             depth.slab_bits
         })?;

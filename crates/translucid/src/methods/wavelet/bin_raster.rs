@@ -68,6 +68,9 @@ impl BinRaster {
         bins.prebuild_texture_variant(gpu_scene, |bins| {
             select(bins, gpu_scene, rank, constants).map(drop)
         })?;
+        bins.prebuild_superset(gpu_scene, |bins| {
+            select(bins, gpu_scene, rank, constants).map(drop)
+        })?;
         Ok(Self {
             bins,
             rank,
