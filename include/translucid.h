@@ -1022,10 +1022,11 @@ typedef struct translucid_frame_statistics {
      * `translucid_frame_render` or `translucid_frame_record` call, and for a recorded frame
      * its `translucid_frame_complete` (where `exact` moves to the variants of deeper frames).
      * A new method or new settings may need some, as may content a loop did not draw
-     * before; a loop prepared for what it draws (`translucid_context_prepare`) needs none,
-     * its first frame included where the engine's image formats were prepared for too, also
-     * when assets are created or destroyed (a renderer made for new assets takes the
-     * pipelines of the one it replaces).
+     * before; a prepared loop (`translucid_context_prepare`) needs none up to the prepared
+     * size, its first frame included where the engine's image formats were prepared for
+     * too, also when assets are created or destroyed (a renderer made for new assets takes
+     * the pipelines of the one it replaces) and when they bring content past the
+     * declaration (drawn with the superset variant).
      */
     uint64_t pipelines_created;
     /**
@@ -2194,24 +2195,31 @@ translucid_result translucid_method_get_available(uint32_t *methods,
                                                   size_t *out_count);
 
 /**
- * Declares what the frame loop's frames may draw (`content`) and builds, now, every
- * pipeline frames like `frame` need for it: same method and settings, at most its size,
- * over any assets, streamed-in ones included, whose content is within the declaration.
- * Those frames then report `pipelines_created` 0. On an engine's device, chain the
- * formats and layouts of the images the loop records into (`translucid_host_image_formats`,
- * once for each set of formats, layouts and final layouts the loop hands over; a call
- * that declares nothing more only builds what is missing): without them, the first
- * frame into each set builds the few pipelines of the passes made for those images (`blend`'s pass into them, the composite
- * of `exact` and `wavelet` onto a colour format that blends, the import of depth the
- * other methods cannot copy). Frames draw with the declared shaders whether
- * they need all of them or not (textures apart: a frame without a textured draw takes
- * the untextured variant, built too): declare what the loop draws, not more. Call it at load time, once per method
- * and settings the loop uses, after creating the assets or before; a later call that
- * declares more makes the next frames build their renderers anew. Not declared, and
- * still built when first needed (documented in the README, "No compile in the frame
- * loop"): deep frames' variants unless `TRANSLUCID_CONTENT_DEEP` is declared, content
- * past the declaration, and a frame larger than the prepared one. `out_pipelines_created`
- * (may be NULL) receives the pipelines this call built.
+ * Declares what the frame loop's frames may draw (`content`, and what `frame` draws)
+ * and builds, now, every pipeline frames like `frame` need: same method and settings,
+ * at most its size, over any assets, streamed-in ones included. Those frames then
+ * report `pipelines_created` 0. Frames draw with the declared shaders whether they need
+ * all of them or not (textures apart: a frame without a textured draw takes the
+ * untextured variant, built too): declare what the loop draws, not more. Frames whose
+ * content is past the declaration draw with a superset variant built now too (every
+ * content kind, both texture variants; right, only slower: exact on untextured
+ * particles 1.6x their own variant's time on lavapipe), and exact's frames deeper than
+ * declared stay at the variants built; each says so once in the log.
+ *
+ * On an engine's device, chain the formats and layouts of the images the loop records
+ * into (`translucid_host_image_formats`, once for each set of formats, layouts and final
+ * layouts the loop hands over; a call that declares nothing more only builds what is
+ * missing): without them, the first frame into each set builds the few pipelines of the
+ * passes made for those images (`blend`'s pass into them, the composite of `exact` and
+ * `wavelet` onto a colour format that blends, the import of depth the other methods
+ * cannot copy).
+ *
+ * Call it at load time, once per method and settings the loop uses, after creating the
+ * assets or before; a later call that declares more makes the next frames build their
+ * renderers anew (declare in the background for the loop to go on meanwhile). Still
+ * built when first needed (documented in the README, "No compile in the frame loop"): a
+ * frame larger than the prepared one, and other methods or settings.
+ * `out_pipelines_created` (may be NULL) receives the pipelines this call built.
  */
 TRANSLUCID_MUST_USE
 translucid_result translucid_context_prepare(struct translucid_context *context,
@@ -2221,12 +2229,12 @@ translucid_result translucid_context_prepare(struct translucid_context *context,
 /**
  * `translucid_context_prepare` on a thread of translucid's own, for a loop that goes on
  * meanwhile (streaming in a level while the current one plays): returns once `info` is
- * checked (and copied) and the work has started. Frames recorded meanwhile draw with
- * what was declared before (content past that is built when first drawn, as without
- * preparing). The work takes effect only in the `translucid_context_get_prepare_status`
- * call that finds it finished, never in another call, so that the engine picks the
- * frame (between engine frames, not between the views of one): its content is
- * declared, and the next frame of each method makes its renderer anew from the
+ * checked (and copied) and the work has started. Frames recorded meanwhile draw with what
+ * was declared before (content past that with the superset variant, where the loop was
+ * prepared before; else built when first drawn, as without preparing). The work takes
+ * effect only in the `translucid_context_get_prepare_status` call that finds it finished,
+ * never in another call, so that the engine picks the frame (between engine frames, not
+ * between the views of one): its content is declared, and the next frame of each method makes its renderer anew from the
  * pipelines built (no shader compiled; its buffers are allocated again, while frames
  * in flight keep the old ones until they complete). Several may run at once, and
  * beside `translucid_context_prepare`; none can be cancelled. The work makes a renderer

@@ -126,9 +126,9 @@ pub struct MethodArgs {
     #[arg(long)]
     pub passes: Option<u32>,
     /// exact, wavelet: draw with the shaders of a loop declared to draw this content, as
-    /// `translucid_context_prepare` declares it (comma-separated: textures, vertex-colours,
-    /// corner-colours, lit, transmission, near-plane, deep, all) [default: none, each frame's
-    /// own]
+    /// `translucid_context_prepare` declares it, frames past it with the superset variant
+    /// (comma-separated: textures, vertex-colours, corner-colours, lit, transmission,
+    /// near-plane, deep, all, none) [default: no declaration, each frame's own]
     #[arg(long, value_parser = parse_declared)]
     pub declare: Option<translucid::methods::bins::features::DeclaredContent>,
 }
@@ -149,10 +149,11 @@ fn parse_declared(
             "near-plane" => declared.near_plane = true,
             "deep" => declared.deep = true,
             "all" => declared = DeclaredContent::ALL,
+            "none" => {}
             other => {
                 return Err(format!(
                     "unknown content {other:?}: textures, vertex-colours, corner-colours, lit, \
-                     transmission, near-plane, deep or all"
+                     transmission, near-plane, deep, all or none"
                 ))
             }
         }

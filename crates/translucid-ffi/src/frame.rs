@@ -236,10 +236,11 @@ pub struct translucid_frame_statistics {
     /// `translucid_frame_render` or `translucid_frame_record` call, and for a recorded frame
     /// its `translucid_frame_complete` (where `exact` moves to the variants of deeper frames).
     /// A new method or new settings may need some, as may content a loop did not draw
-    /// before; a loop prepared for what it draws (`translucid_context_prepare`) needs none,
-    /// its first frame included where the engine's image formats were prepared for too, also
-    /// when assets are created or destroyed (a renderer made for new assets takes the
-    /// pipelines of the one it replaces).
+    /// before; a prepared loop (`translucid_context_prepare`) needs none up to the prepared
+    /// size, its first frame included where the engine's image formats were prepared for
+    /// too, also when assets are created or destroyed (a renderer made for new assets takes
+    /// the pipelines of the one it replaces) and when they bring content past the
+    /// declaration (drawn with the superset variant).
     pub pipelines_created: u64,
     /// GPU memory those calls allocated, in bytes: the first frames of a renderer, a frame
     /// larger than any before with its method and settings, frames that need larger buffers, the first frame after assets were created (their images, and

@@ -112,6 +112,7 @@ pub fn options(
         },
         bins: translucid::methods::bins::BinOptions {
             declared: method_args.declare.unwrap_or_default(),
+            prepared: method_args.declare.is_some(),
             ..Default::default()
         },
         ..Default::default()

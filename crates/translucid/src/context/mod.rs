@@ -242,15 +242,16 @@ impl Context {
         }
     }
 
-    /// Declares that the frames may draw `content` (added to what was declared before), and
-    /// builds now what frames like `request` need: the renderer for its method and settings
-    /// up to its size, over the current assets, with every shader of every frame within the
-    /// declaration. Frames of that method and those settings, up to that size, then build no
-    /// pipeline, also when assets streamed in bring content they did not draw before (see
-    /// [`DeclaredContent`] for what it covers and what it does not). Frames draw with the
-    /// declared variants whether or not they need all of them, textures apart (both their
-    /// variants are built, and a frame takes its own). Returns the pipelines built and
-    /// the bytes of GPU memory allocated.
+    /// Declares that the frames may draw `content` and what `request` draws (added to what
+    /// was declared before), and builds now what frames like `request` need: the renderer
+    /// for its method and settings up to its size, over the current assets, with every
+    /// shader of every frame within the declaration, and the superset variant
+    /// ([`RasterFeatures::superset`]) that frames past it draw with. Frames of that method
+    /// and those settings, up to that size, then build no pipeline, also when assets
+    /// streamed in bring content they did not draw before (see [`DeclaredContent`] for what
+    /// it covers). Frames draw with the declared variants whether or not they need all of
+    /// them, textures apart (both their variants are built, and a frame takes its own).
+    /// Returns the pipelines built and the bytes of GPU memory allocated.
     ///
     /// On an engine's device, `engine_images` (colour, depth) are images like those the
     /// frames will record into (their formats and layouts; the handles are not used): what
@@ -258,6 +259,7 @@ impl Context {
     /// ([`crate::renderer::Renderer::prepare_host`]).
     ///
     /// [`DeclaredContent`]: crate::methods::bins::features::DeclaredContent
+    /// [`RasterFeatures::superset`]: crate::methods::bins::features::RasterFeatures::superset
     pub fn prepare(
         &mut self,
         request: &FrameRequest,
@@ -276,8 +278,9 @@ impl Context {
     }
 
     /// As [`Self::prepare`], but on a thread of its own: returns once the work has started.
-    /// Frames recorded meanwhile draw with what was declared before (content past it is
-    /// built when first drawn, as without preparing). The work takes effect only where
+    /// Frames recorded meanwhile draw with what was declared before (content past it with
+    /// the superset variant where the loop was prepared before, else built when first
+    /// drawn, as without preparing). The work takes effect only where
     /// [`Self::prepare_status`] finds it finished, so that the engine chooses the frame:
     /// `content` is declared, and the renderers made from then on find every pipeline built
     /// (the next frame of each method makes its renderer anew without compiling; its

@@ -180,14 +180,12 @@ impl RasterFeatures {
     }
 
     /// The superset variant of these features: covering every content a frame can draw,
-    /// textures included. A prepared loop builds it up front, and its frames whose content
-    /// is past the declaration draw with it (right, only slower) instead of building their
-    /// own variant in the frame.
+    /// textures apart (a prepared loop builds both, as for a declaration of textures). A
+    /// prepared loop builds it up front, and its frames whose content is past the
+    /// declaration draw with it (right, only slower) instead of building their own variant
+    /// in the frame.
     pub fn superset(self) -> Self {
-        Self {
-            textures: true,
-            ..self.covering(&DeclaredContent::ALL)
-        }
+        self.covering(&DeclaredContent::ALL)
     }
 
     /// These features with their content cut down to what `declared` names: where a
@@ -890,8 +888,8 @@ mod tests {
         }
     }
 
-    /// The superset variant draws any frame: every content feature on, the raster's own
-    /// choices (slabs, rows, sampling) kept.
+    /// The superset variant draws any frame of its texture state: every other content
+    /// feature on, the raster's own choices (slabs, rows, sampling) kept.
     #[test]
     fn the_superset_covers_every_content_and_keeps_the_rasters_choices() {
         let frame = RasterFeatures {
@@ -899,8 +897,14 @@ mod tests {
             rows: 8,
             hardware_sampling: true,
             flat_colours: true,
+            textures: true,
             ..none()
         };
+        let untextured = RasterFeatures {
+            textures: false,
+            ..frame
+        };
+        assert!(!untextured.superset().textures);
         let superset = frame.superset();
         assert!(
             DeclaredContent::of_features(&superset).covers(&DeclaredContent {

@@ -641,27 +641,33 @@ impl Bins {
         built
     }
 
-    /// In a prepared loop, builds now the superset variant ([`RasterFeatures::superset`]):
-    /// its stages, and what `raster` builds of the method's raster for the bins' features
-    /// as they are then; so that frames past the declaration build nothing. Its buffers are
-    /// sized by the first frame that draws with it.
+    /// In a prepared loop, builds now the superset variant ([`RasterFeatures::superset`])
+    /// in both texture states: its stages, and what `raster` builds of the method's raster
+    /// for the bins' features as they are then; so that frames past the declaration build
+    /// nothing. Its buffers are sized by the first frame that draws with it.
     pub fn prebuild_superset(
         &mut self,
         gpu_scene: &GpuScene,
-        raster: impl FnOnce(&mut Self) -> Result<()>,
+        mut raster: impl FnMut(&mut Self) -> Result<()>,
     ) -> Result<()> {
-        let current = self.features;
-        let superset = current.superset();
-        if !self.prepared || superset == current {
+        if !self.prepared {
             return Ok(());
         }
-        // Not `select`: the buffers stay sized for the current features.
-        let layouts = [&gpu_scene.layout, &self.resources.layout];
-        StagePipelines::select(&mut self.cache, &self.gpu, &layouts, &superset)?;
-        self.features = superset;
-        let built = raster(self);
-        self.features = current;
-        built
+        let current = self.features;
+        for textures in [false, true] {
+            let superset = RasterFeatures {
+                textures,
+                ..current.superset()
+            };
+            // Not `select`: the buffers stay sized for the current features.
+            let layouts = [&gpu_scene.layout, &self.resources.layout];
+            StagePipelines::select(&mut self.cache, &self.gpu, &layouts, &superset)?;
+            self.features = superset;
+            let built = raster(self);
+            self.features = current;
+            built?;
+        }
+        Ok(())
     }
 
     /// Builds now the stages of frames whose lists hold 2^`slab_bits` slabs, with these
