@@ -443,6 +443,10 @@ enum translucid_structure_type
      * `translucid_host_views_create_info`, chained to the engine's device description.
      */
     TRANSLUCID_STRUCTURE_TYPE_HOST_VIEWS_CREATE_INFO = 109,
+    /**
+     * `translucid_frame_view_statistics`, chained to the frame statistics.
+     */
+    TRANSLUCID_STRUCTURE_TYPE_FRAME_VIEW_STATISTICS = 110,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -958,8 +962,7 @@ typedef struct translucid_stage_time {
 } translucid_stage_time;
 
 /**
- * What a frame cost. The caller sets `s_type` (and `next` to NULL); translucid fills the
- * rest.
+ * What a frame cost. The caller sets `s_type` and `next`; translucid fills the rest.
  */
 typedef struct translucid_frame_statistics {
     /**
@@ -967,7 +970,7 @@ typedef struct translucid_frame_statistics {
      */
     uint32_t s_type;
     /**
-     * NULL, set by the caller.
+     * NULL, or a `translucid_frame_view_statistics` to fill too, set by the caller.
      */
     void *next;
     /**
@@ -1863,6 +1866,55 @@ typedef struct translucid_host_views_create_info {
      */
     uint32_t views_per_frame;
 } translucid_host_views_create_info;
+
+/**
+ * One view's share of a frame: the frame's figures of the same names are the sums of its
+ * views'.
+ */
+typedef struct translucid_view_statistics {
+    /**
+     * GPU time of the view's stages.
+     */
+    double gpu_milliseconds;
+    /**
+     * GPU time of the method's stages alone.
+     */
+    double method_milliseconds;
+    uint64_t fragments;
+    uint64_t tail_fragments;
+    uint64_t unpeeled_pixels;
+    uint64_t dispatches;
+    /**
+     * 1 when this view went past a limit of one recording (its part of the image is not
+     * all right); else 0.
+     */
+    uint32_t overflowed;
+} translucid_view_statistics;
+
+/**
+ * Each view's share of a frame (`translucid_host_frame_views`), chained to
+ * `translucid_frame_statistics::next`: what each eye or each player's view cost. The caller
+ * sets `s_type` (and `next` to NULL); translucid fills the rest. A frame of one view, and a
+ * standalone frame, has one, equal to the frame's figures.
+ */
+typedef struct translucid_frame_view_statistics {
+    /**
+     * `TRANSLUCID_STRUCTURE_TYPE_FRAME_VIEW_STATISTICS`, set by the caller.
+     */
+    uint32_t s_type;
+    /**
+     * NULL, set by the caller.
+     */
+    void *next;
+    /**
+     * Number of valid entries in `views`: the frame's views.
+     */
+    uint32_t view_count;
+    /**
+     * Each view's share, in the order of `translucid_host_frame_views::views`.
+     */
+    struct translucid_view_statistics views[TRANSLUCID_MAX_VIEWS];
+} translucid_frame_view_statistics;
 
 #ifdef __cplusplus
 extern "C" {

@@ -2,8 +2,10 @@
 //! at the statistics. Exports `translucid_frame_*`.
 
 use crate::cast::{
-    translucid_context, try_out, try_out_slice, try_out_structure, try_ref, try_str, OutStructure,
+    check_type, translucid_context, try_out, try_out_slice, try_out_structure, try_ref, try_str,
+    OutStructure,
 };
+use crate::views::TRANSLUCID_MAX_VIEWS;
 use crate::context::Objects;
 use crate::frame_input::{frame_request, opaque_layer_from};
 use crate::material::translucid_material;
@@ -196,14 +198,13 @@ pub struct translucid_stage_time {
     pub milliseconds: f64,
 }
 
-/// What a frame cost. The caller sets `s_type` (and `next` to NULL); translucid fills the
-/// rest.
+/// What a frame cost. The caller sets `s_type` and `next`; translucid fills the rest.
 #[allow(non_camel_case_types)]
 #[repr(C)]
 pub struct translucid_frame_statistics {
     /// `TRANSLUCID_STRUCTURE_TYPE_FRAME_STATISTICS`, set by the caller.
     pub s_type: u32,
-    /// NULL, set by the caller.
+    /// NULL, or a `translucid_frame_view_statistics` to fill too, set by the caller.
     pub next: *mut c_void,
     /// The `translucid_method` that rendered the frame.
     pub method: u32,
@@ -261,6 +262,56 @@ pub struct translucid_frame_statistics {
     /// rendered again): the fixed chain a method's frame costs besides its work. 0 for
     /// methods that only draw.
     pub dispatches: u64,
+}
+
+/// One view's share of a frame: the frame's figures of the same names are the sums of its
+/// views'.
+#[allow(non_camel_case_types)]
+#[repr(C)]
+#[derive(Clone, Copy, Default)]
+pub struct translucid_view_statistics {
+    /// GPU time of the view's stages.
+    pub gpu_milliseconds: f64,
+    /// GPU time of the method's stages alone.
+    pub method_milliseconds: f64,
+    pub fragments: u64,
+    pub tail_fragments: u64,
+    pub unpeeled_pixels: u64,
+    pub dispatches: u64,
+    /// 1 when this view went past a limit of one recording (its part of the image is not
+    /// all right); else 0.
+    pub overflowed: u32,
+}
+
+/// Each view's share of a frame (`translucid_host_frame_views`), chained to
+/// `translucid_frame_statistics::next`: what each eye or each player's view cost. The caller
+/// sets `s_type` (and `next` to NULL); translucid fills the rest. A frame of one view, and a
+/// standalone frame, has one, equal to the frame's figures.
+#[allow(non_camel_case_types)]
+#[repr(C)]
+pub struct translucid_frame_view_statistics {
+    /// `TRANSLUCID_STRUCTURE_TYPE_FRAME_VIEW_STATISTICS`, set by the caller.
+    pub s_type: u32,
+    /// NULL, set by the caller.
+    pub next: *mut c_void,
+    /// Number of valid entries in `views`: the frame's views.
+    pub view_count: u32,
+    /// Each view's share, in the order of `translucid_host_frame_views::views`.
+    pub views: [translucid_view_statistics; TRANSLUCID_MAX_VIEWS],
+}
+
+impl OutStructure for translucid_frame_view_statistics {
+    const TYPE: translucid_structure_type = translucid_structure_type::FrameViewStatistics;
+    const NAME: &'static str = "translucid_frame_view_statistics";
+    unsafe fn header(ptr: *const Self) -> (u32, *mut c_void) {
+        // SAFETY: the trait's contract; only the two fields are read.
+        unsafe {
+            (
+                std::ptr::addr_of!((*ptr).s_type).read(),
+                std::ptr::addr_of!((*ptr).next).read(),
+            )
+        }
+    }
 }
 
 impl OutStructure for translucid_frame_statistics {
@@ -349,6 +400,69 @@ fn statistics_of(record: &FrameRecord, header: (u32, *mut c_void)) -> translucid
         tail_fragments: record.tail_fragments,
         unpeeled_pixels: record.unpeeled_pixels,
         dispatches: record.dispatches,
+    }
+}
+
+/// The view statistics chained to a frame statistics (`next`), if any: the only structure
+/// taken there.
+fn view_statistics_in<'a>(
+    next: *mut c_void,
+) -> FfiResult<
+    Option<(
+        (u32, *mut c_void),
+        &'a mut std::mem::MaybeUninit<translucid_frame_view_statistics>,
+    )>,
+> {
+    if next.is_null() {
+        return Ok(None);
+    }
+    let base = try_ref(
+        next.cast_const().cast::<crate::cast::translucid_base_in_structure>(),
+        "out_statistics.next",
+    )?;
+    let expected = translucid_structure_type::FrameViewStatistics;
+    if base.s_type != expected as u32 {
+        let found = translucid_structure_type::from_raw(base.s_type)
+            .map_or_else(|| base.s_type.to_string(), |t| t.c_name());
+        return Err(Failure::new(
+            translucid_result::ErrorInvalidStructureType,
+            format!(
+                "out_statistics.next holds structure type {found}, which \
+                 translucid_frame_statistics does not take; chain a \
+                 translucid_frame_view_statistics ({}) or set next to NULL",
+                expected.c_name()
+            ),
+        ));
+    }
+    try_out_structure(
+        next.cast::<translucid_frame_view_statistics>(),
+        "out_statistics.next",
+    )
+    .map(Some)
+}
+
+/// Each view's share of `record`.
+fn view_statistics_of(
+    record: &FrameRecord,
+    header: (u32, *mut c_void),
+) -> translucid_frame_view_statistics {
+    let mut views = [translucid_view_statistics::default(); TRANSLUCID_MAX_VIEWS];
+    for (out, share) in views.iter_mut().zip(&record.shares) {
+        *out = translucid_view_statistics {
+            gpu_milliseconds: share.gpu_ms,
+            method_milliseconds: share.method_ms,
+            fragments: share.fragments,
+            tail_fragments: share.tail_fragments,
+            unpeeled_pixels: share.unpeeled_pixels,
+            dispatches: share.dispatches,
+            overflowed: u32::from(share.overflowed),
+        };
+    }
+    translucid_frame_view_statistics {
+        s_type: header.0,
+        next: header.1,
+        view_count: record.shares.len().min(TRANSLUCID_MAX_VIEWS) as u32,
+        views,
     }
 }
 
@@ -463,8 +577,15 @@ impl translucid_frame {
                      once the engine's submission finished",
                 ));
             }
-            let (header, out) = try_out_structure(out_statistics, "out_statistics")?;
+            let out = try_out(out_statistics, "out_statistics")?;
+            // SAFETY: `try_out` checked the pointer; the caller set the header (C contract).
+            let header = unsafe { translucid_frame_statistics::header(out.as_ptr()) };
+            check_type(header.0, translucid_frame_statistics::TYPE, "out_statistics")?;
+            let views = view_statistics_in(header.1)?;
             out.write(statistics_of(record, header));
+            if let Some((header, out)) = views {
+                out.write(view_statistics_of(record, header));
+            }
             Ok(translucid_result::Success)
         })
     }

@@ -49,10 +49,12 @@ pub enum translucid_structure_type {
     HostFrameViews = 108,
     /// `translucid_host_views_create_info`, chained to the engine's device description.
     HostViewsCreateInfo = 109,
+    /// `translucid_frame_view_statistics`, chained to the frame statistics.
+    FrameViewStatistics = 110,
 }
 
 impl translucid_structure_type {
-    const ALL: [Self; 25] = [
+    const ALL: [Self; 26] = [
         Self::ContextCreateInfo,
         Self::MeshCreateInfo,
         Self::TextureCreateInfo,
@@ -78,6 +80,7 @@ impl translucid_structure_type {
         Self::HostImageRegion,
         Self::HostFrameViews,
         Self::HostViewsCreateInfo,
+        Self::FrameViewStatistics,
     ];
 
     pub fn from_raw(value: u32) -> Option<Self> {

@@ -19,7 +19,7 @@ use translucid::gpu::{vk, HostTargets};
 use translucid::scene::Camera;
 
 /// The most views a frame has.
-pub const TRANSLUCID_MAX_VIEWS: u32 = 4;
+pub const TRANSLUCID_MAX_VIEWS: usize = 4;
 
 /// The array layers a frame reads and writes, chained to `translucid_host_frame_targets::next`
 /// where its images have several: a view of a layered image recorded as a frame of its own
@@ -140,7 +140,7 @@ pub(crate) fn views_per_frame(
     let given = host_device_chain(host.next)?.views_per_frame;
     let views = given.max(1);
     let slots = crate::context::TRANSLUCID_MAX_FRAMES_IN_FLIGHT;
-    if views > TRANSLUCID_MAX_VIEWS || views * frames_in_flight > slots {
+    if views as usize > TRANSLUCID_MAX_VIEWS || views * frames_in_flight > slots {
         return Err(Failure::argument(format!(
             "translucid_host_views_create_info.views_per_frame is {given}; it must be 0 to \
              TRANSLUCID_MAX_VIEWS ({TRANSLUCID_MAX_VIEWS}), and times frames_in_flight \
@@ -224,7 +224,7 @@ impl FrameViews {
                 "translucid_host_frame_views.next must be NULL",
             ));
         }
-        if views.view_count == 0 || views.view_count > TRANSLUCID_MAX_VIEWS {
+        if views.view_count == 0 || views.view_count as usize > TRANSLUCID_MAX_VIEWS {
             return Err(Failure::argument(format!(
                 "translucid_host_frame_views.view_count is {}; a frame has 1 to \
                  TRANSLUCID_MAX_VIEWS ({TRANSLUCID_MAX_VIEWS}) views",

@@ -46,8 +46,9 @@
  *    untouched; the views as two frames (translucid_host_image_region), then as one frame
  *    of two views (translucid_host_frame_views), prepared for, building nothing.
  * 16. Every method in stereo, 3 frames of 2 views in flight (translucid_host_frame_views
- *    into layered images), prepared for: no frame builds a pipeline, and each layer of each
- *    frame is as the standalone context renders its view.
+ *    into layered images), prepared for: no frame builds a pipeline, each layer of each
+ *    frame is as the standalone context renders its view, and the views' statistics
+ *    (translucid_frame_view_statistics) add up to the frame's.
  * And first, in the standalone context: an updated mesh draws as one created so.
  */
 /* nanosleep, to wait for work in the background without taking a core from it. */
@@ -451,6 +452,53 @@ static void built_by_frame(translucid_context *ctx, translucid_frame frame, uint
     *allocated = stats.bytes_allocated > 0;
 }
 
+/* Checks that `frame`'s statistics, with each view's share chained, has `views` shares that
+ * add up to the frame's figures, each view with GPU time of its own. */
+static void views_add_up(translucid_context *ctx, translucid_frame frame, uint32_t views,
+                         const char *what) {
+    translucid_frame_statistics stats;
+    translucid_frame_view_statistics shares;
+    double gpu = 0.0, method_ms = 0.0;
+    uint64_t fragments = 0, dispatches = 0, tail = 0, unpeeled = 0;
+    uint32_t v, overflowed = 0;
+    memset(&stats, 0, sizeof stats);
+    memset(&shares, 0, sizeof shares);
+    stats.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_STATISTICS;
+    stats.next = &shares;
+    /* Another structure there is refused, and nothing written. */
+    shares.s_type = TRANSLUCID_STRUCTURE_TYPE_MEMORY_STATISTICS;
+    TRUE_OR_FAIL(translucid_frame_get_statistics(ctx, frame, &stats) ==
+                 TRANSLUCID_RESULT_ERROR_INVALID_STRUCTURE_TYPE);
+    TRUE_OR_FAIL(shares.view_count == 0 && stats.gpu_milliseconds == 0.0);
+    shares.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_VIEW_STATISTICS;
+    CHECK(ctx, translucid_frame_get_statistics(ctx, frame, &stats));
+    if (shares.view_count != views) {
+        printf("FAIL %s: %u view shares, not %u\n", what, shares.view_count, views);
+    }
+    TRUE_OR_FAIL(shares.view_count == views && stats.next == &shares);
+    for (v = 0; v < shares.view_count && v < TRANSLUCID_MAX_VIEWS; v++) {
+        const translucid_view_statistics *share = &shares.views[v];
+        TRUE_OR_FAIL(share->gpu_milliseconds > 0.0);
+        gpu += share->gpu_milliseconds;
+        method_ms += share->method_milliseconds;
+        fragments += share->fragments;
+        dispatches += share->dispatches;
+        tail += share->tail_fragments;
+        unpeeled += share->unpeeled_pixels;
+        overflowed |= share->overflowed;
+    }
+    if (fabs(gpu - stats.gpu_milliseconds) > 1e-6 * stats.gpu_milliseconds) {
+        printf("FAIL %s: the views' GPU time %.6f ms is not the frame's %.6f\n", what, gpu,
+               stats.gpu_milliseconds);
+    }
+    TRUE_OR_FAIL(fabs(gpu - stats.gpu_milliseconds) <= 1e-6 * stats.gpu_milliseconds);
+    TRUE_OR_FAIL(fabs(method_ms - stats.method_milliseconds) <=
+                 1e-6 * stats.method_milliseconds);
+    TRUE_OR_FAIL(fragments == stats.fragments && dispatches == stats.dispatches);
+    TRUE_OR_FAIL(tail == stats.tail_fragments && unpeeled == stats.unpeeled_pixels);
+    TRUE_OR_FAIL(overflowed == stats.overflowed);
+}
+
 /* The same of a slot's frame. */
 static void built_by(translucid_context *ctx, const slot *s, uint64_t *pipelines, int *allocated) {
     built_by_frame(ctx, s->frame, pipelines, allocated);
@@ -491,6 +539,7 @@ static void frame_loop(uint32_t in_flight) {
                 TRUE_OR_FAIL(pipelines == 0 && !allocated);
             }
             snprintf(what, sizeof what, "%u in flight, frame %d", in_flight, done);
+            views_add_up(ctx, s->frame, 1, what);
             compare(ctx, s, what);
         }
         if (k == streamed_at) {
@@ -2003,6 +2052,7 @@ static void stereo_frames_in_flight(translucid_method method) {
                        done, (unsigned long long)pipelines);
             }
             TRUE_OR_FAIL(pipelines == 0);
+            views_add_up(ctx, frames[at], VIEWS, "a stereo frame's view statistics");
             for (v = 0; v < VIEWS; v++) {
                 int bound = method == TRANSLUCID_METHOD_BLEND ? 8 : 2;
                 int worst = worst_difference(im->mapped + readback + v * COLOUR_BYTES,

@@ -5,6 +5,18 @@ use crate::methods::MethodKind;
 use crate::renderer::{Frame, HostFrame};
 use crate::Image;
 
+/// One view's share of a frame: its GPU time and counts (the frame's are their sums).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ViewShare {
+    pub gpu_ms: f64,
+    pub method_ms: f64,
+    pub fragments: u64,
+    pub tail_fragments: u64,
+    pub unpeeled_pixels: u64,
+    pub dispatches: u64,
+    pub overflowed: bool,
+}
+
 pub struct FrameRecord {
     pub method: MethodKind,
     pub width: u32,
@@ -30,6 +42,8 @@ pub struct FrameRecord {
     /// The frame past a documented limit: not all of it is right (engine's device).
     pub overflowed: bool,
     pub dispatches: u64,
+    /// Each view's share, in the frame's order (one for a frame of one view).
+    pub shares: Vec<ViewShare>,
     /// What the calls that made the frame built (its recording, and on the engine's device
     /// its completion, where the method moves to the variants its counters call for):
     /// pipelines, and bytes of GPU memory.
@@ -58,13 +72,24 @@ impl FrameRecord {
             rerenders: 0,
             overflowed: false,
             dispatches: 0,
+            shares: Vec::new(),
             built: (0, 0),
         }
     }
 
     /// A standalone frame, rendered.
     pub fn rendered(method: MethodKind, frame: Frame, renderer: u64, index: u64) -> Self {
+        let share = ViewShare {
+            gpu_ms: frame.stages.iter().map(|(_, ms)| ms).sum(),
+            method_ms: frame.method_ms(),
+            fragments: frame.fragments,
+            tail_fragments: frame.tail_fragments,
+            unpeeled_pixels: frame.unpeeled_pixels,
+            dispatches: frame.dispatches,
+            overflowed: false,
+        };
         Self {
+            shares: vec![share],
             width: frame.image.width,
             height: frame.image.height,
             method_ms: frame.method_ms(),
@@ -87,6 +112,15 @@ impl FrameRecord {
         self.in_flight = false;
         let mut stages: Vec<(&'static str, f64)> = Vec::new();
         for done in views {
+            self.shares.push(ViewShare {
+                gpu_ms: done.stages.iter().map(|(_, ms)| ms).sum(),
+                method_ms: done.method_ms,
+                fragments: done.fragments,
+                tail_fragments: done.tail_fragments,
+                unpeeled_pixels: done.unpeeled_pixels,
+                dispatches: done.dispatches,
+                overflowed: done.overflowed,
+            });
             for (name, ms) in done.stages {
                 match stages.iter_mut().find(|(n, _)| *n == name) {
                     Some((_, total)) => *total += ms,
@@ -138,5 +172,12 @@ mod tests {
         assert_eq!((record.fragments, record.dispatches), (12, 20));
         assert_eq!(record.peak_gpu_bytes, 100);
         assert!(record.overflowed && !record.in_flight);
+        // Each view's share, in order.
+        let shares: Vec<(f64, u64, bool)> = record
+            .shares
+            .iter()
+            .map(|s| (s.gpu_ms, s.fragments, s.overflowed))
+            .collect();
+        assert_eq!(shares, [(3.0, 5, false), (3.5, 7, true)]);
     }
 }
