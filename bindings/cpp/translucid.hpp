@@ -211,6 +211,19 @@ public:
                       "translucid_frame_get_statistics");
         return stats;
     }
+    /// Each view's share of the frame (translucid_frame_view_statistics; one for a frame of
+    /// one view).
+    std::vector<translucid_view_statistics> view_statistics() const {
+        translucid_frame_view_statistics shares{};
+        shares.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_VIEW_STATISTICS;
+        translucid_frame_statistics stats{};
+        stats.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_STATISTICS;
+        stats.next = &shares;
+        detail::check(translucid_frame_get_statistics(context(), handle(), &stats), context(),
+                      "translucid_frame_get_statistics");
+        return std::vector<translucid_view_statistics>(shares.views,
+                                                       shares.views + shares.view_count);
+    }
 
 private:
     template <typename T>

@@ -5,7 +5,6 @@ use crate::cast::{
     check_type, translucid_context, try_out, try_out_slice, try_out_structure, try_ref, try_str,
     OutStructure,
 };
-use crate::views::TRANSLUCID_MAX_VIEWS;
 use crate::context::Objects;
 use crate::frame_input::{frame_request, opaque_layer_from};
 use crate::material::translucid_material;
@@ -14,6 +13,7 @@ use crate::method::translucid_method;
 use crate::panic;
 use crate::result::{translucid_result, Failure, FfiResult};
 use crate::structure::translucid_structure_type;
+use crate::views::TRANSLUCID_MAX_VIEWS;
 use std::ffi::{c_char, c_void};
 use translucid::context::frames::FrameRecord;
 use translucid::Image;
@@ -417,7 +417,8 @@ fn view_statistics_in<'a>(
         return Ok(None);
     }
     let base = try_ref(
-        next.cast_const().cast::<crate::cast::translucid_base_in_structure>(),
+        next.cast_const()
+            .cast::<crate::cast::translucid_base_in_structure>(),
         "out_statistics.next",
     )?;
     let expected = translucid_structure_type::FrameViewStatistics;
@@ -580,7 +581,11 @@ impl translucid_frame {
             let out = try_out(out_statistics, "out_statistics")?;
             // SAFETY: `try_out` checked the pointer; the caller set the header (C contract).
             let header = unsafe { translucid_frame_statistics::header(out.as_ptr()) };
-            check_type(header.0, translucid_frame_statistics::TYPE, "out_statistics")?;
+            check_type(
+                header.0,
+                translucid_frame_statistics::TYPE,
+                "out_statistics",
+            )?;
             let views = view_statistics_in(header.1)?;
             out.write(statistics_of(record, header));
             if let Some((header, out)) = views {

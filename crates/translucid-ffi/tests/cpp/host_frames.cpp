@@ -289,6 +289,9 @@ void frames_in_flight(translucid::Context &host, translucid::Context &standalone
     record_and_submit(host, s, engine.frame(frames + 3), &views);
     wait_fence(s.fence);
     TRUE_OR_FAIL(s.frame.complete() == translucid::Frame::Completion::done);
+    const std::vector<translucid_view_statistics> shares = s.frame.view_statistics();
+    TRUE_OR_FAIL(shares.size() == 1 &&
+                 shares[0].gpu_milliseconds == s.frame.statistics().gpu_milliseconds);
     compare(s, "a frame after an abandoned pair");
     s.frame.reset();
 }
