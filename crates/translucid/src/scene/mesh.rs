@@ -53,6 +53,13 @@ impl Mesh {
         [Some([q[0], q[1], q[2]]), second]
     }
 
+    /// Quad `q` with the winding of its triangles reversed: the same triangles, in the same
+    /// order, each turning the other way (a lone triangle stays one). Triangle 0 (0, 1, 2)
+    /// becomes (2, 1, 0) and triangle 1 (0, 2, 3) becomes (2, 0, 3).
+    pub fn reversed_quad(q: [u32; 4]) -> [u32; 4] {
+        [q[2], q[1], q[0], q[3]]
+    }
+
     /// Number of triangles with distinct corner indices.
     pub fn triangle_count(&self) -> usize {
         self.quads
@@ -183,6 +190,24 @@ pub fn pair_triangles(triangles: &[[u32; 3]]) -> Vec<[u32; 4]> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Each triangle of a reversed quad is the original one turning the other way, in the
+    /// same place, and lone triangles stay lone.
+    #[test]
+    fn a_reversed_quad_keeps_its_triangles_and_turns_them() {
+        let turned = |t: [u32; 3]| [[t[0], t[2], t[1]], [t[1], t[0], t[2]], [t[2], t[1], t[0]]];
+        for q in [[0, 1, 2, 3], [0, 1, 2, 2], [0, 1, 2, 0]] {
+            let before = Mesh::quad_triangles(q);
+            let after = Mesh::quad_triangles(Mesh::reversed_quad(q));
+            for (b, a) in before.iter().zip(&after) {
+                match (b, a) {
+                    (Some(b), Some(a)) => assert!(turned(*b).contains(a), "{q:?}: {b:?} {a:?}"),
+                    (None, None) => {}
+                    _ => panic!("{q:?}: {before:?} became {after:?}"),
+                }
+            }
+        }
+    }
 
     fn triangles_of(quads: &[[u32; 4]]) -> Vec<[u32; 3]> {
         quads

@@ -123,6 +123,7 @@ fn load_unguarded(path: &Path, options: &ImportOptions) -> Result<Scene> {
             ..Scene::default()
         },
         meshes: HashMap::new(),
+        mirrored: HashMap::new(),
         materials: HashMap::new(),
         textures: HashMap::new(),
         images: HashMap::new(),
@@ -419,6 +420,8 @@ struct Importer<'p> {
     scene: Scene,
     /// (glTF mesh, primitive) -> scene mesh, or `None` for skipped point/line primitives.
     meshes: HashMap<(usize, usize), Option<usize>>,
+    /// Scene mesh -> its copy with every triangle's winding reversed, for nodes that mirror.
+    mirrored: HashMap<usize, usize>,
     /// (glTF material or default, node scale bits) -> scene material.
     materials: HashMap<(Option<usize>, u32), usize>,
     /// glTF texture -> scene texture.
@@ -537,12 +540,19 @@ impl<'p> Importer<'p> {
         }
     }
 
-    /// One draw per triangle primitive of `mesh`, in primitive order.
+    /// One draw per triangle primitive of `mesh`, in primitive order. Through a node whose
+    /// transform mirrors (negative determinant), a primitive's front faces are those whose
+    /// corners turn clockwise (glTF's rule): it draws a copy whose triangles turn the other
+    /// way, so that culling and face normals see the faces the file means.
     fn add_mesh(&mut self, mesh: &gltf::Mesh<'p>, world: Mat4) -> Result<()> {
+        let mirrors = glam::Mat3::from_mat4(world).determinant() < 0.0;
         for primitive in mesh.primitives() {
-            let Some(mesh_index) = self.convert_primitive(mesh, &primitive)? else {
+            let Some(mut mesh_index) = self.convert_primitive(mesh, &primitive)? else {
                 continue;
             };
+            if mirrors {
+                mesh_index = self.mirrored_mesh(mesh_index)?;
+            }
             let (material, transparent) = self.convert_material(primitive.material(), world)?;
             let draw = Draw {
                 mesh: mesh_index,
@@ -557,6 +567,31 @@ impl<'p> Importer<'p> {
             }
         }
         Ok(())
+    }
+
+    /// The copy of scene mesh `index` with every triangle's winding reversed, made once and
+    /// counted against the import's limits as the mesh was.
+    fn mirrored_mesh(&mut self, index: usize) -> Result<usize> {
+        if let Some(&done) = self.mirrored.get(&index) {
+            return Ok(done);
+        }
+        let mesh = &self.scene.meshes[index];
+        let what = format!("{} mirrored by a node", mesh.name);
+        let elements = mesh.positions.len() as u64;
+        let triangles = mesh.triangle_count() as u64;
+        self.budget
+            .take(Amount::Elements, elements, &what)
+            .and_then(|()| self.budget.take(Amount::Triangles, triangles, &what))
+            .map_err(|reason| over_limit(self.path, reason))?;
+        let copy = Mesh {
+            name: format!("{} (mirrored)", mesh.name),
+            quads: mesh.quads.iter().map(|&q| Mesh::reversed_quad(q)).collect(),
+            ..mesh.clone()
+        };
+        self.scene.meshes.push(copy);
+        let copied = self.scene.meshes.len() - 1;
+        self.mirrored.insert(index, copied);
+        Ok(copied)
     }
 
     fn convert_primitive(
@@ -1339,6 +1374,77 @@ fn assemble_triangles(mode: Mode, indices: &[u32]) -> Vec<[u32; 3]> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A single-sided blended quad drawn by two nodes, the second mirrored in x (glTF's
+    /// NegativeScaleTest): both show, the same from the camera on the axis between them.
+    /// (Without the mirrored copy the second one's faces turn away, and it is culled.)
+    #[test]
+    fn a_mirroring_node_draws_the_faces_the_file_means() {
+        use crate::image::OpaqueLayer;
+        let dir = std::env::temp_dir().join(format!("translucid-mirror-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("temp folder");
+        // A unit quad in z = 0 turning counter-clockwise seen from +z, then its indices.
+        let positions: [[f32; 3]; 4] = [
+            [-0.5, -0.5, 0.0],
+            [0.5, -0.5, 0.0],
+            [0.5, 0.5, 0.0],
+            [-0.5, 0.5, 0.0],
+        ];
+        let indices: [u16; 6] = [0, 1, 2, 0, 2, 3];
+        let mut bin: Vec<u8> = positions
+            .iter()
+            .flatten()
+            .flat_map(|v| v.to_le_bytes())
+            .collect();
+        bin.extend(indices.iter().flat_map(|i| i.to_le_bytes()));
+        std::fs::write(dir.join("quad.bin"), &bin).expect("write the buffer");
+        let json = r#"{
+            "asset": {"version": "2.0"},
+            "scene": 0,
+            "scenes": [{"nodes": [0, 1, 2]}],
+            "nodes": [
+                {"mesh": 0, "translation": [-0.75, 0, 0]},
+                {"mesh": 0, "translation": [0.75, 0, 0], "scale": [-1, 1, 1]},
+                {"camera": 0, "translation": [0, 0, 3]}
+            ],
+            "cameras": [{"type": "perspective",
+                "perspective": {"yfov": 0.8, "znear": 0.1, "zfar": 10, "aspectRatio": 2}}],
+            "materials": [{"alphaMode": "BLEND", "doubleSided": false,
+                "pbrMetallicRoughness": {"baseColorFactor": [1, 0, 0, 0.5]}}],
+            "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1,
+                "material": 0}]}],
+            "buffers": [{"uri": "quad.bin", "byteLength": 60}],
+            "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48},
+                {"buffer": 0, "byteOffset": 48, "byteLength": 12}],
+            "accessors": [
+                {"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3",
+                    "min": [-0.5, -0.5, 0], "max": [0.5, 0.5, 0]},
+                {"bufferView": 1, "componentType": 5123, "count": 6, "type": "SCALAR"}
+            ]
+        }"#;
+        let path = dir.join("mirrored.gltf");
+        std::fs::write(&path, json).expect("write the file");
+        let scene = load(&path).expect("loads");
+        std::fs::remove_dir_all(&dir).ok();
+        assert_eq!(scene.transparent.len(), 2);
+        let (width, height) = (64, 32);
+        let background = glam::Vec3::splat(0.25);
+        let image =
+            crate::reference::render(&scene, &OpaqueLayer::clear(width, height, background))
+                .expect("renders");
+        let covered = |xs: std::ops::Range<u32>| {
+            (0..height)
+                .flat_map(|y| xs.clone().map(move |x| (x, y)))
+                .filter(|&(x, y)| {
+                    let p = image.pixels[(y * width + x) as usize];
+                    (p.truncate() - background).abs().max_element() > 0.01
+                })
+                .count()
+        };
+        let (left, right) = (covered(0..width / 2), covered(width / 2..width));
+        assert!(left > 0, "the quad itself is drawn");
+        assert_eq!(left, right, "the mirrored quad covers what the quad does");
+    }
 
     #[test]
     fn strips_and_fans_keep_winding() {
