@@ -403,16 +403,15 @@ fn statistics_of(record: &FrameRecord, header: (u32, *mut c_void)) -> translucid
     }
 }
 
+/// An out-structure of view statistics: its caller-set header, and the struct to write.
+type OutViews<'a> = (
+    (u32, *mut c_void),
+    &'a mut std::mem::MaybeUninit<translucid_frame_view_statistics>,
+);
+
 /// The view statistics chained to a frame statistics (`next`), if any: the only structure
 /// taken there.
-fn view_statistics_in<'a>(
-    next: *mut c_void,
-) -> FfiResult<
-    Option<(
-        (u32, *mut c_void),
-        &'a mut std::mem::MaybeUninit<translucid_frame_view_statistics>,
-    )>,
-> {
+fn view_statistics_in<'a>(next: *mut c_void) -> FfiResult<Option<OutViews<'a>>> {
     if next.is_null() {
         return Ok(None);
     }
