@@ -33,6 +33,7 @@ pub const IMPLEMENTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_volume",
     "KHR_materials_ior",
     "KHR_materials_unlit",
+    "KHR_texture_transform",
 ];
 
 /// Field of view used to frame files without a camera.
@@ -452,15 +453,6 @@ impl<'p> Importer<'p> {
                 self.skipped_primitives
             );
         }
-        if document
-            .extensions_used()
-            .any(|e| e == "KHR_texture_transform")
-        {
-            log::warn!(
-                "{}: KHR_texture_transform is not supported; textures are drawn untransformed",
-                self.path.display()
-            );
-        }
         if self.scene.opaque.is_empty() && self.scene.transparent.is_empty() {
             return Err(invalid(self.path, "the scene draws no triangles"));
         }
@@ -608,11 +600,22 @@ impl<'p> Importer<'p> {
             None => format!("mesh {}/{}", mesh.index(), primitive.index()),
         };
         let converted = if is_triangles(primitive.mode()) {
-            let uv_set = primitive
+            let base_colour = primitive
                 .material()
                 .pbr_metallic_roughness()
-                .base_color_texture()
-                .map_or(0, |t| t.tex_coord());
+                .base_color_texture();
+            let transform = base_colour
+                .as_ref()
+                .and_then(|t| t.texture_transform())
+                .map(|t| UvTransform::of(&t))
+                .transpose()
+                .map_err(|e| invalid(self.path, format!("{name}'s base colour texture: {e}")))?;
+            // KHR_texture_transform's texCoord overrides the texture's.
+            let uv_set = match (&base_colour, &transform) {
+                (_, Some(UvTransform { set: Some(set), .. })) => *set,
+                (Some(t), _) => t.tex_coord(),
+                (None, _) => 0,
+            };
             // Primitives that share an accessor read it again, and count again.
             for (what, accessor) in accessors_read(primitive, uv_set) {
                 let count = accessor.count() as u64;
@@ -621,7 +624,7 @@ impl<'p> Importer<'p> {
                     .take(Amount::Elements, count, &what)
                     .map_err(|reason| over_limit(self.path, reason))?;
             }
-            let m = read_primitive(primitive, &self.buffers, &name, uv_set).map_err(|e| {
+            let mut m = read_primitive(primitive, &self.buffers, &name, uv_set).map_err(|e| {
                 let label = name_suffix(mesh.name());
                 Error::InvalidScene(format!(
                     "{}: mesh {}{label} primitive {}: {e}",
@@ -630,6 +633,11 @@ impl<'p> Importer<'p> {
                     primitive.index()
                 ))
             })?;
+            if let (Some(transform), Some(uvs)) = (&transform, m.uvs.as_mut()) {
+                for uv in uvs {
+                    *uv = transform.apply(*uv);
+                }
+            }
             self.scene.meshes.push(m);
             Some(self.scene.meshes.len() - 1)
         } else {
@@ -955,6 +963,49 @@ fn is_triangles(mode: Mode) -> bool {
 
 fn is_transparent(material: &gltf::Material<'_>) -> bool {
     material.transmission().is_some() || material.alpha_mode() == gltf::material::AlphaMode::Blend
+}
+
+/// A base colour texture's `KHR_texture_transform`, applied to the primitive's texture
+/// coordinates when it is read: the transform is affine, so transformed corners interpolate
+/// to the transformed coordinates of every pixel, and their differences (the sampler's level
+/// of detail) follow too.
+struct UvTransform {
+    /// Columns of the 2x2 part (rotation times scale), and the offset.
+    x: glam::Vec2,
+    y: glam::Vec2,
+    offset: glam::Vec2,
+    /// The texture coordinate set it reads instead of the texture's.
+    set: Option<u32>,
+}
+
+impl UvTransform {
+    fn of(t: &gltf::texture::TextureTransform<'_>) -> std::result::Result<Self, String> {
+        let [ox, oy] = t.offset();
+        let [sx, sy] = t.scale();
+        let r = t.rotation();
+        if ![ox, oy, sx, sy, r].iter().all(|v| v.is_finite()) {
+            return Err(format!(
+                "KHR_texture_transform has a non-finite offset, rotation or scale \
+                 ({:?}, {r}, {:?})",
+                [ox, oy],
+                [sx, sy]
+            ));
+        }
+        // translation * rotation * scale, the rotation [cos sin; -sin cos] by rows: as viewers
+        // and exporters turn it, and TextureTransformTest expects (the extension's GLSL
+        // listing turns the other way: KhronosGroup/glTF issue 1563).
+        let (sin, cos) = r.sin_cos();
+        Ok(Self {
+            x: glam::Vec2::new(cos * sx, -sin * sx),
+            y: glam::Vec2::new(sin * sy, cos * sy),
+            offset: glam::Vec2::new(ox, oy),
+            set: t.tex_coord(),
+        })
+    }
+
+    fn apply(&self, uv: glam::Vec2) -> glam::Vec2 {
+        self.x * uv.x + self.y * uv.y + self.offset
+    }
 }
 
 /// Geometric mean of a transform's axis scales: how much a mesh-space length grows.
@@ -1374,6 +1425,98 @@ fn assemble_triangles(mode: Mode, indices: &[u32]) -> Vec<[u32; 3]> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Writes `json` as a `.gltf` file, with `bin` beside it as `quad.bin`, into a folder of
+    /// its own; returns the file's path.
+    fn write_gltf(name: &str, json: &str, bin: &[u8]) -> std::path::PathBuf {
+        let dir = std::env::temp_dir().join(format!("translucid-{name}-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("temp folder");
+        std::fs::write(dir.join("quad.bin"), bin).expect("write the buffer");
+        let path = dir.join(format!("{name}.gltf"));
+        std::fs::write(&path, json).expect("write the file");
+        path
+    }
+
+    /// KHR_texture_transform worked out by hand: a quarter turn, a scale of (2, 1) and an
+    /// offset of (0.25, 0.5) take (1, 0) to (0.25, -1.5) and (0, 1) to (1.25, 0.5).
+    #[test]
+    fn a_texture_transform_scales_turns_then_offsets() {
+        let t = UvTransform {
+            x: glam::Vec2::new(0.0, -2.0),
+            y: glam::Vec2::new(1.0, 0.0),
+            offset: glam::Vec2::new(0.25, 0.5),
+            set: None,
+        };
+        assert_eq!(
+            t.apply(glam::Vec2::new(1.0, 0.0)),
+            glam::Vec2::new(0.25, -1.5)
+        );
+        assert_eq!(
+            t.apply(glam::Vec2::new(0.0, 1.0)),
+            glam::Vec2::new(1.25, 0.5)
+        );
+    }
+
+    /// A file that requires KHR_texture_transform loads, its base colour texture's transform
+    /// (here reading TEXCOORD_1 through the transform's texCoord) applied to the mesh's
+    /// coordinates as the hand-worked test above has it.
+    #[test]
+    fn a_base_colour_texture_transform_moves_the_texture_coordinates() {
+        let positions: [[f32; 3]; 3] = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+        let uv0: [[f32; 2]; 3] = [[9.0, 9.0], [9.0, 9.0], [9.0, 9.0]];
+        let uv1: [[f32; 2]; 3] = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]];
+        let mut bin: Vec<u8> = positions
+            .iter()
+            .flatten()
+            .flat_map(|v| v.to_le_bytes())
+            .collect();
+        for uvs in [uv0, uv1] {
+            bin.extend(uvs.iter().flatten().flat_map(|v| v.to_le_bytes()));
+        }
+        let texels = ::image::RgbaImage::from_pixel(2, 2, ::image::Rgba([200, 100, 50, 255]));
+        let dir = write_gltf("uv-transform", "{}", &bin);
+        let folder = dir.parent().expect("a folder");
+        texels
+            .save(folder.join("texels.png"))
+            .expect("write the texture");
+        let json = r#"{
+            "asset": {"version": "2.0"},
+            "extensionsUsed": ["KHR_texture_transform"],
+            "extensionsRequired": ["KHR_texture_transform"],
+            "scenes": [{"nodes": [0]}],
+            "nodes": [{"mesh": 0}],
+            "images": [{"uri": "texels.png"}],
+            "textures": [{"source": 0}],
+            "materials": [{"alphaMode": "BLEND", "pbrMetallicRoughness": {
+                "baseColorTexture": {"index": 0, "extensions": {"KHR_texture_transform": {
+                    "offset": [0.25, 0.5], "rotation": 1.5707964, "scale": [2, 1],
+                    "texCoord": 1}}}}}],
+            "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1,
+                "TEXCOORD_1": 2}, "material": 0}]}],
+            "buffers": [{"uri": "quad.bin", "byteLength": 84}],
+            "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36},
+                {"buffer": 0, "byteOffset": 36, "byteLength": 24},
+                {"buffer": 0, "byteOffset": 60, "byteLength": 24}],
+            "accessors": [
+                {"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                    "min": [0, 0, 0], "max": [1, 1, 0]},
+                {"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC2"},
+                {"bufferView": 2, "componentType": 5126, "count": 3, "type": "VEC2"}
+            ]
+        }"#;
+        std::fs::write(&dir, json).expect("write the file");
+        let scene = load(&dir);
+        std::fs::remove_dir_all(folder).ok();
+        let scene = scene.expect("loads");
+        let uvs = scene.meshes[0].uvs.as_ref().expect("texture coordinates");
+        let want = [[0.25, 0.5], [0.25, -1.5], [1.25, 0.5]];
+        for (got, want) in uvs.iter().zip(want) {
+            assert!(
+                (*got - glam::Vec2::from(want)).abs().max_element() < 1e-6,
+                "{uvs:?}"
+            );
+        }
+    }
 
     /// A single-sided blended quad drawn by two nodes, the second mirrored in x (glTF's
     /// NegativeScaleTest): both show, the same from the camera on the axis between them.
