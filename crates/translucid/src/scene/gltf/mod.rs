@@ -125,6 +125,8 @@ fn load_unguarded(path: &Path, options: &ImportOptions) -> Result<Scene> {
         },
         meshes: HashMap::new(),
         mirrored: HashMap::new(),
+        morphed: HashMap::new(),
+        skinned_nodes: 0,
         materials: HashMap::new(),
         textures: HashMap::new(),
         images: HashMap::new(),
@@ -423,6 +425,10 @@ struct Importer<'p> {
     meshes: HashMap<(usize, usize), Option<usize>>,
     /// Scene mesh -> its copy with every triangle's winding reversed, for nodes that mirror.
     mirrored: HashMap<usize, usize>,
+    /// (scene mesh, morph weights' bits) -> its copy with the morph targets added.
+    morphed: HashMap<(usize, Vec<u32>), usize>,
+    /// Nodes with a skin: drawn unskinned (said once).
+    skinned_nodes: usize,
     /// (glTF material or default, node scale bits) -> scene material.
     materials: HashMap<(Option<usize>, u32), usize>,
     /// glTF texture -> scene texture.
@@ -451,6 +457,14 @@ impl<'p> Importer<'p> {
                 "{}: skipped {} point/line primitives (only triangles are rendered)",
                 self.path.display(),
                 self.skipped_primitives
+            );
+        }
+        if self.skinned_nodes > 0 {
+            log::warn!(
+                "{}: {} skinned mesh nodes are drawn unskinned, at their nodes' transforms \
+                 (skins are not supported)",
+                self.path.display(),
+                self.skinned_nodes
             );
         }
         if self.scene.opaque.is_empty() && self.scene.transparent.is_empty() {
@@ -513,7 +527,10 @@ impl<'p> Importer<'p> {
                 self.note_camera(camera, world);
             }
             if let Some(mesh) = node.mesh() {
-                self.add_mesh(&mesh, world)?;
+                // A node's morph weights override its mesh's.
+                let weights = node.weights().or_else(|| mesh.weights()).unwrap_or(&[]);
+                self.add_mesh(&mesh, world, weights)?;
+                self.skinned_nodes += usize::from(node.skin().is_some());
             }
             stack.push(Step::Leave(index));
             let children: Vec<_> = node.children().collect();
@@ -536,12 +553,17 @@ impl<'p> Importer<'p> {
     /// transform mirrors (negative determinant), a primitive's front faces are those whose
     /// corners turn clockwise (glTF's rule): it draws a copy whose triangles turn the other
     /// way, so that culling and face normals see the faces the file means.
-    fn add_mesh(&mut self, mesh: &gltf::Mesh<'p>, world: Mat4) -> Result<()> {
+    ///
+    /// Primitives with morph targets are drawn at the node's (or the mesh's default) weights.
+    fn add_mesh(&mut self, mesh: &gltf::Mesh<'p>, world: Mat4, weights: &[f32]) -> Result<()> {
         let mirrors = glam::Mat3::from_mat4(world).determinant() < 0.0;
         for primitive in mesh.primitives() {
             let Some(mut mesh_index) = self.convert_primitive(mesh, &primitive)? else {
                 continue;
             };
+            if weights.iter().any(|&w| w != 0.0) && primitive.morph_targets().len() > 0 {
+                mesh_index = self.morphed_mesh(mesh_index, &primitive, weights)?;
+            }
             if mirrors {
                 mesh_index = self.mirrored_mesh(mesh_index)?;
             }
@@ -559,6 +581,79 @@ impl<'p> Importer<'p> {
             }
         }
         Ok(())
+    }
+
+    /// The copy of scene mesh `index` (of `primitive`) with its morph targets added at
+    /// `weights` (glTF: positions and normals plus the weighted sum of the targets'
+    /// displacements; a missing weight is 0), made once per weights and counted against the
+    /// import's limits.
+    fn morphed_mesh(
+        &mut self,
+        index: usize,
+        primitive: &gltf::Primitive<'p>,
+        weights: &[f32],
+    ) -> Result<usize> {
+        let key = (
+            index,
+            weights.iter().map(|w| w.to_bits()).collect::<Vec<_>>(),
+        );
+        if let Some(&done) = self.morphed.get(&key) {
+            return Ok(done);
+        }
+        let base = &self.scene.meshes[index];
+        let what = format!("{}'s morph targets", base.name);
+        if let Some(w) = weights.iter().find(|w| !w.is_finite()) {
+            return Err(invalid(self.path, format!("{what}: a weight is {w}")));
+        }
+        let n = base.positions.len();
+        let mut morphed = Mesh {
+            name: format!("{} (morphed)", base.name),
+            ..base.clone()
+        };
+        // Every displacement accessor is checked before any is read.
+        for target in primitive.morph_targets().take(weights.len()) {
+            for (accessor, attribute) in [
+                (target.positions(), "POSITION"),
+                (target.normals(), "NORMAL"),
+            ] {
+                let Some(accessor) = accessor else { continue };
+                let label = format!("{what}, {attribute} (accessor {})", accessor.index());
+                self.budget
+                    .take(Amount::Elements, accessor.count() as u64, &label)
+                    .map_err(|reason| over_limit(self.path, reason))?;
+                check_accessor(attribute, &accessor, &self.buffers, DISPLACEMENT_TYPES)
+                    .and_then(|()| same_count(attribute, &accessor, n))
+                    .map_err(|e| invalid(self.path, format!("{what}: {e}")))?;
+            }
+        }
+        let buffers = &self.buffers;
+        let reader = primitive.reader(|b| buffers.get(b.index()).and_then(|r| r.as_deref().ok()));
+        for ((positions, normals, _), &weight) in reader.read_morph_targets().zip(weights) {
+            let add = |into: Option<&mut Vec<Vec3>>,
+                       read: Option<gltf::accessor::Iter<'_, [f32; 3]>>| {
+                let (Some(into), Some(read)) = (into, read) else {
+                    return Ok(());
+                };
+                let read = collect_fallibly(n, read.map(Vec3::from), "displacements")?;
+                if let Some(i) = read.iter().position(|d| !d.is_finite()) {
+                    return Err(format!("displacement {i} is not finite: {:?}", read[i]));
+                }
+                for (v, d) in into.iter_mut().zip(read) {
+                    *v += weight * d;
+                }
+                Ok(())
+            };
+            add(Some(&mut morphed.positions), positions)
+                .and_then(|()| add(morphed.normals.as_mut(), normals))
+                .map_err(|e| invalid(self.path, format!("{what}: {e}")))?;
+        }
+        morphed
+            .validate()
+            .map_err(|e| invalid(self.path, format!("{what}: {e}")))?;
+        self.scene.meshes.push(morphed);
+        let made = self.scene.meshes.len() - 1;
+        self.morphed.insert(key, made);
+        Ok(made)
     }
 
     /// The copy of scene mesh `index` with every triangle's winding reversed, made once and
@@ -1194,6 +1289,8 @@ fn read_primitive(
     Ok(mesh)
 }
 
+/// Morph targets' position and normal displacements.
+const DISPLACEMENT_TYPES: &[(DataType, Dimensions)] = &[(DataType::F32, Dimensions::Vec3)];
 const COLOUR_TYPES: &[(DataType, Dimensions)] = &[
     (DataType::U8, Dimensions::Vec3),
     (DataType::U16, Dimensions::Vec3),
@@ -1473,12 +1570,6 @@ mod tests {
         for uvs in [uv0, uv1] {
             bin.extend(uvs.iter().flatten().flat_map(|v| v.to_le_bytes()));
         }
-        let texels = ::image::RgbaImage::from_pixel(2, 2, ::image::Rgba([200, 100, 50, 255]));
-        let dir = write_gltf("uv-transform", "{}", &bin);
-        let folder = dir.parent().expect("a folder");
-        texels
-            .save(folder.join("texels.png"))
-            .expect("write the texture");
         let json = r#"{
             "asset": {"version": "2.0"},
             "extensionsUsed": ["KHR_texture_transform"],
@@ -1504,8 +1595,12 @@ mod tests {
                 {"bufferView": 2, "componentType": 5126, "count": 3, "type": "VEC2"}
             ]
         }"#;
-        std::fs::write(&dir, json).expect("write the file");
-        let scene = load(&dir);
+        let path = write_gltf("uv-transform", json, &bin);
+        let folder = path.parent().expect("a folder");
+        ::image::RgbaImage::from_pixel(2, 2, ::image::Rgba([200, 100, 50, 255]))
+            .save(folder.join("texels.png"))
+            .expect("write the texture");
+        let scene = load(&path);
         std::fs::remove_dir_all(folder).ok();
         let scene = scene.expect("loads");
         let uvs = scene.meshes[0].uvs.as_ref().expect("texture coordinates");
@@ -1518,14 +1613,67 @@ mod tests {
         }
     }
 
+    /// A triangle with one morph target (every vertex up by 1, normals turned): drawn at
+    /// the mesh's default weight 0.5, and at weight 1 by a node that overrides it, each a
+    /// mesh of its own; the base mesh stays as it is.
+    #[test]
+    fn morph_targets_are_drawn_at_the_nodes_or_the_meshs_weights() {
+        let positions: [[f32; 3]; 3] = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+        let normals: [[f32; 3]; 3] = [[0.0, 0.0, 1.0]; 3];
+        let up: [[f32; 3]; 3] = [[0.0, 1.0, 0.0]; 3];
+        let turn: [[f32; 3]; 3] = [[0.0, 2.0, 0.0]; 3];
+        let bin: Vec<u8> = [positions, normals, up, turn]
+            .iter()
+            .flatten()
+            .flatten()
+            .flat_map(|v| v.to_le_bytes())
+            .collect();
+        let json = r#"{
+            "asset": {"version": "2.0"},
+            "scenes": [{"nodes": [0, 1]}],
+            "nodes": [{"mesh": 0}, {"mesh": 0, "weights": [1.0]}],
+            "materials": [{"alphaMode": "BLEND"}],
+            "meshes": [{"weights": [0.5], "primitives": [{
+                "attributes": {"POSITION": 0, "NORMAL": 1},
+                "targets": [{"POSITION": 2, "NORMAL": 3}], "material": 0}]}],
+            "buffers": [{"uri": "quad.bin", "byteLength": 144}],
+            "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36},
+                {"buffer": 0, "byteOffset": 36, "byteLength": 36},
+                {"buffer": 0, "byteOffset": 72, "byteLength": 36},
+                {"buffer": 0, "byteOffset": 108, "byteLength": 36}],
+            "accessors": [
+                {"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                    "min": [0, 0, 0], "max": [1, 1, 0]},
+                {"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC3"},
+                {"bufferView": 2, "componentType": 5126, "count": 3, "type": "VEC3",
+                    "min": [0, 1, 0], "max": [0, 1, 0]},
+                {"bufferView": 3, "componentType": 5126, "count": 3, "type": "VEC3"}
+            ]
+        }"#;
+        let path = write_gltf("morph", json, &bin);
+        let scene = load(&path);
+        std::fs::remove_dir_all(path.parent().expect("a folder")).ok();
+        let scene = scene.expect("loads");
+        let drawn: Vec<&Mesh> = scene
+            .transparent
+            .iter()
+            .map(|d| &scene.meshes[d.mesh])
+            .collect();
+        let ys = |m: &Mesh| m.positions.iter().map(|p| p.y).collect::<Vec<_>>();
+        assert_eq!(ys(drawn[0]), [0.5, 0.5, 1.5], "the mesh's weight");
+        assert_eq!(ys(drawn[1]), [1.0, 1.0, 2.0], "the node's weight");
+        let normal = |m: &Mesh| m.normals.as_ref().expect("normals")[0];
+        assert_eq!(normal(drawn[0]), Vec3::new(0.0, 1.0, 1.0));
+        assert_eq!(normal(drawn[1]), Vec3::new(0.0, 2.0, 1.0));
+        assert_eq!(ys(&scene.meshes[0]), [0.0, 0.0, 1.0], "the base mesh");
+    }
+
     /// A single-sided blended quad drawn by two nodes, the second mirrored in x (glTF's
     /// NegativeScaleTest): both show, the same from the camera on the axis between them.
     /// (Without the mirrored copy the second one's faces turn away, and it is culled.)
     #[test]
     fn a_mirroring_node_draws_the_faces_the_file_means() {
         use crate::image::OpaqueLayer;
-        let dir = std::env::temp_dir().join(format!("translucid-mirror-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).expect("temp folder");
         // A unit quad in z = 0 turning counter-clockwise seen from +z, then its indices.
         let positions: [[f32; 3]; 4] = [
             [-0.5, -0.5, 0.0],
@@ -1540,7 +1688,6 @@ mod tests {
             .flat_map(|v| v.to_le_bytes())
             .collect();
         bin.extend(indices.iter().flat_map(|i| i.to_le_bytes()));
-        std::fs::write(dir.join("quad.bin"), &bin).expect("write the buffer");
         let json = r#"{
             "asset": {"version": "2.0"},
             "scene": 0,
@@ -1565,10 +1712,10 @@ mod tests {
                 {"bufferView": 1, "componentType": 5123, "count": 6, "type": "SCALAR"}
             ]
         }"#;
-        let path = dir.join("mirrored.gltf");
-        std::fs::write(&path, json).expect("write the file");
-        let scene = load(&path).expect("loads");
-        std::fs::remove_dir_all(&dir).ok();
+        let path = write_gltf("mirrored", json, &bin);
+        let scene = load(&path);
+        std::fs::remove_dir_all(path.parent().expect("a folder")).ok();
+        let scene = scene.expect("loads");
         assert_eq!(scene.transparent.len(), 2);
         let (width, height) = (64, 32);
         let background = glam::Vec3::splat(0.25);
