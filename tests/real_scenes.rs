@@ -73,14 +73,18 @@ enum Method {
     /// Exact with every content declared (`Context::prepare`): its shaders' widest variants,
     /// which every frame of a declared loop draws with.
     ExactDeclaringAll,
+    /// Exact in a prepared loop that declared nothing: every frame with content is past the
+    /// declaration and draws with the superset variant.
+    ExactPastTheDeclaration,
     /// The wavelet method with its coefficients in this storage (named, so that the test
     /// covers both whatever the device's profile picks).
     Wavelet(Storage),
     Blend,
 }
 
-const METHODS: [Method; 4] = [
+const METHODS: [Method; 5] = [
     Method::Exact,
+    Method::ExactPastTheDeclaration,
     Method::Wavelet(Storage::Bins),
     Method::Wavelet(Storage::Images),
     Method::Blend,
@@ -89,7 +93,7 @@ const METHODS: [Method; 4] = [
 impl Method {
     fn name(self) -> &'static str {
         match self {
-            Method::Exact | Method::ExactDeclaringAll => "exact",
+            Method::Exact | Method::ExactDeclaringAll | Method::ExactPastTheDeclaration => "exact",
             Method::Wavelet(_) => "wavelet",
             Method::Blend => "blend",
         }
@@ -100,6 +104,7 @@ impl Method {
         match self {
             Method::Wavelet(storage) => format!("wavelet {}", storage.name()),
             Method::ExactDeclaringAll => "exact declaring all content".into(),
+            Method::ExactPastTheDeclaration => "exact past the declaration".into(),
             _ => self.name().into(),
         }
     }
@@ -110,6 +115,7 @@ impl Method {
         match self {
             Method::Wavelet(storage) => options.wavelet.storage = Some(storage),
             Method::ExactDeclaringAll => options.bins.declared = DeclaredContent::ALL,
+            Method::ExactPastTheDeclaration => options.bins.prepared = true,
             _ => {}
         }
         options
@@ -119,7 +125,9 @@ impl Method {
     fn model(self, scene: &Scene, frame: &Frame) -> translucid::Result<Image> {
         let opaque = frame.opaque.as_ref().expect("opaque layer read back");
         match self {
-            Method::Exact | Method::ExactDeclaringAll => reference::render(scene, opaque),
+            Method::Exact | Method::ExactDeclaringAll | Method::ExactPastTheDeclaration => {
+                reference::render(scene, opaque)
+            }
             // The storage the frame ran on (the bins fall back to the images for a row too
             // crowded for them).
             Method::Wavelet(storage) => Model::new(
@@ -139,14 +147,18 @@ impl Method {
     /// Why `m` fails the method's bound, if it does.
     fn judge(self, m: &Metrics) -> Option<String> {
         let ok = match self {
-            Method::Exact | Method::ExactDeclaringAll | Method::Wavelet(_) => {
-                m.max_error <= TOLERANCE
-            }
+            Method::Exact
+            | Method::ExactDeclaringAll
+            | Method::ExactPastTheDeclaration
+            | Method::Wavelet(_) => m.max_error <= TOLERANCE,
             // NaN fails both.
             Method::Blend => m.share_over <= BLEND_SHARE && m.psnr >= BLEND_PSNR,
         };
         (!ok).then(|| match self {
-            Method::Exact | Method::ExactDeclaringAll | Method::Wavelet(_) => {
+            Method::Exact
+            | Method::ExactDeclaringAll
+            | Method::ExactPastTheDeclaration
+            | Method::Wavelet(_) => {
                 format!("bound: every pixel within {}/255", TOLERANCE * 255.0)
             }
             Method::Blend => format!(
