@@ -441,9 +441,11 @@ static double median(double *v, int n) {
 
 /* Ends the frame in flight in `s`: waits for its fence, completes its frame (and so the
  * yardstick recorded before it), prints its times (both views together: a frame's statistics
- * add up its views'); its GPU time and its ratio to the yardstick's. */
+ * add up its views', and each eye's share is chained to them); its GPU time and its ratio to
+ * the yardstick's. */
 static void finish(frame_slot *s, int k, double *gpu_ms, double *ratio) {
     translucid_frame_statistics stats, native;
+    translucid_frame_view_statistics eyes;
     translucid_result done;
     double translucid_ms, method_ms, native_ms;
     uint64_t dispatches, pipelines, bytes;
@@ -451,7 +453,10 @@ static void finish(frame_slot *s, int k, double *gpu_ms, double *ratio) {
     done = translucid_frame_complete(g_context, s->frame);
     CHECK(done);
     memset(&stats, 0, sizeof stats);
+    memset(&eyes, 0, sizeof eyes);
     stats.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_STATISTICS;
+    stats.next = &eyes;
+    eyes.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_VIEW_STATISTICS;
     CHECK(translucid_frame_get_statistics(g_context, s->frame, &stats));
     memset(&native, 0, sizeof native);
     native.s_type = TRANSLUCID_STRUCTURE_TYPE_FRAME_STATISTICS;
@@ -466,10 +471,12 @@ static void finish(frame_slot *s, int k, double *gpu_ms, double *ratio) {
     CHECK(translucid_frame_destroy(g_context, s->frame));
     *gpu_ms = translucid_ms;
     *ratio = translucid_ms / native_ms;
-    printf("  frame %3d: record %.3f ms (CPU), GPU %.3f ms (method %.3f, %llu dispatches), x%.2f "
-           "the engine's blend (%.3f ms)%s",
-           k, s->record_ms, translucid_ms, method_ms, (unsigned long long)dispatches, *ratio,
-           native_ms, done == TRANSLUCID_RESULT_FRAME_DEGRADED ? ", past a limit: see the README" : "");
+    printf("  frame %3d: record %.3f ms (CPU), GPU %.3f ms (eyes %.3f + %.3f; method %.3f, %llu "
+           "dispatches), x%.2f the engine's blend (%.3f ms)%s",
+           k, s->record_ms, translucid_ms, eyes.views[0].gpu_milliseconds,
+           eyes.view_count > 1 ? eyes.views[1].gpu_milliseconds : 0.0, method_ms,
+           (unsigned long long)dispatches, *ratio, native_ms,
+           done == TRANSLUCID_RESULT_FRAME_DEGRADED ? ", past a limit: see the README" : "");
     /* What its recording and completion built: no pipeline (the loop was prepared); buffers
      * and uploads (the first frames', the streamed pane's). */
     if (pipelines != 0) printf(", built %llu pipelines", (unsigned long long)pipelines);
