@@ -1523,15 +1523,19 @@ fn assemble_triangles(mode: Mode, indices: &[u32]) -> Vec<[u32; 3]> {
 mod tests {
     use super::*;
 
-    /// Writes `json` as a `.gltf` file, with `bin` beside it as `quad.bin`, into a folder of
-    /// its own; returns the file's path.
-    fn write_gltf(name: &str, json: &str, bin: &[u8]) -> std::path::PathBuf {
+    /// Loads `json` written as a `.gltf` file into a folder of its own, with `files` (name,
+    /// bytes) beside it; the folder goes afterwards.
+    fn load_written(name: &str, json: &str, files: &[(&str, &[u8])]) -> Result<Scene> {
         let dir = std::env::temp_dir().join(format!("translucid-{name}-{}", std::process::id()));
         std::fs::create_dir_all(&dir).expect("temp folder");
-        std::fs::write(dir.join("quad.bin"), bin).expect("write the buffer");
+        for (file, bytes) in files {
+            std::fs::write(dir.join(file), bytes).expect("write a file beside it");
+        }
         let path = dir.join(format!("{name}.gltf"));
         std::fs::write(&path, json).expect("write the file");
-        path
+        let scene = load(&path);
+        std::fs::remove_dir_all(&dir).ok();
+        scene
     }
 
     /// KHR_texture_transform worked out by hand: a quarter turn, a scale of (2, 1) and an
@@ -1595,14 +1599,12 @@ mod tests {
                 {"bufferView": 2, "componentType": 5126, "count": 3, "type": "VEC2"}
             ]
         }"#;
-        let path = write_gltf("uv-transform", json, &bin);
-        let folder = path.parent().expect("a folder");
+        let mut png = std::io::Cursor::new(Vec::new());
         ::image::RgbaImage::from_pixel(2, 2, ::image::Rgba([200, 100, 50, 255]))
-            .save(folder.join("texels.png"))
-            .expect("write the texture");
-        let scene = load(&path);
-        std::fs::remove_dir_all(folder).ok();
-        let scene = scene.expect("loads");
+            .write_to(&mut png, ::image::ImageFormat::Png)
+            .expect("encode the texture");
+        let files: [(&str, &[u8]); 2] = [("quad.bin", &bin), ("texels.png", png.get_ref())];
+        let scene = load_written("uv-transform", json, &files).expect("loads");
         let uvs = scene.meshes[0].uvs.as_ref().expect("texture coordinates");
         let want = [[0.25, 0.5], [0.25, -1.5], [1.25, 0.5]];
         for (got, want) in uvs.iter().zip(want) {
@@ -1650,10 +1652,7 @@ mod tests {
                 {"bufferView": 3, "componentType": 5126, "count": 3, "type": "VEC3"}
             ]
         }"#;
-        let path = write_gltf("morph", json, &bin);
-        let scene = load(&path);
-        std::fs::remove_dir_all(path.parent().expect("a folder")).ok();
-        let scene = scene.expect("loads");
+        let scene = load_written("morph", json, &[("quad.bin", &bin)]).expect("loads");
         let drawn: Vec<&Mesh> = scene
             .transparent
             .iter()
@@ -1712,10 +1711,7 @@ mod tests {
                 {"bufferView": 1, "componentType": 5123, "count": 6, "type": "SCALAR"}
             ]
         }"#;
-        let path = write_gltf("mirrored", json, &bin);
-        let scene = load(&path);
-        std::fs::remove_dir_all(path.parent().expect("a folder")).ok();
-        let scene = scene.expect("loads");
+        let scene = load_written("mirrored", json, &[("quad.bin", &bin)]).expect("loads");
         assert_eq!(scene.transparent.len(), 2);
         let (width, height) = (64, 32);
         let background = glam::Vec3::splat(0.25);
