@@ -720,6 +720,37 @@ fn exact_rebuilds_the_raster_shader_for_unexpected_near_plane_triangles() {
     );
 }
 
+/// In a prepared loop that did not declare near-plane triangles, the frame that finds one the
+/// host missed is rendered again with the superset variant, built up front: right, and
+/// building at least the two pipelines fewer that the unprepared frame builds.
+#[test]
+fn a_prepared_loop_renders_missed_near_plane_triangles_with_the_superset() {
+    let mut options = MethodOptions::default();
+    options.bins.assume_fixed_path = true;
+    let unprepared = check(
+        &near_plane_scene(),
+        "assumed_fixed_near_plane_unprepared",
+        157,
+        119,
+        &options,
+    );
+    options.bins.prepared = true;
+    let prepared = check(
+        &near_plane_scene(),
+        "assumed_fixed_near_plane_prepared",
+        157,
+        119,
+        &options,
+    );
+    assert!(prepared.rerenders >= 1, "the frame was not rendered again");
+    assert!(
+        prepared.pipelines_created + 2 <= unprepared.pipelines_created,
+        "prepared: {} pipelines created, unprepared: {}",
+        prepared.pipelines_created,
+        unprepared.pipelines_created
+    );
+}
+
 /// The software sampler copies only the textures transparent draws use, when a frame first
 /// uses one: a large texture on an opaque draw costs exact nothing over blend; the first
 /// frame whose transparent draws use it copies it, and draws it as the reference does.

@@ -1309,6 +1309,27 @@ impl Bins {
         let rebuild = counters.homogeneous_count > 0 && !recorded.features.homogeneous;
         features.homogeneous |= rebuild;
         self.homogeneous_missed |= rebuild;
+        if rebuild && self.prepared && !self.declared.near_plane {
+            // Past the declaration: the superset, built up front, rather than a variant of
+            // its own; its records grown now, as set_frame grows them, for a frame rendered
+            // again without another set_frame.
+            features = features.superset();
+            let texels = features.attribute_texels();
+            let capacities = self.resources.capacities;
+            if texels > capacities.attribute_texels {
+                let grown = Capacities {
+                    attribute_texels: texels,
+                    ..capacities
+                };
+                self.resources
+                    .grow(&self.gpu, grown)
+                    .map_err(|e| in_errors(method, e))?;
+            }
+            features = features.with_records(
+                self.resources.records_pass_a_binding(&self.gpu),
+                self.texel_walk_forced,
+            );
+        }
         let features_changed = features != self.features;
         if features_changed {
             self.select(done.gpu_scene, features)?;
