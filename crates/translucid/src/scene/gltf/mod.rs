@@ -561,7 +561,9 @@ impl<'p> Importer<'p> {
             let Some(mut mesh_index) = self.convert_primitive(mesh, &primitive)? else {
                 continue;
             };
-            if weights.iter().any(|&w| w != 0.0) && primitive.morph_targets().len() > 0 {
+            // Weights past the primitive's targets weigh nothing.
+            let weights = &weights[..weights.len().min(primitive.morph_targets().len())];
+            if weights.iter().any(|&w| w != 0.0) {
                 mesh_index = self.morphed_mesh(mesh_index, &primitive, weights)?;
             }
             if mirrors {
@@ -606,6 +608,14 @@ impl<'p> Importer<'p> {
             return Err(invalid(self.path, format!("{what}: a weight is {w}")));
         }
         let n = base.positions.len();
+        // Each weighting is a mesh of its own, counted as the mesh was.
+        self.budget
+            .take(Amount::Elements, n as u64, &what)
+            .and_then(|()| {
+                self.budget
+                    .take(Amount::Triangles, base.triangle_count() as u64, &what)
+            })
+            .map_err(|reason| over_limit(self.path, reason))?;
         let mut morphed = Mesh {
             name: format!("{} (morphed)", base.name),
             ..base.clone()
@@ -627,8 +637,13 @@ impl<'p> Importer<'p> {
             }
         }
         let buffers = &self.buffers;
-        let reader = primitive.reader(|b| buffers.get(b.index()).and_then(|r| r.as_deref().ok()));
-        for ((positions, normals, _), &weight) in reader.read_morph_targets().zip(weights) {
+        let data = |b: gltf::Buffer<'_>| buffers.get(b.index()).and_then(|r| r.as_deref().ok());
+        for (target, &weight) in primitive.morph_targets().zip(weights) {
+            // Only the checked accessors are read (not, say, the targets' tangents).
+            let read = |accessor: Option<gltf::Accessor<'_>>| {
+                accessor.and_then(|a| gltf::accessor::Iter::<[f32; 3]>::new(a, data))
+            };
+            let (positions, normals) = (read(target.positions()), read(target.normals()));
             let add = |into: Option<&mut Vec<Vec3>>,
                        read: Option<gltf::accessor::Iter<'_, [f32; 3]>>| {
                 let (Some(into), Some(read)) = (into, read) else {
@@ -1526,6 +1541,16 @@ mod tests {
     /// Loads `json` written as a `.gltf` file into a folder of its own, with `files` (name,
     /// bytes) beside it; the folder goes afterwards.
     fn load_written(name: &str, json: &str, files: &[(&str, &[u8])]) -> Result<Scene> {
+        load_written_with(name, json, files, &ImportOptions::default())
+    }
+
+    /// [`load_written`] with `options`.
+    fn load_written_with(
+        name: &str,
+        json: &str,
+        files: &[(&str, &[u8])],
+        options: &ImportOptions,
+    ) -> Result<Scene> {
         let dir = std::env::temp_dir().join(format!("translucid-{name}-{}", std::process::id()));
         std::fs::create_dir_all(&dir).expect("temp folder");
         for (file, bytes) in files {
@@ -1533,7 +1558,7 @@ mod tests {
         }
         let path = dir.join(format!("{name}.gltf"));
         std::fs::write(&path, json).expect("write the file");
-        let scene = load(&path);
+        let scene = load_with(&path, options);
         std::fs::remove_dir_all(&dir).ok();
         scene
     }
@@ -1665,6 +1690,13 @@ mod tests {
         assert_eq!(normal(drawn[0]), Vec3::new(0.0, 1.0, 1.0));
         assert_eq!(normal(drawn[1]), Vec3::new(0.0, 2.0, 1.0));
         assert_eq!(ys(&scene.meshes[0]), [0.0, 0.0, 1.0], "the base mesh");
+        // Each weighting counts as a mesh of its own: the file's one triangle and two
+        // weightings pass a limit of two triangles.
+        let mut options = ImportOptions::default();
+        options.limits.triangles = 2;
+        let refused = load_written_with("morph-limit", json, &[("quad.bin", &bin)], &options)
+            .expect_err("past the triangle limit");
+        assert!(refused.to_string().contains("triangles"), "{refused}");
     }
 
     /// A single-sided blended quad drawn by two nodes, the second mirrored in x (glTF's
