@@ -21,7 +21,9 @@
  *    formats): the first frame, assets of every kind that changes a shader variant, streamed
  *    in one per frame, then a stack that makes the frames deep, build no pipeline. Then
  *    again with nothing declared but what the first frame draws: each streamed kind is past
- *    the declaration, drawn with the superset variant, and builds nothing either.
+ *    the declaration, drawn with the superset variant, and builds nothing either; and
+ *    preparing another method for a frame that draws more leaves the first's frames as they
+ *    were, building nothing.
  * 9. A resolution drop then translucid_context_trim: memory given back, and the next frame
  *    builds no pipeline and completes right.
  * 10. Stereo with 3 frames in flight: each frame's two views (cameras) recorded into one
@@ -1336,6 +1338,51 @@ static void declared_loop(translucid_method method, uint32_t content) {
     destroy_standalone_assets(&sc);
 }
 
+/* Section 8, last: exact prepared for the plain quads, then wavelet prepared for a frame that
+ * also draws a textured quad. What wavelet's frame draws is declared for wavelet's frames
+ * alone: exact's next frame, of the plain quads, builds nothing. */
+static void preparing_another_method_keeps_the_first(void) {
+    translucid_context *ctx = host_context(MOST_IN_FLIGHT);
+    translucid_host_frame_targets t = targets_of(g_slots[0].cmd, &g_slots[0]);
+    static streamed_scene sc;
+    translucid_host_image_formats formats;
+    translucid_prepare_info prepare;
+    translucid_frame_info info;
+    uint64_t pipelines;
+    int allocated, k;
+    make_plain_quads(ctx, &sc);
+    for (k = 0; k < 2; k++) {
+        stream_in(k == 0 ? ctx : g_standalone, FIRST_TEXTURE, &sc.meshes[k][2],
+                  &sc.materials[k][2], &sc.draws[k][2]);
+    }
+    info = frame_of(sc.draws[0], 2, TRANSLUCID_METHOD_EXACT);
+    fill_prepare(&prepare, &formats, &info, &t, 0);
+    CHECK(ctx, translucid_context_prepare(ctx, &prepare, NULL));
+    run_frame(ctx, &g_slots[0], &info);
+    info = frame_of(sc.draws[0], 3, TRANSLUCID_METHOD_WAVELET);
+    fill_prepare(&prepare, &formats, &info, &t, 0);
+    CHECK(ctx, translucid_context_prepare(ctx, &prepare, NULL));
+    info = frame_of(sc.draws[1], 2, TRANSLUCID_METHOD_EXACT);
+    render_standalone(g_standalone, info, g_opaque_colour, g_layer_depth, g_slots[1].expected,
+                      COLOUR_BYTES);
+    info.draws = sc.draws[0];
+    run_frame(ctx, &g_slots[1], &info);
+    built_by(ctx, &g_slots[1], &pipelines, &allocated);
+    if (pipelines != 0) {
+        printf("FAIL exact after wavelet was prepared for more: %llu pipelines built\n",
+               (unsigned long long)pipelines);
+    }
+    TRUE_OR_FAIL(pipelines == 0);
+    compare_any(ctx, &g_slots[1], "exact after wavelet was prepared for more",
+                TRANSLUCID_METHOD_EXACT);
+    CHECK(ctx, translucid_frame_destroy(ctx, g_slots[0].frame));
+    translucid_context_destroy(ctx);
+    for (k = 0; k < 3; k++) {
+        CHECK(g_standalone, translucid_mesh_destroy(g_standalone, sc.meshes[1][k]));
+        CHECK(g_standalone, translucid_material_destroy(g_standalone, sc.materials[1][k]));
+    }
+}
+
 /* 14. A level streamed in while the loop plays: the loop's plain quads prepared for at
  * load time, then everything the next level may draw prepared in the background while frames
  * go on (each builds nothing and is right); once that is taken in, assets of every kind that
@@ -2192,6 +2239,7 @@ int main(void) {
             declared_loop(methods[n], TRANSLUCID_CONTENT_ALL);
             declared_loop(methods[n], 0);
         }
+        preparing_another_method_keeps_the_first();
         for (n = 0; n < sizeof methods / sizeof methods[0]; n++) {
             trim_after_a_resolution_drop(methods[n]);
         }

@@ -10,7 +10,14 @@ use crate::methods::bins::features::DeclaredContent;
 use crate::{Error, Result};
 use std::thread::JoinHandle;
 
-use super::renderers::RendererInputs;
+use super::renderers::{RendererInputs, SettingsKey};
+
+/// What a job declares once taken in: the engine's content for every renderer, and what
+/// its frame drew for the renderers of its settings.
+pub struct Declaration {
+    pub content: DeclaredContent,
+    pub drawn: (SettingsKey, DeclaredContent),
+}
 
 /// Where the jobs stand.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -23,7 +30,7 @@ pub enum PrepareStatus {
 }
 
 struct Job {
-    content: DeclaredContent,
+    declaration: Declaration,
     worker: JoinHandle<Result<(HeldPipelines, u64)>>,
 }
 
@@ -41,12 +48,13 @@ pub struct Background {
 
 impl Background {
     /// Starts building, on a new thread, the renderer `inputs` describe (with what its
-    /// first frame into `engine_images` builds); `content` is declared once it is taken in.
+    /// first frame into `engine_images` builds); `declaration` is declared once it is taken
+    /// in.
     pub fn start(
         &mut self,
         inputs: RendererInputs,
         engine_images: Option<(HostImage, HostImage)>,
-        content: DeclaredContent,
+        declaration: Declaration,
     ) -> Result<()> {
         let worker = std::thread::Builder::new()
             .name("translucid prepare".into())
@@ -61,13 +69,16 @@ impl Background {
                 built.map(|held| (held, pipelines))
             })
             .map_err(|e| Error::Internal(format!("no thread to prepare on: {e}")))?;
-        self.jobs.push(Job { content, worker });
+        self.jobs.push(Job {
+            declaration,
+            worker,
+        });
         Ok(())
     }
 
-    /// Takes in the jobs that finished, oldest first: the content of each that succeeded,
-    /// to declare.
-    pub fn take_finished(&mut self) -> Vec<DeclaredContent> {
+    /// Takes in the jobs that finished, oldest first: the declaration of each that
+    /// succeeded, to declare.
+    pub fn take_finished(&mut self) -> Vec<Declaration> {
         let mut declared = Vec::new();
         let (finished, running): (Vec<Job>, Vec<Job>) = std::mem::take(&mut self.jobs)
             .into_iter()
@@ -78,7 +89,7 @@ impl Background {
                 Ok(Ok((held, pipelines))) => {
                     self.held.push(held);
                     self.built += pipelines;
-                    declared.push(job.content);
+                    declared.push(job.declaration);
                 }
                 Ok(Err(e)) => {
                     self.failed.get_or_insert(e);

@@ -269,7 +269,8 @@ impl Context {
         self.check_engine_images(engine_images)?;
         let before = built_so_far(&self.gpu);
         let drawn = self.renderers.drawn_content(&self.assets, request)?;
-        self.renderers.declare(content.union(drawn));
+        self.renderers.declare(content);
+        self.renderers.declare_drawn(&request.key, drawn);
         let kept = self.renderers.for_frame(&self.gpu, &self.assets, request)?;
         if let Some((colour, depth)) = &engine_images {
             kept.renderer.prepare_host(colour, depth)?;
@@ -292,11 +293,15 @@ impl Context {
         engine_images: Option<(HostImage, HostImage)>,
     ) -> Result<()> {
         self.check_engine_images(engine_images)?;
-        let content = content.union(self.renderers.drawn_content(&self.assets, request)?);
-        let inputs = self
-            .renderers
-            .inputs_for(&self.gpu, &self.assets, request, content)?;
-        self.background.start(inputs, engine_images, content)
+        let drawn = self.renderers.drawn_content(&self.assets, request)?;
+        let inputs =
+            self.renderers
+                .inputs_for(&self.gpu, &self.assets, request, content.union(drawn))?;
+        let declaration = background::Declaration {
+            content,
+            drawn: (request.key.clone(), drawn),
+        };
+        self.background.start(inputs, engine_images, declaration)
     }
 
     /// Where the background preparation stands, taking in (declaring the content of) the
@@ -304,8 +309,10 @@ impl Context {
     /// since the last call built); a job that failed gives its error once, and its content
     /// is not declared.
     pub fn prepare_status(&mut self) -> Result<background::PrepareStatus> {
-        for content in self.background.take_finished() {
-            self.renderers.declare(content);
+        for declaration in self.background.take_finished() {
+            self.renderers.declare(declaration.content);
+            self.renderers
+                .declare_drawn(&declaration.drawn.0, declaration.drawn.1);
         }
         self.background.status()
     }

@@ -179,6 +179,9 @@ pub struct Renderers {
     /// The engine prepared the loop: frames past the declaration draw with the superset
     /// variant (`BinOptions::prepared`).
     prepared: bool,
+    /// What the frames prepared with each settings drew, declared for the renderers with
+    /// those settings alone (so that preparing another method does not widen them).
+    drawn: HashMap<SettingsKey, DeclaredContent>,
     /// What the renderers freed by a trim learned (buffer sizes, passes), by their settings:
     /// the next ones with those settings start there.
     learned: HashMap<SettingsKey, MethodOptions>,
@@ -194,6 +197,7 @@ impl Renderers {
             frames_in_flight,
             declared: DeclaredContent::default(),
             prepared: false,
+            drawn: HashMap::new(),
             learned: HashMap::new(),
         }
     }
@@ -208,6 +212,20 @@ impl Renderers {
             self.prepared = true;
             for k in &mut self.kept {
                 k.usable = false;
+            }
+            self.free_unused(None);
+        }
+    }
+
+    /// Adds `drawn` to what the frames with settings `key` may draw. Their renderers made
+    /// before a declaration that adds to it take no new frame.
+    pub fn declare_drawn(&mut self, key: &SettingsKey, drawn: DeclaredContent) {
+        let declared = self.drawn.entry(key.clone()).or_default();
+        let widened = declared.union(drawn);
+        if widened != *declared {
+            *declared = widened;
+            for k in &mut self.kept {
+                k.usable &= k.key != *key;
             }
             self.free_unused(None);
         }
@@ -348,7 +366,8 @@ impl Renderers {
                 },
                 |k| k.renderer.learned_options(&request.options),
             );
-        options.bins.declared = declared;
+        let drawn = self.drawn.get(&request.key).copied().unwrap_or_default();
+        options.bins.declared = declared.union(drawn);
         options.bins.prepared = self.prepared;
         options
     }
