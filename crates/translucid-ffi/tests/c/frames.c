@@ -1316,6 +1316,34 @@ static void destroy_standalone_assets(streamed_scene *sc) {
     }
 }
 
+/* Section 8, after the streamed kinds past the declaration: most assets destroyed, so that the
+ * next frame uploads the live ones anew and makes its renderer anew, over the deep stack it
+ * did not declare. It starts where the one it replaces drew (its depth too), building
+ * nothing. */
+static void uploaded_anew_past_the_declaration(translucid_context *ctx, translucid_method method,
+                                               streamed_scene *sc) {
+    const int first_kept = 2 + FIRST_TRANSMISSIVE;
+    translucid_frame_info info;
+    uint64_t pipelines;
+    int k, allocated;
+    char what[96];
+    for (k = 0; k < first_kept; k++) {
+        CHECK(ctx, translucid_mesh_destroy(ctx, sc->meshes[0][k]));
+        CHECK(ctx, translucid_material_destroy(ctx, sc->materials[0][k]));
+    }
+    info = frame_of(sc->draws[1] + first_kept, 2 + STREAMED_KINDS - first_kept, method);
+    render_standalone(g_standalone, info, g_opaque_colour, g_layer_depth, g_slots[0].expected,
+                      COLOUR_BYTES);
+    info.draws = sc->draws[0] + first_kept;
+    run_frame(ctx, &g_slots[0], &info);
+    built_by(ctx, &g_slots[0], &pipelines, &allocated);
+    snprintf(what, sizeof what, "method %d, past the declaration, uploaded anew", (int)method);
+    if (pipelines != 0) printf("FAIL %s: %llu pipelines built\n", what,
+                               (unsigned long long)pipelines);
+    TRUE_OR_FAIL(pipelines == 0);
+    compare_any(ctx, &g_slots[0], what, method);
+}
+
 /* Section 8, the loop declaring `content` (besides what its first frame draws). */
 static void declared_loop(translucid_method method, uint32_t content) {
     translucid_context *ctx = host_context(MOST_IN_FLIGHT);
@@ -1334,6 +1362,7 @@ static void declared_loop(translucid_method method, uint32_t content) {
     stream_every_kind(ctx, method, &sc,
                       content == TRANSLUCID_CONTENT_ALL ? "declared loop"
                                                         : "past the declaration");
+    if (content == 0) uploaded_anew_past_the_declaration(ctx, method, &sc);
     translucid_context_destroy(ctx);
     destroy_standalone_assets(&sc);
 }

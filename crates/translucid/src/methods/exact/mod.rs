@@ -54,6 +54,11 @@ pub struct ExactOptions {
     /// ordered by depth slab), so that tests can check them on every scene.
     #[doc(hidden)]
     pub assume_deep_pixels: bool,
+    /// The selection size and slab bits the renderer this one replaces drew with: a
+    /// prepared loop that did not declare deep pixels starts there (where its pipelines
+    /// are), not where the new scene's estimate would take it.
+    #[doc(hidden)]
+    pub learned_depth: Option<(u32, u32)>,
 }
 
 pub struct Exact {
@@ -96,6 +101,13 @@ impl Exact {
         }
         if bins.declared.deep {
             depth = depth.declared();
+        } else if let (true, Some((select_size, slab_bits))) =
+            (bins.prepared, options.learned_depth)
+        {
+            depth = Depth {
+                select_size,
+                slab_bits,
+            };
         }
         let deep = Depth::is_deep(expected.fragments, width, height);
         let needs = RasterNeeds {
@@ -312,5 +324,6 @@ impl Method for Exact {
 
     fn learned(&self, options: &mut super::MethodOptions) {
         self.bins.learned(&mut options.bins);
+        options.exact.learned_depth = Some((self.depth.select_size, self.depth.slab_bits));
     }
 }
