@@ -179,6 +179,10 @@ pub struct Renderers {
     /// The engine prepared the loop: frames past the declaration draw with the superset
     /// variant (`BinOptions::prepared`).
     prepared: bool,
+    /// The device's pipelines when a renderer was last made to replace others: those its
+    /// first frames build on first use (the passes made for the engine's images) are the
+    /// replaced ones', kept for it after they go.
+    replaced_pipelines: Option<crate::gpu::HeldPipelines>,
     /// What the frames prepared with each settings drew, declared for the renderers with
     /// those settings alone (so that preparing another method does not widen them).
     drawn: HashMap<SettingsKey, DeclaredContent>,
@@ -198,6 +202,7 @@ impl Renderers {
             declared: DeclaredContent::default(),
             prepared: false,
             drawn: HashMap::new(),
+            replaced_pipelines: None,
             learned: HashMap::new(),
         }
     }
@@ -329,6 +334,7 @@ impl Renderers {
                     made_with: options,
                 });
                 self.next_id += 1;
+                self.replaced_pipelines = Some(gpu.hold_pipelines());
                 self.free_unused(Some(MAX_RENDERERS));
                 self.kept.len() - 1
             }
