@@ -2001,7 +2001,9 @@ translucid_result translucid_frame_write_png(struct translucid_context *context,
 
 /**
  * Fills `*out_statistics`, whose `s_type` the caller set to
- * `TRANSLUCID_STRUCTURE_TYPE_FRAME_STATISTICS` (and `next` to NULL).
+ * `TRANSLUCID_STRUCTURE_TYPE_FRAME_STATISTICS`, and the
+ * `translucid_frame_view_statistics` its `next` may point to (else NULL). Nothing is
+ * written when it fails.
  */
 TRANSLUCID_MUST_USE
 translucid_result translucid_frame_get_statistics(struct translucid_context *context,
@@ -2270,7 +2272,10 @@ translucid_result translucid_method_get_available(uint32_t *methods,
  * assets or before; a later call that declares more makes the next frames build their
  * renderers anew (declare in the background for the loop to go on meanwhile). Still
  * built when first needed (documented in the README, "No compile in the frame loop"): a
- * frame larger than the prepared one, and other methods or settings.
+ * frame larger than the prepared one, other methods or settings, and on GPUs two
+ * variants the superset does not cover: texture sampling in software once a frame's
+ * textures pass the texture array, and triangle records read as texels once they pass
+ * a storage binding.
  * `out_pipelines_created` (may be NULL) receives the pipelines this call built.
  */
 TRANSLUCID_MUST_USE

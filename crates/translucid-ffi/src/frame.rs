@@ -554,7 +554,9 @@ impl translucid_frame {
     }
 
     /// Fills `*out_statistics`, whose `s_type` the caller set to
-    /// `TRANSLUCID_STRUCTURE_TYPE_FRAME_STATISTICS` (and `next` to NULL).
+    /// `TRANSLUCID_STRUCTURE_TYPE_FRAME_STATISTICS`, and the
+    /// `translucid_frame_view_statistics` its `next` may point to (else NULL). Nothing is
+    /// written when it fails.
     #[no_mangle]
     #[must_use]
     pub extern "C" fn translucid_frame_get_statistics(

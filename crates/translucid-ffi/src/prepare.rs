@@ -101,7 +101,10 @@ impl translucid_prepare_info {
     /// assets or before; a later call that declares more makes the next frames build their
     /// renderers anew (declare in the background for the loop to go on meanwhile). Still
     /// built when first needed (documented in the README, "No compile in the frame loop"): a
-    /// frame larger than the prepared one, and other methods or settings.
+    /// frame larger than the prepared one, other methods or settings, and on GPUs two
+    /// variants the superset does not cover: texture sampling in software once a frame's
+    /// textures pass the texture array, and triangle records read as texels once they pass
+    /// a storage binding.
     /// `out_pipelines_created` (may be NULL) receives the pipelines this call built.
     #[no_mangle]
     #[must_use]

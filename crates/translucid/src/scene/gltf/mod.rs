@@ -1090,9 +1090,15 @@ struct UvTransform {
 
 impl UvTransform {
     fn of(t: &gltf::texture::TextureTransform<'_>) -> std::result::Result<Self, String> {
-        let [ox, oy] = t.offset();
-        let [sx, sy] = t.scale();
-        let r = t.rotation();
+        Self::new(t.offset(), t.rotation(), t.scale(), t.tex_coord())
+    }
+
+    fn new(
+        [ox, oy]: [f32; 2],
+        r: f32,
+        [sx, sy]: [f32; 2],
+        set: Option<u32>,
+    ) -> std::result::Result<Self, String> {
         if ![ox, oy, sx, sy, r].iter().all(|v| v.is_finite()) {
             return Err(format!(
                 "KHR_texture_transform has a non-finite offset, rotation or scale \
@@ -1109,7 +1115,7 @@ impl UvTransform {
             x: glam::Vec2::new(cos * sx, -sin * sx),
             y: glam::Vec2::new(sin * sy, cos * sy),
             offset: glam::Vec2::new(ox, oy),
-            set: t.tex_coord(),
+            set,
         })
     }
 
@@ -1567,20 +1573,18 @@ mod tests {
     /// offset of (0.25, 0.5) take (1, 0) to (0.25, -1.5) and (0, 1) to (1.25, 0.5).
     #[test]
     fn a_texture_transform_scales_turns_then_offsets() {
-        let t = UvTransform {
-            x: glam::Vec2::new(0.0, -2.0),
-            y: glam::Vec2::new(1.0, 0.0),
-            offset: glam::Vec2::new(0.25, 0.5),
-            set: None,
+        let t = UvTransform::new([0.25, 0.5], std::f32::consts::FRAC_PI_2, [2.0, 1.0], None)
+            .expect("finite");
+        let near = |uv: [f32; 2], want: [f32; 2]| {
+            let got = t.apply(glam::Vec2::from(uv));
+            assert!(
+                (got - glam::Vec2::from(want)).abs().max_element() < 1e-6,
+                "{got}"
+            );
         };
-        assert_eq!(
-            t.apply(glam::Vec2::new(1.0, 0.0)),
-            glam::Vec2::new(0.25, -1.5)
-        );
-        assert_eq!(
-            t.apply(glam::Vec2::new(0.0, 1.0)),
-            glam::Vec2::new(1.25, 0.5)
-        );
+        near([1.0, 0.0], [0.25, -1.5]);
+        near([0.0, 1.0], [1.25, 0.5]);
+        assert!(UvTransform::new([f32::NAN, 0.0], 0.0, [1.0, 1.0], None).is_err());
     }
 
     /// A file that requires KHR_texture_transform loads, its base colour texture's transform
