@@ -427,7 +427,7 @@ struct Importer<'p> {
     mirrored: HashMap<usize, usize>,
     /// (scene mesh, morph weights' bits) -> its copy with the morph targets added.
     morphed: HashMap<(usize, Vec<u32>), usize>,
-    /// Nodes with a skin: drawn unskinned (said once).
+    /// Draws of nodes with a skin: drawn unskinned (said once).
     skinned_nodes: usize,
     /// (glTF material or default, node scale bits) -> scene material.
     materials: HashMap<(Option<usize>, u32), usize>,
@@ -461,8 +461,8 @@ impl<'p> Importer<'p> {
         }
         if self.skinned_nodes > 0 {
             log::warn!(
-                "{}: {} skinned mesh nodes are drawn unskinned, at their nodes' transforms \
-                 (skins are not supported)",
+                "{}: {} draws of skinned meshes are drawn unskinned, at their nodes' \
+                 transforms (skins are not supported)",
                 self.path.display(),
                 self.skinned_nodes
             );
