@@ -319,16 +319,22 @@ static void fill_prepare(translucid_prepare_info *prepare, translucid_host_image
     prepare->content = content;
 }
 
-/* Declares everything and builds what frames like `info` into images like `t`'s need;
+/* Declares `content` and builds what frames like `info` into images like `t`'s need;
  * returns the pipelines it built. */
-static uint64_t prepare_for(translucid_context *ctx, const translucid_frame_info *info,
-                            const translucid_host_frame_targets *t) {
+static uint64_t prepare_declaring(translucid_context *ctx, const translucid_frame_info *info,
+                                  const translucid_host_frame_targets *t, uint32_t content) {
     translucid_host_image_formats formats;
     translucid_prepare_info prepare;
     uint64_t built = 0;
-    fill_prepare(&prepare, &formats, info, t, TRANSLUCID_CONTENT_ALL);
+    fill_prepare(&prepare, &formats, info, t, content);
     CHECK(ctx, translucid_context_prepare(ctx, &prepare, &built));
     return built;
+}
+
+/* prepare_declaring everything. */
+static uint64_t prepare_for(translucid_context *ctx, const translucid_frame_info *info,
+                            const translucid_host_frame_targets *t) {
+    return prepare_declaring(ctx, info, t, TRANSLUCID_CONTENT_ALL);
 }
 
 /* Records the slot's whole frame (opaque, translucid, readback) into `cmd`. */
@@ -1272,14 +1278,26 @@ static void make_plain_quads(translucid_context *ctx, streamed_scene *sc) {
     }
 }
 
+/* The slot's completed frame built no pipeline and is as the standalone context rendered it
+ * (its frame destroyed); `what` names it. */
+static void built_nothing_and_right(translucid_context *ctx, slot *s, const char *what,
+                                    translucid_method method) {
+    uint64_t pipelines;
+    int allocated;
+    built_by(ctx, s, &pipelines, &allocated);
+    if (pipelines != 0) printf("FAIL %s: %llu pipelines built\n", what,
+                               (unsigned long long)pipelines);
+    TRUE_OR_FAIL(pipelines == 0);
+    compare_any(ctx, s, what, method);
+}
+
 /* `ctx`'s frames of the plain quads, the first, then one per kind streamed in before it,
  * and one more (deep frames move to their variants after the first deep frame completes):
  * each builds no pipeline and is as the standalone context renders it. `loop` names them. */
 static void stream_every_kind(translucid_context *ctx, translucid_method method,
                               streamed_scene *sc, const char *loop) {
     translucid_frame_info info;
-    uint64_t pipelines;
-    int k, allocated;
+    int k;
     char what[112];
     for (k = 0; k <= STREAMED_KINDS + 1; k++) {
         slot *s = &g_slots[k % MOST_IN_FLIGHT];
@@ -1296,15 +1314,11 @@ static void stream_every_kind(translucid_context *ctx, translucid_method method,
                           COLOUR_BYTES);
         info.draws = sc->draws[0];
         run_frame(ctx, s, &info);
-        built_by(ctx, s, &pipelines, &allocated);
         snprintf(what, sizeof what, "method %d, %s, %s", (int)method, loop,
                  k == 0                 ? "first frame"
                  : k > STREAMED_KINDS ? "the frame after the deep one"
                                         : k_streamed_names[k - 1]);
-        if (pipelines != 0) printf("FAIL %s: %llu pipelines built\n", what,
-                                   (unsigned long long)pipelines);
-        TRUE_OR_FAIL(pipelines == 0);
-        compare_any(ctx, s, what, method);
+        built_nothing_and_right(ctx, s, what, method);
     }
 }
 
@@ -1336,12 +1350,11 @@ static void uploaded_anew_past_the_declaration(translucid_context *ctx, transluc
                       COLOUR_BYTES);
     info.draws = sc->draws[0];
     run_frame(ctx, &g_slots[0], &info);
+    /* Uploaded anew: the frame allocated. */
     built_by(ctx, &g_slots[0], &pipelines, &allocated);
+    TRUE_OR_FAIL(allocated);
     snprintf(what, sizeof what, "method %d, past the declaration, uploaded anew", (int)method);
-    if (pipelines != 0) printf("FAIL %s: %llu pipelines built\n", what,
-                               (unsigned long long)pipelines);
-    TRUE_OR_FAIL(pipelines == 0 && allocated);
-    compare_any(ctx, &g_slots[0], what, method);
+    built_nothing_and_right(ctx, &g_slots[0], what, method);
 }
 
 /* Section 8, the loop declaring `content` (besides what its first frame draws). */
@@ -1350,13 +1363,10 @@ static void declared_loop(translucid_method method, uint32_t content) {
     translucid_host_frame_targets t = targets_of(g_slots[0].cmd, &g_slots[0]);
     static streamed_scene sc;
     translucid_frame_info info;
-    translucid_host_image_formats formats;
-    translucid_prepare_info prepare;
-    uint64_t built = 0;
+    uint64_t built;
     make_plain_quads(ctx, &sc);
     info = frame_of(sc.draws[0], 2, method);
-    fill_prepare(&prepare, &formats, &info, &t, content);
-    CHECK(ctx, translucid_context_prepare(ctx, &prepare, &built));
+    built = prepare_declaring(ctx, &info, &t, content);
     printf("method %d: prepare for content %#x built %llu pipelines\n", (int)method,
            (unsigned)content, (unsigned long long)built);
     stream_every_kind(ctx, method, &sc,
@@ -1374,36 +1384,25 @@ static void preparing_another_method_keeps_the_first(void) {
     translucid_context *ctx = host_context(MOST_IN_FLIGHT);
     translucid_host_frame_targets t = targets_of(g_slots[0].cmd, &g_slots[0]);
     static streamed_scene sc;
-    translucid_host_image_formats formats;
-    translucid_prepare_info prepare;
     translucid_frame_info info;
-    uint64_t pipelines;
-    int allocated, k;
+    int k;
     make_plain_quads(ctx, &sc);
     for (k = 0; k < 2; k++) {
         stream_in(k == 0 ? ctx : g_standalone, FIRST_TEXTURE, &sc.meshes[k][2],
                   &sc.materials[k][2], &sc.draws[k][2]);
     }
     info = frame_of(sc.draws[0], 2, TRANSLUCID_METHOD_EXACT);
-    fill_prepare(&prepare, &formats, &info, &t, 0);
-    CHECK(ctx, translucid_context_prepare(ctx, &prepare, NULL));
+    prepare_declaring(ctx, &info, &t, 0);
     run_frame(ctx, &g_slots[0], &info);
     info = frame_of(sc.draws[0], 3, TRANSLUCID_METHOD_WAVELET);
-    fill_prepare(&prepare, &formats, &info, &t, 0);
-    CHECK(ctx, translucid_context_prepare(ctx, &prepare, NULL));
+    prepare_declaring(ctx, &info, &t, 0);
     info = frame_of(sc.draws[1], 2, TRANSLUCID_METHOD_EXACT);
     render_standalone(g_standalone, info, g_opaque_colour, g_layer_depth, g_slots[1].expected,
                       COLOUR_BYTES);
     info.draws = sc.draws[0];
     run_frame(ctx, &g_slots[1], &info);
-    built_by(ctx, &g_slots[1], &pipelines, &allocated);
-    if (pipelines != 0) {
-        printf("FAIL exact after wavelet was prepared for more: %llu pipelines built\n",
-               (unsigned long long)pipelines);
-    }
-    TRUE_OR_FAIL(pipelines == 0);
-    compare_any(ctx, &g_slots[1], "exact after wavelet was prepared for more",
-                TRANSLUCID_METHOD_EXACT);
+    built_nothing_and_right(ctx, &g_slots[1], "exact after wavelet was prepared for more",
+                            TRANSLUCID_METHOD_EXACT);
     CHECK(ctx, translucid_frame_destroy(ctx, g_slots[0].frame));
     translucid_context_destroy(ctx);
     for (k = 0; k < 3; k++) {

@@ -293,10 +293,9 @@ impl Context {
         engine_images: Option<(HostImage, HostImage)>,
     ) -> Result<()> {
         self.check_engine_images(engine_images)?;
-        let drawn = self.renderers.drawn_content(&self.assets, request)?;
-        let inputs =
+        let (inputs, drawn) =
             self.renderers
-                .inputs_for(&self.gpu, &self.assets, request, content.union(drawn))?;
+                .inputs_for(&self.gpu, &self.assets, request, content)?;
         let declaration = background::Declaration {
             content,
             drawn: (request.key.clone(), drawn),

@@ -394,21 +394,24 @@ impl Renderers {
     }
 
     /// What a renderer for `request` over the current assets would be made from, were
-    /// `content` declared besides what is: for building its pipelines on another thread
-    /// ([`RendererInputs::build`]). Uploads the assets if no renderer drew them yet.
+    /// `content` and what the frame draws declared besides what is: for building its
+    /// pipelines on another thread ([`RendererInputs::build`]); and what the frame draws.
+    /// Uploads the assets if no renderer drew them yet.
     pub fn inputs_for(
         &mut self,
         gpu: &Gpu,
         assets: &Assets,
         request: &FrameRequest,
         content: DeclaredContent,
-    ) -> Result<RendererInputs> {
+    ) -> Result<(RendererInputs, DeclaredContent)> {
         self.adopt_created_assets(gpu, assets, request)?;
         let built = self.scene_for(assets, request)?;
-        let mut options = self.options_for(request, self.declared.union(content));
+        let drawn = DeclaredContent::drawn_by(&built.scene, request.width, request.height);
+        let declared = self.declared.union(content).union(drawn);
+        let mut options = self.options_for(request, declared);
         options.bins.prepared = true;
         let (resident, _moved) = self.resident_for(gpu, assets, &built)?;
-        Ok(RendererInputs {
+        let inputs = RendererInputs {
             gpu: gpu.clone(),
             resident,
             scene: built.scene,
@@ -419,7 +422,8 @@ impl Renderers {
                 frames_in_flight: self.frames_in_flight,
             },
             options,
-        })
+        };
+        Ok((inputs, drawn))
     }
 
     /// When assets were created, or destroyed with the uploads keeping their places, since

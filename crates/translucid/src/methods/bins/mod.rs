@@ -630,21 +630,17 @@ impl Bins {
         if !self.declared.textures {
             return Ok(());
         }
-        let current = self.features;
         let other = RasterFeatures {
-            textures: !current.textures,
-            ..current
+            textures: !self.features.textures,
+            ..self.features
         };
-        self.select(gpu_scene, other)?;
-        let built = raster(self);
-        self.select(gpu_scene, current)?;
-        built
+        self.prebuild_variant(gpu_scene, other, raster)
     }
 
     /// In a prepared loop, builds now the superset variant ([`RasterFeatures::superset`])
-    /// in both texture states: its stages, and what `raster` builds of the method's raster
-    /// for the bins' features as they are then; so that frames past the declaration build
-    /// nothing. Its buffers are sized by the first frame that draws with it.
+    /// in both texture states, as [`Self::prebuild_texture_variant`] builds its variant; so
+    /// that frames past the declaration build nothing. Its buffers are sized by the first
+    /// frame that draws with it.
     pub fn prebuild_superset(
         &mut self,
         gpu_scene: &GpuScene,
@@ -653,21 +649,30 @@ impl Bins {
         if !self.prepared {
             return Ok(());
         }
-        let current = self.features;
+        let superset = self.features.superset();
         for textures in [false, true] {
-            let superset = RasterFeatures {
+            let features = RasterFeatures {
                 textures,
-                ..current.superset()
+                ..superset
             };
-            // Not `select`: the buffers stay sized for the current features.
-            let layouts = [&gpu_scene.layout, &self.resources.layout];
-            StagePipelines::select(&mut self.cache, &self.gpu, &layouts, &superset)?;
-            self.features = superset;
-            let built = raster(self);
-            self.features = current;
-            built?;
+            self.prebuild_variant(gpu_scene, features, &mut raster)?;
         }
         Ok(())
+    }
+
+    /// Builds now the stages of `features`, and what `raster` builds of the method's raster
+    /// with them as the bins' features; the bins' own features, stages and buffers stay.
+    fn prebuild_variant(
+        &mut self,
+        gpu_scene: &GpuScene,
+        features: RasterFeatures,
+        raster: impl FnOnce(&mut Self) -> Result<()>,
+    ) -> Result<()> {
+        self.build_stages(gpu_scene, &features)?;
+        let current = std::mem::replace(&mut self.features, features);
+        let built = raster(self);
+        self.features = current;
+        built
     }
 
     /// Builds now the stages of frames whose lists hold 2^`slab_bits` slabs, with these
@@ -677,9 +682,13 @@ impl Bins {
             slab_bits,
             ..self.features
         };
+        self.build_stages(gpu_scene, &features)
+    }
+
+    /// The stages' pipelines for `features`, built unless built before (kept by the cache).
+    fn build_stages(&mut self, gpu_scene: &GpuScene, features: &RasterFeatures) -> Result<()> {
         let layouts = [&gpu_scene.layout, &self.resources.layout];
-        StagePipelines::select(&mut self.cache, &self.gpu, &layouts, &features)?;
-        Ok(())
+        StagePipelines::select(&mut self.cache, &self.gpu, &layouts, features).map(drop)
     }
 
     /// Bands recorded per frame.
